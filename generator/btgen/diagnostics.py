@@ -1,0 +1,99 @@
+"""Diagnostics shared by every stage of btgen.
+
+Every user-facing problem is a :class:`Diagnostic` printed as
+``path:line:col: severity: message`` with the path as the user gave it.
+User mistakes raise :class:`UserError` (one or more diagnostics, exit 1);
+bugs in btgen itself raise :class:`InternalError`, which the command line
+reports as an internal error and asks to be reported.
+"""
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass
+from typing import Iterable, Optional, Sequence
+
+
+@dataclass(frozen=True)
+class Loc:
+    """A position in a source file: 1-based line and column."""
+
+    path: str
+    line: int = 1
+    col: int = 1
+
+    def __str__(self) -> str:
+        return f"{self.path}:{self.line}:{self.col}"
+
+    def shifted(self, columns: int) -> "Loc":
+        return Loc(self.path, self.line, self.col + columns)
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    loc: Loc
+    message: str
+    severity: str = "error"  # "error" | "warning" | "note"
+
+    def __str__(self) -> str:
+        return f"{self.loc}: {self.severity}: {self.message}"
+
+
+class UserError(Exception):
+    """One or more problems in the user's input. Never shown as a traceback."""
+
+    def __init__(self, diagnostics: Sequence[Diagnostic] | Diagnostic):
+        if isinstance(diagnostics, Diagnostic):
+            diagnostics = [diagnostics]
+        self.diagnostics = tuple(diagnostics)
+        super().__init__("\n".join(str(d) for d in self.diagnostics))
+
+    @classmethod
+    def at(cls, loc: Loc, message: str) -> "UserError":
+        return cls(Diagnostic(loc, message))
+
+
+class InternalError(Exception):
+    """A bug in btgen: reported with a request to file an issue."""
+
+
+class DiagnosticSink:
+    """Collects all diagnostics of a file so they can be reported together."""
+
+    def __init__(self) -> None:
+        self.items: list[Diagnostic] = []
+
+    def error(self, loc: Loc, message: str) -> None:
+        self.items.append(Diagnostic(loc, message, "error"))
+
+    def warning(self, loc: Loc, message: str) -> None:
+        self.items.append(Diagnostic(loc, message, "warning"))
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.items if d.severity == "error"]
+
+    def raise_if_errors(self) -> None:
+        if self.errors:
+            raise UserError(self.items)
+
+
+def did_you_mean(word: str, candidates: Iterable[str]) -> Optional[str]:
+    """The closest candidate to ``word``, or None when nothing is close."""
+    cands = sorted(set(candidates))
+    lower = {c.lower(): c for c in cands}
+    if word.lower() in lower and lower[word.lower()] != word:
+        return lower[word.lower()]
+    match = difflib.get_close_matches(word, cands, n=1, cutoff=0.6)
+    if match:
+        return match[0]
+    # A prefix/suffix relation ("SayGoodBye" vs "SayGoodByeSpeech").
+    pref = [c for c in cands if c.startswith(word) or word.startswith(c)]
+    if len(pref) == 1:
+        return pref[0]
+    return None
+
+
+def suggestion(word: str, candidates: Iterable[str]) -> str:
+    """`` (did you mean `X`?)`` or the empty string."""
+    m = did_you_mean(word, candidates)
+    return f" (did you mean `{m}`?)" if m else ""
