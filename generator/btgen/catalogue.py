@@ -1,0 +1,193 @@
+"""The built-in node catalogue of BehaviorTree.CPP 4.6.2, as data.
+
+Every node that 4.6.2's ``BehaviorTreeFactory`` registers, with its kind,
+the number of children it takes and its ports (direction, canonical type,
+default). Validation, the XSD writer, the interpreter and the generator all
+read this one table.
+
+``required`` marks ports without a default that the node cannot work
+without: 4.6.2 accepts a missing one when it loads the tree and fails (or
+throws) when the node first runs; btgen rejects it when it checks the
+mission.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+from .diagnostics import Loc
+
+KINDS = ("Action", "Condition", "Control", "Decorator", "SubTree")
+DIRECTIONS = ("input", "output", "inout")
+
+
+@dataclass(frozen=True)
+class PortSpec:
+    name: str
+    direction: str  # "input" | "output" | "inout"
+    type: str = "any"  # canonical type name, see values.normalize_type
+    default: Optional[str] = None  # default as text, None when there is none
+    required: bool = False
+    description: str = ""
+    loc: Optional[Loc] = None  # where a TreeNodesModel declares it
+
+    @property
+    def reads(self) -> bool:
+        return self.direction in ("input", "inout")
+
+    @property
+    def writes(self) -> bool:
+        return self.direction in ("output", "inout")
+
+
+@dataclass(frozen=True)
+class NodeSpec:
+    id: str
+    kind: str  # one of KINDS
+    ports: tuple[PortSpec, ...] = ()
+    builtin: bool = True
+    min_children: int = 0
+    max_children: Optional[int] = 0  # None: no upper bound
+    description: str = ""
+    loc: Optional[Loc] = None  # where a TreeNodesModel declares it
+    _index: dict = field(default=None, compare=False, hash=False, repr=False)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_index", {p.name: p for p in self.ports})
+
+    def port(self, name: str) -> Optional[PortSpec]:
+        return self._index.get(name)
+
+    @property
+    def port_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.ports)
+
+    @property
+    def is_leaf(self) -> bool:
+        return self.kind in ("Action", "Condition")
+
+    def children_text(self) -> str:
+        """Human description of the allowed child count."""
+        lo, hi = self.min_children, self.max_children
+        if hi == lo:
+            return "no children" if lo == 0 else ("exactly 1 child" if lo == 1 else f"exactly {lo} children")
+        if hi is None:
+            return f"at least {lo} child" + ("" if lo == 1 else "ren")
+        return f"{lo} or {hi} children" if hi == lo + 1 else f"{lo} to {hi} children"
+
+
+def _in(name: str, type_: str = "any", default: Optional[str] = None, required: bool = False, description: str = "") -> PortSpec:
+    return PortSpec(name, "input", type_, default, required, description)
+
+
+def _out(name: str, type_: str = "any", description: str = "") -> PortSpec:
+    return PortSpec(name, "output", type_, None, False, description)
+
+
+def _inout(name: str, type_: str = "any", required: bool = False, description: str = "") -> PortSpec:
+    return PortSpec(name, "inout", type_, None, required, description)
+
+
+def _control(id_: str, ports: tuple[PortSpec, ...] = (), lo: int = 1, hi: Optional[int] = None, d: str = "") -> NodeSpec:
+    return NodeSpec(id_, "Control", ports, True, lo, hi, d)
+
+
+def _decorator(id_: str, ports: tuple[PortSpec, ...] = (), d: str = "") -> NodeSpec:
+    return NodeSpec(id_, "Decorator", ports, True, 1, 1, d)
+
+
+def _action(id_: str, ports: tuple[PortSpec, ...] = (), d: str = "") -> NodeSpec:
+    return NodeSpec(id_, "Action", ports, True, 0, 0, d)
+
+
+def _condition(id_: str, ports: tuple[PortSpec, ...] = (), d: str = "") -> NodeSpec:
+    return NodeSpec(id_, "Condition", ports, True, 0, 0, d)
+
+
+def _switch(n: int) -> NodeSpec:
+    ports = (_in("variable", "string", required=True, description="value matched against the cases"),) + tuple(
+        _in(f"case_{i}", "string", required=True) for i in range(1, n + 1)
+    )
+    return NodeSpec(f"Switch{n}", "Control", ports, True, n + 1, n + 1,
+                    f"ticks the child of the first case equal to `variable`, else the last (default) child")
+
+
+def _loop(id_: str, elem: str) -> NodeSpec:
+    return _decorator(id_, (
+        _inout("queue", f"queue<{elem}>", required=True, description="`;`-separated literal or a blackboard queue"),
+        _in("if_empty", "NodeStatus", "SUCCESS", description="status when the queue is empty: SUCCESS, FAILURE or SKIPPED"),
+        _out("value", elem, "the element popped for this run of the child"),
+    ), "pops one element per run of its child")
+
+
+_BUILTINS: tuple[NodeSpec, ...] = (
+    # -- controls
+    _control("Sequence", d="ticks children in order; fails at the first failure"),
+    _control("SequenceWithMemory", d="like Sequence, but keeps its place after a failure"),
+    _control("AsyncSequence", d="like Sequence, but yields RUNNING after each synchronous success"),
+    _control("ReactiveSequence", d="re-ticks every child from the first on every tick"),
+    _control("Fallback", d="ticks children in order; succeeds at the first success"),
+    _control("AsyncFallback", d="like Fallback, but yields RUNNING after each synchronous failure"),
+    _control("ReactiveFallback", d="re-ticks every child from the first on every tick"),
+    _control("Parallel", (
+        _in("success_count", "int", "-1", description="successes needed; negative counts from the number of children"),
+        _in("failure_count", "int", "1", description="failures that fail the node; negative counts from the number of children"),
+    )),
+    _control("ParallelAll", (
+        _in("max_failures", "int", "1", description="failures tolerated before failing; negative counts from the number of children"),
+    )),
+    _control("IfThenElse", lo=2, hi=3, d="condition, then-branch, optional else-branch"),
+    _control("WhileDoElse", lo=2, hi=3, d="condition re-checked each tick, do-branch, optional else-branch"),
+    _switch(2), _switch(3), _switch(4), _switch(5), _switch(6),
+    # -- decorators
+    _decorator("Inverter"),
+    _decorator("ForceSuccess"),
+    _decorator("ForceFailure"),
+    _decorator("KeepRunningUntilFailure"),
+    _decorator("Repeat", (_in("num_cycles", "int", required=True, description="repetitions, -1 for ever"),)),
+    _decorator("RetryUntilSuccessful", (_in("num_attempts", "int", required=True, description="attempts, -1 for ever"),)),
+    _decorator("RunOnce", (_in("then_skip", "bool", "true", description="SKIPPED after the first run instead of the stored status"),)),
+    _decorator("Precondition", (
+        _in("if", "string", required=True, description="script condition"),
+        _in("else", "NodeStatus", "FAILURE", description="status returned when the condition is false"),
+    )),
+    _decorator("Timeout", (_in("msec", "unsigned", required=True, description="time limit in milliseconds"),)),
+    _decorator("Delay", (_in("delay_msec", "unsigned", required=True, description="delay in milliseconds before the child is ticked"),)),
+    _loop("LoopInt", "int"),
+    _loop("LoopBool", "bool"),
+    _loop("LoopDouble", "double"),
+    _loop("LoopString", "string"),
+    _decorator("SkipUnlessUpdated", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)),
+    _decorator("WaitValueUpdate", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)),
+    # -- leaves
+    _action("AlwaysSuccess"),
+    _action("AlwaysFailure"),
+    _action("Script", (_in("code", "string", required=True, description="script to execute"),)),
+    _condition("ScriptCondition", (_in("code", "string", required=True, description="script whose result is the condition"),)),
+    _action("SetBlackboard", (
+        _in("value", "any", required=True, description="value to write: a literal or {key}"),
+        _inout("output_key", "any", required=True, description="entry to write"),
+    )),
+    _action("UnsetBlackboard", (_in("key", "string", required=True, description="entry to remove"),)),
+    _action("Sleep", (_in("msec", "unsigned", required=True, description="time to sleep in milliseconds"),)),
+    _condition("WasEntryUpdated", (_in("entry", "any", required=True, description="blackboard entry to check, as {key}"),)),
+    # -- SubTree: its ports are the remappings; checked separately
+    NodeSpec("SubTree", "SubTree", (), True, 0, 0, "instance of another BehaviorTree"),
+)
+
+BUILTINS: dict[str, NodeSpec] = {n.id: n for n in _BUILTINS}
+
+# Attributes with a fixed meaning on every node (not ports).
+PRE_CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
+POST_CONDITIONS = ("_onHalted", "_onFailure", "_onSuccess", "_post")
+SPECIAL_ATTRIBUTES = ("name", "ID") + PRE_CONDITIONS + POST_CONDITIONS
+# Names that a TreeNodesModel may not use for a port.
+RESERVED_PORT_NAMES = frozenset(SPECIAL_ATTRIBUTES + ("_autoremap",))
+
+# Ports whose literal value is a script.
+SCRIPT_PORTS = {("Script", "code"), ("ScriptCondition", "code"), ("Precondition", "if")}
+# Ports whose value must name a blackboard entry ({key}).
+ENTRY_PORTS = {("SkipUnlessUpdated", "entry"), ("WaitValueUpdate", "entry"), ("WasEntryUpdated", "entry")}
+
+# Children allowed per kind for user-declared nodes.
+KIND_CHILDREN = {"Action": (0, 0), "Condition": (0, 0), "Control": (1, None), "Decorator": (1, 1), "SubTree": (0, 0)}

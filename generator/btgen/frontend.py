@@ -1,0 +1,450 @@
+"""Front end: read a mission (and its includes), validate it, build the model.
+
+    read (xmlsource) -> structural XSD (schema/btcpp_v4.xsd) -> semantic checks
+    -> model (model.py) -> mission XSD (xsd.py) as a final backstop
+
+Every problem becomes a diagnostic at `path:line:col`; all problems of a
+mission are reported together.
+"""
+from __future__ import annotations
+
+import os
+import re
+from typing import Optional
+
+from lxml import etree
+
+from . import script as script_lang
+from . import values
+from .catalogue import (BUILTINS, ENTRY_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
+                        RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, NodeSpec, PortSpec)
+from .diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from .model import Attr, Mission, Node, SubTreeNode, TreeDef
+from .xmlsource import Source, read_source
+
+MAX_INCLUDE_DEPTH = 32
+MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
+
+_KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
+_PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
+
+
+def is_remap(value: str) -> bool:
+    """`{key}` (or `{=}`): the port is connected to a blackboard entry."""
+    return len(value) >= 2 and value.startswith("{") and value.endswith("}")
+
+
+def remap_key(value: str, port_name: str) -> str:
+    """The entry a `{key}`/`{=}` value names."""
+    inner = value[1:-1]
+    return port_name if inner == "=" else inner
+
+
+class _Loader:
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.sink = DiagnosticSink()
+        self.sources: list[Source] = []
+        self.tree_elems: list[tuple[str, etree._Element, Source]] = []
+        self.models: list[NodeSpec] = []
+        self.files: list[str] = []
+
+    # ---------------------------------------------------------------- files
+    def load(self) -> Mission:
+        root_source = self._load_file(self.path, self.path, ())
+        self.sink.raise_if_errors()
+        main = self._main_tree(root_source)
+        self.sink.raise_if_errors()
+        tree_ids = self._check_tree_ids()
+        trees = tuple(TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
+                      for tid, elem, src in self.tree_elems if tid in tree_ids)
+        self._check_subtree_cycles(trees)
+        self.sink.raise_if_errors()
+        mission = Mission(self.path, trees, main, tuple(self.models), tuple(self.files),
+                          tuple(d for d in self.sink.items if d.severity == "warning"))
+        self._check_instance_count(mission)
+        self._validate_mission_xsd(mission)
+        self.sink.raise_if_errors()
+        return mission
+
+    def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
+        src = read_source(path, shown)
+        self.sources.append(src)
+        self.files.append(shown)
+        root = src.root
+        if root.tag != "root":
+            raise UserError.at(src.loc(root), f"the root element is <{root.tag}>; a mission starts with "
+                                              f"<root BTCPP_format=\"4\">")
+        from .xsd import validate_structure
+
+        errors = validate_structure(src)
+        if errors:
+            raise UserError(errors)
+        fmt = root.get("BTCPP_format")
+        if fmt is None:
+            self.sink.warning(src.loc(root), "<root> has no BTCPP_format attribute; reading it as format 4")
+        elif fmt != "4":
+            self.sink.error(src.value_loc(root, "BTCPP_format"),
+                            f"BTCPP_format=\"{fmt}\" is not supported; btgen reads BehaviorTree.CPP v4 files "
+                            f"(BTCPP_format=\"4\")")
+        for child in root:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "BehaviorTree":
+                self.tree_elems.append((child.get("ID"), child, src))
+            elif child.tag == "TreeNodesModel":
+                self._read_models(child, src)
+            elif child.tag == "include":
+                self._include(child, src, stack + (os.path.realpath(path),))
+        return src
+
+    def _include(self, elem: etree._Element, src: Source, stack: tuple[str, ...]) -> None:
+        loc = src.loc(elem)
+        if elem.get("ros_pkg") is not None:
+            self.sink.error(src.attr_loc(elem, "ros_pkg"), "<include ros_pkg=...> needs ROS; give a path relative "
+                                                           "to this file instead")
+            return
+        rel = elem.get("path")
+        base_real = os.path.dirname(stack[-1])
+        base_shown = os.path.dirname(src.path)
+        target_real = os.path.realpath(os.path.join(base_real, rel))
+        target_shown = os.path.normpath(os.path.join(base_shown, rel))
+        if target_real in stack:
+            chain = " -> ".join([os.path.basename(p) for p in stack[stack.index(target_real):]] +
+                                [os.path.basename(target_real)])
+            self.sink.error(src.value_loc(elem, "path"), f"include cycle: {chain}")
+            return
+        if len(stack) >= MAX_INCLUDE_DEPTH:
+            self.sink.error(loc, f"includes nested deeper than {MAX_INCLUDE_DEPTH} files")
+            return
+        if not os.path.isfile(target_real):
+            self.sink.error(src.value_loc(elem, "path"), f"included file `{rel}` not found "
+                                                         f"(looked for {target_shown})")
+            return
+        if target_shown in self.files:
+            return  # included twice along different paths: its trees are already known
+        try:
+            self._load_file(target_real, target_shown, stack, loc)
+        except UserError as e:
+            self.sink.items.extend(e.diagnostics)
+
+    # --------------------------------------------------------------- models
+    def _read_models(self, elem: etree._Element, src: Source) -> None:
+        known = {m.id: m for m in self.models}
+        for m in elem:
+            if not isinstance(m.tag, str):
+                continue
+            kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
+            if mid in BUILTINS:
+                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is a built-in node of BehaviorTree.CPP; "
+                                                         f"remove it from TreeNodesModel")
+                continue
+            if mid in known:
+                prev = known[mid].loc
+                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is declared twice in TreeNodesModel "
+                                                         f"(first at {prev})")
+                continue
+            ports: list[PortSpec] = []
+            for p in m:
+                if not isinstance(p.tag, str):
+                    continue
+                port = self._read_model_port(p, src, mid, ports)
+                if port:
+                    ports.append(port)
+            lo, hi = KIND_CHILDREN[kind]
+            spec = NodeSpec(mid, kind, tuple(ports), False, lo, hi, (m.text or "").strip(), loc)
+            known[mid] = spec
+            self.models.append(spec)
+
+    def _read_model_port(self, p: etree._Element, src: Source, mid: str, ports: list[PortSpec]) -> Optional[PortSpec]:
+        name = p.get("name")
+        loc = src.value_loc(p, "name")
+        if not _PORT_NAME_RE.match(name):
+            self.sink.error(loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, "
+                                 f"not starting with a digit")
+            return None
+        if name in RESERVED_PORT_NAMES:
+            self.sink.error(loc, f"`{name}` is reserved and cannot be a port name (in `{mid}`)")
+            return None
+        if any(q.name == name for q in ports):
+            self.sink.error(loc, f"port `{name}` of `{mid}` is declared twice")
+            return None
+        type_text = p.get("type")
+        type_name = values.normalize_type(type_text) if type_text is not None else "any"
+        default = p.get("default")
+        direction = _MODEL_PORT_TAGS[p.tag]
+        if default is not None and direction != "output" and not is_remap(default):
+            try:
+                values.convert_from_string(type_name, default)
+            except values.ConversionError as e:
+                self.sink.error(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`: {e}")
+        return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
+
+    # ---------------------------------------------------------------- trees
+    def _check_tree_ids(self) -> set[str]:
+        seen: dict[str, Loc] = {}
+        ok: set[str] = set()
+        for tid, elem, src in self.tree_elems:
+            loc = src.value_loc(elem, "ID")
+            if tid in seen:
+                self.sink.error(loc, f"BehaviorTree `{tid}` is defined twice (first at {seen[tid]})")
+                continue
+            if tid.strip() != tid or not tid:
+                self.sink.error(loc, f"BehaviorTree ID `{tid}` must not be empty or start or end with spaces")
+            seen[tid] = src.loc(elem)
+            ok.add(tid)
+        # The first definition wins; a duplicate is dropped (and reported).
+        self.tree_elems = [(t, e, s) for i, (t, e, s) in enumerate(self.tree_elems)
+                           if t not in [x[0] for x in self.tree_elems[:i]]]
+        return ok
+
+    def _main_tree(self, src: Source) -> str:
+        root = src.root
+        ids = [t for t, e, s in self.tree_elems]
+        main = root.get("main_tree_to_execute")
+        if main is None:
+            if len(set(ids)) == 1:
+                return ids[0]
+            if not ids:
+                self.sink.error(src.loc(root), "the mission defines no <BehaviorTree>")
+                return ""
+            self.sink.error(src.loc(root), f"the mission defines {len(set(ids))} BehaviorTrees; say which one "
+                                           f"runs with main_tree_to_execute=\"...\" (one of "
+                                           f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})")
+            return ""
+        if main not in ids:
+            self.sink.error(src.value_loc(root, "main_tree_to_execute"),
+                            f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID"
+                            f"{suggestion(main, ids)}")
+        return main
+
+    def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
+        kids = [c for c in elem if isinstance(c.tag, str)]
+        if len(kids) != 1:
+            self.sink.error(src.loc(elem), f"BehaviorTree `{tree_id}` must have exactly 1 child, it has {len(kids)}")
+            if not kids:
+                return Node("AlwaysFailure", "Action", None, (), (), (), (), src.loc(elem))
+        return self._node(kids[0], src)
+
+    def _node(self, elem: etree._Element, src: Source) -> Node:
+        tag, loc = elem.tag, src.loc(elem)
+        tree_ids = {t for t, _, _ in self.tree_elems}
+        explicit = tag in KINDS
+        node_id = elem.get("ID") if explicit else tag
+        children = tuple(self._node(c, src) for c in elem if isinstance(c.tag, str))
+        name = elem.get("name")
+        if explicit and node_id is None:
+            self.sink.error(loc, f"<{tag}> needs an ID attribute naming the node")
+            node_id = tag
+        spec = self._spec_for(tag, node_id, elem, src, tree_ids)
+        pre: list[Attr] = []
+        post: list[Attr] = []
+        ports: list[Attr] = []
+        autoremap = False
+        for aname in src.attr_names_in_order(elem) or list(elem.attrib):
+            if aname not in elem.attrib:
+                continue
+            value = elem.get(aname)
+            attr = Attr(aname, value, src.attr_loc(elem, aname), src.value_loc(elem, aname))
+            if aname == "name" or (aname == "ID" and explicit):
+                continue
+            if aname in PRE_CONDITIONS or aname in POST_CONDITIONS:
+                attr = self._with_script(attr, elem, src, node_id)
+                (pre if aname in PRE_CONDITIONS else post).append(attr)
+            elif aname == "_autoremap" and tag == "SubTree":
+                autoremap = self._bool_attr(attr)
+            elif aname.startswith("_") or aname == "ID":
+                specials = [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")] + (["_autoremap"] if tag == "SubTree" else [])
+                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
+            elif tag == "SubTree":
+                ports.append(self._subtree_remap(attr, node_id))
+            elif spec is not None:
+                checked = self._port(attr, spec, elem, src)
+                if checked is not None:
+                    ports.append(checked)
+        if spec is not None:
+            self._check_required(spec, ports, loc, node_id)
+            self._check_children(spec, children, loc, node_id, tag)
+        kind = "SubTree" if tag == "SubTree" else (spec.kind if spec else "Action")
+        if tag == "SubTree":
+            return SubTreeNode(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc,
+                               autoremap, target=node_id)
+        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+
+    def _spec_for(self, tag: str, node_id: str, elem: etree._Element, src: Source,
+                  tree_ids: set[str]) -> Optional[NodeSpec]:
+        loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
+        if tag == "SubTree":
+            if node_id not in tree_ids:
+                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID"
+                                     f"{suggestion(node_id, tree_ids)}")
+            return BUILTINS["SubTree"]
+        user = {m.id: m for m in self.models}
+        spec = BUILTINS.get(node_id) or user.get(node_id)
+        if spec is None:
+            if node_id in tree_ids:
+                self.sink.error(loc, f"`{node_id}` is a BehaviorTree, not a node: "
+                                     f"write <SubTree ID=\"{node_id}\"/>")
+                return None
+            hint = did_you_mean(node_id, list(BUILTINS) + list(user))
+            where = "built in"
+            if hint:
+                where = "declared in TreeNodesModel" if hint in user else "built in"
+                self.sink.error(loc, f"unknown node `{node_id}`: it is neither built in nor declared in "
+                                     f"TreeNodesModel; `{hint}` is {where} (did you mean it?)")
+            else:
+                self.sink.error(loc, f"unknown node `{node_id}`: it is neither built in nor declared in "
+                                     f"TreeNodesModel (declare it as <Action ID=\"{node_id}\"/> or "
+                                     f"<Condition ID=\"{node_id}\"/>)")
+            return None
+        if tag in KINDS and tag != spec.kind:
+            self.sink.error(src.loc(elem), f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} "
+                                           f"{spec.kind}, but is used as <{tag}>")
+        return spec
+
+    def _bool_attr(self, attr: Attr) -> bool:
+        try:
+            return bool(values.convert_from_string("bool", attr.value))
+        except values.ConversionError as e:
+            self.sink.error(attr.value_loc, f"`{attr.name}`: {e}")
+            return False
+
+    def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
+        try:
+            parsed = script_lang.parse_script(attr.value)
+        except script_lang.ScriptSyntaxError as e:
+            self.sink.error(src.value_loc(elem, attr.name, e.offset),
+                            f"invalid script in `{attr.name}` of `{node_id}`: {e.message}")
+            return attr
+        return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
+
+    def _check_key(self, attr: Attr, key: str, what: str) -> bool:
+        if not _KEY_RE.match(key):
+            self.sink.error(attr.value_loc, f"`{attr.value}` in {what} is not a valid blackboard key "
+                                            f"(use letters, digits, `_`, optionally `@` first for the root "
+                                            f"blackboard)")
+            return False
+        return True
+
+    def _subtree_remap(self, attr: Attr, tree_id: str) -> Attr:
+        if not _PORT_NAME_RE.match(attr.name):
+            self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
+        model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
+        if model is not None and model.port(attr.name) is None:
+            self.sink.error(attr.loc, f"SubTree `{tree_id}` has no port `{attr.name}`"
+                                      f"{suggestion(attr.name, model.port_names)}")
+        if is_remap(attr.value):
+            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
+        return attr
+
+    def _port(self, attr: Attr, spec: NodeSpec, elem: etree._Element, src: Source) -> Optional[Attr]:
+        port = spec.port(attr.name)
+        if port is None:
+            names = spec.port_names
+            listed = ", ".join(f"`{n}`" for n in names) if names else "none"
+            hint = did_you_mean(attr.name, names)
+            extra = f"; did you mean `{hint}`?" if hint else ""
+            self.sink.error(attr.loc, f"`{spec.id}` has no port `{attr.name}` (its ports: {listed}){extra}")
+            return None
+        value = attr.value
+        what = f"port `{attr.name}` of `{spec.id}`"
+        if is_remap(value):
+            self._check_key(attr, remap_key(value, attr.name), what)
+            return attr
+        if "{" in value or "}" in value:
+            if value.startswith("{") or value.endswith("}"):
+                self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: "
+                                                f"write `{{key}}`")
+                return attr
+        if (spec.id, attr.name) in SCRIPT_PORTS:
+            return self._with_script(attr, elem, src, spec.id)
+        if (spec.id, attr.name) in ENTRY_PORTS or port.direction == "output" or (
+                port.direction == "inout" and not port.type.startswith("queue<")):
+            # A literal on an output port names the entry written (as `output_key="result"`).
+            self._check_key(attr, value, what)
+            return attr
+        try:
+            values.convert_from_string(port.type, value)
+        except values.ConversionError as e:
+            self.sink.error(attr.value_loc, f"{what}: {e}")
+        return attr
+
+    def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
+        given = {p.name for p in ports}
+        for p in spec.ports:
+            if p.required and p.name not in given:
+                self.sink.error(loc, f"`{node_id}` needs port `{p.name}`" + (f" ({p.description})" if p.description else ""))
+
+    def _check_children(self, spec: NodeSpec, children: tuple[Node, ...], loc: Loc, node_id: str, tag: str) -> None:
+        n = len(children)
+        lo, hi = spec.min_children, spec.max_children
+        if n < lo or (hi is not None and n > hi):
+            what = {"Action": "an Action", "Condition": "a Condition", "Control": "a control node",
+                    "Decorator": "a decorator", "SubTree": "a SubTree"}[spec.kind]
+            has = "no children" if n == 0 else ("1 child" if n == 1 else f"{n} children")
+            self.sink.error(loc, f"`{node_id}` is {what} and takes {spec.children_text()}, but has {has}")
+
+    # --------------------------------------------------------- whole-mission
+    def _check_subtree_cycles(self, trees: tuple[TreeDef, ...]) -> None:
+        by_id = {t.id: t for t in trees}
+
+        def subtree_nodes(n: Node):
+            if isinstance(n, SubTreeNode):
+                yield n
+            for c in n.children:
+                yield from subtree_nodes(c)
+
+        reported: set[tuple[str, ...]] = set()
+        state: dict[str, int] = {}  # 1: on the stack, 2: done
+
+        def visit(tid: str, path: list[str]) -> None:
+            state[tid] = 1
+            for st in subtree_nodes(by_id[tid].root):
+                if st.target not in by_id:
+                    continue
+                if state.get(st.target) == 1:
+                    cycle = path[path.index(st.target):] + [st.target]
+                    key = tuple(sorted(cycle[:-1]))
+                    if key not in reported:
+                        reported.add(key)
+                        what = "calls itself" if len(cycle) == 2 else "recursion"
+                        self.sink.error(st.loc, f"SubTree {what}: " + " -> ".join(f"`{c}`" for c in cycle)
+                                        + " (BehaviorTree.CPP would recurse without end)")
+                elif state.get(st.target) is None:
+                    visit(st.target, path + [st.target])
+            state[tid] = 2
+
+        for t in trees:
+            if t.id not in state:
+                visit(t.id, [t.id])
+
+    def _check_instance_count(self, mission: Mission) -> None:
+        from functools import lru_cache
+
+        @lru_cache(maxsize=None)
+        def count(tree_id: str) -> int:
+            def walk(n: Node) -> int:
+                total = 1 + sum(walk(c) for c in n.children)
+                if isinstance(n, SubTreeNode):
+                    total += count(n.target)
+                return total
+            return walk(mission.tree(tree_id).root)
+
+        if mission.main_tree and count(mission.main_tree) > MAX_NODES:
+            self.sink.error(mission.main.loc, f"the main tree expands to {count(mission.main_tree)} nodes with its "
+                                              f"SubTrees; BehaviorTree.CPP numbers nodes with 16 bits, so at most "
+                                              f"{MAX_NODES} are allowed")
+
+    def _validate_mission_xsd(self, mission: Mission) -> None:
+        if self.sink.errors:
+            return
+        from .xsd import validate_against_mission_xsd
+
+        for src in self.sources:
+            self.sink.items.extend(validate_against_mission_xsd(mission, src))
+
+
+def load_mission(path: str) -> Mission:
+    """Read, validate and model a mission; raises UserError with every problem found."""
+    return _Loader(path).load()

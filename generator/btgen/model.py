@@ -1,0 +1,117 @@
+"""The checked mission model: plain frozen dataclasses, each with its source location.
+
+The front end (frontend.py) builds it; the interpreter walks it; the
+compiler lowers it. Nothing downstream of the front end sees lxml.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Optional
+
+from .catalogue import BUILTINS, NodeSpec
+from .diagnostics import Diagnostic, Loc
+
+
+@dataclass(frozen=True)
+class Attr:
+    """An attribute as written: name, decoded value, and where both start."""
+
+    name: str
+    value: str
+    loc: Loc  # the attribute's name
+    value_loc: Loc  # the first character of its value
+    # Parsed script when the attribute holds one (Script code, _skipIf, ...).
+    script: Optional[Any] = None
+
+
+@dataclass(frozen=True)
+class Node:
+    """One node of a BehaviorTree as written (SubTrees not yet expanded)."""
+
+    id: str  # registration ID: element name, or ID attribute of the explicit form
+    kind: str  # Action | Condition | Control | Decorator | SubTree
+    name: Optional[str]  # the name attribute; None when absent
+    ports: tuple[Attr, ...]  # port assignments (for a SubTree: its remappings)
+    pre: tuple[Attr, ...]  # _failureIf, _successIf, _skipIf, _while as written
+    post: tuple[Attr, ...]  # _onHalted, _onFailure, _onSuccess, _post as written
+    children: tuple["Node", ...]
+    loc: Loc
+    autoremap: bool = False  # SubTree only
+
+    @property
+    def display_name(self) -> str:
+        """The name BehaviorTree.CPP gives the node: its name attribute, else its ID."""
+        return self.name if self.name is not None else self.id
+
+    @property
+    def subtree_id(self) -> Optional[str]:
+        return None  # overridden by SubTreeNode
+
+    def port(self, name: str) -> Optional[Attr]:
+        for p in self.ports:
+            if p.name == name:
+                return p
+        return None
+
+    def pre_condition(self, name: str) -> Optional[Attr]:
+        for p in self.pre:
+            if p.name == name:
+                return p
+        return None
+
+    def post_condition(self, name: str) -> Optional[Attr]:
+        for p in self.post:
+            if p.name == name:
+                return p
+        return None
+
+
+@dataclass(frozen=True)
+class SubTreeNode(Node):
+    """A <SubTree ID=...> instance; `target` is the BehaviorTree it runs."""
+
+    target: str = ""
+
+    @property
+    def subtree_id(self) -> Optional[str]:
+        return self.target
+
+
+@dataclass(frozen=True)
+class TreeDef:
+    id: str
+    root: Node
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class Mission:
+    path: str  # as the user gave it
+    trees: tuple[TreeDef, ...]  # in file order, includes after their includer's own trees
+    main_tree: str
+    models: tuple[NodeSpec, ...]  # TreeNodesModel declarations (all files)
+    files: tuple[str, ...]  # the mission file and every included file
+    warnings: tuple[Diagnostic, ...] = ()
+
+    def tree(self, tree_id: str) -> TreeDef:
+        for t in self.trees:
+            if t.id == tree_id:
+                return t
+        raise KeyError(tree_id)
+
+    def spec(self, node_id: str) -> NodeSpec:
+        """The spec of a node ID: built in, or declared in TreeNodesModel."""
+        if node_id in BUILTINS:
+            return BUILTINS[node_id]
+        for m in self.models:
+            if m.id == node_id:
+                return m
+        raise KeyError(node_id)
+
+    @property
+    def main(self) -> TreeDef:
+        return self.tree(self.main_tree)
+
+    def leaf_models(self) -> tuple[NodeSpec, ...]:
+        """User Actions and Conditions, in declaration order."""
+        return tuple(m for m in self.models if m.kind in ("Action", "Condition"))

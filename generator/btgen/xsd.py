@@ -1,0 +1,218 @@
+"""XSD schemas of missions, validated with xmlschema.
+
+Two schemas:
+- `schema/btcpp_v4.xsd`, fixed: the structure of every BTCPP_format="4" file
+  (root, BehaviorTree, include, TreeNodesModel and its port declarations);
+- the mission schema written by :func:`mission_xsd`: one element per node ID
+  the mission may use (built-in catalogue plus its TreeNodesModel), with the
+  node's ports as typed attributes, the special attributes, and the number
+  of children its kind takes. Like BehaviorTree.CPP's writeTreeXSD, but it
+  also covers inout ports and the pre/post-condition attributes. Editors
+  validate against it as the user types (`btgen xsd MISSION.xml`).
+"""
+from __future__ import annotations
+
+import functools
+import os
+import re
+from typing import Iterable
+from xml.sax.saxutils import quoteattr
+
+import xmlschema
+from lxml import etree
+
+from .catalogue import BUILTINS, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from .diagnostics import Diagnostic, Loc
+from .model import Mission
+from .xmlsource import Source
+
+SCHEMA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "schema")
+
+
+def _schema_path(name: str) -> str:
+    here = os.path.normpath(os.path.join(SCHEMA_DIR, name))
+    if os.path.exists(here):
+        return here
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "schema", name)
+
+
+@functools.lru_cache(maxsize=None)
+def structure_schema() -> xmlschema.XMLSchema:
+    return xmlschema.XMLSchema(_schema_path("btcpp_v4.xsd"))
+
+
+def _reason(err: xmlschema.XMLSchemaValidationError) -> str:
+    reason = (err.reason or str(err)).strip()
+    reason = re.sub(r"\s+", " ", reason)
+    m = re.match(r"Unexpected child with tag '([^']+)' at position \d+\.?(.*)", reason)
+    if m:
+        tail = m.group(2).strip()
+        expected = re.search(r"Tag (\([^)]*\)|'[^']+') expected", tail)
+        exp = ""
+        if expected:
+            names = re.findall(r"'([^']+)'", expected.group(1))
+            exp = " (expected " + " or ".join(f"<{n}>" for n in names) + ")"
+        return f"unexpected element <{m.group(1)}>{exp}"
+    m = re.match(r"missing required attribute '([^']+)'", reason)
+    if m:
+        return f"missing required attribute `{m.group(1)}`"
+    m = re.match(r"'([^']+)' attribute not allowed for element\.?", reason)
+    if m:
+        return f"attribute `{m.group(1)}` is not allowed here"
+    m = re.match(r"The content of element '([^']+)' is not complete\.(.*)", reason)
+    if m:
+        return f"<{m.group(1)}> is incomplete:{m.group(2)}"
+    return reason[0].lower() + reason[1:] if reason else "does not match the schema"
+
+
+def _iter_diags(schema: xmlschema.XMLSchema, src: Source, root: etree._Element) -> list[Diagnostic]:
+    out = []
+    for err in schema.iter_errors(etree.ElementTree(root)):
+        elem = getattr(err, "elem", None)
+        loc = Loc(src.path, 1, 1)
+        if elem is not None:
+            try:
+                loc = src.loc(elem)
+            except KeyError:
+                loc = Loc(src.path, getattr(elem, "sourceline", 1) or 1, 1)
+            m = re.search(r"attribute '([^']+)'|'([^']+)' attribute", err.reason or "")
+            name = (m.group(1) or m.group(2)) if m else None
+            if name and name in elem.attrib:
+                loc = src.attr_loc(elem, name)
+        out.append(Diagnostic(loc, _reason(err)))
+    return out
+
+
+def validate_structure(src: Source) -> list[Diagnostic]:
+    """Check a file against schema/btcpp_v4.xsd."""
+    return _iter_diags(structure_schema(), src, src.root)
+
+
+# ---------------------------------------------------------------- mission XSD
+_SIMPLE = {
+    "int": ("union", "xs:int"),
+    "unsigned": ("union", "xs:unsignedInt"),
+    "double": ("union", "xs:double"),
+}
+
+
+def _type_ref(port: PortSpec) -> str:
+    t = port.type
+    if port.direction == "output" or (port.direction == "inout" and not t.startswith("queue<")):
+        return "bt_key"
+    return {"int": "bt_int", "unsigned": "bt_unsigned", "double": "bt_double", "bool": "bt_bool",
+            "NodeStatus": "bt_status"}.get(t, "xs:string")
+
+
+_PRELUDE = """  <xs:simpleType name="bt_ref">
+    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}"/></xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_key">
+    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_int"><xs:union memberTypes="xs:int bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_unsigned"><xs:union memberTypes="xs:unsignedInt bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_double"><xs:union memberTypes="xs:double bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_bool_literal">
+    <xs:restriction base="xs:string">
+      <xs:enumeration value="true"/><xs:enumeration value="false"/><xs:enumeration value="True"/>
+      <xs:enumeration value="False"/><xs:enumeration value="TRUE"/><xs:enumeration value="FALSE"/>
+      <xs:enumeration value="1"/><xs:enumeration value="0"/>
+    </xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_bool"><xs:union memberTypes="bt_bool_literal bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_status_literal">
+    <xs:restriction base="xs:string">
+      <xs:enumeration value="SUCCESS"/><xs:enumeration value="FAILURE"/><xs:enumeration value="SKIPPED"/>
+      <xs:enumeration value="RUNNING"/><xs:enumeration value="IDLE"/>
+    </xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_status"><xs:union memberTypes="bt_status_literal bt_ref"/></xs:simpleType>
+  <xs:attributeGroup name="bt_common">
+    <xs:attribute name="name" type="xs:string"/>
+{specials}  </xs:attributeGroup>
+"""
+
+
+def _children(spec: NodeSpec) -> str:
+    lo, hi = spec.min_children, spec.max_children
+    if hi == 0:
+        return ""
+    hi_text = "unbounded" if hi is None else str(hi)
+    return (f'      <xs:group ref="bt_node" minOccurs="{lo}" maxOccurs="{hi_text}"/>\n')
+
+
+def _node_type(spec: NodeSpec) -> str:
+    lines = [f'  <xs:complexType name={quoteattr("node." + spec.id)}>\n']
+    kids = _children(spec)
+    if kids:
+        lines.append("    <xs:sequence>\n" + kids.replace("      ", "      ", 1) + "    </xs:sequence>\n")
+    for p in spec.ports:
+        use = ' use="required"' if p.required else ""
+        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p)}"{use}/>\n')
+    lines.append('    <xs:attributeGroup ref="bt_common"/>\n')
+    lines.append("  </xs:complexType>\n")
+    return "".join(lines)
+
+
+def mission_xsd(mission: Mission) -> str:
+    """The XSD for this mission's node elements (deterministic text)."""
+    specs: list[NodeSpec] = [s for s in BUILTINS.values() if s.id != "SubTree"]
+    specs += [m for m in mission.models if m.kind != "SubTree"]
+    specials = "".join(f'    <xs:attribute name="{a}" type="xs:string"/>\n' for a in PRE_CONDITIONS + POST_CONDITIONS)
+    out = ['<?xml version="1.0" encoding="UTF-8"?>\n',
+           f"<!-- Generated by btgen for {os.path.basename(mission.path)}: nodes and ports this mission may use. -->\n",
+           '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema" elementFormDefault="qualified">\n',
+           _PRELUDE.replace("{specials}", specials)]
+    # The root and file structure, as in schema/btcpp_v4.xsd, but with typed node content.
+    out.append("""  <xs:element name="root">
+    <xs:complexType>
+      <xs:choice minOccurs="0" maxOccurs="unbounded">
+        <xs:element name="BehaviorTree">
+          <xs:complexType>
+            <xs:group ref="bt_node"/>
+            <xs:attribute name="ID" type="xs:string" use="required"/>
+            <xs:anyAttribute processContents="skip"/>
+          </xs:complexType>
+        </xs:element>
+        <xs:element name="include">
+          <xs:complexType><xs:anyAttribute processContents="skip"/></xs:complexType>
+        </xs:element>
+        <xs:element name="TreeNodesModel">
+          <xs:complexType>
+            <xs:sequence><xs:any processContents="skip" minOccurs="0" maxOccurs="unbounded"/></xs:sequence>
+          </xs:complexType>
+        </xs:element>
+      </xs:choice>
+      <xs:anyAttribute processContents="skip"/>
+    </xs:complexType>
+  </xs:element>
+""")
+    out.append('  <xs:group name="bt_node">\n    <xs:choice>\n')
+    for s in specs:
+        out.append(f'      <xs:element name={quoteattr(s.id)} type={quoteattr("node." + s.id)}/>\n')
+    for kind in ("Action", "Condition", "Control", "Decorator"):
+        out.append(f'      <xs:element name="{kind}" type="explicit.{kind}"/>\n')
+    out.append('      <xs:element name="SubTree" type="explicit.SubTree"/>\n')
+    out.append("    </xs:choice>\n  </xs:group>\n")
+    for s in specs:
+        out.append(_node_type(s))
+    for kind, kids in (("Action", ""), ("Condition", ""),
+                       ("Control", '      <xs:group ref="bt_node" minOccurs="1" maxOccurs="unbounded"/>\n'),
+                       ("Decorator", '      <xs:group ref="bt_node" minOccurs="1" maxOccurs="1"/>\n'),
+                       ("SubTree", "")):
+        seq = f"    <xs:sequence>\n{kids}    </xs:sequence>\n" if kids else ""
+        out.append(f'  <xs:complexType name="explicit.{kind}">\n{seq}'
+                   '    <xs:attribute name="ID" type="xs:string" use="required"/>\n'
+                   '    <xs:anyAttribute processContents="skip"/>\n  </xs:complexType>\n')
+    out.append("</xs:schema>\n")
+    return "".join(out)
+
+
+@functools.lru_cache(maxsize=8)
+def _compiled(xsd_text: str) -> xmlschema.XMLSchema:
+    return xmlschema.XMLSchema(xsd_text)
+
+
+def validate_against_mission_xsd(mission: Mission, src: Source) -> Iterable[Diagnostic]:
+    return _iter_diags(_compiled(mission_xsd(mission)), src, src.root)
