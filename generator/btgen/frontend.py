@@ -52,6 +52,16 @@ class _Loader:
 
     # ---------------------------------------------------------------- files
     def load(self) -> Mission:
+        try:
+            return self._load()
+        except UserError as e:
+            raise UserError(self._sorted(e.diagnostics)) from None
+
+    def _sorted(self, diags):
+        order = {f: i for i, f in enumerate(self.files)}
+        return sorted(diags, key=lambda d: (order.get(d.loc.path, len(order)), d.loc.line, d.loc.col))
+
+    def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
         self.sink.raise_if_errors()
         main = self._main_tree(root_source)
@@ -62,7 +72,7 @@ class _Loader:
         self._check_subtree_cycles(trees)
         self.sink.raise_if_errors()
         mission = Mission(self.path, trees, main, tuple(self.models), tuple(self.files),
-                          tuple(d for d in self.sink.items if d.severity == "warning"))
+                          tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")))
         self._check_instance_count(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()

@@ -186,6 +186,14 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
             return UserError.at(Loc(path, line, bad.start() + 1),
                                 f"malformed closing tag `{bad.group(0)}`: no space is allowed after `</` "
                                 f"(write `</{bad.group(1)}>`)")
+    if 1 <= line <= len(lines):
+        m = re.search(r"Specification mandates value for attribute (\S+)", msg)
+        spaced = m and re.search(r"\b" + re.escape(m.group(1)) + r"\s+([A-Za-z_][\w]*)\s*=", lines[line - 1])
+        if spaced:
+            joined = f"{m.group(1)}_{spaced.group(1)}"
+            return UserError.at(Loc(path, line, spaced.start() + 1),
+                                f"attribute name `{m.group(1)} {spaced.group(1)}` contains a space "
+                                f"(did you mean `{joined}`?)")
     for pattern, render in _LIBXML_MSG:
         m = pattern.search(msg)
         if m:

@@ -53,6 +53,9 @@ def _reason(err: xmlschema.XMLSchemaValidationError) -> str:
             names = re.findall(r"'([^']+)'", expected.group(1))
             exp = " (expected " + " or ".join(f"<{n}>" for n in names) + ")"
         return f"unexpected element <{m.group(1)}>{exp}"
+    m = re.match(r"attribute (\S+)='([^']*)':", reason)
+    if m:
+        return f"attribute `{m.group(1)}`: `{m.group(2)}` is not a valid value for this port"
     m = re.match(r"missing required attribute '([^']+)'", reason)
     if m:
         return f"missing required attribute `{m.group(1)}`"
@@ -75,8 +78,8 @@ def _iter_diags(schema: xmlschema.XMLSchema, src: Source, root: etree._Element) 
                 loc = src.loc(elem)
             except KeyError:
                 loc = Loc(src.path, getattr(elem, "sourceline", 1) or 1, 1)
-            m = re.search(r"attribute '([^']+)'|'([^']+)' attribute", err.reason or "")
-            name = (m.group(1) or m.group(2)) if m else None
+            m = re.search(r"attribute '([^']+)'|'([^']+)' attribute|attribute (\S+)=", err.reason or "")
+            name = (m.group(1) or m.group(2) or m.group(3)) if m else None
             if name and name in elem.attrib:
                 loc = src.attr_loc(elem, name)
         out.append(Diagnostic(loc, _reason(err)))
@@ -139,7 +142,7 @@ def _children(spec: NodeSpec) -> str:
     if hi == 0:
         return ""
     hi_text = "unbounded" if hi is None else str(hi)
-    return (f'      <xs:group ref="bt_node" minOccurs="{lo}" maxOccurs="{hi_text}"/>\n')
+    return (f'      <xs:element ref="bt_node" minOccurs="{lo}" maxOccurs="{hi_text}"/>\n')
 
 
 def _node_type(spec: NodeSpec) -> str:
@@ -170,7 +173,7 @@ def mission_xsd(mission: Mission) -> str:
       <xs:choice minOccurs="0" maxOccurs="unbounded">
         <xs:element name="BehaviorTree">
           <xs:complexType>
-            <xs:group ref="bt_node"/>
+            <xs:sequence><xs:element ref="bt_node"/></xs:sequence>
             <xs:attribute name="ID" type="xs:string" use="required"/>
             <xs:anyAttribute processContents="skip"/>
           </xs:complexType>
@@ -188,18 +191,18 @@ def mission_xsd(mission: Mission) -> str:
     </xs:complexType>
   </xs:element>
 """)
-    out.append('  <xs:group name="bt_node">\n    <xs:choice>\n')
+    # Every node element stands for the abstract `bt_node` (a substitution group
+    # matches in one step, where a 50-way choice would be tried in turn).
+    out.append('  <xs:element name="bt_node" abstract="true"/>\n')
     for s in specs:
-        out.append(f'      <xs:element name={quoteattr(s.id)} type={quoteattr("node." + s.id)}/>\n')
-    for kind in ("Action", "Condition", "Control", "Decorator"):
-        out.append(f'      <xs:element name="{kind}" type="explicit.{kind}"/>\n')
-    out.append('      <xs:element name="SubTree" type="explicit.SubTree"/>\n')
-    out.append("    </xs:choice>\n  </xs:group>\n")
+        out.append(f'  <xs:element name={quoteattr(s.id)} type={quoteattr("node." + s.id)} substitutionGroup="bt_node"/>\n')
+    for kind in ("Action", "Condition", "Control", "Decorator", "SubTree"):
+        out.append(f'  <xs:element name="{kind}" type="explicit.{kind}" substitutionGroup="bt_node"/>\n')
     for s in specs:
         out.append(_node_type(s))
     for kind, kids in (("Action", ""), ("Condition", ""),
-                       ("Control", '      <xs:group ref="bt_node" minOccurs="1" maxOccurs="unbounded"/>\n'),
-                       ("Decorator", '      <xs:group ref="bt_node" minOccurs="1" maxOccurs="1"/>\n'),
+                       ("Control", '      <xs:element ref="bt_node" minOccurs="1" maxOccurs="unbounded"/>\n'),
+                       ("Decorator", '      <xs:element ref="bt_node" minOccurs="1" maxOccurs="1"/>\n'),
                        ("SubTree", "")):
         seq = f"    <xs:sequence>\n{kids}    </xs:sequence>\n" if kids else ""
         out.append(f'  <xs:complexType name="explicit.{kind}">\n{seq}'
