@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Run every test of btgen: Python (pytest) and C++ (GoogleTest via ctest),
+# the latter also under AddressSanitizer + UBSan. Installs what it needs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+export PATH="$PWD/.venv/bin:$PATH"
+jobs=$(nproc 2>/dev/null || echo 2)
+
+echo "== validate shipped missions"
+btgen validate -q missions/*.xml
+
+if [ -f data/environmentKnowledgeBaseInput.dat ] && [ -f generator/btgen/kb.py ]; then
+  echo "== lint the shipped knowledge base"
+  btgen lint-kb data/environmentKnowledgeBaseInput.dat --config data/environmentKnowledgeBaseConfiguration.ini
+fi
+
+echo "== Python tests"
+pytest -q -p no:cacheprovider
+
+echo "== C++ tests"
+cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPython3_EXECUTABLE="$PWD/.venv/bin/python" >/dev/null
+cmake --build build/test -j "$jobs"
+ctest --test-dir build/test --output-on-failure -j "$jobs"
+
+echo "== C++ tests under AddressSanitizer + UBSan"
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DBTGEN_SANITIZE=ON \
+  -DPython3_EXECUTABLE="$PWD/.venv/bin/python" >/dev/null
+cmake --build build/asan -j "$jobs"
+ctest --test-dir build/asan --output-on-failure -j "$jobs"
