@@ -1,0 +1,312 @@
+"""Scenario files: what every scripted leaf of a mission returns, call by call.
+
+The format is the contract of ``shared/conformance/FORMAT.md``::
+
+    ticks 20                       # most root ticks to send (default 100, at least 1)
+    default SUCCESS                # what unlisted leaves return (default SUCCESS)
+    leaf FindBall FAILURE SUCCESS  # successive results of the leaf named FindBall
+    clock_ms 100                   # virtual time per tick (default 0)
+
+:func:`parse_scenario` reads a file into a frozen :class:`Scenario` and reports
+every syntax problem as ``path:line:col: error: ...``. :func:`check_scenario`
+does the checks that need the mission: no Condition may return RUNNING, and a
+``leaf`` line that names no leaf of the mission is a warning.
+"""
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from typing import Iterator, Optional
+
+from .diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from .model import Mission, Node, SubTreeNode
+
+MAX_SCENARIO_BYTES = 16 * 1024 * 1024
+DEFAULT_TICKS = 100
+STATUSES = ("SUCCESS", "FAILURE", "RUNNING")
+KEYWORDS = ("ticks", "default", "leaf", "clock_ms")
+
+_TOKEN_RE = re.compile(r"[^ \t\f\v]+")
+_INT_RE = re.compile(r"[+-]?[0-9]+")
+
+
+@dataclass(frozen=True)
+class Token:
+    text: str
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class LeafScript:
+    """The statuses listed for one leaf name, with where each was written."""
+
+    name: str
+    statuses: tuple[str, ...]
+    loc: Loc  # the name
+    status_locs: tuple[Loc, ...]
+
+
+@dataclass(frozen=True)
+class Scenario:
+    path: str
+    ticks: int = DEFAULT_TICKS
+    default: str = "SUCCESS"
+    leaves: tuple[LeafScript, ...] = ()
+    clock_ms: int = 0
+    default_loc: Optional[Loc] = None  # the status of the `default` line, when there is one
+
+    def leaf(self, name: str) -> Optional[LeafScript]:
+        for s in self.leaves:
+            if s.name == name:
+                return s
+        return None
+
+    @property
+    def by_name(self) -> dict[str, LeafScript]:
+        return {s.name: s for s in self.leaves}
+
+
+def _tokens(path: str, lineno: int, line: str) -> list[Token]:
+    hash_at = line.find("#")
+    if hash_at >= 0:
+        line = line[:hash_at]
+    return [Token(m.group(0), Loc(path, lineno, m.start() + 1)) for m in _TOKEN_RE.finditer(line)]
+
+
+def _status_error(tok: Token) -> str:
+    hint = did_you_mean(tok.text.upper(), STATUSES) if tok.text.upper() != tok.text else did_you_mean(tok.text, STATUSES)
+    extra = f" (did you mean `{hint}`?)" if hint else ""
+    if tok.text == "SKIPPED":
+        return "`SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING"
+    if tok.text == "IDLE":
+        return "`IDLE` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING"
+    return f"unknown status `{tok.text}`: use SUCCESS, FAILURE or RUNNING{extra}"
+
+
+def _read_text(path: str) -> str:
+    try:
+        size = os.stat(path).st_size
+        if size > MAX_SCENARIO_BYTES:
+            raise UserError.at(Loc(path, 1, 1), f"file is {size} bytes; scenarios are limited to "
+                                                f"{MAX_SCENARIO_BYTES} bytes")
+        with open(path, "rb") as f:
+            data = f.read(MAX_SCENARIO_BYTES + 1)
+    except IsADirectoryError:
+        raise UserError.at(Loc(path, 1, 1), "is a directory, not a scenario file") from None
+    except OSError as e:
+        raise UserError.at(Loc(path, 1, 1), f"cannot read scenario: {e.strerror or e}") from None
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        good = data[: e.start].decode("utf-8")
+        line = good.count("\n") + 1
+        col = len(good) - (good.rfind("\n") + 1) + 1
+        raise UserError.at(Loc(path, line, col),
+                           f"invalid UTF-8 (byte 0x{data[e.start]:02x}); scenarios must be UTF-8") from None
+
+
+def parse_scenario(path: str) -> Scenario:
+    """Read a scenario file; UserError with every problem found."""
+    return parse_scenario_text(_read_text(path), path)
+
+
+def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
+    sink = DiagnosticSink()
+    ticks: Optional[int] = None
+    ticks_loc: Optional[Loc] = None
+    default: Optional[str] = None
+    default_loc: Optional[Loc] = None
+    default_line: Optional[Loc] = None
+    clock: Optional[int] = None
+    clock_loc: Optional[Loc] = None
+    leaves: dict[str, LeafScript] = {}
+
+    for lineno, line in enumerate(text.split("\n"), start=1):
+        if line.endswith("\r"):
+            line = line[:-1]
+        toks = _tokens(path, lineno, line)
+        if not toks:
+            continue
+        kw, args = toks[0], toks[1:]
+        if kw.text == "ticks":
+            if ticks_loc is not None:
+                sink.error(kw.loc, f"`ticks` is given twice (first at line {ticks_loc.line})")
+                continue
+            ticks_loc = kw.loc
+            value = _one_int(sink, kw, args, "ticks", "the most root ticks to send")
+            if value is not None:
+                if value < 1:
+                    sink.error(args[0].loc, f"ticks must be at least 1, got {value}")
+                else:
+                    ticks = value
+        elif kw.text == "default":
+            if default_line is not None:
+                sink.error(kw.loc, f"`default` is given twice (first at line {default_line.line})")
+                continue
+            default_line = kw.loc
+            if not args:
+                sink.error(kw.loc, "`default` needs a status: SUCCESS, FAILURE or RUNNING")
+                continue
+            if len(args) > 1:
+                sink.error(args[1].loc, f"`default` takes one status, found also `{args[1].text}`")
+            if args[0].text in STATUSES:
+                default, default_loc = args[0].text, args[0].loc
+            else:
+                sink.error(args[0].loc, _status_error(args[0]))
+        elif kw.text == "clock_ms":
+            if clock_loc is not None:
+                sink.error(kw.loc, f"`clock_ms` is given twice (first at line {clock_loc.line})")
+                continue
+            clock_loc = kw.loc
+            value = _one_int(sink, kw, args, "clock_ms", "the milliseconds the clock advances before each tick")
+            if value is not None:
+                if value < 0:
+                    sink.error(args[0].loc, f"clock_ms cannot be negative, got {value}")
+                else:
+                    clock = value
+        elif kw.text == "leaf":
+            if not args:
+                sink.error(kw.loc, "`leaf` needs a leaf name and at least one status")
+                continue
+            name, sts = args[0], args[1:]
+            if name.text in leaves:
+                sink.error(name.loc, f"leaf `{name.text}` is listed twice (first at line {leaves[name.text].loc.line})")
+                continue
+            if not sts:
+                sink.error(name.loc,
+                           f"leaf `{name.text}` has no status: list one or more of SUCCESS, FAILURE, RUNNING")
+                continue
+            bad = [t for t in sts if t.text not in STATUSES]
+            for t in bad:
+                sink.error(t.loc, _status_error(t))
+            leaves[name.text] = LeafScript(name.text, tuple(t.text for t in sts), name.loc,
+                                           tuple(t.loc for t in sts))
+        else:
+            sink.error(kw.loc, f"unknown keyword `{kw.text}`: a line starts with ticks, default, leaf or clock_ms"
+                               f"{suggestion(kw.text, KEYWORDS)}")
+    sink.raise_if_errors()
+    return Scenario(path, ticks if ticks is not None else DEFAULT_TICKS, default or "SUCCESS",
+                    tuple(leaves.values()), clock if clock is not None else 0, default_loc)
+
+
+def _one_int(sink: DiagnosticSink, kw: Token, args: list[Token], what: str, meaning: str) -> Optional[int]:
+    if not args:
+        sink.error(kw.loc, f"`{what}` needs a whole number ({meaning})")
+        return None
+    if len(args) > 1:
+        sink.error(args[1].loc, f"`{what}` takes one number, found also `{args[1].text}`")
+        return None
+    if not _INT_RE.fullmatch(args[0].text):
+        sink.error(args[0].loc, f"`{what}` needs a whole number, got `{args[0].text}`")
+        return None
+    value = int(args[0].text)
+    if value > 2**31 - 1:
+        sink.error(args[0].loc, f"{what} {value} is too large (at most {2**31 - 1})")
+        return None
+    return value
+
+
+# --------------------------------------------------------------------- leaves of a mission
+@dataclass(frozen=True)
+class LeafUse:
+    """One leaf node instance of the running mission (SubTrees expanded)."""
+
+    name: str  # its scenario name: the name attribute, else the ID
+    kind: str  # "Action" | "Condition"
+    node: Node
+
+
+def is_scripted_leaf(mission: Mission, node: Node) -> bool:
+    """A node whose results come from the scenario: a user Action or Condition."""
+    if isinstance(node, SubTreeNode) or node.children:
+        return False
+    try:
+        spec = mission.spec(node.id)
+    except KeyError:
+        return True  # used but not declared: an Action
+    return not spec.builtin and spec.kind in ("Action", "Condition")
+
+
+def leaf_kind(mission: Mission, node: Node) -> str:
+    try:
+        spec = mission.spec(node.id)
+    except KeyError:
+        return "Action"
+    return "Condition" if spec.kind == "Condition" else "Action"
+
+
+def mission_leaves(mission: Mission, builtin_names: Optional[set] = None) -> Iterator[LeafUse]:
+    """Every scripted leaf instance of the main tree, SubTrees expanded, in creation order.
+
+    The display names of built-in leaves go to `builtin_names` when it is given.
+    """
+    trees = {t.id: t for t in mission.trees}
+
+    def walk(node: Node) -> Iterator[LeafUse]:
+        if isinstance(node, SubTreeNode):
+            target = trees.get(node.target)
+            if target is not None:
+                yield from walk(target.root)
+            return
+        if is_scripted_leaf(mission, node):
+            yield LeafUse(node.display_name, leaf_kind(mission, node), node)
+            return
+        if not node.children and builtin_names is not None:
+            builtin_names.add(node.display_name)
+        for c in node.children:
+            yield from walk(c)
+
+    if mission.main_tree in trees:
+        yield from walk(trees[mission.main_tree].root)
+
+
+def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
+    """Check a scenario against its mission.
+
+    Raises UserError when a Condition could return RUNNING; returns the
+    warnings (leaf lines naming no leaf of the mission).
+    """
+    uses: dict[str, list[LeafUse]] = {}
+    seen_nodes: set[int] = set()
+    builtin_names: set[str] = set()
+    for use in mission_leaves(mission, builtin_names):
+        uses.setdefault(use.name, []).append(use)
+    sink = DiagnosticSink()
+    for script in scenario.leaves:
+        found = uses.get(script.name)
+        if not found and script.name in builtin_names:
+            sink.warning(script.loc, f"`{script.name}` is a built-in node of BehaviorTree.CPP and keeps its "
+                                     f"built-in behaviour; its line is ignored")
+            continue
+        if not found:
+            hint = did_you_mean(script.name, uses)
+            extra = f" (did you mean `{hint}`?)" if hint else ""
+            sink.warning(script.loc, f"leaf `{script.name}` matches no Action or Condition of the mission; "
+                                     f"its line is ignored{extra}")
+            continue
+        cond = next((u for u in found if u.kind == "Condition"), None)
+        if cond is not None:
+            for status, loc in zip(script.statuses, script.status_locs):
+                if status == "RUNNING":
+                    sink.error(loc, f"`{script.name}` is a Condition and cannot return RUNNING "
+                                    f"(a Condition answers in one tick; its Condition node is at {cond.node.loc})")
+                    break
+    if scenario.default == "RUNNING":
+        for name, found in uses.items():
+            cond = next((u for u in found if u.kind == "Condition"), None)
+            if cond is not None and scenario.leaf(name) is None and id(cond.node) not in seen_nodes:
+                seen_nodes.add(id(cond.node))
+                loc = scenario.default_loc or Loc(scenario.path, 1, 1)
+                sink.error(loc, f"`default RUNNING` reaches the Condition `{name}` (at {cond.node.loc}), "
+                                f"which cannot return RUNNING; give it its own `leaf {name} ...` line")
+    sink.raise_if_errors()
+    return list(sink.items)
+
+
+def load_scenario(path: str, mission: Mission) -> tuple[Scenario, list[Diagnostic]]:
+    """Parse and check a scenario; returns it with its warnings."""
+    scenario = parse_scenario(path)
+    return scenario, check_scenario(scenario, mission)
