@@ -231,6 +231,7 @@ class _Entry:
     key: _Token
     values: list[_Token]  # for text keys: [id, text]
     end: Loc  # just after the last character of the line
+    broken: bool = False  # a separator error was reported: its value count means nothing
 
 
 class _Scanner:
@@ -239,6 +240,7 @@ class _Scanner:
     def __init__(self, path: str, line: _Line) -> None:
         self.path, self.line, self.text = path, line, line.text
         self.i = 0
+        self.failed = False
 
     def loc(self, i: int) -> Loc:
         return Loc(self.path, self.line.number, i + 1)
@@ -254,7 +256,7 @@ class _Scanner:
             return None
         if self.text[self.i] == ",":
             sink.error(self.loc(self.i), "unexpected `,`: a value is missing before it")
-            self.i = len(self.text)
+            self.i, self.failed = len(self.text), True
             return None
         start = self.i
         while self.i < len(self.text) and self.text[self.i] not in " \t,":
@@ -267,6 +269,7 @@ class _Scanner:
             self._skip_blanks()
             if self.i >= len(self.text):
                 sink.error(self.loc(comma), "unexpected `,` at the end of the line")
+                self.failed = True
         return token
 
     def rest(self) -> Optional[_Token]:
@@ -280,18 +283,33 @@ class _Scanner:
         return self.loc(len(self.text.rstrip(" \t")))
 
 
-def _tokenize(path: str, lines: Sequence[_Line], sink: DiagnosticSink) -> list[_Entry]:
+@dataclass
+class _Parsed:
+    entries: list[_Entry]
+    # (location id as written, key) of lines whose key is unknown but close to a
+    # real one: the missing-entry error for that pair would only repeat it.
+    explained: set[tuple[str, str]]
+
+
+def _tokenize(path: str, lines: Sequence[_Line], sink: DiagnosticSink) -> _Parsed:
     known = schema_keys()
+    explained: set[tuple[str, str]] = set()
     entries: list[_Entry] = []
+    previous: Optional[_Line] = None  # the last content line, for wrapped text
     for line in lines:
         if not _content(line):
             continue
         sc = _Scanner(path, line)
         key = sc.item(sink)
+        wrapped_from, previous = previous, line
         if key is None:
             continue
         if key.text not in known:
-            sink.error(key.loc, _unknown_key_message(key.text, known))
+            sink.error(key.loc, _unknown_key_message(key.text, known, wrapped_from))
+            meant = _RENAMED[key.text][0] if key.text in _RENAMED else did_you_mean(key.text, known)
+            ident = sc.item(DiagnosticSink())
+            if meant is not None and ident is not None:
+                explained.add((ident.text, meant))
             continue
         values: list[_Token] = []
         if key.text in TEXT_KEYS:
@@ -304,21 +322,23 @@ def _tokenize(path: str, lines: Sequence[_Line], sink: DiagnosticSink) -> list[_
         else:
             while (tok := sc.item(sink)) is not None:
                 values.append(tok)
-        entries.append(_Entry(key, values, sc.end()))
-    return entries
+        entries.append(_Entry(key, values, sc.end(), sc.failed))
+    return _Parsed(entries, explained)
 
 
-def _unknown_key_message(word: str, known: Sequence[str]) -> str:
+def _unknown_key_message(word: str, known: Sequence[str], previous: Optional[_Line]) -> str:
     if word in _RENAMED:
         new, why = _RENAMED[word]
         return f"unknown key `{word}`: it was {why}; write `{new}`"
-    if re.fullmatch(r"[+-]?[0-9.]+", word):
-        return (f"a line starts with `{word}`, not a key: every entry is one line, "
-                f"`key id values` (a value cannot continue on the next line)")
     m = did_you_mean(word, known)
-    hint = f" (did you mean `{m}`? keys are case-sensitive)" if m and m.lower() == word.lower() else \
-        suggestion(word, known)
-    return f"unknown key `{word}`{hint}"
+    if m and m.lower() == word.lower():
+        return f"unknown key `{word}` (did you mean `{m}`? keys are case-sensitive)"
+    if m:
+        return f"unknown key `{word}` (did you mean `{m}`?)"
+    if previous is not None and previous.text.split(None, 1)[0] in TEXT_KEYS:
+        return (f"unknown key `{word}`; if this line continues the text on line {previous.number}, "
+                f"join them: an entry is one line")
+    return f"unknown key `{word}`: a line starts with a key such as `{known[0]}`"
 
 
 # ----- Schema validation -----------------------------------------------------
@@ -391,7 +411,12 @@ def _type_message(elem: ET.Element, parent: ET.Element, validator: object) -> st
         if "Inclusive" in facet:
             return (f"`{value}` is out of range: coordinates are at most {KB_MAX_ABS_COORDINATE} "
                     f"in magnitude")
-        return f"expected a number in `{key}` ({POINT_KEYS.get(key, 'x y z')}), found `{value}`"
+        try:
+            float(value)
+            why = " (write a plain decimal such as 0.82: no exponent, INF or NaN)"
+        except ValueError:
+            why = ""
+        return f"expected a number in `{key}` ({POINT_KEYS.get(key, 'x y z')}), found `{value}`{why}"
     if elem.tag == "key":
         if "Length" in facet:
             return (f"cultural knowledge key `{value[:20]}...` is {len(value.encode())} bytes long; "
@@ -405,7 +430,7 @@ def _type_message(elem: ET.Element, parent: ET.Element, validator: object) -> st
     return f"`{key}` needs a text after the location id"
 
 
-def _validate(tree: _Tree, path: str, sink: DiagnosticSink) -> set[int]:
+def _validate(tree: _Tree, explained: set[tuple[str, str]], path: str, sink: DiagnosticSink) -> set[int]:
     """Report schema errors at .dat positions; returns the ids of elements with a bad value."""
     parents = {id(c): p for p in tree.root.iter() for c in p}
     errors = list(kb_schema().iter_errors(tree.root))
@@ -430,7 +455,7 @@ def _validate(tree: _Tree, path: str, sink: DiagnosticSink) -> set[int]:
             bad.add(id(elem))
             sink.error(loc, _type_message(elem, parents[id(elem)], err.validator))
 
-    _identity_errors(tree, identity, bad, reported, path, sink)
+    _identity_errors(tree, identity, bad, reported, explained, path, sink)
     return bad
 
 
@@ -450,6 +475,8 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
             sink.error(tree.locs[id(child)], f"unexpected `{child.tag}`")
         return
     entry = tree.entries[id(elem)]
+    if entry.broken:
+        return  # the separator error already explains the count
     if child is not None:  # too many values
         if key == TOUR_KEY:
             sink.error(tree.locs[id(child)],
@@ -461,9 +488,9 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
             sink.error(tree.locs[id(child)], f"too many values: `{key}` takes {_describe_values(key)}")
         return
     # Too few values.
+    # Report where the missing value belongs: one blank after the end of the line.
     if not entry.values:
-        sink.error(entry.end.shifted(1) if entry.end.col > 1 else entry.end,
-                   f"`{key}` needs {_describe_values(key)}")
+        sink.error(entry.end.shifted(1), f"`{key}` needs {_describe_values(key)}")
     elif key in POINT_KEYS:
         sink.error(entry.end.shifted(1), f"`{key}` takes {_describe_values(key)}; "
                                          f"found {len(entry.values) - 1} number"
@@ -486,12 +513,16 @@ def _entry_id(tree: _Tree, elem: ET.Element, bad: set[int]) -> Optional[int]:
 
 
 def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationError], bad: set[int],
-                     reported: set[int], path: str, sink: DiagnosticSink) -> None:
+                     reported: set[int], explained: set[tuple[str, str]], path: str,
+                     sink: DiagnosticSink) -> None:
     first_of: dict[int, ET.Element] = {}  # location id -> its first entry element
+    unidentified: set[str] = set()  # keys with an entry whose id is missing or malformed
     for elem in tree.root:
         lid = _entry_id(tree, elem, bad)
         if lid is not None:
             first_of.setdefault(lid, elem)
+        elif elem.tag != TOUR_KEY:
+            unidentified.add(elem.tag)
     seen: set[tuple[str, str]] = set()
     for err in errs:
         reason = err.reason or ""
@@ -525,7 +556,8 @@ def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationEr
                     if parent_is_tour and id(tid) not in bad and int(tid.text or "0") == lid:
                         sink.error(tree.locs[id(tid)], f"the tour visits location {lid}, which the knowledge "
                                                        f"base does not define (locations: {known})")
-            elif lid in first_of:  # location entries keep their file order in the tree
+            elif lid in first_of and key not in unidentified and (str(lid), key) not in explained:
+                # Location entries keep their file order in the tree: first_of is the first line.
                 sink.error(tree.locs[id(first_of[lid])], f"location {lid} has no `{key}` entry")
             continue
         loc = tree.locs.get(id(err.elem), Loc(path, 1, 1)) if err.elem is not None else Loc(path, 1, 1)
@@ -607,9 +639,10 @@ def _check_kb(dat_path: str) -> tuple[list[Diagnostic], Optional[KnowledgeBase],
         sink.error(Loc(dat_path, 1, 1), "the knowledge base is empty: it has no locations and no "
                                         f"`{TOUR_KEY}` (format: key, location id, values; one entry a line)")
         return _sorted(sink.items), None, []
-    entries = _tokenize(dat_path, lines, sink)
+    parsed = _tokenize(dat_path, lines, sink)
+    entries = parsed.entries
     tree = _build_tree(entries, dat_path)
-    _validate(tree, dat_path, sink)
+    _validate(tree, parsed.explained, dat_path, sink)
     _lint_entries(entries, sink)
     if not sink.errors:  # locations no tour visits
         visited = {int(t.text) for e in entries if e.key.text == TOUR_KEY for t in e.values[1:]}
