@@ -1,0 +1,76 @@
+"""`btgen run`: run a mission with scripted leaves and print its status trace.
+
+The trace format and the run loop are those of ``shared/conformance/FORMAT.md``.
+Mission and scenario problems are reported before any trace line; a problem
+found while running (a script error, a value a port cannot take) is reported
+after the lines already printed, as ``path:line:col: error: ...``, with exit
+status 1.
+"""
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+from typing import Sequence
+
+from .diagnostics import Diagnostic
+
+EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
+
+
+def _print_diagnostics(diags: Sequence[Diagnostic]) -> None:
+    for d in diags:
+        print(str(d), file=sys.stderr)
+
+
+def _cpp_engine_available() -> bool:
+    return importlib.util.find_spec(f"{__package__}.cppengine") is not None
+
+
+def run_command(args) -> int:
+    """Entry point of `btgen run MISSION.xml --scenario FILE [--engine interp|cpp]`."""
+    engine = getattr(args, "engine", "interp") or "interp"
+    if engine == "cpp":
+        if not _cpp_engine_available():
+            print("btgen: error: the cpp engine is not available yet", file=sys.stderr)
+            return EXIT_USAGE
+        from .cppengine import run_cpp  # type: ignore[import-not-found]
+
+        return run_cpp(args.mission, args.scenario)
+    if engine != "interp":
+        print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
+        return EXIT_USAGE
+
+    from .frontend import load_mission
+    from .interp import run_trace
+    from .scenario import load_scenario
+
+    # UserError (mission or scenario) propagates to the command line, which
+    # prints it and exits 1: nothing has been printed on stdout yet.
+    mission = load_mission(args.mission)
+    _print_diagnostics(mission.warnings)
+    scenario, warnings = load_scenario(args.scenario, mission)
+    _print_diagnostics(warnings)
+
+    out = sys.stdout
+
+    def write(text: str) -> None:
+        out.write(text)
+
+    try:
+        run_trace(mission, scenario, write)
+        out.flush()
+    except BrokenPipeError:
+        # The reader went away (`btgen run ... | head`): stop quietly.
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, out.fileno())
+        except (OSError, ValueError):
+            pass
+        return EXIT_INPUT
+    finally:
+        try:
+            out.flush()
+        except (BrokenPipeError, ValueError):
+            pass
+    return EXIT_OK
