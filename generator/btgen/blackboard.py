@@ -1,0 +1,392 @@
+"""Blackboards with BehaviorTree.CPP 4.6.2 semantics (``blackboard.h/.cpp``).
+
+A :class:`Blackboard` holds :class:`Entry` objects by key. An entry has a
+declared type (a canonical name from :mod:`btgen.values`; ``any`` for 4.6.2's
+``AnyTypeAllowed``), a value (``None`` until first written) and an update
+counter, ``sequence_id``, that every write bumps. Entries are shared objects:
+a SubTree blackboard that remaps ``goal`` to its parent's ``target`` hands out
+the parent's very entry, as 4.6.2 shares ``shared_ptr<Entry>``.
+
+Key lookup (:meth:`Blackboard.get_entry`), in 4.6.2's order:
+
+1. ``@key`` always means ``key`` on the root blackboard;
+2. an entry stored on this blackboard;
+3. an explicit SubTree remapping (``port="{parent_key}"``) to the parent;
+4. with ``_autoremap``, the same key on the parent, except private keys
+   (starting with ``_``);
+5. otherwise there is no entry.
+
+The module also has what nodes need to read and write ports the way
+``TreeNode::getInput``/``setOutput`` do, and what the XML loader does when
+it builds a tree (:func:`create_port_entry`, :meth:`Blackboard.for_subtree`).
+Errors raise :class:`BlackboardError`.
+"""
+from __future__ import annotations
+
+from typing import Iterable, Optional
+
+from . import values
+from .values import ANY, STRING, ConversionError, Value
+
+
+class BlackboardError(Exception):
+    """A blackboard or port operation that 4.6.2 rejects (it throws there)."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message)
+        self.message = message
+
+
+class Entry:
+    """One blackboard entry: declared type, value (None: not written yet), update counter."""
+
+    __slots__ = ("type_name", "value", "sequence_id")
+
+    def __init__(self, type_name: str, value: Optional[Value] = None, sequence_id: int = 0) -> None:
+        self.type_name = type_name
+        self.value = value
+        self.sequence_id = sequence_id
+
+    @property
+    def strongly_typed(self) -> bool:
+        return values.is_strongly_typed(self.type_name)
+
+    @property
+    def has_converter(self) -> bool:
+        """Whether 4.6.2 gives the entry a string converter (its type's convertFromString).
+
+        ``any`` has none, and neither has ``NodeStatus``: 4.6.2 gives enums no
+        converter (``GetAnyFromStringFunctor``).
+        """
+        return self.type_name not in (ANY, values.NODE_STATUS)
+
+    def convert(self, text: str) -> Value:
+        """The entry's string converter applied to ``text``; raises ConversionError."""
+        return values.convert_from_string(self.type_name, text)
+
+    def bump(self) -> None:
+        self.sequence_id += 1
+
+    def __repr__(self) -> str:
+        return f"Entry({self.type_name!r}, {self.value!r}, sequence_id={self.sequence_id})"
+
+
+def _is_private(key: str) -> bool:
+    return key.startswith("_")
+
+
+class Blackboard:
+    """A blackboard, optionally the child of a SubTree's parent blackboard."""
+
+    def __init__(self, parent: Optional["Blackboard"] = None, *, autoremap: bool = False) -> None:
+        self.parent = parent
+        self.autoremap = autoremap
+        self._storage: dict[str, Entry] = {}
+        self._remapping: dict[str, str] = {}
+
+    # ----------------------------------------------------------- structure
+    @property
+    def root(self) -> "Blackboard":
+        bb = self
+        while bb.parent is not None:
+            bb = bb.parent
+        return bb
+
+    def add_remapping(self, internal: str, external: str) -> None:
+        """``internal`` on this blackboard means ``external`` on the parent."""
+        self._remapping[internal] = external
+
+    @property
+    def remapping(self) -> dict[str, str]:
+        return dict(self._remapping)
+
+    def local_keys(self) -> tuple[str, ...]:
+        """Keys stored on this blackboard itself (not reached through remapping)."""
+        return tuple(self._storage)
+
+    @classmethod
+    def for_subtree(cls, parent: "Blackboard", ports: Iterable[tuple[str, str]],
+                    autoremap: bool = False) -> "Blackboard":
+        """The blackboard 4.6.2's XML loader makes for a SubTree instance.
+
+        ``ports`` are the SubTree element's port attributes (name, value),
+        with any TreeNodesModel defaults already added. ``{=}`` means
+        ``{name}``; ``{key}`` remaps ``name`` to the parent's ``key``; any
+        other value is a constant: a local ``name`` entry holding that string
+        (never autoremapped), as ``Blackboard::set<std::string>`` creates it.
+        """
+        bb = cls(parent, autoremap=autoremap)
+        for name, value in ports:
+            if value == "{=}":
+                value = "{" + name + "}"
+            key = strip_blackboard_pointer(value)
+            if key is not None:
+                bb.add_remapping(name, key)
+            else:
+                bb.autoremap = False
+                bb.set(name, value, STRING)
+                bb.autoremap = autoremap
+        return bb
+
+    # ---------------------------------------------------------------- look-up
+    def get_entry(self, key: str) -> Optional[Entry]:
+        """The entry ``key`` names from here, or None (4.6.2 ``getEntry``)."""
+        if key.startswith("@"):
+            return self.root.get_entry(key[1:])
+        entry = self._storage.get(key)
+        if entry is not None:
+            return entry
+        if self.parent is not None:
+            if key in self._remapping:
+                return self.parent.get_entry(self._remapping[key])
+            if self.autoremap and not _is_private(key):
+                return self.parent.get_entry(key)
+        return None
+
+    def get(self, key: str) -> Value:
+        """The value of ``key``; raises when there is no entry or it has no value yet."""
+        entry = self.get_entry(key)
+        if entry is None:
+            raise BlackboardError(f"no blackboard entry `{key}`")
+        if entry.value is None:
+            raise BlackboardError(f"blackboard entry `{key}` has no value yet")
+        return entry.value
+
+    # --------------------------------------------------------------- creation
+    def create_entry(self, key: str, type_name: str) -> Entry:
+        """Create ``key`` with a declared type, or return the entry it already names.
+
+        As 4.6.2 ``createEntry``: ``@key`` creates on the root; a remapped or
+        autoremapped key creates on the parent. An existing entry keeps its
+        type, but two different strong types are an error.
+        """
+        if key.startswith("@"):
+            if "@" in key[1:]:
+                raise BlackboardError(f"`{key}`: the character `@` may appear only once, at the start of a key")
+            return self.root._create_entry_impl(key[1:], type_name)
+        return self._create_entry_impl(key, type_name)
+
+    def _create_entry_impl(self, key: str, type_name: str) -> Entry:
+        entry = self._storage.get(key)
+        if entry is not None:
+            if (entry.type_name != type_name and entry.strongly_typed
+                    and values.is_strongly_typed(type_name)):
+                raise BlackboardError(
+                    f"blackboard entry `{key}` is declared as {entry.type_name}; it cannot be used as {type_name}")
+            return entry
+        if key in self._remapping:
+            if self.parent is None:
+                raise BlackboardError(f"`{key}` is remapped but the blackboard has no parent")
+            # An `@key` target goes to the root (4.6.2 misplaces it; fixed later, #1192).
+            return self.parent.create_entry(self._remapping[key], type_name)
+        if self.autoremap and not _is_private(key):
+            if self.parent is None:
+                raise BlackboardError(f"`{key}` is autoremapped but the blackboard has no parent")
+            return self.parent._create_entry_impl(key, type_name)
+        entry = Entry(type_name)
+        self._storage[key] = entry
+        return entry
+
+    # ------------------------------------------------------------------ writes
+    def set(self, key: str, value: Value, type_name: Optional[str] = None) -> Entry:
+        """Write ``value`` as 4.6.2 ``Blackboard::set<T>`` does; returns the entry.
+
+        ``type_name`` is T, the C++ type the writer uses (default: the value's
+        own type); ``any`` stands for ``set<BT::Any>`` (what SetBlackboard
+        uses). Every write bumps ``sequence_id``.
+
+        - No entry stored on this blackboard: the entry is created (through
+          remapping if the key is remapped) with type T, except that a string
+          creates an ``any`` entry and ``set<Any>`` uses the value's type, and
+          the value is stored as is.
+        - An ``any`` entry stored here takes type T and the value.
+        - A typed entry stored here accepts a value of its type; a string
+          converted by the entry's converter; a number that fits
+          (``isCastingSafe``); anything else is an error. The value is then
+          copied into the entry (``Any::copyInto``).
+        """
+        if key.startswith("@"):
+            return self.root.set(key[1:], value, type_name)
+        t = type_name if type_name is not None else values.type_of(value)
+        entry = self._storage.get(key)
+        if entry is None:
+            if t == STRING:
+                new_type = ANY
+            elif t == ANY:
+                new_type = values.type_of(value)
+            else:
+                new_type = t
+            entry = self._create_entry_impl(key, new_type)
+            entry.value = value
+            entry.bump()
+            return entry
+        if not entry.strongly_typed:
+            entry.type_name = values.type_of(value) if t == ANY else t
+            entry.value = value
+            entry.bump()
+            return entry
+        new_value = value
+        value_type = values.type_of(value) if t == ANY else t
+        if entry.type_name != value_type:
+            mismatching = True
+            if t == STRING and entry.has_converter:
+                try:
+                    new_value = entry.convert(value)  # type: ignore[arg-type]
+                    mismatching = False
+                except ConversionError as e:
+                    raise BlackboardError(f"cannot write {values.describe(value)} to `{key}` "
+                                          f"({entry.type_name}): {e}") from None
+            if mismatching and t in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) \
+                    and values.is_casting_safe(entry.type_name, value):
+                mismatching = False
+            if mismatching:
+                raise BlackboardError(
+                    f"blackboard entry `{key}` is declared as {entry.type_name}; "
+                    f"it cannot be written with a {t}")
+        if t == ANY:
+            entry.value = new_value
+        else:
+            try:
+                entry.value = values.copy_into(new_value, entry.value)
+            except ConversionError as e:
+                raise BlackboardError(f"cannot write {values.describe(value)} to `{key}`: {e}") from None
+        entry.bump()
+        return entry
+
+    def unset(self, key: str) -> None:
+        """Remove ``key`` from this blackboard's own storage (4.6.2 ``unset``).
+
+        As in 4.6.2, a key reached only through remapping (or written with
+        `@`) is not removed, and a missing key is no error.
+        """
+        self._storage.pop(key, None)
+
+
+# ------------------------------------------------------------ port helpers
+
+def is_blackboard_pointer(text: str) -> bool:
+    """4.6.2 ``isBlackboardPointer``: ``{key}`` with optional blanks around it."""
+    return strip_blackboard_pointer(text) is not None
+
+
+def strip_blackboard_pointer(text: str) -> Optional[str]:
+    """``key`` for ``{key}`` (spaces around the braces ignored, not inside), else None."""
+    stripped = text.strip(" ")
+    if len(stripped) >= 3 and stripped[0] == "{" and stripped[-1] == "}":
+        return stripped[1:-1]
+    return None
+
+
+def remapped_key(port_name: str, text: str) -> Optional[str]:
+    """4.6.2 ``getRemappedKey``: the entry a port value names, or None for a literal.
+
+    ``{=}`` and ``=`` name the entry called like the port.
+    """
+    if text in ("{=}", "="):
+        if not port_name:
+            raise BlackboardError(f"`{text}` needs the port name")
+        return port_name
+    return strip_blackboard_pointer(text)
+
+
+def get_input(bb: Blackboard, port_value_text: str, port_type: str, port_name: str = "") -> Value:
+    """Read a port as 4.6.2 ``TreeNode::getInput<T>`` with T = ``port_type``.
+
+    A literal is converted with ``convertFromString``. A ``{key}`` reads the
+    entry: a string value is converted with ``convertFromString`` unless T
+    is ``string``, any other value with ``Any::cast``; an ``any`` port gets
+    the value as stored. A missing entry, or one without a value yet, is an
+    error, as is a failed conversion.
+    """
+    key = remapped_key(port_name, port_value_text)
+    what = f"port `{port_name}`" if port_name else "port"
+    if key is None:
+        try:
+            return values.convert_from_string(port_type, port_value_text)
+        except ConversionError as e:
+            raise BlackboardError(f"{what}: {e}") from None
+    entry = bb.get_entry(key)
+    if entry is None or entry.value is None:
+        state = "does not exist" if entry is None else "has no value yet"
+        raise BlackboardError(f"{what} reads blackboard entry `{key}`, which {state}")
+    value = entry.value
+    try:
+        if port_type == ANY:
+            return value
+        if port_type != STRING and isinstance(value, str):
+            return values.convert_from_string(port_type, value)
+        return values.cast(value, port_type)
+    except ConversionError as e:
+        raise BlackboardError(f"{what} reads blackboard entry `{key}`: {e}") from None
+
+
+def set_output(bb: Blackboard, port_value_text: str, value: Value, port_type: str,
+               port_name: str = "") -> Entry:
+    """Write a port as 4.6.2 ``TreeNode::setOutput<T>`` with T = ``port_type``.
+
+    The port must name an entry (``{key}``, ``{=}``); a literal is an error.
+    """
+    key = remapped_key(port_name, port_value_text)
+    if key is None:
+        what = f"output port `{port_name}`" if port_name else "an output port"
+        raise BlackboardError(f"{what} must name a blackboard entry, as `{{key}}`, not `{port_value_text}`")
+    t = port_type if port_type != ANY else values.type_of(value)
+    return bb.set(key, value, t)
+
+
+def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str,
+                      port_name: str = "") -> Optional[Entry]:
+    """What 4.6.2's XML loader does for one port of a node it creates.
+
+    A port naming an entry (``{key}``, ``{=}``) creates that entry with the
+    port's type when it does not exist yet (no value, ``sequence_id`` 0). If
+    it exists, two different strong types are an error unless the existing
+    entry is a ``string`` (4.6.2 converts strings on reading). Literal ports
+    create nothing (None).
+    """
+    key = remapped_key(port_name, port_value_text)
+    if key is None:
+        return None
+    entry = bb.get_entry(key)
+    if entry is not None:
+        if (entry.strongly_typed and values.is_strongly_typed(port_type)
+                and entry.type_name != port_type and entry.type_name != STRING):
+            raise BlackboardError(f"blackboard entry `{key}` was created as {entry.type_name}, "
+                                  f"but port `{port_name}` uses it as {port_type}")
+        return entry
+    return bb.create_entry(key, port_type)
+
+
+def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
+    """The SetBlackboard action: write ``value_text`` (or the entry it names) to ``output_key``.
+
+    A literal is written as 4.6.2 does, with ``set<std::string>`` (a typed
+    entry converts it; an ``any`` one stores the string). ``{key}`` copies
+    that entry's value; the destination is created with the source's type
+    if missing, a string is converted to a typed destination, and the copy
+    bumps the destination's update counter (4.7.0 behaviour, see FORMAT.md;
+    4.6.2 copied the counter along). Returns False (the node fails) when the
+    source has no value yet; a missing source is an error.
+    """
+    src_key = strip_blackboard_pointer(value_text)
+    if src_key is None:
+        bb.set(output_key, value_text, STRING)
+        return True
+    src = bb.get_entry(src_key)
+    if src is None:
+        raise BlackboardError(f"SetBlackboard: `value` reads blackboard entry `{src_key}`, which does not exist")
+    dst = bb.get_entry(output_key)
+    if dst is None:
+        dst = bb.create_entry(output_key, src.type_name)
+    if src.value is None:
+        return False
+    out = src.value
+    if dst.strongly_typed and dst.type_name != STRING and isinstance(out, str):
+        if not dst.has_converter:
+            raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(out)} to {dst.type_name}")
+        try:
+            out = dst.convert(out)
+        except ConversionError as e:
+            raise BlackboardError(f"SetBlackboard: {e}") from None
+    bb.set(output_key, out, ANY)
+    return True
