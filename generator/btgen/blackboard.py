@@ -199,7 +199,8 @@ class Blackboard:
           remapping if the key is remapped) with type T, except that a string
           creates an ``any`` entry and ``set<Any>`` uses the value's type, and
           the value is stored as is.
-        - An ``any`` entry stored here takes type T and the value.
+        - An ``any`` entry stored here takes type T (stays ``any`` for
+          ``set<Any>``) and the value.
         - A typed entry stored here accepts a value of its type; a string
           converted by the entry's converter; a number that fits
           (``isCastingSafe``); anything else is an error. The value is then
@@ -208,6 +209,11 @@ class Blackboard:
         if key.startswith("@"):
             return self.root.set(key[1:], value, type_name)
         t = type_name if type_name is not None else values.type_of(value)
+        if t in (values.INT, values.UNSIGNED) and isinstance(value, int) and not isinstance(value, bool):
+            try:
+                values.cast(value, t)  # a C++ `int`/`unsigned` cannot hold more
+            except ConversionError as e:
+                raise BlackboardError(f"cannot write {value} to `{key}`: {e}") from None
         entry = self._storage.get(key)
         if entry is None:
             if t == STRING:
@@ -221,7 +227,7 @@ class Blackboard:
             entry.bump()
             return entry
         if not entry.strongly_typed:
-            entry.type_name = values.type_of(value) if t == ANY else t
+            entry.type_name = t  # set<BT::Any> leaves it generic (BT::Any is not a strong type)
             entry.value = value
             entry.bump()
             return entry

@@ -569,8 +569,6 @@ def is_casting_safe(type_name: str, value: Value) -> bool:
     """4.6.2 ``isCastingSafe``: whether a number fits an entry declared ``type_name``."""
     if not is_number(value):
         return False
-    if type_name == type_of(value):
-        return True
     v = _number_value(value)
     if type_name in (INT, UNSIGNED):
         lo, hi = (INT_MIN, INT_MAX) if type_name == INT else (0, UNSIGNED_MAX)
@@ -582,13 +580,24 @@ def is_casting_safe(type_name: str, value: Value) -> bool:
     return False
 
 
+def _like(n: Union[int, NodeStatus], destination: Value) -> Value:
+    """An integer shown with the destination's original type (4.6.2 keeps it on copy)."""
+    v = _number_value(n)
+    if isinstance(destination, bool):
+        return bool(v) if v in (0, 1) else v
+    if isinstance(destination, NodeStatus):
+        return next((s for s in NodeStatus if s.value == v), v)
+    return v
+
+
 def copy_into(value: Value, destination: Optional[Value]) -> Value:
     """4.6.2 ``Any::copyInto``: the value an entry holding ``destination`` gets.
 
     An empty destination takes the value as is; two strings, or two values
     of the same stored kind (integer / double), replace; a number into a
     number of the other kind converts to the destination's kind (with
-    :func:`cast`'s checks); anything else fails.
+    :func:`cast`'s checks); anything else fails. An integer keeps the
+    destination's original type where it can (1 into a bool is True).
     """
     if destination is None:
         return value
@@ -597,7 +606,8 @@ def copy_into(value: Value, destination: Optional[Value]) -> Value:
     if is_number(value) and is_number(destination):
         if isinstance(destination, float):
             return value if isinstance(value, float) else _to_double(value)
-        return value if not isinstance(value, float) else to_int64(value)
+        n = value if not isinstance(value, float) else to_int64(value)
+        return _like(n, destination)
     if isinstance(value, Queue) and isinstance(destination, Queue) and value.element_type == destination.element_type:
         return value
     raise ConversionError(f"a {type_of(value)} cannot be stored where a {type_of(destination)} is")
