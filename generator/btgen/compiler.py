@@ -1,0 +1,127 @@
+"""`btgen compile`: mission -> C++17 header and source.
+
+    load_mission (front end) -> lower (IR) -> render (templates) -> write
+
+Everything is rendered in memory first. Then each output is written
+atomically (a temporary file in the same directory, then os.replace) and only
+when its bytes changed, so an unchanged mission does not touch timestamps
+and a failed generation leaves the previous outputs as they were.
+
+Also a small entry point for build systems:
+
+    python -m btgen.compiler --deps MISSION.xml      # the mission and every file it includes
+    python -m btgen.compiler --outputs MISSION.xml   # the file names `compile` writes
+    python -m btgen.compiler --inputs                # generator sources, templates, schemas
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Optional, Sequence
+
+from .diagnostics import UserError
+from .emit import TEMPLATE_DIR, Output, output_names, render
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+SCHEMA_DIR = PACKAGE_DIR.parents[1] / "schema"
+
+
+def mission_stem(path: str) -> str:
+    return Path(path).stem
+
+
+def generate(mission_path: str, relative_to: Optional[str] = None) -> tuple[Output, ...]:
+    """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
+    from .frontend import load_mission
+    from .lower import lower
+
+    mission = load_mission(mission_path)
+    program = lower(mission)
+    return render(program, mission_stem(mission_path), relative_to or os.getcwd())
+
+
+def write_if_changed(path: Path, text: str) -> bool:
+    """Atomically replace `path` with `text` unless it already holds exactly that. True: written."""
+    data = text.encode("utf-8")
+    try:
+        if path.read_bytes() == data:
+            return False
+    except OSError:
+        pass
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return True
+
+
+def compile_command(args: argparse.Namespace) -> int:
+    """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
+    from .frontend import load_mission
+    from .lower import lower
+    from .cli import print_diagnostics
+
+    mission = load_mission(args.mission)
+    print_diagnostics(mission.warnings)
+    program = lower(mission)
+    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd())
+    out_dir = Path(args.output_dir)
+    for out in outputs:  # rendered completely before anything is written
+        write_if_changed(out_dir / out.name, out.text)
+    return 0
+
+
+def generator_inputs() -> list[str]:
+    """Files whose change changes the output of every mission: sources, templates, schemas."""
+    files = sorted(str(p) for p in PACKAGE_DIR.glob("*.py"))
+    files += sorted(str(p) for p in TEMPLATE_DIR.glob("*.j2"))
+    files += sorted(str(p) for p in SCHEMA_DIR.glob("*.xsd"))
+    return files
+
+
+def mission_files(mission_path: str) -> list[str]:
+    """The mission and every file it includes (absolute). Falls back to the
+    mission alone when it does not load: the build then reports its errors."""
+    from .frontend import load_mission
+
+    try:
+        files = list(load_mission(mission_path).files)
+    except UserError:
+        files = [mission_path]
+    return [os.path.abspath(f) for f in files]
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m btgen.compiler", description=__doc__.split("\n")[0])
+    g = p.add_mutually_exclusive_group(required=True)
+    g.add_argument("--deps", metavar="MISSION.xml", help="print the mission and its included files, one per line")
+    g.add_argument("--outputs", metavar="MISSION.xml", help="print the names of the files `btgen compile` writes")
+    g.add_argument("--inputs", action="store_true", help="print the generator's own sources, templates and schemas")
+    p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
+    args = p.parse_args(argv)
+    if args.deps:
+        items = mission_files(args.deps)
+    elif args.outputs:
+        items = list(output_names(mission_stem(args.outputs)))
+    else:
+        items = generator_inputs()
+    if args.cmake:
+        sys.stdout.write(";".join(i.replace("\\", "/") for i in items))
+    else:
+        sys.stdout.write("".join(i + "\n" for i in items))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,136 @@
+"""The C++ engine of `btgen run --engine cpp`: generate, build (cached), run.
+
+`run_cpp(mission, scenario)` compiles the mission to C++, builds it with the
+system compiler together with the scenario runner (runtime/src/main_driver.cpp)
+and runs it on the scenario; its trace and diagnostics go to this process's
+stdout/stderr and its exit status is returned.
+
+Executables are cached in `$BTGEN_CACHE_DIR`, else `$XDG_CACHE_HOME/btgen`,
+else `~/.cache/btgen`, under a key hashing the generated sources, the runtime
+headers, the driver, the compiler's identity and the flags: a mission is built
+once until any of them changes. Builds go to a private directory that is
+renamed into place, so concurrent runs never see a half-written executable.
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+from typing import Optional
+
+from . import naming
+from .compiler import generate, mission_stem
+from .diagnostics import Diagnostic, InternalError, Loc, UserError
+
+ROOT = Path(__file__).resolve().parents[2]
+RUNTIME_INCLUDE = ROOT / "runtime" / "include"
+DRIVER = ROOT / "runtime" / "src" / "main_driver.cpp"
+CXX_FLAGS = ("-std=c++17", "-O1")
+BINARY = "mission"
+
+
+def cache_dir() -> Path:
+    if os.environ.get("BTGEN_CACHE_DIR"):
+        return Path(os.environ["BTGEN_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "btgen"
+
+
+def compiler() -> str:
+    return os.environ.get("CXX") or "c++"
+
+
+@lru_cache(maxsize=None)
+def _compiler_identity(cxx: str) -> str:
+    """`c++ --version` (which compiler, which version): part of the cache key."""
+    path = shutil.which(cxx)
+    if path is None:
+        return ""
+    try:
+        out = subprocess.run([path, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False,
+                             timeout=60).stdout
+    except (OSError, subprocess.SubprocessError):
+        out = b""
+    return os.path.realpath(path) + "\n" + out.decode("utf-8", "replace")
+
+
+def _runtime_files() -> list[Path]:
+    return sorted(RUNTIME_INCLUDE.rglob("*.hpp")) + [DRIVER]
+
+
+def build_cpp(mission_path: str) -> Path:
+    """The scenario-runner executable of a mission, built if not cached. UserError when
+    the mission cannot be compiled; InternalError when the generated code does not build."""
+    outputs = generate(mission_path, relative_to=os.getcwd())
+    stem = mission_stem(mission_path)
+    cxx = compiler()
+    identity = _compiler_identity(cxx)
+    if not identity:
+        raise UserError(Diagnostic(Loc(mission_path, 1, 1),
+                                   f"cannot build the C++ executor: no C++ compiler `{cxx}` on PATH "
+                                   f"(install g++ or clang++, or set CXX)"))
+    template = f"{naming.namespace_name(stem)}::{naming.pascal_case(stem)}"
+    header = outputs[0].name
+    defines = (f'-DBTGEN_MISSION_HEADER="{header}"', f"-DBTGEN_MISSION_TEMPLATE={template}")
+
+    h = hashlib.sha256()
+    for part in (identity, " ".join(CXX_FLAGS + defines)):
+        h.update(part.encode("utf-8") + b"\0")
+    for out in outputs:
+        h.update(out.name.encode("utf-8") + b"\0" + out.text.encode("utf-8") + b"\0")
+    for f in _runtime_files():
+        h.update(str(f.relative_to(ROOT)).encode("utf-8") + b"\0" + f.read_bytes() + b"\0")
+    key = h.hexdigest()[:32]
+
+    final = cache_dir() / "cpp" / key
+    binary = final / BINARY
+    if binary.is_file():
+        return binary
+    final.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
+    try:
+        for out in outputs:
+            (work / out.name).write_text(out.text, encoding="utf-8")
+        cmd = [cxx, *CXX_FLAGS, *defines, "-I", str(RUNTIME_INCLUDE), "-I", str(work), str(DRIVER),
+               "-o", str(work / BINARY)]
+        proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False)
+        if proc.returncode != 0:
+            raise InternalError(f"the generated C++ for {mission_path} does not build:\n"
+                                + " ".join(cmd) + "\n" + proc.stdout.decode("utf-8", "replace"))
+        try:
+            os.rename(work, final)
+        except OSError:
+            if not binary.is_file():  # not a concurrent build that won the race
+                raise
+    finally:
+        if work.exists():
+            shutil.rmtree(work, ignore_errors=True)
+    return binary
+
+
+def _fileno(stream) -> Optional[int]:
+    try:
+        return stream.fileno()
+    except (AttributeError, io.UnsupportedOperation, ValueError):
+        return None
+
+
+def run_cpp(mission_path: str, scenario_path: str) -> int:
+    """Build (or reuse) the mission's executor, run it on the scenario, stream its
+    output to stdout/stderr and return its exit status."""
+    binary = build_cpp(mission_path)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    out_fd, err_fd = _fileno(sys.stdout), _fileno(sys.stderr)
+    if out_fd is not None and err_fd is not None:
+        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False).returncode
+    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    sys.stdout.write(proc.stdout.decode("utf-8", "replace"))
+    sys.stderr.write(proc.stderr.decode("utf-8", "replace"))
+    return proc.returncode

@@ -1,0 +1,132 @@
+"""Emission: the lowered Program -> C++ text, through the Jinja2 templates.
+
+One Environment (StrictUndefined, keep_trailing_newline, autoescape off);
+every name, literal and reference spelling is a Python filter from here or
+naming.py. Templates only loop and substitute. Output depends on nothing
+but the Program, the file stem and the banner's input paths: same input,
+same bytes.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional
+
+import jinja2
+
+from . import naming
+from .diagnostics import InternalError
+from .lower import SUPPORTED, IRNode, Program
+from .version import RUNTIME_ABI, __version__
+
+TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates"
+TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
+
+_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition"}
+
+
+@dataclass(frozen=True)
+class Output:
+    name: str  # file name (no directory)
+    text: str
+
+
+def node_ref(index: int) -> str:
+    return "btgen::kNoNode" if index < 0 else str(index)
+
+
+def slot_ref(slot: int) -> str:
+    return "btgen::kNoSlot" if slot < 0 else f"{slot}u"
+
+
+def model_ref(model: int) -> str:
+    return "btgen::kNoModel" if model < 0 else str(model)
+
+
+def node_kind(kind: str) -> str:
+    if kind not in _NODE_KINDS:
+        raise InternalError(f"no btgen::NodeKind for `{kind}`")
+    return f"btgen::NodeKind::{kind}"
+
+
+def cpp_int(value: int) -> str:
+    """An int64 literal (INT64_MIN cannot be written as a literal)."""
+    if value == -(2 ** 63):
+        return "(-9223372036854775807 - 1)"
+    return str(value)
+
+
+def cpp_bool(value: bool) -> str:
+    return "true" if value else "false"
+
+
+def _environment() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        autoescape=False,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    env.filters.update(
+        cpp_string=naming.cpp_string,
+        cpp_comment=naming.cpp_comment,
+        node_ref=node_ref,
+        slot_ref=slot_ref,
+        model_ref=model_ref,
+        node_kind=node_kind,
+        cpp_int=cpp_int,
+        cpp_bool=cpp_bool,
+    )
+    return env
+
+
+_ENV: Optional[jinja2.Environment] = None
+
+
+def environment() -> jinja2.Environment:
+    global _ENV
+    if _ENV is None:
+        _ENV = _environment()
+    return _ENV
+
+
+def display_path(path: str, relative_to: str) -> str:
+    """`path` relative to `relative_to`, with `/` separators (the banner's form)."""
+    rel = os.path.relpath(os.path.abspath(path), os.path.abspath(relative_to))
+    return rel.replace(os.sep, "/")
+
+
+def output_names(stem: str) -> tuple[str, str]:
+    return naming.header_name(stem), naming.source_name(stem)
+
+
+def render(program: Program, stem: str, relative_to: str = ".") -> tuple[Output, ...]:
+    """The generated header and source for `program`."""
+    show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
+    header, source = output_names(stem)
+    cls = naming.pascal_case(stem)
+
+    def source_of(n: IRNode) -> str:
+        return f"{show(n.loc.path)}:{n.loc.line}:{n.loc.col}"
+
+    ctx = dict(
+        version=__version__,
+        abi=RUNTIME_ABI,
+        input=show(program.mission_path),
+        includes=[show(f) for f in program.files[1:]],
+        header=header,
+        source=source,
+        guard=naming.include_guard(stem),
+        ns=naming.namespace_name(stem),
+        cls=cls,
+        program=program,
+        nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],
+    )
+    env = environment()
+    return (
+        Output(header, env.get_template("mission.hpp.j2").render(ctx)),
+        Output(source, env.get_template("mission.cpp.j2").render(ctx)),
+    )

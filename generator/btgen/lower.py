@@ -1,0 +1,348 @@
+"""Lowering: the checked Mission -> a frozen IR of tables for the C++ back end.
+
+The IR is what the generated code is made of: the node table in
+BehaviorTree.CPP creation order (depth first, a SubTree node before the
+nodes of its tree, so index + 1 is the node's UID), the child table, the
+leaf models, and the capacities of the mission's state (counter slots,
+timer slots, stack depth). Port literals are converted here, and the rules
+BehaviorTree.CPP only enforces at run time (a Parallel threshold larger than
+its children, an IfThenElse condition that can be SKIPPED) are rejected with
+a `path:line:col` diagnostic.
+
+The C++ back end does not handle blackboard data yet (issue 5): nodes that
+need it, pre/post-condition scripts and `{key}` ports are reported as
+"not supported by the C++ back end yet". `unsupported_features()` names them
+without raising, for tests that skip such missions.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+from . import values
+from .catalogue import BUILTINS
+from .diagnostics import DiagnosticSink, InternalError, Loc
+from .frontend import is_remap
+from .model import Attr, Mission, Node, SubTreeNode
+from .naming import unique_identifiers
+
+# Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
+# with the number of counter slots and timer slots its state needs.
+SUPPORTED: dict[str, tuple[str, int, int]] = {
+    "Sequence": ("Sequence", 2, 0),  # current child, skipped count
+    "AsyncSequence": ("AsyncSequence", 2, 0),
+    "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
+    "ReactiveSequence": ("ReactiveSequence", 0, 0),
+    "Fallback": ("Fallback", 2, 0),
+    "AsyncFallback": ("AsyncFallback", 2, 0),
+    "ReactiveFallback": ("ReactiveFallback", 0, 0),
+    "Parallel": ("Parallel", 2, 0),  # successes, failures
+    "ParallelAll": ("ParallelAll", 1, 0),  # failures
+    "IfThenElse": ("IfThenElse", 1, 0),  # branch being run
+    "WhileDoElse": ("WhileDoElse", 0, 0),
+    "Inverter": ("Inverter", 0, 0),
+    "ForceSuccess": ("ForceSuccess", 0, 0),
+    "ForceFailure": ("ForceFailure", 0, 0),
+    "Repeat": ("Repeat", 1, 0),  # cycles done
+    "RetryUntilSuccessful": ("RetryUntilSuccessful", 1, 0),  # attempts done
+    "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
+    "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
+    "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
+    "Delay": ("Delay", 1, 1),  # started; start time
+    "SubTree": ("SubTree", 0, 0),
+    "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
+    "AlwaysFailure": ("AlwaysFailure", 0, 0),
+    "Sleep": ("Sleep", 0, 1),  # start time
+}
+
+# Built-in nodes that need the data side (blackboard, scripts): issue 5.
+NEEDS_DATA = frozenset(n for n in BUILTINS if n not in SUPPORTED)
+
+@dataclass(frozen=True)
+class LeafModel:
+    """An Action or Condition of TreeNodesModel: one set of hooks."""
+
+    index: int
+    id: str
+    kind: str  # "Action" | "Condition"
+    cpp_name: str  # its struct in the generated `leaf` namespace
+    loc: Optional[Loc]
+
+
+@dataclass(frozen=True)
+class IRNode:
+    index: int  # position in the table; uid - 1
+    uid: int
+    kind: str  # NodeKind enumerator
+    id: str  # registration ID
+    name: str  # name attribute, else the ID
+    parent: int  # -1 for the root
+    children: tuple[int, ...]
+    child_begin: int  # offset of the children in Program.child_table
+    depth: int  # root: 1
+    params: tuple[int, int, int]
+    slot: int  # first counter slot, -1 when none
+    timer: int  # timer slot, -1 when none
+    model: int  # leaf model index, -1 when not a user leaf
+    loc: Loc
+    tree: str  # the BehaviorTree the node is written in
+
+
+@dataclass(frozen=True)
+class Program:
+    """Everything emission needs, nothing it must compute."""
+
+    mission_path: str
+    files: tuple[str, ...]
+    main_tree: str
+    nodes: tuple[IRNode, ...]
+    child_table: tuple[int, ...]
+    leaf_models: tuple[LeafModel, ...]
+    max_depth: int
+    counter_count: int
+    timer_count: int
+    has_parallel: bool
+
+    @property
+    def actions(self) -> tuple[LeafModel, ...]:
+        return tuple(m for m in self.leaf_models if m.kind == "Action")
+
+    @property
+    def conditions(self) -> tuple[LeafModel, ...]:
+        return tuple(m for m in self.leaf_models if m.kind == "Condition")
+
+
+@dataclass(frozen=True)
+class Unsupported:
+    loc: Loc
+    feature: str  # short: "Script", "_skipIf", "{key} port"
+    message: str
+
+
+# ------------------------------------------------------------------ traversal
+def _expanded(mission: Mission):
+    """(node, parent index, depth, tree id) in creation order, SubTrees inlined.
+
+    Iterative, so deep trees do not hit Python's recursion limit.
+    """
+    stack: list[tuple[Node, int, int, str]] = [(mission.main.root, -1, 1, mission.main_tree)]
+    index = 0
+    while stack:
+        node, parent, depth, tree = stack.pop()
+        yield node, parent, depth, tree
+        me = index
+        index += 1
+        if isinstance(node, SubTreeNode):
+            target = mission.tree(node.target)
+            stack.append((target.root, me, depth + 1, target.id))
+        else:
+            for child in reversed(node.children):
+                stack.append((child, me, depth + 1, tree))
+
+
+def _written_nodes(mission: Mission):
+    """Every node written in a tree the main tree reaches, each once."""
+    seen_trees: set[str] = set()
+    pending = [mission.main_tree]
+    while pending:
+        tid = pending.pop(0)
+        if tid in seen_trees:
+            continue
+        seen_trees.add(tid)
+        stack = [mission.tree(tid).root]
+        while stack:
+            node = stack.pop(0)
+            yield node
+            if isinstance(node, SubTreeNode):
+                pending.append(node.target)
+            stack[0:0] = list(node.children)
+
+
+def unsupported_features(mission: Mission) -> list[Unsupported]:
+    """Why the C++ back end cannot compile `mission` yet (empty: it can)."""
+    out: list[Unsupported] = []
+    for node in _written_nodes(mission):
+        try:
+            spec = mission.spec(node.id) if not isinstance(node, SubTreeNode) else BUILTINS["SubTree"]
+        except KeyError:
+            spec = None
+        if spec is not None and spec.builtin and node.id in NEEDS_DATA and not isinstance(node, SubTreeNode):
+            out.append(Unsupported(node.loc, node.id,
+                                   f"`{node.id}` is not supported by the C++ back end yet: it needs blackboard "
+                                   f"data and scripts (issue 5)"))
+        for attr in node.pre + node.post:
+            out.append(Unsupported(attr.loc, attr.name,
+                                   f"`{attr.name}` on `{node.id}` is not supported by the C++ back end yet: "
+                                   f"pre/post-condition scripts need blackboard data (issue 5)"))
+        for attr in node.ports:
+            if is_remap(attr.value):
+                out.append(Unsupported(attr.value_loc, "{key} port",
+                                       f"port `{attr.name}` of `{node.id}` is connected to blackboard entry "
+                                       f"`{attr.value}`; blackboard ports are not supported by the C++ back end "
+                                       f"yet (issue 5)"))
+                continue
+            if isinstance(node, SubTreeNode) or spec is None:
+                continue
+            port = spec.port(attr.name)
+            if port is not None and port.direction != "input":
+                out.append(Unsupported(attr.value_loc, "output port",
+                                       f"output port `{attr.name}` of `{node.id}` writes blackboard entry "
+                                       f"`{attr.value}`; blackboard ports are not supported by the C++ back end "
+                                       f"yet (issue 5)"))
+    return out
+
+
+def unsupported_summary(mission: Mission) -> str:
+    """`Script, ScriptCondition, _skipIf` - the distinct features, in first-use order."""
+    seen: list[str] = []
+    for u in unsupported_features(mission):
+        if u.feature not in seen:
+            seen.append(u.feature)
+    return ", ".join(seen)
+
+
+# ------------------------------------------------------------------- lowering
+class _Lowerer:
+    def __init__(self, mission: Mission) -> None:
+        self.m = mission
+        self.sink = DiagnosticSink()
+        self.reported: set[tuple[Loc, str]] = set()
+
+    def error(self, loc: Loc, message: str) -> None:
+        if (loc, message) not in self.reported:
+            self.reported.add((loc, message))
+            self.sink.error(loc, message)
+
+    def literal(self, node: Node, port_name: str, type_name: str) -> tuple[object, Loc]:
+        attr: Optional[Attr] = node.port(port_name)
+        if attr is not None:
+            text, loc = attr.value, attr.value_loc
+        else:
+            default = BUILTINS[node.id].port(port_name)
+            if default is None or default.default is None:
+                raise InternalError(f"{node.loc}: `{node.id}` has no `{port_name}` and no default")
+            text, loc = default.default, node.loc
+        try:
+            return values.convert_from_string(type_name, text), loc
+        except values.ConversionError as e:  # the front end checked it already
+            raise InternalError(f"{loc}: port `{port_name}`: {e}") from None
+
+    def params(self, node: Node, n_children: int) -> tuple[int, int, int]:
+        nid = node.id
+        if nid == "Parallel":
+            succ, sloc = self.literal(node, "success_count", "int")
+            fail, floc = self.literal(node, "failure_count", "int")
+            need_s = max(n_children + succ + 1, 0) if succ < 0 else succ
+            need_f = max(n_children + fail + 1, 0) if fail < 0 else fail
+            if n_children < need_s:
+                self.error(sloc, f"`Parallel` \"{node.display_name}\" has {n_children} children but needs "
+                                 f"{need_s} successes (success_count={succ}): it can never succeed "
+                                 f"(BehaviorTree.CPP throws when it is ticked)")
+            if n_children < need_f:
+                self.error(floc, f"`Parallel` \"{node.display_name}\" has {n_children} children but fails after "
+                                 f"{need_f} failures (failure_count={fail}): it can never fail that way "
+                                 f"(BehaviorTree.CPP throws when it is ticked)")
+            return need_s, need_f, 1 if succ < 0 else 0
+        if nid == "ParallelAll":
+            mf, loc = self.literal(node, "max_failures", "int")
+            need = max(n_children + mf + 1, 0) if mf < 0 else mf
+            if n_children < need:
+                self.error(loc, f"`ParallelAll` \"{node.display_name}\" has {n_children} children but "
+                                f"max_failures={mf}: it can never fail (BehaviorTree.CPP throws when it is ticked)")
+            return need, 0, 0
+        if nid == "Repeat":
+            return int(self.literal(node, "num_cycles", "int")[0]), 0, 0
+        if nid == "RetryUntilSuccessful":
+            return int(self.literal(node, "num_attempts", "int")[0]), 0, 0
+        if nid == "RunOnce":
+            return (1 if self.literal(node, "then_skip", "bool")[0] else 0), 0, 0
+        if nid in ("Timeout", "Sleep"):
+            return int(self.literal(node, "msec", "unsigned")[0]), 0, 0
+        if nid == "Delay":
+            return int(self.literal(node, "delay_msec", "unsigned")[0]), 0, 0
+        return 0, 0, 0
+
+    def lower(self) -> Program:
+        m = self.m
+        order = {f: i for i, f in enumerate(m.files)}
+        for u in sorted(unsupported_features(m), key=lambda u: (order.get(u.loc.path, len(order)), u.loc.line,
+                                                                 u.loc.col)):
+            self.error(u.loc, u.message)
+        self.sink.raise_if_errors()
+
+        models = m.leaf_models()
+        model_names = unique_identifiers([s.id for s in models], prefix="Leaf")
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
+        model_index = {s.id: i for i, s in enumerate(models)}
+
+        raw: list[dict] = []
+        children: dict[int, list[int]] = {}
+        counter = timer = 0
+        for node, parent, depth, tree in _expanded(m):
+            index = len(raw)
+            if parent >= 0:
+                children[parent].append(index)
+            children[index] = []
+            if isinstance(node, SubTreeNode):
+                kind, nslots, ntimers, model = "SubTree", 0, 0, -1
+            elif node.id in SUPPORTED:
+                kind, nslots, ntimers = SUPPORTED[node.id]
+                model = -1
+            elif node.id in model_index:
+                kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
+                model = model_index[node.id]
+            else:
+                raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")
+            raw.append(dict(node=node, parent=parent, depth=depth, tree=tree, kind=kind, model=model,
+                            slot=counter if nslots else -1, timer=timer if ntimers else -1))
+            counter += nslots
+            timer += ntimers
+            if index + 1 > 0xFFFE:
+                raise InternalError("more nodes than the front end allows")
+
+        child_table: list[int] = []
+        nodes: list[IRNode] = []
+        for index, r in enumerate(raw):
+            node: Node = r["node"]
+            kids = tuple(children[index])
+            params = self.params(node, len(kids))
+            reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id
+            nodes.append(IRNode(index, index + 1, r["kind"], reg_id, node.display_name, r["parent"], kids,
+                                len(child_table), r["depth"], params, r["slot"], r["timer"], r["model"], node.loc,
+                                r["tree"]))
+            child_table.extend(kids)
+        self._check_conditions(nodes)
+        self.sink.raise_if_errors()
+        return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
+                       max(n.depth for n in nodes), counter, timer,
+                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes))
+
+    def _check_conditions(self, nodes: list[IRNode]) -> None:
+        """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""
+        skips = [False] * len(nodes)
+        for n in reversed(nodes):  # children before parents
+            kid = [skips[c] for c in n.children]
+            k = n.kind
+            if k == "RunOnce":
+                skips[n.index] = n.params[0] == 1 or kid[0]
+            elif k in ("Sequence", "AsyncSequence", "SequenceWithMemory", "ReactiveSequence", "Fallback",
+                       "AsyncFallback", "ReactiveFallback", "Parallel", "ParallelAll"):
+                skips[n.index] = all(kid)
+            elif k in ("IfThenElse", "WhileDoElse"):
+                skips[n.index] = any(kid[1:])
+            elif k in ("Inverter", "ForceSuccess", "ForceFailure", "Repeat", "RetryUntilSuccessful", "Timeout",
+                       "Delay", "SubTree"):
+                skips[n.index] = kid[0]
+            else:  # KeepRunningUntilFailure answers RUNNING; leaves never skip
+                skips[n.index] = False
+        for n in nodes:
+            if n.kind in ("IfThenElse", "WhileDoElse") and skips[n.children[0]]:
+                cond = nodes[n.children[0]]
+                self.error(cond.loc, f"the condition of `{n.id}` \"{n.name}\" (`{cond.id}` \"{cond.name}\") can "
+                                     f"return SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that "
+                                     f"answers SUCCESS or FAILURE there")
+
+
+def lower(mission: Mission) -> Program:
+    """Lower a checked mission; UserError with every reason it cannot be compiled."""
+    return _Lowerer(mission).lower()

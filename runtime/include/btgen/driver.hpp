@@ -1,0 +1,57 @@
+// btgen runtime: a scenario runner for any generated mission.
+//
+//     prog SCENARIO_FILE
+//
+// reads the scenario (errors and warnings on stderr as path:line:col, before
+// any trace; exit status 1 on errors), then sends up to `ticks` ticks to the
+// root as shared/conformance/FORMAT.md's Execution section says and prints
+// the status trace on stdout:
+//
+//     tick <n>
+//     <uid> <ID> "<name>" <FROM> -> <TO>
+//     result <STATUS>
+//
+// Use it through runtime/src/main_driver.cpp, or call
+// btgen::run_scenario_main<lab_tour::LabTour>(argc, argv) from your own main.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "btgen/clock.hpp"
+#include "btgen/scenario.hpp"
+#include "btgen/status.hpp"
+#include "btgen/trace.hpp"
+
+namespace btgen {
+
+template <template <class, class, class> class Mission>
+int run_scenario_main(int argc, char** argv) {
+  using Runner = Mission<ScenarioLeaves, ManualClock, TraceWriter>;
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s SCENARIO_FILE\n", argc > 0 ? argv[0] : "mission");
+    return 2;
+  }
+  std::vector<Diagnostic> diags;
+  Scenario scenario;
+  const auto& nodes = Runner::nodes();
+  bool ok = read_scenario(argv[1], scenario, diags);
+  if (ok) ok = check_scenario(scenario, nodes.data(), nodes.size(), diags);
+  for (const auto& d : diags) std::fprintf(stderr, "%s\n", d.str().c_str());
+  if (!ok) return 1;
+
+  ScenarioLeaves leaves(scenario, nodes.data(), nodes.size());
+  auto mission = std::make_unique<Runner>(leaves, ManualClock{}, TraceWriter{stdout});
+  for (long n = 1; n <= scenario.ticks; ++n) {
+    if (n > 1) mission->clock().advance(static_cast<std::uint64_t>(scenario.clock_ms));
+    std::printf("tick %ld\n", n);
+    const Status s = mission->tick();
+    std::printf("result %s\n", std::string(to_string(s)).c_str());
+    if (is_completed(s)) break;
+  }
+  return std::fflush(stdout) == 0 ? 0 : 1;
+}
+
+}  // namespace btgen

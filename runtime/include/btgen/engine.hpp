@@ -1,0 +1,689 @@
+// btgen runtime: the table-driven executor every generated mission uses.
+//
+// A generated mission supplies a `Spec`: constexpr tables (nodes in
+// BehaviorTree.CPP creation order, child lists, capacities) and the leaf
+// dispatch functions that call the user's hooks. Engine<Spec, ...> holds the
+// mission's whole state in fixed-size arrays sized by the generator, ticks it
+// with BehaviorTree.CPP 4.6.2 semantics (Tree::tickExactlyOnce) and halts it
+// (Tree::haltTree). No heap, no exceptions, no RTTI, no recursion: ticking
+// and halting walk explicit stacks whose depth is the tree's depth.
+//
+// Each built-in node is written as a small state machine: `enter` starts its
+// tick, `resume` continues it with the status its child just returned; both
+// answer "tick this child next" or "return this status". That is
+// BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "btgen/clock.hpp"
+#include "btgen/node.hpp"
+#include "btgen/status.hpp"
+#include "btgen/trace.hpp"
+
+namespace btgen {
+
+// Spec requirements (the generator writes them):
+//   static constexpr std::size_t kNodeCount, kChildCount, kCounterCount,
+//                                kTimerCount, kMaxDepth;
+//   static constexpr bool kHasParallel;
+//   static constexpr std::array<NodeInfo, kNodeCount> kNodes;
+//   static constexpr std::array<std::uint16_t, kChildCount> kChildren;
+//   template <class L> static Status on_start(L&, const NodeInfo&);
+//   template <class L> static Status on_running(L&, const NodeInfo&);
+//   template <class L> static void on_halted(L&, const NodeInfo&);
+//   template <class L> static Status check(L&, const NodeInfo&);
+template <class Spec, class Leaves, class Clock = SteadyClock, class Observer = NoObserver>
+class Engine {
+ public:
+  static constexpr std::size_t kNodeCount = Spec::kNodeCount;
+  static constexpr std::size_t kMaxDepth = Spec::kMaxDepth;
+
+  static_assert(kNodeCount >= 1, "a mission has at least one node");
+  static_assert(kNodeCount < kNoNode, "node indices are 16-bit");
+  static_assert(kMaxDepth >= 1 && kMaxDepth <= kNodeCount, "tree depth out of range");
+
+  constexpr explicit Engine(Leaves& leaves, Clock clock = Clock{}, Observer observer = Observer{}) noexcept
+      : leaves_(&leaves), clock_(clock), observer_(observer) {}
+
+  // One tick of the root, as BT::Tree::tickExactlyOnce(): when the root
+  // returns SUCCESS or FAILURE it is reset to IDLE before returning.
+  [[nodiscard]] Status tick() noexcept {
+    const Status s = execute();
+    if (is_completed(s)) reset_status(0);
+    return s;
+  }
+
+  // Halts the whole tree, as BT::Tree::haltTree(): RUNNING leaves get
+  // onHalted, every node returns to IDLE.
+  void halt() noexcept {
+    halt_node(0);
+    for (std::size_t i = 0; i < kNodeCount; ++i) halt_node(static_cast<std::uint16_t>(i));
+    reset_status(0);
+  }
+
+  [[nodiscard]] Status status() const noexcept { return status_[0]; }
+  [[nodiscard]] Status status(std::size_t index) const noexcept { return status_[index]; }
+
+  [[nodiscard]] static constexpr std::size_t node_count() noexcept { return kNodeCount; }
+  [[nodiscard]] static constexpr const NodeInfo& node(std::size_t index) noexcept { return Spec::kNodes[index]; }
+  [[nodiscard]] static constexpr const std::array<NodeInfo, kNodeCount>& nodes() noexcept { return Spec::kNodes; }
+
+  [[nodiscard]] Leaves& leaves() noexcept { return *leaves_; }
+  [[nodiscard]] Clock& clock() noexcept { return clock_; }
+  [[nodiscard]] const Clock& clock() const noexcept { return clock_; }
+  [[nodiscard]] Observer& observer() noexcept { return observer_; }
+
+ private:
+  // One node being ticked. `pos` is the child position it is working on,
+  // `aux` a per-tick local (skipped count, "all skipped" flag), `child_prev`
+  // the status the child had before this tick (the wake-up rule needs it).
+  struct Frame {
+    std::uint16_t node;
+    std::uint16_t pos;
+    std::uint16_t aux;
+    Status child_prev;
+  };
+  struct HaltFrame {
+    std::uint16_t node;
+    std::uint16_t pos;
+  };
+  // Either "tick child `child` next" or "return `status`".
+  struct Step {
+    std::uint16_t child;
+    Status status;
+  };
+
+  static constexpr Step descend(std::uint16_t c) noexcept { return Step{c, Status::IDLE}; }
+  static constexpr Step done(Status s) noexcept { return Step{kNoNode, s}; }
+
+  static constexpr const NodeInfo& info(std::uint16_t n) noexcept { return Spec::kNodes[n]; }
+  static constexpr std::uint16_t child(const NodeInfo& n, std::size_t i) noexcept {
+    return Spec::kChildren[n.child_begin + i];
+  }
+  std::int32_t& counter(const NodeInfo& n, std::size_t k) noexcept { return counters_[n.slot + k]; }
+  std::uint64_t& timer(const NodeInfo& n) noexcept { return timers_[n.timer]; }
+  std::uint64_t elapsed(const NodeInfo& n) noexcept { return clock_.now_ms() - timers_[n.timer]; }
+  static constexpr bool reached(std::uint64_t elapsed_ms, std::int64_t limit) noexcept {
+    return limit <= 0 || elapsed_ms >= static_cast<std::uint64_t>(limit);
+  }
+
+  // ------------------------------------------------------------- statuses
+  void set_status(std::uint16_t n, Status s) noexcept {
+    const Status prev = status_[n];
+    status_[n] = s;
+    if (prev != s) observer_.on_status_change(info(n), prev, s);
+  }
+  void reset_status(std::uint16_t n) noexcept { set_status(n, Status::IDLE); }
+
+  // Completed-child flags of Parallel / ParallelAll, one bit per node.
+  bool is_done(std::uint16_t n) const noexcept {
+    if constexpr (Spec::kHasParallel) {
+      return (done_[n / 32] >> (n % 32)) & 1u;
+    } else {
+      (void)n;
+      return false;
+    }
+  }
+  void set_done(std::uint16_t n, bool v) noexcept {
+    if constexpr (Spec::kHasParallel) {
+      const std::uint32_t bit = 1u << (n % 32);
+      done_[n / 32] = v ? (done_[n / 32] | bit) : (done_[n / 32] & ~bit);
+    } else {
+      (void)n;
+      (void)v;
+    }
+  }
+  void clear_done(const NodeInfo& n) noexcept {
+    for (std::size_t i = 0; i < n.child_count; ++i) set_done(child(n, i), false);
+  }
+
+  // ---------------------------------------------------------------- halts
+  // ControlNode::haltChild / DecoratorNode::resetChild.
+  void halt_child(const NodeInfo& n, std::size_t i) noexcept {
+    const std::uint16_t c = child(n, i);
+    if (status_[c] == Status::RUNNING) halt_node(c);
+    reset_status(c);
+  }
+  // ControlNode::resetChildren.
+  void reset_children(const NodeInfo& n) noexcept {
+    for (std::size_t i = 0; i < n.child_count; ++i) halt_child(n, i);
+  }
+
+  // What a node's halt() clears besides its children and its status.
+  void forget(const NodeInfo& n) noexcept {
+    switch (n.kind) {
+      case NodeKind::Sequence:
+      case NodeKind::AsyncSequence:
+      case NodeKind::Fallback:
+      case NodeKind::AsyncFallback:
+        counter(n, 0) = 0;
+        counter(n, 1) = 0;
+        break;
+      case NodeKind::Parallel:
+        counter(n, 0) = 0;
+        counter(n, 1) = 0;
+        clear_done(n);
+        break;
+      case NodeKind::ParallelAll:
+        counter(n, 0) = 0;
+        clear_done(n);
+        break;
+      case NodeKind::IfThenElse:
+      case NodeKind::Repeat:
+      case NodeKind::RetryUntilSuccessful:
+      case NodeKind::Delay:
+        counter(n, 0) = 0;
+        break;
+      case NodeKind::Timeout:
+        counter(n, 0) = 0;
+        counter(n, 1) = 0;
+        break;
+      default:  // SequenceWithMemory keeps its index, RunOnce its memory (as 4.6.2)
+        break;
+    }
+  }
+
+  // TreeNode::haltNode, depth first over the RUNNING part of the subtree:
+  // children in order (RUNNING ones halted first), then the node itself.
+  void halt_node(std::uint16_t root) noexcept {
+    std::size_t hp = 0;
+    forget(info(root));
+    halt_stack_[hp++] = HaltFrame{root, 0};
+    while (hp > 0) {
+      HaltFrame& h = halt_stack_[hp - 1];
+      const NodeInfo& n = info(h.node);
+      if (h.pos < n.child_count) {
+        const std::uint16_t c = child(n, h.pos++);
+        if (status_[c] == Status::RUNNING) {
+          forget(info(c));
+          halt_stack_[hp++] = HaltFrame{c, 0};
+        } else {
+          reset_status(c);
+        }
+        continue;
+      }
+      if (n.kind == NodeKind::Action && status_[h.node] == Status::RUNNING) {
+        Spec::on_halted(*leaves_, n);
+      }
+      reset_status(h.node);
+      --hp;
+    }
+  }
+
+  // ---------------------------------------------------------------- ticks
+  // TreeNode::executeTick of the root, with the recursion on a stack.
+  Status execute() noexcept {
+    std::size_t sp = 0;
+    stack_[sp++] = Frame{0, 0, 0, Status::IDLE};
+    Step step = enter(stack_[0]);
+    for (;;) {
+      if (step.child != kNoNode) {
+        stack_[sp - 1].child_prev = status_[step.child];
+        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE};
+        step = enter(stack_[sp - 1]);
+        continue;
+      }
+      const Status s = step.status;
+      finish(stack_[sp - 1].node, s);
+      if (--sp == 0) return s;
+      step = resume(stack_[sp - 1], s);
+    }
+  }
+
+  // The end of executeTick: a SKIPPED node keeps its status; a decorator
+  // resets a child left completed (DecoratorNode::executeTick).
+  void finish(std::uint16_t node, Status s) noexcept {
+    if (s != Status::SKIPPED) set_status(node, s);
+    const NodeInfo& n = info(node);
+    if (is_decorator(n.kind)) {
+      const std::uint16_t c = child(n, 0);
+      if (is_completed(status_[c])) reset_status(c);
+    }
+  }
+
+  // Hooks must answer SUCCESS, FAILURE or RUNNING; anything else breaks
+  // their contract (BehaviorTree.CPP throws) and counts as FAILURE.
+  static constexpr Status sanitize(Status s) noexcept {
+    return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE;
+  }
+
+  static constexpr bool is_sequence(NodeKind k) noexcept {
+    return k == NodeKind::Sequence || k == NodeKind::AsyncSequence || k == NodeKind::SequenceWithMemory ||
+           k == NodeKind::ReactiveSequence;
+  }
+
+  Step enter(Frame& f) noexcept {
+    const NodeInfo& n = info(f.node);
+    switch (n.kind) {
+      case NodeKind::Sequence:
+      case NodeKind::AsyncSequence:
+      case NodeKind::SequenceWithMemory:
+      case NodeKind::Fallback:
+      case NodeKind::AsyncFallback:
+        if (!is_active(status_[f.node])) counter(n, 1) = 0;
+        set_status(f.node, Status::RUNNING);
+        return sequence_next(f, n);
+
+      case NodeKind::ReactiveSequence:
+      case NodeKind::ReactiveFallback:
+        set_status(f.node, Status::RUNNING);
+        f.pos = 0;
+        f.aux = 1;  // all children skipped so far
+        return descend(child(n, 0));
+
+      case NodeKind::Parallel:
+        set_status(f.node, Status::RUNNING);
+        f.pos = 0;
+        f.aux = 0;  // skipped this tick
+        return parallel_next(f, n);
+
+      case NodeKind::ParallelAll:
+        set_status(f.node, Status::RUNNING);
+        f.pos = 0;
+        f.aux = 0;
+        return parallel_all_next(f, n);
+
+      case NodeKind::IfThenElse:
+        set_status(f.node, Status::RUNNING);
+        f.pos = static_cast<std::uint16_t>(counter(n, 0));
+        return descend(child(n, f.pos));
+
+      case NodeKind::WhileDoElse:
+        set_status(f.node, Status::RUNNING);
+        f.pos = 0;
+        return descend(child(n, 0));
+
+      case NodeKind::Inverter:
+      case NodeKind::ForceSuccess:
+      case NodeKind::ForceFailure:
+      case NodeKind::KeepRunningUntilFailure:
+        set_status(f.node, Status::RUNNING);
+        return descend(child(n, 0));
+
+      case NodeKind::Repeat:
+      case NodeKind::RetryUntilSuccessful:
+        set_status(f.node, Status::RUNNING);
+        if (counter(n, 0) < n.p0 || n.p0 == -1) return descend(child(n, 0));
+        counter(n, 0) = 0;
+        return done(n.kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
+
+      case NodeKind::RunOnce:
+        if (counter(n, 0) != 0) {
+          return done(n.p0 != 0 ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
+        }
+        set_status(f.node, Status::RUNNING);
+        return descend(child(n, 0));
+
+      case NodeKind::Timeout: {
+        std::int32_t& started = counter(n, 0);
+        std::int32_t& armed = counter(n, 1);
+        if (started == 0) {
+          started = 1;
+          set_status(f.node, Status::RUNNING);
+          armed = n.p0 > 0 ? 1 : 0;
+          timer(n) = clock_.now_ms();
+        } else if (armed != 0 && reached(elapsed(n), n.p0)) {
+          // The timer fires: a RUNNING child is halted and the node fails.
+          armed = 0;
+          if (status_[child(n, 0)] == Status::RUNNING) {
+            halt_child(n, 0);
+            started = 0;
+            return done(Status::FAILURE);
+          }
+        }
+        return descend(child(n, 0));
+      }
+
+      case NodeKind::Delay: {
+        std::int32_t& started = counter(n, 0);
+        if (started == 0) {
+          started = 1;
+          set_status(f.node, Status::RUNNING);
+          timer(n) = clock_.now_ms();
+        }
+        if (reached(elapsed(n), n.p0)) return descend(child(n, 0));
+        return done(Status::RUNNING);
+      }
+
+      case NodeKind::SubTree:
+        if (status_[f.node] == Status::IDLE) set_status(f.node, Status::RUNNING);
+        return descend(child(n, 0));
+
+      case NodeKind::AlwaysSuccess:
+        return done(Status::SUCCESS);
+
+      case NodeKind::AlwaysFailure:
+        return done(Status::FAILURE);
+
+      case NodeKind::Sleep: {
+        const Status st = status_[f.node];
+        if (st == Status::IDLE) {
+          if (n.p0 <= 0) return done(Status::SUCCESS);
+          set_status(f.node, Status::RUNNING);
+          timer(n) = clock_.now_ms();
+          return done(Status::RUNNING);
+        }
+        if (st == Status::RUNNING) return done(reached(elapsed(n), n.p0) ? Status::SUCCESS : Status::RUNNING);
+        return done(st);
+      }
+
+      case NodeKind::Action: {
+        // StatefulActionNode: onStart from IDLE, onRunning while RUNNING; a
+        // node not yet reset by its parent answers its status again.
+        const Status st = status_[f.node];
+        if (st == Status::IDLE) return done(sanitize(Spec::on_start(*leaves_, n)));
+        if (st == Status::RUNNING) return done(sanitize(Spec::on_running(*leaves_, n)));
+        return done(st);
+      }
+
+      case NodeKind::Condition:
+        return done(sanitize(Spec::check(*leaves_, n)));
+    }
+    return done(Status::FAILURE);
+  }
+
+  Step resume(Frame& f, Status cs) noexcept {
+    const NodeInfo& n = info(f.node);
+    switch (n.kind) {
+      case NodeKind::Sequence:
+      case NodeKind::AsyncSequence:
+      case NodeKind::SequenceWithMemory: {
+        std::int32_t& idx = counter(n, 0);
+        switch (cs) {
+          case Status::RUNNING:
+            return done(Status::RUNNING);
+          case Status::SUCCESS:
+            ++idx;
+            // SequenceWithMemory always has the wake-up rule in 4.6.2,
+            // AsyncSequence is the plain Sequence with it.
+            if (n.kind != NodeKind::Sequence && f.child_prev == Status::IDLE && idx < n.child_count) {
+              return done(Status::RUNNING);
+            }
+            return sequence_next(f, n);
+          case Status::SKIPPED:
+            ++idx;
+            ++counter(n, 1);
+            return sequence_next(f, n);
+          default:  // FAILURE
+            if (n.kind == NodeKind::SequenceWithMemory) {
+              for (std::size_t i = static_cast<std::size_t>(idx); i < n.child_count; ++i) halt_child(n, i);
+            } else {
+              reset_children(n);
+              idx = 0;
+            }
+            return done(Status::FAILURE);
+        }
+      }
+
+      case NodeKind::Fallback:
+      case NodeKind::AsyncFallback: {
+        std::int32_t& idx = counter(n, 0);
+        switch (cs) {
+          case Status::RUNNING:
+            return done(Status::RUNNING);
+          case Status::FAILURE:
+            ++idx;
+            if (n.kind == NodeKind::AsyncFallback && f.child_prev == Status::IDLE && idx < n.child_count) {
+              return done(Status::RUNNING);
+            }
+            return sequence_next(f, n);
+          case Status::SKIPPED:
+            ++idx;
+            ++counter(n, 1);
+            return sequence_next(f, n);
+          default:  // SUCCESS
+            reset_children(n);
+            idx = 0;
+            return done(Status::SUCCESS);
+        }
+      }
+
+      case NodeKind::ReactiveSequence:
+      case NodeKind::ReactiveFallback: {
+        const bool seq = n.kind == NodeKind::ReactiveSequence;
+        if (cs != Status::SKIPPED) f.aux = 0;
+        if (cs == Status::RUNNING) {
+          for (std::size_t i = 0; i < n.child_count; ++i) {
+            if (i != f.pos) halt_child(n, i);
+          }
+          return done(Status::RUNNING);
+        }
+        if (cs == (seq ? Status::FAILURE : Status::SUCCESS)) {
+          reset_children(n);
+          return done(cs);
+        }
+        if (cs == Status::SKIPPED) halt_child(n, f.pos);
+        if (++f.pos < n.child_count) return descend(child(n, f.pos));
+        reset_children(n);
+        return done(f.aux != 0 ? Status::SKIPPED : (seq ? Status::SUCCESS : Status::FAILURE));
+      }
+
+      case NodeKind::Parallel: {
+        const std::uint16_t c = child(n, f.pos);
+        switch (cs) {
+          case Status::SKIPPED: ++f.aux; break;
+          case Status::SUCCESS: set_done(c, true); ++counter(n, 0); break;
+          case Status::FAILURE: set_done(c, true); ++counter(n, 1); break;
+          default: break;
+        }
+        const Status decided = parallel_check(f, n);
+        if (decided != Status::IDLE) return done(decided);
+        ++f.pos;
+        return parallel_next(f, n);
+      }
+
+      case NodeKind::ParallelAll: {
+        const std::uint16_t c = child(n, f.pos);
+        switch (cs) {
+          case Status::SKIPPED: ++f.aux; break;
+          case Status::SUCCESS: set_done(c, true); break;
+          case Status::FAILURE: set_done(c, true); ++counter(n, 0); break;
+          default: break;
+        }
+        ++f.pos;
+        return parallel_all_next(f, n);
+      }
+
+      case NodeKind::IfThenElse: {
+        std::int32_t& branch = counter(n, 0);
+        if (f.pos == 0) {
+          if (cs == Status::RUNNING) return done(Status::RUNNING);
+          if (cs == Status::SUCCESS) {
+            branch = 1;
+          } else if (cs == Status::FAILURE && n.child_count == 3) {
+            branch = 2;
+          } else {
+            // FAILURE without an else branch. (A SKIPPED condition, which
+            // makes 4.6.2 throw, is rejected by the generator.)
+            return done(Status::FAILURE);
+          }
+          f.pos = static_cast<std::uint16_t>(branch);
+          return descend(child(n, f.pos));
+        }
+        if (cs == Status::RUNNING) return done(Status::RUNNING);
+        reset_children(n);
+        branch = 0;
+        return done(cs);
+      }
+
+      case NodeKind::WhileDoElse: {
+        if (f.pos == 0) {
+          if (cs == Status::RUNNING) return done(Status::RUNNING);
+          if (cs == Status::SUCCESS) {
+            if (n.child_count == 3) halt_child(n, 2);
+            f.pos = 1;
+            return descend(child(n, 1));
+          }
+          if (cs == Status::FAILURE && n.child_count == 3) {
+            halt_child(n, 1);
+            f.pos = 2;
+            return descend(child(n, 2));
+          }
+          // FAILURE with two children (a SKIPPED condition is rejected by
+          // the generator).
+          reset_children(n);
+          return done(Status::FAILURE);
+        }
+        if (cs == Status::RUNNING) return done(Status::RUNNING);
+        reset_children(n);
+        return done(cs);
+      }
+
+      case NodeKind::Inverter:
+        if (cs == Status::SUCCESS || cs == Status::FAILURE) {
+          halt_child(n, 0);
+          return done(cs == Status::SUCCESS ? Status::FAILURE : Status::SUCCESS);
+        }
+        return done(cs);
+
+      case NodeKind::ForceSuccess:
+      case NodeKind::ForceFailure:
+        if (is_completed(cs)) {
+          halt_child(n, 0);
+          return done(n.kind == NodeKind::ForceSuccess ? Status::SUCCESS : Status::FAILURE);
+        }
+        return done(cs);
+
+      case NodeKind::KeepRunningUntilFailure:
+        if (cs == Status::FAILURE) {
+          halt_child(n, 0);
+          return done(Status::FAILURE);
+        }
+        if (cs == Status::SUCCESS) halt_child(n, 0);
+        return done(Status::RUNNING);
+
+      case NodeKind::Repeat:
+      case NodeKind::RetryUntilSuccessful: {
+        const bool repeat = n.kind == NodeKind::Repeat;
+        std::int32_t& count = counter(n, 0);
+        if (cs == Status::RUNNING) return done(Status::RUNNING);
+        if (cs == Status::SKIPPED) {
+          halt_child(n, 0);
+          return done(Status::SKIPPED);
+        }
+        if (cs == (repeat ? Status::FAILURE : Status::SUCCESS)) {
+          count = 0;
+          halt_child(n, 0);
+          return done(cs);
+        }
+        // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
+        if (count < INT32_MAX) ++count;
+        const bool again = count < n.p0 || n.p0 == -1;
+        halt_child(n, 0);
+        if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule
+        if (again) return descend(child(n, 0));
+        count = 0;
+        return done(repeat ? Status::SUCCESS : Status::FAILURE);
+      }
+
+      case NodeKind::RunOnce:
+        if (is_completed(cs)) {
+          counter(n, 0) = 1;
+          counter(n, 1) = static_cast<std::int32_t>(cs);
+          halt_child(n, 0);
+        }
+        return done(cs);
+
+      case NodeKind::Timeout:
+        if (is_completed(cs)) {
+          counter(n, 0) = 0;
+          counter(n, 1) = 0;
+          halt_child(n, 0);
+        }
+        return done(cs);
+
+      case NodeKind::Delay:
+        if (is_completed(cs)) {
+          counter(n, 0) = 0;
+          halt_child(n, 0);
+        }
+        return done(cs);
+
+      case NodeKind::SubTree:
+        if (is_completed(cs)) halt_child(n, 0);
+        return done(cs);
+
+      default:  // leaves have no children
+        return done(cs);
+    }
+  }
+
+  // Sequence / Fallback family: tick the child at the stored index, or end.
+  Step sequence_next(Frame& f, const NodeInfo& n) noexcept {
+    std::int32_t& idx = counter(n, 0);
+    std::int32_t& skipped = counter(n, 1);
+    if (idx < n.child_count) {
+      f.pos = static_cast<std::uint16_t>(idx);
+      return descend(child(n, f.pos));
+    }
+    const bool all_skipped = skipped == n.child_count;
+    reset_children(n);
+    idx = 0;
+    skipped = 0;
+    if (all_skipped) return done(Status::SKIPPED);
+    return done(is_sequence(n.kind) ? Status::SUCCESS : Status::FAILURE);
+  }
+
+  Step parallel_next(Frame& f, const NodeInfo& n) noexcept {
+    while (f.pos < n.child_count) {
+      const std::uint16_t c = child(n, f.pos);
+      if (!is_done(c)) return descend(c);
+      const Status decided = parallel_check(f, n);
+      if (decided != Status::IDLE) return done(decided);
+      ++f.pos;
+    }
+    return done(f.aux == n.child_count ? Status::SKIPPED : Status::RUNNING);
+  }
+
+  // The thresholds, checked after every child as 4.6.2 does; IDLE: undecided.
+  Status parallel_check(Frame& f, const NodeInfo& n) noexcept {
+    const std::int64_t successes = counter(n, 0);
+    const std::int64_t failures = counter(n, 1);
+    const std::int64_t required = n.p0;
+    Status decided = Status::IDLE;
+    if (successes >= required || (n.p2 != 0 && successes + f.aux >= required)) {
+      decided = Status::SUCCESS;
+    } else if (n.child_count - failures < required || failures == n.p1) {
+      decided = Status::FAILURE;
+    }
+    if (decided != Status::IDLE) {
+      counter(n, 0) = 0;
+      counter(n, 1) = 0;
+      clear_done(n);
+      reset_children(n);
+    }
+    return decided;
+  }
+
+  Step parallel_all_next(Frame& f, const NodeInfo& n) noexcept {
+    while (f.pos < n.child_count) {
+      const std::uint16_t c = child(n, f.pos);
+      if (!is_done(c)) return descend(c);
+      ++f.pos;
+    }
+    if (f.aux == n.child_count) return done(Status::SKIPPED);
+    std::size_t completed = 0;
+    for (std::size_t i = 0; i < n.child_count; ++i) completed += is_done(child(n, i)) ? 1u : 0u;
+    if (f.aux + completed < n.child_count) return done(Status::RUNNING);
+    reset_children(n);
+    clear_done(n);
+    const Status s = counter(n, 0) >= n.p0 ? Status::FAILURE : Status::SUCCESS;
+    counter(n, 0) = 0;
+    return done(s);
+  }
+
+  Leaves* leaves_;
+  Clock clock_;
+  Observer observer_;
+  std::array<Status, kNodeCount> status_{};
+  std::array<std::int32_t, Spec::kCounterCount> counters_{};
+  std::array<std::uint64_t, Spec::kTimerCount> timers_{};
+  std::array<std::uint32_t, Spec::kHasParallel ? (kNodeCount + 31) / 32 : 0> done_{};
+  std::array<Frame, kMaxDepth> stack_{};
+  std::array<HaltFrame, kMaxDepth> halt_stack_{};
+};
+
+}  // namespace btgen
