@@ -186,7 +186,7 @@ class _Loader:
         direction = _MODEL_PORT_TAGS[p.tag]
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default)
+                values.convert_from_string(type_name, default, strict=True)
             except values.ConversionError as e:
                 self.sink.error(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`: {e}")
         return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
@@ -375,7 +375,7 @@ class _Loader:
             self._check_key(attr, value, what)
             return attr
         try:
-            values.convert_from_string(port.type, value)
+            values.convert_from_string(port.type, value, strict=True)
         except values.ConversionError as e:
             self.sink.error(attr.value_loc, f"{what}: {e}")
         return attr

@@ -1,0 +1,223 @@
+"""Front end: secure parsing, positions, structural/semantic checks, exact diagnostics."""
+import glob
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import CASES, ROOT, conformance_stems
+
+from btgen import xmlsource
+from btgen.diagnostics import Loc, UserError, did_you_mean
+from btgen.frontend import load_mission
+from btgen.xsd import mission_xsd
+
+BAD = os.path.join(ROOT, "tests", "bad_missions")
+
+
+def btgen(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "btgen", *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=120)
+
+
+def errors_of(path):
+    with pytest.raises(UserError) as e:
+        load_mission(path)
+    return [str(d) for d in e.value.diagnostics]
+
+
+def write(tmp_path, text, name="m.xml"):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+MINI = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+{body}
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Say"><input_port name="text" type="std::string"/></Action>
+    <Condition ID="IsReady"/>
+  </TreeNodesModel>
+</root>
+"""
+
+
+@pytest.mark.parametrize("stem", conformance_stems())
+def test_conformance_missions_validate(stem):
+    m = load_mission(os.path.join(CASES, stem + ".xml"))
+    assert m.main_tree in {t.id for t in m.trees}
+
+
+@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(ROOT, "missions", "*.xml"))),
+                         ids=os.path.basename)
+def test_shipped_missions_validate_clean(path):
+    m = load_mission(path)
+    assert [str(w) for w in m.warnings] == []
+
+
+def _bad_cases():
+    return sorted(p for p in glob.glob(os.path.join(BAD, "*.xml")) if os.path.exists(p[:-4] + ".stderr"))
+
+
+@pytest.mark.parametrize("path", _bad_cases(), ids=os.path.basename)
+def test_bad_mission_exact_stderr(path, capsys, monkeypatch):
+    from btgen.cli import main
+
+    monkeypatch.chdir(ROOT)
+    status = main(["validate", os.path.relpath(path, ROOT)])
+    err = capsys.readouterr().err
+    expected = open(path[:-4] + ".stderr", encoding="utf-8").read()
+    assert err == expected
+    assert status == 1
+
+
+def test_every_bad_mission_has_expected_stderr():
+    missing = [os.path.basename(p) for p in glob.glob(os.path.join(BAD, "*.xml"))
+               if not os.path.exists(p[:-4] + ".stderr")]
+    assert missing == []
+
+
+def test_deep_nesting_rejected_quickly(tmp_path):
+    depth = 10000
+    text = "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\">" + "<Inverter>" * depth + "<AlwaysSuccess/>" \
+           + "</Inverter>" * depth + "</BehaviorTree></root>"
+    p = write(tmp_path, text)
+    t0 = time.perf_counter()
+    errs = errors_of(p)
+    assert time.perf_counter() - t0 < 2.0
+    prefix = '<root BTCPP_format="4"><BehaviorTree ID="M">'
+    col = len(prefix) + 254 * len("<Inverter>") + 1  # root and BehaviorTree are levels 1 and 2
+    assert errs == [f"{p}:1:{col}: error: elements nested deeper than 256 levels "
+                    f"(BehaviorTree.CPP refuses such trees too)"]
+
+
+def test_huge_file_rejected_without_reading_it(tmp_path):
+    p = tmp_path / "huge.xml"
+    with open(p, "wb") as f:
+        f.write(b'<root BTCPP_format="4"><!--')
+        f.write(b"x" * (50 * 1024 * 1024))
+        f.write(b"--></root>")
+    errs = errors_of(str(p))
+    assert errs == [f"{p}:1:1: error: file is {os.path.getsize(p)} bytes; missions are limited to "
+                    f"{xmlsource.MAX_FILE_BYTES} bytes"]
+
+
+def test_billion_laughs_rejected_fast(tmp_path):
+    ents = "".join(f'<!ENTITY l{i} "&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};">'
+                   for i in range(1, 10))
+    p = write(tmp_path, f'<?xml version="1.0"?>\n<!DOCTYPE root [<!ENTITY l0 "lol">{ents}]>\n'
+                        f'<root BTCPP_format="4"><BehaviorTree ID="M"><Say text="&l9;"/></BehaviorTree></root>\n')
+    t0 = time.perf_counter()
+    errs = errors_of(p)
+    assert time.perf_counter() - t0 < 1.0
+    assert errs == [f"{p}:2:1: error: document type declarations are not allowed in a mission "
+                    f"(entities could expand without bound or read other files)"]
+
+
+def test_positions_of_attributes_with_entities_and_newlines(tmp_path):
+    say_line = '      <Say name="a&amp;b" text="x"/>'
+    script_line = '      <Script code="a := 1;&#10;b := a +"/>'
+    body = f"    <Sequence>\n{say_line}\n{script_line}\n    </Sequence>"
+    p = write(tmp_path, MINI.format(body=body))
+    src = xmlsource.read_source(p)
+    say = src.root.find("BehaviorTree/Sequence/Say")
+    assert src.loc(say) == Loc(p, 4, say_line.index("<Say") + 1)
+    assert src.attr_loc(say, "text") == Loc(p, 4, say_line.index("text") + 1)
+    assert say.get("name") == "a&b"
+    assert src.value_loc(say, "name", 2) == Loc(p, 4, say_line.index('b"') + 1)  # `&amp;` is one character
+    script = src.root.find("BehaviorTree/Sequence/Script")
+    assert script.get("code")[8] == "b"
+    assert src.value_loc(script, "code", 8) == Loc(p, 5, script_line.index("b :=") + 1)
+
+
+def test_compact_and_explicit_forms_are_the_same_node(tmp_path):
+    body = '    <Sequence>\n      <Action ID="Say" text="hi"/>\n      <Say text="hi"/>\n      <Condition ID="IsReady"/>\n    </Sequence>'
+    m = load_mission(write(tmp_path, MINI.format(body=body)))
+    kids = m.main.root.children
+    assert [(k.id, k.kind, k.display_name) for k in kids] == [("Say", "Action", "Say"), ("Say", "Action", "Say"),
+                                                              ("IsReady", "Condition", "IsReady")]
+
+
+def test_explicit_form_with_wrong_kind(tmp_path):
+    p = write(tmp_path, MINI.format(body='    <Condition ID="Say" text="x"/>'))
+    assert errors_of(p) == [f"{p}:3:5: error: `Say` is an Action, but is used as <Condition>"]
+
+
+def test_all_errors_of_a_file_reported_in_order(tmp_path):
+    body = '    <Sequence>\n      <Sey text="x"/>\n      <Say txt="x"/>\n      <Inverter/>\n    </Sequence>'
+    p = write(tmp_path, MINI.format(body=body))
+    assert errors_of(p) == [
+        f"{p}:4:7: error: unknown node `Sey`: it is neither built in nor declared in TreeNodesModel; "
+        f"`Say` is declared in TreeNodesModel (did you mean it?)",
+        f"{p}:5:12: error: `Say` has no port `txt` (its ports: `text`); did you mean `text`?",
+        f"{p}:6:7: error: `Inverter` is a decorator and takes exactly 1 child, but has no children",
+    ]
+
+
+def test_script_error_points_into_the_attribute(tmp_path):
+    p = write(tmp_path, MINI.format(body='    <Script code="x := 1 +"/>'))
+    errs = errors_of(p)
+    assert len(errs) == 1 and errs[0].startswith(f"{p}:3:") and "invalid script in `code` of `Script`" in errs[0]
+
+
+def test_include_resolved_relative_to_including_file(tmp_path):
+    sub = tmp_path / "lib"
+    sub.mkdir()
+    (sub / "parts.xml").write_text('<root BTCPP_format="4"><BehaviorTree ID="Part"><AlwaysSuccess/></BehaviorTree></root>')
+    p = write(tmp_path, '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <include path="lib/parts.xml"/>\n'
+                        '  <BehaviorTree ID="Main"><SubTree ID="Part"/></BehaviorTree>\n</root>\n')
+    m = load_mission(p)
+    assert [t.id for t in m.trees] == ["Main", "Part"] or [t.id for t in m.trees] == ["Part", "Main"]
+    assert m.files == (p, os.path.join(str(tmp_path), "lib", "parts.xml"))
+
+
+def test_model_port_defaults_are_type_checked(tmp_path):
+    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Go/></BehaviorTree>\n  <TreeNodesModel>\n'
+                        '    <Action ID="Go"><input_port name="speed" type="int" default="fast"/></Action>\n'
+                        '  </TreeNodesModel>\n</root>\n')
+    errs = errors_of(p)
+    assert len(errs) == 1 and errs[0].startswith(f"{p}:4:66: error: default of port `speed` of `Go`: ")
+
+
+def test_did_you_mean():
+    assert did_you_mean("SayGoodBye", ["SayGoodByeSpeech", "WelcomeSpeech"]) == "SayGoodByeSpeech"
+    assert did_you_mean("IV. VisitLandmark", ["IV. VisitExhibit", "V. EndTour"]) == "IV. VisitExhibit"
+    assert did_you_mean("sequence", ["Sequence", "Fallback"]) == "Sequence"
+    assert did_you_mean("Zzz", ["Sequence", "Fallback"]) is None
+
+
+def test_mission_xsd_accepts_its_own_mission(tmp_path):
+    import xmlschema
+
+    path = os.path.join(CASES, "robot_lab_tour.xml")
+    if not os.path.exists(path):
+        pytest.skip("conformance cases not present")
+    m = load_mission(path)
+    schema = xmlschema.XMLSchema(mission_xsd(m))
+    assert schema.is_valid(path)
+    bad = open(path, encoding="utf-8").read().replace("<Sequence", "<Sequence bogus=\"1\"", 1)
+    assert not schema.is_valid(bad)
+
+
+def test_cli_exit_codes(tmp_path):
+    good = write(tmp_path, MINI.format(body='    <Say text="hi"/>'), "good.xml")
+    bad = write(tmp_path, MINI.format(body='    <Sai text="hi"/>'), "bad.xml")
+    assert btgen("validate", good).returncode == 0
+    r = btgen("validate", good, bad)
+    assert r.returncode == 1 and r.stderr.startswith(f"{bad}:3:5: error: unknown node `Sai`")
+    assert btgen("validate").returncode == 2
+    assert btgen("frobnicate").returncode == 2
+    r = btgen("validate", str(tmp_path / "missing.xml"))
+    assert r.returncode == 1 and r.stderr == f"{tmp_path / 'missing.xml'}:1:1: error: cannot read file: No such file or directory\n"
+
+
+def test_xsd_command_prints_schema(tmp_path):
+    good = write(tmp_path, MINI.format(body='    <Say text="hi"/>'))
+    r = btgen("xsd", good)
+    assert r.returncode == 0
+    assert '<xs:element name="Say" type="node.Say" substitutionGroup="bt_node"/>' in r.stdout
+    assert '<xs:attribute name="text" type="xs:string"/>' in r.stdout
