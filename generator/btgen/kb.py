@@ -179,7 +179,7 @@ def _read_lines(path: str, sink: DiagnosticSink, what: str) -> Optional[list[_Li
         with open(path, "rb") as f:
             data = f.read(KB_MAX_FILE_BYTES + 1)
     except IsADirectoryError:
-        sink.error(top, f"is a directory, not {what} file")
+        sink.error(top, f"is a directory, not a {what} file")
         return None
     except OSError as e:
         sink.error(top, f"cannot read file: {e.strerror or e}")
@@ -335,7 +335,8 @@ def _unknown_key_message(word: str, known: Sequence[str], previous: Optional[_Li
         return f"unknown key `{word}` (did you mean `{m}`? keys are case-sensitive)"
     if m:
         return f"unknown key `{word}` (did you mean `{m}`?)"
-    if previous is not None and previous.text.split(None, 1)[0] in TEXT_KEYS:
+    previous_key = re.match(r"[ \t]*([^ \t,]*)", previous.text) if previous is not None else None
+    if previous is not None and previous_key is not None and previous_key.group(1) in TEXT_KEYS:
         return (f"unknown key `{word}`; if this line continues the text on line {previous.number}, "
                 f"join them: an entry is one line")
     return f"unknown key `{word}`: a line starts with a key such as `{known[0]}`"
@@ -669,6 +670,7 @@ def _check_config(ini_path: str) -> tuple[list[Diagnostic], Optional[KbConfigura
     if lines is None:
         return _sorted(sink.items), None, None
     values: dict[str, _Token] = {}
+    kb_written = False  # a knowledgeBase line exists, even a wrong one
     for line in lines:
         if not _content(line):
             continue
@@ -676,8 +678,9 @@ def _check_config(ini_path: str) -> tuple[list[Diagnostic], Optional[KbConfigura
         assert m is not None  # a content line has a first token
         key = _Token(m.group(1), Loc(ini_path, line.number, m.start(1) + 1))
         value = _Token(m.group(2), Loc(ini_path, line.number, m.start(2) + 1))
+        name = key.text.split("=")[0]
+        kb_written = kb_written or name == "knowledgeBase"
         if "=" in key.text or value.text.startswith("="):
-            name = key.text.split("=")[0]
             sink.error(key.loc, f"write `{name or 'key'} value` separated by blanks, without `=`")
             continue
         if key.text not in CONFIG_KEYS:
@@ -698,8 +701,7 @@ def _check_config(ini_path: str) -> tuple[list[Diagnostic], Optional[KbConfigura
         verbose = v.text == "true"
     kb = values.get("knowledgeBase")
     if kb is None:
-        if not any(d.message.startswith("duplicate `knowledgeBase`") for d in sink.items) and \
-                not any("knowledgeBase" in d.message and d.severity == "error" for d in sink.items):
+        if not kb_written:
             sink.error(Loc(ini_path, 1, 1), "the configuration has no `knowledgeBase` "
                                             "(the file name of the knowledge base)")
         return _sorted(sink.items), None, None

@@ -177,7 +177,7 @@ def test_missing_file_and_directory() -> None:
     assert [str(d) for d in kb.lint_kb("tests/bad_kb/no_such.dat")] == \
         ["tests/bad_kb/no_such.dat:1:1: error: cannot read file: No such file or directory"]
     assert [str(d) for d in kb.lint_kb("tests/bad_kb")] == \
-        ["tests/bad_kb:1:1: error: is a directory, not knowledge base file"]
+        ["tests/bad_kb:1:1: error: is a directory, not a knowledge base file"]
 
 
 def test_file_too_big(tmp_path: Path) -> None:
