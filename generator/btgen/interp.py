@@ -391,9 +391,13 @@ class ControlNode(TreeNode):
 
     def reset_children(self) -> None:
         for c in self.children:
-            if c.status == RUNNING:
+            st = c.status
+            if st == RUNNING:
                 c.halt_node()
-            c.reset_status()
+                c.reset_status()
+            elif st != IDLE:  # resetStatus(), inlined: this is the hottest loop of a run
+                c.status = IDLE
+                c.emit(c.prefix + _TRANS[st][IDLE])
 
     def halt_child(self, i: int) -> None:
         c = self.children[i]
@@ -424,32 +428,39 @@ class SequenceNode(ControlNode):
     def tick(self) -> int:
         children = self.children
         n = len(children)
-        if self.status == IDLE:  # !isStatusActive(status())
+        st = self.status
+        if st == IDLE:  # !isStatusActive(status())
             self.skipped = 0
-        if self.status != RUNNING:
-            self.set_status(RUNNING)
-        while self.idx < n:
-            child = children[self.idx]
+        if st != RUNNING:  # setStatus(RUNNING)
+            self.status = RUNNING
+            self.emit(self.prefix + _TRANS[st][RUNNING])
+        idx = self.idx
+        while idx < n:
+            child = children[idx]
             prev = child.status
             cs = child.execute_tick()
             if cs == RUNNING:
+                self.idx = idx
                 return RUNNING
             if cs == FAILURE:
                 self.reset_children()
                 self.idx = 0
                 return FAILURE
             if cs == SUCCESS:
-                self.idx += 1
+                idx += 1
                 # every node has a wake-up signal in a Tree, so requiresWakeUp() holds
-                if self.asynch and prev == IDLE and self.idx < n:
+                if self.asynch and prev == IDLE and idx < n:
+                    self.idx = idx
                     return RUNNING
             elif cs == SKIPPED:
-                self.idx += 1
+                idx += 1
                 self.skipped += 1
             else:
+                self.idx = idx
                 raise self._child_idle_error()
+        self.idx = idx
         all_skipped = self.skipped == n
-        if self.idx == n:
+        if idx == n:
             self.reset_children()
             self.idx = 0
             self.skipped = 0
@@ -475,31 +486,38 @@ class FallbackNode(ControlNode):
     def tick(self) -> int:
         children = self.children
         n = len(children)
-        if self.status == IDLE:
+        st = self.status
+        if st == IDLE:
             self.skipped = 0
-        if self.status != RUNNING:
-            self.set_status(RUNNING)
-        while self.idx < n:
-            child = children[self.idx]
+        if st != RUNNING:
+            self.status = RUNNING
+            self.emit(self.prefix + _TRANS[st][RUNNING])
+        idx = self.idx
+        while idx < n:
+            child = children[idx]
             prev = child.status
             cs = child.execute_tick()
             if cs == RUNNING:
+                self.idx = idx
                 return RUNNING
             if cs == SUCCESS:
                 self.reset_children()
                 self.idx = 0
                 return SUCCESS
             if cs == FAILURE:
-                self.idx += 1
-                if self.asynch and prev == IDLE and self.idx < n:
+                idx += 1
+                if self.asynch and prev == IDLE and idx < n:
+                    self.idx = idx
                     return RUNNING
             elif cs == SKIPPED:
-                self.idx += 1
+                idx += 1
                 self.skipped += 1
             else:
+                self.idx = idx
                 raise self._child_idle_error()
+        self.idx = idx
         all_skipped = self.skipped == n
-        if self.idx == n:
+        if idx == n:
             self.reset_children()
             self.idx = 0
             self.skipped = 0
@@ -918,10 +936,23 @@ class DecoratorNode(TreeNode):
         c.reset_status()
 
     def execute_tick(self) -> int:
-        status = TreeNode.execute_tick(self)
-        cs = self.child.status
+        # TreeNode::executeTick, inlined for speed, then DecoratorNode's child reset
+        if self.conds:
+            status = self._execute_tick_with_conditions()
+        else:
+            status = self.tick()
+            if status != SKIPPED:
+                prev = self.status
+                if prev != status:
+                    if status == IDLE:
+                        raise self._idle_error()
+                    self.status = status
+                    self.emit(self.prefix + _TRANS[prev][status])
+        c = self.child
+        cs = c.status
         if cs == SUCCESS or cs == FAILURE:
-            self.child.reset_status()
+            c.status = IDLE
+            c.emit(c.prefix + _TRANS[cs][IDLE])
         return status
 
 
@@ -929,13 +960,19 @@ class InverterNode(DecoratorNode):
     __slots__ = ()
 
     def tick(self) -> int:
-        self.set_status(RUNNING)
-        cs = self.child.execute_tick()
+        st = self.status
+        if st != RUNNING:
+            self.status = RUNNING
+            self.emit(self.prefix + _TRANS[st][RUNNING])
+        c = self.child
+        cs = c.execute_tick()
         if cs == SUCCESS:
-            self.reset_child()
+            c.status = IDLE  # resetChild() of a completed child
+            c.emit(c.prefix + _TRANS[SUCCESS][IDLE])
             return FAILURE
         if cs == FAILURE:
-            self.reset_child()
+            c.status = IDLE
+            c.emit(c.prefix + _TRANS[FAILURE][IDLE])
             return SUCCESS
         if cs == IDLE:
             raise _run_error(self.model.loc, f"the child of `Inverter` \"{self.name}\" returned IDLE")
@@ -1502,6 +1539,20 @@ class ScriptedAction(StatefulActionNode):
 
     on_running = on_start
 
+    def execute_tick(self) -> int:
+        # TreeNode::executeTick + StatefulActionNode::tick, inlined for speed
+        if self.conds:
+            return self._execute_tick_with_conditions()
+        prev = self.status
+        if prev == IDLE or prev == RUNNING:
+            c = self.cursor
+            new = c.next() if c is not None else self.default
+            if new != prev:
+                self.status = new
+                self.emit(self.prefix + _TRANS[prev][new])
+            return new
+        return prev
+
 
 class ScriptedCondition(TreeNode):
     """A user Condition: every tick takes the next scripted result."""
@@ -1521,6 +1572,16 @@ class ScriptedCondition(TreeNode):
         if st == RUNNING:
             raise _run_error(self.model.loc, f"Condition `{self.name}` cannot return RUNNING")
         return st
+
+    def execute_tick(self) -> int:
+        if self.conds:
+            return self._execute_tick_with_conditions()
+        new = self.tick()
+        prev = self.status
+        if new != prev:
+            self.status = new
+            self.emit(self.prefix + _TRANS[prev][new])
+        return new
 
 
 class SleepNode(StatefulActionNode):
