@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Callable, Iterator, Mapping, Optional, Union
+from typing import Callable, Iterator, Mapping, Optional, TypeVar, Union
 
 from . import values
 from .blackboard import Blackboard, Entry
@@ -833,10 +833,16 @@ def _arith(op: str, a: float, b: float) -> float:
     return a / b
 
 
-def _compare(op: str, a, b, numeric: bool) -> bool:  # type: ignore[no-untyped-def]
+_Ordered = TypeVar("_Ordered", float, bytes)
+
+
+def _compare(op: str, a: _Ordered, b: _Ordered, numeric: bool) -> bool:
     """4.6.2 ``ExprComparison::SwitchImpl``: ``==``/``!=`` on doubles within FLT_EPSILON."""
     if op in ("==", "!="):
-        same = abs(a - b) <= FLT_EPSILON if numeric else a == b
+        if isinstance(a, float) and isinstance(b, float):
+            same = abs(a - b) <= FLT_EPSILON
+        else:
+            same = a == b
         return same if op == "==" else not same
     if op == "<":
         return not a >= b

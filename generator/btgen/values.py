@@ -65,7 +65,7 @@ class ConversionError(ValueError):
     """A value that cannot be converted; ``str()`` is a complete message."""
 
 
-class Queue(collections.deque):
+class Queue(collections.deque[object]):
     """A queue value (4.6.2 ``SharedQueue<T>``): a deque plus its element type."""
 
     def __init__(self, element_type: str, items: Iterable[object] = ()) -> None:
@@ -86,7 +86,6 @@ class Queue(collections.deque):
             return self.element_type == other.element_type and list(self) == list(other)
         return NotImplemented
 
-    __hash__ = None  # type: ignore[assignment]
 
 
 Value = Union[int, float, bool, str, NodeStatus, Queue]
@@ -519,6 +518,7 @@ def cast(value: Optional[Value], type_name: str) -> Value:
             return string_to_number(value, type_name)
         if type_name == NODE_STATUS:
             n = string_to_number(value, "int64")
+            assert isinstance(n, int)
             return _status_from_int(n, value)
         raise ConversionError(f"cannot convert the string {describe(value)} to {type_name}")
     # value is a number
@@ -606,7 +606,8 @@ def copy_into(value: Value, destination: Optional[Value]) -> Value:
     if is_number(value) and is_number(destination):
         if isinstance(destination, float):
             return value if isinstance(value, float) else _to_double(value)
-        n = value if not isinstance(value, float) else to_int64(value)
+        n = to_int64(value) if isinstance(value, float) else value
+        assert isinstance(n, (int, NodeStatus))
         return _like(n, destination)
     if isinstance(value, Queue) and isinstance(destination, Queue) and value.element_type == destination.element_type:
         return value
