@@ -12,6 +12,8 @@ Also a small entry point for build systems:
     python -m btgen.compiler --deps MISSION.xml      # the mission and every file it includes
     python -m btgen.compiler --outputs MISSION.xml   # the file names `compile` writes
     python -m btgen.compiler --inputs                # generator sources, templates, schemas
+    python -m btgen.compiler --template MISSION.xml  # the mission's class template (ns::Class)
+    python -m btgen.compiler --check MISSION.xml     # exit 0 when the C++ back end compiles it
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ import tempfile
 from pathlib import Path
 from typing import Optional, Sequence
 
+from . import naming
 from .diagnostics import UserError
 from .emit import TEMPLATE_DIR, Output, output_names, render
 
@@ -108,10 +111,24 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     g.add_argument("--deps", metavar="MISSION.xml", help="print the mission and its included files, one per line")
     g.add_argument("--outputs", metavar="MISSION.xml", help="print the names of the files `btgen compile` writes")
     g.add_argument("--inputs", action="store_true", help="print the generator's own sources, templates and schemas")
+    g.add_argument("--template", metavar="MISSION.xml", help="print the mission's C++ class template")
+    g.add_argument("--check", metavar="MISSION.xml", help="exit 0 if the mission compiles, else print why and exit 1")
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
     args = p.parse_args(argv)
+    if args.check:
+        from .cli import print_diagnostics
+
+        try:
+            generate(args.check)
+        except UserError as e:
+            print_diagnostics(e.diagnostics)
+            return 1
+        return 0
     if args.deps:
         items = mission_files(args.deps)
+    elif args.template:
+        stem = mission_stem(args.template)
+        items = [f"{naming.namespace_name(stem)}::{naming.pascal_case(stem)}"]
     elif args.outputs:
         items = list(output_names(mission_stem(args.outputs)))
     else:
