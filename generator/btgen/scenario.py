@@ -270,7 +270,6 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
     warnings (leaf lines naming no leaf of the mission).
     """
     uses: dict[str, list[LeafUse]] = {}
-    seen_nodes: set[int] = set()
     builtin_names: set[str] = set()
     for use in mission_leaves(mission, builtin_names):
         uses.setdefault(use.name, []).append(use)
@@ -295,13 +294,16 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
                                     f"(a Condition answers in one tick; its Condition node is at {cond.node.loc})")
                     break
     if scenario.default == "RUNNING":
-        for name, found in uses.items():
-            cond = next((u for u in found if u.kind == "Condition"), None)
-            if cond is not None and scenario.leaf(name) is None and id(cond.node) not in seen_nodes:
-                seen_nodes.add(id(cond.node))
-                loc = scenario.default_loc or Loc(scenario.path, 1, 1)
-                sink.error(loc, f"`default RUNNING` reaches the Condition `{name}` (at {cond.node.loc}), "
-                                f"which cannot return RUNNING; give it its own `leaf {name} ...` line")
+        reached = [(name, next(u for u in found if u.kind == "Condition"))
+                   for name, found in uses.items()
+                   if scenario.leaf(name) is None and any(u.kind == "Condition" for u in found)]
+        if reached:
+            listed = ", ".join(f"`{name}` ({use.node.loc})" for name, use in reached)
+            what = "the Condition" if len(reached) == 1 else "the Conditions"
+            each = "it its" if len(reached) == 1 else "each its"
+            sink.error(scenario.default_loc or Loc(scenario.path, 1, 1),
+                       f"`default RUNNING` reaches {what} {listed}, which cannot return RUNNING; "
+                       f"give {each} own `leaf` line")
     sink.raise_if_errors()
     return list(sink.items)
 
