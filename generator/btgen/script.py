@@ -316,6 +316,13 @@ class _Parser:
         # One frame per comparison operand being parsed: (op, offset) of the
         # math/bit operators used in it outside parentheses.
         self.groups: list[list[tuple[str, int]]] = []
+        self.nesting = 0  # open parentheses, `?:` middles and prefix operators
+
+    def enter(self, at: _Token) -> None:
+        """Bound the parser's recursion: bad input must give an error, not a crash."""
+        self.nesting += 1
+        if self.nesting > MAX_NESTING:
+            raise self.error(f"the expression is nested too deeply (more than {MAX_NESTING} levels)", at)
 
     # -- token helpers
     @property
@@ -353,7 +360,7 @@ class _Parser:
     def script(self) -> Script:
         if self.tok.kind == "end":
             raise self.error("empty script")
-        stmts = [self.statement()]
+        stmts = [self._statement()]  # top level: not nested
         while self.at_op(";"):
             semi = self.advance()
             if self.tok.kind == "end":
@@ -361,12 +368,20 @@ class _Parser:
                                         "rejects a trailing `;`)", semi.start)
             if self.at_op(";"):
                 raise self.error("empty statement between two `;`")
-            stmts.append(self.statement())
+            stmts.append(self._statement())
         if self.tok.kind != "end":
             raise self.error(f"unexpected {self.describe(self.tok)}; expected an operator, `;` or the end")
         return Script(tuple(stmts), self.code)
 
-    def statement(self) -> Expr:
+    def statement(self, opener: _Token) -> Expr:
+        """A statement nested in `(` or `?`, the token ``opener``."""
+        self.enter(opener)
+        try:
+            return self._statement()
+        finally:
+            self.nesting -= 1
+
+    def _statement(self) -> Expr:
         start = self.tok.start
         lhs = self.conditional()
         if self.at_op(*ASSIGN_OPS):
@@ -385,7 +400,7 @@ class _Parser:
         if not self.at_op("?"):
             return cond
         q = self.advance()
-        then = self.statement()
+        then = self.statement(q)
         if not self.at_op(":"):
             raise self.error(f"expected `:` of `?:` here, found {self.describe(self.tok)}")
         self.advance()
@@ -459,7 +474,11 @@ class _Parser:
                 signed = self.signed_number()
                 if signed is not None:
                     return Unary(op.text, signed, op.start)
-            return Unary(op.text, self.prefix(), op.start)
+            self.enter(op)
+            try:
+                return Unary(op.text, self.prefix(), op.start)
+            finally:
+                self.nesting -= 1
         return self.atom()
 
     def signed_number(self) -> Optional[Literal]:
@@ -491,7 +510,7 @@ class _Parser:
             return Name(t.text, t.start)
         if self.at_op("("):
             self.advance()
-            inner = self.statement()
+            inner = self.statement(t)
             if not self.at_op(")"):
                 raise self.error(f"expected `)` to close the `(` at offset {t.start}, "
                                  f"found {self.describe(self.tok)}")
@@ -503,9 +522,31 @@ class _Parser:
         raise self.error(f"expected a value, a name or `(`, found {self.describe(t)}")
 
 
+MAX_NESTING = 32  # parentheses, `?:` middles and prefix operators inside each other
+MAX_DEPTH = 100  # levels of the syntax tree (evaluation and C++ code recurse on it)
+
+
+def _depth(node: "Expr") -> tuple[int, int]:
+    """(depth of the tree under ``node``, offset of its deepest node), without recursion."""
+    best = (0, node.offset)
+    stack = [(node, 1)]
+    while stack:
+        n, d = stack.pop()
+        if d > best[0]:
+            best = (d, n.offset)
+        stack.extend((c, d + 1) for c in reversed(_children(n)))
+    return best
+
+
 def parse_script(code: str) -> Script:
     """Parse a script; raises :class:`ScriptSyntaxError` with the offset of the problem."""
-    return _Parser(code).script()
+    script = _Parser(code).script()
+    for stmt in script.statements:
+        depth, offset = _depth(stmt)
+        if depth > MAX_DEPTH:
+            raise ScriptSyntaxError(f"the expression is too deep ({depth} levels, at most {MAX_DEPTH}); "
+                                    f"split it into several statements", offset)
+    return script
 
 
 def script_error_loc(attr_value_loc: Loc, code: str, offset: int, raw_value: Optional[str] = None) -> Loc:
@@ -537,23 +578,27 @@ def script_error_loc(attr_value_loc: Loc, code: str, offset: int, raw_value: Opt
 
 # ============================================================ static queries
 
+def _children(node: Expr) -> tuple[Expr, ...]:
+    if isinstance(node, Unary):
+        return (node.operand,)
+    if isinstance(node, Binary):
+        return (node.left, node.right)
+    if isinstance(node, Compare):
+        return node.operands
+    if isinstance(node, Ternary):
+        return (node.cond, node.then, node.orelse)
+    if isinstance(node, Assign):
+        return (node.value,)
+    return ()
+
+
 def walk(node: Expr) -> Iterator[Expr]:
     """``node`` and all nodes below it, in evaluation order (pre-order)."""
-    yield node
-    if isinstance(node, Unary):
-        yield from walk(node.operand)
-    elif isinstance(node, Binary):
-        yield from walk(node.left)
-        yield from walk(node.right)
-    elif isinstance(node, Compare):
-        for o in node.operands:
-            yield from walk(o)
-    elif isinstance(node, Ternary):
-        yield from walk(node.cond)
-        yield from walk(node.then)
-        yield from walk(node.orelse)
-    elif isinstance(node, Assign):
-        yield from walk(node.value)
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        yield n
+        stack.extend(reversed(_children(n)))
 
 
 def _dedup(names: Iterator[str]) -> tuple[str, ...]:

@@ -547,3 +547,19 @@ def test_variables_read_and_written():
     assert variables_read(s) == ("@visits", "@log", "room", "y", "z", "w", "n")
     assert variables_written(s) == ("@visits", "log", "x", "n")
     assert variables_read(parse_script("a := 1")) == ()
+
+
+def test_absurd_nesting_is_an_error_not_a_crash():
+    ok = "x := " + "(" * 32 + "1" + ")" * 32
+    assert run(ok) == 1
+    with pytest.raises(ScriptSyntaxError) as e:
+        parse_script("x := " + "(" * 33 + "1" + ")" * 33)
+    assert (e.value.message, e.value.offset) == ("the expression is nested too deeply (more than 32 levels)", 37)
+    with pytest.raises(ScriptSyntaxError) as e:
+        parse_script("!" * 40 + "a")
+    assert e.value.message == "the expression is nested too deeply (more than 32 levels)"
+    assert run("x := " + " + ".join(["1"] * 99)) == 99.0  # 100 levels: the limit
+    with pytest.raises(ScriptSyntaxError) as e:
+        parse_script("x := " + " + ".join(["1"] * 100))
+    assert (e.value.message, e.value.offset) == (
+        "the expression is too deep (101 levels, at most 100); split it into several statements", 5)
