@@ -466,9 +466,11 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
     child = getattr(err, "invalid_child", None)
     if elem is tree.root:
         if child is not None and child.tag == TOUR_KEY:
-            first = next(e for e in tree.root if e.tag == TOUR_KEY)
-            sink.error(tree.locs[id(child)], f"duplicate `{TOUR_KEY}`; the first is on line "
-                                             f"{tree.locs[id(first)].line}")
+            # The content model stops at the second tour: report every later one.
+            tours = [e for e in tree.root if e.tag == TOUR_KEY]
+            for later in tours[1:]:
+                sink.error(tree.locs[id(later)], f"duplicate `{TOUR_KEY}`; the first is on line "
+                                                 f"{tree.locs[id(tours[0])].line}")
         elif child is None:
             sink.error(Loc(path, 1, 1), f"the knowledge base has no `{TOUR_KEY}` "
                                         f"(the number of locations, then their ids in visiting order)")
@@ -531,14 +533,17 @@ def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationEr
             continue  # the entry has no id: already reported as incomplete
         dup = _DUPLICATE_RE.match(reason)
         if dup:
+            # xmlschema reports the second entry only: report every later one too.
             elem = err.elem
             lid = _entry_id(tree, elem, bad) if elem is not None else None
-            if lid is None or id(elem) in reported:
+            if lid is None:
                 continue
-            reported.add(id(elem))
-            first = next(e for e in tree.root if e.tag == elem.tag and _entry_id(tree, e, bad) == lid)
-            sink.error(tree.locs[id(elem)], f"duplicate `{elem.tag}` entry for location {lid}; "
-                                            f"the first is on line {tree.locs[id(first)].line}")
+            same = [e for e in tree.root if e.tag == elem.tag and _entry_id(tree, e, bad) == lid]
+            for later in same[1:]:
+                if id(later) not in reported:  # an entry with a count error is not also a duplicate
+                    reported.add(id(later))
+                    sink.error(tree.locs[id(later)], f"duplicate `{elem.tag}` entry for location {lid}; "
+                                                     f"the first is on line {tree.locs[id(same[0])].line}")
             continue
         ref = _KEYREF_RE.match(reason)
         if ref:
