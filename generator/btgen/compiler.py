@@ -14,6 +14,7 @@ Also a small entry point for build systems:
     python -m btgen.compiler --inputs                # generator sources, templates, schemas
     python -m btgen.compiler --template MISSION.xml  # the mission's class template (ns::Class)
     python -m btgen.compiler --check MISSION.xml     # exit 0 when the C++ back end compiles it
+    python -m btgen.compiler --update-generated      # refresh the committed generated/ directory
 """
 from __future__ import annotations
 
@@ -105,6 +106,32 @@ def mission_files(mission_path: str) -> list[str]:
     return [os.path.abspath(f) for f in files]
 
 
+def committed_outputs(root: Path) -> dict[str, str]:
+    """What `generated/` must hold: the outputs of every `missions/*.xml` the C++
+    back end compiles, banner paths relative to the project root."""
+    expected: dict[str, str] = {}
+    for mission in sorted((root / "missions").glob("*.xml")):
+        rel = os.path.relpath(mission, os.getcwd())
+        try:
+            outputs = generate(rel, relative_to=str(root))
+        except UserError:
+            continue  # needs the data side (issue 5) or is broken: `btgen validate` tells
+        for out in outputs:
+            expected[out.name] = out.text
+    return expected
+
+
+def update_generated(root: Path) -> list[str]:
+    """Bring `generated/` up to date; returns the files written or removed."""
+    expected = committed_outputs(root)
+    gen = root / "generated"
+    changed = [name for name, text in sorted(expected.items()) if write_if_changed(gen / name, text)]
+    for stale in sorted(p for p in gen.glob("*") if p.suffix in (".hpp", ".cpp") and p.name not in expected):
+        stale.unlink()
+        changed.append(stale.name)
+    return changed
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(prog="python -m btgen.compiler", description=__doc__.split("\n")[0])
     g = p.add_mutually_exclusive_group(required=True)
@@ -113,8 +140,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     g.add_argument("--inputs", action="store_true", help="print the generator's own sources, templates and schemas")
     g.add_argument("--template", metavar="MISSION.xml", help="print the mission's C++ class template")
     g.add_argument("--check", metavar="MISSION.xml", help="exit 0 if the mission compiles, else print why and exit 1")
+    g.add_argument("--update-generated", action="store_true",
+                   help="regenerate the committed generated/ from missions/*.xml")
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
     args = p.parse_args(argv)
+    if args.update_generated:
+        for name in update_generated(PACKAGE_DIR.parents[1]):
+            print(f"generated/{name}")
+        return 0
     if args.check:
         from .cli import print_diagnostics
 

@@ -140,6 +140,14 @@ def _expanded(mission: Mission):
                 stack.append((child, me, depth + 1, tree))
 
 
+def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
+    """(UID, registration ID, name) of every node of the main tree, SubTrees inlined:
+    the numbers BehaviorTree.CPP (and Groot2) give them. Works on any mission,
+    including those the C++ back end cannot compile yet."""
+    return [(i + 1, "SubTree" if isinstance(n, SubTreeNode) else n.id, n.display_name)
+            for i, (n, _, _, _) in enumerate(_expanded(mission))]
+
+
 def _written_nodes(mission: Mission):
     """Every node written in a tree the main tree reaches, each once."""
     seen_trees: set[str] = set()

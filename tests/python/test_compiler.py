@@ -1,0 +1,321 @@
+"""The C++ back end in Python: naming, lowering, emission, `btgen compile`, generated/."""
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import CASES, ROOT
+
+from btgen import naming
+from btgen.compiler import committed_outputs, compile_command, generate, generator_inputs, main, mission_files
+from btgen.diagnostics import UserError
+from btgen.emit import render
+from btgen.frontend import load_mission
+from btgen.lower import creation_order, lower, unsupported_summary
+from btgen.version import RUNTIME_ABI, __version__
+
+
+def _write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def _mission(body, models='<Action ID="Act"/><Condition ID="Cond"/>', extra=""):
+    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}</BehaviorTree>'
+            f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+
+
+def _col(path, needle):
+    """1-based column of `needle` on the first line of the file at `path`."""
+    with open(path, encoding="utf-8") as f:
+        return f.readline().index(needle) + 1
+
+
+def _errors(path):
+    with pytest.raises(UserError) as e:
+        lower(load_mission(path))
+    return [str(d) for d in e.value.diagnostics]
+
+
+# ------------------------------------------------------------------------ naming
+@pytest.mark.parametrize("stem,snake,pascal", [
+    ("LabTour", "lab_tour", "LabTour"),
+    ("lab_tour", "lab_tour", "LabTour"),
+    ("PickPlaceBall", "pick_place_ball", "PickPlaceBall"),
+    ("HTTPServer2", "http_server2", "HttpServer2"),
+    ("robot-lab tour", "robot_lab_tour", "RobotLabTour"),
+    ("seq_basic", "seq_basic", "SeqBasic"),
+    ("01_mission", "01_mission", "Mission_01Mission"),
+    ("___", "mission", "Mission"),
+])
+def test_file_and_class_names(stem, snake, pascal):
+    assert naming.snake_case(stem) == snake
+    assert naming.header_name(stem) == snake + ".hpp"
+    assert naming.source_name(stem) == snake + ".cpp"
+    assert naming.pascal_case(stem) == pascal
+
+
+def test_namespace_and_guard_are_identifiers():
+    assert naming.namespace_name("LabTour") == "lab_tour"
+    assert naming.namespace_name("01 go") == "mission_01_go"
+    assert naming.include_guard("LabTour") == "BTGEN_GENERATED_LAB_TOUR_HPP"
+
+
+@pytest.mark.parametrize("text,ident", [
+    ("FindBall", "FindBall"),
+    ("IV. VisitExhibit", "IV_VisitExhibit"),
+    ("9lives", "n_9lives"),
+    ("_Reserved", "n_Reserved"),
+    ("a__b", "a_b"),
+    ("class", "class_"),
+    ("Ünïcode", "n_n_code"),
+    ("", "n"),
+])
+def test_cpp_identifier(text, ident):
+    assert naming.cpp_identifier(text) == ident
+    assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", naming.cpp_identifier(text))
+
+
+def test_unique_identifiers_disambiguate():
+    assert naming.unique_identifiers(["a b", "a-b", "a_b", "Leaf"], taken=["Leaf"]) == ("a_b", "a_b_2", "a_b_3",
+                                                                                       "Leaf_2")
+
+
+def test_cpp_string_is_ascii_and_exact():
+    assert naming.cpp_string('say "hi"\\') == '"say \\"hi\\"\\\\"'
+    assert naming.cpp_string("a\nb\tc??=") == '"a\\012b\\011c\\?\\?="'
+    assert naming.cpp_string("é") == '"\\303\\251"'
+    assert naming.cpp_comment("x\n\\") == "x?"
+
+
+# ---------------------------------------------------------------------- lowering
+def _trace_nodes(stem):
+    """(uid, ID, name) of every node the recorded trace of a case mentions."""
+    seen = {}
+    line_re = re.compile(r'^(\d+) (\S+) "((?:[^"\\]|\\.)*)" [A-Z]+ -> [A-Z]+$')
+    with open(os.path.join(CASES, stem + ".trace"), encoding="utf-8") as f:
+        for line in f:
+            m = line_re.match(line.rstrip("\n"))
+            if m:
+                name = re.sub(r"\\(.)", r"\1", m.group(3))
+                seen[int(m.group(1))] = (m.group(2), name)
+    return seen
+
+
+def _stems():
+    if not os.path.isdir(CASES):
+        return []
+    return sorted(f[:-4] for f in os.listdir(CASES) if f.endswith(".xml"))
+
+
+@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
+@pytest.mark.parametrize("stem", _stems() or ["(none)"])
+def test_uids_are_behaviortree_cpp_creation_order(stem):
+    order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(os.path.join(CASES, stem + ".xml")))}
+    recorded = _trace_nodes(stem)
+    assert recorded, "the trace names no node"
+    for uid, (rid, name) in recorded.items():
+        assert order.get(uid) == (rid, name), f"UID {uid}"
+
+
+@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
+def test_lowered_table_of_nested_subtrees_matches_the_trace():
+    program = lower(load_mission(os.path.join(CASES, "decorators_halted.xml")))
+    for uid, (rid, name) in _trace_nodes("decorators_halted").items():
+        node = program.nodes[uid - 1]
+        assert (node.uid, node.id, node.name) == (uid, rid, name)
+    sub = next(n for n in program.nodes if n.kind == "SubTree")
+    assert sub.id == "SubTree" and sub.name == "LongJobInstance"
+    assert [program.nodes[c].name for c in sub.children] == ["LongTaskSteps"]
+    assert program.nodes[sub.children[0]].tree == "LongJob"
+
+
+def test_lowering_tables(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission(
+        '<Sequence name="Root"><SubTree ID="Sub" name="S1"/><Repeat num_cycles="3"><Act/></Repeat>'
+        '<SubTree ID="Sub" name="S2"/><Timeout msec="250"><Act name="Slow"/></Timeout><RunOnce><Cond/></RunOnce>'
+        '<Parallel success_count="-1"><Act/><Act/><Act/></Parallel></Sequence>',
+        extra='<BehaviorTree ID="Sub"><Inverter><Cond name="Inner"/></Inverter></BehaviorTree>'))
+    p = lower(load_mission(path))
+    assert [(n.uid, n.id, n.name) for n in p.nodes][:6] == [
+        (1, "Sequence", "Root"), (2, "SubTree", "S1"), (3, "Inverter", "Inverter"), (4, "Cond", "Inner"),
+        (5, "Repeat", "Repeat"), (6, "Act", "Act")]
+    by_name = {n.name: n for n in p.nodes}
+    assert by_name["Repeat"].params == (3, 0, 0)
+    assert by_name["Timeout"].params == (250, 0, 0) and by_name["Timeout"].timer >= 0
+    assert by_name["RunOnce"].params == (1, 0, 0)  # then_skip defaults to true
+    assert by_name["Parallel"].params == (3, 1, 1)  # success_count=-1 of 3 children, failure_count default 1
+    assert p.max_depth == 4 and p.has_parallel
+    # counter slots do not overlap
+    used = []
+    for n in p.nodes:
+        if n.slot >= 0:
+            used.append(n.slot)
+    assert len(used) == len(set(used)) and max(used) < p.counter_count
+    # each node's children are in the child table at its offset
+    for n in p.nodes:
+        assert p.child_table[n.child_begin:n.child_begin + len(n.children)] == n.children
+        for c in n.children:
+            assert p.nodes[c].parent == n.index
+    assert [m.id for m in p.actions] == ["Act"] and [m.id for m in p.conditions] == ["Cond"]
+
+
+def test_parallel_that_can_never_succeed_is_rejected(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission('<Parallel success_count="3"><Act/><Act/></Parallel>'))
+    col = _col(path, '3"><Act/>')
+    assert _errors(path) == [
+        f"{path}:1:{col}: error: `Parallel` \"Parallel\" has 2 children but needs 3 successes (success_count=3): it "
+        f"can never succeed (BehaviorTree.CPP throws when it is ticked)"]
+
+
+def test_skippable_if_condition_is_rejected(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission('<IfThenElse><RunOnce><Cond/></RunOnce><Act/></IfThenElse>'))
+    assert _errors(path) == [
+        f"{path}:1:{_col(path, '<RunOnce>')}: error: the condition of `IfThenElse` \"IfThenElse\" (`RunOnce` \"RunOnce\") can return "
+        f"SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that answers SUCCESS or FAILURE there"]
+    ok = _write(tmp_path, "ok.xml", _mission('<IfThenElse><RunOnce then_skip="false"><Cond/></RunOnce><Act/>'
+                                             '</IfThenElse>'))
+    lower(load_mission(ok))
+
+
+def test_data_side_is_reported_where_it_is_written(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission(
+        '<Sequence>\n<Script code="a := 1"/>\n<Act _skipIf="a == 1"/>\n<Repeat num_cycles="{n}"><Act/></Repeat>\n'
+        '<SubTree ID="Sub"/><SubTree ID="Sub"/></Sequence>',
+        extra='<BehaviorTree ID="Sub"><Switch2 variable="x" case_1="1" case_2="2"><Act/><Act/><Act/></Switch2>'
+              '</BehaviorTree>'))
+    errs = _errors(path)
+    assert errs[0] == (f"{path}:2:1: error: `Script` is not supported by the C++ back end yet: it needs blackboard "
+                       f"data and scripts (issue 5)")
+    assert errs[1] == (f"{path}:3:6: error: `_skipIf` on `Act` is not supported by the C++ back end yet: "
+                       f"pre/post-condition scripts need blackboard data (issue 5)")
+    assert errs[2].startswith(f"{path}:4:21: error: port `num_cycles` of `Repeat` is connected to blackboard entry "
+                              f"`{{n}}`")
+    assert len([e for e in errs if "`Switch2`" in e]) == 1  # once, though the subtree is used twice
+    assert unsupported_summary(load_mission(path)) == "Script, _skipIf, {key} port, Switch2"
+
+
+# ---------------------------------------------------------------------- emission
+def test_generation_is_deterministic(tmp_path):
+    mission = os.path.join(ROOT, "tests", "cpp", "missions", "control_flow.xml")
+    first = generate(mission, relative_to=ROOT)
+    second = generate(mission, relative_to=ROOT)
+    assert [(o.name, o.text) for o in first] == [(o.name, o.text) for o in second]
+    # and through the command line, into two directories, byte for byte
+    for d in ("a", "b"):
+        subprocess.run([sys.executable, "-m", "btgen", "compile", mission, "-o", str(tmp_path / d),
+                        "--relative-to", ROOT], check=True, cwd=str(tmp_path))
+    for name in ("control_flow.hpp", "control_flow.cpp"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
+        assert (tmp_path / "a" / name).read_text() == dict((o.name, o.text) for o in first)[name]
+
+
+def test_banner_abi_and_shape_of_the_header():
+    mission = os.path.join(ROOT, "tests", "cpp", "missions", "control_flow.xml")
+    header, source = generate(mission, relative_to=ROOT)
+    assert header.text.startswith(f"// control_flow.hpp: generated by btgen {__version__} from "
+                                  f"tests/cpp/missions/control_flow.xml\n")
+    assert source.text.startswith(f"// control_flow.cpp: generated by btgen {__version__} from ")
+    assert f"static_assert(btgen::kRuntimeAbi == {RUNTIME_ABI}," in header.text
+    runtime = (Path(ROOT) / "runtime" / "include" / "btgen" / "version.hpp").read_text()
+    assert f"inline constexpr int kRuntimeAbi = {RUNTIME_ABI};" in runtime
+    assert "template <class Leaves, class Clock = btgen::SteadyClock, class Observer = btgen::NoObserver>\n" \
+           "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
+    for hook in ("onStart(leaf::Move& model", "onRunning(leaf::Move& model", "onHalted(leaf::Move& model",
+                 "check(leaf::IsDone& model"):
+        assert f"virtual {'void' if 'Halted' in hook else 'btgen::Status'} {hook}" in header.text
+    assert "/work/" not in header.text and "/tmp/" not in header.text  # no absolute paths
+    assert "template class btgen::Engine<control_flow::detail::Spec, control_flow::ControlFlowLeaves" in source.text
+
+
+def test_names_in_tables_are_escaped(tmp_path):
+    path = _write(tmp_path, "odd name.xml", _mission('<Sequence name="say &quot;hi&quot;&#10;\\"><IV.Act-2/></Sequence>',
+                                                     models='<Action ID="IV.Act-2"/>'))
+    header, _ = render(lower(load_mission(path)), "odd name", str(tmp_path))
+    assert header.name == "odd_name.hpp"
+    assert '"say \\"hi\\"\\012\\\\"' in header.text
+    assert "struct IV_Act_2 {" in header.text and 'kId = "IV.Act-2"' in header.text
+
+
+# --------------------------------------------------------------- btgen compile
+class _Args:
+    def __init__(self, mission, out, rel=None):
+        self.mission, self.output_dir, self.relative_to = mission, out, rel
+
+
+def test_compile_writes_only_what_changed_and_nothing_on_error(tmp_path):
+    good = _write(tmp_path, "m.xml", _mission("<Sequence><Act/><Cond/></Sequence>"))
+    out = tmp_path / "out"
+    assert compile_command(_Args(good, str(out))) == 0
+    hpp, cpp = out / "m.hpp", out / "m.cpp"
+    before = (hpp.read_bytes(), cpp.read_bytes())
+    os.utime(hpp, (1_000_000, 1_000_000))
+    assert compile_command(_Args(good, str(out))) == 0
+    assert hpp.stat().st_mtime == 1_000_000  # unchanged: not rewritten
+    # A mission that fails leaves the previous outputs byte-identical and writes no temporary file.
+    Path(good).write_text(_mission('<Sequence><Act/><Script code="x := 1"/></Sequence>'))
+    with pytest.raises(UserError):
+        compile_command(_Args(good, str(out)))
+    assert (hpp.read_bytes(), cpp.read_bytes()) == before
+    assert sorted(p.name for p in out.iterdir()) == ["m.cpp", "m.hpp"]
+    Path(good).write_text(_mission("<Sequence><Act/><Cond/><Cond/></Sequence>"))
+    assert compile_command(_Args(good, str(out))) == 0
+    assert hpp.read_bytes() != before[0]
+
+
+def test_cli_compile_reports_errors_with_exit_1(tmp_path):
+    bad = _write(tmp_path, "bad.xml", _mission('<Sequence><Act/><Precondition if="a"><Act/></Precondition>'
+                                               '</Sequence>'))
+    proc = subprocess.run([sys.executable, "-m", "btgen", "compile", bad, "-o", str(tmp_path / "o")],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=str(tmp_path))
+    assert proc.returncode == 1
+    assert proc.stderr == (f"{bad}:1:{_col(bad, '<Precondition')}: error: `Precondition` is not supported by the C++ back end yet: it needs "
+                           f"blackboard data and scripts (issue 5)\n")
+    assert not (tmp_path / "o").exists()
+
+
+def test_deps_outputs_and_inputs_for_build_systems(tmp_path):
+    (tmp_path / "sub").mkdir()
+    _write(tmp_path, "sub/lib.xml", '<root BTCPP_format="4"><BehaviorTree ID="Lib"><Act/></BehaviorTree>'
+                                    '<TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n')
+    main_xml = _write(tmp_path, "Main.xml", '<root BTCPP_format="4" main_tree_to_execute="Main">'
+                                            '<include path="sub/lib.xml"/><BehaviorTree ID="Main">'
+                                            '<SubTree ID="Lib"/></BehaviorTree></root>\n')
+    assert mission_files(main_xml) == [os.path.abspath(main_xml), str(tmp_path / "sub" / "lib.xml")]
+    inputs = generator_inputs()
+    assert any(p.endswith("lower.py") for p in inputs) and any(p.endswith("mission.hpp.j2") for p in inputs)
+    assert any(p.endswith(".xsd") for p in inputs)
+    for argv, expected in ((["--outputs", main_xml], "main.hpp\nmain.cpp\n"),
+                           (["--outputs", main_xml, "--cmake"], "main.hpp;main.cpp"),
+                           (["--template", main_xml], "main::Main\n")):
+        proc = subprocess.run([sys.executable, "-m", "btgen.compiler", *argv], stdout=subprocess.PIPE, text=True,
+                              check=True)
+        assert proc.stdout == expected
+    assert main(["--check", main_xml]) == 0
+
+
+# ------------------------------------------------------------------- generated/
+def test_committed_generated_matches_a_fresh_run():
+    """generated/ holds exactly what `python -m btgen.compiler --update-generated` writes."""
+    root = Path(ROOT)
+    expected = committed_outputs(root)
+    present = {p.name: p.read_text(encoding="utf-8") for p in (root / "generated").glob("*")
+               if p.suffix in (".hpp", ".cpp")}
+    assert sorted(present) == sorted(expected), "run `python -m btgen.compiler --update-generated`"
+    for name, text in expected.items():
+        assert present[name] == text, f"generated/{name} is stale: run `python -m btgen.compiler --update-generated`"
+
+
+def test_committed_generated_compiles_warning_free(tmp_path):
+    root = Path(ROOT)
+    sources = sorted((root / "generated").glob("*.cpp"))
+    if not sources:
+        pytest.skip("no shipped mission compiles on the C++ back end yet")
+    for src in sources:
+        subprocess.run(["c++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
+                        "-I", str(root / "runtime" / "include"), "-I", str(root / "generated"), str(src)],
+                       check=True)
