@@ -25,6 +25,7 @@ model (model.py) directly.
 """
 from __future__ import annotations
 
+import sys
 from typing import Callable, Optional
 
 from . import blackboard as bbmod
@@ -1236,12 +1237,14 @@ class TimeoutNode(DecoratorNode):
             self.started = True
             self.set_status(RUNNING)
             self.deadline = self.rt.now_ms + msec if msec > 0 else None
-        elif self.deadline is not None and self.rt.now_ms >= self.deadline and self.child.status == RUNNING:
-            # the timer fired: haltChild(), then FAILURE
+        elif self.deadline is not None and self.rt.now_ms >= self.deadline:
+            # The timer fires once: it halts the child if that is RUNNING (haltChild(), then
+            # FAILURE on this tick); otherwise it does nothing and is spent.
             self.deadline = None
-            self.reset_child()
-            self.started = False
-            return FAILURE
+            if self.child.status == RUNNING:
+                self.reset_child()
+                self.started = False
+                return FAILURE
         cs = self.child.execute_tick()
         if cs == SUCCESS or cs == FAILURE:
             self.started = False
@@ -1650,7 +1653,7 @@ class SleepNode(StatefulActionNode):
 
 
 # ================================================================ building the tree
-_SIMPLE_CONTROLS = {
+_BUILTIN_FACTORIES = {
     "Sequence": lambda rt, m, bb, r, p: SequenceNode(rt, m, bb, r, p, False),
     "AsyncSequence": lambda rt, m, bb, r, p: SequenceNode(rt, m, bb, r, p, True),
     "SequenceWithMemory": SequenceWithMemoryNode,
@@ -1731,8 +1734,8 @@ class _Builder:
             return node
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
-        if model.id in _SIMPLE_CONTROLS and model.id in BUILTINS:
-            factory = _SIMPLE_CONTROLS[model.id]
+        if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
+            factory = _BUILTIN_FACTORIES[model.id]
             node = factory(rt, model, bb, model.id, ports)
         elif is_scripted_leaf(self.mission, model):
             cls = ScriptedCondition if leaf_kind(self.mission, model) == "Condition" else ScriptedAction
@@ -1782,12 +1785,45 @@ class _Builder:
 
 
 # ================================================================ running
+def expanded_depth(mission: Mission) -> int:
+    """The depth of the main tree with its SubTrees expanded (a SubTree node counts as a level)."""
+    trees = {t.id: t for t in mission.trees}
+    memo: dict[str, int] = {}
+
+    def tree_depth(tree_id: str) -> int:
+        if tree_id in memo:
+            return memo[tree_id]
+        memo[tree_id] = 0  # the front end rejects recursive SubTrees; never loop here anyway
+        best = 0
+        stack = [(trees[tree_id].root, 1)]
+        while stack:
+            node, d = stack.pop()
+            if isinstance(node, SubTreeNode):
+                d += tree_depth(node.target) if node.target in trees else 0
+            best = max(best, d)
+            stack.extend((c, d + 1) for c in node.children)
+        memo[tree_id] = best
+        return best
+
+    return tree_depth(mission.main_tree) if mission.main_tree in trees else 0
+
+
+def _ensure_recursion_depth(depth: int) -> None:
+    """Ticking and halting recurse about three Python frames per tree level; a tree nested deeper
+    than the default limit allows gets a higher limit (Python 3.11+ keeps such frames off the C
+    stack)."""
+    needed = 4 * depth + 200
+    if sys.getrecursionlimit() < needed:
+        sys.setrecursionlimit(needed)
+
+
 class Interpreter:
     """A mission instantiated for running: `tick_once()` is BehaviorTree.CPP's tickExactlyOnce."""
 
     def __init__(self, mission: Mission, scenario: Optional[Scenario] = None) -> None:
         self.mission = mission
         self.scenario = scenario
+        _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
         builder = _Builder(self.rt, mission)
