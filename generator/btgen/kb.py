@@ -27,7 +27,7 @@ import functools
 import os
 import re
 from dataclasses import dataclass, field
-from typing import Iterator, Optional, Sequence
+from typing import Any, Iterator, Optional, Sequence
 from xml.etree import ElementTree as ET
 
 import xmlschema
@@ -76,8 +76,8 @@ def kb_schema() -> xmlschema.XMLSchema10:
 
 def schema_keys() -> tuple[str, ...]:
     """Every key the schema allows, in schema order."""
-    root = kb_schema().elements["environmentKnowledgeBase"]
-    return tuple(e.local_name for e in root.type.content.iter_elements())
+    root: Any = kb_schema().elements["environmentKnowledgeBase"]
+    return tuple(str(e.local_name) for e in root.type.content.iter_elements())
 
 
 # ----- Model -----------------------------------------------------------------
@@ -347,18 +347,19 @@ def _unknown_key_message(word: str, known: Sequence[str], previous: Optional[_Li
 
 @dataclass
 class _Tree:
-    """The XML image of the entries, with the source position of every element."""
+    """The XML image of the entries, with the source position of every element.
+
+    Elements are keyed by id(): the root keeps them all alive, so ids stay unique.
+    """
 
     root: ET.Element
     locs: dict[int, Loc] = field(default_factory=dict)  # id(element) -> position
     entries: dict[int, _Entry] = field(default_factory=dict)  # id(entry element) -> entry
-    keep: list[ET.Element] = field(default_factory=list)  # keeps ids stable
 
     def add(self, parent: ET.Element, tag: str, loc: Loc, text: Optional[str] = None) -> ET.Element:
         elem = ET.SubElement(parent, tag)
         elem.text = text
         self.locs[id(elem)] = loc
-        self.keep.append(elem)
         return elem
 
 
@@ -534,15 +535,16 @@ def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationEr
         dup = _DUPLICATE_RE.match(reason)
         if dup:
             # xmlschema reports the second entry only: report every later one too.
-            elem = err.elem
-            lid = _entry_id(tree, elem, bad) if elem is not None else None
-            if lid is None:
+            dup_elem = err.elem
+            lid = _entry_id(tree, dup_elem, bad) if dup_elem is not None else None
+            if dup_elem is None or lid is None:
                 continue
-            same = [e for e in tree.root if e.tag == elem.tag and _entry_id(tree, e, bad) == lid]
+            tag = dup_elem.tag
+            same = [e for e in tree.root if e.tag == tag and _entry_id(tree, e, bad) == lid]
             for later in same[1:]:
                 if id(later) not in reported:  # an entry with a count error is not also a duplicate
                     reported.add(id(later))
-                    sink.error(tree.locs[id(later)], f"duplicate `{elem.tag}` entry for location {lid}; "
+                    sink.error(tree.locs[id(later)], f"duplicate `{tag}` entry for location {lid}; "
                                                      f"the first is on line {tree.locs[id(same[0])].line}")
             continue
         ref = _KEYREF_RE.match(reason)
@@ -754,7 +756,8 @@ def _check_mission(mission_path: str, kb: Sequence[_Entry], sink: DiagnosticSink
     for elem in src.root.iter():
         if not isinstance(elem.tag, str):
             continue
-        for name, value in elem.attrib.items():
+        for raw_name, raw_value in elem.attrib.items():
+            name, value = str(raw_name), str(raw_value)
             if not _MISSION_PORT_RE.fullmatch(name):
                 continue
             v = value.strip()
