@@ -665,3 +665,83 @@ def test_ten_thousand_nodes_tick_fast(tmp_path):
     elapsed = time.process_time() - start
     assert total > 100 * 2 * 10000
     assert elapsed < 3.0, f"100 ticks of 10,000 nodes took {elapsed:.2f} s of CPU"
+
+
+# ------------------------------------------------------ more built-ins
+def test_keep_running_until_failure_with_a_skipped_child_stays_running(tmp_path):
+    """KeepRunningUntilFailureNode::tick: a SKIPPED child falls to `return status()`, which is the
+    RUNNING the node set before ticking."""
+    got = run(tmp_path, tree("""
+    <KeepRunningUntilFailure name="K">
+      <A _skipIf="true"/>
+    </KeepRunningUntilFailure>"""), "ticks 2\nleaf A FAILURE\n")
+    assert got == lines("tick 1", '1 KeepRunningUntilFailure "K" IDLE -> RUNNING', "result RUNNING",
+                        "tick 2", "result RUNNING")
+
+
+def test_switch_on_a_double_entry(tmp_path):
+    """SwitchNode::tick reads `variable` as a string (a double prints as 2.000000) and matches
+    case_2 by CheckStringEquality; no RUNNING before the selected child is ticked."""
+    got = run(tmp_path, tree("""
+    <Sequence name="S">
+      <Script name="Set" code="v := 2.0"/>
+      <Switch3 name="Sw" variable="{v}" case_1="1" case_2="2" case_3="3">
+        <A/>
+        <B/>
+        <C/>
+        <AlwaysFailure name="Default"/>
+      </Switch3>
+    </Sequence>"""), "ticks 1\n")
+    assert got == lines(
+        "tick 1",
+        '1 Sequence "S" IDLE -> RUNNING',
+        '2 Script "Set" IDLE -> SUCCESS',
+        '5 B "B" IDLE -> SUCCESS',
+        '5 B "B" SUCCESS -> IDLE',
+        '3 Switch3 "Sw" IDLE -> SUCCESS',
+        '2 Script "Set" SUCCESS -> IDLE',
+        '3 Switch3 "Sw" SUCCESS -> IDLE',
+        '1 Sequence "S" RUNNING -> SUCCESS',
+        '1 Sequence "S" SUCCESS -> IDLE',
+        "result SUCCESS")
+
+
+def test_loop_bool_fails_when_its_child_fails(tmp_path):
+    """LoopNode<bool>::tick: one element per child run into `value`; RUNNING after a child
+    SUCCESS, FAILURE (and the rest left) when the child fails."""
+    got = run(tmp_path, tree("""
+    <LoopBool name="L" queue="true;0;1" value="{b}">
+      <ScriptCondition name="C" code="b"/>
+    </LoopBool>"""), "ticks 5\n")
+    assert got == lines(
+        "tick 1", '1 LoopBool "L" IDLE -> RUNNING', '2 ScriptCondition "C" IDLE -> SUCCESS',
+        '2 ScriptCondition "C" SUCCESS -> IDLE', "result RUNNING",
+        "tick 2", '2 ScriptCondition "C" IDLE -> FAILURE', '2 ScriptCondition "C" FAILURE -> IDLE',
+        '1 LoopBool "L" RUNNING -> FAILURE', '1 LoopBool "L" FAILURE -> IDLE', "result FAILURE")
+
+
+def test_set_blackboard_output_key_read_through_an_entry(tmp_path):
+    """SetBlackboardNode::tick reads `output_key` with getInput<std::string>: `{dest}` names the
+    entry whose value is the key written."""
+    got = run(tmp_path, tree("""
+    <Sequence name="S">
+      <Script name="Init" code="dest := 'target'"/>
+      <SetBlackboard name="Indirect" value="42" output_key="{dest}"/>
+      <ScriptCondition name="Verify" code="target == 42"/>
+    </Sequence>"""), "ticks 1\n")
+    assert got.splitlines()[-1] == "result SUCCESS"
+    assert '4 ScriptCondition "Verify" IDLE -> SUCCESS' in got.splitlines()
+
+
+def test_parallel_all_threshold_above_children_is_an_error(tmp_path):
+    """ParallelAllNode::tick throws "Number of children is less than threshold. Can never fail."."""
+    path = mission_file(tmp_path, tree("""
+    <ParallelAll name="PA" max_failures="3">
+      <A/>
+      <B/>
+    </ParallelAll>"""))
+    with pytest.raises(RunError) as e:
+        trace_text(load_mission(path), parse_scenario_text("ticks 1\n"))
+    assert [str(d) for d in e.value.diagnostics] == [
+        f"{path}:4:42: error: `ParallelAll` \"PA\" fails after 3 failures but has only 2 children: "
+        f"it can never fail"]
