@@ -263,6 +263,19 @@ def mission_leaves(mission: Mission, builtin_names: Optional[set] = None) -> Ite
         yield from walk(trees[mission.main_tree].root)
 
 
+def _tree_with_leaf(mission: Mission, name: str) -> Optional[str]:
+    """The first BehaviorTree (in file order) with a scripted leaf called `name`, if any."""
+    def walk(node: Node) -> bool:
+        if is_scripted_leaf(mission, node) and node.display_name == name:
+            return True
+        return any(walk(c) for c in node.children)
+
+    for t in mission.trees:
+        if walk(t.root):
+            return t.id
+    return None
+
+
 def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
     """Check a scenario against its mission.
 
@@ -279,6 +292,11 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
         if not found and script.name in builtin_names:
             sink.warning(script.loc, f"`{script.name}` is a built-in node of BehaviorTree.CPP and keeps its "
                                      f"built-in behaviour; its line is ignored")
+            continue
+        unused_tree = _tree_with_leaf(mission, script.name) if not found else None
+        if unused_tree is not None:
+            sink.warning(script.loc, f"leaf `{script.name}` is only in BehaviorTree `{unused_tree}`, which the "
+                                     f"main tree `{mission.main_tree}` does not run; its line is ignored")
             continue
         if not found:
             hint = did_you_mean(script.name, uses)

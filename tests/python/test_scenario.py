@@ -220,3 +220,13 @@ def test_check_returns_warnings(tmp_path, mission_path):
     s = parse_scenario_text("leaf Ghost SUCCESS\nleaf MoveFast RUNNING\n", "x.scenario")
     assert [str(d) for d in check_scenario(s, mission)] == [
         "x.scenario:1:6: warning: leaf `Ghost` matches no Action or Condition of the mission; its line is ignored"]
+
+
+def test_leaf_of_a_tree_the_main_tree_does_not_run(tmp_path):
+    (tmp_path / "m.xml").write_text(MISSION.replace("</root>", '  <BehaviorTree ID="Spare"><Move name="Dance"/>'
+                                                               '</BehaviorTree>\n</root>'))
+    proc = run_cli(tmp_path, "ticks 1\nleaf Dance RUNNING\n")
+    assert proc.returncode == 0
+    assert proc.stderr.splitlines() == [
+        "s.scenario:2:6: warning: leaf `Dance` is only in BehaviorTree `Spare`, which the main tree `Main` does "
+        "not run; its line is ignored"]
