@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 from . import naming
-from .diagnostics import UserError
+from .diagnostics import Diagnostic, Loc, UserError
 from .emit import TEMPLATE_DIR, Output, output_names, render
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -82,7 +82,11 @@ def compile_command(args: argparse.Namespace) -> int:
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd())
     out_dir = Path(args.output_dir)
     for out in outputs:  # rendered completely before anything is written
-        write_if_changed(out_dir / out.name, out.text)
+        try:
+            write_if_changed(out_dir / out.name, out.text)
+        except OSError as e:
+            raise UserError(Diagnostic(Loc(str(out_dir / out.name), 1, 1),
+                                       f"cannot write the generated file: {e.strerror or e}")) from None
     return 0
 
 

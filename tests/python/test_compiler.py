@@ -1,6 +1,7 @@
 """The C++ back end in Python: naming, lowering, emission, `btgen compile`, generated/."""
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -319,3 +320,19 @@ def test_committed_generated_compiles_warning_free(tmp_path):
         subprocess.run(["c++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
                         "-I", str(root / "runtime" / "include"), "-I", str(root / "generated"), str(src)],
                        check=True)
+
+
+def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
+    mission = os.path.join(ROOT, "tests", "cpp", "missions", "timing.xml")
+    header, source = generate(mission, relative_to=ROOT)
+    (tmp_path / header.name).write_text(header.text)
+    (tmp_path / source.name).write_text(source.text)
+    runtime = tmp_path / "runtime"
+    shutil.copytree(Path(ROOT) / "runtime" / "include", runtime)
+    cmd = ["c++", "-std=c++17", "-fsyntax-only", "-I", str(runtime), "-I", str(tmp_path), str(tmp_path / source.name)]
+    subprocess.run(cmd, check=True)  # the matching runtime compiles
+    version = runtime / "btgen" / "version.hpp"
+    version.write_text(version.read_text().replace(f"kRuntimeAbi = {RUNTIME_ABI};", f"kRuntimeAbi = {RUNTIME_ABI + 1};"))
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    assert proc.returncode != 0
+    assert "regenerate it with the btgen that matches your runtime headers" in proc.stdout

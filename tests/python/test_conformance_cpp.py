@@ -16,6 +16,7 @@ import glob
 import os
 import random
 import subprocess
+import sys
 
 import pytest
 
@@ -119,7 +120,7 @@ def test_run_cpp_streams_output_and_status(capfd):
 
 @pytest.mark.skipif(not STEMS, reason=NO_CASES)
 def test_cli_runs_the_cpp_engine():
-    proc = subprocess.run([os.path.join(ROOT, ".venv", "bin", "btgen"), "run", _case("fallback_halted", ".xml"),
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", _case("fallback_halted", ".xml"),
                            "--scenario", _case("fallback_halted", ".scenario"), "--engine", "cpp"],
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
     with open(_case("fallback_halted", ".trace"), "rb") as f:
