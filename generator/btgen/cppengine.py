@@ -25,8 +25,9 @@ from pathlib import Path
 from typing import Optional
 
 from . import naming
-from .compiler import generate, mission_stem
+from .compiler import mission_stem
 from .diagnostics import Diagnostic, InternalError, Loc, UserError
+from .emit import render
 
 ROOT = Path(__file__).resolve().parents[2]
 RUNTIME_INCLUDE = ROOT / "runtime" / "include"
@@ -64,10 +65,17 @@ def _runtime_files() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp")) + [DRIVER]
 
 
-def build_cpp(mission_path: str) -> Path:
+def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
-    the mission cannot be compiled; InternalError when the generated code does not build."""
-    outputs = generate(mission_path, relative_to=os.getcwd())
+    the mission cannot be compiled; InternalError when the generated code does not build.
+    The mission's warnings are appended to `warnings` when it is given."""
+    from .frontend import load_mission
+    from .lower import lower
+
+    mission = load_mission(mission_path)
+    if warnings is not None:
+        warnings.extend(mission.warnings)
+    outputs = render(lower(mission), mission_stem(mission_path), os.getcwd())
     stem = mission_stem(mission_path)
     cxx = compiler()
     identity = _compiler_identity(cxx)
@@ -124,7 +132,10 @@ def _fileno(stream) -> Optional[int]:
 def run_cpp(mission_path: str, scenario_path: str) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
-    binary = build_cpp(mission_path)
+    warnings: list = []
+    binary = build_cpp(mission_path, warnings)
+    for w in warnings:
+        print(str(w), file=sys.stderr)
     sys.stdout.flush()
     sys.stderr.flush()
     out_fd, err_fd = _fileno(sys.stdout), _fileno(sys.stderr)
