@@ -1727,11 +1727,19 @@ class _Builder:
             spec = None
         ports: dict[str, _Port] = {}
         for a in model.ports:
-            ports[a.name] = _Port(a.name, a.value, a, spec.port(a.name) if spec is not None else None)
+            ps = spec.port(a.name) if spec is not None else None
+            raw = a.value
+            if raw == "" and ps is not None and ps.default is not None and ps.type not in ("string", "any") \
+                    and not values.is_opaque_type(ps.type):
+                raw = ps.default  # TreeNode::getInput: an empty value reads the model's (non-string) default
+            ports[a.name] = _Port(a.name, raw, a, ps)
         if spec is not None:
-            # xml_parsing.cpp: an input port not written takes its default from the model
+            # createNodeFromXML: a port not written takes the model's default, an input port any
+            # default, an output port only a `{key}` one
             for ps in spec.ports:
-                if ps.name not in ports and ps.direction != "output" and ps.default is not None:
+                if ps.name in ports or ps.default is None:
+                    continue
+                if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
                     ports[ps.name] = _Port(ps.name, ps.default, None, ps)
         return ports
 
