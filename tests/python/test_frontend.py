@@ -221,3 +221,11 @@ def test_xsd_command_prints_schema(tmp_path):
     assert r.returncode == 0
     assert '<xs:element name="Say" type="node.Say" substitutionGroup="bt_node"/>' in r.stdout
     assert '<xs:attribute name="text" type="xs:string"/>' in r.stdout
+
+
+def test_model_id_that_is_not_an_xml_name(tmp_path):
+    """Regression: a TreeNodesModel ID with a space crashed writing the mission XSD."""
+    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Action ID="IV. Act"/></BehaviorTree>\n'
+                        '  <TreeNodesModel><Action ID="IV. Act"/></TreeNodesModel>\n</root>\n')
+    m = load_mission(p)
+    assert m.main.root.id == "IV. Act" and m.main.root.kind == "Action"
