@@ -430,16 +430,32 @@ class _Loader:
                 visit(t.id, [t.id])
 
     def _check_instance_count(self, mission: Mission) -> None:
-        from functools import lru_cache
+        # Iterative: trees may nest 256 levels deep in each of many SubTrees (cycles and unknown
+        # SubTree IDs were rejected before this runs).
+        memo: dict[str, int] = {}
 
-        @lru_cache(maxsize=None)
         def count(tree_id: str) -> int:
-            def walk(n: Node) -> int:
-                total = 1 + sum(walk(c) for c in n.children)
-                if isinstance(n, SubTreeNode):
-                    total += count(n.target)
-                return total
-            return walk(mission.tree(tree_id).root)
+            pending = [tree_id]
+            while pending:
+                tid = pending[-1]
+                if tid in memo:
+                    pending.pop()
+                    continue
+                nodes, stack = 0, [mission.tree(tid).root]
+                calls: list[str] = []
+                while stack:
+                    n = stack.pop()
+                    nodes += 1
+                    stack.extend(n.children)
+                    if isinstance(n, SubTreeNode):
+                        calls.append(n.target)
+                missing = [t for t in calls if t not in memo]
+                if missing:
+                    pending.extend(missing)
+                    continue
+                memo[tid] = nodes + sum(memo[t] for t in calls)
+                pending.pop()
+            return memo[tree_id]
 
         if mission.main_tree and count(mission.main_tree) > MAX_NODES:
             self.sink.error(mission.main.loc, f"the main tree expands to {count(mission.main_tree)} nodes with its "
