@@ -745,3 +745,22 @@ def test_parallel_all_threshold_above_children_is_an_error(tmp_path):
     assert [str(d) for d in e.value.diagnostics] == [
         f"{path}:4:42: error: `ParallelAll` \"PA\" fails after 3 failures but has only 2 children: "
         f"it can never fail"]
+
+
+def test_deeply_nested_subtrees_run(tmp_path):
+    """Three SubTrees, each 200 Inverters deep (600+ levels in all): no recursion limit is hit."""
+    depth = 200
+    trees = []
+    for i in range(3):
+        inner = f'<SubTree ID="T{i + 1}"/>' if i < 2 else "<AlwaysSuccess/>"
+        trees.append(f'<BehaviorTree ID="T{i}">' + "<Inverter>" * depth + inner + "</Inverter>" * depth
+                     + "</BehaviorTree>")
+    (tmp_path / "deep.xml").write_text('<root BTCPP_format="4" main_tree_to_execute="T0">' + "".join(trees)
+                                       + "</root>")
+    (tmp_path / "s.scenario").write_text("ticks 1\n")
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "deep.xml", "--scenario", "s.scenario"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    out = proc.stdout.splitlines()
+    assert out[0] == "tick 1" and out[-1] == "result SUCCESS"
+    assert '603 AlwaysSuccess "AlwaysSuccess" IDLE -> SUCCESS' in out  # 3 x 200 Inverters + 2 SubTrees first
