@@ -1353,6 +1353,9 @@ class LoopNode(DecoratorNode):
         entry = self.bb.get_entry(key)
         if entry is None:
             return None
+        if entry.value is None:
+            raise _run_error(self.port_loc("queue"), f"port `queue` of `{self.reg_id}` \"{self.name}\" reads "
+                                                     f"blackboard entry `{key}`, which has no value yet")
         try:
             return values.cast(entry.value, f"queue<{self.elem}>")
         except values.ConversionError as e:
