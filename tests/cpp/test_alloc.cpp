@@ -3,7 +3,7 @@
 
 #include <cstdlib>
 
-#include "alloc_counter.hpp"
+#include "btgen/testing/alloc_counter.hpp"
 #include "btgen/clock.hpp"
 #include "control_flow.hpp"
 #include "test_leaves.hpp"

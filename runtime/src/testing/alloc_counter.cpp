@@ -1,4 +1,4 @@
-#include "alloc_counter.hpp"
+#include "btgen/testing/alloc_counter.hpp"
 
 #include <atomic>
 #include <cstdlib>
