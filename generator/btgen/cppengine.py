@@ -61,14 +61,22 @@ def _compiler_identity(cxx: str) -> str:
     return os.path.realpath(path) + "\n" + out.decode("utf-8", "replace")
 
 
-def _runtime_files() -> list[Path]:
-    return sorted(RUNTIME_INCLUDE.rglob("*.hpp")) + [DRIVER]
+def _runtime_headers() -> list[Path]:
+    return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
 def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given."""
+    return build_mission_executable(mission_path, (DRIVER,), CXX_FLAGS, warnings)
+
+
+def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
+                             warnings: Optional[list] = None) -> Path:
+    """An executable of the generated mission compiled with `sources` (a main that
+    includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
+    and `flags`, built if not cached. Errors as build_cpp."""
     from .frontend import load_mission
     from .lower import lower
 
@@ -88,11 +96,11 @@ def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
     defines = (f'-DBTGEN_MISSION_HEADER="{header}"', f"-DBTGEN_MISSION_TEMPLATE={template}")
 
     h = hashlib.sha256()
-    for part in (identity, " ".join(CXX_FLAGS + defines)):
+    for part in (identity, " ".join(tuple(flags) + defines)):
         h.update(part.encode("utf-8") + b"\0")
     for out in outputs:
         h.update(out.name.encode("utf-8") + b"\0" + out.text.encode("utf-8") + b"\0")
-    for f in _runtime_files():
+    for f in _runtime_headers() + list(sources):
         h.update(str(f.relative_to(ROOT)).encode("utf-8") + b"\0" + f.read_bytes() + b"\0")
     key = h.hexdigest()[:32]
 
@@ -105,7 +113,7 @@ def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")
-        cmd = [cxx, *CXX_FLAGS, *defines, "-I", str(RUNTIME_INCLUDE), "-I", str(work), str(DRIVER),
+        cmd = [cxx, *flags, *defines, "-I", str(RUNTIME_INCLUDE), "-I", str(work), *(str(s) for s in sources),
                "-o", str(work / BINARY)]
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False)
         if proc.returncode != 0:
