@@ -186,8 +186,10 @@ RESERVED_PORT_NAMES = frozenset(SPECIAL_ATTRIBUTES + ("_autoremap",))
 
 # Ports whose literal value is a script.
 SCRIPT_PORTS = {("Script", "code"), ("ScriptCondition", "code"), ("Precondition", "if")}
-# Ports whose value must name a blackboard entry ({key}).
+# Ports whose raw text names a blackboard entry, with or without braces
+# (the node reads it with getRawPortValue, not getInput/setOutput).
 ENTRY_PORTS = {("SkipUnlessUpdated", "entry"), ("WaitValueUpdate", "entry"), ("WasEntryUpdated", "entry")}
+KEY_NAME_PORTS = ENTRY_PORTS | {("SetBlackboard", "output_key")}
 
 # Children allowed per kind for user-declared nodes.
 KIND_CHILDREN = {"Action": (0, 0), "Condition": (0, 0), "Control": (1, None), "Decorator": (1, 1), "SubTree": (0, 0)}

@@ -16,7 +16,7 @@ from lxml import etree
 
 from . import script as script_lang
 from . import values
-from .catalogue import (BUILTINS, ENTRY_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
+from .catalogue import (BUILTINS, KEY_NAME_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
                         RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, NodeSpec, PortSpec)
 from .diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from .model import Attr, Mission, Node, SubTreeNode, TreeDef
@@ -369,10 +369,14 @@ class _Loader:
                 return attr
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
-        if (spec.id, attr.name) in ENTRY_PORTS or port.direction == "output" or (
-                port.direction == "inout" and not port.type.startswith("queue<")):
-            # A literal on an output port names the entry written (as `output_key="result"`).
+        if (spec.id, attr.name) in KEY_NAME_PORTS:
+            # These nodes read the raw text as the name of an entry (`output_key="result"`).
             self._check_key(attr, value, what)
+            return attr
+        if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
+            # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
+            self.sink.error(attr.value_loc, f"{what} is an {port.direction} port and must name a blackboard "
+                                            f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`")
             return attr
         try:
             values.convert_from_string(port.type, value, strict=True)

@@ -229,3 +229,17 @@ def test_model_id_that_is_not_an_xml_name(tmp_path):
                         '  <TreeNodesModel><Action ID="IV. Act"/></TreeNodesModel>\n</root>\n')
     m = load_mission(p)
     assert m.main.root.id == "IV. Act" and m.main.root.kind == "Action"
+
+
+def test_literal_on_output_port_is_an_error(tmp_path):
+    """4.6.2's setOutput writes nothing through a literal; btgen says so at the attribute."""
+    line = '    <LoopInt queue="1;2" value="x"><AlwaysSuccess/></LoopInt>'
+    p = write(tmp_path, MINI.format(body=line))
+    col = line.index('"x"') + 2
+    assert errors_of(p) == [f"{p}:3:{col}: error: port `value` of `LoopInt` is an output port "
+                            f"and must name a blackboard entry as `{{key}}` (or `{{=}}`), not the literal `x`"]
+
+
+def test_set_blackboard_output_key_names_the_entry(tmp_path):
+    p = write(tmp_path, MINI.format(body='    <SetBlackboard value="1" output_key="@count"/>'))
+    assert load_mission(p).main.root.port("output_key").value == "@count"
