@@ -16,14 +16,112 @@ balanced (depth about ``2 * log_branching(n)``). Every node changes status
 twice per tick (to its result, then back to IDLE when its parent resets it),
 so a traced run prints two lines per node per tick.
 
-Run as a script to print a mission: ``python -m btgen.synth 10000 > big.xml``.
+Variants with the same property (every tick visits every node, the root
+succeeds, exactly ``n_nodes`` nodes with SubTrees expanded):
+
+- :func:`reactive_mission`: ReactiveSequence and ReactiveFallback instead of
+  Sequence and Fallback;
+- :func:`subtree_mission`: the nodes spread over SubTrees two levels deep,
+  each of the two shared trees instantiated four times per caller;
+- :func:`script_mission`: the leaves are Script and ScriptCondition nodes
+  and Actions with a pre-condition, over one blackboard entry.
+
+Run as a script to print a mission: ``python -m btgen.synth 10000 > big.xml``
+(``--kind reactive|subtrees|scripts`` for the variants).
 """
 from __future__ import annotations
 
+import argparse
 import sys
-from typing import Optional
+from typing import Optional, Sequence
 
 SUCCESS_LEAVES = ("Work", "Ready")  # an Action and a Condition, both default SUCCESS
+KINDS = ("balanced", "reactive", "subtrees", "scripts")
+
+# The script variant: leaves that succeed, and one that fails, over entry `n`.
+SCRIPT_SUCCESS_LEAVES = ('<Script code="n += 1"/>', '<ScriptCondition code="n &gt;= 0"/>',
+                         '<Work _failureIf="n &lt; 0"/>')
+SCRIPT_FAILURE_LEAF = '<ScriptCondition code="n &lt; 0"/>'
+
+
+def _body(n_nodes: int, branching: int, depth: int, *, sequence: str = "Sequence", fallback: str = "Fallback",
+          success_leaves: Sequence[str] = tuple(f"<{x}/>" for x in SUCCESS_LEAVES),
+          failure_leaf: str = "<AlwaysFailure/>", name_prefix: str = "") -> list[str]:
+    """The lines of a balanced subtree of `n_nodes` nodes that succeeds, indented for `depth`."""
+    if n_nodes < 1:
+        raise ValueError("a tree has at least one node")
+    if branching < 2:
+        raise ValueError("branching must be at least 2")
+    out: list[str] = []
+    counter = [0]
+
+    def leaf() -> str:
+        counter[0] += 1
+        return success_leaves[counter[0] % len(success_leaves)]
+
+    def emit(line: str, d: int) -> None:
+        out.append("  " * (d + depth) + line)
+
+    def split(total: int) -> list[int]:
+        k = min(branching, total)
+        base, extra = divmod(total, k)
+        return [base + (1 if i < extra else 0) for i in range(k)]
+
+    def succeed(n: int, d: int) -> None:
+        if n == 1:
+            emit(leaf(), d)
+        elif n == 2:
+            emit("<Inverter>", d)
+            emit(failure_leaf, d + 1)
+            emit("</Inverter>", d)
+        else:
+            emit(f'<{sequence} name="{name_prefix}S{len(out)}">', d)
+            for m in split(n - 1):
+                if m >= 3:
+                    emit("<Inverter>", d + 1)
+                    fail(m - 1, d + 2)
+                    emit("</Inverter>", d + 1)
+                else:
+                    succeed(m, d + 1)
+            emit(f"</{sequence}>", d)
+
+    def fail(n: int, d: int) -> None:
+        if n == 1:
+            emit(failure_leaf, d)
+        elif n == 2:
+            emit("<Inverter>", d)
+            emit(leaf(), d + 1)
+            emit("</Inverter>", d)
+        else:
+            emit(f'<{fallback} name="{name_prefix}F{len(out)}">', d)
+            for m in split(n - 1):
+                if m >= 3:
+                    emit("<Inverter>", d + 1)
+                    succeed(m - 1, d + 2)
+                    emit("</Inverter>", d + 1)
+                else:
+                    fail(m, d + 1)
+            emit(f"</{fallback}>", d)
+
+    succeed(n_nodes, 0)
+    return out
+
+
+def _document(main: str, trees: Sequence[tuple[str, list[str]]]) -> str:
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>', f'<root BTCPP_format="4" main_tree_to_execute="{main}">']
+    for tree_id, body in trees:
+        lines.append(f'  <BehaviorTree ID="{tree_id}">')
+        lines.extend(body)
+        lines.append("  </BehaviorTree>")
+    lines += [
+        "  <TreeNodesModel>",
+        f'    <Action ID="{SUCCESS_LEAVES[0]}"/>',
+        f'    <Condition ID="{SUCCESS_LEAVES[1]}"/>',
+        "  </TreeNodesModel>",
+        "</root>",
+        "",
+    ]
+    return "\n".join(lines)
 
 
 def balanced_mission(n_nodes: int, branching: int = 4, tree_id: str = "Main") -> str:
@@ -32,90 +130,83 @@ def balanced_mission(n_nodes: int, branching: int = 4, tree_id: str = "Main") ->
     With the scenario default SUCCESS, one root tick visits every node and
     returns SUCCESS.
     """
-    if n_nodes < 1:
-        raise ValueError("a mission has at least one node")
-    if branching < 2:
-        raise ValueError("branching must be at least 2")
-    out: list[str] = []
-    counter = [0]
+    return _document(tree_id, [(tree_id, _body(n_nodes, branching, 2))])
 
-    def leaf() -> str:
-        counter[0] += 1
-        return SUCCESS_LEAVES[counter[0] % 2]
 
-    def emit(line: str, depth: int) -> None:
-        out.append("  " * (depth + 2) + line)
+def reactive_mission(n_nodes: int, branching: int = 4) -> str:
+    """As balanced_mission, with ReactiveSequence and ReactiveFallback."""
+    return _document("Main", [("Main", _body(n_nodes, branching, 2, sequence="ReactiveSequence",
+                                             fallback="ReactiveFallback"))])
 
-    def split(total: int) -> list[int]:
-        k = min(branching, total)
-        base, extra = divmod(total, k)
-        return [base + (1 if i < extra else 0) for i in range(k)]
 
-    def succeed(n: int, depth: int) -> None:
-        if n == 1:
-            emit(f"<{leaf()}/>", depth)
-        elif n == 2:
-            emit("<Inverter>", depth)
-            emit("<AlwaysFailure/>", depth + 1)
-            emit("</Inverter>", depth)
-        else:
-            emit(f'<Sequence name="S{len(out)}">', depth)
-            for m in split(n - 1):
-                if m >= 3:
-                    emit("<Inverter>", depth + 1)
-                    fail(m - 1, depth + 2)
-                    emit("</Inverter>", depth + 1)
-                else:
-                    succeed(m, depth + 1)
-            emit("</Sequence>", depth)
+def subtree_mission(n_nodes: int, branching: int = 4) -> str:
+    """`n_nodes` nodes (SubTrees expanded, at least 46) over three trees:
 
-    def fail(n: int, depth: int) -> None:
-        if n == 1:
-            emit("<AlwaysFailure/>", depth)
-        elif n == 2:
-            emit("<Inverter>", depth)
-            emit(f"<{leaf()}/>", depth + 1)
-            emit("</Inverter>", depth)
-        else:
-            emit(f'<Fallback name="F{len(out)}">', depth)
-            for m in split(n - 1):
-                if m >= 3:
-                    emit("<Inverter>", depth + 1)
-                    succeed(m - 1, depth + 2)
-                    emit("</Inverter>", depth + 1)
-                else:
-                    fail(m, depth + 1)
-            emit("</Fallback>", depth)
+        Main = Sequence( 4 x SubTree Part, balanced rest )
+        Part = Sequence( 4 x SubTree Leg, balanced rest )
+        Leg  = balanced tree
 
-    succeed(n_nodes, 0)
-    return "\n".join([
-        '<?xml version="1.0" encoding="UTF-8"?>',
-        f'<root BTCPP_format="4" main_tree_to_execute="{tree_id}">',
-        f'  <BehaviorTree ID="{tree_id}">',
-        *out,
-        "  </BehaviorTree>",
-        "  <TreeNodesModel>",
-        f'    <Action ID="{SUCCESS_LEAVES[0]}"/>',
-        f'    <Condition ID="{SUCCESS_LEAVES[1]}"/>',
-        "  </TreeNodesModel>",
-        "</root>",
-        "",
-    ])
+    with sizes chosen so the total is exact. One tick visits every node.
+    """
+    fan = 4
+    part = (n_nodes - 2) // fan - 1  # nodes of one Part instance; Main's rest gets >= 1
+    leg = (part - 2) // fan - 1  # nodes of one Leg instance; Part's rest gets >= 1
+    if leg < 1:
+        raise ValueError("a SubTree mission has at least 46 nodes")
+    main_rest = n_nodes - 1 - fan * (1 + part)
+    part_rest = part - 1 - fan * (1 + leg)
+
+    def caller(callee: str, rest: int, prefix: str) -> list[str]:
+        return (['    <Sequence name="Calls">']
+                + [f'      <SubTree ID="{callee}" name="{callee}{i}"/>' for i in range(fan)]
+                + _body(rest, branching, 3, name_prefix=prefix)
+                + ["    </Sequence>"])
+
+    return _document("Main", [("Main", caller("Part", main_rest, "M")), ("Part", caller("Leg", part_rest, "P")),
+                              ("Leg", _body(leg, branching, 2, name_prefix="L"))])
+
+
+def script_mission(n_nodes: int, branching: int = 4) -> str:
+    """`n_nodes` nodes (at least 3): `Sequence(Script n := 0, balanced tree)` whose
+    leaves are scripts over the entry `n` (Script `n += 1`, ScriptCondition
+    `n >= 0`, an Action with `_failureIf="n < 0"`; failing leaf: ScriptCondition
+    `n < 0`). One tick visits every node."""
+    if n_nodes < 3:
+        raise ValueError("a script mission has at least 3 nodes")
+    body = (['    <Sequence name="Root">', '      <Script name="Init" code="n := 0"/>']
+            + _body(n_nodes - 2, branching, 3, success_leaves=SCRIPT_SUCCESS_LEAVES,
+                    failure_leaf=SCRIPT_FAILURE_LEAF)
+            + ["    </Sequence>"])
+    return _document("Main", [("Main", body)])
+
+
+def mission(kind: str, n_nodes: int, branching: int = 4) -> str:
+    """The synthetic mission of `kind` (one of KINDS) with `n_nodes` nodes."""
+    makers = {"balanced": balanced_mission, "reactive": reactive_mission, "subtrees": subtree_mission,
+              "scripts": script_mission}
+    if kind not in makers:
+        raise ValueError(f"unknown kind {kind!r}; one of {', '.join(KINDS)}")
+    return makers[kind](n_nodes, branching)
 
 
 def count_nodes(xml_text: str) -> int:
-    """The number of tree nodes in a mission produced by :func:`balanced_mission`."""
+    """The number of tree nodes in a mission produced by :func:`balanced_mission`
+    (one BehaviorTree; SubTree missions: use the front end)."""
     inside = xml_text.split("<BehaviorTree", 1)[1].split("</BehaviorTree>", 1)[0]
     return sum(1 for part in inside.split("<")[1:] if part and part[0] not in "/!?")
 
 
 def main(argv: Optional[list[str]] = None) -> int:
-    args = sys.argv[1:] if argv is None else argv
-    if not args or not args[0].isdigit():
-        print("usage: python -m btgen.synth N_NODES [BRANCHING]", file=sys.stderr)
+    p = argparse.ArgumentParser(prog="python -m btgen.synth", description=__doc__.splitlines()[0])
+    p.add_argument("nodes", type=int)
+    p.add_argument("branching", type=int, nargs="?", default=4)
+    p.add_argument("--kind", choices=KINDS, default="balanced")
+    args = p.parse_args(sys.argv[1:] if argv is None else argv)
+    try:
+        sys.stdout.write(mission(args.kind, args.nodes, args.branching))
+    except ValueError as e:
+        print(f"python -m btgen.synth: error: {e}", file=sys.stderr)
         return 2
-    branching = int(args[1]) if len(args) > 1 else 4
-    sys.stdout.write(balanced_mission(int(args[0]), branching))
     return 0
 
 
