@@ -10,6 +10,10 @@ else `~/.cache/btgen`, under a key hashing the generated sources, the runtime
 headers, the driver, the compiler's identity and the flags: a mission is built
 once until any of them changes. Builds go to a private directory that is
 renamed into place, so concurrent runs never see a half-written executable.
+
+`BTGEN_SANITIZE=1` in the environment builds with AddressSanitizer and
+UBSan (any finding aborts the run with a non-zero status); the flags are part
+of the cache key, so sanitized and plain executors are cached side by side.
 """
 from __future__ import annotations
 
@@ -33,7 +37,18 @@ ROOT = Path(__file__).resolve().parents[2]
 RUNTIME_INCLUDE = ROOT / "runtime" / "include"
 DRIVER = ROOT / "runtime" / "src" / "main_driver.cpp"
 CXX_FLAGS = ("-std=c++17", "-O1")
+SANITIZE_FLAGS = ("-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer")
 BINARY = "mission"
+
+
+def sanitizing() -> bool:
+    """True when `BTGEN_SANITIZE=1`: executors are built with ASan and UBSan."""
+    return os.environ.get("BTGEN_SANITIZE", "") == "1"
+
+
+def cxx_flags() -> tuple[str, ...]:
+    """The flags executors are built with (part of the cache key)."""
+    return CXX_FLAGS + (SANITIZE_FLAGS if sanitizing() else ())
 
 
 def cache_dir() -> Path:
@@ -69,7 +84,7 @@ def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given."""
-    return build_mission_executable(mission_path, (DRIVER,), CXX_FLAGS, warnings)
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings)
 
 
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
