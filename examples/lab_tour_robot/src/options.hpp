@@ -1,0 +1,35 @@
+// The command line of lab_tour_robot.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "btgen/environment_knowledge_base.hpp"
+
+namespace lab_tour_robot {
+
+inline constexpr std::string_view kDefaultKbConfig = "data/environmentKnowledgeBaseConfiguration.ini";
+inline constexpr long kDefaultMaxTicks = 10000;
+
+struct Options {
+  btgen::Language language = btgen::Language::kEnglish;
+  std::string kb_config{kDefaultKbConfig};
+  bool kb_config_given = false;
+  bool answer_given = false;
+  bool answer_yes = true;
+  std::string scenario;  ///< empty: no scenario
+  bool trace = false;
+  long tick_ms = 0;
+  long max_ticks = kDefaultMaxTicks;
+  bool max_ticks_given = false;
+  bool help = false;
+};
+
+/// Parses argv; on a mistake returns false with a one-line `error`.
+/// Accepts `--name value` and `--name=value`.
+[[nodiscard]] bool parse_options(int argc, const char* const* argv, Options& out, std::string& error);
+
+/// The --help text.
+[[nodiscard]] std::string usage_text(std::string_view program);
+
+}  // namespace lab_tour_robot
