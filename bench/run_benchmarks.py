@@ -1,0 +1,314 @@
+"""Measure the compiled executor on the shipped and the synthetic missions; print a Markdown table.
+
+    .venv/bin/python bench/run_benchmarks.py                   # print the Performance section
+    .venv/bin/python bench/run_benchmarks.py --update-readme   # ... and put it into README.md
+    .venv/bin/python bench/run_benchmarks.py bench/missions/balanced_100.xml   # only these missions
+
+For every mission (`missions/*.xml`, then `bench/missions/*.xml` as
+bench/make_missions.py writes them):
+
+- nodes: nodes of the main tree, SubTrees expanded (the front end);
+- visited/tick: nodes ticked per tick (`BINARY N --report`, see bench/bench_main.cpp);
+- instr/tick: instructions of one tick, counted by callgrind on `BINARY N`
+  for two values of N, the difference divided by the difference of N (so the
+  start-up cost cancels); instr/visit divides it by visited/tick. Every tick
+  of these missions does the same work, so the numbers are exact and the
+  same on every run with the same compiler;
+- ns/tick: wall clock of `BINARY N --report`, the lowest of 3 runs (noisy
+  on a shared machine: the instruction count is the primary metric);
+- allocs: heap allocations while constructing the mission object, and per
+  tick (operator new/delete and malloc replaced);
+- state B: sizeof the mission object, all of its run-time state;
+- binary KiB: size of the benchmark executable (-O2, not stripped);
+- btgen s: CPU time (user + sys) of `btgen compile MISSION` (Python start-up
+  included); g++ s: CPU time of g++ -O2 building the benchmark executable
+  (bench_main.cpp with the generated header, plus the allocation counter);
+- interp ticks/s: the Python reference interpreter, trace output switched
+  off, same leaves (default SUCCESS) and a clock that does not move.
+
+Missions the C++ back end cannot compile yet show `n/a (issue 5)` in its columns.
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Optional
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(ROOT / "generator"))
+
+import make_missions  # noqa: E402
+
+from btgen import bench, cppengine  # noqa: E402
+from btgen.diagnostics import UserError  # noqa: E402
+from btgen.frontend import load_mission  # noqa: E402
+from btgen.lower import creation_order, unsupported_summary  # noqa: E402
+
+BTGEN = [sys.executable, "-m", "btgen"]
+README = ROOT / "README.md"
+SECTION = "## Performance"
+NA = "n/a (issue 5)"
+
+
+@dataclass
+class Row:
+    name: str
+    nodes: int
+    cpp: Optional[str] = None  # None: compiled; else why not
+    visited: float = 0.0
+    instr_tick: float = 0.0
+    ns_tick: float = 0.0
+    allocs_create: str = ""
+    allocs_tick: str = ""
+    state_bytes: int = 0
+    binary_bytes: int = 0
+    btgen_s: Optional[float] = None
+    gxx_s: float = 0.0
+    interp_tps: Optional[float] = None
+    interp_note: str = ""
+    notes: list[str] = field(default_factory=list)
+
+
+def children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def callgrind_instructions(binary: Path, ticks: int) -> int:
+    """Instructions callgrind counts for `binary ticks` (start-up included)."""
+    proc = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", str(binary),
+                           str(ticks)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    err = proc.stderr.decode("utf-8", "replace")
+    m = re.search(r"Collected\s*:\s*(\d+)", err)
+    if proc.returncode != 0 or m is None:
+        raise RuntimeError(f"callgrind failed on {binary} {ticks}:\n{err}")
+    return int(m.group(1))
+
+
+def time_btgen_compile(mission: str) -> Optional[float]:
+    """CPU seconds of `btgen compile MISSION`; None when it does not compile."""
+    with tempfile.TemporaryDirectory(prefix="btgen-bench-") as out:
+        before = children_cpu()
+        proc = subprocess.run(BTGEN + ["compile", mission, "-o", out], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL, check=False, env=_env())
+        spent = children_cpu() - before
+    return spent if proc.returncode == 0 else None
+
+
+def _env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT / "generator") + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def interp_ticks_per_second(mission: str, min_cpu_s: float) -> tuple[Optional[float], str]:
+    """Ticks per CPU second of the reference interpreter without trace output."""
+    from btgen.interp import Interpreter
+    from btgen.scenario import parse_scenario_text
+
+    try:
+        interp = Interpreter(load_mission(mission), parse_scenario_text("ticks 1\n"))
+    except UserError as e:
+        return None, str(e.diagnostics[0]) if getattr(e, "diagnostics", None) else str(e)
+
+    def discard(_pieces) -> None:
+        pass
+
+    for node in interp.nodes:
+        node.emit = discard
+    interp.rt.emit = discard
+    ticks = 0
+    start = time.process_time()
+    try:
+        while True:
+            interp.tick_once()
+            ticks += 1
+            spent = time.process_time() - start
+            if spent >= min_cpu_s and ticks >= 3:
+                return ticks / spent, ""
+    except UserError as e:
+        diags = getattr(e, "diagnostics", None)
+        return None, "run error: " + (diags[0].message if diags else str(e))
+
+
+def measure(mission: str, quick: bool) -> Row:
+    m = load_mission(mission)
+    nodes = len(creation_order(m))
+    row = Row(name=mission, nodes=nodes)
+    row.btgen_s = time_btgen_compile(mission)
+    why = unsupported_summary(m)
+    if row.btgen_s is None:
+        row.cpp = NA if why else "does not compile"
+        if why:
+            row.notes.append(f"the C++ back end does not compile it yet: it uses {why} (issue 5)")
+    row.interp_tps, row.interp_note = interp_ticks_per_second(mission, 0.2 if quick else 1.0)
+    if row.cpp is not None:
+        return row
+
+    # The C++ build, timed: a private, empty cache so g++ really runs.
+    cppengine._compiler_identity(cppengine.compiler())  # `c++ --version` outside the timing
+    saved = os.environ.get("BTGEN_CACHE_DIR")
+    with tempfile.TemporaryDirectory(prefix="btgen-bench-cache-") as cache:
+        os.environ["BTGEN_CACHE_DIR"] = cache
+        try:
+            before = children_cpu()
+            binary = bench.build_bench(mission)
+            row.gxx_s = children_cpu() - before
+            kept = Path(tempfile.mkdtemp(prefix="btgen-bench-bin-")) / "bench"
+            shutil.copy2(binary, kept)
+        finally:
+            if saved is None:
+                del os.environ["BTGEN_CACHE_DIR"]
+            else:
+                os.environ["BTGEN_CACHE_DIR"] = saved
+    try:
+        row.binary_bytes = kept.stat().st_size
+        # ~0.3 s of ticks at 30 ns per node: enough to see the steady state.
+        ticks = max(1000, 10_000_000 // nodes)
+        if quick:
+            ticks = max(100, ticks // 10)
+        reports = [bench.run_report(kept, ticks) for _ in range(3)]
+        best = min(reports, key=lambda r: float(r["ns_per_tick"]))
+        row.ns_tick = float(best["ns_per_tick"])
+        row.visited = float(best["visited_per_tick"])
+        row.allocs_create = best["allocs_create"]
+        row.allocs_tick = best["allocs_per_tick"]
+        row.state_bytes = int(best["state_bytes"])
+        if best["alloc_counter"] != "new+malloc":
+            row.notes.append(f"allocation counter: {best['alloc_counter']} only")
+        base = 10
+        extra = max(10, (20_000 if quick else 1_000_000) // nodes)
+        i1 = callgrind_instructions(kept, base)
+        i2 = callgrind_instructions(kept, base + extra)
+        row.instr_tick = (i2 - i1) / extra
+    finally:
+        shutil.rmtree(kept.parent, ignore_errors=True)
+    return row
+
+
+# ------------------------------------------------------------------ output
+def _num(x: float, digits: int = 0) -> str:
+    return f"{x:,.{digits}f}"
+
+
+def table(rows: list[Row]) -> str:
+    head = ("mission", "nodes", "visited/tick", "instr/tick", "instr/visit", "ns/tick", "allocs create",
+            "allocs/tick", "state B", "state B/node", "binary KiB", "btgen s", "g++ -O2 s", "interp ticks/s")
+    lines = ["| " + " | ".join(head) + " |", "|" + "|".join(["---"] + ["---:"] * (len(head) - 1)) + "|"]
+    for r in rows:
+        name = os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name
+        interp = _num(r.interp_tps, 0 if r.interp_tps >= 100 else 1) if r.interp_tps is not None else "n/a"
+        btgen_s = f"{r.btgen_s:.2f}" if r.btgen_s is not None else "n/a"
+        if r.cpp is not None:
+            cells = [f"`{name}`", _num(r.nodes), r.cpp] + ["n/a"] * 8 + [btgen_s, "n/a", interp]
+        else:
+            cells = [f"`{name}`", _num(r.nodes), _num(r.visited, 0), _num(r.instr_tick, 0),
+                     _num(r.instr_tick / r.visited, 1) if r.visited else "-", _num(r.ns_tick, 0),
+                     r.allocs_create, r.allocs_tick, _num(r.state_bytes), f"{r.state_bytes / r.nodes:.2f}",
+                     _num(r.binary_bytes / 1024, 0), btgen_s, f"{r.gxx_s:.2f}", interp]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _first_line(cmd: list[str]) -> str:
+    try:
+        out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False).stdout
+        return out.decode("utf-8", "replace").splitlines()[0].strip()
+    except (OSError, IndexError):
+        return "unknown"
+
+
+def machine() -> list[str]:
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    commit = _first_line(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"])
+    dirty = subprocess.run(["git", "-C", str(ROOT), "diff", "--quiet", "HEAD", "--", "runtime", "generator",
+                            "templates", "bench"], check=False).returncode != 0
+    return [
+        f"- date: {datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d')} (UTC), "
+        f"btgen commit {commit}{' with local changes' if dirty else ''}",
+        f"- machine: `nproc` {os.cpu_count()}, CPU `{cpu}`, {platform.system()} {platform.machine()}",
+        f"- compiler: `{_first_line([cppengine.compiler(), '--version'])}` (`c++`, flags "
+        f"`{' '.join(bench.BENCH_FLAGS)}`); `{_first_line(['valgrind', '--version'])}`; "
+        f"Python {platform.python_version()}",
+    ]
+
+
+def section(rows: list[Row], command: str) -> str:
+    parts = [SECTION, "",
+             f"Measured by `{command}` (method: the docstring of `bench/run_benchmarks.py`; one "
+             f"mission: `btgen bench MISSION.xml`). Leaves finish at once (Actions SUCCESS from "
+             f"`onStart`, Conditions SUCCESS), the clock does not move, so every tick does the same work.",
+             "", *machine(), "", table(rows), ""]
+    notes = [f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}"
+             for r in rows for n in r.notes]
+    notes += [f"- `{r.name}`: interpreter {r.interp_note}" for r in rows if r.interp_note]
+    if notes:
+        parts += ["Notes:", "", *notes, ""]
+    return "\n".join(parts)
+
+
+def replace_section(readme: str, text: str) -> str:
+    """`readme` with its Performance section (up to the next `## ` heading) replaced by `text`,
+    or `text` appended when it has none."""
+    lines = readme.splitlines(keepends=True)
+    start = next((i for i, line in enumerate(lines) if line.rstrip("\n") == SECTION), None)
+    body = text if text.endswith("\n") else text + "\n"
+    if start is None:
+        sep = "" if readme.endswith("\n\n") or not readme else ("\n" if readme.endswith("\n") else "\n\n")
+        return readme + sep + body
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
+    tail = lines[end:]
+    return "".join(lines[:start]) + body + ("\n" if tail else "") + "".join(tail)
+
+
+def default_missions() -> list[str]:
+    shipped = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "missions").glob("*.xml"))
+    synthetic = [f"bench/missions/{name}" for name in make_missions.missions()]
+    return shipped + synthetic
+
+
+def main(argv: Optional[list[str]] = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("missions", nargs="*", metavar="MISSION.xml", help="default: missions/*.xml and bench/missions")
+    p.add_argument("--quick", action="store_true", help="fewer ticks (for a smoke test; numbers less steady)")
+    p.add_argument("--update-readme", action="store_true", help="replace README.md's Performance section")
+    args = p.parse_args(argv)
+    os.chdir(ROOT)
+    if make_missions.main(["--check"]) != 0:
+        make_missions.main([])
+    missions = args.missions or default_missions()
+    rows = []
+    for mission in missions:
+        print(f"measuring {mission} ...", file=sys.stderr, flush=True)
+        rows.append(measure(mission, args.quick))
+    command = "python bench/run_benchmarks.py" + (" --quick" if args.quick else "")
+    text = section(rows, command)
+    sys.stdout.write(text)
+    if args.update_readme:
+        README.write_text(replace_section(README.read_text(encoding="utf-8"), text), encoding="utf-8")
+        print("README.md: Performance section updated", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
