@@ -77,6 +77,10 @@ struct Spec {
       btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, "PlaceBall", "PlaceBall", "missions/PickPlaceBall.xml:24:9"},
   };
 
+  // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
+  static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
+  };
+
   static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
       1,
       3,
@@ -197,6 +201,9 @@ class PickPlaceBall : public btgen::Engine<detail::Spec, Leaves, Clock, Observer
 
  public:
   using Engine::Engine;
+
+  [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
+  [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual

@@ -102,6 +102,9 @@ class Program:
     counter_count: int
     timer_count: int
     has_parallel: bool
+    # (leaf name, BehaviorTree) of scripted leaves only in trees the main tree does not
+    # run, for the scenario check's warning (scenario.check_scenario says the same).
+    unrun_leaves: tuple[tuple[str, str], ...] = ()
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -207,6 +210,23 @@ def unsupported_summary(mission: Mission) -> str:
         if u.feature not in seen:
             seen.append(u.feature)
     return ", ".join(seen)
+
+
+def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
+    """Scripted leaf names the main tree does not run, each with the first tree (in file
+    order) that has one: what scenario.check_scenario names in its warning."""
+    from .scenario import is_scripted_leaf, mission_leaves
+
+    run = {u.name for u in mission_leaves(mission)}
+    found: dict[str, str] = {}
+    for tree in mission.trees:
+        stack = [tree.root]
+        while stack:
+            node = stack.pop()
+            if is_scripted_leaf(mission, node) and node.display_name not in run:
+                found.setdefault(node.display_name, tree.id)
+            stack.extend(reversed(node.children))
+    return tuple(found.items())
 
 
 # ------------------------------------------------------------------- lowering
@@ -323,7 +343,7 @@ class _Lowerer:
         self.sink.raise_if_errors()
         return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
                        max(n.depth for n in nodes), counter, timer,
-                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes))
+                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m))
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
         """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""

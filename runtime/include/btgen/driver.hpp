@@ -38,7 +38,10 @@ int run_scenario_main(int argc, char** argv) {
   Scenario scenario;
   const auto& nodes = Runner::nodes();
   bool ok = read_scenario(argv[1], scenario, diags);
-  if (ok) ok = check_scenario(scenario, nodes.data(), nodes.size(), diags);
+  if (ok) {
+    const auto& unrun = Runner::unrun_leaves();
+    ok = check_scenario(scenario, nodes.data(), nodes.size(), diags, unrun.data(), unrun.size(), Runner::main_tree());
+  }
   for (const auto& d : diags) std::fprintf(stderr, "%s\n", d.str().c_str());
   if (!ok) return 1;
 

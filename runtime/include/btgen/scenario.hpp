@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <array>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -415,8 +416,12 @@ inline bool read_scenario(const std::string& path, Scenario& out, std::vector<Di
 
 // The checks that need the mission: no Condition may return RUNNING (error),
 // a `leaf` line naming no user leaf of the mission is ignored (warning).
+// `unrun` lists {name, tree} of leaves only in trees the main tree `main_tree`
+// does not run (the generated class's unrun_leaves()), for a sharper warning.
 inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_t count,
-                           std::vector<Diagnostic>& diags) {
+                           std::vector<Diagnostic>& diags,
+                           const std::array<std::string_view, 2>* unrun = nullptr, std::size_t unrun_count = 0,
+                           std::string_view main_tree = {}) {
   bool ok = true;
   std::vector<std::string> leaf_names;
   auto is_user_leaf = [](const NodeInfo& n) { return n.kind == NodeKind::Action || n.kind == NodeKind::Condition; };
@@ -441,11 +446,20 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
     if (!found) {
       bool builtin = false;
       for (std::size_t i = 0; i < count; ++i) builtin = builtin || (is_builtin_leaf(nodes[i]) && nodes[i].name == leaf.name);
+      const std::array<std::string_view, 2>* elsewhere = nullptr;
+      for (std::size_t k = 0; k < unrun_count && elsewhere == nullptr; ++k) {
+        if (unrun[k][0] == leaf.name) elsewhere = &unrun[k];
+      }
       if (builtin) {
         diags.push_back(Diagnostic{sc.path, leaf.line, leaf.col, false,
                                    "`" + leaf.name +
                                        "` is a built-in node of BehaviorTree.CPP and keeps its built-in behaviour; "
                                        "its line is ignored"});
+      } else if (elsewhere != nullptr) {
+        diags.push_back(Diagnostic{sc.path, leaf.line, leaf.col, false,
+                                   "leaf `" + leaf.name + "` is only in BehaviorTree `" + std::string((*elsewhere)[1]) +
+                                       "`, which the main tree `" + std::string(main_tree) +
+                                       "` does not run; its line is ignored"});
       } else {
         std::string msg = "leaf `" + leaf.name + "` matches no Action or Condition of the mission; its line is ignored";
         const std::string hint = scenario_detail::did_you_mean(leaf.name, leaf_names);
