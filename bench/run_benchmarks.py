@@ -4,6 +4,10 @@
     .venv/bin/python bench/run_benchmarks.py --update-readme   # ... and put it into README.md
     .venv/bin/python bench/run_benchmarks.py bench/missions/balanced_100.xml   # only these missions
 
+To measure a commit while the work tree changes, run it from a worktree of
+that commit (`git worktree add --detach /tmp/wt HEAD`) with
+`--update-readme --readme README.md` pointing back at this tree.
+
 For every mission (`missions/*.xml`, then `bench/missions/*.xml` as
 bench/make_missions.py writes them):
 
@@ -292,6 +296,8 @@ def main(argv: Optional[list[str]] = None) -> int:
     p.add_argument("missions", nargs="*", metavar="MISSION.xml", help="default: missions/*.xml and bench/missions")
     p.add_argument("--quick", action="store_true", help="fewer ticks (for a smoke test; numbers less steady)")
     p.add_argument("--update-readme", action="store_true", help="replace README.md's Performance section")
+    p.add_argument("--readme", type=Path, default=README, metavar="PATH",
+                   help="the README --update-readme edits (default: this tree's README.md)")
     args = p.parse_args(argv)
     os.chdir(ROOT)
     if make_missions.main(["--check"]) != 0:
@@ -305,8 +311,8 @@ def main(argv: Optional[list[str]] = None) -> int:
     text = section(rows, command)
     sys.stdout.write(text)
     if args.update_readme:
-        README.write_text(replace_section(README.read_text(encoding="utf-8"), text), encoding="utf-8")
-        print("README.md: Performance section updated", file=sys.stderr)
+        args.readme.write_text(replace_section(args.readme.read_text(encoding="utf-8"), text), encoding="utf-8")
+        print(f"{args.readme}: Performance section updated", file=sys.stderr)
     return 0
 
 
