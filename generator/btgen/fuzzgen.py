@@ -1,0 +1,433 @@
+"""Random valid missions and scenarios for differential testing (issue 8).
+
+:func:`random_case` turns a seed into a mission (BTCPP_format="4" XML) and a
+few scenarios, deterministically: the same seed and feature set give the
+same bytes on every machine and Python version (only ``random.Random`` with
+an integer seed and explicit choices are used, never hash order).
+
+Two feature sets:
+
+- ``control``: every control node and decorator that needs no blackboard
+  (Sequence ... ParallelAll, IfThenElse, WhileDoElse, Inverter ... Delay),
+  AlwaysSuccess/AlwaysFailure/Sleep, scripted Actions and Conditions,
+  SubTrees, names that need escaping in the trace, time (``clock_ms``);
+- ``full``: all of the above plus the data side: an initialising Script,
+  Script/ScriptCondition, SetBlackboard/UnsetBlackboard, Precondition,
+  Switch2..6, LoopInt/Bool/Double/String (literal and blackboard queues),
+  SkipUnlessUpdated/WaitValueUpdate/WasEntryUpdated, SubTrees with
+  `{key}` remapping, literal remapping, `_autoremap` and `@key`, pre- and
+  post-condition scripts on any node, leaves with declared ports.
+
+Every mission the generator writes passes ``btgen validate`` by construction
+(the differential driver counts and reports any that does not); whether the
+C++ back end compiles it is decided by ``btgen compile`` itself, so a feature
+set can be run before the back end supports all of it and the missions it
+rejects are counted, never silently dropped.
+
+    python -m btgen.fuzzgen SEED [--features control|full]   # print mission and scenarios
+"""
+from __future__ import annotations
+
+import argparse
+import random
+import sys
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+FEATURE_SETS = ("control", "full")
+
+CONTROLS = ("Sequence", "SequenceWithMemory", "AsyncSequence", "ReactiveSequence", "Fallback", "AsyncFallback",
+            "ReactiveFallback", "Parallel", "ParallelAll")
+DECORATORS = ("Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure", "Repeat",
+              "RetryUntilSuccessful", "RunOnce", "Timeout", "Delay")
+DATA_DECORATORS = ("Precondition", "LoopInt", "LoopBool", "LoopDouble", "LoopString", "SkipUnlessUpdated",
+                   "WaitValueUpdate")
+
+# Scripted leaves: IDs declared in TreeNodesModel, and the names the scenario scripts.
+ACTION_IDS = ("Act", "Move")
+CONDITION_IDS = ("Check",)
+ACTION_NAMES = ("a", "b", "c", "d", "e")
+CONDITION_NAMES = ("p", "q", "r")
+# Names that exercise the trace's quoting (FORMAT.md): given to non-leaf nodes only.
+ODD_NAMES = ('say "hi"', "back\\slash", "tab\there", "line\nbreak", "caf\u00e9 \u2615", "", " spaced ",
+             "cr\rhere", "del\x7f", "<&>")
+
+INT_VARS = ("i0", "i1")
+PARAM_VARS = ("p0", "p1")  # the ports of a remapped SubTree, bound to the caller's ints
+
+
+@dataclass(frozen=True)
+class Case:
+    """One generated mission and the scenarios to run it on."""
+
+    seed: int
+    features: str
+    mission: str
+    scenarios: tuple[str, ...]
+
+
+def _xml_attr(value: str) -> str:
+    """`value` as a double-quoted XML attribute value that decodes back to exactly `value`."""
+    out = []
+    for ch in value:
+        if ch == "&":
+            out.append("&amp;")
+        elif ch == "<":
+            out.append("&lt;")
+        elif ch == ">":
+            out.append("&gt;")
+        elif ch == '"':
+            out.append("&quot;")
+        elif ch in "\t\n\r" or ord(ch) < 0x20:
+            out.append(f"&#{ord(ch)};")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
+class _Scope:
+    """The blackboard names a tree may use: ints, and the other root variables
+    (`s`, `flag`, `d`, `u`, `q`) spelt as this tree reaches them (`@s` from a tree
+    with its own blackboard)."""
+
+    def __init__(self, ints: Sequence[str], prefix: Optional[str]) -> None:
+        self.ints = tuple(ints)
+        self.has_root_vars = prefix is not None
+        self.prefix = prefix or ""
+        self.main_like = prefix == "" and self.ints == INT_VARS  # the main tree or an _autoremap one
+
+    def var(self, name: str) -> str:
+        return self.prefix + name
+
+
+class _Gen:
+    def __init__(self, seed: int, features: str) -> None:
+        if features not in FEATURE_SETS:
+            raise ValueError(f"unknown feature set `{features}` (use {', '.join(FEATURE_SETS)})")
+        self.rng = random.Random(seed * 7919 + (0 if features == "control" else 1))
+        self.data = features == "full"
+        self.counter = 0
+        self.n_trees = self.rng.choice((1, 2, 3, 3))
+        self.budget = self.rng.randint(6, 45)
+        # SubTree k may call SubTrees > k only (no cycles). Its calling convention:
+        # "plain" (no data), "remap" (p0/p1 bound to the caller's ints), "auto" (_autoremap).
+        self.modes = ["main"] + [self._subtree_mode() for _ in range(1, self.n_trees)]
+        self.uses_queue_key = False
+        self.leaf_ports = self.data and self.rng.random() < 0.5
+
+    def _subtree_mode(self) -> str:
+        if not self.data:
+            return "plain"
+        return self.rng.choice(("plain", "remap", "remap", "auto"))
+
+    # ------------------------------------------------------------ helpers
+    def name(self) -> str:
+        self.counter += 1
+        if self.rng.random() < 0.06:
+            return self.rng.choice(ODD_NAMES)
+        return f"n{self.counter}"
+
+    def name_attr(self) -> str:
+        r = self.rng.random()
+        if r < 0.15:
+            return ""  # the ID is the name
+        return f" name={_xml_attr(self.name())}"
+
+    def int_var(self, scope: _Scope) -> str:
+        return self.rng.choice(scope.ints)
+
+    def int_expr(self, scope: _Scope) -> str:
+        v = self.int_var(scope)
+        return self.rng.choice((f"{v} + 1", f"{v} - 1", f"{v} * 2", "3", f"{v}", f"{v} > 2 ? 0 : {v} + 1",
+                                f"({v} + {self.int_var(scope)}) - 1"))
+
+    def cond_expr(self, scope: _Scope) -> str:
+        v = self.int_var(scope)
+        k = self.rng.randint(0, 4)
+        simple = [f"{v} < {k}", f"{v} == {k}", f"{v} >= {k}", f"{v} != {self.int_var(scope)}",
+                  "true", "false"]
+        if scope.has_root_vars:
+            s, f = scope.var("s"), scope.var("flag")
+            simple += [f"{s} == 'a'", f"{s} != 'b'", f"!{f}", f"{f}"]
+        e = self.rng.choice(simple)
+        r = self.rng.random()
+        if r < 0.15:
+            e = f"{e} && {self.rng.choice(simple)}"
+        elif r < 0.25:
+            e = f"({e}) || ({self.rng.choice(simple)})"
+        return e
+
+    def statement(self, scope: _Scope) -> str:
+        v = self.int_var(scope)
+        opts = [f"{v} := {self.int_expr(scope)}", f"{v} += 1", f"{v} -= 1", f"{v} = {self.rng.randint(0, 3)}"]
+        if scope.has_root_vars:
+            s, f = scope.var("s"), scope.var("flag")
+            opts += [f"{s} := '{self.rng.choice('abc')}'", f"{f} := !{f}", f"{f} := {v} > 1"]
+        st = self.rng.choice(opts)
+        if self.rng.random() < 0.2:
+            st += "; " + self.rng.choice(opts)
+        return st
+
+    # ------------------------------------------------------------- nodes
+    def node(self, depth: int, tree: int, scope: _Scope) -> str:
+        self.budget -= 1
+        if depth >= 6 or self.budget <= 0 or self.rng.random() < 0.3:
+            return self.leaf(tree, scope)
+        r = self.rng.random()
+        if r < 0.40:
+            return self.control(depth, tree, scope)
+        if r < 0.50:
+            return self.if_then_else(depth, tree, scope)
+        if r < 0.56 and self.data:
+            return self.switch(depth, tree, scope)
+        if r < 0.62 and tree + 1 < self.n_trees:
+            return self.subtree(tree, scope)
+        return self.decorator(depth, tree, scope)
+
+    def with_conditions(self, scope: _Scope) -> str:
+        """Random pre/post-condition attributes (data side only)."""
+        if not self.data or self.rng.random() > 0.15:
+            return ""
+        out = []
+        for attr in ("_skipIf", "_successIf", "_failureIf", "_while"):
+            if self.rng.random() < 0.3:
+                out.append(f" {attr}={_xml_attr(self.cond_expr(scope))}")
+        for attr in ("_onSuccess", "_onFailure", "_onHalted", "_post"):
+            if self.rng.random() < 0.3:
+                out.append(f" {attr}={_xml_attr(self.statement(scope))}")
+        return "".join(out)
+
+    def children(self, depth: int, tree: int, scope: _Scope, lo: int = 1, hi: int = 4) -> list[str]:
+        return [self.node(depth + 1, tree, scope) for _ in range(self.rng.randint(lo, hi))]
+
+    def control(self, depth: int, tree: int, scope: _Scope) -> str:
+        kind = self.rng.choice(CONTROLS)
+        kids = self.children(depth, tree, scope)
+        n = len(kids)
+        attrs = ""
+        if kind == "Parallel":
+            if self.rng.random() < 0.7:
+                attrs += f' success_count="{self.rng.choice((-1, 1, n, -n, max(1, n - 1)))}"'
+            if self.rng.random() < 0.7:
+                attrs += f' failure_count="{self.rng.choice((1, -1, n, -n, max(1, n - 1)))}"'
+        elif kind == "ParallelAll" and self.rng.random() < 0.7:
+            attrs = f' max_failures="{self.rng.choice((1, -1, n, 0, max(1, n - 1)))}"'
+        return (f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>")
+
+    def safe_condition(self, scope: _Scope) -> str:
+        """A child that never returns SKIPPED or RUNNING (IfThenElse/WhileDoElse condition)."""
+        if self.data and self.rng.random() < 0.35:
+            return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}/>"
+        return self.scripted_leaf("Condition", scope, conditions=False)
+
+    def if_then_else(self, depth: int, tree: int, scope: _Scope) -> str:
+        kind = self.rng.choice(("IfThenElse", "WhileDoElse"))
+        kids = [self.safe_condition(scope)] + self.children(depth, tree, scope, 1, 2)
+        return f"<{kind}{self.name_attr()}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>"
+
+    def switch(self, depth: int, tree: int, scope: _Scope) -> str:
+        n = self.rng.randint(2, 6)
+        if scope.has_root_vars and self.rng.random() < 0.5:
+            var = "{" + scope.var("s") + "}"
+            cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
+        else:
+            var = "{" + self.int_var(scope) + "}"
+            cases = [str(self.rng.randint(-1, 4)) for _ in range(n)]
+        attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases))
+        kids = [self.node(depth + 1, tree, scope) for _ in range(n + 1)]
+        return (f"<Switch{n}{self.name_attr()} variable={_xml_attr(var)}{attrs}{self.with_conditions(scope)}>"
+                + "".join(kids) + f"</Switch{n}>")
+
+    def decorator(self, depth: int, tree: int, scope: _Scope) -> str:
+        pool = DECORATORS + (DATA_DECORATORS if self.data else ())
+        kind = self.rng.choice(pool)
+        if kind in ("SkipUnlessUpdated", "WaitValueUpdate", "LoopBool", "LoopDouble", "LoopString") \
+                and not scope.has_root_vars:
+            kind = "LoopInt"
+        rng = self.rng
+        attrs = {
+            "Repeat": f' num_cycles="{rng.choice((-1, 0, 1, 2, 3))}"',
+            "RetryUntilSuccessful": f' num_attempts="{rng.choice((-1, 0, 1, 2, 3))}"',
+            "RunOnce": rng.choice(("", ' then_skip="true"', ' then_skip="false"')),
+            "Timeout": f' msec="{rng.choice((0, 5, 15, 40))}"',
+            "Delay": f' delay_msec="{rng.choice((0, 10, 30))}"',
+        }.get(kind, "")
+        if kind == "Precondition":
+            attrs = f" if={_xml_attr(self.cond_expr(scope))}"
+            if rng.random() < 0.7:
+                attrs += f' else="{rng.choice(("FAILURE", "SUCCESS", "SKIPPED", "RUNNING"))}"'
+        elif kind.startswith("Loop"):
+            attrs = self.loop_ports(kind, scope)
+        elif kind in ("SkipUnlessUpdated", "WaitValueUpdate"):
+            attrs = f' entry="{{{rng.choice(scope.ints + (scope.var("u"),))}}}"'
+        child = self.node(depth + 1, tree, scope)
+        return f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>{child}</{kind}>"
+
+    def loop_ports(self, kind: str, scope: _Scope) -> str:
+        rng = self.rng
+        elem = {"LoopInt": ("1", "2", "3", "-4"), "LoopBool": ("true", "false", "1", "0"),
+                "LoopDouble": ("0.5", "1.25", "2", "-3.5"), "LoopString": ("a", "b", "kitchen")}[kind]
+        target = {"LoopInt": self.int_var(scope), "LoopBool": scope.var("flag"), "LoopDouble": scope.var("d"),
+                  "LoopString": scope.var("s")}[kind]
+        queue = ";".join(rng.choice(elem) for _ in range(rng.randint(0, 4)))
+        if kind == "LoopInt" and scope.main_like and rng.random() < 0.3:
+            self.uses_queue_key = True
+            queue = "{q}"
+        out = f" queue={_xml_attr(queue)} value={_xml_attr('{' + target + '}')}"
+        if rng.random() < 0.5:
+            out += f' if_empty="{rng.choice(("SUCCESS", "FAILURE", "SKIPPED"))}"'
+        return out
+
+    def subtree(self, tree: int, scope: _Scope) -> str:
+        callee = self.rng.randint(tree + 1, self.n_trees - 1)
+        mode = self.modes[callee]
+        if mode == "auto" and not scope.main_like:
+            # An _autoremap tree's names do not exist in this tree's blackboard.
+            return self.leaf(tree, scope)
+        attrs = self.name_attr()
+        if mode == "remap":
+            for p in PARAM_VARS:
+                r = self.rng.random()
+                if r < 0.85 or not self.data:
+                    attrs += f' {p}="{{{self.int_var(scope)}}}"'
+                else:
+                    attrs += f' {p}="{self.rng.randint(0, 3)}"'  # a literal, read as a string inside
+        elif mode == "auto":
+            attrs += ' _autoremap="true"'
+        return f'<SubTree ID="T{callee}"{attrs}{self.with_conditions(scope)}/>'
+
+    def scripted_leaf(self, kind: str, scope: _Scope, conditions: bool = True) -> str:
+        if kind == "Condition":
+            lid, name = self.rng.choice(CONDITION_IDS), self.rng.choice(CONDITION_NAMES)
+        else:
+            lid, name = self.rng.choice(ACTION_IDS), self.rng.choice(ACTION_NAMES)
+        attrs = ""
+        if self.rng.random() < 0.85:
+            attrs += f' name="{name}"'
+        if self.leaf_ports and self.rng.random() < 0.5:
+            if lid == "Move":
+                attrs += f' goal="{{{self.int_var(scope)}}}"' if self.rng.random() < 0.5 else ' goal="4"'
+            elif lid == "Check":
+                attrs += f' level="{self.rng.randint(0, 9)}"'
+        pre = self.with_conditions(scope) if conditions else ""
+        return f"<{lid}{attrs}{pre}/>"
+
+    def leaf(self, tree: int, scope: _Scope) -> str:
+        r = self.rng.random()
+        rng = self.rng
+        if r < 0.07:
+            return f"<AlwaysSuccess{self.name_attr()}{self.with_conditions(scope)}/>"
+        if r < 0.12:
+            return f"<AlwaysFailure{self.name_attr()}{self.with_conditions(scope)}/>"
+        if r < 0.17:
+            return f'<Sleep{self.name_attr()} msec="{rng.choice((0, 10, 25))}"{self.with_conditions(scope)}/>'
+        if self.data and r < 0.40:
+            d = rng.random()
+            if d < 0.3:
+                return f"<Script{self.name_attr()} code={_xml_attr(self.statement(scope))}/>"
+            if d < 0.55:
+                return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}/>"
+            if d < 0.75:
+                v = self.int_var(scope)
+                value = str(rng.randint(0, 5)) if rng.random() < 0.6 else "{" + self.int_var(scope) + "}"
+                return f'<SetBlackboard{self.name_attr()} value="{value}" output_key="{v}"/>'
+            if scope.main_like:
+                if d < 0.85:
+                    return f'<UnsetBlackboard{self.name_attr()} key="u"/>'
+                if d < 0.92:
+                    return f'<SetBlackboard{self.name_attr()} value="{rng.randint(0, 9)}" output_key="u"/>'
+            return f'<WasEntryUpdated{self.name_attr()} entry="{{{self.int_var(scope)}}}"/>'
+        return self.scripted_leaf("Condition" if rng.random() < 0.35 else "Action", scope)
+
+    # ---------------------------------------------------------- mission
+    def mission(self) -> str:
+        trees = []
+        for t in range(self.n_trees):
+            mode = self.modes[t]
+            if not self.data:
+                scope = _Scope((), None)
+            elif mode == "remap":
+                scope = _Scope(PARAM_VARS, "@")
+            elif mode == "plain":
+                scope = _Scope(tuple("@" + v for v in INT_VARS), "@")
+            else:
+                scope = _Scope(INT_VARS, "")
+            body = self.node(0, t, scope)
+            if t == 0 and self.data:
+                body = self.with_init(body)
+            trees.append(f'  <BehaviorTree ID="T{t}">\n    {body}\n  </BehaviorTree>\n')
+        models = ['    <Action ID="Act"/>\n',
+                  '    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n    </Action>\n',
+                  '    <Condition ID="Check">\n      <input_port name="level" type="int" default="1"/>\n'
+                  '    </Condition>\n']
+        for t in range(1, self.n_trees):
+            if self.modes[t] == "remap":
+                models.append(f'    <SubTree ID="T{t}">\n'
+                              + "".join(f'      <inout_port name="{p}"/>\n' for p in PARAM_VARS)
+                              + "    </SubTree>\n")
+        return ('<?xml version="1.0" encoding="UTF-8"?>\n'
+                '<root BTCPP_format="4" main_tree_to_execute="T0">\n' + "".join(trees)
+                + "  <TreeNodesModel>\n" + "".join(models) + "  </TreeNodesModel>\n</root>\n")
+
+    def with_init(self, body: str) -> str:
+        """Define the root blackboard's variables first (rarely not: reading one then is an error)."""
+        rng = self.rng
+        if rng.random() < 0.04:
+            return body
+        init = (f"i0 := {rng.randint(0, 3)}; i1 := {rng.randint(0, 3)}; s := '{rng.choice('abc')}'; "
+                f"flag := {rng.choice(('true', 'false'))}; d := 0.5; u := 0")
+        extra = ""
+        if self.uses_queue_key:
+            q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
+            extra = f'<SetBlackboard value="{q}" output_key="q"/>'
+        return f'<Sequence name="init"><Script code={_xml_attr(init)}/>{extra}{body}</Sequence>'
+
+
+def random_mission(seed: int, features: str = "control") -> str:
+    """The mission of `seed`: a valid BTCPP_format="4" document."""
+    return _Gen(seed, features).mission()
+
+
+def random_scenario(rng: random.Random, clock: bool = True) -> str:
+    """A scenario for the leaf names of every generated mission."""
+    lines = [f"ticks {rng.randint(3, 40)}"]
+    if clock and rng.random() < 0.8:
+        lines.append(f"clock_ms {rng.choice((0, 5, 10, 20))}")
+    all_conditions_scripted = rng.random() < 0.3
+    default = rng.choice(("SUCCESS", "FAILURE", "RUNNING" if all_conditions_scripted else "SUCCESS"))
+    if rng.random() < 0.8:
+        lines.append(f"default {default}")
+    for name in ACTION_NAMES + ACTION_IDS:
+        if rng.random() < 0.75:
+            lines.append(f"leaf {name} " + " ".join(rng.choice(("SUCCESS", "FAILURE", "RUNNING", "RUNNING"))
+                                                    for _ in range(rng.randint(1, 12))))
+    for name in CONDITION_NAMES + CONDITION_IDS:
+        if all_conditions_scripted or rng.random() < 0.75:
+            lines.append(f"leaf {name} " + " ".join(rng.choice(("SUCCESS", "FAILURE"))
+                                                    for _ in range(rng.randint(1, 12))))
+    rng.shuffle(lines)
+    return "\n".join(lines) + "\n"
+
+
+def random_case(seed: int, features: str = "control", n_scenarios: int = 3) -> Case:
+    """Mission and scenarios of `seed` (deterministic)."""
+    mission = random_mission(seed, features)
+    rng = random.Random(seed * 104729 + 17)
+    return Case(seed, features, mission, tuple(random_scenario(rng) for _ in range(n_scenarios)))
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m btgen.fuzzgen", description="print a random mission and scenarios")
+    p.add_argument("seed", type=int)
+    p.add_argument("--features", choices=FEATURE_SETS, default="control")
+    p.add_argument("--scenarios", type=int, default=1)
+    args = p.parse_args(argv)
+    case = random_case(args.seed, args.features, args.scenarios)
+    sys.stdout.write(case.mission)
+    for i, s in enumerate(case.scenarios):
+        sys.stdout.write(f"<!-- scenario {i}\n{s}-->\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
