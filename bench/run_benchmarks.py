@@ -257,12 +257,63 @@ def machine() -> list[str]:
     ]
 
 
+# BehaviorTree.CPP 4.6.2, Release, callgrind, as issue 7 gives them (not measured here).
+BTCPP_INSTR_PER_NODE = (950, 1400)
+TARGET_INSTR_PER_VISIT = 20
+TARGET_STATE_PER_NODE = 8
+TARGET_COMPILE_S = 10.0
+
+
+def targets(rows: list[Row]) -> list[str]:
+    """The issue's targets, each with the measured numbers and met / missed."""
+    built = [r for r in rows if r.cpp is None]
+    if not built:
+        return []
+    out = []
+    balanced = [r for r in built if os.path.basename(r.name).startswith("balanced_")]
+    if balanced:
+        worst = max(r.instr_tick / r.visited for r in balanced)
+        best = min(r.instr_tick / r.visited for r in balanced)
+        verdict = "met" if worst <= TARGET_INSTR_PER_VISIT else "**missed**"
+        lo, hi = BTCPP_INSTR_PER_NODE
+        out.append(f"- instructions per visited node on the balanced trees <= {TARGET_INSTR_PER_VISIT}: "
+                   f"{verdict} ({best:.1f} to {worst:.1f}; BehaviorTree.CPP 4.6.2 spends {lo:,} to {hi:,} "
+                   f"according to the issue, so {lo / worst:.0f} to {hi / best:.0f} times fewer, where 50 "
+                   f"was the goal)")
+    alloc_bad = [r for r in built if r.allocs_create != "0" or float(r.allocs_tick or 0) != 0.0]
+    out.append(f"- 0 allocations at creation and per tick: "
+               + ("met on every mission built" if not alloc_bad else
+                  "**missed** on " + ", ".join(f"`{r.name}`" for r in alloc_bad)))
+    over = [r for r in built if r.state_bytes > TARGET_STATE_PER_NODE * r.nodes]
+    worst_state = max(built, key=lambda r: r.state_bytes / r.nodes)
+    out.append(f"- state <= {TARGET_STATE_PER_NODE} bytes per node (no blackboard yet): "
+               + ("met" if not over else "met on the synthetic trees, **missed** on "
+                  + ", ".join(f"`{r.name}` ({r.state_bytes} B for {r.nodes} nodes: the fixed part, "
+                              f"leaves and clock pointers and the tick stacks, dominates)" for r in over))
+               + f"; largest {worst_state.state_bytes / worst_state.nodes:.2f} B/node")
+    by_size = sorted((r for r in built if r.btgen_s is not None), key=lambda r: r.nodes)
+    if balanced and len(balanced) >= 2:
+        small, big = min(balanced, key=lambda r: r.nodes), max(balanced, key=lambda r: r.nodes)
+        total = lambda r: (r.btgen_s or 0.0) + r.gxx_s  # noqa: E731
+        slope = (total(big) - total(small)) / (big.nodes - small.nodes) * 1000
+        slowest = max(by_size, key=total)
+        verdict = "met" if total(slowest) < TARGET_COMPILE_S else "**missed**"
+        out.append(f"- compile time (btgen + g++ -O2) under {TARGET_COMPILE_S:.0f} s at 10,000 nodes: {verdict} "
+                   f"(largest {total(slowest):.1f} s CPU, `{slowest.name}`); growth on the balanced trees "
+                   f"{total(small):.1f} s at {small.nodes:,} nodes to {total(big):.1f} s at {big.nodes:,}: "
+                   f"a fixed {total(small):.1f} s plus about {slope:.2f} s per 1,000 nodes")
+    return out
+
+
 def section(rows: list[Row], command: str) -> str:
     parts = [SECTION, "",
              f"Measured by `{command}` (method: the docstring of `bench/run_benchmarks.py`; one "
              f"mission: `btgen bench MISSION.xml`). Leaves finish at once (Actions SUCCESS from "
              f"`onStart`, Conditions SUCCESS), the clock does not move, so every tick does the same work.",
              "", *machine(), "", table(rows), ""]
+    goals = targets(rows)
+    if goals:
+        parts += ["Targets of issue 7:", "", *goals, ""]
     notes = [f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}"
              for r in rows for n in r.notes]
     notes += [f"- `{r.name}`: interpreter {r.interp_note}" for r in rows if r.interp_note]
