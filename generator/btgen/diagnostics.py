@@ -35,7 +35,27 @@ class Diagnostic:
     severity: str = "error"  # "error" | "warning" | "note"
 
     def __str__(self) -> str:
-        return f"{self.loc}: {self.severity}: {self.message}"
+        return f"{self.loc}: {self.severity}: {one_line(self.message)}"
+
+
+def one_line(text: str) -> str:
+    """`text` with line breaks and other control characters escaped (`\\n`, `\\x07`), so a
+    diagnostic that quotes the user's input stays one `path:line:col:` line."""
+    if text.isprintable():
+        return text
+    out = []
+    for ch in text:
+        if ch == "\n":
+            out.append("\\n")
+        elif ch == "\r":
+            out.append("\\r")
+        elif ch in "\u2028\u2029":  # line and paragraph separators
+            out.append(f"\\u{ord(ch):04x}")
+        elif ch == "\t" or ch.isprintable() or ord(ch) > 0x9F:
+            out.append(ch)
+        else:
+            out.append(f"\\x{ord(ch):02x}")
+    return "".join(out)
 
 
 class UserError(Exception):
