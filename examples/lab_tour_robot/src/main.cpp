@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/environment_knowledge_base.hpp"
 #include "btgen/scenario.hpp"
@@ -41,6 +42,15 @@ class OptionalTrace {
     if (enabled_) writer_.on_status_change(node, from, to);
   }
   void enable() noexcept { enabled_ = true; }
+  // Run-time errors of the generated code (a port write that does not fit,
+  // ...): always printed; the node concerned fails.
+  void on_error(const btgen::RuntimeError& e) const noexcept {
+    std::fprintf(stderr, "%s: run-time error: %.*s: %.*s (node %u `%.*s`)\n", kProgram,
+                 static_cast<int>(e.where.size()), e.where.data(), static_cast<int>(e.message.size()),
+                 e.message.data(), e.node != nullptr ? static_cast<unsigned>(e.node->uid) : 0u,
+                 e.node != nullptr ? static_cast<int>(e.node->name.size()) : 0,
+                 e.node != nullptr ? e.node->name.data() : "");
+  }
 
  private:
   btgen::TraceWriter writer_{stdout};

@@ -155,7 +155,7 @@ Status SimulatedPepper::speechStart(const btgen::NodeInfo& node, std::string_vie
 }
 
 Status SimulatedPepper::describeStart(const btgen::NodeInfo& node, LocationPort location, bool post_gesture) {
-  if (!location.known) return fail(node, "no location_id to describe");
+  if (!location.known) return fail(node, ("no location_id to describe: " + std::string(location.why)).c_str());
   const Utterance* u = speech_.location_message(location.id, post_gesture);
   if (u == nullptr) {
     const std::string why = "location " + std::to_string(location.id) + " is not in the knowledge base";
@@ -183,7 +183,7 @@ void SimulatedPepper::speechHalted(const btgen::NodeInfo& node) {
 // ---- moving and pointing ---------------------------------------------------------
 
 Status SimulatedPepper::navigateStart(const btgen::NodeInfo& node, LocationPort location) {
-  if (!location.known) return fail(node, "no location_id to navigate to");
+  if (!location.known) return fail(node, ("no location_id to navigate to: " + std::string(location.why)).c_str());
   const btgen::KbLocation* target = kb_.find(location.id);
   if (target == nullptr) {
     const std::string why = "location " + std::to_string(location.id) + " is not in the knowledge base";
@@ -242,7 +242,7 @@ void SimulatedPepper::navigateHalted(const btgen::NodeInfo& node) {
 }
 
 Status SimulatedPepper::pointStart(const btgen::NodeInfo& node, LocationPort location) {
-  if (!location.known) return fail(node, "no location_id to point at");
+  if (!location.known) return fail(node, ("no location_id to point at: " + std::string(location.why)).c_str());
   const btgen::KbLocation* target = kb_.find(location.id);
   if (target == nullptr) {
     const std::string why = "location " + std::to_string(location.id) + " is not in the knowledge base";
@@ -403,8 +403,19 @@ Status SimulatedPepper::isVisitorResponseYes(const btgen::NodeInfo& node, bool k
   return st;
 }
 
-Status SimulatedPepper::unknownLeaf(const btgen::NodeInfo& node) {
-  return fail(node, "the simulated robot does not know this leaf");
+Status SimulatedPepper::portFailure(const btgen::NodeInfo& node, std::string_view port, std::string_view why) {
+  const std::string text = "port `" + std::string(port) + "`: " + std::string(why);
+  return fail(node, text.c_str());
+}
+
+Status SimulatedPepper::writeFailure(const btgen::NodeInfo& node, std::string_view port) {
+  say("%.*s: could not write port `%.*s`; the node fails", static_cast<int>(node.name.size()), node.name.data(),
+      static_cast<int>(port.size()), port.data());
+  return Status::FAILURE;
+}
+
+void SimulatedPepper::halted(const btgen::NodeInfo& node) {
+  say("%.*s halted", static_cast<int>(node.name.size()), node.name.data());
 }
 
 }  // namespace lab_tour_robot

@@ -44,10 +44,12 @@ namespace lab_tour_robot {
 /// How far the simulated robot drives in one tick.
 inline constexpr double kMetresPerTick = 1.0;
 
-/// A location id read from a port: `known` is false when the port had no value.
+/// A location id read from a port: `known` is false when the port had no
+/// value, and `why` then says why (btgen::describe(PortError)).
 struct LocationPort {
   bool known = false;
   std::int32_t id = 0;
+  std::string_view why = "no value";
 };
 
 enum class Attention : std::uint8_t { kDisabled, kScanning, kSocial };
@@ -115,8 +117,12 @@ class SimulatedPepper {
   /// `response` is the port's value; `known` false when it has none.
   btgen::Status isVisitorResponseYes(const btgen::NodeInfo& node, bool known, std::string_view response);
 
-  /// A leaf the simulation does not know: it fails (and says so).
-  btgen::Status unknownLeaf(const btgen::NodeInfo& node);
+  /// An input port without a usable value: the leaf fails (and says why).
+  btgen::Status portFailure(const btgen::NodeInfo& node, std::string_view port, std::string_view why);
+  /// An output the blackboard refused (the mission reports the details): the leaf fails.
+  btgen::Status writeFailure(const btgen::NodeInfo& node, std::string_view port);
+  /// A halted action that has no halt of its own.
+  void halted(const btgen::NodeInfo& node);
 
   // ---- state, for the summary and the tests -------------------------------------
   [[nodiscard]] const Eigen::Vector3d& pose() const noexcept { return pose_; }
