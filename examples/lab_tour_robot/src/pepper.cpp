@@ -84,7 +84,11 @@ Status SimulatedPepper::fail(const btgen::NodeInfo& node, const char* why) {
 
 Status SimulatedPepper::startOfTree(const btgen::NodeInfo& node) {
   const Status st = decide(node, Status::SUCCESS);
-  say("mission starts at %s (%s)", place(at_).c_str(), std::string(btgen::to_string(st)).c_str());
+  if (st == Status::FAILURE) {
+    say("mission start failed");
+  } else {
+    say("mission starts; Pepper stands at %s", place(at_).c_str());
+  }
   return st;
 }
 
@@ -274,7 +278,7 @@ Status SimulatedPepper::lookUpHome(const btgen::NodeInfo& node, std::int32_t& lo
   const Status st = decide(node, Status::SUCCESS);
   if (st == Status::SUCCESS) {
     location_id = plan_.home;
-    say("home is %s (the tour's first stop)", place(plan_.home).c_str());
+    say("home: %s, the tour's first stop", place(plan_.home).c_str());
   } else {
     say("LookUpHome failed");
   }
@@ -285,7 +289,7 @@ Status SimulatedPepper::lookUpEntrance(const btgen::NodeInfo& node, std::int32_t
   const Status st = decide(node, Status::SUCCESS);
   if (st == Status::SUCCESS) {
     location_id = plan_.exit;
-    say("the entrance is %s (the tour's last stop)", place(plan_.exit).c_str());
+    say("entrance: %s, the tour's last stop", place(plan_.exit).c_str());
   } else {
     say("LookUpEntrance failed");
   }
