@@ -1,0 +1,438 @@
+// btgen runtime: reading and writing blackboard slots through ports.
+//
+// A user leaf reads an input port with a generated getter and writes an
+// output port with a generated setter (see the mission header). Both land
+// here, with the conversions of BehaviorTree.CPP 4.6.2:
+//
+//   read<T>(slot)      TreeNode::getInput<T>: the entry must exist and hold
+//                      a value; a string is converted with convertFromString<T>
+//                      (unless T is a string), any other value with Any::cast<T>
+//   write(slot, ...)   Blackboard::set<T> (what setOutput<T> calls): a value
+//                      of the entry's type is stored; a string goes through
+//                      the converter of the entry's declared type; a number
+//                      of another type must fit it (isCastingSafe)
+//
+// T is the C++ type of the port: std::int32_t (int), std::uint32_t
+// (unsigned), double, bool, btgen::Status, std::string_view (a string; the
+// text of a number is written into a scratch buffer that the view points
+// into). Nothing allocates.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+
+#include "btgen/blackboard.hpp"
+#include "btgen/fixed_string.hpp"
+#include "btgen/status.hpp"
+#include "btgen/value.hpp"
+
+namespace btgen {
+
+enum class PortError : std::uint8_t {
+  kNone = 0,
+  kNotSet,      // the port is not written on this node and has no default
+  kNoEntry,     // the blackboard entry it names does not exist
+  kNoValue,     // the entry exists but holds no value yet
+  kConversion,  // the value does not convert to the port's type
+};
+
+[[nodiscard]] constexpr std::string_view describe(PortError e) noexcept {
+  switch (e) {
+    case PortError::kNone: return "no error";
+    case PortError::kNotSet: return "the port is not set on this node and has no default";
+    case PortError::kNoEntry: return "the blackboard entry does not exist";
+    case PortError::kNoValue: return "the blackboard entry has no value yet";
+    case PortError::kConversion: return "the value does not convert to the port's type";
+  }
+  return "error";
+}
+
+// The result of reading an input port (BT::Expected<T>).
+template <class T>
+class Input {
+ public:
+  constexpr Input(T value) noexcept : value_(value), error_(PortError::kNone) {}  // NOLINT: implicit on purpose
+  constexpr Input(PortError error) noexcept : value_{}, error_(error) {}          // NOLINT
+
+  [[nodiscard]] constexpr bool has_value() const noexcept { return error_ == PortError::kNone; }
+  constexpr explicit operator bool() const noexcept { return has_value(); }
+  // The value; T{} when there is none.
+  [[nodiscard]] constexpr const T& value() const noexcept { return value_; }
+  [[nodiscard]] constexpr const T& operator*() const noexcept { return value_; }
+  [[nodiscard]] constexpr T value_or(T fallback) const noexcept { return has_value() ? value_ : fallback; }
+  [[nodiscard]] constexpr PortError error() const noexcept { return error_; }
+
+ private:
+  T value_;
+  PortError error_;
+};
+
+// The declared type of a blackboard entry (the type 4.6.2 created it with):
+// it decides how writes of other types convert.
+enum class Declared : std::uint8_t { kAny, kInt, kUnsigned, kDouble, kBool, kString, kStatus, kQueue, kOpaque };
+
+namespace port {
+
+template <class T>
+inline constexpr bool is_port_type =
+    std::is_same_v<T, std::int32_t> || std::is_same_v<T, std::uint32_t> || std::is_same_v<T, double> ||
+    std::is_same_v<T, bool> || std::is_same_v<T, Status> || std::is_same_v<T, std::string_view>;
+
+template <class S>
+struct is_fixed_string : std::false_type {};
+template <std::size_t N>
+struct is_fixed_string<FixedString<N>> : std::true_type {};
+
+template <class S>
+struct is_fixed_queue : std::false_type {};
+template <class E, std::size_t N>
+struct is_fixed_queue<FixedQueue<E, N>> : std::true_type {};
+
+// ---------------------------------------------------------------- reads
+
+// convertFromString<T>(text).
+template <class T>
+Input<T> parse(std::string_view text) noexcept {
+  static_assert(is_port_type<T>, "a port is int, unsigned, double, bool, Status or a string");
+  if constexpr (std::is_same_v<T, std::string_view>) {
+    return text;
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    std::int64_t v = 0;
+    if (parse_integer(text, INT32_MIN, INT32_MAX, v) != Errc::kOk) return PortError::kConversion;
+    return static_cast<std::int32_t>(v);
+  } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+    std::int64_t v = 0;
+    if (parse_integer(text, 0, UINT32_MAX, v) != Errc::kOk) return PortError::kConversion;
+    return static_cast<std::uint32_t>(v);
+  } else if constexpr (std::is_same_v<T, double>) {
+    double v = 0.0;
+    if (parse_double_stod(text, v) != Errc::kOk) return PortError::kConversion;
+    return v;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    bool v = false;
+    if (parse_bool(text, v) != Errc::kOk) return PortError::kConversion;
+    return v;
+  } else {
+    Status v = Status::IDLE;
+    if (parse_status(text, v) != Errc::kOk) return PortError::kConversion;
+    return v;
+  }
+}
+
+// Any::cast<T>() of an integer (bool and Status values count as integers).
+template <class T>
+Input<T> from_integer(std::int64_t v, NumberText* scratch) noexcept {
+  if constexpr (std::is_same_v<T, std::string_view>) {
+    if (scratch == nullptr) return PortError::kConversion;
+    return scratch->set(v);
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    if (int_in_range(v, INT32_MIN, INT32_MAX) != Errc::kOk) return PortError::kConversion;
+    return static_cast<std::int32_t>(v);
+  } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+    if (int_in_range(v, 0, UINT32_MAX) != Errc::kOk) return PortError::kConversion;
+    return static_cast<std::uint32_t>(v);
+  } else if constexpr (std::is_same_v<T, double>) {
+    double d = 0.0;
+    if (int_to_double(v, d) != Errc::kOk) return PortError::kConversion;
+    return d;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    bool b = false;
+    if (int_to_bool(v, b) != Errc::kOk) return PortError::kConversion;
+    return b;
+  } else {
+    Status s = Status::IDLE;
+    if (v < INT32_MIN || v > INT32_MAX || int_to_status(v, s) != Errc::kOk) return PortError::kConversion;
+    return s;
+  }
+}
+
+// Any::cast<T>() of a double.
+template <class T>
+Input<T> from_double(double v, NumberText* scratch) noexcept {
+  if constexpr (std::is_same_v<T, std::string_view>) {
+    if (scratch == nullptr) return PortError::kConversion;
+    return scratch->set(v);
+  } else if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    return v != 0.0;
+  } else {
+    std::int64_t i = 0;
+    if constexpr (std::is_same_v<T, std::uint32_t>) {
+      if (double_to_int_in(v, 0, UINT32_MAX, i) != Errc::kOk) return PortError::kConversion;
+      return static_cast<std::uint32_t>(i);
+    } else {
+      if (double_to_int_in(v, INT32_MIN, INT32_MAX, i) != Errc::kOk) return PortError::kConversion;
+      if constexpr (std::is_same_v<T, std::int32_t>) {
+        return static_cast<std::int32_t>(i);
+      } else {
+        Status s = Status::IDLE;
+        if (int_to_status(i, s) != Errc::kOk) return PortError::kConversion;
+        return s;
+      }
+    }
+  }
+}
+
+// TreeNode::getInput<T> of a port connected to `slot`. Reading a number as
+// a string writes its text into `scratch` (the generator passes one where
+// that can happen).
+template <class T, class S>
+Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
+  static_assert(is_port_type<T>, "a port is int, unsigned, double, bool, Status or a string");
+  if (!slot.exists) return PortError::kNoEntry;
+  if (!slot.has_value) return PortError::kNoValue;
+  if constexpr (std::is_same_v<S, NoValue>) {
+    return PortError::kNoValue;
+  } else if constexpr (is_fixed_string<S>::value) {
+    return parse<T>(slot.value.view());
+  } else if constexpr (std::is_same_v<S, std::int64_t>) {
+    return from_integer<T>(slot.value, scratch);
+  } else if constexpr (std::is_same_v<S, bool>) {
+    return from_integer<T>(slot.value ? 1 : 0, scratch);
+  } else if constexpr (std::is_same_v<S, Status>) {
+    return from_integer<T>(static_cast<std::int64_t>(slot.value), scratch);
+  } else if constexpr (std::is_same_v<S, double>) {
+    return from_double<T>(slot.value, scratch);
+  } else {
+    static_assert(is_fixed_queue<S>::value, "unknown slot type");
+    return PortError::kConversion;  // a queue is no scalar
+  }
+}
+
+// ---------------------------------------------------------------- writes
+
+// The 4.6.2 type name of what a port writes (the T of setOutput<T>).
+enum class WriteType : std::uint8_t { kInt, kUnsigned, kDouble, kBool, kStatus, kString };
+
+template <class V>
+constexpr WriteType write_type() noexcept {
+  if constexpr (std::is_same_v<V, std::uint32_t>) {
+    return WriteType::kUnsigned;
+  } else if constexpr (std::is_same_v<V, bool>) {
+    return WriteType::kBool;
+  } else if constexpr (std::is_same_v<V, Status>) {
+    return WriteType::kStatus;
+  } else if constexpr (std::is_floating_point_v<V>) {
+    return WriteType::kDouble;
+  } else if constexpr (std::is_integral_v<V>) {
+    return WriteType::kInt;
+  } else {
+    return WriteType::kString;
+  }
+}
+
+constexpr bool same_type(Declared d, WriteType t) noexcept {
+  switch (t) {
+    case WriteType::kInt: return d == Declared::kInt;
+    case WriteType::kUnsigned: return d == Declared::kUnsigned;
+    case WriteType::kDouble: return d == Declared::kDouble;
+    case WriteType::kBool: return d == Declared::kBool;
+    case WriteType::kStatus: return d == Declared::kStatus;
+    case WriteType::kString: return d == Declared::kString;
+  }
+  return false;
+}
+
+// Stores `v` in the slot as it is: only when it is of the slot's own kind
+// (anything else would change the entry's type, which btgen does not do).
+template <class S, class V>
+Errc store_as_is(Slot<S>& slot, const V& v) noexcept {
+  if constexpr (is_fixed_string<S>::value) {
+    if constexpr (std::is_convertible_v<V, std::string_view> && !std::is_arithmetic_v<V>) {
+      if (!slot.value.assign(std::string_view(v))) return Errc::kTooLong;
+      return Errc::kOk;
+    } else {
+      return Errc::kInvalid;
+    }
+  } else if constexpr (std::is_same_v<S, bool>) {
+    if constexpr (std::is_same_v<V, bool>) {
+      slot.value = v;
+      return Errc::kOk;
+    } else {
+      return Errc::kInvalid;
+    }
+  } else if constexpr (std::is_same_v<S, Status>) {
+    if constexpr (std::is_same_v<V, Status>) {
+      slot.value = v;
+      return Errc::kOk;
+    } else {
+      return Errc::kInvalid;
+    }
+  } else if constexpr (std::is_same_v<S, double>) {
+    if constexpr (std::is_floating_point_v<V>) {
+      slot.value = static_cast<double>(v);
+      return Errc::kOk;
+    } else {
+      return Errc::kInvalid;
+    }
+  } else if constexpr (std::is_same_v<S, std::int64_t>) {
+    if constexpr (std::is_integral_v<V> && !std::is_same_v<V, bool>) {
+      slot.value = static_cast<std::int64_t>(v);
+      return Errc::kOk;
+    } else {
+      return Errc::kInvalid;
+    }
+  } else {
+    return Errc::kInvalid;
+  }
+}
+
+// A number as an int64 (bools as 0/1): Any::copyInto's integer path.
+template <class V>
+Errc number_as_int(const V& v, std::int64_t& out) noexcept {
+  if constexpr (std::is_same_v<V, bool>) {
+    out = v ? 1 : 0;
+    return Errc::kOk;
+  } else if constexpr (std::is_same_v<V, Status>) {
+    out = static_cast<std::int64_t>(v);
+    return Errc::kOk;
+  } else if constexpr (std::is_floating_point_v<V>) {
+    return double_to_int(static_cast<double>(v), out);
+  } else {
+    out = static_cast<std::int64_t>(v);
+    return Errc::kOk;
+  }
+}
+
+// isCastingSafe(declared, v): a number that fits an int, unsigned or double entry.
+template <class V>
+bool casting_safe(Declared d, const V& v) noexcept {
+  if constexpr (std::is_arithmetic_v<V>) {
+    if (d == Declared::kDouble) {
+      if constexpr (std::is_floating_point_v<V>) {
+        return true;
+      } else {
+        double out = 0.0;
+        return int_to_double(static_cast<std::int64_t>(v), out) == Errc::kOk;
+      }
+    }
+    if (d == Declared::kInt || d == Declared::kUnsigned) {
+      std::int64_t i = 0;
+      if constexpr (std::is_floating_point_v<V>) {
+        if (double_to_int(static_cast<double>(v), i) != Errc::kOk) return false;
+      } else {
+        i = static_cast<std::int64_t>(v);
+      }
+      return d == Declared::kInt ? (i >= INT32_MIN && i <= INT32_MAX) : (i >= 0 && i <= UINT32_MAX);
+    }
+  }
+  (void)d;
+  (void)v;
+  return false;
+}
+
+// Any::copyInto of a number into a slot that holds a number of another type.
+template <class S, class V>
+Errc copy_number(Slot<S>& slot, const V& v) noexcept {
+  if constexpr (std::is_same_v<S, double>) {
+    if constexpr (std::is_floating_point_v<V>) {
+      slot.value = static_cast<double>(v);
+      return Errc::kOk;
+    } else {
+      std::int64_t i = 0;
+      (void)number_as_int(v, i);
+      return int_to_double(i, slot.value);
+    }
+  } else if constexpr (std::is_same_v<S, std::int64_t> || std::is_same_v<S, bool> || std::is_same_v<S, Status>) {
+    std::int64_t i = 0;
+    if (const Errc e = number_as_int(v, i); e != Errc::kOk) return e;
+    if constexpr (std::is_same_v<S, std::int64_t>) {
+      slot.value = i;
+      return Errc::kOk;
+    } else if constexpr (std::is_same_v<S, bool>) {
+      return int_to_bool(i, slot.value);
+    } else {
+      return int_to_status(i, slot.value);
+    }
+  } else {
+    (void)slot;
+    (void)v;
+    return Errc::kInvalid;
+  }
+}
+
+// convertFromString of a `;`-separated queue: no element for an empty text
+// or after a final `;`.
+template <class E, std::size_t N>
+Errc parse_queue(std::string_view text, FixedQueue<E, N>& out) noexcept {
+  FixedQueue<E, N> q;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find(';', pos);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view part = text.substr(pos, end - pos);
+    E* slot = q.emplace_slot();
+    if (slot == nullptr) return Errc::kTooLong;
+    if constexpr (std::is_same_v<E, std::int64_t>) {
+      if (const Errc e = parse_integer(part, INT32_MIN, INT32_MAX, *slot); e != Errc::kOk) return e;
+    } else if constexpr (std::is_same_v<E, double>) {
+      if (const Errc e = parse_double_stod(part, *slot); e != Errc::kOk) return e;
+    } else if constexpr (std::is_same_v<E, bool>) {
+      if (const Errc e = parse_bool(part, *slot); e != Errc::kOk) return e;
+    } else {
+      if (!slot->assign(part)) return Errc::kTooLong;
+    }
+    pos = end + 1;
+  }
+  out = q;
+  return Errc::kOk;
+}
+
+// A string through the converter of the slot's declared type.
+template <class S>
+Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
+  if constexpr (std::is_same_v<S, std::int64_t>) {
+    if (d == Declared::kInt) return parse_integer(text, INT32_MIN, INT32_MAX, slot.value);
+    if (d == Declared::kUnsigned) return parse_integer(text, 0, UINT32_MAX, slot.value);
+    return Errc::kInvalid;
+  } else if constexpr (std::is_same_v<S, double>) {
+    return d == Declared::kDouble ? parse_double_stod(text, slot.value) : Errc::kInvalid;
+  } else if constexpr (std::is_same_v<S, bool>) {
+    return d == Declared::kBool ? parse_bool(text, slot.value) : Errc::kInvalid;
+  } else if constexpr (is_fixed_string<S>::value) {
+    return slot.value.assign(text) ? Errc::kOk : Errc::kTooLong;
+  } else if constexpr (is_fixed_queue<S>::value) {
+    return parse_queue(text, slot.value);
+  } else {
+    (void)slot;
+    (void)d;
+    (void)text;
+    return Errc::kInvalid;
+  }
+}
+
+// Blackboard::set<T>(key, v) of an entry declared `d` (T the type of `v`):
+// the store 4.6.2 does when a port writes. Errc::kInvalid is a write 4.6.2
+// rejects, or one that would change the entry's type.
+template <class S, class V>
+Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
+  constexpr WriteType t = write_type<V>();
+  Errc e = Errc::kOk;
+  if (!slot.exists || d == Declared::kAny || d == Declared::kOpaque) {
+    // A new entry, or one without a declared type: the value as it is.
+    e = store_as_is(slot, v);
+  } else if (!same_type(d, t)) {
+    if constexpr (t == WriteType::kString) {
+      if (d == Declared::kStatus) return Errc::kInvalid;  // no converter for NodeStatus
+      e = convert_into(slot, d, std::string_view(v));
+    } else if constexpr (t == WriteType::kStatus) {
+      return Errc::kInvalid;
+    } else {
+      if (!casting_safe(d, v)) return Errc::kInvalid;
+      e = slot.has_value ? copy_number(slot, v) : store_as_is(slot, v);
+    }
+  } else {
+    e = store_as_is(slot, v);
+    if (e != Errc::kOk && slot.has_value) {
+      if constexpr (t != WriteType::kString) e = copy_number(slot, v);
+    }
+  }
+  if (e == Errc::kOk) slot.mark_written();
+  return e;
+}
+
+}  // namespace port
+}  // namespace btgen

@@ -1,0 +1,423 @@
+// btgen runtime: conversions between blackboard values, as BehaviorTree.CPP 4.6.2 does them.
+//
+// The generator knows the type of every blackboard entry and port, so it
+// calls the one conversion a read or write needs; these functions are
+// those conversions, with 4.6.2's rules (btgen/values.py is the reference
+// and documents each one):
+//
+//   text of a number     std::to_string: integers in decimal, doubles as
+//                        printf("%f") ("2.500000", "-nan")
+//   convertFromString    int/unsigned: std::from_chars then a range check;
+//                        double: std::stod; bool: 1 0 true false TRUE FALSE
+//                        True False; NodeStatus: its name
+//   Any::cast            integer <-> double only when exact, double -> bool
+//                        when non-zero, integer -> bool only 0 and 1
+//
+// Nothing allocates; every fallible function returns an Errc.
+#pragma once
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string_view>
+#include <system_error>
+
+#include "btgen/status.hpp"
+
+namespace btgen {
+
+enum class Errc : std::uint8_t {
+  kOk = 0,
+  kInvalid,     // not a number / bool / status at all
+  kOutOfRange,  // too large or small for the type
+  kNotWhole,    // a double with a fraction (or nan, inf) where an integer is needed
+  kPrecision,   // an integer a double cannot hold exactly
+  kNotBool,     // an integer other than 0 and 1 read as bool
+  kNotStatus,   // a number that is no NodeStatus
+  kTooLong,     // a text longer than its fixed capacity
+};
+
+[[nodiscard]] constexpr std::string_view describe(Errc e) noexcept {
+  switch (e) {
+    case Errc::kOk: return "no error";
+    case Errc::kInvalid: return "not a valid value of the type";
+    case Errc::kOutOfRange: return "out of range for the type";
+    case Errc::kNotWhole: return "not a whole number";
+    case Errc::kPrecision: return "precision would be lost";
+    case Errc::kNotBool: return "only the integers 0 and 1 convert to bool";
+    case Errc::kNotStatus: return "not a status number (0 to 4)";
+    case Errc::kTooLong: return "longer than the capacity btgen gave it";
+  }
+  return "error";
+}
+
+// ------------------------------------------------------------ number -> text
+
+// Longest text of an int64 ("-9223372036854775808") and of a double with
+// "%f" ("-" then 309 digits of -DBL_MAX, "." and 6 decimals).
+inline constexpr std::size_t kIntTextMax = 20;
+inline constexpr std::size_t kDoubleTextMax = 317;
+
+// The text of a number, held in place (valid while the object lives):
+//     const btgen::NumberText text(2.5);   // text.view() == "2.500000"
+class NumberText {
+ public:
+  NumberText() noexcept { buf_[0] = '\0'; }
+  explicit NumberText(std::int64_t v) noexcept { set(v); }
+  explicit NumberText(double v) noexcept { set(v); }
+  explicit NumberText(bool v) noexcept { set(static_cast<std::int64_t>(v ? 1 : 0)); }
+  explicit NumberText(Status v) noexcept { set(static_cast<std::int64_t>(v)); }
+  NumberText(const NumberText&) = delete;
+  NumberText& operator=(const NumberText&) = delete;
+
+  [[nodiscard]] std::string_view view() const noexcept { return std::string_view(buf_, size_); }
+
+  std::string_view set(std::int64_t v) noexcept {
+    char tmp[kIntTextMax];
+    std::size_t n = 0;
+    // Work on the magnitude as unsigned so that INT64_MIN is fine.
+    std::uint64_t m = v < 0 ? (~static_cast<std::uint64_t>(v) + 1u) : static_cast<std::uint64_t>(v);
+    do {
+      tmp[n++] = static_cast<char>('0' + static_cast<int>(m % 10u));
+      m /= 10u;
+    } while (m != 0);
+    size_ = 0;
+    if (v < 0) buf_[size_++] = '-';
+    while (n > 0) buf_[size_++] = tmp[--n];
+    buf_[size_] = '\0';
+    return view();
+  }
+
+  std::string_view set(double v) noexcept {
+    if (std::isnan(v)) {
+      const char* s = std::signbit(v) ? "-nan" : "nan";
+      size_ = 0;
+      while (*s != '\0') buf_[size_++] = *s++;
+      buf_[size_] = '\0';
+      return view();
+    }
+    const int n = std::snprintf(buf_, sizeof buf_, "%f", v);
+    size_ = n < 0 ? 0 : (static_cast<std::size_t>(n) < sizeof buf_ ? static_cast<std::size_t>(n) : sizeof buf_ - 1);
+    return view();
+  }
+
+  std::string_view set(bool v) noexcept { return set(static_cast<std::int64_t>(v ? 1 : 0)); }
+  std::string_view set(Status v) noexcept { return set(static_cast<std::int64_t>(v)); }
+
+ private:
+  char buf_[kDoubleTextMax + 1];
+  std::size_t size_ = 0;
+};
+
+// ------------------------------------------------------------ text -> number
+
+namespace value_detail {
+
+constexpr bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+constexpr bool is_hex(char c) noexcept {
+  return is_digit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+}
+constexpr char lower(char c) noexcept { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// Case-insensitive "does `text` continue with `word` at `i`".
+constexpr bool starts_ci(std::string_view text, std::size_t i, std::string_view word) noexcept {
+  if (text.size() - i < word.size()) return false;
+  for (std::size_t k = 0; k < word.size(); ++k) {
+    if (lower(text[i + k]) != word[k]) return false;
+  }
+  return true;
+}
+
+// Digits [i, end) of `text`: any of them not '0' (decimal or hex digits).
+constexpr bool any_nonzero(std::string_view text, std::size_t i, std::size_t end, bool hex) noexcept {
+  for (; i < end; ++i) {
+    const char c = text[i];
+    if ((hex ? is_hex(c) : is_digit(c)) && c != '0') return true;
+  }
+  return false;
+}
+
+// What a scan found: [start, end) is the number's literal.
+struct Scan {
+  bool ok = false;
+  bool special = false;  // inf or nan
+  bool is_nan = false;
+  bool negative = false;
+  bool hex = false;
+  std::size_t start = 0, end = 0;
+  std::size_t mant_begin = 0, mant_end = 0;
+};
+
+// `inf`, `infinity`, `nan`, `nan(chars)` at `i` (after the sign).
+constexpr bool scan_special(std::string_view t, std::size_t i, Scan& s) noexcept {
+  if (starts_ci(t, i, "inf")) {
+    s.end = i + 3;
+    if (starts_ci(t, s.end, "inity")) s.end += 5;
+    s.special = true;
+    return true;
+  }
+  if (starts_ci(t, i, "nan")) {
+    s.end = i + 3;
+    if (s.end < t.size() && t[s.end] == '(') {
+      std::size_t k = s.end + 1;
+      while (k < t.size() && (is_digit(t[k]) || (lower(t[k]) >= 'a' && lower(t[k]) <= 'z') || t[k] == '_')) ++k;
+      if (k < t.size() && t[k] == ')') s.end = k + 1;
+    }
+    s.special = true;
+    s.is_nan = true;
+    return true;
+  }
+  return false;
+}
+
+// Decimal mantissa and optional exponent at `i`: ([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?
+constexpr bool scan_decimal(std::string_view t, std::size_t i, Scan& s) noexcept {
+  std::size_t k = i;
+  if (k < t.size() && is_digit(t[k])) {
+    while (k < t.size() && is_digit(t[k])) ++k;
+    if (k < t.size() && t[k] == '.') {
+      ++k;
+      while (k < t.size() && is_digit(t[k])) ++k;
+    }
+  } else if (k + 1 < t.size() && t[k] == '.' && is_digit(t[k + 1])) {
+    k += 1;
+    while (k < t.size() && is_digit(t[k])) ++k;
+  } else {
+    return false;
+  }
+  s.mant_begin = i;
+  s.mant_end = k;
+  if (k < t.size() && (t[k] == 'e' || t[k] == 'E')) {
+    std::size_t e = k + 1;
+    if (e < t.size() && (t[e] == '+' || t[e] == '-')) ++e;
+    if (e < t.size() && is_digit(t[e])) {
+      while (e < t.size() && is_digit(t[e])) ++e;
+      k = e;
+    }
+  }
+  s.end = k;
+  return true;
+}
+
+// Hexadecimal: 0[xX]([0-9a-f]+\.?[0-9a-f]*|\.[0-9a-f]+)([pP][+-]?[0-9]+)?
+constexpr bool scan_hex(std::string_view t, std::size_t i, Scan& s) noexcept {
+  if (!(i + 1 < t.size() && t[i] == '0' && (t[i + 1] == 'x' || t[i + 1] == 'X'))) return false;
+  std::size_t k = i + 2;
+  const std::size_t mb = k;
+  if (k < t.size() && is_hex(t[k])) {
+    while (k < t.size() && is_hex(t[k])) ++k;
+    if (k < t.size() && t[k] == '.') {
+      ++k;
+      while (k < t.size() && is_hex(t[k])) ++k;
+    }
+  } else if (k + 1 < t.size() && t[k] == '.' && is_hex(t[k + 1])) {
+    k += 1;
+    while (k < t.size() && is_hex(t[k])) ++k;
+  } else {
+    return false;
+  }
+  s.mant_begin = mb;
+  s.mant_end = k;
+  if (k < t.size() && (t[k] == 'p' || t[k] == 'P')) {
+    std::size_t e = k + 1;
+    if (e < t.size() && (t[e] == '+' || t[e] == '-')) ++e;
+    if (e < t.size() && is_digit(t[e])) {
+      while (e < t.size() && is_digit(t[e])) ++e;
+      k = e;
+    }
+  }
+  s.end = k;
+  s.hex = true;
+  return true;
+}
+
+// strtod of exactly the scanned literal (copied: strtod reads more forms
+// than the scan allows, and the text need not be NUL-terminated).
+inline Errc strtod_literal(std::string_view t, const Scan& s, double& out) noexcept {
+  char buf[512];
+  const std::size_t n = s.end - s.start;
+  if (n >= sizeof buf) return Errc::kOutOfRange;  // more digits than any double needs
+  for (std::size_t k = 0; k < n; ++k) buf[k] = t[s.start + k];
+  buf[n] = '\0';
+  out = std::strtod(buf, nullptr);
+  return Errc::kOk;
+}
+
+}  // namespace value_detail
+
+// std::from_chars into an integer type: an optional '-', then digits; the
+// text after the digits is ignored. The value must lie in [lo, hi].
+inline Errc parse_integer(std::string_view text, std::int64_t lo, std::int64_t hi, std::int64_t& out) noexcept {
+  std::size_t i = 0;
+  if (i < text.size() && text[i] == '-') ++i;
+  if (i >= text.size() || !value_detail::is_digit(text[i])) return Errc::kInvalid;
+  std::int64_t v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec == std::errc::result_out_of_range) return Errc::kOutOfRange;
+  if (r.ec != std::errc()) return Errc::kInvalid;
+  if (v < lo || v > hi) return Errc::kOutOfRange;
+  out = v;
+  return Errc::kOk;
+}
+
+// std::from_chars into a double (what Any::cast uses for strings): no
+// leading blanks or '+', no hex; inf, infinity, nan, nan(...) in any case;
+// the text after the number is ignored. A value too large (inf) or too
+// small (zero from non-zero digits) is out of range; the latter only with
+// `check_underflow` (SwitchNode reads it as 0).
+inline Errc parse_double_from_chars(std::string_view text, double& out, bool check_underflow = true) noexcept {
+  using namespace value_detail;
+  Scan s;
+  std::size_t i = 0;
+  if (i < text.size() && text[i] == '-') {
+    s.negative = true;
+    ++i;
+  }
+  if (!scan_special(text, i, s) && !scan_decimal(text, i, s)) return Errc::kInvalid;
+  s.start = 0;
+  if (s.is_nan) {
+    out = std::copysign(std::numeric_limits<double>::quiet_NaN(), s.negative ? -1.0 : 1.0);
+    return Errc::kOk;
+  }
+  double v = 0.0;
+  if (const Errc e = strtod_literal(text, s, v); e != Errc::kOk) return e;
+  if (!s.special) {
+    if (std::isinf(v)) return Errc::kOutOfRange;
+    if (check_underflow && v == 0.0 && any_nonzero(text, s.mant_begin, s.mant_end, false)) return Errc::kOutOfRange;
+  }
+  out = v;
+  return Errc::kOk;
+}
+
+// std::stod (convertFromString<double>): leading blanks, an optional sign,
+// decimal or 0x hex digits, inf, nan; the text after the number is ignored.
+// Out of range: inf from finite digits, zero from non-zero digits, and
+// subnormal results (std::stod throws for them).
+inline Errc parse_double_stod(std::string_view text, double& out) noexcept {
+  using namespace value_detail;
+  Scan s;
+  std::size_t i = 0;
+  while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\v' ||
+                             text[i] == '\f' || text[i] == '\r')) {
+    ++i;
+  }
+  s.start = i;
+  if (i < text.size() && (text[i] == '+' || text[i] == '-')) {
+    s.negative = text[i] == '-';
+    ++i;
+  }
+  if (!scan_hex(text, i, s) && !scan_special(text, i, s) && !scan_decimal(text, i, s)) return Errc::kInvalid;
+  if (s.is_nan) {
+    out = std::copysign(std::numeric_limits<double>::quiet_NaN(), s.negative ? -1.0 : 1.0);
+    return Errc::kOk;
+  }
+  double v = 0.0;
+  if (const Errc e = strtod_literal(text, s, v); e != Errc::kOk) return e;
+  if (!s.special) {
+    const bool nonzero = any_nonzero(text, s.mant_begin, s.mant_end, s.hex);
+    if (std::isinf(v) || (nonzero && v == 0.0) || (v != 0.0 && std::fabs(v) < std::numeric_limits<double>::min())) {
+      return Errc::kOutOfRange;
+    }
+  }
+  out = v;
+  return Errc::kOk;
+}
+
+// convertFromString<bool>: exactly 1 0 true false TRUE FALSE True False.
+inline Errc parse_bool(std::string_view text, bool& out) noexcept {
+  if (text == "1" || text == "true" || text == "TRUE" || text == "True") {
+    out = true;
+    return Errc::kOk;
+  }
+  if (text == "0" || text == "false" || text == "FALSE" || text == "False") {
+    out = false;
+    return Errc::kOk;
+  }
+  return Errc::kInvalid;
+}
+
+// convertFromString<NodeStatus>: exactly IDLE RUNNING SUCCESS FAILURE SKIPPED.
+inline Errc parse_status(std::string_view text, Status& out) noexcept {
+  constexpr Status all[] = {Status::IDLE, Status::RUNNING, Status::SUCCESS, Status::FAILURE, Status::SKIPPED};
+  for (const Status s : all) {
+    if (to_string(s) == text) {
+      out = s;
+      return Errc::kOk;
+    }
+  }
+  return Errc::kInvalid;
+}
+
+// ------------------------------------------------------------ number -> number
+
+// An integer as a double, only when the double holds it exactly.
+inline Errc int_to_double(std::int64_t v, double& out) noexcept {
+  const double d = static_cast<double>(v);
+  if (d >= 9223372036854775808.0 || static_cast<std::int64_t>(d) != v) return Errc::kPrecision;
+  out = d;
+  return Errc::kOk;
+}
+
+// A double as an int64: only whole numbers in range.
+inline Errc double_to_int(double v, std::int64_t& out) noexcept {
+  if (std::isnan(v) || std::isinf(v) || v != std::floor(v)) return Errc::kNotWhole;
+  if (!(v >= -9223372036854775808.0 && v < 9223372036854775808.0)) return Errc::kOutOfRange;
+  out = static_cast<std::int64_t>(v);
+  return Errc::kOk;
+}
+
+// An integer into [lo, hi] (the C++ type of a port: int, unsigned).
+[[nodiscard]] constexpr Errc int_in_range(std::int64_t v, std::int64_t lo, std::int64_t hi) noexcept {
+  return (v < lo || v > hi) ? Errc::kOutOfRange : Errc::kOk;
+}
+
+// A double into [lo, hi] as an integer (negative values never fit unsigned).
+inline Errc double_to_int_in(double v, std::int64_t lo, std::int64_t hi, std::int64_t& out) noexcept {
+  if (lo == 0 && v < 0) return Errc::kOutOfRange;
+  if (std::isnan(v) || std::isinf(v) || v != std::floor(v)) return Errc::kNotWhole;
+  if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi))) return Errc::kOutOfRange;
+  out = static_cast<std::int64_t>(v);
+  return Errc::kOk;
+}
+
+// An integer read as bool: only 0 and 1.
+inline Errc int_to_bool(std::int64_t v, bool& out) noexcept {
+  if (v != 0 && v != 1) return Errc::kNotBool;
+  out = v == 1;
+  return Errc::kOk;
+}
+
+// An integer read as a NodeStatus: 0 to 4.
+inline Errc int_to_status(std::int64_t v, Status& out) noexcept {
+  if (v < 0 || v > 4) return Errc::kNotStatus;
+  out = static_cast<Status>(v);
+  return Errc::kOk;
+}
+
+}  // namespace btgen
+
+namespace btgen {
+
+// SwitchNode's CheckStringEquality: equal as text, or as integers (an
+// optional '-' and digits, in int range, the rest ignored), or as reals
+// (std::from_chars) within FLT_EPSILON.
+inline bool switch_equal(std::string_view a, std::string_view b) noexcept {
+  if (a == b) return true;
+  std::int64_t ia = 0, ib = 0;
+  if (parse_integer(a, INT32_MIN, INT32_MAX, ia) == Errc::kOk && parse_integer(b, INT32_MIN, INT32_MAX, ib) == Errc::kOk &&
+      ia == ib) {
+    return true;
+  }
+  double ra = 0.0, rb = 0.0;
+  if (parse_double_from_chars(a, ra, false) == Errc::kOk && parse_double_from_chars(b, rb, false) == Errc::kOk &&
+      std::fabs(ra - rb) <= 1.1920928955078125e-07) {
+    return true;
+  }
+  return false;
+}
+
+}  // namespace btgen
