@@ -17,6 +17,7 @@ import jinja2
 
 from . import naming
 from .diagnostics import InternalError
+from .dataflow import SCRIPT_BIT
 from .lower import SUPPORTED, IRNode, Program
 from .version import RUNTIME_ABI, __version__
 
@@ -106,11 +107,17 @@ def output_names(stem: str) -> tuple[str, str]:
 def render(program: Program, stem: str, relative_to: str = ".") -> tuple[Output, ...]:
     """The generated header and source for `program`."""
     show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
+    data = program.data
+    if data is None:
+        raise InternalError("the program has no data side (lower() makes one)")
     header, source = output_names(stem)
     cls = naming.pascal_case(stem)
 
     def source_of(n: IRNode) -> str:
         return f"{show(n.loc.path)}:{n.loc.line}:{n.loc.col}"
+
+    def show_loc(loc) -> str:
+        return f"{show(loc.path)}:{loc.line}:{loc.col}"
 
     ctx = dict(
         version=__version__,
@@ -124,6 +131,12 @@ def render(program: Program, stem: str, relative_to: str = ".") -> tuple[Output,
         cls=cls,
         program=program,
         nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],
+        data=data,
+        slots=[dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))
+               for sl in data.slots],
+        where=[show_loc(loc) for loc in data.where],
+        leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
+        scripts=[dict(c=c, key=c.node * 16 + SCRIPT_BIT[c.which]) for c in data.scripts],
     )
     env = environment()
     return (

@@ -9,10 +9,8 @@ BehaviorTree.CPP only enforces at run time (a Parallel threshold larger than
 its children, an IfThenElse condition that can be SKIPPED) are rejected with
 a `path:line:col` diagnostic.
 
-The C++ back end does not handle blackboard data yet (issue 5): nodes that
-need it, pre/post-condition scripts and `{key}` ports are reported as
-"not supported by the C++ back end yet". `unsupported_features()` names them
-without raising, for tests that skip such missions.
+The data side (blackboard entries, ports, scripts, pre/post conditions) is
+resolved by dataflow.py; its DataIR travels in the Program.
 """
 from __future__ import annotations
 
@@ -21,8 +19,8 @@ from typing import Optional
 
 from . import values
 from .catalogue import BUILTINS
+from .dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from .diagnostics import DiagnosticSink, InternalError, Loc
-from .frontend import is_remap
 from .model import Attr, Mission, Node, SubTreeNode
 from .naming import unique_identifiers
 
@@ -50,13 +48,32 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
     "Delay": ("Delay", 1, 1),  # started; start time
     "SubTree": ("SubTree", 0, 0),
+    "Switch2": ("Switch", 1, 0),  # the case RUNNING + 1 (0: none)
+    "Switch3": ("Switch", 1, 0),
+    "Switch4": ("Switch", 1, 0),
+    "Switch5": ("Switch", 1, 0),
+    "Switch6": ("Switch", 1, 0),
+    "Precondition": ("Precondition", 0, 0),
+    "LoopInt": ("Loop", 1, 0),  # child RUNNING
+    "LoopBool": ("Loop", 1, 0),
+    "LoopDouble": ("Loop", 1, 0),
+    "LoopString": ("Loop", 1, 0),
+    "SkipUnlessUpdated": ("SkipUnlessUpdated", 1, 1),  # child RUNNING; update counter seen
+    "WaitValueUpdate": ("WaitValueUpdate", 1, 1),
     "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
     "AlwaysFailure": ("AlwaysFailure", 0, 0),
     "Sleep": ("Sleep", 0, 1),  # start time
+    "Script": ("Script", 0, 0),
+    "ScriptCondition": ("ScriptCondition", 0, 0),
+    "SetBlackboard": ("SetBlackboard", 0, 0),
+    "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
+    "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
 }
+assert set(SUPPORTED) == set(BUILTINS), sorted(set(BUILTINS) ^ set(SUPPORTED))
 
-# Built-in nodes that need the data side (blackboard, scripts): issue 5.
-NEEDS_DATA = frozenset(n for n in BUILTINS if n not in SUPPORTED)
+# NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
+_SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
+
 
 @dataclass(frozen=True)
 class LeafModel:
@@ -86,6 +103,7 @@ class IRNode:
     model: int  # leaf model index, -1 when not a user leaf
     loc: Loc
     tree: str  # the BehaviorTree the node is written in
+    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (dataflow.SCRIPT_BIT)
 
 
 @dataclass(frozen=True)
@@ -105,6 +123,8 @@ class Program:
     # (leaf name, BehaviorTree) of scripted leaves only in trees the main tree does not
     # run, for the scenario check's warning (scenario.check_scenario says the same).
     unrun_leaves: tuple[tuple[str, str], ...] = ()
+    # The data side: blackboard slots, compiled scripts, port accessors (dataflow.py).
+    data: Optional[DataIR] = None
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -113,13 +133,6 @@ class Program:
     @property
     def conditions(self) -> tuple[LeafModel, ...]:
         return tuple(m for m in self.leaf_models if m.kind == "Condition")
-
-
-@dataclass(frozen=True)
-class Unsupported:
-    loc: Loc
-    feature: str  # short: "Script", "_skipIf", "{key} port"
-    message: str
 
 
 # ------------------------------------------------------------------ traversal
@@ -151,67 +164,6 @@ def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
             for i, (n, _, _, _) in enumerate(_expanded(mission))]
 
 
-def _written_nodes(mission: Mission):
-    """Every node written in a tree the main tree reaches, each once."""
-    seen_trees: set[str] = set()
-    pending = [mission.main_tree]
-    while pending:
-        tid = pending.pop(0)
-        if tid in seen_trees:
-            continue
-        seen_trees.add(tid)
-        stack = [mission.tree(tid).root]
-        while stack:
-            node = stack.pop(0)
-            yield node
-            if isinstance(node, SubTreeNode):
-                pending.append(node.target)
-            stack[0:0] = list(node.children)
-
-
-def unsupported_features(mission: Mission) -> list[Unsupported]:
-    """Why the C++ back end cannot compile `mission` yet (empty: it can)."""
-    out: list[Unsupported] = []
-    for node in _written_nodes(mission):
-        try:
-            spec = mission.spec(node.id) if not isinstance(node, SubTreeNode) else BUILTINS["SubTree"]
-        except KeyError:
-            spec = None
-        if spec is not None and spec.builtin and node.id in NEEDS_DATA and not isinstance(node, SubTreeNode):
-            out.append(Unsupported(node.loc, node.id,
-                                   f"`{node.id}` is not supported by the C++ back end yet: it needs blackboard "
-                                   f"data and scripts (issue 5)"))
-        for attr in node.pre + node.post:
-            out.append(Unsupported(attr.loc, attr.name,
-                                   f"`{attr.name}` on `{node.id}` is not supported by the C++ back end yet: "
-                                   f"pre/post-condition scripts need blackboard data (issue 5)"))
-        for attr in node.ports:
-            if is_remap(attr.value):
-                out.append(Unsupported(attr.value_loc, "{key} port",
-                                       f"port `{attr.name}` of `{node.id}` is connected to blackboard entry "
-                                       f"`{attr.value}`; blackboard ports are not supported by the C++ back end "
-                                       f"yet (issue 5)"))
-                continue
-            if isinstance(node, SubTreeNode) or spec is None:
-                continue
-            port = spec.port(attr.name)
-            if port is not None and port.direction != "input":
-                out.append(Unsupported(attr.value_loc, "output port",
-                                       f"output port `{attr.name}` of `{node.id}` writes blackboard entry "
-                                       f"`{attr.value}`; blackboard ports are not supported by the C++ back end "
-                                       f"yet (issue 5)"))
-    return out
-
-
-def unsupported_summary(mission: Mission) -> str:
-    """`Script, ScriptCondition, _skipIf` - the distinct features, in first-use order."""
-    seen: list[str] = []
-    for u in unsupported_features(mission):
-        if u.feature not in seen:
-            seen.append(u.feature)
-    return ", ".join(seen)
-
-
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
     """Scripted leaf names the main tree does not run, each with the first tree (in file
     order) that has one: what scenario.check_scenario names in its warning."""
@@ -231,8 +183,9 @@ def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
 
 # ------------------------------------------------------------------- lowering
 class _Lowerer:
-    def __init__(self, mission: Mission) -> None:
+    def __init__(self, mission: Mission, options: DataOptions) -> None:
         self.m = mission
+        self.options = options
         self.sink = DiagnosticSink()
         self.reported: set[tuple[Loc, str]] = set()
 
@@ -252,7 +205,9 @@ class _Lowerer:
             text, loc = default.default, node.loc
         try:
             return values.convert_from_string(type_name, text), loc
-        except values.ConversionError as e:  # the front end checked it already
+        except values.ConversionError as e:
+            if self.sink.errors:  # `{key}` where the C++ back end needs a literal: reported by dataflow
+                return 0, loc
             raise InternalError(f"{loc}: port `{port_name}`: {e}") from None
 
     def params(self, node: Node, n_children: int) -> tuple[int, int, int]:
@@ -292,11 +247,9 @@ class _Lowerer:
 
     def lower(self) -> Program:
         m = self.m
-        order = {f: i for i, f in enumerate(m.files)}
-        for u in sorted(unsupported_features(m), key=lambda u: (order.get(u.loc.path, len(order)), u.loc.line,
-                                                                 u.loc.col)):
-            self.error(u.loc, u.message)
-        self.sink.raise_if_errors()
+        data, data_sink = analyze(m, self.options)
+        for d in data_sink.items:
+            self.error(d.loc, d.message)
 
         models = m.leaf_models()
         model_names = unique_identifiers([s.id for s in models], prefix="Leaf")
@@ -333,20 +286,21 @@ class _Lowerer:
         for index, r in enumerate(raw):
             node: Node = r["node"]
             kids = tuple(children[index])
-            params = self.params(node, len(kids))
+            params = data.params.get(index) or self.params(node, len(kids))
             reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id
             nodes.append(IRNode(index, index + 1, r["kind"], reg_id, node.display_name, r["parent"], kids,
                                 len(child_table), r["depth"], params, r["slot"], r["timer"], r["model"], node.loc,
-                                r["tree"]))
+                                r["tree"], data.script_bits.get(index, 0)))
             child_table.extend(kids)
         self._check_conditions(nodes)
         self.sink.raise_if_errors()
         return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
                        max(n.depth for n in nodes), counter, timer,
-                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m))
+                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data)
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
         """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""
+        skipped = 4  # Status::SKIPPED
         skips = [False] * len(nodes)
         for n in reversed(nodes):  # children before parents
             kid = [skips[c] for c in n.children]
@@ -358,11 +312,19 @@ class _Lowerer:
                 skips[n.index] = all(kid)
             elif k in ("IfThenElse", "WhileDoElse"):
                 skips[n.index] = any(kid[1:])
+            elif k == "Switch":
+                skips[n.index] = any(kid)
+            elif k in ("Precondition", "Loop"):  # `else` / `if_empty`; a Loop answers RUNNING for its child
+                skips[n.index] = n.params[0] == skipped or (k == "Precondition" and kid[0])
+            elif k == "SkipUnlessUpdated":
+                skips[n.index] = True
             elif k in ("Inverter", "ForceSuccess", "ForceFailure", "Repeat", "RetryUntilSuccessful", "Timeout",
-                       "Delay", "SubTree"):
+                       "Delay", "SubTree", "WaitValueUpdate"):
                 skips[n.index] = kid[0]
             else:  # KeepRunningUntilFailure answers RUNNING; leaves never skip
                 skips[n.index] = False
+            if n.scripts & _SKIP_BITS:  # `_skipIf`, `_while`
+                skips[n.index] = True
         for n in nodes:
             if n.kind in ("IfThenElse", "WhileDoElse") and skips[n.children[0]]:
                 cond = nodes[n.children[0]]
@@ -371,6 +333,6 @@ class _Lowerer:
                                      f"answers SUCCESS or FAILURE there")
 
 
-def lower(mission: Mission) -> Program:
+def lower(mission: Mission, options: Optional[DataOptions] = None) -> Program:
     """Lower a checked mission; UserError with every reason it cannot be compiled."""
-    return _Lowerer(mission).lower()
+    return _Lowerer(mission, options or DataOptions()).lower()

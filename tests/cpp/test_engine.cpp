@@ -166,7 +166,7 @@ TEST(Trace, EscapesNamesAsTheFormatSays) {
 TEST(Trace, WriterPrintsOneLinePerChange) {
   const std::string text = run_to_text([](std::FILE* f) {
     static constexpr btgen::NodeInfo node{btgen::NodeKind::Action, 4, 5, 0, 0, 0, 0, btgen::kNoSlot, btgen::kNoSlot,
-                                          0, 0, 0, "FindBall", "my \"ball\"", "x.xml:1:1"};
+                                          0, 0, 0, 0, "FindBall", "my \"ball\"", "x.xml:1:1"};
     btgen::TraceWriter w(f);
     w.on_status_change(node, Status::IDLE, Status::RUNNING);
     w.on_status_change(node, Status::RUNNING, Status::SUCCESS);
@@ -180,7 +180,7 @@ TEST(Trace, LongNamesNeedNoBuffer) {
   const std::string text = run_to_text([](std::FILE* f) {
     static const std::string name(1000, '"');
     const btgen::NodeInfo node{btgen::NodeKind::Action, 0, 1, btgen::kNoNode, 0, 0, 0, btgen::kNoSlot,
-                               btgen::kNoSlot, 0, 0, 0, "X", name, "x.xml:1:1"};
+                               btgen::kNoSlot, 0, 0, 0, 0, "X", name, "x.xml:1:1"};
     btgen::TraceWriter(f).on_status_change(node, Status::IDLE, Status::FAILURE);
   });
   std::string expected = "1 X \"";

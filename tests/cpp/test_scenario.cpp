@@ -150,8 +150,10 @@ TEST(ScenarioLeaves, InstancesShareOneListAndTheLastStatusRepeats) {
   }
   ASSERT_EQ(approach.size(), 2u);  // one per Fetch instance
   ASSERT_NE(grasp, nullptr);
-  control_flow::leaf::Move mv;
-  control_flow::leaf::Grasp gr;
+  control_flow::detail::Blackboard bb;
+  const btgen::ErrorSink err([](void*, const btgen::RuntimeError&) noexcept {}, nullptr);
+  control_flow::leaf::Move mv(bb, err, *approach[0]);
+  control_flow::leaf::Grasp gr(bb, err, *grasp);
   EXPECT_EQ(leaves.onStart(mv, *approach[1]), btgen::Status::SUCCESS);
   EXPECT_EQ(leaves.onStart(mv, *approach[0]), btgen::Status::RUNNING);
   EXPECT_EQ(leaves.onRunning(mv, *approach[1]), btgen::Status::RUNNING);

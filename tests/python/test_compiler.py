@@ -15,7 +15,7 @@ from btgen.compiler import committed_outputs, compile_command, generate, generat
 from btgen.diagnostics import UserError
 from btgen.emit import render
 from btgen.frontend import load_mission
-from btgen.lower import creation_order, lower, unsupported_summary
+from btgen.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
 
 
@@ -183,21 +183,16 @@ def test_skippable_if_condition_is_rejected(tmp_path):
     lower(load_mission(ok))
 
 
-def test_data_side_is_reported_where_it_is_written(tmp_path):
+def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
     path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence>\n<Script code="a := 1"/>\n<Act _skipIf="a == 1"/>\n<Repeat num_cycles="{n}"><Act/></Repeat>\n'
+        '<Sequence>\n<Script code="n := 2"/>\n<Repeat num_cycles="{n}"><Act/></Repeat>\n'
         '<SubTree ID="Sub"/><SubTree ID="Sub"/></Sequence>',
-        extra='<BehaviorTree ID="Sub"><Switch2 variable="x" case_1="1" case_2="2"><Act/><Act/><Act/></Switch2>'
-              '</BehaviorTree>'))
+        extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>'))
     errs = _errors(path)
-    assert errs[0] == (f"{path}:2:1: error: `Script` is not supported by the C++ back end yet: it needs blackboard "
-                       f"data and scripts (issue 5)")
-    assert errs[1] == (f"{path}:3:6: error: `_skipIf` on `Act` is not supported by the C++ back end yet: "
-                       f"pre/post-condition scripts need blackboard data (issue 5)")
-    assert errs[2].startswith(f"{path}:4:21: error: port `num_cycles` of `Repeat` is connected to blackboard entry "
-                              f"`{{n}}`")
-    assert len([e for e in errs if "`Switch2`" in e]) == 1  # once, though the subtree is used twice
-    assert unsupported_summary(load_mission(path)) == "Script, _skipIf, {key} port, Switch2"
+    assert errs == [f"{path}:3:21: error: port `num_cycles` of `Repeat` \"Repeat\" reads blackboard entry `{{n}}`; "
+                    f"the C++ back end needs a literal value here",
+                    f"{path}:4:101: error: port `msec` of `Sleep` \"Sleep\" reads blackboard entry `{{n}}`; the C++ "
+                    f"back end needs a literal value here"]  # once, though the subtree is used twice
 
 
 # ---------------------------------------------------------------------- emission
@@ -239,7 +234,7 @@ def test_names_in_tables_are_escaped(tmp_path):
     header, _ = render(lower(load_mission(path)), "odd name", str(tmp_path))
     assert header.name == "odd_name.hpp"
     assert '"say \\"hi\\"\\012\\\\"' in header.text
-    assert "struct IV_Act_2 {" in header.text and 'kId = "IV.Act-2"' in header.text
+    assert "class IV_Act_2 {" in header.text and 'kId = "IV.Act-2"' in header.text
 
 
 # --------------------------------------------------------------- btgen compile
@@ -258,7 +253,7 @@ def test_compile_writes_only_what_changed_and_nothing_on_error(tmp_path):
     assert compile_command(_Args(good, str(out))) == 0
     assert hpp.stat().st_mtime == 1_000_000  # unchanged: not rewritten
     # A mission that fails leaves the previous outputs byte-identical and writes no temporary file.
-    Path(good).write_text(_mission('<Sequence><Act/><Script code="x := 1"/></Sequence>'))
+    Path(good).write_text(_mission('<Sequence><Act/><Script code="x := 1; x := \'a\'"/></Sequence>'))
     with pytest.raises(UserError):
         compile_command(_Args(good, str(out)))
     assert (hpp.read_bytes(), cpp.read_bytes()) == before
@@ -274,8 +269,9 @@ def test_cli_compile_reports_errors_with_exit_1(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "btgen", "compile", bad, "-o", str(tmp_path / "o")],
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=str(tmp_path))
     assert proc.returncode == 1
-    assert proc.stderr == (f"{bad}:1:{_col(bad, '<Precondition')}: error: `Precondition` is not supported by the C++ back end yet: it needs "
-                           f"blackboard data and scripts (issue 5)\n")
+    assert proc.stderr == (f"{bad}:1:{_col(bad, 'if=') + 4}: error: `if` of `Precondition` \"Precondition\" reads "
+                           f"`a`, but nothing creates that blackboard entry: no port, script or SetBlackboard writes "
+                           f"it (create it with `a := ...` first)\n")
     assert not (tmp_path / "o").exists()
 
 

@@ -1,9 +1,8 @@
-"""The compiled C++ executor reproduces every recorded BehaviorTree.CPP 4.6.2 trace it can run.
+"""The compiled C++ executor reproduces every recorded BehaviorTree.CPP 4.6.2 trace.
 
-A case either gives its `.trace` byte for byte through the C++ engine
+Every case gives its `.trace` byte for byte through the C++ engine
 (generated code + runtime + scenario runner, built once per mission and
-cached by btgen.cppengine), or is skipped with the reason computed from the
-mission: "needs the data side (issue 5): <features>".
+cached by btgen.cppengine); none is skipped.
 
 Beyond the recordings, the compiled executor is compared with the reference
 interpreter (a separate back end) on the shipped missions' scenarios and on
@@ -26,7 +25,6 @@ from btgen.cppengine import build_cpp, run_cpp
 from btgen.diagnostics import UserError
 from btgen.frontend import load_mission
 from btgen.interp import trace_text
-from btgen.lower import unsupported_summary
 from btgen.scenario import load_scenario
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
@@ -46,11 +44,6 @@ def _case(stem, ext):
     return os.path.join(CASES, stem + ext)
 
 
-def _skip_reason(mission_path):
-    summary = unsupported_summary(load_mission(mission_path))
-    return f"needs the data side (issue 5): {summary}" if summary else None
-
-
 def _diff(expected, got, what="C++ executor"):
     return "".join(difflib.unified_diff(expected.splitlines(True), got.splitlines(True), "expected", what, n=2))
 
@@ -64,9 +57,8 @@ def _prebuild(missions):
 
 @pytest.fixture(scope="module")
 def executors():
-    """Every runnable case built up front, using all cores."""
-    runnable = [_case(s, ".xml") for s in STEMS if _skip_reason(_case(s, ".xml")) is None]
-    return _prebuild(runnable)
+    """Every case built up front, using all cores."""
+    return _prebuild([_case(s, ".xml") for s in STEMS])
 
 
 def _run(binary, scenario):
@@ -83,30 +75,12 @@ def test_cases_present():
 @pytest.mark.skipif(not STEMS, reason=NO_CASES)
 @pytest.mark.parametrize("stem", STEMS or ["(none)"])
 def test_trace_matches_recording(stem, executors):
-    reason = _skip_reason(_case(stem, ".xml"))
-    if reason:
-        pytest.skip(reason)
     rc, out, err = _run(executors[_case(stem, ".xml")], _case(stem, ".scenario"))
     with open(_case(stem, ".trace"), "rb") as f:
         expected = f.read().decode("utf-8")
     assert rc == 0, err
     assert err == ""
     assert out == expected, _diff(expected, out)
-
-
-@pytest.mark.skipif(not STEMS, reason=NO_CASES)
-def test_enough_cases_run_on_the_cpp_engine():
-    """Most control-flow cases need no data: a regression in the support check shows here."""
-    runnable = [s for s in STEMS if _skip_reason(_case(s, ".xml")) is None]
-    assert len(runnable) >= 25, runnable
-
-
-@pytest.mark.skipif(not STEMS, reason=NO_CASES)
-def test_skip_reason_names_the_features():
-    assert _skip_reason(_case("seq_basic", ".xml")) is None
-    reason = _skip_reason(_case("subtree_remap_nested", ".xml"))
-    assert reason.startswith("needs the data side (issue 5): ")
-    assert "Script" in reason and "ScriptCondition" in reason and "{key} port" in reason
 
 
 @pytest.mark.skipif(not STEMS, reason=NO_CASES)
@@ -128,15 +102,16 @@ def test_cli_runs_the_cpp_engine():
     assert proc.returncode == 0, proc.stderr
 
 
-def test_unsupported_mission_is_a_user_error(tmp_path):
+def test_data_errors_are_user_errors(tmp_path):
     mission = tmp_path / "data.xml"
     mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>\n'
-                       '  <Script code="x := 1"/>\n</Sequence></BehaviorTree></root>\n')
+                       '  <Script code="x := 1; x := \'one\'"/>\n</Sequence></BehaviorTree></root>\n')
     with pytest.raises(UserError) as e:
         build_cpp(str(mission))
     assert [str(d) for d in e.value.diagnostics] == [
-        f"{mission}:2:3: error: `Script` is not supported by the C++ back end yet: it needs blackboard data and "
-        f"scripts (issue 5)"]
+        f"{mission}:2:27: error: `code` of `Script` \"Script\": `x := ...` stores a string in `x`, which holds an "
+        f"integer (first written by `x := 1` in `code` of `Script` \"Script\" at {mission}:2:17); btgen gives every "
+        f"entry one type"]
 
 
 def test_scenario_errors_come_before_any_trace(tmp_path):
@@ -171,9 +146,6 @@ def _shipped_runs():
 @pytest.mark.parametrize("mission,scenario", _shipped_runs(),
                          ids=[os.path.basename(s) for _, s in _shipped_runs()])
 def test_shipped_missions_agree_with_the_interpreter(mission, scenario):
-    reason = _skip_reason(mission)
-    if reason:
-        pytest.skip(reason)
     m = load_mission(mission)
     sc, _ = load_scenario(scenario, m)
     expected = trace_text(m, sc)

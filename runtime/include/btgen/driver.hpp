@@ -5,7 +5,8 @@
 // reads the scenario (errors and warnings on stderr as path:line:col, before
 // any trace; exit status 1 on errors), then sends up to `ticks` ticks to the
 // root as shared/conformance/FORMAT.md's Execution section says and prints
-// the status trace on stdout:
+// the status trace on stdout (a run-time error, printed on stderr, ends the
+// run after its tick with exit status 1):
 //
 //     tick <n>
 //     <uid> <ID> "<name>" <FROM> -> <TO>
@@ -51,6 +52,12 @@ int run_scenario_main(int argc, char** argv) {
     if (n > 1) mission->clock().advance(static_cast<std::uint64_t>(scenario.clock_ms));
     std::printf("tick %ld\n", n);
     const Status s = mission->tick();
+    if (mission->errors() != 0) {
+      // A run-time error (TraceWriter printed it on stderr) ends the run
+      // after its tick, without a result line, as the interpreter stops.
+      std::fflush(stdout);
+      return 1;
+    }
     std::printf("result %s\n", std::string(to_string(s)).c_str());
     if (is_completed(s)) break;
   }

@@ -12,12 +12,21 @@
 // tick, `resume` continues it with the status its child just returned; both
 // answer "tick this child next" or "return this status". That is
 // BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack.
+//
+// The data side is the Spec's: its Blackboard (one typed slot per entry,
+// held here), and the generated functions that run the mission's compiled
+// scripts and read and write the slots. The engine calls them where 4.6.2
+// runs a script or touches the blackboard. Run-time errors they report go
+// to the Observer's on_error() (when it has one) and fail the node.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
+#include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
@@ -25,19 +34,36 @@
 
 namespace btgen {
 
+namespace engine_detail {
+template <class O, class = void>
+struct has_on_error : std::false_type {};
+template <class O>
+struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::declval<const RuntimeError&>()))>>
+    : std::true_type {};
+}  // namespace engine_detail
+
 // Spec requirements (the generator writes them):
 //   static constexpr std::size_t kNodeCount, kChildCount, kCounterCount,
 //                                kTimerCount, kMaxDepth;
 //   static constexpr bool kHasParallel;
 //   static constexpr std::array<NodeInfo, kNodeCount> kNodes;
 //   static constexpr std::array<std::uint16_t, kChildCount> kChildren;
-//   template <class L> static Status on_start(L&, const NodeInfo&);
-//   template <class L> static Status on_running(L&, const NodeInfo&);
-//   template <class L> static void on_halted(L&, const NodeInfo&);
-//   template <class L> static Status check(L&, const NodeInfo&);
+//   struct Blackboard;  (default-constructible: the entries as the tree is built)
+//   using BB = Blackboard; using ES = const ErrorSink;
+//   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
+//   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
+//   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
+//   template <class L> static Status check(L&, BB&, ES&, const NodeInfo&);
+//   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
+//   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
+//   static std::int64_t entry_seq(const BB&, const NodeInfo&); // update counter; -1: no entry
+//   static int switch_case(const BB&, const NodeInfo&);        // child to tick (the last: default)
+//   static int loop_pop(BB&, const NodeInfo&, ES&, bool restart);  // 1 popped, 0 empty, -1 error
 template <class Spec, class Leaves, class Clock = SteadyClock, class Observer = NoObserver>
 class Engine {
  public:
+  using Blackboard = typename Spec::Blackboard;
+
   static constexpr std::size_t kNodeCount = Spec::kNodeCount;
   static constexpr std::size_t kMaxDepth = Spec::kMaxDepth;
 
@@ -72,11 +98,83 @@ class Engine {
   [[nodiscard]] static constexpr const std::array<NodeInfo, kNodeCount>& nodes() noexcept { return Spec::kNodes; }
 
   [[nodiscard]] Leaves& leaves() noexcept { return *leaves_; }
+  // The mission's typed blackboard: one btgen::Slot member per entry.
+  [[nodiscard]] Blackboard& blackboard() noexcept { return bb_; }
+  [[nodiscard]] const Blackboard& blackboard() const noexcept { return bb_; }
+  // How many run-time errors were reported so far (each failed its node).
+  [[nodiscard]] std::uint64_t errors() const noexcept { return errors_; }
   [[nodiscard]] Clock& clock() noexcept { return clock_; }
   [[nodiscard]] const Clock& clock() const noexcept { return clock_; }
   [[nodiscard]] Observer& observer() noexcept { return observer_; }
 
  private:
+  // ------------------------------------------------------------- data side
+  static void report(void* context, const RuntimeError& error) noexcept {
+    auto* self = static_cast<Engine*>(context);
+    ++self->errors_;
+    if constexpr (engine_detail::has_on_error<Observer>::value) self->observer_.on_error(error);
+  }
+  [[nodiscard]] ErrorSink sink() noexcept { return ErrorSink(&Engine::report, this); }
+
+  // A compiled script of node `n`: 1 or 0 (a condition's truth; 1 for
+  // other scripts), -1 after an error was reported.
+  int run_script(const NodeInfo& n, ScriptSlot which) noexcept {
+    const ErrorSink es = sink();
+    return Spec::script(bb_, n, es, which);
+  }
+  static constexpr bool has(const NodeInfo& n, ScriptSlot which) noexcept {
+    return (n.scripts & script_bit(which)) != 0;
+  }
+  static constexpr std::uint16_t kPreBits = static_cast<std::uint16_t>(
+      script_bit(ScriptSlot::kFailureIf) | script_bit(ScriptSlot::kSuccessIf) | script_bit(ScriptSlot::kSkipIf) |
+      script_bit(ScriptSlot::kWhile));
+  static constexpr std::uint16_t kPostBits = static_cast<std::uint16_t>(
+      script_bit(ScriptSlot::kOnSuccess) | script_bit(ScriptSlot::kOnFailure) | script_bit(ScriptSlot::kPost));
+
+  // TreeNode::checkPreConditions (4.6.2): all of them from IDLE, in the
+  // order _failureIf, _successIf, _skipIf, _while; only _while when
+  // RUNNING, which halts the node when false. IDLE: no decision, tick it.
+  Status pre_conditions(std::uint16_t id, const NodeInfo& n) noexcept {
+    const Status st = status_[id];
+    if (st == Status::IDLE) {
+      constexpr ScriptSlot kOrder[] = {ScriptSlot::kFailureIf, ScriptSlot::kSuccessIf, ScriptSlot::kSkipIf,
+                                       ScriptSlot::kWhile};
+      constexpr Status kDecides[] = {Status::FAILURE, Status::SUCCESS, Status::SKIPPED, Status::IDLE};
+      for (std::size_t k = 0; k < 4; ++k) {
+        if (!has(n, kOrder[k])) continue;
+        const int r = run_script(n, kOrder[k]);
+        if (r < 0) return Status::FAILURE;
+        if (kOrder[k] == ScriptSlot::kWhile) {
+          if (r == 0) return Status::SKIPPED;
+        } else if (r == 1) {
+          return kDecides[k];
+        }
+      }
+    } else if (st == Status::RUNNING && has(n, ScriptSlot::kWhile)) {
+      const int r = run_script(n, ScriptSlot::kWhile);
+      if (r <= 0) {
+        halt_node(id);
+        return r < 0 ? Status::FAILURE : Status::SKIPPED;
+      }
+    }
+    return Status::IDLE;
+  }
+
+  // TreeNode::checkPostConditions: _onSuccess or _onFailure, then _post. A
+  // script that fails makes the node fail.
+  Status post_conditions(const NodeInfo& n, Status s) noexcept {
+    bool ok = true;
+    if (s == Status::SUCCESS && has(n, ScriptSlot::kOnSuccess)) ok = run_script(n, ScriptSlot::kOnSuccess) >= 0;
+    if (s == Status::FAILURE && has(n, ScriptSlot::kOnFailure)) ok = run_script(n, ScriptSlot::kOnFailure) >= 0;
+    if (ok && has(n, ScriptSlot::kPost)) ok = run_script(n, ScriptSlot::kPost) >= 0;
+    return ok ? s : Status::FAILURE;
+  }
+
+  // A user hook that reported an error (a port write that failed) fails its node.
+  Status guarded(Status s, std::uint64_t errors_before) const noexcept {
+    return errors_ == errors_before ? sanitize(s) : Status::FAILURE;
+  }
+
   // One node being ticked. `pos` is the child position it is working on,
   // `aux` a per-tick local (skipped count, "all skipped" flag), `child_prev`
   // the status the child had before this tick (the wake-up rule needs it).
@@ -181,6 +279,11 @@ class Engine {
         counter(n, 0) = 0;
         counter(n, 1) = 0;
         break;
+      case NodeKind::Switch:             // no case RUNNING
+      case NodeKind::SkipUnlessUpdated:  // child no longer executing (its update counter is kept)
+      case NodeKind::WaitValueUpdate:
+        counter(n, 0) = 0;
+        break;
       default:  // SequenceWithMemory keeps its index, RunOnce its memory (as 4.6.2)
         break;
     }
@@ -206,9 +309,12 @@ class Engine {
         continue;
       }
       if (n.kind == NodeKind::Action && status_[h.node] == Status::RUNNING) {
-        Spec::on_halted(*leaves_, n);
+        const ErrorSink es = sink();
+        Spec::on_halted(*leaves_, bb_, es, n);
       }
       reset_status(h.node);
+      // TreeNode::haltNode runs _onHalted after halt().
+      if (has(n, ScriptSlot::kOnHalted)) (void)run_script(n, ScriptSlot::kOnHalted);
       --hp;
     }
   }
@@ -223,30 +329,42 @@ class Engine {
   Status execute() noexcept {
     std::size_t sp = 0;
     stack_[sp++] = Frame{0, 0, 0, Status::IDLE};
-    Step step = enter(stack_[0]);
+    Step step = begin(stack_[0]);
     for (;;) {
       if (step.child != kNoNode) {
         stack_[sp - 1].child_prev = status_[step.child];
         stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE};
-        step = enter(stack_[sp - 1]);
+        step = begin(stack_[sp - 1]);
         continue;
       }
-      const Status s = step.status;
-      finish(stack_[sp - 1].node, s);
+      const Status s = finish(stack_[sp - 1].node, step.status);
       if (--sp == 0) return s;
       step = resume(stack_[sp - 1], s);
     }
   }
 
-  // The end of executeTick: a SKIPPED node keeps its status; a decorator
-  // resets a child left completed (DecoratorNode::executeTick).
-  [[gnu::always_inline]] void finish(std::uint16_t node, Status s) noexcept {
-    if (s != Status::SKIPPED) set_status(node, s);
+  // The start of executeTick: the pre-conditions may decide instead of tick().
+  [[gnu::always_inline]] Step begin(Frame& f) noexcept {
+    const NodeInfo& n = info(f.node);
+    if ((n.scripts & kPreBits) != 0) {
+      const Status decided = pre_conditions(f.node, n);
+      if (decided != Status::IDLE) return done(decided);
+    }
+    return enter(f);
+  }
+
+  // The end of executeTick: the post-conditions of a completed node; a
+  // SKIPPED node keeps its status; a decorator resets a child left
+  // completed (DecoratorNode::executeTick). Returns the node's result.
+  [[gnu::always_inline]] Status finish(std::uint16_t node, Status s) noexcept {
     const NodeInfo& n = info(node);
+    if ((n.scripts & kPostBits) != 0 && is_completed(s)) s = post_conditions(n, s);
+    if (s != Status::SKIPPED) set_status(node, s);
     if (is_decorator(n.kind)) {
       const std::uint16_t c = child(n, 0);
       if (is_completed(status_[c])) reset_status(c);
     }
+    return s;
   }
 
   // Hooks must answer SUCCESS, FAILURE or RUNNING; anything else breaks
@@ -357,6 +475,57 @@ class Engine {
         if (status_[f.node] == Status::IDLE) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
 
+      case NodeKind::Switch: {
+        // SwitchNode<N>: no RUNNING of its own before the case is ticked;
+        // a change of case halts the one that was running.
+        const int match = Spec::switch_case(bb_, n);
+        std::int32_t& running = counter(n, 0);  // the case RUNNING + 1
+        if (running != 0 && running - 1 != match) halt_child(n, static_cast<std::size_t>(running - 1));
+        f.pos = static_cast<std::uint16_t>(match);
+        return descend(child(n, f.pos));
+      }
+
+      case NodeKind::Precondition: {
+        // 4.6.2 evaluates `if` on every tick; when false it answers `else`
+        // without ticking (or halting) its child.
+        const int r = run_script(n, ScriptSlot::kCode);
+        if (r < 0) return done(Status::FAILURE);
+        if (r == 1) return descend(child(n, 0));
+        return done(static_cast<Status>(n.p0));
+      }
+
+      case NodeKind::Loop: {
+        // LoopNode<T>: one element per run of the child (written to
+        // `value`), RUNNING after every child success, `if_empty` (p0)
+        // once the queue is used up.
+        std::int32_t& child_running = counter(n, 0);
+        const bool idle = status_[f.node] == Status::IDLE;
+        if (idle) child_running = 0;
+        if (child_running == 0) {
+          const ErrorSink es = sink();
+          const int r = Spec::loop_pop(bb_, n, es, idle);
+          if (r < 0) return done(Status::FAILURE);
+          if (r == 0) return done(static_cast<Status>(n.p0));
+        }
+        if (idle) set_status(f.node, Status::RUNNING);
+        return descend(child(n, 0));
+      }
+
+      case NodeKind::SkipUnlessUpdated:
+      case NodeKind::WaitValueUpdate: {
+        // EntryUpdatedDecorator: the child runs only when the entry's
+        // update counter moved since this node last looked.
+        const Status not_updated =
+            n.kind == NodeKind::SkipUnlessUpdated ? Status::SKIPPED : Status::RUNNING;
+        if (counter(n, 0) != 0) return descend(child(n, 0));  // the child is still executing
+        const std::int64_t seq = Spec::entry_seq(bb_, n);
+        if (seq < 0) return done(not_updated);
+        const std::uint64_t previous = timer(n);
+        timer(n) = static_cast<std::uint64_t>(seq);
+        if (previous == static_cast<std::uint64_t>(seq)) return done(not_updated);
+        return descend(child(n, 0));
+      }
+
       case NodeKind::AlwaysSuccess:
         return done(Status::SUCCESS);
 
@@ -375,17 +544,43 @@ class Engine {
         return done(st);
       }
 
+      case NodeKind::Script:
+        return done(run_script(n, ScriptSlot::kCode) < 0 ? Status::FAILURE : Status::SUCCESS);
+
+      case NodeKind::ScriptCondition:
+        return done(run_script(n, ScriptSlot::kCode) == 1 ? Status::SUCCESS : Status::FAILURE);
+
+      case NodeKind::SetBlackboard:
+      case NodeKind::UnsetBlackboard: {
+        const ErrorSink es = sink();
+        return done(Spec::data_leaf(bb_, n, es));
+      }
+
+      case NodeKind::WasEntryUpdated: {
+        const std::int64_t seq = Spec::entry_seq(bb_, n);
+        if (seq < 0) return done(Status::FAILURE);
+        const std::uint64_t previous = timer(n);
+        timer(n) = static_cast<std::uint64_t>(seq);
+        return done(previous != static_cast<std::uint64_t>(seq) ? Status::SUCCESS : Status::FAILURE);
+      }
+
       case NodeKind::Action: {
         // StatefulActionNode: onStart from IDLE, onRunning while RUNNING; a
         // node not yet reset by its parent answers its status again.
         const Status st = status_[f.node];
-        if (st == Status::IDLE) return done(sanitize(Spec::on_start(*leaves_, n)));
-        if (st == Status::RUNNING) return done(sanitize(Spec::on_running(*leaves_, n)));
-        return done(st);
+        if (st != Status::IDLE && st != Status::RUNNING) return done(st);
+        const std::uint64_t before = errors_;
+        const ErrorSink es = sink();
+        const Status s = st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n)
+                                            : Spec::on_running(*leaves_, bb_, es, n);
+        return done(guarded(s, before));
       }
 
-      case NodeKind::Condition:
-        return done(sanitize(Spec::check(*leaves_, n)));
+      case NodeKind::Condition: {
+        const std::uint64_t before = errors_;
+        const ErrorSink es = sink();
+        return done(guarded(Spec::check(*leaves_, bb_, es, n), before));
+      }
     }
     return done(Status::FAILURE);
   }
@@ -611,6 +806,35 @@ class Engine {
         if (is_completed(cs)) halt_child(n, 0);
         return done(cs);
 
+      case NodeKind::Switch: {
+        std::int32_t& running = counter(n, 0);
+        if (cs == Status::SKIPPED) {
+          running = 0;
+          return done(Status::SKIPPED);
+        }
+        if (cs == Status::RUNNING) {
+          running = static_cast<std::int32_t>(f.pos) + 1;
+        } else {
+          reset_children(n);
+          running = 0;
+        }
+        return done(cs);
+      }
+
+      case NodeKind::Precondition:
+        if (is_completed(cs)) halt_child(n, 0);
+        return done(cs);
+
+      case NodeKind::Loop:
+        counter(n, 0) = cs == Status::RUNNING ? 1 : 0;
+        if (is_completed(cs)) halt_child(n, 0);
+        return done(cs == Status::FAILURE ? Status::FAILURE : Status::RUNNING);
+
+      case NodeKind::SkipUnlessUpdated:
+      case NodeKind::WaitValueUpdate:
+        counter(n, 0) = cs == Status::RUNNING ? 1 : 0;
+        return done(cs);
+
       default:  // leaves have no children
         return done(cs);
     }
@@ -683,6 +907,8 @@ class Engine {
   Leaves* leaves_;
   Clock clock_;
   Observer observer_;
+  Blackboard bb_{};
+  std::uint64_t errors_ = 0;
   std::array<Status, kNodeCount> status_{};
   std::array<std::int32_t, Spec::kCounterCount> counters_{};
   std::array<std::uint64_t, Spec::kTimerCount> timers_{};

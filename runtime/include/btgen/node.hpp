@@ -26,6 +26,7 @@ enum class NodeKind : std::uint8_t {
   ParallelAll,
   IfThenElse,
   WhileDoElse,
+  Switch,  // Switch2 .. Switch6
   // decorators
   Inverter,
   ForceSuccess,
@@ -36,11 +37,20 @@ enum class NodeKind : std::uint8_t {
   RunOnce,
   Timeout,
   Delay,
+  Precondition,
+  Loop,  // LoopInt, LoopBool, LoopDouble, LoopString
+  SkipUnlessUpdated,
+  WaitValueUpdate,
   SubTree,
   // built-in leaves
   AlwaysSuccess,
   AlwaysFailure,
   Sleep,
+  Script,
+  ScriptCondition,
+  SetBlackboard,
+  UnsetBlackboard,
+  WasEntryUpdated,
   // user leaves
   Action,
   Condition,
@@ -62,6 +72,12 @@ inline constexpr std::uint16_t kNoModel = 0xFFFF;
 //   RunOnce               p0 then_skip (0 or 1)
 //   Timeout, Sleep        p0 msec
 //   Delay                 p0 delay_msec
+//   Switch                p0 number of cases (the last child is the default)
+//   Precondition          p0 the `else` status
+//   Loop                  p0 the `if_empty` status
+// `scripts` has a bit per pre/post condition the node has (btgen::ScriptSlot:
+// _failureIf, _successIf, _skipIf, _while, _onSuccess, _onFailure, _post,
+// _onHalted); the generated Spec::script() runs them.
 struct NodeInfo {
   NodeKind kind;
   std::uint16_t index;        // position in the table
@@ -71,7 +87,8 @@ struct NodeInfo {
   std::uint16_t child_count;
   std::uint16_t model;        // leaf model (Action/Condition), else kNoModel
   std::uint32_t slot;         // first counter slot, else kNoSlot
-  std::uint32_t timer;        // timer slot, else kNoSlot
+  std::uint32_t timer;        // 64-bit slot: start time, or the update counter seen; else kNoSlot
+  std::uint16_t scripts;      // pre/post conditions present (1 << ScriptSlot)
   std::int64_t p0;
   std::int64_t p1;
   std::int64_t p2;

@@ -426,7 +426,7 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
   std::vector<std::string> leaf_names;
   auto is_user_leaf = [](const NodeInfo& n) { return n.kind == NodeKind::Action || n.kind == NodeKind::Condition; };
   auto is_builtin_leaf = [](const NodeInfo& n) {
-    return n.kind == NodeKind::AlwaysSuccess || n.kind == NodeKind::AlwaysFailure || n.kind == NodeKind::Sleep;
+    return is_leaf(n.kind) && n.kind != NodeKind::Action && n.kind != NodeKind::Condition;
   };
   auto first_condition = [&](std::string_view name) -> const NodeInfo* {
     for (std::size_t i = 0; i < count; ++i) {

@@ -15,11 +15,15 @@
 #include <cstdio>
 #include <string_view>
 
+#include "btgen/blackboard.hpp"
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
 
 namespace btgen {
 
+// Observers may also have
+//     void on_error(const btgen::RuntimeError& error);
+// which the mission calls for every run-time error (the node failed).
 struct NoObserver {
   constexpr void on_status_change(const NodeInfo&, Status, Status) const noexcept {}
 };
@@ -79,6 +83,15 @@ class TraceWriter {
     std::fputs(" -> ", out_);
     write(to_string(to));
     std::fputc('\n', out_);
+  }
+
+  // A run-time error, on stderr: `path:line:col: error: message`.
+  void on_error(const RuntimeError& e) const noexcept {
+    std::fflush(out_);
+    std::fprintf(stderr, "%.*s: error: %.*s", static_cast<int>(e.where.size()), e.where.data(),
+                 static_cast<int>(e.message.size()), e.message.data());
+    if (!e.detail.empty()) std::fprintf(stderr, ": %.*s", static_cast<int>(e.detail.size()), e.detail.data());
+    std::fputc('\n', stderr);
   }
 
   [[nodiscard]] std::FILE* stream() const noexcept { return out_; }

@@ -1,0 +1,1294 @@
+"""The data side of a mission, resolved at compile time (issue 5).
+
+BehaviorTree.CPP 4.6.2 keeps one blackboard per tree instance, a map from
+key to a type-erased entry, and finds entries by string at run time
+through SubTree remappings, `_autoremap` and `@` root keys. btgen does all
+of that here, once:
+
+1. **Load.** The main tree is instantiated the way 4.6.2's XML loader does
+   it, with the reference blackboard (blackboard.py): a blackboard per
+   SubTree instance (remappings, constants, model defaults), and every
+   `{key}` port creating its entry with the port's type, in creation order.
+   Type clashes 4.6.2 throws for at load time are errors here.
+2. **Resolve.** Every key any node reads or writes (ports, scripts,
+   SetBlackboard, UnsetBlackboard, WasEntryUpdated, ...) is looked up from
+   the node's blackboard as 4.6.2 would look it up at run time; an entry
+   4.6.2 would create at run time is created where it would land. Each
+   distinct entry is one *slot* of the generated Blackboard struct.
+3. **Type.** A slot whose entry has a declared type (a typed port created
+   it) holds that type. Any other slot takes the type of what writes it:
+   the first write in creation order that does not need a value already
+   (so not `x += 1` nor `x := x + 1`). Writes of another type that 4.6.2
+   would convert are compiled as conversions; writes that would fail, or
+   change the entry's type, whenever they run are errors naming both sides.
+4. **Size.** Strings and queues get fixed capacities: the longest value the
+   writes can produce (literals, concatenations of bounded parts), at most
+   the mission's string capacity (`--string-capacity`, default 128); a
+   slot written by robot code or growing without bound gets that capacity.
+5. **Compile.** Scripts go to script_cpp.py; ports, SetBlackboard,
+   UnsetBlackboard, Switch cases, Loop queues and the entry-update nodes
+   become small C++ functions over the slots (DataIR), which emit.py places
+   in the generated header.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Callable, Iterator, Optional, Sequence
+
+from . import blackboard as bbmod
+from . import script as sc
+from . import script_cpp as scpp
+from . import values
+from .catalogue import BUILTINS, NodeSpec, PortSpec
+from .diagnostics import DiagnosticSink, InternalError, Loc
+from .model import Attr, Mission, Node, SubTreeNode
+from .naming import cpp_identifier, cpp_string, unique_identifiers
+from .script_cpp import ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
+
+DEFAULT_STRING_CAPACITY = 128
+DEFAULT_QUEUE_CAPACITY = 16
+
+
+@dataclass(frozen=True)
+class DataOptions:
+    """Capacities the generator cannot compute: strings and queues written by robot code
+    (or growing without bound) get these; no string of the mission is longer."""
+
+    string_capacity: int = DEFAULT_STRING_CAPACITY
+    queue_capacity: int = DEFAULT_QUEUE_CAPACITY
+
+
+# ScriptSlot enumerators (runtime/include/btgen/blackboard.hpp), by attribute.
+SCRIPT_SLOTS = {"_failureIf": "kFailureIf", "_successIf": "kSuccessIf", "_skipIf": "kSkipIf", "_while": "kWhile",
+                "_onSuccess": "kOnSuccess", "_onFailure": "kOnFailure", "_post": "kPost", "_onHalted": "kOnHalted",
+                "code": "kCode", "if": "kCode"}
+SCRIPT_BIT = {"kFailureIf": 0, "kSuccessIf": 1, "kSkipIf": 2, "kWhile": 3, "kOnSuccess": 4, "kOnFailure": 5,
+              "kPost": 6, "kOnHalted": 7, "kCode": 8}
+CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
+
+DECLARED_ENUM = {values.ANY: "kAny", values.INT: "kInt", values.UNSIGNED: "kUnsigned", values.DOUBLE: "kDouble",
+                 values.BOOL: "kBool", values.STRING: "kString", values.NODE_STATUS: "kStatus"}
+
+# Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
+LITERAL_ONLY = {
+    ("Parallel", "success_count"), ("Parallel", "failure_count"), ("ParallelAll", "max_failures"),
+    ("Repeat", "num_cycles"), ("RetryUntilSuccessful", "num_attempts"), ("RunOnce", "then_skip"),
+    ("Timeout", "msec"), ("Delay", "delay_msec"), ("Sleep", "msec"), ("Precondition", "else"),
+    ("LoopInt", "if_empty"), ("LoopBool", "if_empty"), ("LoopDouble", "if_empty"), ("LoopString", "if_empty"),
+}
+LOOPS = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"}
+ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
+
+
+def declared_enum(type_name: str) -> str:
+    if type_name in DECLARED_ENUM:
+        return DECLARED_ENUM[type_name]
+    if values.queue_element_type(type_name) is not None:
+        return "kQueue"
+    return "kOpaque"
+
+
+# ================================================================ IR
+
+@dataclass(frozen=True)
+class SlotIR:
+    """One blackboard entry of the mission: a member of the generated Blackboard struct."""
+
+    index: int
+    member: str  # C++ member name
+    key: str  # its key on its blackboard
+    owner: str  # "root" or the SubTree instance path
+    declared: str  # declared type (values.py canonical name; `any` when none)
+    kind: str  # script_cpp kind
+    cpp_type: str  # C++ type of the value
+    initializer: str  # C++ braced initializer of the Slot
+    origin: str  # why it has its type, for the header comment (without the place)
+    origin_loc: Optional[Loc]  # where that is
+    capacity: int  # strings: bytes; queues: elements
+
+
+@dataclass(frozen=True)
+class CodeIR:
+    """A generated function body (or a case of a dispatcher) for one node."""
+
+    node: int
+    name: str  # C++ function name, or "" for a dispatcher case
+    comment: str
+    body: tuple[str, ...]
+    which: str = ""  # ScriptSlot enumerator for scripts
+
+
+@dataclass(frozen=True)
+class LocalIR:
+    """Node-local storage in the Blackboard struct (the copy of a Loop's literal queue)."""
+
+    member: str
+    cpp_type: str
+    comment: str
+
+
+@dataclass(frozen=True)
+class PortIR:
+    """A port of a user leaf model: a typed getter and/or setter of the generated model class."""
+
+    name: str  # C++ name of the getter (the setter is set_<name>)
+    port: str  # the port's name
+    direction: str
+    type_name: str
+    cpp_type: str  # "" for an untyped port (template accessors)
+    description: str
+    scratch: bool  # the getter may need to write a number's text
+    reads: tuple[tuple[int, str], ...]  # (node index, C++ statement returning the Input)
+    writes: tuple[tuple[int, tuple[str, ...]], ...]  # (node index, C++ statements)
+
+
+@dataclass(frozen=True)
+class DataIR:
+    slots: tuple[SlotIR, ...]
+    locals: tuple[LocalIR, ...]
+    scripts: tuple[CodeIR, ...]
+    data_leaves: tuple[CodeIR, ...]  # SetBlackboard, UnsetBlackboard: cases returning a Status
+    entries: tuple[CodeIR, ...]  # WasEntryUpdated & co.: cases returning the update counter or -1
+    switches: tuple[CodeIR, ...]  # SwitchN: cases returning the index of the child to tick
+    loops: tuple[CodeIR, ...]  # LoopX: cases returning 1 (popped), 0 (empty) or -1 (error)
+    ports: dict  # model id -> tuple[PortIR, ...]
+    script_bits: dict  # node index -> NodeInfo::scripts bits
+    params: dict  # node index -> (p0, p1, p2) for data nodes
+    string_capacity: int
+    queue_capacity: int
+    where: tuple[Loc, ...]  # the places run-time errors name: `detail::kWhere[i]` in the code above
+
+
+# ================================================================ helpers
+
+_FILE_LINES: dict[str, list[str]] = {}
+
+
+def _raw_attr_value(value_loc: Loc) -> Optional[str]:
+    """The attribute value as written in the file (entity references undecoded)."""
+    lines = _FILE_LINES.get(value_loc.path)
+    if lines is None:
+        try:
+            with open(value_loc.path, encoding="utf-8-sig") as f:
+                lines = f.read().split("\n")
+        except (OSError, UnicodeDecodeError):
+            return None
+        _FILE_LINES[value_loc.path] = lines
+    if not 1 <= value_loc.line <= len(lines):
+        return None
+    line = lines[value_loc.line - 1]
+    start = value_loc.col - 1
+    if start < 1 or start > len(line) or line[start - 1] not in "\"'":
+        return None
+    quote = line[start - 1]
+    text = "\n".join([line[start:]] + lines[value_loc.line:])
+    end = text.find(quote)
+    return text[:end] if end >= 0 else None
+
+
+def script_loc(attr: Attr, offset: int) -> Loc:
+    if offset <= 0:
+        return attr.value_loc
+    return sc.script_error_loc(attr.value_loc, attr.value, offset, _raw_attr_value(attr.value_loc))
+
+
+@dataclass
+class _Port:
+    """A port of one node instance (the interpreter's _Port): its text and where it is written."""
+
+    name: str
+    raw: str
+    attr: Optional[Attr]
+    spec: Optional[PortSpec]
+
+    @property
+    def loc_or(self) -> Optional[Loc]:
+        return self.attr.value_loc if self.attr is not None else None
+
+
+@dataclass
+class _Inst:
+    index: int
+    node: Node
+    reg_id: str
+    spec: Optional[NodeSpec]
+    bb: bbmod.Blackboard
+    ports: dict[str, _Port]
+
+    @property
+    def what(self) -> str:
+        return f"`{self.reg_id}` \"{self.node.display_name}\""
+
+
+@dataclass
+class _Write:
+    """A place that writes a slot."""
+
+    slot: int
+    order: int
+    loc: Loc
+    what: str  # e.g. "`x := 1` in `code` of `Script` \"Init\""
+    kind: Callable[[], Optional[str]]  # the kind it writes, given the kinds known so far
+    determining: bool  # may be the entry's first value (decides the type of an untyped entry)
+    bound: Callable[[], Optional[int]]  # strings: most bytes written (None: no bound)
+    literal: Optional[str] = None  # the text written, when it is a literal
+    source: str = "script"  # script | constant | set | copy | loop | port
+
+
+@dataclass
+class _Slot:
+    entry: bbmod.Entry
+    first_loc: Loc
+    at_load: bool = False
+    initial: Optional[str] = None  # SubTree constant
+    origin: str = ""  # why it has its type (without the place)
+    origin_loc: Optional[Loc] = None
+    writes: list[_Write] = field(default_factory=list)
+    unset: bool = False
+    kind: Optional[str] = None
+    capacity: int = 0
+    elem_capacity: int = 0
+    queue_literals: list[int] = field(default_factory=list)  # element counts written as literals
+    elem_literals: list[int] = field(default_factory=list)
+    queue_unbounded: bool = False
+    untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    key: str = ""
+    owner: str = ""
+    member: str = ""
+
+    @property
+    def origin_text(self) -> str:
+        return f"{self.origin} at {self.origin_loc}" if self.origin_loc is not None else self.origin
+
+
+def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
+    """The interpreter's _Builder._ports_of: written ports, then defaults (createNodeFromXML)."""
+    try:
+        spec = mission.spec(model.id)
+    except KeyError:
+        spec = None
+    ports: dict[str, _Port] = {}
+    for a in model.ports:
+        ps = spec.port(a.name) if spec is not None else None
+        raw = a.value
+        if raw == "" and ps is not None and ps.default is not None and ps.type not in ("string", "any") \
+                and not values.is_opaque_type(ps.type):
+            raw = ps.default
+        ports[a.name] = _Port(a.name, raw, a, ps)
+    if spec is not None:
+        for ps in spec.ports:
+            if ps.name in ports or ps.default is None:
+                continue
+            if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
+                ports[ps.name] = _Port(ps.name, ps.default, None, ps)
+    return ports
+
+
+# ================================================================ the analysis
+
+class _Analyzer:
+    def __init__(self, mission: Mission, options: DataOptions) -> None:
+        self.m = mission
+        self.opt = options
+        self.sink = DiagnosticSink()
+        self.reported: set[tuple[Loc, str]] = set()
+        self.insts: list[_Inst] = []
+        self.bb_labels: dict[int, str] = {}
+        self.bbs: list[bbmod.Blackboard] = []
+        self.slots: list[_Slot] = []
+        self.slot_of_entry: dict[int, int] = {}
+        self.order = 0
+        # per-node uses, filled by _collect
+        self.script_uses: list[tuple[_Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
+        self.node_ops: list[tuple[str, _Inst, dict]] = []
+
+    def error(self, loc: Loc, message: str) -> None:
+        if (loc, message) not in self.reported:
+            self.reported.add((loc, message))
+            self.sink.error(loc, message)
+
+    def next_order(self) -> int:
+        self.order += 1
+        return self.order
+
+    # ------------------------------------------------------------ 1. load
+    def load(self) -> None:
+        root = bbmod.Blackboard()
+        self._add_bb(root, "root")
+        stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
+        while stack:
+            node, bb, path = stack.pop()
+            index = len(self.insts)
+            if isinstance(node, SubTreeNode):
+                inst = _Inst(index, node, "SubTree", BUILTINS["SubTree"], bb, {})
+                self.insts.append(inst)
+                sub_path = f"{path}/{node.display_name}" if path else node.display_name
+                child = self._subtree_blackboard(node, bb, sub_path)
+                stack.append((self.m.tree(node.target).root, child, sub_path))
+                continue
+            ports = _ports_of(self.m, node)
+            try:
+                spec = self.m.spec(node.id)
+            except KeyError:
+                spec = None
+            inst = _Inst(index, node, node.id, spec, bb, ports)
+            self.insts.append(inst)
+            for p in ports.values():
+                if p.attr is None:
+                    continue
+                type_name = p.spec.type if p.spec is not None else values.ANY
+                before = bb.get_entry(bbmod.remapped_key(p.name, p.raw) or "") \
+                    if bbmod.remapped_key(p.name, p.raw) else None
+                try:
+                    entry = bbmod.create_port_entry(bb, p.raw, type_name, p.name)
+                except (values.ConversionError, bbmod.BlackboardError) as e:
+                    self.error(p.attr.value_loc, f"port `{p.name}` of `{node.id}`: {e}")
+                    continue
+                if entry is not None:
+                    s = self._slot(entry, p.attr.value_loc)
+                    s.at_load = True
+                    if before is None and not s.origin:
+                        s.origin = f"created as {entry.type_name} by port `{p.name}` of {inst.what}"
+                        s.origin_loc = p.attr.value_loc
+            for child in reversed(node.children):
+                stack.append((child, bb, path))
+
+    def _add_bb(self, bb: bbmod.Blackboard, label: str) -> None:
+        self.bbs.append(bb)
+        self.bb_labels[id(bb)] = label
+
+    def _subtree_blackboard(self, model: SubTreeNode, parent: bbmod.Blackboard, path: str) -> bbmod.Blackboard:
+        model_spec = next((m for m in self.m.models if m.id == model.target and m.kind == "SubTree"), None)
+        remap: list[tuple[str, str, Loc]] = [(a.name, a.value, a.value_loc) for a in model.ports]
+        if model_spec is not None and not model.autoremap:
+            given = {a.name for a in model.ports}
+            for ps in model_spec.ports:
+                if ps.name not in given:
+                    if ps.default is None:
+                        self.error(model.loc, f"SubTree `{model.target}` declares port `{ps.name}` without a "
+                                              f"default, and this instance does not remap it")
+                        continue
+                    remap.append((ps.name, ps.default, model.loc))
+        try:
+            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+        except (values.ConversionError, bbmod.BlackboardError) as e:
+            self.error(model.loc, f"SubTree `{model.target}`: {e}")
+            bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
+        self._add_bb(bb, path)
+        locs = {n: loc for n, _, loc in remap}
+        for key in bb.local_keys():  # the constants of the instance
+            entry = bb.get_entry(key)
+            assert entry is not None
+            s = self._slot(entry, locs.get(key, model.loc))
+            s.at_load = True
+            s.initial = str(entry.value)
+            s.origin = f"the constant port `{key}` of SubTree \"{model.display_name}\""
+            s.origin_loc = locs.get(key, model.loc)
+            text = str(entry.value)
+            s.writes.append(_Write(self.slots.index(s), self.next_order(), locs.get(key, model.loc),
+                                   f"the constant port `{key}=\"{text}\"` of SubTree \"{model.display_name}\"",
+                                   lambda: "string", True, lambda t=text: len(t.encode("utf-8")), text,
+                                   "constant"))
+        return bb
+
+    def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
+        idx = self.slot_of_entry.get(id(entry))
+        if idx is None:
+            idx = len(self.slots)
+            self.slot_of_entry[id(entry)] = idx
+            self.slots.append(_Slot(entry, loc))
+        return self.slots[idx]
+
+    # ------------------------------------------------------------ 2. resolve
+    def resolve(self, bb: bbmod.Blackboard, key: str, loc: Loc) -> Optional[int]:
+        """The slot `key` names from `bb` at run time (created where 4.6.2 would create it)."""
+        try:
+            entry = bb.get_entry(key)
+            if entry is None:
+                entry = bb.create_entry(key, values.ANY)
+        except bbmod.BlackboardError as e:
+            self.error(loc, str(e))
+            return None
+        self._slot(entry, loc)
+        return self.slot_of_entry[id(entry)]
+
+    def collect(self) -> None:
+        for inst in self.insts:
+            self._collect_node(inst)
+
+    def _collect_node(self, inst: _Inst) -> None:
+        node = inst.node
+        for attr in node.pre:
+            self._script_use(inst, attr, attr.name, condition=True)
+        nid = inst.reg_id
+        if not isinstance(node, SubTreeNode):
+            builtin = inst.spec is not None and inst.spec.builtin
+            for p in inst.ports.values():
+                if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
+                    self.error(p.loc_or or node.loc,
+                               f"port `{p.name}` of {inst.what} reads blackboard entry `{p.raw}`; the C++ back end "
+                               f"needs a literal value here")
+            if inst.spec is not None and inst.spec.builtin:
+                self._collect_builtin(inst)
+            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition"):
+                self._collect_leaf(inst)
+        for attr in node.post:
+            self._script_use(inst, attr, attr.name, condition=False)
+
+    # -- scripts
+    def _script_use(self, inst: _Inst, attr: Attr, which: str, condition: bool) -> None:
+        script = attr.script
+        if script is None:
+            if bbmod.is_blackboard_pointer(attr.value):
+                self.error(attr.value_loc, f"`{attr.name}` of {inst.what} reads its script from blackboard entry "
+                                           f"`{attr.value}`; the C++ back end compiles scripts and needs the code "
+                                           f"written here")
+            return  # a syntax error, already reported by the front end
+        names: dict[str, int] = {}
+        for stmt in script.statements:
+            for n in sc.walk(stmt):
+                key = n.name if isinstance(n, sc.Name) else (n.target if isinstance(n, sc.Assign) else None)
+                if key is not None and key not in names:
+                    slot = self.resolve(inst.bb, key, script_loc(attr, n.offset))
+                    if slot is None:
+                        return
+                    names[key] = slot
+        self.script_uses.append((inst, attr, which, script, names, condition))
+        prefix = f"`{attr.name}` of {inst.what}"
+        for stmt in script.statements:
+            for n in sc.walk(stmt):
+                if not isinstance(n, sc.Assign):
+                    continue
+                target = names[n.target]
+                reads_self = any(isinstance(r, sc.Name) and names[r.name] == target for r in sc.walk(n.value))
+                determining = n.op in (":=", "=") and not reads_self
+                value = n.value
+                loc = script_loc(attr, n.offset)
+                text = attr.value[n.offset:_end_offset(n, attr.value)].strip() or attr.value
+                what = f"`{text}` in {prefix}"
+                if n.op in (":=", "="):
+                    kind_fn = (lambda v=value, nm=names: self._expr_kind(v, nm))
+                    bound_fn = (lambda v=value, nm=names: self._expr_bound(v, nm))
+                else:
+                    kind_fn = (lambda t=target: self.slots[t].kind)
+                    bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
+                lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
+                self.slots[target].writes.append(_Write(target, self.next_order(), loc, what, kind_fn, determining,
+                                                        bound_fn, lit))
+
+    def _bound_of(self, slot: int) -> Optional[int]:
+        s = self.slots[slot]
+        return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
+
+    def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[str]]:
+        return lambda name: self.slots[names[name]].kind
+
+    def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[str]:
+        try:
+            return scpp.expr_kind(expr, self._kind_of(names))
+        except ScriptTypeError:
+            return None
+
+    def _expr_bound(self, expr: sc.Expr, names: dict[str, int]) -> Optional[int]:
+        """Most bytes a string expression gives (None: unknown yet)."""
+        if isinstance(expr, sc.Literal):
+            return len(expr.value.encode("utf-8")) if isinstance(expr.value, str) else \
+                scpp.TEXT_BOUND[scpp.value_kind(expr.value)]
+        if isinstance(expr, sc.Name):
+            s = self.slots[names[expr.name]]
+            if s.kind == "string":
+                return s.capacity
+            return scpp.TEXT_BOUND.get(s.kind or "", 0)
+        if isinstance(expr, sc.Binary):
+            a, b = self._expr_bound(expr.left, names), self._expr_bound(expr.right, names)
+            return None if a is None or b is None else a + b
+        if isinstance(expr, sc.Ternary):
+            a, b = self._expr_bound(expr.then, names), self._expr_bound(expr.orelse, names)
+            return None if a is None or b is None else max(a, b)
+        if isinstance(expr, sc.Assign):
+            s = self.slots[names[expr.target]]
+            return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
+        return scpp.TEXT_BOUND["double"]  # unary, comparison: numbers
+
+    # -- built-in nodes
+    def _literal(self, inst: _Inst, name: str, type_name: str) -> object:
+        p = inst.ports.get(name)
+        assert p is not None, (inst.reg_id, name)
+        try:
+            return values.convert_from_string(type_name, p.raw)
+        except values.ConversionError as e:
+            self.error(p.loc_or or inst.node.loc, f"port `{name}` of {inst.what}: {e}")
+            return None
+
+    def _collect_builtin(self, inst: _Inst) -> None:
+        nid = inst.reg_id
+        node = inst.node
+        if nid in ("Script", "ScriptCondition"):
+            p = inst.ports["code"]
+            if p.attr is not None:
+                self._script_use(inst, p.attr, "code", condition=nid == "ScriptCondition")
+        elif nid == "Precondition":
+            p = inst.ports["if"]
+            if p.attr is not None:
+                self._script_use(inst, p.attr, "if", condition=True)
+            self.node_ops.append(("params", inst, {"p0": self._literal(inst, "else", values.NODE_STATUS)}))
+        elif nid == "SetBlackboard":
+            self._collect_set_blackboard(inst)
+        elif nid == "UnsetBlackboard":
+            p = inst.ports["key"]
+            key = p.raw
+            if bbmod.is_blackboard_pointer(key):
+                self.error(p.loc_or or node.loc, f"port `key` of {inst.what} reads the key from blackboard entry "
+                                                 f"`{key}`; the C++ back end needs the key written here")
+                return
+            self.node_ops.append(("unset", inst, {"key": key, "loc": p.loc_or or node.loc}))
+        elif nid in ENTRY_NODES:
+            p = inst.ports["entry"]
+            key = bbmod.strip_blackboard_pointer(p.raw) or p.raw
+            slot = self.resolve(inst.bb, key, p.loc_or or node.loc)
+            if slot is not None:
+                self.node_ops.append(("entry", inst, {"slot": slot, "key": key}))
+        elif nid.startswith("Switch"):
+            self._collect_switch(inst)
+        elif nid in LOOPS:
+            self._collect_loop(inst, LOOPS[nid])
+
+    def _port_slot(self, inst: _Inst, name: str) -> Optional[int]:
+        """The slot a `{key}` port names, or None for a literal (or an unset port)."""
+        p = inst.ports.get(name)
+        if p is None:
+            return None
+        key = bbmod.remapped_key(name, p.raw)
+        if key is None:
+            return None
+        return self.resolve(inst.bb, key, p.loc_or or inst.node.loc)
+
+    def _collect_set_blackboard(self, inst: _Inst) -> None:
+        node = inst.node
+        out = inst.ports["output_key"]
+        if bbmod.is_blackboard_pointer(out.raw):
+            self.error(out.loc_or or node.loc, f"port `output_key` of {inst.what} reads the key from blackboard "
+                                               f"entry `{out.raw}`; the C++ back end needs the key written here")
+            return
+        dst = self.resolve(inst.bb, out.raw, out.loc_or or node.loc)
+        if dst is None:
+            return
+        value = inst.ports["value"]
+        src_key = bbmod.strip_blackboard_pointer(value.raw)
+        loc = value.loc_or or node.loc
+        if src_key is None:
+            text = value.raw
+            what = f"`value=\"{text}\"` of {inst.what}"
+
+            def lit_kind(d=dst) -> Optional[str]:
+                s = self.slots[d]
+                declared = s.entry.type_name
+                if declared not in (values.ANY, values.STRING) and declared_enum(declared) != "kOpaque":
+                    return kind_of_type(declared)
+                return "string"
+
+            self.slots[dst].writes.append(_Write(dst, self.next_order(), loc, what, lit_kind, True,
+                                                 lambda t=text: len(t.encode("utf-8")), text, "set"))
+            self._queue_literal(dst, text)
+            self.node_ops.append(("set_literal", inst, {"dst": dst, "text": text, "loc": loc, "key": out.raw}))
+            return
+        src = self.resolve(inst.bb, src_key, loc)
+        if src is None:
+            return
+        what = f"`value=\"{value.raw}\"` of {inst.what}"
+        self.slots[dst].writes.append(_Write(dst, self.next_order(), loc, what,
+                                             lambda s=src: self.slots[s].kind, True,
+                                             lambda s=src: self._bound_of(s), None, "copy"))
+        self.node_ops.append(("set_copy", inst, {"dst": dst, "src": src, "loc": loc, "key": out.raw,
+                                                 "src_key": src_key}))
+
+    def _queue_literal(self, slot: int, text: str) -> None:
+        s = self.slots[slot]
+        elem = values.queue_element_type(s.entry.type_name)
+        if elem is None:
+            return
+        parts = values._split_queue(text)
+        s.queue_literals.append(len(parts))
+        if elem == values.STRING:
+            s.elem_literals.extend(len(x.encode("utf-8")) for x in parts)
+
+    def _collect_switch(self, inst: _Inst) -> None:
+        n_cases = int(inst.reg_id[len("Switch"):])
+        reads = []
+        for name in ["variable"] + [f"case_{i}" for i in range(1, n_cases + 1)]:
+            p = inst.ports.get(name)
+            slot = self._port_slot(inst, name)
+            reads.append((name, p.raw if p is not None else None, slot))
+        self.node_ops.append(("switch", inst, {"reads": reads, "cases": n_cases}))
+        self.node_ops.append(("params", inst, {"p0": n_cases}))
+
+    def _collect_loop(self, inst: _Inst, elem: str) -> None:
+        node = inst.node
+        queue_port = inst.ports["queue"]
+        qkey = bbmod.remapped_key("queue", queue_port.raw)
+        static = None
+        qslot = None
+        loc = queue_port.loc_or or node.loc
+        if qkey is None:
+            try:
+                static = values.convert_from_string(f"queue<{elem}>", queue_port.raw)
+            except values.ConversionError as e:
+                self.error(loc, f"port `queue` of {inst.what}: {e}")
+                return
+        else:
+            qslot = self.resolve(inst.bb, qkey, loc)
+        vslot = self._port_slot(inst, "value")
+        if vslot is not None:
+            vp = inst.ports["value"]
+            vloc = vp.loc_or or node.loc
+            what = f"port `value` of {inst.what}"
+
+            def bound(q=qslot, st=static) -> Optional[int]:
+                if st is not None:
+                    return max((len(str(x).encode("utf-8")) for x in st), default=0)
+                return self.slots[q].elem_capacity if q is not None else 0
+
+            self.slots[vslot].writes.append(_Write(vslot, self.next_order(), vloc, what,
+                                                   lambda e=elem: scpp.kind_of_type(e), True, bound, None, "loop"))
+        self.node_ops.append(("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot,
+                                             "loc": loc}))
+        self.node_ops.append(("params", inst, {"p0": self._literal(inst, "if_empty", values.NODE_STATUS)}))
+
+    # -- user leaves
+    def _collect_leaf(self, inst: _Inst) -> None:
+        spec = inst.spec
+        assert spec is not None
+        for ps in spec.ports:
+            p = inst.ports.get(ps.name)
+            if p is None:
+                continue
+            slot = None
+            key = bbmod.remapped_key(ps.name, p.raw)
+            if key is not None:
+                slot = self.resolve(inst.bb, key, p.loc_or or inst.node.loc)
+                if slot is None:
+                    continue
+                if ps.writes:
+                    loc = p.loc_or or inst.node.loc
+                    what = f"output port `{ps.name}` of {inst.what}"
+                    kind = kind_of_type(ps.type)
+                    if is_queue(kind):
+                        self.slots[slot].queue_unbounded = True
+                    self.slots[slot].writes.append(_Write(
+                        slot, self.next_order(), loc, what, (lambda k=kind: k), kind is not None,
+                        (lambda: None), None, "port"))
+            self.node_ops.append(("port", inst, {"port": ps, "slot": slot, "raw": p.raw, "p": p}))
+
+    # ------------------------------------------------------------ 3. kinds
+    def type_slots(self) -> None:
+        for s in self.slots:
+            # A `string` entry is no constraint in 4.6.2: a script may store a number in it, and
+            # string ports read numbers as text. Its type comes from its writes, as for `any`.
+            declared = s.entry.type_name
+            s.kind = kind_of_type(declared) if declared != values.STRING else None
+            if s.kind is not None and not s.origin:
+                s.origin = f"declared {declared}"
+        undecided = [i for i, s in enumerate(self.slots) if s.kind is None]
+        changed = True
+        while changed:
+            changed = False
+            for i in undecided:
+                s = self.slots[i]
+                if s.kind is not None:
+                    continue
+                det = sorted((w for w in s.writes if w.determining), key=lambda w: w.order)
+                if not det:
+                    continue
+                k = det[0].kind()
+                if k is not None and k != "none":
+                    s.kind = k
+                    s.origin = f"first written by {det[0].what}"
+                    s.origin_loc = det[0].loc
+                    changed = True
+        # Cycles (`a := b; b := a` and no other first write): the first write whose kind is known.
+        changed = True
+        while changed:
+            changed = False
+            for i in undecided:
+                s = self.slots[i]
+                if s.kind is not None:
+                    continue
+                for w in sorted((w for w in s.writes if w.determining), key=lambda w: w.order):
+                    k = w.kind()
+                    if k is not None and k != "none":
+                        s.kind = k
+                        s.origin = f"first written by {w.what}"
+                        s.origin_loc = w.loc
+                        changed = True
+                        break
+        for s in self.slots:
+            if s.kind is not None:
+                continue
+            if not s.writes:
+                s.kind = "string" if s.entry.type_name == values.STRING else "none"
+                s.origin = s.origin or "never written"
+                continue
+            w = min(s.writes, key=lambda x: x.order)
+            if all(x.source == "port" for x in s.writes):
+                # Robot code writes it through untyped ports only (as TreeNodesModel files
+                # exported by Groot2 often have them): it holds text.
+                s.kind = "string"
+                s.origin = "no declared type, written by untyped ports only: it holds text"
+                s.origin_loc = None
+                s.untyped_text = True
+                continue
+            if any(x.determining for x in s.writes):
+                self.error(w.loc, f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
+                                  f"another entry of unknown type; write it with a literal first")
+            elif all(x.source == "script" for x in s.writes):
+                self.error(w.loc, f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
+                                  f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)")
+            else:
+                self.error(w.loc, f"cannot tell the type of blackboard entry `{s.key}`: {w.what} writes it, but "
+                                  f"the port has no type; give the port a type in TreeNodesModel (e.g. "
+                                  f"type=\"std::string\")")
+            s.kind = "string"
+
+    def _key_of(self, s: _Slot) -> str:
+        return s.key or "?"
+
+    # ------------------------------------------------------------ 4. sizes
+    def size_slots(self) -> None:
+        cap = self.opt.string_capacity
+        for s in self.slots:
+            if s.kind == "string":
+                s.capacity = 0
+        changed = True
+        rounds = 0
+        while changed:
+            changed = False
+            rounds += 1
+            for s in self.slots:
+                if s.kind != "string":
+                    continue
+                best = s.capacity
+                for w in s.writes:
+                    b = w.bound()
+                    b = cap if b is None else min(b, cap)
+                    best = max(best, b)
+                if best != s.capacity:
+                    s.capacity = best
+                    changed = True
+            if rounds > 10 * len(self.slots) + 10:
+                raise InternalError("string capacities do not settle")
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
+
+    # ------------------------------------------------------------ naming
+    def name_slots(self) -> None:
+        owner_of: dict[int, tuple[str, str]] = {}
+        for bb in self.bbs:
+            for key in bb.local_keys():
+                entry = bb._storage[key]  # noqa: SLF001 - the reference blackboard's own storage
+                owner_of[id(entry)] = (self.bb_labels[id(bb)], key)
+        raw_names = []
+        for s in self.slots:
+            owner, key = owner_of.get(id(s.entry), ("root", "?"))
+            s.owner, s.key = owner, key
+            raw_names.append(key if owner == "root" else f"{owner}_{key}")
+        members = unique_identifiers(raw_names, taken=("value", "seq", "exists", "has_value"), prefix="e")
+        for s, mname in zip(self.slots, members):
+            s.member = mname
+
+    # ------------------------------------------------------------ 5. compile
+    def slot_view(self, i: int) -> scpp.SlotView:
+        s = self.slots[i]
+        return scpp.SlotView(f"bb.{s.member}", s.key, s.kind or "none", s.entry.type_name, s.capacity,
+                             not s.at_load or s.unset, s.origin_text)
+
+    def cpp_type(self, s: _Slot) -> str:
+        k = s.kind
+        if k == "string":
+            return f"btgen::FixedString<{s.capacity}>"
+        if k == "none":
+            return "btgen::NoValue"
+        if is_queue(k):
+            elem = k[len("queue<"):-1]
+            etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(
+                elem, f"btgen::FixedString<{s.elem_capacity}>")
+            return f"btgen::FixedQueue<{etype}, {s.capacity}>"
+        return scpp.CPP_SCALAR[k]  # type: ignore[index]
+
+    def initializer(self, s: _Slot) -> str:
+        if s.initial is not None:
+            if s.kind == "string":
+                value = f"{self.cpp_type(s)}({cpp_view(s.initial)})"
+            else:
+                raise InternalError(f"a SubTree constant of kind {s.kind}")
+            return f"{{{value}, 1, true, true}}"
+        if s.at_load:
+            return "{{}, 0, true, false}"
+        return "{}"
+
+
+def _end_offset(node: sc.Expr, code: str) -> int:
+    """The offset after an assignment's text (for messages): the next `;` at depth 0, or the end."""
+    depth = 0
+    quote = ""
+    for i in range(node.offset, len(code)):
+        c = code[i]
+        if quote:
+            if c == quote:
+                quote = ""
+            continue
+        if c in "'\"":
+            quote = c
+        elif c == "(":
+            depth += 1
+        elif c == ")":
+            if depth == 0:
+                return i
+            depth -= 1
+        elif c == ";" and depth == 0:
+            return i
+    return len(code)
+
+
+# ================================================================ compile
+
+CPP_PORT_TYPE = {values.INT: "std::int32_t", values.UNSIGNED: "std::uint32_t", values.DOUBLE: "double",
+                 values.BOOL: "bool", values.NODE_STATUS: "btgen::Status", values.STRING: "std::string_view"}
+TYPE_NAME_OF_KIND = {"int": values.INT, "double": values.DOUBLE, "bool": values.BOOL, "string": values.STRING,
+                     "status": values.NODE_STATUS}
+
+
+def port_cpp_type(type_name: str) -> str:
+    """The C++ type of a port's accessors; "" for an untyped port (template accessors)."""
+    if type_name == values.ANY:
+        return ""
+    if type_name in CPP_PORT_TYPE:
+        return CPP_PORT_TYPE[type_name]
+    return "std::string_view"  # opaque user types are strings
+
+
+def cpp_port_literal(type_name: str, value: object) -> str:
+    if type_name == values.INT:
+        return f"std::int32_t{{{value}}}"
+    if type_name == values.UNSIGNED:
+        return f"std::uint32_t{{{value}u}}"
+    if isinstance(value, str):
+        return cpp_view(value)
+    return scpp.cpp_value(value)
+
+
+class _Compiler:
+    """Step 5: C++ for every data operation, over the typed and sized slots."""
+
+    def __init__(self, a: _Analyzer) -> None:
+        self.a = a
+        self.views = [a.slot_view(i) for i in range(len(a.slots))]
+        self.where_locs: list[Loc] = []
+        self.where_index: dict[Loc, int] = {}
+
+    def where(self, loc: Loc) -> str:
+        """The C++ expression naming `loc` in run-time errors (an entry of detail::kWhere)."""
+        idx = self.where_index.get(loc)
+        if idx is None:
+            idx = self.where_index[loc] = len(self.where_locs)
+            self.where_locs.append(loc)
+        return f"detail::kWhere[{idx}]"
+
+    def error(self, loc: Loc, message: str) -> None:
+        self.a.error(loc, message)
+
+    def member(self, slot: int) -> str:
+        return f"bb.{self.a.slots[slot].member}"
+
+    def fail(self, where: Loc, message: str, detail: str = "", ret: str = "btgen::Status::FAILURE") -> str:
+        extra = f", {detail}" if detail else ""
+        return f"{{ (void)err.fail(n, {self.where(where)}, {cpp_string(message)}{extra}); return {ret}; }}"
+
+    # ------------------------------------------------------------ typed writes
+    def typed_write_ok(self, slot: int, type_name: str, loc: Loc, what: str) -> bool:
+        """Blackboard::set<T> of a T into the slot: what btgen::port::write does, checked where it
+        fails (or would change the entry's type) whenever it runs."""
+        s = self.a.slots[slot]
+        declared = s.entry.type_name
+        k = kind_of_type(type_name)
+        if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
+            ok = k == s.kind
+        elif type_name == values.STRING:
+            ok = declared != values.NODE_STATUS and kind_of_type(declared) == s.kind
+        else:
+            ok = type_name in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) and \
+                declared in (values.INT, values.UNSIGNED, values.DOUBLE)
+        if not ok:
+            self.error(loc, f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                            f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); btgen "
+                            f"gives every entry one type")
+        return ok
+
+    # ------------------------------------------------------------ scripts
+    def scripts(self) -> tuple[list[CodeIR], dict[int, int]]:
+        out: list[CodeIR] = []
+        bits: dict[int, int] = {}
+        for inst, attr, which, script, names, condition in self.a.script_uses:
+            if not self.check_reads(inst, attr, script, names):
+                continue
+            enum = SCRIPT_SLOTS[which]
+            ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
+                                     f"script error in `{attr.name}` of {inst.what}: ")
+            try:
+                body = scpp.compile_script(script, ctx, condition)
+            except ScriptTypeError as e:
+                self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
+                continue
+            name = f"s{inst.index}_{which.lstrip('_')}"
+            comment = f"{inst.reg_id} \"{inst.node.display_name}\" {attr.name}: {attr.value}"
+            out.append(CodeIR(inst.index, name, comment, tuple(body), enum))
+            if enum != "kCode":
+                bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
+        return out, bits
+
+    def check_reads(self, inst: _Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
+        """A name read that can never find its entry: nothing anywhere creates it. False: reported."""
+        ok = True
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                if isinstance(node, sc.Name):
+                    s = self.a.slots[names[node.name]]
+                    if not s.at_load and not s.writes:
+                        self.error(script_loc(attr, node.offset),
+                                   f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
+                                   f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
+                                   f"`{node.name} := ...` first)")
+                        ok = False
+        return ok
+
+    # ------------------------------------------------------------ data nodes
+    def unset(self, inst: _Inst, op: dict) -> CodeIR:
+        key = op["key"]
+        entry = inst.bb._storage.get(key)  # noqa: SLF001 - UnsetBlackboard removes only this blackboard's own entry
+        body: list[str] = []
+        if entry is not None:
+            slot = self.a.slot_of_entry[id(entry)]
+            body.append(f"{self.member(slot)}.unset();")
+        else:
+            body.append(f"// `{key}` is not an entry of this blackboard: 4.6.2 removes nothing")
+        body.append("return btgen::Status::SUCCESS;")
+        return CodeIR(inst.index, "", f"UnsetBlackboard \"{inst.node.display_name}\" key={key}", tuple(body))
+
+    def mark_unsets(self) -> None:
+        """Entries UnsetBlackboard can remove may be missing when a script runs."""
+        for kind, inst, op in self.a.node_ops:
+            if kind != "unset":
+                continue
+            entry = inst.bb._storage.get(op["key"])  # noqa: SLF001
+            if entry is None:
+                continue
+            s = self.a.slots[self.a.slot_of_entry[id(entry)]]
+            key = op["key"]
+            if s.initial is not None and (key in inst.bb.remapping or (inst.bb.autoremap and not key.startswith("_"))):
+                self.error(op["loc"], f"UnsetBlackboard of `{key}`, a constant port of its SubTree, would make "
+                                      f"`{key}` reach the parent's entry afterwards; the C++ back end resolves keys "
+                                      f"once, so it cannot follow that")
+            s.unset = True
+        self.views = [self.a.slot_view(i) for i in range(len(self.a.slots))]
+
+    def set_literal(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
+        dst, text, loc = op["dst"], op["text"], op["loc"]
+        s = self.a.slots[dst]
+        declared = s.entry.type_name
+        what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
+            if declared == values.NODE_STATUS:
+                self.error(loc, f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
+                                f"BehaviorTree.CPP cannot convert text into")
+                return None
+            try:
+                values.convert_from_string(declared, text)
+            except values.ConversionError as e:
+                self.error(loc, f"{what} writes `{text}` to `{s.key}`, which is declared {declared}: {e}")
+                return None
+        elif s.kind != "string":
+            self.error(loc, f"{what} writes the text `{text}` to blackboard entry `{s.key}`, which holds "
+                            f"{describe_kind(s.kind or 'none')} ({s.origin_text}); btgen gives every entry one type")
+            return None
+        if s.kind == "string" and len(text.encode("utf-8")) > s.capacity:
+            self.error(loc, self.overflow_message(text, s))
+            return None
+        body = [f"const btgen::Errc e = btgen::port::write({self.member(dst)}, btgen::Declared::"
+                f"{declared_enum(declared)}, {cpp_view(text)});",
+                "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot write `{s.key}`",
+                                                           "btgen::describe(e)"),
+                "return btgen::Status::SUCCESS;"]
+        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}", tuple(body))
+
+    def overflow_message(self, text: str, s: _Slot) -> str:
+        return (f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard "
+                f"entry `{s.key}`, whose capacity is {s.capacity} bytes; raise it with --string-capacity (now "
+                f"{self.a.opt.string_capacity})")
+
+    def set_copy(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
+        dst, src, loc = op["dst"], op["src"], op["loc"]
+        d, s = self.a.slots[dst], self.a.slots[src]
+        what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        declared = d.entry.type_name if d.at_load else s.entry.type_name
+        strong = values.is_strongly_typed(declared)
+        convert = False
+        if is_queue(s.kind):
+            self.error(loc, f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
+                            f"both entries, which the C++ back end does not do")
+            return None
+        if not strong:
+            ok = s.kind == d.kind
+        elif s.kind == "string" and declared != values.STRING:
+            ok = declared != values.NODE_STATUS and not values.is_opaque_type(declared)
+            convert = True
+        else:
+            ok = TYPE_NAME_OF_KIND.get(s.kind or "") == declared
+        if not ok:
+            self.error(loc, f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); BehaviorTree.CPP "
+                            f"refuses that copy or changes the entry's type")
+            return None
+        ms, md = self.member(src), self.member(dst)
+        body = [f"if (!{ms}.exists) " + self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, "
+                                                       f"which does not exist"),
+                f"{md}.exists = true;",
+                f"if (!{ms}.has_value) return btgen::Status::FAILURE;"]
+        if convert:
+            body += [f"const btgen::Errc e = btgen::port::convert_into({md}, btgen::Declared::{declared_enum(declared)}, "
+                     f"{ms}.value.view());",
+                     "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`",
+                                                               "btgen::describe(e)")]
+        elif d.kind == "string":
+            body.append(f"if (!{md}.value.assign({ms}.value.view())) " +
+                        self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity "
+                                       f"{d.capacity} bytes)"))
+        elif d.kind != "none":
+            body.append(f"{md}.value = {ms}.value;")
+        body += [f"{md}.mark_written();", "return btgen::Status::SUCCESS;"]
+        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {d.key} = {{{s.key}}}",
+                      tuple(body))
+
+    def entry(self, inst: _Inst, op: dict) -> CodeIR:
+        m = self.member(op["slot"])
+        return CodeIR(inst.index, "", f"{inst.reg_id} \"{inst.node.display_name}\" entry={op['key']}",
+                      (f"return {m}.exists ? static_cast<std::int64_t>({m}.seq) : -1;",))
+
+    def read_text(self, slot: Optional[int], raw: Optional[str], var: str, body: list[str]) -> str:
+        """getInput<std::string> into `var` (a std::string_view); returns the C++ "it was read" condition."""
+        if raw is None:
+            return "false"
+        if slot is None:
+            body.append(f"const std::string_view {var} = {cpp_view(raw)};")
+            return "true"
+        s = self.a.slots[slot]
+        m = self.member(slot)
+        if s.kind == "string":
+            body.append(f"const bool {var}_ok = {m}.exists && {m}.has_value;")
+            body.append(f"const std::string_view {var} = {m}.value.view();")
+            return f"{var}_ok"
+        if is_numeric(s.kind):
+            body.append(f"btgen::NumberText {var}_text;")
+            body.append(f"const bool {var}_ok = {m}.exists && {m}.has_value;")
+            body.append(f"const std::string_view {var} = {var}_ok ? {var}_text.set({m}.value) : std::string_view();")
+            return f"{var}_ok"
+        body.append(f"const std::string_view {var};  // a {s.kind} entry never reads as a string")
+        return "false"
+
+    def switch(self, inst: _Inst, op: dict) -> CodeIR:
+        n_cases = op["cases"]
+        body: list[str] = []
+        reads = op["reads"]
+        name, raw, slot = reads[0]
+        ok = self.read_text(slot, raw, "v", body)
+        if ok != "true":
+            body.append(f"if (!{ok}) return {n_cases};")
+        for i, (cname, craw, cslot) in enumerate(reads[1:]):
+            if cslot is None and craw is not None:
+                body.append(f"if (btgen::switch_equal(v, {cpp_view(craw)})) return {i};")
+                continue
+            var = f"c{i + 1}"
+            cok = self.read_text(cslot, craw, var, body)
+            body.append(f"if ({cok} && btgen::switch_equal(v, {var})) return {i};")
+        body.append(f"return {n_cases};")
+        return CodeIR(inst.index, "", f"{inst.reg_id} \"{inst.node.display_name}\"", tuple(body))
+
+    def loop(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[CodeIR]:
+        elem, static, qslot, vslot, loc = op["elem"], op["static"], op["qslot"], op["vslot"], op["loc"]
+        what = f"`{inst.reg_id}` \"{inst.node.display_name}\""
+        etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(elem)
+        body: list[str] = []
+        if static is not None:
+            member = f"loop_{inst.index}"
+            if etype is None:
+                cap = max((len(x.encode("utf-8")) for x in static), default=0)
+                etype = f"btgen::FixedString<{cap}>"
+            locals_.append(LocalIR(member, f"btgen::FixedQueue<{etype}, {max(len(static), 1)}>",
+                                   f"{what}: its literal queue, copied afresh each time it starts (4.7.0)"))
+            body.append("if (restart) {")
+            body.append(f"  bb.{member}.clear();")
+            for x in static:
+                if elem == "string":
+                    body.append(f"  (void)bb.{member}.push_back({etype}({cpp_view(x)}));")
+                else:
+                    body.append(f"  (void)bb.{member}.push_back({scpp.cpp_value(x)});")
+            body.append("}")
+            body.append(f"auto& q = bb.{member};")
+        else:
+            assert qslot is not None
+            s = self.a.slots[qslot]
+            want = f"queue<{elem}>"
+            if s.kind != want:
+                self.error(loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
+                                f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}")
+                return None
+            m = self.member(qslot)
+            body.append(f"if (!{m}.exists) return 0;")
+            body.append(f"if (!{m}.has_value) " + self.fail(loc, f"port `queue` of {what} reads blackboard entry "
+                                                                 f"`{s.key}`, which has no value yet", ret="-1"))
+            body.append(f"auto& q = {m}.value;")
+        body.append("if (q.empty()) return 0;")
+        if vslot is not None:
+            vloc = inst.ports["value"].loc_or or inst.node.loc
+            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+                return None
+            value = "q.front().view()" if elem == "string" else "q.front()"
+            body.append(f"const btgen::Errc e = btgen::port::write({self.member(vslot)}, btgen::Declared::"
+                        f"{declared_enum(self.a.slots[vslot].entry.type_name)}, {value});")
+            body.append("q.pop_front();")
+            body.append("if (e != btgen::Errc::kOk) " +
+                        self.fail(vloc, f"{what} cannot write its `value`", "btgen::describe(e)", ret="-1"))
+        else:
+            body.append("q.pop_front();")
+        body.append("return 1;")
+        return CodeIR(inst.index, "", f"{what} queue={inst.ports['queue'].raw}", tuple(body))
+
+    # ------------------------------------------------------------ user leaf ports
+    def ports(self) -> dict:
+        by_model: dict[str, dict[str, dict]] = {}
+        for kind, inst, op in self.a.node_ops:
+            if kind != "port":
+                continue
+            ps: PortSpec = op["port"]
+            model = by_model.setdefault(inst.reg_id, {})
+            entry = model.setdefault(ps.name, {"spec": ps, "reads": [], "writes": [], "scratch": False})
+            slot, raw, p = op["slot"], op["raw"], op["p"]
+            loc = p.loc_or or inst.node.loc
+            if values.queue_element_type(ps.type) is not None:
+                self.error(loc, f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
+                                f"nodes are not supported by the C++ back end yet")
+                continue
+            t = port_cpp_type(ps.type)
+            if ps.reads:
+                if slot is not None:
+                    s = self.a.slots[slot]
+                    if is_queue(s.kind):
+                        self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a "
+                                        f"{s.kind}")
+                        continue
+                    if (t in ("", "std::string_view")) and is_numeric(s.kind):
+                        entry["scratch"] = True
+                    targ = t or "T"
+                    scratch = "{scratch}" if (t in ("", "std::string_view")) and is_numeric(s.kind) else ""
+                    entry["reads"].append((inst.index, f"return btgen::port::read<{targ}>(bb.{s.member}"
+                                                       f"{scratch});"))
+                elif t:
+                    try:
+                        value = values.convert_from_string(ps.type if not values.is_opaque_type(ps.type)
+                                                           else values.STRING, raw)
+                        entry["reads"].append((inst.index, f"return {cpp_port_literal(ps.type, value)};"))
+                    except values.ConversionError:
+                        entry["reads"].append((inst.index, "return btgen::PortError::kConversion;"))
+                else:
+                    entry["reads"].append((inst.index, f"return btgen::port::parse<T>({cpp_view(raw)});"))
+            if ps.writes and slot is not None:
+                if ps.type != values.ANY and not self.typed_write_ok(slot, ps.type if not values.is_opaque_type(
+                        ps.type) else values.STRING, loc, f"output port `{ps.name}` of {inst.what}"):
+                    continue
+                s = self.a.slots[slot]
+                stmts = (f"const btgen::Errc e = btgen::port::write(bb.{s.member}, btgen::Declared::"
+                         f"{declared_enum(s.entry.type_name)}, value);",
+                         "if (e != btgen::Errc::kOk) " + self.fail(
+                             loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`",
+                             "btgen::describe(e)", ret="false"),
+                         "return true;")
+                entry["writes"].append((inst.index, stmts))
+        out: dict[str, tuple[PortIR, ...]] = {}
+        for model_id, ports in by_model.items():
+            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
+                                       prefix="port")
+            irs = []
+            for cname, (pname, e) in zip(names, ports.items()):
+                ps = e["spec"]
+                reads = tuple((i, stmt.replace("{scratch}", f", &scratch_{pname}_")) for i, stmt in e["reads"])
+                irs.append(PortIR(cname, pname, ps.direction, ps.type, port_cpp_type(ps.type), ps.description,
+                                  e["scratch"], reads, tuple(e["writes"])))
+            out[model_id] = tuple(irs)
+        return out
+
+    # ------------------------------------------------------------ all
+    def run(self) -> DataIR:
+        self.mark_unsets()
+        scripts, bits = self.scripts()
+        data_leaves: list[CodeIR] = []
+        entries: list[CodeIR] = []
+        switches: list[CodeIR] = []
+        loops: list[CodeIR] = []
+        locals_: list[LocalIR] = []
+        params: dict[int, tuple[int, int, int]] = {}
+        for kind, inst, op in self.a.node_ops:
+            code: Optional[CodeIR] = None
+            if kind == "unset":
+                data_leaves.append(self.unset(inst, op))
+            elif kind == "set_literal":
+                code = self.set_literal(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif kind == "set_copy":
+                code = self.set_copy(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif kind == "entry":
+                entries.append(self.entry(inst, op))
+            elif kind == "switch":
+                switches.append(self.switch(inst, op))
+            elif kind == "loop":
+                code = self.loop(inst, op, locals_)
+                if code is not None:
+                    loops.append(code)
+            elif kind == "params":
+                p0 = op["p0"]
+                if p0 is not None:
+                    params[inst.index] = (int(getattr(p0, "value", p0)), 0, 0)
+        ports = self.ports()
+        for s in self.a.slots:
+            for w in s.writes:
+                if w.literal is not None and s.kind == "string" and len(w.literal.encode("utf-8")) > s.capacity:
+                    self.error(w.loc, self.overflow_message(w.literal, s))
+        slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
+                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity)
+                      for i, s in enumerate(self.a.slots))
+        return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
+                      tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,
+                      tuple(self.where_locs))
+
+
+def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
+    """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
+    a = _Analyzer(mission, options or DataOptions())
+    a.load()
+    a.collect()
+    a.name_slots()
+    a.type_slots()
+    a.size_slots()
+    ir = _Compiler(a).run()
+    return ir, a.sink

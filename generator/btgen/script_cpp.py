@@ -1,0 +1,781 @@
+"""Scripts -> C++: the 4.6.2 script language compiled with static types.
+
+Every script of a mission (Script and ScriptCondition `code`, Precondition
+`if`, Switch-free pre/post conditions `_skipIf` ... `_post`) is parsed by the
+front end (script.py). Here its AST becomes straight-line C++ over the
+mission's typed blackboard: the static kind of every subexpression is known
+(the blackboard entries have one type each, see dataflow.py), so each
+operator compiles to the one operation 4.6.2 would pick at run time for
+those kinds. What 4.6.2 can only find out at run time (an entry that does
+not exist yet or has no value, an integer that does not fit, a string that
+is not a number) becomes a check that reports through the mission's error
+hook and fails the node; what is certain to fail whenever the script runs
+(a string where a number is needed, `..` of two numbers used as a value)
+is a compile error.
+
+Kinds (the static types of values):
+
+    int       std::int64_t   integers (script literals, int/unsigned entries)
+    double    double         real literals; every arithmetic, comparison, logic result
+    bool      bool           entries declared bool (4.6.2 keeps them as 0/1 integers)
+    status    btgen::Status  entries declared NodeStatus
+    string    FixedString<N> / std::string_view
+    queue<T>  FixedQueue     entries of Loop nodes (scripts cannot use them)
+    none      -              no value ever (`1 .. 2`, an entry nothing writes)
+
+Evaluation order, short-circuiting (only comparison chains stop early; `&&`
+and `||` evaluate both sides), the double arithmetic and the text of numbers
+are those of btgen/script.py, which is the reference.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Mapping, Optional, Sequence, Union
+
+from . import script as sc
+from . import values
+from .naming import cpp_string
+
+NUMERIC = ("int", "double", "bool", "status")
+CPP_SCALAR = {"int": "std::int64_t", "double": "double", "bool": "bool", "status": "btgen::Status"}
+# Longest text of a value of each kind (std::to_string): bool and status print one digit.
+TEXT_BOUND = {"int": 20, "double": 317, "bool": 1, "status": 1}
+
+INT32_MIN, INT32_MAX = -(2 ** 31), 2 ** 31 - 1
+UINT32_MAX = 2 ** 32 - 1
+
+
+def is_numeric(kind: Optional[str]) -> bool:
+    return kind in NUMERIC
+
+
+def is_queue(kind: Optional[str]) -> bool:
+    return kind is not None and kind.startswith("queue<")
+
+
+def kind_of_type(type_name: str) -> Optional[str]:
+    """The kind an entry of a declared type holds; None for `any` (inferred from writes)."""
+    if type_name in (values.INT, values.UNSIGNED):
+        return "int"
+    if type_name == values.DOUBLE:
+        return "double"
+    if type_name == values.BOOL:
+        return "bool"
+    if type_name == values.NODE_STATUS:
+        return "status"
+    if type_name == values.ANY:
+        return None
+    if values.queue_element_type(type_name) is not None:
+        return f"queue<{values.queue_element_type(type_name)}>"
+    return "string"  # string and opaque user types
+
+
+def describe_kind(kind: str) -> str:
+    return {"int": "an integer", "double": "a double", "bool": "a bool", "status": "a NodeStatus",
+            "string": "a string", "none": "no value"}.get(kind, f"a {kind}")
+
+
+def value_kind(value: object) -> str:
+    """The kind of a Python value (values.py representation)."""
+    t = values.type_of(value)  # type: ignore[arg-type]
+    return {"int": "int", "double": "double", "bool": "bool", "string": "string", "NodeStatus": "status"}.get(t, t)
+
+
+class ScriptTypeError(Exception):
+    """A script that fails whenever it runs; ``offset`` indexes its code."""
+
+    def __init__(self, message: str, offset: int) -> None:
+        super().__init__(message)
+        self.message = message
+        self.offset = offset
+
+
+# ================================================================ kinds
+
+def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optional[str]:
+    """The static kind of an expression's value; None while a name's kind is unknown.
+
+    Raises ScriptTypeError when the kinds make the expression fail whenever it
+    is evaluated."""
+    if isinstance(node, sc.Literal):
+        return value_kind(node.value)
+    if isinstance(node, sc.Name):
+        return kind_of(node.name)
+    if isinstance(node, sc.Unary):
+        k = expr_kind(node.operand, kind_of)
+        if k is None:
+            return None
+        _need_number(node.op, k, node.offset, "operand")
+        return "double"
+    if isinstance(node, sc.Binary):
+        lk = expr_kind(node.left, kind_of)
+        rk = expr_kind(node.right, kind_of)
+        if lk is None or rk is None:
+            return None
+        return binary_kind(node.op, lk, rk, node.op_offset)
+    if isinstance(node, sc.Compare):
+        kinds = [expr_kind(o, kind_of) for o in node.operands]
+        if any(k is None for k in kinds):
+            return None
+        for op, off, a, b in zip(node.ops, node.op_offsets, kinds, kinds[1:]):
+            compare_check(op, a, b, off)  # type: ignore[arg-type]
+        return "double"
+    if isinstance(node, sc.Ternary):
+        ck = expr_kind(node.cond, kind_of)
+        tk = expr_kind(node.then, kind_of)
+        ek = expr_kind(node.orelse, kind_of)
+        if ck is None:
+            return None
+        if ck == "none":
+            raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
+        if is_queue(ck):
+            raise ScriptTypeError(f"the condition of `?:` is {describe_kind(ck)}", node.op_offset)
+        if tk is None or ek is None:
+            return None
+        if tk != ek:
+            raise ScriptTypeError(f"the branches of `?:` give {describe_kind(tk)} and {describe_kind(ek)}; btgen "
+                                  f"gives every entry one type, so write both with the same type (e.g. `1.0` "
+                                  f"rather than `1` next to a double)", node.op_offset)
+        return tk
+    if isinstance(node, sc.Assign):
+        vk = expr_kind(node.value, kind_of)
+        if vk == "none":
+            raise ScriptTypeError(f"the right operand of `{node.op}` has no value", node.op_offset)
+        return kind_of(node.target)
+    raise TypeError(node)
+
+
+def _need_number(op: str, kind: str, offset: int, which: str) -> None:
+    if kind == "none":
+        raise ScriptTypeError(f"the {which} of `{op}` has no value", offset)
+    if not is_numeric(kind):
+        raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(kind)}", offset)
+
+
+def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
+    if lk == "none":
+        raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
+    if rk == "none":
+        raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
+    if is_numeric(lk) and is_numeric(rk):
+        return "none" if op == ".." else "double"
+    if lk == "string" and rk == "string" and op in ("+", ".."):
+        return "string"
+    if op == ".." and {lk, rk} <= {"string", *NUMERIC} and "string" in (lk, rk):
+        return "string"
+    raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(lk)} and {describe_kind(rk)}", offset)
+
+
+def compare_check(op: str, a: str, b: str, offset: int) -> None:
+    if a == "none":
+        raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
+    if b == "none":
+        raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
+    ok = {a, b} <= {"string", *NUMERIC}
+    if not ok:
+        raise ScriptTypeError(f"cannot compare {describe_kind(a)} with {describe_kind(b)} using `{op}`", offset)
+
+
+# ================================================================ C++
+
+@dataclass(frozen=True)
+class SlotView:
+    """What script compilation needs to know of a blackboard slot."""
+
+    member: str  # C++ lvalue of the btgen::Slot, e.g. `bb.visits`
+    key: str  # the key, for messages
+    kind: str
+    declared: str  # declared type (values.py canonical name; `any` when none)
+    capacity: int  # strings: bytes
+    may_be_missing: bool  # the entry may not exist when a script runs
+    origin: str = ""  # why it has its type (for messages)
+
+
+@dataclass
+class Val:
+    kind: str
+    expr: Optional[str]  # C++ expression of the value (string: a std::string_view); None for none/queues
+    has: Optional[str]  # C++ bool expression "it has a value"; None: it always has
+    bound: int = 0  # strings: most bytes
+    literal: object = None  # the Python value when the expression is a literal
+
+
+def cpp_double(value: float) -> str:
+    """A C++ literal of exactly this double."""
+    if math.isinf(value):
+        return ("-" if value < 0 else "") + "std::numeric_limits<double>::infinity()"
+    if math.isnan(value):
+        return "std::numeric_limits<double>::quiet_NaN()"
+    text = repr(value)
+    if "e" not in text and "." not in text:
+        text += ".0"
+    return text
+
+
+def cpp_int64(value: int) -> str:
+    if value == values.INT64_MIN:
+        return "std::int64_t{-9223372036854775807 - 1}"
+    return f"std::int64_t{{{value}}}"
+
+
+def cpp_view(text: str) -> str:
+    """A std::string_view of exactly these UTF-8 bytes."""
+    return f"std::string_view({cpp_string(text)}, {len(text.encode('utf-8'))})"
+
+
+def cpp_status(status) -> str:
+    return f"btgen::Status::{status.name}"
+
+
+@dataclass
+class ScriptContext:
+    """Where a script is and how its errors read."""
+
+    slots: Sequence[SlotView]
+    names: Mapping[str, int]  # name as written (with `@`) -> slot index
+    where: Callable[[int], str]  # offset in the code -> C++ expression of its "path:line:col"
+    prefix: str  # message prefix, e.g. 'script error in `code` of `Script` "Init": '
+
+
+class CodeWriter:
+    """Lines of C++ with temporaries and error exits: the base of the script compiler and of
+    the port readers and writers (ports_cpp.py).
+
+    Generated functions see `bb` (the Blackboard), `n` (the NodeInfo) and `err` (the
+    ErrorSink). An error reports `where(offset)` (a C++ expression naming the place, e.g.
+    `detail::kWhere[3]`) and `prefix + message`, then returns
+    `error_return` (None: the -1 that ErrorSink::fail gives)."""
+
+    def __init__(self, where: Callable[[int], str], prefix: str, error_return: Optional[str] = None,
+                 indent: int = 1) -> None:
+        self.where = where
+        self.prefix = prefix
+        self.error_return = error_return
+        self.lines: list[str] = []
+        self.indent = indent
+        self.n = 0
+
+    def emit(self, line: str) -> None:
+        self.lines.append("  " * self.indent + line)
+
+    def temp(self) -> str:
+        self.n += 1
+        return f"t{self.n}"
+
+    def fail(self, offset: int, message: str) -> str:
+        call = f"err.fail(n, {self.where(offset)}, {cpp_string(self.prefix + message)})"
+        if self.error_return is None:
+            return f"return {call};"
+        return f"{{ (void){call}; return {self.error_return}; }}"
+
+    def check(self, cond: str, offset: int, message: str) -> None:
+        self.emit(f"if ({cond}) {self.fail(offset, message)}")
+
+    def errc_check(self, call: str, offset: int, message: str) -> None:
+        self.check(f"{call} != btgen::Errc::kOk", offset, message)
+
+    def text_number(self, v: "Val", offset: int, op: str, side: str) -> str:
+        """A string read as a number (StringToDouble: `true`, `false`, else from_chars)."""
+        if v.literal is not None:
+            text = v.literal
+            assert isinstance(text, str)
+            if text == "true":
+                return "1.0"
+            if text == "false":
+                return "0.0"
+            try:
+                return cpp_double(values.to_double(text))
+            except values.ConversionError:
+                raise ScriptTypeError(f"the string {values.describe(text)} is not a number", offset) from None
+        t = self.temp()
+        self.emit(f"double {t} = 0.0;")
+        self.errc_check(f"btgen::script::text_to_double({v.expr}, {t})", offset,
+                        f"the {side} operand of `{op}` is a string that is not a number")
+        return t
+
+    def as_double(self, v: "Val", offset: int, what: str) -> str:
+        if v.kind == "double":
+            return v.expr  # type: ignore[return-value]
+        if v.kind == "int" and isinstance(v.literal, int) and abs(v.literal) <= 2 ** 53:
+            return cpp_double(float(v.literal))
+        t = self.temp()
+        self.emit(f"double {t} = 0.0;")
+        if v.kind == "int":
+            self.errc_check(f"btgen::script::num({v.expr}, {t})", offset,
+                            f"{what}: cannot convert the integer to double: precision would be lost")
+        else:
+            self.emit(f"(void)btgen::script::num({v.expr}, {t});")
+        return t
+
+
+class ScriptCompiler(CodeWriter):
+    """Compiles one script to the body of `int f(Blackboard& bb, const btgen::NodeInfo& n,
+    const btgen::ErrorSink& err)`: -1 after an error was reported, else 1 (a statement
+    script) or the truth of the last statement (a condition)."""
+
+    def __init__(self, ctx: ScriptContext) -> None:
+        super().__init__(ctx.where, ctx.prefix)
+        self.ctx = ctx
+        self.assigned: dict[int, int] = {}  # slot -> assignments in the current statement
+
+    def slot(self, name: str) -> SlotView:
+        return self.ctx.slots[self.ctx.names[name]]
+
+    # ------------------------------------------------------------ entry points
+    def compile(self, script: sc.Script, condition: bool) -> list[str]:
+        last: Optional[Val] = None
+        for stmt in script.statements:
+            self.assigned = {}
+            for node in sc.walk(stmt):
+                if isinstance(node, sc.Assign):
+                    idx = self.ctx.names[node.target]
+                    self.assigned[idx] = self.assigned.get(idx, 0) + 1
+            last = self.expr(stmt)
+        if not condition:
+            self.emit("return 1;")
+            return self.lines
+        assert last is not None
+        self.truth(last)
+        return self.lines
+
+    def truth(self, v: Val) -> None:
+        """script_truth of the last statement's value, returned."""
+        if v.kind == "none" or is_queue(v.kind) or v.kind == "string":
+            what = "gives no value" if v.kind == "none" else f"gives {describe_kind(v.kind)}"
+            raise ScriptTypeError(f"the script {what}, which is not a condition", 0)
+        if v.has is not None:
+            self.check(f"!{v.has}", 0, "the script gives no value, so it cannot be used as a condition")
+        if v.kind in ("double", "bool"):
+            self.emit(f"return btgen::script::truth({v.expr});")
+            return
+        t = self.temp()
+        self.emit(f"const int {t} = btgen::script::truth({v.expr});")
+        self.check(f"{t} < 0", 0, "the script's result cannot be used as a condition: only the integers 0 "
+                                  "and 1 convert to bool")
+        self.emit(f"return {t};")
+
+    # ------------------------------------------------------------ expressions
+    def expr(self, node: sc.Expr) -> Val:
+        if isinstance(node, sc.Literal):
+            return self.literal(node)
+        if isinstance(node, sc.Name):
+            return self.name(node)
+        if isinstance(node, sc.Unary):
+            return self.unary(node)
+        if isinstance(node, sc.Binary):
+            return self.binary(node)
+        if isinstance(node, sc.Compare):
+            return self.compare(node)
+        if isinstance(node, sc.Ternary):
+            return self.ternary(node)
+        return self.assign(node)
+
+    def literal(self, node: sc.Literal) -> Val:
+        v = node.value
+        if isinstance(v, str):
+            return Val("string", cpp_view(v), None, len(v.encode("utf-8")), v)
+        if isinstance(v, float):
+            return Val("double", cpp_double(v), None, 0, v)
+        return Val("int", cpp_int64(v), None, 0, v)
+
+    def name(self, node: sc.Name) -> Val:
+        s = self.slot(node.name)
+        if s.may_be_missing:
+            self.check(f"!{s.member}.exists", node.offset,
+                       f"unknown variable `{node.name}` (no blackboard entry of that name; create it with "
+                       f"`{node.name} := ...`)")
+        if s.kind == "none":
+            return Val("none", None, "false")
+        if is_queue(s.kind):
+            return Val(s.kind, None, None)
+        h = self.temp() + "h"
+        self.emit(f"[[maybe_unused]] const bool {h} = {s.member}.has_value;")
+        if s.kind == "string":
+            if self.assigned.get(self.ctx.names[node.name], 0) > 0:
+                t = self.temp()
+                self.emit(f"btgen::FixedString<{s.capacity}> {t};")
+                self.emit(f"(void){t}.assign({s.member}.value.view());")
+                return Val("string", f"{t}.view()", h, s.capacity)
+            return Val("string", f"{s.member}.value.view()", h, s.capacity)
+        t = self.temp()
+        self.emit(f"[[maybe_unused]] const {CPP_SCALAR[s.kind]} {t} = {s.member}.value;")
+        return Val(s.kind, t, h)
+
+    def need_value(self, v: Val, offset: int, what: str) -> None:
+        if v.has is not None:
+            if v.has == "false":
+                raise ScriptTypeError(f"{what} has no value", offset)
+            self.check(f"!{v.has}", offset, f"{what} has no value")
+
+    def as_int64(self, v: Val, offset: int, message: str) -> str:
+        if v.kind == "int":
+            return v.expr  # type: ignore[return-value]
+        t = self.temp()
+        self.emit(f"std::int64_t {t} = 0;")
+        if v.kind == "double":
+            self.errc_check(f"btgen::script::whole({v.expr}, {t})", offset, message)
+        else:
+            self.emit(f"(void)btgen::script::whole({v.expr}, {t});")
+        return t
+
+    def as_text(self, v: Val) -> tuple[str, int]:
+        """A std::string_view of the value's text (std::to_string for numbers) and its bound."""
+        if v.kind == "string":
+            return v.expr, v.bound  # type: ignore[return-value]
+        if v.literal is not None:
+            text = values.to_text(v.literal)  # type: ignore[arg-type]
+            return cpp_view(text), len(text)
+        t = self.temp()
+        self.emit(f"const btgen::NumberText {t}({v.expr});")
+        return f"{t}.view()", TEXT_BOUND[v.kind]
+
+    def unary(self, node: sc.Unary) -> Val:
+        v = self.expr(node.operand)
+        _need_number(node.op, v.kind, node.offset, "operand")
+        self.need_value(v, node.offset, f"the operand of `{node.op}`")
+        d = self.as_double(v, node.offset, f"operand of `{node.op}`")
+        t = self.temp()
+        if node.op == "-":
+            self.emit(f"const double {t} = -{d};")
+        elif node.op == "!":
+            self.emit(f"const double {t} = btgen::script::logical_not({d});")
+        else:
+            self.emit(f"double {t} = 0.0;")
+            self.errc_check(f"btgen::script::complement({d}, {t})", node.offset,
+                            f"the operand of `~` is out of range")
+        return Val("double", t, None)
+
+    def binary(self, node: sc.Binary) -> Val:
+        op, off = node.op, node.op_offset
+        lv = self.expr(node.left)
+        rv = self.expr(node.right)
+        kind = binary_kind(op, lv.kind, rv.kind, off)
+        self.need_value(lv, off, f"the left operand of `{op}`")
+        self.need_value(rv, off, f"the right operand of `{op}`")
+        if kind == "none":
+            return Val("none", None, "false")
+        if kind == "string":
+            lt, lb = self.as_text(lv)
+            rt, rb = self.as_text(rv)
+            t = self.temp()
+            self.emit(f"btgen::FixedString<{lb + rb}> {t};")
+            self.emit(f"(void){t}.assign({lt});")
+            self.emit(f"(void){t}.append({rt});")
+            return Val("string", f"{t}.view()", None, lb + rb)
+        t = self.temp()
+        if op in ("+", "-", "*", "/"):
+            a = self.as_double(lv, off, f"left operand of `{op}`")
+            b = self.as_double(rv, off, f"right operand of `{op}`")
+            rhs = f"btgen::script::div({a}, {b})" if op == "/" else f"{a} {op} {b}"
+            self.emit(f"const double {t} = {rhs};")
+        elif op in sc.BIT_OPS:
+            msg = f"`{op}` needs whole-number operands"
+            a = self.as_int64(lv, off, msg)
+            b = self.as_int64(rv, off, msg)
+            self.emit(f"const double {t} = static_cast<double>({a} {op} {b});")
+        else:  # && ||
+            a = self.as_truth(lv, off, op)
+            b = self.as_truth(rv, off, op)
+            cop = "&&" if op == "&&" else "||"
+            self.emit(f"const double {t} = ({a} {cop} {b}) ? 1.0 : 0.0;")
+        return Val("double", t, None)
+
+    def as_truth(self, v: Val, offset: int, op: str) -> str:
+        if v.kind == "double":
+            return f"({v.expr} != 0.0)"
+        if v.kind == "bool":
+            return v.expr  # type: ignore[return-value]
+        t = self.temp()
+        self.emit(f"const int {t} = btgen::script::truth({v.expr});")
+        self.check(f"{t} < 0", offset, f"`{op}` needs operands that convert to bool: only the integers 0 and 1 "
+                                       f"convert to bool")
+        return f"({t} == 1)"
+
+    def compare(self, node: sc.Compare) -> Val:
+        r = self.temp()
+        self.emit(f"double {r} = 0.0;")
+        self.emit("do {")
+        self.indent += 1
+        lv = self.expr(node.operands[0])
+        for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
+            rv = self.expr(operand)
+            compare_check(op, lv.kind, rv.kind, off)
+            self.need_value(lv, off, f"the left operand of `{op}`")
+            self.need_value(rv, off, f"the right operand of `{op}`")
+            fn = {"==": "eq", "!=": "ne", "<": "lt", ">": "gt", "<=": "le", ">=": "ge"}[op]
+            if lv.kind == "string" and rv.kind == "string":
+                a, b = lv.expr, rv.expr
+            else:
+                a = self.text_number(lv, off, op, "left") if lv.kind == "string" else \
+                    self.as_double(lv, off, f"left operand of `{op}`")
+                b = self.text_number(rv, off, op, "right") if rv.kind == "string" else \
+                    self.as_double(rv, off, f"right operand of `{op}`")
+            self.emit(f"if (!btgen::script::{fn}({a}, {b})) break;")
+            lv = rv
+        self.emit(f"{r} = 1.0;")
+        self.indent -= 1
+        self.emit("} while (false);")
+        return Val("double", r, None)
+
+    def ternary(self, node: sc.Ternary) -> Val:
+        cv = self.expr(node.cond)
+        if cv.kind == "none":
+            raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
+        if is_queue(cv.kind):
+            raise ScriptTypeError(f"the condition of `?:` is {describe_kind(cv.kind)}", node.op_offset)
+        self.need_value(cv, node.op_offset, "the condition of `?:`")
+        if cv.kind == "string":
+            c = self.temp()
+            self.emit(f"double {c} = 0.0;")
+            self.errc_check(f"btgen::parse_double_from_chars({cv.expr}, {c})", node.op_offset,
+                            "the condition of `?:` is a string that is not a number")
+        else:
+            c = self.as_double(cv, node.op_offset, "condition of `?:`")
+        # The result's kind: both branches must agree (checked once both are compiled).
+        r = self.temp()
+        rh = r + "h"
+        decl_at = len(self.lines)
+        self.emit(f"bool {rh} = false;")
+        self.emit(f"if ({c} != 0.0) {{")
+        self.indent += 1
+        tv = self.expr(node.then)
+        self._ternary_take(r, rh, tv)
+        self.indent -= 1
+        self.emit("} else {")
+        self.indent += 1
+        ev = self.expr(node.orelse)
+        self._ternary_take(r, rh, ev)
+        self.indent -= 1
+        self.emit("}")
+        if tv.kind != ev.kind:
+            raise ScriptTypeError(f"the branches of `?:` give {describe_kind(tv.kind)} and "
+                                  f"{describe_kind(ev.kind)}; btgen gives every entry one type, so write both "
+                                  f"with the same type (e.g. `1.0` rather than `1` next to a double)", node.op_offset)
+        kind = tv.kind
+        pad = "  " * self.indent
+        if kind == "none" or is_queue(kind):
+            return Val(kind, None, "false" if kind == "none" else None)
+        if kind == "string":
+            bound = max(tv.bound, ev.bound)
+            self.lines.insert(decl_at, f"{pad}btgen::FixedString<{bound}> {r};")
+            return Val("string", f"{r}.view()", rh, bound)
+        self.lines.insert(decl_at, f"{pad}{CPP_SCALAR[kind]} {r}{{}};")
+        return Val(kind, r, rh)
+
+    def _ternary_take(self, r: str, rh: str, v: Val) -> None:
+        if v.kind == "none" or is_queue(v.kind):
+            return
+        if v.kind == "string":
+            self.emit(f"(void){r}.assign({v.expr});")
+        else:
+            self.emit(f"{r} = {v.expr};")
+        self.emit(f"{rh} = {v.has if v.has is not None else 'true'};")
+
+    # ------------------------------------------------------------ assignment
+    def assign(self, node: sc.Assign) -> Val:
+        op, off = node.op, node.op_offset
+        idx = self.ctx.names[node.target]
+        s = self.ctx.slots[idx]
+        if op == ":=":
+            if s.may_be_missing:
+                self.emit(f"{s.member}.exists = true;")
+        elif s.may_be_missing:
+            self.check(f"!{s.member}.exists", off,
+                       f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it")
+        v = self.expr(node.value)
+        if v.kind == "none":
+            raise ScriptTypeError(f"the right operand of `{op}` has no value", off)
+        self.need_value(v, off, f"the right operand of `{op}`")
+        if op in (":=", "="):
+            store_value(self, s, v, off, f"`{node.target} {op} ...`")
+        else:
+            self.compound(s, node.target, op, v, off)
+        self.emit(f"{s.member}.mark_written();")
+        if s.kind == "none" or is_queue(s.kind):
+            return Val(s.kind, None, None)
+        if self.assigned.get(idx, 0) <= 1:  # nothing later in the statement changes it
+            expr = f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value"
+            return Val(s.kind, expr, None, s.capacity)
+        t = self.temp()
+        if s.kind == "string":
+            self.emit(f"btgen::FixedString<{s.capacity}> {t};")
+            self.emit(f"(void){t}.assign({s.member}.value.view());")
+            return Val("string", f"{t}.view()", None, s.capacity)
+        self.emit(f"[[maybe_unused]] const {CPP_SCALAR[s.kind]} {t} = {s.member}.value;")
+        return Val(s.kind, t, None)
+
+    def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
+        """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""
+        if is_numeric(v.kind):
+            if not is_numeric(s.kind):
+                raise ScriptTypeError(f"`{op}` with a number needs a numeric `{key}`, but it holds "
+                                      f"{describe_kind(s.kind)}", off)
+        elif v.kind == "string":
+            if op != "+=":
+                raise ScriptTypeError(f"`{op}` cannot be used with a string", off)
+            if s.kind != "string":
+                raise ScriptTypeError(f"`+=` of a string needs a string `{key}`, but it holds "
+                                      f"{describe_kind(s.kind)}", off)
+        else:
+            raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(v.kind)}", off)
+        self.check(f"!{s.member}.has_value", off, f"`{key}` has no value yet, so `{op}` cannot update it")
+        if v.kind == "string":
+            self.check(f"!{s.member}.value.append({v.expr})", off,
+                       f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)")
+            return
+        cur = Val(s.kind, f"{s.member}.value", None)
+        a = self.as_double(cur, off, f"`{key}`")
+        b = self.as_double(v, off, f"right operand of `{op}`")
+        t = self.temp()
+        rhs = f"btgen::script::div({a}, {b})" if op[0] == "/" else f"{a} {op[0]} {b}"
+        self.emit(f"const double {t} = {rhs};")
+        store_number(self, s, Val("double", t, None), off, f"`{key} {op} ...`", guard=False)
+
+
+# ------------------------------------------------------------------ stores
+
+def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str) -> None:
+    """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind.
+
+    A value of the slot's kind is stored as it is. A string into a typed
+    non-string entry goes through the entry's converter; into an untyped
+    double one it is read as a number. Numbers of another kind convert as
+    Any::copyInto does, which 4.6.2 only does when the entry already holds a
+    value (an empty entry would change its type: reported as an error).
+    Anything else would fail or change the entry's type whenever it runs,
+    and is a compile error."""
+    k, r = s.kind, v.kind
+    if k == "none":
+        raise ScriptTypeError(f"{what}: `{s.key}` cannot hold {describe_kind(r)}", off)
+    if r == k:
+        store_same(c, s, v, off)
+        return
+    if r == "string":
+        if s.declared not in (values.ANY, values.NODE_STATUS) and kind_of_type(s.declared) == k:
+            store_converted(c, s, v, off, what)
+            return
+        if k == "double" and s.declared == values.ANY:
+            guard_type_change(c, s, r, off, what)
+            t = c.text_number(v, off, ":=", "right")
+            c.emit(f"{s.member}.value = {t};")
+            return
+    elif is_numeric(r) and is_numeric(k):
+        store_number(c, s, v, off, what, guard=True)
+        return
+    raise ScriptTypeError(f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
+                          f"{_origin_text(s)}; btgen gives every entry one type", off)
+
+
+def _origin_text(s: SlotView) -> str:
+    if s.origin:
+        return f" ({s.origin})"
+    return f" (declared {s.declared})" if s.declared != values.ANY else ""
+
+
+def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
+    c.check(f"!{s.member}.has_value", off,
+            f"{what} would store {describe_kind(r)} in the empty entry `{s.key}`, which btgen types as "
+            f"{describe_kind(s.kind)} (BehaviorTree.CPP would change its type): write {describe_kind(s.kind)}")
+
+
+def store_same(c, s: SlotView, v: Val, off: int) -> None:
+    if s.kind == "string":
+        if v.literal is not None and len(str(v.literal).encode("utf-8")) > s.capacity:
+            raise ScriptTypeError(f"the string {values.describe(v.literal)} ({len(str(v.literal).encode())} bytes) "
+                                  f"does not fit `{s.key}`, whose capacity is {s.capacity} bytes (raise it with "
+                                  f"--string-capacity)", off)
+        c.check(f"!{s.member}.value.assign({v.expr})", off,
+                f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)")
+    elif is_queue(s.kind):
+        raise ScriptTypeError(f"a script cannot copy the queue `{s.key}`", off)
+    else:
+        c.emit(f"{s.member}.value = {v.expr};")
+
+
+def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
+    """A string through the converter of the entry's declared type (convertFromString)."""
+    decl = s.declared
+    if v.literal is not None:
+        try:
+            value = values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
+        except values.ConversionError as e:
+            raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
+        if is_queue(s.kind):
+            raise ScriptTypeError(f"a script cannot write the queue `{s.key}`; use SetBlackboard", off)
+        if s.kind == "string":
+            store_same(c, s, Val("string", cpp_view(value), None, len(value), value), off)  # type: ignore[arg-type]
+        else:
+            c.emit(f"{s.member}.value = {cpp_value(value)};")
+        return
+    if is_queue(s.kind):
+        raise ScriptTypeError(f"a script cannot write the queue `{s.key}`; use SetBlackboard", off)
+    t = c.temp()
+    msg = f"{what}: the string is not a valid {decl}"
+    if decl in (values.INT, values.UNSIGNED):
+        lo, hi = (INT32_MIN, INT32_MAX) if decl == values.INT else (0, UINT32_MAX)
+        c.emit(f"std::int64_t {t} = 0;")
+        c.errc_check(f"btgen::parse_integer({v.expr}, {cpp_int64(lo)}, {cpp_int64(hi)}, {t})", off, msg)
+    elif decl == values.DOUBLE:
+        c.emit(f"double {t} = 0.0;")
+        c.errc_check(f"btgen::parse_double_stod({v.expr}, {t})", off, msg)
+    elif decl == values.BOOL:
+        c.emit(f"bool {t} = false;")
+        c.errc_check(f"btgen::parse_bool({v.expr}, {t})", off, msg)
+    else:
+        raise ScriptTypeError(f"{what}: cannot convert a string to {decl}", off)
+    c.emit(f"{s.member}.value = {t};")
+
+
+def store_number(c, s: SlotView, v: Val, off: int, what: str, guard: bool) -> None:
+    """Any::copyInto of a number into an entry holding another kind of number."""
+    k, r = s.kind, v.kind
+    if r == k:
+        c.emit(f"{s.member}.value = {v.expr};")
+        return
+    if guard:
+        guard_type_change(c, s, r, off, what)
+    if k == "double":
+        t = c.temp()
+        c.emit(f"double {t} = 0.0;")
+        if r == "int":
+            c.errc_check(f"btgen::script::num({v.expr}, {t})", off,
+                         f"{what}: the integer cannot be stored in the double `{s.key}` exactly")
+        else:
+            c.emit(f"(void)btgen::script::num({v.expr}, {t});")
+        c.emit(f"{s.member}.value = {t};")
+        return
+    n = c.temp()
+    c.emit(f"std::int64_t {n} = 0;")
+    if r == "double":
+        c.errc_check(f"btgen::script::whole({v.expr}, {n})", off,
+                     f"{what}: `{s.key}` holds an integer, and the value is not a whole number in range")
+    else:
+        c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
+    if k == "int":
+        c.emit(f"{s.member}.value = {n};")
+    elif k == "bool":
+        c.errc_check(f"btgen::script::as_bool({n}, {s.member}.value)", off,
+                     f"{what}: `{s.key}` holds a bool, and the value is neither 0 nor 1 (BehaviorTree.CPP would "
+                     f"change its type)")
+    else:
+        c.errc_check(f"btgen::script::as_status({n}, {s.member}.value)", off,
+                     f"{what}: `{s.key}` holds a NodeStatus, and the value is no status number (0 to 4)")
+
+
+def cpp_value(value: object) -> str:
+    """A C++ literal of a scalar Python value (values.py representation)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int) and not hasattr(value, "name"):
+        return cpp_int64(value)
+    if isinstance(value, float):
+        return cpp_double(value)
+    if hasattr(value, "name"):  # NodeStatus
+        return cpp_status(value)
+    raise TypeError(value)
+
+
+def compile_script(script: sc.Script, ctx: ScriptContext, condition: bool) -> list[str]:
+    """The C++ body of one script (see ScriptCompiler); raises ScriptTypeError."""
+    return ScriptCompiler(ctx).compile(script, condition)
