@@ -45,6 +45,7 @@ class OptionalTrace {
   // Run-time errors of the generated code (a port write that does not fit,
   // ...): always printed; the node concerned fails.
   void on_error(const btgen::RuntimeError& e) const noexcept {
+    std::fflush(stdout);  // keep it in order with the narration when both go to one place
     std::fprintf(stderr, "%s: run-time error: %.*s: %.*s (node %u `%.*s`)\n", kProgram,
                  static_cast<int>(e.where.size()), e.where.data(), static_cast<int>(e.message.size()),
                  e.message.data(), e.node != nullptr ? static_cast<unsigned>(e.node->uid) : 0u,
