@@ -180,14 +180,16 @@ def case_scenario_no(robot: str, repo: Path) -> None:
 
 
 def case_bad_options(robot: str, repo: Path) -> None:
+    no_scenario = "missions/scenarios/LabTour.no.scenario"
+    line = next(i for i, text in enumerate((repo / no_scenario).read_text(encoding="utf-8").splitlines(), 1)
+                if text.split()[:2] == ["leaf", "IsVisitorResponseYes"])
     for args, message in [
         (["--language", "French"], "unknown language `French`: use English, isiZulu or Kinyarwanda"),
         (["--answer", "maybe"], "`--answer` is yes or no, not `maybe`"),
         (["--tick-ms", "x"], "`--tick-ms` is a whole number of milliseconds from 0 to 60000, not `x`"),
         (["--bogus"], "unknown option `--bogus`"),
-        (["--scenario", "missions/scenarios/LabTour.no.scenario", "--answer", "yes"],
-         "--answer yes contradicts missions/scenarios/LabTour.no.scenario:26, which scripts IsVisitorResponseYes "
-         "FAILURE"),
+        (["--scenario", no_scenario, "--answer", "yes"],
+         f"--answer yes contradicts {no_scenario}:{line}, which scripts IsVisitorResponseYes FAILURE"),
     ]:
         run = Run(robot, args)
         run.check(run.rc == 2, f"exit status {run.rc}, expected 2")
