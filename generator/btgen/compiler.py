@@ -2,10 +2,14 @@
 
     load_mission (front end) -> lower (IR) -> render (templates) -> write
 
-Everything is rendered in memory first. Then each output is written
-atomically (a temporary file in the same directory, then os.replace) and only
-when its bytes changed, so an unchanged mission does not touch timestamps
-and a failed generation leaves the previous outputs as they were.
+Everything is rendered in memory first. Then the outputs are written all or
+none, and only those whose bytes changed: each new file is written and
+synced under a temporary name in the same directory, and only when all of
+them are ready are they renamed into place; if a rename fails, the outputs
+already replaced get their previous content back. So an unchanged mission
+does not touch timestamps, a failed generation leaves the previous outputs
+as they were, and a killed one leaves each output complete (at worst a
+hidden `.NAME.*.tmp` file).
 
 Also a small entry point for build systems:
 
@@ -47,27 +51,77 @@ def generate(mission_path: str, relative_to: Optional[str] = None) -> tuple[Outp
     return render(program, mission_stem(mission_path), relative_to or os.getcwd())
 
 
-def write_if_changed(path: Path, text: str) -> bool:
-    """Atomically replace `path` with `text` unless it already holds exactly that. True: written."""
-    data = text.encode("utf-8")
-    try:
-        if path.read_bytes() == data:
-            return False
-    except OSError:
-        pass
+def _file_mode() -> int:
+    """What a new file gets under the current umask (mkstemp's files are 0600)."""
+    umask = os.umask(0o022)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _stage(path: Path, data: bytes, mode: int) -> str:
+    """`data` written and synced to a temporary file beside `path`; its name."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
-        os.replace(tmp, path)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, mode)
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _unlink_quietly(tmp)
         raise
-    return True
+    return tmp
+
+
+def _unlink_quietly(path: str) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
+
+
+def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
+    """Replace each path with its text where the bytes differ, all or none; the paths written.
+
+    OSError (nothing changed, or everything put back) when one cannot be written."""
+    mode = _file_mode()
+    staged: list[tuple[str, Path, Optional[bytes]]] = []  # temporary file, target, previous bytes
+    replaced: list[tuple[str, Path, Optional[bytes]]] = []
+    try:
+        for path, text in files:
+            data = text.encode("utf-8")
+            if path.is_dir():
+                raise IsADirectoryError(21, "a directory is in the way", str(path))
+            try:
+                old: Optional[bytes] = path.read_bytes()
+            except FileNotFoundError:
+                old = None
+            if old == data:
+                continue
+            staged.append((_stage(path, data, mode), path, old))
+        for entry in staged:
+            os.replace(entry[0], entry[1])
+            replaced.append(entry)
+    except BaseException:
+        for tmp, path, old in staged:
+            if (tmp, path, old) not in replaced:
+                _unlink_quietly(tmp)
+        for _, path, old in reversed(replaced):  # put back what was already replaced
+            try:
+                if old is None:
+                    os.unlink(path)
+                else:
+                    os.replace(_stage(path, old, mode), path)
+            except OSError:
+                pass
+        raise
+    return [path for _, path, _ in staged]
+
+
+def write_if_changed(path: Path, text: str) -> bool:
+    """Atomically replace `path` with `text` unless it already holds exactly that. True: written."""
+    return bool(write_all_if_changed([(path, text)]))
 
 
 def compile_command(args: argparse.Namespace) -> int:
@@ -81,12 +135,14 @@ def compile_command(args: argparse.Namespace) -> int:
     program = lower(mission)
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd())
     out_dir = Path(args.output_dir)
-    for out in outputs:  # rendered completely before anything is written
-        try:
-            write_if_changed(out_dir / out.name, out.text)
-        except OSError as e:
-            raise UserError(Diagnostic(Loc(str(out_dir / out.name), 1, 1),
-                                       f"cannot write the generated file: {e.strerror or e}")) from None
+    try:  # rendered completely before anything is written; then all outputs or none
+        write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
+    except OSError as e:
+        where = e.filename if isinstance(e.filename, str) else str(out_dir / outputs[0].name)
+        if os.path.basename(where).startswith("."):  # a temporary file: name the output it was for
+            where = next((str(out_dir / o.name) for o in outputs if os.path.basename(where)[1:].startswith(o.name)),
+                         where)
+        raise UserError(Diagnostic(Loc(where, 1, 1), f"cannot write the generated file: {e.strerror or e}")) from None
     return 0
 
 
