@@ -253,6 +253,7 @@ class _Slot:
     elem_literals: list[int] = field(default_factory=list)
     queue_unbounded: bool = False
     untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
     member: str = ""
@@ -738,6 +739,7 @@ class _Analyzer:
                 s.origin_loc = None
                 s.untyped_text = True
                 continue
+            s.failed = True
             if any(x.determining for x in s.writes):
                 self.error(w.loc, f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
                                   f"another entry of unknown type; write it with a literal first")
@@ -941,6 +943,8 @@ class _Compiler:
         for inst, attr, which, script, names, condition in self.a.script_uses:
             if not self.check_reads(inst, attr, script, names):
                 continue
+            if any(self.a.slots[i].failed for i in names.values()):
+                continue  # its entry's type is already reported as unknown
             enum = SCRIPT_SLOTS[which]
             ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
                                      f"script error in `{attr.name}` of {inst.what}: ")
@@ -1018,7 +1022,9 @@ class _Compiler:
                 return None
         elif s.kind != "string":
             self.error(loc, f"{what} writes the text `{text}` to blackboard entry `{s.key}`, which holds "
-                            f"{describe_kind(s.kind or 'none')} ({s.origin_text}); btgen gives every entry one type")
+                            f"{describe_kind(s.kind or 'none')} ({s.origin_text}); BehaviorTree.CPP would "
+                            f"replace the value with the string \"{text}\", and btgen gives every entry one type "
+                            f"(to write a number, use a Script: `{s.key} := {text}`)")
             return None
         if s.kind == "string" and len(text.encode("utf-8")) > s.capacity:
             self.error(loc, self.overflow_message(text, s))
@@ -1054,8 +1060,9 @@ class _Compiler:
         else:
             ok = TYPE_NAME_OF_KIND.get(s.kind or "") == declared
         if not ok:
+            dst_what = f"declared {declared}" if strong else d.origin_text
             self.error(loc, f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
-                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); BehaviorTree.CPP "
+                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {dst_what}); BehaviorTree.CPP "
                             f"refuses that copy or changes the entry's type")
             return None
         ms, md = self.member(src), self.member(dst)

@@ -17,7 +17,7 @@ Kinds (the static types of values):
 
     int       std::int64_t   integers (script literals, int/unsigned entries)
     double    double         real literals; every arithmetic, comparison, logic result
-    bool      bool           entries declared bool (4.6.2 keeps them as 0/1 integers)
+    bool      bool           (only in conversions: bool entries hold integers, as 4.6.2's Any does)
     status    btgen::Status  entries declared NodeStatus
     string    FixedString<N> / std::string_view
     queue<T>  FixedQueue     entries of Loop nodes (scripts cannot use them)
@@ -55,13 +55,16 @@ def is_queue(kind: Optional[str]) -> bool:
 
 
 def kind_of_type(type_name: str) -> Optional[str]:
-    """The kind an entry of a declared type holds; None for `any` (inferred from writes)."""
-    if type_name in (values.INT, values.UNSIGNED):
+    """The kind an entry of a declared type holds; None for `any` (inferred from writes).
+
+    A bool entry holds an integer: 4.6.2 keeps bools as the integers 0 and 1
+    (its Any holds an int64), a script writes `true` as the integer 1 into
+    it, and every operation (arithmetic, `..`, conditions, casts to a port's
+    type) treats both alike."""
+    if type_name in (values.INT, values.UNSIGNED, values.BOOL):
         return "int"
     if type_name == values.DOUBLE:
         return "double"
-    if type_name == values.BOOL:
-        return "bool"
     if type_name == values.NODE_STATUS:
         return "status"
     if type_name == values.ANY:

@@ -269,7 +269,8 @@ Errc store_as_is(Slot<S>& slot, const V& v) noexcept {
       return Errc::kInvalid;
     }
   } else if constexpr (std::is_same_v<S, std::int64_t>) {
-    if constexpr (std::is_integral_v<V> && !std::is_same_v<V, bool>) {
+    // Integers, and bools as 0 and 1 (4.6.2's Any keeps bools as integers).
+    if constexpr (std::is_integral_v<V>) {
       slot.value = static_cast<std::int64_t>(v);
       return Errc::kOk;
     } else {
