@@ -3,7 +3,9 @@
 #   btgen_add_mission(TARGET <name> MISSION <file.xml>
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<name>
 #                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
-#                     [SCENARIO_RUNNER <exe>])    # also build `exe SCENARIO_FILE` (the trace printer)
+#                     [SCENARIO_RUNNER <exe>]     # also build `exe SCENARIO_FILE` (the trace printer)
+#                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
+#                     [QUEUE_CAPACITY <n>])       # most elements of a queue written by robot code
 #
 # creates a static library <name> holding the generated header and source
 # (the header-only part is a class template over your leaves type; the
@@ -66,7 +68,8 @@ function(btgen_mission_compiles out_var mission)
 endfunction()
 
 function(btgen_add_mission)
-  cmake_parse_arguments(ARG "" "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER" "" ${ARGN})
+  cmake_parse_arguments(ARG "" "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
+                        "" ${ARGN})
   if(NOT ARG_TARGET OR NOT ARG_MISSION)
     message(FATAL_ERROR "btgen_add_mission: TARGET and MISSION are required")
   endif()
@@ -104,10 +107,19 @@ function(btgen_add_mission)
   endforeach()
   list(GET names 0 header_name)
 
+  set(capacities "")
+  if(ARG_STRING_CAPACITY)
+    list(APPEND capacities --string-capacity ${ARG_STRING_CAPACITY})
+  endif()
+  if(ARG_QUEUE_CAPACITY)
+    list(APPEND capacities --queue-capacity ${ARG_QUEUE_CAPACITY})
+  endif()
+
   add_custom_command(
     OUTPUT ${outputs}
     COMMAND "${CMAKE_COMMAND}" -E env "PYTHONPATH=${root}/generator"
             "${Python3_EXECUTABLE}" -m btgen compile "${mission}" -o "${out_dir}" --relative-to "${relative_to}"
+            ${capacities}
     DEPENDS ${deps} ${generator_inputs}
     WORKING_DIRECTORY "${relative_to}"
     COMMENT "btgen: generating C++ for ${ARG_MISSION}"

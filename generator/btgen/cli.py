@@ -21,6 +21,16 @@ def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
         print(str(d), file=sys.stderr)
 
 
+def _capacity(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
+    if not 1 <= value <= 1 << 20:
+        raise argparse.ArgumentTypeError(f"{value} is out of range (1 to {1 << 20})")
+    return value
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
@@ -105,6 +115,12 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
     c.add_argument("--relative-to", default=None, metavar="DIR",
                    help="directory the banner's input path is relative to (default: the current one)")
+    c.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
+                   help="most bytes of a blackboard string (default 128): strings written by robot code or "
+                        "growing without bound get N, others the longest value they can take, at most N; "
+                        "a longer value fails the node that writes it")
+    c.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
+                   help="most elements of a blackboard queue written by robot code (default 16)")
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")

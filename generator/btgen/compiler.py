@@ -26,10 +26,12 @@ import argparse
 import os
 import sys
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 from typing import Optional, Sequence
 
 from . import naming
+from .dataflow import DataOptions
 from .diagnostics import Diagnostic, Loc, UserError
 from .emit import TEMPLATE_DIR, Output, output_names, render
 
@@ -41,13 +43,26 @@ def mission_stem(path: str) -> str:
     return Path(path).stem
 
 
-def generate(mission_path: str, relative_to: Optional[str] = None) -> tuple[Output, ...]:
+def data_options(args: Optional[argparse.Namespace] = None) -> DataOptions:
+    """The capacities `btgen compile --string-capacity/--queue-capacity` ask for (defaults otherwise)."""
+    options = DataOptions()
+    string_capacity = getattr(args, "string_capacity", None)
+    queue_capacity = getattr(args, "queue_capacity", None)
+    if string_capacity is not None:
+        options = replace(options, string_capacity=string_capacity)
+    if queue_capacity is not None:
+        options = replace(options, queue_capacity=queue_capacity)
+    return options
+
+
+def generate(mission_path: str, relative_to: Optional[str] = None,
+             options: Optional[DataOptions] = None) -> tuple[Output, ...]:
     """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
     from .frontend import load_mission
     from .lower import lower
 
     mission = load_mission(mission_path)
-    program = lower(mission)
+    program = lower(mission, options)
     return render(program, mission_stem(mission_path), relative_to or os.getcwd())
 
 
@@ -132,7 +147,7 @@ def compile_command(args: argparse.Namespace) -> int:
 
     mission = load_mission(args.mission)
     print_diagnostics(mission.warnings)
-    program = lower(mission)
+    program = lower(mission, data_options(args))
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd())
     out_dir = Path(args.output_dir)
     try:  # rendered completely before anything is written; then all outputs or none
