@@ -151,11 +151,11 @@ def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
         rest = re.compile(r"\s*(/?)>").match(text, k)
         self_closing = bool(rest and rest.group(1))
         tags.append(tag)
+        if depth + 1 > MAX_DEPTH:  # a self-closing element is a level too (libxml2 counts it)
+            raise UserError.at(tag.loc, f"elements nested deeper than {MAX_DEPTH} levels "
+                                        f"(BehaviorTree.CPP refuses such trees too)")
         if not self_closing:
             depth += 1
-            if depth > MAX_DEPTH:
-                raise UserError.at(tag.loc, f"elements nested deeper than {MAX_DEPTH} levels "
-                                            f"(BehaviorTree.CPP refuses such trees too)")
         i = rest.end() if rest else k
     return tags
 
