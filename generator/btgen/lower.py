@@ -278,7 +278,7 @@ class _Lowerer:
                             slot=counter if nslots else -1, timer=timer if ntimers else -1))
             counter += nslots
             timer += ntimers
-            if index + 1 > 0xFFFE:
+            if index + 1 > 0xFFFF:  # UIDs are 16-bit; index 0xFFFF is kNoNode, so at most 65535 nodes
                 raise InternalError("more nodes than the front end allows")
 
         child_table: list[int] = []

@@ -68,7 +68,7 @@ class Engine {
   static constexpr std::size_t kMaxDepth = Spec::kMaxDepth;
 
   static_assert(kNodeCount >= 1, "a mission has at least one node");
-  static_assert(kNodeCount < kNoNode, "node indices are 16-bit");
+  static_assert(kNodeCount <= kNoNode, "node indices are 16-bit (0 to 65534; 65535 is kNoNode)");
   static_assert(kMaxDepth >= 1 && kMaxDepth <= kNodeCount, "tree depth out of range");
 
   constexpr explicit Engine(Leaves& leaves, Clock clock = Clock{}, Observer observer = Observer{}) noexcept
