@@ -475,6 +475,8 @@ class _Analyzer:
                     kind_fn = (lambda t=target: self.slots[t].kind)
                     bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
                 lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
+                if lit is not None and n.op in (":=", "="):
+                    self._queue_literal(target, lit)
                 self.slots[target].writes.append(_Write(target, self.next_order(), loc, what, kind_fn, determining,
                                                         bound_fn, lit))
 
@@ -486,10 +488,12 @@ class _Analyzer:
         return lambda name: self.slots[names[name]].kind
 
     def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[str]:
+        """The kind of a script value; "error" when it fails whatever the kinds (compiling the script
+        reports why), None while a name's kind is unknown."""
         try:
             return scpp.expr_kind(expr, self._kind_of(names))
         except ScriptTypeError:
-            return None
+            return "error"
 
     def _expr_bound(self, expr: sc.Expr, names: dict[str, int]) -> Optional[int]:
         """Most bytes a string expression gives (None: unknown yet)."""
@@ -702,7 +706,7 @@ class _Analyzer:
                 if not det:
                     continue
                 k = det[0].kind()
-                if k is not None and k != "none":
+                if k is not None and k not in ("none", "error"):
                     s.kind = k
                     s.origin = f"first written by {det[0].what}"
                     s.origin_loc = det[0].loc
@@ -717,7 +721,7 @@ class _Analyzer:
                     continue
                 for w in sorted((w for w in s.writes if w.determining), key=lambda w: w.order):
                     k = w.kind()
-                    if k is not None and k != "none":
+                    if k is not None and k not in ("none", "error"):
                         s.kind = k
                         s.origin = f"first written by {w.what}"
                         s.origin_loc = w.loc
@@ -731,6 +735,9 @@ class _Analyzer:
                 s.origin = s.origin or "never written"
                 continue
             w = min(s.writes, key=lambda x: x.order)
+            if any(x.determining and x.kind() in ("none", "error") for x in s.writes):
+                s.kind = "none"  # a script that fails whatever runs: compiling it says why
+                continue
             if all(x.source == "port" for x in s.writes):
                 # Robot code writes it through untyped ports only (as TreeNodesModel files
                 # exported by Groot2 often have them): it holds text.
@@ -1037,9 +1044,7 @@ class _Compiler:
         return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}", tuple(body))
 
     def overflow_message(self, text: str, s: _Slot) -> str:
-        return (f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard "
-                f"entry `{s.key}`, whose capacity is {s.capacity} bytes; raise it with --string-capacity (now "
-                f"{self.a.opt.string_capacity})")
+        return scpp.overflow_message(text, s.key, s.capacity)
 
     def set_copy(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
         dst, src, loc = op["dst"], op["src"], op["loc"]
@@ -1279,7 +1284,8 @@ class _Compiler:
         ports = self.ports()
         for s in self.a.slots:
             for w in s.writes:
-                if w.literal is not None and s.kind == "string" and len(w.literal.encode("utf-8")) > s.capacity:
+                if w.literal is not None and w.source != "script" and s.kind == "string" and \
+                        len(w.literal.encode("utf-8")) > s.capacity:  # (scripts: reported as they compile)
                     self.error(w.loc, self.overflow_message(w.literal, s))
         slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
                              self.a.initializer(s), s.origin, s.origin_loc, s.capacity)

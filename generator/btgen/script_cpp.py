@@ -137,16 +137,34 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
         if tk is None or ek is None:
             return None
         if tk != ek:
-            raise ScriptTypeError(f"the branches of `?:` give {describe_kind(tk)} and {describe_kind(ek)}; btgen "
-                                  f"gives every entry one type, so write both with the same type (e.g. `1.0` "
-                                  f"rather than `1` next to a double)", node.op_offset)
+            raise ScriptTypeError(ternary_message(tk, ek), node.op_offset)
         return tk
     if isinstance(node, sc.Assign):
         vk = expr_kind(node.value, kind_of)
         if vk == "none":
-            raise ScriptTypeError(f"the right operand of `{node.op}` has no value", node.op_offset)
+            raise ScriptTypeError(none_message(node.op, node.value), node.op_offset)
         return kind_of(node.target)
     raise TypeError(node)
+
+
+def overflow_message(text: str, key: str, capacity: int) -> str:
+    """A string literal longer than the entry it is written to (the deliberate difference from 4.6.2)."""
+    return (f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard entry "
+            f"`{key}`, whose capacity is {capacity} bytes (strings have a fixed capacity in btgen; raise it with "
+            f"--string-capacity)")
+
+
+def ternary_message(a: str, b: str) -> str:
+    hint = " (e.g. `1.0` rather than `1` next to a double)" if is_numeric(a) and is_numeric(b) else ""
+    return (f"the branches of `?:` give {describe_kind(a)} and {describe_kind(b)}; btgen gives every value one "
+            f"type, so write both with the same type{hint}")
+
+
+def none_message(op: str, value: sc.Expr) -> str:
+    if isinstance(value, sc.Binary) and value.op == "..":
+        return (f"the right operand of `{op}` has no value: `..` of two numbers gives none in BehaviorTree.CPP "
+                f"4.6.2 (start with a string: `'' .. a .. b`)")
+    return f"the right operand of `{op}` has no value"
 
 
 def _need_number(op: str, kind: str, offset: int, which: str) -> None:
@@ -552,9 +570,7 @@ class ScriptCompiler(CodeWriter):
         self.indent -= 1
         self.emit("}")
         if tv.kind != ev.kind:
-            raise ScriptTypeError(f"the branches of `?:` give {describe_kind(tv.kind)} and "
-                                  f"{describe_kind(ev.kind)}; btgen gives every entry one type, so write both "
-                                  f"with the same type (e.g. `1.0` rather than `1` next to a double)", node.op_offset)
+            raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
         kind = tv.kind
         pad = "  " * self.indent
         if kind == "none" or is_queue(kind):
@@ -588,7 +604,7 @@ class ScriptCompiler(CodeWriter):
                        f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it")
         v = self.expr(node.value)
         if v.kind == "none":
-            raise ScriptTypeError(f"the right operand of `{op}` has no value", off)
+            raise ScriptTypeError(none_message(op, node.value), off)
         self.need_value(v, off, f"the right operand of `{op}`")
         if op in (":=", "="):
             store_value(self, s, v, off, f"`{node.target} {op} ...`")
@@ -613,13 +629,13 @@ class ScriptCompiler(CodeWriter):
         if is_numeric(v.kind):
             if not is_numeric(s.kind):
                 raise ScriptTypeError(f"`{op}` with a number needs a numeric `{key}`, but it holds "
-                                      f"{describe_kind(s.kind)}", off)
+                                      f"{describe_kind(s.kind)}{_origin_text(s)}", off)
         elif v.kind == "string":
             if op != "+=":
                 raise ScriptTypeError(f"`{op}` cannot be used with a string", off)
             if s.kind != "string":
                 raise ScriptTypeError(f"`+=` of a string needs a string `{key}`, but it holds "
-                                      f"{describe_kind(s.kind)}", off)
+                                      f"{describe_kind(s.kind)}{_origin_text(s)}", off)
         else:
             raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(v.kind)}", off)
         self.check(f"!{s.member}.has_value", off, f"`{key}` has no value yet, so `{op}` cannot update it")
@@ -685,9 +701,7 @@ def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
 def store_same(c, s: SlotView, v: Val, off: int) -> None:
     if s.kind == "string":
         if v.literal is not None and len(str(v.literal).encode("utf-8")) > s.capacity:
-            raise ScriptTypeError(f"the string {values.describe(v.literal)} ({len(str(v.literal).encode())} bytes) "
-                                  f"does not fit `{s.key}`, whose capacity is {s.capacity} bytes (raise it with "
-                                  f"--string-capacity)", off)
+            raise ScriptTypeError(overflow_message(str(v.literal), s.key, s.capacity), off)
         c.check(f"!{s.member}.value.assign({v.expr})", off,
                 f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)")
     elif is_queue(s.kind):
@@ -699,20 +713,25 @@ def store_same(c, s: SlotView, v: Val, off: int) -> None:
 def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
     """A string through the converter of the entry's declared type (convertFromString)."""
     decl = s.declared
+    if is_queue(s.kind):
+        if v.literal is not None:
+            try:
+                values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
+            except values.ConversionError as e:
+                raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
+        c.errc_check(f"btgen::port::parse_queue({v.expr}, {s.member}.value)", off,
+                     f"{what}: the string is not a valid {decl} of at most {s.capacity} elements")
+        return
     if v.literal is not None:
         try:
             value = values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
         except values.ConversionError as e:
             raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
-        if is_queue(s.kind):
-            raise ScriptTypeError(f"a script cannot write the queue `{s.key}`; use SetBlackboard", off)
         if s.kind == "string":
             store_same(c, s, Val("string", cpp_view(value), None, len(value), value), off)  # type: ignore[arg-type]
         else:
             c.emit(f"{s.member}.value = {cpp_value(value)};")
         return
-    if is_queue(s.kind):
-        raise ScriptTypeError(f"a script cannot write the queue `{s.key}`; use SetBlackboard", off)
     t = c.temp()
     msg = f"{what}: the string is not a valid {decl}"
     if decl in (values.INT, values.UNSIGNED):

@@ -1,0 +1,146 @@
+"""The data side at compile time (dataflow.py): entries resolved to slots, their types and
+capacities, and the missions it rejects, each with its exact diagnostics (tests/bad_data)."""
+import glob
+import os
+import subprocess
+import sys
+
+import pytest
+
+from conftest import CASES, ROOT
+
+from btgen.dataflow import DataOptions, analyze
+from btgen.frontend import load_mission
+
+BAD = os.path.join(ROOT, "tests", "bad_data")
+BAD_STEMS = sorted(os.path.basename(p)[:-4] for p in glob.glob(os.path.join(BAD, "*.xml")))
+
+
+def _write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def _mission(body, models="", extra="", main="Main"):
+    return (f'<root BTCPP_format="4" main_tree_to_execute="{main}"><BehaviorTree ID="Main">{body}</BehaviorTree>'
+            f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+
+
+def _slots(path, options=None):
+    ir, sink = analyze(load_mission(path), options)
+    assert not sink.errors, [str(d) for d in sink.items]
+    return {(s.owner, s.key): s for s in ir.slots}, ir
+
+
+# ------------------------------------------------------------------ bad missions
+def test_bad_data_folder_is_complete():
+    assert len(BAD_STEMS) >= 10
+    for stem in BAD_STEMS:
+        assert os.path.exists(os.path.join(BAD, stem + ".stderr")), stem
+        with open(os.path.join(BAD, stem + ".xml"), encoding="utf-8") as f:
+            assert "<!--" in f.read(), f"{stem}: say what is wrong in a comment"
+
+
+@pytest.mark.parametrize("stem", BAD_STEMS)
+def test_bad_data_mission_is_valid_but_not_compiled(stem, tmp_path):
+    rel = os.path.join("tests", "bad_data", stem + ".xml")
+    valid = subprocess.run([sys.executable, "-m", "btgen", "validate", "-q", rel], cwd=ROOT,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert valid.returncode == 0, valid.stderr  # BehaviorTree.CPP would load it
+    args_file = os.path.join(BAD, stem + ".args")
+    extra = open(args_file, encoding="utf-8").read().split() if os.path.exists(args_file) else []
+    proc = subprocess.run([sys.executable, "-m", "btgen", "compile", rel, "-o", str(tmp_path / "out"), *extra],
+                          cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    with open(os.path.join(BAD, stem + ".stderr"), encoding="utf-8") as f:
+        expected = f.read()
+    assert proc.returncode == 1
+    assert proc.stderr == expected
+    assert not (tmp_path / "out").exists()  # nothing written
+
+
+# ------------------------------------------------------------------ resolution
+def test_subtree_remapping_autoremap_and_root_keys_resolve_to_one_slot_each():
+    slots, _ = _slots(os.path.join(CASES, "subtree_remap_nested.xml"))
+    # `goal` of the first GoTo instance is the parent's `target`; of the second a constant.
+    assert ("root", "target") in slots and ("root", "visits") in slots
+    assert slots[("GoToDock", "goal")].initializer.startswith("{btgen::FixedString<4>(std::string_view(\"dock\", 4)), 1,")
+    assert ("GoToKitchen", "goal") not in slots  # remapped: the parent's entry
+    # `last_goal` is written inside GoTo without remapping: one slot per instance.
+    assert ("GoToKitchen", "last_goal") in slots and ("GoToDock", "last_goal") in slots
+    slots, _ = _slots(os.path.join(CASES, "root_blackboard_at.xml"))
+    assert slots[("root", "visits")].kind == "int"
+    assert slots[("VisitLab", "visits")].kind == "int"  # the local shadow
+    assert slots[("root", "last_room")].kind == "string"
+
+
+def test_autoremap_writes_land_in_the_parent_and_private_keys_stay(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission(
+        '<Sequence><Script code="n := 1"/><SubTree ID="Sub" _autoremap="true"/></Sequence>',
+        extra='<BehaviorTree ID="Sub"><Script code="n += 1; m := 2; _p := 3"/></BehaviorTree>'))
+    slots, _ = _slots(path)
+    assert set(slots) == {("root", "n"), ("root", "m"), ("Sub", "_p")}
+
+
+def test_types_come_from_ports_then_from_the_first_write(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission(
+        '<Sequence><Script code="d := 1.5; s := \'a\'; c := 0; c := c + 1"/>'
+        '<Go goal="{g}" speed="{v}" name_out="{who}"/><Script code="v := 2.5"/></Sequence>',
+        models='<Action ID="Go"><input_port name="goal" type="unsigned"/><input_port name="speed" type="double"/>'
+               '<output_port name="name_out" type="std::string"/></Action>'))
+    slots, _ = _slots(path)
+    kinds = {k[1]: (s.kind, s.declared, s.cpp_type) for k, s in slots.items()}
+    assert kinds == {"d": ("double", "any", "double"), "s": ("string", "any", "btgen::FixedString<1>"),
+                     "c": ("int", "any", "std::int64_t"), "g": ("int", "unsigned", "std::int64_t"),
+                     "v": ("double", "double", "double"), "who": ("string", "string", "btgen::FixedString<128>")}
+
+
+def test_string_capacities_are_computed_and_capped(tmp_path):
+    path = _write(tmp_path, "m.xml", _mission(
+        '<Sequence><Script code="a := \'kitchen\'; b := a .. \'-\' .. 7; grow := \'x\'; grow := grow .. a; '
+        'f := \'v=\' .. 0.5"/></Sequence>'))
+    slots, _ = _slots(path, DataOptions(string_capacity=40))
+    caps = {k[1]: s.capacity for k, s in slots.items()}
+    assert caps == {"a": 7, "b": 7 + 1 + 20, "grow": 40, "f": 40}  # 20: an int's text; f: 2 + 317 capped
+
+
+def test_lab_tour_slots():
+    slots, ir = _slots(os.path.join(ROOT, "missions", "LabTour.xml"))
+    assert {k: s.cpp_type for k, s in slots.items()} == {
+        ("root", "response"): "btgen::FixedString<128>",
+        ("IV. VisitExhibit", "exhibits"): "btgen::FixedString<128>",
+        ("IV. VisitExhibit", "location_id"): "std::int64_t",
+        ("V. EndTour", "location_id"): "std::int64_t",
+        ("V. EndTour/_GoHome", "location_id"): "std::int64_t",
+    }
+    ports = {p.port: p for p in ir.ports["SelectExhibit"]}
+    assert ports["exhibits"].direction == "inout" and ports["exhibits"].cpp_type == "std::string_view"
+    assert ports["location_id"].cpp_type == "std::int32_t" and not ports["location_id"].reads
+    # the speech nodes' `message` defaults are literals, converted at generation time
+    welcome = {p.port: p for p in ir.ports["WelcomeSpeech"]}["message"]
+    assert [stmt for _, stmt in welcome.reads] == ['return std::string_view("welcome", 7);']
+
+
+def test_untyped_ports_between_robot_leaves_hold_text():
+    slots, ir = _slots(os.path.join(CASES, "pick_and_place.xml"))
+    loc = slots[("root", "location")]
+    assert (loc.kind, loc.capacity) == ("string", 128)
+    assert "untyped ports" in loc.origin
+    find = {p.port: p for p in ir.ports["FindBall"]}["ball_location"]
+    assert find.cpp_type == "" and find.writes  # a template setter
+
+
+def test_unset_entries_may_be_missing_when_a_script_runs():
+    _, ir = _slots(os.path.join(CASES, "unset_blackboard.xml"))
+    check = next(c for c in ir.scripts if c.comment.startswith("ScriptCondition \"CheckTarget\""))
+    assert any("if (!bb.target.exists)" in line for line in check.body)
+    unset = next(c for c in ir.data_leaves if "ForgetTarget" in c.comment)
+    assert unset.body == ("bb.target.unset();", "return btgen::Status::SUCCESS;")
+    unknown = next(c for c in ir.data_leaves if "ForgetUnknown" in c.comment)
+    assert unknown.body[-1] == "return btgen::Status::SUCCESS;"
+
+
+def test_every_conformance_case_compiles():
+    for path in sorted(glob.glob(os.path.join(CASES, "*.xml"))):
+        _, sink = analyze(load_mission(path))
+        assert not sink.items, (path, [str(d) for d in sink.items])
