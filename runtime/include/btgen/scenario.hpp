@@ -181,7 +181,7 @@ inline bool parse_whole(std::string_view s, long long& value, std::string& shown
   for (; i < s.size(); ++i) {
     if (s[i] < '0' || s[i] > '9') return false;
     if (!(digits.empty() && s[i] == '0')) digits += s[i];
-    if (v < cap) v = v * 10 + (s[i] - '0');
+    v = v <= (cap - 9) / 10 ? v * 10 + (s[i] - '0') : cap;  // saturate: no signed overflow
   }
   if (v > cap) v = cap;
   if (digits.empty()) digits = "0";
