@@ -28,9 +28,32 @@
 
 namespace btgen {
 
+// The scenario runner's observer: TraceWriter's trace and error, up to the
+// first run-time error. 4.6.2 throws there, which ends the tick at once; the
+// engine fails the node and goes on (a robot keeps running), so the runner
+// prints nothing after the first error, giving 4.6.2's trace.
+class TraceUntilError {
+ public:
+  explicit TraceUntilError(std::FILE* out) noexcept : trace_(out) {}
+
+  void on_status_change(const NodeInfo& node, Status from, Status to) const noexcept {
+    if (!stopped_) trace_.on_status_change(node, from, to);
+  }
+
+  void on_error(const RuntimeError& e) const noexcept {
+    if (stopped_) return;
+    trace_.on_error(e);
+    stopped_ = true;
+  }
+
+ private:
+  TraceWriter trace_;
+  mutable bool stopped_ = false;
+};
+
 template <template <class, class, class> class Mission>
 int run_scenario_main(int argc, char** argv) {
-  using Runner = Mission<ScenarioLeaves, ManualClock, TraceWriter>;
+  using Runner = Mission<ScenarioLeaves, ManualClock, TraceUntilError>;
   if (argc != 2) {
     std::fprintf(stderr, "usage: %s SCENARIO_FILE\n", argc > 0 ? argv[0] : "mission");
     return 2;
@@ -47,7 +70,7 @@ int run_scenario_main(int argc, char** argv) {
   if (!ok) return 1;
 
   ScenarioLeaves leaves(scenario, nodes.data(), nodes.size());
-  auto mission = std::make_unique<Runner>(leaves, ManualClock{}, TraceWriter{stdout});
+  auto mission = std::make_unique<Runner>(leaves, ManualClock{}, TraceUntilError{stdout});
   for (long n = 1; n <= scenario.ticks; ++n) {
     if (n > 1) mission->clock().advance(static_cast<std::uint64_t>(scenario.clock_ms));
     std::printf("tick %ld\n", n);
