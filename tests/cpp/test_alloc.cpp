@@ -1,6 +1,7 @@
 // No heap allocation: constructing a mission object and ticking it.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 
 #include "btgen/testing/alloc_counter.hpp"
@@ -13,10 +14,14 @@
 #ifdef BTGEN_TEST_HAVE_PICK_PLACE_BALL
 #include "pick_place_ball.hpp"
 #endif
+#ifdef BTGEN_TEST_HAVE_RECEPTION
+#include "reception.hpp"
+#endif
 
 namespace {
 
 using btgen_test::AllocationScope;
+using btgen_test::PortLeaves;
 using btgen_test::RandomLeaves;
 
 constexpr int kTicks = 100000;
@@ -120,6 +125,42 @@ TEST(Allocation, LabTourAllocatesNothing) {
     drive(mission);
   }
   EXPECT_EQ(scope.count(), 0u);
+}
+
+// The Lab Tour with its real ports: every hook reads the model's input ports
+// and writes its output ports (location ids, the exhibit list, the answer).
+TEST(Allocation, LabTourWithItsPortsAllocatesNothing) {
+  PortLeaves leaves(21);
+  using Mission = lab_tour::LabTour<PortLeaves, btgen::ManualClock>;
+  std::printf("sizeof(lab_tour::LabTour<...>) = %zu bytes (blackboard %zu bytes) for %zu nodes\n", sizeof(Mission),
+              sizeof(lab_tour::detail::Blackboard), Mission::node_count());
+  AllocationScope scope;
+  long completed = 0;
+  {
+    Mission mission(leaves);
+    completed = drive(mission);
+    EXPECT_EQ(mission.errors(), 0u);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(completed, 0);
+  EXPECT_GT(leaves.reads, 10000u);   // ports really read ...
+  EXPECT_GT(leaves.values, 1000u);   // ... with values the leaves wrote
+  EXPECT_GT(leaves.writes, 1000u);
+}
+#endif
+
+#ifdef BTGEN_TEST_HAVE_RECEPTION
+TEST(Allocation, ReceptionWithItsPortsAllocatesNothing) {
+  PortLeaves leaves(33);
+  AllocationScope scope;
+  {
+    reception::Reception<PortLeaves, btgen::ManualClock> mission(leaves);
+    drive(mission);
+    EXPECT_EQ(mission.errors(), 0u);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_GT(leaves.reads, 1000u);
+  EXPECT_GT(leaves.writes, 1000u);
 }
 #endif
 

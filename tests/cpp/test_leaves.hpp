@@ -4,6 +4,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
@@ -52,6 +55,78 @@ class RandomLeaves {
       default: return btgen::Status::RUNNING;
     }
   }
+  std::uint64_t state_;
+};
+
+// RandomLeaves that also use the ports of the shipped missions' models: every
+// hook reads the model's input ports (location_id, exhibits, response,
+// message, destination) and writes its output ports, whatever the model, with
+// pseudo-random values. Detection is by member name, so one type serves any
+// mission with such ports.
+namespace port_detail {
+#define BTGEN_TEST_HAS(name, expr)                                             \
+  template <class M, class = void>                                             \
+  struct name : std::false_type {};                                            \
+  template <class M>                                                           \
+  struct name<M, std::void_t<decltype(expr)>> : std::true_type {};
+BTGEN_TEST_HAS(has_location_id, std::declval<M&>().location_id())
+BTGEN_TEST_HAS(has_set_location_id, std::declval<M&>().set_location_id(0))
+BTGEN_TEST_HAS(has_exhibits, std::declval<M&>().exhibits())
+BTGEN_TEST_HAS(has_set_exhibits, std::declval<M&>().set_exhibits(std::string_view()))
+BTGEN_TEST_HAS(has_response, std::declval<M&>().response())
+BTGEN_TEST_HAS(has_set_response, std::declval<M&>().set_response(std::string_view()))
+BTGEN_TEST_HAS(has_destination, std::declval<M&>().destination())
+BTGEN_TEST_HAS(has_set_destination, std::declval<M&>().set_destination(std::string_view()))
+BTGEN_TEST_HAS(has_message, std::declval<M&>().message())
+#undef BTGEN_TEST_HAS
+}  // namespace port_detail
+
+class PortLeaves : public RandomLeaves {
+ public:
+  explicit PortLeaves(std::uint64_t seed) noexcept : RandomLeaves(seed), state_(seed * 7 + 3) {}
+
+  template <class Model>
+  btgen::Status onStart(Model& m, const btgen::NodeInfo& n) noexcept {
+    use(m);
+    return RandomLeaves::onStart(m, n);
+  }
+  template <class Model>
+  btgen::Status onRunning(Model& m, const btgen::NodeInfo& n) noexcept {
+    use(m);
+    return RandomLeaves::onRunning(m, n);
+  }
+  template <class Model>
+  btgen::Status check(Model& m, const btgen::NodeInfo& n) noexcept {
+    use(m);
+    return RandomLeaves::check(m, n);
+  }
+
+  std::uint64_t reads = 0, values = 0, writes = 0;
+
+ private:
+  template <class Input>
+  void seen(const Input& in) noexcept {
+    ++reads;
+    if (in.has_value()) ++values;
+  }
+  template <class Model>
+  void use(Model& m) noexcept {
+    using namespace port_detail;
+    static constexpr std::string_view kLists[] = {"101;102;103", "7", "", "1;2;3;4;5;6;7;8;9;10"};
+    static constexpr std::string_view kAnswers[] = {"yes", "no", "maybe", "the robotics lab"};
+    state_ = state_ * 6364136223846793005u + 1442695040888963407u;
+    const std::size_t r = static_cast<std::size_t>(state_ >> 33);
+    if constexpr (has_location_id<Model>::value) seen(m.location_id());
+    if constexpr (has_exhibits<Model>::value) seen(m.exhibits());
+    if constexpr (has_response<Model>::value) seen(m.response());
+    if constexpr (has_destination<Model>::value) seen(m.destination());
+    if constexpr (has_message<Model>::value) seen(m.message());
+    if constexpr (has_set_location_id<Model>::value) writes += m.set_location_id(static_cast<std::int32_t>(r % 200)) ? 1 : 0;
+    if constexpr (has_set_exhibits<Model>::value) writes += m.set_exhibits(kLists[r % 4]) ? 1 : 0;
+    if constexpr (has_set_response<Model>::value) writes += m.set_response(kAnswers[r % 2]) ? 1 : 0;
+    if constexpr (has_set_destination<Model>::value) writes += m.set_destination(kAnswers[r % 4]) ? 1 : 0;
+  }
+
   std::uint64_t state_;
 };
 
