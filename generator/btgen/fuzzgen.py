@@ -138,7 +138,7 @@ class _Gen:
 
     def int_expr(self, scope: _Scope) -> str:
         v = self.int_var(scope)
-        return self.rng.choice((f"{v} + 1", f"{v} - 1", f"{v} * 2", "3", f"{v}", f"{v} > 2 ? 0 : {v} + 1",
+        return self.rng.choice((f"{v} + 1", f"{v} - 1", f"{v} * 2", "3", f"{v}", f"{v} > 2 ? {v} - 2 : {v} + 1",
                                 f"({v} + {self.int_var(scope)}) - 1"))
 
     def cond_expr(self, scope: _Scope) -> str:
@@ -227,12 +227,9 @@ class _Gen:
 
     def switch(self, depth: int, tree: int, scope: _Scope) -> str:
         n = self.rng.randint(2, 6)
-        if scope.has_root_vars and self.rng.random() < 0.5:
-            var = "{" + scope.var("s") + "}"
-            cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
-        else:
-            var = "{" + self.int_var(scope) + "}"
-            cases = [str(self.rng.randint(-1, 4)) for _ in range(n)]
+        # `variable` is a string port: an entry it reads holds a string (btgen types every entry).
+        var = "{" + scope.var("s") + "}"
+        cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
         attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases))
         kids = [self.node(depth + 1, tree, scope) for _ in range(n + 1)]
         return (f"<Switch{n}{self.name_attr()} variable={_xml_attr(var)}{attrs}{self.with_conditions(scope)}>"
@@ -241,9 +238,6 @@ class _Gen:
     def decorator(self, depth: int, tree: int, scope: _Scope) -> str:
         pool = DECORATORS + (DATA_DECORATORS if self.data else ())
         kind = self.rng.choice(pool)
-        if kind in ("SkipUnlessUpdated", "WaitValueUpdate", "LoopBool", "LoopDouble", "LoopString") \
-                and not scope.has_root_vars:
-            kind = "LoopInt"
         rng = self.rng
         attrs = {
             "Repeat": f' num_cycles="{rng.choice((-1, 0, 1, 2, 3))}"',
@@ -267,8 +261,8 @@ class _Gen:
         rng = self.rng
         elem = {"LoopInt": ("1", "2", "3", "-4"), "LoopBool": ("true", "false", "1", "0"),
                 "LoopDouble": ("0.5", "1.25", "2", "-3.5"), "LoopString": ("a", "b", "kitchen")}[kind]
-        target = {"LoopInt": self.int_var(scope), "LoopBool": scope.var("flag"), "LoopDouble": scope.var("d"),
-                  "LoopString": scope.var("s")}[kind]
+        # Each loop writes an entry of its own element type (LoopInt's `int` is not a script's integer).
+        target = scope.var({"LoopInt": "li", "LoopBool": "lb", "LoopDouble": "ld", "LoopString": "ls"}[kind])
         queue = ";".join(rng.choice(elem) for _ in range(rng.randint(0, 4)))
         if kind == "LoopInt" and scope.main_like and rng.random() < 0.3:
             self.uses_queue_key = True
@@ -287,11 +281,7 @@ class _Gen:
         attrs = self.name_attr()
         if mode == "remap":
             for p in PARAM_VARS:
-                r = self.rng.random()
-                if r < 0.85 or not self.data:
-                    attrs += f' {p}="{{{self.int_var(scope)}}}"'
-                else:
-                    attrs += f' {p}="{self.rng.randint(0, 3)}"'  # a literal, read as a string inside
+                attrs += f' {p}="{{{self.int_var(scope)}}}"'
         elif mode == "auto":
             attrs += ' _autoremap="true"'
         return f'<SubTree ID="T{callee}"{attrs}{self.with_conditions(scope)}/>'
@@ -328,14 +318,16 @@ class _Gen:
             if d < 0.55:
                 return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}/>"
             if d < 0.75:
-                v = self.int_var(scope)
-                value = str(rng.randint(0, 5)) if rng.random() < 0.6 else "{" + self.int_var(scope) + "}"
-                return f'<SetBlackboard{self.name_attr()} value="{value}" output_key="{v}"/>'
+                # A literal is a string (4.6.2 stores the text): only into string entries.
+                if rng.random() < 0.5:  # a copy between two integer entries
+                    return (f'<SetBlackboard{self.name_attr()} value="{{{self.int_var(scope)}}}" '
+                            f'output_key="{self.int_var(scope)}"/>')
+                return f'<SetBlackboard{self.name_attr()} value="{rng.choice("abcx")}" output_key="{scope.var("s")}"/>'
             if scope.main_like:
                 if d < 0.85:
                     return f'<UnsetBlackboard{self.name_attr()} key="u"/>'
                 if d < 0.92:
-                    return f'<SetBlackboard{self.name_attr()} value="{rng.randint(0, 9)}" output_key="u"/>'
+                    return f'<SetBlackboard{self.name_attr()} value="{rng.choice("xyz")}" output_key="u"/>'
             return f'<WasEntryUpdated{self.name_attr()} entry="{{{self.int_var(scope)}}}"/>'
         return self.scripted_leaf("Condition" if rng.random() < 0.35 else "Action", scope)
 
@@ -370,12 +362,10 @@ class _Gen:
                 + "  <TreeNodesModel>\n" + "".join(models) + "  </TreeNodesModel>\n</root>\n")
 
     def with_init(self, body: str) -> str:
-        """Define the root blackboard's variables first (rarely not: reading one then is an error)."""
+        """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
         rng = self.rng
-        if rng.random() < 0.04:
-            return body
         init = (f"i0 := {rng.randint(0, 3)}; i1 := {rng.randint(0, 3)}; s := '{rng.choice('abc')}'; "
-                f"flag := {rng.choice(('true', 'false'))}; d := 0.5; u := 0")
+                f"flag := {rng.choice(('true', 'false'))}; d := 0.5; u := 'x'")
         extra = ""
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
