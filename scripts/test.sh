@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Run every test of btgen: Python (pytest) and C++ (GoogleTest via ctest),
-# the latter also under AddressSanitizer + UBSan. Installs what it needs.
+# the latter also under AddressSanitizer + UBSan, and the libFuzzer targets
+# for a bounded time (clang: BTGEN_WITH_CLANG=1, on by default here; set it
+# to 0 to skip them on a machine without clang). Installs what it needs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+export BTGEN_WITH_CLANG=${BTGEN_WITH_CLANG:-1}
 bash scripts/setup.sh
 export PATH="$PWD/.venv/bin:$PATH"
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -28,3 +31,8 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DBTGEN_SANITIZE=ON \
   -DPython3_EXECUTABLE="$PWD/.venv/bin/python" >/dev/null
 cmake --build build/asan -j "$jobs"
 ctest --test-dir build/asan --output-on-failure -j "$jobs"
+
+if [ "$BTGEN_WITH_CLANG" = 1 ]; then
+  echo "== libFuzzer targets of the runtime's readers under ASan + UBSan (${BTGEN_FUZZ_SECONDS:-20} s each)"
+  bash scripts/fuzz_cpp.sh "${BTGEN_FUZZ_SECONDS:-20}"
+fi
