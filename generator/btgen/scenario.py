@@ -244,23 +244,22 @@ def mission_leaves(mission: Mission, builtin_names: Optional[set] = None) -> Ite
     The display names of built-in leaves go to `builtin_names` when it is given.
     """
     trees = {t.id: t for t in mission.trees}
-
-    def walk(node: Node) -> Iterator[LeafUse]:
+    if mission.main_tree not in trees:
+        return
+    stack: list[Node] = [trees[mission.main_tree].root]  # iterative: SubTree chains can be deep
+    while stack:
+        node = stack.pop()
         if isinstance(node, SubTreeNode):
             target = trees.get(node.target)
             if target is not None:
-                yield from walk(target.root)
-            return
+                stack.append(target.root)
+            continue
         if is_scripted_leaf(mission, node):
             yield LeafUse(node.display_name, leaf_kind(mission, node), node)
-            return
+            continue
         if not node.children and builtin_names is not None:
             builtin_names.add(node.display_name)
-        for c in node.children:
-            yield from walk(c)
-
-    if mission.main_tree in trees:
-        yield from walk(trees[mission.main_tree].root)
+        stack.extend(reversed(node.children))
 
 
 def _tree_with_leaf(mission: Mission, name: str) -> Optional[str]:
