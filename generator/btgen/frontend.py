@@ -24,7 +24,6 @@ from .xmlsource import Source, read_source
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
-MAX_TREE_DEPTH = 256  # levels from the main tree's root to its deepest node, SubTrees expanded
 
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -74,8 +73,7 @@ class _Loader:
         self.sink.raise_if_errors()
         mission = Mission(self.path, trees, main, tuple(self.models), tuple(self.files),
                           tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")))
-        if self._check_depth(mission):
-            self._check_instance_count(mission)
+        self._check_instance_count(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
         return mission
@@ -434,41 +432,6 @@ class _Loader:
         for t in trees:
             if t.id not in state:
                 visit(t.id, [t.id])
-
-    def _check_depth(self, mission: Mission) -> bool:
-        """The main tree with its SubTrees expanded is at most MAX_TREE_DEPTH levels deep (a chain
-        of SubTrees can nest far deeper than one file). Iterative: any depth is measured safely."""
-        local: dict[str, tuple[int, list[tuple[int, str]]]] = {}  # tree: own depth, (level, target) of SubTrees
-        for tree in mission.trees:
-            own, calls = 0, []
-            stack: list[tuple[Node, int]] = [(tree.root, 1)]
-            while stack:
-                node, level = stack.pop()
-                own = max(own, level)
-                if isinstance(node, SubTreeNode):
-                    calls.append((level, node.target))
-                stack.extend((c, level + 1) for c in node.children)
-            local[tree.id] = (own, calls)
-        depth: dict[str, int] = {}
-        todo: list[tuple[str, bool]] = [(mission.main_tree, False)]
-        seen: set[str] = set()
-        while todo:
-            tid, ready = todo.pop()
-            if ready:
-                own, calls = local[tid]
-                depth[tid] = max([own] + [level + depth[target] for level, target in calls if target in depth])
-                continue
-            if tid in seen or tid not in local:
-                continue
-            seen.add(tid)
-            todo.append((tid, True))
-            todo.extend((target, False) for _, target in local[tid][1] if target not in seen)
-        total = depth.get(mission.main_tree, 0)
-        if total > MAX_TREE_DEPTH:
-            self.sink.error(mission.main.loc, f"the main tree is {total} levels deep with its SubTrees expanded; "
-                                              f"at most {MAX_TREE_DEPTH} are allowed")
-            return False
-        return True
 
     def _check_instance_count(self, mission: Mission) -> None:
         # Iterative: trees may nest 256 levels deep in each of many SubTrees (cycles and unknown
