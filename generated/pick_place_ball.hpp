@@ -157,13 +157,13 @@ struct Spec {
 
   // kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2, id, name, source
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0, "Sequence", "PickPlaceBall", "missions/PickPlaceBall.xml:17:5"},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0, "RetryUntilSuccessful", "FindBallTwice", "missions/PickPlaceBall.xml:18:7"},
-      btgen::NodeInfo{btgen::NodeKind::Action, 2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, "FindBall", "FindBall", "missions/PickPlaceBall.xml:19:9"},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 3, 4, 0, 3u, 3, btgen::kNoModel, 3u, btgen::kNoSlot, 0, 0, 0, 0, "Sequence", "PickMovePlace", "missions/PickPlaceBall.xml:21:7"},
-      btgen::NodeInfo{btgen::NodeKind::Action, 4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, "PickBall", "PickBall", "missions/PickPlaceBall.xml:22:9"},
-      btgen::NodeInfo{btgen::NodeKind::Action, 5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, "MoveBall", "MoveBall", "missions/PickPlaceBall.xml:23:9"},
-      btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, "PlaceBall", "PlaceBall", "missions/PickPlaceBall.xml:24:9"},
+      btgen::NodeInfo{btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("PickPlaceBall", 13), std::string_view("missions/PickPlaceBall.xml:17:5", 31)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("FindBallTwice", 13), std::string_view("missions/PickPlaceBall.xml:18:7", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action, 2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("FindBall", 8), std::string_view("FindBall", 8), std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence, 3, 4, 0, 3u, 3, btgen::kNoModel, 3u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13), std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action, 4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PickBall", 8), std::string_view("PickBall", 8), std::string_view("missions/PickPlaceBall.xml:22:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action, 5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("MoveBall", 8), std::string_view("MoveBall", 8), std::string_view("missions/PickPlaceBall.xml:23:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PlaceBall", 9), std::string_view("PlaceBall", 9), std::string_view("missions/PickPlaceBall.xml:24:9", 31)},
   };
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
