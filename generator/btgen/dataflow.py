@@ -32,9 +32,8 @@ of that here, once:
 """
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
-from typing import Callable, Iterator, Optional, Sequence
+from typing import Callable, Optional
 
 from . import blackboard as bbmod
 from . import script as sc
@@ -43,7 +42,7 @@ from . import values
 from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_identifier, cpp_string, unique_identifiers
+from .naming import cpp_string, unique_identifiers
 from .script_cpp import ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
@@ -65,7 +64,6 @@ SCRIPT_SLOTS = {"_failureIf": "kFailureIf", "_successIf": "kSuccessIf", "_skipIf
                 "code": "kCode", "if": "kCode"}
 SCRIPT_BIT = {"kFailureIf": 0, "kSuccessIf": 1, "kSkipIf": 2, "kWhile": 3, "kOnSuccess": 4, "kOnFailure": 5,
               "kPost": 6, "kOnHalted": 7, "kCode": 8}
-CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 DECLARED_ENUM = {values.ANY: "kAny", values.INT: "kInt", values.UNSIGNED: "kUnsigned", values.DOUBLE: "kDouble",
                  values.BOOL: "kBool", values.STRING: "kString", values.NODE_STATUS: "kStatus"}
@@ -138,7 +136,7 @@ class PortIR:
     type_name: str
     cpp_type: str  # "" for an untyped port (template accessors)
     description: str
-    scratch: bool  # the getter may need to write a number's text
+    scratch: str  # the member the getter writes a number's text into ("" when it never needs one)
     reads: tuple[tuple[int, str], ...]  # (node index, C++ statement returning the Input)
     writes: tuple[tuple[int, tuple[str, ...]], ...]  # (node index, C++ statements)
 
@@ -339,8 +337,8 @@ class _Analyzer:
                 if p.attr is None:
                     continue
                 type_name = p.spec.type if p.spec is not None else values.ANY
-                before = bb.get_entry(bbmod.remapped_key(p.name, p.raw) or "") \
-                    if bbmod.remapped_key(p.name, p.raw) else None
+                key = bbmod.remapped_key(p.name, p.raw)
+                before = bb.get_entry(key) if key is not None else None
                 try:
                     entry = bbmod.create_port_entry(bb, p.raw, type_name, p.name)
                 except (values.ConversionError, bbmod.BlackboardError) as e:
@@ -758,9 +756,6 @@ class _Analyzer:
                                   f"the port has no type; give the port a type in TreeNodesModel (e.g. "
                                   f"type=\"std::string\")")
             s.kind = "string"
-
-    def _key_of(self, s: _Slot) -> str:
-        return s.key or "?"
 
     # ------------------------------------------------------------ 4. sizes
     def size_slots(self) -> None:
@@ -1239,11 +1234,11 @@ class _Compiler:
             names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
                                        prefix="port")
             irs = []
-            for cname, (pname, e) in zip(names, ports.items()):
+            for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]
-                reads = tuple((i, stmt.replace("{scratch}", f", &scratch_{pname}_")) for i, stmt in e["reads"])
+                reads = tuple((i, stmt.replace("{scratch}", f", &scratch{k}_")) for i, stmt in e["reads"])
                 irs.append(PortIR(cname, pname, ps.direction, ps.type, port_cpp_type(ps.type), ps.description,
-                                  e["scratch"], reads, tuple(e["writes"])))
+                                  f"scratch{k}_" if e["scratch"] else "", reads, tuple(e["writes"])))
             out[model_id] = tuple(irs)
         return out
 

@@ -30,8 +30,8 @@ are those of btgen/script.py, which is the reference.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Callable, Mapping, Optional, Sequence, Union
+from dataclasses import dataclass
+from typing import Callable, Mapping, Optional, Sequence
 
 from . import script as sc
 from . import values
