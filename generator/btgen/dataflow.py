@@ -725,12 +725,12 @@ class _Analyzer:
                         s.origin_loc = w.loc
                         changed = True
                         break
-        for s in self.slots:
-            if s.kind is not None:
-                continue
-            if not s.writes:
+        for s in self.slots:  # entries nothing writes first: reading them gives no value
+            if s.kind is None and not s.writes:
                 s.kind = "string" if s.entry.type_name == values.STRING else "none"
                 s.origin = s.origin or "never written"
+        for s in self.slots:
+            if s.kind is not None:
                 continue
             w = min(s.writes, key=lambda x: x.order)
             if any(x.determining and x.kind() in ("none", "error") for x in s.writes):
