@@ -90,8 +90,9 @@ class DescribeExhibitSpeech_1 {
   DescribeExhibitSpeech_1(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): exhibit whose pre-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -120,8 +121,9 @@ class DescribeExhibitSpeech_2 {
   DescribeExhibitSpeech_2(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): exhibit whose post-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -150,8 +152,9 @@ class DisableAnimateBehavior {
   DisableAnimateBehavior(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -169,8 +172,9 @@ class DisabledOvertAttentionMode {
   DisabledOvertAttentionMode(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -188,8 +192,9 @@ class EnableAnimateBehavior {
   EnableAnimateBehavior(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -207,8 +212,9 @@ class EndTourSpeech {
   EndTourSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -237,8 +243,9 @@ class FollowMeSpeech {
   FollowMeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -267,8 +274,9 @@ class GoodbyeGesture {
   GoodbyeGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -286,8 +294,9 @@ class HandleFallBack {
   HandleFallBack(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -305,8 +314,9 @@ class HereIsTheDoorSpeech {
   HereIsTheDoorSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -335,8 +345,9 @@ class IsASREnabled {
   IsASREnabled(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -354,8 +365,9 @@ class IsListWithExhibit {
   IsListWithExhibit(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `exhibits` (string): exhibits still to visit: location ids separated by ";"
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -384,8 +396,9 @@ class IsMutualGazeDiscovered {
   IsMutualGazeDiscovered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -403,8 +416,9 @@ class IsVisitorDiscovered {
   IsVisitorDiscovered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -422,8 +436,9 @@ class IsVisitorResponseYes {
   IsVisitorResponseYes(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `response` (string): the visitor's answer: "yes" or "no"
   [[nodiscard]] btgen::Input<std::string_view> response() const noexcept {
@@ -452,8 +467,9 @@ class IsYesNoUttered {
   IsYesNoUttered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `response` (string): "yes" or "no", when one was heard
   bool set_response(std::string_view value) const noexcept {
@@ -488,8 +504,9 @@ class LookUpEntrance {
   LookUpEntrance(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `location_id` (int): knowledge-base id of the entrance
   bool set_location_id(std::int32_t value) const noexcept {
@@ -524,8 +541,9 @@ class LookUpHome {
   LookUpHome(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `location_id` (int): knowledge-base id of the home location
   bool set_location_id(std::int32_t value) const noexcept {
@@ -560,8 +578,9 @@ class MaybeAnotherTimeSpeech {
   MaybeAnotherTimeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -590,8 +609,9 @@ class Navigate {
   Navigate(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): knowledge-base id of the destination (its robotLocationPose)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -624,8 +644,9 @@ class PerformDeicticGesture {
   PerformDeicticGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -656,8 +677,9 @@ class PressYesNoDialogue {
   PressYesNoDialogue(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `response` (string): "yes" or "no", as pressed on the tablet
   bool set_response(std::string_view value) const noexcept {
@@ -692,8 +714,9 @@ class PressYesNoSpeech {
   PressYesNoSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -722,8 +745,9 @@ class QueryTourSpeech {
   QueryTourSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -752,8 +776,9 @@ class RetrieveListOfExhibits {
   RetrieveListOfExhibits(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `exhibits` (string): the tour's location ids separated by ";", in visiting order
   bool set_exhibits(std::string_view value) const noexcept {
@@ -788,8 +813,9 @@ class SayGoodByeSpeech {
   SayGoodByeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -818,8 +844,9 @@ class SayYesNoSpeech {
   SayYesNoSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -848,8 +875,9 @@ class ScanningOvertAttentionMode {
   ScanningOvertAttentionMode(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -867,8 +895,9 @@ class SelectExhibit {
   SelectExhibit(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // inout port `exhibits` (string): exhibits still to visit; the first is taken off
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -929,8 +958,9 @@ class SocialOvertAttentionMode {
   SocialOvertAttentionMode(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -948,8 +978,9 @@ class START_OF_TREE {
   START_OF_TREE(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -967,8 +998,9 @@ class WelcomeGesture {
   WelcomeGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -986,8 +1018,9 @@ class WelcomeSpeech {
   WelcomeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {

@@ -73,8 +73,9 @@ class FindBall {
   FindBall(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -92,8 +93,9 @@ class PickBall {
   PickBall(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -111,8 +113,9 @@ class MoveBall {
   MoveBall(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -130,8 +133,9 @@ class PlaceBall {
   PlaceBall(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;

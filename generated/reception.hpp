@@ -80,8 +80,9 @@ class DisableAnimateBehavior {
   DisableAnimateBehavior(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -99,8 +100,9 @@ class EnableAnimateBehavior {
   EnableAnimateBehavior(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -118,8 +120,9 @@ class GoodbyeGesture {
   GoodbyeGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -137,8 +140,9 @@ class HandleFallBack {
   HandleFallBack(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -156,8 +160,9 @@ class IsASREnabled {
   IsASREnabled(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -175,8 +180,9 @@ class IsMutualGazeDiscovered {
   IsMutualGazeDiscovered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -194,8 +200,9 @@ class IsVisitorDiscovered {
   IsVisitorDiscovered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -213,8 +220,9 @@ class PerformDeicticGesture {
   PerformDeicticGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -243,8 +251,9 @@ class SayGoodByeSpeech {
   SayGoodByeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -273,8 +282,9 @@ class ScanningOvertAttentionMode {
   ScanningOvertAttentionMode(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -292,8 +302,9 @@ class SocialOvertAttentionMode {
   SocialOvertAttentionMode(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -311,8 +322,9 @@ class START_OF_TREE {
   START_OF_TREE(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -330,8 +342,9 @@ class WelcomeGesture {
   WelcomeGesture(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
  private:
   detail::Blackboard* bb_;
@@ -349,8 +362,9 @@ class WelcomeSpeech {
   WelcomeSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -379,8 +393,9 @@ class QueryDestinationSpeech {
   QueryDestinationSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say: asks which place the visitor is looking for
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -409,8 +424,9 @@ class SayDestinationSpeech {
   SayDestinationSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say: asks the visitor to say the name of the place
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -439,8 +455,9 @@ class IsDestinationUttered {
   IsDestinationUttered(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `destination` (string): the place named, when one was heard clearly
   bool set_destination(std::string_view value) const noexcept {
@@ -475,8 +492,9 @@ class PressDestinationSpeech {
   PressDestinationSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say: asks the visitor to choose the place on the tablet
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -505,8 +523,9 @@ class PressDestinationDialogue {
   PressDestinationDialogue(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // output port `destination` (string): the place chosen on the tablet (from the knowledge base's location descriptions)
   bool set_destination(std::string_view value) const noexcept {
@@ -541,8 +560,9 @@ class LookUpDestination {
   LookUpDestination(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `destination` (string): the place the visitor named
   [[nodiscard]] btgen::Input<std::string_view> destination() const noexcept {
@@ -588,8 +608,9 @@ class DescribeRouteSpeech_1 {
   DescribeRouteSpeech_1(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): place whose pre-gesture message is said (where it is)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -618,8 +639,9 @@ class DescribeRouteSpeech_2 {
   DescribeRouteSpeech_2(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `location_id` (int): place whose post-gesture message is said (the way there)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -648,8 +670,9 @@ class UnknownDestinationSpeech {
   UnknownDestinationSpeech(detail::Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) noexcept
       : bb_(&bb), err_(err), node_(&node) {}
 
-  // The node instance being run.
+  // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
   // input port `message` (string): phrase to say: apologises that the place is not known
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
