@@ -318,6 +318,20 @@ def test_committed_generated_compiles_warning_free(tmp_path):
                        check=True)
 
 
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+@pytest.mark.parametrize("stem", ["script_expressions", "robot_lab_tour", "loop_double_string", "entry_updated",
+                                  "unset_blackboard", "root_blackboard_at", "pick_and_place", "post_conditions"])
+def test_data_side_code_compiles_warning_free(stem, compiler, tmp_path):
+    """Scripts, ports, slots and the data nodes' functions: no warning with either compiler."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    for out in generate(os.path.join(CASES, stem + ".xml"), relative_to=ROOT):
+        (tmp_path / out.name).write_text(out.text, encoding="utf-8")
+    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
+                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path),
+                    str(tmp_path / (naming.snake_case(stem) + ".cpp"))], check=True)
+
+
 def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     mission = os.path.join(ROOT, "tests", "cpp", "missions", "timing.xml")
     header, source = generate(mission, relative_to=ROOT)
