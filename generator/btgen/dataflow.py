@@ -342,7 +342,9 @@ class _Analyzer:
                 try:
                     entry = bbmod.create_port_entry(bb, p.raw, type_name, p.name)
                 except (values.ConversionError, bbmod.BlackboardError) as e:
-                    self.error(p.attr.value_loc, f"port `{p.name}` of `{node.id}`: {e}")
+                    existing = self.slot_of_entry.get(id(before)) if before is not None else None
+                    where = f" ({self.slots[existing].origin_text})" if existing is not None else ""
+                    self.error(p.attr.value_loc, f"port `{p.name}` of `{node.id}`: {e}{where}")
                     continue
                 if entry is not None:
                     s = self._slot(entry, p.attr.value_loc)
