@@ -149,6 +149,8 @@ class _Gen:
         if scope.has_root_vars:
             s, f = scope.var("s"), scope.var("flag")
             simple += [f"{s} == 'a'", f"{s} != 'b'", f"!{f}", f"{f}"]
+            if scope.main_like:
+                simple.append("u == 'x'")  # a run-time error once UnsetBlackboard removed `u`
         e = self.rng.choice(simple)
         r = self.rng.random()
         if r < 0.15:

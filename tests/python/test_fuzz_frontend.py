@@ -32,7 +32,6 @@ def test_bounded_fuzz_run(tmp_path):
     out = proc.stdout.decode("utf-8", "replace")
     print(out[-3000:])
     assert proc.returncode == 0, out[-6000:]
-    assert f"{ITERATIONS} " not in out or "0 findings" in out
     assert ", 0 findings," in out
 
 
