@@ -8,7 +8,6 @@ status 1.
 """
 from __future__ import annotations
 
-import importlib.util
 import os
 import sys
 from typing import Sequence
@@ -23,18 +22,11 @@ def _print_diagnostics(diags: Sequence[Diagnostic]) -> None:
         print(str(d), file=sys.stderr)
 
 
-def _cpp_engine_available() -> bool:
-    return importlib.util.find_spec(f"{__package__}.cppengine") is not None
-
-
 def run_command(args) -> int:
     """Entry point of `btgen run MISSION.xml --scenario FILE [--engine interp|cpp]`."""
     engine = getattr(args, "engine", "interp") or "interp"
     if engine == "cpp":
-        if not _cpp_engine_available():
-            print("btgen: error: the cpp engine is not available yet", file=sys.stderr)
-            return EXIT_USAGE
-        from .cppengine import run_cpp  # type: ignore[import-not-found]
+        from .cppengine import run_cpp
 
         return run_cpp(args.mission, args.scenario)
     if engine != "interp":

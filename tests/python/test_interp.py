@@ -621,19 +621,6 @@ def test_script_error_points_into_the_attribute(tmp_path):
     assert proc.stderr.startswith('m.xml:5:43: error: script error in `code` of `ScriptCondition` "Bad": ')
 
 
-def test_cpp_engine_message_when_missing(tmp_path):
-    import importlib.util
-    if importlib.util.find_spec("btgen.cppengine") is not None:
-        pytest.skip("btgen.cppengine exists: the cpp engine is tested with it")
-    path = mission_file(tmp_path, tree("    <A/>"))
-    (tmp_path / "s.scenario").write_text("ticks 1\n")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", path, "--scenario", str(tmp_path / "s.scenario"),
-                           "--engine", "cpp"], capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 2
-    assert proc.stdout == ""
-    assert proc.stderr == "btgen: error: the cpp engine is not available yet\n"
-
-
 # ------------------------------------------------------- balanced missions
 @pytest.mark.parametrize("n", [1, 2, 3, 7, 50, 333])
 def test_balanced_mission_visits_every_node_each_tick(tmp_path, n):
