@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Differential testing: random missions through the interpreter and the C++ engine.
 
-    scripts/difftest.py --seeds 0:300 [--features control|full] [--scenarios 3]
+    scripts/difftest.py --seeds 0:300 [--features control|full|dynamic] [--scenarios 3]
                         [--sanitize] [--keep DIR] [--jobs N]
 
 For every seed, btgen.fuzzgen writes a mission and scenarios. Each mission is

@@ -43,7 +43,7 @@ from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
 from .naming import cpp_string, unique_identifiers
-from .script_cpp import ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
+from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16
@@ -482,6 +482,8 @@ class _Analyzer:
 
     def _bound_of(self, slot: int) -> Optional[int]:
         s = self.slots[slot]
+        if s.kind == DYN:  # its text, or the text of a number it holds
+            return max(s.capacity, scpp.TEXT_BOUND["double"])
         return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
 
     def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[str]]:
@@ -502,6 +504,8 @@ class _Analyzer:
                 scpp.TEXT_BOUND[scpp.value_kind(expr.value)]
         if isinstance(expr, sc.Name):
             s = self.slots[names[expr.name]]
+            if s.kind == DYN:
+                return max(s.capacity, scpp.TEXT_BOUND["double"])
             if s.kind == "string":
                 return s.capacity
             return scpp.TEXT_BOUND.get(s.kind or "", 0)
@@ -513,6 +517,8 @@ class _Analyzer:
             return None if a is None or b is None else max(a, b)
         if isinstance(expr, sc.Assign):
             s = self.slots[names[expr.target]]
+            if s.kind == DYN:  # its text, or the text of a number it holds
+                return max(s.capacity, scpp.TEXT_BOUND["double"])
             return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
         return scpp.TEXT_BOUND["double"]  # unary, comparison: numbers
 
@@ -758,12 +764,45 @@ class _Analyzer:
                                   f"the port has no type; give the port a type in TreeNodesModel (e.g. "
                                   f"type=\"std::string\")")
             s.kind = "string"
+        self.mark_dynamic()
+
+    def mark_dynamic(self) -> None:
+        """Entries whose type 4.6.2 changes at run time get a dynamic slot (btgen::Dyn).
+
+        Only entries no typed port declared (`any`) can change their type: a write of
+        another kind than the entry's (a SetBlackboard literal into an integer entry, a
+        string assigned to an entry a script made a number, a copy of such an entry) makes
+        it dynamic, and so does a write of a dynamic value; expressions over it are then
+        dynamic too, so this runs until nothing changes. Numbers of two kinds (integer and
+        double) are conversions, not type changes: those entries stay static."""
+        changed = True
+        while changed:
+            changed = False
+            for s in self.slots:
+                if s.kind == DYN or s.failed or s.entry.type_name != values.ANY or s.initial is not None \
+                        or s.untyped_text or s.kind is None or is_queue(s.kind) or (s.kind == "none" and not s.writes):
+                    continue
+                for w in s.writes:
+                    if w.source in ("port", "loop"):
+                        continue
+                    k = w.kind()
+                    if k is None or k in ("none", "error") or is_queue(k):
+                        continue
+                    if s.kind == "none" and k != DYN:
+                        continue  # (a script that fails whatever runs: compiling it says why)
+                    if k == DYN or (k == "string") != (s.kind == "string") or \
+                            (k == "status") != (s.kind == "status"):
+                        s.kind = DYN
+                        s.origin = f"its type changes at run time ({w.what} writes {describe_kind(k)})"
+                        s.origin_loc = w.loc
+                        changed = True
+                        break
 
     # ------------------------------------------------------------ 4. sizes
     def size_slots(self) -> None:
         cap = self.opt.string_capacity
         for s in self.slots:
-            if s.kind == "string":
+            if s.kind in ("string", DYN):
                 s.capacity = 0
         changed = True
         rounds = 0
@@ -771,10 +810,12 @@ class _Analyzer:
             changed = False
             rounds += 1
             for s in self.slots:
-                if s.kind != "string":
+                if s.kind not in ("string", DYN):
                     continue
                 best = s.capacity
                 for w in s.writes:
+                    if s.kind == DYN and is_numeric(w.kind()):
+                        continue  # a dynamic slot holds numbers as numbers
                     b = w.bound()
                     b = cap if b is None else min(b, cap)
                     best = max(best, b)
@@ -824,6 +865,8 @@ class _Analyzer:
             return f"btgen::FixedString<{s.capacity}>"
         if k == "none":
             return "btgen::NoValue"
+        if k == DYN:
+            return f"btgen::Dyn<{max(s.capacity, 1)}>"
         if is_queue(k):
             elem = k[len("queue<"):-1]
             etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(
@@ -927,6 +970,11 @@ class _Compiler:
         s = self.a.slots[slot]
         declared = s.entry.type_name
         k = kind_of_type(type_name)
+        if s.kind == DYN:
+            self.error(loc, f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                            f"`{s.key}`, whose type changes at run time ({s.origin_text}); typed writes into "
+                            f"such entries are not supported by the C++ back end yet")
+            return False
         if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
             ok = k == s.kind
         elif type_name == values.STRING:
@@ -1014,6 +1062,16 @@ class _Compiler:
         s = self.a.slots[dst]
         declared = s.entry.type_name
         what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        if s.kind == DYN:
+            if len(text.encode("utf-8")) > s.capacity:
+                self.error(loc, self.overflow_message(text, s))
+                return None
+            body = [f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
+                    f"if (!btgen::dyn::set_literal({self.member(dst)}, {cpp_view(text)}, {cpp_view(op['key'])}, dm)) "
+                    f"{{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
+                    "return btgen::Status::SUCCESS;"]
+            return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}",
+                          tuple(body))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
                 self.error(loc, f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
@@ -1054,6 +1112,8 @@ class _Compiler:
             self.error(loc, f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
                             f"both entries, which the C++ back end does not do")
             return None
+        if DYN in (d.kind, s.kind):
+            return self.set_copy_dynamic(inst, op, d, s, what)
         if not strong:
             ok = s.kind == d.kind
         elif s.kind == "string" and declared != values.STRING:
@@ -1087,6 +1147,34 @@ class _Compiler:
         return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {d.key} = {{{s.key}}}",
                       tuple(body))
 
+    def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[CodeIR]:
+        """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
+        loc = op["loc"]
+        src_decl = s.entry.type_name
+        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
+            self.error(loc, f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); copies between "
+                            f"typed entries and entries whose type changes at run time are not supported by the "
+                            f"C++ back end yet")
+            return None
+        ms, md = self.member(op["src"]), self.member(op["dst"])
+        if s.kind == DYN:
+            ref, src_string = f"btgen::dyn::ref({ms})", f"{ms}.value.typed_string"
+        else:
+            view = scpp.SlotView(ms, s.key, s.kind or "none", src_decl, s.capacity, False)
+            expr = f"{ms}.value.view()" if s.kind == "string" else f"{ms}.value"
+            ref = scpp.CodeWriter(lambda off: "", "").to_ref(scpp.Val(s.kind or "none", expr, f"{ms}.has_value"))
+            del view
+            src_string = "true" if src_decl == values.STRING else "false"
+        body = [f"if (!{ms}.exists) " + self.fail(loc, f"{what}: SetBlackboard: `value` reads blackboard entry "
+                                                       f"`{op['src_key']}`, which does not exist"),
+                f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
+                f"const int r = btgen::dyn::set_copy({md}, {ref}, {src_string}, {cpp_view(op['key'])}, dm);",
+                f"if (r < 0) {{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
+                "return r == 1 ? btgen::Status::SUCCESS : btgen::Status::FAILURE;"]
+        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {d.key} = {{{s.key}}}",
+                      tuple(body))
+
     def entry(self, inst: _Inst, op: dict) -> CodeIR:
         m = self.member(op["slot"])
         return CodeIR(inst.index, "", f"{inst.reg_id} \"{inst.node.display_name}\" entry={op['key']}",
@@ -1101,6 +1189,12 @@ class _Compiler:
             return "true"
         s = self.a.slots[slot]
         m = self.member(slot)
+        if s.kind == DYN:
+            body.append(f"btgen::NumberText {var}_text;")
+            body.append(f"const btgen::dyn::Ref {var}_ref = btgen::dyn::ref({m});")
+            body.append(f"const bool {var}_ok = !{var}_ref.none();")
+            body.append(f"const std::string_view {var} = btgen::dyn::to_text({var}_ref, {var}_text);")
+            return f"{var}_ok"
         if s.kind == "string":
             body.append(f"const bool {var}_ok = {m}.exists && {m}.has_value;")
             body.append(f"const std::string_view {var} = {m}.value.view();")
@@ -1204,10 +1298,11 @@ class _Compiler:
                         self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a "
                                         f"{s.kind}")
                         continue
-                    if (t in ("", "std::string_view")) and is_numeric(s.kind):
+                    numeric = is_numeric(s.kind) or s.kind == DYN
+                    if (t in ("", "std::string_view")) and numeric:
                         entry["scratch"] = True
                     targ = t or "T"
-                    scratch = "{scratch}" if (t in ("", "std::string_view")) and is_numeric(s.kind) else ""
+                    scratch = "{scratch}" if (t in ("", "std::string_view")) and numeric else ""
                     entry["reads"].append((inst.index, f"return btgen::port::read<{targ}>(bb.{s.member}"
                                                        f"{scratch});"))
                 elif t:

@@ -16,7 +16,14 @@ Two feature sets:
   Switch2..6, LoopInt/Bool/Double/String (literal and blackboard queues),
   SkipUnlessUpdated/WaitValueUpdate/WasEntryUpdated, SubTrees with
   `{key}` remapping, literal remapping, `_autoremap` and `@key`, pre- and
-  post-condition scripts on any node, leaves with declared ports.
+  post-condition scripts on any node, leaves with declared ports;
+- ``dynamic``: all of ``full`` plus two root entries, `v` and `w`, whose type
+  changes at run time (4.6.2 allows it for entries no typed port declared):
+  scripts assign them integers, doubles, strings and bools, update them with
+  `+=`, concatenate and compare them; SetBlackboard writes literals and copies
+  into them and out of them; UnsetBlackboard removes `v`; an untyped port
+  creates both at load (so a typed `int` port may read them too) and Switch
+  reads `v` as text.
 
 Every mission the generator writes passes ``btgen validate`` by construction
 (the differential driver counts and reports any that does not); whether the
@@ -34,7 +41,8 @@ import sys
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
-FEATURE_SETS = ("control", "full")
+FEATURE_SETS = ("control", "full", "dynamic")
+DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
 
 CONTROLS = ("Sequence", "SequenceWithMemory", "AsyncSequence", "ReactiveSequence", "Fallback", "AsyncFallback",
             "ReactiveFallback", "Parallel", "ParallelAll")
@@ -104,8 +112,9 @@ class _Gen:
     def __init__(self, seed: int, features: str) -> None:
         if features not in FEATURE_SETS:
             raise ValueError(f"unknown feature set `{features}` (use {', '.join(FEATURE_SETS)})")
-        self.rng = random.Random(seed * 7919 + (0 if features == "control" else 1))
-        self.data = features == "full"
+        self.rng = random.Random(seed * 7919 + {"control": 0, "full": 1, "dynamic": 2}[features])
+        self.data = features in ("full", "dynamic")
+        self.dyn = features == "dynamic"
         self.counter = 0
         self.n_trees = self.rng.choice((1, 2, 3, 3))
         self.budget = self.rng.randint(6, 45)
@@ -151,6 +160,11 @@ class _Gen:
             simple += [f"{s} == 'a'", f"{s} != 'b'", f"!{f}", f"{f}"]
             if scope.main_like:
                 simple.append("u == 'x'")  # a run-time error once UnsetBlackboard removed `u`
+            if self.dyn:
+                dv, dw = scope.var("v"), scope.var("w")
+                simple += [f"{dv} == 7", f"{dv} == 'abc'", f"{dv} != {dw}", f"{dv} .. '' == '7'", f"{dv} > 2",
+                           f"{dw} < {dv}", f"{dw} == '7.000000'", f"{dv} == {v}", f"{dv}", f"!{dw}",
+                           f"{dv} .. {dw} != 'x'", f"({dv} + 1) >= 3", f"{v} > 1 ? {dv} == 7 : {dw} != 2"]
         e = self.rng.choice(simple)
         r = self.rng.random()
         if r < 0.15:
@@ -165,10 +179,24 @@ class _Gen:
         if scope.has_root_vars:
             s, f = scope.var("s"), scope.var("flag")
             opts += [f"{s} := '{self.rng.choice('abc')}'", f"{f} := !{f}", f"{f} := {v} > 1"]
+            if self.dyn:
+                opts += self.dyn_statements(scope, v)
         st = self.rng.choice(opts)
         if self.rng.random() < 0.2:
             st += "; " + self.rng.choice(opts)
         return st
+
+    def dyn_value(self) -> str:
+        return self.rng.choice(("3", "7", "-1", "2.5", "7.0", "'abc'", "'7'", "'2.5'", "''", "true", "false",
+                                "0x10"))
+
+    def dyn_statements(self, scope: _Scope, v: str) -> list[str]:
+        dv, dw, s = scope.var("v"), scope.var("w"), scope.var("s")
+        x = self.dyn_value()
+        return [f"{dv} := {x}", f"{dw} := {self.dyn_value()}", f"{dv} = {x}", f"{dv} += 1", f"{dv} += 'z'",
+                f"{dw} -= 2", f"{dw} := {dv}", f"{dv} := {dv} .. 'x'", f"{dw} := {dv} + 1", f"{dv} := {dw} .. {v}",
+                f"{dv} := {v} > 1 ? 'big' : {v}", f"{dw} := {dv} == 7", f"{s} := {dv} .. ''", f"{v} += {dv}",
+                f"{dv} := -{dw}", f"{dw} := {dv} * 2"]
 
     # ------------------------------------------------------------- nodes
     def node(self, depth: int, tree: int, scope: _Scope) -> str:
@@ -230,7 +258,7 @@ class _Gen:
     def switch(self, depth: int, tree: int, scope: _Scope) -> str:
         n = self.rng.randint(2, 6)
         # `variable` is a string port: an entry it reads holds a string (btgen types every entry).
-        var = "{" + scope.var("s") + "}"
+        var = "{" + scope.var("v" if self.dyn and self.rng.random() < 0.4 else "s") + "}"
         cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
         attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases))
         kids = [self.node(depth + 1, tree, scope) for _ in range(n + 1)]
@@ -298,7 +326,10 @@ class _Gen:
             attrs += f' name="{name}"'
         if self.leaf_ports and self.rng.random() < 0.5:
             if lid == "Move":
-                attrs += f' goal="{{{self.int_var(scope)}}}"' if self.rng.random() < 0.5 else ' goal="4"'
+                if self.dyn and scope.has_root_vars and self.rng.random() < 0.3:
+                    attrs += f' goal="{{{scope.var(self.rng.choice(DYN_VARS))}}}"'
+                else:
+                    attrs += f' goal="{{{self.int_var(scope)}}}"' if self.rng.random() < 0.5 else ' goal="4"'
             elif lid == "Check":
                 attrs += f' level="{self.rng.randint(0, 9)}"'
         pre = self.with_conditions(scope) if conditions else ""
@@ -319,6 +350,15 @@ class _Gen:
                 return f"<Script{self.name_attr()} code={_xml_attr(self.statement(scope))}/>"
             if d < 0.55:
                 return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}/>"
+            if self.dyn and d < 0.75 and rng.random() < 0.5:
+                dv, dw = scope.var("v"), scope.var("w")
+                opts = [f'value="{rng.choice(("7", "abc", "2.5", "", "true"))}" output_key="{rng.choice((dv, dw))}"',
+                        f'value="{{{dv}}}" output_key="{dw}"', f'value="{{{dw}}}" output_key="{dv}"',
+                        f'value="{{{self.int_var(scope)}}}" output_key="{dv}"',
+                        f'value="{{{scope.var("s")}}}" output_key="{dw}"']
+                if scope.main_like:
+                    opts.append('value="{v}" output_key="fresh"')
+                return f"<SetBlackboard{self.name_attr()} {rng.choice(opts)}/>"
             if d < 0.75:
                 # A literal is a string (4.6.2 stores the text): only into string entries.
                 if rng.random() < 0.5:  # a copy between two integer entries
@@ -327,7 +367,8 @@ class _Gen:
                 return f'<SetBlackboard{self.name_attr()} value="{rng.choice("abcx")}" output_key="{scope.var("s")}"/>'
             if scope.main_like:
                 if d < 0.85:
-                    return f'<UnsetBlackboard{self.name_attr()} key="u"/>'
+                    key = "v" if self.dyn and rng.random() < 0.3 else "u"
+                    return f'<UnsetBlackboard{self.name_attr()} key="{key}"/>'
                 if d < 0.92:
                     return f'<SetBlackboard{self.name_attr()} value="{rng.choice("xyz")}" output_key="u"/>'
             return f'<WasEntryUpdated{self.name_attr()} entry="{{{self.int_var(scope)}}}"/>'
@@ -354,6 +395,9 @@ class _Gen:
                   '    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n    </Action>\n',
                   '    <Condition ID="Check">\n      <input_port name="level" type="int" default="1"/>\n'
                   '    </Condition>\n']
+        if self.dyn:
+            models.append('    <Action ID="Show">\n      <input_port name="what"/>\n      <input_port name="other"/>\n'
+                          '    </Action>\n')
         for t in range(1, self.n_trees):
             if self.modes[t] == "remap":
                 models.append(f'    <SubTree ID="T{t}">\n'
@@ -372,6 +416,11 @@ class _Gen:
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
             extra = f'<SetBlackboard value="{q}" output_key="q"/>'
+        if self.dyn:
+            init += f"; v := {self.dyn_value()}; w := {self.dyn_value()}"
+            # Never ticked: its untyped ports create `v` and `w` at load (type AnyTypeAllowed), before any
+            # typed port could declare them.
+            extra = '<Fallback><AlwaysSuccess/><Show what="{v}" other="{w}"/></Fallback>' + extra
         return f'<Sequence name="init"><Script code={_xml_attr(init)}/>{extra}{body}</Sequence>'
 
 

@@ -38,6 +38,9 @@ from . import values
 from .naming import cpp_string
 
 NUMERIC = ("int", "double", "bool", "status")
+# The kind of a dynamic slot (btgen::Dyn<N>: its type changes at run time) and of
+# expressions over one: btgen::dyn::Ref values, operated on by runtime/include/btgen/dynamic.hpp.
+DYN = "dyn"
 CPP_SCALAR = {"int": "std::int64_t", "double": "double", "bool": "bool", "status": "btgen::Status"}
 # Longest text of a value of each kind (std::to_string): bool and status print one digit.
 TEXT_BOUND = {"int": 20, "double": 317, "bool": 1, "status": 1}
@@ -76,7 +79,7 @@ def kind_of_type(type_name: str) -> Optional[str]:
 
 def describe_kind(kind: str) -> str:
     return {"int": "an integer", "double": "a double", "bool": "a bool", "status": "a NodeStatus",
-            "string": "a string", "none": "no value"}.get(kind, f"a {kind}")
+            "string": "a string", "none": "no value", DYN: "a value of changing type"}.get(kind, f"a {kind}")
 
 
 def value_kind(value: object) -> str:
@@ -109,7 +112,8 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
         k = expr_kind(node.operand, kind_of)
         if k is None:
             return None
-        _need_number(node.op, k, node.offset, "operand")
+        if k != DYN:
+            _need_number(node.op, k, node.offset, "operand")
         return "double"
     if isinstance(node, sc.Binary):
         lk = expr_kind(node.left, kind_of)
@@ -136,6 +140,8 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
             raise ScriptTypeError(f"the condition of `?:` is {describe_kind(ck)}", node.op_offset)
         if tk is None or ek is None:
             return None
+        if DYN in (tk, ek):
+            return DYN
         if tk != ek:
             raise ScriptTypeError(ternary_message(tk, ek), node.op_offset)
         return tk
@@ -179,6 +185,8 @@ def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
     if rk == "none":
         raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
+    if DYN in (lk, rk) and not is_queue(lk) and not is_queue(rk):
+        return DYN if op in ("+", "..") else "double"
     if is_numeric(lk) and is_numeric(rk):
         return "none" if op == ".." else "double"
     if lk == "string" and rk == "string" and op in ("+", ".."):
@@ -193,7 +201,7 @@ def compare_check(op: str, a: str, b: str, offset: int) -> None:
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
     if b == "none":
         raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
-    ok = {a, b} <= {"string", *NUMERIC}
+    ok = {a, b} <= {"string", DYN, *NUMERIC}
     if not ok:
         raise ScriptTypeError(f"cannot compare {describe_kind(a)} with {describe_kind(b)} using `{op}`", offset)
 
@@ -293,6 +301,26 @@ class CodeWriter:
     def check(self, cond: str, offset: int, message: str) -> None:
         self.emit(f"if ({cond}) {self.fail(offset, message)}")
 
+    def dyn_call(self, call: str, offset: int) -> None:
+        """A fallible btgen::dyn operation: `call` uses `dm`, the message it fills on failure
+        (after this writer's prefix), which is then reported."""
+        report = f"err.fail(n, {self.where(offset)}, dm.view())"
+        fail = f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
+        self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}); !({call})) {fail}")
+
+    def to_ref(self, v: "Val") -> str:
+        """The value as a btgen::dyn::Ref (empty when it has none)."""
+        if v.kind == DYN:
+            return v.expr  # type: ignore[return-value]
+        if v.kind == "none" or is_queue(v.kind) or v.has == "false":
+            return "btgen::dyn::Ref{}"
+        fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status",
+              "string": "of_string"}[v.kind]
+        r = f"btgen::dyn::{fn}({v.expr})"
+        if v.has is not None:
+            r = f"({v.has} ? {r} : btgen::dyn::Ref{{}})"
+        return r
+
     def errc_check(self, call: str, offset: int, message: str) -> None:
         self.check(f"{call} != btgen::Errc::kOk", offset, message)
 
@@ -362,6 +390,13 @@ class ScriptCompiler(CodeWriter):
 
     def truth(self, v: Val) -> None:
         """script_truth of the last statement's value, returned."""
+        if v.kind == DYN:
+            t = self.temp()
+            self.emit(f"btgen::dyn::Msg {t}m({cpp_view(self.prefix)});")
+            self.emit(f"const int {t} = btgen::dyn::truth({v.expr}, {t}m);")
+            self.emit(f"if ({t} < 0) return err.fail(n, {self.where(0)}, {t}m.view());")
+            self.emit(f"return {t};")
+            return
         if v.kind == "none" or is_queue(v.kind) or v.kind == "string":
             what = "gives no value" if v.kind == "none" else f"gives {describe_kind(v.kind)}"
             raise ScriptTypeError(f"the script {what}, which is not a condition", 0)
@@ -410,6 +445,14 @@ class ScriptCompiler(CodeWriter):
             return Val("none", None, "false")
         if is_queue(s.kind):
             return Val(s.kind, None, None)
+        if s.kind == DYN:
+            t = self.temp()
+            if self.assigned.get(self.ctx.names[node.name], 0) > 0:
+                self.emit(f"const auto {t}c = {s.member};")
+                self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({t}c);")
+            else:
+                self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({s.member});")
+            return Val(DYN, t, None, max(s.capacity, TEXT_BOUND["double"]))
         h = self.temp() + "h"
         self.emit(f"[[maybe_unused]] const bool {h} = {s.member}.has_value;")
         if s.kind == "string":
@@ -453,6 +496,11 @@ class ScriptCompiler(CodeWriter):
 
     def unary(self, node: sc.Unary) -> Val:
         v = self.expr(node.operand)
+        if v.kind == DYN:
+            t = self.temp()
+            self.emit(f"double {t} = 0.0;")
+            self.dyn_call(f"btgen::dyn::unary('{node.op}', {v.expr}, {t}, dm)", node.offset)
+            return Val("double", t, None)
         _need_number(node.op, v.kind, node.offset, "operand")
         self.need_value(v, node.offset, f"the operand of `{node.op}`")
         d = self.as_double(v, node.offset, f"operand of `{node.op}`")
@@ -472,6 +520,8 @@ class ScriptCompiler(CodeWriter):
         lv = self.expr(node.left)
         rv = self.expr(node.right)
         kind = binary_kind(op, lv.kind, rv.kind, off)
+        if DYN in (lv.kind, rv.kind):
+            return self.dyn_binary(op, off, lv, rv, kind)
         self.need_value(lv, off, f"the left operand of `{op}`")
         self.need_value(rv, off, f"the right operand of `{op}`")
         if kind == "none":
@@ -502,6 +552,22 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"const double {t} = ({a} {cop} {b}) ? 1.0 : 0.0;")
         return Val("double", t, None)
 
+    def dyn_bound(self, v: Val) -> int:
+        if v.kind in (DYN, "string"):
+            return v.bound
+        return TEXT_BOUND.get(v.kind, 0)
+
+    def dyn_binary(self, op: str, off: int, lv: Val, rv: Val, kind: str) -> Val:
+        code = {"..": "c", "&&": "a", "||": "o"}.get(op, op)
+        bound = self.dyn_bound(lv) + self.dyn_bound(rv) if kind == DYN else 1
+        t = self.temp()
+        self.emit(f"btgen::FixedString<{bound}> {t}b;")
+        self.emit(f"btgen::dyn::Ref {t};")
+        self.dyn_call(f"btgen::dyn::binary('{code}', {self.to_ref(lv)}, {self.to_ref(rv)}, {t}, {t}b, dm)", off)
+        if kind == DYN:
+            return Val(DYN, t, None, bound)
+        return Val("double", f"{t}.d", None)
+
     def as_truth(self, v: Val, offset: int, op: str) -> str:
         if v.kind == "double":
             return f"({v.expr} != 0.0)"
@@ -522,6 +588,14 @@ class ScriptCompiler(CodeWriter):
         for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
             rv = self.expr(operand)
             compare_check(op, lv.kind, rv.kind, off)
+            if DYN in (lv.kind, rv.kind):
+                c = self.temp()
+                self.emit(f"bool {c} = false;")
+                self.dyn_call(f"btgen::dyn::compare({cpp_view(op)}, {self.to_ref(lv)}, {self.to_ref(rv)}, {c}, dm)",
+                              off)
+                self.emit(f"if (!{c}) break;")
+                lv = rv
+                continue
             self.need_value(lv, off, f"the left operand of `{op}`")
             self.need_value(rv, off, f"the right operand of `{op}`")
             fn = {"==": "eq", "!=": "ne", "<": "lt", ">": "gt", "<=": "le", ">=": "ge"}[op]
@@ -545,6 +619,11 @@ class ScriptCompiler(CodeWriter):
             raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
         if is_queue(cv.kind):
             raise ScriptTypeError(f"the condition of `?:` is {describe_kind(cv.kind)}", node.op_offset)
+        if cv.kind == DYN:
+            c = self.temp()
+            self.emit(f"double {c} = 0.0;")
+            self.dyn_call(f"btgen::dyn::condition({cv.expr}, {c}, dm)", node.op_offset)
+            return self.ternary_branches(node, c)
         self.need_value(cv, node.op_offset, "the condition of `?:`")
         if cv.kind == "string":
             c = self.temp()
@@ -553,7 +632,11 @@ class ScriptCompiler(CodeWriter):
                             "the condition of `?:` is a string that is not a number")
         else:
             c = self.as_double(cv, node.op_offset, "condition of `?:`")
-        # The result's kind: both branches must agree (checked once both are compiled).
+        return self.ternary_branches(node, c)
+
+    def ternary_branches(self, node: sc.Ternary, c: str) -> Val:
+        # The result's kind: both branches must agree (checked once both are compiled), or
+        # one is dynamic and the result is too.
         r = self.temp()
         rh = r + "h"
         decl_at = len(self.lines)
@@ -561,18 +644,31 @@ class ScriptCompiler(CodeWriter):
         self.emit(f"if ({c} != 0.0) {{")
         self.indent += 1
         tv = self.expr(node.then)
-        self._ternary_take(r, rh, tv)
+        then_at = len(self.lines)
         self.indent -= 1
         self.emit("} else {")
         self.indent += 1
         ev = self.expr(node.orelse)
-        self._ternary_take(r, rh, ev)
+        else_at = len(self.lines)
         self.indent -= 1
         self.emit("}")
-        if tv.kind != ev.kind:
-            raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
-        kind = tv.kind
         pad = "  " * self.indent
+        dynamic = DYN in (tv.kind, ev.kind)
+        if not dynamic and tv.kind != ev.kind:
+            raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
+        # The takes, inserted at the end of each branch (the else branch first: indexes stay valid).
+        for at, v in ((else_at, ev), (then_at, tv)):
+            saved, self.lines = self.lines, []
+            self.indent += 1
+            self._ternary_take(r, rh, v, dynamic)
+            self.indent -= 1
+            take, self.lines = self.lines, saved
+            self.lines[at:at] = take
+        kind = tv.kind
+        if dynamic:
+            bound = max(self.dyn_bound(tv), self.dyn_bound(ev), 1)
+            self.lines.insert(decl_at, f"{pad}btgen::Dyn<{bound}> {r};")
+            return Val(DYN, f"({rh} ? {r}.ref() : btgen::dyn::Ref{{}})", None, bound)
         if kind == "none" or is_queue(kind):
             return Val(kind, None, "false" if kind == "none" else None)
         if kind == "string":
@@ -582,7 +678,13 @@ class ScriptCompiler(CodeWriter):
         self.lines.insert(decl_at, f"{pad}{CPP_SCALAR[kind]} {r}{{}};")
         return Val(kind, r, rh)
 
-    def _ternary_take(self, r: str, rh: str, v: Val) -> None:
+    def _ternary_take(self, r: str, rh: str, v: Val, dynamic: bool = False) -> None:
+        if dynamic:
+            ref = self.to_ref(v)
+            self.emit(f"(void){r}.set({ref});")
+            self.emit(f"{rh} = !{r}.ref().none();" if v.kind == DYN else
+                      f"{rh} = {v.has if v.has is not None else 'true'};")
+            return
         if v.kind == "none" or is_queue(v.kind):
             return
         if v.kind == "string":
@@ -605,6 +707,8 @@ class ScriptCompiler(CodeWriter):
         v = self.expr(node.value)
         if v.kind == "none":
             raise ScriptTypeError(none_message(op, node.value), off)
+        if DYN in (s.kind, v.kind):
+            return self.dyn_assign(node, idx, s, v)
         self.need_value(v, off, f"the right operand of `{op}`")
         if op in (":=", "="):
             store_value(self, s, v, off, f"`{node.target} {op} ...`")
@@ -623,6 +727,58 @@ class ScriptCompiler(CodeWriter):
             return Val("string", f"{t}.view()", None, s.capacity)
         self.emit(f"[[maybe_unused]] const {CPP_SCALAR[s.kind]} {t} = {s.member}.value;")
         return Val(s.kind, t, None)
+
+    def dyn_assign(self, node: sc.Assign, idx: int, s: SlotView, v: Val) -> Val:
+        """An assignment whose target or value is dynamic (the entry exists by now)."""
+        op, off, key = node.op, node.op_offset, node.target
+        ref = self.to_ref(v)
+        if v.kind == DYN or v.has is not None:
+            self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
+        if s.kind == DYN:
+            if op in (":=", "="):
+                self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
+            else:
+                t = self.temp()
+                self.emit(f"btgen::FixedString<{s.capacity + self.dyn_bound(v)}> {t}b;")
+                self.emit(f"btgen::dyn::Ref {t};")
+                self.dyn_call(f"btgen::dyn::compound('{op[0]}', btgen::dyn::ref({s.member}), {ref}, "
+                              f"{cpp_view(key)}, {t}, {t}b, dm)", off)
+                self.dyn_call(f"btgen::dyn::put({s.member}, {t}, {cpp_view(key)}, dm)", off)
+            if self.assigned.get(idx, 0) <= 1:
+                return Val(DYN, f"btgen::dyn::ref({s.member})", None, max(s.capacity, TEXT_BOUND["double"]))
+            t = self.temp()
+            self.emit(f"const auto {t}c = {s.member};")
+            self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({t}c);")
+            return Val(DYN, t, None, max(s.capacity, TEXT_BOUND["double"]))
+        # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
+        # keeps the entry's kind (or fails as 4.6.2 does).
+        if op in (":=", "="):
+            raise ScriptTypeError(f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
+                                  f"{describe_kind(s.kind)}{_origin_text(s)}; not supported by the C++ back end "
+                                  f"yet", off)
+        if not (is_numeric(s.kind) or s.kind == "string"):
+            raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", off)
+        cur = Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
+                  f"{s.member}.has_value", s.capacity)
+        t = self.temp()
+        self.emit(f"btgen::FixedString<{s.capacity + self.dyn_bound(v)}> {t}b;")
+        self.emit(f"btgen::dyn::Ref {t};")
+        self.dyn_call(f"btgen::dyn::compound('{op[0]}', {self.to_ref(cur)}, {ref}, {cpp_view(key)}, {t}, {t}b, dm)",
+                      off)
+        if s.kind == "string":
+            self.check(f"!{s.member}.value.assign({t}.s)", off,
+                       f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)")
+        elif s.kind == "double":
+            self.emit(f"{s.member}.value = {t}.d;")
+        elif s.kind == "status":
+            self.emit(f"{s.member}.value = static_cast<btgen::Status>({t}.i);")
+        elif s.kind == "bool":
+            self.emit(f"{s.member}.value = {t}.i != 0;")
+        else:
+            self.emit(f"{s.member}.value = {t}.i;")
+        self.emit(f"{s.member}.mark_written();")
+        return Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value", None,
+                   s.capacity)
 
     def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""

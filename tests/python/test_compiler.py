@@ -253,7 +253,7 @@ def test_compile_writes_only_what_changed_and_nothing_on_error(tmp_path):
     assert compile_command(_Args(good, str(out))) == 0
     assert hpp.stat().st_mtime == 1_000_000  # unchanged: not rewritten
     # A mission that fails leaves the previous outputs byte-identical and writes no temporary file.
-    Path(good).write_text(_mission('<Sequence><Act/><Script code="x := 1; x := \'a\'"/></Sequence>'))
+    Path(good).write_text(_mission('<Sequence><Act/><Script code="x := 1; x := nothing_creates_this"/></Sequence>'))
     with pytest.raises(UserError):
         compile_command(_Args(good, str(out)))
     assert (hpp.read_bytes(), cpp.read_bytes()) == before

@@ -105,13 +105,12 @@ def test_cli_runs_the_cpp_engine():
 def test_data_errors_are_user_errors(tmp_path):
     mission = tmp_path / "data.xml"
     mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>\n'
-                       '  <Script code="x := 1; x := \'one\'"/>\n</Sequence></BehaviorTree></root>\n')
+                       '  <Script code="x := 1; x := nothing"/>\n</Sequence></BehaviorTree></root>\n')
     with pytest.raises(UserError) as e:
         build_cpp(str(mission))
     assert [str(d) for d in e.value.diagnostics] == [
-        f"{mission}:2:27: error: `code` of `Script` \"Script\": `x := ...` stores a string in `x`, which holds an "
-        f"integer (first written by `x := 1` in `code` of `Script` \"Script\" at {mission}:2:17); btgen gives every "
-        f"entry one type"]
+        f"{mission}:2:30: error: `code` of `Script` \"Script\" reads `nothing`, but nothing creates that blackboard "
+        f"entry: no port, script or SetBlackboard writes it (create it with `nothing := ...` first)"]
 
 
 def test_scenario_errors_come_before_any_trace(tmp_path):

@@ -24,6 +24,7 @@
 #include <type_traits>
 
 #include "btgen/blackboard.hpp"
+#include "btgen/dynamic.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/status.hpp"
 #include "btgen/value.hpp"
@@ -84,6 +85,11 @@ template <class S>
 struct is_fixed_string : std::false_type {};
 template <std::size_t N>
 struct is_fixed_string<FixedString<N>> : std::true_type {};
+
+template <class S>
+struct is_dyn : std::false_type {};
+template <std::size_t N>
+struct is_dyn<Dyn<N>> : std::true_type {};
 
 template <class S>
 struct is_fixed_queue : std::false_type {};
@@ -196,6 +202,15 @@ Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
     return from_integer<T>(static_cast<std::int64_t>(slot.value), scratch);
   } else if constexpr (std::is_same_v<S, double>) {
     return from_double<T>(slot.value, scratch);
+  } else if constexpr (is_dyn<S>::value) {
+    // A dynamic entry: whatever it holds now, converted as above.
+    const dyn::Ref v = slot.value.ref();
+    switch (v.tag) {
+      case DynTag::kNone: return PortError::kNoValue;
+      case DynTag::kString: return parse<T>(v.s);
+      case DynTag::kDouble: return from_double<T>(v.d, scratch);
+      default: return from_integer<T>(v.i, scratch);
+    }
   } else {
     static_assert(is_fixed_queue<S>::value, "unknown slot type");
     return PortError::kConversion;  // a queue is no scalar
