@@ -181,8 +181,12 @@ BUILTINS: dict[str, NodeSpec] = {n.id: n for n in _BUILTINS}
 PRE_CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
 POST_CONDITIONS = ("_onHalted", "_onFailure", "_onSuccess", "_post")
 SPECIAL_ATTRIBUTES = ("name", "ID") + PRE_CONDITIONS + POST_CONDITIONS
+# Editor metadata on node elements: BehaviorTree.CPP's own XML writer adds `_uid` and
+# `_fullpath` (WriteTreeToXML with metadata, as Groot2 receives a running tree) and Groot2
+# keeps `_description`; 4.6.2's loader ignores them, and so does btgen.
+METADATA_ATTRIBUTES = ("_uid", "_fullpath", "_description")
 # Names that a TreeNodesModel may not use for a port.
-RESERVED_PORT_NAMES = frozenset(SPECIAL_ATTRIBUTES + ("_autoremap",))
+RESERVED_PORT_NAMES = frozenset(SPECIAL_ATTRIBUTES + ("_autoremap",) + METADATA_ATTRIBUTES)
 
 # Ports whose literal value is a script.
 SCRIPT_PORTS = {("Script", "code"), ("ScriptCondition", "code"), ("Precondition", "if")}

@@ -17,7 +17,8 @@ from lxml import etree
 from . import script as script_lang
 from . import values
 from .catalogue import (BUILTINS, KEY_NAME_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
-                        RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, NodeSpec, PortSpec)
+                        RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, METADATA_ATTRIBUTES, NodeSpec,
+                        PortSpec)
 from .diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from .model import Attr, Mission, Node, SubTreeNode, TreeDef
 from .xmlsource import Source, read_source
@@ -157,8 +158,8 @@ class _Loader:
                 continue
             ports: list[PortSpec] = []
             for p in m:
-                if not isinstance(p.tag, str):
-                    continue
+                if not isinstance(p.tag, str) or p.tag == "MetadataFields":
+                    continue  # Groot2's <MetadataFields><Metadata .../></MetadataFields>: for the editor only
                 port = self._read_model_port(p, src, mid, ports)
                 if port:
                     ports.append(port)
@@ -264,8 +265,11 @@ class _Loader:
                 (pre if aname in PRE_CONDITIONS else post).append(attr)
             elif aname == "_autoremap" and tag == "SubTree":
                 autoremap = self._bool_attr(attr)
+            elif aname in METADATA_ATTRIBUTES:
+                continue
             elif aname.startswith("_") or aname == "ID":
-                specials = [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")] + (["_autoremap"] if tag == "SubTree" else [])
+                specials = [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")] + list(METADATA_ATTRIBUTES) + \
+                    (["_autoremap"] if tag == "SubTree" else [])
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))

@@ -243,3 +243,44 @@ def test_literal_on_output_port_is_an_error(tmp_path):
 def test_set_blackboard_output_key_names_the_entry(tmp_path):
     p = write(tmp_path, MINI.format(body='    <SetBlackboard value="1" output_key="@count"/>'))
     assert load_mission(p).main.root.port("output_key").value == "@count"
+
+
+GROOT2 = """<?xml version="1.0" encoding="UTF-8"?>
+<root BTCPP_format="4" project_name="Demo" main_tree_to_execute="MainTree">
+  <BehaviorTree ID="MainTree" _fullpath="" _description="the main tree">
+    <Sequence name="root" _uid="1">
+      <Say text="hello" _uid="2" _description="greets the visitor"/>
+      <SubTree ID="Sub" _autoremap="true" _fullpath="Sub::3" _uid="3"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub"><IsReady{extra}/></BehaviorTree>
+  <!-- Description of Node Models (used by Groot) -->
+  <TreeNodesModel>
+    <Action ID="Say" editable="true">
+      <input_port name="text" type="std::string">what to say</input_port>
+      <MetadataFields><Metadata subcategory="speech"/><Metadata icon="mouth"/></MetadataFields>
+    </Action>
+    <Condition ID="IsReady" editable="true"><MetadataFields/></Condition>
+  </TreeNodesModel>
+</root>
+"""
+
+
+def test_groot2_metadata_is_accepted_and_ignored(tmp_path):
+    """Groot2's <MetadataFields> in node models (an internal error before: read as a port) and the
+    `_uid` / `_fullpath` / `_description` attributes BehaviorTree.CPP's XML writer and Groot2 add."""
+    path = write(tmp_path, GROOT2.format(extra=""))
+    m = load_mission(path)
+    say = next(s for s in m.models if s.id == "Say")
+    assert [p.name for p in say.ports] == ["text"]
+    main = next(t for t in m.trees if t.id == "MainTree")
+    assert [a.name for a in main.root.children[0].ports] == ["text"]
+    assert main.root.children[1].ports == ()  # `_fullpath` is no remapping of the SubTree
+    assert f"{path}: ok" in btgen("validate", path).stdout
+    assert btgen("xsd", path).returncode == 0
+
+
+def test_unknown_underscore_attribute_is_still_an_error(tmp_path):
+    path = write(tmp_path, GROOT2.format(extra=' _descripton="x"'))
+    [err] = errors_of(path)
+    assert err.endswith("error: unknown attribute `_descripton` on `IsReady` (did you mean `_description`?)"), err
