@@ -93,10 +93,12 @@ TOKENS = [b"<", b">", b"/>", b"</", b"&", b"&amp;", b"&#0;", b"&#x110000;", b"&#
           b'<include path="missing.xml"/>', b'<include path="."/>', b'<include path="/dev/null"/>',
           b'<include ros_pkg="p" path="x"/>', b'<SubTree ID="Main"/>', b"main_tree_to_execute",
           b'BTCPP_format="3"', b"<TreeNodesModel>", b"</TreeNodesModel>", b"<BehaviorTree ID=\"X\">",
-          b"</BehaviorTree>", b"\xf0\x9f\x98\x80", b"\xe2\x80\xae", b"x" * 300, b"\\", b"%s%n", b"${x}"]
+          b"</BehaviorTree>", b'<MetadataFields><Metadata k="v"/></MetadataFields>', b"<MetadataFields>",
+          b'editable="true"', b'_uid="7"', b'_fullpath="A::3"', b"\xf0\x9f\x98\x80", b"\xe2\x80\xae", b"x" * 300, b"\\", b"%s%n", b"${x}"]
 NODE_NAMES = [n.encode() for n in BUILTINS] + [b"Action", b"Condition", b"Control", b"Decorator", b"SubTree",
                                               b"root", b"BehaviorTree", b"TreeNodesModel", b"input_port",
-                                              b"output_port", b"inout_port", b"include", b"Bogus"]
+                                              b"output_port", b"inout_port", b"include", b"MetadataFields",
+                                              b"Metadata", b"Bogus"]
 ATTR_VALUES = [b"", b" ", b"-1", b"0", b"1", b"2", b"65536", b"4294967296", b"-2147483649", b"1.5", b"0x10", b"abc",
                b"{key}", b"{}", b"{=}", b"{ key }", b"{@key}", b"a;b;c", b";;", b"x := 1", b"x == 1", b"x = = 1",
                b"((((((((((1))))))))))", b"(" * 300 + b"1" + b")" * 300, b"a &lt; b", b"'unterminated", b"1 ? 2 : 3",
@@ -168,7 +170,8 @@ def mutate_mission_structure(data: bytes, rng: random.Random) -> bytes:
     if op == 1 and attrs:  # rename an attribute
         m = rng.choice(attrs)
         name = rng.choice([b"name", b"ID", b"_skipIf", b"_while", b"_post", b"_autoremap", b"num_cycles", b"msec",
-                           b"code", b"if", b"else", b"value", b"output_key", b"queue", b"port", b"x y", b"1bad"])
+                           b"code", b"if", b"else", b"value", b"output_key", b"queue", b"port", b"x y", b"1bad",
+                           b"_uid", b"_fullpath", b"_description", b"editable"])
         return data[:m.start(1)] + name + data[m.end(1):]
     if op == 2 and tags:  # rename an element (open or close tag)
         m = rng.choice(tags)
