@@ -112,7 +112,7 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
         k = expr_kind(node.operand, kind_of)
         if k is None:
             return None
-        if k != DYN:
+        if is_queue(k):
             _need_number(node.op, k, node.offset, "operand")
         return "double"
     if isinstance(node, sc.Binary):
@@ -140,17 +140,24 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
             raise ScriptTypeError(f"the condition of `?:` is {describe_kind(ck)}", node.op_offset)
         if tk is None or ek is None:
             return None
-        if DYN in (tk, ek):
+        if DYN in (tk, ek) or (tk != ek and not is_queue(tk) and not is_queue(ek)):
             return DYN
         if tk != ek:
             raise ScriptTypeError(ternary_message(tk, ek), node.op_offset)
         return tk
     if isinstance(node, sc.Assign):
-        vk = expr_kind(node.value, kind_of)
-        if vk == "none":
-            raise ScriptTypeError(none_message(node.op, node.value), node.op_offset)
+        expr_kind(node.value, kind_of)  # (no value: fails at run time, as in 4.6.2)
         return kind_of(node.target)
     raise TypeError(node)
+
+
+def _static_update_ok(op: str, k: str, r: str) -> bool:
+    """Whether `k op= r` compiles statically (else it fails whenever it runs, or is dynamic)."""
+    if is_numeric(r):
+        return is_numeric(k)
+    if r == "string":
+        return op == "+=" and k == "string"
+    return r == DYN and False
 
 
 def overflow_message(text: str, key: str, capacity: int) -> str:
@@ -180,12 +187,28 @@ def _need_number(op: str, kind: str, offset: int, which: str) -> None:
         raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(kind)}", offset)
 
 
+def _static_binary_ok(op: str, lk: str, rk: str) -> bool:
+    if "none" in (lk, rk):
+        return False
+    if is_numeric(lk) and is_numeric(rk):
+        return True
+    if lk == "string" and rk == "string" and op in ("+", ".."):
+        return True
+    return op == ".." and {lk, rk} <= {"string", *NUMERIC}
+
+
 def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
+    if not is_queue(lk) and not is_queue(rk) and not _static_binary_ok(op, lk, rk) and DYN not in (lk, rk):
+        return DYN if op in ("+", "..") else "double"
     if lk == "none":
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
     if rk == "none":
         raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
     if DYN in (lk, rk) and not is_queue(lk) and not is_queue(rk):
+        return DYN if op in ("+", "..") else "double"
+    if not is_queue(lk) and not is_queue(rk) and not _static_binary_ok(op, lk, rk):
+        # Fails whenever it runs (a string where a number is needed): compiled as the dynamic
+        # operation, which reports the interpreter's error at run time.
         return DYN if op in ("+", "..") else "double"
     if is_numeric(lk) and is_numeric(rk):
         return "none" if op == ".." else "double"
@@ -197,6 +220,8 @@ def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
 
 
 def compare_check(op: str, a: str, b: str, offset: int) -> None:
+    if "none" in (a, b) and not is_queue(a) and not is_queue(b):
+        return  # compiled as the dynamic comparison: no value fails at run time, as in 4.6.2
     if a == "none":
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
     if b == "none":
@@ -336,11 +361,12 @@ class CodeWriter:
             try:
                 return cpp_double(values.to_double(text))
             except values.ConversionError:
-                raise ScriptTypeError(f"the string {values.describe(text)} is not a number", offset) from None
+                # 4.6.2 fails whenever this runs: at run time, as the interpreter does.
+                self.emit(self.fail(offset, f"the string {values.describe(text)} is not a number"))
+                return "0.0"
         t = self.temp()
         self.emit(f"double {t} = 0.0;")
-        self.errc_check(f"btgen::script::text_to_double({v.expr}, {t})", offset,
-                        f"the {side} operand of `{op}` is a string that is not a number")
+        self.dyn_call(f"btgen::dyn::string_to_double({v.expr}, {t}, dm)", offset)
         return t
 
     def as_double(self, v: "Val", offset: int, what: str) -> str:
@@ -390,10 +416,10 @@ class ScriptCompiler(CodeWriter):
 
     def truth(self, v: Val) -> None:
         """script_truth of the last statement's value, returned."""
-        if v.kind == DYN:
+        if v.kind in (DYN, "string", "none") or v.kind == "int":
             t = self.temp()
             self.emit(f"btgen::dyn::Msg {t}m({cpp_view(self.prefix)});")
-            self.emit(f"const int {t} = btgen::dyn::truth({v.expr}, {t}m);")
+            self.emit(f"const int {t} = btgen::dyn::truth({self.to_ref(v)}, {t}m);")
             self.emit(f"if ({t} < 0) return err.fail(n, {self.where(0)}, {t}m.view());")
             self.emit(f"return {t};")
             return
@@ -496,10 +522,10 @@ class ScriptCompiler(CodeWriter):
 
     def unary(self, node: sc.Unary) -> Val:
         v = self.expr(node.operand)
-        if v.kind == DYN:
+        if v.kind in (DYN, "string", "none"):  # (a string, or no value: fails at run time as in 4.6.2)
             t = self.temp()
             self.emit(f"double {t} = 0.0;")
-            self.dyn_call(f"btgen::dyn::unary('{node.op}', {v.expr}, {t}, dm)", node.offset)
+            self.dyn_call(f"btgen::dyn::unary('{node.op}', {self.to_ref(v)}, {t}, dm)", node.offset)
             return Val("double", t, None)
         _need_number(node.op, v.kind, node.offset, "operand")
         self.need_value(v, node.offset, f"the operand of `{node.op}`")
@@ -520,7 +546,7 @@ class ScriptCompiler(CodeWriter):
         lv = self.expr(node.left)
         rv = self.expr(node.right)
         kind = binary_kind(op, lv.kind, rv.kind, off)
-        if DYN in (lv.kind, rv.kind):
+        if DYN in (lv.kind, rv.kind) or not _static_binary_ok(op, lv.kind, rv.kind):
             return self.dyn_binary(op, off, lv, rv, kind)
         self.need_value(lv, off, f"the left operand of `{op}`")
         self.need_value(rv, off, f"the right operand of `{op}`")
@@ -574,10 +600,9 @@ class ScriptCompiler(CodeWriter):
         if v.kind == "bool":
             return v.expr  # type: ignore[return-value]
         t = self.temp()
-        self.emit(f"const int {t} = btgen::script::truth({v.expr});")
-        self.check(f"{t} < 0", offset, f"`{op}` needs operands that convert to bool: only the integers 0 and 1 "
-                                       f"convert to bool")
-        return f"({t} == 1)"
+        self.emit(f"bool {t} = false;")
+        self.dyn_call(f"btgen::dyn::logic_operand({cpp_view(op)}, {self.to_ref(v)}, {t}, dm)", offset)
+        return t
 
     def compare(self, node: sc.Compare) -> Val:
         r = self.temp()
@@ -588,7 +613,7 @@ class ScriptCompiler(CodeWriter):
         for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
             rv = self.expr(operand)
             compare_check(op, lv.kind, rv.kind, off)
-            if DYN in (lv.kind, rv.kind):
+            if DYN in (lv.kind, rv.kind) or "none" in (lv.kind, rv.kind):
                 c = self.temp()
                 self.emit(f"bool {c} = false;")
                 self.dyn_call(f"btgen::dyn::compare({cpp_view(op)}, {self.to_ref(lv)}, {self.to_ref(rv)}, {c}, dm)",
@@ -653,7 +678,8 @@ class ScriptCompiler(CodeWriter):
         self.indent -= 1
         self.emit("}")
         pad = "  " * self.indent
-        dynamic = DYN in (tv.kind, ev.kind)
+        dynamic = DYN in (tv.kind, ev.kind) or (tv.kind != ev.kind and not is_queue(tv.kind)
+                                                 and not is_queue(ev.kind))
         if not dynamic and tv.kind != ev.kind:
             raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
         # The takes, inserted at the end of each branch (the else branch first: indexes stay valid).
@@ -705,8 +731,11 @@ class ScriptCompiler(CodeWriter):
             self.check(f"!{s.member}.exists", off,
                        f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it")
         v = self.expr(node.value)
-        if v.kind == "none":
-            raise ScriptTypeError(none_message(op, node.value), off)
+        if v.kind == "none":  # `x := 1 .. 2`: 4.6.2 fails whenever this runs
+            self.emit(self.fail(off, f"the right operand of `{op}` has no value"))
+            return Val("none", None, "false")
+        if op not in (":=", "=") and not _static_update_ok(op, s.kind, v.kind):
+            return self.dyn_assign(node, idx, s, v)
         if DYN in (s.kind, v.kind):
             return self.dyn_assign(node, idx, s, v)
         self.need_value(v, off, f"the right operand of `{op}`")
@@ -752,6 +781,8 @@ class ScriptCompiler(CodeWriter):
             return Val(DYN, t, None, max(s.capacity, TEXT_BOUND["double"]))
         # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
         # keeps the entry's kind (or fails as 4.6.2 does).
+        if s.may_be_missing:
+            pass  # (checked above: `+=` needs the entry)
         if op in (":=", "="):
             raise ScriptTypeError(f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
                                   f"{describe_kind(s.kind)}{_origin_text(s)}; not supported by the C++ back end "

@@ -487,6 +487,16 @@ inline bool condition(const Ref& v, double& x, Msg& m) noexcept {
   return number_to_double(v, x, m, "condition of `?:`");
 }
 
+// An operand of `&&` / `||` as a bool.
+inline bool logic_operand(std::string_view op, const Ref& v, bool& out, Msg& m) noexcept {
+  Msg why;
+  if (!number_to_bool(v, out, why)) {
+    m.add("`").add(op).add("` needs operands that convert to bool: ").add(why.view());
+    return false;
+  }
+  return true;
+}
+
 // script_truth: the last value of a condition script. Returns 1, 0 or -1 (m says why).
 inline int truth(const Ref& v, Msg& m) noexcept {
   if (v.none()) {

@@ -1,0 +1,86 @@
+// The runtime's dynamic values (btgen/dynamic.hpp): 4.6.2's operations on values whose type is
+// known at run time only, with the reference interpreter's messages (btgen/script.py, values.py).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "btgen/dynamic.hpp"
+#include "btgen/port.hpp"
+
+namespace {
+
+using btgen::Dyn;
+using btgen::Slot;
+namespace dyn = btgen::dyn;
+
+std::string text(const dyn::Msg& m) { return std::string(m.view()); }
+
+TEST(Dynamic, ValuesAreDescribedAsPythonReprDoes) {
+  dyn::Msg m;
+  dyn::add_value(m, dyn::of_double(2.5));
+  m.add(" ");
+  dyn::add_value(m, dyn::of_double(1e16));
+  m.add(" ");
+  dyn::add_value(m, dyn::of_double(7.0));
+  m.add(" ");
+  dyn::add_value(m, dyn::of_string("it's"));
+  m.add(" ");
+  dyn::add_value(m, dyn::of_int(-3));
+  EXPECT_EQ(text(m), "2.5 1e+16 7.0 \"it's\" -3");
+}
+
+TEST(Dynamic, AssigningAStringToANumberReadsItAsANumber) {
+  Slot<Dyn<8>> x;
+  dyn::Msg m;
+  ASSERT_TRUE(dyn::store(x, dyn::of_int(5), "x", m));
+  ASSERT_TRUE(dyn::store(x, dyn::of_string("7"), "x", m));
+  EXPECT_EQ(x.value.tag, btgen::DynTag::kDouble);
+  EXPECT_EQ(x.value.d, 7.0);
+  dyn::Msg e("P: ");
+  EXPECT_FALSE(dyn::store(x, dyn::of_string("abc"), "x", e));
+  EXPECT_EQ(text(e), "P: the string 'abc' is not a number");
+}
+
+TEST(Dynamic, SetBlackboardTypesAnEntryAsAString) {
+  Slot<Dyn<8>> x;
+  dyn::Msg m;
+  ASSERT_TRUE(dyn::store(x, dyn::of_int(5), "x", m));
+  ASSERT_TRUE(dyn::set_literal(x, "7", "x", m));
+  EXPECT_EQ(x.value.tag, btgen::DynTag::kString);
+  EXPECT_TRUE(x.value.typed_string);
+  EXPECT_EQ(x.seq, 2u);
+  dyn::Msg e;
+  EXPECT_FALSE(dyn::store(x, dyn::of_int(2), "x", e));
+  EXPECT_EQ(text(e), "cannot assign 2 to `x`: a int cannot be stored where a string is");
+  // A typed port reads the text with convertFromString.
+  const btgen::Input<std::int32_t> n = btgen::port::read<std::int32_t>(x);
+  ASSERT_TRUE(n.has_value());
+  EXPECT_EQ(n.value(), 7);
+  x.unset();
+  EXPECT_FALSE(x.value.typed_string);
+}
+
+TEST(Dynamic, OperatorsFollowTheKindsFoundAtRunTime) {
+  btgen::FixedString<16> buf;
+  dyn::Ref out;
+  dyn::Msg m;
+  ASSERT_TRUE(dyn::binary('c', dyn::of_string("a"), dyn::of_double(2.5), out, buf, m));
+  EXPECT_EQ(out.s, "a2.500000");
+  ASSERT_TRUE(dyn::binary('c', dyn::of_int(1), dyn::of_int(2), out, buf, m));
+  EXPECT_TRUE(out.none());  // `..` of two numbers gives no value
+  dyn::Msg e;
+  EXPECT_FALSE(dyn::binary('+', dyn::of_string("a"), dyn::of_int(1), out, buf, e));
+  EXPECT_EQ(text(e), "`+` cannot be applied to a string and a int");
+  bool res = false;
+  ASSERT_TRUE(dyn::compare("==", dyn::of_string("7"), dyn::of_int(7), res, m));
+  EXPECT_TRUE(res);
+  dyn::Msg e2;
+  EXPECT_FALSE(dyn::logic_operand("&&", dyn::of_int(3), res, e2));
+  EXPECT_EQ(text(e2), "`&&` needs operands that convert to bool: cannot convert 3 (int) to bool: only the "
+                      "integers 0 and 1 convert to bool");
+  dyn::Msg e3;
+  EXPECT_EQ(dyn::truth(dyn::of_string("x"), e3), -1);
+  EXPECT_EQ(text(e3), "the script gives 'x' (string), which is not a condition");
+}
+
+}  // namespace
