@@ -47,6 +47,8 @@ from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeri
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16
+# Growths of a string capacity before it is taken to grow without bound (see size_slots).
+WIDEN_AFTER = 8
 
 
 @dataclass(frozen=True)
@@ -804,12 +806,17 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Capacities only grow, up to `cap`. A slot whose bound depends on itself
+        # (`s := s .. 'x'`, possibly through other slots) grows a little every round;
+        # after WIDEN_AFTER growths it is taken to grow without bound and gets `cap`,
+        # so every slot changes at most WIDEN_AFTER + 1 times.
+        growths = [0] * len(self.slots)
         changed = True
         rounds = 0
         while changed:
             changed = False
             rounds += 1
-            for s in self.slots:
+            for i, s in enumerate(self.slots):
                 if s.kind not in ("string", DYN):
                     continue
                 best = s.capacity
@@ -819,10 +826,11 @@ class _Analyzer:
                     b = w.bound()
                     b = cap if b is None else min(b, cap)
                     best = max(best, b)
-                if best != s.capacity:
-                    s.capacity = best
+                if best > s.capacity:
+                    growths[i] += 1
+                    s.capacity = cap if growths[i] > WIDEN_AFTER else best
                     changed = True
-            if rounds > 10 * len(self.slots) + 10:
+            if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
         for s in self.slots:
             if is_queue(s.kind):

@@ -104,6 +104,20 @@ def test_string_capacities_are_computed_and_capped(tmp_path):
     assert caps == {"a": 7, "b": 7 + 1 + 20, "grow": 40, "f": 40}  # 20: an int's text; f: 2 + 317 capped
 
 
+@pytest.mark.parametrize("piece", ["'x'", "u .. 'y'"])
+def test_a_string_growing_by_little_per_write_gets_the_capacity(tmp_path, piece):
+    """`s := s .. 'x'` grows its bound by one byte per round of the capacity fixed point; it crashed
+    the compiler ("string capacities do not settle", found by front-end fuzzing) when the capacity
+    needed more rounds than the mission has slots."""
+    setup = "u := ''; " if piece.startswith("u") else ""
+    path = _write(tmp_path, "m.xml", _mission(
+        f'<Sequence><Script code="{setup}s := \'\'"/><Repeat num_cycles="3"><Script code="s := s .. {piece}"/>'
+        f'</Repeat><Script code="t := s .. \'!\'"/></Sequence>'))
+    slots, _ = _slots(path, DataOptions(string_capacity=300))
+    caps = {k[1]: s.capacity for k, s in slots.items()}
+    assert caps["s"] == 300 and caps["t"] == 300
+
+
 def test_lab_tour_slots():
     slots, ir = _slots(os.path.join(ROOT, "missions", "LabTour.xml"))
     assert {k: s.cpp_type for k, s in slots.items()} == {
