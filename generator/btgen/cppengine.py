@@ -98,7 +98,8 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     mission = load_mission(mission_path)
     if warnings is not None:
         warnings.extend(mission.warnings)
-    outputs = render(lower(mission), mission_stem(mission_path), os.getcwd())
+    # Paths as the interpreter prints them (as given), so run-time errors read the same.
+    outputs = render(lower(mission), mission_stem(mission_path), None)
     stem = mission_stem(mission_path)
     cxx = compiler()
     identity = _compiler_identity(cxx)

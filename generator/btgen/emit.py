@@ -102,8 +102,11 @@ def environment() -> jinja2.Environment:
     return _ENV
 
 
-def display_path(path: str, relative_to: str) -> str:
-    """`path` relative to `relative_to`, with `/` separators (the banner's form)."""
+def display_path(path: str, relative_to: Optional[str]) -> str:
+    """`path` relative to `relative_to`, with `/` separators (the banner's form); as given
+    (the diagnostics' form) when `relative_to` is None."""
+    if relative_to is None:
+        return path
     rel = os.path.relpath(os.path.abspath(path), os.path.abspath(relative_to))
     return rel.replace(os.sep, "/")
 
@@ -112,8 +115,9 @@ def output_names(stem: str) -> tuple[str, str]:
     return naming.header_name(stem), naming.source_name(stem)
 
 
-def render(program: Program, stem: str, relative_to: str = ".") -> tuple[Output, ...]:
-    """The generated header and source for `program`."""
+def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tuple[Output, ...]:
+    """The generated header and source for `program`; paths in it are relative to
+    `relative_to`, or as the diagnostics give them when it is None."""
     show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
     data = program.data
     if data is None:

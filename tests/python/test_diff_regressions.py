@@ -62,3 +62,18 @@ def test_regression(stem, engine):
     if engine == "cpp" and rc != rc_expected and UNSUPPORTED_MARK in err:
         pytest.skip("the C++ back end cannot compile it yet: " + err.strip().splitlines()[0])
     assert (rc, out, err) == (rc_expected, trace, stderr)
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_runtime_error_names_the_mission_as_given(engine, tmp_path):
+    """An absolute mission path is printed as given by both engines (the C++ engine printed it
+    relative to the working directory: `../../tmp/...`)."""
+    stem = "runtime_error_ends_tick"
+    src = os.path.join(REG, stem)
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", src + ".xml", "--scenario", src + ".scenario",
+                           "--engine", engine], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    rc, trace, stderr = _expected(stem)
+    rel = os.path.join("tests", "regressions", stem + ".xml")
+    assert (proc.returncode, proc.stdout) == (rc, trace)
+    assert stderr.startswith(rel + ":")
+    assert proc.stderr == stderr.replace(rel, src + ".xml")
