@@ -127,7 +127,7 @@ def test_scenario_errors_come_before_any_trace(tmp_path):
     rc, out, err = _run(build_cpp(str(mission)), str(scenario))
     assert rc == 1 and out == ""
     assert err == (f"{scenario}:1:19: error: `Done` is a Condition and cannot return RUNNING (a Condition answers "
-                   f"in one tick; its Condition node is at {os.path.relpath(mission)}:1:60)\n"
+                   f"in one tick; its Condition node is at {mission}:1:60)\n"
                    f"{scenario}:2:6: warning: leaf `Nobody` matches no Action or Condition of the mission; its line "
                    f"is ignored\n")
 
