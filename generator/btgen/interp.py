@@ -422,27 +422,31 @@ class ControlNode(TreeNode):
 
 
 class SequenceNode(ControlNode):
-    """4.6.2 ``SequenceNode`` (Sequence, and AsyncSequence with make_async)."""
+    """4.6.2 ``SequenceNode`` (Sequence, and AsyncSequence with make_async).
 
-    __slots__ = ("idx", "skipped", "asynch")
+    SKIPPED follows 4.6.2's member flag ``all_skipped_``: set when the node is ticked from
+    IDLE, cleared by any child that does not return SKIPPED, never reset when the loop
+    completes. (4.7.0 counts skipped children instead; the results differ when a child that
+    was RUNNING is later skipped by ``_while``, and when a completed node is ticked again.)"""
+
+    __slots__ = ("idx", "all_skipped", "asynch")
 
     def __init__(self, rt, model, bb, reg_id, ports, asynch: bool = False) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.idx = 0
-        self.skipped = 0
+        self.all_skipped = True
         self.asynch = asynch
 
     def halt(self) -> None:
         self.idx = 0
-        self.skipped = 0
         ControlNode.halt(self)
 
     def tick(self) -> int:
         children = self.children
         n = len(children)
         st = self.status
-        if st == IDLE:  # !isStatusActive(status())
-            self.skipped = 0
+        if st == IDLE:
+            self.all_skipped = True
         if st != RUNNING:  # setStatus(RUNNING)
             self.status = RUNNING
             self.emit((self.prefix, _TRANS[st][RUNNING]))
@@ -451,6 +455,8 @@ class SequenceNode(ControlNode):
             child = children[idx]
             prev = child.status
             cs = child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
             if cs == RUNNING:
                 self.idx = idx
                 return RUNNING
@@ -466,33 +472,30 @@ class SequenceNode(ControlNode):
                     return RUNNING
             elif cs == SKIPPED:
                 idx += 1
-                self.skipped += 1
             else:
                 self.idx = idx
                 raise self._child_idle_error()
         self.idx = idx
-        all_skipped = self.skipped == n
         if idx == n:
             self.reset_children()
             self.idx = 0
-            self.skipped = 0
-        return SKIPPED if all_skipped else SUCCESS
+        return SKIPPED if self.all_skipped else SUCCESS
 
 
 class FallbackNode(ControlNode):
-    """4.6.2 ``FallbackNode`` (Fallback, and AsyncFallback with make_asynch)."""
+    """4.6.2 ``FallbackNode`` (Fallback, and AsyncFallback with make_asynch); SKIPPED as in
+    SequenceNode (the ``all_skipped_`` flag)."""
 
-    __slots__ = ("idx", "skipped", "asynch")
+    __slots__ = ("idx", "all_skipped", "asynch")
 
     def __init__(self, rt, model, bb, reg_id, ports, asynch: bool = False) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.idx = 0
-        self.skipped = 0
+        self.all_skipped = True
         self.asynch = asynch
 
     def halt(self) -> None:
         self.idx = 0
-        self.skipped = 0
         ControlNode.halt(self)
 
     def tick(self) -> int:
@@ -500,7 +503,7 @@ class FallbackNode(ControlNode):
         n = len(children)
         st = self.status
         if st == IDLE:
-            self.skipped = 0
+            self.all_skipped = True
         if st != RUNNING:
             self.status = RUNNING
             self.emit((self.prefix, _TRANS[st][RUNNING]))
@@ -509,6 +512,8 @@ class FallbackNode(ControlNode):
             child = children[idx]
             prev = child.status
             cs = child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
             if cs == RUNNING:
                 self.idx = idx
                 return RUNNING
@@ -523,40 +528,39 @@ class FallbackNode(ControlNode):
                     return RUNNING
             elif cs == SKIPPED:
                 idx += 1
-                self.skipped += 1
             else:
                 self.idx = idx
                 raise self._child_idle_error()
         self.idx = idx
-        all_skipped = self.skipped == n
         if idx == n:
             self.reset_children()
             self.idx = 0
-            self.skipped = 0
-        return SKIPPED if all_skipped else FAILURE
+        return SKIPPED if self.all_skipped else FAILURE
 
 
 class SequenceWithMemoryNode(ControlNode):
     """4.6.2 ``SequenceWithMemory``: a FAILURE halts the children from the current one on but
-    keeps the index; halt() keeps it too."""
+    keeps the index; halt() keeps it too. SKIPPED as in SequenceNode (``all_skipped_``)."""
 
-    __slots__ = ("idx", "skipped")
+    __slots__ = ("idx", "all_skipped")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.idx = 0
-        self.skipped = 0
+        self.all_skipped = True
 
     def tick(self) -> int:
         children = self.children
         n = len(children)
         if self.status == IDLE:
-            self.skipped = 0
+            self.all_skipped = True
         self.set_status(RUNNING)
         while self.idx < n:
             child = children[self.idx]
             prev = child.status
             cs = child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
             if cs == RUNNING:
                 return RUNNING
             if cs == FAILURE:
@@ -569,15 +573,12 @@ class SequenceWithMemoryNode(ControlNode):
                     return RUNNING
             elif cs == SKIPPED:
                 self.idx += 1
-                self.skipped += 1
             else:
                 raise self._child_idle_error()
-        all_skipped = self.skipped == n
         if self.idx == n:
             self.reset_children()
             self.idx = 0
-            self.skipped = 0
-        return SKIPPED if all_skipped else SUCCESS
+        return SKIPPED if self.all_skipped else SUCCESS
 
 
 class ReactiveSequenceNode(ControlNode):
@@ -1128,10 +1129,8 @@ class RetryNode(DecoratorNode):
                 return SUCCESS
             if cs == FAILURE:
                 self.tries += 1
-                # the attempt count is read again: a child may have changed it
-                refreshed = self.get_input("num_attempts", "int")
-                if refreshed is not MISSING:
-                    attempts = refreshed
+                # 4.6.2 read num_attempts once, at the start of tick(); re-reading it after
+                # every failure (#905) came with 4.7.0
                 do_loop = self.tries < attempts or attempts == -1
                 self.reset_child()
                 if prev == IDLE and do_loop:

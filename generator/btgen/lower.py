@@ -27,7 +27,7 @@ from .naming import unique_identifiers
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
 SUPPORTED: dict[str, tuple[str, int, int]] = {
-    "Sequence": ("Sequence", 2, 0),  # current child, skipped count
+    "Sequence": ("Sequence", 2, 0),  # current child, "a child did not skip" (all_skipped_)
     "AsyncSequence": ("AsyncSequence", 2, 0),
     "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
     "ReactiveSequence": ("ReactiveSequence", 0, 0),

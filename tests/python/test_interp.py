@@ -751,3 +751,41 @@ def test_deeply_nested_subtrees_run(tmp_path):
     out = proc.stdout.splitlines()
     assert out[0] == "tick 1" and out[-1] == "result SUCCESS"
     assert '603 AlwaysSuccess "AlwaysSuccess" IDLE -> SUCCESS' in out  # 3 x 200 Inverters + 2 SubTrees first
+
+
+def test_retry_reads_num_attempts_once_per_tick(tmp_path):
+    """RetryNode::tick (4.6.2): getInput("num_attempts") once at the start of tick(); a child that
+    lowers the entry and fails synchronously gets the wake-up RUNNING (1 < 3 with the value read),
+    and the next tick reads 1 and fails without ticking the child. Re-reading the port after each
+    failure (#905) is 4.7.0 and failed on tick 1. (The C++ back end needs a literal num_attempts,
+    so this case is the interpreter's only.)"""
+    got = run(tmp_path, tree("""
+    <Sequence name="root">
+      <Script name="init" code="n := 3"/>
+      <RetryUntilSuccessful name="retry" num_attempts="{n}">
+        <Sequence name="attempt">
+          <Script name="lower" code="n = 1"/>
+          <A name="try"/>
+        </Sequence>
+      </RetryUntilSuccessful>
+    </Sequence>"""), "ticks 5\nleaf try FAILURE\n")
+    assert got == lines(
+        "tick 1",
+        '1 Sequence "root" IDLE -> RUNNING',
+        '2 Script "init" IDLE -> SUCCESS',
+        '3 RetryUntilSuccessful "retry" IDLE -> RUNNING',
+        '4 Sequence "attempt" IDLE -> RUNNING',
+        '5 Script "lower" IDLE -> SUCCESS',
+        '6 A "try" IDLE -> FAILURE',
+        '5 Script "lower" SUCCESS -> IDLE',
+        '6 A "try" FAILURE -> IDLE',
+        '4 Sequence "attempt" RUNNING -> FAILURE',
+        '4 Sequence "attempt" FAILURE -> IDLE',
+        "result RUNNING",
+        "tick 2",
+        '3 RetryUntilSuccessful "retry" RUNNING -> FAILURE',
+        '2 Script "init" SUCCESS -> IDLE',
+        '3 RetryUntilSuccessful "retry" FAILURE -> IDLE',
+        '1 Sequence "root" RUNNING -> FAILURE',
+        '1 Sequence "root" FAILURE -> IDLE',
+        "result FAILURE")

@@ -386,6 +386,8 @@ class Engine {
       case NodeKind::SequenceWithMemory:
       case NodeKind::Fallback:
       case NodeKind::AsyncFallback:
+        // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
+        // only when the node is ticked from IDLE.
         if (!is_active(status_[f.node])) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
         return sequence_next(f, n);
@@ -592,6 +594,7 @@ class Engine {
       case NodeKind::AsyncSequence:
       case NodeKind::SequenceWithMemory: {
         std::int32_t& idx = counter(n, 0);
+        if (cs != Status::SKIPPED) counter(n, 1) = 1;
         switch (cs) {
           case Status::RUNNING:
             return done(Status::RUNNING);
@@ -605,7 +608,6 @@ class Engine {
             return sequence_next(f, n);
           case Status::SKIPPED:
             ++idx;
-            ++counter(n, 1);
             return sequence_next(f, n);
           default:  // FAILURE
             if (n.kind == NodeKind::SequenceWithMemory) {
@@ -621,6 +623,7 @@ class Engine {
       case NodeKind::Fallback:
       case NodeKind::AsyncFallback: {
         std::int32_t& idx = counter(n, 0);
+        if (cs != Status::SKIPPED) counter(n, 1) = 1;
         switch (cs) {
           case Status::RUNNING:
             return done(Status::RUNNING);
@@ -632,7 +635,6 @@ class Engine {
             return sequence_next(f, n);
           case Status::SKIPPED:
             ++idx;
-            ++counter(n, 1);
             return sequence_next(f, n);
           default:  // SUCCESS
             reset_children(n);
@@ -841,17 +843,17 @@ class Engine {
   }
 
   // Sequence / Fallback family: tick the child at the stored index, or end.
+  // 4.6.2 returns SKIPPED when no child ticked since the node was last IDLE
+  // answered anything but SKIPPED; the flag is not reset when the loop ends.
   [[gnu::always_inline]] Step sequence_next(Frame& f, const NodeInfo& n) noexcept {
     std::int32_t& idx = counter(n, 0);
-    std::int32_t& skipped = counter(n, 1);
     if (idx < n.child_count) {
       f.pos = static_cast<std::uint16_t>(idx);
       return descend(child(n, f.pos));
     }
-    const bool all_skipped = skipped == n.child_count;
+    const bool all_skipped = counter(n, 1) == 0;
     reset_children(n);
     idx = 0;
-    skipped = 0;
     if (all_skipped) return done(Status::SKIPPED);
     return done(is_sequence(n.kind) ? Status::SUCCESS : Status::FAILURE);
   }
