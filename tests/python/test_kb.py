@@ -183,7 +183,7 @@ def test_missing_file_and_directory() -> None:
 def test_file_too_big(tmp_path: Path) -> None:
     path = _write(tmp_path, b"#" * (kb.KB_MAX_FILE_BYTES + 1))
     assert [d.message for d in kb.lint_kb(path)] == \
-        [f"file is {kb.KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited to 1048576 bytes"]
+        [f"file is {kb.KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited to 131072 bytes"]
     assert kb.lint_kb(_write(tmp_path, b"#" * kb.KB_MAX_FILE_BYTES, "at_limit.dat"))[0].message.startswith(
         "the knowledge base is empty")
 

@@ -42,14 +42,14 @@ def test_the_limits_are_the_documented_ones():
     assert scenario_mod.MAX_SCENARIO_BYTES == 16 * 1024 * 1024
     assert script.MAX_NESTING == 32
     assert script.MAX_DEPTH == 100
-    assert KB_MAX_FILE_BYTES == 1024 * 1024
+    assert KB_MAX_FILE_BYTES == 128 * 1024
     with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
         readme = f.read()
     assert "## Limits" in readme
     limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0]
     from btgen.dataflow import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
 
-    for number in ("65,535", "256", "32", "16 MiB", "100", "1 MiB", "2,147,483,647",
+    for number in ("65,535", "256", "32", "16 MiB", "100", "128 KiB", "2,147,483,647",
                    f"{DEFAULT_STRING_CAPACITY} bytes", f"{DEFAULT_QUEUE_CAPACITY} elements"):
         assert number in limits, number
 

@@ -16,7 +16,7 @@
 namespace btgen::kb_limits {
 
 /// Largest .dat or .ini file, in bytes (the Lab Tour base is about 4 kB).
-inline constexpr std::size_t kMaxFileBytes = 1048576;
+inline constexpr std::size_t kMaxFileBytes = 131072;
 /// Longest description or message, in UTF-8 bytes, without a terminator.
 inline constexpr std::size_t kMaxTextBytes = 255;
 /// Most cultural knowledge keys per location.

@@ -255,7 +255,7 @@ TEST(EnvironmentKnowledgeBase, EncodingAndEmptyFiles) {
   auto kb = EnvironmentKnowledgeBase::load(big.path());
   ASSERT_FALSE(kb.ok());
   EXPECT_EQ(kb.errors(), std::vector<std::string>{
-      big.path() + ":1:1: error: file is 1048577 bytes; knowledge base files are limited to 1048576 bytes"});
+      big.path() + ":1:1: error: file is 131073 bytes; knowledge base files are limited to 131072 bytes"});
 }
 
 TEST(EnvironmentKnowledgeBase, AcceptsCrlfBomTabsAndCommas) {
