@@ -776,7 +776,8 @@ class _Analyzer:
         string assigned to an entry a script made a number, a copy of such an entry) makes
         it dynamic, and so does a write of a dynamic value; expressions over it are then
         dynamic too, so this runs until nothing changes. Numbers of two kinds (integer and
-        double) are conversions, not type changes: those entries stay static."""
+        double) written by scripts are conversions, not type changes: those entries stay
+        static; a SetBlackboard copy of another kind of number replaces the value's type."""
         changed = True
         while changed:
             changed = False
@@ -793,7 +794,9 @@ class _Analyzer:
                     if s.kind == "none" and k != DYN:
                         continue  # (a script that fails whatever runs: compiling it says why)
                     if k == DYN or (k == "string") != (s.kind == "string") or \
-                            (k == "status") != (s.kind == "status"):
+                            (k == "status") != (s.kind == "status") or (w.source == "copy" and k != s.kind):
+                        # (a SetBlackboard copy is set<Any>: it replaces an untyped entry's value with the
+                        # source's, an integer stays an integer in a double entry)
                         s.kind = DYN
                         s.origin = f"its type changes at run time ({w.what} writes {describe_kind(k)})"
                         s.origin_loc = w.loc
