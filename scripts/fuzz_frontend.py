@@ -18,8 +18,10 @@ command line does with it:
 The oracle: every input ends in success or in diagnostics of the form
 `path:line:col: error|warning: message` with the path as given — never
 another exception (a traceback, an internal error), never more than
---time-limit seconds (SIGALRM), never unbounded memory (RLIMIT_AS, set
-here). `--cli K` also sends every K-th input through the real `btgen`
+--time-limit seconds of CPU (ITIMER_PROF: the process's own work, so a
+loaded machine does not make a slow input out of a fast one), nor
+WALL_FACTOR times that in wall-clock time (ITIMER_REAL: an input that blocks
+without computing), never unbounded memory (RLIMIT_AS, set here). `--cli K` also sends every K-th input through the real `btgen`
 executable and checks its exit status (0 or 1) and stderr.
 
 A finding is written to --keep (default build/fuzz-frontend) with the
@@ -59,8 +61,11 @@ class Hang(Exception):
     pass
 
 
+WALL_FACTOR = 6  # the wall-clock backstop, as a multiple of the CPU limit
+
+
 def _alarm(signum, frame):  # pragma: no cover - only on a hang
-    raise Hang()
+    raise Hang(signum)
 
 
 # ------------------------------------------------------------------ corpus
@@ -301,6 +306,7 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
     stats = {"missions": 0, "kbs": 0, "configs": 0, "cli": 0, "valid_missions": 0, "findings": []}
     work = Path(tempfile.mkdtemp(prefix="fuzz-frontend."))
     old = signal.signal(signal.SIGALRM, _alarm)
+    old_prof = signal.signal(signal.SIGPROF, _alarm)
     old_limit = sys.getrecursionlimit()
     try:
         # A neighbour file for `<include path="..."/>` mutations.
@@ -319,7 +325,8 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                 (work / "environmentKnowledgeBaseInput.dat").write_bytes(kbs[0])
             Path(path).write_bytes(data)
             problem = None
-            signal.setitimer(signal.ITIMER_REAL, time_limit)
+            signal.setitimer(signal.ITIMER_PROF, time_limit)
+            signal.setitimer(signal.ITIMER_REAL, time_limit * WALL_FACTOR)
             try:
                 if kind == "mission":
                     stats["missions"] += 1
@@ -331,8 +338,9 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                 else:
                     stats["configs"] += 1
                     problem = check_kb(str(work / "environmentKnowledgeBaseInput.dat"), path)
-            except Hang:
-                problem = f"no answer within {time_limit} s"
+            except Hang as e:
+                problem = (f"no answer within {time_limit} s of CPU" if e.args[0] == signal.SIGPROF
+                           else f"no answer within {time_limit * WALL_FACTOR} s of wall-clock time")
             except MemoryError:
                 problem = f"ran out of memory (limit {MEMORY_LIMIT >> 20} MiB)"
             except BaseException as e:  # noqa: BLE001 - any other exception is the finding
@@ -340,6 +348,7 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                     raise
                 problem = "exception:\n" + "".join(traceback.format_exception(type(e), e, e.__traceback__)[-6:])
             finally:
+                signal.setitimer(signal.ITIMER_PROF, 0)
                 signal.setitimer(signal.ITIMER_REAL, 0)
                 sys.setrecursionlimit(old_limit)
             if problem is None and cli_every and it % cli_every == 0:
@@ -357,6 +366,7 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                 log(f"FINDING {saved}: {problem}")
     finally:
         signal.signal(signal.SIGALRM, old)
+        signal.signal(signal.SIGPROF, old_prof)
         shutil.rmtree(work, ignore_errors=True)
     return stats
 
@@ -368,7 +378,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     p.add_argument("--target", choices=("mission", "kb", "config", "all"), default="all")
     p.add_argument("--cli", type=int, default=0, metavar="K", help="also run every K-th input through `btgen`")
     p.add_argument("--keep", type=Path, default=None)
-    p.add_argument("--time-limit", type=float, default=10.0, help="seconds per input (default 10)")
+    p.add_argument("--time-limit", type=float, default=10.0, help="CPU seconds per input (default 10)")
     args = p.parse_args(argv)
     _limit_memory()
     start = time.monotonic()

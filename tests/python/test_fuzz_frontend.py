@@ -57,7 +57,21 @@ def test_the_oracle_catches_a_hang(tmp_path, monkeypatch):
 
     monkeypatch.setattr(btgen.kb, "lint_kb", forever)
     stats = fuzz_frontend.fuzz(1, 1, "kb", keep=tmp_path, time_limit=0.5)
-    assert [p for _, p in stats["findings"]] == ["no answer within 0.5 s"]
+    assert [p for _, p in stats["findings"]] == ["no answer within 0.5 s of CPU"]
+
+
+def test_the_oracle_catches_an_input_that_blocks(tmp_path, monkeypatch):
+    # No CPU is spent, so only the wall-clock backstop can end it.
+    import time
+
+    import btgen.kb
+
+    monkeypatch.setattr(btgen.kb, "lint_kb", lambda *args, **kwargs: time.sleep(60))
+    monkeypatch.setattr(fuzz_frontend, "WALL_FACTOR", 2)
+    started = time.monotonic()
+    stats = fuzz_frontend.fuzz(1, 1, "kb", keep=tmp_path, time_limit=0.5)
+    assert [p for _, p in stats["findings"]] == ["no answer within 1.0 s of wall-clock time"]
+    assert time.monotonic() - started < 30
 
 
 def test_mutations_are_deterministic():
