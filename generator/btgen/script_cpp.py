@@ -740,7 +740,7 @@ class ScriptCompiler(CodeWriter):
             return self.dyn_assign(node, idx, s, v)
         self.need_value(v, off, f"the right operand of `{op}`")
         if op in (":=", "="):
-            store_value(self, s, v, off, f"`{node.target} {op} ...`")
+            store_value(self, s, v, off, f"`{node.target} {op} ...`", op)
         else:
             self.compound(s, node.target, op, v, off)
         self.emit(f"{s.member}.mark_written();")
@@ -768,7 +768,9 @@ class ScriptCompiler(CodeWriter):
                 self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
                 t = self.temp()
-                self.emit(f"btgen::FixedString<{s.capacity + self.dyn_bound(v)}> {t}b;")
+                # room for the text of whatever the entry holds (a number's can be longer than the
+                # slot's capacity), so that only the store reports a text that does not fit
+                self.emit(f"btgen::FixedString<{max(s.capacity, TEXT_BOUND['double']) + self.dyn_bound(v)}> {t}b;")
                 self.emit(f"btgen::dyn::Ref {t};")
                 self.dyn_call(f"btgen::dyn::compound('{op[0]}', btgen::dyn::ref({s.member}), {ref}, "
                               f"{cpp_view(key)}, {t}, {t}b, dm)", off)
@@ -792,7 +794,9 @@ class ScriptCompiler(CodeWriter):
         cur = Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
                   f"{s.member}.has_value", s.capacity)
         t = self.temp()
-        self.emit(f"btgen::FixedString<{s.capacity + self.dyn_bound(v)}> {t}b;")
+        # the text of the entry (a number's, when `+=` appends a string) and the value
+        cur_bound = s.capacity if s.kind == "string" else TEXT_BOUND.get(s.kind, 0)
+        self.emit(f"btgen::FixedString<{cur_bound + self.dyn_bound(v)}> {t}b;")
         self.emit(f"btgen::dyn::Ref {t};")
         self.dyn_call(f"btgen::dyn::compound('{op[0]}', {self.to_ref(cur)}, {ref}, {cpp_view(key)}, {t}, {t}b, dm)",
                       off)
@@ -836,12 +840,12 @@ class ScriptCompiler(CodeWriter):
         t = self.temp()
         rhs = f"btgen::script::div({a}, {b})" if op[0] == "/" else f"{a} {op[0]} {b}"
         self.emit(f"const double {t} = {rhs};")
-        store_number(self, s, Val("double", t, None), off, f"`{key} {op} ...`", guard=False)
+        store_number(self, s, Val("double", t, None), off, f"`{key} {op} ...`", op, guard=False)
 
 
 # ------------------------------------------------------------------ stores
 
-def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str) -> None:
+def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str) -> None:
     """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind.
 
     A value of the slot's kind is stored as it is. A string into a typed
@@ -867,7 +871,7 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str) -> None
             c.emit(f"{s.member}.value = {t};")
             return
     elif is_numeric(r) and is_numeric(k):
-        store_number(c, s, v, off, what, guard=True)
+        store_number(c, s, v, off, what, op, guard=True)
         return
     raise ScriptTypeError(f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
                           f"{_origin_text(s)}; btgen gives every entry one type", off)
@@ -936,8 +940,9 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
     c.emit(f"{s.member}.value = {t};")
 
 
-def store_number(c, s: SlotView, v: Val, off: int, what: str, guard: bool) -> None:
-    """Any::copyInto of a number into an entry holding another kind of number."""
+def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bool) -> None:
+    """Any::copyInto of a number into an entry holding another kind of number; a failure
+    gets the interpreter's message, which names the value (btgen::dyn::store_whole)."""
     k, r = s.kind, v.kind
     if r == k:
         c.emit(f"{s.member}.value = {v.expr};")
@@ -948,8 +953,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, guard: bool) -> No
         t = c.temp()
         c.emit(f"double {t} = 0.0;")
         if r == "int":
-            c.errc_check(f"btgen::script::num({v.expr}, {t})", off,
-                         f"{what}: the integer cannot be stored in the double `{s.key}` exactly")
+            c.dyn_call(f"btgen::dyn::store_double(btgen::dyn::of_int({v.expr}), {cpp_view(op)}, "
+                       f"{cpp_view(s.key)}, {t}, dm)", off)
         else:
             c.emit(f"(void)btgen::script::num({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
@@ -957,8 +962,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, guard: bool) -> No
     n = c.temp()
     c.emit(f"std::int64_t {n} = 0;")
     if r == "double":
-        c.errc_check(f"btgen::script::whole({v.expr}, {n})", off,
-                     f"{what}: `{s.key}` holds an integer, and the value is not a whole number in range")
+        c.dyn_call(f"btgen::dyn::store_whole(btgen::dyn::of_double({v.expr}), {cpp_view(op)}, "
+                   f"{cpp_view(s.key)}, {n}, dm)", off)
     else:
         c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
     if k == "int":

@@ -589,6 +589,43 @@ inline bool copy_into(const Ref& value, const Ref& dst, Ref& out, Msg& m) noexce
   return false;
 }
 
+// A script store of the number `v` into a statically typed entry that holds
+// another kind of number (copy_into, for the kinds the generator knows): the
+// integer or the double it becomes. On failure `m` gets the interpreter's
+// message: "cannot assign V to `key`: ..." after `:=` and `=`, "cannot store
+// the result of `+=` in `key`: ..." after an update.
+inline void add_store_failure(Msg& m, std::string_view op, const Ref& v, std::string_view key,
+                              const Msg& why) noexcept {
+  if (op == ":=" || op == "=") {
+    m.add("cannot assign ");
+    add_value(m, v);
+    m.add(" to `").add(key).add("`: ");
+  } else {
+    m.add("cannot store the result of `").add(op).add("` in `").add(key).add("`: ");
+  }
+  m.add(why.view());
+}
+
+inline bool store_whole(const Ref& v, std::string_view op, std::string_view key, std::int64_t& out,
+                        Msg& m) noexcept {
+  Msg why;
+  if (number_to_int64(v, out, why)) return true;
+  add_store_failure(m, op, v, key, why);
+  return false;
+}
+
+inline bool store_double(const Ref& v, std::string_view op, std::string_view key, double& out, Msg& m) noexcept {
+  if (v.tag == DynTag::kDouble) {
+    out = v.d;
+    return true;
+  }
+  if (int_to_double(v.i, out) == Errc::kOk) return true;
+  Msg why;
+  add_cast_error(why, v, "double", "precision would be lost");
+  add_store_failure(m, op, v, key, why);
+  return false;
+}
+
 template <std::size_t N>
 bool put(Slot<Dyn<N>>& slot, const Ref& v, std::string_view key, Msg& m) noexcept {
   if (!slot.value.set(v)) {

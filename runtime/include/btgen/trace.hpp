@@ -28,6 +28,45 @@ struct NoObserver {
   constexpr void on_status_change(const NodeInfo&, Status, Status) const noexcept {}
 };
 
+// Writes a diagnostic's text to `f` on one line, as the interpreter's
+// diagnostics do (btgen/diagnostics.py one_line): newline and carriage return
+// become `\n` and `\r`, U+2028 and U+2029 `\u2028` and `\u2029`, the other
+// control characters (C0 but tab, DEL, C1) `\xHH`; the rest, UTF-8 included,
+// is written as it is. A message that quotes a node name or a string with a
+// line break stays one `path:line:col: error:` line.
+inline void write_one_line(std::FILE* f, std::string_view text) noexcept {
+  static constexpr char kHex[] = "0123456789abcdef";
+  const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned c = p[i];
+    unsigned code = 0x100;  // a control character to write as \xHH
+    if (c == '\n') {
+      std::fputs("\\n", f);
+      continue;
+    }
+    if (c == '\r') {
+      std::fputs("\\r", f);
+      continue;
+    }
+    if ((c < 0x20 && c != '\t') || c == 0x7f) {
+      code = c;
+    } else if (c == 0xc2 && i + 1 < n && p[i + 1] >= 0x80 && p[i + 1] <= 0x9f) {
+      code = p[++i];  // U+0080..U+009F
+    } else if (c == 0xe2 && i + 2 < n && p[i + 1] == 0x80 && (p[i + 2] == 0xa8 || p[i + 2] == 0xa9)) {
+      std::fputs(p[i + 2] == 0xa8 ? "\\u2028" : "\\u2029", f);
+      i += 2;
+      continue;
+    }
+    if (code == 0x100) {
+      std::fputc(static_cast<int>(c), f);
+    } else {
+      const char hex[4] = {'\\', 'x', kHex[code >> 4], kHex[code & 15]};
+      std::fwrite(hex, 1, sizeof hex, f);
+    }
+  }
+}
+
 // Writes `name` with the trace format's escaping into `out` (capacity `cap`)
 // and returns the number of bytes the escaped text needs (which may exceed
 // `cap`; nothing is written past it). `"` and `\` become `\"` and `\\`;
@@ -88,9 +127,12 @@ class TraceWriter {
   // A run-time error, on stderr: `path:line:col: error: message`.
   void on_error(const RuntimeError& e) const noexcept {
     std::fflush(out_);
-    std::fprintf(stderr, "%.*s: error: %.*s", static_cast<int>(e.where.size()), e.where.data(),
-                 static_cast<int>(e.message.size()), e.message.data());
-    if (!e.detail.empty()) std::fprintf(stderr, ": %.*s", static_cast<int>(e.detail.size()), e.detail.data());
+    std::fprintf(stderr, "%.*s: error: ", static_cast<int>(e.where.size()), e.where.data());
+    write_one_line(stderr, e.message);
+    if (!e.detail.empty()) {
+      std::fputs(": ", stderr);
+      write_one_line(stderr, e.detail);
+    }
     std::fputc('\n', stderr);
   }
 
