@@ -19,8 +19,8 @@ from btgen.frontend import load_mission  # noqa: E402
 from btgen.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
 
 CONTROL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_SEEDS", "200")))
-FULL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_FULL_SEEDS", "100")))
-DYNAMIC_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_DYNAMIC_SEEDS", "60")))
+FULL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_FULL_SEEDS", "300")))
+DYNAMIC_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_DYNAMIC_SEEDS", "200")))
 
 
 def test_generator_is_deterministic():
