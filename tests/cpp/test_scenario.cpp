@@ -137,6 +137,29 @@ TEST(ScenarioCheck, UnknownLeafIsAWarning) {
   EXPECT_EQ(lines, expected);
 }
 
+// Found by comparing the engines: a leaf name with control characters was
+// printed raw by the C++ runner and escaped by the interpreter.
+TEST(ScenarioCheck, DiagnosticsStayOnOneLine) {
+  bool ok = false;
+  const auto lines = check("leaf a\x01" "b SUCCESS\nleaf c\xc2\x85\x7f\xe2\x80\xa8" "d FAILURE\n", &ok);
+  EXPECT_TRUE(ok);
+  const std::vector<std::string> expected{
+      "s.scenario:1:6: warning: leaf `a\\x01b` matches no Action or Condition of the mission; its line is ignored",
+      "s.scenario:2:6: warning: leaf `c\\x85\\x7f\\u2028d` matches no Action or Condition of the mission; its "
+      "line is ignored",
+  };
+  EXPECT_EQ(lines, expected);
+}
+
+TEST(OneLine, EscapesAsTheInterpreterDoes) {
+  std::string out;
+  btgen::one_line("two\nlines\r\xc2\x85 caf\xc3\xa9 \xe2\x80\xa9\x1b!", [&out](std::string_view p) { out.append(p); });
+  EXPECT_EQ(out, "two\\nlines\\r\\x85 caf\xc3\xa9 \\u2029\\x1b!");
+  out.clear();
+  btgen::one_line("plain text", [&out](std::string_view p) { out.append(p); });
+  EXPECT_EQ(out, "plain text");
+}
+
 TEST(ScenarioLeaves, InstancesShareOneListAndTheLastStatusRepeats) {
   std::vector<Diagnostic> diags;
   Scenario sc;

@@ -25,6 +25,7 @@
 
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
+#include "btgen/trace.hpp"
 
 namespace btgen {
 
@@ -36,8 +37,9 @@ struct Diagnostic {
   std::string message;
 
   [[nodiscard]] std::string str() const {
-    return path + ":" + std::to_string(line) + ":" + std::to_string(col) + (error ? ": error: " : ": warning: ") +
-           message;
+    std::string s = path + ":" + std::to_string(line) + ":" + std::to_string(col) + (error ? ": error: " : ": warning: ");
+    one_line(message, [&s](std::string_view part) { s.append(part); });  // the interpreter's escaping
+    return s;
   }
 };
 
