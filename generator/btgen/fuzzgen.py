@@ -168,7 +168,10 @@ class _Gen:
         e = self.rng.choice(simple)
         r = self.rng.random()
         if r < 0.15:
-            e = f"{e} && {self.rng.choice(simple)}"
+            rhs = self.rng.choice(simple)
+            if "?" in e and "?" in rhs:  # `a ? b : c && d ? e : f` chains `?:`, which 4.6.2's grammar rejects
+                rhs = f"({rhs})"
+            e = f"{e} && {rhs}"
         elif r < 0.25:
             e = f"({e}) || ({self.rng.choice(simple)})"
         return e

@@ -29,6 +29,15 @@ def test_generator_is_deterministic():
         assert random_case(7, features) != random_case(8, features)
 
 
+@pytest.mark.parametrize("seed", [501, 725])
+def test_conditions_joined_by_and_do_not_chain_ternaries(tmp_path, seed):
+    # Found by the long dynamic run (seeds 200:1200): `c && d` of two `?:` conditions
+    # gave `a ? b : c && d ? e : f`, which the script grammar rejects.
+    p = tmp_path / "m.xml"
+    p.write_text(random_case(seed, "dynamic").mission, encoding="utf-8")
+    load_mission(str(p))
+
+
 @pytest.mark.parametrize("features", FEATURE_SETS)
 def test_generated_missions_are_valid_and_varied(tmp_path, features):
     seen = set()
