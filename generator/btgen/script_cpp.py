@@ -478,7 +478,7 @@ class ScriptCompiler(CodeWriter):
                 self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({t}c);")
             else:
                 self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({s.member});")
-            return Val(DYN, t, None, max(s.capacity, TEXT_BOUND["double"]))
+            return Val(DYN, t, None, dyn_slot_bound(s))
         h = self.temp() + "h"
         self.emit(f"[[maybe_unused]] const bool {h} = {s.member}.has_value;")
         if s.kind == "string":
@@ -768,19 +768,19 @@ class ScriptCompiler(CodeWriter):
                 self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
                 t = self.temp()
-                # room for the text of whatever the entry holds (a number's can be longer than the
-                # slot's capacity), so that only the store reports a text that does not fit
-                self.emit(f"btgen::FixedString<{max(s.capacity, TEXT_BOUND['double']) + self.dyn_bound(v)}> {t}b;")
+                # room for the text of whatever the entry holds, so that only the store reports
+                # a text that does not fit
+                self.emit(f"btgen::FixedString<{dyn_slot_bound(s) + self.dyn_bound(v)}> {t}b;")
                 self.emit(f"btgen::dyn::Ref {t};")
                 self.dyn_call(f"btgen::dyn::compound('{op[0]}', btgen::dyn::ref({s.member}), {ref}, "
                               f"{cpp_view(key)}, {t}, {t}b, dm)", off)
                 self.dyn_call(f"btgen::dyn::put({s.member}, {t}, {cpp_view(key)}, dm)", off)
             if self.assigned.get(idx, 0) <= 1:
-                return Val(DYN, f"btgen::dyn::ref({s.member})", None, max(s.capacity, TEXT_BOUND["double"]))
+                return Val(DYN, f"btgen::dyn::ref({s.member})", None, dyn_slot_bound(s))
             t = self.temp()
             self.emit(f"const auto {t}c = {s.member};")
             self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({t}c);")
-            return Val(DYN, t, None, max(s.capacity, TEXT_BOUND["double"]))
+            return Val(DYN, t, None, dyn_slot_bound(s))
         # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
         # keeps the entry's kind (or fails as 4.6.2 does).
         if s.may_be_missing:
@@ -795,8 +795,7 @@ class ScriptCompiler(CodeWriter):
                   f"{s.member}.has_value", s.capacity)
         t = self.temp()
         # the text of the entry (a number's, when `+=` appends a string) and the value
-        cur_bound = s.capacity if s.kind == "string" else TEXT_BOUND.get(s.kind, 0)
-        self.emit(f"btgen::FixedString<{cur_bound + self.dyn_bound(v)}> {t}b;")
+        self.emit(f"btgen::FixedString<{self.dyn_bound(cur) + self.dyn_bound(v)}> {t}b;")
         self.emit(f"btgen::dyn::Ref {t};")
         self.dyn_call(f"btgen::dyn::compound('{op[0]}', {self.to_ref(cur)}, {ref}, {cpp_view(key)}, {t}, {t}b, dm)",
                       off)
@@ -942,7 +941,7 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
 
 def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bool) -> None:
     """Any::copyInto of a number into an entry holding another kind of number; a failure
-    gets the interpreter's message, which names the value (btgen::dyn::store_whole)."""
+    gets the interpreter's message, which names the value (btgen::dyn::store_into)."""
     k, r = s.kind, v.kind
     if r == k:
         c.emit(f"{s.member}.value = {v.expr};")
@@ -953,8 +952,10 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         t = c.temp()
         c.emit(f"double {t} = 0.0;")
         if r == "int":
-            c.dyn_call(f"btgen::dyn::store_double(btgen::dyn::of_int({v.expr}), {cpp_view(op)}, "
-                       f"{cpp_view(s.key)}, {t}, dm)", off)
+            c.emit(f"btgen::dyn::Ref {t}r;")
+            c.dyn_call(f"btgen::dyn::store_into(btgen::dyn::of_int({v.expr}), btgen::dyn::of_double(0.0), "
+                       f"{cpp_view(op)}, {cpp_view(s.key)}, {t}r, dm)", off)
+            c.emit(f"{t} = {t}r.d;")
         else:
             c.emit(f"(void)btgen::script::num({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
@@ -962,8 +963,10 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
     n = c.temp()
     c.emit(f"std::int64_t {n} = 0;")
     if r == "double":
-        c.dyn_call(f"btgen::dyn::store_whole(btgen::dyn::of_double({v.expr}), {cpp_view(op)}, "
-                   f"{cpp_view(s.key)}, {n}, dm)", off)
+        c.emit(f"btgen::dyn::Ref {n}r;")
+        c.dyn_call(f"btgen::dyn::store_into(btgen::dyn::of_double({v.expr}), btgen::dyn::of_int(0), "
+                   f"{cpp_view(op)}, {cpp_view(s.key)}, {n}r, dm)", off)
+        c.emit(f"{n} = {n}r.i;")
     else:
         c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
     if k == "int":
@@ -975,6 +978,11 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
     else:
         c.errc_check(f"btgen::script::as_status({n}, {s.member}.value)", off,
                      f"{what}: `{s.key}` holds a NodeStatus, and the value is no status number (0 to 4)")
+
+
+def dyn_slot_bound(s: SlotView) -> int:
+    """The longest text a dynamic slot's value can have: its string, or a number's text."""
+    return max(s.capacity, TEXT_BOUND["double"])
 
 
 def cpp_value(value: object) -> str:

@@ -589,11 +589,9 @@ inline bool copy_into(const Ref& value, const Ref& dst, Ref& out, Msg& m) noexce
   return false;
 }
 
-// A script store of the number `v` into a statically typed entry that holds
-// another kind of number (copy_into, for the kinds the generator knows): the
-// integer or the double it becomes. On failure `m` gets the interpreter's
-// message: "cannot assign V to `key`: ..." after `:=` and `=`, "cannot store
-// the result of `+=` in `key`: ..." after an update.
+// The message of a script store that copy_into refused (`why`): "cannot assign
+// V to `key`: why" after `:=` and `=`, "cannot store the result of `+=` in
+// `key`: why" after an update.
 inline void add_store_failure(Msg& m, std::string_view op, const Ref& v, std::string_view key,
                               const Msg& why) noexcept {
   if (op == ":=" || op == "=") {
@@ -606,23 +604,13 @@ inline void add_store_failure(Msg& m, std::string_view op, const Ref& v, std::st
   m.add(why.view());
 }
 
-inline bool store_whole(const Ref& v, std::string_view op, std::string_view key, std::int64_t& out,
-                        Msg& m) noexcept {
+// A script store (`op`) of `value` into a statically typed entry whose kind `dst`
+// stands for: copy_into, with the interpreter's message on failure.
+inline bool store_into(const Ref& value, const Ref& dst, std::string_view op, std::string_view key, Ref& out,
+                       Msg& m) noexcept {
   Msg why;
-  if (number_to_int64(v, out, why)) return true;
-  add_store_failure(m, op, v, key, why);
-  return false;
-}
-
-inline bool store_double(const Ref& v, std::string_view op, std::string_view key, double& out, Msg& m) noexcept {
-  if (v.tag == DynTag::kDouble) {
-    out = v.d;
-    return true;
-  }
-  if (int_to_double(v.i, out) == Errc::kOk) return true;
-  Msg why;
-  add_cast_error(why, v, "double", "precision would be lost");
-  add_store_failure(m, op, v, key, why);
+  if (copy_into(value, dst, out, why)) return true;
+  add_store_failure(m, op, value, key, why);
   return false;
 }
 
@@ -660,13 +648,7 @@ bool store(Slot<Dyn<N>>& slot, const Ref& value, std::string_view key, Msg& m) n
     }
     return put(slot, out, key, m);
   }
-  Msg why;
-  if (!copy_into(value, dst, out, why)) {
-    m.add("cannot assign ");
-    add_value(m, value);
-    m.add(" to `").add(key).add("`: ").add(why.view());
-    return false;
-  }
+  if (!store_into(value, dst, ":=", key, out, m)) return false;
   return put(slot, out, key, m);
 }
 
@@ -712,12 +694,7 @@ bool compound(char op, const Ref& current, const Ref& value, std::string_view ke
     (void)buf.append(value.s);
     result = of_string(buf.view());
   }
-  Msg why;
-  if (!copy_into(result, current, out, why)) {
-    m.add("cannot store the result of `").add(o).add("` in `").add(key).add("`: ").add(why.view());
-    return false;
-  }
-  return true;
+  return store_into(result, current, o, key, out, m);
 }
 
 // SetBlackboard value="text" (Blackboard::set<std::string>). The entry exists afterwards.

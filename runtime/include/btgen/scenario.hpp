@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "btgen/node.hpp"
+#include "btgen/one_line.hpp"
 #include "btgen/status.hpp"
-#include "btgen/trace.hpp"
 
 namespace btgen {
 

@@ -17,6 +17,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/node.hpp"
+#include "btgen/one_line.hpp"
 #include "btgen/status.hpp"
 
 namespace btgen {
@@ -27,57 +28,6 @@ namespace btgen {
 struct NoObserver {
   constexpr void on_status_change(const NodeInfo&, Status, Status) const noexcept {}
 };
-
-// A diagnostic's text on one line, as the interpreter's diagnostics have it
-// (btgen/diagnostics.py one_line): newline and carriage return become `\n`
-// and `\r`, U+2028 and U+2029 `\u2028` and `\u2029`, the other control
-// characters (C0 but tab, DEL, C1) `\xHH`; the rest, UTF-8 included, stays as
-// it is. A message that quotes a node name or a string with a line break stays
-// one `path:line:col: error:` line. `put` gets the text in pieces
-// (std::string_view).
-template <class Put>
-void one_line(std::string_view text, Put&& put) noexcept(noexcept(put(std::string_view()))) {
-  static constexpr char kHex[] = "0123456789abcdef";
-  const auto* p = reinterpret_cast<const unsigned char*>(text.data());
-  const std::size_t n = text.size();
-  std::size_t plain = 0;  // start of the bytes not yet written
-  for (std::size_t i = 0; i < n; ++i) {
-    const unsigned c = p[i];
-    std::size_t len = 1;
-    unsigned code = 0x100;
-    std::string_view esc;
-    if (c == '\n') {
-      esc = "\\n";
-    } else if (c == '\r') {
-      esc = "\\r";
-    } else if ((c < 0x20 && c != '\t') || c == 0x7f) {
-      code = c;
-    } else if (c == 0xc2 && i + 1 < n && p[i + 1] >= 0x80 && p[i + 1] <= 0x9f) {
-      code = p[i + 1];  // U+0080..U+009F
-      len = 2;
-    } else if (c == 0xe2 && i + 2 < n && p[i + 1] == 0x80 && (p[i + 2] == 0xa8 || p[i + 2] == 0xa9)) {
-      esc = p[i + 2] == 0xa8 ? "\\u2028" : "\\u2029";
-      len = 3;
-    } else {
-      continue;
-    }
-    if (i > plain) put(text.substr(plain, i - plain));
-    if (code != 0x100) {
-      const char hex[4] = {'\\', 'x', kHex[code >> 4], kHex[code & 15]};
-      put(std::string_view(hex, sizeof hex));
-    } else {
-      put(esc);
-    }
-    i += len - 1;
-    plain = i + 1;
-  }
-  if (n > plain) put(text.substr(plain));
-}
-
-// Writes one_line(text) to `f`.
-inline void write_one_line(std::FILE* f, std::string_view text) noexcept {
-  one_line(text, [f](std::string_view part) { std::fwrite(part.data(), 1, part.size(), f); });
-}
 
 // Writes `name` with the trace format's escaping into `out` (capacity `cap`)
 // and returns the number of bytes the escaped text needs (which may exceed
