@@ -7,7 +7,9 @@
 // Exit status: 0 when the mission ends in SUCCESS (or the node is
 // interrupted), 1 when it ends in FAILURE, 2 for a bad parameter or a bad
 // knowledge base.
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <initializer_list>
 #include <iostream>
@@ -57,6 +59,12 @@ using btgen_behavior_controller::Leaves;
 using btgen_behavior_controller::Settings;
 using Mission = lab_tour::LabTour<Leaves, btgen::SteadyClock, Observer>;
 
+// SIGINT and SIGTERM: the node's own handler (roscpp's would shut ROS down
+// at once, and nothing could be logged or halted after it).
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_signal(int) { g_interrupted = true; }
+bool running() { return ros::ok() && !g_interrupted; }
+
 std::string where(const btgen::NodeInfo& n) { return std::string(n.source); }
 
 // Every leaf parameter of the mission (its `name` attribute), checked before
@@ -104,7 +112,7 @@ bool wait_for_robot(const Leaves& leaves, double report_s) {
   std::string last;
   auto last_report = std::chrono::steady_clock::now();
   bool reported = false;
-  while (ros::ok()) {
+  while (running()) {
     std::vector<std::string> missing;
     for (const char* service : Interfaces::services()) {
       if (!ros::service::exists(service, false)) missing.push_back(std::string("service ") + service);
@@ -137,7 +145,9 @@ bool wait_for_robot(const Leaves& leaves, double report_s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "behaviorController");
+  ros::init(argc, argv, "behaviorController", ros::init_options::NoSigintHandler);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
 
@@ -210,6 +220,8 @@ int main(int argc, char** argv) {
 
   // ---- The robot -------------------------------------------------------------------------------
   if (!wait_for_robot(leaves, wait_report_period)) {
+    ROS_INFO("behaviorController: interrupted while waiting for the robot; shutting down");
+    ros::shutdown();
     leaves.stop();
     return 0;
   }
@@ -242,7 +254,7 @@ int main(int argc, char** argv) {
   Status result = Status::IDLE;
   long ticks = 0;
   int exit_status = 0;
-  while (ros::ok()) {
+  while (running()) {
     result = mission.tick();
     ++ticks;
 #ifdef BTGEN_BEHAVIOR_CONTROLLER_WITH_GROOT2
@@ -262,10 +274,10 @@ int main(int argc, char** argv) {
     exit_status = 0;
   }
   mission.halt();
+  ROS_INFO("behaviorController: shutting down");
   // Unblocks a service call in progress, then joins the worker: nothing is called after this.
   ros::shutdown();
   leaves.stop();
   spinner.stop();
-  ROS_INFO_STREAM("behaviorController: stopped");
   return exit_status;
 }
