@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The Lab Tour on ROS 1: build ros/cssr_system and ros/btgen_behavior_controller
 # with Debian's catkin in a workspace under build/ros1, then run the
-# end-to-end test (ros/btgen_behavior_controller/test/e2e_test.py) under a
+# end-to-end test (ros/btgen_behavior_controller/test/run_e2e.py) under a
 # real roscore on a free port of 127.0.0.1.
 #
 # Installs the Debian ROS 1 packages when missing (as root); where apt cannot
 # install them, prints why and skips (exit 0) unless BTGEN_REQUIRE_ROS=1.
-# Arguments go to e2e_test.py (-k NAME runs one scenario, --keep DIR keeps logs).
+# Arguments go to run_e2e.py (-k NAME runs one scenario, --keep DIR keeps logs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$PWD
@@ -51,6 +51,6 @@ set +u  # setup.bash reads unset variables
 # shellcheck disable=SC1091
 source "$ws/devel/setup.bash"
 set -u
-/usr/bin/python3 "$repo/ros/btgen_behavior_controller/test/e2e_test.py" \
+/usr/bin/python3 "$repo/ros/btgen_behavior_controller/test/run_e2e.py" \
   --node "$ws/devel/lib/btgen_behavior_controller/behaviorController" \
   --kb "$repo/data/environmentKnowledgeBaseInput.dat" "$@"

@@ -9,7 +9,7 @@ mission must produce for the knowledge base's tour, the node's exit status
 and its log. Prints one line per scenario and `N passed, N failed`; exit
 status 0 only when every scenario passed.
 
-    e2e_test.py --node DEVEL/lib/btgen_behavior_controller/behaviorController \
+    run_e2e.py --node DEVEL/lib/btgen_behavior_controller/behaviorController \
                 --kb data/environmentKnowledgeBaseInput.dat [--keep DIR] [-k NAME]
 
 Run it with Debian's /usr/bin/python3 and the catkin workspace's setup
@@ -297,8 +297,9 @@ def message_time(log, pattern):
 
 class Scenario:
     def __init__(self, name, language="English", asr=True, answer="yes", say=None, tablet="yes",
-                 leave_at_goal=0, stub_args=(), check=None):
+                 leave_at_goal=0, stub_args=(), check=None, launch=False):
         self.name, self.language, self.asr, self.answer = name, language, asr, answer
+        self.launch = launch  # through behaviorController.launch (roslaunch) rather than the bare node
         self.say, self.tablet, self.leave_at_goal = say, tablet, leave_at_goal
         self.stub_args, self.check = list(stub_args), check
 
@@ -327,9 +328,14 @@ def run_scenario(sc, core, node, kb_path, kb, workdir):
         config = os.path.join(d, "kb.ini")
         with open(config, "w") as f:
             f.write("knowledgeBase %s\nverboseMode false\n" % kb_path)
-        node_cmd = [node, "__name:=behaviorController", "_tick_rate:=50", "_language:=" + sc.language,
-                    "_asr_enabled:=" + ("true" if sc.asr else "false"), "_wait_report_period:=1.0",
-                    "_knowledge_base_config:=" + config]
+        if sc.launch:
+            node_cmd = ["roslaunch", "btgen_behavior_controller", "behaviorController.launch", "tick_rate:=50",
+                        "language:=" + sc.language, "asr_enabled:=" + ("true" if sc.asr else "false"),
+                        "knowledge_base_config:=" + config]
+        else:
+            node_cmd = [node, "__name:=behaviorController", "_tick_rate:=50", "_language:=" + sc.language,
+                        "_asr_enabled:=" + ("true" if sc.asr else "false"), "_wait_report_period:=1.0",
+                        "_knowledge_base_config:=" + config]
         nodep = start(node_cmd, core.env, os.path.join(d, "node.log"))
         ctx = {"dir": d, "stub": stub, "node": nodep, "calls": calls_path, "core": core}
         if sc.check is not None:
@@ -364,7 +370,12 @@ def check_mission(sc, ctx, kb, timeout=60):
     got = [m for _, _, m in log if m.startswith("behaviorController: mission ")][0].split()[2]
     if got != result:
         raise Failure("mission %s, expected %s" % (got, result))
-    if status != (0 if result == "SUCCESS" else 1):
+    if sc.launch:  # roslaunch's own status; the node is `required`, so its end ends the launch
+        with open(os.path.join(ctx["dir"], "node.log"), encoding="utf-8", errors="replace") as f:
+            text = f.read()
+            if "process [behaviorController-1] has died" not in text or "process has finished cleanly" not in text:
+                raise Failure("roslaunch did not report the node finishing cleanly")
+    elif status != (0 if result == "SUCCESS" else 1):
         raise Failure("exit status %d after mission %s" % (status, result))
     late = [c for c in read_calls(ctx["calls"]) if c["t"] > ended]
     if late:
@@ -438,7 +449,7 @@ def check_sigint(sc, ctx, kb):
 
 SCENARIOS = [
     Scenario("yes", say="yes, I would love to"),
-    Scenario("no_tablet_isizulu", language="IsiZulu", asr=False, answer="no", tablet="no"),
+    Scenario("no_tablet_isizulu_launch", language="IsiZulu", asr=False, answer="no", tablet="no", launch=True),
     Scenario("failing_services", say="yes please",
              stub_args=["--error", SAY + ":3", "--fail", GOAL + ":3", "--fail", ANIMATE + ":1"],
              check=check_failing_services),
