@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
   double response_timeout = 10.0;
   std::string kb_config = BTGEN_DEFAULT_KB_CONFIG;
   int groot2_port = 0;
+  std::string groot2_address = "*";
   bool repeat = false;
   double wait_report_period = 3.0;
   pnh.param("tick_rate", tick_rate, tick_rate);
@@ -166,6 +167,7 @@ int main(int argc, char** argv) {
   pnh.param("response_timeout", response_timeout, response_timeout);
   pnh.param("knowledge_base_config", kb_config, kb_config);
   pnh.param("groot2_port", groot2_port, groot2_port);
+  pnh.param("groot2_address", groot2_address, groot2_address);
   pnh.param("repeat", repeat, repeat);
   pnh.param("wait_report_period", wait_report_period, wait_report_period);
 
@@ -233,8 +235,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<btgen::groot2::Publisher<Mission>> groot2;
   if (groot2_port != 0) {
     try {
-      groot2 = std::make_unique<btgen::groot2::Publisher<Mission>>(mission, static_cast<unsigned>(groot2_port));
-      ROS_INFO("behaviorController: Groot2 publisher on ports %d and %d", groot2_port, groot2_port + 1);
+      groot2 = std::make_unique<btgen::groot2::Publisher<Mission>>(mission, static_cast<unsigned>(groot2_port),
+                                                                   groot2_address);
+      ROS_INFO("behaviorController: Groot2 publisher on ports %d and %d of %s", groot2_port, groot2_port + 1,
+               groot2_address.c_str());
     } catch (const std::exception& e) {
       ROS_FATAL("behaviorController: ~groot2_port %d: %s", groot2_port, e.what());
       leaves.stop();
@@ -243,7 +247,8 @@ int main(int argc, char** argv) {
   }
 #else
   if (groot2_port != 0) {
-    ROS_WARN("behaviorController: ~groot2_port %d ignored: this btgen has no Groot2 publisher yet", groot2_port);
+    ROS_WARN("behaviorController: ~groot2_port %d ignored: this btgen has no Groot2 publisher yet (%s)", groot2_port,
+             groot2_address.c_str());
   }
 #endif
 

@@ -183,10 +183,20 @@ class Expect:
 
 
 # ---- processes ---------------------------------------------------------------------------------
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+def free_port(pair=False):
+    """A free TCP port of 127.0.0.1 (with pair: one whose successor is free too)."""
+    while True:
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        if not pair or port >= 65535:
+            return port
+        with socket.socket() as s:
+            try:
+                s.bind(("127.0.0.1", port + 1))
+                return port
+            except OSError:
+                continue
 
 
 class Roscore:
@@ -297,9 +307,10 @@ def message_time(log, pattern):
 
 class Scenario:
     def __init__(self, name, language="English", asr=True, answer="yes", say=None, tablet="yes",
-                 leave_at_goal=0, stub_args=(), check=None, launch=False):
+                 leave_at_goal=0, stub_args=(), check=None, launch=False, groot2=False):
         self.name, self.language, self.asr, self.answer = name, language, asr, answer
         self.launch = launch  # through behaviorController.launch (roslaunch) rather than the bare node
+        self.groot2 = groot2  # with ~groot2_port set
         self.say, self.tablet, self.leave_at_goal = say, tablet, leave_at_goal
         self.stub_args, self.check = list(stub_args), check
 
@@ -336,8 +347,14 @@ def run_scenario(sc, core, node, kb_path, kb, workdir):
             node_cmd = [node, "__name:=behaviorController", "_tick_rate:=50", "_language:=" + sc.language,
                         "_asr_enabled:=" + ("true" if sc.asr else "false"), "_wait_report_period:=1.0",
                         "_knowledge_base_config:=" + config]
+        groot2_port = None
+        if sc.groot2:
+            groot2_port = free_port(pair=True)
+            node_cmd += ["_groot2_port:=%d" % groot2_port, "_groot2_address:=127.0.0.1"]
         nodep = start(node_cmd, core.env, os.path.join(d, "node.log"))
         ctx = {"dir": d, "stub": stub, "node": nodep, "calls": calls_path, "core": core}
+        if groot2_port is not None:
+            check_groot2(ctx, groot2_port)
         if sc.check is not None:
             sc.check(sc, ctx, kb)
         else:
@@ -382,6 +399,31 @@ def check_mission(sc, ctx, kb, timeout=60):
         raise Failure("%d calls after the mission ended, first %s" % (len(late), late[0]))
     ctx["log"] = log
     return log
+
+
+GROOT2 = {"status": "not tried"}
+
+
+def check_groot2(ctx, port):
+    """With ~groot2_port: Groot2's two ports accept connections while the mission runs, or, in a
+    build without btgen's Groot2 publisher, the node says it ignores the port."""
+    path = os.path.join(ctx["dir"], "node.log")
+    deadline = time.time() + 20
+    while time.time() < deadline:
+        msgs = [m for _, _, m in node_log(path)]
+        if any("Groot2 publisher on ports %d and %d" % (port, port + 1) in m for m in msgs):
+            for p in (port, port + 1):
+                with socket.create_connection(("127.0.0.1", p), timeout=5):
+                    pass
+            GROOT2["status"] = "publisher on ports %d and %d" % (port, port + 1)
+            return
+        if any("~groot2_port %d ignored" % port in m for m in msgs):
+            GROOT2["status"] = "not built in (the node ignored ~groot2_port, as it says)"
+            return
+        if ctx["node"].poll() is not None:
+            break
+        time.sleep(0.1)
+    raise Failure("with ~groot2_port %d the node neither published nor said it ignores the port" % port)
 
 
 def check_failing_services(sc, ctx, kb):
@@ -448,7 +490,7 @@ def check_sigint(sc, ctx, kb):
 
 
 SCENARIOS = [
-    Scenario("yes", say="yes, I would love to"),
+    Scenario("yes", say="yes, I would love to", groot2=True),
     Scenario("no_tablet_isizulu_launch", language="IsiZulu", asr=False, answer="no", tablet="no", launch=True),
     Scenario("failing_services", say="yes please",
              stub_args=["--error", SAY + ":3", "--fail", GOAL + ":3", "--fail", ANIMATE + ":1"],
@@ -491,6 +533,7 @@ def main():
         core.stop()
         if not args.keep and failed == 0:
             shutil.rmtree(workdir, ignore_errors=True)
+    print("ros1 e2e: Groot2: %s" % GROOT2["status"])
     print("ros1 e2e: %d passed, %d failed" % (passed, failed))
     return 0 if failed == 0 and passed > 0 else 1
 
