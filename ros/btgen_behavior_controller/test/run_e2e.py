@@ -456,6 +456,23 @@ def check_missing_service(sc, ctx, kb):
         raise Failure("the node did not report that everything is available")
 
 
+def check_bad_parameter(sc, ctx, kb):
+    """A bad parameter: reported, exit status 2, not a single call."""
+    try:
+        status = ctx["node"].wait(20)
+    except subprocess.TimeoutExpired:
+        raise Failure("the node did not stop on a bad ~language")
+    if status != 2:
+        raise Failure("exit status %d for a bad ~language, expected 2" % status)
+    log = node_log(os.path.join(ctx["dir"], "node.log"))
+    want = 'behaviorController: ~language "%s": expected English, IsiZulu or Kinyarwanda' % sc.language
+    if not any(sev == "FATAL" and m == want for sev, _, m in log):
+        raise Failure("no FATAL report of the bad ~language in the node's log")
+    time.sleep(0.3)
+    if read_calls(ctx["calls"]):
+        raise Failure("the node called the robot despite a bad parameter")
+
+
 def check_sigint(sc, ctx, kb):
     """SIGINT while a navigation call blocks the worker: the node stops at once, cleanly."""
     deadline = time.time() + 40
@@ -499,6 +516,7 @@ SCENARIOS = [
     Scenario("missing_service", answer="no", say="no thanks", stub_args=["--late", TABLET + ":2.5"],
              check=check_missing_service),
     Scenario("sigint", say="yes", stub_args=["--slow", GOAL + ":30"], check=check_sigint),
+    Scenario("bad_language", language="Klingon", check=check_bad_parameter),
 ]
 
 
