@@ -183,8 +183,14 @@ class Leaves {
   Status onStart(leaf::SetSpeechEvent&, const NodeInfo& n) {
     cssr_system::speechEventSetStatus srv;
     srv.request.status = std::string(n.name);
+    const bool listen = n.name == "true";
     return start(n, set_speech_, srv, "status " + srv.request.status,
-                 [](const cssr_system::speechEventSetStatus::Response& r) { return r.response != 0; });
+                 [this, listen](const cssr_system::speechEventSetStatus::Response& r) {
+                   if (r.response == 0) return false;
+                   // Worker thread, as soon as the call returns: only what is heard from now on is an answer.
+                   if (listen) mark_speech_floor();
+                   return true;
+                 });
   }
 
   /// Listens for the visitor's answer on /speechEvent/text (heard since SetSpeechEvent "true").
@@ -227,7 +233,11 @@ class Leaves {
       srv.request.location_z = current_->gesture_target.z();
     }
     return start(n, attention_, srv, "state " + srv.request.state,
-                 [](const cssr_system::overtAttentionSetMode::Response& r) { return r.mode_set_success != 0; });
+                 [this](const cssr_system::overtAttentionSetMode::Response& r) {
+                   if (r.mode_set_success == 0) return false;
+                   mark_attention_floor();  // worker thread: only messages of the new mode count
+                   return true;
+                 });
   }
 
   Status onStart(leaf::PerformIconicGesture&, const NodeInfo& n) {
@@ -378,12 +388,11 @@ class Leaves {
   // What a successful call changes besides the robot.
   template <class M>
   void completed(const M&, const NodeInfo&) {}
-  void completed(const leaf::SetOvertAttentionMode&, const NodeInfo&) {
+  void mark_attention_floor() {
     std::lock_guard<std::mutex> lock(mutex_);
     attention_floor_ = attention_seq_;
   }
-  void completed(const leaf::SetSpeechEvent&, const NodeInfo& n) {
-    if (n.name != "true") return;
+  void mark_speech_floor() {
     std::lock_guard<std::mutex> lock(mutex_);
     speech_floor_ = speech_seq_;
   }
