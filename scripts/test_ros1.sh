@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 repo=$PWD
 
 ros_pkgs=(ros-core catkin libroscpp-dev ros-message-generation ros-std-msgs python3-rospy python3-rostest rosbash
-          libeigen3-dev)
+          libeigen3-dev libgtest-dev)
 missing=()
 for pkg in "${ros_pkgs[@]}"; do
   dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
@@ -40,11 +40,15 @@ ln -sfn "$repo/ros/btgen_behavior_controller" "$ws/src/btgen_behavior_controller
 echo "== ROS 1: catkin_make (log: build/ros1/catkin_make.log)"
 if ! (cd "$ws" && nice catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 \
         -DPython3_EXECUTABLE="$repo/.venv/bin/python" -DCMAKE_BUILD_TYPE=Release \
+        -DBTGEN_BEHAVIOR_CONTROLLER_UNIT_TESTS=ON \
         >"$repo/build/ros1/catkin_make.log" 2>&1); then
   tail -40 "$repo/build/ros1/catkin_make.log" >&2
   echo "test_ros1: catkin_make failed (build/ros1/catkin_make.log)" >&2
   exit 1
 fi
+
+echo "== ROS 1: unit tests of the node's worker and phrases"
+"$ws/devel/lib/btgen_behavior_controller/behavior_controller_unit_test" --gtest_brief=1
 
 echo "== ROS 1: end-to-end test under roscore"
 set +u  # setup.bash reads unset variables
