@@ -23,11 +23,12 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from .cppengine import ROOT, build_mission_executable
+from . import resources
+from .cppengine import build_mission_executable
 from .diagnostics import InternalError
 
-BENCH_MAIN = ROOT / "bench" / "bench_main.cpp"
-ALLOC_COUNTER = ROOT / "runtime" / "src" / "testing" / "alloc_counter.cpp"
+BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
+ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"
 BENCH_FLAGS = ("-std=c++17", "-O2", "-DNDEBUG")
 
 # What the executable reports, in the order `btgen bench` prints it.

@@ -38,6 +38,14 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_USAGE)
 
 
+class _PrintCMakeDir(argparse.Action):
+    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
+        from .resources import CMAKE_DIR
+
+        print(CMAKE_DIR)
+        raise SystemExit(EXIT_OK)
+
+
 def _cmd_validate(args: argparse.Namespace) -> int:
     from .frontend import load_mission
 
@@ -92,6 +100,8 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
+    p.add_argument("--cmake-dir", action=_PrintCMakeDir, nargs=0,
+                   help="print the folder of btgen's CMake package (for -Dbtgen_DIR=...) and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 

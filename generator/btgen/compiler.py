@@ -30,13 +30,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import naming
+from . import naming, resources
 from .dataflow import DataOptions
 from .diagnostics import Diagnostic, Loc, UserError
 from .emit import TEMPLATE_DIR, Output, output_names, render
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-SCHEMA_DIR = PACKAGE_DIR.parents[1] / "schema"
+PACKAGE_DIR = resources.PACKAGE_DIR
+SCHEMA_DIR = resources.SCHEMA_DIR
 
 
 def mission_stem(path: str) -> str:
@@ -220,7 +220,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
     args = p.parse_args(argv)
     if args.update_generated:
-        for name in update_generated(PACKAGE_DIR.parents[1]):
+        for name in update_generated(resources.ROOT):
             print(f"generated/{name}")
         return 0
     if args.check:

@@ -28,14 +28,14 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Optional
 
-from . import naming
+from . import naming, resources
 from .compiler import mission_stem
 from .diagnostics import Diagnostic, InternalError, Loc, UserError
 from .emit import render
 
-ROOT = Path(__file__).resolve().parents[2]
-RUNTIME_INCLUDE = ROOT / "runtime" / "include"
-DRIVER = ROOT / "runtime" / "src" / "main_driver.cpp"
+ROOT = resources.ROOT
+RUNTIME_INCLUDE = resources.RUNTIME_INCLUDE
+DRIVER = resources.RUNTIME_SRC / "main_driver.cpp"
 CXX_FLAGS = ("-std=c++17", "-O1")
 SANITIZE_FLAGS = ("-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer")
 BINARY = "mission"

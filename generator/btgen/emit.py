@@ -10,18 +10,17 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Callable, Optional
 
 import jinja2
 
-from . import naming
+from . import naming, resources
 from .diagnostics import InternalError
 from .dataflow import SCRIPT_BIT
 from .lower import SUPPORTED, IRNode, Program
 from .version import RUNTIME_ABI, __version__
 
-TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates"
+TEMPLATE_DIR = resources.TEMPLATE_DIR
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
 
 _NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition"}

@@ -21,20 +21,18 @@ from xml.sax.saxutils import quoteattr
 import xmlschema
 from lxml import etree
 
+from . import resources
 from .catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
 from .diagnostics import Diagnostic, Loc
 from .model import Mission
 from .xmlsource import Source
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
-SCHEMA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "schema")
+SCHEMA_DIR = str(resources.SCHEMA_DIR)
 
 
 def _schema_path(name: str) -> str:
-    here = os.path.normpath(os.path.join(SCHEMA_DIR, name))
-    if os.path.exists(here):
-        return here
-    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "schema", name)
+    return os.path.join(SCHEMA_DIR, name)
 
 
 @functools.lru_cache(maxsize=None)
