@@ -26,7 +26,7 @@ import sys
 import tempfile
 from functools import lru_cache
 from pathlib import Path
-from typing import Optional
+from typing import Optional, Sequence
 
 from . import naming, resources
 from .compiler import mission_stem
@@ -80,22 +80,25 @@ def _runtime_headers() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
-def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
+def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
+              main_tree: Optional[str] = None) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
-    The mission's warnings are appended to `warnings` when it is given."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings)
+    The mission's warnings are appended to `warnings` when it is given. `models` and
+    `main_tree`: as load_mission's."""
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree)
 
 
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
-                             warnings: Optional[list] = None) -> Path:
+                             warnings: Optional[list] = None, models: Sequence[str] = (),
+                             main_tree: Optional[str] = None) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
     from .frontend import load_mission
     from .lower import lower
 
-    mission = load_mission(mission_path)
+    mission = load_mission(mission_path, models, main_tree)
     if warnings is not None:
         warnings.extend(mission.warnings)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
@@ -153,11 +156,12 @@ def _fileno(stream) -> Optional[int]:
         return None
 
 
-def run_cpp(mission_path: str, scenario_path: str) -> int:
+def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
+            main_tree: Optional[str] = None) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings)
+    binary = build_cpp(mission_path, warnings, models, main_tree)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()

@@ -114,9 +114,12 @@ def output_names(stem: str) -> tuple[str, str]:
     return naming.header_name(stem), naming.source_name(stem)
 
 
-def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tuple[Output, ...]:
+def render(program: Program, stem: str, relative_to: Optional[str] = ".",
+           namespace: Optional[str] = None) -> tuple[Output, ...]:
     """The generated header and source for `program`; paths in it are relative to
-    `relative_to`, or as the diagnostics give them when it is None."""
+    `relative_to`, or as the diagnostics give them when it is None. `namespace`:
+    the C++ namespace (`--namespace`, checked by the command line), else derived
+    from `stem`."""
     show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
     data = program.data
     if data is None:
@@ -138,7 +141,7 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tup
         header=header,
         source=source,
         guard=naming.include_guard(stem),
-        ns=naming.namespace_name(stem),
+        ns=naming.mission_namespace(stem, namespace),
         cls=cls,
         program=program,
         nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],

@@ -6,7 +6,7 @@ tests/python/test_compiler.py. Templates never build a name themselves.
 from __future__ import annotations
 
 import re
-from typing import Iterable
+from typing import Iterable, Optional
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
 CPP_KEYWORDS = frozenset("""
@@ -87,9 +87,55 @@ def source_name(stem: str) -> str:
     return snake_case(stem) + ".cpp"
 
 
+# Names a mission's namespace must not take at global scope: `main` is the
+# program's function (`namespace main` and `int main()` cannot coexist), `btgen`
+# the runtime's namespace, the others the standard library's.
+CLASHING_NAMESPACES = frozenset({"main", "btgen", "std", "posix"})
+_NAMESPACE_PART_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
 def namespace_name(stem: str) -> str:
-    """The mission's C++ namespace: its snake-case stem, made a valid identifier."""
-    return cpp_identifier(snake_case(stem), prefix="mission")
+    """The mission's C++ namespace: its snake-case stem, made a valid identifier
+    that clashes with nothing (`main.xml` -> `main_mission`)."""
+    ns = cpp_identifier(snake_case(stem), prefix="mission")
+    if ns.rstrip("_") in CLASHING_NAMESPACES or ns in CLASHING_NAMESPACES:
+        ns = ns.rstrip("_") + "_mission"
+    return ns
+
+
+def namespace_problem(ns: str) -> str:
+    """Why `ns` cannot be a mission's namespace (`--namespace`), "" when it can.
+
+    `a::b` (nested) is allowed; each part must be a C++ identifier that is not a
+    keyword nor reserved (`_X...`, `__`), and the outermost part must not be one
+    of CLASHING_NAMESPACES."""
+    if not ns:
+        return "the namespace is empty"
+    parts = ns.split("::")
+    for part in parts:
+        if not _NAMESPACE_PART_RE.match(part):
+            return (f"`{part}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
+                    if part else f"`{ns}` has an empty part")
+        if part in CPP_KEYWORDS:
+            return f"`{part}` is a C++ keyword"
+        if "__" in part or part[0] == "_":
+            return f"`{part}` is reserved in C++ (a leading `_` or a double underscore)"
+    if parts[0] in CLASHING_NAMESPACES:
+        what = "the program's main()" if parts[0] == "main" else (
+            "btgen's runtime" if parts[0] == "btgen" else "the standard library")
+        return f"`{parts[0]}` clashes with {what}; choose another name"
+    return ""
+
+
+def mission_namespace(stem: str, requested: Optional[str] = None) -> str:
+    """The namespace of the generated code: `requested` (`--namespace`) when given,
+    else derived from the file name. ValueError when `requested` is unusable."""
+    if requested is None:
+        return namespace_name(stem)
+    problem = namespace_problem(requested)
+    if problem:
+        raise ValueError(problem)
+    return requested
 
 
 def include_guard(stem: str) -> str:
