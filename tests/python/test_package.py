@@ -121,6 +121,10 @@ def test_every_command_works_from_another_directory(installed):
     # The same with the user project's mission, whose models are in another file.
     mission, models = USER_PROJECT / "mission" / "patrol.xml", USER_PROJECT / "mission" / "nodes.xml"
     assert _run([btgen, "validate", mission, "--models", models], work, env).returncode == 0
+    (work / "patrol.scenario").write_text("ticks 5\ndefault SUCCESS\n")
+    runs = [_run([btgen, "run", mission, "--models", models, "--main-tree", "Patrol", "--scenario", "patrol.scenario",
+                  "--engine", engine], work, env).stdout for engine in ("interp", "cpp")]
+    assert runs[0] == runs[1] and runs[0].endswith("result SUCCESS\n") and 'MoveTo "MoveTo"' in runs[0]
     bad = _run([btgen, "validate", mission], work, env, check=False)
     assert bad.returncode == 1 and re.match(rf"{re.escape(str(mission))}:\d+:\d+: error: ", bad.stderr)
 
