@@ -240,6 +240,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
               file=sys.stderr)
         return 2
     if args.update_generated:
+        if resources.installed():
+            print("btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
+                  file=sys.stderr)
+            return 2
         for name in update_generated(resources.ROOT):
             print(f"generated/{name}")
         return 0
