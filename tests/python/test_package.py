@@ -169,3 +169,44 @@ def test_user_project_builds_with_find_package(installed):
     models.write_text(models.read_text().replace('name="goal" type="std::string"', 'name="goal" type="int"'))
     failed = _cmake_build(src, build, btgen, env, check=False)
     assert failed.returncode != 0 and "`kitchen` is not a valid int" in failed.stdout + failed.stderr
+
+
+RUNTIME_ONLY = """cmake_minimum_required(VERSION 3.16)
+project(runtime_only LANGUAGES CXX)
+{find}
+add_executable(runtime_only main.cpp)
+target_link_libraries(runtime_only PRIVATE btgen::runtime)
+if(TARGET btgen::kb)
+  message(FATAL_ERROR "btgen::kb is defined although Eigen was not to be found")
+endif()
+"""
+
+
+def _runtime_only_project(tmp, find):
+    src = tmp / "runtime_only"
+    src.mkdir()
+    (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find=find))
+    (src / "main.cpp").write_text("#include <btgen/status.hpp>\n#include <btgen/version.hpp>\n"
+                                  "int main() { return btgen::Status::SUCCESS == btgen::Status::FAILURE; }\n")
+    return src
+
+
+def test_the_runtime_needs_no_eigen(tmp_path):
+    """runtime/CMakeLists.txt required Eigen of everyone; only btgen::kb needs it."""
+    src = _runtime_only_project(tmp_path, f'add_subdirectory("{Path(ROOT).as_posix()}/runtime" runtime)')
+    build = tmp_path / "build"
+    _run(["cmake", "-S", src, "-B", build, "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp_path)
+    _run(["cmake", "--build", build], tmp_path)
+    _run([build / "runtime_only"], tmp_path)
+
+
+def test_package_kb_component_requires_eigen(installed):
+    btgen, env, tmp, _ = installed
+    cmake_dir = _run([btgen, "--cmake-dir"], tmp, env).stdout.strip()
+    src = _runtime_only_project(tmp, "find_package(btgen CONFIG REQUIRED)")
+    _run(["cmake", "-S", src, "-B", tmp / "runtime_only_build", f"-Dbtgen_DIR={cmake_dir}",
+          "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env)
+    (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find="find_package(btgen CONFIG REQUIRED COMPONENTS kb)"))
+    failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", f"-Dbtgen_DIR={cmake_dir}",
+                   "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env, check=False)
+    assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
