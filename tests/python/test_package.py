@@ -131,8 +131,12 @@ def test_every_command_works_from_another_directory(installed):
     assert bad.returncode == 1 and re.match(rf"{re.escape(str(mission))}:\d+:\d+: error: ", bad.stderr)
 
 
+def _generator():
+    return ["-G", "Ninja"] if shutil.which("ninja") else []
+
+
 def _cmake_build(src, build, btgen, env, check=True):
-    gen = ["-G", "Ninja"] if shutil.which("ninja") else []
+    gen = _generator()
     if not (build / "CMakeCache.txt").exists():
         cmake_dir = _run([btgen, "--cmake-dir"], src, env).stdout.strip()
         _run(["cmake", "-S", src, "-B", build, *gen, f"-Dbtgen_DIR={cmake_dir}"], build.parent, env)
@@ -195,7 +199,7 @@ def test_the_runtime_needs_no_eigen(tmp_path):
     """runtime/CMakeLists.txt required Eigen of everyone; only btgen::kb needs it."""
     src = _runtime_only_project(tmp_path, f'add_subdirectory("{Path(ROOT).as_posix()}/runtime" runtime)')
     build = tmp_path / "build"
-    _run(["cmake", "-S", src, "-B", build, "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp_path)
+    _run(["cmake", "-S", src, "-B", build, *_generator(), "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp_path)
     _run(["cmake", "--build", build], tmp_path)
     _run([build / "runtime_only"], tmp_path)
 
@@ -204,9 +208,9 @@ def test_package_kb_component_requires_eigen(installed):
     btgen, env, tmp, _ = installed
     cmake_dir = _run([btgen, "--cmake-dir"], tmp, env).stdout.strip()
     src = _runtime_only_project(tmp, "find_package(btgen CONFIG REQUIRED)")
-    _run(["cmake", "-S", src, "-B", tmp / "runtime_only_build", f"-Dbtgen_DIR={cmake_dir}",
+    _run(["cmake", "-S", src, "-B", tmp / "runtime_only_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
           "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env)
     (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find="find_package(btgen CONFIG REQUIRED COMPONENTS kb)"))
-    failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", f"-Dbtgen_DIR={cmake_dir}",
+    failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
                    "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env, check=False)
     assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
