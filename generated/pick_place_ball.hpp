@@ -344,7 +344,9 @@ struct Spec {
 // (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
 struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
-  static constexpr std::string_view kTreeXml =
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
       "<root BTCPP_format=\"4\">\012"
       "    <BehaviorTree ID=\"PickPlaceBall\" _fullpath=\"\">\012"
       "        <Sequence name=\"PickPlaceBall\" _uid=\"1\">\012"
@@ -486,7 +488,7 @@ struct Groot2 {
       "        </Condition>\012"
       "        <Control ID=\"WhileDoElse\"/>\012"
       "    </TreeNodesModel>\012"
-      "</root>\012";
+      "</root>\012", 8338);
   // Node indices in the order of Groot2Publisher's status buffer: tree instances in
   // creation order, each with its own nodes.
   static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {

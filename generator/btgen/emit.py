@@ -88,7 +88,8 @@ def groot2_context(program: Program) -> dict:
             raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
         entries.append(dict(bb=bb, key=sl.key, member=sl.member))
     entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
-    return dict(xml_lines=tree.xml.splitlines(keepends=True), order=tree.status_order,
+    return dict(xml_lines=tree.xml.splitlines(keepends=True), xml_size=len(tree.xml.encode("utf-8")),
+                order=tree.status_order,
                 blackboards=names, entries=entries)
 
 
