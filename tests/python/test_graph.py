@@ -5,8 +5,6 @@ import os
 import re
 import shutil
 import struct
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -22,13 +20,22 @@ MISSION = ROOT / "tests" / "groot2" / "monitored.xml"
 SCENARIO = ROOT / "tests" / "groot2" / "monitored.scenario"
 
 
-def trace_of(tmp_path: Path) -> Path:
+def trace_of(tmp_path: Path, capsys) -> Path:
     out = tmp_path / "m.trace"
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(MISSION), "--scenario", str(SCENARIO)],
-                          stdout=subprocess.PIPE, text=True, check=True,
-                          env={**os.environ, "PYTHONPATH": str(ROOT / "generator")})
-    out.write_text(proc.stdout)
+    capsys.readouterr()
+    assert main(["run", str(MISSION), "--scenario", str(SCENARIO)]) == 0
+    out.write_text(capsys.readouterr().out)
     return out
+
+
+def cli(capsys, *args: str) -> tuple[int, str]:
+    """Runs `btgen ARGS` in this process: (exit status, stderr)."""
+    capsys.readouterr()
+    try:
+        rc = main(list(args))
+    except SystemExit as e:  # argparse misuse
+        rc = int(e.code)
+    return rc, capsys.readouterr().err
 
 
 def nodes_of(dot: str) -> dict[int, dict[str, str]]:
@@ -56,8 +63,8 @@ def test_whole_mission_with_clusters_shapes_names_and_ports(tmp_path):
     assert {n["fill"] for n in nodes.values()} == {"#ffffff"}
 
 
-def test_trace_colours_show_the_statuses_at_a_tick(tmp_path):
-    trace = trace_of(tmp_path)
+def test_trace_colours_show_the_statuses_at_a_tick(tmp_path, capsys):
+    trace = trace_of(tmp_path, capsys)
     out = tmp_path / "m.dot"
     assert main(["graph", str(MISSION), "-o", str(out), "--trace", str(trace), "--tick", "1"]) == 0
     nodes = nodes_of(out.read_text())
@@ -78,7 +85,7 @@ def test_svg_through_graphviz(tmp_path):
     assert svg.lstrip().startswith("<?xml") and "<svg" in svg and "RetryUntilSuccessful" in svg
 
 
-def test_btlog_colours_and_a_log_of_another_mission(tmp_path):
+def test_btlog_colours_and_a_log_of_another_mission(tmp_path, capsys):
     mission = load_mission(str(MISSION))
     xml = groot2_tree(mission).xml.encode()
     records = [(1, 1), (2, 1), (2, 2), (3, 1), (4, 3), (5, 1)]
@@ -97,11 +104,10 @@ def test_btlog_colours_and_a_log_of_another_mission(tmp_path):
     xml2 = groot2_tree(other).xml.encode()
     bad = tmp_path / "other.btlog"
     bad.write_bytes(b"BTCPP4-FileLogger2\x01" + struct.pack("<i", len(xml2)) + xml2 + struct.pack("<q", 0))
-    proc = subprocess.run([sys.executable, "-m", "btgen", "graph", str(MISSION), "-o", str(out), "--btlog", str(bad)],
-                          stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": str(ROOT / "generator")})
-    assert proc.returncode == 1
+    rc, err = cli(capsys, "graph", str(MISSION), "-o", str(out), "--btlog", str(bad))
+    assert rc == 1
     assert re.fullmatch(rf"{re.escape(str(bad))}:1:24: error: the log's tree is not this mission's \(\d+ nodes, "
-                        rf"the mission has 20; first difference at UID \d+\)\n", proc.stderr)
+                        rf"the mission has 20; first difference at UID \d+\)\n", err)
 
 
 @pytest.mark.parametrize("content, where, message", [
@@ -110,35 +116,32 @@ def test_btlog_colours_and_a_log_of_another_mission(tmp_path):
     ("tick 1\n1 Fallback \"root\" IDLE -> RUNNING\n", "2:3", "UID 1 is `Sequence` in the mission, `Fallback` in the trace"),
     ("tick 1\nresult RUNNING\n", "2:1", "the trace ends at tick 1; there is no tick 4"),
 ])
-def test_bad_traces_are_path_line_col_errors(tmp_path, content, where, message):
+def test_bad_traces_are_path_line_col_errors(tmp_path, capsys, content, where, message):
     trace = tmp_path / "t.trace"
     trace.write_text(content)
-    args = [sys.executable, "-m", "btgen", "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", str(trace)]
+    args = ["graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", str(trace)]
     if "tick 4" in message:
         args += ["--tick", "4"]
-    proc = subprocess.run(args, stderr=subprocess.PIPE, text=True,
-                          env={**os.environ, "PYTHONPATH": str(ROOT / "generator")})
-    assert proc.returncode == 1
-    assert proc.stderr == f"{trace}:{where}: error: {message}\n"
+    rc, err = cli(capsys, *args)
+    assert rc == 1
+    assert err == f"{trace}:{where}: error: {message}\n"
     assert not (tmp_path / "x.dot").exists()
 
 
-def test_bad_btlog_and_bad_options(tmp_path):
+def test_bad_btlog_and_bad_options(tmp_path, capsys):
     log = tmp_path / "bad.btlog"
     log.write_bytes(b"not a log at all")
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "generator")}
-    run = lambda *a: subprocess.run([sys.executable, "-m", "btgen", "graph", str(MISSION), *a],  # noqa: E731
-                                    stderr=subprocess.PIPE, text=True, env=env)
-    proc = run("-o", str(tmp_path / "x.dot"), "--btlog", str(log))
-    assert proc.returncode == 1 and proc.stderr == f"{log}:1:1: error: not a Groot2 log: no `BTCPP4-FileLogger2` header\n"
-    assert run("-o", str(tmp_path / "x.png")).returncode == 2
-    assert run("-o", str(tmp_path / "x.dot"), "--tick", "2").returncode == 2
-    assert run("-o", str(tmp_path / "x.dot"), "--trace", "a", "--btlog", "b").returncode == 2
+    rc, err = cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--btlog", str(log))
+    assert rc == 1 and err == f"{log}:1:1: error: not a Groot2 log: no `BTCPP4-FileLogger2` header\n"
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.png"))[0] == 2
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--tick", "2")[0] == 2
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "a", "--btlog", "b")[0] == 2
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "t", "--tick", "0")[0] == 2
     bad_mission = tmp_path / "bad.xml"
     bad_mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
-    proc = subprocess.run([sys.executable, "-m", "btgen", "graph", str(bad_mission), "-o", str(tmp_path / "x.dot")],
-                          stderr=subprocess.PIPE, text=True, env=env)
-    assert proc.returncode == 1 and proc.stderr.startswith(f"{bad_mission}:1:")
+    rc, err = cli(capsys, "graph", str(bad_mission), "-o", str(tmp_path / "x.dot"))
+    assert rc == 1 and err.startswith(f"{bad_mission}:1:") and "Traceback" not in err
+    assert not (tmp_path / "x.dot").exists()
 
 
 def test_walk_agrees_with_the_uids_and_instances_groot2_sees():
