@@ -1843,6 +1843,622 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"TourGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"LabTour\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\" _uid=\"31\" response=\"{response}\"/>\012"
+      "            <Fallback name=\"DeclineOrTour\" _uid=\"51\">\012"
+      "                <Sequence name=\"Declined\" _uid=\"52\">\012"
+      "                    <Inverter name=\"Inverter\" _uid=\"53\">\012"
+      "                        <IsVisitorResponseYes name=\"IsVisitorResponseYes\" _uid=\"54\" response=\"{response}\"/>\012"
+      "                    </Inverter>\012"
+      "                    <ForceSuccess name=\"ForceSuccess\" _uid=\"55\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"56\">\012"
+      "                            <MaybeAnotherTimeSpeech name=\"MaybeAnotherTimeSpeech\" _uid=\"57\" message=\"maybe_another_time\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"58\"/>\012"
+      "                        </Fallback>\012"
+      "                    </ForceSuccess>\012"
+      "                </Sequence>\012"
+      "                <Sequence name=\"Tour\" _uid=\"59\">\012"
+      "                    <SubTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\" _uid=\"60\"/>\012"
+      "                    <SubTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\" _uid=\"100\"/>\012"
+      "                </Sequence>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryTourSpeech name=\"QueryTourSpeech\" _uid=\"34\" message=\"query_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayYesNoSpeech name=\"SayYesNoSpeech\" _uid=\"42\" message=\"say_yes_no\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsYesNoUttered name=\"IsYesNoUttered\" _uid=\"44\" response=\"{response}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressYesNoSpeech name=\"PressYesNoSpeech\" _uid=\"48\" message=\"press_yes_no\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressYesNoDialogue name=\"PressYesNoDialogue\" _uid=\"50\" response=\"{response}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"61\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"62\">\012"
+      "                <RetrieveListOfExhibits name=\"RetrieveListOfExhibits\" _uid=\"63\" exhibits=\"{exhibits}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"64\"/>\012"
+      "            </Fallback>\012"
+      "            <Inverter name=\"UntilNoExhibitLeft\" _uid=\"65\">\012"
+      "                <KeepRunningUntilFailure name=\"ExhibitLoop\" _uid=\"66\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"67\">\012"
+      "                        <IsListWithExhibit name=\"IsListWithExhibit\" _uid=\"68\" exhibits=\"{exhibits}\"/>\012"
+      "                        <Sequence name=\"VisitOneExhibit\" _uid=\"69\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                                <SelectExhibit name=\"SelectExhibit\" _uid=\"71\" exhibits=\"{exhibits}\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                                <FollowMeSpeech name=\"FollowMeSpeech\" _uid=\"74\" message=\"follow_me\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "                            </Fallback>\012"
+      "                            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"IV. VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" location_id=\"{location_id}\"/>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"91\">\012"
+      "                                <DescribeExhibitSpeech_1 name=\"DescribeExhibitSpeech_1\" _uid=\"92\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"93\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"94\">\012"
+      "                                <PerformDeicticGesture name=\"PointToExhibit\" _uid=\"95\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"96\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"97\">\012"
+      "                                <DescribeExhibitSpeech_2 name=\"DescribeExhibitSpeech_2\" _uid=\"98\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"99\"/>\012"
+      "                            </Fallback>\012"
+      "                        </Sequence>\012"
+      "                    </Sequence>\012"
+      "                </KeepRunningUntilFailure>\012"
+      "            </Inverter>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"IV. VisitExhibit::60/_NavigateToLocation::76\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"77\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"78\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"79\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"80\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"81\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"82\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"83\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"84\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"85\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"86\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"87\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"88\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"89\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"90\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"101\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"102\">\012"
+      "                <EndTourSpeech name=\"EndTourSpeech\" _uid=\"103\" message=\"end_of_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"104\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"105\">\012"
+      "                <LookUpEntrance name=\"LookUpEntrance\" _uid=\"106\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"107\"/>\012"
+      "            </Fallback>\012"
+      "            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"V. EndTour::100/_NavigateToLocation::108\" _uid=\"108\" location_id=\"{location_id}\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"123\">\012"
+      "                <HereIsTheDoorSpeech name=\"HereIsTheDoorSpeech\" _uid=\"124\" message=\"here_is_the_door\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"125\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"126\">\012"
+      "                <PerformDeicticGesture name=\"PointToExit\" _uid=\"127\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"128\"/>\012"
+      "            </Fallback>\012"
+      "            <Parallel name=\"WaveAndSayGoodbye\" _uid=\"129\" success_count=\"2\" failure_count=\"1\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"130\">\012"
+      "                    <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"131\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"132\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"133\">\012"
+      "                    <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"134\" message=\"goodbye\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"135\"/>\012"
+      "                </Fallback>\012"
+      "            </Parallel>\012"
+      "            <SubTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"V. EndTour::100/_NavigateToLocation::108\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"109\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"110\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"111\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"112\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"113\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"114\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"115\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"116\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"117\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"118\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"119\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"120\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"121\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"122\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"137\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"138\">\012"
+      "                <LookUpHome name=\"LookUpHome\" _uid=\"139\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"140\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"141\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"142\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"143\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"144\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"145\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"146\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"147\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"148\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"149\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose pre-gesture message is said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose post-gesture message is said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"DisabledOvertAttentionMode\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EndTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"end_of_tour\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Action ID=\"FollowMeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"follow_me\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Action ID=\"HereIsTheDoorSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"here_is_the_door\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsListWithExhibit\">\012"
+      "            <input_port name=\"exhibits\" type=\"std::string\">exhibits still to visit: location ids separated by &quot;;&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorResponseYes\">\012"
+      "            <input_port name=\"response\" type=\"std::string\">the visitor&apos;s answer: &quot;yes&quot; or &quot;no&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsYesNoUttered\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or &quot;no&quot;, when one was heard</output_port>\012"
+      "        </Condition>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpEntrance\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the entrance</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"LookUpHome\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the home location</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"MaybeAnotherTimeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"maybe_another_time\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"Navigate\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of the destination (its robotLocationPose)</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressYesNoDialogue\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or &quot;no&quot;, as pressed on the tablet</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_yes_no\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_tour\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"RetrieveListOfExhibits\">\012"
+      "            <output_port name=\"exhibits\" type=\"std::string\">the tour&apos;s location ids separated by &quot;;&quot;, in visiting order</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_yes_no\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"SelectExhibit\">\012"
+      "            <inout_port name=\"exhibits\" type=\"std::string\">exhibits still to visit; the first is taken off</inout_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the exhibit taken</output_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 25437);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      12,
+      30,
+      50,
+      51,
+      52,
+      53,
+      54,
+      55,
+      56,
+      57,
+      58,
+      59,
+      99,
+      3,
+      4,
+      5,
+      6,
+      7,
+      8,
+      9,
+      10,
+      11,
+      13,
+      14,
+      15,
+      16,
+      17,
+      18,
+      19,
+      20,
+      21,
+      22,
+      23,
+      24,
+      25,
+      26,
+      27,
+      28,
+      29,
+      31,
+      32,
+      33,
+      34,
+      35,
+      36,
+      37,
+      38,
+      39,
+      40,
+      41,
+      42,
+      43,
+      44,
+      45,
+      46,
+      47,
+      48,
+      49,
+      60,
+      61,
+      62,
+      63,
+      64,
+      65,
+      66,
+      67,
+      68,
+      69,
+      70,
+      71,
+      72,
+      73,
+      74,
+      75,
+      90,
+      91,
+      92,
+      93,
+      94,
+      95,
+      96,
+      97,
+      98,
+      76,
+      77,
+      78,
+      79,
+      80,
+      81,
+      82,
+      83,
+      84,
+      85,
+      86,
+      87,
+      88,
+      89,
+      100,
+      101,
+      102,
+      103,
+      104,
+      105,
+      106,
+      107,
+      122,
+      123,
+      124,
+      125,
+      126,
+      127,
+      128,
+      129,
+      130,
+      131,
+      132,
+      133,
+      134,
+      135,
+      108,
+      109,
+      110,
+      111,
+      112,
+      113,
+      114,
+      115,
+      116,
+      117,
+      118,
+      119,
+      120,
+      121,
+      136,
+      137,
+      138,
+      139,
+      140,
+      141,
+      142,
+      143,
+      144,
+      145,
+      146,
+      147,
+      148,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 9> kBlackboards = {
+      "TourGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryVisitorResponse::31",
+      "IV. VisitExhibit::60",
+      "IV. VisitExhibit::60/_NavigateToLocation::76",
+      "V. EndTour::100",
+      "V. EndTour::100/_NavigateToLocation::108",
+      "V. EndTour::100/_GoHome::136",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("response"), bb.response);
+    visit(std::size_t{4}, std::string_view("exhibits"), bb.IV_VisitExhibit_exhibits);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_VisitExhibit_location_id);
+    visit(std::size_t{6}, std::string_view("location_id"), bb.V_EndTour_location_id);
+    visit(std::size_t{8}, std::string_view("location_id"), bb.V_EndTour_GoHome_location_id);
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
@@ -1865,6 +2481,8 @@ class LabTour : public btgen::Engine<detail::Spec, Leaves, Clock, Observer> {
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual

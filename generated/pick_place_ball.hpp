@@ -340,6 +340,179 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"PickPlaceBall\" _fullpath=\"\">\012"
+      "        <Sequence name=\"PickPlaceBall\" _uid=\"1\">\012"
+      "            <RetryUntilSuccessful name=\"FindBallTwice\" _uid=\"2\" num_attempts=\"2\">\012"
+      "                <FindBall name=\"FindBall\" _uid=\"3\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "            <Sequence name=\"PickMovePlace\" _uid=\"4\">\012"
+      "                <PickBall name=\"PickBall\" _uid=\"5\"/>\012"
+      "                <MoveBall name=\"MoveBall\" _uid=\"6\"/>\012"
+      "                <PlaceBall name=\"PlaceBall\" _uid=\"7\"/>\012"
+      "            </Sequence>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Action ID=\"FindBall\"/>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"MoveBall\"/>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PickBall\"/>\012"
+      "        <Action ID=\"PlaceBall\"/>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 8338);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      3,
+      4,
+      5,
+      6,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 1> kBlackboards = {
+      "PickPlaceBall",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
@@ -362,6 +535,8 @@ class PickPlaceBall : public btgen::Engine<detail::Spec, Leaves, Clock, Observer
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual

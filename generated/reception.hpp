@@ -1235,6 +1235,404 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"ReceptionGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"Reception\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" _uid=\"31\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"reception_welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" message=\"query_destination\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" message=\"say_destination\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" destination=\"{destination}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" message=\"press_destination\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" destination=\"{destination}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
+      "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
+      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
+      "            <Sequence name=\"Directions\" _uid=\"54\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"55\">\012"
+      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"57\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"58\">\012"
+      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"60\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"61\">\012"
+      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"63\"/>\012"
+      "                </Fallback>\012"
+      "            </Sequence>\012"
+      "            <ForceSuccess name=\"Apology\" _uid=\"64\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"65\">\012"
+      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" message=\"unknown_destination\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"67\"/>\012"
+      "                </Fallback>\012"
+      "            </ForceSuccess>\012"
+      "        </IfThenElse>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
+      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" failure_count=\"1\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"71\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"74\" message=\"goodbye\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "            </Fallback>\012"
+      "        </Parallel>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeRouteSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said (where it is)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeRouteSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is said (the way there)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsDestinationUttered\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was heard clearly</output_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpDestination\">\012"
+      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor named</input_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails when no robotLocationDescription matches</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressDestinationDialogue\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet (from the knowledge base&apos;s location descriptions)</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_destination\">phrase to say: asks the visitor to choose the place on the tablet</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_destination\">phrase to say: asks which place the visitor is looking for</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase to say: asks the visitor to say the name of the place</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnknownDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"unknown_destination\">phrase to say: apologises that the place is not known</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 17593);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      12,
+      30,
+      50,
+      67,
+      3,
+      4,
+      5,
+      6,
+      7,
+      8,
+      9,
+      10,
+      11,
+      13,
+      14,
+      15,
+      16,
+      17,
+      18,
+      19,
+      20,
+      21,
+      22,
+      23,
+      24,
+      25,
+      26,
+      27,
+      28,
+      29,
+      31,
+      32,
+      33,
+      34,
+      35,
+      36,
+      37,
+      38,
+      39,
+      40,
+      41,
+      42,
+      43,
+      44,
+      45,
+      46,
+      47,
+      48,
+      49,
+      51,
+      52,
+      53,
+      54,
+      55,
+      56,
+      57,
+      58,
+      59,
+      60,
+      61,
+      62,
+      63,
+      64,
+      65,
+      66,
+      68,
+      69,
+      70,
+      71,
+      72,
+      73,
+      74,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 6> kBlackboards = {
+      "ReceptionGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryDestination::31",
+      "IV. GiveDirections::51",
+      "V. Farewell::68",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("destination"), bb.destination);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_GiveDirections_location_id);
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
@@ -1257,6 +1655,8 @@ class Reception : public btgen::Engine<detail::Spec, Leaves, Clock, Observer> {
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual

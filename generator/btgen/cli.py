@@ -119,6 +119,22 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return bench_command(args)
 
 
+def _cmd_graph(args: argparse.Namespace) -> int:
+    from .graph import graph_command
+
+    return graph_command(args)
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is below 1")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -175,6 +191,16 @@ def build_parser() -> argparse.ArgumentParser:
                        help="for build systems (btgen_add_mission): a mission's dependencies, outputs, class "
                             "template; `btgen build-info --help` tells more")
     i.add_argument("args", nargs=argparse.REMAINDER)  # main() hands them to btgen.compiler.main
+
+    g = sub.add_parser("graph", help="draw a mission (Graphviz), optionally with the statuses of a run")
+    g.add_argument("mission", metavar="MISSION.xml")
+    g.add_argument("-o", "--output", required=True, metavar="FILE.svg|FILE.dot")
+    src = g.add_mutually_exclusive_group()
+    src.add_argument("--trace", metavar="FILE", help="status trace (`btgen run` output): colour by status")
+    src.add_argument("--btlog", metavar="FILE", help="Groot2 log (.btlog): colour by status")
+    g.add_argument("--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)")
+    g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
+    g.set_defaults(func=_cmd_graph)
     return p
 
 

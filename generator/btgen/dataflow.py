@@ -106,6 +106,7 @@ class SlotIR:
     origin: str  # why it has its type, for the header comment (without the place)
     origin_loc: Optional[Loc]  # where that is
     capacity: int  # strings: bytes; queues: elements
+    owner_uid: int = 0  # UID of the SubTree node whose blackboard holds it; 0: the root blackboard
 
 
 @dataclass(frozen=True)
@@ -256,6 +257,7 @@ class _Slot:
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
+    owner_uid: int = 0
     member: str = ""
 
     @property
@@ -296,6 +298,7 @@ class _Analyzer:
         self.reported: set[tuple[Loc, str]] = set()
         self.insts: list[_Inst] = []
         self.bb_labels: dict[int, str] = {}
+        self.bb_uid: dict[int, int] = {}  # UID of the SubTree node of a blackboard (Groot2 names it)
         self.bbs: list[bbmod.Blackboard] = []
         self.slots: list[_Slot] = []
         self.slot_of_entry: dict[int, int] = {}
@@ -326,6 +329,7 @@ class _Analyzer:
                 self.insts.append(inst)
                 sub_path = f"{path}/{node.display_name}" if path else node.display_name
                 child = self._subtree_blackboard(node, bb, sub_path)
+                self.bb_uid[id(child)] = index + 1
                 stack.append((self.m.tree(node.target).root, child, sub_path))
                 continue
             ports = _ports_of(self.m, node)
@@ -850,14 +854,14 @@ class _Analyzer:
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
-        owner_of: dict[int, tuple[str, str]] = {}
+        owner_of: dict[int, tuple[str, str, int]] = {}
         for bb in self.bbs:
             for key in bb.local_keys():
                 entry = bb._storage[key]  # noqa: SLF001 - the reference blackboard's own storage
-                owner_of[id(entry)] = (self.bb_labels[id(bb)], key)
+                owner_of[id(entry)] = (self.bb_labels[id(bb)], key, self.bb_uid.get(id(bb), 0))
         raw_names = []
         for s in self.slots:
-            owner, key = owner_of.get(id(s.entry), ("root", "?"))
+            owner, key, s.owner_uid = owner_of.get(id(s.entry), ("root", "?", 0))
             s.owner, s.key = owner, key
             raw_names.append(key if owner == "root" else f"{owner}_{key}")
         members = unique_identifiers(raw_names, taken=("value", "seq", "exists", "has_value"), prefix="e")
@@ -1391,7 +1395,7 @@ class _Compiler:
                         len(w.literal.encode("utf-8")) > s.capacity:  # (scripts: reported as they compile)
                     self.error(w.loc, self.overflow_message(w.literal, s))
         slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
-                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity)
+                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity, s.owner_uid)
                       for i, s in enumerate(self.a.slots))
         return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
                       tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,

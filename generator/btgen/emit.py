@@ -68,6 +68,30 @@ def cpp_string_view(text: str) -> str:
     return f"std::string_view({naming.cpp_string(text)}, {len(text.encode('utf-8'))})"
 
 
+def groot2_context(program: Program) -> dict:
+    """What the template's Groot2 section needs: the tree XML as lines, BehaviorTree.CPP's
+    status order, its blackboard names and, per blackboard, its entries sorted by key."""
+    tree = program.groot2
+    if tree is None:
+        raise InternalError("the program has no Groot2 tree (lower() makes one)")
+    data = program.data
+    assert data is not None
+    names = [inst.blackboard_name for inst in tree.instances]
+    index_of_uid = {0: 0}
+    for i, inst in enumerate(tree.instances[1:], start=1):
+        index_of_uid[inst.nodes[0]] = i  # the SubTree node's UID is its tree root's index
+    entries = []
+    for sl in data.slots:
+        bb = index_of_uid.get(sl.owner_uid)
+        if bb is None:
+            raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
+        entries.append(dict(bb=bb, key=sl.key, member=sl.member))
+    entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
+    return dict(xml_lines=tree.xml.splitlines(keepends=True), xml_size=len(tree.xml.encode("utf-8")),
+                order=tree.status_order,
+                blackboards=names, entries=entries)
+
+
 def _environment() -> jinja2.Environment:
     env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
@@ -151,6 +175,7 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".",
         where=[show_loc(loc) for loc in data.where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
         scripts=[dict(c=c, key=c.node * 16 + SCRIPT_BIT[c.which]) for c in data.scripts],
+        groot2=groot2_context(program),
     )
     env = environment()
     return (

@@ -23,6 +23,7 @@ from .dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
 from .naming import unique_identifiers
+from .treexml import Groot2Tree, groot2_tree
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
@@ -125,6 +126,8 @@ class Program:
     unrun_leaves: tuple[tuple[str, str], ...] = ()
     # The data side: blackboard slots, compiled scripts, port accessors (dataflow.py).
     data: Optional[DataIR] = None
+    # The tree as BehaviorTree.CPP shows it to Groot2: XML with _uid, tree instances (treexml.py).
+    groot2: Optional[Groot2Tree] = None
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -296,7 +299,8 @@ class _Lowerer:
         self.sink.raise_if_errors()
         return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
                        max(n.depth for n in nodes), counter, timer,
-                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data)
+                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data,
+                       groot2_tree(m))
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
         """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""

@@ -1,0 +1,300 @@
+"""Groot2 monitoring of a compiled mission against software no one here wrote.
+
+The same mission (tests/groot2/monitored.xml) with the same scripted leaf
+results (tests/groot2/monitored.scenario) runs under behaviortreepy (Python
+bindings of BehaviorTree.CPP 4.8.2, its Groot2Publisher and FileLogger2) and
+under the compiled executor with btgen::groot2::Publisher and
+btgen::btlog::FileLogger (runtime/src/monitor_driver.cpp). Both are driven
+tick by tick; after every tick their answers must agree. btview (a
+third-party Groot2 client) must print the same lines for both.
+
+Known differences of 4.8.2 from 4.6.2 (btgen's reference), said here rather
+than hidden: the TreeNodesModel part of the tree XML differs (4.8.2 registers
+more built-in nodes and words its port descriptions differently; btgen writes
+4.6.2's node set with its own catalogue's descriptions), so only the
+BehaviorTree part is compared, and the mission's own models are checked to be
+in both. Everything the protocol carries besides (node attributes, UIDs,
+status bytes and order, blackboard MessagePack, .btlog records) is the same in
+both versions.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import struct
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+MISSION = ROOT / "tests" / "groot2" / "monitored.xml"
+SCENARIO = ROOT / "tests" / "groot2" / "monitored.scenario"
+
+bt = pytest.importorskip("behaviortreepy") if not os.environ.get("CI") else __import__("behaviortreepy")
+zmq = pytest.importorskip("zmq") if not os.environ.get("CI") else __import__("zmq")
+msgpack = pytest.importorskip("msgpack") if not os.environ.get("CI") else __import__("msgpack")
+
+TICKS = 5  # the mission succeeds at tick 5 with this scenario
+
+
+def free_port_pair() -> int:
+    """A port P with P and P + 1 free on 127.0.0.1 (Groot2 uses both)."""
+    for _ in range(50):
+        with socket.socket() as a:
+            a.bind(("127.0.0.1", 0))
+            port = a.getsockname()[1]
+            if port >= 65534:
+                continue
+            with socket.socket() as b:
+                try:
+                    b.bind(("127.0.0.1", port + 1))
+                except OSError:
+                    continue
+            return port
+    raise RuntimeError("no two consecutive free ports")
+
+
+def scenario_lists() -> dict[str, list[str]]:
+    lists = {}
+    for line in SCENARIO.read_text().splitlines():
+        words = line.split("#")[0].split()
+        if words and words[0] == "leaf":
+            lists[words[1]] = words[2:]
+    return lists
+
+
+# ------------------------------------------------------------ the two executors
+class Compiled:
+    def __init__(self, exe: Path, port: int, btlog: Path):
+        self.proc = subprocess.Popen([str(exe), str(SCENARIO), "--groot2", str(port), "--address", "127.0.0.1",
+                                      "--btlog", str(btlog)],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        assert self.proc.stdout.readline().strip() == "ready"
+
+    def tick(self) -> str:
+        self.proc.stdin.write("tick\n")
+        self.proc.stdin.flush()
+        return self.proc.stdout.readline().split()[1]
+
+    def alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def close(self) -> int:
+        if self.proc.poll() is None:
+            self.proc.stdin.write("quit\n")
+            self.proc.stdin.flush()
+        return self.proc.wait(timeout=10)
+
+
+class Reference:
+    """behaviortreepy (BehaviorTree.CPP 4.8.2) with the scenario's leaf results."""
+
+    def __init__(self, port: int, btlog: Path):
+        lists = scenario_lists()
+        used = {name: 0 for name in lists}
+
+        def take(node):
+            name = node.name()
+            seq = lists.get(name, ["SUCCESS"])
+            i = min(used.get(name, 0), len(seq) - 1)
+            used[name] = used.get(name, 0) + 1
+            return getattr(bt.NodeStatus, seq[i])
+
+        factory = bt.BehaviorTreeFactory()
+        factory.register_simple_stateful_action("Move", take, take)
+        factory.register_simple_condition("IsReady", take)
+        self.tree = factory.create_tree_from_text(MISSION.read_text())
+        self.publisher = bt.Groot2Publisher(self.tree, port)
+        self.logger = bt.FileLogger(self.tree, str(btlog))
+
+    def tick(self) -> str:
+        return str(self.tree.tick_exactly_once()).split(".")[-1]
+
+    def close(self) -> None:
+        """Destroys the logger (its file is complete then) and the publisher; idempotent."""
+        if self.logger is not None:
+            self.logger.flush()
+        self.logger = None
+        self.publisher = None
+
+
+@pytest.fixture(scope="module")
+def executor(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("groot2")
+    subprocess.run([sys.executable, "-m", "btgen", "compile", str(MISSION), "-o", str(out)], check=True, cwd=ROOT,
+                   env={**os.environ, "PYTHONPATH": str(ROOT / "generator")})
+    exe = out / "monitored"
+    cxx = os.environ.get("CXX", "c++")
+    subprocess.run([cxx, "-std=c++17", "-O1", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+                    f"-I{ROOT / 'runtime' / 'include'}", f"-I{out}",
+                    '-DBTGEN_MISSION_HEADER="monitored.hpp"', "-DBTGEN_MISSION_TEMPLATE=monitored::Monitored",
+                    str(ROOT / "runtime" / "src" / "monitor_driver.cpp"), str(out / "monitored.cpp"),
+                    "-lzmq", "-pthread", "-o", str(exe)], check=True)
+    return exe
+
+
+class Client:
+    def __init__(self, port: int):
+        self.ctx = zmq.Context()
+        self.sock = self.ctx.socket(zmq.REQ)
+        self.sock.setsockopt(zmq.RCVTIMEO, 3000)
+        self.sock.setsockopt(zmq.LINGER, 0)
+        self.sock.connect(f"tcp://127.0.0.1:{port}")
+
+    def request(self, kind: str, *extra: bytes, protocol: int = 2) -> list[bytes]:
+        self.sock.send_multipart([struct.pack("<BBI", protocol, ord(kind), 77), *extra])
+        return self.sock.recv_multipart()
+
+    def close(self) -> None:
+        self.sock.close()
+        self.ctx.term()
+
+
+def statuses(buf: bytes) -> list[tuple[int, int]]:
+    return [(int.from_bytes(buf[i:i + 2], "little"), buf[i + 2]) for i in range(0, len(buf), 3)]
+
+
+def trees_part(xml: str) -> list:
+    """Every BehaviorTree element: its attributes and its nodes (tag and attributes), in order."""
+    root = ET.fromstring(xml)
+    return [(t.attrib, [(n.tag, n.attrib) for n in t.iter() if n is not t]) for t in root.findall("BehaviorTree")]
+
+
+@pytest.fixture()
+def pair(executor, tmp_path):
+    p_ref, p_cpp = free_port_pair(), None
+    ref = Reference(p_ref, tmp_path / "ref.btlog")
+    p_cpp = free_port_pair()
+    cpp = Compiled(executor, p_cpp, tmp_path / "cpp.btlog")
+    yield ref, cpp, p_ref, p_cpp, tmp_path
+    cpp.close()
+    ref.close()
+
+
+# --------------------------------------------------------------------- tests
+def test_fulltree_status_and_blackboard_agree_tick_by_tick(pair):
+    ref, cpp, p_ref, p_cpp, _ = pair
+    a, b = Client(p_ref), Client(p_cpp)
+    try:
+        ta, tb = a.request("T"), b.request("T")
+        assert len(ta) == len(tb) == 2
+        assert ta[0][:6] == tb[0][:6] and len(tb[0]) == 22  # echoed header + 16-byte tree UUID
+        assert trees_part(tb[1].decode()) == trees_part(ta[1].decode())
+        models_a = {m.get("ID") for m in ET.fromstring(ta[1]).find("TreeNodesModel")}
+        models_b = {m.get("ID") for m in ET.fromstring(tb[1]).find("TreeNodesModel")}
+        assert {"Move", "IsReady", "Sequence", "Fallback", "Parallel", "Script"} <= models_a & models_b
+        names = b"Main;sub1;Sub::14"
+        assert statuses(a.request("S")[1]) == statuses(b.request("S")[1])
+        for n in range(1, TICKS + 1):
+            assert ref.tick() == cpp.tick(), f"tick {n}"
+            sa, sb = a.request("S"), b.request("S")
+            assert statuses(sb[1]) == statuses(sa[1]), f"STATUS after tick {n}"
+            ba, bb = a.request("B", names), b.request("B", names)
+            assert msgpack.unpackb(bb[1]) == msgpack.unpackb(ba[1]), f"BLACKBOARD after tick {n}"
+        # The final blackboards, as both publishers give them.
+        assert msgpack.unpackb(b.request("B", names)[1]) == {
+            "Main": {"count": 4, "label": "hi", "ratio": 0.25}, "sub1": {"steps": 7},
+            "Sub::14": {"steps": 7, "x": 4}}
+    finally:
+        a.close()
+        b.close()
+
+
+def test_btlog_records_agree(pair):
+    ref, cpp, _, _, tmp = pair
+    for n in range(TICKS):
+        assert ref.tick() == cpp.tick()
+    assert cpp.close() == 0
+    ref.close()
+
+    def read(path: Path):
+        data = path.read_bytes()
+        assert data[:18] == b"BTCPP4-FileLogger2" and data[18] == 1
+        n = struct.unpack_from("<i", data, 19)[0]
+        xml = data[23:23 + n].decode()
+        first = struct.unpack_from("<q", data, 23 + n)[0]
+        body = data[31 + n:]
+        assert len(body) % 9 == 0
+        records = [(int.from_bytes(body[i:i + 6], "little"), int.from_bytes(body[i + 6:i + 8], "little"), body[i + 8])
+                   for i in range(0, len(body), 9)]
+        return xml, first, records
+
+    xa, fa, ra = read(tmp / "ref.btlog")
+    xb, fb, rb = read(tmp / "cpp.btlog")
+    assert trees_part(xb) == trees_part(xa)
+    assert abs(fb - time.time() * 1e6) < 120e6  # microseconds since the epoch
+    assert [(u, s) for _, u, s in rb] == [(u, s) for _, u, s in ra]  # timestamps excepted
+    assert [t for t, _, _ in rb] == sorted(t for t, _, _ in rb)
+    assert len(rb) > 40
+
+
+@pytest.mark.skipif(shutil.which("btview", path=str(Path(sys.executable).parent)) is None and not os.environ.get("CI"),
+                    reason="btview is not installed")
+def test_btview_snapshot_shows_the_same_lines(pair):
+    ref, cpp, p_ref, p_cpp, _ = pair
+    btview = str(Path(sys.executable).parent / "btview")
+    for n in range(3):
+        assert ref.tick() == cpp.tick()
+
+    def snapshot(port: int) -> str:
+        proc = subprocess.run([btview, "snapshot", "-p", str(port), "--uid", "--no-color"], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, timeout=60)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout
+
+    shown_ref, shown_cpp = snapshot(p_ref), snapshot(p_cpp)
+    assert "RUNNING" in shown_cpp and "#14" in shown_cpp
+    assert shown_cpp.splitlines() == shown_ref.splitlines()
+
+
+def test_protocol_robustness_the_executor_keeps_ticking(executor, tmp_path):
+    port = free_port_pair()
+    cpp = Compiled(executor, port, tmp_path / "r.btlog")
+    try:
+        good = Client(port)
+        cpp.tick()
+        # Malformed requests get error replies, never silence or a crash.
+        good.sock.send_multipart([b"\x02S"])
+        assert good.sock.recv_multipart() == [b"error", b"wrong request header"]
+        assert good.request("S", protocol=1)[0] == b"error"  # wrong protocol id
+        assert good.request("Z")[0] == b"error"
+        assert good.request("B")[0] == b"error"  # BLACKBOARD without its names part
+        assert good.request("I", b"{not json")[0] == b"error"  # breakpoints: unsupported
+        assert good.request("U", b"\xff\x00")[0] == b"error"
+        assert good.request("r")[0] == b"error"
+        assert good.request("D")[1] == b"[]"
+        assert len(good.request("A")) == 1
+        # A client that disconnects mid-request (sends, never reads its reply).
+        for _ in range(3):
+            gone = Client(port)
+            gone.sock.send_multipart([struct.pack("<BBI", 2, ord("T"), 1)])
+            gone.close()
+            cpp.tick()
+        # Raw garbage from a DEALER (no REQ envelope), then an empty frame.
+        raw = zmq.Context().socket(zmq.DEALER)
+        raw.setsockopt(zmq.LINGER, 0)
+        raw.connect(f"tcp://127.0.0.1:{port}")
+        raw.send_multipart([b"garbage", b"more"])
+        raw.send_multipart([b"", b""])
+        raw.close()
+        # Two clients at once, interleaved with ticks.
+        other = Client(port)
+        for n in range(3):
+            cpp.tick()
+            s1, s2 = good.request("S"), other.request("S")
+            assert s1[1] == s2[1] and len(s1[1]) == 3 * 20
+        # Recording: start, ticks, transitions as 9-byte records.
+        assert good.request("r", b"start")[1].isdigit()
+        cpp.tick()
+        trans = good.request("t")[1]
+        assert len(trans) % 9 == 0
+        good.close()
+        other.close()
+        assert cpp.alive()
+    finally:
+        assert cpp.close() == 0
