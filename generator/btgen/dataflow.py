@@ -42,7 +42,7 @@ from . import values
 from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_string, unique_identifiers
+from .naming import cpp_string, entry_identifiers, model_identifiers, port_identifiers
 from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
@@ -860,7 +860,7 @@ class _Analyzer:
             owner, key = owner_of.get(id(s.entry), ("root", "?"))
             s.owner, s.key = owner, key
             raw_names.append(key if owner == "root" else f"{owner}_{key}")
-        members = unique_identifiers(raw_names, taken=("value", "seq", "exists", "has_value"), prefix="e")
+        members = entry_identifiers(raw_names)
         for s, mname in zip(self.slots, members):
             s.member = mname
 
@@ -1338,9 +1338,10 @@ class _Compiler:
                          "return true;")
                 entry["writes"].append((inst.index, stmts))
         out: dict[str, tuple[PortIR, ...]] = {}
+        model_ids = [m.id for m in self.a.m.leaf_models()]
+        classes = dict(zip(model_ids, model_identifiers(model_ids)))
         for model_id, ports in by_model.items():
-            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
-                                       prefix="port")
+            names = port_identifiers(list(ports), classes.get(model_id, ""))
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]

@@ -1,0 +1,92 @@
+"""Hostile names and inputs (issue 14): every mission name becomes a C++ identifier that
+builds, with both compilers, optimised or not, warnings as errors."""
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import ROOT
+import hostile_names
+from btgen import naming
+from btgen.fuzzgen import HOSTILE_NAMES
+
+RUNTIME = os.path.join(ROOT, "runtime", "include")
+DRIVER = os.path.join(ROOT, "runtime", "src", "main_driver.cpp")
+FLAGS = ["-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
+# Stems whose engine is also instantiated (the rest only have their headers compiled): the
+# issue's reproducers and the names the mission class template uses.
+ISSUE_STEMS = frozenset("engine leaves observer clock main errno exit std btgen detail".split())
+
+
+@pytest.fixture(scope="module")
+def hostile_sources(tmp_path_factory):
+    """The hostile mission (every hostile name as model ID, port and key) and one translation
+    unit of a small mission under every hostile name as its stem."""
+    from btgen.compiler import generate
+    tmp = tmp_path_factory.mktemp("hostile")
+    names = hostile_names.pool()
+    xml = tmp / "hostile.xml"
+    xml.write_text(hostile_names.mission(names), encoding="utf-8")
+    for out in generate(str(xml), relative_to=str(tmp)):
+        (tmp / out.name).write_text(out.text, encoding="utf-8")
+    stems = tmp / "stems"
+    stems.mkdir()
+    (stems / "all_stems.cpp").write_text(hostile_names.stems_translation_unit(stems, names, ISSUE_STEMS),
+                                         encoding="utf-8")
+    return tmp
+
+
+@pytest.mark.parametrize("opt", ["-O0", "-O2"])
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_hostile_names_build(hostile_sources, compiler, opt):
+    """The scenario runner of the hostile mission, linked with every stem's header (and the
+    engines of ISSUE_STEMS, whose missions have exactly two parent-to-child edges, the
+    -Warray-bounds case of g++ -O2), builds without a warning."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    tmp = hostile_sources
+    cmd = [compiler, *FLAGS, opt, "-I", RUNTIME, "-I", str(tmp), "-I", str(tmp / "stems"),
+           '-DBTGEN_MISSION_HEADER="hostile.hpp"', "-DBTGEN_MISSION_TEMPLATE=hostile::Hostile",
+           DRIVER, str(tmp / "hostile.cpp"), str(tmp / "stems" / "all_stems.cpp"), "-o", str(tmp / f"run{opt}")]
+    start = time.monotonic()
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
+    assert proc.returncode == 0, proc.stdout[:6000]
+    print(f"{compiler} {opt}: {time.monotonic() - start:.1f} s", file=sys.stderr)
+
+
+def test_pool_covers_the_issue():
+    pool = set(hostile_names.pool())
+    assert naming.CPP_KEYWORDS <= pool
+    assert set(hostile_names.compiler_macros("g++")) <= pool
+    assert {"std", "btgen", "detail", "NULL", "errno", "EOF", "kId", "kKind", "kModel", "node", "blackboard",
+            "bb_", "err_", "node_", "scratch0_"} <= pool
+    assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
+    assert ISSUE_STEMS <= pool
+
+
+def test_compilers_define_no_macro_btgen_does_not_know():
+    """cpp_reserved.py is read from the compilers: any macro they define here is in it
+    (else rerun scripts/update_cpp_reserved.py)."""
+    for cxx in ("g++", "clang++"):
+        missing = sorted(set(hostile_names.compiler_macros(cxx)) - naming.MACROS)
+        assert not missing, f"{cxx} defines {missing[:10]}: run scripts/update_cpp_reserved.py"
+
+
+@pytest.mark.parametrize("name,kind,expected", [
+    ("NULL", "entry", "NULL_"), ("errno", "port", "errno_"), ("std", "model", "std_"), ("kId", "model", "kId_"),
+    ("bb_", "port", "bb_1"), ("scratch0_", "port", "scratch0_1"), ("loop_3", "entry", "loop_3_"),
+    ("exit", "namespace", "exit_"), ("main", "namespace", "main_"), ("lab_tour", "namespace", "lab_tour"),
+    ("Engine", "class", "Engine_"), ("LabTour", "class", "LabTour"), ("SayHello", "model", "SayHello"),
+    ("message", "port", "message"), ("x", "entry", "x"), ("class", "plain", "class_"),
+])
+def test_cpp_identifier_by_kind(name, kind, expected):
+    assert naming.cpp_identifier(name, kind=kind) == expected
+
+
+def test_port_identifiers_keep_getters_and_setters_apart():
+    # `set_x` the port would be the setter of `x`; a port named like its model is the constructor.
+    assert naming.port_identifiers(["x", "set_x", "Move"], "Move") == ("x", "set_x_2", "Move_2")
+    assert naming.unique_identifiers(["NULL", "NULL_"], kind="entry") == ("NULL_", "NULL_2")
