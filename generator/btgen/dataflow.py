@@ -42,7 +42,7 @@ from . import values
 from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_string, entry_identifiers, model_identifiers, port_identifiers
+from .naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
 from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
@@ -1047,7 +1047,7 @@ class _Compiler:
             slot = self.a.slot_of_entry[id(entry)]
             body.append(f"{self.member(slot)}.unset();")
         else:
-            body.append(f"// `{key}` is not an entry of this blackboard: 4.6.2 removes nothing")
+            body.append(f"// `{cpp_comment(key)}` is not an entry of this blackboard: 4.6.2 removes nothing")
         body.append("return btgen::Status::SUCCESS;")
         return CodeIR(inst.index, "", f"UnsetBlackboard \"{inst.node.display_name}\" key={key}", tuple(body))
 

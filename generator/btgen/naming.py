@@ -211,6 +211,9 @@ def cpp_string(text: str) -> str:
 
 
 def cpp_comment(text: str) -> str:
-    """`text` made safe inside a // comment: one line, no trailing backslash, ASCII."""
+    """`text` made safe inside a // comment: one line (line breaks and other control or
+    non-ASCII characters become `?`), no trailing backslash, and no `??` (the trigraph
+    `??/` ends a // comment's line like a backslash; g++ -Wall warns of any trigraph)."""
     safe = "".join(ch if 0x20 <= ord(ch) < 0x7F else "?" for ch in text)
+    safe = re.sub(r"\?(?=\?)", "?_", safe)
     return safe.rstrip("\\ ")

@@ -41,7 +41,7 @@ def _xml_name(n: str) -> bool:
 def mission(names: list[str]) -> str:
     """Every name as a model ID (an Action whose one port is named like its model, read from
     the key of that name), and as a port and key of one model `Ports` (typed int, double, string
-    and untyped in turn, all inout: getter and setter); each model's port has the same type."""
+    and untyped in turn, all inout: getter and setter); each model's port has the same type. Comment text ends in `??/`."""
     types = ("int", "double", "std::string", None)
     models, nodes, ports, attrs = [], [], [], []
     for i, n in enumerate(names):
@@ -49,10 +49,13 @@ def mission(names: list[str]) -> str:
         typed = f' type="{t}"' if t else ""
         models.append(f'    <Action ID="{n}"><input_port name="{n}"{typed}/></Action>')
         nodes.append(f'      <{n} {n}="{{{n}}}"/>')
-        ports.append(f'      <inout_port name="{n}"' + (f' type="{t}"' if t else "") + "/>")
+        # A description ending in the trigraph `??/` (it would continue a // comment).
+        ports.append(f'      <inout_port name="{n}"' + (f' type="{t}"' if t else "") + ">ends ??/</inout_port>")
         attrs.append(f'{n}="{{{n}}}"')
     return ("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n  <BehaviorTree ID=\"Main\">\n    <Sequence>\n"
-            + "\n".join([f"      <Ports {' '.join(attrs)}/>"] + nodes)
+            + "\n".join([f"      <Ports {' '.join(attrs)}/>",
+                         '      <LoopString queue="a;b??/" value="{loop_value}"><AlwaysSuccess/></LoopString>']
+                        + nodes)
             + "\n    </Sequence>\n  </BehaviorTree>\n  <TreeNodesModel>\n    <Action ID=\"Ports\">\n"
             + "\n".join(ports) + "\n    </Action>\n" + "\n".join(models) + "\n  </TreeNodesModel>\n</root>\n")
 

@@ -90,3 +90,12 @@ def test_port_identifiers_keep_getters_and_setters_apart():
     # `set_x` the port would be the setter of `x`; a port named like its model is the constructor.
     assert naming.port_identifiers(["x", "set_x", "Move"], "Move") == ("x", "set_x_2", "Move_2")
     assert naming.unique_identifiers(["NULL", "NULL_"], kind="entry") == ("NULL_", "NULL_2")
+
+
+@pytest.mark.parametrize("text,expected", [
+    ("ends ??/", "ends ?_?/"), ("a???/b", "a?_?_?/b"), ("line\nbreak\r", "line?break?"), ("back\\", "back"),
+    ("ok?", "ok?"),
+])
+def test_comment_text_is_escaped(text, expected):
+    """`??/` would continue a // comment onto the next line (g++ -Wall: -Werror=trigraphs)."""
+    assert naming.cpp_comment(text) == expected
