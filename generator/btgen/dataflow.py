@@ -809,10 +809,13 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
-        # Capacities only grow, up to `cap`. A slot whose bound depends on itself
-        # (`s := s .. 'x'`, possibly through other slots) grows a little every round;
-        # after WIDEN_AFTER growths it is taken to grow without bound and gets `cap`,
-        # so every slot changes at most WIDEN_AFTER + 1 times.
+        # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
+        # most `cap`: a longer literal is an error where it is written. A computed value
+        # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
+        # `cap`, or the executor would fail where 4.6.2 succeeds. A slot whose bound
+        # depends on itself (`s := s .. 'x'`, possibly through other slots) grows a little
+        # every round; after WIDEN_AFTER growths it is taken to grow without bound and gets
+        # `cap` for good, so every slot changes at most WIDEN_AFTER + 1 times.
         growths = [0] * len(self.slots)
         changed = True
         rounds = 0
@@ -820,14 +823,14 @@ class _Analyzer:
             changed = False
             rounds += 1
             for i, s in enumerate(self.slots):
-                if s.kind not in ("string", DYN):
+                if s.kind not in ("string", DYN) or growths[i] > WIDEN_AFTER:
                     continue
                 best = s.capacity
                 for w in s.writes:
                     if s.kind == DYN and is_numeric(w.kind()):
                         continue  # a dynamic slot holds numbers as numbers
                     b = w.bound()
-                    b = cap if b is None else min(b, cap)
+                    b = cap if b is None else min(b, cap) if w.literal is not None else b
                     best = max(best, b)
                 if best > s.capacity:
                     growths[i] += 1
