@@ -99,3 +99,36 @@ def test_port_identifiers_keep_getters_and_setters_apart():
 def test_comment_text_is_escaped(text, expected):
     """`??/` would continue a // comment onto the next line (g++ -Wall: -Werror=trigraphs)."""
     assert naming.cpp_comment(text) == expected
+
+
+CHAIN = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="t := 'ab'"/>
+      <Script code="t := t .. t"/>
+      <Script code="u := t .. t .. t .. t .. t"/>
+      <ScriptCondition code="u == 'abababababababababab'"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_long_concatenation_chain_has_a_linear_stack_frame(tmp_path):
+    """`u := t .. t .. t .. t .. t` with --string-capacity 1048576 made one buffer per `..`,
+    1+2+3+4+5 MiB, and the executor died of a stack overflow (SIGSEGV); one buffer of 5 MiB
+    serves the chain now."""
+    mission = tmp_path / "chain.xml"
+    mission.write_text(CHAIN, encoding="utf-8")
+    (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
+    out = tmp_path / "out"
+    subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out), "--string-capacity",
+                    "1048576"], check=True)
+    header = (out / "chain.hpp").read_text(encoding="utf-8")
+    assert header.count("btgen::FixedString<5242880>") == 1 and "FixedString<3145728>" not in header
+    exe = tmp_path / "chain"
+    subprocess.run([os.environ.get("CXX", "c++"), "-std=c++17", "-O0", "-I", RUNTIME, "-I", str(out),
+                    '-DBTGEN_MISSION_HEADER="chain.hpp"', "-DBTGEN_MISSION_TEMPLATE=chain::Chain", DRIVER,
+                    "-o", str(exe)], check=True)
+    proc = subprocess.run([str(exe), str(tmp_path / "one.scenario")], capture_output=True, text=True, check=False)
+    assert (proc.returncode, proc.stdout.splitlines()[-1]) == (0, "result SUCCESS"), proc.stderr
