@@ -132,3 +132,30 @@ def test_long_concatenation_chain_has_a_linear_stack_frame(tmp_path):
                     "-o", str(exe)], check=True)
     proc = subprocess.run([str(exe), str(tmp_path / "one.scenario")], capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stdout.splitlines()[-1]) == (0, "result SUCCESS"), proc.stderr
+
+
+DOUBLING = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="s := 'ab'"/>
+      <Repeat num_cycles="40"><Script code="s := s .. s"/></Repeat>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_interpreter_bounds_a_doubling_string(tmp_path):
+    """A script doubling a string 40 times ended the interpreter in MemoryError (exit 3); it
+    stops at MAX_STRING_BYTES with a run-time error at the operator (the C++ engine stops
+    much earlier, at the entry's capacity)."""
+    from btgen.script import MAX_STRING_BYTES
+    (tmp_path / "m.xml").write_text(DOUBLING, encoding="utf-8")
+    (tmp_path / "s.scenario").write_text("ticks 60\n", encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1
+    assert proc.stderr == (f"m.xml:5:52: error: script error in `code` of `Script` \"Script\": `..` would make a "
+                           f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
+                           f"{MAX_STRING_BYTES} bytes\n")
+    assert proc.stdout.splitlines()[-1] == "tick 26"
