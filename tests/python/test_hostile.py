@@ -159,3 +159,81 @@ def test_interpreter_bounds_a_doubling_string(tmp_path):
                            f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
                            f"{MAX_STRING_BYTES} bytes\n")
     assert proc.stdout.splitlines()[-1] == "tick 26"
+
+
+TWO_EDGES = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Fallback><AlwaysFailure/><AlwaysSuccess/></Fallback>
+  </BehaviorTree>
+</root>
+"""
+TWO_EDGES_TRACE = """tick 1
+1 Fallback "Fallback" IDLE -> RUNNING
+2 AlwaysFailure "AlwaysFailure" IDLE -> FAILURE
+3 AlwaysSuccess "AlwaysSuccess" IDLE -> SUCCESS
+2 AlwaysFailure "AlwaysFailure" FAILURE -> IDLE
+3 AlwaysSuccess "AlwaysSuccess" SUCCESS -> IDLE
+1 Fallback "Fallback" RUNNING -> SUCCESS
+1 Fallback "Fallback" SUCCESS -> IDLE
+result SUCCESS
+"""
+
+
+def _run(tmp_path, engine, scenario, env=None, shell=False):
+    (tmp_path / "two.xml").write_text(TWO_EDGES, encoding="utf-8")
+    cmd = [sys.executable, "-m", "btgen", "run", "two.xml", "--scenario", scenario, "--engine", engine]
+    if shell:  # bash for `<(...)`
+        cmd = ["bash", "-c", " ".join(cmd[:6]) + f" {scenario} --engine {engine}"]
+    return subprocess.run(cmd, cwd=tmp_path, capture_output=True, timeout=600, env=env)
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_scenario_limits_apply_to_pipes_and_devices(tmp_path, engine):
+    """`--scenario /dev/zero` read 16 MiB and printed one 67 MB diagnostic; a pipe's size shows
+    only while reading, so the limit is applied there (a 17 MB piped scenario was truncated
+    silently by the interpreter)."""
+    proc = _run(tmp_path, engine, "/dev/zero")
+    assert (proc.returncode, proc.stderr.decode()) == (
+        1, "/dev/zero:1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+    proc = _run(tmp_path, engine, "<(head -c 17000000 /dev/zero)", shell=True)
+    assert proc.returncode == 1 and proc.stderr.decode().endswith(
+        ":1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_scenario_through_process_substitution(tmp_path, engine):
+    """`--scenario <(...)` worked with the interpreter only: the executor did not inherit the pipe."""
+    proc = _run(tmp_path, engine, "<(printf 'ticks 1\\n')", shell=True)
+    assert (proc.returncode, proc.stdout.decode(), proc.stderr.decode()) == (0, TWO_EDGES_TRACE, "")
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+@pytest.mark.parametrize("text,expected", [
+    ("ticks " + "9" * 3_000_000 + "\n",
+     "s.scenario:1:7: error: ticks " + "9" * 4075 + "... (cut: 3000040 bytes in all)\n"),
+    ("ticks 1\n" + "y" * 3_000_000 + "\n",
+     "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000071 bytes in all)\n"),
+])
+def test_long_diagnostics_are_cut_alike(tmp_path, engine, text, expected):
+    """A 3-million-digit `ticks` crashed the interpreter (int() digit limit: exit 3) and was
+    quoted whole by the C++ runner; quotes of megabytes of input are cut at 4096 bytes, the same
+    way by both engines."""
+    (tmp_path / "s.scenario").write_text(text, encoding="utf-8")
+    proc = _run(tmp_path, engine, "s.scenario")
+    stderr = proc.stderr.decode()
+    assert proc.returncode == 1
+    assert stderr.split(":", 3)[3].startswith(expected.split(":", 3)[3][:60]) and stderr.endswith(
+        expected[-40:])
+    assert len(stderr) < 4300
+
+
+@pytest.mark.parametrize("bad", ["file", "dir_under_file"])
+def test_cpp_engine_with_an_unusable_cache_dir(tmp_path, bad):
+    """A cache path that is a file (or lies under one) ended `run --engine cpp` in a traceback (exit 3)."""
+    (tmp_path / "afile").write_text("", encoding="utf-8")
+    cache = tmp_path / "afile" if bad == "file" else tmp_path / "afile" / "sub"
+    (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
+    proc = _run(tmp_path, "cpp", "one.scenario", env={**os.environ, "BTGEN_CACHE_DIR": str(cache)})
+    assert (proc.returncode, proc.stderr.decode()) == (
+        1, f"two.xml:1:1: error: cannot build the C++ executor: the cache directory `{cache}` is not usable "
+           f"(Not a directory); set BTGEN_CACHE_DIR to a writable directory\n")
