@@ -50,7 +50,7 @@ def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> Non
     if namespace:
         p.add_argument("--namespace", type=_namespace, metavar="NS",
                        help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
-                            "from the file name; `main.xml` gives `main_mission`)")
+                            "from the file name; `main.xml` gives `main_`)")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -20,6 +20,7 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -127,8 +128,13 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     binary = final / BINARY
     if binary.is_file():
         return binary
-    final.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
+    try:
+        final.parent.mkdir(parents=True, exist_ok=True)
+        work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
+    except OSError as e:
+        raise UserError(Diagnostic(Loc(mission_path, 1, 1),
+                                   f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
+                                   f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory"))
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")
@@ -156,6 +162,19 @@ def _fileno(stream) -> Optional[int]:
         return None
 
 
+def _inherited_fd(path: str) -> Optional[int]:
+    """N when `path` is /dev/fd/N or /proc/self/fd/N of an open descriptor of this process."""
+    m = re.fullmatch(r"/(?:dev|proc/self)/fd/([0-9]+)", path)
+    if m is None:
+        return None
+    fd = int(m.group(1))
+    try:
+        os.fstat(fd)
+    except OSError:
+        return None
+    return fd
+
+
 def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
             main_tree: Optional[str] = None) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
@@ -167,9 +186,15 @@ def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
     sys.stdout.flush()
     sys.stderr.flush()
     out_fd, err_fd = _fileno(sys.stdout), _fileno(sys.stderr)
+    # `--scenario <(...)` names one of this process's descriptors (/dev/fd/63): the
+    # executor inherits it, so it reads the same pipe under the same name.
+    inherited = _inherited_fd(scenario_path)
+    pass_fds = (inherited,) if inherited is not None else ()
     if out_fd is not None and err_fd is not None:
-        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False).returncode
-    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False,
+                              pass_fds=pass_fds).returncode
+    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False,
+                          pass_fds=pass_fds)
     sys.stdout.write(proc.stdout.decode("utf-8", "replace"))
     sys.stderr.write(proc.stderr.decode("utf-8", "replace"))
     return proc.returncode

@@ -42,7 +42,7 @@ from . import values
 from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_string, unique_identifiers
+from .naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
 from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
@@ -813,10 +813,13 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
-        # Capacities only grow, up to `cap`. A slot whose bound depends on itself
-        # (`s := s .. 'x'`, possibly through other slots) grows a little every round;
-        # after WIDEN_AFTER growths it is taken to grow without bound and gets `cap`,
-        # so every slot changes at most WIDEN_AFTER + 1 times.
+        # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
+        # most `cap`: a longer literal is an error where it is written. A computed value
+        # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
+        # `cap`, or the executor would fail where 4.6.2 succeeds. A slot whose bound
+        # depends on itself (`s := s .. 'x'`, possibly through other slots) grows a little
+        # every round; after WIDEN_AFTER growths it is taken to grow without bound and gets
+        # `cap` for good, so every slot changes at most WIDEN_AFTER + 1 times.
         growths = [0] * len(self.slots)
         changed = True
         rounds = 0
@@ -824,14 +827,14 @@ class _Analyzer:
             changed = False
             rounds += 1
             for i, s in enumerate(self.slots):
-                if s.kind not in ("string", DYN):
+                if s.kind not in ("string", DYN) or growths[i] > WIDEN_AFTER:
                     continue
                 best = s.capacity
                 for w in s.writes:
                     if s.kind == DYN and is_numeric(w.kind()):
                         continue  # a dynamic slot holds numbers as numbers
                     b = w.bound()
-                    b = cap if b is None else min(b, cap)
+                    b = cap if b is None else min(b, cap) if w.literal is not None else b
                     best = max(best, b)
                 if best > s.capacity:
                     growths[i] += 1
@@ -864,7 +867,7 @@ class _Analyzer:
             owner, key, s.owner_uid = owner_of.get(id(s.entry), ("root", "?", 0))
             s.owner, s.key = owner, key
             raw_names.append(key if owner == "root" else f"{owner}_{key}")
-        members = unique_identifiers(raw_names, taken=("value", "seq", "exists", "has_value"), prefix="e")
+        members = entry_identifiers(raw_names)
         for s, mname in zip(self.slots, members):
             s.member = mname
 
@@ -1051,7 +1054,7 @@ class _Compiler:
             slot = self.a.slot_of_entry[id(entry)]
             body.append(f"{self.member(slot)}.unset();")
         else:
-            body.append(f"// `{key}` is not an entry of this blackboard: 4.6.2 removes nothing")
+            body.append(f"// `{cpp_comment(key)}` is not an entry of this blackboard: 4.6.2 removes nothing")
         body.append("return btgen::Status::SUCCESS;")
         return CodeIR(inst.index, "", f"UnsetBlackboard \"{inst.node.display_name}\" key={key}", tuple(body))
 
@@ -1342,9 +1345,10 @@ class _Compiler:
                          "return true;")
                 entry["writes"].append((inst.index, stmts))
         out: dict[str, tuple[PortIR, ...]] = {}
+        model_ids = [m.id for m in self.a.m.leaf_models()]
+        classes = dict(zip(model_ids, model_identifiers(model_ids)))
         for model_id, ports in by_model.items():
-            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
-                                       prefix="port")
+            names = port_identifiers(list(ports), classes.get(model_id, ""))
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]

@@ -28,6 +28,12 @@ MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance cou
 
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# FORMAT.md: node IDs contain no white space, `"` or `\` (the trace prints them unquoted).
+_ID_FORBIDDEN = re.compile(r'[\s"\\]')
+# Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
+# (4.6.2 reads <Action/> as the explicit form and asks for its ID attribute).
+RESERVED_MODEL_IDS = frozenset({"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition",
+                                "Control", "Decorator", "SubTree"})
 _MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
 
 
@@ -186,6 +192,19 @@ class _Loader:
             if mid in BUILTINS:
                 self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is a built-in node of BehaviorTree.CPP; "
                                                          f"remove it from TreeNodesModel")
+                continue
+            # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
+            bad = _ID_FORBIDDEN.search(mid or "") if kind != "SubTree" else None
+            if bad:
+                what = {" ": "a space", "\t": "a tab", "\n": "a line break", "\r": "a carriage return",
+                        '"': "`\"`", "\\": "`\\`"}.get(bad.group(0), "white space")
+                self.sink.error(src.value_loc(m, "ID"), f"node ID `{mid}` contains {what}: node IDs contain no "
+                                                         f"white space, `\"` or `\\` (they appear unquoted in "
+                                                         f"status traces)")
+                continue
+            if mid in RESERVED_MODEL_IDS and kind != "SubTree":
+                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` cannot be a node ID: <{mid}> is an element "
+                                                         f"of the file format itself")
                 continue
             ports: list[PortSpec] = []
             for p in m:

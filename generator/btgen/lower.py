@@ -22,7 +22,7 @@ from .catalogue import BUILTINS
 from .dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import unique_identifiers
+from .naming import model_identifiers
 from .treexml import Groot2Tree, groot2_tree
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
@@ -255,7 +255,7 @@ class _Lowerer:
             self.error(d.loc, d.message)
 
         models = m.leaf_models()
-        model_names = unique_identifiers([s.id for s in models], prefix="Leaf")
+        model_names = model_identifiers([s.id for s in models])
         leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 

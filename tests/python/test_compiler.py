@@ -288,7 +288,7 @@ def test_deps_outputs_and_inputs_for_build_systems(tmp_path):
     assert any(p.endswith(".xsd") for p in inputs)
     for argv, expected in ((["--outputs", main_xml], "main.hpp\nmain.cpp\n"),
                            (["--outputs", main_xml, "--cmake"], "main.hpp;main.cpp"),
-                           (["--template", main_xml], "main_mission::Main\n")):  # not `main`: int main()
+                           (["--template", main_xml], "main_::Main\n")):
         proc = subprocess.run([sys.executable, "-m", "btgen.compiler", *argv], stdout=subprocess.PIPE, text=True,
                               check=True)
         assert proc.stdout == expected

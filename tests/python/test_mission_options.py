@@ -112,9 +112,9 @@ def test_models_file_holds_only_tree_nodes_model(tmp_path):
 
 
 def test_namespace_default_never_clashes():
-    assert naming.namespace_name("main") == "main_mission"
-    assert naming.namespace_name("btgen") == "btgen_mission"
-    assert naming.namespace_name("std") == "std_mission"
+    assert naming.namespace_name("main") == "main_"
+    assert naming.namespace_name("btgen") == "btgen_"
+    assert naming.namespace_name("std") == "std_"
     assert naming.namespace_name("class") == "class_"
     assert naming.namespace_name("LabTour") == "lab_tour"
 
@@ -123,6 +123,8 @@ def test_namespace_default_never_clashes():
     ("class", "`class` is a C++ keyword"),
     ("main", "`main` clashes with the program's main(); choose another name"),
     ("btgen::x", "`btgen` clashes with btgen's runtime; choose another name"),
+    ("errno", "`errno` is a macro of the C++ standard library"),
+    ("exit::robot", "`exit` names something of the C++ standard library at global scope; choose another name"),
     ("std", "`std` clashes with the standard library; choose another name"),
     ("9lives", "`9lives` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
     ("a__b", "`a__b` is reserved in C++ (a leading `_` or a double underscore)"),
@@ -148,7 +150,7 @@ def test_compile_with_all_options(tmp_path, capsys):
     header = (out / "main.hpp").read_text()
     assert "namespace robot::missions {" in header and "}  // namespace robot::missions" in header
     assert main(["compile", mission, "--models", models, "--main-tree", "Patrol", "-o", str(out)]) == 0
-    assert "namespace main_mission {" in (out / "main.hpp").read_text()
+    assert "namespace main_ {" in (out / "main.hpp").read_text()
     assert build_info(["--template", mission, "--namespace", "robot::missions"]) == 0
     assert capsys.readouterr().out == "robot::missions::Main\n"
     assert build_info(["--check", mission, "--models", models, "--main-tree", "Dock"]) == 0
