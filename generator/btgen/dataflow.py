@@ -1337,9 +1337,24 @@ class _Compiler:
                              "btgen::describe(e)", ret="false"),
                          "return true;")
                 entry["writes"].append((inst.index, stmts))
+        # Every port a leaf model declares gets its accessors, wired here or not (one leaf
+        # implementation builds against every mission using the model): in declaration order,
+        # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
+        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        declared: dict[str, dict[str, dict]] = {}
+        for spec in self.a.m.leaf_models():
+            used = by_model.get(spec.id, {})
+            model = declared.setdefault(spec.id, {})
+            for ps in spec.ports:
+                if ps.name in used:
+                    model[ps.name] = used[ps.name]
+                elif values.queue_element_type(ps.type) is None:
+                    model[ps.name] = {"spec": ps, "reads": [], "writes": [], "scratch": False}
+        by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
         for model_id, ports in by_model.items():
-            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
+            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard", "fail",
+                                                          "sync_result"),
                                        prefix="port")
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):

@@ -346,3 +346,23 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     assert proc.returncode != 0
     assert "regenerate it with the btgen that matches your runtime headers" in proc.stdout
+
+
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
+    """A model's ports get their getter/setter whether or not the mission sets them (issue 17):
+    the same leaf code builds against tests/cpp/missions/leaf_api_{wired,unwired}.xml."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "leaf_api_unwired.xml"),
+                              relative_to=ROOT)
+    for accessor in ("btgen::Input<std::string_view> target() const", "btgen::Input<std::int32_t> retries() const",
+                     "bool set_retries(std::int32_t value) const", "bool set_error_code(std::int32_t value) const",
+                     "bool set_pose(const T& value) const", "btgen::Input<double> threshold() const"):
+        assert accessor in header.text
+    assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
+    (tmp_path / header.name).write_text(header.text, encoding="utf-8")
+    (tmp_path / source.name).write_text(source.text, encoding="utf-8")
+    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
+                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)],
+                   check=True)

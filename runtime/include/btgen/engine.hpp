@@ -53,6 +53,7 @@ struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::dec
 //   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
+//   template <class L> static constexpr bool sync_action(const NodeInfo&);
 //   template <class L> static Status check(L&, BB&, ES&, const NodeInfo&);
 //   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
 //   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
@@ -568,9 +569,10 @@ class Engine {
 
       case NodeKind::Action: {
         // StatefulActionNode: onStart from IDLE, onRunning while RUNNING; a
-        // node not yet reset by its parent answers its status again.
+        // node not yet reset by its parent answers its status again (a
+        // SyncActionNode, tick() alone, ticks again: Spec::on_start calls it).
         const Status st = status_[f.node];
-        if (st != Status::IDLE && st != Status::RUNNING) return done(st);
+        if (st != Status::IDLE && st != Status::RUNNING && !Spec::template sync_action<Leaves>(n)) return done(st);
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const Status s = st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n)
