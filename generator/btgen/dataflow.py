@@ -434,7 +434,7 @@ class _Analyzer:
                                f"needs a literal value here")
             if inst.spec is not None and inst.spec.builtin:
                 self._collect_builtin(inst)
-            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition"):
+            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition", "Control", "Decorator"):
                 self._collect_leaf(inst)
         for attr in node.post:
             self._script_use(inst, attr, attr.name, condition=False)
@@ -1342,7 +1342,7 @@ class _Compiler:
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
         declared: dict[str, dict[str, dict]] = {}
-        for spec in self.a.m.leaf_models():
+        for spec in self.a.m.user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
@@ -1354,7 +1354,10 @@ class _Compiler:
         out: dict[str, tuple[PortIR, ...]] = {}
         for model_id, ports in by_model.items():
             names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard", "fail",
-                                                          "sync_result"),
+                                                          "sync_result", "children_count", "tick_child",
+                                                          "halt_child", "halt_children", "reset_child_status",
+                                                          "child_status", "status", "set_status", "now_ms",
+                                                          "name", "uid", "children"),
                                        prefix="port")
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):

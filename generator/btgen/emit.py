@@ -24,7 +24,8 @@ from .version import RUNTIME_ABI, __version__
 TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates"
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
 
-_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition"}
+_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition", "UserControl",
+                                                                  "UserDecorator"}
 
 
 @dataclass(frozen=True)

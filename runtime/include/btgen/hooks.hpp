@@ -17,6 +17,12 @@
 //
 // When Leaves has onStart for M, M is stateful (a generic
 // `template <class M> Status onStart(M&, ...)` makes every model stateful).
+//
+// A Control or Decorator model C of the mission (btgen/user_node.hpp) has
+//     btgen::Status tick(control::C&, const btgen::NodeInfo&);
+// and optionally
+//     void halt(control::C&, const btgen::NodeInfo&);
+// (the node's own part of halt(): its children are already halted).
 #pragma once
 
 #include <string_view>
@@ -47,7 +53,19 @@ struct has_tick<Leaves, Model,
                                                                   std::declval<const NodeInfo&>()))>>
     : std::true_type {};
 
+template <class Leaves, class Model, class = void>
+struct has_halt : std::false_type {};
+template <class Leaves, class Model>
+struct has_halt<Leaves, Model,
+                std::void_t<decltype(std::declval<Leaves&>().halt(std::declval<Model&>(),
+                                                                  std::declval<const NodeInfo&>()))>>
+    : std::true_type {};
+
 }  // namespace hooks_detail
+
+// True when Leaves has the optional halt() hook of a user Control/Decorator model.
+template <class Leaves, class Model>
+inline constexpr bool has_halt_hook = hooks_detail::has_halt<Leaves, Model>::value;
 
 // True when Leaves implements Action model `Model` as a SyncActionNode (tick() alone).
 template <class Leaves, class Model>
