@@ -14,11 +14,13 @@
 #include "btgen/clock.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 #include "btgen/value.hpp"
 #include "btgen/version.hpp"
 
@@ -75,7 +77,11 @@ inline constexpr std::array<std::string_view, 7> kWhere = {
 // being run (node() tells which): a getter returns btgen::Input<T> (a value,
 // or why there is none: btgen::PortError), a setter returns false when the
 // port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Untyped ports have template
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
 // accessors: get them as any port type (std::int32_t, std::uint32_t,
 // double, bool, btgen::Status, std::string_view).
 namespace leaf {
@@ -93,6 +99,19 @@ class DescribeExhibitSpeech_1 {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): exhibit whose pre-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -125,6 +144,19 @@ class DescribeExhibitSpeech_2 {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `location_id` (int): exhibit whose post-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -156,6 +188,19 @@ class DisableAnimateBehavior {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -175,6 +220,19 @@ class DisabledOvertAttentionMode {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -196,6 +254,19 @@ class EnableAnimateBehavior {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -215,6 +286,19 @@ class EndTourSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -247,6 +331,19 @@ class FollowMeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -278,6 +375,19 @@ class GoodbyeGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -298,6 +408,19 @@ class HandleFallBack {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -317,6 +440,19 @@ class HereIsTheDoorSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -349,6 +485,14 @@ class IsASREnabled {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -368,6 +512,14 @@ class IsListWithExhibit {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // input port `exhibits` (string): exhibits still to visit: location ids separated by ";"
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -400,6 +552,14 @@ class IsMutualGazeDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -420,6 +580,14 @@ class IsVisitorDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -439,6 +607,14 @@ class IsVisitorResponseYes {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // input port `response` (string): the visitor's answer: "yes" or "no"
   [[nodiscard]] btgen::Input<std::string_view> response() const noexcept {
@@ -470,6 +646,14 @@ class IsYesNoUttered {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // output port `response` (string): "yes" or "no", when one was heard
   bool set_response(std::string_view value) const noexcept {
@@ -508,6 +692,19 @@ class LookUpEntrance {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // output port `location_id` (int): knowledge-base id of the entrance
   bool set_location_id(std::int32_t value) const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -544,6 +741,19 @@ class LookUpHome {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `location_id` (int): knowledge-base id of the home location
   bool set_location_id(std::int32_t value) const noexcept {
@@ -582,6 +792,19 @@ class MaybeAnotherTimeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -612,6 +835,19 @@ class Navigate {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): knowledge-base id of the destination (its robotLocationPose)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -648,6 +884,19 @@ class PerformDeicticGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -680,6 +929,19 @@ class PressYesNoDialogue {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `response` (string): "yes" or "no", as pressed on the tablet
   bool set_response(std::string_view value) const noexcept {
@@ -718,6 +980,19 @@ class PressYesNoSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -749,6 +1024,19 @@ class QueryTourSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -779,6 +1067,19 @@ class RetrieveListOfExhibits {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `exhibits` (string): the tour's location ids separated by ";", in visiting order
   bool set_exhibits(std::string_view value) const noexcept {
@@ -817,6 +1118,19 @@ class SayGoodByeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -847,6 +1161,19 @@ class SayYesNoSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -879,6 +1206,19 @@ class ScanningOvertAttentionMode {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -898,6 +1238,19 @@ class SelectExhibit {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // inout port `exhibits` (string): exhibits still to visit; the first is taken off
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -962,6 +1315,19 @@ class SocialOvertAttentionMode {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -981,6 +1347,19 @@ class START_OF_TREE {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -1002,6 +1381,19 @@ class WelcomeGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -1022,6 +1414,19 @@ class WelcomeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -1040,6 +1445,10 @@ class WelcomeSpeech {
 };
 
 }  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
 
 namespace detail {
 
@@ -1370,111 +1779,273 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_1");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_2");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisabledOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EnableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EndTourSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FollowMeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action GoodbyeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HandleFallBack");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HereIsTheDoorSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpEntrance");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpHome");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MaybeAnotherTimeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action Navigate");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PerformDeicticGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoDialogue");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action QueryTourSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action RetrieveListOfExhibits");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayGoodByeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayYesNoSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action ScanningOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SelectExhibit");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SocialOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action START_OF_TREE");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       default:
         break;
@@ -1491,111 +2062,219 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       default:
         break;
@@ -1611,137 +2290,137 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) leaves.onHalted(model, node);
         return;
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) leaves.onHalted(model, node);
         return;
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::HandleFallBack>) leaves.onHalted(model, node);
         return;
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) leaves.onHalted(model, node);
         return;
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpHome>) leaves.onHalted(model, node);
         return;
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::Navigate>) leaves.onHalted(model, node);
         return;
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) leaves.onHalted(model, node);
         return;
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) leaves.onHalted(model, node);
         return;
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) leaves.onHalted(model, node);
         return;
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SelectExhibit>) leaves.onHalted(model, node);
         return;
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) leaves.onHalted(model, node);
         return;
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) leaves.onHalted(model, node);
         return;
       }
       default:
@@ -1750,6 +2429,99 @@ struct Spec {
     (void)leaves;
     (void)bb;
     (void)err;
+  }
+
+  // Whether the node is an Action that Leaves implements as a SyncActionNode
+  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
+  template <class Leaves>
+  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+    switch (node.model) {
+      case 0:
+        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>;
+      case 1:
+        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>;
+      case 2:
+        return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
+      case 3:
+        return btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>;
+      case 4:
+        return btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>;
+      case 5:
+        return btgen::is_sync_action<Leaves, leaf::EndTourSpeech>;
+      case 6:
+        return btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>;
+      case 7:
+        return btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>;
+      case 8:
+        return btgen::is_sync_action<Leaves, leaf::HandleFallBack>;
+      case 9:
+        return btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>;
+      case 16:
+        return btgen::is_sync_action<Leaves, leaf::LookUpEntrance>;
+      case 17:
+        return btgen::is_sync_action<Leaves, leaf::LookUpHome>;
+      case 18:
+        return btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>;
+      case 19:
+        return btgen::is_sync_action<Leaves, leaf::Navigate>;
+      case 20:
+        return btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>;
+      case 21:
+        return btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>;
+      case 22:
+        return btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>;
+      case 23:
+        return btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>;
+      case 24:
+        return btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>;
+      case 25:
+        return btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>;
+      case 26:
+        return btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>;
+      case 27:
+        return btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>;
+      case 28:
+        return btgen::is_sync_action<Leaves, leaf::SelectExhibit>;
+      case 29:
+        return btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>;
+      case 30:
+        return btgen::is_sync_action<Leaves, leaf::START_OF_TREE>;
+      case 31:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeGesture>;
+      case 32:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>;
+      default:
+        break;
+    }
+    return false;
+  }
+
+  // The mission's own Controls and Decorators: tick() and the optional halt().
+  template <class Leaves>
+  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
+    return btgen::Status::FAILURE;
+  }
+
+  template <class Leaves>
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+                        const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
   }
 
   template <class Leaves>
@@ -2463,11 +3235,17 @@ struct Groot2 {
 
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
-// storage. `Leaves` implements, for every Action model M,
+// storage. `Leaves` implements, for every Action model M, either
 //   btgen::Status onStart(leaf::M&, const btgen::NodeInfo&);
 //   btgen::Status onRunning(leaf::M&, const btgen::NodeInfo&);
 //   void onHalted(leaf::M&, const btgen::NodeInfo&);
-// and for every Condition model C
+// (a StatefulActionNode) or only
+//   btgen::Status tick(leaf::M&, const btgen::NodeInfo&);
+// (a SyncActionNode: SUCCESS or FAILURE; btgen/hooks.hpp), for each of the
+// mission's own Controls and Decorators X
+//   btgen::Status tick(control::X&, const btgen::NodeInfo&);
+//   void halt(control::X&, const btgen::NodeInfo&);  // optional
+// (btgen/user_node.hpp), and for every Condition model C
 //   btgen::Status check(leaf::C&, const btgen::NodeInfo&);
 // (the NodeInfo tells which instance: uid, name, ...). Calls are direct, so
 // the compiler can inline them. tick() is BT::Tree::tickExactlyOnce(),
@@ -2486,118 +3264,419 @@ class LabTour : public btgen::Engine<detail::Spec, Leaves, Clock, Observer> {
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual
-// calls: derive from it and use LabTourVirtual.
+// calls: derive from it and use LabTourVirtual. For each Action model,
+// override either tick() (a SyncActionNode) or onStart, onRunning and
+// onHalted (a StatefulActionNode): the defaults of the latter run tick() as
+// the engine runs a SyncActionNode, and tick()'s default reports that the
+// model has no implementation and fails.
 class LabTourLeaves {
  public:
   virtual ~LabTourLeaves() = default;
 
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeExhibitSpeech_1 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeExhibitSpeech_2 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DisableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DisabledOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action EnableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action EndTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action FollowMeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action GoodbyeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action HandleFallBack has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action HereIsTheDoorSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action LookUpEntrance has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action LookUpHome has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action MaybeAnotherTimeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action Navigate has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PerformDeicticGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressYesNoDialogue has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action QueryTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action RetrieveListOfExhibits has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayGoodByeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action ScanningOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SelectExhibit has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SocialOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action START_OF_TREE has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
 

@@ -14,11 +14,13 @@
 #include "btgen/clock.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 #include "btgen/value.hpp"
 #include "btgen/version.hpp"
 
@@ -58,7 +60,11 @@ inline constexpr std::array<std::string_view, 0> kWhere = {
 // being run (node() tells which): a getter returns btgen::Input<T> (a value,
 // or why there is none: btgen::PortError), a setter returns false when the
 // port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Untyped ports have template
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
 // accessors: get them as any port type (std::int32_t, std::uint32_t,
 // double, bool, btgen::Status, std::string_view).
 namespace leaf {
@@ -76,6 +82,19 @@ class FindBall {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -97,6 +116,19 @@ class PickBall {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -116,6 +148,19 @@ class MoveBall {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -137,6 +182,19 @@ class PlaceBall {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -144,6 +202,10 @@ class PlaceBall {
 };
 
 }  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
 
 namespace detail {
 
@@ -190,19 +252,43 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FindBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PickBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MoveBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PlaceBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       default:
         break;
@@ -219,19 +305,35 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       default:
         break;
@@ -247,22 +349,22 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::FindBall>) leaves.onHalted(model, node);
         return;
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PickBall>) leaves.onHalted(model, node);
         return;
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::MoveBall>) leaves.onHalted(model, node);
         return;
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PlaceBall>) leaves.onHalted(model, node);
         return;
       }
       default:
@@ -271,6 +373,53 @@ struct Spec {
     (void)leaves;
     (void)bb;
     (void)err;
+  }
+
+  // Whether the node is an Action that Leaves implements as a SyncActionNode
+  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
+  template <class Leaves>
+  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+    switch (node.model) {
+      case 0:
+        return btgen::is_sync_action<Leaves, leaf::FindBall>;
+      case 1:
+        return btgen::is_sync_action<Leaves, leaf::PickBall>;
+      case 2:
+        return btgen::is_sync_action<Leaves, leaf::MoveBall>;
+      case 3:
+        return btgen::is_sync_action<Leaves, leaf::PlaceBall>;
+      default:
+        break;
+    }
+    return false;
+  }
+
+  // The mission's own Controls and Decorators: tick() and the optional halt().
+  template <class Leaves>
+  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
+    return btgen::Status::FAILURE;
+  }
+
+  template <class Leaves>
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+                        const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
   }
 
   template <class Leaves>
@@ -517,11 +666,17 @@ struct Groot2 {
 
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
-// storage. `Leaves` implements, for every Action model M,
+// storage. `Leaves` implements, for every Action model M, either
 //   btgen::Status onStart(leaf::M&, const btgen::NodeInfo&);
 //   btgen::Status onRunning(leaf::M&, const btgen::NodeInfo&);
 //   void onHalted(leaf::M&, const btgen::NodeInfo&);
-// and for every Condition model C
+// (a StatefulActionNode) or only
+//   btgen::Status tick(leaf::M&, const btgen::NodeInfo&);
+// (a SyncActionNode: SUCCESS or FAILURE; btgen/hooks.hpp), for each of the
+// mission's own Controls and Decorators X
+//   btgen::Status tick(control::X&, const btgen::NodeInfo&);
+//   void halt(control::X&, const btgen::NodeInfo&);  // optional
+// (btgen/user_node.hpp), and for every Condition model C
 //   btgen::Status check(leaf::C&, const btgen::NodeInfo&);
 // (the NodeInfo tells which instance: uid, name, ...). Calls are direct, so
 // the compiler can inline them. tick() is BT::Tree::tickExactlyOnce(),
@@ -540,26 +695,74 @@ class PickPlaceBall : public btgen::Engine<detail::Spec, Leaves, Clock, Observer
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual
-// calls: derive from it and use PickPlaceBallVirtual.
+// calls: derive from it and use PickPlaceBallVirtual. For each Action model,
+// override either tick() (a SyncActionNode) or onStart, onRunning and
+// onHalted (a StatefulActionNode): the defaults of the latter run tick() as
+// the engine runs a SyncActionNode, and tick()'s default reports that the
+// model has no implementation and fails.
 class PickPlaceBallLeaves {
  public:
   virtual ~PickPlaceBallLeaves() = default;
 
-  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action FindBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PickBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action MoveBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PlaceBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
  protected:
   PickPlaceBallLeaves() = default;

@@ -69,13 +69,18 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
+    from .compiler import data_options
     from .frontend import load_mission
+    from .lower import lower
 
     status = EXIT_OK
     for path in args.missions:
         try:
             mission = load_mission(path, tuple(args.models), args.main_tree)
             print_diagnostics(mission.warnings)
+            # What `btgen compile` checks besides (the data side: blackboard entries, port and
+            # entry types, scripts, capacities; lowering): validate rejects all it rejects.
+            lower(mission, data_options(args))
             if not args.quiet:
                 print(f"{path}: ok ({len(mission.trees)} trees, main `{mission.main_tree}`)")
         except UserError as e:
@@ -147,6 +152,10 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
     _mission_options(v)
+    v.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
+                   help="check as `btgen compile --string-capacity N` would (default 128)")
+    v.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
+                   help="check as `btgen compile --queue-capacity N` would (default 16)")
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")

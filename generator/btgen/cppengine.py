@@ -90,6 +90,18 @@ def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequen
     return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree)
 
 
+def _check_no_user_nodes(mission) -> None:
+    """The scenario runner scripts leaves only: a Control or Decorator of the mission's own
+    TreeNodesModel needs robot code (the interpreter says the same)."""
+    from .lower import _expanded
+    from .scenario import user_node_kind, user_node_message
+
+    for node, _, _, _ in _expanded(mission):
+        kind = user_node_kind(mission, node)
+        if kind is not None:
+            raise UserError(Diagnostic(node.loc, user_node_message(node.id, kind)))
+
+
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
                              warnings: Optional[list] = None, models: Sequence[str] = (),
                              main_tree: Optional[str] = None) -> Path:
@@ -102,6 +114,7 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     mission = load_mission(mission_path, models, main_tree)
     if warnings is not None:
         warnings.extend(mission.warnings)
+    _check_no_user_nodes(mission)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
     outputs = render(lower(mission), mission_stem(mission_path), None)
     stem = mission_stem(mission_path)

@@ -438,7 +438,7 @@ class _Analyzer:
                                f"needs a literal value here")
             if inst.spec is not None and inst.spec.builtin:
                 self._collect_builtin(inst)
-            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition"):
+            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition", "Control", "Decorator"):
                 self._collect_leaf(inst)
         for attr in node.post:
             self._script_use(inst, attr, attr.name, condition=False)
@@ -1344,8 +1344,22 @@ class _Compiler:
                              "btgen::describe(e)", ret="false"),
                          "return true;")
                 entry["writes"].append((inst.index, stmts))
+        # Every port a leaf model declares gets its accessors, wired here or not (one leaf
+        # implementation builds against every mission using the model): in declaration order,
+        # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
+        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        declared: dict[str, dict[str, dict]] = {}
+        for spec in self.a.m.user_models():
+            used = by_model.get(spec.id, {})
+            model = declared.setdefault(spec.id, {})
+            for ps in spec.ports:
+                if ps.name in used:
+                    model[ps.name] = used[ps.name]
+                elif values.queue_element_type(ps.type) is None:
+                    model[ps.name] = {"spec": ps, "reads": [], "writes": [], "scratch": False}
+        by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
-        model_ids = [m.id for m in self.a.m.leaf_models()]
+        model_ids = [m.id for m in self.a.m.user_models()]
         classes = dict(zip(model_ids, model_identifiers(model_ids)))
         for model_id, ports in by_model.items():
             names = port_identifiers(list(ports), classes.get(model_id, ""))

@@ -23,7 +23,8 @@ from .version import RUNTIME_ABI, __version__
 TEMPLATE_DIR = resources.TEMPLATE_DIR
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
 
-_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition"}
+_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition", "UserControl",
+                                                                  "UserDecorator"}
 
 
 @dataclass(frozen=True)

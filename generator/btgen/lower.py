@@ -78,11 +78,11 @@ _SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
 
 @dataclass(frozen=True)
 class LeafModel:
-    """An Action or Condition of TreeNodesModel: one set of hooks."""
+    """An Action, Condition, Control or Decorator of TreeNodesModel: one set of hooks."""
 
     index: int
     id: str
-    kind: str  # "Action" | "Condition"
+    kind: str  # "Action" | "Condition" | "Control" | "Decorator"
     cpp_name: str  # its struct in the generated `leaf` namespace
     loc: Optional[Loc]
 
@@ -136,6 +136,11 @@ class Program:
     @property
     def conditions(self) -> tuple[LeafModel, ...]:
         return tuple(m for m in self.leaf_models if m.kind == "Condition")
+
+    @property
+    def user_nodes(self) -> tuple[LeafModel, ...]:
+        """The mission's own Controls and Decorators."""
+        return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
 
 
 # ------------------------------------------------------------------ traversal
@@ -254,7 +259,7 @@ class _Lowerer:
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
-        models = m.leaf_models()
+        models = m.user_models()
         model_names = model_identifiers([s.id for s in models])
         leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
@@ -274,6 +279,7 @@ class _Lowerer:
                 model = -1
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
+                kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)
                 model = model_index[node.id]
             else:
                 raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")

@@ -56,7 +56,11 @@ def pascal_case(stem: str) -> str:
 QUALIFIERS = frozenset({"std", "btgen", "detail", "leaf"})
 # Members of every generated leaf class and the names its accessors use unqualified.
 LEAF_MEMBERS = frozenset({"kId", "kKind", "kModel", "node", "blackboard", "bb_", "err_", "node_", "bb", "n",
-                          "err", "e", "value", "T"})
+                          "err", "e", "value", "T",
+                          # the members custom Control and Decorator classes add
+                          "fail", "sync_result", "children_count", "tick_child", "halt_child", "halt_children",
+                          "reset_child_status", "child_status", "status", "set_status", "now_ms", "name", "uid",
+                          "children"})
 # Members of btgen::Slot, which the generated code reads beside the entries' members.
 SLOT_MEMBERS = frozenset({"value", "seq", "exists", "has_value"})
 # The names the mission class template and its scope use: its base and template parameters.

@@ -237,6 +237,24 @@ def is_scripted_leaf(mission: Mission, node: Node) -> bool:
     return not spec.builtin and spec.kind in ("Action", "Condition")
 
 
+def user_node_kind(mission: Mission, node: Node) -> Optional[str]:
+    """"Control" or "Decorator" for a node of the mission's own TreeNodesModel Controls and
+    Decorators (implemented only by robot code), else None."""
+    if isinstance(node, SubTreeNode):
+        return None
+    try:
+        spec = mission.spec(node.id)
+    except KeyError:
+        return None
+    return spec.kind if not spec.builtin and spec.kind in ("Control", "Decorator") else None
+
+
+def user_node_message(node_id: str, kind: str) -> str:
+    """Why `btgen run` cannot run a user Control/Decorator (the same on both engines)."""
+    return (f"`{node_id}` is a {kind} of this mission's TreeNodesModel: it needs your implementation "
+            f"(its tick() hook in the C++ that `btgen compile` generates), which `btgen run` does not have")
+
+
 def leaf_kind(mission: Mission, node: Node) -> str:
     try:
         spec = mission.spec(node.id)
