@@ -322,6 +322,14 @@ def test_protocol_robustness_the_executor_keeps_ticking(executor, tmp_path):
         raw.send_multipart([b"garbage", b"more"])
         raw.send_multipart([b"", b""])
         raw.close()
+        # A request larger than the publisher takes (1 MiB): that peer is dropped, no one else.
+        big = Client(port)
+        big.sock.setsockopt(zmq.RCVTIMEO, 500)
+        big.sock.send_multipart([struct.pack("<BBI", 2, ord("B"), 5), b"x" * (2 << 20)])
+        with pytest.raises(zmq.Again):
+            big.sock.recv_multipart()
+        big.close()
+        assert good.request("T")[1].startswith(b"<root")
         # Two clients at once, interleaved with ticks.
         other = Client(port)
         for n in range(3):
