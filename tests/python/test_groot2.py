@@ -243,6 +243,29 @@ def test_fulltree_status_and_blackboard_agree_tick_by_tick(pair, executor):
         b.close()
 
 
+def test_recording_gives_the_same_transitions(pair, executor):
+    """TOGGLE_RECORDING then GET_TRANSITIONS (Groot2's recording): same UIDs and statuses."""
+    ref, cpp, p_ref, p_cpp, _ = pair
+    a, b = Client(p_ref), Client(p_cpp)
+    try:
+        for c in (a, b):
+            reply = c.request("r", b"start")
+            assert len(reply) == 2 and abs(int(reply[1]) - time.time() * 1e6) < 120e6
+        got = {id(a): [], id(b): []}
+        for n in range(TICKS[executor.name]):
+            assert ref.tick() == cpp.tick()
+            for c in (a, b):
+                buf = c.request("t")[1]
+                assert len(buf) % 9 == 0
+                got[id(c)] += [(int.from_bytes(buf[i + 6:i + 8], "little"), buf[i + 8]) for i in range(0, len(buf), 9)]
+        assert got[id(b)] == got[id(a)] and len(got[id(b)]) > 20
+        for c in (a, b):
+            assert c.request("r", b"stop")[0][:6] == struct.pack("<BBI", 2, ord("r"), 77)
+    finally:
+        a.close()
+        b.close()
+
+
 def test_btlog_records_agree(pair, executor):
     ref, cpp, _, _, tmp = pair
     for n in range(TICKS[executor.name]):

@@ -186,7 +186,8 @@ inline std::array<char, 16> random_uuid() {
 }  // namespace detail
 
 // The publisher of one mission (a btgen mission whose observer is a
-// btgen::MonitorObserver). Throws zmq::error_t when a port cannot be bound.
+// btgen::MonitorObserver); destroy it before the mission (it detaches itself).
+// Throws zmq::error_t when a port cannot be bound.
 // `address` is the interface ("*": all, as BehaviorTree.CPP; "127.0.0.1").
 template <class Mission>
 class Publisher final : public StatusSink {
