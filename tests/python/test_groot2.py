@@ -18,6 +18,10 @@ in both; and 4.6.2 writes a SubTree's `_autoremap` attribute on its element,
 4.8.2 does not (trees_part says how the comparison allows for it). Everything the protocol carries besides (node attributes, UIDs,
 status bytes and order, blackboard MessagePack, .btlog records) is the same in
 both versions.
+
+Sockets: btgen's publisher binds 127.0.0.1 here; behaviortreepy's Groot2Publisher
+has no address parameter and binds every interface (as BehaviorTree.CPP does),
+on a free port, for the few seconds of a test.
 """
 from __future__ import annotations
 

@@ -214,7 +214,6 @@ class Publisher final : public StatusSink {
     if (!mission.observer().attach(this))
       throw std::runtime_error("groot2: the mission's observer has no room for another monitor");
     *snapshot_ = mission.blackboard();
-    has_snapshot_ = true;
     thread_ = std::thread([this] { serve(); });
   }
 
@@ -244,7 +243,6 @@ class Publisher final : public StatusSink {
     std::unique_lock<std::mutex> lock(bb_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return;
     *snapshot_ = mission_->blackboard();
-    has_snapshot_ = true;
     bb_wanted_.store(false, std::memory_order_release);
     bb_version_.fetch_add(1, std::memory_order_release);
   }
@@ -455,7 +453,6 @@ class Publisher final : public StatusSink {
   std::atomic<std::int64_t> record_origin_{0};
   std::mutex bb_mutex_;
   std::unique_ptr<Blackboard> snapshot_;
-  bool has_snapshot_ = false;
   std::atomic<bool> bb_wanted_{false};
   std::atomic<std::uint64_t> bb_version_{0};
   std::atomic<std::uint64_t> requests_{0};
