@@ -37,6 +37,9 @@ from pathlib import Path
 
 import pytest
 
+from btgen.frontend import load_mission
+from btgen.treexml import groot2_tree
+
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "tests" / "groot2"
 # mission stem -> ticks until the root completes with its scenario
@@ -373,3 +376,25 @@ def test_protocol_robustness_the_executor_keeps_ticking(executor, tmp_path):
         assert cpp.alive()
     finally:
         assert cpp.close() == 0
+
+
+def test_tree_xml_is_byte_identical_for_hostile_names():
+    """Names with quotes, `&`, `<`, `>`, apostrophes, UTF-8, a tab and a newline, an empty
+    name, a `/` in a SubTree path: the generator's tree XML (the FULLTREE text and the
+    .btlog header) is BehaviorTree.CPP's byte for byte up to its TreeNodesModel."""
+    mission = CASES / "hostile_names.xml"
+    factory = bt.BehaviorTreeFactory()
+    factory.register_simple_condition("Check", lambda node: bt.NodeStatus.SUCCESS)
+    tree = factory.create_tree_from_text(mission.read_text())
+    port = free_port_pair()
+    publisher = bt.Groot2Publisher(tree, port)
+    client = Client(port)
+    try:
+        theirs = client.request("T")[1].decode()
+    finally:
+        client.close()
+        del publisher
+    mine = groot2_tree(load_mission(str(mission))).xml
+    cut = "    <TreeNodesModel>"
+    assert mine[:mine.index(cut)] == theirs[:theirs.index(cut)]
+    assert "&quot;quoted&quot; &amp; &lt;tagged&gt; &apos;name&apos;" in mine and 'name=""' in mine
