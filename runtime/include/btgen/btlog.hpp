@@ -109,7 +109,8 @@ inline void pack_transition(const Transition& t, char out[9]) noexcept {
 
 namespace btlog {
 
-// Writes the .btlog of a mission whose observer is a btgen::MonitorObserver.
+// Writes the .btlog of a mission whose observer is a btgen::MonitorObserver;
+// destroy it before the mission (it detaches itself; the file is complete then).
 // Opening the file fails with std::runtime_error (wrong extension, as
 // FileLogger2 requires `.btlog`, or the file cannot be created).
 class FileLogger final : public StatusSink {

@@ -35,6 +35,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cerrno>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -185,7 +186,8 @@ inline std::array<char, 16> random_uuid() {
 }  // namespace detail
 
 // The publisher of one mission (a btgen mission whose observer is a
-// btgen::MonitorObserver). Throws zmq::error_t when a port cannot be bound.
+// btgen::MonitorObserver); destroy it before the mission (it detaches itself).
+// Throws zmq::error_t when a port cannot be bound.
 // `address` is the interface ("*": all, as BehaviorTree.CPP; "127.0.0.1").
 template <class Mission>
 class Publisher final : public StatusSink {
@@ -204,16 +206,14 @@ class Publisher final : public StatusSink {
         publisher_(context_, zmq::socket_type::pub),
         uuid_(detail::random_uuid()) {
     for (auto& s : status_) s.store(0, std::memory_order_relaxed);
-    server_.set(zmq::sockopt::linger, 0);
+    server_address_ = "tcp://" + address + ":" + std::to_string(port);
+    configure(server_);
+    server_.bind(server_address_);
     publisher_.set(zmq::sockopt::linger, 0);
-    server_.set(zmq::sockopt::rcvtimeo, 100);
-    server_.set(zmq::sockopt::sndtimeo, 1000);
-    server_.bind("tcp://" + address + ":" + std::to_string(port));
     publisher_.bind("tcp://" + address + ":" + std::to_string(port + 1));
     if (!mission.observer().attach(this))
       throw std::runtime_error("groot2: the mission's observer has no room for another monitor");
     *snapshot_ = mission.blackboard();
-    has_snapshot_ = true;
     thread_ = std::thread([this] { serve(); });
   }
 
@@ -243,7 +243,6 @@ class Publisher final : public StatusSink {
     std::unique_lock<std::mutex> lock(bb_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return;
     *snapshot_ = mission_->blackboard();
-    has_snapshot_ = true;
     bb_wanted_.store(false, std::memory_order_release);
     bb_version_.fetch_add(1, std::memory_order_release);
   }
@@ -255,6 +254,11 @@ class Publisher final : public StatusSink {
  private:
   void serve() {
     while (active_.load()) {
+      if (!bound_) {
+        rebind();
+        if (!bound_) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        continue;
+      }
       std::vector<zmq::message_t> parts;
       try {
         zmq::message_t first;
@@ -267,17 +271,48 @@ class Publisher final : public StatusSink {
           parts.push_back(std::move(next));
         }
         answer(parts);
-      } catch (const zmq::error_t&) {
-        // A peer that went away mid-request, an interrupted call: keep serving.
+      } catch (const zmq::error_t& e) {
+        // A peer that went away mid-request, an interrupted call: keep serving. A REP
+        // socket left waiting for a reply it could not send (EFSM) is made anew.
+        if (e.num() == EFSM) reset_server();
       } catch (const std::exception&) {
+        reset_server();  // out of memory while answering: the reply was not sent
       }
+    }
+  }
+
+  static void configure(zmq::socket_t& s) {
+    s.set(zmq::sockopt::linger, 0);
+    s.set(zmq::sockopt::rcvtimeo, 100);
+    s.set(zmq::sockopt::sndtimeo, 1000);
+    s.set(zmq::sockopt::maxmsgsize, std::int64_t{1} << 20);  // a larger request drops its peer
+  }
+  void reset_server() {
+    try {
+      server_.close();
+      server_ = zmq::socket_t(context_, zmq::socket_type::rep);
+      configure(server_);
+      bound_ = false;
+      rebind();
+    } catch (const zmq::error_t&) {
+    }
+  }
+  // Binds the new socket; serve() tries again every 100 ms until the port is free.
+  void rebind() {
+    try {
+      server_.bind(server_address_);
+      bound_ = true;
+    } catch (const zmq::error_t&) {
     }
   }
 
   void send(std::vector<std::string>& reply) {
     for (std::size_t i = 0; i < reply.size(); ++i) {
       const auto flags = i + 1 < reply.size() ? zmq::send_flags::sndmore : zmq::send_flags::none;
-      if (!server_.send(zmq::buffer(reply[i]), flags)) return;
+      if (!server_.send(zmq::buffer(reply[i]), flags)) {
+        reset_server();  // the reply could not go out within a second: start afresh
+        return;
+      }
     }
     requests_.fetch_add(1);
   }
@@ -418,11 +453,12 @@ class Publisher final : public StatusSink {
   std::atomic<std::int64_t> record_origin_{0};
   std::mutex bb_mutex_;
   std::unique_ptr<Blackboard> snapshot_;
-  bool has_snapshot_ = false;
   std::atomic<bool> bb_wanted_{false};
   std::atomic<std::uint64_t> bb_version_{0};
   std::atomic<std::uint64_t> requests_{0};
   std::atomic<bool> active_{true};
+  std::string server_address_;
+  bool bound_ = true;  // server thread only, after construction
   zmq::context_t context_;
   zmq::socket_t server_;
   zmq::socket_t publisher_;
