@@ -1,34 +1,49 @@
 # btgen_add_mission(): compile a BehaviorTree.CPP v4 mission to C++ at build time.
 #
-#   btgen_add_mission(TARGET <name> MISSION <file.xml>
-#                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<name>
-#                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
-#                     [SCENARIO_RUNNER <exe>]     # also build `exe SCENARIO_FILE` (the trace printer)
+#   btgen_add_mission(<target> MISSION <file.xml>
+#                     [NAMESPACE <ns>]            # C++ namespace (btgen compile --namespace); default from the file name
+#                     [MAIN_TREE <id>]            # the tree to run (btgen compile --main-tree)
+#                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
-#                     [QUEUE_CAPACITY <n>])       # most elements of a queue written by robot code
+#                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
+#                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
+#                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
+#                     [SCENARIO_RUNNER <exe>])    # also build `exe SCENARIO_FILE` (the trace printer)
 #
-# creates a static library <name> holding the generated header and source
+# `btgen_add_mission(TARGET <target> MISSION ...)` is the same.
+#
+# creates a static library <target> holding the generated header and source
 # (the header-only part is a class template over your leaves type; the
 # source compiles the virtual-interface flavour once). Link it and include
-# "<snake_case stem>.hpp".
+# "<snake_case stem>.hpp". The target's BTGEN_HEADER property names the
+# header.
 #
-# Dependencies are complete: the mission and every file it includes (found
-# at configure time by `python -m btgen.compiler --deps`; editing a mission
-# re-runs the configure step so a new include is seen), the generator's own
-# Python sources, its templates and its schemas. The outputs are known at
-# configure time (`--outputs`). Generation writes a file only when its bytes
-# change (with Ninja, whose custom commands restat their outputs, an
+# Dependencies are complete: the mission, every file it includes and the
+# MODELS files (found at configure time by `btgen build-info --deps`; editing
+# one re-runs the configure step so a new include is seen), btgen itself
+# (its command, Python sources, templates and schemas). The outputs are known
+# at configure time (`--outputs`). Generation writes a file only when its
+# bytes change (with Ninja, whose custom commands restat their outputs, an
 # unchanged output does not rebuild what depends on it) and writes nothing
-# when the mission has errors.
+# when the mission has errors: the build fails with btgen's
+# `path:line:col: error:` lines.
 #
-# Needs a Python with btgen's requirements (Jinja2, lxml, xmlschema): the one
-# CMake found as Python3_EXECUTABLE (pass -DPython3_EXECUTABLE=.venv/bin/python).
+# How btgen runs: BTGEN_EXECUTABLE, the installed `btgen` command (the CMake
+# package, find_package(btgen), sets it to the command installed with it);
+# without it, `python -m btgen` from this checkout's generator/ with
+# Python3_EXECUTABLE, a Python that has btgen's requirements (Jinja2, lxml,
+# xmlschema): pass -DPython3_EXECUTABLE=.venv/bin/python.
+#
+# Targets: btgen::runtime (header only, C++17) always; btgen::kb (the
+# environment knowledge base reader, needs Eigen) when Eigen3::Eigen exists
+# (see _btgen_define_kb).
 
 include_guard(GLOBAL)
 
 get_filename_component(_btgen_root "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
 set_property(GLOBAL PROPERTY BTGEN_ROOT "${_btgen_root}")
 
+# ==== btgen::runtime: header-only runtime of generated missions (the one definition)
 if(NOT TARGET btgen_runtime)
   add_library(btgen_runtime INTERFACE)
   add_library(btgen::runtime ALIAS btgen_runtime)
@@ -36,28 +51,54 @@ if(NOT TARGET btgen_runtime)
   target_compile_features(btgen_runtime INTERFACE cxx_std_17)
 endif()
 
-# Runs `python -m btgen.compiler <args>` at configure time; the `;`-list it prints goes to <out_var>.
-function(_btgen_query out_var)
+# ==== btgen::kb: EnvironmentKnowledgeBase, defined when Eigen3::Eigen is a target
+function(_btgen_define_kb)
+  if(TARGET btgen_kb OR NOT TARGET Eigen3::Eigen)
+    return()
+  endif()
   get_property(root GLOBAL PROPERTY BTGEN_ROOT)
+  add_library(btgen_kb STATIC "${root}/runtime/src/environment_knowledge_base.cpp")
+  add_library(btgen::kb ALIAS btgen_kb)
+  target_include_directories(btgen_kb PUBLIC "${root}/runtime/include")
+  target_link_libraries(btgen_kb PUBLIC Eigen3::Eigen)
+  target_compile_features(btgen_kb PUBLIC cxx_std_17)
+endfunction()
+
+# The command that runs btgen, in <out_var> (a list).
+function(_btgen_command out_var)
+  if(BTGEN_EXECUTABLE)
+    set(${out_var} "${BTGEN_EXECUTABLE}" PARENT_SCOPE)
+    return()
+  endif()
+  if(NOT Python3_EXECUTABLE)
+    find_package(Python3 REQUIRED COMPONENTS Interpreter)
+  endif()
+  get_property(root GLOBAL PROPERTY BTGEN_ROOT)
+  set(${out_var} "${CMAKE_COMMAND}" -E env "PYTHONPATH=${root}/generator" "${Python3_EXECUTABLE}" -m btgen
+      PARENT_SCOPE)
+endfunction()
+
+# Runs `btgen build-info <args> --cmake` at configure time; the `;`-list it prints goes to <out_var>.
+function(_btgen_query out_var)
+  _btgen_command(cmd)
   execute_process(
-    COMMAND "${CMAKE_COMMAND}" -E env "PYTHONPATH=${root}/generator"
-            "${Python3_EXECUTABLE}" -m btgen.compiler ${ARGN} --cmake
+    COMMAND ${cmd} build-info ${ARGN} --cmake
     OUTPUT_VARIABLE out
     ERROR_VARIABLE err
     RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "btgen: `python -m btgen.compiler ${ARGN}` failed (${rc}):\n${err}")
+    string(REPLACE ";" " " shown "${ARGN}")
+    message(FATAL_ERROR "btgen: `btgen build-info ${shown}` failed (${rc}):\n${err}")
   endif()
   set(${out_var} "${out}" PARENT_SCOPE)
 endfunction()
 
 # True in <out_var> when the C++ back end can compile <mission> (no diagnostics).
 function(btgen_mission_compiles out_var mission)
-  get_property(root GLOBAL PROPERTY BTGEN_ROOT)
+  _btgen_command(cmd)
   get_filename_component(mission "${mission}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   execute_process(
-    COMMAND "${CMAKE_COMMAND}" -E env "PYTHONPATH=${root}/generator"
-            "${Python3_EXECUTABLE}" -m btgen.compiler --check "${mission}"
+    COMMAND ${cmd} build-info --check "${mission}"
     OUTPUT_QUIET ERROR_QUIET
     RESULT_VARIABLE rc)
   if(rc EQUAL 0)
@@ -68,18 +109,26 @@ function(btgen_mission_compiles out_var mission)
 endfunction()
 
 function(btgen_add_mission)
-  cmake_parse_arguments(ARG "" "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
-                        "" ${ARGN})
-  if(NOT ARG_TARGET OR NOT ARG_MISSION)
-    message(FATAL_ERROR "btgen_add_mission: TARGET and MISSION are required")
+  set(args ${ARGN})
+  set(target "")
+  if(args AND NOT ARGV0 STREQUAL "TARGET")
+    list(GET args 0 target)  # btgen_add_mission(<target> MISSION ...)
+    list(REMOVE_AT args 0)
+  endif()
+  cmake_parse_arguments(ARG ""
+    "TARGET;MISSION;NAMESPACE;MAIN_TREE;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
+    "MODELS" ${args})
+  if(ARG_TARGET)
+    set(target "${ARG_TARGET}")
+  endif()
+  if(NOT target OR NOT ARG_MISSION)
+    message(FATAL_ERROR "btgen_add_mission: give a target and MISSION: btgen_add_mission(<target> MISSION <file.xml> ...)")
   endif()
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "btgen_add_mission: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
   endif()
-  if(NOT Python3_EXECUTABLE)
-    find_package(Python3 REQUIRED COMPONENTS Interpreter)
-  endif()
   get_property(root GLOBAL PROPERTY BTGEN_ROOT)
+  _btgen_command(btgen)
   get_filename_component(mission "${ARG_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   if(NOT EXISTS "${mission}")
     message(FATAL_ERROR "btgen_add_mission: mission ${mission} does not exist")
@@ -87,7 +136,7 @@ function(btgen_add_mission)
   if(ARG_OUTPUT_DIR)
     get_filename_component(out_dir "${ARG_OUTPUT_DIR}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_BINARY_DIR}")
   else()
-    set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/btgen/${ARG_TARGET}")
+    set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/btgen/${target}")
   endif()
   if(ARG_RELATIVE_TO)
     get_filename_component(relative_to "${ARG_RELATIVE_TO}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
@@ -95,10 +144,37 @@ function(btgen_add_mission)
     set(relative_to "${CMAKE_SOURCE_DIR}")
   endif()
 
-  _btgen_query(deps --deps "${mission}")
-  _btgen_query(names --outputs "${mission}")
+  # Options that change what is read (--models, --main-tree) and what is written (--namespace, capacities).
+  set(read_options "")
+  foreach(models_file IN LISTS ARG_MODELS)
+    get_filename_component(models_file "${models_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${models_file}")
+      message(FATAL_ERROR "btgen_add_mission: models file ${models_file} does not exist")
+    endif()
+    list(APPEND read_options --models "${models_file}")
+  endforeach()
+  if(DEFINED ARG_MAIN_TREE)
+    list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
+  endif()
+  set(ns_option "")
+  if(DEFINED ARG_NAMESPACE)
+    set(ns_option --namespace "${ARG_NAMESPACE}")
+  endif()
+  set(write_options ${ns_option})
+  if(ARG_STRING_CAPACITY)
+    list(APPEND write_options --string-capacity ${ARG_STRING_CAPACITY})
+  endif()
+  if(ARG_QUEUE_CAPACITY)
+    list(APPEND write_options --queue-capacity ${ARG_QUEUE_CAPACITY})
+  endif()
+
+  _btgen_query(deps --deps "${mission}" ${read_options})
+  _btgen_query(names --outputs "${mission}" ${ns_option})  # also rejects a bad NAMESPACE, at configure time
   _btgen_query(generator_inputs --inputs)
-  # Editing the mission or an include re-runs configure, which refreshes the include list.
+  if(BTGEN_EXECUTABLE)
+    list(APPEND generator_inputs "${BTGEN_EXECUTABLE}")
+  endif()
+  # Editing the mission, an include or a models file re-runs configure, which refreshes the include list.
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${deps})
 
   set(outputs "")
@@ -107,39 +183,30 @@ function(btgen_add_mission)
   endforeach()
   list(GET names 0 header_name)
 
-  set(capacities "")
-  if(ARG_STRING_CAPACITY)
-    list(APPEND capacities --string-capacity ${ARG_STRING_CAPACITY})
-  endif()
-  if(ARG_QUEUE_CAPACITY)
-    list(APPEND capacities --queue-capacity ${ARG_QUEUE_CAPACITY})
-  endif()
-
   add_custom_command(
     OUTPUT ${outputs}
-    COMMAND "${CMAKE_COMMAND}" -E env "PYTHONPATH=${root}/generator"
-            "${Python3_EXECUTABLE}" -m btgen compile "${mission}" -o "${out_dir}" --relative-to "${relative_to}"
-            ${capacities}
+    COMMAND ${btgen} compile "${mission}" -o "${out_dir}" --relative-to "${relative_to}"
+            ${read_options} ${write_options}
     DEPENDS ${deps} ${generator_inputs}
     WORKING_DIRECTORY "${relative_to}"
     COMMENT "btgen: generating C++ for ${ARG_MISSION}"
     VERBATIM)
 
-  add_library(${ARG_TARGET} STATIC ${outputs})
-  target_include_directories(${ARG_TARGET} PUBLIC "${out_dir}")
-  target_link_libraries(${ARG_TARGET} PUBLIC btgen::runtime)
-  target_compile_features(${ARG_TARGET} PUBLIC cxx_std_17)
+  add_library(${target} STATIC ${outputs})
+  target_include_directories(${target} PUBLIC "${out_dir}")
+  target_link_libraries(${target} PUBLIC btgen::runtime)
+  target_compile_features(${target} PUBLIC cxx_std_17)
   if(DEFINED BTGEN_WARNINGS)
-    target_compile_options(${ARG_TARGET} PRIVATE ${BTGEN_WARNINGS})
+    target_compile_options(${target} PRIVATE ${BTGEN_WARNINGS})
   endif()
-  set_target_properties(${ARG_TARGET} PROPERTIES
+  set_target_properties(${target} PROPERTIES
     BTGEN_HEADER "${header_name}"
     BTGEN_MISSION "${mission}")
 
   if(ARG_SCENARIO_RUNNER)
-    _btgen_query(template --template "${mission}")
+    _btgen_query(template --template "${mission}" ${ns_option})
     add_executable(${ARG_SCENARIO_RUNNER} "${root}/runtime/src/main_driver.cpp")
-    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${ARG_TARGET})
+    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target})
     target_compile_definitions(${ARG_SCENARIO_RUNNER} PRIVATE
       "BTGEN_MISSION_HEADER=\"${header_name}\""
       "BTGEN_MISSION_TEMPLATE=${template}")

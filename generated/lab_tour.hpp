@@ -14,11 +14,13 @@
 #include "btgen/clock.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 #include "btgen/value.hpp"
 #include "btgen/version.hpp"
 
@@ -75,7 +77,11 @@ inline constexpr std::array<std::string_view, 7> kWhere = {
 // being run (node() tells which): a getter returns btgen::Input<T> (a value,
 // or why there is none: btgen::PortError), a setter returns false when the
 // port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Untyped ports have template
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
 // accessors: get them as any port type (std::int32_t, std::uint32_t,
 // double, bool, btgen::Status, std::string_view).
 namespace leaf {
@@ -93,6 +99,19 @@ class DescribeExhibitSpeech_1 {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): exhibit whose pre-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -125,6 +144,19 @@ class DescribeExhibitSpeech_2 {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `location_id` (int): exhibit whose post-gesture message is said
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -156,6 +188,19 @@ class DisableAnimateBehavior {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -175,6 +220,19 @@ class DisabledOvertAttentionMode {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -196,6 +254,19 @@ class EnableAnimateBehavior {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -215,6 +286,19 @@ class EndTourSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -247,6 +331,19 @@ class FollowMeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -278,6 +375,19 @@ class GoodbyeGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -298,6 +408,19 @@ class HandleFallBack {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -317,6 +440,19 @@ class HereIsTheDoorSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -349,6 +485,14 @@ class IsASREnabled {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -368,6 +512,14 @@ class IsListWithExhibit {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // input port `exhibits` (string): exhibits still to visit: location ids separated by ";"
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -400,6 +552,14 @@ class IsMutualGazeDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -420,6 +580,14 @@ class IsVisitorDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -439,6 +607,14 @@ class IsVisitorResponseYes {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // input port `response` (string): the visitor's answer: "yes" or "no"
   [[nodiscard]] btgen::Input<std::string_view> response() const noexcept {
@@ -470,6 +646,14 @@ class IsYesNoUttered {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // output port `response` (string): "yes" or "no", when one was heard
   bool set_response(std::string_view value) const noexcept {
@@ -508,6 +692,19 @@ class LookUpEntrance {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // output port `location_id` (int): knowledge-base id of the entrance
   bool set_location_id(std::int32_t value) const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -544,6 +741,19 @@ class LookUpHome {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `location_id` (int): knowledge-base id of the home location
   bool set_location_id(std::int32_t value) const noexcept {
@@ -582,6 +792,19 @@ class MaybeAnotherTimeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -612,6 +835,19 @@ class Navigate {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): knowledge-base id of the destination (its robotLocationPose)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -648,6 +884,19 @@ class PerformDeicticGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -680,6 +929,19 @@ class PressYesNoDialogue {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `response` (string): "yes" or "no", as pressed on the tablet
   bool set_response(std::string_view value) const noexcept {
@@ -718,6 +980,19 @@ class PressYesNoSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -749,6 +1024,19 @@ class QueryTourSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -779,6 +1067,19 @@ class RetrieveListOfExhibits {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `exhibits` (string): the tour's location ids separated by ";", in visiting order
   bool set_exhibits(std::string_view value) const noexcept {
@@ -817,6 +1118,19 @@ class SayGoodByeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -847,6 +1161,19 @@ class SayYesNoSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -879,6 +1206,19 @@ class ScanningOvertAttentionMode {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -898,6 +1238,19 @@ class SelectExhibit {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // inout port `exhibits` (string): exhibits still to visit; the first is taken off
   [[nodiscard]] btgen::Input<std::string_view> exhibits() const noexcept {
@@ -962,6 +1315,19 @@ class SocialOvertAttentionMode {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -981,6 +1347,19 @@ class START_OF_TREE {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -1002,6 +1381,19 @@ class WelcomeGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -1022,6 +1414,19 @@ class WelcomeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -1040,6 +1445,10 @@ class WelcomeSpeech {
 };
 
 }  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
 
 namespace detail {
 
@@ -1370,111 +1779,273 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_1");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_2");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisabledOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EnableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EndTourSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FollowMeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action GoodbyeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HandleFallBack");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HereIsTheDoorSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpEntrance");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpHome");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MaybeAnotherTimeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action Navigate");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PerformDeicticGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoDialogue");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action QueryTourSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action RetrieveListOfExhibits");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayGoodByeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayYesNoSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action ScanningOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SelectExhibit");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SocialOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action START_OF_TREE");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       default:
         break;
@@ -1491,111 +2062,219 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       default:
         break;
@@ -1611,137 +2290,137 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) leaves.onHalted(model, node);
         return;
       }
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) leaves.onHalted(model, node);
         return;
       }
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::HandleFallBack>) leaves.onHalted(model, node);
         return;
       }
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) leaves.onHalted(model, node);
         return;
       }
       case 17: {
         leaf::LookUpHome model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpHome>) leaves.onHalted(model, node);
         return;
       }
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 19: {
         leaf::Navigate model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::Navigate>) leaves.onHalted(model, node);
         return;
       }
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) leaves.onHalted(model, node);
         return;
       }
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) leaves.onHalted(model, node);
         return;
       }
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) leaves.onHalted(model, node);
         return;
       }
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SelectExhibit>) leaves.onHalted(model, node);
         return;
       }
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) leaves.onHalted(model, node);
         return;
       }
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) leaves.onHalted(model, node);
         return;
       }
       default:
@@ -1750,6 +2429,99 @@ struct Spec {
     (void)leaves;
     (void)bb;
     (void)err;
+  }
+
+  // Whether the node is an Action that Leaves implements as a SyncActionNode
+  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
+  template <class Leaves>
+  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+    switch (node.model) {
+      case 0:
+        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>;
+      case 1:
+        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>;
+      case 2:
+        return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
+      case 3:
+        return btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>;
+      case 4:
+        return btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>;
+      case 5:
+        return btgen::is_sync_action<Leaves, leaf::EndTourSpeech>;
+      case 6:
+        return btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>;
+      case 7:
+        return btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>;
+      case 8:
+        return btgen::is_sync_action<Leaves, leaf::HandleFallBack>;
+      case 9:
+        return btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>;
+      case 16:
+        return btgen::is_sync_action<Leaves, leaf::LookUpEntrance>;
+      case 17:
+        return btgen::is_sync_action<Leaves, leaf::LookUpHome>;
+      case 18:
+        return btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>;
+      case 19:
+        return btgen::is_sync_action<Leaves, leaf::Navigate>;
+      case 20:
+        return btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>;
+      case 21:
+        return btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>;
+      case 22:
+        return btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>;
+      case 23:
+        return btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>;
+      case 24:
+        return btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>;
+      case 25:
+        return btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>;
+      case 26:
+        return btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>;
+      case 27:
+        return btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>;
+      case 28:
+        return btgen::is_sync_action<Leaves, leaf::SelectExhibit>;
+      case 29:
+        return btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>;
+      case 30:
+        return btgen::is_sync_action<Leaves, leaf::START_OF_TREE>;
+      case 31:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeGesture>;
+      case 32:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>;
+      default:
+        break;
+    }
+    return false;
+  }
+
+  // The mission's own Controls and Decorators: tick() and the optional halt().
+  template <class Leaves>
+  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
+    return btgen::Status::FAILURE;
+  }
+
+  template <class Leaves>
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+                        const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
   }
 
   template <class Leaves>
@@ -1843,15 +2615,637 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"TourGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"LabTour\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\" _uid=\"31\" response=\"{response}\"/>\012"
+      "            <Fallback name=\"DeclineOrTour\" _uid=\"51\">\012"
+      "                <Sequence name=\"Declined\" _uid=\"52\">\012"
+      "                    <Inverter name=\"Inverter\" _uid=\"53\">\012"
+      "                        <IsVisitorResponseYes name=\"IsVisitorResponseYes\" _uid=\"54\" response=\"{response}\"/>\012"
+      "                    </Inverter>\012"
+      "                    <ForceSuccess name=\"ForceSuccess\" _uid=\"55\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"56\">\012"
+      "                            <MaybeAnotherTimeSpeech name=\"MaybeAnotherTimeSpeech\" _uid=\"57\" message=\"maybe_another_time\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"58\"/>\012"
+      "                        </Fallback>\012"
+      "                    </ForceSuccess>\012"
+      "                </Sequence>\012"
+      "                <Sequence name=\"Tour\" _uid=\"59\">\012"
+      "                    <SubTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\" _uid=\"60\"/>\012"
+      "                    <SubTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\" _uid=\"100\"/>\012"
+      "                </Sequence>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryTourSpeech name=\"QueryTourSpeech\" _uid=\"34\" message=\"query_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayYesNoSpeech name=\"SayYesNoSpeech\" _uid=\"42\" message=\"say_yes_no\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsYesNoUttered name=\"IsYesNoUttered\" _uid=\"44\" response=\"{response}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressYesNoSpeech name=\"PressYesNoSpeech\" _uid=\"48\" message=\"press_yes_no\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressYesNoDialogue name=\"PressYesNoDialogue\" _uid=\"50\" response=\"{response}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"61\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"62\">\012"
+      "                <RetrieveListOfExhibits name=\"RetrieveListOfExhibits\" _uid=\"63\" exhibits=\"{exhibits}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"64\"/>\012"
+      "            </Fallback>\012"
+      "            <Inverter name=\"UntilNoExhibitLeft\" _uid=\"65\">\012"
+      "                <KeepRunningUntilFailure name=\"ExhibitLoop\" _uid=\"66\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"67\">\012"
+      "                        <IsListWithExhibit name=\"IsListWithExhibit\" _uid=\"68\" exhibits=\"{exhibits}\"/>\012"
+      "                        <Sequence name=\"VisitOneExhibit\" _uid=\"69\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                                <SelectExhibit name=\"SelectExhibit\" _uid=\"71\" exhibits=\"{exhibits}\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                                <FollowMeSpeech name=\"FollowMeSpeech\" _uid=\"74\" message=\"follow_me\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "                            </Fallback>\012"
+      "                            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"IV. VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" location_id=\"{location_id}\"/>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"91\">\012"
+      "                                <DescribeExhibitSpeech_1 name=\"DescribeExhibitSpeech_1\" _uid=\"92\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"93\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"94\">\012"
+      "                                <PerformDeicticGesture name=\"PointToExhibit\" _uid=\"95\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"96\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"97\">\012"
+      "                                <DescribeExhibitSpeech_2 name=\"DescribeExhibitSpeech_2\" _uid=\"98\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"99\"/>\012"
+      "                            </Fallback>\012"
+      "                        </Sequence>\012"
+      "                    </Sequence>\012"
+      "                </KeepRunningUntilFailure>\012"
+      "            </Inverter>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"IV. VisitExhibit::60/_NavigateToLocation::76\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"77\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"78\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"79\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"80\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"81\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"82\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"83\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"84\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"85\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"86\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"87\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"88\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"89\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"90\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"101\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"102\">\012"
+      "                <EndTourSpeech name=\"EndTourSpeech\" _uid=\"103\" message=\"end_of_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"104\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"105\">\012"
+      "                <LookUpEntrance name=\"LookUpEntrance\" _uid=\"106\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"107\"/>\012"
+      "            </Fallback>\012"
+      "            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"V. EndTour::100/_NavigateToLocation::108\" _uid=\"108\" location_id=\"{location_id}\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"123\">\012"
+      "                <HereIsTheDoorSpeech name=\"HereIsTheDoorSpeech\" _uid=\"124\" message=\"here_is_the_door\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"125\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"126\">\012"
+      "                <PerformDeicticGesture name=\"PointToExit\" _uid=\"127\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"128\"/>\012"
+      "            </Fallback>\012"
+      "            <Parallel name=\"WaveAndSayGoodbye\" _uid=\"129\" success_count=\"2\" failure_count=\"1\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"130\">\012"
+      "                    <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"131\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"132\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"133\">\012"
+      "                    <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"134\" message=\"goodbye\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"135\"/>\012"
+      "                </Fallback>\012"
+      "            </Parallel>\012"
+      "            <SubTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"V. EndTour::100/_NavigateToLocation::108\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"109\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"110\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"111\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"112\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"113\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"114\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"115\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"116\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"117\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"118\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"119\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"120\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"121\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"122\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"137\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"138\">\012"
+      "                <LookUpHome name=\"LookUpHome\" _uid=\"139\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"140\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"141\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"142\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"143\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"144\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"145\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"146\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"147\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"148\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"149\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose pre-gesture message is said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose post-gesture message is said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"DisabledOvertAttentionMode\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EndTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"end_of_tour\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Action ID=\"FollowMeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"follow_me\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Action ID=\"HereIsTheDoorSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"here_is_the_door\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsListWithExhibit\">\012"
+      "            <input_port name=\"exhibits\" type=\"std::string\">exhibits still to visit: location ids separated by &quot;;&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorResponseYes\">\012"
+      "            <input_port name=\"response\" type=\"std::string\">the visitor&apos;s answer: &quot;yes&quot; or &quot;no&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsYesNoUttered\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or &quot;no&quot;, when one was heard</output_port>\012"
+      "        </Condition>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpEntrance\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the entrance</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"LookUpHome\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the home location</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"MaybeAnotherTimeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"maybe_another_time\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"Navigate\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of the destination (its robotLocationPose)</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressYesNoDialogue\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or &quot;no&quot;, as pressed on the tablet</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_yes_no\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_tour\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"RetrieveListOfExhibits\">\012"
+      "            <output_port name=\"exhibits\" type=\"std::string\">the tour&apos;s location ids separated by &quot;;&quot;, in visiting order</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_yes_no\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"SelectExhibit\">\012"
+      "            <inout_port name=\"exhibits\" type=\"std::string\">exhibits still to visit; the first is taken off</inout_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the exhibit taken</output_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 25437);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      12,
+      30,
+      50,
+      51,
+      52,
+      53,
+      54,
+      55,
+      56,
+      57,
+      58,
+      59,
+      99,
+      3,
+      4,
+      5,
+      6,
+      7,
+      8,
+      9,
+      10,
+      11,
+      13,
+      14,
+      15,
+      16,
+      17,
+      18,
+      19,
+      20,
+      21,
+      22,
+      23,
+      24,
+      25,
+      26,
+      27,
+      28,
+      29,
+      31,
+      32,
+      33,
+      34,
+      35,
+      36,
+      37,
+      38,
+      39,
+      40,
+      41,
+      42,
+      43,
+      44,
+      45,
+      46,
+      47,
+      48,
+      49,
+      60,
+      61,
+      62,
+      63,
+      64,
+      65,
+      66,
+      67,
+      68,
+      69,
+      70,
+      71,
+      72,
+      73,
+      74,
+      75,
+      90,
+      91,
+      92,
+      93,
+      94,
+      95,
+      96,
+      97,
+      98,
+      76,
+      77,
+      78,
+      79,
+      80,
+      81,
+      82,
+      83,
+      84,
+      85,
+      86,
+      87,
+      88,
+      89,
+      100,
+      101,
+      102,
+      103,
+      104,
+      105,
+      106,
+      107,
+      122,
+      123,
+      124,
+      125,
+      126,
+      127,
+      128,
+      129,
+      130,
+      131,
+      132,
+      133,
+      134,
+      135,
+      108,
+      109,
+      110,
+      111,
+      112,
+      113,
+      114,
+      115,
+      116,
+      117,
+      118,
+      119,
+      120,
+      121,
+      136,
+      137,
+      138,
+      139,
+      140,
+      141,
+      142,
+      143,
+      144,
+      145,
+      146,
+      147,
+      148,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 9> kBlackboards = {
+      "TourGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryVisitorResponse::31",
+      "IV. VisitExhibit::60",
+      "IV. VisitExhibit::60/_NavigateToLocation::76",
+      "V. EndTour::100",
+      "V. EndTour::100/_NavigateToLocation::108",
+      "V. EndTour::100/_GoHome::136",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("response"), bb.response);
+    visit(std::size_t{4}, std::string_view("exhibits"), bb.IV_VisitExhibit_exhibits);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_VisitExhibit_location_id);
+    visit(std::size_t{6}, std::string_view("location_id"), bb.V_EndTour_location_id);
+    visit(std::size_t{8}, std::string_view("location_id"), bb.V_EndTour_GoHome_location_id);
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
-// storage. `Leaves` implements, for every Action model M,
+// storage. `Leaves` implements, for every Action model M, either
 //   btgen::Status onStart(leaf::M&, const btgen::NodeInfo&);
 //   btgen::Status onRunning(leaf::M&, const btgen::NodeInfo&);
 //   void onHalted(leaf::M&, const btgen::NodeInfo&);
-// and for every Condition model C
+// (a StatefulActionNode) or only
+//   btgen::Status tick(leaf::M&, const btgen::NodeInfo&);
+// (a SyncActionNode: SUCCESS or FAILURE; btgen/hooks.hpp), for each of the
+// mission's own Controls and Decorators X
+//   btgen::Status tick(control::X&, const btgen::NodeInfo&);
+//   void halt(control::X&, const btgen::NodeInfo&);  // optional
+// (btgen/user_node.hpp), and for every Condition model C
 //   btgen::Status check(leaf::C&, const btgen::NodeInfo&);
 // (the NodeInfo tells which instance: uid, name, ...). Calls are direct, so
 // the compiler can inline them. tick() is BT::Tree::tickExactlyOnce(),
@@ -1865,121 +3259,424 @@ class LabTour : public btgen::Engine<detail::Spec, Leaves, Clock, Observer> {
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual
-// calls: derive from it and use LabTourVirtual.
+// calls: derive from it and use LabTourVirtual. For each Action model,
+// override either tick() (a SyncActionNode) or onStart, onRunning and
+// onHalted (a StatefulActionNode): the defaults of the latter run tick() as
+// the engine runs a SyncActionNode, and tick()'s default reports that the
+// model has no implementation and fails.
 class LabTourLeaves {
  public:
   virtual ~LabTourLeaves() = default;
 
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeExhibitSpeech_1 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeExhibitSpeech_2 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DisableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DisabledOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action EnableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action EndTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action FollowMeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action GoodbyeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action HandleFallBack has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action HereIsTheDoorSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action LookUpEntrance has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::LookUpHome& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action LookUpHome has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action MaybeAnotherTimeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::Navigate& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action Navigate has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::Navigate& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PerformDeicticGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressYesNoDialogue has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action QueryTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action RetrieveListOfExhibits has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayGoodByeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action ScanningOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SelectExhibit& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SelectExhibit has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SocialOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action START_OF_TREE has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
 

@@ -14,11 +14,13 @@
 #include "btgen/clock.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 #include "btgen/value.hpp"
 #include "btgen/version.hpp"
 
@@ -58,7 +60,11 @@ inline constexpr std::array<std::string_view, 0> kWhere = {
 // being run (node() tells which): a getter returns btgen::Input<T> (a value,
 // or why there is none: btgen::PortError), a setter returns false when the
 // port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Untyped ports have template
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
 // accessors: get them as any port type (std::int32_t, std::uint32_t,
 // double, bool, btgen::Status, std::string_view).
 namespace leaf {
@@ -76,6 +82,19 @@ class FindBall {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -97,6 +116,19 @@ class PickBall {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -116,6 +148,19 @@ class MoveBall {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -137,6 +182,19 @@ class PlaceBall {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -144,6 +202,10 @@ class PlaceBall {
 };
 
 }  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
 
 namespace detail {
 
@@ -190,19 +252,43 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FindBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PickBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MoveBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PlaceBall");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       default:
         break;
@@ -219,19 +305,35 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       default:
         break;
@@ -247,22 +349,22 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::FindBall>) leaves.onHalted(model, node);
         return;
       }
       case 1: {
         leaf::PickBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PickBall>) leaves.onHalted(model, node);
         return;
       }
       case 2: {
         leaf::MoveBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::MoveBall>) leaves.onHalted(model, node);
         return;
       }
       case 3: {
         leaf::PlaceBall model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PlaceBall>) leaves.onHalted(model, node);
         return;
       }
       default:
@@ -271,6 +373,53 @@ struct Spec {
     (void)leaves;
     (void)bb;
     (void)err;
+  }
+
+  // Whether the node is an Action that Leaves implements as a SyncActionNode
+  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
+  template <class Leaves>
+  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+    switch (node.model) {
+      case 0:
+        return btgen::is_sync_action<Leaves, leaf::FindBall>;
+      case 1:
+        return btgen::is_sync_action<Leaves, leaf::PickBall>;
+      case 2:
+        return btgen::is_sync_action<Leaves, leaf::MoveBall>;
+      case 3:
+        return btgen::is_sync_action<Leaves, leaf::PlaceBall>;
+      default:
+        break;
+    }
+    return false;
+  }
+
+  // The mission's own Controls and Decorators: tick() and the optional halt().
+  template <class Leaves>
+  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
+    return btgen::Status::FAILURE;
+  }
+
+  template <class Leaves>
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+                        const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
   }
 
   template <class Leaves>
@@ -340,15 +489,194 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"PickPlaceBall\" _fullpath=\"\">\012"
+      "        <Sequence name=\"PickPlaceBall\" _uid=\"1\">\012"
+      "            <RetryUntilSuccessful name=\"FindBallTwice\" _uid=\"2\" num_attempts=\"2\">\012"
+      "                <FindBall name=\"FindBall\" _uid=\"3\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "            <Sequence name=\"PickMovePlace\" _uid=\"4\">\012"
+      "                <PickBall name=\"PickBall\" _uid=\"5\"/>\012"
+      "                <MoveBall name=\"MoveBall\" _uid=\"6\"/>\012"
+      "                <PlaceBall name=\"PlaceBall\" _uid=\"7\"/>\012"
+      "            </Sequence>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Action ID=\"FindBall\"/>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"MoveBall\"/>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PickBall\"/>\012"
+      "        <Action ID=\"PlaceBall\"/>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 8338);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      3,
+      4,
+      5,
+      6,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 1> kBlackboards = {
+      "PickPlaceBall",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
-// storage. `Leaves` implements, for every Action model M,
+// storage. `Leaves` implements, for every Action model M, either
 //   btgen::Status onStart(leaf::M&, const btgen::NodeInfo&);
 //   btgen::Status onRunning(leaf::M&, const btgen::NodeInfo&);
 //   void onHalted(leaf::M&, const btgen::NodeInfo&);
-// and for every Condition model C
+// (a StatefulActionNode) or only
+//   btgen::Status tick(leaf::M&, const btgen::NodeInfo&);
+// (a SyncActionNode: SUCCESS or FAILURE; btgen/hooks.hpp), for each of the
+// mission's own Controls and Decorators X
+//   btgen::Status tick(control::X&, const btgen::NodeInfo&);
+//   void halt(control::X&, const btgen::NodeInfo&);  // optional
+// (btgen/user_node.hpp), and for every Condition model C
 //   btgen::Status check(leaf::C&, const btgen::NodeInfo&);
 // (the NodeInfo tells which instance: uid, name, ...). Calls are direct, so
 // the compiler can inline them. tick() is BT::Tree::tickExactlyOnce(),
@@ -362,29 +690,79 @@ class PickPlaceBall : public btgen::Engine<detail::Spec, Leaves, Clock, Observer
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual
-// calls: derive from it and use PickPlaceBallVirtual.
+// calls: derive from it and use PickPlaceBallVirtual. For each Action model,
+// override either tick() (a SyncActionNode) or onStart, onRunning and
+// onHalted (a StatefulActionNode): the defaults of the latter run tick() as
+// the engine runs a SyncActionNode, and tick()'s default reports that the
+// model has no implementation and fails.
 class PickPlaceBallLeaves {
  public:
   virtual ~PickPlaceBallLeaves() = default;
 
-  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action FindBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PickBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action MoveBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PlaceBall has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
  protected:
   PickPlaceBallLeaves() = default;

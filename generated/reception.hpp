@@ -14,11 +14,13 @@
 #include "btgen/clock.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 #include "btgen/value.hpp"
 #include "btgen/version.hpp"
 
@@ -65,7 +67,11 @@ inline constexpr std::array<std::string_view, 3> kWhere = {
 // being run (node() tells which): a getter returns btgen::Input<T> (a value,
 // or why there is none: btgen::PortError), a setter returns false when the
 // port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Untyped ports have template
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
 // accessors: get them as any port type (std::int32_t, std::uint32_t,
 // double, bool, btgen::Status, std::string_view).
 namespace leaf {
@@ -83,6 +89,19 @@ class DisableAnimateBehavior {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -104,6 +123,19 @@ class EnableAnimateBehavior {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -123,6 +155,19 @@ class GoodbyeGesture {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -144,6 +189,19 @@ class HandleFallBack {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -163,6 +221,14 @@ class IsASREnabled {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -184,6 +250,14 @@ class IsMutualGazeDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -204,6 +278,14 @@ class IsVisitorDiscovered {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -223,6 +305,19 @@ class PerformDeicticGesture {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -255,6 +350,19 @@ class SayGoodByeSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -286,6 +394,19 @@ class ScanningOvertAttentionMode {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -305,6 +426,19 @@ class SocialOvertAttentionMode {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
  private:
   detail::Blackboard* bb_;
@@ -326,6 +460,19 @@ class START_OF_TREE {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -346,6 +493,19 @@ class WelcomeGesture {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
  private:
   detail::Blackboard* bb_;
   btgen::ErrorSink err_;
@@ -365,6 +525,19 @@ class WelcomeSpeech {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `message` (string): phrase to say
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
@@ -397,6 +570,19 @@ class QueryDestinationSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say: asks which place the visitor is looking for
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -428,6 +614,19 @@ class SayDestinationSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say: asks the visitor to say the name of the place
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -458,6 +657,14 @@ class IsDestinationUttered {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
 
   // output port `destination` (string): the place named, when one was heard clearly
   bool set_destination(std::string_view value) const noexcept {
@@ -496,6 +703,19 @@ class PressDestinationSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say: asks the visitor to choose the place on the tablet
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -526,6 +746,19 @@ class PressDestinationDialogue {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // output port `destination` (string): the place chosen on the tablet (from the knowledge base's location descriptions)
   bool set_destination(std::string_view value) const noexcept {
@@ -563,6 +796,19 @@ class LookUpDestination {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `destination` (string): the place the visitor named
   [[nodiscard]] btgen::Input<std::string_view> destination() const noexcept {
@@ -612,6 +858,19 @@ class DescribeRouteSpeech_1 {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `location_id` (int): place whose pre-gesture message is said (where it is)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -642,6 +901,19 @@ class DescribeRouteSpeech_2 {
   // The node instance being run, and the mission's blackboard.
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
 
   // input port `location_id` (int): place whose post-gesture message is said (the way there)
   [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
@@ -674,6 +946,19 @@ class UnknownDestinationSpeech {
   [[nodiscard]] const btgen::NodeInfo& node() const noexcept { return *node_; }
   [[nodiscard]] detail::Blackboard& blackboard() const noexcept { return *bb_; }
 
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  btgen::Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return btgen::Status::FAILURE;
+  }
+  // A SyncActionNode's tick() result as the engine takes it: RUNNING is
+  // reported as an error and fails the node.
+  [[nodiscard]] btgen::Status sync_result(btgen::Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
   // input port `message` (string): phrase to say: apologises that the place is not known
   [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
@@ -692,6 +977,10 @@ class UnknownDestinationSpeech {
 };
 
 }  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
 
 namespace detail {
 
@@ -874,79 +1163,193 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 1: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EnableAnimateBehavior");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 2: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action GoodbyeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 3: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HandleFallBack");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 7: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PerformDeicticGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 8: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayGoodByeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 9: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action ScanningOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 10: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SocialOvertAttentionMode");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 11: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action START_OF_TREE");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 12: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeGesture");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 13: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 14: {
         leaf::QueryDestinationSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action QueryDestinationSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 15: {
         leaf::SayDestinationSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayDestinationSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 17: {
         leaf::PressDestinationSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressDestinationSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 18: {
         leaf::PressDestinationDialogue model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressDestinationDialogue");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 19: {
         leaf::LookUpDestination model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpDestination");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 20: {
         leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeRouteSpeech_1");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 21: {
         leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeRouteSpeech_2");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       case 22: {
         leaf::UnknownDestinationSpeech model(bb, err, node);
-        return leaves.onStart(model, node);
+        static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action UnknownDestinationSpeech");
+        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));
+        } else {
+          return leaves.onStart(model, node);
+        }
       }
       default:
         break;
@@ -963,79 +1366,155 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 1: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 2: {
         leaf::GoodbyeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 3: {
         leaf::HandleFallBack model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 7: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 8: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 9: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 10: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 11: {
         leaf::START_OF_TREE model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 12: {
         leaf::WelcomeGesture model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 13: {
         leaf::WelcomeSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 14: {
         leaf::QueryDestinationSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 15: {
         leaf::SayDestinationSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 17: {
         leaf::PressDestinationSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 18: {
         leaf::PressDestinationDialogue model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 19: {
         leaf::LookUpDestination model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 20: {
         leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 21: {
         leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       case 22: {
         leaf::UnknownDestinationSpeech model(bb, err, node);
-        return leaves.onRunning(model, node);
+        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+        } else {
+          return leaves.onRunning(model, node);
+        }
       }
       default:
         break;
@@ -1051,97 +1530,97 @@ struct Spec {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 1: {
         leaf::EnableAnimateBehavior model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) leaves.onHalted(model, node);
         return;
       }
       case 2: {
         leaf::GoodbyeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 3: {
         leaf::HandleFallBack model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::HandleFallBack>) leaves.onHalted(model, node);
         return;
       }
       case 7: {
         leaf::PerformDeicticGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) leaves.onHalted(model, node);
         return;
       }
       case 8: {
         leaf::SayGoodByeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 9: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 10: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) leaves.onHalted(model, node);
         return;
       }
       case 11: {
         leaf::START_OF_TREE model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) leaves.onHalted(model, node);
         return;
       }
       case 12: {
         leaf::WelcomeGesture model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) leaves.onHalted(model, node);
         return;
       }
       case 13: {
         leaf::WelcomeSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 14: {
         leaf::QueryDestinationSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 15: {
         leaf::SayDestinationSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 17: {
         leaf::PressDestinationSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) leaves.onHalted(model, node);
         return;
       }
       case 18: {
         leaf::PressDestinationDialogue model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) leaves.onHalted(model, node);
         return;
       }
       case 19: {
         leaf::LookUpDestination model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpDestination>) leaves.onHalted(model, node);
         return;
       }
       case 20: {
         leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) leaves.onHalted(model, node);
         return;
       }
       case 21: {
         leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) leaves.onHalted(model, node);
         return;
       }
       case 22: {
         leaf::UnknownDestinationSpeech model(bb, err, node);
-        leaves.onHalted(model, node);
+        if constexpr (!btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) leaves.onHalted(model, node);
         return;
       }
       default:
@@ -1150,6 +1629,83 @@ struct Spec {
     (void)leaves;
     (void)bb;
     (void)err;
+  }
+
+  // Whether the node is an Action that Leaves implements as a SyncActionNode
+  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
+  template <class Leaves>
+  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+    switch (node.model) {
+      case 0:
+        return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
+      case 1:
+        return btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>;
+      case 2:
+        return btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>;
+      case 3:
+        return btgen::is_sync_action<Leaves, leaf::HandleFallBack>;
+      case 7:
+        return btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>;
+      case 8:
+        return btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>;
+      case 9:
+        return btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>;
+      case 10:
+        return btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>;
+      case 11:
+        return btgen::is_sync_action<Leaves, leaf::START_OF_TREE>;
+      case 12:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeGesture>;
+      case 13:
+        return btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>;
+      case 14:
+        return btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>;
+      case 15:
+        return btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>;
+      case 17:
+        return btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>;
+      case 18:
+        return btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>;
+      case 19:
+        return btgen::is_sync_action<Leaves, leaf::LookUpDestination>;
+      case 20:
+        return btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>;
+      case 21:
+        return btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>;
+      case 22:
+        return btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>;
+      default:
+        break;
+    }
+    return false;
+  }
+
+  // The mission's own Controls and Decorators: tick() and the optional halt().
+  template <class Leaves>
+  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
+    return btgen::Status::FAILURE;
+  }
+
+  template <class Leaves>
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+                        const btgen::ChildOps& ops) {
+    switch (node.model) {
+      default:
+        break;
+    }
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    (void)ops;
   }
 
   template <class Leaves>
@@ -1235,15 +1791,419 @@ struct Spec {
   }
 };
 
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml = std::string_view(
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"ReceptionGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"Reception\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" _uid=\"31\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"reception_welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" message=\"query_destination\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" message=\"say_destination\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" destination=\"{destination}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" message=\"press_destination\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" destination=\"{destination}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
+      "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
+      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
+      "            <Sequence name=\"Directions\" _uid=\"54\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"55\">\012"
+      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"57\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"58\">\012"
+      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"60\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"61\">\012"
+      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"63\"/>\012"
+      "                </Fallback>\012"
+      "            </Sequence>\012"
+      "            <ForceSuccess name=\"Apology\" _uid=\"64\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"65\">\012"
+      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" message=\"unknown_destination\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"67\"/>\012"
+      "                </Fallback>\012"
+      "            </ForceSuccess>\012"
+      "        </IfThenElse>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
+      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" failure_count=\"1\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"71\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"74\" message=\"goodbye\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "            </Fallback>\012"
+      "        </Parallel>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeRouteSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said (where it is)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeRouteSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is said (the way there)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsDestinationUttered\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was heard clearly</output_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpDestination\">\012"
+      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor named</input_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails when no robotLocationDescription matches</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressDestinationDialogue\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet (from the knowledge base&apos;s location descriptions)</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_destination\">phrase to say: asks the visitor to choose the place on the tablet</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_destination\">phrase to say: asks which place the visitor is looking for</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase to say: asks the visitor to say the name of the place</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnknownDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"unknown_destination\">phrase to say: apologises that the place is not known</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012", 17593);
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0,
+      1,
+      2,
+      12,
+      30,
+      50,
+      67,
+      3,
+      4,
+      5,
+      6,
+      7,
+      8,
+      9,
+      10,
+      11,
+      13,
+      14,
+      15,
+      16,
+      17,
+      18,
+      19,
+      20,
+      21,
+      22,
+      23,
+      24,
+      25,
+      26,
+      27,
+      28,
+      29,
+      31,
+      32,
+      33,
+      34,
+      35,
+      36,
+      37,
+      38,
+      39,
+      40,
+      41,
+      42,
+      43,
+      44,
+      45,
+      46,
+      47,
+      48,
+      49,
+      51,
+      52,
+      53,
+      54,
+      55,
+      56,
+      57,
+      58,
+      59,
+      60,
+      61,
+      62,
+      63,
+      64,
+      65,
+      66,
+      68,
+      69,
+      70,
+      71,
+      72,
+      73,
+      74,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 6> kBlackboards = {
+      "ReceptionGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryDestination::31",
+      "IV. GiveDirections::51",
+      "V. Farewell::68",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("destination"), bb.destination);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_GiveDirections_location_id);
+  }
+};
+
 }  // namespace detail
 
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
-// storage. `Leaves` implements, for every Action model M,
+// storage. `Leaves` implements, for every Action model M, either
 //   btgen::Status onStart(leaf::M&, const btgen::NodeInfo&);
 //   btgen::Status onRunning(leaf::M&, const btgen::NodeInfo&);
 //   void onHalted(leaf::M&, const btgen::NodeInfo&);
-// and for every Condition model C
+// (a StatefulActionNode) or only
+//   btgen::Status tick(leaf::M&, const btgen::NodeInfo&);
+// (a SyncActionNode: SUCCESS or FAILURE; btgen/hooks.hpp), for each of the
+// mission's own Controls and Decorators X
+//   btgen::Status tick(control::X&, const btgen::NodeInfo&);
+//   void halt(control::X&, const btgen::NodeInfo&);  // optional
+// (btgen/user_node.hpp), and for every Condition model C
 //   btgen::Status check(leaf::C&, const btgen::NodeInfo&);
 // (the NodeInfo tells which instance: uid, name, ...). Calls are direct, so
 // the compiler can inline them. tick() is BT::Tree::tickExactlyOnce(),
@@ -1257,89 +2217,304 @@ class Reception : public btgen::Engine<detail::Spec, Leaves, Clock, Observer> {
 
   [[nodiscard]] static constexpr const auto& unrun_leaves() noexcept { return detail::Spec::kUnrunLeaves; }
   [[nodiscard]] static constexpr std::string_view main_tree() noexcept { return detail::Spec::kMainTree; }
+  // The tree XML, status order and blackboard names Groot2 sees (btgen/groot2.hpp).
+  using Groot2 = detail::Groot2;
 };
 
 // The same hooks as an abstract class, for robot code that prefers virtual
-// calls: derive from it and use ReceptionVirtual.
+// calls: derive from it and use ReceptionVirtual. For each Action model,
+// override either tick() (a SyncActionNode) or onStart, onRunning and
+// onHalted (a StatefulActionNode): the defaults of the latter run tick() as
+// the engine runs a SyncActionNode, and tick()'s default reports that the
+// model has no implementation and fails.
 class ReceptionLeaves {
  public:
   virtual ~ReceptionLeaves() = default;
 
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DisableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action EnableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action GoodbyeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action HandleFallBack has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PerformDeicticGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayGoodByeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action ScanningOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SocialOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action START_OF_TREE has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action WelcomeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action QueryDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action SayDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action PressDestinationDialogue has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::LookUpDestination& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::LookUpDestination& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::LookUpDestination& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action LookUpDestination has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeRouteSpeech_1 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action DescribeRouteSpeech_2 has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
-  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
-  virtual void onHalted(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) = 0;
+  virtual btgen::Status tick(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)node;
+    return model.fail("Action UnknownDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+  }
+  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
+    return model.sync_result(tick(model, node));
+  }
+  virtual void onHalted(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
+    (void)model;
+    (void)node;
+  }
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
 

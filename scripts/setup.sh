@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 need_apt=()
-for pkg in python3 python3-venv g++ cmake ninja-build libgtest-dev libeigen3-dev; do
+for pkg in python3 python3-venv g++ cmake ninja-build libgtest-dev libeigen3-dev libzmq3-dev cppzmq-dev graphviz; do
   dpkg -s "$pkg" >/dev/null 2>&1 || need_apt+=("$pkg")
 done
 if [ "${BTGEN_WITH_CLANG:-0}" = 1 ]; then
@@ -29,4 +29,10 @@ if ! cmp -s requirements.txt "$stamp" 2>/dev/null; then
   .venv/bin/pip install -q --disable-pip-version-check -r requirements.txt
   .venv/bin/pip install -q --disable-pip-version-check --no-deps -e .
   cp requirements.txt "$stamp"
+fi
+# Test-only packages (the Groot2 tests' third-party client and BehaviorTree.CPP bindings).
+test_stamp=.venv/.btgen-test-requirements
+if [ -f requirements-test.txt ] && ! cmp -s requirements-test.txt "$test_stamp" 2>/dev/null; then
+  .venv/bin/pip install -q --disable-pip-version-check -r requirements-test.txt
+  cp requirements-test.txt "$test_stamp"
 fi

@@ -21,13 +21,14 @@ import argparse
 import subprocess
 import sys
 from pathlib import Path
-from typing import Optional
+from typing import Optional, Sequence
 
-from .cppengine import ROOT, build_mission_executable
+from . import resources
+from .cppengine import build_mission_executable
 from .diagnostics import InternalError
 
-BENCH_MAIN = ROOT / "bench" / "bench_main.cpp"
-ALLOC_COUNTER = ROOT / "runtime" / "src" / "testing" / "alloc_counter.cpp"
+BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
+ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"
 BENCH_FLAGS = ("-std=c++17", "-O2", "-DNDEBUG")
 
 # What the executable reports, in the order `btgen bench` prints it.
@@ -35,9 +36,11 @@ KEYS = ("nodes", "ticks", "ns_per_tick", "allocs_create", "allocs_per_tick", "st
         "result", "alloc_counter")
 
 
-def build_bench(mission_path: str, warnings: Optional[list] = None) -> Path:
+def build_bench(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
+                main_tree: Optional[str] = None) -> Path:
     """The mission's benchmark executable (cached); errors as cppengine.build_cpp."""
-    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings)
+    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models,
+                                    main_tree)
 
 
 def parse_report(text: str) -> dict[str, str]:
@@ -70,7 +73,8 @@ def bench_command(args: argparse.Namespace) -> int:
         print(f"btgen: error: --ticks must be at least 1, not {args.ticks}", file=sys.stderr)
         return 2
     warnings: list = []
-    binary = build_bench(args.mission, warnings)
+    binary = build_bench(args.mission, warnings, tuple(getattr(args, "models", None) or ()),
+                         getattr(args, "main_tree", None))
     for w in warnings:
         print(str(w), file=sys.stderr)
     report = run_report(binary, args.ticks)

@@ -31,6 +31,28 @@ def _capacity(text: str) -> int:
     return value
 
 
+def _namespace(text: str) -> str:
+    from .naming import namespace_problem
+
+    problem = namespace_problem(text)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return text
+
+
+def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> None:
+    """--models and --main-tree (and --namespace for commands that write C++)."""
+    p.add_argument("--models", action="append", default=[], metavar="FILE.xml",
+                   help="a file whose <root> holds only <TreeNodesModel>: its node models count as declared in "
+                        "the mission (repeatable; identical repeated declarations are accepted)")
+    p.add_argument("--main-tree", metavar="ID",
+                   help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)")
+    if namespace:
+        p.add_argument("--namespace", type=_namespace, metavar="NS",
+                       help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
+                            "from the file name; `main.xml` gives `main_`)")
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
@@ -38,14 +60,27 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_USAGE)
 
 
+class _PrintCMakeDir(argparse.Action):
+    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
+        from .resources import CMAKE_DIR
+
+        print(CMAKE_DIR)
+        raise SystemExit(EXIT_OK)
+
+
 def _cmd_validate(args: argparse.Namespace) -> int:
+    from .compiler import data_options
     from .frontend import load_mission
+    from .lower import lower
 
     status = EXIT_OK
     for path in args.missions:
         try:
-            mission = load_mission(path)
+            mission = load_mission(path, tuple(args.models), args.main_tree)
             print_diagnostics(mission.warnings)
+            # What `btgen compile` checks besides (the data side: blackboard entries, port and
+            # entry types, scripts, capacities; lowering): validate rejects all it rejects.
+            lower(mission, data_options(args))
             if not args.quiet:
                 print(f"{path}: ok ({len(mission.trees)} trees, main `{mission.main_tree}`)")
         except UserError as e:
@@ -58,7 +93,7 @@ def _cmd_xsd(args: argparse.Namespace) -> int:
     from .frontend import load_mission
     from .xsd import mission_xsd
 
-    mission = load_mission(args.mission)
+    mission = load_mission(args.mission, tuple(args.models), args.main_tree)
     sys.stdout.write(mission_xsd(mission))
     return EXIT_OK
 
@@ -89,25 +124,50 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return bench_command(args)
 
 
+def _cmd_graph(args: argparse.Namespace) -> int:
+    from .graph import graph_command
+
+    return graph_command(args)
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is below 1")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
+    p.add_argument("--cmake-dir", action=_PrintCMakeDir, nargs=0,
+                   help="print the folder of btgen's CMake package (for -Dbtgen_DIR=...) and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
+    _mission_options(v)
+    v.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
+                   help="check as `btgen compile --string-capacity N` would (default 128)")
+    v.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
+                   help="check as `btgen compile --queue-capacity N` would (default 16)")
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
+    _mission_options(x)
     x.set_defaults(func=_cmd_xsd)
 
     r = sub.add_parser("run", help="run a mission with scripted leaves and print its status trace")
     r.add_argument("mission", metavar="MISSION.xml")
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
+    _mission_options(r)
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
@@ -121,6 +181,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "a longer value fails the node that writes it")
     c.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
                    help="most elements of a blackboard queue written by robot code (default 16)")
+    _mission_options(c, namespace=True)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")
@@ -132,11 +193,32 @@ def build_parser() -> argparse.ArgumentParser:
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")
     b.add_argument("--ticks", type=int, default=100000)
+    _mission_options(b)
     b.set_defaults(func=_cmd_bench)
+
+    i = sub.add_parser("build-info", add_help=False,
+                       help="for build systems (btgen_add_mission): a mission's dependencies, outputs, class "
+                            "template; `btgen build-info --help` tells more")
+    i.add_argument("args", nargs=argparse.REMAINDER)  # main() hands them to btgen.compiler.main
+
+    g = sub.add_parser("graph", help="draw a mission (Graphviz), optionally with the statuses of a run")
+    g.add_argument("mission", metavar="MISSION.xml")
+    g.add_argument("-o", "--output", required=True, metavar="FILE.svg|FILE.dot")
+    src = g.add_mutually_exclusive_group()
+    src.add_argument("--trace", metavar="FILE", help="status trace (`btgen run` output): colour by status")
+    src.add_argument("--btlog", metavar="FILE", help="Groot2 log (.btlog): colour by status")
+    g.add_argument("--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)")
+    g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
+    g.set_defaults(func=_cmd_graph)
     return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["build-info"]:  # argparse's REMAINDER would not pass on `--deps ...`
+        from .compiler import main as build_info
+
+        return build_info(argv[1:])
     args = build_parser().parse_args(argv)
     func: Callable[[argparse.Namespace], int] = args.func
     try:

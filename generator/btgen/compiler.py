@@ -19,6 +19,10 @@ Also a small entry point for build systems:
     python -m btgen.compiler --template MISSION.xml  # the mission's class template (ns::Class)
     python -m btgen.compiler --check MISSION.xml     # exit 0 when the C++ back end compiles it
     python -m btgen.compiler --update-generated      # refresh the committed generated/ directory
+
+(`btgen build-info ...` is the same, through the installed `btgen` command:
+CMake's btgen_add_mission runs that.) --models, --main-tree and --namespace
+are those of `btgen compile`.
 """
 from __future__ import annotations
 
@@ -30,13 +34,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import naming
+from . import naming, resources
 from .dataflow import DataOptions
 from .diagnostics import Diagnostic, Loc, UserError
 from .emit import TEMPLATE_DIR, Output, output_names, render
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-SCHEMA_DIR = PACKAGE_DIR.parents[1] / "schema"
+PACKAGE_DIR = resources.PACKAGE_DIR
+SCHEMA_DIR = resources.SCHEMA_DIR
 
 
 def mission_stem(path: str) -> str:
@@ -55,15 +59,21 @@ def data_options(args: Optional[argparse.Namespace] = None) -> DataOptions:
     return options
 
 
+def load_options(args: Optional[argparse.Namespace] = None) -> dict:
+    """The keyword arguments of load_mission that `--models` and `--main-tree` ask for."""
+    return dict(models=tuple(getattr(args, "models", None) or ()), main_tree=getattr(args, "main_tree", None))
+
+
 def generate(mission_path: str, relative_to: Optional[str] = None,
-             options: Optional[DataOptions] = None) -> tuple[Output, ...]:
+             options: Optional[DataOptions] = None, models: Sequence[str] = (),
+             main_tree: Optional[str] = None, namespace: Optional[str] = None) -> tuple[Output, ...]:
     """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
     from .frontend import load_mission
     from .lower import lower
 
-    mission = load_mission(mission_path)
+    mission = load_mission(mission_path, models, main_tree)
     program = lower(mission, options)
-    return render(program, mission_stem(mission_path), relative_to or os.getcwd())
+    return render(program, mission_stem(mission_path), relative_to or os.getcwd(), namespace)
 
 
 def _file_mode() -> int:
@@ -145,10 +155,11 @@ def compile_command(args: argparse.Namespace) -> int:
     from .lower import lower
     from .cli import print_diagnostics
 
-    mission = load_mission(args.mission)
+    mission = load_mission(args.mission, **load_options(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
-    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd())
+    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),
+                     getattr(args, "namespace", None))
     out_dir = Path(args.output_dir)
     try:  # rendered completely before anything is written; then all outputs or none
         write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
@@ -169,15 +180,16 @@ def generator_inputs() -> list[str]:
     return files
 
 
-def mission_files(mission_path: str) -> list[str]:
-    """The mission and every file it includes (absolute). Falls back to the
-    mission alone when it does not load: the build then reports its errors."""
+def mission_files(mission_path: str, models: Sequence[str] = ()) -> list[str]:
+    """The mission, every file it includes and the models files (absolute). Falls back
+    to the mission and the models files when it does not load: the build then reports
+    its errors."""
     from .frontend import load_mission
 
     try:
-        files = list(load_mission(mission_path).files)
+        files = list(load_mission(mission_path, models).files)
     except UserError:
-        files = [mission_path]
+        files = [mission_path, *models]
     return [os.path.abspath(f) for f in files]
 
 
@@ -208,7 +220,7 @@ def update_generated(root: Path) -> list[str]:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.compiler", description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(prog="btgen build-info", description=__doc__.split("\n")[0])
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--deps", metavar="MISSION.xml", help="print the mission and its included files, one per line")
     g.add_argument("--outputs", metavar="MISSION.xml", help="print the names of the files `btgen compile` writes")
@@ -218,25 +230,37 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     g.add_argument("--update-generated", action="store_true",
                    help="regenerate the committed generated/ from missions/*.xml")
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
+    p.add_argument("--models", action="append", default=[], metavar="FILE.xml",
+                   help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`")
+    p.add_argument("--main-tree", metavar="ID", help="the tree to run, as `btgen compile --main-tree`")
+    p.add_argument("--namespace", metavar="NS", help="the C++ namespace, as `btgen compile --namespace`")
     args = p.parse_args(argv)
+    if args.namespace is not None and naming.namespace_problem(args.namespace):
+        print(f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}",
+              file=sys.stderr)
+        return 2
     if args.update_generated:
-        for name in update_generated(PACKAGE_DIR.parents[1]):
+        if resources.installed():
+            print("btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
+                  file=sys.stderr)
+            return 2
+        for name in update_generated(resources.ROOT):
             print(f"generated/{name}")
         return 0
     if args.check:
         from .cli import print_diagnostics
 
         try:
-            generate(args.check)
+            generate(args.check, **load_options(args))
         except UserError as e:
             print_diagnostics(e.diagnostics)
             return 1
         return 0
     if args.deps:
-        items = mission_files(args.deps)
+        items = mission_files(args.deps, args.models)
     elif args.template:
         stem = mission_stem(args.template)
-        items = [f"{naming.namespace_name(stem)}::{naming.pascal_case(stem)}"]
+        items = [f"{naming.mission_namespace(stem, args.namespace)}::{naming.pascal_case(stem)}"]
     elif args.outputs:
         items = list(output_names(mission_stem(args.outputs)))
     else:

@@ -20,22 +20,23 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+import re
 import shutil
 import subprocess
 import sys
 import tempfile
 from functools import lru_cache
 from pathlib import Path
-from typing import Optional
+from typing import Optional, Sequence
 
-from . import naming
+from . import naming, resources
 from .compiler import mission_stem
 from .diagnostics import Diagnostic, InternalError, Loc, UserError
 from .emit import render
 
-ROOT = Path(__file__).resolve().parents[2]
-RUNTIME_INCLUDE = ROOT / "runtime" / "include"
-DRIVER = ROOT / "runtime" / "src" / "main_driver.cpp"
+ROOT = resources.ROOT
+RUNTIME_INCLUDE = resources.RUNTIME_INCLUDE
+DRIVER = resources.RUNTIME_SRC / "main_driver.cpp"
 CXX_FLAGS = ("-std=c++17", "-O1")
 SANITIZE_FLAGS = ("-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer")
 BINARY = "mission"
@@ -80,24 +81,40 @@ def _runtime_headers() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
-def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
+def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
+              main_tree: Optional[str] = None) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
-    The mission's warnings are appended to `warnings` when it is given."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings)
+    The mission's warnings are appended to `warnings` when it is given. `models` and
+    `main_tree`: as load_mission's."""
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree)
+
+
+def _check_no_user_nodes(mission) -> None:
+    """The scenario runner scripts leaves only: a Control or Decorator of the mission's own
+    TreeNodesModel needs robot code (the interpreter says the same)."""
+    from .lower import _expanded
+    from .scenario import user_node_kind, user_node_message
+
+    for node, _, _, _ in _expanded(mission):
+        kind = user_node_kind(mission, node)
+        if kind is not None:
+            raise UserError(Diagnostic(node.loc, user_node_message(node.id, kind)))
 
 
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
-                             warnings: Optional[list] = None) -> Path:
+                             warnings: Optional[list] = None, models: Sequence[str] = (),
+                             main_tree: Optional[str] = None) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
     from .frontend import load_mission
     from .lower import lower
 
-    mission = load_mission(mission_path)
+    mission = load_mission(mission_path, models, main_tree)
     if warnings is not None:
         warnings.extend(mission.warnings)
+    _check_no_user_nodes(mission)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
     outputs = render(lower(mission), mission_stem(mission_path), None)
     stem = mission_stem(mission_path)
@@ -124,8 +141,13 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     binary = final / BINARY
     if binary.is_file():
         return binary
-    final.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
+    try:
+        final.parent.mkdir(parents=True, exist_ok=True)
+        work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
+    except OSError as e:
+        raise UserError(Diagnostic(Loc(mission_path, 1, 1),
+                                   f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
+                                   f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory"))
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")
@@ -153,19 +175,39 @@ def _fileno(stream) -> Optional[int]:
         return None
 
 
-def run_cpp(mission_path: str, scenario_path: str) -> int:
+def _inherited_fd(path: str) -> Optional[int]:
+    """N when `path` is /dev/fd/N or /proc/self/fd/N of an open descriptor of this process."""
+    m = re.fullmatch(r"/(?:dev|proc/self)/fd/([0-9]+)", path)
+    if m is None:
+        return None
+    fd = int(m.group(1))
+    try:
+        os.fstat(fd)
+    except OSError:
+        return None
+    return fd
+
+
+def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
+            main_tree: Optional[str] = None) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings)
+    binary = build_cpp(mission_path, warnings, models, main_tree)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()
     sys.stderr.flush()
     out_fd, err_fd = _fileno(sys.stdout), _fileno(sys.stderr)
+    # `--scenario <(...)` names one of this process's descriptors (/dev/fd/63): the
+    # executor inherits it, so it reads the same pipe under the same name.
+    inherited = _inherited_fd(scenario_path)
+    pass_fds = (inherited,) if inherited is not None else ()
     if out_fd is not None and err_fd is not None:
-        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False).returncode
-    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False,
+                              pass_fds=pass_fds).returncode
+    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False,
+                          pass_fds=pass_fds)
     sys.stdout.write(proc.stdout.decode("utf-8", "replace"))
     sys.stderr.write(proc.stderr.decode("utf-8", "replace"))
     return proc.returncode

@@ -42,7 +42,7 @@ from . import values
 from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_string, unique_identifiers
+from .naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
 from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
@@ -106,6 +106,7 @@ class SlotIR:
     origin: str  # why it has its type, for the header comment (without the place)
     origin_loc: Optional[Loc]  # where that is
     capacity: int  # strings: bytes; queues: elements
+    owner_uid: int = 0  # UID of the SubTree node whose blackboard holds it; 0: the root blackboard
 
 
 @dataclass(frozen=True)
@@ -256,6 +257,7 @@ class _Slot:
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
+    owner_uid: int = 0
     member: str = ""
 
     @property
@@ -296,6 +298,7 @@ class _Analyzer:
         self.reported: set[tuple[Loc, str]] = set()
         self.insts: list[_Inst] = []
         self.bb_labels: dict[int, str] = {}
+        self.bb_uid: dict[int, int] = {}  # UID of the SubTree node of a blackboard (Groot2 names it)
         self.bbs: list[bbmod.Blackboard] = []
         self.slots: list[_Slot] = []
         self.slot_of_entry: dict[int, int] = {}
@@ -326,6 +329,7 @@ class _Analyzer:
                 self.insts.append(inst)
                 sub_path = f"{path}/{node.display_name}" if path else node.display_name
                 child = self._subtree_blackboard(node, bb, sub_path)
+                self.bb_uid[id(child)] = index + 1
                 stack.append((self.m.tree(node.target).root, child, sub_path))
                 continue
             ports = _ports_of(self.m, node)
@@ -434,7 +438,7 @@ class _Analyzer:
                                f"needs a literal value here")
             if inst.spec is not None and inst.spec.builtin:
                 self._collect_builtin(inst)
-            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition"):
+            elif inst.spec is not None and inst.spec.kind in ("Action", "Condition", "Control", "Decorator"):
                 self._collect_leaf(inst)
         for attr in node.post:
             self._script_use(inst, attr, attr.name, condition=False)
@@ -809,10 +813,13 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
-        # Capacities only grow, up to `cap`. A slot whose bound depends on itself
-        # (`s := s .. 'x'`, possibly through other slots) grows a little every round;
-        # after WIDEN_AFTER growths it is taken to grow without bound and gets `cap`,
-        # so every slot changes at most WIDEN_AFTER + 1 times.
+        # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
+        # most `cap`: a longer literal is an error where it is written. A computed value
+        # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
+        # `cap`, or the executor would fail where 4.6.2 succeeds. A slot whose bound
+        # depends on itself (`s := s .. 'x'`, possibly through other slots) grows a little
+        # every round; after WIDEN_AFTER growths it is taken to grow without bound and gets
+        # `cap` for good, so every slot changes at most WIDEN_AFTER + 1 times.
         growths = [0] * len(self.slots)
         changed = True
         rounds = 0
@@ -820,14 +827,14 @@ class _Analyzer:
             changed = False
             rounds += 1
             for i, s in enumerate(self.slots):
-                if s.kind not in ("string", DYN):
+                if s.kind not in ("string", DYN) or growths[i] > WIDEN_AFTER:
                     continue
                 best = s.capacity
                 for w in s.writes:
                     if s.kind == DYN and is_numeric(w.kind()):
                         continue  # a dynamic slot holds numbers as numbers
                     b = w.bound()
-                    b = cap if b is None else min(b, cap)
+                    b = cap if b is None else min(b, cap) if w.literal is not None else b
                     best = max(best, b)
                 if best > s.capacity:
                     growths[i] += 1
@@ -850,17 +857,17 @@ class _Analyzer:
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
-        owner_of: dict[int, tuple[str, str]] = {}
+        owner_of: dict[int, tuple[str, str, int]] = {}
         for bb in self.bbs:
             for key in bb.local_keys():
                 entry = bb._storage[key]  # noqa: SLF001 - the reference blackboard's own storage
-                owner_of[id(entry)] = (self.bb_labels[id(bb)], key)
+                owner_of[id(entry)] = (self.bb_labels[id(bb)], key, self.bb_uid.get(id(bb), 0))
         raw_names = []
         for s in self.slots:
-            owner, key = owner_of.get(id(s.entry), ("root", "?"))
+            owner, key, s.owner_uid = owner_of.get(id(s.entry), ("root", "?", 0))
             s.owner, s.key = owner, key
             raw_names.append(key if owner == "root" else f"{owner}_{key}")
-        members = unique_identifiers(raw_names, taken=("value", "seq", "exists", "has_value"), prefix="e")
+        members = entry_identifiers(raw_names)
         for s, mname in zip(self.slots, members):
             s.member = mname
 
@@ -1047,7 +1054,7 @@ class _Compiler:
             slot = self.a.slot_of_entry[id(entry)]
             body.append(f"{self.member(slot)}.unset();")
         else:
-            body.append(f"// `{key}` is not an entry of this blackboard: 4.6.2 removes nothing")
+            body.append(f"// `{cpp_comment(key)}` is not an entry of this blackboard: 4.6.2 removes nothing")
         body.append("return btgen::Status::SUCCESS;")
         return CodeIR(inst.index, "", f"UnsetBlackboard \"{inst.node.display_name}\" key={key}", tuple(body))
 
@@ -1337,10 +1344,25 @@ class _Compiler:
                              "btgen::describe(e)", ret="false"),
                          "return true;")
                 entry["writes"].append((inst.index, stmts))
+        # Every port a leaf model declares gets its accessors, wired here or not (one leaf
+        # implementation builds against every mission using the model): in declaration order,
+        # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
+        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        declared: dict[str, dict[str, dict]] = {}
+        for spec in self.a.m.user_models():
+            used = by_model.get(spec.id, {})
+            model = declared.setdefault(spec.id, {})
+            for ps in spec.ports:
+                if ps.name in used:
+                    model[ps.name] = used[ps.name]
+                elif values.queue_element_type(ps.type) is None:
+                    model[ps.name] = {"spec": ps, "reads": [], "writes": [], "scratch": False}
+        by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
+        model_ids = [m.id for m in self.a.m.user_models()]
+        classes = dict(zip(model_ids, model_identifiers(model_ids)))
         for model_id, ports in by_model.items():
-            names = unique_identifiers(list(ports), taken=("kId", "kKind", "kModel", "node", "blackboard"),
-                                       prefix="port")
+            names = port_identifiers(list(ports), classes.get(model_id, ""))
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]
@@ -1391,7 +1413,7 @@ class _Compiler:
                         len(w.literal.encode("utf-8")) > s.capacity:  # (scripts: reported as they compile)
                     self.error(w.loc, self.overflow_message(w.literal, s))
         slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
-                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity)
+                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity, s.owner_uid)
                       for i, s in enumerate(self.a.slots))
         return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
                       tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,

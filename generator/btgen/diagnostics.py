@@ -38,9 +38,21 @@ class Diagnostic:
         return f"{self.loc}: {self.severity}: {one_line(self.message)}"
 
 
+MAX_DIAGNOSTIC_BYTES = 4096
+
+
 def one_line(text: str) -> str:
     """`text` with line breaks and other control characters escaped (`\\n`, `\\x07`), so a
-    diagnostic that quotes the user's input stays one `path:line:col:` line."""
+    diagnostic that quotes the user's input stays one `path:line:col:` line. A text longer
+    than MAX_DIAGNOSTIC_BYTES in UTF-8 keeps its first bytes up to a character boundary and
+    ends in `... (cut: N bytes in all)` (runtime/include/btgen/one_line.hpp does the same)."""
+    if len(text) > MAX_DIAGNOSTIC_BYTES // 4:
+        data = text.encode("utf-8", "surrogatepass")
+        if len(data) > MAX_DIAGNOSTIC_BYTES:
+            cut = MAX_DIAGNOSTIC_BYTES
+            while cut > 0 and (data[cut] & 0xC0) == 0x80:
+                cut -= 1
+            return one_line(data[:cut].decode("utf-8", "surrogatepass")) + f"... (cut: {len(data)} bytes in all)"
     if text.isprintable():
         return text
     out = []

@@ -10,21 +10,21 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Callable, Optional
 
 import jinja2
 
-from . import naming
+from . import naming, resources
 from .diagnostics import InternalError
 from .dataflow import SCRIPT_BIT
 from .lower import SUPPORTED, IRNode, Program
 from .version import RUNTIME_ABI, __version__
 
-TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates"
+TEMPLATE_DIR = resources.TEMPLATE_DIR
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
 
-_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition"}
+_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition", "UserControl",
+                                                                  "UserDecorator"}
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,30 @@ def cpp_string_view(text: str) -> str:
     strlen. The node table of a large mission would otherwise exceed the compilers'
     constexpr budgets (clang's 1M steps at about 10,000 nodes, g++'s 33M ops later)."""
     return f"std::string_view({naming.cpp_string(text)}, {len(text.encode('utf-8'))})"
+
+
+def groot2_context(program: Program) -> dict:
+    """What the template's Groot2 section needs: the tree XML as lines, BehaviorTree.CPP's
+    status order, its blackboard names and, per blackboard, its entries sorted by key."""
+    tree = program.groot2
+    if tree is None:
+        raise InternalError("the program has no Groot2 tree (lower() makes one)")
+    data = program.data
+    assert data is not None
+    names = [inst.blackboard_name for inst in tree.instances]
+    index_of_uid = {0: 0}
+    for i, inst in enumerate(tree.instances[1:], start=1):
+        index_of_uid[inst.nodes[0]] = i  # the SubTree node's UID is its tree root's index
+    entries = []
+    for sl in data.slots:
+        bb = index_of_uid.get(sl.owner_uid)
+        if bb is None:
+            raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
+        entries.append(dict(bb=bb, key=sl.key, member=sl.member))
+    entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
+    return dict(xml_lines=tree.xml.splitlines(keepends=True), xml_size=len(tree.xml.encode("utf-8")),
+                order=tree.status_order,
+                blackboards=names, entries=entries)
 
 
 def _environment() -> jinja2.Environment:
@@ -115,9 +139,12 @@ def output_names(stem: str) -> tuple[str, str]:
     return naming.header_name(stem), naming.source_name(stem)
 
 
-def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tuple[Output, ...]:
+def render(program: Program, stem: str, relative_to: Optional[str] = ".",
+           namespace: Optional[str] = None) -> tuple[Output, ...]:
     """The generated header and source for `program`; paths in it are relative to
-    `relative_to`, or as the diagnostics give them when it is None."""
+    `relative_to`, or as the diagnostics give them when it is None. `namespace`:
+    the C++ namespace (`--namespace`, checked by the command line), else derived
+    from `stem`."""
     show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
     data = program.data
     if data is None:
@@ -139,7 +166,7 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tup
         header=header,
         source=source,
         guard=naming.include_guard(stem),
-        ns=naming.namespace_name(stem),
+        ns=naming.mission_namespace(stem, namespace),
         cls=cls,
         program=program,
         nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],
@@ -149,6 +176,7 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".") -> tup
         where=[show_loc(loc) for loc in data.where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
         scripts=[dict(c=c, key=c.node * 16 + SCRIPT_BIT[c.which]) for c in data.scripts],
+        groot2=groot2_context(program),
     )
     env = environment()
     return (

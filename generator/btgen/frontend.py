@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import re
-from typing import Optional
+from typing import Optional, Sequence
 
 from lxml import etree
 
@@ -28,6 +28,12 @@ MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance cou
 
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# FORMAT.md: node IDs contain no white space, `"` or `\` (the trace prints them unquoted).
+_ID_FORBIDDEN = re.compile(r'[\s"\\]')
+# Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
+# (4.6.2 reads <Action/> as the explicit form and asks for its ID attribute).
+RESERVED_MODEL_IDS = frozenset({"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition",
+                                "Control", "Decorator", "SubTree"})
 _MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
 
 
@@ -43,8 +49,10 @@ def remap_key(value: str, port_name: str) -> str:
 
 
 class _Loader:
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> None:
         self.path = path
+        self.models_paths = tuple(models)
+        self.main_tree_override = main_tree
         self.sink = DiagnosticSink()
         self.sources: list[Source] = []
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
@@ -64,6 +72,8 @@ class _Loader:
 
     def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
+        for models_path in self.models_paths:
+            self._load_models_file(models_path)
         self.sink.raise_if_errors()
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
@@ -110,6 +120,38 @@ class _Loader:
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
 
+    def _load_models_file(self, path: str) -> None:
+        """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
+        declarations count as the mission's own."""
+        if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
+            return  # given twice, or also the mission or one of its includes
+        try:
+            src = read_source(path, path)
+        except UserError as e:
+            self.sink.items.extend(e.diagnostics)
+            return
+        self.files.append(path)
+        root = src.root
+        if root.tag != "root":
+            self.sink.error(src.loc(root), f"the root element of a models file is <{root.tag}>; it must be <root> "
+                                           f"holding only <TreeNodesModel>")
+            return
+        from .xsd import validate_structure
+
+        errors = validate_structure(src)
+        if errors:
+            self.sink.items.extend(errors)
+            return
+        for child in root:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "TreeNodesModel":
+                self._read_models(child, src)
+            else:
+                self.sink.error(src.loc(child), f"a models file (--models) holds only <TreeNodesModel>, not "
+                                                f"<{child.tag}>; pass a mission as the mission, or include it "
+                                                f"with <include path=...>")
+
     def _include(self, elem: etree._Element, src: Source, stack: tuple[str, ...]) -> None:
         loc = src.loc(elem)
         if elem.get("ros_pkg") is not None:
@@ -151,10 +193,18 @@ class _Loader:
                 self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is a built-in node of BehaviorTree.CPP; "
                                                          f"remove it from TreeNodesModel")
                 continue
-            if mid in known:
-                prev = known[mid].loc
-                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is declared twice in TreeNodesModel "
-                                                         f"(first at {prev})")
+            # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
+            bad = _ID_FORBIDDEN.search(mid or "") if kind != "SubTree" else None
+            if bad:
+                what = {" ": "a space", "\t": "a tab", "\n": "a line break", "\r": "a carriage return",
+                        '"': "`\"`", "\\": "`\\`"}.get(bad.group(0), "white space")
+                self.sink.error(src.value_loc(m, "ID"), f"node ID `{mid}` contains {what}: node IDs contain no "
+                                                         f"white space, `\"` or `\\` (they appear unquoted in "
+                                                         f"status traces)")
+                continue
+            if mid in RESERVED_MODEL_IDS and kind != "SubTree":
+                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` cannot be a node ID: <{mid}> is an element "
+                                                         f"of the file format itself")
                 continue
             ports: list[PortSpec] = []
             for p in m:
@@ -165,6 +215,16 @@ class _Loader:
                     ports.append(port)
             lo, hi = KIND_CHILDREN[kind]
             spec = NodeSpec(mid, kind, tuple(ports), False, lo, hi, (m.text or "").strip(), loc)
+            if mid in known:
+                # The same model declared again (a Groot2 project split over files, a
+                # models file beside a mission that declares it too) is the same model;
+                # only a declaration that differs is an error.
+                conflict = model_conflict(known[mid], spec)
+                if conflict:
+                    self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is declared twice in TreeNodesModel and "
+                                                             f"the declarations differ: {conflict} (first at "
+                                                             f"{known[mid].loc})")
+                continue
             known[mid] = spec
             self.models.append(spec)
 
@@ -213,6 +273,12 @@ class _Loader:
     def _main_tree(self, src: Source) -> str:
         root = src.root
         ids = [t for t, e, s in self.tree_elems]
+        if self.main_tree_override is not None:
+            main = self.main_tree_override
+            if main not in ids:
+                self.sink.error(src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID"
+                                               f"{suggestion(main, ids)}")
+            return main
         main = root.get("main_tree_to_execute")
         if main is None:
             if len(set(ids)) == 1:
@@ -221,7 +287,7 @@ class _Loader:
                 self.sink.error(src.loc(root), "the mission defines no <BehaviorTree>")
                 return ""
             self.sink.error(src.loc(root), f"the mission defines {len(set(ids))} BehaviorTrees; say which one "
-                                           f"runs with main_tree_to_execute=\"...\" (one of "
+                                           f"runs with main_tree_to_execute=\"...\" or --main-tree (one of "
                                            f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})")
             return ""
         if main not in ids:
@@ -479,6 +545,33 @@ class _Loader:
             self.sink.items.extend(validate_against_mission_xsd(mission, src))
 
 
-def load_mission(path: str) -> Mission:
-    """Read, validate and model a mission; raises UserError with every problem found."""
-    return _Loader(path).load()
+def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
+    """How two TreeNodesModel declarations of one ID differ ("" when they declare the
+    same model: same kind, same ports with the same directions, types and defaults)."""
+    if first.kind != second.kind:
+        return f"<{first.kind}> there, <{second.kind}> here"
+    a, b = {p.name: p for p in first.ports}, {p.name: p for p in second.ports}
+    for name in sorted(set(a) | set(b)):
+        if name not in b:
+            return f"port `{name}` there, not here"
+        if name not in a:
+            return f"port `{name}` here, not there"
+        pa, pb = a[name], b[name]
+        if pa.direction != pb.direction:
+            return f"port `{name}` is an {pa.direction} port there, an {pb.direction} port here"
+        if pa.type != pb.type:
+            return f"port `{name}` has type `{pa.type}` there, `{pb.type}` here"
+        if pa.default != pb.default:
+            def show(d: Optional[str]) -> str:
+                return "no default" if d is None else f"default `{d}`"
+            return f"port `{name}` has {show(pa.default)} there, {show(pb.default)} here"
+    return ""
+
+
+def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
+    """Read, validate and model a mission; raises UserError with every problem found.
+
+    `models`: files whose root holds only <TreeNodesModel> (`--models`); their
+    declarations count as the mission's. `main_tree`: the tree to run
+    (`--main-tree`), overriding main_tree_to_execute."""
+    return _Loader(path, models, main_tree).load()

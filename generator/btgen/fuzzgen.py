@@ -60,6 +60,17 @@ CONDITION_NAMES = ("p", "q", "r")
 ODD_NAMES = ('say "hi"', "back\\slash", "tab\there", "line\nbreak", "caf\u00e9 \u2615", "", " spaced ",
              "cr\rhere", "del\x7f", "<&>")
 
+# Names that must survive the trip to C++ identifiers (issue 14): what the generated code and
+# the runtime declare or use unqualified, what the C library declares at global scope and a
+# few macros; C++ keywords come from naming.CPP_KEYWORDS. Drawn for model IDs, ports, keys.
+HOSTILE_NAMES = ("std", "btgen", "detail", "leaf", "kId", "kKind", "kModel", "node", "blackboard", "bb_", "err_",
+                 "node_", "bb", "n", "err", "e", "value", "seq", "exists", "has_value", "T", "scratch0_",
+                 "scratch1_", "loop_0", "loop_1", "Engine", "Leaves", "Clock", "Observer", "Spec", "Blackboard",
+                 "model", "leaves", "main", "engine", "observer", "clock", "errno", "time", "exit", "random",
+                 "remove", "system", "abs", "printf", "NULL", "EOF", "EDOM", "INT_MAX", "SIZE_MAX", "stdin",
+                 "stdout", "stderr", "assert", "linux", "unix", "set_x", "x", "int", "class", "and",
+                 "not", "bool", "true", "delete", "operator", "this", "return")
+
 INT_VARS = ("i0", "i1")
 PARAM_VARS = ("p0", "p1")  # the ports of a remapped SubTree, bound to the caller's ints
 

@@ -34,7 +34,7 @@ from . import values
 from .catalogue import BUILTINS, PortSpec
 from .diagnostics import Diagnostic, Loc, UserError
 from .model import Attr, Mission, Node, SubTreeNode
-from .scenario import Scenario, is_scripted_leaf, leaf_kind
+from .scenario import Scenario, is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
 from .status import NodeStatus
 
 # ---------------------------------------------------------------- statuses
@@ -1762,9 +1762,8 @@ class _Builder:
             cls = ScriptedCondition if leaf_kind(self.mission, model) == "Condition" else ScriptedAction
             node = cls(rt, model, bb, model.id, ports)
         else:
-            raise _run_error(model.loc, f"the interpreter cannot run `{model.id}`: a user "
-                                        f"{model.kind} has no implementation (only Actions and "
-                                        f"Conditions take scenario results)")
+            raise _run_error(model.loc, user_node_message(model.id, user_node_kind(self.mission, model)
+                                                          or "node"))
         self.nodes.append(node)
         kids = [self._node(c, bb) for c in model.children]
         if isinstance(node, ControlNode):

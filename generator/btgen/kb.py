@@ -32,6 +32,7 @@ from xml.etree import ElementTree as ET
 
 import xmlschema
 
+from . import resources
 from .diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 
 # ----- Limits: keep equal to runtime/include/btgen/kb_limits.hpp ----------------
@@ -64,8 +65,7 @@ _PLACEHOLDER_RE = re.compile(
     r"(?i)(no (message|translation|text)\b.*|(todo|tbd|fixme)\b.*|placeholder\b.*"
     r"|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*)")
 
-SCHEMA_PATH = os.path.normpath(os.path.join(
-    os.path.dirname(os.path.abspath(__file__)), "..", "..", "schema", "environment_knowledge_base.xsd"))
+SCHEMA_PATH = str(resources.SCHEMA_DIR / "environment_knowledge_base.xsd")
 
 
 @functools.lru_cache(maxsize=None)

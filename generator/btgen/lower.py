@@ -22,7 +22,8 @@ from .catalogue import BUILTINS
 from .dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
-from .naming import unique_identifiers
+from .naming import model_identifiers
+from .treexml import Groot2Tree, groot2_tree
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
@@ -77,11 +78,11 @@ _SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
 
 @dataclass(frozen=True)
 class LeafModel:
-    """An Action or Condition of TreeNodesModel: one set of hooks."""
+    """An Action, Condition, Control or Decorator of TreeNodesModel: one set of hooks."""
 
     index: int
     id: str
-    kind: str  # "Action" | "Condition"
+    kind: str  # "Action" | "Condition" | "Control" | "Decorator"
     cpp_name: str  # its struct in the generated `leaf` namespace
     loc: Optional[Loc]
 
@@ -125,6 +126,8 @@ class Program:
     unrun_leaves: tuple[tuple[str, str], ...] = ()
     # The data side: blackboard slots, compiled scripts, port accessors (dataflow.py).
     data: Optional[DataIR] = None
+    # The tree as BehaviorTree.CPP shows it to Groot2: XML with _uid, tree instances (treexml.py).
+    groot2: Optional[Groot2Tree] = None
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -133,6 +136,11 @@ class Program:
     @property
     def conditions(self) -> tuple[LeafModel, ...]:
         return tuple(m for m in self.leaf_models if m.kind == "Condition")
+
+    @property
+    def user_nodes(self) -> tuple[LeafModel, ...]:
+        """The mission's own Controls and Decorators."""
+        return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
 
 
 # ------------------------------------------------------------------ traversal
@@ -251,8 +259,8 @@ class _Lowerer:
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
-        models = m.leaf_models()
-        model_names = unique_identifiers([s.id for s in models], prefix="Leaf")
+        models = m.user_models()
+        model_names = model_identifiers([s.id for s in models])
         leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
@@ -271,6 +279,7 @@ class _Lowerer:
                 model = -1
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
+                kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)
                 model = model_index[node.id]
             else:
                 raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")
@@ -296,7 +305,8 @@ class _Lowerer:
         self.sink.raise_if_errors()
         return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
                        max(n.depth for n in nodes), counter, timer,
-                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data)
+                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data,
+                       groot2_tree(m))
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
         """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""

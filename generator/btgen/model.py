@@ -115,3 +115,8 @@ class Mission:
     def leaf_models(self) -> tuple[NodeSpec, ...]:
         """User Actions and Conditions, in declaration order."""
         return tuple(m for m in self.models if m.kind in ("Action", "Condition"))
+
+    def user_models(self) -> tuple[NodeSpec, ...]:
+        """User Actions, Conditions, Controls and Decorators, in declaration order: the
+        models the generated code has a class and hooks for."""
+        return tuple(m for m in self.models if m.kind in ("Action", "Condition", "Control", "Decorator"))

@@ -6,7 +6,9 @@ tests/python/test_compiler.py. Templates never build a name themselves.
 from __future__ import annotations
 
 import re
-from typing import Iterable
+from typing import Callable, Iterable, Optional, Union
+
+from .cpp_reserved import GLOBALS, MACROS
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
 CPP_KEYWORDS = frozenset("""
@@ -42,16 +44,70 @@ def snake_case(stem: str) -> str:
 def pascal_case(stem: str) -> str:
     """`lab_tour` / `LabTour` -> `LabTour`: the mission's class name."""
     name = "".join(w[:1].upper() + w[1:] for w in _words(stem))
-    return cpp_identifier(name or "Mission", prefix="Mission")
+    return cpp_identifier(name or "Mission", kind="class")
 
 
-def cpp_identifier(text: str, prefix: str = "n") -> str:
-    """A valid, non-reserved C++ identifier close to `text`.
+# What a mission name may not become, by the scope the generated code declares it in. Every
+# scope also excludes CPP_KEYWORDS and the standard headers' MACROS (cpp_reserved.py, read from
+# the compilers by scripts/update_cpp_reserved.py).
+#
+# Namespaces the generated code names unqualified where mission names are declared (a leaf
+# class `std` in namespace `leaf`, a port `detail`, an entry `btgen` would hide them).
+QUALIFIERS = frozenset({"std", "btgen", "detail", "leaf"})
+# Members of every generated leaf class and the names its accessors use unqualified.
+LEAF_MEMBERS = frozenset({"kId", "kKind", "kModel", "node", "blackboard", "bb_", "err_", "node_", "bb", "n",
+                          "err", "e", "value", "T",
+                          # the members custom Control and Decorator classes add
+                          "fail", "sync_result", "children_count", "tick_child", "halt_child", "halt_children",
+                          "reset_child_status", "child_status", "status", "set_status", "now_ms", "name", "uid",
+                          "children"})
+# Members of btgen::Slot, which the generated code reads beside the entries' members.
+SLOT_MEMBERS = frozenset({"value", "seq", "exists", "has_value"})
+# The names the mission class template and its scope use: its base and template parameters.
+CLASS_NAMES = frozenset({"Engine", "Leaves", "Clock", "Observer", "Spec", "Blackboard"})
+# Members the generator adds beside mission names: a leaf class's `scratch<k>_` number texts,
+# the blackboard's `loop_<node>` literal queues.
+_GENERATED = {
+    "port": re.compile(r"scratch[0-9]+_"),
+    "entry": re.compile(r"loop_[0-9]+"),
+}
+# `kind` -> (prefix for names that cannot start an identifier, names that scope reserves).
+KINDS: dict[str, tuple[str, frozenset]] = {
+    "model": ("Leaf", QUALIFIERS | LEAF_MEMBERS),
+    "port": ("port", QUALIFIERS | LEAF_MEMBERS),
+    "entry": ("e", QUALIFIERS | SLOT_MEMBERS),
+    "class": ("Mission", QUALIFIERS | CLASS_NAMES),
+    # Global scope: the C library's functions, objects and types, and `main`.
+    "namespace": ("mission", QUALIFIERS | GLOBALS | {"main"}),
+    "plain": ("n", frozenset()),
+}
 
-    Invalid characters become `_`, runs of `_` collapse (a double underscore
-    is reserved), a leading digit or underscore gets `prefix`, keywords get a
-    trailing `_`.
+Reserved = Union[Iterable[str], Callable[[str], bool]]
+
+
+def is_reserved(ident: str, kind: str = "plain", reserved: Optional[Reserved] = None) -> bool:
+    """True when `ident` may not name a mission entity of `kind` (see KINDS)."""
+    if ident in CPP_KEYWORDS or ident in MACROS or ident in KINDS[kind][1]:
+        return True
+    pattern = _GENERATED.get(kind)
+    if pattern is not None and pattern.fullmatch(ident):
+        return True
+    if reserved is None:
+        return False
+    return reserved(ident) if callable(reserved) else ident in reserved
+
+
+def cpp_identifier(text: str, prefix: Optional[str] = None, kind: str = "plain",
+                   reserved: Optional[Reserved] = None) -> str:
+    """A valid C++ identifier close to `text` that cannot collide with a keyword, a standard
+    macro, or what the generated code declares or uses in the scope of `kind` (KINDS).
+
+    Invalid characters become `_`, runs of `_` collapse (a double underscore is reserved),
+    a leading digit or underscore gets `prefix` (the kind's own by default), and a reserved
+    result gets trailing `_` until it is free.
     """
+    if prefix is None:
+        prefix = KINDS[kind][0]
     ident = re.sub(r"[^A-Za-z0-9_]", "_", text)
     ident = re.sub(r"_+", "_", ident)
     if not ident or ident == "_":
@@ -59,24 +115,61 @@ def cpp_identifier(text: str, prefix: str = "n") -> str:
     if ident[0].isdigit() or ident[0] == "_":
         ident = prefix + ("" if ident[0] == "_" else "_") + ident
     ident = re.sub(r"_+", "_", ident)
-    if ident in CPP_KEYWORDS:
-        ident += "_"
+    while is_reserved(ident, kind, reserved):
+        # `NULL` -> `NULL_`; `x_` (reserved) -> `x_1`: never a double underscore.
+        ident = ident + "1" if ident.endswith("_") else ident + "_"
     return ident
 
 
-def unique_identifiers(names: Iterable[str], taken: Iterable[str] = (), prefix: str = "n") -> tuple[str, ...]:
+def unique_identifiers(names: Iterable[str], taken: Iterable[str] = (), prefix: Optional[str] = None,
+                       kind: str = "plain") -> tuple[str, ...]:
     """cpp_identifier of each name, with `_2`, `_3`, ... added where two would collide."""
     used = set(taken)
     out = []
     for name in names:
-        base = cpp_identifier(name, prefix)
-        ident, n = base, 1
-        while ident in used:
-            n += 1
-            ident = f"{base}_{n}"
+        ident = unique_identifier(name, used, prefix, kind)
         used.add(ident)
         out.append(ident)
     return tuple(out)
+
+
+def unique_identifier(name: str, used: Union[set, Callable[[str], bool]], prefix: Optional[str] = None,
+                      kind: str = "plain", reserved: Optional[Reserved] = None) -> str:
+    """cpp_identifier(name) not in `used` (a set or a predicate), with `_2`, `_3`, ... added."""
+    taken = used if callable(used) else used.__contains__
+    base = cpp_identifier(name, prefix, kind, reserved)
+    ident, n = base, 1
+    while taken(ident) or is_reserved(ident, kind, reserved):
+        n += 1
+        ident = f"{base}{n}" if base.endswith("_") else f"{base}_{n}"
+    return ident
+
+
+def model_identifiers(ids: Iterable[str]) -> tuple[str, ...]:
+    """The classes of the leaf models in the generated `leaf` namespace."""
+    return unique_identifiers(ids, kind="model")
+
+
+def port_identifiers(ports: Iterable[str], model_class: str) -> tuple[str, ...]:
+    """The accessors of a leaf class's ports: `p()` reads and `set_p()` writes, so no
+    port may take another's getter or setter name, nor the class's own name."""
+    used: set[str] = set()
+
+    def taken(ident: str) -> bool:
+        return (ident in used or "set_" + ident in used or ident == model_class
+                or (ident.startswith("set_") and ident[4:] in used))
+    out = []
+    for name in ports:
+        ident = unique_identifier(name, taken, kind="port")
+        used.add(ident)
+        used.add("set_" + ident)
+        out.append(ident)
+    return tuple(out)
+
+
+def entry_identifiers(names: Iterable[str]) -> tuple[str, ...]:
+    """The members of the generated blackboard struct, one per entry."""
+    return unique_identifiers(names, kind="entry")
 
 
 def header_name(stem: str) -> str:
@@ -87,13 +180,63 @@ def source_name(stem: str) -> str:
     return snake_case(stem) + ".cpp"
 
 
+# Names a mission's namespace must not take at global scope: `main` is the
+# program's function (`namespace main` and `int main()` cannot coexist), `btgen`
+# the runtime's namespace, the others the standard library's.
+CLASHING_NAMESPACES = frozenset({"main", "btgen", "std", "posix"})
+_NAMESPACE_PART_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
 def namespace_name(stem: str) -> str:
-    """The mission's C++ namespace: its snake-case stem, made a valid identifier."""
-    return cpp_identifier(snake_case(stem), prefix="mission")
+    """The mission's C++ namespace: its snake-case stem, made a valid identifier that names
+    nothing else at global scope (`exit` -> `exit_`, `main` -> `main_`)."""
+    return cpp_identifier(snake_case(stem), kind="namespace")
+
+
+namespace_for_stem = namespace_name
+
+
+def namespace_problem(ns: str) -> str:
+    """Why `ns` cannot be a mission's namespace (`--namespace`), "" when it can.
+
+    `a::b` (nested) is allowed; each part must be a C++ identifier that is not a
+    keyword nor reserved (`_X...`, `__`), and the outermost part must not be one
+    of CLASHING_NAMESPACES."""
+    if not ns:
+        return "the namespace is empty"
+    parts = ns.split("::")
+    for part in parts:
+        if not _NAMESPACE_PART_RE.match(part):
+            return (f"`{part}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
+                    if part else f"`{ns}` has an empty part")
+        if part in CPP_KEYWORDS:
+            return f"`{part}` is a C++ keyword"
+        if part in MACROS:
+            return f"`{part}` is a macro of the C++ standard library"
+        if "__" in part or part[0] == "_":
+            return f"`{part}` is reserved in C++ (a leading `_` or a double underscore)"
+    if parts[0] in GLOBALS and parts[0] not in CLASHING_NAMESPACES:
+        return f"`{parts[0]}` names something of the C++ standard library at global scope; choose another name"
+    if parts[0] in CLASHING_NAMESPACES:
+        what = "the program's main()" if parts[0] == "main" else (
+            "btgen's runtime" if parts[0] == "btgen" else "the standard library")
+        return f"`{parts[0]}` clashes with {what}; choose another name"
+    return ""
+
+
+def mission_namespace(stem: str, requested: Optional[str] = None) -> str:
+    """The namespace of the generated code: `requested` (`--namespace`) when given,
+    else derived from the file name. ValueError when `requested` is unusable."""
+    if requested is None:
+        return namespace_name(stem)
+    problem = namespace_problem(requested)
+    if problem:
+        raise ValueError(problem)
+    return requested
 
 
 def include_guard(stem: str) -> str:
-    return "BTGEN_GENERATED_" + cpp_identifier(snake_case(stem), prefix="mission").upper() + "_HPP"
+    return "BTGEN_GENERATED_" + namespace_name(stem).rstrip("_").upper() + "_HPP"
 
 
 def cpp_string(text: str) -> str:
@@ -118,6 +261,9 @@ def cpp_string(text: str) -> str:
 
 
 def cpp_comment(text: str) -> str:
-    """`text` made safe inside a // comment: one line, no trailing backslash, ASCII."""
+    """`text` made safe inside a // comment: one line (line breaks and other control or
+    non-ASCII characters become `?`), no trailing backslash, and no `??` (the trigraph
+    `??/` ends a // comment's line like a backslash; g++ -Wall warns of any trigraph)."""
     safe = "".join(ch if 0x20 <= ord(ch) < 0x7F else "?" for ch in text)
+    safe = re.sub(r"\?(?=\?)", "?_", safe)
     return safe.rstrip("\\ ")

@@ -28,7 +28,8 @@ def run_command(args) -> int:
     if engine == "cpp":
         from .cppengine import run_cpp
 
-        return run_cpp(args.mission, args.scenario)
+        return run_cpp(args.mission, args.scenario, tuple(getattr(args, "models", None) or ()),
+                       getattr(args, "main_tree", None))
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
@@ -39,7 +40,8 @@ def run_command(args) -> int:
 
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
-    mission = load_mission(args.mission)
+    mission = load_mission(args.mission, tuple(getattr(args, "models", None) or ()),
+                           getattr(args, "main_tree", None))
     _print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
     _print_diagnostics(warnings)

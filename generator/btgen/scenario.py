@@ -92,6 +92,9 @@ def _read_text(path: str) -> str:
                                                 f"{MAX_SCENARIO_BYTES} bytes")
         with open(path, "rb") as f:
             data = f.read(MAX_SCENARIO_BYTES + 1)
+        if len(data) > MAX_SCENARIO_BYTES:  # a pipe or device: its size shows only while reading
+            raise UserError.at(Loc(path, 1, 1), f"file is larger than {MAX_SCENARIO_BYTES} bytes; scenarios are "
+                                                f"limited to {MAX_SCENARIO_BYTES} bytes")
     except IsADirectoryError:
         raise UserError.at(Loc(path, 1, 1), "is a directory, not a scenario file") from None
     except OSError as e:
@@ -202,11 +205,15 @@ def _one_int(sink: DiagnosticSink, kw: Token, args: list[Token], what: str, mean
     if not _INT_RE.fullmatch(args[0].text):
         sink.error(args[0].loc, f"`{what}` needs a whole number, got `{args[0].text}`")
         return None
-    value = int(args[0].text)
-    if value > 2**31 - 1:
-        sink.error(args[0].loc, f"{what} {value} is too large (at most {2**31 - 1})")
+    text = args[0].text
+    digits = text.lstrip("+-").lstrip("0") or "0"
+    negative = text.startswith("-") and digits != "0"
+    if not negative and (len(digits) > 10 or int(digits) > 2**31 - 1):  # (no int() of a million digits)
+        sink.error(args[0].loc, f"{what} {digits} is too large (at most {2**31 - 1})")
         return None
-    return value
+    if not negative:
+        return int(digits)
+    return -min(int(digits) if len(digits) <= 20 else 2**62, 2**62)  # saturated, as the C++ runner
 
 
 # --------------------------------------------------------------------- leaves of a mission
@@ -228,6 +235,24 @@ def is_scripted_leaf(mission: Mission, node: Node) -> bool:
     except KeyError:
         return True  # used but not declared: an Action
     return not spec.builtin and spec.kind in ("Action", "Condition")
+
+
+def user_node_kind(mission: Mission, node: Node) -> Optional[str]:
+    """"Control" or "Decorator" for a node of the mission's own TreeNodesModel Controls and
+    Decorators (implemented only by robot code), else None."""
+    if isinstance(node, SubTreeNode):
+        return None
+    try:
+        spec = mission.spec(node.id)
+    except KeyError:
+        return None
+    return spec.kind if not spec.builtin and spec.kind in ("Control", "Decorator") else None
+
+
+def user_node_message(node_id: str, kind: str) -> str:
+    """Why `btgen run` cannot run a user Control/Decorator (the same on both engines)."""
+    return (f"`{node_id}` is a {kind} of this mission's TreeNodesModel: it needs your implementation "
+            f"(its tick() hook in the C++ that `btgen compile` generates), which `btgen run` does not have")
 
 
 def leaf_kind(mission: Mission, node: Node) -> str:

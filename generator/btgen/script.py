@@ -53,6 +53,21 @@ class ScriptSyntaxError(Exception):
         self.offset = offset
 
 
+# The longest string the interpreter builds (a script doubling a string 40 times ran out of
+# memory: MemoryError, exit 3). Generated C++ holds far less: its strings have fixed
+# capacities of at most --string-capacity (1 MiB) or a bound the mission shows.
+MAX_STRING_BYTES = 1 << 26
+
+
+def _joined(a: str, b: str, op: str, offset: int) -> str:
+    if len(a) + len(b) > MAX_STRING_BYTES // 4:
+        size = len(a.encode("utf-8")) + len(b.encode("utf-8"))
+        if size > MAX_STRING_BYTES:
+            raise ScriptRuntimeError(f"`{op}` would make a string of {size} bytes; the interpreter holds "
+                                     f"strings of at most {MAX_STRING_BYTES} bytes", offset)
+    return a + b
+
+
 class ScriptRuntimeError(Exception):
     """A script that fails while running, where 4.6.2 throws; ``offset`` indexes the code."""
 
@@ -750,10 +765,10 @@ class _Evaluator:
                 return float(bool(a_b and b_b) if op == "&&" else bool(a_b or b_b))
             return None  # `..` of two numbers: 4.6.2 yields an empty value
         if isinstance(lv, str) and isinstance(rv, str) and op in ("+", ".."):
-            return lv + rv
+            return _joined(lv, rv, op, off)
         if op == ".." and (isinstance(lv, str) or isinstance(rv, str)) and \
                 (values.is_number(lv) or isinstance(lv, str)) and (values.is_number(rv) or isinstance(rv, str)):
-            return values.to_text(lv) + values.to_text(rv)
+            return _joined(values.to_text(lv), values.to_text(rv), op, off)
         raise ScriptRuntimeError(f"`{op}` cannot be applied to {self.kind(lv)} and {self.kind(rv)}", off)
 
     def compare(self, node: Compare) -> float:

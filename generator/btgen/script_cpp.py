@@ -307,6 +307,8 @@ class CodeWriter:
         self.prefix = prefix
         self.error_return = error_return
         self.lines: list[str] = []
+        # String concatenation buffers by their view expression: (lines, index, indent, name).
+        self._concats: dict[str, tuple[list[str], int, int, str]] = {}
         self.indent = indent
         self.n = 0
 
@@ -555,7 +557,11 @@ class ScriptCompiler(CodeWriter):
         if kind == "string":
             lt, lb = self.as_text(lv)
             rt, rb = self.as_text(rv)
+            grown = self._grow_concat(lv, rt, lb + rb)
+            if grown is not None:
+                return grown
             t = self.temp()
+            self._concats[f"{t}.view()"] = (self.lines, len(self.lines), self.indent, t)
             self.emit(f"btgen::FixedString<{lb + rb}> {t};")
             self.emit(f"(void){t}.assign({lt});")
             self.emit(f"(void){t}.append({rt});")
@@ -577,6 +583,22 @@ class ScriptCompiler(CodeWriter):
             cop = "&&" if op == "&&" else "||"
             self.emit(f"const double {t} = ({a} {cop} {b}) ? 1.0 : 0.0;")
         return Val("double", t, None)
+
+    def _grow_concat(self, lv: Val, rt: str, bound: int) -> Optional[Val]:
+        """`a .. b .. c` is `(a .. b) .. c`: when the left operand is the buffer of a
+        concatenation just made in this block, widen that buffer and append to it, so a
+        chain of n terms needs one buffer (linear stack) instead of n growing ones (their
+        sizes add up to the square: a 1 MiB capacity and five terms overflowed the stack)."""
+        made = self._concats.pop(lv.expr or "", None)
+        if made is None:
+            return None
+        lines, at, indent, t = made
+        if lines is not self.lines or indent != self.indent:
+            return None
+        lines[at] = "  " * indent + f"btgen::FixedString<{bound}> {t};"
+        self.emit(f"(void){t}.append({rt});")
+        self._concats[lv.expr] = made  # type: ignore[index]
+        return Val("string", lv.expr, None, bound)
 
     def dyn_bound(self, v: Val) -> int:
         if v.kind in (DYN, "string"):

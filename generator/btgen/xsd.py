@@ -21,20 +21,18 @@ from xml.sax.saxutils import quoteattr
 import xmlschema
 from lxml import etree
 
+from . import resources
 from .catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
 from .diagnostics import Diagnostic, Loc
 from .model import Mission
 from .xmlsource import Source
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
-SCHEMA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "schema")
+SCHEMA_DIR = str(resources.SCHEMA_DIR)
 
 
 def _schema_path(name: str) -> str:
-    here = os.path.normpath(os.path.join(SCHEMA_DIR, name))
-    if os.path.exists(here):
-        return here
-    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "schema", name)
+    return os.path.join(SCHEMA_DIR, name)
 
 
 @functools.lru_cache(maxsize=None)
@@ -196,11 +194,14 @@ def mission_xsd(mission: Mission) -> str:
 """)
     # Every node element stands for the abstract `bt_node` (a substitution group
     # matches in one step, where a 50-way choice would be tried in turn).
-    out.append('  <xs:element name="bt_node" abstract="true"/>\n')
+    # Its name is one no node of this mission has (a model may be called `bt_node`).
+    ids = {s.id for s in specs}
+    group = next(n for n in ("bt_node", *(f"bt_node_{i}" for i in range(1, len(ids) + 2))) if n not in ids)
+    out.append(f'  <xs:element name="{group}" abstract="true"/>\n')
     for s in specs:
-        out.append(f'  <xs:element name={quoteattr(s.id)} type={quoteattr("node." + s.id)} substitutionGroup="bt_node"/>\n')
+        out.append(f'  <xs:element name={quoteattr(s.id)} type={quoteattr("node." + s.id)} substitutionGroup="{group}"/>\n')
     for kind in ("Action", "Condition", "Control", "Decorator", "SubTree"):
-        out.append(f'  <xs:element name="{kind}" type="explicit.{kind}" substitutionGroup="bt_node"/>\n')
+        out.append(f'  <xs:element name="{kind}" type="explicit.{kind}" substitutionGroup="{group}"/>\n')
     for s in specs:
         out.append(_node_type(s))
     for kind, kids in (("Action", ""), ("Condition", ""),
@@ -212,7 +213,7 @@ def mission_xsd(mission: Mission) -> str:
                    '    <xs:attribute name="ID" type="xs:string" use="required"/>\n'
                    '    <xs:anyAttribute processContents="skip"/>\n  </xs:complexType>\n')
     out.append("</xs:schema>\n")
-    return "".join(out)
+    return "".join(out).replace('ref="bt_node"', f'ref="{group}"')
 
 
 @functools.lru_cache(maxsize=8)

@@ -288,7 +288,7 @@ def test_deps_outputs_and_inputs_for_build_systems(tmp_path):
     assert any(p.endswith(".xsd") for p in inputs)
     for argv, expected in ((["--outputs", main_xml], "main.hpp\nmain.cpp\n"),
                            (["--outputs", main_xml, "--cmake"], "main.hpp;main.cpp"),
-                           (["--template", main_xml], "main::Main\n")):
+                           (["--template", main_xml], "main_::Main\n")):
         proc = subprocess.run([sys.executable, "-m", "btgen.compiler", *argv], stdout=subprocess.PIPE, text=True,
                               check=True)
         assert proc.stdout == expected
@@ -346,3 +346,61 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     assert proc.returncode != 0
     assert "regenerate it with the btgen that matches your runtime headers" in proc.stdout
+
+
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
+    """A model's ports get their getter/setter whether or not the mission sets them (issue 17):
+    the same leaf code builds against tests/cpp/missions/leaf_api_{wired,unwired}.xml."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "leaf_api_unwired.xml"),
+                              relative_to=ROOT)
+    for accessor in ("btgen::Input<std::string_view> target() const", "btgen::Input<std::int32_t> retries() const",
+                     "bool set_retries(std::int32_t value) const", "bool set_error_code(std::int32_t value) const",
+                     "bool set_pose(const T& value) const", "btgen::Input<double> threshold() const"):
+        assert accessor in header.text
+    assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
+    (tmp_path / header.name).write_text(header.text, encoding="utf-8")
+    (tmp_path / source.name).write_text(source.text, encoding="utf-8")
+    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
+                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)],
+                   check=True)
+
+
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_user_controls_and_decorators_compile(compiler, tmp_path):
+    """A Control or Decorator of TreeNodesModel gets a model class with typed ports and child
+    operations and a tick()/halt() hook (issue 17); it used to be an internal error."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "user_nodes.xml"), relative_to=ROOT)
+    for text in ("static constexpr btgen::LeafKind kKind = btgen::LeafKind::Control;",
+                 "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Decorator;",
+                 "btgen::Input<std::int32_t> number_of_retries() const", "btgen::Input<double> hz() const",
+                 "btgen::Status tick_child(std::size_t i) const", "namespace control = leaf;",
+                 "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
+                 "btgen::NodeKind::UserControl", "btgen::NodeKind::UserDecorator"):
+        assert text in header.text, text
+    (tmp_path / header.name).write_text(header.text, encoding="utf-8")
+    (tmp_path / source.name).write_text(source.text, encoding="utf-8")
+    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
+                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)],
+                   check=True)
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_run_of_a_user_control_says_it_needs_an_implementation(engine, tmp_path):
+    mission = _write(tmp_path, "m.xml", _mission('<Sequence><PipelineSequence><AlwaysSuccess/></PipelineSequence>'
+                                                 '</Sequence>', models='<Control ID="PipelineSequence"/>'))
+    scenario = tmp_path / "m.scenario"
+    scenario.write_text("ticks 1\n", encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(mission), "--scenario", str(scenario),
+                           "--engine", engine], capture_output=True, text=True, cwd=str(tmp_path))
+    assert proc.returncode == 1, proc.stderr
+    assert re.search(r"m\.xml:\d+:\d+: error: `PipelineSequence` is a Control of this mission's TreeNodesModel: it "
+                     r"needs your implementation", proc.stderr), proc.stderr
+    assert "Traceback" not in proc.stderr
+    compiled = subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(tmp_path / "out")],
+                              capture_output=True, text=True, cwd=str(tmp_path))
+    assert compiled.returncode == 0, compiled.stderr

@@ -224,11 +224,11 @@ def test_xsd_command_prints_schema(tmp_path):
 
 
 def test_model_id_that_is_not_an_xml_name(tmp_path):
-    """Regression: a TreeNodesModel ID with a space crashed writing the mission XSD."""
-    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Action ID="IV. Act"/></BehaviorTree>\n'
-                        '  <TreeNodesModel><Action ID="IV. Act"/></TreeNodesModel>\n</root>\n')
+    """Regression: a TreeNodesModel ID that is not an XML name crashed writing the mission XSD."""
+    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Action ID="IV.Act/1"/></BehaviorTree>\n'
+                        '  <TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel>\n</root>\n')
     m = load_mission(p)
-    assert m.main.root.id == "IV. Act" and m.main.root.kind == "Action"
+    assert m.main.root.id == "IV.Act/1" and m.main.root.kind == "Action"
 
 
 def test_literal_on_output_port_is_an_error(tmp_path):

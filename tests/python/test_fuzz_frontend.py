@@ -101,11 +101,11 @@ def test_a_diagnostic_is_one_line(tmp_path, xml, expected):
 
 
 def test_node_id_with_a_space_in_the_mission_xsd(tmp_path):
-    """Known bug of issue 8: a TreeNodesModel ID such as `IV. Act` crashed the mission XSD."""
+    """Known bug of issue 8: a TreeNodesModel ID such as `IV.Act/1` crashed the mission XSD."""
     (tmp_path / "m.xml").write_text(
-        '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Action ID="IV. Act"/>'
-        '<Action ID="IV. Act" name="again"/></Sequence></BehaviorTree>'
-        '<TreeNodesModel><Action ID="IV. Act"/></TreeNodesModel></root>\n', encoding="utf-8")
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Action ID="IV.Act/1"/>'
+        '<Action ID="IV.Act/1" name="again"/></Sequence></BehaviorTree>'
+        '<TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel></root>\n', encoding="utf-8")
     proc = _btgen("validate", "m.xml", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     proc = _btgen("xsd", "m.xml", cwd=tmp_path)

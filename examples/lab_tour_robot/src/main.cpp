@@ -3,6 +3,7 @@
 // facts from the environment knowledge base. `lab_tour_robot --help` lists
 // the options; examples/lab_tour_robot/README.md explains the simulation.
 #include <chrono>
+#include <exception>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -17,6 +18,11 @@
 #include "btgen/scenario.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/btlog.hpp"
+#include "btgen/monitor.hpp"
+#ifdef LAB_TOUR_WITH_GROOT2
+#include "btgen/groot2.hpp"
+#endif
 #include "lab_tour.hpp"
 #include "leaves.hpp"
 #include "options.hpp"
@@ -58,7 +64,8 @@ class OptionalTrace {
   bool enabled_ = false;
 };
 
-using Mission = lab_tour::LabTour<LabTourRobotLeaves, btgen::ManualClock, OptionalTrace>;
+// Groot2 monitors (--groot2, --btlog) attach to the MonitorObserver; the trace comes after them.
+using Mission = lab_tour::LabTour<LabTourRobotLeaves, btgen::ManualClock, btgen::MonitorObserver<OptionalTrace>>;
 
 // The mission lives in static storage: one object of fixed size, no heap.
 LabTourRobotLeaves g_leaves;
@@ -143,7 +150,26 @@ int main(int argc, char** argv) {
   lab_tour_robot::SimulatedPepper pepper(kb, speech, plan, settings, Mission::node_count(), scenario_leaves.get(),
                                          stdout);
   g_leaves.attach(pepper, Mission::nodes().data(), Mission::nodes().size());
-  if (options.trace) g_mission.observer().enable();
+  if (options.trace) g_mission.observer().next().enable();
+
+  // Groot2: a live publisher and a .btlog, both off the tick path (btgen/groot2.hpp, btgen/btlog.hpp).
+  std::unique_ptr<btgen::btlog::FileLogger> btlog;
+#ifdef LAB_TOUR_WITH_GROOT2
+  std::unique_ptr<btgen::groot2::Publisher<Mission>> groot2;
+#endif
+  try {
+    if (!options.btlog.empty()) btlog = std::make_unique<btgen::btlog::FileLogger>(g_mission, options.btlog);
+    if (options.groot2_port != 0) {
+#ifdef LAB_TOUR_WITH_GROOT2
+      groot2 = std::make_unique<btgen::groot2::Publisher<Mission>>(g_mission, static_cast<unsigned>(options.groot2_port));
+      std::printf("%s: Groot2 publisher on ports %ld and %ld\n", kProgram, options.groot2_port, options.groot2_port + 1);
+#else
+      return bad_input("--groot2: this lab_tour_robot was built without ZeroMQ (install libzmq3-dev and cppzmq-dev)");
+#endif
+    }
+  } catch (const std::exception& e) {
+    return bad_input(std::string(options.groot2_port != 0 ? "--groot2/--btlog: " : "--btlog: ") + e.what());
+  }
 
   {
     std::string tour, exhibits;
@@ -174,6 +200,9 @@ int main(int argc, char** argv) {
     pepper.set_tick(n);
     if (options.trace) std::printf("tick %ld\n", n);
     result = g_mission.tick();
+#ifdef LAB_TOUR_WITH_GROOT2
+    if (groot2) groot2->sync();
+#endif
     if (options.trace) std::printf("result %s\n", std::string(btgen::to_string(result)).c_str());
     if (options.tick_ms > 0) std::fflush(stdout);
     if (btgen::is_completed(result)) break;

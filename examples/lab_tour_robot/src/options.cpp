@@ -35,7 +35,7 @@ std::string usage_text(std::string_view program) {
          "       " + std::string(p.size(), ' ') +
          " [--answer yes|no] [--scenario FILE.scenario] [--trace]\n"
          "       " + std::string(p.size(), ' ') +
-         " [--tick-ms N] [--max-ticks N]\n"
+         " [--tick-ms N] [--max-ticks N] [--groot2 PORT] [--btlog FILE.btlog]\n"
          "\n"
          "Runs the Lab Tour mission (missions/LabTour.xml, compiled by btgen) on a\n"
          "simulated Pepper that takes poses, gesture targets and messages from the\n"
@@ -57,6 +57,10 @@ std::string usage_text(std::string_view program) {
          "                      do not start with \"[tick\" or \"lab_tour_robot:\"\n"
          "  --tick-ms N         sleep N ms between ticks, for a live demo (default 0)\n"
          "  --max-ticks N       give up (halt, exit 1) after N ticks (default 10000)\n"
+         "  --groot2 PORT       publish the run to Groot2 (BehaviorTree.CPP's Groot2Publisher\n"
+         "                      protocol on PORT and PORT+1, all interfaces); use with\n"
+         "                      --tick-ms to watch it live\n"
+         "  --btlog FILE        write a Groot2 log file (FileLogger2 .btlog) of the run\n"
          "\n"
          "Exit status: 0 the mission ended SUCCESS, 1 it ended FAILURE or ran out of\n"
          "ticks, 2 bad options, knowledge base or scenario.\n";
@@ -65,6 +69,7 @@ std::string usage_text(std::string_view program) {
 bool parse_options(int argc, const char* const* argv, Options& out, std::string& error) {
   out = Options{};
   bool seen_language = false, seen_tick_ms = false, seen_scenario = false, seen_trace = false;
+  bool seen_groot2 = false, seen_btlog = false;
   for (int i = 1; i < argc; ++i) {
     std::string_view arg = argv[i];
     if (arg == "-h" || arg == "--help") {
@@ -86,7 +91,8 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
     }
     const bool flag = name == "--trace";
     const bool known = flag || name == "--language" || name == "--kb-config" || name == "--answer" ||
-                       name == "--scenario" || name == "--tick-ms" || name == "--max-ticks";
+                       name == "--scenario" || name == "--tick-ms" || name == "--max-ticks" ||
+                       name == "--groot2" || name == "--btlog";
     if (!known) {
       error = "unknown option `" + std::string(name) + "`";
       return false;
@@ -150,6 +156,19 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
         error = "`--tick-ms` is a whole number of milliseconds from 0 to 60000, not `" + std::string(value) + "`";
         return false;
       }
+    } else if (name == "--groot2") {
+      if (twice(seen_groot2)) return false;
+      if (!parse_count(value, 1, 65534, out.groot2_port)) {
+        error = "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `" + std::string(value) + "`";
+        return false;
+      }
+    } else if (name == "--btlog") {
+      if (twice(seen_btlog)) return false;
+      if (value.size() < 7 || value.substr(value.size() - 6) != ".btlog") {
+        error = "`--btlog` needs a file name ending in .btlog, not `" + std::string(value) + "`";
+        return false;
+      }
+      out.btlog = std::string(value);
     } else if (name == "--max-ticks") {
       if (twice(out.max_ticks_given)) return false;
       if (!parse_count(value, 1, 1000000000, out.max_ticks)) {

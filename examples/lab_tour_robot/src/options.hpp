@@ -22,6 +22,8 @@ struct Options {
   long tick_ms = 0;
   long max_ticks = kDefaultMaxTicks;
   bool max_ticks_given = false;
+  long groot2_port = 0;  ///< 0: no Groot2 publisher
+  std::string btlog;     ///< empty: no .btlog
   bool help = false;
 };
 

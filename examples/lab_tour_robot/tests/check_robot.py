@@ -188,6 +188,8 @@ def case_bad_options(robot: str, repo: Path) -> None:
         (["--answer", "maybe"], "`--answer` is yes or no, not `maybe`"),
         (["--tick-ms", "x"], "`--tick-ms` is a whole number of milliseconds from 0 to 60000, not `x`"),
         (["--bogus"], "unknown option `--bogus`"),
+        (["--groot2", "65535"], "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `65535`"),
+        (["--btlog", "run.log"], "`--btlog` needs a file name ending in .btlog, not `run.log`"),
         (["--scenario", no_scenario, "--answer", "yes"],
          f"--answer yes contradicts {no_scenario}:{line}, which scripts IsVisitorResponseYes FAILURE"),
     ]:
@@ -241,6 +243,32 @@ def case_max_ticks(robot: str, repo: Path) -> None:
               f"last line `{run.lines[-1]}`")
 
 
+def case_btlog(robot: str, repo: Path) -> None:
+    """--btlog writes FileLogger2's format: header, the tree XML, the first timestamp, then one
+    9-byte record per status change, the same changes as the trace, in its order."""
+    import struct
+
+    statuses = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3}
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "tour.btlog")
+        run = Run(robot, ["--scenario", "missions/scenarios/LabTour.yes.scenario", "--trace", "--btlog", path])
+        run.check(run.rc == 0, f"exit status {run.rc}, expected 0")
+        data = Path(path).read_bytes()
+    run.check(data[:19] == b"BTCPP4-FileLogger2\x01", "no FileLogger2 header")
+    n = struct.unpack_from("<i", data, 19)[0]
+    xml = data[23:23 + n].decode()
+    run.check(xml.startswith('<root BTCPP_format="4">') and '_uid="1"' in xml, "no tree XML with _uid")
+    body = data[31 + n:]
+    run.check(len(body) % 9 == 0, f"{len(body)} bytes of records, not a multiple of 9")
+    got = [(int.from_bytes(body[i + 6:i + 8], "little"), body[i + 8]) for i in range(0, len(body), 9)]
+    want = []
+    for line in trace_lines(run.lines):
+        words = line.split()
+        if len(words) >= 4 and words[-2] == "->":
+            want.append((int(words[0]), statuses[words[-1]]))
+    run.check(got == want, f"{len(got)} records; the trace has {len(want)} changes, or they differ")
+
+
 CASES: dict[str, Callable[[str, Path], None]] = {
     "tour_yes": case_tour_yes,
     "tour_no": case_tour_no,
@@ -252,6 +280,7 @@ CASES: dict[str, Callable[[str, Path], None]] = {
     "bad_options": case_bad_options,
     "bad_kb": case_bad_kb,
     "max_ticks": case_max_ticks,
+    "btlog": case_btlog,
 }
 
 

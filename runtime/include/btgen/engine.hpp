@@ -31,6 +31,7 @@
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
+#include "btgen/user_node.hpp"
 
 namespace btgen {
 
@@ -53,6 +54,9 @@ struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::dec
 //   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
+//   template <class L> static constexpr bool sync_action(const NodeInfo&);
+//   template <class L> static Status user_tick(L&, BB&, ES&, const NodeInfo&, const ChildOps&);
+//   template <class L> static void user_halt(L&, BB&, ES&, const NodeInfo&, const ChildOps&);
 //   template <class L> static Status check(L&, BB&, ES&, const NodeInfo&);
 //   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
 //   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
@@ -198,8 +202,19 @@ class Engine {
   static constexpr Step done(Status s) noexcept { return Step{kNoNode, s}; }
 
   static constexpr const NodeInfo& info(std::uint16_t n) noexcept { return Spec::kNodes[n]; }
+  // The clamp is free in practice (children always exist) and keeps g++ -O2 from
+  // warning (-Warray-bounds) about a branch for a third child it cannot prove dead when the
+  // whole mission has exactly two parent-to-child edges.
   static constexpr std::uint16_t child(const NodeInfo& n, std::size_t i) noexcept {
-    return Spec::kChildren[n.child_begin + i];
+    constexpr std::size_t size = Spec::kChildren.size();
+    if constexpr (size == 0) {
+      (void)n;
+      (void)i;
+      return kNoNode;
+    } else {
+      const std::size_t k = std::size_t{n.child_begin} + i;
+      return Spec::kChildren[k < size ? k : size - 1];
+    }
   }
   std::int32_t& counter(const NodeInfo& n, std::size_t k) noexcept { return counters_[n.slot + k]; }
   std::uint64_t& timer(const NodeInfo& n) noexcept { return timers_[n.timer]; }
@@ -311,6 +326,11 @@ class Engine {
       if (n.kind == NodeKind::Action && status_[h.node] == Status::RUNNING) {
         const ErrorSink es = sink();
         Spec::on_halted(*leaves_, bb_, es, n);
+      } else if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) {
+        // ControlNode::halt() / DecoratorNode::halt(): the children were halted above; the
+        // user's halt() hook resets the node's own state.
+        const ErrorSink es = sink();
+        Spec::user_halt(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, 0));
       }
       reset_status(h.node);
       // TreeNode::haltNode runs _onHalted after halt().
@@ -342,6 +362,51 @@ class Engine {
       step = resume(stack_[sp - 1], s);
     }
   }
+
+  // executeTick of `root` for a user Control/Decorator's tick_child(), on the
+  // stack above that node's frame (stack_[base] on).
+  Status execute_at(std::uint16_t root, std::size_t base) noexcept {
+    std::size_t sp = base;
+    stack_[sp++] = Frame{root, 0, 0, Status::IDLE};
+    Step step = begin(stack_[base]);
+    for (;;) {
+      if (step.child != kNoNode) {
+        stack_[sp - 1].child_prev = status_[step.child];
+        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE};
+        step = begin(stack_[sp - 1]);
+        continue;
+      }
+      const Status s = finish(stack_[sp - 1].node, step.status);
+      if (--sp == base) return s;
+      step = resume(stack_[sp - 1], s);
+    }
+  }
+
+  // ChildOps of user Controls and Decorators.
+  static Status ops_tick_child(void* e, const NodeInfo& n, std::size_t i, std::size_t base) noexcept {
+    if (i >= n.child_count) return Status::FAILURE;
+    return static_cast<Engine*>(e)->execute_at(child(n, i), base);
+  }
+  static void ops_halt_child(void* e, const NodeInfo& n, std::size_t i) noexcept {
+    if (i < n.child_count) static_cast<Engine*>(e)->halt_child(n, i);
+  }
+  static void ops_reset_child_status(void* e, const NodeInfo& n, std::size_t i) noexcept {
+    if (i < n.child_count) static_cast<Engine*>(e)->reset_status(child(n, i));
+  }
+  static Status ops_child_status(const void* e, const NodeInfo& n, std::size_t i) noexcept {
+    return i < n.child_count ? static_cast<const Engine*>(e)->status_[child(n, i)] : Status::IDLE;
+  }
+  static Status ops_status(const void* e, std::uint16_t node) noexcept {
+    return static_cast<const Engine*>(e)->status_[node];
+  }
+  static void ops_set_status(void* e, std::uint16_t node, Status s) noexcept {
+    static_cast<Engine*>(e)->set_status(node, s);
+  }
+  static std::uint64_t ops_now_ms(void* e) noexcept { return static_cast<Engine*>(e)->clock_.now_ms(); }
+  static constexpr ChildOpsTable kChildOps{&Engine::ops_tick_child,     &Engine::ops_halt_child,
+                                           &Engine::ops_reset_child_status, &Engine::ops_child_status,
+                                           &Engine::ops_status,         &Engine::ops_set_status,
+                                           &Engine::ops_now_ms};
 
   // The start of executeTick: the pre-conditions may decide instead of tick().
   [[gnu::always_inline]] Step begin(Frame& f) noexcept {
@@ -568,9 +633,10 @@ class Engine {
 
       case NodeKind::Action: {
         // StatefulActionNode: onStart from IDLE, onRunning while RUNNING; a
-        // node not yet reset by its parent answers its status again.
+        // node not yet reset by its parent answers its status again (a
+        // SyncActionNode, tick() alone, ticks again: Spec::on_start calls it).
         const Status st = status_[f.node];
-        if (st != Status::IDLE && st != Status::RUNNING) return done(st);
+        if (st != Status::IDLE && st != Status::RUNNING && !Spec::template sync_action<Leaves>(n)) return done(st);
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const Status s = st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n)
@@ -582,6 +648,22 @@ class Engine {
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         return done(guarded(Spec::check(*leaves_, bb_, es, n), before));
+      }
+
+      case NodeKind::UserControl:
+      case NodeKind::UserDecorator: {
+        // The user's tick(); its children run above this frame of the stack.
+        const std::uint64_t before = errors_;
+        const ErrorSink es = sink();
+        const std::size_t base = static_cast<std::size_t>(&f - stack_.data()) + 1;
+        const Status s = Spec::user_tick(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, base));
+        if (errors_ != before) return done(Status::FAILURE);
+        if (s == Status::IDLE) {
+          // TreeNode::setStatus(IDLE) throws in 4.6.2.
+          (void)es.fail(n, n.source, "tick() returned IDLE: a node is not allowed to set its status to IDLE");
+          return done(Status::FAILURE);
+        }
+        return done(s);
       }
     }
     return done(Status::FAILURE);

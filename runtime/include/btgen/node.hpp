@@ -54,9 +54,14 @@ enum class NodeKind : std::uint8_t {
   // user leaves
   Action,
   Condition,
+  // the mission's own Controls and Decorators (TreeNodesModel), run by the
+  // user's tick() hook (btgen/user_node.hpp)
+  UserControl,
+  UserDecorator,
 };
 
-enum class LeafKind : std::uint8_t { Action, Condition };
+// The kind of a model of TreeNodesModel (the generated model classes' kKind).
+enum class LeafKind : std::uint8_t { Action, Condition, Control, Decorator };
 
 inline constexpr std::uint16_t kNoNode = 0xFFFF;
 inline constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
@@ -85,7 +90,7 @@ struct NodeInfo {
   std::uint16_t parent;       // kNoNode for the root
   std::uint32_t child_begin;  // first entry in the child table
   std::uint16_t child_count;
-  std::uint16_t model;        // leaf model (Action/Condition), else kNoModel
+  std::uint16_t model;        // user model (Action/Condition/Control/Decorator), else kNoModel
   std::uint32_t slot;         // first counter slot, else kNoSlot
   std::uint32_t timer;        // 64-bit slot: start time, or the update counter seen; else kNoSlot
   std::uint16_t scripts;      // pre/post conditions present (1 << ScriptSlot)
@@ -98,15 +103,15 @@ struct NodeInfo {
 };
 
 [[nodiscard]] constexpr bool is_control(NodeKind k) noexcept {
-  return k <= NodeKind::WhileDoElse;
+  return k <= NodeKind::WhileDoElse || k == NodeKind::UserControl;
 }
 
 [[nodiscard]] constexpr bool is_decorator(NodeKind k) noexcept {
-  return k >= NodeKind::Inverter && k <= NodeKind::SubTree;
+  return (k >= NodeKind::Inverter && k <= NodeKind::SubTree) || k == NodeKind::UserDecorator;
 }
 
 [[nodiscard]] constexpr bool is_leaf(NodeKind k) noexcept {
-  return k >= NodeKind::AlwaysSuccess;
+  return k >= NodeKind::AlwaysSuccess && k <= NodeKind::Condition;
 }
 
 }  // namespace btgen

@@ -18,9 +18,21 @@ namespace btgen {
 // it is. A message that quotes a node name or a string with a line break stays
 // one `path:line:col: error:` line. `put` gets the text in pieces
 // (std::string_view).
+//
+// A text longer than kMaxDiagnosticBytes (a scenario line of megabytes quoted
+// whole) keeps its first bytes up to a character boundary and ends in
+// `... (cut: N bytes in all)`, as the interpreter's.
+inline constexpr std::size_t kMaxDiagnosticBytes = 4096;
+
 template <class Put>
 void one_line(std::string_view text, Put&& put) noexcept(noexcept(put(std::string_view()))) {
   static constexpr char kHex[] = "0123456789abcdef";
+  const std::size_t whole = text.size();
+  if (whole > kMaxDiagnosticBytes) {
+    std::size_t cut = kMaxDiagnosticBytes;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0u) == 0x80u) --cut;
+    text = text.substr(0, cut);
+  }
   const auto* p = reinterpret_cast<const unsigned char*>(text.data());
   const std::size_t n = text.size();
   std::size_t plain = 0;  // start of the bytes not yet written
@@ -55,6 +67,18 @@ void one_line(std::string_view text, Put&& put) noexcept(noexcept(put(std::strin
     plain = i + 1;
   }
   if (n > plain) put(text.substr(plain));
+  if (whole > n) {
+    char digits[24];
+    std::size_t k = sizeof digits;
+    std::size_t v = whole;
+    do {
+      digits[--k] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    } while (v != 0);
+    put(std::string_view("... (cut: "));
+    put(std::string_view(digits + k, sizeof digits - k));
+    put(std::string_view(" bytes in all)"));
+  }
 }
 
 // Writes one_line(text) to `f`.

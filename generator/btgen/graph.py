@@ -1,0 +1,274 @@
+"""`btgen graph`: a picture of a mission (Graphviz), optionally coloured by a run.
+
+    btgen graph MISSION.xml -o FILE.svg|FILE.dot [--trace FILE [--tick N] | --btlog FILE [--record N]]
+
+The whole main tree with its SubTrees expanded: each SubTree instance is a
+cluster (labelled with its tree ID and the path BehaviorTree.CPP gives it),
+node kinds have their own shapes (Control: box, Decorator: hexagon, Action:
+rounded box, Condition: ellipse, SubTree: 3-D box), every node shows its name,
+its ID when the name differs, its UID and its ports as written.
+
+With a status trace (`btgen run` output, shared/conformance/FORMAT.md) the
+nodes are filled with their statuses at the end of tick N (default: the last
+tick in the file). A .btlog (Groot2's FileLogger2 format, written by
+btgen::btlog::FileLogger or BehaviorTree.CPP) has no tick boundaries, so it
+is read up to record N (default: all); its tree must be the mission's.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from typing import Optional
+
+from .diagnostics import Diagnostic, Loc, UserError
+from .model import Mission, Node, SubTreeNode
+from .treexml import subtree_path
+
+STATUS_NAMES = ("IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED")
+FILL = {"RUNNING": "#f5a623", "SUCCESS": "#7ed321", "FAILURE": "#e74c3c", "SKIPPED": "#9ecae1", "IDLE": "#ffffff"}
+SHAPES = {"Control": ("box", ""), "Decorator": ("hexagon", ""), "Action": ("box", "rounded"),
+          "Condition": ("ellipse", ""), "SubTree": ("box3d", "")}
+
+
+def _error(path: str, line: int, col: int, message: str) -> UserError:
+    return UserError(Diagnostic(Loc(path, line, col), message))
+
+
+@dataclass(frozen=True)
+class GNode:
+    uid: int
+    kind: str
+    id: str
+    name: str
+    ports: tuple[tuple[str, str], ...]
+    parent: int  # UID, 0 for the root
+    cluster: int  # index of the tree instance holding it
+
+
+def walk(mission: Mission) -> tuple[list[GNode], list[tuple[str, str]]]:
+    """Nodes in creation order (UID order) and the tree instances (tree ID, path)."""
+    nodes: list[GNode] = []
+    clusters: list[tuple[str, str]] = [(mission.main_tree, "")]
+    stack: list[tuple[Node, int, int, str]] = [(mission.main.root, 0, 0, "")]
+    while stack:
+        node, parent, cluster, prefix = stack.pop()
+        uid = len(nodes) + 1
+        if isinstance(node, SubTreeNode):
+            kind = "SubTree"
+        else:
+            try:
+                kind = mission.spec(node.id).kind
+            except KeyError:
+                kind = "Action"
+        ports = tuple((p.name, p.value) for p in node.ports) + tuple((a.name, a.value) for a in node.pre + node.post)
+        nodes.append(GNode(uid, kind, "SubTree" if isinstance(node, SubTreeNode) else node.id, node.display_name,
+                           ports, parent, cluster))
+        if isinstance(node, SubTreeNode):
+            path = subtree_path(prefix, node, uid)
+            clusters.append((node.target, path))
+            stack.append((mission.tree(node.target).root, uid, len(clusters) - 1, path + "/"))
+        else:
+            for child in reversed(node.children):
+                stack.append((child, uid, cluster, prefix))
+    return nodes, clusters
+
+
+# ------------------------------------------------------------------ statuses
+def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
+    """Statuses at the end of `tick` (default: the last) from a status trace."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except (OSError, UnicodeDecodeError) as e:
+        raise _error(path, 1, 1, f"cannot read the trace: {e}") from None
+    by_uid = {n.uid: n for n in nodes}
+    status: dict[int, str] = {}
+    current = 0
+    for i, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        words = line.split()
+        if words[0] == "tick" and len(words) == 2 and words[1].isdigit():
+            n = int(words[1])
+            if tick is not None and n > tick:
+                return status, current
+            current = n
+            continue
+        if words[0] == "result" and len(words) == 2 and words[1] in STATUS_NAMES:
+            continue
+        if len(words) >= 5 and words[0].isdigit() and words[-2] == "->" and words[-1] in STATUS_NAMES \
+                and words[-3] in STATUS_NAMES:
+            uid = int(words[0])
+            if uid not in by_uid:
+                raise _error(path, i, 1, f"UID {uid} is not a node of the mission (it has {len(nodes)})")
+            if words[1] != by_uid[uid].id:
+                raise _error(path, i, len(words[0]) + 2,
+                             f"UID {uid} is `{by_uid[uid].id}` in the mission, `{words[1]}` in the trace")
+            status[uid] = words[-1]
+            continue
+        raise _error(path, i, 1, f"not a line of a status trace: `{line[:60]}`")
+    if tick is not None and tick > current:
+        raise _error(path, max(len(lines), 1), 1, f"the trace ends at tick {current}; there is no tick {tick}")
+    return status, current
+
+
+def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
+    """Statuses after the first `record` transitions (default: all) of a .btlog."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        raise _error(path, 1, 1, f"cannot read the log: {e}") from None
+    if data[:18] != b"BTCPP4-FileLogger2" or len(data) < 23:
+        raise _error(path, 1, 1, "not a Groot2 log: no `BTCPP4-FileLogger2` header")
+    size = struct.unpack_from("<i", data, 19)[0]
+    if size < 0 or 23 + size + 8 > len(data):
+        raise _error(path, 1, 20, f"the tree XML length {size} runs past the end of the file")
+    try:
+        root = ET.fromstring(data[23:23 + size].decode("utf-8"))
+    except (ET.ParseError, UnicodeDecodeError) as e:
+        raise _error(path, 1, 24, f"the log's tree XML does not parse: {e}") from None
+    logged = {}
+    for el in root.iter():
+        uid = el.get("_uid")
+        if uid is not None and uid.isdigit():
+            logged[int(uid)] = el.tag
+    mine = {n.uid: n.id for n in nodes}
+    if logged != mine:
+        differ = sorted(set(logged.items()) ^ set(mine.items()))
+        raise _error(path, 1, 24, f"the log's tree is not this mission's ({len(logged)} nodes, the mission has "
+                                  f"{len(mine)}; first difference at UID {differ[0][0]})")
+    body = data[23 + size + 8:]
+    count = len(body) // 9
+    if record is not None and record > count:
+        raise _error(path, 1, 1, f"the log has {count} records; there is no record {record}")
+    status: dict[int, str] = {}
+    for k in range(count if record is None else record):
+        uid = int.from_bytes(body[9 * k + 6:9 * k + 8], "little")
+        code = body[9 * k + 8]
+        if uid not in mine or code >= len(STATUS_NAMES):
+            raise _error(path, 1, 1, f"record {k + 1}: UID {uid} status {code} is not valid for this mission")
+        status[uid] = STATUS_NAMES[code]
+    return status, count if record is None else record
+
+
+# ------------------------------------------------------------------- drawing
+def _q(text: str) -> str:
+    """A Graphviz quoted string whose text shows as is."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
+def _label(n: GNode) -> str:
+    head = n.name if n.name == n.id else f"{n.name}\n[{n.id}]"
+    lines = [f"{head}  #{n.uid}"]
+    for k, v in n.ports:
+        shown = v if len(v) <= 48 else v[:45] + "..."
+        lines.append(f"{k} = {shown}")
+    return "\n".join(lines)
+
+
+def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str]],
+             status: Optional[dict[int, str]] = None, caption: str = "") -> str:
+    out = ["digraph mission {", "  rankdir=TB;", '  node [fontname="Helvetica", fontsize=10];',
+           '  edge [arrowsize=0.6];', f"  label={_q(caption or mission.path)};", "  labelloc=t;"]
+    members: dict[int, list[GNode]] = {}
+    for n in nodes:
+        members.setdefault(n.cluster, []).append(n)
+
+    def node_line(n: GNode) -> str:
+        shape, style = SHAPES.get(n.kind, ("box", ""))
+        styles = [s for s in (style, "filled") if s]
+        fill = FILL.get(status.get(n.uid, "IDLE"), "#ffffff") if status is not None else "#ffffff"
+        return f"n{n.uid} [label={_q(_label(n))}, shape={shape}, style={_q(','.join(styles))}, fillcolor={_q(fill)}];"
+
+    for c, (tree_id, path) in enumerate(clusters):
+        if c == 0:
+            for n in members.get(0, []):
+                out.append("  " + node_line(n))
+            continue
+        out.append(f"  subgraph cluster_{c} {{")
+        out.append(f"    label={_q(f'{tree_id} ({path})')};")
+        out.append('    style="rounded,dashed";')
+        for n in members.get(c, []):
+            out.append("    " + node_line(n))
+        out.append("  }")
+    for n in nodes:
+        if n.parent:
+            out.append(f"  n{n.parent} -> n{n.uid};")
+    if status is not None:
+        cells = "".join(f'<td bgcolor="{FILL[s]}">{s}</td>' for s in ("RUNNING", "SUCCESS", "FAILURE", "SKIPPED", "IDLE"))
+        out.append(f'  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0"><tr>{cells}</tr></table>>];')
+    out.append("}")
+    return "\n".join(out) + "\n"
+
+
+def graph_command(args) -> int:
+    from .frontend import load_mission
+
+    output: str = args.output
+    ext = os.path.splitext(output)[1].lower()
+    if ext not in (".svg", ".dot"):
+        print(f"btgen: error: -o {output}: the output is a .svg or a .dot file", file=sys.stderr)
+        return 2
+    if args.tick is not None and args.trace is None:
+        print("btgen: error: --tick needs --trace (a .btlog has no tick boundaries: use --btlog FILE --record N)",
+              file=sys.stderr)
+        return 2
+    if args.record is not None and args.btlog is None:
+        print("btgen: error: --record needs --btlog", file=sys.stderr)
+        return 2
+    mission = load_mission(args.mission)
+    nodes, clusters = walk(mission)
+    status = None
+    caption = f"{mission.path} (main tree {mission.main_tree})"
+    if args.trace is not None:
+        status, tick = trace_statuses(args.trace, args.tick, nodes)
+        caption += f"\nstatuses at the end of tick {tick} of {args.trace}"
+    elif args.btlog is not None:
+        status, record = btlog_statuses(args.btlog, args.record, nodes)
+        caption += f"\nstatuses after record {record} of {args.btlog}"
+    text = dot_text(mission, nodes, clusters, status, caption)
+    if ext == ".dot":
+        _write(output, text.encode("utf-8"))
+        return 0
+    dot = shutil.which("dot")
+    if dot is None:
+        print("btgen: error: Graphviz `dot` is not installed (Debian: apt-get install graphviz); "
+              "write a .dot file instead", file=sys.stderr)
+        return 1
+    proc = subprocess.run([dot, "-Tsvg"], input=text.encode("utf-8"), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          timeout=600)
+    if proc.returncode != 0:
+        print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}",
+              file=sys.stderr)
+        return 1
+    _write(output, proc.stdout)
+    return 0
+
+
+def _write(path: str, data: bytes) -> None:
+    """Writes `path` whole or not at all (a temporary file renamed over it)."""
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".btgen-graph-")
+    except OSError as e:
+        raise _error(path, 1, 1, f"cannot write: {e.strerror}") from None
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # what a new file gets (mkstemp's are 0600)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise _error(path, 1, 1, f"cannot write: {e.strerror}") from None

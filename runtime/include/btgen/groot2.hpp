@@ -1,0 +1,474 @@
+// btgen runtime: live monitoring of a compiled mission in Groot2.
+//
+//     using Tour = lab_tour::LabTour<Robot, btgen::SteadyClock, btgen::MonitorObserver<>>;
+//     Tour mission(robot);
+//     btgen::groot2::Publisher groot2(mission, 1667);  // REP on 1667, PUB on 1668
+//     for (;;) { mission.tick(); groot2.sync(); ... }
+//
+// Speaks BehaviorTree.CPP 4.6's Groot2Publisher protocol (groot2_protocol.h:
+// protocol 2, a ZeroMQ REP socket on `port` and a PUB socket on `port + 1`).
+// Every request is a 6-byte header (protocol, request type, uint32 id) and
+// every reply starts with that header and the tree's 16-byte UUID:
+//
+//   FULLTREE 'T'     the mission's tree XML, built by the generator (Groot2::kTreeXml)
+//   STATUS 'S'       3 bytes per node, uint16 UID + status, in 4.6.2's order; IDLE
+//                    reached from S is written 10 + S, as 4.6.2 does
+//   BLACKBOARD 'B'   second part "name;name;...": MessagePack of a JSON object with
+//                    each named blackboard's entries (integers, bools as integers,
+//                    doubles, strings; other types null, as 4.6.2's JSON export)
+//   TOGGLE_RECORDING 'r' "start" (reply: now in microseconds) / "stop"
+//   GET_TRANSITIONS 't' the transitions since the last call, 9 bytes each
+//   HOOKS_DUMP 'D'   "[]"; REMOVE_ALL_HOOKS 'A', DISABLE_ALL_HOOKS 'X': done (none exist)
+//   HOOK_INSERT 'I', HOOK_REMOVE 'R', BREAKPOINT_UNLOCK 'U': error replies; btgen has no
+//                    breakpoints (a compiled tick cannot be paused), so Groot2 shows the
+//                    error and never waits for a breakpoint
+//   anything else, a header that is not 6 bytes, a protocol other than 2: an error
+//                    reply ("error", message), as 4.6.2 answers what it does not know.
+//
+// The tick path: each status change stores one byte in an array of atomics
+// (and, while recording, one record in a fixed ring); the server thread reads
+// them. The blackboard is copied by sync() (call it after each tick), and at
+// a status change while a BLACKBOARD request waits for it, under a mutex the
+// tick thread only try-locks: it never waits. Nothing on the tick path
+// allocates. A BLACKBOARD request waits up to 200 ms for a fresh copy, then
+// answers with the last one (the blackboard after the last sync()).
+#pragma once
+
+#include <algorithm>
+#include <cerrno>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+#include <zmq.hpp>
+
+#include "btgen/blackboard.hpp"
+#include "btgen/btlog.hpp"
+#include "btgen/dynamic.hpp"
+#include "btgen/fixed_string.hpp"
+#include "btgen/monitor.hpp"
+#include "btgen/node.hpp"
+#include "btgen/status.hpp"
+
+namespace btgen::groot2 {
+
+inline constexpr std::uint8_t kProtocolId = 2;
+
+enum RequestType : std::uint8_t {
+  kFullTree = 'T',
+  kStatus = 'S',
+  kBlackboard = 'B',
+  kHookInsert = 'I',
+  kHookRemove = 'R',
+  kBreakpointReached = 'N',
+  kBreakpointUnlock = 'U',
+  kHooksDump = 'D',
+  kRemoveAllHooks = 'A',
+  kDisableAllHooks = 'X',
+  kToggleRecording = 'r',
+  kGetTransitions = 't',
+};
+
+// MessagePack, as nlohmann::json::to_msgpack writes what the blackboard export holds.
+class MsgPack {
+ public:
+  std::string out;
+
+  void nil() { out.push_back(static_cast<char>(0xc0)); }
+  void integer(std::int64_t v) {
+    if (v >= 0) {
+      const auto u = static_cast<std::uint64_t>(v);
+      if (u < 128) byte(static_cast<std::uint8_t>(u));
+      else if (u <= 0xFF) { byte(0xcc); be(u, 1); }
+      else if (u <= 0xFFFF) { byte(0xcd); be(u, 2); }
+      else if (u <= 0xFFFFFFFFu) { byte(0xce); be(u, 4); }
+      else { byte(0xcf); be(u, 8); }
+    } else if (v >= -32) {
+      byte(static_cast<std::uint8_t>(static_cast<std::int8_t>(v)));
+    } else if (v >= INT8_MIN) { byte(0xd0); be(static_cast<std::uint64_t>(v), 1); }
+    else if (v >= INT16_MIN) { byte(0xd1); be(static_cast<std::uint64_t>(v), 2); }
+    else if (v >= INT32_MIN) { byte(0xd2); be(static_cast<std::uint64_t>(v), 4); }
+    else { byte(0xd3); be(static_cast<std::uint64_t>(v), 8); }
+  }
+  void real(double v) {
+    const auto f = static_cast<float>(v);
+    if (static_cast<double>(f) == v) {  // nlohmann writes a float32 when nothing is lost
+      std::uint32_t bits;
+      std::memcpy(&bits, &f, 4);
+      byte(0xca);
+      be(bits, 4);
+    } else {
+      std::uint64_t bits;
+      std::memcpy(&bits, &v, 8);
+      byte(0xcb);
+      be(bits, 8);
+    }
+  }
+  void str(std::string_view s) {
+    const std::size_t n = s.size();
+    if (n < 32) byte(static_cast<std::uint8_t>(0xa0 | n));
+    else if (n <= 0xFF) { byte(0xd9); be(n, 1); }
+    else if (n <= 0xFFFF) { byte(0xda); be(n, 2); }
+    else { byte(0xdb); be(n, 4); }
+    out.append(s.data(), n);
+  }
+  void map(std::size_t n) {
+    if (n < 16) byte(static_cast<std::uint8_t>(0x80 | n));
+    else if (n <= 0xFFFF) { byte(0xde); be(n, 2); }
+    else { byte(0xdf); be(n, 4); }
+  }
+
+ private:
+  void byte(std::uint8_t b) { out.push_back(static_cast<char>(b)); }
+  void be(std::uint64_t v, int n) {
+    for (int i = n - 1; i >= 0; --i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+  }
+};
+
+namespace detail {
+
+template <class T>
+struct is_fixed_string : std::false_type {};
+template <std::size_t N>
+struct is_fixed_string<FixedString<N>> : std::true_type {};
+template <class T>
+struct is_dyn : std::false_type {};
+template <std::size_t N>
+struct is_dyn<Dyn<N>> : std::true_type {};
+
+// One entry's value as 4.6.2's ExportBlackboardToJSON writes it.
+template <class T>
+void write_value(MsgPack& mp, const Slot<T>& slot) {
+  if (!slot.has_value) return mp.nil();
+  const T& v = slot.value;
+  if constexpr (std::is_same_v<T, bool> || std::is_integral_v<T>) {
+    mp.integer(static_cast<std::int64_t>(v));  // 4.6.2's Any holds every integral as int64
+  } else if constexpr (std::is_floating_point_v<T>) {
+    mp.real(static_cast<double>(v));
+  } else if constexpr (is_fixed_string<T>::value) {
+    mp.str(v.view());
+  } else if constexpr (is_dyn<T>::value) {
+    switch (v.tag) {
+      case DynTag::kInt: case DynTag::kBool: return mp.integer(v.i);
+      case DynTag::kDouble: return mp.real(v.d);
+      case DynTag::kString: return mp.str(v.s.view());
+      default: return mp.nil();
+    }
+  } else {
+    mp.nil();  // NodeStatus, queues: 4.6.2 has no JSON converter for them
+  }
+}
+
+inline std::array<char, 16> random_uuid() {
+  std::random_device rd;
+  std::array<char, 16> out{};
+  for (std::size_t i = 0; i < 16; i += 4) {
+    const std::uint32_t r = rd();
+    std::memcpy(out.data() + i, &r, 4);
+  }
+  out[8] = static_cast<char>((out[8] & 0xBF) | 0x80);  // variant 10xxxxxx
+  out[6] = static_cast<char>((out[6] & 0x4F) | 0x40);  // version 0100xxxx
+  return out;
+}
+
+}  // namespace detail
+
+// The publisher of one mission (a btgen mission whose observer is a
+// btgen::MonitorObserver); destroy it before the mission (it detaches itself).
+// Throws zmq::error_t when a port cannot be bound.
+// `address` is the interface ("*": all, as BehaviorTree.CPP; "127.0.0.1").
+template <class Mission>
+class Publisher final : public StatusSink {
+ public:
+  using Groot2 = typename Mission::Groot2;
+  using Blackboard = typename Mission::Blackboard;
+  static constexpr std::size_t kNodes = Mission::node_count();
+
+  Publisher(Mission& mission, unsigned port, const std::string& address = "*",
+            std::size_t recording_capacity = 1000)
+      : mission_(&mission),
+        port_(port),
+        recording_(recording_capacity),
+        snapshot_(std::make_unique<Blackboard>()),
+        server_(context_, zmq::socket_type::rep),
+        publisher_(context_, zmq::socket_type::pub),
+        uuid_(detail::random_uuid()) {
+    for (auto& s : status_) s.store(0, std::memory_order_relaxed);
+    server_address_ = "tcp://" + address + ":" + std::to_string(port);
+    configure(server_);
+    server_.bind(server_address_);
+    publisher_.set(zmq::sockopt::linger, 0);
+    publisher_.bind("tcp://" + address + ":" + std::to_string(port + 1));
+    if (!mission.observer().attach(this))
+      throw std::runtime_error("groot2: the mission's observer has no room for another monitor");
+    *snapshot_ = mission.blackboard();
+    thread_ = std::thread([this] { serve(); });
+  }
+
+  Publisher(const Publisher&) = delete;
+  Publisher& operator=(const Publisher&) = delete;
+
+  ~Publisher() {
+    mission_->observer().detach(this);
+    active_.store(false);
+    if (thread_.joinable()) thread_.join();
+  }
+
+  // Tick thread, inside tick(): one byte, and a record while recording.
+  void on_status(const NodeInfo& node, Status from, Status to) noexcept override {
+    const auto code = static_cast<std::uint8_t>(to == Status::IDLE ? 10 + static_cast<int>(from) : static_cast<int>(to));
+    status_[node.index].store(code, std::memory_order_relaxed);
+    if (recording_on_.load(std::memory_order_relaxed)) {
+      const std::int64_t now = btgen::wall_clock_usec() - record_origin_.load(std::memory_order_relaxed);
+      recording_.push(Transition{now > 0 ? static_cast<std::uint64_t>(now) : 0, node.uid, static_cast<std::uint8_t>(to)});
+    }
+    if (bb_wanted_.load(std::memory_order_acquire)) sync();
+  }
+
+  // Tick thread, between ticks (after each tick): copies the blackboard for
+  // BLACKBOARD requests, unless the server thread is reading the last copy.
+  void sync() noexcept {
+    std::unique_lock<std::mutex> lock(bb_mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return;
+    *snapshot_ = mission_->blackboard();
+    bb_wanted_.store(false, std::memory_order_release);
+    bb_version_.fetch_add(1, std::memory_order_release);
+  }
+
+  [[nodiscard]] unsigned port() const noexcept { return port_; }
+  // Requests answered so far (tests, diagnostics).
+  [[nodiscard]] std::uint64_t requests() const noexcept { return requests_.load(); }
+
+ private:
+  void serve() {
+    while (active_.load()) {
+      if (!bound_) {
+        rebind();
+        if (!bound_) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        continue;
+      }
+      std::vector<zmq::message_t> parts;
+      try {
+        zmq::message_t first;
+        const auto got = server_.recv(first, zmq::recv_flags::none);
+        if (!got) continue;  // timeout: look at active_ again
+        parts.push_back(std::move(first));
+        while (parts.back().more()) {
+          zmq::message_t next;
+          if (!server_.recv(next, zmq::recv_flags::none)) break;
+          parts.push_back(std::move(next));
+        }
+        answer(parts);
+      } catch (const zmq::error_t& e) {
+        // A peer that went away mid-request, an interrupted call: keep serving. A REP
+        // socket left waiting for a reply it could not send (EFSM) is made anew.
+        if (e.num() == EFSM) reset_server();
+      } catch (const std::exception&) {
+        reset_server();  // out of memory while answering: the reply was not sent
+      }
+    }
+  }
+
+  static void configure(zmq::socket_t& s) {
+    s.set(zmq::sockopt::linger, 0);
+    s.set(zmq::sockopt::rcvtimeo, 100);
+    s.set(zmq::sockopt::sndtimeo, 1000);
+    s.set(zmq::sockopt::maxmsgsize, std::int64_t{1} << 20);  // a larger request drops its peer
+  }
+  void reset_server() {
+    try {
+      server_.close();
+      server_ = zmq::socket_t(context_, zmq::socket_type::rep);
+      configure(server_);
+      bound_ = false;
+      rebind();
+    } catch (const zmq::error_t&) {
+    }
+  }
+  // Binds the new socket; serve() tries again every 100 ms until the port is free.
+  void rebind() {
+    try {
+      server_.bind(server_address_);
+      bound_ = true;
+    } catch (const zmq::error_t&) {
+    }
+  }
+
+  void send(std::vector<std::string>& reply) {
+    for (std::size_t i = 0; i < reply.size(); ++i) {
+      const auto flags = i + 1 < reply.size() ? zmq::send_flags::sndmore : zmq::send_flags::none;
+      if (!server_.send(zmq::buffer(reply[i]), flags)) {
+        reset_server();  // the reply could not go out within a second: start afresh
+        return;
+      }
+    }
+    requests_.fetch_add(1);
+  }
+  void error(std::string_view message) {
+    std::vector<std::string> reply{"error", std::string(message)};
+    send(reply);
+  }
+
+  void answer(const std::vector<zmq::message_t>& parts) {
+    const zmq::message_t& head = parts[0];
+    if (head.size() != 6) return error("wrong request header");
+    const auto* h = static_cast<const unsigned char*>(head.data());
+    if (h[0] != kProtocolId) return error("wrong protocol: btgen speaks Groot2 protocol 2");
+    std::string header(22, '\0');
+    std::memcpy(header.data(), h, 6);
+    std::memcpy(header.data() + 6, uuid_.data(), 16);
+    std::vector<std::string> reply{header};
+    const auto second = [&]() -> std::string {
+      return std::string(static_cast<const char*>(parts[1].data()), parts[1].size());
+    };
+    switch (h[1]) {
+      case kFullTree:
+        reply.emplace_back(Groot2::kTreeXml);
+        break;
+      case kStatus: {
+        std::string buf(3 * kNodes, '\0');
+        for (std::size_t i = 0; i < kNodes; ++i) {
+          const std::uint16_t index = Groot2::kStatusOrder[i];
+          const std::uint16_t uid = Mission::node(index).uid;
+          buf[3 * i] = static_cast<char>(uid & 0xFF);
+          buf[3 * i + 1] = static_cast<char>(uid >> 8);
+          buf[3 * i + 2] = static_cast<char>(status_[index].load(std::memory_order_relaxed));
+        }
+        reply.push_back(std::move(buf));
+        break;
+      }
+      case kBlackboard:
+        if (parts.size() != 2) return error("must be 2 parts message");
+        reply.push_back(blackboards(second()));
+        break;
+      case kToggleRecording: {
+        if (parts.size() != 2) return error("must be 2 parts message");
+        const std::string cmd = second();
+        if (cmd == "start") {
+          recording_.drain([](const Transition&) {});
+          record_origin_.store(btgen::wall_clock_usec());
+          recording_on_.store(true);
+          reply.push_back(std::to_string(btgen::wall_clock_usec()));
+        } else if (cmd == "stop") {
+          recording_on_.store(false);
+        }
+        break;
+      }
+      case kGetTransitions: {
+        std::string buf;
+        char rec[9];
+        recording_.drain([&](const Transition& t) {
+          pack_transition(t, rec);
+          buf.append(rec, 9);
+        });
+        reply.push_back(std::move(buf));
+        break;
+      }
+      case kHooksDump:
+        reply.emplace_back("[]");
+        break;
+      case kRemoveAllHooks:
+      case kDisableAllHooks:
+        break;
+      case kHookInsert:
+        return error("btgen: breakpoints and hooks are not supported by compiled missions");
+      case kHookRemove:
+      case kBreakpointUnlock:
+        return error("Node ID not found");
+      default:
+        return error("Request not recognized");
+    }
+    send(reply);
+  }
+
+  // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them.
+  std::string blackboards(const std::string& names) {
+    const std::uint64_t version = bb_version_.load(std::memory_order_acquire);
+    bb_wanted_.store(true, std::memory_order_release);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+    while (bb_version_.load(std::memory_order_acquire) == version && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    std::vector<std::size_t> wanted;
+    std::size_t start = 0;
+    while (start <= names.size()) {
+      std::size_t end = names.find(';', start);
+      if (end == std::string::npos) end = names.size();
+      const std::string_view name(names.data() + start, end - start);
+      for (std::size_t b = 0; b < Groot2::kBlackboards.size(); ++b) {
+        if (Groot2::kBlackboards[b] == name) {
+          bool seen = false;
+          for (std::size_t w : wanted) seen = seen || w == b;
+          if (!seen) wanted.push_back(b);
+        }
+      }
+      start = end + 1;
+    }
+    // nlohmann's object is a std::map: names in byte order.
+    std::sort(wanted.begin(), wanted.end(),
+              [](std::size_t a, std::size_t b) { return Groot2::kBlackboards[a] < Groot2::kBlackboards[b]; });
+    MsgPack mp;
+    if (wanted.empty()) {
+      mp.nil();
+      return mp.out;
+    }
+    std::lock_guard<std::mutex> lock(bb_mutex_);
+    mp.map(wanted.size());
+    for (std::size_t b : wanted) {
+      mp.str(Groot2::kBlackboards[b]);
+      std::size_t n = 0;
+      Groot2::visit_blackboard(*snapshot_, [&](std::size_t bb, std::string_view, const auto& slot) {
+        if (bb == b && slot.exists) ++n;
+      });
+      if (n == 0) {
+        mp.nil();
+        continue;
+      }
+      mp.map(n);
+      Groot2::visit_blackboard(*snapshot_, [&](std::size_t bb, std::string_view key, const auto& slot) {
+        if (bb != b || !slot.exists) return;
+        mp.str(key);
+        detail::write_value(mp, slot);
+      });
+    }
+    return mp.out;
+  }
+
+  Mission* mission_;
+  unsigned port_;
+  std::array<std::atomic<std::uint8_t>, kNodes> status_{};
+  TransitionRing recording_;
+  std::atomic<bool> recording_on_{false};
+  std::atomic<std::int64_t> record_origin_{0};
+  std::mutex bb_mutex_;
+  std::unique_ptr<Blackboard> snapshot_;
+  std::atomic<bool> bb_wanted_{false};
+  std::atomic<std::uint64_t> bb_version_{0};
+  std::atomic<std::uint64_t> requests_{0};
+  std::atomic<bool> active_{true};
+  std::string server_address_;
+  bool bound_ = true;  // server thread only, after construction
+  zmq::context_t context_;
+  zmq::socket_t server_;
+  zmq::socket_t publisher_;
+  std::array<char, 16> uuid_;
+  std::thread thread_;
+};
+
+template <class Mission>
+Publisher(Mission&, unsigned) -> Publisher<Mission>;
+template <class Mission>
+Publisher(Mission&, unsigned, const std::string&) -> Publisher<Mission>;
+
+}  // namespace btgen::groot2

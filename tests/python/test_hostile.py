@@ -1,0 +1,239 @@
+"""Hostile names and inputs (issue 14): every mission name becomes a C++ identifier that
+builds, with both compilers, optimised or not, warnings as errors."""
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import ROOT
+import hostile_names
+from btgen import naming
+from btgen.fuzzgen import HOSTILE_NAMES
+
+RUNTIME = os.path.join(ROOT, "runtime", "include")
+DRIVER = os.path.join(ROOT, "runtime", "src", "main_driver.cpp")
+FLAGS = ["-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
+# Stems whose engine is also instantiated (the rest only have their headers compiled): the
+# issue's reproducers and the names the mission class template uses.
+ISSUE_STEMS = frozenset("engine leaves observer clock main errno exit std btgen detail".split())
+
+
+@pytest.fixture(scope="module")
+def hostile_sources(tmp_path_factory):
+    """The hostile mission (every hostile name as model ID, port and key) and one translation
+    unit of a small mission under every hostile name as its stem."""
+    from btgen.compiler import generate
+    tmp = tmp_path_factory.mktemp("hostile")
+    names = hostile_names.pool()
+    xml = tmp / "hostile.xml"
+    xml.write_text(hostile_names.mission(names), encoding="utf-8")
+    for out in generate(str(xml), relative_to=str(tmp)):
+        (tmp / out.name).write_text(out.text, encoding="utf-8")
+    stems = tmp / "stems"
+    stems.mkdir()
+    (stems / "all_stems.cpp").write_text(hostile_names.stems_translation_unit(stems, names, ISSUE_STEMS),
+                                         encoding="utf-8")
+    return tmp
+
+
+@pytest.mark.parametrize("opt", ["-O0", "-O2"])
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_hostile_names_build(hostile_sources, compiler, opt):
+    """The scenario runner of the hostile mission, linked with every stem's header (and the
+    engines of ISSUE_STEMS, whose missions have exactly two parent-to-child edges, the
+    -Warray-bounds case of g++ -O2), builds without a warning."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    tmp = hostile_sources
+    cmd = [compiler, *FLAGS, opt, "-I", RUNTIME, "-I", str(tmp), "-I", str(tmp / "stems"),
+           '-DBTGEN_MISSION_HEADER="hostile.hpp"', "-DBTGEN_MISSION_TEMPLATE=hostile::Hostile",
+           DRIVER, str(tmp / "hostile.cpp"), str(tmp / "stems" / "all_stems.cpp"), "-o", str(tmp / f"run{opt}")]
+    start = time.monotonic()
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
+    assert proc.returncode == 0, proc.stdout[:6000]
+    print(f"{compiler} {opt}: {time.monotonic() - start:.1f} s", file=sys.stderr)
+
+
+def test_pool_covers_the_issue():
+    pool = set(hostile_names.pool())
+    assert naming.CPP_KEYWORDS <= pool
+    assert set(hostile_names.compiler_macros("g++")) <= pool
+    assert {"std", "btgen", "detail", "NULL", "errno", "EOF", "kId", "kKind", "kModel", "node", "blackboard",
+            "bb_", "err_", "node_", "scratch0_"} <= pool
+    assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
+    assert ISSUE_STEMS <= pool
+
+
+def test_compilers_define_no_macro_btgen_does_not_know():
+    """cpp_reserved.py is read from the compilers: any macro they define here is in it
+    (else rerun scripts/update_cpp_reserved.py)."""
+    for cxx in ("g++", "clang++"):
+        missing = sorted(set(hostile_names.compiler_macros(cxx)) - naming.MACROS)
+        assert not missing, f"{cxx} defines {missing[:10]}: run scripts/update_cpp_reserved.py"
+
+
+@pytest.mark.parametrize("name,kind,expected", [
+    ("NULL", "entry", "NULL_"), ("errno", "port", "errno_"), ("std", "model", "std_"), ("kId", "model", "kId_"),
+    ("bb_", "port", "bb_1"), ("scratch0_", "port", "scratch0_1"), ("loop_3", "entry", "loop_3_"),
+    ("exit", "namespace", "exit_"), ("main", "namespace", "main_"), ("lab_tour", "namespace", "lab_tour"),
+    ("Engine", "class", "Engine_"), ("LabTour", "class", "LabTour"), ("SayHello", "model", "SayHello"),
+    ("message", "port", "message"), ("x", "entry", "x"), ("class", "plain", "class_"),
+])
+def test_cpp_identifier_by_kind(name, kind, expected):
+    assert naming.cpp_identifier(name, kind=kind) == expected
+
+
+def test_port_identifiers_keep_getters_and_setters_apart():
+    # `set_x` the port would be the setter of `x`; a port named like its model is the constructor.
+    assert naming.port_identifiers(["x", "set_x", "Move"], "Move") == ("x", "set_x_2", "Move_2")
+    assert naming.unique_identifiers(["NULL", "NULL_"], kind="entry") == ("NULL_", "NULL_2")
+
+
+@pytest.mark.parametrize("text,expected", [
+    ("ends ??/", "ends ?_?/"), ("a???/b", "a?_?_?/b"), ("line\nbreak\r", "line?break?"), ("back\\", "back"),
+    ("ok?", "ok?"),
+])
+def test_comment_text_is_escaped(text, expected):
+    """`??/` would continue a // comment onto the next line (g++ -Wall: -Werror=trigraphs)."""
+    assert naming.cpp_comment(text) == expected
+
+
+CHAIN = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="t := 'ab'"/>
+      <Script code="t := t .. t"/>
+      <Script code="u := t .. t .. t .. t .. t"/>
+      <ScriptCondition code="u == 'abababababababababab'"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_long_concatenation_chain_has_a_linear_stack_frame(tmp_path):
+    """`u := t .. t .. t .. t .. t` with --string-capacity 1048576 made one buffer per `..`,
+    1+2+3+4+5 MiB, and the executor died of a stack overflow (SIGSEGV); one buffer of 5 MiB
+    serves the chain now."""
+    mission = tmp_path / "chain.xml"
+    mission.write_text(CHAIN, encoding="utf-8")
+    (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
+    out = tmp_path / "out"
+    subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out), "--string-capacity",
+                    "1048576"], check=True)
+    header = (out / "chain.hpp").read_text(encoding="utf-8")
+    assert header.count("btgen::FixedString<5242880>") == 1 and "FixedString<3145728>" not in header
+    exe = tmp_path / "chain"
+    subprocess.run([os.environ.get("CXX", "c++"), "-std=c++17", "-O0", "-I", RUNTIME, "-I", str(out),
+                    '-DBTGEN_MISSION_HEADER="chain.hpp"', "-DBTGEN_MISSION_TEMPLATE=chain::Chain", DRIVER,
+                    "-o", str(exe)], check=True)
+    proc = subprocess.run([str(exe), str(tmp_path / "one.scenario")], capture_output=True, text=True, check=False)
+    assert (proc.returncode, proc.stdout.splitlines()[-1]) == (0, "result SUCCESS"), proc.stderr
+
+
+DOUBLING = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="s := 'ab'"/>
+      <Repeat num_cycles="40"><Script code="s := s .. s"/></Repeat>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_interpreter_bounds_a_doubling_string(tmp_path):
+    """A script doubling a string 40 times ended the interpreter in MemoryError (exit 3); it
+    stops at MAX_STRING_BYTES with a run-time error at the operator (the C++ engine stops
+    much earlier, at the entry's capacity)."""
+    from btgen.script import MAX_STRING_BYTES
+    (tmp_path / "m.xml").write_text(DOUBLING, encoding="utf-8")
+    (tmp_path / "s.scenario").write_text("ticks 60\n", encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1
+    assert proc.stderr == (f"m.xml:5:52: error: script error in `code` of `Script` \"Script\": `..` would make a "
+                           f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
+                           f"{MAX_STRING_BYTES} bytes\n")
+    assert proc.stdout.splitlines()[-1] == "tick 26"
+
+
+TWO_EDGES = """<root BTCPP_format="4">
+  <BehaviorTree ID="Main">
+    <Fallback><AlwaysFailure/><AlwaysSuccess/></Fallback>
+  </BehaviorTree>
+</root>
+"""
+TWO_EDGES_TRACE = """tick 1
+1 Fallback "Fallback" IDLE -> RUNNING
+2 AlwaysFailure "AlwaysFailure" IDLE -> FAILURE
+3 AlwaysSuccess "AlwaysSuccess" IDLE -> SUCCESS
+2 AlwaysFailure "AlwaysFailure" FAILURE -> IDLE
+3 AlwaysSuccess "AlwaysSuccess" SUCCESS -> IDLE
+1 Fallback "Fallback" RUNNING -> SUCCESS
+1 Fallback "Fallback" SUCCESS -> IDLE
+result SUCCESS
+"""
+
+
+def _run(tmp_path, engine, scenario, env=None, shell=False):
+    (tmp_path / "two.xml").write_text(TWO_EDGES, encoding="utf-8")
+    cmd = [sys.executable, "-m", "btgen", "run", "two.xml", "--scenario", scenario, "--engine", engine]
+    if shell:  # bash for `<(...)`
+        cmd = ["bash", "-c", " ".join(cmd[:6]) + f" {scenario} --engine {engine}"]
+    return subprocess.run(cmd, cwd=tmp_path, capture_output=True, timeout=600, env=env)
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_scenario_limits_apply_to_pipes_and_devices(tmp_path, engine):
+    """`--scenario /dev/zero` read 16 MiB and printed one 67 MB diagnostic; a pipe's size shows
+    only while reading, so the limit is applied there (a 17 MB piped scenario was truncated
+    silently by the interpreter)."""
+    proc = _run(tmp_path, engine, "/dev/zero")
+    assert (proc.returncode, proc.stderr.decode()) == (
+        1, "/dev/zero:1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+    proc = _run(tmp_path, engine, "<(head -c 17000000 /dev/zero)", shell=True)
+    assert proc.returncode == 1 and proc.stderr.decode().endswith(
+        ":1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+def test_scenario_through_process_substitution(tmp_path, engine):
+    """`--scenario <(...)` worked with the interpreter only: the executor did not inherit the pipe."""
+    proc = _run(tmp_path, engine, "<(printf 'ticks 1\\n')", shell=True)
+    assert (proc.returncode, proc.stdout.decode(), proc.stderr.decode()) == (0, TWO_EDGES_TRACE, "")
+
+
+@pytest.mark.parametrize("engine", ["interp", "cpp"])
+@pytest.mark.parametrize("text,expected", [
+    ("ticks " + "9" * 3_000_000 + "\n",
+     "s.scenario:1:7: error: ticks " + "9" * 4075 + "... (cut: 3000040 bytes in all)\n"),
+    ("ticks 1\n" + "y" * 3_000_000 + "\n",
+     "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000071 bytes in all)\n"),
+])
+def test_long_diagnostics_are_cut_alike(tmp_path, engine, text, expected):
+    """A 3-million-digit `ticks` crashed the interpreter (int() digit limit: exit 3) and was
+    quoted whole by the C++ runner; quotes of megabytes of input are cut at 4096 bytes, the same
+    way by both engines."""
+    (tmp_path / "s.scenario").write_text(text, encoding="utf-8")
+    proc = _run(tmp_path, engine, "s.scenario")
+    stderr = proc.stderr.decode()
+    assert proc.returncode == 1
+    assert stderr.split(":", 3)[3].startswith(expected.split(":", 3)[3][:60]) and stderr.endswith(
+        expected[-40:])
+    assert len(stderr) < 4300
+
+
+@pytest.mark.parametrize("bad", ["file", "dir_under_file"])
+def test_cpp_engine_with_an_unusable_cache_dir(tmp_path, bad):
+    """A cache path that is a file (or lies under one) ended `run --engine cpp` in a traceback (exit 3)."""
+    (tmp_path / "afile").write_text("", encoding="utf-8")
+    cache = tmp_path / "afile" if bad == "file" else tmp_path / "afile" / "sub"
+    (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
+    proc = _run(tmp_path, "cpp", "one.scenario", env={**os.environ, "BTGEN_CACHE_DIR": str(cache)})
+    assert (proc.returncode, proc.stderr.decode()) == (
+        1, f"two.xml:1:1: error: cannot build the C++ executor: the cache directory `{cache}` is not usable "
+           f"(Not a directory); set BTGEN_CACHE_DIR to a writable directory\n")

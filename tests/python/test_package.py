@@ -1,0 +1,216 @@
+"""btgen as a package: the wheel, installed in a fresh virtual environment outside
+the checkout, works from any directory, and its CMake package builds
+examples/user_project (a mission without TreeNodesModel, a models file, a
+NAMESPACE) with plain cmake in a directory outside the checkout.
+
+The wheel is built from a copy of what packaging reads (pyproject.toml,
+setup.py, generator/ and the folders setup.py maps into the wheel), so the
+checkout is never written, with `pip wheel --no-build-isolation` (setuptools
+and wheel of .venv: no download). Installing it fetches btgen's dependencies
+at the versions of requirements.txt (from pip's cache when setup.sh ran).
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+from btgen import resources
+from btgen.version import __version__
+
+USER_PROJECT = Path(ROOT) / "examples" / "user_project"
+PACKAGING = ("pyproject.toml", "setup.py", "MANIFEST.in", "requirements.txt", "generator")
+
+
+def _run(cmd, cwd, env=None, check=True):
+    proc = subprocess.run([str(c) for c in cmd], cwd=str(cwd), env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, check=False)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"{' '.join(map(str, cmd))} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}")
+    return proc
+
+
+def _clean_env(tmp: Path) -> dict:
+    """The environment of a user: no PYTHONPATH to the checkout, no .venv on PATH, a private cache."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "BTGEN_EXECUTABLE")}
+    venv_bin = os.path.dirname(sys.executable)
+    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
+                                  if p and os.path.realpath(p) != os.path.realpath(venv_bin))
+    env["BTGEN_CACHE_DIR"] = str(tmp / "cache")
+    return env
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    """(venv's btgen, environment, tmp): the wheel built and installed in a fresh venv."""
+    tmp = tmp_path_factory.mktemp("package")
+    assert not str(tmp).startswith(os.path.realpath(ROOT))
+    src = tmp / "src"
+    src.mkdir()
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info")
+    for name in PACKAGING + tuple({folder.split("/")[0] for folder, _ in resources.DATA_FILES}):
+        path = Path(ROOT) / name
+        if path.is_dir():
+            shutil.copytree(path, src / name, ignore=ignore)
+        else:
+            shutil.copy2(path, src / name)
+    wheels = tmp / "wheels"
+    _run([sys.executable, "-m", "pip", "wheel", "-q", "--disable-pip-version-check", "--no-build-isolation",
+          "--no-deps", "-w", wheels, src], cwd=tmp)
+    (wheel,) = wheels.glob("btgen-*.whl")
+    venv = tmp / "venv"
+    _run([sys.executable, "-m", "venv", "--without-pip", venv], cwd=tmp)
+    python = venv / "bin" / "python"
+    _run([sys.executable, "-m", "pip", "--python", python, "install", "-q", "--disable-pip-version-check",
+          "-c", Path(ROOT) / "requirements.txt", wheel], cwd=tmp)
+    work = tmp / "work"
+    work.mkdir()
+    return venv / "bin" / "btgen", _clean_env(tmp), tmp, wheel
+
+
+def test_wheel_holds_every_mapped_file(installed):
+    wheel = installed[3]
+    names = set(zipfile.ZipFile(wheel).namelist())
+    expected = set()
+    for folder, pattern in resources.DATA_FILES:
+        for f in (Path(ROOT) / folder).glob(pattern):
+            if f.is_file():
+                expected.add(f"btgen/{resources.INSTALLED_DATA}/{f.relative_to(ROOT).as_posix()}")
+    assert expected and expected <= names
+    assert "btgen/_data/cmake/btgenConfig.cmake" in names and "btgen/_data/templates/mission.hpp.j2" in names
+    assert not [n for n in names if n.endswith("py.typed")]
+
+
+def test_cmake_package_version_is_the_generators():
+    text = (Path(ROOT) / "cmake" / "btgenConfigVersion.cmake").read_text()
+    assert re.search(r'set\(PACKAGE_VERSION "([^"]+)"\)', text).group(1) == __version__
+
+
+def test_every_command_works_from_another_directory(installed):
+    btgen, env, tmp, _ = installed
+    work = tmp / "work"
+    for f in ("missions/Reception.xml", "missions/scenarios/Reception.scenario",
+              "data/environmentKnowledgeBaseInput.dat", "data/environmentKnowledgeBaseConfiguration.ini"):
+        shutil.copy2(Path(ROOT) / f, work / os.path.basename(f))
+    site = _run([btgen.parent / "python", "-c", "import btgen, sys; print(btgen.__file__)"], work, env).stdout
+    assert site.startswith(str(tmp / "venv"))  # the installed package, not the checkout
+
+    assert _run([btgen, "--version"], work, env).stdout == f"btgen {__version__}\n"
+    cmake_dir = Path(_run([btgen, "--cmake-dir"], work, env).stdout.strip())
+    assert cmake_dir.is_relative_to(tmp / "venv") and (cmake_dir / "btgenConfig.cmake").is_file()
+
+    assert _run([btgen, "validate", "Reception.xml"], work, env).stdout == "Reception.xml: ok (6 trees, main `ReceptionGuide`)\n"
+    assert "<xs:schema" in _run([btgen, "xsd", "Reception.xml"], work, env).stdout
+    _run([btgen, "compile", "Reception.xml", "-o", "out", "--namespace", "front_desk"], work, env)
+    assert "namespace front_desk {" in (work / "out" / "reception.hpp").read_text()
+    interp = _run([btgen, "run", "Reception.xml", "--scenario", "Reception.scenario"], work, env).stdout
+    assert interp.endswith("result SUCCESS\n")
+    assert _run([btgen, "run", "Reception.xml", "--scenario", "Reception.scenario", "--engine", "cpp"],
+                work, env).stdout == interp
+    lint = _run([btgen, "lint-kb", "environmentKnowledgeBaseInput.dat", "--config",
+                 "environmentKnowledgeBaseConfiguration.ini", "--mission", "Reception.xml"], work, env, check=False)
+    assert lint.returncode == 0 and "error" not in lint.stderr
+    bench = _run([btgen, "bench", "Reception.xml", "--ticks", "50"], work, env).stdout
+    assert "ticks 50\n" in bench and "allocs_per_tick 0" in bench
+    refused = _run([btgen, "build-info", "--update-generated"], work, env, check=False)
+    assert refused.returncode == 2 and "this btgen is installed" in refused.stderr
+    # The same with the user project's mission, whose models are in another file.
+    mission, models = USER_PROJECT / "mission" / "patrol.xml", USER_PROJECT / "mission" / "nodes.xml"
+    assert _run([btgen, "validate", mission, "--models", models], work, env).returncode == 0
+    (work / "patrol.scenario").write_text("ticks 5\ndefault SUCCESS\n")
+    runs = [_run([btgen, "run", mission, "--models", models, "--main-tree", "Patrol", "--scenario", "patrol.scenario",
+                  "--engine", engine], work, env).stdout for engine in ("interp", "cpp")]
+    assert runs[0] == runs[1] and runs[0].endswith("result SUCCESS\n") and 'MoveTo "MoveTo"' in runs[0]
+    bad = _run([btgen, "validate", mission], work, env, check=False)
+    assert bad.returncode == 1 and re.match(rf"{re.escape(str(mission))}:\d+:\d+: error: ", bad.stderr)
+
+
+def _generator():
+    return ["-G", "Ninja"] if shutil.which("ninja") else []
+
+
+def _cmake_build(src, build, btgen, env, check=True):
+    gen = _generator()
+    if not (build / "CMakeCache.txt").exists():
+        cmake_dir = _run([btgen, "--cmake-dir"], src, env).stdout.strip()
+        _run(["cmake", "-S", src, "-B", build, *gen, f"-Dbtgen_DIR={cmake_dir}"], build.parent, env)
+    return _run(["cmake", "--build", build], build.parent, env, check=check)
+
+
+def test_user_project_builds_with_find_package(installed):
+    btgen, env, tmp, _ = installed
+    src, build = tmp / "user_project", tmp / "user_build"
+    shutil.copytree(USER_PROJECT, src)
+    _cmake_build(src, build, btgen, env)
+    cache = (build / "CMakeCache.txt").read_text()
+    assert f"BTGEN_EXECUTABLE:FILEPATH={btgen}" in cache  # the command installed with the package
+    run = _run([build / "patrol_robot"], tmp, env)
+    assert run.stdout == "patrol_robot: SUCCESS after 5 ticks, route kitchen;door;\n"
+    assert "namespace robot::patrol {" in (build / "btgen" / "patrol_mission" / "patrol.hpp").read_text()
+
+    # A mission error fails the build with btgen's own diagnostic; fixing it builds again.
+    mission = src / "mission" / "patrol.xml"
+    good = mission.read_text()
+    mission.write_text(good.replace('goal="door"', 'gaol="door"'))
+    failed = _cmake_build(src, build, btgen, env, check=False)
+    assert failed.returncode != 0
+    line = next(i for i, text in enumerate(good.splitlines(), 1) if 'goal="door"' in text)
+    col = good.splitlines()[line - 1].index('goal="door"') + 1
+    assert (f"{mission}:{line}:{col}: error: `MoveTo` has no port `gaol` (its ports: `goal`, `arrived_at`); "
+            f"did you mean `goal`?") in failed.stdout + failed.stderr
+    mission.write_text(good)
+    _cmake_build(src, build, btgen, env)
+    assert _run([build / "patrol_robot"], tmp, env).returncode == 0
+
+    # The models file is a dependency: changing a port's type regenerates (and here fails).
+    models = src / "mission" / "nodes.xml"
+    models.write_text(models.read_text().replace('name="goal" type="std::string"', 'name="goal" type="int"'))
+    failed = _cmake_build(src, build, btgen, env, check=False)
+    assert failed.returncode != 0 and "`kitchen` is not a valid int" in failed.stdout + failed.stderr
+
+
+RUNTIME_ONLY = """cmake_minimum_required(VERSION 3.16)
+project(runtime_only LANGUAGES CXX)
+{find}
+add_executable(runtime_only main.cpp)
+target_link_libraries(runtime_only PRIVATE btgen::runtime)
+if(TARGET btgen::kb)
+  message(FATAL_ERROR "btgen::kb is defined although Eigen was not to be found")
+endif()
+"""
+
+
+def _runtime_only_project(tmp, find):
+    src = tmp / "runtime_only"
+    src.mkdir()
+    (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find=find))
+    (src / "main.cpp").write_text("#include <btgen/status.hpp>\n#include <btgen/version.hpp>\n"
+                                  "int main() { return btgen::Status::SUCCESS == btgen::Status::FAILURE; }\n")
+    return src
+
+
+def test_the_runtime_needs_no_eigen(tmp_path):
+    """runtime/CMakeLists.txt required Eigen of everyone; only btgen::kb needs it."""
+    src = _runtime_only_project(tmp_path, f'add_subdirectory("{Path(ROOT).as_posix()}/runtime" runtime)')
+    build = tmp_path / "build"
+    _run(["cmake", "-S", src, "-B", build, *_generator(), "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp_path)
+    _run(["cmake", "--build", build], tmp_path)
+    _run([build / "runtime_only"], tmp_path)
+
+
+def test_package_kb_component_requires_eigen(installed):
+    btgen, env, tmp, _ = installed
+    cmake_dir = _run([btgen, "--cmake-dir"], tmp, env).stdout.strip()
+    src = _runtime_only_project(tmp, "find_package(btgen CONFIG REQUIRED)")
+    _run(["cmake", "-S", src, "-B", tmp / "runtime_only_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
+          "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env)
+    (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find="find_package(btgen CONFIG REQUIRED COMPONENTS kb)"))
+    failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
+                   "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env, check=False)
+    assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
