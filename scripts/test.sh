@@ -32,6 +32,9 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DBTGEN_SANITIZE=ON \
 cmake --build build/asan -j "$jobs"
 ctest --test-dir build/asan --output-on-failure -j "$jobs"
 
+echo "== ROS 1: the Lab Tour node under roscore (scripts/test_ros1.sh)"
+bash scripts/test_ros1.sh
+
 if [ "$BTGEN_WITH_CLANG" = 1 ]; then
   echo "== libFuzzer targets of the runtime's readers under ASan + UBSan (${BTGEN_FUZZ_SECONDS:-20} s each)"
   bash scripts/fuzz_cpp.sh "${BTGEN_FUZZ_SECONDS:-20}"
