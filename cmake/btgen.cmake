@@ -36,7 +36,9 @@
 #
 # Targets: btgen::runtime (header only, C++17) always; btgen::kb (the
 # environment knowledge base reader, needs Eigen) when Eigen3::Eigen exists
-# (see _btgen_define_kb).
+# (see _btgen_define_kb); btgen::btlog and btgen::groot2 (Groot2 monitors, the
+# latter needs cppzmq) when their dependencies are targets (see
+# _btgen_define_monitors).
 
 include_guard(GLOBAL)
 
@@ -62,6 +64,25 @@ function(_btgen_define_kb)
   target_include_directories(btgen_kb PUBLIC "${root}/runtime/include")
   target_link_libraries(btgen_kb PUBLIC Eigen3::Eigen)
   target_compile_features(btgen_kb PUBLIC cxx_std_17)
+endfunction()
+
+# ==== btgen::btlog, btgen::groot2: run-time monitors (opt-in)
+# btgen::btlog writes Groot2 .btlog files (include/btgen/btlog.hpp, a writer
+# thread: needs Threads). btgen::groot2 is the Groot2 live publisher
+# (include/btgen/groot2.hpp) over ZeroMQ: defined only when the `cppzmq` target
+# exists (find_package(cppzmq), Debian's cppzmq-dev). A mission linking neither
+# needs no ZeroMQ and no threads.
+function(_btgen_define_monitors)
+  if(NOT TARGET btgen_btlog AND TARGET Threads::Threads)
+    add_library(btgen_btlog INTERFACE)
+    add_library(btgen::btlog ALIAS btgen_btlog)
+    target_link_libraries(btgen_btlog INTERFACE btgen::runtime Threads::Threads)
+  endif()
+  if(NOT TARGET btgen_groot2 AND TARGET btgen_btlog AND TARGET cppzmq)
+    add_library(btgen_groot2 INTERFACE)
+    add_library(btgen::groot2 ALIAS btgen_groot2)
+    target_link_libraries(btgen_groot2 INTERFACE btgen::btlog cppzmq)
+  endif()
 endfunction()
 
 # The command that runs btgen, in <out_var> (a list).

@@ -9,8 +9,10 @@
 #
 # gives btgen_add_mission() (see btgen.cmake beside this file), the targets
 # btgen::runtime (header only, C++17, no Eigen) and, when Eigen 3.3 is found,
-# btgen::kb (the environment knowledge base reader; built only when linked).
-# COMPONENTS kb makes Eigen, and so btgen::kb, required.
+# btgen::kb (the environment knowledge base reader; built only when linked),
+# when threads are found btgen::btlog (Groot2 .btlog files) and, when cppzmq
+# is found, btgen::groot2 (the Groot2 live publisher). COMPONENTS kb, btlog,
+# groot2 make each required.
 #
 # btgen_add_mission runs the `btgen` command installed with this package,
 # in BTGEN_EXECUTABLE: <prefix>/bin/btgen (Scripts\btgen.exe on Windows) of
@@ -58,17 +60,28 @@ if(_btgen_problem)
   return()
 endif()
 
-# Components: runtime (always there) and kb (needs Eigen).
+# Components: runtime (always there), kb (needs Eigen), btlog (needs threads)
+# and groot2 (needs cppzmq).
 set(btgen_runtime_FOUND TRUE)
 set(_btgen_kb_required FALSE)
+set(_btgen_groot2_required FALSE)
+set(_btgen_btlog_required FALSE)
 foreach(_btgen_component IN LISTS btgen_FIND_COMPONENTS)
   if(_btgen_component STREQUAL "kb")
     if(btgen_FIND_REQUIRED_kb)
       set(_btgen_kb_required TRUE)
     endif()
+  elseif(_btgen_component STREQUAL "btlog")
+    if(btgen_FIND_REQUIRED_btlog)
+      set(_btgen_btlog_required TRUE)
+    endif()
+  elseif(_btgen_component STREQUAL "groot2")
+    if(btgen_FIND_REQUIRED_groot2)
+      set(_btgen_groot2_required TRUE)
+    endif()
   elseif(NOT _btgen_component STREQUAL "runtime")
     set(btgen_FOUND FALSE)
-    set(btgen_NOT_FOUND_MESSAGE "unknown component `${_btgen_component}` (btgen has runtime and kb)")
+    set(btgen_NOT_FOUND_MESSAGE "unknown component `${_btgen_component}` (btgen has runtime, kb, btlog and groot2)")
     return()
   endif()
 endforeach()
@@ -92,6 +105,30 @@ else()
     return()
   endif()
 endif()
+
+if(NOT TARGET Threads::Threads)
+  find_package(Threads QUIET)
+endif()
+if(NOT TARGET cppzmq)
+  find_package(cppzmq QUIET)
+endif()
+_btgen_define_monitors()
+foreach(_btgen_monitor btlog groot2)
+  if(TARGET btgen_${_btgen_monitor})
+    set(btgen_${_btgen_monitor}_FOUND TRUE)
+  else()
+    set(btgen_${_btgen_monitor}_FOUND FALSE)
+    if(_btgen_${_btgen_monitor}_required)
+      set(btgen_FOUND FALSE)
+      if(_btgen_monitor STREQUAL "groot2")
+        set(btgen_NOT_FOUND_MESSAGE "component groot2 needs ZeroMQ's C++ binding (find_package(cppzmq) found none; install libzmq3-dev and cppzmq-dev or set cppzmq_DIR)")
+      else()
+        set(btgen_NOT_FOUND_MESSAGE "component btlog needs threads (find_package(Threads) found none)")
+      endif()
+      return()
+    endif()
+  endif()
+endforeach()
 
 if(NOT btgen_FIND_QUIETLY)
   message(STATUS "Found btgen ${btgen_VERSION}: ${BTGEN_EXECUTABLE}")

@@ -214,3 +214,89 @@ def test_package_kb_component_requires_eigen(installed):
     failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
                    "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env, check=False)
     assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
+
+
+MONITORED = """cmake_minimum_required(VERSION 3.16)
+project(monitored_patrol LANGUAGES CXX)
+find_package(btgen CONFIG REQUIRED COMPONENTS btlog groot2)
+btgen_add_mission(patrol_mission MISSION mission/patrol.xml MODELS mission/nodes.xml NAMESPACE robot::patrol)
+add_executable(monitored main.cpp)
+target_link_libraries(monitored PRIVATE patrol_mission btgen::groot2)
+target_compile_options(monitored PRIVATE -Wall -Wextra -Wpedantic -Werror)
+"""
+
+MONITORED_MAIN = """#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <btgen/btlog.hpp>
+#include <btgen/groot2.hpp>
+#include <btgen/monitor.hpp>
+
+#include "patrol.hpp"
+
+struct Leaves {
+  btgen::Status check(robot::patrol::leaf::BatteryOk&, const btgen::NodeInfo&) { return btgen::Status::SUCCESS; }
+  btgen::Status onStart(robot::patrol::leaf::MoveTo&, const btgen::NodeInfo&) { return btgen::Status::RUNNING; }
+  btgen::Status onRunning(robot::patrol::leaf::MoveTo& node, const btgen::NodeInfo&) {
+    auto goal = node.goal();
+    return goal && node.set_arrived_at(*goal) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+  void onHalted(robot::patrol::leaf::MoveTo&, const btgen::NodeInfo&) {}
+};
+
+using Mission = robot::patrol::Patrol<Leaves, btgen::SteadyClock, btgen::MonitorObserver<>>;
+
+int main(int argc, char** argv) {
+  if (argc != 3) return 2;
+  Leaves leaves;
+  static Mission mission(leaves);
+  btgen::Status status = btgen::Status::RUNNING;
+  {
+    btgen::groot2::Publisher groot2(mission, static_cast<unsigned>(std::atoi(argv[2])), "127.0.0.1");
+    btgen::btlog::FileLogger log(mission, argv[1]);
+    for (int tick = 0; status == btgen::Status::RUNNING && tick < 100; ++tick) {
+      status = mission.tick();
+      groot2.sync();
+    }
+  }
+  std::printf("%s\\n", status == btgen::Status::SUCCESS ? "SUCCESS" : "FAILURE");
+  return status == btgen::Status::SUCCESS ? 0 : 1;
+}
+"""
+
+
+def _free_port_pair() -> int:
+    import socket
+
+    for _ in range(50):
+        with socket.socket() as a:
+            a.bind(("127.0.0.1", 0))
+            port = a.getsockname()[1]
+            if port >= 65535:
+                continue
+            with socket.socket() as b:
+                try:
+                    b.bind(("127.0.0.1", port + 1))
+                except OSError:
+                    continue
+            return port
+    raise AssertionError("no two consecutive free ports on 127.0.0.1")
+
+
+def test_package_gives_the_groot2_monitors(installed):
+    """find_package(btgen COMPONENTS btlog groot2): a user project attaches the Groot2
+    publisher and the .btlog logger from the installed package."""
+    btgen, env, tmp, _ = installed
+    src = tmp / "monitored"
+    shutil.copytree(USER_PROJECT / "mission", src / "mission")
+    (src / "CMakeLists.txt").write_text(MONITORED)
+    (src / "main.cpp").write_text(MONITORED_MAIN)
+    build = tmp / "monitored_build"
+    _cmake_build(src, build, btgen, env)
+    log = tmp / "patrol.btlog"
+    run = _run([build / "monitored", log, _free_port_pair()], tmp, env)
+    assert run.stdout == "SUCCESS\n"
+    data = log.read_bytes()
+    assert data.startswith(b"BTCPP4-FileLogger2")
+    assert b'BTCPP_format="4"' in data and b"MoveTo" in data
