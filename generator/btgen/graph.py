@@ -32,6 +32,18 @@ from .treexml import subtree_path
 
 STATUS_NAMES = ("IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED")
 FILL = {"RUNNING": "#f5a623", "SUCCESS": "#7ed321", "FAILURE": "#e74c3c", "SKIPPED": "#9ecae1", "IDLE": "#ffffff"}
+# A node reset to IDLE after it ran shows the status it had, paler (as Groot2 and btview show it:
+# "was SUCCESS"), so the picture of a tick that ended with the tree reset still tells what ran.
+WAS_FILL = {"RUNNING": "#fbd9a0", "SUCCESS": "#cdf0a8", "FAILURE": "#f4b3ab", "SKIPPED": "#d6e8f3"}
+
+
+def _was(status: dict[int, str], uid: int, to: str) -> None:
+    """Record a transition to `to` in `status`; IDLE after a status keeps it as `was:<status>`."""
+    before = status.get(uid, "IDLE")
+    if to == "IDLE" and before != "IDLE":
+        status[uid] = "was:" + before.removeprefix("was:")
+    else:
+        status[uid] = to
 SHAPES = {"Control": ("box", ""), "Decorator": ("hexagon", ""), "Action": ("box", "rounded"),
           "Condition": ("ellipse", ""), "SubTree": ("box3d", "")}
 
@@ -110,7 +122,7 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
             if words[1] != by_uid[uid].id:
                 raise _error(path, i, len(words[0]) + 2,
                              f"UID {uid} is `{by_uid[uid].id}` in the mission, `{words[1]}` in the trace")
-            status[uid] = words[-1]
+            _was(status, uid, words[-1])
             continue
         raise _error(path, i, 1, f"not a line of a status trace: `{line[:60]}`")
     if tick is not None and tick > current:
@@ -154,7 +166,7 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
         code = body[9 * k + 8]
         if uid not in mine or code >= len(STATUS_NAMES):
             raise _error(path, 1, 1, f"record {k + 1}: UID {uid} status {code} is not valid for this mission")
-        status[uid] = STATUS_NAMES[code]
+        _was(status, uid, STATUS_NAMES[code])
     return status, count if record is None else record
 
 
@@ -184,8 +196,12 @@ def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str
     def node_line(n: GNode) -> str:
         shape, style = SHAPES.get(n.kind, ("box", ""))
         styles = [s for s in (style, "filled") if s]
-        fill = FILL.get(status.get(n.uid, "IDLE"), "#ffffff") if status is not None else "#ffffff"
-        return f"n{n.uid} [label={_q(_label(n))}, shape={shape}, style={_q(','.join(styles))}, fillcolor={_q(fill)}];"
+        st = status.get(n.uid, "IDLE") if status is not None else "IDLE"
+        if st.startswith("was:"):
+            fill, label = WAS_FILL[st[4:]], _label(n) + f"\n(was {st[4:]})"
+        else:
+            fill, label = FILL[st], _label(n)
+        return f"n{n.uid} [label={_q(label)}, shape={shape}, style={_q(','.join(styles))}, fillcolor={_q(fill)}];"
 
     for c, (tree_id, path) in enumerate(clusters):
         if c == 0:
@@ -203,6 +219,7 @@ def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str
             out.append(f"  n{n.parent} -> n{n.uid};")
     if status is not None:
         cells = "".join(f'<td bgcolor="{FILL[s]}">{s}</td>' for s in ("RUNNING", "SUCCESS", "FAILURE", "SKIPPED", "IDLE"))
+        cells += "".join(f'<td bgcolor="{WAS_FILL[s]}">was {s}</td>' for s in ("SUCCESS", "FAILURE", "SKIPPED"))
         out.append(f'  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0"><tr>{cells}</tr></table>>];')
     out.append("}")
     return "\n".join(out) + "\n"

@@ -11,7 +11,7 @@ import pytest
 
 from btgen.cli import main
 from btgen.frontend import load_mission
-from btgen.graph import FILL, walk
+from btgen.graph import FILL, WAS_FILL, walk
 from btgen.lower import creation_order
 from btgen.treexml import groot2_tree
 
@@ -74,7 +74,11 @@ def test_trace_colours_show_the_statuses_at_a_tick(tmp_path, capsys):
     assert nodes[13]["fill"] == FILL["IDLE"]
     assert main(["graph", str(MISSION), "-o", str(out), "--trace", str(trace)]) == 0  # the last tick
     nodes = nodes_of(out.read_text())
-    assert nodes[1]["fill"] == FILL["IDLE"]  # SUCCESS at tick 5, then reset as the root is
+    # SUCCESS at tick 5, then reset as the root is: shown as "was SUCCESS", paler
+    assert nodes[1]["fill"] == WAS_FILL["SUCCESS"] and nodes[1]["label"].endswith("\\n(was SUCCESS)")
+    never = [uid for uid, n in nodes.items() if n["fill"] == FILL["IDLE"]]
+    assert all("was" not in nodes[uid]["label"] for uid in never)
+    assert all(f"\n{uid} " not in "\n" + trace.read_text() for uid in never)  # white: never ran
 
 
 @pytest.mark.skipif(shutil.which("dot") is None and not os.environ.get("CI"), reason="Graphviz is not installed")
