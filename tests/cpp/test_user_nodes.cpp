@@ -67,8 +67,13 @@ struct Leaves {
     }
   }
 
-  Status onStart(leaf::Step&, const btgen::NodeInfo& n) {
+  std::string_view failing{};  // this Step reports a run-time error when it starts
+  Status onStart(leaf::Step& m, const btgen::NodeInfo& n) {
     log->add(n.name, ".onStart");
+    if (n.name == failing) {
+      failing = {};
+      return m.fail("no path");
+    }
     return steps[n.index].pop();
   }
   Status onRunning(leaf::Step&, const btgen::NodeInfo& n) {
@@ -328,6 +333,19 @@ TEST(UserNodes, RecoveryFailsWhenTheRetriesAreUsedUp) {
                      "Recovery IDLE->FAILURE\nRecovery FAILURE->IDLE\n"),
             std::string::npos)
       << log;
+}
+
+TEST(UserNodes, AChildsRunTimeErrorFailsTheChildNotItsUserParent) {
+  Fixture f;
+  f.leaves.script("Plan", {Status::SUCCESS});
+  f.leaves.script("Follow", {Status::SUCCESS});
+  f.leaves.script("Clear", {Status::SUCCESS});
+  f.leaves.failing = "Follow";  // first start: an error, FAILURE; the recovery then retries
+  EXPECT_EQ(f.tick_at(0), Status::SUCCESS);
+  EXPECT_EQ(f.mission.errors(), 1u);
+  const std::string log = f.log.take();
+  EXPECT_NE(log.find("Follow IDLE->FAILURE\n"), std::string::npos) << log;
+  EXPECT_NE(log.find("Clear.onStart\n"), std::string::npos) << log;
 }
 
 TEST(UserNodes, HaltFromAboveHaltsRunningChildrenThenTheNodes) {
