@@ -80,11 +80,11 @@ def _runtime_headers() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
-def build_cpp(mission_path: str, warnings: Optional[list] = None) -> Path:
+def build_cpp(mission_path: str, warnings: Optional[list] = None, enums: tuple = ()) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings)
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, enums)
 
 
 def _check_no_user_nodes(mission) -> None:
@@ -100,14 +100,16 @@ def _check_no_user_nodes(mission) -> None:
 
 
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
-                             warnings: Optional[list] = None) -> Path:
+                             warnings: Optional[list] = None, enums: tuple = ()) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
     from .frontend import load_mission
     from .lower import lower
 
-    mission = load_mission(mission_path)
+    from . import enums as enums_mod
+
+    mission = enums_mod.apply(load_mission(mission_path), enums)
     if warnings is not None:
         warnings.extend(mission.warnings)
     _check_no_user_nodes(mission)
@@ -166,11 +168,11 @@ def _fileno(stream) -> Optional[int]:
         return None
 
 
-def run_cpp(mission_path: str, scenario_path: str) -> int:
+def run_cpp(mission_path: str, scenario_path: str, enums: tuple = ()) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings)
+    binary = build_cpp(mission_path, warnings, enums)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()
