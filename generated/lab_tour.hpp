@@ -2063,7 +2063,7 @@ struct Spec {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2071,7 +2071,7 @@ struct Spec {
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2079,7 +2079,7 @@ struct Spec {
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2087,7 +2087,7 @@ struct Spec {
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2095,7 +2095,7 @@ struct Spec {
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2103,7 +2103,7 @@ struct Spec {
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2111,7 +2111,7 @@ struct Spec {
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2119,7 +2119,7 @@ struct Spec {
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2127,7 +2127,7 @@ struct Spec {
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2135,7 +2135,7 @@ struct Spec {
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2143,7 +2143,7 @@ struct Spec {
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2151,7 +2151,7 @@ struct Spec {
       case 17: {
         leaf::LookUpHome model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2159,7 +2159,7 @@ struct Spec {
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2167,7 +2167,7 @@ struct Spec {
       case 19: {
         leaf::Navigate model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2175,7 +2175,7 @@ struct Spec {
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2183,7 +2183,7 @@ struct Spec {
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2191,7 +2191,7 @@ struct Spec {
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2199,7 +2199,7 @@ struct Spec {
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2207,7 +2207,7 @@ struct Spec {
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2215,7 +2215,7 @@ struct Spec {
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2223,7 +2223,7 @@ struct Spec {
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2231,7 +2231,7 @@ struct Spec {
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2239,7 +2239,7 @@ struct Spec {
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2247,7 +2247,7 @@ struct Spec {
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2255,7 +2255,7 @@ struct Spec {
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2263,7 +2263,7 @@ struct Spec {
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -2271,7 +2271,7 @@ struct Spec {
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }

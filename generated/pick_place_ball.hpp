@@ -306,7 +306,7 @@ struct Spec {
       case 0: {
         leaf::FindBall model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -314,7 +314,7 @@ struct Spec {
       case 1: {
         leaf::PickBall model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -322,7 +322,7 @@ struct Spec {
       case 2: {
         leaf::MoveBall model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -330,7 +330,7 @@ struct Spec {
       case 3: {
         leaf::PlaceBall model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }

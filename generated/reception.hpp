@@ -1367,7 +1367,7 @@ struct Spec {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1375,7 +1375,7 @@ struct Spec {
       case 1: {
         leaf::EnableAnimateBehavior model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1383,7 +1383,7 @@ struct Spec {
       case 2: {
         leaf::GoodbyeGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1391,7 +1391,7 @@ struct Spec {
       case 3: {
         leaf::HandleFallBack model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1399,7 +1399,7 @@ struct Spec {
       case 7: {
         leaf::PerformDeicticGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1407,7 +1407,7 @@ struct Spec {
       case 8: {
         leaf::SayGoodByeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1415,7 +1415,7 @@ struct Spec {
       case 9: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1423,7 +1423,7 @@ struct Spec {
       case 10: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1431,7 +1431,7 @@ struct Spec {
       case 11: {
         leaf::START_OF_TREE model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1439,7 +1439,7 @@ struct Spec {
       case 12: {
         leaf::WelcomeGesture model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1447,7 +1447,7 @@ struct Spec {
       case 13: {
         leaf::WelcomeSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1455,7 +1455,7 @@ struct Spec {
       case 14: {
         leaf::QueryDestinationSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1463,7 +1463,7 @@ struct Spec {
       case 15: {
         leaf::SayDestinationSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1471,7 +1471,7 @@ struct Spec {
       case 17: {
         leaf::PressDestinationSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1479,7 +1479,7 @@ struct Spec {
       case 18: {
         leaf::PressDestinationDialogue model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1487,7 +1487,7 @@ struct Spec {
       case 19: {
         leaf::LookUpDestination model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1495,7 +1495,7 @@ struct Spec {
       case 20: {
         leaf::DescribeRouteSpeech_1 model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1503,7 +1503,7 @@ struct Spec {
       case 21: {
         leaf::DescribeRouteSpeech_2 model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }
@@ -1511,7 +1511,7 @@ struct Spec {
       case 22: {
         leaf::UnknownDestinationSpeech model(bb, err, node);
         if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // never RUNNING: not reached
+          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
         } else {
           return leaves.onRunning(model, node);
         }

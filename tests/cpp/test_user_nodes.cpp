@@ -16,6 +16,7 @@
 #include "btgen/clock.hpp"
 #include "btgen/testing/alloc_counter.hpp"
 #include "user_nodes.hpp"
+#include "user_nodes_sync.hpp"
 
 namespace {
 
@@ -370,6 +371,54 @@ TEST(UserNodes, HaltFromAboveHaltsRunningChildrenThenTheNodes) {
   // It starts again from scratch.
   f.leaves.script("Follow", {Status::SUCCESS});
   EXPECT_EQ(f.tick_at(1000), Status::SUCCESS);
+}
+
+// PipelineSequence over a SyncActionNode (missions/user_nodes_sync.xml).
+struct SyncLeaves {
+  int computed = 0, followed = 0;
+  std::array<std::size_t, user_nodes_sync::detail::Spec::kNodeCount> last{};
+  Status tick(user_nodes_sync::leaf::Compute&, const btgen::NodeInfo&) {
+    ++computed;
+    return Status::SUCCESS;
+  }
+  Status onStart(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {
+    ++followed;
+    return Status::RUNNING;
+  }
+  Status onRunning(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {
+    ++followed;
+    return followed < 3 ? Status::RUNNING : Status::SUCCESS;
+  }
+  void onHalted(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {}
+  Status tick(user_nodes_sync::control::PipelineSequence& m, const btgen::NodeInfo& n) {
+    std::size_t& l = last[n.index];
+    for (std::size_t i = 0; i < m.children_count(); ++i) {
+      const Status s = m.tick_child(i);
+      if (s == Status::FAILURE) {
+        m.halt_children();
+        l = 0;
+        return s;
+      }
+      if (s == Status::RUNNING && i >= l) {
+        l = i;
+        return s;
+      }
+    }
+    m.halt_children();
+    l = 0;
+    return Status::SUCCESS;
+  }
+};
+
+TEST(UserNodes, ASyncActionTheParentDoesNotResetTicksAgain) {
+  SyncLeaves leaves;
+  user_nodes_sync::UserNodesSync<SyncLeaves, btgen::ManualClock> mission(leaves);
+  EXPECT_EQ(mission.tick(), Status::RUNNING);
+  EXPECT_EQ(mission.status(1), Status::SUCCESS);  // Compute is left SUCCESS by the pipeline
+  EXPECT_EQ(mission.tick(), Status::RUNNING);
+  EXPECT_EQ(mission.tick(), Status::SUCCESS);
+  EXPECT_EQ(leaves.computed, 3);  // ticked on every tick, as SyncActionNode::executeTick does
+  EXPECT_EQ(leaves.followed, 3);
 }
 
 TEST(UserNodes, NoAllocation) {
