@@ -69,6 +69,7 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
+    from . import enums
     from .compiler import data_options
     from .frontend import load_mission
     from .lower import lower
@@ -76,7 +77,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     status = EXIT_OK
     for path in args.missions:
         try:
-            mission = load_mission(path, tuple(args.models), args.main_tree)
+            mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
             print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
@@ -140,6 +141,14 @@ def _count(text: str) -> int:
     return value
 
 
+def _enum_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--enum", action="append", default=[], metavar="Type=NAME,NAME=VALUE,...",
+                   help="register scripting enum values, as BehaviorTree.CPP's registerScriptingEnum: "
+                        "Color=RED,GREEN,BLUE gives 0, 1, 2; NAME=VALUE sets a value (the next one counts on)")
+    p.add_argument("--enums", action="append", default=[], metavar="FILE",
+                   help="a file of such declarations, one per line (# comments)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -156,6 +165,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="check as `btgen compile --string-capacity N` would (default 128)")
     v.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
                    help="check as `btgen compile --queue-capacity N` would (default 16)")
+    _enum_options(v)
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
@@ -168,6 +178,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
     _mission_options(r)
+    _enum_options(r)
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
@@ -182,6 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
                    help="most elements of a blackboard queue written by robot code (default 16)")
     _mission_options(c, namespace=True)
+    _enum_options(c)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")

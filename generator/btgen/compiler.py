@@ -155,7 +155,9 @@ def compile_command(args: argparse.Namespace) -> int:
     from .lower import lower
     from .cli import print_diagnostics
 
-    mission = load_mission(args.mission, **load_options(args))
+    from . import enums
+
+    mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),

@@ -82,12 +82,12 @@ def _runtime_headers() -> list[Path]:
 
 
 def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
-              main_tree: Optional[str] = None) -> Path:
+              main_tree: Optional[str] = None, enums: tuple = ()) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given. `models` and
-    `main_tree`: as load_mission's."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree)
+    `main_tree`: as load_mission's; `enums`: scripting enums (enums.from_args)."""
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree, enums)
 
 
 def _check_no_user_nodes(mission) -> None:
@@ -104,14 +104,16 @@ def _check_no_user_nodes(mission) -> None:
 
 def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
                              warnings: Optional[list] = None, models: Sequence[str] = (),
-                             main_tree: Optional[str] = None) -> Path:
+                             main_tree: Optional[str] = None, enums: tuple = ()) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
     from .frontend import load_mission
     from .lower import lower
 
-    mission = load_mission(mission_path, models, main_tree)
+    from . import enums as enums_mod
+
+    mission = enums_mod.apply(load_mission(mission_path, models, main_tree), enums)
     if warnings is not None:
         warnings.extend(mission.warnings)
     _check_no_user_nodes(mission)
@@ -189,11 +191,11 @@ def _inherited_fd(path: str) -> Optional[int]:
 
 
 def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
-            main_tree: Optional[str] = None) -> int:
+            main_tree: Optional[str] = None, enums: tuple = ()) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings, models, main_tree)
+    binary = build_cpp(mission_path, warnings, models, main_tree, enums)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()

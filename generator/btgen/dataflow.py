@@ -159,6 +159,7 @@ class DataIR:
     string_capacity: int
     queue_capacity: int
     where: tuple[Loc, ...]  # the places run-time errors name: `detail::kWhere[i]` in the code above
+    enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
 
 
 # ================================================================ helpers
@@ -1017,7 +1018,7 @@ class _Compiler:
                 continue  # its entry's type is already reported as unknown
             enum = SCRIPT_SLOTS[which]
             ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
-                                     f"script error in `{attr.name}` of {inst.what}: ")
+                                     f"script error in `{attr.name}` of {inst.what}: ", dict(self.a.m.enums))
             try:
                 body = scpp.compile_script(script, ctx, condition)
             except ScriptTypeError as e:
@@ -1417,7 +1418,7 @@ class _Compiler:
                       for i, s in enumerate(self.a.slots))
         return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
                       tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,
-                      tuple(self.where_locs))
+                      tuple(self.where_locs), tuple(self.a.m.enums))
 
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:

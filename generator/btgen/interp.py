@@ -137,6 +137,7 @@ class Runtime:
 
     def __init__(self, mission: Mission, scenario: Optional[Scenario]) -> None:
         self.mission = mission
+        self.enums = dict(mission.enums)  # registerScriptingEnum (enums.py)
         # The trace so far, as pieces: whole lines ("tick 3\n") or a node's prefix followed by its
         # "FROM -> TO\n". Pieces are cheaper to collect than joined lines, and a run of 10,000
         # nodes makes some 26,000 of them per tick.
@@ -308,7 +309,7 @@ class TreeNode:
             code = self._parse_at_run_time(attr, attr.value)
             from_blackboard = True
         try:
-            return scriptmod.evaluate(code, self.bb)
+            return scriptmod.evaluate(code, self.bb, self.rt.enums)
         except scriptmod.ScriptRuntimeError as e:
             raise self._script_error(attr, e.message, e.offset, from_blackboard) from None
         except (values.ConversionError, bbmod.BlackboardError) as e:

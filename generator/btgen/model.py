@@ -92,6 +92,8 @@ class Mission:
     models: tuple[NodeSpec, ...]  # TreeNodesModel declarations (all files)
     files: tuple[str, ...]  # the mission file and every included file
     warnings: tuple[Diagnostic, ...] = ()
+    # Scripting enums (enums.py): (name, value) as registerScriptingEnum registers them.
+    enums: tuple[tuple[str, int], ...] = ()
 
     def tree(self, tree_id: str) -> TreeDef:
         for t in self.trees:

@@ -12,6 +12,7 @@ import os
 import sys
 from typing import Sequence
 
+from . import enums
 from .diagnostics import Diagnostic
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
@@ -29,7 +30,7 @@ def run_command(args) -> int:
         from .cppengine import run_cpp
 
         return run_cpp(args.mission, args.scenario, tuple(getattr(args, "models", None) or ()),
-                       getattr(args, "main_tree", None))
+                       getattr(args, "main_tree", None), enums.from_args(args))
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
@@ -40,8 +41,8 @@ def run_command(args) -> int:
 
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
-    mission = load_mission(args.mission, tuple(getattr(args, "models", None) or ()),
-                           getattr(args, "main_tree", None))
+    mission = enums.apply(load_mission(args.mission, tuple(getattr(args, "models", None) or ()),
+                                       getattr(args, "main_tree", None)), enums.from_args(args))
     _print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
     _print_diagnostics(warnings)

@@ -30,7 +30,7 @@ are those of btgen/script.py, which is the reference.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence
 
 from . import script as sc
@@ -290,6 +290,7 @@ class ScriptContext:
     names: Mapping[str, int]  # name as written (with `@`) -> slot index
     where: Callable[[int], str]  # offset in the code -> C++ expression of its "path:line:col"
     prefix: str  # message prefix, e.g. 'script error in `code` of `Script` "Init": '
+    enums: Mapping[str, int] = field(default_factory=dict)  # scripting enums (enums.py)
 
 
 class CodeWriter:
@@ -311,6 +312,7 @@ class CodeWriter:
         self._concats: dict[str, tuple[list[str], int, int, str]] = {}
         self.indent = indent
         self.n = 0
+        self.msg_args = ""  # more arguments of btgen::dyn::Msg (the scripting enums table)
 
     def emit(self, line: str) -> None:
         self.lines.append("  " * self.indent + line)
@@ -333,7 +335,7 @@ class CodeWriter:
         (after this writer's prefix), which is then reported."""
         report = f"err.fail(n, {self.where(offset)}, dm.view())"
         fail = f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
-        self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}); !({call})) {fail}")
+        self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}{self.msg_args}); !({call})) {fail}")
 
     def to_ref(self, v: "Val") -> str:
         """The value as a btgen::dyn::Ref (empty when it has none)."""
@@ -360,6 +362,9 @@ class CodeWriter:
                 return "1.0"
             if text == "false":
                 return "0.0"
+            enums = getattr(getattr(self, "ctx", None), "enums", {})
+            if text in enums:
+                return cpp_double(float(enums[text]))
             try:
                 return cpp_double(values.to_double(text))
             except values.ConversionError:
@@ -394,6 +399,8 @@ class ScriptCompiler(CodeWriter):
     def __init__(self, ctx: ScriptContext) -> None:
         super().__init__(ctx.where, ctx.prefix)
         self.ctx = ctx
+        if ctx.enums:
+            self.msg_args = ", detail::kScriptingEnums.data(), detail::kScriptingEnums.size()"
         self.assigned: dict[int, int] = {}  # slot -> assignments in the current statement
 
     def slot(self, name: str) -> SlotView:

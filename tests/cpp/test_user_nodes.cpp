@@ -16,6 +16,7 @@
 #include "btgen/clock.hpp"
 #include "btgen/testing/alloc_counter.hpp"
 #include "user_nodes.hpp"
+#include "user_nodes_sync.hpp"
 
 namespace {
 
@@ -67,8 +68,13 @@ struct Leaves {
     }
   }
 
-  Status onStart(leaf::Step&, const btgen::NodeInfo& n) {
+  std::string_view failing{};  // this Step reports a run-time error when it starts
+  Status onStart(leaf::Step& m, const btgen::NodeInfo& n) {
     log->add(n.name, ".onStart");
+    if (n.name == failing) {
+      failing = {};
+      return m.fail("no path");
+    }
     return steps[n.index].pop();
   }
   Status onRunning(leaf::Step&, const btgen::NodeInfo& n) {
@@ -330,6 +336,19 @@ TEST(UserNodes, RecoveryFailsWhenTheRetriesAreUsedUp) {
       << log;
 }
 
+TEST(UserNodes, AChildsRunTimeErrorFailsTheChildNotItsUserParent) {
+  Fixture f;
+  f.leaves.script("Plan", {Status::SUCCESS});
+  f.leaves.script("Follow", {Status::SUCCESS});
+  f.leaves.script("Clear", {Status::SUCCESS});
+  f.leaves.failing = "Follow";  // first start: an error, FAILURE; the recovery then retries
+  EXPECT_EQ(f.tick_at(0), Status::SUCCESS);
+  EXPECT_EQ(f.mission.errors(), 1u);
+  const std::string log = f.log.take();
+  EXPECT_NE(log.find("Follow IDLE->FAILURE\n"), std::string::npos) << log;
+  EXPECT_NE(log.find("Clear.onStart\n"), std::string::npos) << log;
+}
+
 TEST(UserNodes, HaltFromAboveHaltsRunningChildrenThenTheNodes) {
   Fixture f;
   f.leaves.script("Plan", {Status::SUCCESS});
@@ -352,6 +371,54 @@ TEST(UserNodes, HaltFromAboveHaltsRunningChildrenThenTheNodes) {
   // It starts again from scratch.
   f.leaves.script("Follow", {Status::SUCCESS});
   EXPECT_EQ(f.tick_at(1000), Status::SUCCESS);
+}
+
+// PipelineSequence over a SyncActionNode (missions/user_nodes_sync.xml).
+struct SyncLeaves {
+  int computed = 0, followed = 0;
+  std::array<std::size_t, user_nodes_sync::detail::Spec::kNodeCount> last{};
+  Status tick(user_nodes_sync::leaf::Compute&, const btgen::NodeInfo&) {
+    ++computed;
+    return Status::SUCCESS;
+  }
+  Status onStart(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {
+    ++followed;
+    return Status::RUNNING;
+  }
+  Status onRunning(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {
+    ++followed;
+    return followed < 3 ? Status::RUNNING : Status::SUCCESS;
+  }
+  void onHalted(user_nodes_sync::leaf::Step&, const btgen::NodeInfo&) {}
+  Status tick(user_nodes_sync::control::PipelineSequence& m, const btgen::NodeInfo& n) {
+    std::size_t& l = last[n.index];
+    for (std::size_t i = 0; i < m.children_count(); ++i) {
+      const Status s = m.tick_child(i);
+      if (s == Status::FAILURE) {
+        m.halt_children();
+        l = 0;
+        return s;
+      }
+      if (s == Status::RUNNING && i >= l) {
+        l = i;
+        return s;
+      }
+    }
+    m.halt_children();
+    l = 0;
+    return Status::SUCCESS;
+  }
+};
+
+TEST(UserNodes, ASyncActionTheParentDoesNotResetTicksAgain) {
+  SyncLeaves leaves;
+  user_nodes_sync::UserNodesSync<SyncLeaves, btgen::ManualClock> mission(leaves);
+  EXPECT_EQ(mission.tick(), Status::RUNNING);
+  EXPECT_EQ(mission.status(1), Status::SUCCESS);  // Compute is left SUCCESS by the pipeline
+  EXPECT_EQ(mission.tick(), Status::RUNNING);
+  EXPECT_EQ(mission.tick(), Status::SUCCESS);
+  EXPECT_EQ(leaves.computed, 3);  // ticked on every tick, as SyncActionNode::executeTick does
+  EXPECT_EQ(leaves.followed, 3);
 }
 
 TEST(UserNodes, NoAllocation) {

@@ -64,9 +64,20 @@ inline Ref of(Status v) noexcept { return of_status(v); }
 inline Ref of(std::string_view v) noexcept { return of_string(v); }
 
 // A message under construction (truncated, never overflowing).
+// A mission's scripting enums (registerScriptingEnum): value names and values.
+struct ScriptingEnum {
+  std::string_view name;
+  double value;
+};
+
 class Msg {
  public:
   explicit Msg(std::string_view prefix = {}) noexcept { add(prefix); }
+  // With the scripting enums a string read as a number may name (StringToDouble).
+  Msg(std::string_view prefix, const ScriptingEnum* enums, std::size_t enum_count) noexcept
+      : enums_(enums), enum_count_(enum_count) {
+    add(prefix);
+  }
   Msg(const Msg&) = delete;
   Msg& operator=(const Msg&) = delete;
 
@@ -82,10 +93,22 @@ class Msg {
     if (size_ < sizeof buf_) buf_[size_++] = c;
   }
   [[nodiscard]] std::string_view view() const noexcept { return std::string_view(buf_, size_); }
+  // The value of scripting enum `name`, if the mission registered it.
+  [[nodiscard]] bool enum_value(std::string_view name, double& out) const noexcept {
+    for (std::size_t i = 0; i < enum_count_; ++i) {
+      if (enums_[i].name == name) {
+        out = enums_[i].value;
+        return true;
+      }
+    }
+    return false;
+  }
 
  private:
   char buf_[1024];
   std::size_t size_ = 0;
+  const ScriptingEnum* enums_ = nullptr;
+  std::size_t enum_count_ = 0;
 };
 
 // values.type_of: the type name 4.6.2 gives a value ("int", "string", ...).
@@ -278,7 +301,7 @@ inline bool number_to_bool(const Ref& v, bool& out, Msg& m) noexcept {
   return true;
 }
 
-// StringToDouble (comparisons): `true`, `false`, else from_chars.
+// StringToDouble (comparisons): `true`, `false`, a scripting enum, else from_chars.
 inline bool string_to_double(std::string_view s, double& out, Msg& m) noexcept {
   if (s == "true") {
     out = 1.0;
@@ -288,6 +311,7 @@ inline bool string_to_double(std::string_view s, double& out, Msg& m) noexcept {
     out = 0.0;
     return true;
   }
+  if (m.enum_value(s, out)) return true;
   if (parse_double_from_chars(s, out) != Errc::kOk) {
     m.add("the string ");
     add_string_repr(m, s);

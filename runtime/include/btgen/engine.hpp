@@ -385,7 +385,13 @@ class Engine {
   // ChildOps of user Controls and Decorators.
   static Status ops_tick_child(void* e, const NodeInfo& n, std::size_t i, std::size_t base) noexcept {
     if (i >= n.child_count) return Status::FAILURE;
-    return static_cast<Engine*>(e)->execute_at(child(n, i), base);
+    Engine& self = *static_cast<Engine*>(e);
+    const std::uint64_t before = self.errors_;
+    const Status s = self.execute_at(child(n, i), base);
+    Frame& parent = self.stack_[base - 1];
+    const std::uint64_t total = parent.aux + (self.errors_ - before);
+    parent.aux = static_cast<std::uint16_t>(total < 0xFFFFu ? total : 0xFFFFu);
+    return s;
   }
   static void ops_halt_child(void* e, const NodeInfo& n, std::size_t i) noexcept {
     if (i < n.child_count) static_cast<Engine*>(e)->halt_child(n, i);
@@ -652,12 +658,15 @@ class Engine {
 
       case NodeKind::UserControl:
       case NodeKind::UserDecorator: {
-        // The user's tick(); its children run above this frame of the stack.
+        // The user's tick(); its children run above this frame of the stack. An error the
+        // node reports itself (fail(), a port write) fails it; its children's errors
+        // (counted in f.aux by ops_tick_child) only fail them.
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const std::size_t base = static_cast<std::size_t>(&f - stack_.data()) + 1;
+        f.aux = 0;
         const Status s = Spec::user_tick(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, base));
-        if (errors_ != before) return done(Status::FAILURE);
+        if (errors_ - before > f.aux) return done(Status::FAILURE);
         if (s == Status::IDLE) {
           // TreeNode::setStatus(IDLE) throws in 4.6.2.
           (void)es.fail(n, n.source, "tick() returned IDLE: a node is not allowed to set its status to IDLE");
