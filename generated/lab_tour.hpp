@@ -2007,4 +2007,9 @@ using LabTourVirtual = LabTour<LabTourLeaves>;
 extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves, btgen::SteadyClock,
                                     btgen::NoObserver>;
 
+// The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
+namespace lab_tour::detail {
+inline constexpr unsigned long long kGeneration = 0xf1d8c1f7049af346ULL;
+}
+
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP
