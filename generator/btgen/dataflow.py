@@ -702,6 +702,12 @@ class _Analyzer:
             s.kind = kind_of_type(declared) if declared != values.STRING else None
             if s.kind is not None and not s.origin:
                 s.origin = f"declared {declared}"
+        # Entries nothing writes: reading them gives no value. Decided first, so an entry written
+        # from one (`x := @missing + 1`) gets a kind and only the real error is reported.
+        for s in self.slots:
+            if s.kind is None and not s.writes:
+                s.kind = "string" if s.entry.type_name == values.STRING else "none"
+                s.origin = s.origin or "never written"
         undecided = [i for i, s in enumerate(self.slots) if s.kind is None]
         changed = True
         while changed:
@@ -735,10 +741,6 @@ class _Analyzer:
                         s.origin_loc = w.loc
                         changed = True
                         break
-        for s in self.slots:  # entries nothing writes first: reading them gives no value
-            if s.kind is None and not s.writes:
-                s.kind = "string" if s.entry.type_name == values.STRING else "none"
-                s.origin = s.origin or "never written"
         for s in self.slots:
             if s.kind is not None:
                 continue
