@@ -223,7 +223,7 @@ _LIBXML_MSG = [
 
 def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
     line, col = err.position if err.position else (1, 1)
-    msg = (err.msg or "malformed XML").split(", line ")[0].strip()
+    msg = (err.msg or "malformed XML").split(", line ")[0].rstrip("\n")
     # A malformed closing tag such as `</ Sequence>`: point at it and say what is wrong.
     lines = re.split("\r\n|\r|\n", text)
     if 1 <= line <= len(lines):
