@@ -91,6 +91,12 @@ class _Loader:
         self.files.append(shown)
         root = src.root
         if root.tag != "root":
+            if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
+                q = etree.QName(root.tag)
+                shown = f"{root.prefix}:{q.localname}" if root.prefix else q.localname
+                raise UserError.at(src.loc(root), f"the root element <{shown}> is in namespace {q.namespace}; "
+                                                  f"BehaviorTree.CPP missions use no namespaces (remove the "
+                                                  f"xmlns declaration)")
             raise UserError.at(src.loc(root), f"the root element is <{root.tag}>; a mission starts with "
                                               f"<root BTCPP_format=\"4\">")
         from .xsd import validate_structure
