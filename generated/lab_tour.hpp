@@ -3704,4 +3704,9 @@ using LabTourVirtual = LabTour<LabTourLeaves>;
 extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves, btgen::SteadyClock,
                                     btgen::NoObserver>;
 
+// The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
+namespace lab_tour::detail {
+inline constexpr unsigned long long kGeneration = 0x620f8d9721dc9144ULL;
+}
+
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

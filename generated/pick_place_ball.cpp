@@ -7,3 +7,6 @@
 // compiled once for every program that links this file.
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
+
+static_assert(pick_place_ball::detail::kGeneration == 0x4df267aa4323c739ULL,
+              "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

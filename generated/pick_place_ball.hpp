@@ -778,4 +778,9 @@ using PickPlaceBallVirtual = PickPlaceBall<PickPlaceBallLeaves>;
 extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves, btgen::SteadyClock,
                                     btgen::NoObserver>;
 
+// The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
+namespace pick_place_ball::detail {
+inline constexpr unsigned long long kGeneration = 0x4df267aa4323c739ULL;
+}
+
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

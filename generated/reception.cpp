@@ -7,3 +7,6 @@
 // compiled once for every program that links this file.
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
+
+static_assert(reception::detail::kGeneration == 0x2d182b25a5407385ULL,
+              "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -2538,4 +2538,9 @@ using ReceptionVirtual = Reception<ReceptionLeaves>;
 extern template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                                     btgen::NoObserver>;
 
+// The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
+namespace reception::detail {
+inline constexpr unsigned long long kGeneration = 0x2d182b25a5407385ULL;
+}
+
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

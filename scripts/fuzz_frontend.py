@@ -52,6 +52,7 @@ CASES = ROOT.parent / "shared" / "conformance" / "cases"
 MEMORY_LIMIT = 2 * 1024 ** 3
 
 from btgen.catalogue import BUILTINS  # noqa: E402
+from btgen.fuzzgen import HOSTILE_NAMES  # noqa: E402
 from btgen.diagnostics import UserError  # noqa: E402
 
 DIAG_RE = r"^{path}:[1-9][0-9]*:[1-9][0-9]*: (error|warning|note): .+$"
@@ -109,6 +110,12 @@ ATTR_VALUES = [b"", b" ", b"-1", b"0", b"1", b"2", b"65536", b"4294967296", b"-2
                b"((((((((((1))))))))))", b"(" * 300 + b"1" + b")" * 300, b"a &lt; b", b"'unterminated", b"1 ? 2 : 3",
                b"SUCCESS", b"FAILURE", b"SKIPPED", b"RUNNING", b"IDLE", b"true", b"false", b"nan", b"inf",
                b"\xc3\xa9", b"&#10;", b"&quot;", b"{a}{b}"]
+# Hostile names (issue 14): C++ keywords, macros, the runtime's and the generated code's own names
+# and IDs with white space, quotes, backslashes or a trigraph, as tokens, attribute values, keys.
+HOSTILE = [n.encode() for n in HOSTILE_NAMES] + [b"a\nb", b"a b", b'a"b', b"a\\b", b"ends ??/", b"bt_node"]
+TOKENS += HOSTILE
+NODE_NAMES += [n.encode() for n in HOSTILE_NAMES[:12]]
+ATTR_VALUES += HOSTILE + [b"{" + n + b"}" for n in HOSTILE[:20]] + [b"'a' .. 1e300", b"1 | 2.5", b"~1e30"]
 KB_TOKENS = [b"robotLocationPose", b"robotLocationDescription", b"gestureTarget", b"tour", b"culturalKnowledge",
              b"preGestureMessageEnglish", b"postGestureMessageIsiZulu", b"knowledgeBase", b"verboseMode",
              b"-1", b"0", b"00", b"1e9", b"nan", b"inf", b"99999999999999999999", b"1.5", b"-0.0", b",", b"#",

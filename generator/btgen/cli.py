@@ -188,7 +188,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="directory the banner's input path is relative to (default: the current one)")
     c.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
                    help="most bytes of a blackboard string (default 128): strings written by robot code or "
-                        "growing without bound get N, others the longest value they can take, at most N; "
+                        "growing without bound get N, literals at most N, computed strings the longest value "
+                        "they can take; "
                         "a longer value fails the node that writes it")
     c.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
                    help="most elements of a blackboard queue written by robot code (default 16)")

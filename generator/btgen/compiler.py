@@ -86,7 +86,9 @@ def _file_mode() -> int:
 def _stage(path: Path, data: bytes, mode: int) -> str:
     """`data` written and synced to a temporary file beside `path`; its name."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
+    # (the name's first 64 characters: a long output name plus mkstemp's part would pass the
+    # file system's 255-byte limit, though the output's own name is legal)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=".tmp", dir=str(path.parent))
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
@@ -113,6 +115,7 @@ def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
     mode = _file_mode()
     staged: list[tuple[str, Path, Optional[bytes]]] = []  # temporary file, target, previous bytes
     replaced: list[tuple[str, Path, Optional[bytes]]] = []
+    old_stat: dict[Path, os.stat_result] = {}
     try:
         for path, text in files:
             data = text.encode("utf-8")
@@ -120,6 +123,7 @@ def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
                 raise IsADirectoryError(21, "a directory is in the way", str(path))
             try:
                 old: Optional[bytes] = path.read_bytes()
+                old_stat[path] = path.stat()
             except FileNotFoundError:
                 old = None
             if old == data:
@@ -136,8 +140,10 @@ def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
             try:
                 if old is None:
                     os.unlink(path)
-                else:
-                    os.replace(_stage(path, old, mode), path)
+                else:  # its bytes, mode and times as they were
+                    st = old_stat[path]
+                    os.replace(_stage(path, old, st.st_mode & 0o7777), path)
+                    os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns))
             except OSError:
                 pass
         raise
@@ -163,13 +169,20 @@ def compile_command(args: argparse.Namespace) -> int:
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),
                      getattr(args, "namespace", None))
     out_dir = Path(args.output_dir)
+    for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
+        target = out_dir / out.name
+        for f in mission.files:
+            if target.exists() and os.path.samefile(f, target):
+                raise UserError(Diagnostic(Loc(f, 1, 1), f"`btgen compile -o {args.output_dir}` would overwrite "
+                                                          f"this input file with the generated {out.name}: "
+                                                          f"choose another output directory"))
     try:  # rendered completely before anything is written; then all outputs or none
         write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
     except OSError as e:
         where = e.filename if isinstance(e.filename, str) else str(out_dir / outputs[0].name)
         if os.path.basename(where).startswith("."):  # a temporary file: name the output it was for
-            where = next((str(out_dir / o.name) for o in outputs if os.path.basename(where)[1:].startswith(o.name)),
-                         where)
+            where = next((str(out_dir / o.name) for o in outputs
+                          if os.path.basename(where)[1:].startswith(o.name[:64] + ".")), where)
         raise UserError(Diagnostic(Loc(where, 1, 1), f"cannot write the generated file: {e.strerror or e}")) from None
     return 0
 

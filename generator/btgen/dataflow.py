@@ -707,6 +707,12 @@ class _Analyzer:
             s.kind = kind_of_type(declared) if declared != values.STRING else None
             if s.kind is not None and not s.origin:
                 s.origin = f"declared {declared}"
+        # Entries nothing writes: reading them gives no value. Decided first, so an entry written
+        # from one (`x := @missing + 1`) gets a kind and only the real error is reported.
+        for s in self.slots:
+            if s.kind is None and not s.writes:
+                s.kind = "string" if s.entry.type_name == values.STRING else "none"
+                s.origin = s.origin or "never written"
         undecided = [i for i, s in enumerate(self.slots) if s.kind is None]
         changed = True
         while changed:
@@ -740,10 +746,6 @@ class _Analyzer:
                         s.origin_loc = w.loc
                         changed = True
                         break
-        for s in self.slots:  # entries nothing writes first: reading them gives no value
-            if s.kind is None and not s.writes:
-                s.kind = "string" if s.entry.type_name == values.STRING else "none"
-                s.origin = s.origin or "never written"
         for s in self.slots:
             if s.kind is not None:
                 continue
@@ -783,6 +785,8 @@ class _Analyzer:
         dynamic too, so this runs until nothing changes. Numbers of two kinds (integer and
         double) written by scripts are conversions, not type changes: those entries stay
         static; a SetBlackboard copy of another kind of number replaces the value's type."""
+        for s in self.slots:
+            self._mark_typed_number_dynamic(s)
         changed = True
         while changed:
             changed = False
@@ -807,6 +811,26 @@ class _Analyzer:
                         s.origin_loc = w.loc
                         changed = True
                         break
+
+    def _mark_typed_number_dynamic(self, s: "_Slot") -> None:
+        """A typed number entry (a port declared it `int` or `double`) that a script may give
+        its first value with the other kind of number (`speed := 1` for a double port): 4.6.2's
+        Any::copyInto into the empty entry stores the value as it is, so the entry then holds
+        an integer (and converts later writes to integers). Its slot is dynamic so the C++
+        engine follows (it stopped with "would store an integer in the empty entry")."""
+        if s.kind not in ("int", "double") or s.failed or s.initial is not None or \
+                kind_of_type(s.entry.type_name) != s.kind:
+            return
+        kinds = [w.kind() for w in s.writes]
+        if any(k not in ("int", "double", None) for k in kinds):
+            return  # (strings go through the declared type's converter: a static slot does that)
+        for w, k in zip(s.writes, kinds):
+            if w.source == "script" and w.determining and k in ("int", "double") and k != s.kind:
+                s.kind = DYN
+                s.origin = (f"4.6.2 stores the other kind of number as it is in the empty entry ({w.what} writes "
+                            f"{describe_kind(k)})")
+                s.origin_loc = w.loc
+                return
 
     # ------------------------------------------------------------ 4. sizes
     def size_slots(self) -> None:

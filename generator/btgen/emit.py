@@ -179,7 +179,24 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".",
         groot2=groot2_context(program),
     )
     env = environment()
-    return (
-        Output(header, env.get_template("mission.hpp.j2").render(ctx)),
-        Output(source, env.get_template("mission.cpp.j2").render(ctx)),
-    )
+    return _stamped(Output(header, env.get_template("mission.hpp.j2").render(ctx)),
+                    Output(source, env.get_template("mission.cpp.j2").render(ctx)), ctx["ns"], ctx["guard"])
+
+
+def _stamped(header: Output, source: Output, ns: str, guard: str) -> tuple[Output, Output]:
+    """Both files with the generation they belong to: a hash of the pair, a constant in the
+    header that the source checks. A header from one run and a source from another (two
+    compiles of same-stem missions into one folder at once, or a kill between the two
+    renames) fail to build with a message that says so, instead of mixing two missions."""
+    import hashlib
+
+    digest = hashlib.sha256((header.text + "\0" + source.text).encode("utf-8")).hexdigest()[:16]
+    end = f"#endif  // {guard}\n"
+    if not header.text.endswith(end):
+        raise InternalError("the generated header does not end with its include guard")
+    stamp = (f"// The generation of {header.name} and {source.name} (both carry it; {source.name} checks it).\n"
+             f"namespace {ns}::detail {{\ninline constexpr unsigned long long kGeneration = 0x{digest}ULL;\n}}\n\n")
+    check = (f"\nstatic_assert({ns}::detail::kGeneration == 0x{digest}ULL,\n"
+             f"              \"{header.name} and {source.name} come from different btgen runs: run btgen compile "
+             f"again\");\n")
+    return (Output(header.name, header.text[:-len(end)] + stamp + end), Output(source.name, source.text + check))

@@ -95,6 +95,12 @@ class _Loader:
         self.files.append(shown)
         root = src.root
         if root.tag != "root":
+            if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
+                q = etree.QName(root.tag)
+                shown = f"{root.prefix}:{q.localname}" if root.prefix else q.localname
+                raise UserError.at(src.loc(root), f"the root element <{shown}> is in namespace {q.namespace}; "
+                                                  f"BehaviorTree.CPP missions use no namespaces (remove the "
+                                                  f"xmlns declaration)")
             raise UserError.at(src.loc(root), f"the root element is <{root.tag}>; a mission starts with "
                                               f"<root BTCPP_format=\"4\">")
         from .xsd import validate_structure
@@ -172,8 +178,10 @@ class _Loader:
             self.sink.error(loc, f"includes nested deeper than {MAX_INCLUDE_DEPTH} files")
             return
         if not os.path.isfile(target_real):
-            self.sink.error(src.value_loc(elem, "path"), f"included file `{rel}` not found "
-                                                         f"(looked for {target_shown})")
+            why = ("is a directory, not a mission file" if os.path.isdir(target_real) else
+                   "is not a regular file" if os.path.exists(target_real) else
+                   f"not found (looked for {target_shown})")
+            self.sink.error(src.value_loc(elem, "path"), f"included file `{rel}` {why}")
             return
         if target_shown in self.files:
             return  # included twice along different paths: its trees are already known
@@ -362,6 +370,14 @@ class _Loader:
             return BUILTINS["SubTree"]
         user = {m.id: m for m in self.models}
         spec = BUILTINS.get(node_id) or user.get(node_id)
+        if spec is None and node_id.startswith("{"):  # lxml's `{uri}local` of a namespaced element
+            local = etree.QName(node_id).localname
+            shown = f"{elem.prefix}:{local}" if elem.prefix else local
+            known = local in BUILTINS or local in user
+            self.sink.error(loc, f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
+                                 f"(it is in {etree.QName(node_id).namespace})"
+                                 + (f"; write <{local}>" if known else ""))
+            return None
         if spec is None:
             if node_id in tree_ids:
                 self.sink.error(loc, f"`{node_id}` is a BehaviorTree, not a node: "

@@ -5,7 +5,7 @@ few scenarios, deterministically: the same seed and feature set give the
 same bytes on every machine and Python version (only ``random.Random`` with
 an integer seed and explicit choices are used, never hash order).
 
-Two feature sets:
+Feature sets:
 
 - ``control``: every control node and decorator that needs no blackboard
   (Sequence ... ParallelAll, IfThenElse, WhileDoElse, Inverter ... Delay),
@@ -25,6 +25,11 @@ Two feature sets:
   creates both at load (so a typed `int` port may read them too) and Switch
   reads `v` as text.
 
+- ``hostile``: all of ``dynamic`` with the leaf models, their ports and the integer
+  entries renamed to names of HOSTILE_NAMES (C++ keywords, macros, the runtime's and the
+  generated code's own names), Move's typed ports first written with the other kind of
+  number (``i0 := 2.0`` for an int port, ``d := 1`` for a double one), issue 14.
+
 Every mission the generator writes passes ``btgen validate`` by construction
 (the differential driver counts and reports any that does not); whether the
 C++ back end compiles it is decided by ``btgen compile`` itself, so a feature
@@ -41,7 +46,7 @@ import sys
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
-FEATURE_SETS = ("control", "full", "dynamic")
+FEATURE_SETS = ("control", "full", "dynamic", "hostile")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
 
 CONTROLS = ("Sequence", "SequenceWithMemory", "AsyncSequence", "ReactiveSequence", "Fallback", "AsyncFallback",
@@ -123,9 +128,10 @@ class _Gen:
     def __init__(self, seed: int, features: str) -> None:
         if features not in FEATURE_SETS:
             raise ValueError(f"unknown feature set `{features}` (use {', '.join(FEATURE_SETS)})")
-        self.rng = random.Random(seed * 7919 + {"control": 0, "full": 1, "dynamic": 2}[features])
-        self.data = features in ("full", "dynamic")
-        self.dyn = features == "dynamic"
+        self.rng = random.Random(seed * 7919 + {"control": 0, "full": 1, "dynamic": 2, "hostile": 3}[features])
+        self.data = features in ("full", "dynamic", "hostile")
+        self.dyn = features in ("dynamic", "hostile")
+        self.hostile = features == "hostile"
         self.counter = 0
         self.n_trees = self.rng.choice((1, 2, 3, 3))
         self.budget = self.rng.randint(6, 45)
@@ -340,6 +346,8 @@ class _Gen:
             attrs += f' name="{name}"'
         if self.leaf_ports and self.rng.random() < 0.5:
             if lid == "Move":
+                if self.hostile and scope.main_like and self.rng.random() < 0.5:
+                    attrs += ' speed="{d}"'  # `d` is a typed double entry, its first write maybe an integer
                 if self.dyn and scope.has_root_vars and self.rng.random() < 0.3:
                     attrs += f' goal="{{{scope.var(self.rng.choice(DYN_VARS))}}}"'
                 else:
@@ -405,8 +413,9 @@ class _Gen:
             if t == 0 and self.data:
                 body = self.with_init(body)
             trees.append(f'  <BehaviorTree ID="T{t}">\n    {body}\n  </BehaviorTree>\n')
+        speed = '      <input_port name="speed" type="double"/>\n' if self.hostile else ""
         models = ['    <Action ID="Act"/>\n',
-                  '    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n    </Action>\n',
+                  f'    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n{speed}    </Action>\n',
                   '    <Condition ID="Check">\n      <input_port name="level" type="int" default="1"/>\n'
                   '    </Condition>\n']
         if self.dyn:
@@ -424,8 +433,14 @@ class _Gen:
     def with_init(self, body: str) -> str:
         """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
         rng = self.rng
-        init = (f"i0 := {rng.randint(0, 3)}; i1 := {rng.randint(0, 3)}; s := '{rng.choice('abc')}'; "
-                f"flag := {rng.choice(('true', 'false'))}; d := 0.5; u := 'x'")
+        i0, i1, d = rng.randint(0, 3), rng.randint(0, 3), "0.5"
+        if self.hostile:
+            # The other kind of number as the first write of a typed entry (`goal` is an int port,
+            # `speed` a double one): 4.6.2 keeps the value's kind in the empty entry.
+            i0 = rng.choice((i0, f"{i0}.0", f"-{i0}", f"{2 * i0} / 2"))
+            d = rng.choice(("0.5", "1", "-2", "3 / 2", "2.0"))
+        init = (f"i0 := {i0}; i1 := {i1}; s := '{rng.choice('abc')}'; "
+                f"flag := {rng.choice(('true', 'false'))}; d := {d}; u := 'x'")
         extra = ""
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
@@ -441,6 +456,36 @@ class _Gen:
 def random_mission(seed: int, features: str = "control") -> str:
     """The mission of `seed`: a valid BTCPP_format="4" document."""
     return _Gen(seed, features).mission()
+
+
+# Names of the hostile pool that can be model IDs, ports and script variables (XML names and
+# script identifiers: not the script's `true`/`false`, not 4.6.2's reserved port names).
+# Nor the generator's own leaf names, keys and models (a Condition ID `e` would be scripted by
+# the lines of the Action named `e`).
+_GENERATOR_NAMES = frozenset(ACTION_NAMES + CONDITION_NAMES + DYN_VARS + INT_VARS + PARAM_VARS + (
+    "s", "d", "u", "q", "flag", "lb", "li", "ld", "ls", "Show", "what", "other", "Act", "Move", "Check", "goal",
+    "speed", "level"))
+_HOSTILE_IDS = tuple(n for n in HOSTILE_NAMES if n not in ("true", "false", "name", "ID") and n not in _GENERATOR_NAMES
+                     and not n.startswith("T"))
+
+
+def hostile_names(seed: int) -> dict[str, str]:
+    """The `hostile` feature set's renaming of seed `seed`: model IDs (Act, Move, Check), their
+    ports (goal, speed, level) and the integer entries (i0, i1) become names of the hostile pool
+    (C++ keywords, macros, the runtime's and the generated code's names), all different."""
+    rng = random.Random(seed * 31337 + 5)
+    picks = rng.sample(_HOSTILE_IDS, 8)
+    return dict(zip(("Act", "Move", "Check", "goal", "speed", "level", "i0", "i1"), picks))
+
+
+def _rename(text: str, names: dict[str, str], mission: bool) -> str:
+    import re
+    if not mission:  # scenario lines `leaf <ID> ...`
+        return re.sub(r"^leaf (Act|Move|Check) ", lambda m: f"leaf {names[m.group(1)]} ", text, flags=re.M)
+    text = re.sub(r'(<|ID=")(Act|Move|Check)\b', lambda m: m.group(1) + names[m.group(2)], text)
+    text = re.sub(r'\b(goal|speed|level)(=")', lambda m: names[m.group(1)] + m.group(2), text)
+    text = re.sub(r'(name=")(goal|speed|level)"', lambda m: m.group(1) + names[m.group(2)] + '"', text)
+    return re.sub(r"(?<![A-Za-z0-9_])(i0|i1)(?![A-Za-z0-9_])", lambda m: names[m.group(1)], text)
 
 
 def random_scenario(rng: random.Random, clock: bool = True) -> str:
@@ -468,7 +513,12 @@ def random_case(seed: int, features: str = "control", n_scenarios: int = 3) -> C
     """Mission and scenarios of `seed` (deterministic)."""
     mission = random_mission(seed, features)
     rng = random.Random(seed * 104729 + 17)
-    return Case(seed, features, mission, tuple(random_scenario(rng) for _ in range(n_scenarios)))
+    scenarios = tuple(random_scenario(rng) for _ in range(n_scenarios))
+    if features == "hostile":
+        names = hostile_names(seed)
+        mission = _rename(mission, names, True)
+        scenarios = tuple(_rename(sc, names, False) for sc in scenarios)
+    return Case(seed, features, mission, scenarios)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -216,6 +216,39 @@ def _one_int(sink: DiagnosticSink, kw: Token, args: list[Token], what: str, mean
     return -min(int(digits) if len(digits) <= 20 else 2**62, 2**62)  # saturated, as the C++ runner
 
 
+def _distance(a: bytes, b: bytes) -> int:
+    row = list(range(len(b) + 1))
+    for i in range(1, len(a) + 1):
+        diag, row[0] = row[0], i
+        for j in range(1, len(b) + 1):
+            up = row[j]
+            row[j] = min(diag + (a[i - 1] != b[j - 1]), up + 1, row[j - 1] + 1)
+            diag = up
+    return row[len(b)]
+
+
+def closest_leaf(word: str, names: list[str]) -> Optional[str]:
+    """The scripted-leaf hint, as the C++ scenario runner gives it (scenario.hpp did_you_mean):
+    a name equal but for ASCII case, else the first of the closest names (in mission order) at
+    most a third of whose bytes differ. (The generic did_you_mean gave `b` for `bb` where the
+    runner gave none: hostile names in the random missions found it.)"""
+    def upper(b: bytes) -> bytes:
+        return bytes(c - 32 if 97 <= c <= 122 else c for c in b)
+    w = word.encode("utf-8", "surrogatepass")
+    encoded = [(n, n.encode("utf-8", "surrogatepass")) for n in names]
+    for n, b in encoded:
+        if b != w and upper(b) == upper(w):
+            return n
+    best, best_d = None, 0
+    for n, b in encoded:
+        if abs(len(b) - len(w)) > max(len(b), len(w)) // 3:
+            continue
+        d = _distance(w, b)
+        if 0 < d <= max(len(w), len(b)) // 3 and (best is None or d < best_d):
+            best, best_d = n, d
+    return best
+
+
 # --------------------------------------------------------------------- leaves of a mission
 @dataclass(frozen=True)
 class LeafUse:
@@ -323,7 +356,7 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
                                      f"main tree `{mission.main_tree}` does not run; its line is ignored")
             continue
         if not found:
-            hint = did_you_mean(script.name, uses)
+            hint = closest_leaf(script.name, list(uses))
             extra = f" (did you mean `{hint}`?)" if hint else ""
             sink.warning(script.loc, f"leaf `{script.name}` matches no Action or Condition of the mission; "
                                      f"its line is ignored{extra}")

@@ -531,7 +531,9 @@ class ScriptCompiler(CodeWriter):
 
     def unary(self, node: sc.Unary) -> Val:
         v = self.expr(node.operand)
-        if v.kind in (DYN, "string", "none"):  # (a string, or no value: fails at run time as in 4.6.2)
+        # (a string, or no value: fails at run time as in 4.6.2; a double under `~` may be out of
+        # range, which the dynamic path words as the interpreter does, with the value)
+        if v.kind in (DYN, "string", "none") or (node.op == "~" and v.kind == "double"):
             t = self.temp()
             self.emit(f"double {t} = 0.0;")
             self.dyn_call(f"btgen::dyn::unary('{node.op}', {self.to_ref(v)}, {t}, dm)", node.offset)
@@ -555,7 +557,10 @@ class ScriptCompiler(CodeWriter):
         lv = self.expr(node.left)
         rv = self.expr(node.right)
         kind = binary_kind(op, lv.kind, rv.kind, off)
-        if DYN in (lv.kind, rv.kind) or not _static_binary_ok(op, lv.kind, rv.kind):
+        if DYN in (lv.kind, rv.kind) or not _static_binary_ok(op, lv.kind, rv.kind) or \
+                (op in sc.BIT_OPS and "double" in (lv.kind, rv.kind)):
+            # (a double operand of a bit operator may not be whole: the dynamic path names the
+            # value in the error, as the interpreter does)
             return self.dyn_binary(op, off, lv, rv, kind)
         self.need_value(lv, off, f"the left operand of `{op}`")
         self.need_value(rv, off, f"the right operand of `{op}`")

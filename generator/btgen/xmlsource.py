@@ -43,7 +43,8 @@ class StartTag:
 
 class _LineIndex:
     def __init__(self, text: str) -> None:
-        self.starts = [0] + [m.end() for m in re.finditer("\n", text)]
+        # XML ends lines with LF, CR LF or a lone CR (all read as LF).
+        self.starts = [0] + [m.end() for m in re.finditer("\r\n|\r|\n", text)]
 
     def pos(self, offset: int) -> tuple[int, int]:
         import bisect
@@ -91,10 +92,55 @@ class Source:
         i = decoded = 0
         while i < len(raw) and decoded < offset:
             m = _ENTITY_RE.match(raw, i) if raw[i] == "&" else None
-            i = m.end() if m else i + 1
+            # (CR LF is one line end, so one character of the value)
+            i = m.end() if m else i + 2 if raw.startswith("\r\n", i) else i + 1
             decoded += 1
         line, col = self._lines.pos(a.value_offset + i)
         return Loc(self.path, line, col)
+
+    def text_loc(self, elem: etree._Element) -> Loc:
+        """Where the first character data directly inside `elem` (not in a child) that is not
+        white space starts: its first character, or its `<![CDATA[`; the element when none."""
+        start = self.loc(elem)
+        if start.line > len(self._lines.starts):
+            return start
+        text = self.text
+        i = self._lines.starts[start.line - 1] + start.col - 1
+        tag = re.compile(r"<(/?)(" + _NAME + r")(?:\s+(?:" + _NAME + r")\s*=\s*(?:\"[^\"]*\"|'[^']*'))*\s*(/?)>")
+        m = tag.match(text, i)
+        if m is None or m.group(3):
+            return start
+        i, depth = m.end(), 0
+        while i < len(text):
+            c = text[i]
+            if c == "<":
+                for opener, closer in (("<!--", "-->"), ("<?", "?>")):
+                    if text.startswith(opener, i):
+                        end = text.find(closer, i)
+                        i = len(text) if end < 0 else end + len(closer)
+                        break
+                else:
+                    if text.startswith("<![CDATA[", i):
+                        end = text.find("]]>", i)
+                        if depth == 0 and text[i + 9:end if end >= 0 else len(text)].strip():
+                            return Loc(self.path, *self._lines.pos(i))
+                        i = len(text) if end < 0 else end + 3
+                        continue
+                    m = tag.match(text, i)
+                    if m is None:
+                        return start
+                    if m.group(1):
+                        if depth == 0:
+                            return start
+                        depth -= 1
+                    elif not m.group(3):
+                        depth += 1
+                    i = m.end()
+                continue
+            if depth == 0 and not c.isspace():
+                return Loc(self.path, *self._lines.pos(i))
+            i += 1
+        return start
 
     def attr_names_in_order(self, elem: etree._Element) -> list[str]:
         return list(self._tags[elem].attrs)
@@ -177,9 +223,9 @@ _LIBXML_MSG = [
 
 def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
     line, col = err.position if err.position else (1, 1)
-    msg = (err.msg or "malformed XML").split(", line ")[0]
+    msg = (err.msg or "malformed XML").split(", line ")[0].rstrip("\n")
     # A malformed closing tag such as `</ Sequence>`: point at it and say what is wrong.
-    lines = text.split("\n")
+    lines = re.split("\r\n|\r|\n", text)
     if 1 <= line <= len(lines):
         bad = re.search(r"</\s+(" + _NAME + r")\s*>", lines[line - 1])
         if bad:
@@ -236,6 +282,13 @@ def parse_bytes(data: bytes, path: str) -> Source:
                            f"invalid UTF-8 (byte 0x{data[e.start]:02x}); missions must be UTF-8") from None
     if not text.strip():
         raise UserError.at(Loc(path, 1, 1), "file is empty: expected <root BTCPP_format=\"4\">")
+    nul = text.find("\x00")
+    if nul >= 0:  # (XML allows no NUL; UTF-16 text read as UTF-8 is full of them)
+        line, col = _LineIndex(text).pos(nul)
+        utf16 = len(text) >= 4 and (text[1] == text[3] == "\x00" or text[0] == text[2] == "\x00")
+        raise UserError.at(Loc(path, line, col),
+                           "NUL bytes: the file looks like UTF-16 without a byte-order mark; missions must be UTF-8"
+                           if utf16 else "a NUL byte (0x00), which XML does not allow; missions must be UTF-8 text")
     decl = re.match(r"<\?xml[^>]*encoding\s*=\s*[\"']([^\"']+)", text)
     if decl and decl.group(1).replace("-", "").lower() != "utf8":
         raise UserError.at(Loc(path, 1, decl.start(1) + 1),

@@ -81,6 +81,8 @@ def _iter_diags(schema: xmlschema.XMLSchema, src: Source, root: etree._Element) 
             name = (m.group(1) or m.group(2) or m.group(3)) if m else None
             if name and name in elem.attrib:
                 loc = src.attr_loc(elem, name)
+            elif "character data" in (err.reason or ""):  # at the text (or CDATA), not its parent
+                loc = src.text_loc(elem)
         out.append(Diagnostic(loc, _reason(err)))
     return out
 

@@ -237,3 +237,46 @@ def test_cpp_engine_with_an_unusable_cache_dir(tmp_path, bad):
     assert (proc.returncode, proc.stderr.decode()) == (
         1, f"two.xml:1:1: error: cannot build the C++ executor: the cache directory `{cache}` is not usable "
            f"(Not a directory); set BTGEN_CACHE_DIR to a writable directory\n")
+
+
+def _compile(mission, out, cwd):
+    return subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)], cwd=cwd,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_compile_refuses_to_overwrite_its_input(tmp_path):
+    """A mission named mission.hpp compiled with -o its own folder was overwritten by the
+    generated header (exit 0: the mission was lost)."""
+    (tmp_path / "mission.hpp").write_text(TWO_EDGES, encoding="utf-8")
+    proc = _compile("mission.hpp", ".", tmp_path)
+    assert (proc.returncode, proc.stderr) == (
+        1, "mission.hpp:1:1: error: `btgen compile -o .` would overwrite this input file with the generated "
+           "mission.hpp: choose another output directory\n")
+    assert (tmp_path / "mission.hpp").read_text(encoding="utf-8") == TWO_EDGES
+
+
+def test_compile_a_very_long_stem(tmp_path):
+    """A 245-character stem failed with 'File name too long' from the temporary file's name,
+    though the outputs' names (249 characters) are legal."""
+    stem = "m" * 245
+    (tmp_path / f"{stem}.xml").write_text(TWO_EDGES, encoding="utf-8")
+    proc = _compile(f"{stem}.xml", "out", tmp_path)
+    assert (proc.returncode, proc.stderr) == (0, "")
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [f"{stem}.cpp", f"{stem}.hpp"]
+
+
+def test_header_and_source_of_two_runs_do_not_build(tmp_path):
+    """Two compiles of same-stem missions into one folder at once (or a kill between the two
+    renames) could leave m.hpp of one and m.cpp of the other, which built into a mix; both
+    files carry the generation, and the source checks it."""
+    for name, text in (("a", TWO_EDGES), ("b", TWO_EDGES.replace("AlwaysFailure", "AlwaysSuccess"))):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "m.xml").write_text(text, encoding="utf-8")
+        assert _compile(f"{name}/m.xml", name, tmp_path).returncode == 0
+    cmd = [os.environ.get("CXX", "c++"), "-std=c++17", "-fsyntax-only", "-I", RUNTIME]
+    subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], check=True)
+    (tmp_path / "a" / "m.hpp").write_bytes((tmp_path / "b" / "m.hpp").read_bytes())  # the mix
+    proc = subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], capture_output=True,
+                          text=True)
+    assert proc.returncode != 0
+    assert "m.hpp and m.cpp come from different btgen runs: run btgen compile again" in proc.stderr
