@@ -13,7 +13,13 @@ SUCCESS) one tick of the root visits every node and succeeds:
 - subtrees_N: spread over SubTrees two levels deep (Main calls Part 4 times,
   Part calls Leg 4 times);
 - scripts_N: Script / ScriptCondition leaves and Actions with a `_failureIf`
-  pre-condition over one blackboard entry.
+  pre-condition over one blackboard entry;
+- balanced5_1043: the balanced tree with 5 children per control node (four
+  levels of Sequence / Fallback under the root), 1,043 nodes: the size issue
+  20 measured BehaviorTree.CPP 4.6.2 on (997,604 instructions per tick);
+- museum_93: a 93-node mission of the museum's shape (SubTrees, a
+  RetryUntilSuccessful, two Parallels, a ReactiveSequence; BehaviorTree.CPP
+  4.6.2: 128,888 instructions per tick according to issue 20).
 
 Output is deterministic, so the committed files are what this script writes.
 """
@@ -42,12 +48,51 @@ SIZES: dict[str, tuple[int, ...]] = {
 }
 
 
+def museum_mission() -> str:
+    """93 nodes (SubTrees expanded) shaped like the museum mission: a start-up
+    SubTree, a ReactiveSequence guarding a tour of exhibit SubTrees, two
+    Parallels and a docking SubTree under a RetryUntilSuccessful. With leaves
+    that succeed at once one tick visits every node and succeeds."""
+    exhibit = ["    <Sequence name=\"Exhibit\">", "      <Ready/>",
+               "      <Fallback name=\"Approach\">", "        <Inverter>", "          <Ready/>", "        </Inverter>",
+               "        <Work/>", "      </Fallback>", "      <Work/>", "      <Work/>", "    </Sequence>"]
+    startup = ["    <Sequence name=\"Startup\">", "      <Ready/>", "      <Work/>",
+               "      <ForceSuccess>", "        <Work/>", "      </ForceSuccess>", "      <Work/>", "    </Sequence>"]
+    dock = ["    <Sequence name=\"Dock\">", "      <Ready/>", "      <Work/>", "      <Work/>", "    </Sequence>"]
+    main = ["    <Sequence name=\"Museum\">",
+            "      <SubTree ID=\"Startup\"/>",
+            "      <ReactiveSequence name=\"Guarded\">",
+            "        <Ready/>",
+            "        <Ready/>",
+            "        <Sequence name=\"Tour\">"]
+    main += [f"          <SubTree ID=\"Exhibit\" name=\"Exhibit{i}\"/>" for i in range(5)]
+    main += ["        </Sequence>",
+             "      </ReactiveSequence>",
+             "      <Parallel name=\"Present\" success_count=\"2\" failure_count=\"1\">",
+             "        <SubTree ID=\"Exhibit\" name=\"Highlight\"/>",
+             "        <Sequence>", "          <Ready/>", "          <Work/>", "        </Sequence>",
+             "        <Work/>",
+             "      </Parallel>",
+             "      <RetryUntilSuccessful num_attempts=\"3\">",
+             "        <SubTree ID=\"Dock\"/>",
+             "      </RetryUntilSuccessful>",
+             "      <Parallel name=\"Farewell\" success_count=\"-1\" failure_count=\"1\">",
+             "        <Work/>", "        <Work/>", "        <Ready/>",
+             "        <Sequence>", "          <Ready/>", "          <Work/>", "        </Sequence>",
+             "      </Parallel>",
+             "      <SubTree ID=\"Exhibit\" name=\"Goodbye\"/>",
+             "    </Sequence>"]
+    return synth._document("Main", [("Main", main), ("Startup", startup), ("Exhibit", exhibit), ("Dock", dock)])
+
+
 def missions() -> dict[str, str]:
     """File name -> text of every synthetic mission, in table order."""
     out: dict[str, str] = {}
     for kind, sizes in SIZES.items():
         for n in sizes:
             out[f"{kind}_{n}.xml"] = synth.mission(kind, n)
+    out["balanced5_1043.xml"] = synth.balanced_mission(1043, branching=5)
+    out["museum_93.xml"] = museum_mission()
     return out
 
 

@@ -129,6 +129,27 @@ class Engine {
   static constexpr bool has(const NodeInfo& n, ScriptSlot which) noexcept {
     return (n.scripts & script_bit(which)) != 0;
   }
+  // The script bits any node of the mission has: a mission without pre- or
+  // post-conditions compiles their checks away.
+  static constexpr std::uint16_t mission_scripts() noexcept {
+    std::uint16_t bits = 0;
+    for (const NodeInfo& n : Spec::kNodes) bits = static_cast<std::uint16_t>(bits | n.scripts);
+    return bits;
+  }
+  static constexpr std::uint16_t kMissionScripts = mission_scripts();
+  // Whether a node applies the wake-up rule (needs Frame::child_prev, the
+  // status its child had before this tick): else that read is compiled away.
+  static constexpr bool mission_wakes_up() noexcept {
+    for (const NodeInfo& n : Spec::kNodes) {
+      if (n.kind == NodeKind::AsyncSequence || n.kind == NodeKind::SequenceWithMemory ||
+          n.kind == NodeKind::AsyncFallback || n.kind == NodeKind::Repeat ||
+          n.kind == NodeKind::RetryUntilSuccessful) {
+        return true;
+      }
+    }
+    return false;
+  }
+  static constexpr bool kWakeUp = mission_wakes_up();
   static constexpr std::uint16_t kPreBits = static_cast<std::uint16_t>(
       script_bit(ScriptSlot::kFailureIf) | script_bit(ScriptSlot::kSuccessIf) | script_bit(ScriptSlot::kSkipIf) |
       script_bit(ScriptSlot::kWhile));
@@ -187,6 +208,7 @@ class Engine {
     std::uint16_t pos;
     std::uint16_t aux;
     Status child_prev;
+    std::uint8_t decorator;  // 1: a decorator (finish() resets its completed child)
   };
   struct HaltFrame {
     std::uint16_t node;
@@ -202,18 +224,22 @@ class Engine {
   static constexpr Step done(Status s) noexcept { return Step{kNoNode, s}; }
 
   static constexpr const NodeInfo& info(std::uint16_t n) noexcept { return Spec::kNodes[n]; }
-  // The clamp is free in practice (children always exist) and keeps g++ -O2 from
-  // warning (-Warray-bounds) about a branch for a third child it cannot prove dead when the
-  // whole mission has exactly two parent-to-child edges.
+  // The i-th child of `n` (i < n.child_count). The index is clamped only in
+  // tiny child tables: there it keeps g++ -O2 from warning (-Warray-bounds)
+  // about a branch for a third child it cannot prove dead when the whole
+  // mission has exactly two parent-to-child edges; in larger ones the clamp
+  // cost 10 instructions per visited node (bench/missions/balanced_1000.xml).
   static constexpr std::uint16_t child(const NodeInfo& n, std::size_t i) noexcept {
     constexpr std::size_t size = Spec::kChildren.size();
     if constexpr (size == 0) {
       (void)n;
       (void)i;
       return kNoNode;
-    } else {
+    } else if constexpr (size <= 16) {
       const std::size_t k = std::size_t{n.child_begin} + i;
       return Spec::kChildren[k < size ? k : size - 1];
+    } else {
+      return Spec::kChildren.data()[std::size_t{n.child_begin} + i];
     }
   }
   std::int32_t& counter(const NodeInfo& n, std::size_t k) noexcept { return counters_[n.slot + k]; }
@@ -348,16 +374,16 @@ class Engine {
   // per node on bench/missions/balanced_1000.xml with g++ 12 -O2).
   Status execute() noexcept {
     std::size_t sp = 0;
-    stack_[sp++] = Frame{0, 0, 0, Status::IDLE};
+    stack_[sp++] = Frame{0, 0, 0, Status::IDLE, 0};
     Step step = begin(stack_[0]);
     for (;;) {
       if (step.child != kNoNode) {
-        stack_[sp - 1].child_prev = status_[step.child];
-        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE};
+        if constexpr (kWakeUp) stack_[sp - 1].child_prev = status_[step.child];
+        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE, 0};
         step = begin(stack_[sp - 1]);
         continue;
       }
-      const Status s = finish(stack_[sp - 1].node, step.status);
+      const Status s = finish(stack_[sp - 1], step.status);
       if (--sp == 0) return s;
       step = resume(stack_[sp - 1], s);
     }
@@ -367,16 +393,16 @@ class Engine {
   // stack above that node's frame (stack_[base] on).
   Status execute_at(std::uint16_t root, std::size_t base) noexcept {
     std::size_t sp = base;
-    stack_[sp++] = Frame{root, 0, 0, Status::IDLE};
+    stack_[sp++] = Frame{root, 0, 0, Status::IDLE, 0};
     Step step = begin(stack_[base]);
     for (;;) {
       if (step.child != kNoNode) {
-        stack_[sp - 1].child_prev = status_[step.child];
-        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE};
+        if constexpr (kWakeUp) stack_[sp - 1].child_prev = status_[step.child];
+        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE, 0};
         step = begin(stack_[sp - 1]);
         continue;
       }
-      const Status s = finish(stack_[sp - 1].node, step.status);
+      const Status s = finish(stack_[sp - 1], step.status);
       if (--sp == base) return s;
       step = resume(stack_[sp - 1], s);
     }
@@ -417,9 +443,12 @@ class Engine {
   // The start of executeTick: the pre-conditions may decide instead of tick().
   [[gnu::always_inline]] Step begin(Frame& f) noexcept {
     const NodeInfo& n = info(f.node);
-    if ((n.scripts & kPreBits) != 0) {
+    if ((kMissionScripts & kPreBits) != 0 && (n.scripts & kPreBits) != 0) {
       const Status decided = pre_conditions(f.node, n);
-      if (decided != Status::IDLE) return done(decided);
+      if (decided != Status::IDLE) {
+        f.decorator = is_decorator(n.kind) ? 1 : 0;
+        return done(decided);
+      }
     }
     return enter(f);
   }
@@ -427,11 +456,14 @@ class Engine {
   // The end of executeTick: the post-conditions of a completed node; a
   // SKIPPED node keeps its status; a decorator resets a child left
   // completed (DecoratorNode::executeTick). Returns the node's result.
-  [[gnu::always_inline]] Status finish(std::uint16_t node, Status s) noexcept {
+  [[gnu::always_inline]] Status finish(const Frame& f, Status s) noexcept {
+    const std::uint16_t node = f.node;
     const NodeInfo& n = info(node);
-    if ((n.scripts & kPostBits) != 0 && is_completed(s)) s = post_conditions(n, s);
+    if ((kMissionScripts & kPostBits) != 0 && (n.scripts & kPostBits) != 0 && is_completed(s)) {
+      s = post_conditions(n, s);
+    }
     if (s != Status::SKIPPED) set_status(node, s);
-    if (is_decorator(n.kind)) {
+    if (f.decorator != 0) {
       const std::uint16_t c = child(n, 0);
       if (is_completed(status_[c])) reset_status(c);
     }
@@ -496,17 +528,20 @@ class Engine {
       case NodeKind::ForceSuccess:
       case NodeKind::ForceFailure:
       case NodeKind::KeepRunningUntilFailure:
+        f.decorator = 1;
         set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
 
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful:
+        f.decorator = 1;
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < n.p0 || n.p0 == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
         return done(n.kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
+        f.decorator = 1;
         if (counter(n, 0) != 0) {
           return done(n.p0 != 0 ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
         }
@@ -514,6 +549,7 @@ class Engine {
         return descend(child(n, 0));
 
       case NodeKind::Timeout: {
+        f.decorator = 1;
         std::int32_t& started = counter(n, 0);
         std::int32_t& armed = counter(n, 1);
         if (started == 0) {
@@ -534,6 +570,7 @@ class Engine {
       }
 
       case NodeKind::Delay: {
+        f.decorator = 1;
         std::int32_t& started = counter(n, 0);
         if (started == 0) {
           started = 1;
@@ -545,6 +582,7 @@ class Engine {
       }
 
       case NodeKind::SubTree:
+        f.decorator = 1;
         if (status_[f.node] == Status::IDLE) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
 
@@ -559,6 +597,7 @@ class Engine {
       }
 
       case NodeKind::Precondition: {
+        f.decorator = 1;
         // 4.6.2 evaluates `if` on every tick; when false it answers `else`
         // without ticking (or halting) its child.
         const int r = run_script(n, ScriptSlot::kCode);
@@ -568,6 +607,7 @@ class Engine {
       }
 
       case NodeKind::Loop: {
+        f.decorator = 1;
         // LoopNode<T>: one element per run of the child (written to
         // `value`), RUNNING after every child success, `if_empty` (p0)
         // once the queue is used up.
@@ -586,6 +626,7 @@ class Engine {
 
       case NodeKind::SkipUnlessUpdated:
       case NodeKind::WaitValueUpdate: {
+        f.decorator = 1;
         // EntryUpdatedDecorator: the child runs only when the entry's
         // update counter moved since this node last looked.
         const Status not_updated =
@@ -661,6 +702,7 @@ class Engine {
         // The user's tick(); its children run above this frame of the stack. An error the
         // node reports itself (fail(), a port write) fails it; its children's errors
         // (counted in f.aux by ops_tick_child) only fail them.
+        f.decorator = n.kind == NodeKind::UserDecorator ? 1 : 0;
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const std::size_t base = static_cast<std::size_t>(&f - stack_.data()) + 1;
