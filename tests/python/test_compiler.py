@@ -404,3 +404,18 @@ def test_run_of_a_user_control_says_it_needs_an_implementation(engine, tmp_path)
     compiled = subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(tmp_path / "out")],
                               capture_output=True, text=True, cwd=str(tmp_path))
     assert compiled.returncode == 0, compiled.stderr
+
+
+@pytest.mark.skipif(shutil.which("clang++") is None and not os.environ.get("CI"), reason="clang++ is not installed")
+def test_a_groot2_tree_text_over_64_kib_builds_with_clang_pedantic(tmp_path):
+    """The Groot2 tree XML of a 1,000-node mission is a string literal of 130 KB, past the
+    65,536 characters C++ compilers must accept: clang -Wpedantic -Werror refused it."""
+    mission = Path(ROOT) / "bench" / "missions" / "scripts_1000.xml"
+    from btgen.cli import main as btgen_main
+
+    assert btgen_main(["compile", str(mission), "-o", str(tmp_path)]) == 0
+    (tmp_path / "t.cpp").write_text('#include "scripts_1000.hpp"\nint main() { return 0; }\n')
+    proc = subprocess.run(["clang++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
+                           f"-I{ROOT}/runtime/include", f"-I{tmp_path}", str(tmp_path / "t.cpp")],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    assert proc.returncode == 0, proc.stdout
