@@ -39,7 +39,8 @@ namespace detail {
 //
 // Strings and queues have fixed capacities (the N of FixedString<N> and
 // FixedQueue<T, N>): the longest value the mission can write where btgen
-// can tell, at most the mission's string capacity (128 bytes; robot code
+// can tell (a computed string's known bound, even above the capacity), and
+// the mission's string capacity where it cannot (128 bytes: robot code
 // and strings that keep growing get exactly that; set it with `btgen compile
 // --string-capacity N`, queues with --queue-capacity, now 16). A longer value is
 // not stored: the node writing it fails and reports a btgen::RuntimeError
@@ -3706,7 +3707,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x620f8d9721dc9144ULL;
+inline constexpr unsigned long long kGeneration = 0x5beac4038eafc2a4ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -39,7 +39,8 @@ namespace detail {
 //
 // Strings and queues have fixed capacities (the N of FixedString<N> and
 // FixedQueue<T, N>): the longest value the mission can write where btgen
-// can tell, at most the mission's string capacity (128 bytes; robot code
+// can tell (a computed string's known bound, even above the capacity), and
+// the mission's string capacity where it cannot (128 bytes: robot code
 // and strings that keep growing get exactly that; set it with `btgen compile
 // --string-capacity N`, queues with --queue-capacity, now 16). A longer value is
 // not stored: the node writing it fails and reports a btgen::RuntimeError
@@ -780,7 +781,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x4df267aa4323c739ULL;
+inline constexpr unsigned long long kGeneration = 0xac271ec6d0d1247aULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x2d182b25a5407385ULL,
+static_assert(reception::detail::kGeneration == 0x340a0a5e3e960d50ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

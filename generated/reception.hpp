@@ -39,7 +39,8 @@ namespace detail {
 //
 // Strings and queues have fixed capacities (the N of FixedString<N> and
 // FixedQueue<T, N>): the longest value the mission can write where btgen
-// can tell, at most the mission's string capacity (128 bytes; robot code
+// can tell (a computed string's known bound, even above the capacity), and
+// the mission's string capacity where it cannot (128 bytes: robot code
 // and strings that keep growing get exactly that; set it with `btgen compile
 // --string-capacity N`, queues with --queue-capacity, now 16). A longer value is
 // not stored: the node writing it fails and reports a btgen::RuntimeError
@@ -2540,7 +2541,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x2d182b25a5407385ULL;
+inline constexpr unsigned long long kGeneration = 0x340a0a5e3e960d50ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP
