@@ -4,6 +4,8 @@
 #                     [NAMESPACE <ns>]            # C++ namespace (btgen compile --namespace); default from the file name
 #                     [MAIN_TREE <id>]            # the tree to run (btgen compile --main-tree)
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
+#                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
+#                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
@@ -138,7 +140,7 @@ function(btgen_add_mission)
   endif()
   cmake_parse_arguments(ARG ""
     "TARGET;MISSION;NAMESPACE;MAIN_TREE;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
-    "MODELS" ${args})
+    "MODELS;ENUMS;ENUM_FILES" ${args})
   if(ARG_TARGET)
     set(target "${ARG_TARGET}")
   endif()
@@ -188,6 +190,19 @@ function(btgen_add_mission)
   if(ARG_QUEUE_CAPACITY)
     list(APPEND write_options --queue-capacity ${ARG_QUEUE_CAPACITY})
   endif()
+  # Scripting enums (registerScriptingEnum): `Color=RED,GREEN,BLUE` each, and files of them.
+  foreach(enum IN LISTS ARG_ENUMS)
+    list(APPEND write_options --enum "${enum}")
+  endforeach()
+  set(enum_files "")
+  foreach(enum_file IN LISTS ARG_ENUM_FILES)
+    get_filename_component(enum_file "${enum_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${enum_file}")
+      message(FATAL_ERROR "btgen_add_mission: enums file ${enum_file} does not exist")
+    endif()
+    list(APPEND write_options --enums "${enum_file}")
+    list(APPEND enum_files "${enum_file}")
+  endforeach()
 
   _btgen_query(deps --deps "${mission}" ${read_options})
   _btgen_query(names --outputs "${mission}" ${ns_option})  # also rejects a bad NAMESPACE, at configure time
@@ -208,7 +223,7 @@ function(btgen_add_mission)
     OUTPUT ${outputs}
     COMMAND ${btgen} compile "${mission}" -o "${out_dir}" --relative-to "${relative_to}"
             ${read_options} ${write_options}
-    DEPENDS ${deps} ${generator_inputs}
+    DEPENDS ${deps} ${enum_files} ${generator_inputs}
     WORKING_DIRECTORY "${relative_to}"
     COMMENT "btgen: generating C++ for ${ARG_MISSION}"
     VERBATIM)

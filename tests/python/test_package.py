@@ -300,3 +300,54 @@ def test_package_gives_the_groot2_monitors(installed):
     data = log.read_bytes()
     assert data.startswith(b"BTCPP4-FileLogger2")
     assert b'BTCPP_format="4"' in data and b"MoveTo" in data
+
+
+ENUM_PROJECT = """cmake_minimum_required(VERSION 3.16)
+project(enum_user LANGUAGES CXX)
+find_package(btgen CONFIG REQUIRED)
+btgen_add_mission(lights MISSION lights.xml {enums})
+add_executable(lights_run main.cpp)
+target_link_libraries(lights_run PRIVATE lights)
+target_compile_options(lights_run PRIVATE -Wall -Wextra -Wpedantic -Werror)
+"""
+
+ENUM_MISSION = """<root BTCPP_format="4" main_tree_to_execute="Lights">
+  <BehaviorTree ID="Lights">
+    <Sequence>
+      <Script code="light := GREEN; mode := FAST"/>
+      <ScriptCondition code="light == 1 &amp;&amp; mode == 10"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+ENUM_MAIN = """#include "lights.hpp"
+struct NoLeaves {};
+int main() {
+  NoLeaves leaves;
+  lights::Lights<NoLeaves> mission(leaves);
+  return mission.tick() == btgen::Status::SUCCESS ? 0 : 1;
+}
+"""
+
+
+def test_btgen_add_mission_takes_scripting_enums(installed):
+    """ENUMS and ENUM_FILES reach `btgen compile --enum/--enums`; a file of enums is a dependency."""
+    btgen, env, tmp, _ = installed
+    src = tmp / "enum_user"
+    src.mkdir()
+    (src / "lights.xml").write_text(ENUM_MISSION)
+    (src / "main.cpp").write_text(ENUM_MAIN)
+    (src / "modes.txt").write_text("# speeds\nMode=SLOW=5,FAST=10\n")
+    (src / "CMakeLists.txt").write_text(ENUM_PROJECT.format(enums="ENUMS Color=RED,GREEN,BLUE ENUM_FILES modes.txt"))
+    build = tmp / "enum_build"
+    _cmake_build(src, build, btgen, env)
+    assert _run([build / "lights_run"], tmp, env, check=False).returncode == 0
+    # FAST is 11 now: the condition fails, so the file was read again.
+    (src / "modes.txt").write_text("Mode=SLOW=5,FAST=11\n")
+    _cmake_build(src, build, btgen, env)
+    assert _run([build / "lights_run"], tmp, env, check=False).returncode == 1
+    # Without the enums the names are unknown entries: the build fails with btgen's diagnostic.
+    (src / "CMakeLists.txt").write_text(ENUM_PROJECT.format(enums=""))
+    failed = _cmake_build(src, build, btgen, env, check=False)
+    assert failed.returncode != 0 and "reads `GREEN`" in failed.stdout + failed.stderr
