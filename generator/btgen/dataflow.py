@@ -118,6 +118,11 @@ class CodeIR:
     comment: str
     body: tuple[str, ...]
     which: str = ""  # ScriptSlot enumerator for scripts
+    # Scripts: the body reads its places and messages from the node's ScriptSite (identical
+    # bodies are one function): (C++ expression of the place, C++ message literal or "")
+    # by number, and the message prefix.
+    errors: tuple[tuple[str, str], ...] = ()
+    prefix: str = ""
 
 
 @dataclass(frozen=True)
@@ -1041,8 +1046,10 @@ class _Compiler:
             if any(self.a.slots[i].failed for i in names.values()):
                 continue  # its entry's type is already reported as unknown
             enum = SCRIPT_SLOTS[which]
+            table = scpp.ErrorTable()
+            prefix = f"script error in `{attr.name}` of {inst.what}: "
             ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
-                                     f"script error in `{attr.name}` of {inst.what}: ", dict(self.a.m.enums))
+                                     prefix, dict(self.a.m.enums), table)
             try:
                 body = scpp.compile_script(script, ctx, condition)
             except ScriptTypeError as e:
@@ -1050,7 +1057,7 @@ class _Compiler:
                 continue
             name = f"s{inst.index}_{which.lstrip('_')}"
             comment = f"{inst.reg_id} \"{inst.node.display_name}\" {attr.name}: {attr.value}"
-            out.append(CodeIR(inst.index, name, comment, tuple(body), enum))
+            out.append(CodeIR(inst.index, name, comment, tuple(body), enum, tuple(table.entries), prefix))
             if enum != "kCode":
                 bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
         return out, bits

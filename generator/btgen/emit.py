@@ -175,12 +175,38 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".",
                for sl in data.slots],
         where=[show_loc(loc) for loc in data.where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
-        scripts=[dict(c=c, key=c.node * 16 + SCRIPT_BIT[c.which]) for c in data.scripts],
+        scripts=script_tables(data.scripts, len(program.nodes)),
         groot2=groot2_context(program),
     )
     env = environment()
     return _stamped(Output(header, env.get_template("mission.hpp.j2").render(ctx)),
                     Output(source, env.get_template("mission.cpp.j2").render(ctx)), ctx["ns"], ctx["guard"])
+
+
+def script_tables(scripts, node_count: int) -> dict:
+    """The compiled scripts as the header holds them: one function per distinct body (identical
+    scripts share it), and a site per node and ScriptSlot (the function, the places and
+    messages its errors name, the message prefix), sites ordered by node, `first[i]` the first
+    site of node i (node_count + 1 entries)."""
+    functions: list[dict] = []
+    by_body: dict[tuple[str, ...], dict] = {}
+    sites: list[dict] = []
+    errors: list[tuple[str, str]] = []
+    for c in sorted(scripts, key=lambda c: (c.node, SCRIPT_BIT[c.which])):
+        fn = by_body.get(c.body)
+        if fn is None:
+            fn = by_body[c.body] = dict(name=f"script{len(functions)}", comment=c.comment, body=c.body, uses=0)
+            functions.append(fn)
+        fn["uses"] += 1
+        sites.append(dict(node=c.node, which=c.which, fn=fn["name"], at=len(errors) if c.errors else None,
+                          prefix=c.prefix, comment=c.comment))
+        errors.extend(c.errors)
+    first = [0] * (node_count + 1)
+    for site in sites:
+        first[site["node"] + 1] += 1
+    for i in range(node_count):
+        first[i + 1] += first[i]
+    return dict(functions=functions, sites=sites, errors=errors, first=first)
 
 
 def _stamped(header: Output, source: Output, ns: str, guard: str) -> tuple[Output, Output]:

@@ -291,6 +291,29 @@ class ScriptContext:
     where: Callable[[int], str]  # offset in the code -> C++ expression of its "path:line:col"
     prefix: str  # message prefix, e.g. 'script error in `code` of `Script` "Init": '
     enums: Mapping[str, int] = field(default_factory=dict)  # scripting enums (enums.py)
+    # Given: the script is compiled to a body that identical scripts elsewhere share; its
+    # places, messages and prefix go to this table (a ScriptSite in the generated code).
+    errors: Optional["ErrorTable"] = None
+
+
+class ErrorTable:
+    """What makes a shared script function report one node's errors: the places and the
+    messages (prefix included) its error exits name, by number, and the message prefix of
+    the dynamic operations. The body says `s.at[j].where` and `s.at[j].message` and
+    `s.prefix`, where `s` is the node's ScriptSite; two scripts whose bodies read the same
+    are one function."""
+
+    def __init__(self) -> None:
+        self.entries: list[tuple[str, str]] = []  # (C++ expression of the place, message or "")
+        self._index: dict[tuple[str, str], int] = {}
+
+    def ref(self, where: str, message: str = "") -> int:
+        key = (where, message)
+        j = self._index.get(key)
+        if j is None:
+            j = self._index[key] = len(self.entries)
+            self.entries.append(key)
+        return j
 
 
 class CodeWriter:
@@ -313,6 +336,17 @@ class CodeWriter:
         self.indent = indent
         self.n = 0
         self.msg_args = ""  # more arguments of btgen::dyn::Msg (the scripting enums table)
+        self.errors: Optional[ErrorTable] = None  # a shared body's error table (ScriptContext.errors)
+
+    def where_at(self, offset: int) -> str:
+        """The C++ expression of the place of `offset` in run-time errors."""
+        if self.errors is None:
+            return self.where(offset)
+        return f"s.at[{self.errors.ref(self.where(offset))}].where"
+
+    def prefix_view(self) -> str:
+        """The message prefix as a C++ std::string_view."""
+        return "s.prefix" if self.errors is not None else cpp_view(self.prefix)
 
     def emit(self, line: str) -> None:
         self.lines.append("  " * self.indent + line)
@@ -322,7 +356,11 @@ class CodeWriter:
         return f"t{self.n}"
 
     def fail(self, offset: int, message: str) -> str:
-        call = f"err.fail(n, {self.where(offset)}, {cpp_string(self.prefix + message)})"
+        if self.errors is None:
+            call = f"err.fail(n, {self.where(offset)}, {cpp_string(self.prefix + message)})"
+        else:
+            j = self.errors.ref(self.where(offset), cpp_string(self.prefix + message))
+            call = f"err.fail(n, s.at[{j}].where, s.at[{j}].message)"
         if self.error_return is None:
             return f"return {call};"
         return f"{{ (void){call}; return {self.error_return}; }}"
@@ -333,9 +371,9 @@ class CodeWriter:
     def dyn_call(self, call: str, offset: int) -> None:
         """A fallible btgen::dyn operation: `call` uses `dm`, the message it fills on failure
         (after this writer's prefix), which is then reported."""
-        report = f"err.fail(n, {self.where(offset)}, dm.view())"
+        report = f"err.fail(n, {self.where_at(offset)}, dm.view())"
         fail = f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
-        self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}{self.msg_args}); !({call})) {fail}")
+        self.emit(f"if (btgen::dyn::Msg dm({self.prefix_view()}{self.msg_args}); !({call})) {fail}")
 
     def to_ref(self, v: "Val") -> str:
         """The value as a btgen::dyn::Ref (empty when it has none)."""
@@ -399,6 +437,7 @@ class ScriptCompiler(CodeWriter):
     def __init__(self, ctx: ScriptContext) -> None:
         super().__init__(ctx.where, ctx.prefix)
         self.ctx = ctx
+        self.errors = ctx.errors
         if ctx.enums:
             self.msg_args = ", detail::kScriptingEnums.data(), detail::kScriptingEnums.size()"
         self.assigned: dict[int, int] = {}  # slot -> assignments in the current statement
@@ -427,9 +466,9 @@ class ScriptCompiler(CodeWriter):
         """script_truth of the last statement's value, returned."""
         if v.kind in (DYN, "string", "none") or v.kind == "int":
             t = self.temp()
-            self.emit(f"btgen::dyn::Msg {t}m({cpp_view(self.prefix)});")
+            self.emit(f"btgen::dyn::Msg {t}m({self.prefix_view()});")
             self.emit(f"const int {t} = btgen::dyn::truth({self.to_ref(v)}, {t}m);")
-            self.emit(f"if ({t} < 0) return err.fail(n, {self.where(0)}, {t}m.view());")
+            self.emit(f"if ({t} < 0) return err.fail(n, {self.where_at(0)}, {t}m.view());")
             self.emit(f"return {t};")
             return
         if v.kind == "none" or is_queue(v.kind) or v.kind == "string":
