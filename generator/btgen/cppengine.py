@@ -48,8 +48,12 @@ def sanitizing() -> bool:
 
 
 def cxx_flags() -> tuple[str, ...]:
-    """The flags executors are built with (part of the cache key)."""
-    return CXX_FLAGS + (SANITIZE_FLAGS if sanitizing() else ())
+    """The flags executors are built with (part of the cache key). `BTGEN_STRAIGHT_LINE_BUDGET=N`
+    in the environment sets the engine's straight-line budget (btgen/engine.hpp): a small one
+    makes the tests cross from straight-line code into the table interpreter."""
+    budget = os.environ.get("BTGEN_STRAIGHT_LINE_BUDGET", "")
+    extra = (f"-DBTGEN_STRAIGHT_LINE_BUDGET={int(budget)}",) if budget.strip().isdigit() else ()
+    return CXX_FLAGS + (SANITIZE_FLAGS if sanitizing() else ()) + extra
 
 
 def cache_dir() -> Path:

@@ -313,3 +313,21 @@ def test_data_side_paths_agree_with_the_interpreter(stem, tmp_path):
     rc, out, err = _run(build_cpp(str(mission)), str(scenario))
     assert (rc, err) == (0, "")
     assert out == expected, _diff(expected, out, "C++ (expected: interp)")
+
+
+# The largest cases again with a straight-line budget of 3 (btgen/engine.hpp): the root and the
+# first nodes tick as straight-line code, the rest on the table interpreter, so every crossing
+# from one to the other (and back through halts) is held to the recordings too.
+BOUNDARY_STEMS = sorted(STEMS, key=lambda s: (-os.path.getsize(_case(s, ".xml")), s))[:10]
+
+
+@pytest.mark.skipif(not STEMS, reason=NO_CASES)
+@pytest.mark.parametrize("stem", BOUNDARY_STEMS or ["(none)"])
+def test_trace_matches_recording_across_the_interpreter_boundary(stem, monkeypatch):
+    monkeypatch.setenv("BTGEN_STRAIGHT_LINE_BUDGET", "3")
+    rc, out, err = _run(build_cpp(_case(stem, ".xml")), _case(stem, ".scenario"))
+    with open(_case(stem, ".trace"), "rb") as f:
+        expected = f.read().decode("utf-8")
+    assert rc == 0, err
+    assert err == ""
+    assert out == expected, _diff(expected, out, "C++ executor, straight-line budget 3")

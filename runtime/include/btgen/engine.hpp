@@ -5,13 +5,18 @@
 // dispatch functions that call the user's hooks. Engine<Spec, ...> holds the
 // mission's whole state in fixed-size arrays sized by the generator, ticks it
 // with BehaviorTree.CPP 4.6.2 semantics (Tree::tickExactlyOnce) and halts it
-// (Tree::haltTree). No heap, no exceptions, no RTTI, no recursion: ticking
-// and halting walk explicit stacks whose depth is the tree's depth.
+// (Tree::haltTree). No heap, no exceptions, no RTTI; recursion only in the
+// straight-line ticks, at most kCompiledDepth (48) calls deep: the
+// interpreter and halts walk explicit stacks whose depth is the tree's depth.
 //
 // Each built-in node is written as a small state machine: `enter` starts its
 // tick, `resume` continues it with the status its child just returned; both
 // answer "tick this child next" or "return this status". That is
-// BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack.
+// BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack
+// (the table interpreter). The first nodes of the tree (see
+// BTGEN_STRAIGHT_LINE_BUDGET) tick as straight-line code instead: the same
+// state machines instantiated per node, so their kind and table entry are
+// compile-time constants (tick_node below).
 //
 // The data side is the Spec's: its Blackboard (one typed slot per entry,
 // held here), and the generated functions that run the mission's compiled
@@ -33,6 +38,18 @@
 #include "btgen/trace.hpp"
 #include "btgen/user_node.hpp"
 
+// How much of a mission ticks as straight-line code (Engine::tick_node):
+// the first nodes in creation order (the root and the part of the tree
+// drawn first) while their weights add up to at most this, a node 1, a node
+// running scripts 6. The others run on the table interpreter. Straight line
+// costs 6 to 11 instructions per visited node instead of 78, and g++ -O2
+// some milliseconds per node instead of almost nothing: the budget keeps
+// the build of a large mission fast. A Spec may set its own
+// (`static constexpr std::size_t kStraightLineBudget`; 0: all interpreted).
+#ifndef BTGEN_STRAIGHT_LINE_BUDGET
+#define BTGEN_STRAIGHT_LINE_BUDGET 1100
+#endif
+
 namespace btgen {
 
 namespace engine_detail {
@@ -41,6 +58,11 @@ struct has_on_error : std::false_type {};
 template <class O>
 struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::declval<const RuntimeError&>()))>>
     : std::true_type {};
+template <class S, class = void>
+struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT_LINE_BUDGET> {};
+template <class S>
+struct straight_line_budget<S, std::void_t<decltype(S::kStraightLineBudget)>>
+    : std::integral_constant<std::size_t, S::kStraightLineBudget> {};
 }  // namespace engine_detail
 
 // Spec requirements (the generator writes them):
@@ -67,6 +89,7 @@ template <class Spec, class Leaves, class Clock = SteadyClock, class Observer = 
 class Engine {
  public:
   using Blackboard = typename Spec::Blackboard;
+  using MissionSpec = Spec;
 
   static constexpr std::size_t kNodeCount = Spec::kNodeCount;
   static constexpr std::size_t kMaxDepth = Spec::kMaxDepth;
@@ -366,45 +389,218 @@ class Engine {
   }
 
   // ---------------------------------------------------------------- ticks
-  // TreeNode::executeTick of the root, with the recursion on a stack.
+  // TreeNode::executeTick of the root: straight-line code (tick_node) as far
+  // as the budget goes, the table interpreter (execute_at) below.
   // enter, resume, finish, sequence_next and halt_child are forced inline
   // ([[gnu::always_inline]]): called once or more per node per tick, as
   // separate functions they cost a call and a save of the callee-saved
   // registers each time (bench/run_benchmarks.py: 120 -> 78.5 instructions
   // per node on bench/missions/balanced_1000.xml with g++ 12 -O2).
-  Status execute() noexcept {
-    std::size_t sp = 0;
-    stack_[sp++] = Frame{0, 0, 0, Status::IDLE, 0};
-    Step step = begin(stack_[0]);
-    for (;;) {
-      if (step.child != kNoNode) {
-        if constexpr (kWakeUp) stack_[sp - 1].child_prev = status_[step.child];
-        stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE, 0};
-        step = begin(stack_[sp - 1]);
-        continue;
-      }
-      const Status s = finish(stack_[sp - 1], step.status);
-      if (--sp == 0) return s;
-      step = resume(stack_[sp - 1], s);
+  Status execute() noexcept { return tick_node<0, 0>(); }
+
+  // ------------------------------------------------------- compiled ticks
+  // tick_node<N, D>() is executeTick of node N (at depth D) as straight-line
+  // code: the same begin / enter / resume / finish as the interpreter, with
+  // the node's kind and its table entry known when compiling, so that g++
+  // folds every branch of other kinds and every table read away, and calls
+  // its children's tick_node directly. The state stays where the interpreter
+  // keeps it (status_, counters_, timers_: halts and the user nodes' ChildOps
+  // read it there). Below kCompiledDepth (a template recursion limit) and
+  // for the mission's own Controls and Decorators (their children run on
+  // the explicit stack, ChildOps) the interpreter takes over.
+  static constexpr std::size_t kCompiledDepth = 48;
+  // The nodes below this index tick as straight-line code (BTGEN_STRAIGHT_LINE_BUDGET).
+  static constexpr std::size_t straight_line_nodes() noexcept {
+    std::size_t weight = 0;
+    for (std::size_t i = 0; i < kNodeCount; ++i) {
+      const NodeInfo& n = Spec::kNodes[i];
+      const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
+                            n.kind == NodeKind::Precondition;
+      weight += scripted ? 6 : 1;
+      if (weight > engine_detail::straight_line_budget<Spec>::value) return i;
+    }
+    return kNodeCount;
+  }
+  static constexpr std::size_t kStraightLine = straight_line_nodes();
+  // Children ticked through a table of member-function pointers above this
+  // many (else a chain of comparisons of the position).
+  static constexpr std::size_t kDirectChildren = 8;
+  // Sequences and the like with more children take the generic form (clang
+  // limits a fold expression to 256 operands).
+  static constexpr std::size_t kInRow = 64;
+
+  static constexpr std::uint16_t child_of(std::uint16_t n, std::size_t i) noexcept {
+    return Spec::kChildren[std::size_t{Spec::kNodes[n].child_begin} + i];
+  }
+
+  template <NodeKind K>
+  [[gnu::always_inline]] Step begin_k(Frame& f) noexcept { return begin(f, K); }
+  template <NodeKind K>
+  [[gnu::always_inline]] Step resume_k(Frame& f, Status cs) noexcept { return resume(f, cs, K); }
+
+  // Which straight-line form node N takes.
+  enum class Form { kInterpreted, kGeneric, kLeaf, kSequence, kReactive, kDecorator };
+  template <std::uint16_t N, std::size_t D>
+  static constexpr Form form() noexcept {
+    constexpr const NodeInfo& n = Spec::kNodes[N];
+    if (N >= kStraightLine || D >= kCompiledDepth || n.kind == NodeKind::UserControl ||
+        n.kind == NodeKind::UserDecorator) {
+      return Form::kInterpreted;
+    }
+    if ((n.scripts & (kPreBits | kPostBits)) != 0) return Form::kGeneric;
+    if (n.child_count == 0) return Form::kLeaf;
+    if (n.child_count > kInRow) return Form::kGeneric;
+    switch (n.kind) {
+      case NodeKind::Sequence:
+      case NodeKind::Fallback:
+        return Form::kSequence;
+      case NodeKind::ReactiveSequence:
+      case NodeKind::ReactiveFallback:
+        return Form::kReactive;
+      case NodeKind::Inverter:
+      case NodeKind::ForceSuccess:
+      case NodeKind::ForceFailure:
+      case NodeKind::SubTree:
+        return Form::kDecorator;  // one child, ticked once
+      default:
+        return Form::kGeneric;
     }
   }
 
-  // executeTick of `root` for a user Control/Decorator's tick_child(), on the
-  // stack above that node's frame (stack_[base] on).
+  template <std::uint16_t N, std::size_t D>
+  Status tick_node() noexcept {
+    constexpr NodeKind K = Spec::kNodes[N].kind;
+    constexpr Form kForm = form<N, D>();
+    if constexpr (kForm == Form::kInterpreted) {
+      return execute_at(N, 0);
+    } else if constexpr (kForm == Form::kSequence) {
+      return tick_sequence<N, D, K == NodeKind::Sequence>(
+          std::make_index_sequence<Spec::kNodes[N].child_count>{});
+    } else if constexpr (kForm == Form::kReactive) {
+      return tick_reactive<N, D, K == NodeKind::ReactiveSequence>(
+          std::make_index_sequence<Spec::kNodes[N].child_count>{});
+    } else {
+      Frame f{N, 0, 0, Status::IDLE, 0};
+      Step step = begin_k<K>(f);
+      if constexpr (kForm == Form::kDecorator) {
+        if (step.child != kNoNode) step = resume_k<K>(f, tick_node<child_of(N, 0), D + 1>());
+      } else if constexpr (kForm == Form::kGeneric) {
+        while (step.child != kNoNode) {
+          if constexpr (kWakeUp) f.child_prev = status_[step.child];
+          const Status cs = tick_child<N, D>(f.pos, std::make_index_sequence<Spec::kNodes[N].child_count>{});
+          step = resume_k<K>(f, cs);
+        }
+      }
+      return finish(f, step.status);
+    }
+  }
+
+  // Sequence (kSeq) and Fallback without pre- or post-conditions: enter,
+  // resume and sequence_next above, with the children in a row.
+  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t... I>
+  [[gnu::always_inline]] Status tick_sequence(std::index_sequence<I...>) noexcept {
+    constexpr const NodeInfo& n = Spec::kNodes[N];
+    if (!is_active(status_[N])) counter(n, 1) = 0;
+    set_status(N, Status::RUNNING);
+    std::int32_t& idx = counter(n, 0);
+    Status s = Status::IDLE;
+    if (!(sequence_step<N, D, kSeq, I>(idx, s) || ...)) {
+      const bool all_skipped = counter(n, 1) == 0;
+      reset_children(n);
+      idx = 0;
+      s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+    }
+    if (s != Status::SKIPPED) set_status(N, s);
+    return s;
+  }
+  // Child I when the index points at it: true when the node returns `s`.
+  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t I>
+  [[gnu::always_inline]] bool sequence_step(std::int32_t& idx, Status& s) noexcept {
+    constexpr const NodeInfo& n = Spec::kNodes[N];
+    if (idx != static_cast<std::int32_t>(I)) return false;
+    const Status cs = tick_node<child_of(N, I), D + 1>();
+    if (cs != Status::SKIPPED) counter(n, 1) = 1;
+    if (cs == Status::RUNNING) {
+      s = Status::RUNNING;
+      return true;
+    }
+    if (cs != Status::SKIPPED && cs != (kSeq ? Status::SUCCESS : Status::FAILURE)) {
+      reset_children(n);
+      idx = 0;
+      s = kSeq ? Status::FAILURE : Status::SUCCESS;
+      return true;
+    }
+    ++idx;
+    return false;
+  }
+
+  // ReactiveSequence (kSeq) and ReactiveFallback without pre- or post-conditions.
+  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t... I>
+  [[gnu::always_inline]] Status tick_reactive(std::index_sequence<I...>) noexcept {
+    constexpr const NodeInfo& n = Spec::kNodes[N];
+    set_status(N, Status::RUNNING);
+    bool all_skipped = true;
+    Status s = Status::IDLE;
+    if (!(reactive_step<N, D, kSeq, I>(all_skipped, s) || ...)) {
+      reset_children(n);
+      s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+    }
+    if (s != Status::SKIPPED) set_status(N, s);
+    return s;
+  }
+  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t I>
+  [[gnu::always_inline]] bool reactive_step(bool& all_skipped, Status& s) noexcept {
+    constexpr const NodeInfo& n = Spec::kNodes[N];
+    const Status cs = tick_node<child_of(N, I), D + 1>();
+    if (cs != Status::SKIPPED) all_skipped = false;
+    if (cs == Status::RUNNING) {
+      for (std::size_t i = 0; i < n.child_count; ++i) {
+        if (i != I) halt_child(n, i);
+      }
+      s = Status::RUNNING;
+      return true;
+    }
+    if (cs == (kSeq ? Status::FAILURE : Status::SUCCESS)) {
+      reset_children(n);
+      s = cs;
+      return true;
+    }
+    if (cs == Status::SKIPPED) halt_child(n, I);
+    return false;
+  }
+
+  // The child at position `pos` of N (the one begin / resume asked for).
+  template <std::uint16_t N, std::size_t D, std::size_t... I>
+  [[gnu::always_inline]] Status tick_child(std::size_t pos, std::index_sequence<I...>) noexcept {
+    if constexpr (sizeof...(I) <= kDirectChildren) {
+      Status s = Status::IDLE;
+      (void)((pos == I ? (s = tick_node<child_of(N, I), D + 1>(), true) : false) || ...);
+      return s;
+    } else {
+      using Tick = Status (Engine::*)() noexcept;
+      static constexpr Tick kTicks[] = {&Engine::template tick_node<child_of(N, I), D + 1>...};
+      return (this->*kTicks[pos])();
+    }
+  }
+
+  // executeTick of `root` on the table interpreter: for a straight-line
+  // parent (base 0: no interpreter frame is live then), and for a user
+  // Control/Decorator's tick_child(), on the stack above that node's frame
+  // (stack_[base] on).
   Status execute_at(std::uint16_t root, std::size_t base) noexcept {
     std::size_t sp = base;
     stack_[sp++] = Frame{root, 0, 0, Status::IDLE, 0};
-    Step step = begin(stack_[base]);
+    Step step = begin(stack_[base], info(root).kind);
     for (;;) {
       if (step.child != kNoNode) {
         if constexpr (kWakeUp) stack_[sp - 1].child_prev = status_[step.child];
         stack_[sp++] = Frame{step.child, 0, 0, Status::IDLE, 0};
-        step = begin(stack_[sp - 1]);
+        step = begin(stack_[sp - 1], info(step.child).kind);
         continue;
       }
       const Status s = finish(stack_[sp - 1], step.status);
       if (--sp == base) return s;
-      step = resume(stack_[sp - 1], s);
+      step = resume(stack_[sp - 1], s, info(stack_[sp - 1].node).kind);
     }
   }
 
@@ -441,16 +637,16 @@ class Engine {
                                            &Engine::ops_now_ms};
 
   // The start of executeTick: the pre-conditions may decide instead of tick().
-  [[gnu::always_inline]] Step begin(Frame& f) noexcept {
+  [[gnu::always_inline]] Step begin(Frame& f, NodeKind kind) noexcept {
     const NodeInfo& n = info(f.node);
     if ((kMissionScripts & kPreBits) != 0 && (n.scripts & kPreBits) != 0) {
       const Status decided = pre_conditions(f.node, n);
       if (decided != Status::IDLE) {
-        f.decorator = is_decorator(n.kind) ? 1 : 0;
+        f.decorator = is_decorator(kind) ? 1 : 0;
         return done(decided);
       }
     }
-    return enter(f);
+    return enter(f, kind);
   }
 
   // The end of executeTick: the post-conditions of a completed node; a
@@ -481,9 +677,9 @@ class Engine {
            k == NodeKind::ReactiveSequence;
   }
 
-  [[gnu::always_inline]] Step enter(Frame& f) noexcept {
+  [[gnu::always_inline]] Step enter(Frame& f, NodeKind kind) noexcept {
     const NodeInfo& n = info(f.node);
-    switch (n.kind) {
+    switch (kind) {
       case NodeKind::Sequence:
       case NodeKind::AsyncSequence:
       case NodeKind::SequenceWithMemory:
@@ -493,7 +689,7 @@ class Engine {
         // only when the node is ticked from IDLE.
         if (!is_active(status_[f.node])) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
-        return sequence_next(f, n);
+        return sequence_next(f, n, kind);
 
       case NodeKind::ReactiveSequence:
       case NodeKind::ReactiveFallback:
@@ -538,7 +734,7 @@ class Engine {
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < n.p0 || n.p0 == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
-        return done(n.kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
+        return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
         f.decorator = 1;
@@ -630,7 +826,7 @@ class Engine {
         // EntryUpdatedDecorator: the child runs only when the entry's
         // update counter moved since this node last looked.
         const Status not_updated =
-            n.kind == NodeKind::SkipUnlessUpdated ? Status::SKIPPED : Status::RUNNING;
+            kind == NodeKind::SkipUnlessUpdated ? Status::SKIPPED : Status::RUNNING;
         if (counter(n, 0) != 0) return descend(child(n, 0));  // the child is still executing
         const std::int64_t seq = Spec::entry_seq(bb_, n);
         if (seq < 0) return done(not_updated);
@@ -702,7 +898,7 @@ class Engine {
         // The user's tick(); its children run above this frame of the stack. An error the
         // node reports itself (fail(), a port write) fails it; its children's errors
         // (counted in f.aux by ops_tick_child) only fail them.
-        f.decorator = n.kind == NodeKind::UserDecorator ? 1 : 0;
+        f.decorator = kind == NodeKind::UserDecorator ? 1 : 0;
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const std::size_t base = static_cast<std::size_t>(&f - stack_.data()) + 1;
@@ -720,9 +916,9 @@ class Engine {
     return done(Status::FAILURE);
   }
 
-  [[gnu::always_inline]] Step resume(Frame& f, Status cs) noexcept {
+  [[gnu::always_inline]] Step resume(Frame& f, Status cs, NodeKind kind) noexcept {
     const NodeInfo& n = info(f.node);
-    switch (n.kind) {
+    switch (kind) {
       case NodeKind::Sequence:
       case NodeKind::AsyncSequence:
       case NodeKind::SequenceWithMemory: {
@@ -735,15 +931,15 @@ class Engine {
             ++idx;
             // SequenceWithMemory always has the wake-up rule in 4.6.2,
             // AsyncSequence is the plain Sequence with it.
-            if (n.kind != NodeKind::Sequence && f.child_prev == Status::IDLE && idx < n.child_count) {
+            if (kind != NodeKind::Sequence && f.child_prev == Status::IDLE && idx < n.child_count) {
               return done(Status::RUNNING);
             }
-            return sequence_next(f, n);
+            return sequence_next(f, n, kind);
           case Status::SKIPPED:
             ++idx;
-            return sequence_next(f, n);
+            return sequence_next(f, n, kind);
           default:  // FAILURE
-            if (n.kind == NodeKind::SequenceWithMemory) {
+            if (kind == NodeKind::SequenceWithMemory) {
               for (std::size_t i = static_cast<std::size_t>(idx); i < n.child_count; ++i) halt_child(n, i);
             } else {
               reset_children(n);
@@ -762,13 +958,13 @@ class Engine {
             return done(Status::RUNNING);
           case Status::FAILURE:
             ++idx;
-            if (n.kind == NodeKind::AsyncFallback && f.child_prev == Status::IDLE && idx < n.child_count) {
+            if (kind == NodeKind::AsyncFallback && f.child_prev == Status::IDLE && idx < n.child_count) {
               return done(Status::RUNNING);
             }
-            return sequence_next(f, n);
+            return sequence_next(f, n, kind);
           case Status::SKIPPED:
             ++idx;
-            return sequence_next(f, n);
+            return sequence_next(f, n, kind);
           default:  // SUCCESS
             reset_children(n);
             idx = 0;
@@ -778,7 +974,7 @@ class Engine {
 
       case NodeKind::ReactiveSequence:
       case NodeKind::ReactiveFallback: {
-        const bool seq = n.kind == NodeKind::ReactiveSequence;
+        const bool seq = kind == NodeKind::ReactiveSequence;
         if (cs != Status::SKIPPED) f.aux = 0;
         if (cs == Status::RUNNING) {
           for (std::size_t i = 0; i < n.child_count; ++i) {
@@ -878,7 +1074,7 @@ class Engine {
       case NodeKind::ForceFailure:
         if (is_completed(cs)) {
           halt_child(n, 0);
-          return done(n.kind == NodeKind::ForceSuccess ? Status::SUCCESS : Status::FAILURE);
+          return done(kind == NodeKind::ForceSuccess ? Status::SUCCESS : Status::FAILURE);
         }
         return done(cs);
 
@@ -892,7 +1088,7 @@ class Engine {
 
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful: {
-        const bool repeat = n.kind == NodeKind::Repeat;
+        const bool repeat = kind == NodeKind::Repeat;
         std::int32_t& count = counter(n, 0);
         if (cs == Status::RUNNING) return done(Status::RUNNING);
         if (cs == Status::SKIPPED) {
@@ -978,7 +1174,7 @@ class Engine {
   // Sequence / Fallback family: tick the child at the stored index, or end.
   // 4.6.2 returns SKIPPED when no child ticked since the node was last IDLE
   // answered anything but SKIPPED; the flag is not reset when the loop ends.
-  [[gnu::always_inline]] Step sequence_next(Frame& f, const NodeInfo& n) noexcept {
+  [[gnu::always_inline]] Step sequence_next(Frame& f, const NodeInfo& n, NodeKind kind) noexcept {
     std::int32_t& idx = counter(n, 0);
     if (idx < n.child_count) {
       f.pos = static_cast<std::uint16_t>(idx);
@@ -988,7 +1184,7 @@ class Engine {
     reset_children(n);
     idx = 0;
     if (all_skipped) return done(Status::SKIPPED);
-    return done(is_sequence(n.kind) ? Status::SUCCESS : Status::FAILURE);
+    return done(is_sequence(kind) ? Status::SUCCESS : Status::FAILURE);
   }
 
   Step parallel_next(Frame& f, const NodeInfo& n) noexcept {
