@@ -189,8 +189,16 @@ def _raw_attr_value(value_loc: Loc) -> Optional[str]:
     if start < 1 or start > len(line) or line[start - 1] not in "\"'":
         return None
     quote = line[start - 1]
-    text = "\n".join([line[start:]] + lines[value_loc.line:])
+    # Up to the closing quote, joining the following lines only while it is not found (joining
+    # the whole rest of the file for every attribute made large missions quadratic).
+    text = line[start:]
     end = text.find(quote)
+    following = value_loc.line
+    while end < 0 and following < len(lines):
+        searched = len(text) + 1
+        text += "\n" + lines[following]
+        following += 1
+        end = text.find(quote, searched)
     return text[:end] if end >= 0 else None
 
 

@@ -245,19 +245,14 @@ def cpp_string(text: str) -> str:
     Printable ASCII is kept; everything else is an octal escape, so the
     literal is pure ASCII, and no `?` sequences can form trigraphs.
     """
-    out = ['"']
-    for b in text.encode("utf-8"):
-        c = chr(b)
-        if c == '"' or c == "\\":
-            out.append("\\" + c)
-        elif c == "?":
-            out.append("\\?")
-        elif 0x20 <= b < 0x7F:
-            out.append(c)
-        else:
-            out.append(f"\\{b:03o}")
-    out.append('"')
-    return "".join(out)
+    return '"' + "".join(map(_CPP_STRING_BYTES.__getitem__, text.encode("utf-8"))) + '"'
+
+
+# What cpp_string writes for each byte (a table: a 10,000-node mission has some 70,000 literals).
+_CPP_STRING_BYTES = [chr(b) if 0x20 <= b < 0x7F else f"\\{b:03o}" for b in range(256)]
+_CPP_STRING_BYTES[ord('"')] = '\\"'
+_CPP_STRING_BYTES[ord("\\")] = "\\\\"
+_CPP_STRING_BYTES[ord("?")] = "\\?"
 
 
 def cpp_comment(text: str) -> str:
