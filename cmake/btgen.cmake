@@ -6,6 +6,8 @@
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
+#                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
+#                                                 # target needs HEADER's folder on its include path
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
@@ -140,7 +142,7 @@ function(btgen_add_mission)
   endif()
   cmake_parse_arguments(ARG ""
     "TARGET;MISSION;NAMESPACE;MAIN_TREE;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
-    "MODELS;ENUMS;ENUM_FILES" ${args})
+    "MODELS;ENUMS;ENUM_FILES;TYPES" ${args})
   if(ARG_TARGET)
     set(target "${ARG_TARGET}")
   endif()
@@ -193,6 +195,10 @@ function(btgen_add_mission)
   # Scripting enums (registerScriptingEnum): `Color=RED,GREEN,BLUE` each, and files of them.
   foreach(enum IN LISTS ARG_ENUMS)
     list(APPEND write_options --enum "${enum}")
+  endforeach()
+  # User port types: `Pose2D=nav::Pose2D@nav/pose2d.hpp` each.
+  foreach(type IN LISTS ARG_TYPES)
+    list(APPEND write_options --type "${type}")
   endforeach()
   set(enum_files "")
   foreach(enum_file IN LISTS ARG_ENUM_FILES)

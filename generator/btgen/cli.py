@@ -69,7 +69,7 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from . import enums
+    from . import enums, usertypes
     from .compiler import data_options
     from .frontend import load_mission
     from .lower import lower
@@ -78,6 +78,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     for path in args.missions:
         try:
             mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
+            mission = usertypes.apply(mission, usertypes.from_args(args))
             print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
@@ -149,6 +150,13 @@ def _enum_options(p: argparse.ArgumentParser) -> None:
                    help="a file of such declarations, one per line (# comments)")
 
 
+def _type_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--type", action="append", default=[], metavar="NAME=CPP_TYPE@HEADER",
+                   help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
+                        "`bool convertFromString(std::string_view, T&)` in HEADER (#include \"HEADER\"; "
+                        "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -166,6 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
                    help="check as `btgen compile --queue-capacity N` would (default 16)")
     _enum_options(v)
+    _type_options(v)
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
@@ -195,6 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="most elements of a blackboard queue written by robot code (default 16)")
     _mission_options(c, namespace=True)
     _enum_options(c)
+    _type_options(c)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")

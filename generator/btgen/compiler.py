@@ -161,9 +161,10 @@ def compile_command(args: argparse.Namespace) -> int:
     from .lower import lower
     from .cli import print_diagnostics
 
-    from . import enums
+    from . import enums, usertypes
 
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
+    mission = usertypes.apply(mission, usertypes.from_args(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),

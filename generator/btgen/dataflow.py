@@ -43,7 +43,7 @@ from .catalogue import BUILTINS, NodeSpec, PortSpec
 from .diagnostics import DiagnosticSink, InternalError, Loc
 from .model import Attr, Mission, Node, SubTreeNode
 from .naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
-from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
+from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, is_user, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16
@@ -142,6 +142,7 @@ class PortIR:
     scratch: str  # the member the getter writes a number's text into ("" when it never needs one)
     reads: tuple[tuple[int, str], ...]  # (node index, C++ statement returning the Input)
     writes: tuple[tuple[int, tuple[str, ...]], ...]  # (node index, C++ statements)
+    user: bool = False  # a user port type (--type): the setter takes `const T&`
 
 
 @dataclass(frozen=True)
@@ -160,6 +161,8 @@ class DataIR:
     queue_capacity: int
     where: tuple[Loc, ...]  # the places run-time errors name: `detail::kWhere[i]` in the code above
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
+    user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
+    inits: tuple[CodeIR, ...] = ()  # literals of user-typed ports, converted when the mission is constructed
 
 
 # ================================================================ helpers
@@ -307,6 +310,7 @@ class _Analyzer:
         # per-node uses, filled by _collect
         self.script_uses: list[tuple[_Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
         self.node_ops: list[tuple[str, _Inst, dict]] = []
+        self.user = {t.kind: t for t in mission.user_types}  # kind -> usertypes.UserType
 
     def error(self, loc: Loc, message: str) -> None:
         if (loc, message) not in self.reported:
@@ -499,6 +503,8 @@ class _Analyzer:
     def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[str]:
         """The kind of a script value; "error" when it fails whatever the kinds (compiling the script
         reports why), None while a name's kind is unknown."""
+        if any(is_user(self.slots[names[n.name]].kind) for n in sc.walk(expr) if isinstance(n, sc.Name)):
+            return "error"  # (compiling the script says that user-typed entries are not for scripts)
         try:
             return scpp.expr_kind(expr, self._kind_of(names))
         except ScriptTypeError:
@@ -904,6 +910,8 @@ class _Analyzer:
 
     def cpp_type(self, s: _Slot) -> str:
         k = s.kind
+        if is_user(k):
+            return self.user[k].cpp_type
         if k == "string":
             return f"btgen::FixedString<{s.capacity}>"
         if k == "none":
@@ -987,6 +995,8 @@ class _Compiler:
         self.views = [a.slot_view(i) for i in range(len(a.slots))]
         self.where_locs: list[Loc] = []
         self.where_index: dict[Loc, int] = {}
+        self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
+        self.user_inits: list[CodeIR] = []
 
     def where(self, loc: Loc) -> str:
         """The C++ expression naming `loc` in run-time errors (an entry of detail::kWhere)."""
@@ -1040,6 +1050,8 @@ class _Compiler:
                 continue
             if any(self.a.slots[i].failed for i in names.values()):
                 continue  # its entry's type is already reported as unknown
+            if not self.check_user_free(inst, attr, script, names):
+                continue
             enum = SCRIPT_SLOTS[which]
             ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
                                      f"script error in `{attr.name}` of {inst.what}: ", dict(self.a.m.enums))
@@ -1054,6 +1066,25 @@ class _Compiler:
             if enum != "kCode":
                 bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
         return out, bits
+
+    def check_user_free(self, inst: _Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
+        """Scripts neither read nor write entries of user port types (`--type`): the script
+        language knows numbers, strings and statuses only. False: reported."""
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                key = node.name if isinstance(node, sc.Name) else node.target if isinstance(node, sc.Assign) else None
+                if key is None:
+                    continue
+                s = self.a.slots[names[key]]
+                if is_user(s.kind):
+                    t = self.a.user[s.kind]
+                    verb = "reads" if isinstance(node, sc.Name) else "writes"
+                    self.error(script_loc(attr, node.offset),
+                               f"`{attr.name}` of {inst.what} {verb} `{key}`, an entry of user type {t.name} "
+                               f"({t.cpp_type}, --type {t.name}); scripts cannot use user-typed entries (read and "
+                               f"write them from your nodes through their typed ports)")
+                    return False
+        return True
 
     def check_reads(self, inst: _Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
         """A name read that can never find its entry: nothing anywhere creates it. False: reported."""
@@ -1105,6 +1136,12 @@ class _Compiler:
         s = self.a.slots[dst]
         declared = s.entry.type_name
         what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        if is_user(s.kind):
+            t = self.a.user[s.kind]
+            self.error(loc, f"{what} writes the text `{text}` to `{s.key}`, an entry of user type {t.name} "
+                            f"({t.cpp_type}); SetBlackboard literals into user-typed entries are not supported by "
+                            f"the C++ back end yet (give the value as a literal of a {t.name} input port instead)")
+            return None
         if s.kind == DYN:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
@@ -1155,9 +1192,11 @@ class _Compiler:
             self.error(loc, f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
                             f"both entries, which the C++ back end does not do")
             return None
-        if DYN in (d.kind, s.kind):
+        if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
             return self.set_copy_dynamic(inst, op, d, s, what)
-        if not strong:
+        if is_user(d.kind) or is_user(s.kind):
+            ok = d.kind == s.kind
+        elif not strong:
             ok = s.kind == d.kind
         elif s.kind == "string" and declared != values.STRING:
             ok = declared != values.NODE_STATUS and not values.is_opaque_type(declared)
@@ -1318,6 +1357,64 @@ class _Compiler:
         body.append("return 1;")
         return CodeIR(inst.index, "", f"{what} queue={inst.ports['queue'].raw}", tuple(body))
 
+    # ------------------------------------------------------------ user port types
+    def port_type(self, type_name: str) -> str:
+        """The C++ type of a port's accessors ("" for an untyped port): a user type's own (--type)."""
+        k = kind_of_type(type_name)
+        return self.a.user[k].cpp_type if is_user(k) else port_cpp_type(type_name)
+
+    def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[str]:
+        """The getter statement of an input port where a user type (--type) is involved: a literal
+        converted once when the mission is constructed, or the entry's value as it is."""
+        pk = kind_of_type(ps.type)
+        if slot is None:  # a literal (or a TreeNodesModel default) of a user-typed port
+            t = self.a.user[pk]  # type: ignore[index]
+            member = f"ulit{len(self.user_locals)}_"
+            self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp_type}>",
+                                            f"port `{ps.name}` of {inst.what}: {values.describe(raw)} as a {t.name}, "
+                                            f"converted when the mission is constructed"))
+            message = (f"port `{ps.name}` of {inst.what}: `{raw}` does not convert to {t.name} ({t.cpp_type}): its "
+                       f"convertFromString returned false")
+            self.user_inits.append(CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}" {ps.name}',
+                                          (f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
+                                           f"(void)err.fail(kNodes[{inst.index}], {self.where(loc)}, "
+                                           f"{cpp_string(message)});",)))
+            return f"return btgen::port::read_literal(bb.{member});"
+        s = self.a.slots[slot]
+        if is_user(pk) and s.kind == pk:
+            return f"return btgen::port::read_user(bb.{s.member});"
+        if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
+            return f"return btgen::port::read_user_as<T>(bb.{s.member});"
+        if is_user(pk):
+            t = self.a.user[pk]
+            self.error(loc, f"port `{ps.name}` of {inst.what} ({t.name}) reads blackboard entry `{s.key}`, which holds "
+                            f"{describe_kind(s.kind or 'none')} ({s.origin_text}); a {t.name} port reads only "
+                            f"{t.name} entries in the C++ back end (BehaviorTree.CPP would convert a string with "
+                            f"convertFromString<{t.name}> on every read)")
+        else:
+            self.error(loc, f"port `{ps.name}` of {inst.what} ({ps.type}) reads blackboard entry `{s.key}`, which "
+                            f"holds {describe_kind(s.kind or 'none')} ({s.origin_text}); it does not convert to "
+                            f"{ps.type}")
+        return None
+
+    def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[tuple[str, ...]]:
+        """The setter statements of an output port where a user type (--type) is involved."""
+        s = self.a.slots[slot]
+        pk = kind_of_type(ps.type)
+        what = f"output port `{ps.name}` of {inst.what}"
+        if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
+            t = self.a.user[s.kind]  # type: ignore[index]
+            return (f"if constexpr (std::is_same_v<T, {t.cpp_type}>) {{",
+                    f"  btgen::port::write_user(bb.{s.member}, value);",
+                    "  return true;",
+                    "} else {",
+                    "  " + self.fail(loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to "
+                                          f"`{s.key}`", ret="false"),
+                    "}")
+        if not self.typed_write_ok(slot, ps.type, loc, what):
+            return None
+        return (f"btgen::port::write_user(bb.{s.member}, value);", "return true;")
+
     # ------------------------------------------------------------ user leaf ports
     def ports(self) -> dict:
         by_model: dict[str, dict[str, dict]] = {}
@@ -1333,8 +1430,14 @@ class _Compiler:
                 self.error(loc, f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
                                 f"nodes are not supported by the C++ back end yet")
                 continue
-            t = port_cpp_type(ps.type)
-            if ps.reads:
+            t = self.port_type(ps.type)
+            pk = kind_of_type(ps.type)
+            if ps.reads and (is_user(pk) or (slot is not None and is_user(self.a.slots[slot].kind))):
+                stmt = self.user_read(inst, ps, slot, raw, loc)
+                if stmt is None:
+                    continue
+                entry["reads"].append((inst.index, stmt))
+            elif ps.reads:
                 if slot is not None:
                     s = self.a.slots[slot]
                     if is_queue(s.kind):
@@ -1357,7 +1460,11 @@ class _Compiler:
                         entry["reads"].append((inst.index, "return btgen::PortError::kConversion;"))
                 else:
                     entry["reads"].append((inst.index, f"return btgen::port::parse<T>({cpp_view(raw)});"))
-            if ps.writes and slot is not None:
+            if ps.writes and slot is not None and (is_user(pk) or is_user(self.a.slots[slot].kind)):
+                stmts = self.user_write(inst, ps, slot, loc)
+                if stmts is not None:
+                    entry["writes"].append((inst.index, stmts))
+            elif ps.writes and slot is not None:
                 if ps.type != values.ANY and not self.typed_write_ok(slot, ps.type if not values.is_opaque_type(
                         ps.type) else values.STRING, loc, f"output port `{ps.name}` of {inst.what}"):
                     continue
@@ -1392,8 +1499,9 @@ class _Compiler:
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]
                 reads = tuple((i, stmt.replace("{scratch}", f", &scratch{k}_")) for i, stmt in e["reads"])
-                irs.append(PortIR(cname, pname, ps.direction, ps.type, port_cpp_type(ps.type), ps.description,
-                                  f"scratch{k}_" if e["scratch"] else "", reads, tuple(e["writes"])))
+                irs.append(PortIR(cname, pname, ps.direction, ps.type, self.port_type(ps.type), ps.description,
+                                  f"scratch{k}_" if e["scratch"] else "", reads, tuple(e["writes"]),
+                                  is_user(kind_of_type(ps.type))))
             out[model_id] = tuple(irs)
         return out
 
@@ -1440,18 +1548,30 @@ class _Compiler:
         slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
                              self.a.initializer(s), s.origin, s.origin_loc, s.capacity, s.owner_uid)
                       for i, s in enumerate(self.a.slots))
-        return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
-                      tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,
-                      tuple(self.where_locs), tuple(self.a.m.enums))
+        used = {ps.type for spec in self.a.m.user_models() for ps in spec.ports} | \
+            {s.entry.type_name for s in self.a.slots} | {t.name for t in self.a.user.values()
+                                                         if any(s.kind == t.kind for s in self.a.slots)}
+        user_types = tuple(t for t in self.a.m.user_types if t.name in used)
+        return DataIR(slots, tuple(locals_ + self.user_locals), tuple(scripts), tuple(data_leaves), tuple(entries),
+                      tuple(switches), tuple(loops), ports, bits, params, self.a.opt.string_capacity,
+                      self.a.opt.queue_capacity, tuple(self.where_locs), tuple(self.a.m.enums), user_types,
+                      tuple(self.user_inits))
 
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
-    a = _Analyzer(mission, options or DataOptions())
-    a.load()
-    a.collect()
-    a.name_slots()
-    a.type_slots()
-    a.size_slots()
-    ir = _Compiler(a).run()
+    saved = dict(scpp.USER_KINDS)
+    scpp.USER_KINDS.clear()
+    scpp.USER_KINDS.update({t.name: t.kind for t in mission.user_types})
+    try:
+        a = _Analyzer(mission, options or DataOptions())
+        a.load()
+        a.collect()
+        a.name_slots()
+        a.type_slots()
+        a.size_slots()
+        ir = _Compiler(a).run()
+    finally:
+        scpp.USER_KINDS.clear()
+        scpp.USER_KINDS.update(saved)
     return ir, a.sink
