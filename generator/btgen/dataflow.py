@@ -1385,6 +1385,8 @@ class _Compiler:
             return f"return btgen::port::read_user(bb.{s.member});"
         if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
             return f"return btgen::port::read_user_as<T>(bb.{s.member});"
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
         if is_user(pk):
             t = self.a.user[pk]
             self.error(loc, f"port `{ps.name}` of {inst.what} ({t.name}) reads blackboard entry `{s.key}`, which holds "
@@ -1411,6 +1413,8 @@ class _Compiler:
                     "  " + self.fail(loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to "
                                           f"`{s.key}`", ret="false"),
                     "}")
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
         if not self.typed_write_ok(slot, ps.type, loc, what):
             return None
         return (f"btgen::port::write_user(bb.{s.member}, value);", "return true;")
@@ -1548,10 +1552,9 @@ class _Compiler:
         slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
                              self.a.initializer(s), s.origin, s.origin_loc, s.capacity, s.owner_uid)
                       for i, s in enumerate(self.a.slots))
-        used = {ps.type for spec in self.a.m.user_models() for ps in spec.ports} | \
-            {s.entry.type_name for s in self.a.slots} | {t.name for t in self.a.user.values()
-                                                         if any(s.kind == t.kind for s in self.a.slots)}
-        user_types = tuple(t for t in self.a.m.user_types if t.name in used)
+        used = {kind_of_type(ps.type) for spec in self.a.m.user_models() for ps in spec.ports} | \
+            {s.kind for s in self.a.slots}
+        user_types = tuple(t for t in self.a.m.user_types if t.kind in used)
         return DataIR(slots, tuple(locals_ + self.user_locals), tuple(scripts), tuple(data_leaves), tuple(entries),
                       tuple(switches), tuple(loops), ports, bits, params, self.a.opt.string_capacity,
                       self.a.opt.queue_capacity, tuple(self.where_locs), tuple(self.a.m.enums), user_types,
@@ -1562,7 +1565,7 @@ def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[Da
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
     saved = dict(scpp.USER_KINDS)
     scpp.USER_KINDS.clear()
-    scpp.USER_KINDS.update({t.name: t.kind for t in mission.user_types})
+    scpp.USER_KINDS.update({values._compact(t.name): t.kind for t in mission.user_types})
     try:
         a = _Analyzer(mission, options or DataOptions())
         a.load()

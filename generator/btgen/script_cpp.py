@@ -57,8 +57,8 @@ def is_queue(kind: Optional[str]) -> bool:
     return kind is not None and kind.startswith("queue<")
 
 
-# The user port types (usertypes.py) of the mission being compiled: type name -> kind
-# (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
+# The user port types (usertypes.py) of the mission being compiled: type name (blanks
+# around `<>,:*&` removed) -> kind (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
 USER_KINDS: dict[str, str] = {}
 
 
@@ -84,14 +84,14 @@ def kind_of_type(type_name: str) -> Optional[str]:
         return None
     if values.queue_element_type(type_name) is not None:
         return f"queue<{values.queue_element_type(type_name)}>"
-    if type_name in USER_KINDS:
-        return USER_KINDS[type_name]
+    if USER_KINDS and values._compact(type_name) in USER_KINDS:
+        return USER_KINDS[values._compact(type_name)]
     return "string"  # string and opaque user types
 
 
 def describe_kind(kind: str) -> str:
     if is_user(kind):
-        return f"a {kind[len('user:'):]} (a user type)"
+        return f"a {kind[len('user:'):]}"
     return {"int": "an integer", "double": "a double", "bool": "a bool", "status": "a NodeStatus",
             "string": "a string", "none": "no value", DYN: "a value of changing type"}.get(kind, f"a {kind}")
 

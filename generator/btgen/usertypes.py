@@ -48,8 +48,8 @@ class UserType:
 
 
 def kind_of(name: str) -> str:
-    """The data-side kind of the entries of a user type."""
-    return f"user:{name}"
+    """The data-side kind of the entries of a user type (blanks around `<>,:*&` do not matter)."""
+    return f"user:{values._compact(name)}"
 
 
 def _cpp_type_problem(text: str) -> str:
