@@ -798,7 +798,8 @@ class _Analyzer:
             changed = False
             for s in self.slots:
                 if s.kind == DYN or s.failed or s.entry.type_name != values.ANY or s.initial is not None \
-                        or s.untyped_text or s.kind is None or is_queue(s.kind) or (s.kind == "none" and not s.writes):
+                        or s.untyped_text or s.kind is None or is_queue(s.kind) or (s.kind == "none" and not s.writes) \
+                        or is_user(s.kind):  # (a user type's entry: other writes are errors, reported as such)
                     continue
                 for w in s.writes:
                     if w.source in ("port", "loop"):

@@ -260,3 +260,56 @@ inline bool convertFromString(std::string_view text, Named& out) { out.name = st
     assert built.returncode != 0
     assert ("port type `Pose2D` (btgen compile --type Pose2D=nav::Named@nav/named.hpp): nav::Named must be trivially "
             "copyable: the mission's static blackboard holds it by value") in built.stderr
+
+
+UNTYPED_MAIN = r"""#include <cstdio>
+#include "m.hpp"
+struct Leaves {
+  bool wrong = false;
+  btgen::Status tick(m::leaf::Plan& m, const btgen::NodeInfo&) {
+    if (wrong) return m.set_out(1.0) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+    return m.set_out(nav::Pose2D{1, 2, 3}) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+  btgen::Status tick(m::leaf::Compute&, const btgen::NodeInfo&) { return btgen::Status::SUCCESS; }
+  btgen::Status tick(m::leaf::Use& m, const btgen::NodeInfo&) {
+    const auto pose = m.goal<nav::Pose2D>();
+    const auto number = m.goal<double>();
+    std::printf("use %d %g %g %d\n", pose.has_value(), pose->y, pose->theta,
+                number.error() == btgen::PortError::kConversion);
+    return btgen::Status::SUCCESS;
+  }
+};
+struct Print {
+  void on_status_change(const btgen::NodeInfo&, btgen::Status, btgen::Status) noexcept {}
+  void on_error(const btgen::RuntimeError& e) noexcept {
+    std::printf("%.*s: error: %.*s\n", static_cast<int>(e.where.size()), e.where.data(),
+                static_cast<int>(e.message.size()), e.message.data());
+  }
+};
+int main(int argc, char**) {
+  Leaves leaves;
+  leaves.wrong = argc > 1;
+  m::M<Leaves, btgen::ManualClock, Print> mission(leaves);
+  std::printf("%s\n", mission.tick() == btgen::Status::SUCCESS ? "SUCCESS" : "FAILURE");
+}
+"""
+
+
+def test_untyped_ports_take_a_user_typed_entry_as_its_own_type_only(tmp_path):
+    name = _mission(tmp_path, "m.xml", """    <Sequence>
+      <Plan out="{p}"/>
+      <Compute goal="{p}"/>
+      <Use goal="{p}"/>
+    </Sequence>""", """    <Action ID="Plan"><output_port name="out"/></Action>
+    <Action ID="Compute"><output_port name="goal" type="Pose2D"/></Action>
+    <Action ID="Use"><input_port name="goal"/></Action>""")
+    r = _btgen("compile", name, "-o", "out", *POSE, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
+    built = _cxx(tmp_path, tmp_path / "out", UNTYPED_MAIN, "-o", str(tmp_path / "run"))
+    assert built.returncode == 0, built.stderr
+    ok = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=True)
+    assert ok.stdout == "use 1 2 3 1\nSUCCESS\n"
+    wrong = subprocess.run([str(tmp_path / "run"), "x"], capture_output=True, text=True, check=True)
+    assert wrong.stdout == ("m.xml:4:18: error: output port `out` of `Plan` \"Plan\" writes a value of another type "
+                            "than Pose2D (nav::Pose2D) to `p`\nFAILURE\n")
