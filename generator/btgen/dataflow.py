@@ -1369,19 +1369,13 @@ class _Compiler:
         converted once when the mission is constructed, or the entry's value as it is."""
         pk = kind_of_type(ps.type)
         if slot is None:  # a literal (or a TreeNodesModel default) of a user-typed port
-            t = self.a.user[pk]  # type: ignore[index]
-            member = f"ulit{len(self.user_locals)}_"
-            self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp_type}>",
-                                            f"port `{ps.name}` of {inst.what}: {values.describe(raw)} as a {t.name}, "
-                                            f"converted when the mission is constructed"))
-            message = (f"port `{ps.name}` of {inst.what}: `{raw}` does not convert to {t.name} ({t.cpp_type}): its "
-                       f"convertFromString returned false")
-            self.user_inits.append(CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}" {ps.name}',
-                                          (f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
-                                           f"(void)err.fail(kNodes[{inst.index}], {self.where(loc)}, "
-                                           f"{cpp_string(message)});",)))
-            return f"return btgen::port::read_literal(bb.{member});"
+            return self.user_literal(inst, ps, raw, loc, f"`{raw}`")
         s = self.a.slots[slot]
+        if is_user(pk) and s.initial is not None and not s.unset and all(w.source == "constant" for w in s.writes):
+            # A SubTree's constant port that nothing else writes: a literal too (4.6.2 converts its
+            # text on every read; it never changes).
+            return self.user_literal(inst, ps, s.initial, s.writes[0].loc if s.writes else loc,
+                                     f"`{s.initial}` (the constant port `{s.key}` of its SubTree)")
         if is_user(pk) and s.kind == pk:
             return f"return btgen::port::read_user(bb.{s.member});"
         if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
@@ -1399,6 +1393,21 @@ class _Compiler:
                             f"holds {describe_kind(s.kind or 'none')} ({s.origin_text}); it does not convert to "
                             f"{ps.type}")
         return None
+
+    def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> str:
+        """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
+        t = self.a.user[kind_of_type(ps.type)]  # type: ignore[index]
+        member = f"ulit{len(self.user_locals)}_"
+        self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp_type}>",
+                                        f"port `{ps.name}` of {inst.what}: {values.describe(raw)} as a {t.name}, "
+                                        f"converted when the mission is constructed"))
+        message = (f"port `{ps.name}` of {inst.what}: {what} does not convert to {t.name} ({t.cpp_type}): its "
+                   f"convertFromString returned false")
+        self.user_inits.append(CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}" {ps.name}',
+                                      (f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
+                                       f"(void)err.fail(kNodes[{inst.index}], {self.where(loc)}, "
+                                       f"{cpp_string(message)});",)))
+        return f"return btgen::port::read_literal(bb.{member});"
 
     def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[tuple[str, ...]]:
         """The setter statements of an output port where a user type (--type) is involved."""

@@ -1,6 +1,7 @@
 // User port types (btgen compile --type Pose2D=nav::Pose2D@nav/pose2d.hpp; TYPES in
 // btgen_add_mission): missions/user_types.xml holds a Pose2D literal, a leaf writing a Pose2D
-// output port, a SubTree reading it through a remapping, and a SetBlackboard copy of it.
+// output port, a SubTree reading it through a remapping, a SetBlackboard copy of it, and the
+// same SubTree given a constant.
 #include <gtest/gtest.h>
 
 #include <type_traits>
@@ -54,21 +55,23 @@ TEST(UserTypes, LiteralConvertsOnceAtConstructionAndValuesFlowAcrossTheSubTree) 
   int errors = 0;
   const int calls_before = nav::convert_calls;
   Mission mission(leaves, btgen::ManualClock{}, CountingObserver{&errors});
-  EXPECT_EQ(nav::convert_calls - calls_before, 1);  // the one literal, at construction
+  EXPECT_EQ(nav::convert_calls - calls_before, 2);  // the literal and the SubTree constant, at construction
   EXPECT_EQ(errors, 0);
   EXPECT_EQ(mission.errors(), 0u);
   for (int round = 0; round < 5; ++round) {
     ASSERT_EQ(mission.tick(), btgen::Status::SUCCESS);
   }
-  EXPECT_EQ(nav::convert_calls - calls_before, 1);  // never again while ticking
-  ASSERT_EQ(leaves.goals.size(), 15u);
+  EXPECT_EQ(nav::convert_calls - calls_before, 2);  // never again while ticking
+  ASSERT_EQ(leaves.goals.size(), 20u);
   EXPECT_EQ(leaves.misses, 0);
   const nav::Pose2D home{1.5, -2.0, 0.25};
   const nav::Pose2D planned{3.0, 4.0, -1.0};
-  for (std::size_t i = 0; i < leaves.goals.size(); i += 3) {
+  const nav::Pose2D fixed{0.0, 1.0, 2.0};
+  for (std::size_t i = 0; i < leaves.goals.size(); i += 4) {
     EXPECT_TRUE(same(leaves.goals[i], home));         // the literal
     EXPECT_TRUE(same(leaves.goals[i + 1], planned));  // through the SubTree's remapping
     EXPECT_TRUE(same(leaves.goals[i + 2], planned));  // the SetBlackboard copy
+    EXPECT_TRUE(same(leaves.goals[i + 3], fixed));    // the SubTree's constant
   }
   EXPECT_TRUE(same(mission.blackboard().target.value, planned));
   EXPECT_EQ(mission.blackboard().target.seq, 5u);
@@ -77,7 +80,7 @@ TEST(UserTypes, LiteralConvertsOnceAtConstructionAndValuesFlowAcrossTheSubTree) 
 
 TEST(UserTypes, NoAllocationAtConstructionOrTick) {
   PoseLeaves leaves;
-  leaves.goals.reserve(3 * 1000);
+  leaves.goals.reserve(4 * 1000);
   int errors = 0;
   btgen_test::AllocationScope scope;
   {
@@ -85,7 +88,7 @@ TEST(UserTypes, NoAllocationAtConstructionOrTick) {
     for (int i = 0; i < 1000; ++i) (void)mission.tick();
   }
   EXPECT_EQ(scope.count(), 0u);
-  EXPECT_EQ(leaves.goals.size(), 3000u);
+  EXPECT_EQ(leaves.goals.size(), 4000u);
   EXPECT_EQ(errors, 0);
 }
 

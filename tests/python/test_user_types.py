@@ -229,19 +229,25 @@ int main() {
 """
 
 
-@pytest.mark.parametrize("compiler", ["g++", "clang++"])
-def test_a_literal_that_does_not_convert_is_reported_at_construction(tmp_path, compiler):
-    text = MISSION.read_text(encoding="utf-8").replace('goal="1.5;-2;0.25"', 'goal="1.5;north;0.25"')
+@pytest.mark.parametrize("case, compiler", [("literal", "g++"), ("literal", "clang++"), ("constant", "g++")])
+def test_a_literal_that_does_not_convert_is_reported_at_construction(tmp_path, case, compiler):
+    text = MISSION.read_text(encoding="utf-8")
+    if case == "literal":
+        text = text.replace('goal="1.5;-2;0.25"', 'goal="1.5;north;0.25"')
+        first = ("user_types.xml:5:33: error: port `goal` of `MoveTo` \"home\": `1.5;north;0.25` does not convert to "
+                 "Pose2D (nav::Pose2D): its convertFromString returned false\n")
+    else:  # a SubTree's constant port read by a Pose2D port: converted once too
+        text = text.replace('pose="0;1;2"', 'pose="0;1"')
+        first = ("user_types.xml:10:47: error: port `goal` of `MoveTo` \"follow_goal\": `0;1` (the constant port "
+                 "`pose` of its SubTree) does not convert to Pose2D (nav::Pose2D): its convertFromString returned "
+                 "false\n")
     (tmp_path / "user_types.xml").write_text(text, encoding="utf-8")
     r = _btgen("compile", "user_types.xml", "-o", "out", *POSE, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     built = _cxx(tmp_path, tmp_path / "out", BAD_LITERAL_MAIN, "-o", str(tmp_path / "run"), compiler=compiler)
     assert built.returncode == 0, built.stderr
     run = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=True)
-    assert run.stdout == ("user_types.xml:5:33: error: port `goal` of `MoveTo` \"home\": `1.5;north;0.25` does not "
-                          "convert to Pose2D (nav::Pose2D): its convertFromString returned false\n"
-                          "errors 1 calls 1\n"
-                          "tick FAILURE kConversion 1 calls 1\n")
+    assert run.stdout == first + "errors 1 calls 2\ntick FAILURE kConversion 1 calls 2\n"
 
 
 def test_a_type_that_is_not_trivially_copyable_is_a_clear_compile_error(tmp_path):
