@@ -319,3 +319,16 @@ def test_untyped_ports_take_a_user_typed_entry_as_its_own_type_only(tmp_path):
     wrong = subprocess.run([str(tmp_path / "run"), "x"], capture_output=True, text=True, check=True)
     assert wrong.stdout == ("m.xml:4:18: error: output port `out` of `Plan` \"Plan\" writes a value of another type "
                             "than Pose2D (nav::Pose2D) to `p`\nFAILURE\n")
+
+
+def test_an_entry_named_like_a_generated_literal(tmp_path):
+    """The blackboard's `ulit<k>_` members (converted literals) never collide with an entry's member."""
+    name = _mission(tmp_path, "m.xml", """    <Sequence>
+      <MoveTo goal="1;2;3"/>
+      <Script code="ulit0_ := 1"/>
+    </Sequence>""", """    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/></Action>""")
+    r = _btgen("compile", name, "-o", "out", *POSE, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
+    built = _cxx(tmp_path, tmp_path / "out", '#include "m.hpp"\n', "-fsyntax-only")
+    assert built.returncode == 0, built.stderr
