@@ -912,7 +912,7 @@ class _Analyzer:
     def cpp_type(self, s: _Slot) -> str:
         k = s.kind
         if is_user(k):
-            return self.user[k].cpp_type
+            return self.user[k].cpp
         if k == "string":
             return f"btgen::FixedString<{s.capacity}>"
         if k == "none":
@@ -1362,7 +1362,7 @@ class _Compiler:
     def port_type(self, type_name: str) -> str:
         """The C++ type of a port's accessors ("" for an untyped port): a user type's own (--type)."""
         k = kind_of_type(type_name)
-        return self.a.user[k].cpp_type if is_user(k) else port_cpp_type(type_name)
+        return self.a.user[k].cpp if is_user(k) else port_cpp_type(type_name)
 
     def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[str]:
         """The getter statement of an input port where a user type (--type) is involved: a literal
@@ -1398,7 +1398,7 @@ class _Compiler:
         """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
         t = self.a.user[kind_of_type(ps.type)]  # type: ignore[index]
         member = f"ulit{len(self.user_locals)}_"
-        self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp_type}>",
+        self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp}>",
                                         f"port `{ps.name}` of {inst.what}: {values.describe(raw)} as a {t.name}, "
                                         f"converted when the mission is constructed"))
         message = (f"port `{ps.name}` of {inst.what}: {what} does not convert to {t.name} ({t.cpp_type}): its "
@@ -1416,7 +1416,7 @@ class _Compiler:
         what = f"output port `{ps.name}` of {inst.what}"
         if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
             t = self.a.user[s.kind]  # type: ignore[index]
-            return (f"if constexpr (std::is_same_v<T, {t.cpp_type}>) {{",
+            return (f"if constexpr (std::is_same_v<T, {t.cpp}>) {{",
                     f"  btgen::port::write_user(bb.{s.member}, value);",
                     "  return true;",
                     "} else {",

@@ -29,6 +29,7 @@ from .diagnostics import Diagnostic, Loc, UserError
 from .model import Mission
 
 _IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
+_FUNDAMENTAL = ("int", "long", "short", "char", "double", "float", "bool", "signed", "unsigned")
 _TOKEN = re.compile(rf"\s*(::|{_IDENT}|[0-9]+|[<>,*&])")
 
 
@@ -41,6 +42,15 @@ class UserType:
     @property
     def include(self) -> str:
         return self.header if self.header.startswith("<") else f'"{self.header}"'
+
+    @property
+    def cpp(self) -> str:
+        """The type as generated code names it: from the global namespace (`::nav::Pose2D`), so that no
+        name of the generated namespaces (`detail`, `leaf`, `Blackboard`, ...) can capture it."""
+        first = re.match(rf"\s*({_IDENT})?", self.cpp_type).group(1) or ""
+        if self.cpp_type.startswith("::") or first in _FUNDAMENTAL:
+            return self.cpp_type
+        return "::" + self.cpp_type
 
     @property
     def kind(self) -> str:

@@ -172,8 +172,8 @@ def test_without_type_an_unknown_port_type_stays_text(tmp_path):
     assert r.returncode == 0, r.stderr
     header = (tmp_path / "typed" / "user_types.hpp").read_text(encoding="utf-8")
     assert '#include "nav/pose2d.hpp"' in header
-    assert "btgen::Input<nav::Pose2D> goal()" in header and "bool set_goal(const nav::Pose2D& value)" in header
-    assert "btgen::Slot<nav::Pose2D> target" in header
+    assert "btgen::Input<::nav::Pose2D> goal()" in header and "bool set_goal(const ::nav::Pose2D& value)" in header
+    assert "btgen::Slot<::nav::Pose2D> target" in header
     assert "static void init(" in header
 
 
@@ -321,13 +321,19 @@ def test_untyped_ports_take_a_user_typed_entry_as_its_own_type_only(tmp_path):
                             "than Pose2D (nav::Pose2D) to `p`\nFAILURE\n")
 
 
-def test_an_entry_named_like_a_generated_literal(tmp_path):
-    """The blackboard's `ulit<k>_` members (converted literals) never collide with an entry's member."""
+def test_generated_names_never_capture_user_names(tmp_path):
+    """The blackboard's `ulit<k>_` members (converted literals) never collide with an entry's member, and a
+    user type named like a generated one (`Blackboard`, at global scope) is named from `::`."""
+    (tmp_path / "board.hpp").write_text("""#pragma once
+#include <string_view>
+struct Blackboard { double width; };
+inline bool convertFromString(std::string_view text, Blackboard& out) { out.width = double(text.size()); return true; }
+""", encoding="utf-8")
     name = _mission(tmp_path, "m.xml", """    <Sequence>
-      <MoveTo goal="1;2;3"/>
+      <MoveTo goal="1;2;3" board="wide"/>
       <Script code="ulit0_ := 1"/>
-    </Sequence>""", """    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/></Action>""")
-    r = _btgen("compile", name, "-o", "out", *POSE, cwd=tmp_path)
+    </Sequence>""", """    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/><input_port name="board" type="Board"/></Action>""")
+    r = _btgen("compile", name, "-o", "out", *POSE, "--type", "Board=Blackboard@board.hpp", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
     built = _cxx(tmp_path, tmp_path / "out", '#include "m.hpp"\n', "-fsyntax-only")
