@@ -1138,11 +1138,17 @@ class _Compiler:
         declared = s.entry.type_name
         what = f"`SetBlackboard` \"{inst.node.display_name}\""
         if is_user(s.kind):
+            # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
+            # changes, so it is converted once, when the mission is constructed, and copied here.
             t = self.a.user[s.kind]
-            self.error(loc, f"{what} writes the text `{text}` to `{s.key}`, an entry of user type {t.name} "
-                            f"({t.cpp_type}); SetBlackboard literals into user-typed entries are not supported by "
-                            f"the C++ back end yet (give the value as a literal of a {t.name} input port instead)")
-            return None
+            member = self.user_constant(inst.index, t, text, loc, f"`value` of {what} (`{text}`, for `{s.key}`)",
+                                        f"`value` of {what}")
+            body = [f"if (!bb.{member}.ok) " + self.fail(loc, f"{what}: `{text}` does not convert to {t.name} "
+                                                               f"({t.cpp_type}) for `{s.key}`"),
+                    f"btgen::port::write_user({self.member(dst)}, bb.{member}.value);",
+                    "return btgen::Status::SUCCESS;"]
+            return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}",
+                          tuple(body))
         if s.kind == DYN:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
@@ -1397,17 +1403,22 @@ class _Compiler:
     def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> str:
         """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
         t = self.a.user[kind_of_type(ps.type)]  # type: ignore[index]
+        member = self.user_constant(inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}",
+                                    f"port `{ps.name}` of {inst.what}")
+        return f"return btgen::port::read_literal(bb.{member});"
+
+    def user_constant(self, node: int, t, raw: str, loc: Loc, what: str, comment: str) -> str:
+        """A `btgen::UserLiteral` member of the blackboard holding `raw` converted to the user type `t` when
+        the mission is constructed (Spec::init; a failure is reported there, naming `what`); its name."""
         member = f"ulit{len(self.user_locals)}_"
         self.user_locals.append(LocalIR(member, f"btgen::UserLiteral<{t.cpp}>",
-                                        f"port `{ps.name}` of {inst.what}: {values.describe(raw)} as a {t.name}, "
-                                        f"converted when the mission is constructed"))
-        message = (f"port `{ps.name}` of {inst.what}: {what} does not convert to {t.name} ({t.cpp_type}): its "
-                   f"convertFromString returned false")
-        self.user_inits.append(CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}" {ps.name}',
+                                        f"{comment}: {values.describe(raw)} as a {t.name}, converted when the "
+                                        f"mission is constructed"))
+        message = f"{what} does not convert to {t.name} ({t.cpp_type}): its convertFromString returned false"
+        self.user_inits.append(CodeIR(node, "", comment,
                                       (f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
-                                       f"(void)err.fail(kNodes[{inst.index}], {self.where(loc)}, "
-                                       f"{cpp_string(message)});",)))
-        return f"return btgen::port::read_literal(bb.{member});"
+                                       f"(void)err.fail(kNodes[{node}], {self.where(loc)}, {cpp_string(message)});",)))
+        return member
 
     def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[tuple[str, ...]]:
         """The setter statements of an output port where a user type (--type) is involved."""

@@ -1,7 +1,7 @@
 // User port types (btgen compile --type Pose2D=nav::Pose2D@nav/pose2d.hpp; TYPES in
 // btgen_add_mission): missions/user_types.xml holds a Pose2D literal, a leaf writing a Pose2D
-// output port, a SubTree reading it through a remapping, a SetBlackboard copy of it, and the
-// same SubTree given a constant.
+// output port, a SubTree reading it through a remapping, a SetBlackboard copy of it, the
+// same SubTree given a constant, and a SetBlackboard literal.
 #include <gtest/gtest.h>
 
 #include <type_traits>
@@ -55,32 +55,34 @@ TEST(UserTypes, LiteralConvertsOnceAtConstructionAndValuesFlowAcrossTheSubTree) 
   int errors = 0;
   const int calls_before = nav::convert_calls;
   Mission mission(leaves, btgen::ManualClock{}, CountingObserver{&errors});
-  EXPECT_EQ(nav::convert_calls - calls_before, 2);  // the literal and the SubTree constant, at construction
+  EXPECT_EQ(nav::convert_calls - calls_before, 3);  // the literals and the SubTree constant, at construction
   EXPECT_EQ(errors, 0);
   EXPECT_EQ(mission.errors(), 0u);
   for (int round = 0; round < 5; ++round) {
     ASSERT_EQ(mission.tick(), btgen::Status::SUCCESS);
   }
-  EXPECT_EQ(nav::convert_calls - calls_before, 2);  // never again while ticking
-  ASSERT_EQ(leaves.goals.size(), 20u);
+  EXPECT_EQ(nav::convert_calls - calls_before, 3);  // never again while ticking
+  ASSERT_EQ(leaves.goals.size(), 25u);
   EXPECT_EQ(leaves.misses, 0);
   const nav::Pose2D home{1.5, -2.0, 0.25};
   const nav::Pose2D planned{3.0, 4.0, -1.0};
   const nav::Pose2D fixed{0.0, 1.0, 2.0};
-  for (std::size_t i = 0; i < leaves.goals.size(); i += 4) {
+  const nav::Pose2D set{7.0, 8.0, 9.0};
+  for (std::size_t i = 0; i < leaves.goals.size(); i += 5) {
     EXPECT_TRUE(same(leaves.goals[i], home));         // the literal
     EXPECT_TRUE(same(leaves.goals[i + 1], planned));  // through the SubTree's remapping
     EXPECT_TRUE(same(leaves.goals[i + 2], planned));  // the SetBlackboard copy
     EXPECT_TRUE(same(leaves.goals[i + 3], fixed));    // the SubTree's constant
+    EXPECT_TRUE(same(leaves.goals[i + 4], set));      // the SetBlackboard literal
   }
-  EXPECT_TRUE(same(mission.blackboard().target.value, planned));
-  EXPECT_EQ(mission.blackboard().target.seq, 5u);
+  EXPECT_TRUE(same(mission.blackboard().target.value, set));
+  EXPECT_EQ(mission.blackboard().target.seq, 10u);
   EXPECT_EQ(errors, 0);
 }
 
 TEST(UserTypes, NoAllocationAtConstructionOrTick) {
   PoseLeaves leaves;
-  leaves.goals.reserve(4 * 1000);
+  leaves.goals.reserve(5 * 1000);
   int errors = 0;
   btgen_test::AllocationScope scope;
   {
@@ -88,7 +90,7 @@ TEST(UserTypes, NoAllocationAtConstructionOrTick) {
     for (int i = 0; i < 1000; ++i) (void)mission.tick();
   }
   EXPECT_EQ(scope.count(), 0u);
-  EXPECT_EQ(leaves.goals.size(), 4000u);
+  EXPECT_EQ(leaves.goals.size(), 5000u);
   EXPECT_EQ(errors, 0);
 }
 

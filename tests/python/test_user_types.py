@@ -140,18 +140,6 @@ def test_scripts_cannot_use_user_typed_entries(tmp_path, code, column, verb):
                       f"them from your nodes through their typed ports)\n")
 
 
-def test_set_blackboard_literal_into_a_user_typed_entry(tmp_path):
-    name = _mission(tmp_path, "m.xml", """    <Sequence>
-      <ComputeGoal goal="{target}"/>
-      <SetBlackboard output_key="target" value="1;2;3"/>
-    </Sequence>""", """    <Action ID="ComputeGoal"><output_port name="goal" type="Pose2D"/></Action>""")
-    stderr = _both(tmp_path, name, *POSE)
-    assert stderr == ("m.xml:5:49: error: `SetBlackboard` \"SetBlackboard\" writes the text `1;2;3` to `target`, an "
-                      "entry of user type Pose2D (nav::Pose2D); SetBlackboard literals into user-typed entries are not "
-                      "supported by the C++ back end yet (give the value as a literal of a Pose2D input port "
-                      "instead)\n")
-
-
 def _untyped_mission(tmp_path):
     """user_types.xml without its SetBlackboard copy (without --type, a copy of text into an entry of an
     unknown type is refused, as before)."""
@@ -229,25 +217,33 @@ int main() {
 """
 
 
-@pytest.mark.parametrize("case, compiler", [("literal", "g++"), ("literal", "clang++"), ("constant", "g++")])
+@pytest.mark.parametrize("case, compiler", [("literal", "g++"), ("literal", "clang++"), ("constant", "g++"),
+                                            ("set", "g++")])
 def test_a_literal_that_does_not_convert_is_reported_at_construction(tmp_path, case, compiler):
     text = MISSION.read_text(encoding="utf-8")
+    tick = "tick FAILURE kConversion 1 calls 3\n"
     if case == "literal":
         text = text.replace('goal="1.5;-2;0.25"', 'goal="1.5;north;0.25"')
         first = ("user_types.xml:5:33: error: port `goal` of `MoveTo` \"home\": `1.5;north;0.25` does not convert to "
                  "Pose2D (nav::Pose2D): its convertFromString returned false\n")
-    else:  # a SubTree's constant port read by a Pose2D port: converted once too
+    elif case == "constant":  # a SubTree's constant port read by a Pose2D port: converted once too
         text = text.replace('pose="0;1;2"', 'pose="0;1"')
         first = ("user_types.xml:10:47: error: port `goal` of `MoveTo` \"follow_goal\": `0;1` (the constant port "
                  "`pose` of its SubTree) does not convert to Pose2D (nav::Pose2D): its convertFromString returned "
                  "false\n")
+    else:  # a SetBlackboard literal into a Pose2D entry: converted once; the node fails when it runs
+        text = text.replace('value="7;8;9"', 'value="7;8"')
+        first = ("user_types.xml:11:49: error: `value` of `SetBlackboard` \"SetBlackboard\" (`7;8`, for `target`) "
+                 "does not convert to Pose2D (nav::Pose2D): its convertFromString returned false\n")
+        tick = ("user_types.xml:11:49: error: `SetBlackboard` \"SetBlackboard\": `7;8` does not convert to Pose2D "
+                "(nav::Pose2D) for `target`\ntick FAILURE kConversion 0 calls 3\n")
     (tmp_path / "user_types.xml").write_text(text, encoding="utf-8")
     r = _btgen("compile", "user_types.xml", "-o", "out", *POSE, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     built = _cxx(tmp_path, tmp_path / "out", BAD_LITERAL_MAIN, "-o", str(tmp_path / "run"), compiler=compiler)
     assert built.returncode == 0, built.stderr
     run = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=True)
-    assert run.stdout == first + "errors 1 calls 2\ntick FAILURE kConversion 1 calls 2\n"
+    assert run.stdout == first + "errors 1 calls 3\n" + tick
 
 
 def test_a_type_that_is_not_trivially_copyable_is_a_clear_compile_error(tmp_path):
