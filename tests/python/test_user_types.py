@@ -328,7 +328,9 @@ inline bool convertFromString(std::string_view text, Blackboard& out) { out.widt
     name = _mission(tmp_path, "m.xml", """    <Sequence>
       <MoveTo goal="1;2;3" board="wide"/>
       <Script code="ulit0_ := 1"/>
-    </Sequence>""", """    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/><input_port name="board" type="Board"/></Action>""")
+    </Sequence>""", """    <Action ID="MoveTo">
+      <input_port name="goal" type="Pose2D"/><input_port name="board" type="Board"/>
+    </Action>""")
     r = _btgen("compile", name, "-o", "out", *POSE, "--type", "Board=Blackboard@board.hpp", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
