@@ -132,7 +132,7 @@ def parse(text: str) -> UserType:
     problem = _cpp_type_problem(cpp)
     if problem:
         raise ValueError(f"`{cpp}` is not a C++ type btgen can use for `{name}`: {problem}")
-    if header.startswith("<") != header.endswith(">") or any(c in header for c in '"\n') or \
+    if header.startswith("<") != header.endswith(">") or any(c in '"\\' or ord(c) < 32 for c in header) or \
             (header.startswith("<") and len(header) < 3):
         raise ValueError(f"`{header}` is not a header name: write path/to/header.hpp or <path/to/header.hpp>")
     cpp = re.sub(r"\s*(::|<|>|,)\s*", lambda m: m.group(1) + (" " if m.group(1) == "," else ""), cpp)
