@@ -19,13 +19,14 @@ AlwaysFailure, Action, Condition with BehaviorTree.CPP 4.6.2's tick rules as eng
 (halting a RUNNING child is a call to the table engine's generic halt, which instant leaves never reach).
 The class has the generated mission's interface (Leaves, Clock, Observer; tick(), node_count()).
 """
+
 import sys
 
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1] / "generator"))
-from btgen import naming  # noqa: E402
-from btgen.compiler import mission_stem  # noqa: E402
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.lower import lower  # noqa: E402
+from btgen.backend_cpp import naming
+from btgen.compiler import mission_stem
+from btgen.frontend.loader import load_mission
+from btgen.ir.lower import lower
 
 path, out = sys.argv[1], sys.argv[2]
 prog = lower(load_mission(path))
@@ -47,13 +48,23 @@ w("template <class Leaves, class Clock = btgen::ManualClock, class Observer = bt
 w("class Mission {")
 w(" public:")
 w(f"  using Spec = {ns}::detail::Spec;")
-w("  explicit Mission(Leaves& l, Clock c = Clock{}, Observer o = Observer{}) noexcept : leaves_(&l), clock_(c), obs_(o) {}")
+w(
+    "  explicit Mission(Leaves& l, Clock c = Clock{}, Observer o = Observer{}) noexcept : leaves_(&l), clock_(c), obs_(o) {}"
+)
 w(f"  static constexpr std::size_t node_count() noexcept {{ return {len(prog.nodes)}; }}")
-w("  [[nodiscard]] Status tick() noexcept { const Status s = x0(); if (btgen::is_completed(s)) set(0, Status::IDLE); return s; }")
+w(
+    "  [[nodiscard]] Status tick() noexcept { const Status s = x0(); if (btgen::is_completed(s)) set(0, Status::IDLE); return s; }"
+)
 w(" private:")
-w("  static constexpr Status san(Status s) noexcept { return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE; }")
-w("  void set(std::uint16_t n, Status s) noexcept { const Status p = st_[n]; st_[n] = s; if (p != s) obs_.on_status_change(Spec::kNodes[n], p, s); }")
-w("  [[gnu::noinline]] void halt_slow(std::uint16_t n) noexcept { set(n, Status::IDLE); }  // RUNNING subtrees: not reached here")
+w(
+    "  static constexpr Status san(Status s) noexcept { return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE; }"
+)
+w(
+    "  void set(std::uint16_t n, Status s) noexcept { const Status p = st_[n]; st_[n] = s; if (p != s) obs_.on_status_change(Spec::kNodes[n], p, s); }"
+)
+w(
+    "  [[gnu::noinline]] void halt_slow(std::uint16_t n) noexcept { set(n, Status::IDLE); }  // RUNNING subtrees: not reached here"
+)
 w("  void halt_child(std::uint16_t c) noexcept { if (st_[c] == Status::RUNNING) halt_slow(c); set(c, Status::IDLE); }")
 
 
@@ -108,21 +119,27 @@ for n in prog.nodes:
         w("  }")
     elif k == "Inverter":
         c = ch[0]
-        w(f"  Status t{i}() noexcept {{ set({i}, Status::RUNNING); const Status s = x{c}();"
-          f" if (s == Status::SUCCESS) {{ halt_child({c}); return Status::FAILURE; }}"
-          f" if (s == Status::FAILURE) {{ halt_child({c}); return Status::SUCCESS; }} return s; }}")
+        w(
+            f"  Status t{i}() noexcept {{ set({i}, Status::RUNNING); const Status s = x{c}();"
+            f" if (s == Status::SUCCESS) {{ halt_child({c}); return Status::FAILURE; }}"
+            f" if (s == Status::FAILURE) {{ halt_child({c}); return Status::SUCCESS; }} return s; }}"
+        )
     elif k == "SubTree":
         c = ch[0]
-        w(f"  Status t{i}() noexcept {{ if (st_[{i}] == Status::IDLE) set({i}, Status::RUNNING); const Status s = x{c}();"
-          f" if (btgen::is_completed(s)) halt_child({c}); return s; }}")
+        w(
+            f"  Status t{i}() noexcept {{ if (st_[{i}] == Status::IDLE) set({i}, Status::RUNNING); const Status s = x{c}();"
+            f" if (btgen::is_completed(s)) halt_child({c}); return s; }}"
+        )
     elif k == "AlwaysSuccess":
         w(f"  Status t{i}() noexcept {{ return Status::SUCCESS; }}")
     elif k == "AlwaysFailure":
         w(f"  Status t{i}() noexcept {{ return Status::FAILURE; }}")
     elif k == "Action":
-        w(f"  Status t{i}() noexcept {{ const Status st = st_[{i}];"
-          f" if (st == Status::IDLE) return san(Spec::on_start(*leaves_, Spec::kNodes[{i}]));"
-          f" if (st == Status::RUNNING) return san(Spec::on_running(*leaves_, Spec::kNodes[{i}])); return st; }}")
+        w(
+            f"  Status t{i}() noexcept {{ const Status st = st_[{i}];"
+            f" if (st == Status::IDLE) return san(Spec::on_start(*leaves_, Spec::kNodes[{i}]));"
+            f" if (st == Status::RUNNING) return san(Spec::on_running(*leaves_, Spec::kNodes[{i}])); return st; }}"
+        )
     elif k == "Condition":
         w(f"  Status t{i}() noexcept {{ return san(Spec::check(*leaves_, Spec::kNodes[{i}])); }}")
     else:

@@ -24,20 +24,24 @@ Also a small entry point for build systems:
 CMake's btgen_add_mission runs that.) --models, --main-tree and --namespace
 are those of `btgen compile`.
 """
+
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import tempfile
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional
 
-from . import naming, resources
-from .dataflow import DataOptions
-from .diagnostics import Diagnostic, Loc, UserError
-from .emit import TEMPLATE_DIR, Output, output_names, render
+from btgen import resources
+from btgen.backend_cpp import naming
+from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.ir.dataflow import DataOptions
 
 PACKAGE_DIR = resources.PACKAGE_DIR
 SCHEMA_DIR = resources.SCHEMA_DIR
@@ -64,12 +68,17 @@ def load_options(args: Optional[argparse.Namespace] = None) -> dict:
     return dict(models=tuple(getattr(args, "models", None) or ()), main_tree=getattr(args, "main_tree", None))
 
 
-def generate(mission_path: str, relative_to: Optional[str] = None,
-             options: Optional[DataOptions] = None, models: Sequence[str] = (),
-             main_tree: Optional[str] = None, namespace: Optional[str] = None) -> tuple[Output, ...]:
+def generate(
+    mission_path: str,
+    relative_to: Optional[str] = None,
+    options: Optional[DataOptions] = None,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    namespace: Optional[str] = None,
+) -> tuple[Output, ...]:
     """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
-    from .frontend import load_mission
-    from .lower import lower
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
 
     mission = load_mission(mission_path, models, main_tree)
     program = lower(mission, options)
@@ -102,10 +111,8 @@ def _stage(path: Path, data: bytes, mode: int) -> str:
 
 
 def _unlink_quietly(path: str) -> None:
-    try:
+    with contextlib.suppress(OSError):
         os.unlink(path)
-    except OSError:
-        pass
 
 
 def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
@@ -157,33 +164,41 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
-    from .frontend import load_mission
-    from .lower import lower
-    from .cli import print_diagnostics
-
-    from . import enums, usertypes
+    from btgen import usertypes
+    from btgen.cli import print_diagnostics
+    from btgen.frontend import enums
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
 
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
     mission = usertypes.apply(mission, usertypes.from_args(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
-    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),
-                     getattr(args, "namespace", None))
+    outputs = render(
+        program, mission_stem(args.mission), args.relative_to or os.getcwd(), getattr(args, "namespace", None)
+    )
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
         target = out_dir / out.name
         for f in mission.files:
             if target.exists() and os.path.samefile(f, target):
-                raise UserError(Diagnostic(Loc(f, 1, 1), f"`btgen compile -o {args.output_dir}` would overwrite "
-                                                          f"this input file with the generated {out.name}: "
-                                                          f"choose another output directory"))
+                raise UserError(
+                    Diagnostic(
+                        Loc(f, 1, 1),
+                        f"`btgen compile -o {args.output_dir}` would overwrite "
+                        f"this input file with the generated {out.name}: "
+                        f"choose another output directory",
+                    )
+                )
     try:  # rendered completely before anything is written; then all outputs or none
         write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
     except OSError as e:
         where = e.filename if isinstance(e.filename, str) else str(out_dir / outputs[0].name)
         if os.path.basename(where).startswith("."):  # a temporary file: name the output it was for
-            where = next((str(out_dir / o.name) for o in outputs
-                          if os.path.basename(where)[1:].startswith(o.name[:64] + ".")), where)
+            where = next(
+                (str(out_dir / o.name) for o in outputs if os.path.basename(where)[1:].startswith(o.name[:64] + ".")),
+                where,
+            )
         raise UserError(Diagnostic(Loc(where, 1, 1), f"cannot write the generated file: {e.strerror or e}")) from None
     return 0
 
@@ -200,7 +215,7 @@ def mission_files(mission_path: str, models: Sequence[str] = ()) -> list[str]:
     """The mission, every file it includes and the models files (absolute). Falls back
     to the mission and the models files when it does not load: the build then reports
     its errors."""
-    from .frontend import load_mission
+    from btgen.frontend.loader import load_mission
 
     try:
         files = list(load_mission(mission_path, models).files)
@@ -243,28 +258,37 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     g.add_argument("--inputs", action="store_true", help="print the generator's own sources, templates and schemas")
     g.add_argument("--template", metavar="MISSION.xml", help="print the mission's C++ class template")
     g.add_argument("--check", metavar="MISSION.xml", help="exit 0 if the mission compiles, else print why and exit 1")
-    g.add_argument("--update-generated", action="store_true",
-                   help="regenerate the committed generated/ from missions/*.xml")
+    g.add_argument(
+        "--update-generated", action="store_true", help="regenerate the committed generated/ from missions/*.xml"
+    )
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
-    p.add_argument("--models", action="append", default=[], metavar="FILE.xml",
-                   help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`")
+    p.add_argument(
+        "--models",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`",
+    )
     p.add_argument("--main-tree", metavar="ID", help="the tree to run, as `btgen compile --main-tree`")
     p.add_argument("--namespace", metavar="NS", help="the C++ namespace, as `btgen compile --namespace`")
     args = p.parse_args(argv)
     if args.namespace is not None and naming.namespace_problem(args.namespace):
-        print(f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}",
-              file=sys.stderr)
+        print(
+            f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}", file=sys.stderr
+        )
         return 2
     if args.update_generated:
         if resources.installed():
-            print("btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
-                  file=sys.stderr)
+            print(
+                "btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
+                file=sys.stderr,
+            )
             return 2
         for name in update_generated(resources.ROOT):
             print(f"generated/{name}")
         return 0
     if args.check:
-        from .cli import print_diagnostics
+        from btgen.cli import print_diagnostics
 
         try:
             generate(args.check, **load_options(args))

@@ -6,11 +6,13 @@ User mistakes raise :class:`UserError` (one or more diagnostics, exit 1);
 bugs in btgen itself raise :class:`InternalError`, which the command line
 reports as an internal error and asks to be reported.
 """
+
 from __future__ import annotations
 
 import difflib
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Optional, Sequence
+from typing import Optional
 
 
 @dataclass(frozen=True)
@@ -24,7 +26,7 @@ class Loc:
     def __str__(self) -> str:
         return f"{self.path}:{self.line}:{self.col}"
 
-    def shifted(self, columns: int) -> "Loc":
+    def shifted(self, columns: int) -> Loc:
         return Loc(self.path, self.line, self.col + columns)
 
 
@@ -80,7 +82,7 @@ class UserError(Exception):
         super().__init__("\n".join(str(d) for d in self.diagnostics))
 
     @classmethod
-    def at(cls, loc: Loc, message: str) -> "UserError":
+    def at(cls, loc: Loc, message: str) -> UserError:
         return cls(Diagnostic(loc, message))
 
 
@@ -122,12 +124,14 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> Optional[str]:
     pref = [c for c in cands if c.startswith(word) or word.startswith(c)]
     if len(pref) == 1:
         return pref[0]
+
     # A long shared beginning ("IV. VisitLandmark" vs "IV. VisitExhibit").
     def shared(c: str) -> int:
         n = 0
         while n < min(len(c), len(word)) and c[n] == word[n]:
             n += 1
         return n
+
     best = max(cands, key=shared, default=None)
     if best is not None and shared(best) >= max(4, len(word) // 2):
         if sum(1 for c in cands if shared(c) == shared(best)) == 1:

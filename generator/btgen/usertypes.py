@@ -17,16 +17,17 @@ converted once, when the mission object is constructed, by the user's
 ``bool convertFromString(std::string_view, T&)`` (found by argument-dependent lookup) or a
 specialisation of ``btgen::StringConverter<T>`` (btgen/user_type.hpp).
 """
+
 from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
-from . import values
-from .diagnostics import Diagnostic, Loc, UserError
-from .model import Mission
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang import values
+from btgen.lang.model import Mission
 
 _IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
 _FUNDAMENTAL = ("int", "long", "short", "char", "double", "float", "bool", "signed", "unsigned")
@@ -76,12 +77,12 @@ def _cpp_type_problem(text: str) -> str:
         pos = m.end()
     if any(t in ("*", "&") for t in tokens):
         return "pointers and references cannot live in the blackboard by value"
-    from .naming import CPP_KEYWORDS
+    from btgen.backend_cpp.naming import CPP_KEYWORDS
 
     depth = 0
     expect_name = True  # after `::`, `<`, `,` or at the start
     prev = ""
-    for i, t in enumerate(tokens):
+    for _i, t in enumerate(tokens):
         if t == "::":
             if prev == "::" or prev[:1].isdigit():
                 return "`::` must separate names"
@@ -107,8 +108,17 @@ def _cpp_type_problem(text: str) -> str:
         else:
             if not expect_name and t not in ("int", "long", "short", "char", "double", "signed", "unsigned"):
                 return f"`{t}` follows another name without `::`"
-            if t in CPP_KEYWORDS and t not in ("int", "long", "short", "char", "double", "float", "bool",
-                                                "signed", "unsigned"):
+            if t in CPP_KEYWORDS and t not in (
+                "int",
+                "long",
+                "short",
+                "char",
+                "double",
+                "float",
+                "bool",
+                "signed",
+                "unsigned",
+            ):
                 return f"`{t}` is a C++ keyword"
             expect_name = False
         prev = t
@@ -127,13 +137,17 @@ def parse(text: str) -> UserType:
     name, cpp, header = name.strip(), cpp.strip(), header.strip()
     canonical = values.normalize_type(name)
     if not values.is_opaque_type(canonical):
-        raise ValueError(f"`{name}` is a type btgen already knows ({canonical}); --type declares only types "
-                         f"that are not built in")
+        raise ValueError(
+            f"`{name}` is a type btgen already knows ({canonical}); --type declares only types that are not built in"
+        )
     problem = _cpp_type_problem(cpp)
     if problem:
         raise ValueError(f"`{cpp}` is not a C++ type btgen can use for `{name}`: {problem}")
-    if header.startswith("<") != header.endswith(">") or any(c in '"\\' or ord(c) < 32 for c in header) or \
-            (header.startswith("<") and len(header) < 3):
+    if (
+        header.startswith("<") != header.endswith(">")
+        or any(c in '"\\' or ord(c) < 32 for c in header)
+        or (header.startswith("<") and len(header) < 3)
+    ):
         raise ValueError(f"`{header}` is not a header name: write path/to/header.hpp or <path/to/header.hpp>")
     cpp = re.sub(r"\s*(::|<|>|,)\s*", lambda m: m.group(1) + (" " if m.group(1) == "," else ""), cpp)
     return UserType(canonical, cpp, header)
@@ -151,9 +165,14 @@ def load(declarations: Sequence[str] = ()) -> tuple[UserType, ...]:
             continue
         if t.name in out and out[t.name] != t:
             other = out[t.name]
-            problems.append(Diagnostic(Loc("--type", 1, 1), f"type `{t.name}` is declared twice, as "
-                                                            f"{other.cpp_type}@{other.header} and as "
-                                                            f"{t.cpp_type}@{t.header}"))
+            problems.append(
+                Diagnostic(
+                    Loc("--type", 1, 1),
+                    f"type `{t.name}` is declared twice, as "
+                    f"{other.cpp_type}@{other.header} and as "
+                    f"{t.cpp_type}@{t.header}",
+                )
+            )
             continue
         out[t.name] = t
     if problems:

@@ -1,5 +1,5 @@
 // The runtime's dynamic values (btgen/dynamic.hpp): 4.6.2's operations on values whose type is
-// known at run time only, with the reference interpreter's messages (btgen/script.py, values.py).
+// known at run time only, with the reference interpreter's messages (btgen/lang/script.py, values.py).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -76,8 +76,9 @@ TEST(Dynamic, OperatorsFollowTheKindsFoundAtRunTime) {
   EXPECT_TRUE(res);
   dyn::Msg e2;
   EXPECT_FALSE(dyn::logic_operand("&&", dyn::of_int(3), res, e2));
-  EXPECT_EQ(text(e2), "`&&` needs operands that convert to bool: cannot convert 3 (int) to bool: only the "
-                      "integers 0 and 1 convert to bool");
+  EXPECT_EQ(text(e2),
+            "`&&` needs operands that convert to bool: cannot convert 3 (int) to bool: only the "
+            "integers 0 and 1 convert to bool");
   dyn::Msg e3;
   EXPECT_EQ(dyn::truth(dyn::of_string("x"), e3), -1);
   EXPECT_EQ(text(e3), "the script gives 'x' (string), which is not a condition");

@@ -4,6 +4,7 @@ The cases live in ``<repo>/../shared/conformance/cases`` (FORMAT.md next to
 them is the contract): ``<stem>.xml``, ``<stem>.scenario``, ``<stem>.trace``.
 Each runs in-process for speed; one also goes through the real command line.
 """
+
 import difflib
 import os
 import subprocess
@@ -11,11 +12,10 @@ import sys
 
 import pytest
 
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import trace_text
+from btgen.interp.scenario import load_scenario
 from conftest import CASES, ROOT
-
-from btgen.frontend import load_mission
-from btgen.interp import trace_text
-from btgen.scenario import load_scenario
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 
@@ -23,8 +23,11 @@ NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/c
 def _stems():
     if not os.path.isdir(CASES):
         return []
-    return sorted(f[:-4] for f in os.listdir(CASES)
-                  if f.endswith(".xml") and os.path.exists(os.path.join(CASES, f[:-4] + ".trace")))
+    return sorted(
+        f[:-4]
+        for f in os.listdir(CASES)
+        if f.endswith(".xml") and os.path.exists(os.path.join(CASES, f[:-4] + ".trace"))
+    )
 
 
 STEMS = _stems()
@@ -40,8 +43,11 @@ def _read_trace(stem):
 
 
 def _diff(expected, got):
-    return "".join(difflib.unified_diff(expected.splitlines(True), got.splitlines(True),
-                                        "expected (BehaviorTree.CPP 4.6.2)", "interpreter", n=2))
+    return "".join(
+        difflib.unified_diff(
+            expected.splitlines(True), got.splitlines(True), "expected (BehaviorTree.CPP 4.6.2)", "interpreter", n=2
+        )
+    )
 
 
 def test_cases_present():
@@ -69,9 +75,13 @@ def test_trace_matches_recording(stem):
 def test_cli_run_reproduces_a_trace():
     """Through the installed command line: stdout is the trace, byte for byte; nothing on stderr."""
     stem = "robot_lab_tour" if "robot_lab_tour" in STEMS else STEMS[0]
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", _case(stem, ".xml"),
-                           "--scenario", _case(stem, ".scenario")],
-                          cwd=ROOT, capture_output=True, timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", _case(stem, ".xml"), "--scenario", _case(stem, ".scenario")],
+        cwd=ROOT,
+        capture_output=True,
+        timeout=300,
+        check=False,
+    )
     assert proc.returncode == 0, proc.stderr.decode()
     assert proc.stderr == b""
     expected = _read_trace(stem).encode("utf-8")
@@ -82,7 +92,7 @@ def test_cli_run_reproduces_a_trace():
 def test_cli_default_engine_is_the_interpreter():
     stem = STEMS[0]
     args = [sys.executable, "-m", "btgen", "run", _case(stem, ".xml"), "--scenario", _case(stem, ".scenario")]
-    a = subprocess.run(args, cwd=ROOT, capture_output=True, timeout=300)
-    b = subprocess.run(args + ["--engine", "interp"], cwd=ROOT, capture_output=True, timeout=300)
+    a = subprocess.run(args, cwd=ROOT, capture_output=True, timeout=300, check=False)
+    b = subprocess.run(args + ["--engine", "interp"], cwd=ROOT, capture_output=True, timeout=300, check=False)
     assert a.returncode == b.returncode == 0
     assert a.stdout == b.stdout == _read_trace(stem).encode("utf-8")

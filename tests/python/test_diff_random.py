@@ -1,10 +1,11 @@
-"""Differential testing: random missions (btgen.fuzzgen) through the interpreter and the C++ engine.
+"""Differential testing: random missions (btgen.tools.fuzzgen) through the interpreter and the C++ engine.
 
 CI runs a bounded number of seeds here; scripts/difftest.py runs any number.
 Missions the C++ back end does not compile yet (issue 5) are counted and
 printed as skipped, so the `full` feature set starts to bite as soon as the
 back end accepts it, without a change here.
 """
+
 import os
 import sys
 
@@ -14,9 +15,9 @@ from conftest import ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
-import difftest  # noqa: E402
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
+import difftest
+from btgen.frontend.loader import load_mission
+from btgen.tools.fuzzgen import FEATURE_SETS, random_case
 
 CONTROL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_SEEDS", "200")))
 FULL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_FULL_SEEDS", "300")))
@@ -46,19 +47,61 @@ def test_generated_missions_are_valid_and_varied(tmp_path, features):
         p = tmp_path / f"m{seed}.xml"
         p.write_text(case.mission, encoding="utf-8")
         load_mission(str(p))  # raises on an invalid mission
-        for tag in ("<Sequence", "<Parallel", "<ReactiveFallback", "<IfThenElse", "<WhileDoElse", "<Timeout",
-                    "<Delay", "<RetryUntilSuccessful", "<SubTree", "<Check", "<Act", "<Sleep", "<RunOnce",
-                    "<Script ", "<Precondition", "<Switch", "<LoopInt", "_skipIf", "_onHalted", "_autoremap",
-                    "<SetBlackboard", "<WaitValueUpdate"):
+        for tag in (
+            "<Sequence",
+            "<Parallel",
+            "<ReactiveFallback",
+            "<IfThenElse",
+            "<WhileDoElse",
+            "<Timeout",
+            "<Delay",
+            "<RetryUntilSuccessful",
+            "<SubTree",
+            "<Check",
+            "<Act",
+            "<Sleep",
+            "<RunOnce",
+            "<Script ",
+            "<Precondition",
+            "<Switch",
+            "<LoopInt",
+            "_skipIf",
+            "_onHalted",
+            "_autoremap",
+            "<SetBlackboard",
+            "<WaitValueUpdate",
+        ):
             if tag in case.mission:
                 seen.add(tag)
-    expected = {"<Sequence", "<Parallel", "<ReactiveFallback", "<IfThenElse", "<WhileDoElse", "<Timeout",
-                "<Delay", "<RetryUntilSuccessful", "<SubTree", "<Check", "<Act", "<Sleep", "<RunOnce"}
+    expected = {
+        "<Sequence",
+        "<Parallel",
+        "<ReactiveFallback",
+        "<IfThenElse",
+        "<WhileDoElse",
+        "<Timeout",
+        "<Delay",
+        "<RetryUntilSuccessful",
+        "<SubTree",
+        "<Check",
+        "<Act",
+        "<Sleep",
+        "<RunOnce",
+    }
     if features == "hostile":  # its leaf models have names of the hostile pool
         expected -= {"<Check", "<Act"}
     if features == "full":
-        expected |= {"<Script ", "<Precondition", "<Switch", "<LoopInt", "_skipIf", "_onHalted", "_autoremap",
-                     "<SetBlackboard", "<WaitValueUpdate"}
+        expected |= {
+            "<Script ",
+            "<Precondition",
+            "<Switch",
+            "<LoopInt",
+            "_skipIf",
+            "_onHalted",
+            "_autoremap",
+            "<SetBlackboard",
+            "<WaitValueUpdate",
+        }
     assert expected <= seen, expected - seen
 
 

@@ -40,9 +40,8 @@ namespace user_type_detail {
 template <class T, class = void>
 struct has_adl_converter : std::false_type {};
 template <class T>
-struct has_adl_converter<T, std::void_t<decltype(static_cast<bool>(
-                                convertFromString(std::declval<std::string_view>(), std::declval<T&>())))>>
-    : std::true_type {};
+struct has_adl_converter<T, std::void_t<decltype(static_cast<bool>(convertFromString(
+                                std::declval<std::string_view>(), std::declval<T&>())))>> : std::true_type {};
 
 }  // namespace user_type_detail
 

@@ -23,19 +23,20 @@ every node, and an Enum hash per status change would cost seconds.
 Nothing here is shared with the C++ back end: the interpreter walks the
 model (model.py) directly.
 """
+
 from __future__ import annotations
 
 import sys
 from typing import Callable, Optional
 
-from . import blackboard as bbmod
-from . import script as scriptmod
-from . import values
-from .catalogue import BUILTINS, PortSpec
-from .diagnostics import Diagnostic, Loc, UserError
-from .model import Attr, Mission, Node, SubTreeNode
-from .scenario import Scenario, is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
-from .status import NodeStatus
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.interp.scenario import Scenario, is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
+from btgen.lang import blackboard as bbmod
+from btgen.lang import script as scriptmod
+from btgen.lang import values
+from btgen.lang.catalogue import BUILTINS, PortSpec
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.lang.status import NodeStatus
 
 # ---------------------------------------------------------------- statuses
 IDLE = NodeStatus.IDLE.value
@@ -109,7 +110,7 @@ def _raw_attr_value(value_loc: Loc) -> Optional[str]:
     if start < 1 or start > len(line) or line[start - 1] not in "\"'":
         return None
     quote = line[start - 1]
-    text = "\n".join([line[start:]] + lines[value_loc.line:])
+    text = "\n".join([line[start:]] + lines[value_loc.line :])
     end = text.find(quote)
     return text[:end] if end >= 0 else None
 
@@ -183,8 +184,24 @@ class _Port:
 class TreeNode:
     """4.6.2 ``TreeNode``: executeTick with pre/post conditions, setStatus, resetStatus, haltNode."""
 
-    __slots__ = ("uid", "reg_id", "name", "status", "prefix", "emit", "rt", "model", "bb", "ports",
-                 "conds", "pre", "on_halted", "on_success", "on_failure", "post_always")
+    __slots__ = (
+        "uid",
+        "reg_id",
+        "name",
+        "status",
+        "prefix",
+        "emit",
+        "rt",
+        "model",
+        "bb",
+        "ports",
+        "conds",
+        "pre",
+        "on_halted",
+        "on_success",
+        "on_failure",
+        "post_always",
+    )
 
     def __init__(self, rt: Runtime, model: Node, bb, reg_id: str, ports: Optional[dict] = None) -> None:
         self.uid = rt.next_uid()
@@ -208,8 +225,9 @@ class TreeNode:
         self.on_success = model.post_condition("_onSuccess")
         self.on_failure = model.post_condition("_onFailure")
         self.post_always = model.post_condition("_post")
-        self.conds = bool(self.pre) or self.on_success is not None or self.on_failure is not None \
-            or self.post_always is not None
+        self.conds = (
+            bool(self.pre) or self.on_success is not None or self.on_failure is not None or self.post_always is not None
+        )
 
     # -- status
     def set_status(self, new: int) -> None:
@@ -244,7 +262,7 @@ class TreeNode:
         new = self._check_pre_conditions()
         if new is None:
             new = self.tick()
-        if new == SUCCESS or new == FAILURE:
+        if new in (SUCCESS, FAILURE):
             self._check_post_conditions(new)
         if new != SKIPPED:
             if new == IDLE:
@@ -253,13 +271,14 @@ class TreeNode:
         return new
 
     def _idle_error(self) -> RunError:
-        return _run_error(self.model.loc, f"`{self.reg_id}` \"{self.name}\" returned IDLE, which "
-                                          f"BehaviorTree.CPP forbids")
+        return _run_error(
+            self.model.loc, f'`{self.reg_id}` "{self.name}" returned IDLE, which BehaviorTree.CPP forbids'
+        )
 
     def _check_pre_conditions(self) -> Optional[int]:
         """TreeNode::checkPreConditions (4.6.2): all of them when IDLE, only _while when RUNNING."""
         st = self.status
-        if st == IDLE or st == SKIPPED:
+        if st in (IDLE, SKIPPED):
             for kind, attr in self.pre:
                 if self.truth(attr):
                     if kind == "_failureIf":
@@ -327,14 +346,17 @@ class TreeNode:
         loc = attr.value_loc
         if not at_start and offset > 0:
             loc = scriptmod.script_error_loc(attr.value_loc, attr.value, offset, _raw_attr_value(attr.value_loc))
-        return _run_error(loc, f"script error in `{attr.name}` of `{self.reg_id}` \"{self.name}\": {message}")
+        return _run_error(loc, f'script error in `{attr.name}` of `{self.reg_id}` "{self.name}": {message}')
 
     def _parse_at_run_time(self, attr: Attr, text: str):
         try:
             return scriptmod.parse_script(text)
         except scriptmod.ScriptSyntaxError as e:
-            raise _run_error(attr.value_loc, f"`{attr.name}` of `{self.reg_id}` \"{self.name}\" reads the script "
-                                             f"`{text}`, which is invalid: {e.message}") from None
+            raise _run_error(
+                attr.value_loc,
+                f'`{attr.name}` of `{self.reg_id}` "{self.name}" reads the script '
+                f"`{text}`, which is invalid: {e.message}",
+            ) from None
 
     def port_loc(self, name: str) -> Loc:
         p = self.ports.get(name)
@@ -360,12 +382,12 @@ class TreeNode:
         """getInput of a port the node cannot work without: 4.6.2 throws when it fails."""
         p = self.ports.get(name)
         if p is None:
-            raise _run_error(self.model.loc, f"`{self.reg_id}` \"{self.name}\" needs port `{name}`")
+            raise _run_error(self.model.loc, f'`{self.reg_id}` "{self.name}" needs port `{name}`')
         t = type_name or (p.spec.type if p.spec is not None else "any")
         try:
             return bbmod.get_input(self.bb, p.raw, t, port_name=name)
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc(name), f"`{self.reg_id}` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc(name), f'`{self.reg_id}` "{self.name}": {e}') from None
 
     def set_output(self, name: str, value, type_name: Optional[str] = None) -> bool:
         """TreeNode::setOutput: a port not written, or written as a literal, is not set
@@ -378,14 +400,15 @@ class TreeNode:
             bbmod.set_output(self.bb, p.raw, value, t, port_name=name)
             return True
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc(name), f"`{self.reg_id}` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc(name), f'`{self.reg_id}` "{self.name}": {e}') from None
 
     def status_input(self, name: str) -> int:
         value = self.require_input(name, "NodeStatus")
         if isinstance(value, NodeStatus):
             return value.value
-        raise _run_error(self.port_loc(name), f"port `{name}` of `{self.reg_id}` \"{self.name}\": "
-                                              f"`{value}` is not a NodeStatus")
+        raise _run_error(
+            self.port_loc(name), f'port `{name}` of `{self.reg_id}` "{self.name}": `{value}` is not a NodeStatus'
+        )
 
 
 # ================================================================ controls
@@ -419,7 +442,7 @@ class ControlNode(TreeNode):
         c.reset_status()
 
     def _child_idle_error(self) -> RunError:
-        return _run_error(self.model.loc, f"a child of `{self.reg_id}` \"{self.name}\" returned IDLE")
+        return _run_error(self.model.loc, f'a child of `{self.reg_id}` "{self.name}" returned IDLE')
 
 
 class SequenceNode(ControlNode):
@@ -677,13 +700,17 @@ class ParallelNode(ControlNode):
         required_success = _threshold(success_threshold, n)
         required_failure = _threshold(failure_threshold, n)
         if n < required_success:
-            raise _run_error(self.port_loc("success_count"),
-                             f"`Parallel` \"{self.name}\" needs {required_success} successes but has only "
-                             f"{n} children: it can never succeed")
+            raise _run_error(
+                self.port_loc("success_count"),
+                f'`Parallel` "{self.name}" needs {required_success} successes but has only '
+                f"{n} children: it can never succeed",
+            )
         if n < required_failure:
-            raise _run_error(self.port_loc("failure_count"),
-                             f"`Parallel` \"{self.name}\" fails after {required_failure} failures but has only "
-                             f"{n} children: it can never fail")
+            raise _run_error(
+                self.port_loc("failure_count"),
+                f'`Parallel` "{self.name}" fails after {required_failure} failures but has only '
+                f"{n} children: it can never fail",
+            )
         self.set_status(RUNNING)
         skipped = 0
         completed = self.completed
@@ -701,7 +728,8 @@ class ParallelNode(ControlNode):
                 elif cs != RUNNING:
                     raise self._child_idle_error()
             if self.success_count >= required_success or (
-                    success_threshold < 0 and self.success_count + skipped >= required_success):
+                success_threshold < 0 and self.success_count + skipped >= required_success
+            ):
                 self.clear()
                 self.reset_children()
                 return SUCCESS
@@ -733,9 +761,11 @@ class ParallelAllNode(ControlNode):
         n = len(children)
         threshold = _threshold(max_failures, n)
         if n < threshold:
-            raise _run_error(self.port_loc("max_failures"),
-                             f"`ParallelAll` \"{self.name}\" fails after {threshold} failures but has only "
-                             f"{n} children: it can never fail")
+            raise _run_error(
+                self.port_loc("max_failures"),
+                f'`ParallelAll` "{self.name}" fails after {threshold} failures but has only '
+                f"{n} children: it can never fail",
+            )
         skipped = 0
         self.set_status(RUNNING)
         completed = self.completed
@@ -834,9 +864,12 @@ class WhileDoElseNode(ControlNode):
 
 
 def _skipped_condition_error(node: TreeNode, cond: TreeNode) -> RunError:
-    return _run_error(cond.model.loc, f"the condition of `{node.reg_id}` \"{node.name}\" (`{cond.reg_id}` "
-                                      f"\"{cond.name}\") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a "
-                                      f"condition child must not be skippable")
+    return _run_error(
+        cond.model.loc,
+        f'the condition of `{node.reg_id}` "{node.name}" (`{cond.reg_id}` '
+        f'"{cond.name}") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a '
+        f"condition child must not be skippable",
+    )
 
 
 def _to_int_prefix(text: str) -> Optional[int]:
@@ -850,7 +883,7 @@ def _to_int_prefix(text: str) -> Optional[int]:
     if j == i:
         return None
     value = int(text[:j])
-    if value < -2**31 or value > 2**31 - 1:
+    if value < -(2**31) or value > 2**31 - 1:
         return None
     return value
 
@@ -863,8 +896,11 @@ def _to_real_prefix(text: str) -> Optional[float]:
     global _FLOAT_RE
     if _FLOAT_RE is None:
         import re
-        _FLOAT_RE = re.compile(r"-?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)",
-                               re.IGNORECASE)
+
+        _FLOAT_RE = re.compile(
+            r"-?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)",
+            re.IGNORECASE,
+        )
     m = _FLOAT_RE.match(text)
     if not m:
         return None
@@ -885,9 +921,7 @@ def switch_equal(v1: str, v2: str) -> bool:
     if i1 is not None and i2 is not None and i1 == i2:
         return True
     r1, r2 = _to_real_prefix(v1), _to_real_prefix(v2)
-    if r1 is not None and r2 is not None and abs(r1 - r2) <= 1.1920928955078125e-07:
-        return True
-    return False
+    return bool(r1 is not None and r2 is not None and abs(r1 - r2) <= 1.1920928955078125e-07)
 
 
 class SwitchNode(ControlNode):
@@ -964,7 +998,7 @@ class DecoratorNode(TreeNode):
                     self.emit((self.prefix, _TRANS[prev][status]))
         c = self.child
         cs = c.status
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             c.status = IDLE
             c.emit((c.prefix, _TRANS[cs][IDLE]))
         return status
@@ -989,7 +1023,7 @@ class InverterNode(DecoratorNode):
             c.emit((c.prefix, _TRANS[FAILURE][IDLE]))
             return SUCCESS
         if cs == IDLE:
-            raise _run_error(self.model.loc, f"the child of `Inverter` \"{self.name}\" returned IDLE")
+            raise _run_error(self.model.loc, f'the child of `Inverter` "{self.name}" returned IDLE')
         return cs
 
     def execute_tick(self) -> int:
@@ -1012,7 +1046,7 @@ class InverterNode(DecoratorNode):
             c.emit((c.prefix, _TRANS[FAILURE][IDLE]))
             new = SUCCESS
         elif cs == IDLE:
-            raise _run_error(self.model.loc, f"the child of `Inverter` \"{self.name}\" returned IDLE")
+            raise _run_error(self.model.loc, f'the child of `Inverter` "{self.name}" returned IDLE')
         else:
             return cs  # RUNNING (already stored) or SKIPPED (never stored)
         self.status = new
@@ -1026,7 +1060,7 @@ class ForceSuccessNode(DecoratorNode):
     def tick(self) -> int:
         self.set_status(RUNNING)
         cs = self.child.execute_tick()
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.reset_child()
             return SUCCESS
         return cs
@@ -1038,7 +1072,7 @@ class ForceFailureNode(DecoratorNode):
     def tick(self) -> int:
         self.set_status(RUNNING)
         cs = self.child.execute_tick()
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.reset_child()
             return FAILURE
         return cs
@@ -1099,7 +1133,7 @@ class RepeatNode(DecoratorNode):
                 self.reset_child()
                 return SKIPPED
             else:
-                raise _run_error(self.model.loc, f"the child of `Repeat` \"{self.name}\" returned IDLE")
+                raise _run_error(self.model.loc, f'the child of `Repeat` "{self.name}" returned IDLE')
         self.count = 0
         return SUCCESS
 
@@ -1142,8 +1176,7 @@ class RetryNode(DecoratorNode):
                 self.reset_child()
                 return SKIPPED
             else:
-                raise _run_error(self.model.loc, f"the child of `RetryUntilSuccessful` \"{self.name}\" "
-                                                 f"returned IDLE")
+                raise _run_error(self.model.loc, f'the child of `RetryUntilSuccessful` "{self.name}" returned IDLE')
         self.tries = 0
         return FAILURE
 
@@ -1167,7 +1200,7 @@ class RunOnceNode(DecoratorNode):
             return SKIPPED if skip else self.returned
         self.set_status(RUNNING)
         status = self.child.execute_tick()
-        if status == SUCCESS or status == FAILURE:
+        if status in (SUCCESS, FAILURE):
             self.done = True
             self.returned = status
             self.reset_child()
@@ -1185,8 +1218,9 @@ class _ScriptPort:
         self.name = name
         p = node.ports.get(name)
         self.attr = p.attr if p is not None else None
-        self.literal = self.attr is not None and self.attr.script is not None \
-            and not bbmod.is_blackboard_pointer(self.attr.value)
+        self.literal = (
+            self.attr is not None and self.attr.script is not None and not bbmod.is_blackboard_pointer(self.attr.value)
+        )
         self.parsed = self.attr.script if self.literal else None
         self.text = self.attr.value if self.literal else None
 
@@ -1220,7 +1254,7 @@ class PreconditionNode(DecoratorNode):
         else_status = self.status_input("else")
         if self.script.truth():
             cs = self.child.execute_tick()
-            if cs == SUCCESS or cs == FAILURE:
+            if cs in (SUCCESS, FAILURE):
                 self.reset_child()
             return cs
         return else_status
@@ -1257,7 +1291,7 @@ class TimeoutNode(DecoratorNode):
                 self.started = False
                 return FAILURE
         cs = self.child.execute_tick()
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.started = False
             self.deadline = None
             self.reset_child()
@@ -1287,7 +1321,7 @@ class DelayNode(DecoratorNode):
             self.deadline = self.rt.now_ms + msec
         if self.rt.now_ms >= self.deadline:
             cs = self.child.execute_tick()
-            if cs == SUCCESS or cs == FAILURE:
+            if cs in (SUCCESS, FAILURE):
                 self.started = False
                 self.reset_child()
             return cs
@@ -1313,8 +1347,7 @@ class LoopNode(DecoratorNode):
             try:
                 self.static_queue = values.convert_from_string(f"queue<{elem}>", p.raw)  # type: ignore
             except values.ConversionError as e:
-                raise _run_error(self.port_loc("queue"), f"port `queue` of `{reg_id}` \"{self.name}\": {e}") \
-                    from None
+                raise _run_error(self.port_loc("queue"), f'port `queue` of `{reg_id}` "{self.name}": {e}') from None
 
     def tick(self) -> int:
         popped = False
@@ -1337,7 +1370,7 @@ class LoopNode(DecoratorNode):
             self.set_status(RUNNING)
         cs = self.child.execute_tick()
         self.child_running = cs == RUNNING
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.reset_child()
         if cs == FAILURE:
             return FAILURE
@@ -1354,13 +1387,14 @@ class LoopNode(DecoratorNode):
         if entry is None:
             return None
         if entry.value is None:
-            raise _run_error(self.port_loc("queue"), f"port `queue` of `{self.reg_id}` \"{self.name}\" reads "
-                                                     f"blackboard entry `{key}`, which has no value yet")
+            raise _run_error(
+                self.port_loc("queue"),
+                f'port `queue` of `{self.reg_id}` "{self.name}" reads blackboard entry `{key}`, which has no value yet',
+            )
         try:
             return values.cast(entry.value, f"queue<{self.elem}>")
         except values.ConversionError as e:
-            raise _run_error(self.port_loc("queue"), f"port `queue` of `{self.reg_id}` \"{self.name}\": {e}") \
-                from None
+            raise _run_error(self.port_loc("queue"), f'port `queue` of `{self.reg_id}` "{self.name}": {e}') from None
 
 
 class EntryUpdatedDecorator(TreeNode):
@@ -1392,7 +1426,7 @@ class EntryUpdatedDecorator(TreeNode):
     def execute_tick(self) -> int:
         status = TreeNode.execute_tick(self)
         cs = self.child.status
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.child.reset_status()
         return status
 
@@ -1427,7 +1461,7 @@ def _entry_of(node):
     try:
         return node.bb.get_entry(node.key)
     except bbmod.BlackboardError as e:
-        raise _run_error(node.port_loc("entry"), f"`{node.reg_id}` \"{node.name}\": {e}") from None
+        raise _run_error(node.port_loc("entry"), f'`{node.reg_id}` "{node.name}": {e}') from None
 
 
 class SubTreeRunNode(DecoratorNode):
@@ -1439,7 +1473,7 @@ class SubTreeRunNode(DecoratorNode):
         if self.status == IDLE:
             self.set_status(RUNNING)
         cs = self.child.execute_tick()
-        if cs == SUCCESS or cs == FAILURE:
+        if cs in (SUCCESS, FAILURE):
             self.reset_child()
         return cs
 
@@ -1503,11 +1537,11 @@ class SetBlackboardNode(TreeNode):
         key = self.require_input("output_key", "string")
         p = self.ports.get("value")
         if p is None:
-            raise _run_error(self.model.loc, f"`SetBlackboard` \"{self.name}\" needs port `value`")
+            raise _run_error(self.model.loc, f'`SetBlackboard` "{self.name}" needs port `value`')
         try:
             ok = bbmod.set_blackboard(self.bb, str(key), p.raw)
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc("value"), f"`SetBlackboard` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc("value"), f'`SetBlackboard` "{self.name}": {e}') from None
         return SUCCESS if ok is not False else FAILURE
 
 
@@ -1521,7 +1555,7 @@ class UnsetBlackboardNode(TreeNode):
         try:
             self.bb.unset(str(key))
         except bbmod.BlackboardError as e:
-            raise _run_error(self.port_loc("key"), f"`UnsetBlackboard` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc("key"), f'`UnsetBlackboard` "{self.name}": {e}') from None
         return SUCCESS
 
 
@@ -1598,7 +1632,7 @@ class ScriptedAction(StatefulActionNode):
         if self.conds:
             return self._execute_tick_with_conditions()
         prev = self.status
-        if prev == IDLE or prev == RUNNING:
+        if prev in (IDLE, RUNNING):
             c = self.cursor
             new = c.next() if c is not None else self.default
             if new != prev:
@@ -1732,8 +1766,13 @@ class _Builder:
         for a in model.ports:
             ps = spec.port(a.name) if spec is not None else None
             raw = a.value
-            if raw == "" and ps is not None and ps.default is not None and ps.type not in ("string", "any") \
-                    and not values.is_opaque_type(ps.type):
+            if (
+                raw == ""
+                and ps is not None
+                and ps.default is not None
+                and ps.type not in ("string", "any")
+                and not values.is_opaque_type(ps.type)
+            ):
                 raw = ps.default  # TreeNode::getInput: an empty value reads the model's (non-string) default
             ports[a.name] = _Port(a.name, raw, a, ps)
         if spec is not None:
@@ -1763,8 +1802,7 @@ class _Builder:
             cls = ScriptedCondition if leaf_kind(self.mission, model) == "Condition" else ScriptedAction
             node = cls(rt, model, bb, model.id, ports)
         else:
-            raise _run_error(model.loc, user_node_message(model.id, user_node_kind(self.mission, model)
-                                                          or "node"))
+            raise _run_error(model.loc, user_node_message(model.id, user_node_kind(self.mission, model) or "node"))
         self.nodes.append(node)
         kids = [self._node(c, bb) for c in model.children]
         if isinstance(node, ControlNode):
@@ -1796,8 +1834,11 @@ class _Builder:
             for ps in model_spec.ports:
                 if ps.name not in given:
                     if ps.default is None:
-                        raise _run_error(model.loc, f"SubTree `{model.target}` declares port `{ps.name}` "
-                                                    f"without a default, and this instance does not remap it")
+                        raise _run_error(
+                            model.loc,
+                            f"SubTree `{model.target}` declares port `{ps.name}` "
+                            f"without a default, and this instance does not remap it",
+                        )
                     remap.append((ps.name, ps.default, None))
         try:
             return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
@@ -1867,7 +1908,7 @@ class Interpreter:
         """Tree::tickRoot(EXACTLY_ONCE): one executeTick of the root; a completed root is reset."""
         self.ticks_sent += 1
         status = self.root.execute_tick()
-        if status == SUCCESS or status == FAILURE:
+        if status in (SUCCESS, FAILURE):
             self.root.reset_status()
         return _BY_VALUE[status]
 

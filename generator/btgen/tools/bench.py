@@ -7,7 +7,7 @@ compiles the mission, builds it at -O2 together with `bench/bench_main.cpp`
 counter (`runtime/src/testing/alloc_counter.cpp`, which replaces the global
 operator new/delete and malloc), runs N ticks and prints one `key value` per
 line: KEYS below, then `binary`, the executable's path. The executable is
-cached like the scenario runner (btgen.cppengine), keyed by its contents.
+cached like the scenario runner (btgen.tools.cppengine), keyed by its contents.
 
 `BINARY N` performs N ticks and prints nothing, so its instructions can be
 counted: `valgrind --tool=callgrind BINARY N`, for two values of N, gives the
@@ -15,32 +15,43 @@ instructions of one tick as the difference divided by the difference of N.
 `BINARY N --report` prints the numbers. `bench/run_benchmarks.py` does all
 of that for the shipped and the synthetic missions and prints a table.
 """
+
 from __future__ import annotations
 
 import argparse
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional
 
-from . import resources
-from .cppengine import build_mission_executable
-from .diagnostics import InternalError
+from btgen import resources
+from btgen.diagnostics import InternalError
+from btgen.tools.cppengine import build_mission_executable
 
 BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
 ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"
 BENCH_FLAGS = ("-std=c++17", "-O2", "-DNDEBUG")
 
 # What the executable reports, in the order `btgen bench` prints it.
-KEYS = ("nodes", "ticks", "ns_per_tick", "allocs_create", "allocs_per_tick", "state_bytes", "visited_per_tick",
-        "result", "alloc_counter")
+KEYS = (
+    "nodes",
+    "ticks",
+    "ns_per_tick",
+    "allocs_create",
+    "allocs_per_tick",
+    "state_bytes",
+    "visited_per_tick",
+    "result",
+    "alloc_counter",
+)
 
 
-def build_bench(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
-                main_tree: Optional[str] = None) -> Path:
+def build_bench(
+    mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (), main_tree: Optional[str] = None
+) -> Path:
     """The mission's benchmark executable (cached); errors as cppengine.build_cpp."""
-    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models,
-                                    main_tree)
+    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models, main_tree)
 
 
 def parse_report(text: str) -> dict[str, str]:
@@ -55,11 +66,11 @@ def parse_report(text: str) -> dict[str, str]:
 
 def run_report(binary: Path, ticks: int) -> dict[str, str]:
     """Run `binary ticks --report`; its numbers by key."""
-    proc = subprocess.run([str(binary), str(ticks), "--report"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          check=False)
+    proc = subprocess.run([str(binary), str(ticks), "--report"], capture_output=True, check=False)
     if proc.returncode != 0:
-        raise InternalError(f"{binary} {ticks} --report exited with {proc.returncode}:\n"
-                            + proc.stderr.decode("utf-8", "replace"))
+        raise InternalError(
+            f"{binary} {ticks} --report exited with {proc.returncode}:\n" + proc.stderr.decode("utf-8", "replace")
+        )
     report = parse_report(proc.stdout.decode("utf-8", "replace"))
     missing = [k for k in KEYS if k not in report]
     if missing:
@@ -73,8 +84,9 @@ def bench_command(args: argparse.Namespace) -> int:
         print(f"btgen: error: --ticks must be at least 1, not {args.ticks}", file=sys.stderr)
         return 2
     warnings: list = []
-    binary = build_bench(args.mission, warnings, tuple(getattr(args, "models", None) or ()),
-                         getattr(args, "main_tree", None))
+    binary = build_bench(
+        args.mission, warnings, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)
+    )
     for w in warnings:
         print(str(w), file=sys.stderr)
     report = run_report(binary, args.ticks)

@@ -26,27 +26,40 @@ succeeds, exactly ``n_nodes`` nodes with SubTrees expanded):
 - :func:`script_mission`: the leaves are Script and ScriptCondition nodes
   and Actions with a pre-condition, over one blackboard entry.
 
-Run as a script to print a mission: ``python -m btgen.synth 10000 > big.xml``
+Run as a script to print a mission: ``python -m btgen.tools.synth 10000 > big.xml``
 (``--kind reactive|subtrees|scripts`` for the variants).
 """
+
 from __future__ import annotations
 
 import argparse
 import sys
-from typing import Optional, Sequence
+from collections.abc import Sequence
+from typing import Optional
 
 SUCCESS_LEAVES = ("Work", "Ready")  # an Action and a Condition, both default SUCCESS
 KINDS = ("balanced", "reactive", "subtrees", "scripts")
 
 # The script variant: leaves that succeed, and one that fails, over entry `n`.
-SCRIPT_SUCCESS_LEAVES = ('<Script code="n += 1"/>', '<ScriptCondition code="n &gt;= 0"/>',
-                         '<Work _failureIf="n &lt; 0"/>')
+SCRIPT_SUCCESS_LEAVES = (
+    '<Script code="n += 1"/>',
+    '<ScriptCondition code="n &gt;= 0"/>',
+    '<Work _failureIf="n &lt; 0"/>',
+)
 SCRIPT_FAILURE_LEAF = '<ScriptCondition code="n &lt; 0"/>'
 
 
-def _body(n_nodes: int, branching: int, depth: int, *, sequence: str = "Sequence", fallback: str = "Fallback",
-          success_leaves: Sequence[str] = tuple(f"<{x}/>" for x in SUCCESS_LEAVES),
-          failure_leaf: str = "<AlwaysFailure/>", name_prefix: str = "") -> list[str]:
+def _body(
+    n_nodes: int,
+    branching: int,
+    depth: int,
+    *,
+    sequence: str = "Sequence",
+    fallback: str = "Fallback",
+    success_leaves: Sequence[str] = tuple(f"<{x}/>" for x in SUCCESS_LEAVES),
+    failure_leaf: str = "<AlwaysFailure/>",
+    name_prefix: str = "",
+) -> list[str]:
     """The lines of a balanced subtree of `n_nodes` nodes that succeeds, indented for `depth`."""
     if n_nodes < 1:
         raise ValueError("a tree has at least one node")
@@ -135,8 +148,9 @@ def balanced_mission(n_nodes: int, branching: int = 4, tree_id: str = "Main") ->
 
 def reactive_mission(n_nodes: int, branching: int = 4) -> str:
     """As balanced_mission, with ReactiveSequence and ReactiveFallback."""
-    return _document("Main", [("Main", _body(n_nodes, branching, 2, sequence="ReactiveSequence",
-                                             fallback="ReactiveFallback"))])
+    return _document(
+        "Main", [("Main", _body(n_nodes, branching, 2, sequence="ReactiveSequence", fallback="ReactiveFallback"))]
+    )
 
 
 def subtree_mission(n_nodes: int, branching: int = 4) -> str:
@@ -157,13 +171,21 @@ def subtree_mission(n_nodes: int, branching: int = 4) -> str:
     part_rest = part - 1 - fan * (1 + leg)
 
     def caller(callee: str, rest: int, prefix: str) -> list[str]:
-        return (['    <Sequence name="Calls">']
-                + [f'      <SubTree ID="{callee}" name="{callee}{i}"/>' for i in range(fan)]
-                + _body(rest, branching, 3, name_prefix=prefix)
-                + ["    </Sequence>"])
+        return (
+            ['    <Sequence name="Calls">']
+            + [f'      <SubTree ID="{callee}" name="{callee}{i}"/>' for i in range(fan)]
+            + _body(rest, branching, 3, name_prefix=prefix)
+            + ["    </Sequence>"]
+        )
 
-    return _document("Main", [("Main", caller("Part", main_rest, "M")), ("Part", caller("Leg", part_rest, "P")),
-                              ("Leg", _body(leg, branching, 2, name_prefix="L"))])
+    return _document(
+        "Main",
+        [
+            ("Main", caller("Part", main_rest, "M")),
+            ("Part", caller("Leg", part_rest, "P")),
+            ("Leg", _body(leg, branching, 2, name_prefix="L")),
+        ],
+    )
 
 
 def script_mission(n_nodes: int, branching: int = 4) -> str:
@@ -173,17 +195,22 @@ def script_mission(n_nodes: int, branching: int = 4) -> str:
     `n < 0`). One tick visits every node."""
     if n_nodes < 3:
         raise ValueError("a script mission has at least 3 nodes")
-    body = (['    <Sequence name="Root">', '      <Script name="Init" code="n := 0"/>']
-            + _body(n_nodes - 2, branching, 3, success_leaves=SCRIPT_SUCCESS_LEAVES,
-                    failure_leaf=SCRIPT_FAILURE_LEAF)
-            + ["    </Sequence>"])
+    body = (
+        ['    <Sequence name="Root">', '      <Script name="Init" code="n := 0"/>']
+        + _body(n_nodes - 2, branching, 3, success_leaves=SCRIPT_SUCCESS_LEAVES, failure_leaf=SCRIPT_FAILURE_LEAF)
+        + ["    </Sequence>"]
+    )
     return _document("Main", [("Main", body)])
 
 
 def mission(kind: str, n_nodes: int, branching: int = 4) -> str:
     """The synthetic mission of `kind` (one of KINDS) with `n_nodes` nodes."""
-    makers = {"balanced": balanced_mission, "reactive": reactive_mission, "subtrees": subtree_mission,
-              "scripts": script_mission}
+    makers = {
+        "balanced": balanced_mission,
+        "reactive": reactive_mission,
+        "subtrees": subtree_mission,
+        "scripts": script_mission,
+    }
     if kind not in makers:
         raise ValueError(f"unknown kind {kind!r}; one of {', '.join(KINDS)}")
     return makers[kind](n_nodes, branching)
@@ -197,7 +224,7 @@ def count_nodes(xml_text: str) -> int:
 
 
 def main(argv: Optional[list[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.synth", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m btgen.tools.synth", description=__doc__.splitlines()[0])
     p.add_argument("nodes", type=int)
     p.add_argument("branching", type=int, nargs="?", default=4)
     p.add_argument("--kind", choices=KINDS, default="balanced")
@@ -205,7 +232,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     try:
         sys.stdout.write(mission(args.kind, args.nodes, args.branching))
     except ValueError as e:
-        print(f"python -m btgen.synth: error: {e}", file=sys.stderr)
+        print(f"python -m btgen.tools.synth: error: {e}", file=sys.stderr)
         return 2
     return 0
 
