@@ -1,5 +1,5 @@
 // The benchmark executable of one generated mission, built by `btgen bench`
-// (generator/btgen/bench.py) with
+// (generator/btgen/tools/bench.py) with
 //   -DBTGEN_MISSION_HEADER='"x.hpp"' -DBTGEN_MISSION_TEMPLATE=x::X
 // and linked with runtime/src/testing/alloc_counter.cpp, which replaces the
 // global operator new/delete and malloc/calloc/realloc to count allocations.

@@ -1,4 +1,4 @@
-"""Write the synthetic benchmark missions into bench/missions/ (btgen.synth).
+"""Write the synthetic benchmark missions into bench/missions/ (btgen.tools.synth).
 
     .venv/bin/python bench/make_missions.py           # write the missions that changed
     .venv/bin/python bench/make_missions.py --check   # exit 1 if a committed one differs
@@ -8,7 +8,7 @@ expanded), and with leaves that finish at once (Actions and Conditions
 SUCCESS) one tick of the root visits every node and succeeds:
 
 - balanced_N: Sequence / Fallback / Inverter over leaves, 4 children per
-  control node (btgen.synth.balanced_mission);
+  control node (btgen.tools.synth.balanced_mission);
 - reactive_N: the same with ReactiveSequence / ReactiveFallback;
 - subtrees_N: spread over SubTrees two levels deep (Main calls Part 4 times,
   Part calls Leg 4 times);
@@ -33,7 +33,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "generator"))
 
-from btgen import synth  # noqa: E402
+from btgen.tools import synth  # noqa: E402
 from btgen.compiler import write_if_changed  # noqa: E402
 
 MISSION_DIR = HERE / "missions"

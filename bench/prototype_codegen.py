@@ -22,10 +22,10 @@ The class has the generated mission's interface (Leaves, Clock, Observer; tick()
 import sys
 
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1] / "generator"))
-from btgen import naming  # noqa: E402
+from btgen.backend_cpp import naming  # noqa: E402
 from btgen.compiler import mission_stem  # noqa: E402
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.lower import lower  # noqa: E402
+from btgen.frontend.loader import load_mission  # noqa: E402
+from btgen.ir.lower import lower  # noqa: E402
 
 path, out = sys.argv[1], sys.argv[2]
 prog = lower(load_mission(path))

@@ -60,10 +60,12 @@ sys.path.insert(0, str(ROOT / "generator"))
 
 import make_missions  # noqa: E402
 
-from btgen import bench, cppengine  # noqa: E402
+from btgen.tools import bench  # noqa: E402
+
+from btgen.tools import cppengine
 from btgen.diagnostics import UserError  # noqa: E402
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.lower import creation_order  # noqa: E402
+from btgen.frontend.loader import load_mission  # noqa: E402
+from btgen.ir.lower import creation_order  # noqa: E402
 
 BTGEN = [sys.executable, "-m", "btgen"]
 README = ROOT / "README.md"
@@ -124,8 +126,8 @@ def _env() -> dict[str, str]:
 
 def interp_ticks_per_second(mission: str, min_cpu_s: float) -> tuple[Optional[float], str]:
     """Ticks per CPU second of the reference interpreter without trace output."""
-    from btgen.interp import Interpreter
-    from btgen.scenario import parse_scenario_text
+    from btgen.interp.engine import Interpreter
+    from btgen.interp.scenario import parse_scenario_text
 
     try:
         interp = Interpreter(load_mission(mission), parse_scenario_text("ticks 1\n"))

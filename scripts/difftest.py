@@ -4,7 +4,7 @@
     scripts/difftest.py --seeds 0:300 [--features control|full|dynamic] [--scenarios 3]
                         [--sanitize] [--keep DIR] [--jobs N]
 
-For every seed, btgen.fuzzgen writes a mission and scenarios. Each mission is
+For every seed, btgen.tools.fuzzgen writes a mission and scenarios. Each mission is
 classified first:
 
 - invalid: `btgen validate` rejects it (a generator bug: counted, printed,
@@ -18,7 +18,7 @@ classified first:
 Compiled missions are built in batches (one executable holding up to
 --batch missions, dispatching on its first argument), so a few hundred
 missions cost a few dozen compiler runs; executables are cached under
-btgen's cache directory (see btgen.cppengine) keyed by everything that goes
+btgen's cache directory (see btgen.tools.cppengine) keyed by everything that goes
 into them. Each scenario is run by the interpreter in-process (as `btgen run`
 does: warnings, trace, run-time errors) and by the executable; exit status,
 stdout and stderr must be identical. Divergent cases are written to --keep
@@ -47,9 +47,11 @@ from typing import Optional
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "generator"))
 
-from btgen import cppengine, naming  # noqa: E402
+from btgen.tools import cppengine  # noqa: E402
+
+from btgen.backend_cpp import naming
 from btgen.diagnostics import UserError  # noqa: E402
-from btgen.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
+from btgen.tools.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
 
 UNSUPPORTED_MARK = "not supported by the C++ back end yet"
 RUN_TIMEOUT_S = 60
@@ -103,7 +105,7 @@ _MISSIONS: dict[str, object] = {}
 
 def _load(mission: str):
     """The checked mission (loaded once per path: the front end costs more than a run)."""
-    from btgen.frontend import load_mission
+    from btgen.frontend.loader import load_mission
 
     if mission not in _MISSIONS:
         _MISSIONS[mission] = load_mission(mission)
@@ -111,10 +113,10 @@ def _load(mission: str):
 
 
 def run_interp(mission: str, scenario: str) -> Outcome:
-    """What `btgen run MISSION --scenario SCENARIO` prints and returns (btgen.run.run_command
+    """What `btgen run MISSION --scenario SCENARIO` prints and returns (btgen.tools.run.run_command
     and the CLI's error handling), in-process and with the mission loaded once."""
-    from btgen.interp import run_trace
-    from btgen.scenario import load_scenario
+    from btgen.interp.engine import run_trace
+    from btgen.interp.scenario import load_scenario
 
     out, err = io.StringIO(), io.StringIO()
     m = _load(mission)
@@ -157,8 +159,8 @@ def _batch_main(entries: list[tuple[str, str]]) -> str:
 def build_batch(missions: list[str]) -> Path:
     """One executable for `missions` (paths relative to the current directory), cached."""
     from btgen.compiler import mission_stem
-    from btgen.emit import render
-    from btgen.lower import lower
+    from btgen.backend_cpp.emit import render
+    from btgen.ir.lower import lower
 
     outputs, entries = [], []
     for m in missions:
@@ -227,8 +229,8 @@ def run_cpp(binary: Path, index: int, mission: str, scenario: str) -> Outcome:
 def classify(mission: str) -> tuple[str, str]:
     """("invalid" | "unsupported" | "rejected" | "compiled", message)."""
     from btgen.compiler import mission_stem
-    from btgen.emit import render
-    from btgen.lower import lower
+    from btgen.backend_cpp.emit import render
+    from btgen.ir.lower import lower
 
     try:
         m = _load(mission)

@@ -5,7 +5,7 @@
                              [--cli K] [--keep DIR] [--time-limit S]
 
 Inputs are mutations of a seed corpus (the conformance cases, missions/,
-tests/bad_missions/, random missions of btgen.fuzzgen; data/ and
+tests/bad_missions/, random missions of btgen.tools.fuzzgen; data/ and
 tests/bad_kb/ for knowledge bases and configurations), from byte flips to
 structure-aware edits (node names, attribute values, nesting, entities,
 includes, BOM, encodings). Each input goes in-process through what the
@@ -51,8 +51,8 @@ sys.path.insert(0, str(ROOT / "generator"))
 CASES = ROOT.parent / "shared" / "conformance" / "cases"
 MEMORY_LIMIT = 2 * 1024 ** 3
 
-from btgen.catalogue import BUILTINS  # noqa: E402
-from btgen.fuzzgen import HOSTILE_NAMES  # noqa: E402
+from btgen.lang.catalogue import BUILTINS  # noqa: E402
+from btgen.tools.fuzzgen import HOSTILE_NAMES  # noqa: E402
 from btgen.diagnostics import UserError  # noqa: E402
 
 DIAG_RE = r"^{path}:[1-9][0-9]*:[1-9][0-9]*: (error|warning|note): .+$"
@@ -71,7 +71,7 @@ def _alarm(signum, frame):  # pragma: no cover - only on a hang
 
 # ------------------------------------------------------------------ corpus
 def mission_corpus() -> list[bytes]:
-    from btgen.fuzzgen import random_mission
+    from btgen.tools.fuzzgen import random_mission
 
     files = sorted(CASES.glob("*.xml")) + sorted((ROOT / "missions").glob("*.xml")) \
         + sorted((ROOT / "tests" / "bad_missions").glob("*.xml")) + sorted((ROOT / "tests" / "regressions").glob("*.xml"))
@@ -238,12 +238,12 @@ def check_mission(path: str) -> tuple[Optional[str], bool]:
     """(None when every stage ends in success or user diagnostics, else what went wrong;
     whether the mission was valid)."""
     from btgen.compiler import mission_stem
-    from btgen.emit import render
-    from btgen.frontend import load_mission
-    from btgen.interp import run_trace
-    from btgen.lower import lower
-    from btgen.scenario import parse_scenario_text
-    from btgen.xsd import mission_xsd
+    from btgen.backend_cpp.emit import render
+    from btgen.frontend.loader import load_mission
+    from btgen.interp.engine import run_trace
+    from btgen.ir.lower import lower
+    from btgen.interp.scenario import parse_scenario_text
+    from btgen.frontend.xsd import mission_xsd
 
     try:
         mission = load_mission(path)
@@ -268,7 +268,7 @@ def check_mission(path: str) -> tuple[Optional[str], bool]:
 
 
 def check_kb(path: str, config: Optional[str]) -> Optional[str]:
-    from btgen.kb import lint_kb
+    from btgen.kb.lint import lint_kb
 
     diags = lint_kb(path, config_path=config)
     for d in diags:

@@ -13,7 +13,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 echo "== validate shipped missions"
 btgen validate -q missions/*.xml
 
-if [ -f data/environmentKnowledgeBaseInput.dat ] && [ -f generator/btgen/kb.py ]; then
+if [ -f data/environmentKnowledgeBaseInput.dat ] && [ -f generator/btgen/kb/lint.py ]; then
   echo "== lint the shipped knowledge base"
   btgen lint-kb data/environmentKnowledgeBaseInput.dat --config data/environmentKnowledgeBaseConfiguration.ini
 fi

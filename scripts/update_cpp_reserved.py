@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Regenerate generator/btgen/cpp_reserved.py: the names mission names must not become.
+"""Regenerate generator/btgen/backend_cpp/cpp_reserved.py: the names mission names must not become.
 
 Two sets, both read from the compilers themselves rather than written by hand:
 

@@ -10,15 +10,10 @@ import sys
 import traceback
 from typing import Callable, Sequence
 
-from .diagnostics import Diagnostic, InternalError, UserError
-from .version import __version__
+from btgen.diagnostics import Diagnostic, InternalError, UserError, print_diagnostics
+from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    for d in diags:
-        print(str(d), file=sys.stderr)
 
 
 def _capacity(text: str) -> int:
@@ -32,7 +27,7 @@ def _capacity(text: str) -> int:
 
 
 def _namespace(text: str) -> str:
-    from .naming import namespace_problem
+    from btgen.backend_cpp.naming import namespace_problem
 
     problem = namespace_problem(text)
     if problem:
@@ -62,17 +57,17 @@ class _Parser(argparse.ArgumentParser):
 
 class _PrintCMakeDir(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
-        from .resources import CMAKE_DIR
+        from btgen.resources import CMAKE_DIR
 
         print(CMAKE_DIR)
         raise SystemExit(EXIT_OK)
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from . import enums
-    from .compiler import data_options
-    from .frontend import load_mission
-    from .lower import lower
+    from btgen.frontend import enums
+    from btgen.compiler import data_options
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
 
     status = EXIT_OK
     for path in args.missions:
@@ -91,8 +86,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_xsd(args: argparse.Namespace) -> int:
-    from .frontend import load_mission
-    from .xsd import mission_xsd
+    from btgen.frontend.loader import load_mission
+    from btgen.frontend.xsd import mission_xsd
 
     mission = load_mission(args.mission, tuple(args.models), args.main_tree)
     sys.stdout.write(mission_xsd(mission))
@@ -100,19 +95,19 @@ def _cmd_xsd(args: argparse.Namespace) -> int:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .run import run_command
+    from btgen.tools.run import run_command
 
     return run_command(args)
 
 
 def _cmd_compile(args: argparse.Namespace) -> int:
-    from .compiler import compile_command
+    from btgen.compiler import compile_command
 
     return compile_command(args)
 
 
 def _cmd_lint_kb(args: argparse.Namespace) -> int:
-    from .kb import lint_kb
+    from btgen.kb.lint import lint_kb
 
     diags = lint_kb(args.kb, config_path=args.config, mission_path=args.mission)
     print_diagnostics(diags)
@@ -120,13 +115,13 @@ def _cmd_lint_kb(args: argparse.Namespace) -> int:
 
 
 def _cmd_bench(args: argparse.Namespace) -> int:
-    from .bench import bench_command
+    from btgen.tools.bench import bench_command
 
     return bench_command(args)
 
 
 def _cmd_graph(args: argparse.Namespace) -> int:
-    from .graph import graph_command
+    from btgen.tools.graph import graph_command
 
     return graph_command(args)
 
@@ -229,7 +224,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["build-info"]:  # argparse's REMAINDER would not pass on `--deps ...`
-        from .compiler import main as build_info
+        from btgen.compiler import main as build_info
 
         return build_info(argv[1:])
     args = build_parser().parse_args(argv)

@@ -34,10 +34,12 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import naming, resources
-from .dataflow import DataOptions
-from .diagnostics import Diagnostic, Loc, UserError
-from .emit import TEMPLATE_DIR, Output, output_names, render
+from btgen.backend_cpp import naming
+
+from btgen import resources
+from btgen.ir.dataflow import DataOptions
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 
 PACKAGE_DIR = resources.PACKAGE_DIR
 SCHEMA_DIR = resources.SCHEMA_DIR
@@ -68,8 +70,8 @@ def generate(mission_path: str, relative_to: Optional[str] = None,
              options: Optional[DataOptions] = None, models: Sequence[str] = (),
              main_tree: Optional[str] = None, namespace: Optional[str] = None) -> tuple[Output, ...]:
     """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
-    from .frontend import load_mission
-    from .lower import lower
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
 
     mission = load_mission(mission_path, models, main_tree)
     program = lower(mission, options)
@@ -157,11 +159,11 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
-    from .frontend import load_mission
-    from .lower import lower
-    from .cli import print_diagnostics
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
+    from btgen.diagnostics import print_diagnostics
 
-    from . import enums
+    from btgen.frontend import enums
 
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
     print_diagnostics(mission.warnings)
@@ -189,7 +191,7 @@ def compile_command(args: argparse.Namespace) -> int:
 
 def generator_inputs() -> list[str]:
     """Files whose change changes the output of every mission: sources, templates, schemas."""
-    files = sorted(str(p) for p in PACKAGE_DIR.glob("*.py"))
+    files = sorted(str(p) for p in PACKAGE_DIR.rglob("*.py"))
     files += sorted(str(p) for p in TEMPLATE_DIR.glob("*.j2"))
     files += sorted(str(p) for p in SCHEMA_DIR.glob("*.xsd"))
     return files
@@ -199,7 +201,7 @@ def mission_files(mission_path: str, models: Sequence[str] = ()) -> list[str]:
     """The mission, every file it includes and the models files (absolute). Falls back
     to the mission and the models files when it does not load: the build then reports
     its errors."""
-    from .frontend import load_mission
+    from btgen.frontend.loader import load_mission
 
     try:
         files = list(load_mission(mission_path, models).files)
@@ -263,7 +265,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"generated/{name}")
         return 0
     if args.check:
-        from .cli import print_diagnostics
+        from btgen.diagnostics import print_diagnostics
 
         try:
             generate(args.check, **load_options(args))

@@ -1,5 +1,5 @@
 // Reader of the environment knowledge base; see environment_knowledge_base.hpp
-// and data/README.md. The rules mirror generator/btgen/kb.py and the schema
+// and data/README.md. The rules mirror generator/btgen/kb/lint.py and the schema
 // schema/environment_knowledge_base.xsd, and the messages are the linter's,
 // so a robot and `btgen lint-kb` point at the same line and column.
 #include "btgen/environment_knowledge_base.hpp"

@@ -1,5 +1,5 @@
 // The runtime's dynamic values (btgen/dynamic.hpp): 4.6.2's operations on values whose type is
-// known at run time only, with the reference interpreter's messages (btgen/script.py, values.py).
+// known at run time only, with the reference interpreter's messages (btgen/lang/script.py, values.py).
 #include <gtest/gtest.h>
 
 #include <string>

@@ -10,8 +10,8 @@ import re
 import shutil
 import subprocess
 
-from btgen import naming
-from btgen.fuzzgen import HOSTILE_NAMES
+from btgen.backend_cpp import naming
+from btgen.tools.fuzzgen import HOSTILE_NAMES
 
 SIX_HEADERS = ("cerrno", "cstdio", "cstdlib", "cmath", "climits", "cstdint")
 

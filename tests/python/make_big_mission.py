@@ -3,7 +3,7 @@
     .venv/bin/python tests/python/make_big_mission.py 10000 -o big.xml
     .venv/bin/python tests/python/make_big_mission.py 10000 --measure 1000
 
-The mission comes from ``btgen.synth.balanced_mission`` (Sequence, Fallback
+The mission comes from ``btgen.tools.synth.balanced_mission`` (Sequence, Fallback
 and Inverter over leaves; one tick visits every node and the root succeeds).
 ``--measure T`` builds the interpreter and sends T root ticks
 (tickExactlyOnce; the run does not stop at SUCCESS), with the trace written
@@ -20,10 +20,10 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "generator"))
 
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.interp import Interpreter  # noqa: E402
-from btgen.scenario import parse_scenario_text  # noqa: E402
-from btgen.synth import balanced_mission  # noqa: E402
+from btgen.frontend.loader import load_mission  # noqa: E402
+from btgen.interp.engine import Interpreter  # noqa: E402
+from btgen.interp.scenario import parse_scenario_text  # noqa: E402
+from btgen.tools.synth import balanced_mission  # noqa: E402
 
 
 def measure(path: str, ticks: int, trace: bool) -> dict:

@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from btgen import synth
+from btgen.tools import synth
 from btgen.cli import main
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -123,10 +123,10 @@ def test_committed_synthetic_missions_are_what_make_missions_writes():
 
 @pytest.mark.parametrize("kind", synth.KINDS)
 def test_synthetic_missions_have_exact_size_and_every_tick_visits_every_node(kind, tmp_path):
-    from btgen.frontend import load_mission
-    from btgen.interp import Interpreter
-    from btgen.lower import creation_order
-    from btgen.scenario import parse_scenario_text
+    from btgen.frontend.loader import load_mission
+    from btgen.interp.engine import Interpreter
+    from btgen.ir.lower import creation_order
+    from btgen.interp.scenario import parse_scenario_text
 
     n = 60
     path = tmp_path / f"{kind}.xml"

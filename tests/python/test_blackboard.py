@@ -1,12 +1,12 @@
 """Blackboards, remapping and port access, checked against BehaviorTree.CPP 4.6.2."""
 import pytest
 
-from btgen.blackboard import (Blackboard, BlackboardError, Entry, create_port_entry, get_input,
+from btgen.lang.blackboard import (Blackboard, BlackboardError, Entry, create_port_entry, get_input,
                               is_blackboard_pointer, remapped_key, set_blackboard, set_output,
                               strip_blackboard_pointer)
-from btgen.script import evaluate, parse_script
-from btgen.status import NodeStatus
-from btgen.values import Queue
+from btgen.lang.script import evaluate, parse_script
+from btgen.lang.status import NodeStatus
+from btgen.lang.values import Queue
 
 
 def run(bb, code):

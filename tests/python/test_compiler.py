@@ -10,12 +10,12 @@ import pytest
 
 from conftest import CASES, ROOT
 
-from btgen import naming
+from btgen.backend_cpp import naming
 from btgen.compiler import committed_outputs, compile_command, generate, generator_inputs, main, mission_files
 from btgen.diagnostics import UserError
-from btgen.emit import render
-from btgen.frontend import load_mission
-from btgen.lower import creation_order, lower
+from btgen.backend_cpp.emit import render
+from btgen.frontend.loader import load_mission
+from btgen.ir.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
 
 

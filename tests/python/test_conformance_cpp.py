@@ -2,7 +2,7 @@
 
 Every case gives its `.trace` byte for byte through the C++ engine
 (generated code + runtime + scenario runner, built once per mission and
-cached by btgen.cppengine); none is skipped.
+cached by btgen.tools.cppengine); none is skipped.
 
 Beyond the recordings, the compiled executor is compared with the reference
 interpreter (a separate back end) on the shipped missions' scenarios and on
@@ -21,11 +21,11 @@ import pytest
 
 from conftest import CASES, ROOT
 
-from btgen.cppengine import build_cpp, run_cpp
+from btgen.tools.cppengine import build_cpp, run_cpp
 from btgen.diagnostics import UserError
-from btgen.frontend import load_mission
-from btgen.interp import trace_text
-from btgen.scenario import load_scenario
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import trace_text
+from btgen.interp.scenario import load_scenario
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 
@@ -230,7 +230,7 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
         path.write_text(_random_mission(rng))
         try:
             load_mission(str(path))
-            from btgen.lower import lower
+            from btgen.ir.lower import lower
             lower(load_mission(str(path)))
         except UserError:
             continue  # e.g. a SKIPPED-able IfThenElse condition, rejected by design

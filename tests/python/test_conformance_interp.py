@@ -13,9 +13,9 @@ import pytest
 
 from conftest import CASES, ROOT
 
-from btgen.frontend import load_mission
-from btgen.interp import trace_text
-from btgen.scenario import load_scenario
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import trace_text
+from btgen.interp.scenario import load_scenario
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 

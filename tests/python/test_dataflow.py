@@ -9,8 +9,8 @@ import pytest
 
 from conftest import CASES, ROOT
 
-from btgen.dataflow import DataOptions, analyze
-from btgen.frontend import load_mission
+from btgen.ir.dataflow import DataOptions, analyze
+from btgen.frontend.loader import load_mission
 
 BAD = os.path.join(ROOT, "tests", "bad_data")
 BAD_STEMS = sorted(os.path.basename(p)[:-4] for p in glob.glob(os.path.join(BAD, "*.xml")))

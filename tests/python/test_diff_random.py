@@ -1,4 +1,4 @@
-"""Differential testing: random missions (btgen.fuzzgen) through the interpreter and the C++ engine.
+"""Differential testing: random missions (btgen.tools.fuzzgen) through the interpreter and the C++ engine.
 
 CI runs a bounded number of seeds here; scripts/difftest.py runs any number.
 Missions the C++ back end does not compile yet (issue 5) are counted and
@@ -15,8 +15,8 @@ from conftest import ROOT
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 import difftest  # noqa: E402
-from btgen.frontend import load_mission  # noqa: E402
-from btgen.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
+from btgen.frontend.loader import load_mission  # noqa: E402
+from btgen.tools.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
 
 CONTROL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_SEEDS", "200")))
 FULL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_FULL_SEEDS", "300")))

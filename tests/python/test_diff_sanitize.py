@@ -5,7 +5,7 @@ every shipped mission scenario is built with `-fsanitize=address,undefined`
 (batched: a few compiler runs for all of them, cached beside the plain
 builds) and run: the trace must be the recorded one and stderr must stay
 empty, so any sanitizer report (which also makes the exit status non-zero)
-fails the test. A slice of the random missions of btgen.fuzzgen runs the
+fails the test. A slice of the random missions of btgen.tools.fuzzgen runs the
 same way against the interpreter.
 """
 import glob
@@ -19,7 +19,7 @@ from conftest import CASES, ROOT
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 import difftest  # noqa: E402
-from btgen.cppengine import cxx_flags  # noqa: E402
+from btgen.tools.cppengine import cxx_flags  # noqa: E402
 
 REG = os.path.join(ROOT, "tests", "regressions")
 SEEDS = range(0, int(os.environ.get("BTGEN_SANITIZE_SEEDS", "25")))
@@ -95,7 +95,7 @@ def test_the_sanitizers_report(tmp_path):
     """The flags BTGEN_SANITIZE=1 builds with catch a use after free and undefined behaviour at run time."""
     import subprocess
 
-    from btgen.cppengine import compiler
+    from btgen.tools.cppengine import compiler
 
     src = tmp_path / "bad.cpp"
     src.write_text("#include <climits>\n#include <cstdlib>\n"

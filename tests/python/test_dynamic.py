@@ -16,8 +16,8 @@ import pytest
 
 from conftest import ROOT
 
-from btgen.dataflow import analyze
-from btgen.frontend import load_mission
+from btgen.ir.dataflow import analyze
+from btgen.frontend.loader import load_mission
 
 MODELS = ('<TreeNodesModel><Action ID="A"><input_port name="p"/></Action>'
           '<Action ID="B"><input_port name="n" type="int"/></Action></TreeNodesModel>')

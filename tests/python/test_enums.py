@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from btgen import enums
+from btgen.frontend import enums
 from btgen.diagnostics import UserError
 
 MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">

@@ -9,10 +9,10 @@ import pytest
 
 from conftest import CASES, ROOT, conformance_stems
 
-from btgen import xmlsource
+from btgen.frontend import xmlsource
 from btgen.diagnostics import Loc, UserError, did_you_mean
-from btgen.frontend import load_mission
-from btgen.xsd import mission_xsd
+from btgen.frontend.loader import load_mission
+from btgen.frontend.xsd import mission_xsd
 
 BAD = os.path.join(ROOT, "tests", "bad_missions")
 

@@ -37,25 +37,25 @@ def test_bounded_fuzz_run(tmp_path):
 
 def test_the_oracle_catches_a_crash(tmp_path, monkeypatch):
     """A fuzzer whose oracle cannot fail proves nothing: make validation crash and look."""
-    import btgen.frontend
+    import btgen.frontend.loader
 
     def boom(path):
         raise KeyError("a bug")
 
-    monkeypatch.setattr(btgen.frontend, "load_mission", boom)
+    monkeypatch.setattr(btgen.frontend.loader, "load_mission", boom)
     stats = fuzz_frontend.fuzz(5, 1, "mission", keep=tmp_path)
     assert len(stats["findings"]) == 5
     assert "KeyError" in (tmp_path / os.path.basename(stats["findings"][0][0] + ".txt")).read_text()
 
 
 def test_the_oracle_catches_a_hang(tmp_path, monkeypatch):
-    import btgen.kb
+    import btgen.kb.lint
 
     def forever(*args, **kwargs):
         while True:
             pass
 
-    monkeypatch.setattr(btgen.kb, "lint_kb", forever)
+    monkeypatch.setattr(btgen.kb.lint, "lint_kb", forever)
     stats = fuzz_frontend.fuzz(1, 1, "kb", keep=tmp_path, time_limit=0.5)
     assert [p for _, p in stats["findings"]] == ["no answer within 0.5 s of CPU"]
 
@@ -64,9 +64,9 @@ def test_the_oracle_catches_an_input_that_blocks(tmp_path, monkeypatch):
     # No CPU is spent, so only the wall-clock backstop can end it.
     import time
 
-    import btgen.kb
+    import btgen.kb.lint
 
-    monkeypatch.setattr(btgen.kb, "lint_kb", lambda *args, **kwargs: time.sleep(60))
+    monkeypatch.setattr(btgen.kb.lint, "lint_kb", lambda *args, **kwargs: time.sleep(60))
     monkeypatch.setattr(fuzz_frontend, "WALL_FACTOR", 2)
     started = time.monotonic()
     stats = fuzz_frontend.fuzz(1, 1, "kb", keep=tmp_path, time_limit=0.5)

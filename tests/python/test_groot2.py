@@ -37,8 +37,8 @@ from pathlib import Path
 
 import pytest
 
-from btgen.frontend import load_mission
-from btgen.treexml import groot2_tree
+from btgen.frontend.loader import load_mission
+from btgen.ir.treexml import groot2_tree
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "tests" / "groot2"

@@ -10,8 +10,8 @@ import pytest
 
 from conftest import ROOT
 import hostile_names
-from btgen import naming
-from btgen.fuzzgen import HOSTILE_NAMES
+from btgen.backend_cpp import naming
+from btgen.tools.fuzzgen import HOSTILE_NAMES
 
 RUNTIME = os.path.join(ROOT, "runtime", "include")
 DRIVER = os.path.join(ROOT, "runtime", "src", "main_driver.cpp")
@@ -149,7 +149,7 @@ def test_interpreter_bounds_a_doubling_string(tmp_path):
     """A script doubling a string 40 times ended the interpreter in MemoryError (exit 3); it
     stops at MAX_STRING_BYTES with a run-time error at the operator (the C++ engine stops
     much earlier, at the entry's capacity)."""
-    from btgen.script import MAX_STRING_BYTES
+    from btgen.lang.script import MAX_STRING_BYTES
     (tmp_path / "m.xml").write_text(DOUBLING, encoding="utf-8")
     (tmp_path / "s.scenario").write_text("ticks 60\n", encoding="utf-8")
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"], cwd=tmp_path,

@@ -16,11 +16,11 @@ import pytest
 from conftest import ROOT
 
 from btgen.diagnostics import UserError
-from btgen.frontend import load_mission
-from btgen.interp import Interpreter, RunError, quote_name, switch_equal, trace_text
-from btgen.scenario import load_scenario, parse_scenario_text
-from btgen.status import NodeStatus
-from btgen.synth import balanced_mission, count_nodes
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import Interpreter, RunError, quote_name, switch_equal, trace_text
+from btgen.interp.scenario import load_scenario, parse_scenario_text
+from btgen.lang.status import NodeStatus
+from btgen.tools.synth import balanced_mission, count_nodes
 
 MODELS = """
     <Action ID="Work"/>
@@ -278,7 +278,7 @@ def test_parallel_threshold_above_children_is_a_run_time_error(tmp_path):
     mission = load_mission(path)
     parts = []
     with pytest.raises(RunError) as e:
-        from btgen.interp import run_trace
+        from btgen.interp.engine import run_trace
         run_trace(mission, parse_scenario_text("ticks 2\n"), parts.append)
     assert "".join(parts) == "tick 1\n"
     assert [str(d) for d in e.value.diagnostics] == [

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import xmlschema
 
-from btgen import kb
+from btgen.kb import lint as kb
 from btgen.cli import main
 from btgen.diagnostics import Loc, UserError
 

@@ -11,13 +11,19 @@ import pytest
 
 from conftest import ROOT
 
-from btgen import frontend, scenario as scenario_mod, script, xmlsource
+from btgen.frontend import loader as frontend
+
+from btgen.interp import scenario as scenario_mod
+
+from btgen.lang import script
+
+from btgen.frontend import xmlsource
 from btgen.diagnostics import UserError
-from btgen.frontend import load_mission
-from btgen.interp import trace_text
-from btgen.kb import KB_MAX_FILE_BYTES, lint_kb
-from btgen.lower import lower
-from btgen.scenario import parse_scenario, parse_scenario_text
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import trace_text
+from btgen.kb.lint import KB_MAX_FILE_BYTES, lint_kb
+from btgen.ir.lower import lower
+from btgen.interp.scenario import parse_scenario, parse_scenario_text
 
 MODEL = '<TreeNodesModel><Action ID="Act"/></TreeNodesModel>'
 
@@ -47,7 +53,7 @@ def test_the_limits_are_the_documented_ones():
         readme = f.read()
     assert "## Limits" in readme
     limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0]
-    from btgen.dataflow import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
+    from btgen.ir.dataflow import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
 
     for number in ("65,535", "256", "32", "16 MiB", "100", "128 KiB", "2,147,483,647",
                    f"{DEFAULT_STRING_CAPACITY} bytes", f"{DEFAULT_QUEUE_CAPACITY} elements"):
@@ -77,7 +83,7 @@ def test_65535_nodes_build_and_run_on_both_engines(tmp_path, monkeypatch, cxx):
     refused the node table from about 10,000 nodes (constexpr step limit: strlen of every name)."""
     import shutil
 
-    from btgen.cppengine import build_cpp
+    from btgen.tools.cppengine import build_cpp
 
     if shutil.which(cxx) is None:
         pytest.skip(f"{cxx} is not installed")
@@ -143,7 +149,7 @@ def _chain(total, per=100):
 def test_expanded_depth_is_bounded_by_the_node_count_alone(tmp_path):
     """A chain of SubTrees nests far deeper than one file may (4800 levels here). It crashed the
     scenario check with a RecursionError; both engines must run it and agree."""
-    from btgen.cppengine import build_cpp
+    from btgen.tools.cppengine import build_cpp
 
     p = _write(tmp_path, "deep.xml", _chain(40 * 120, per=120))
     scen = _write(tmp_path, "s.scenario", "ticks 3\nleaf a RUNNING SUCCESS\n")

@@ -3,11 +3,11 @@ import os
 
 import pytest
 
-from btgen import naming
+from btgen.backend_cpp import naming
 from btgen.cli import main
 from btgen.compiler import generate, main as build_info, mission_files
 from btgen.diagnostics import UserError
-from btgen.frontend import load_mission
+from btgen.frontend.loader import load_mission
 
 MODELS = ('<root BTCPP_format="4">\n'
           '  <TreeNodesModel>\n'

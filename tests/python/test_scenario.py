@@ -13,8 +13,8 @@ import pytest
 from conftest import ROOT
 
 from btgen.diagnostics import UserError
-from btgen.frontend import load_mission
-from btgen.scenario import (DEFAULT_TICKS, check_scenario, load_scenario, mission_leaves, parse_scenario,
+from btgen.frontend.loader import load_mission
+from btgen.interp.scenario import (DEFAULT_TICKS, check_scenario, load_scenario, mission_leaves, parse_scenario,
                             parse_scenario_text)
 
 MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">

@@ -7,13 +7,13 @@ import math
 
 import pytest
 
-from btgen.blackboard import Blackboard
+from btgen.lang.blackboard import Blackboard
 from btgen.diagnostics import Loc
-from btgen.script import (Assign, Binary, Compare, Literal, Name, Script, ScriptRuntimeError, ScriptSyntaxError,
+from btgen.lang.script import (Assign, Binary, Compare, Literal, Name, Script, ScriptRuntimeError, ScriptSyntaxError,
                           Ternary, Unary, evaluate, format_expr, parse_script, script_error_loc, script_truth,
                           variables_read, variables_written)
-from btgen.status import NodeStatus
-from btgen.values import Queue
+from btgen.lang.status import NodeStatus
+from btgen.lang.values import Queue
 
 
 def shape(code):

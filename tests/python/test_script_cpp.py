@@ -17,13 +17,13 @@ import pytest
 
 from conftest import ROOT
 
-from btgen import script as sc
-from btgen import script_cpp as scpp
-from btgen import values
-from btgen.cppengine import build_cpp
-from btgen.frontend import load_mission
-from btgen.interp import switch_equal, trace_text
-from btgen.scenario import load_scenario
+from btgen.lang import script as sc
+from btgen.backend_cpp import script_cpp as scpp
+from btgen.lang import values
+from btgen.tools.cppengine import build_cpp
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import switch_equal, trace_text
+from btgen.interp.scenario import load_scenario
 
 KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": "queue<int>", "n": "none"}
 
@@ -278,7 +278,7 @@ EXPRESSIONS = [
 
 
 def _expected_text(code):
-    from btgen.blackboard import Blackboard
+    from btgen.lang.blackboard import Blackboard
     bb = Blackboard()
     sc.evaluate(sc.parse_script(INIT), bb)
     value = sc.evaluate(sc.parse_script(code), bb)

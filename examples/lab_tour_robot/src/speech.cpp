@@ -39,7 +39,7 @@ bool parse_language(std::string_view text, btgen::Language& out) noexcept {
 }
 
 bool is_placeholder(std::string_view text) {
-  // generator/btgen/kb.py, _PLACEHOLDER_RE (a full match, any case).
+  // generator/btgen/kb/lint.py, _PLACEHOLDER_RE (a full match, any case).
   static const std::regex kPlaceholder(
       R"((no (message|translation|text)\b.*|(todo|tbd|fixme)\b.*|placeholder\b.*)"
       R"(|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*))",

@@ -32,7 +32,7 @@ namespace lab_tour_robot {
 [[nodiscard]] bool parse_language(std::string_view text, btgen::Language& out) noexcept;
 
 /// True for a message that stands in for a missing one. The same rule as
-/// `btgen lint-kb` (generator/btgen/kb.py, _PLACEHOLDER_RE): "No message in
+/// `btgen lint-kb` (generator/btgen/kb/lint.py, _PLACEHOLDER_RE): "No message in
 /// isiZulu", "TODO ...", "TBD", "placeholder", "xxx", "...", ... (any case).
 [[nodiscard]] bool is_placeholder(std::string_view text);
 

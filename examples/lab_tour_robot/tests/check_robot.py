@@ -4,7 +4,7 @@
     check_robot.py --robot PATH --repo REPO CASE
 
 The expectations come from the knowledge base as btgen's Python reader sees
-it (btgen.kb), not from the robot's own C++ code:
+it (btgen.kb.lint), not from the robot's own C++ code:
 
   tour_yes      --answer yes: the robot navigates to every exhibit of the tour
                 in order, then to the tour's last stop, then home (the tour's
@@ -39,7 +39,7 @@ import tempfile
 from pathlib import Path
 from typing import Callable, NoReturn
 
-from btgen import kb as kbmod
+from btgen.kb import lint as kbmod
 
 CONFIG = "data/environmentKnowledgeBaseConfiguration.ini"
 NAV_RE = re.compile(r"^\[tick +\d+\] navigating to (\d+) ")

@@ -10,7 +10,7 @@
 // SetBlackboard literal) is kept too, since it decides how later writes go.
 //
 // The operations here are 4.6.2's for values whose kinds are only known at
-// run time (btgen/script.py, values.py and blackboard.py are the reference):
+// run time (btgen/lang/script.py, values.py and blackboard.py are the reference):
 // arithmetic, `..`, comparisons, logic, `?:` conditions, truthiness, the
 // script store (`:=` and `+=` ...), SetBlackboard literals and copies. Each
 // fallible one returns false after writing the reference interpreter's

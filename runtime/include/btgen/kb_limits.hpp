@@ -1,6 +1,6 @@
 // Limits of the environment knowledge base, shared by the C++ reader
 // (environment_knowledge_base.hpp) and the Python linter
-// (generator/btgen/kb.py: KB_MAX_*) and schema/environment_knowledge_base.xsd.
+// (generator/btgen/kb/lint.py: KB_MAX_*) and schema/environment_knowledge_base.xsd.
 // tests/python/test_kb.py checks that all three agree: change them together.
 //
 // The reader stores text in std::string, so these are not buffer sizes: they

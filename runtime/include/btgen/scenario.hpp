@@ -10,7 +10,7 @@
 // Reading a scenario allocates (it happens before the run); the per-tick
 // calls of ScenarioLeaves do not. Problems are reported as
 // `path:line:col: error: message` (or `warning:`), with the same wording as
-// the Python reference (btgen/scenario.py).
+// the Python reference (btgen/interp/scenario.py).
 #pragma once
 
 #include <cerrno>

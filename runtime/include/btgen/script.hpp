@@ -3,7 +3,7 @@
 // The generator turns every script of a mission (Script, ScriptCondition,
 // Precondition `if`, `_skipIf`, `_while`, `_onSuccess`, ...) into C++ with
 // the types of its operands known; what is left for run time is here, with
-// BehaviorTree.CPP 4.6.2's meaning (btgen/script.py is the reference):
+// BehaviorTree.CPP 4.6.2's meaning (btgen/lang/script.py is the reference):
 // arithmetic, comparison and logic work on doubles; `==` and `!=` compare
 // within FLT_EPSILON; a string compared with a number is read as a number.
 // There is no parser and no interpreter here, and nothing allocates.

@@ -2,7 +2,7 @@
 //
 // The generator knows the type of every blackboard entry and port, so it
 // calls the one conversion a read or write needs; these functions are
-// those conversions, with 4.6.2's rules (btgen/values.py is the reference
+// those conversions, with 4.6.2's rules (btgen/lang/values.py is the reference
 // and documents each one):
 //
 //   text of a number     std::to_string: integers in decimal, doubles as

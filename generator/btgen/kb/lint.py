@@ -32,8 +32,8 @@ from xml.etree import ElementTree as ET
 
 import xmlschema
 
-from . import resources
-from .diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen import resources
+from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 
 # ----- Limits: keep equal to runtime/include/btgen/kb_limits.hpp ----------------
 
@@ -741,7 +741,7 @@ def _check_mission(mission_path: str, kb: Sequence[_Entry], sink: DiagnosticSink
     `exhibit`, `exhibit_id` or `exhibitId` (any case); values in braces
     (blackboard entries) and scripts are left alone.
     """
-    from .xmlsource import read_source  # secure lxml reading: no DTD, entities or network
+    from btgen.frontend.xmlsource import read_source  # secure lxml reading: no DTD, entities or network
 
     try:
         src = read_source(mission_path)

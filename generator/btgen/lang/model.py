@@ -8,8 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Optional
 
-from .catalogue import BUILTINS, NodeSpec
-from .diagnostics import Diagnostic, Loc
+from btgen.lang.catalogue import BUILTINS, NodeSpec
+from btgen.diagnostics import Diagnostic, Loc
 
 
 @dataclass(frozen=True)

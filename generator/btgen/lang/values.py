@@ -22,7 +22,7 @@ Python representation of values (``None`` is never a value: it stands for
 - ``float``: doubles; ``bool``: booleans (4.6.2 stores them as the integers
   1 and 0, so they count as numbers and print as ``1``/``0``);
 - ``str``: strings, and values of opaque user types;
-- :class:`~btgen.status.NodeStatus`: statuses (an integer in 4.6.2);
+- :class:`~btgen.lang.status.NodeStatus`: statuses (an integer in 4.6.2);
 - :class:`Queue`: a ``collections.deque`` that knows its element type; like
   4.6.2's ``SharedQueue`` (a ``shared_ptr<deque>``) it is shared, not copied,
   when read from the blackboard, so popping an element changes the entry.
@@ -40,7 +40,7 @@ import math
 import re
 from typing import Iterable, Optional, Union
 
-from .status import NodeStatus
+from btgen.lang.status import NodeStatus
 
 INT = "int"
 UNSIGNED = "unsigned"

@@ -36,7 +36,7 @@ C++ back end compiles it is decided by ``btgen compile`` itself, so a feature
 set can be run before the back end supports all of it and the missions it
 rejects are counted, never silently dropped.
 
-    python -m btgen.fuzzgen SEED [--features control|full]   # print mission and scenarios
+    python -m btgen.tools.fuzzgen SEED [--features control|full]   # print mission and scenarios
 """
 from __future__ import annotations
 
@@ -522,7 +522,7 @@ def random_case(seed: int, features: str = "control", n_scenarios: int = 3) -> C
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.fuzzgen", description="print a random mission and scenarios")
+    p = argparse.ArgumentParser(prog="python -m btgen.tools.fuzzgen", description="print a random mission and scenarios")
     p.add_argument("seed", type=int)
     p.add_argument("--features", choices=FEATURE_SETS, default="control")
     p.add_argument("--scenarios", type=int, default=1)

@@ -26,9 +26,9 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from typing import Optional
 
-from .diagnostics import Diagnostic, Loc, UserError
-from .model import Mission, Node, SubTreeNode
-from .treexml import subtree_path
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang.model import Mission, Node, SubTreeNode
+from btgen.ir.treexml import subtree_path
 
 STATUS_NAMES = ("IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED")
 FILL = {"RUNNING": "#f5a623", "SUCCESS": "#7ed321", "FAILURE": "#e74c3c", "SKIPPED": "#9ecae1", "IDLE": "#ffffff"}
@@ -226,7 +226,7 @@ def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str
 
 
 def graph_command(args) -> int:
-    from .frontend import load_mission
+    from btgen.frontend.loader import load_mission
 
     output: str = args.output
     ext = os.path.splitext(output)[1].lower()

@@ -28,14 +28,15 @@ from __future__ import annotations
 import sys
 from typing import Callable, Optional
 
-from . import blackboard as bbmod
-from . import script as scriptmod
-from . import values
-from .catalogue import BUILTINS, PortSpec
-from .diagnostics import Diagnostic, Loc, UserError
-from .model import Attr, Mission, Node, SubTreeNode
-from .scenario import Scenario, is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
-from .status import NodeStatus
+from btgen.lang import blackboard as bbmod
+from btgen.lang import script as scriptmod
+from btgen.lang import values
+from btgen.lang.catalogue import BUILTINS, PortSpec
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.interp.scenario import Scenario
+from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
+from btgen.lang.status import NodeStatus
 
 # ---------------------------------------------------------------- statuses
 IDLE = NodeStatus.IDLE.value

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Optional
 
-from .diagnostics import Loc
+from btgen.diagnostics import Loc
 
 KINDS = ("Action", "Condition", "Control", "Decorator", "SubTree")
 DIRECTIONS = ("input", "output", "inout")

@@ -14,11 +14,13 @@ from typing import Callable, Optional
 
 import jinja2
 
-from . import naming, resources
-from .diagnostics import InternalError
-from .dataflow import SCRIPT_BIT
-from .lower import SUPPORTED, IRNode, Program
-from .version import RUNTIME_ABI, __version__
+from btgen.backend_cpp import naming
+
+from btgen import resources
+from btgen.diagnostics import InternalError
+from btgen.ir.dataflow import SCRIPT_BIT
+from btgen.ir.lower import SUPPORTED, IRNode, Program
+from btgen.version import RUNTIME_ABI, __version__
 
 TEMPLATE_DIR = resources.TEMPLATE_DIR
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")

@@ -20,8 +20,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .catalogue import BUILTINS, NodeSpec, POST_CONDITIONS, PRE_CONDITIONS
-from .model import Mission, Node, SubTreeNode
+from btgen.lang.catalogue import BUILTINS, NodeSpec, POST_CONDITIONS, PRE_CONDITIONS
+from btgen.lang.model import Mission, Node, SubTreeNode
 
 # 4.6.2's demangled type names for the canonical ones (values.normalize_type reads them back).
 _CPP_TYPES = {

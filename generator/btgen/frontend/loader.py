@@ -14,14 +14,14 @@ from typing import Optional, Sequence
 
 from lxml import etree
 
-from . import script as script_lang
-from . import values
-from .catalogue import (BUILTINS, KEY_NAME_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
+from btgen.lang import script as script_lang
+from btgen.lang import values
+from btgen.lang.catalogue import (BUILTINS, KEY_NAME_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
                         RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, METADATA_ATTRIBUTES, NodeSpec,
                         PortSpec)
-from .diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
-from .model import Attr, Mission, Node, SubTreeNode, TreeDef
-from .xmlsource import Source, read_source
+from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.frontend.xmlsource import Source, read_source
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -103,7 +103,7 @@ class _Loader:
                                                   f"xmlns declaration)")
             raise UserError.at(src.loc(root), f"the root element is <{root.tag}>; a mission starts with "
                                               f"<root BTCPP_format=\"4\">")
-        from .xsd import validate_structure
+        from btgen.frontend.xsd import validate_structure
 
         errors = validate_structure(src)
         if errors:
@@ -142,7 +142,7 @@ class _Loader:
             self.sink.error(src.loc(root), f"the root element of a models file is <{root.tag}>; it must be <root> "
                                            f"holding only <TreeNodesModel>")
             return
-        from .xsd import validate_structure
+        from btgen.frontend.xsd import validate_structure
 
         errors = validate_structure(src)
         if errors:
@@ -555,7 +555,7 @@ class _Loader:
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
-        from .xsd import validate_against_mission_xsd
+        from btgen.frontend.xsd import validate_against_mission_xsd
 
         for src in self.sources:
             self.sink.items.extend(validate_against_mission_xsd(mission, src))

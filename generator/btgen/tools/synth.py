@@ -26,7 +26,7 @@ succeeds, exactly ``n_nodes`` nodes with SubTrees expanded):
 - :func:`script_mission`: the leaves are Script and ScriptCondition nodes
   and Actions with a pre-condition, over one blackboard entry.
 
-Run as a script to print a mission: ``python -m btgen.synth 10000 > big.xml``
+Run as a script to print a mission: ``python -m btgen.tools.synth 10000 > big.xml``
 (``--kind reactive|subtrees|scripts`` for the variants).
 """
 from __future__ import annotations
@@ -197,7 +197,7 @@ def count_nodes(xml_text: str) -> int:
 
 
 def main(argv: Optional[list[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.synth", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m btgen.tools.synth", description=__doc__.splitlines()[0])
     p.add_argument("nodes", type=int)
     p.add_argument("branching", type=int, nargs="?", default=4)
     p.add_argument("--kind", choices=KINDS, default="balanced")
@@ -205,7 +205,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     try:
         sys.stdout.write(mission(args.kind, args.nodes, args.branching))
     except ValueError as e:
-        print(f"python -m btgen.synth: error: {e}", file=sys.stderr)
+        print(f"python -m btgen.tools.synth: error: {e}", file=sys.stderr)
         return 2
     return 0
 

@@ -19,9 +19,9 @@ import dataclasses
 import re
 from typing import Iterable, Optional, Sequence
 
-from . import script as sc
-from .diagnostics import Diagnostic, Loc, UserError
-from .model import Attr, Mission, Node
+from btgen.lang import script as sc
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang.model import Attr, Mission, Node
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _INT32 = (-(2 ** 31), 2 ** 31 - 1)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from typing import Callable, Iterable, Optional, Union
 
-from .cpp_reserved import GLOBALS, MACROS
+from btgen.backend_cpp.cpp_reserved import GLOBALS, MACROS
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
 CPP_KEYWORDS = frozenset("""

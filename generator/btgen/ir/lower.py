@@ -17,13 +17,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Optional
 
-from . import values
-from .catalogue import BUILTINS
-from .dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
-from .diagnostics import DiagnosticSink, InternalError, Loc
-from .model import Attr, Mission, Node, SubTreeNode
-from .naming import model_identifiers
-from .treexml import Groot2Tree, groot2_tree
+from btgen.lang import values
+from btgen.lang.catalogue import BUILTINS
+from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.backend_cpp.naming import model_identifiers
+from btgen.ir.treexml import Groot2Tree, groot2_tree
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
@@ -175,7 +175,7 @@ def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
     """Scripted leaf names the main tree does not run, each with the first tree (in file
     order) that has one: what scenario.check_scenario names in its warning."""
-    from .scenario import is_scripted_leaf, mission_leaves
+    from btgen.lang.leaves import is_scripted_leaf, mission_leaves
 
     run = {u.name for u in mission_leaves(mission)}
     found: dict[str, str] = {}

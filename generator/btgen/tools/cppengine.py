@@ -29,10 +29,12 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import naming, resources
-from .compiler import mission_stem
-from .diagnostics import Diagnostic, InternalError, Loc, UserError
-from .emit import render
+from btgen.backend_cpp import naming
+
+from btgen import resources
+from btgen.compiler import mission_stem
+from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError
+from btgen.backend_cpp.emit import render
 
 ROOT = resources.ROOT
 RUNTIME_INCLUDE = resources.RUNTIME_INCLUDE
@@ -93,8 +95,8 @@ def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequen
 def _check_no_user_nodes(mission) -> None:
     """The scenario runner scripts leaves only: a Control or Decorator of the mission's own
     TreeNodesModel needs robot code (the interpreter says the same)."""
-    from .lower import _expanded
-    from .scenario import user_node_kind, user_node_message
+    from btgen.ir.lower import _expanded
+    from btgen.lang.leaves import user_node_kind, user_node_message
 
     for node, _, _, _ in _expanded(mission):
         kind = user_node_kind(mission, node)
@@ -108,10 +110,10 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
-    from .frontend import load_mission
-    from .lower import lower
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
 
-    from . import enums as enums_mod
+    from btgen.frontend import enums as enums_mod
 
     mission = enums_mod.apply(load_mission(mission_path, models, main_tree), enums)
     if warnings is not None:

@@ -25,7 +25,7 @@ Kinds (the static types of values):
 
 Evaluation order, short-circuiting (only comparison chains stop early; `&&`
 and `||` evaluate both sides), the double arithmetic and the text of numbers
-are those of btgen/script.py, which is the reference.
+are those of btgen/lang/script.py, which is the reference.
 """
 from __future__ import annotations
 
@@ -33,9 +33,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence
 
-from . import script as sc
-from . import values
-from .naming import cpp_string
+from btgen.lang import script as sc
+from btgen.lang import values
+from btgen.backend_cpp.naming import cpp_string
 
 NUMERIC = ("int", "double", "bool", "status")
 # The kind of a dynamic slot (btgen::Dyn<N>: its type changes at run time) and of

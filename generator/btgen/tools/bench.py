@@ -7,7 +7,7 @@ compiles the mission, builds it at -O2 together with `bench/bench_main.cpp`
 counter (`runtime/src/testing/alloc_counter.cpp`, which replaces the global
 operator new/delete and malloc), runs N ticks and prints one `key value` per
 line: KEYS below, then `binary`, the executable's path. The executable is
-cached like the scenario runner (btgen.cppengine), keyed by its contents.
+cached like the scenario runner (btgen.tools.cppengine), keyed by its contents.
 
 `BINARY N` performs N ticks and prints nothing, so its instructions can be
 counted: `valgrind --tool=callgrind BINARY N`, for two values of N, gives the
@@ -23,9 +23,9 @@ import sys
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import resources
-from .cppengine import build_mission_executable
-from .diagnostics import InternalError
+from btgen import resources
+from btgen.tools.cppengine import build_mission_executable
+from btgen.diagnostics import InternalError
 
 BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
 ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"

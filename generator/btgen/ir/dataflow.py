@@ -35,15 +35,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from . import blackboard as bbmod
-from . import script as sc
-from . import script_cpp as scpp
-from . import values
-from .catalogue import BUILTINS, NodeSpec, PortSpec
-from .diagnostics import DiagnosticSink, InternalError, Loc
-from .model import Attr, Mission, Node, SubTreeNode
-from .naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
-from .script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
+from btgen.lang import blackboard as bbmod
+from btgen.lang import script as sc
+from btgen.backend_cpp import script_cpp as scpp
+from btgen.lang import values
+from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.backend_cpp.naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
+from btgen.backend_cpp.script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16

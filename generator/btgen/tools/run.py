@@ -12,22 +12,17 @@ import os
 import sys
 from typing import Sequence
 
-from . import enums
-from .diagnostics import Diagnostic
+from btgen.frontend import enums
+from btgen.diagnostics import Diagnostic, print_diagnostics
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
-
-
-def _print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    for d in diags:
-        print(str(d), file=sys.stderr)
 
 
 def run_command(args) -> int:
     """Entry point of `btgen run MISSION.xml --scenario FILE [--engine interp|cpp]`."""
     engine = getattr(args, "engine", "interp") or "interp"
     if engine == "cpp":
-        from .cppengine import run_cpp
+        from btgen.tools.cppengine import run_cpp
 
         return run_cpp(args.mission, args.scenario, tuple(getattr(args, "models", None) or ()),
                        getattr(args, "main_tree", None), enums.from_args(args))
@@ -35,17 +30,17 @@ def run_command(args) -> int:
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
 
-    from .frontend import load_mission
-    from .interp import run_trace
-    from .scenario import load_scenario
+    from btgen.frontend.loader import load_mission
+    from btgen.interp.engine import run_trace
+    from btgen.interp.scenario import load_scenario
 
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
     mission = enums.apply(load_mission(args.mission, tuple(getattr(args, "models", None) or ()),
                                        getattr(args, "main_tree", None)), enums.from_args(args))
-    _print_diagnostics(mission.warnings)
+    print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
-    _print_diagnostics(warnings)
+    print_diagnostics(warnings)
 
     out = sys.stdout
 

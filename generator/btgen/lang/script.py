@@ -26,7 +26,7 @@ Where 4.6.2's parser has bugs fixed in later releases, the fixed meaning is
 used (FORMAT.md): ``a - b == 2`` parses, ``A==-1`` parses, and ``A - B + C``
 is ``(A - B) + C``.
 
-Runtime values follow 4.6.2's ``BT::Any`` (see :mod:`btgen.values`): integer
+Runtime values follow 4.6.2's ``BT::Any`` (see :mod:`btgen.lang.values`): integer
 literals are integers, ``true``/``false`` are the integers 1/0, real literals
 and the result of every arithmetic, comparison and logical operator are
 doubles. ``None`` is 4.6.2's empty value.
@@ -38,10 +38,10 @@ import re
 from dataclasses import dataclass
 from typing import Callable, Iterator, Mapping, Optional, TypeVar, Union
 
-from . import values
-from .blackboard import Blackboard, Entry
-from .diagnostics import Loc
-from .values import ConversionError, Queue, Value
+from btgen.lang import values
+from btgen.lang.blackboard import Blackboard, Entry
+from btgen.diagnostics import Loc
+from btgen.lang.values import ConversionError, Queue, Value
 
 
 class ScriptSyntaxError(Exception):

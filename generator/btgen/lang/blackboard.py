@@ -1,7 +1,7 @@
 """Blackboards with BehaviorTree.CPP 4.6.2 semantics (``blackboard.h/.cpp``).
 
 A :class:`Blackboard` holds :class:`Entry` objects by key. An entry has a
-declared type (a canonical name from :mod:`btgen.values`; ``any`` for 4.6.2's
+declared type (a canonical name from :mod:`btgen.lang.values`; ``any`` for 4.6.2's
 ``AnyTypeAllowed``), a value (``None`` until first written) and an update
 counter, ``sequence_id``, that every write bumps. Entries are shared objects:
 a SubTree blackboard that remaps ``goal`` to its parent's ``target`` hands out
@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from typing import Iterable, Optional
 
-from . import values
-from .values import ANY, STRING, ConversionError, Value
+from btgen.lang import values
+from btgen.lang.values import ANY, STRING, ConversionError, Value
 
 
 class BlackboardError(Exception):

@@ -21,11 +21,11 @@ from xml.sax.saxutils import quoteattr
 import xmlschema
 from lxml import etree
 
-from . import resources
-from .catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
-from .diagnostics import Diagnostic, Loc
-from .model import Mission
-from .xmlsource import Source
+from btgen import resources
+from btgen.lang.catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from btgen.diagnostics import Diagnostic, Loc
+from btgen.lang.model import Mission
+from btgen.frontend.xmlsource import Source
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
 SCHEMA_DIR = str(resources.SCHEMA_DIR)

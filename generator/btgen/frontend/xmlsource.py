@@ -20,7 +20,7 @@ from typing import Optional
 
 from lxml import etree
 
-from .diagnostics import Loc, UserError
+from btgen.diagnostics import Loc, UserError
 
 MAX_FILE_BYTES = 16 * 1024 * 1024  # a 10,000-node mission is about 1 MB
 MAX_DEPTH = 256  # BehaviorTree.CPP refuses deeper trees too
