@@ -5,7 +5,6 @@ code; and differential runs: the C++ conversions (runtime/include/btgen/value.hp
 against values.py on a corpus of inputs, and compiled scripts against the
 interpreter on missions whose conditions check every value a script computes.
 """
-import hashlib
 import math
 import os
 import random
@@ -15,15 +14,15 @@ import subprocess
 
 import pytest
 
-from conftest import ROOT
-
-from btgen.lang import script as sc
 from btgen.backend_cpp import script_cpp as scpp
+from btgen.frontend.loader import load_mission
+from btgen.interp.controls import switch_equal
+from btgen.interp.engine import trace_text
+from btgen.interp.scenario import load_scenario
+from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.tools.cppengine import build_cpp
-from btgen.frontend.loader import load_mission
-from btgen.interp.engine import switch_equal, trace_text
-from btgen.interp.scenario import load_scenario
+from conftest import ROOT
 
 KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": "queue<int>", "n": "none"}
 
@@ -303,7 +302,7 @@ def test_compiled_scripts_compute_what_the_interpreter_computes(tmp_path):
     sc_, _ = load_scenario(str(scenario), m)
     expected = trace_text(m, sc_)
     assert expected.endswith("result SUCCESS\n")  # every check holds in the interpreter
-    proc = subprocess.run([str(build_cpp(str(mission))), str(scenario)], stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True)
+    proc = subprocess.run([str(build_cpp(str(mission))), str(scenario)], capture_output=True,
+                          text=True, check=False)
     assert (proc.returncode, proc.stderr) == (0, "")
     assert proc.stdout == expected

@@ -17,10 +17,10 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass
-from typing import Iterator, Optional
+from typing import Optional
 
 from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
-from btgen.lang.leaves import LeafUse, _tree_with_leaf, is_scripted_leaf, leaf_kind, mission_leaves
+from btgen.lang.leaves import LeafUse, _tree_with_leaf, mission_leaves
 from btgen.lang.model import Mission
 
 MAX_SCENARIO_BYTES = 16 * 1024 * 1024
