@@ -33,8 +33,8 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "generator"))
 
-from btgen.tools import synth  # noqa: E402
-from btgen.compiler import write_if_changed  # noqa: E402
+from btgen.compiler import write_if_changed
+from btgen.tools import synth
 
 MISSION_DIR = HERE / "missions"
 

@@ -58,14 +58,14 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(ROOT / "generator"))
 
-import make_missions  # noqa: E402
-
-from btgen.tools import bench  # noqa: E402
-
-from btgen.tools import cppengine
-from btgen.diagnostics import UserError  # noqa: E402
-from btgen.frontend.loader import load_mission  # noqa: E402
-from btgen.ir.lower import creation_order  # noqa: E402
+import make_missions
+from btgen.diagnostics import UserError
+from btgen.frontend.loader import load_mission
+from btgen.ir.lower import creation_order
+from btgen.tools import (
+    bench,
+    cppengine,
+)
 
 BTGEN = [sys.executable, "-m", "btgen"]
 README = ROOT / "README.md"
@@ -100,7 +100,7 @@ def children_cpu() -> float:
 def callgrind_instructions(binary: Path, ticks: int) -> int:
     """Instructions callgrind counts for `binary ticks` (start-up included)."""
     proc = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", str(binary),
-                           str(ticks)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+                           str(ticks)], capture_output=True, check=False)
     err = proc.stderr.decode("utf-8", "replace")
     m = re.search(r"Collected\s*:\s*(\d+)", err)
     if proc.returncode != 0 or m is None:
@@ -313,7 +313,7 @@ def targets(rows: list[Row]) -> list[str]:
                        f"{verdict} ({r.instr_tick:,.0f} against {known:,}: {ratio:.1f}x; goal <= "
                        f"{known / TARGET_RATIO:,.0f})")
     alloc_bad = [r for r in built if r.allocs_create != "0" or float(r.allocs_tick or 0) != 0.0]
-    out.append(f"- 0 allocations at creation and per tick: "
+    out.append("- 0 allocations at creation and per tick: "
                + ("met on every mission built" if not alloc_bad else
                   "**missed** on " + ", ".join(f"`{r.name}`" for r in alloc_bad)))
     over = [r for r in built if r.state_bytes > TARGET_STATE_PER_NODE * r.nodes]

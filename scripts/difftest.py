@@ -10,7 +10,7 @@ classified first:
 - invalid: `btgen validate` rejects it (a generator bug: counted, printed,
   and the run fails);
 - unsupported: `btgen compile` rejects it only with "not supported by the C++
-  back end yet" (issue 5): counted and reported as skipped, never silently;
+  back end yet": counted and reported as skipped, never silently;
 - rejected: `btgen compile` rejects it for another reason although the
   interpreter accepts it: a finding (the run fails);
 - compiled: run on both engines.
@@ -47,11 +47,10 @@ from typing import Optional
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "generator"))
 
-from btgen.tools import cppengine  # noqa: E402
-
 from btgen.backend_cpp import naming
-from btgen.diagnostics import UserError  # noqa: E402
-from btgen.tools.fuzzgen import FEATURE_SETS, random_case  # noqa: E402
+from btgen.diagnostics import UserError
+from btgen.tools import cppengine
+from btgen.tools.fuzzgen import FEATURE_SETS, random_case
 
 UNSUPPORTED_MARK = "not supported by the C++ back end yet"
 RUN_TIMEOUT_S = 60
@@ -158,8 +157,8 @@ def _batch_main(entries: list[tuple[str, str]]) -> str:
 
 def build_batch(missions: list[str]) -> Path:
     """One executable for `missions` (paths relative to the current directory), cached."""
-    from btgen.compiler import mission_stem
     from btgen.backend_cpp.emit import render
+    from btgen.compiler import mission_stem
     from btgen.ir.lower import lower
 
     outputs, entries = [], []
@@ -217,8 +216,7 @@ def run_cpp(binary: Path, index: int, mission: str, scenario: str) -> Outcome:
     env.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=0")
     env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
     try:
-        proc = subprocess.run([str(binary), str(index), scenario], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              check=False, timeout=RUN_TIMEOUT_S, env=env)
+        proc = subprocess.run([str(binary), str(index), scenario], capture_output=True, check=False, timeout=RUN_TIMEOUT_S, env=env)
     except subprocess.TimeoutExpired:
         return Outcome(-1, "", f"timed out after {RUN_TIMEOUT_S} s")
     return Outcome(proc.returncode, proc.stdout.decode("utf-8", "replace"),
@@ -228,8 +226,8 @@ def run_cpp(binary: Path, index: int, mission: str, scenario: str) -> Outcome:
 # ------------------------------------------------------------------ the driver
 def classify(mission: str) -> tuple[str, str]:
     """("invalid" | "unsupported" | "rejected" | "compiled", message)."""
-    from btgen.compiler import mission_stem
     from btgen.backend_cpp.emit import render
+    from btgen.compiler import mission_stem
     from btgen.ir.lower import lower
 
     try:

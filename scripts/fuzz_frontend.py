@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Front-end fuzzing: mutated and random missions and knowledge bases (issue 8).
+"""Front-end fuzzing: mutated and random missions and knowledge bases (reliability).
 
     scripts/fuzz_frontend.py [--iterations N] [--seed S] [--target mission|kb|all]
                              [--cli K] [--keep DIR] [--time-limit S]
@@ -30,8 +30,6 @@ traceback; the exit status is 1 when there is any.
 from __future__ import annotations
 
 import argparse
-import io
-import contextlib
 import os
 import random
 import re
@@ -51,9 +49,9 @@ sys.path.insert(0, str(ROOT / "generator"))
 CASES = ROOT.parent / "shared" / "conformance" / "cases"
 MEMORY_LIMIT = 2 * 1024 ** 3
 
-from btgen.lang.catalogue import BUILTINS  # noqa: E402
-from btgen.tools.fuzzgen import HOSTILE_NAMES  # noqa: E402
-from btgen.diagnostics import UserError  # noqa: E402
+from btgen.diagnostics import UserError
+from btgen.lang.catalogue import BUILTINS
+from btgen.tools.fuzzgen import HOSTILE_NAMES
 
 DIAG_RE = r"^{path}:[1-9][0-9]*:[1-9][0-9]*: (error|warning|note): .+$"
 
@@ -110,7 +108,7 @@ ATTR_VALUES = [b"", b" ", b"-1", b"0", b"1", b"2", b"65536", b"4294967296", b"-2
                b"((((((((((1))))))))))", b"(" * 300 + b"1" + b")" * 300, b"a &lt; b", b"'unterminated", b"1 ? 2 : 3",
                b"SUCCESS", b"FAILURE", b"SKIPPED", b"RUNNING", b"IDLE", b"true", b"false", b"nan", b"inf",
                b"\xc3\xa9", b"&#10;", b"&quot;", b"{a}{b}"]
-# Hostile names (issue 14): C++ keywords, macros, the runtime's and the generated code's own names
+# Hostile names: C++ keywords, macros, the runtime's and the generated code's own names
 # and IDs with white space, quotes, backslashes or a trigraph, as tokens, attribute values, keys.
 HOSTILE = [n.encode() for n in HOSTILE_NAMES] + [b"a\nb", b"a b", b'a"b', b"a\\b", b"ends ??/", b"bt_node"]
 TOKENS += HOSTILE
@@ -237,13 +235,13 @@ def _check_diagnostics(text: str, path: str, what: str) -> Optional[str]:
 def check_mission(path: str) -> tuple[Optional[str], bool]:
     """(None when every stage ends in success or user diagnostics, else what went wrong;
     whether the mission was valid)."""
-    from btgen.compiler import mission_stem
     from btgen.backend_cpp.emit import render
+    from btgen.compiler import mission_stem
     from btgen.frontend.loader import load_mission
-    from btgen.interp.engine import run_trace
-    from btgen.ir.lower import lower
-    from btgen.interp.scenario import parse_scenario_text
     from btgen.frontend.xsd import mission_xsd
+    from btgen.interp.engine import run_trace
+    from btgen.interp.scenario import parse_scenario_text
+    from btgen.ir.lower import lower
 
     try:
         mission = load_mission(path)
@@ -283,7 +281,7 @@ def check_cli(args: list[str], path: str, timeout: float) -> Optional[str]:
     """The real executable: exit 0 or 1, every stderr line a diagnostic about `path` (or the config)."""
     exe = shutil.which("btgen", path=str(ROOT / ".venv" / "bin")) or "btgen"
     try:
-        proc = subprocess.run([exe, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=timeout,
+        proc = subprocess.run([exe, *args], capture_output=True, timeout=timeout,
                               check=False, preexec_fn=_limit_memory)
     except subprocess.TimeoutExpired:
         return f"btgen {' '.join(args)}: no answer within {timeout} s"
@@ -350,7 +348,7 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                            else f"no answer within {time_limit * WALL_FACTOR} s of wall-clock time")
             except MemoryError:
                 problem = f"ran out of memory (limit {MEMORY_LIMIT >> 20} MiB)"
-            except BaseException as e:  # noqa: BLE001 - any other exception is the finding
+            except BaseException as e:
                 if isinstance(e, KeyboardInterrupt):
                     raise
                 problem = "exception:\n" + "".join(traceback.format_exception(type(e), e, e.__traceback__)[-6:])

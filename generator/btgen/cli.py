@@ -8,9 +8,10 @@ from __future__ import annotations
 import argparse
 import sys
 import traceback
-from typing import Callable, Sequence
+from collections.abc import Sequence
+from typing import Callable, NoReturn
 
-from btgen.diagnostics import Diagnostic, InternalError, UserError, print_diagnostics
+from btgen.diagnostics import InternalError, UserError, print_diagnostics
 from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
@@ -49,7 +50,7 @@ def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> Non
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # exit 2, as argparse does, but no usage spam
+    def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
         print(f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
@@ -64,8 +65,8 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from btgen.frontend import enums
     from btgen.compiler import data_options
+    from btgen.frontend import enums
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 
@@ -236,7 +237,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INPUT
     except KeyboardInterrupt:
         return 130
-    except (InternalError, Exception):  # noqa: BLE001 - last line of defence
+    except (InternalError, Exception):
         print("btgen: internal error: this is a bug in btgen, please report it with the input that caused it",
               file=sys.stderr)
         traceback.print_exc(limit=-3, file=sys.stderr)

@@ -27,19 +27,20 @@ are those of `btgen compile`.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import tempfile
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Optional, Sequence
-
-from btgen.backend_cpp import naming
+from typing import Optional
 
 from btgen import resources
-from btgen.ir.dataflow import DataOptions
-from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.ir.dataflow import DataOptions
 
 PACKAGE_DIR = resources.PACKAGE_DIR
 SCHEMA_DIR = resources.SCHEMA_DIR
@@ -104,10 +105,8 @@ def _stage(path: Path, data: bytes, mode: int) -> str:
 
 
 def _unlink_quietly(path: str) -> None:
-    try:
+    with contextlib.suppress(OSError):
         os.unlink(path)
-    except OSError:
-        pass
 
 
 def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
@@ -159,11 +158,10 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
+    from btgen.diagnostics import print_diagnostics
+    from btgen.frontend import enums
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
-    from btgen.diagnostics import print_diagnostics
-
-    from btgen.frontend import enums
 
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
     print_diagnostics(mission.warnings)
@@ -219,7 +217,7 @@ def committed_outputs(root: Path) -> dict[str, str]:
         try:
             outputs = generate(rel, relative_to=str(root))
         except UserError:
-            continue  # needs the data side (issue 5) or is broken: `btgen validate` tells
+            continue  # needs the data side or is broken: `btgen validate` tells
         for out in outputs:
             expected[out.name] = out.text
     return expected

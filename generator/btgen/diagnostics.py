@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import difflib
 import sys
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Optional, Sequence
+from typing import Optional
 
 
 @dataclass(frozen=True)
@@ -25,7 +26,7 @@ class Loc:
     def __str__(self) -> str:
         return f"{self.path}:{self.line}:{self.col}"
 
-    def shifted(self, columns: int) -> "Loc":
+    def shifted(self, columns: int) -> Loc:
         return Loc(self.path, self.line, self.col + columns)
 
 
@@ -81,7 +82,7 @@ class UserError(Exception):
         super().__init__("\n".join(str(d) for d in self.diagnostics))
 
     @classmethod
-    def at(cls, loc: Loc, message: str) -> "UserError":
+    def at(cls, loc: Loc, message: str) -> UserError:
         return cls(Diagnostic(loc, message))
 
 

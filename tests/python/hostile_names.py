@@ -1,4 +1,4 @@
-"""Hostile names for generated C++ (issue 14): a mission that uses every C++ keyword, every
+"""Hostile names for generated C++: a mission that uses every C++ keyword, every
 macro of <cerrno> <cstdio> <cstdlib> <cmath> <climits> <cstdint>, every runtime name and
 every generated member name as model IDs, ports and blackboard keys, and as file stems.
 

@@ -20,10 +20,10 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "generator"))
 
-from btgen.frontend.loader import load_mission  # noqa: E402
-from btgen.interp.engine import Interpreter  # noqa: E402
-from btgen.interp.scenario import parse_scenario_text  # noqa: E402
-from btgen.tools.synth import balanced_mission  # noqa: E402
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import Interpreter
+from btgen.interp.scenario import parse_scenario_text
+from btgen.tools.synth import balanced_mission
 
 
 def measure(path: str, ticks: int, trace: bool) -> dict:
@@ -72,7 +72,8 @@ def main(argv=None) -> int:
     path = args.output
     tmp = None
     if path is None:
-        tmp = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False, encoding="utf-8")
+        tmp = tempfile.NamedTemporaryFile(  # noqa: SIM115  (closed below, kept on disk)
+            "w", suffix=".xml", delete=False, encoding="utf-8")
         path = tmp.name
         tmp.close()
     with open(path, "w", encoding="utf-8") as f:

@@ -20,8 +20,6 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT
-
 from btgen import compiler
 from btgen.diagnostics import UserError
 
@@ -39,7 +37,7 @@ MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
 
 def _compile(mission, out_dir, cwd=None):
     return subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out_dir)],
-                          cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False, timeout=120)
+                          cwd=cwd, capture_output=True, check=False, timeout=120)
 
 
 def _snapshot(out_dir):

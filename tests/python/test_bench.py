@@ -13,8 +13,8 @@ import sys
 
 import pytest
 
-from btgen.tools import synth
 from btgen.cli import main
+from btgen.tools import synth
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BENCH_DIR = os.path.join(ROOT, "bench")
@@ -58,7 +58,7 @@ def bench_20(cache, tmp_path_factory):
     path = tmp_path_factory.mktemp("mission") / "balanced_20.xml"
     path.write_text(synth.balanced_mission(20), encoding="utf-8")
     proc = subprocess.run([sys.executable, "-m", "btgen", "bench", str(path), "--ticks", "50"],
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False,
+                          capture_output=True, check=False,
                           env=dict(os.environ, PYTHONPATH=os.path.join(ROOT, "generator")))
     return proc.returncode, _parse(proc.stdout.decode()), proc.stderr.decode()
 
@@ -87,9 +87,9 @@ def test_report_has_every_key_with_sane_values_and_no_allocation(bench_20):
 def test_binary_with_a_tick_count_only_prints_nothing(bench_20):
     rc, report, err = bench_20
     assert rc == 0, err
-    proc = subprocess.run([report["binary"], "5"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    proc = subprocess.run([report["binary"], "5"], capture_output=True, check=False)
     assert (proc.returncode, proc.stdout, proc.stderr) == (0, b"", b"")
-    bad = subprocess.run([report["binary"], "five"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    bad = subprocess.run([report["binary"], "five"], capture_output=True, check=False)
     assert bad.returncode == 2 and b"usage:" in bad.stderr
 
 
@@ -117,7 +117,7 @@ def test_invalid_mission_is_a_diagnostic_not_a_traceback(capsys, tmp_path):
 
 def test_committed_synthetic_missions_are_what_make_missions_writes():
     proc = subprocess.run([sys.executable, os.path.join(BENCH_DIR, "make_missions.py"), "--check"],
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+                          capture_output=True, check=False)
     assert proc.returncode == 0, proc.stderr.decode()
 
 
@@ -125,8 +125,8 @@ def test_committed_synthetic_missions_are_what_make_missions_writes():
 def test_synthetic_missions_have_exact_size_and_every_tick_visits_every_node(kind, tmp_path):
     from btgen.frontend.loader import load_mission
     from btgen.interp.engine import Interpreter
-    from btgen.ir.lower import creation_order
     from btgen.interp.scenario import parse_scenario_text
+    from btgen.ir.lower import creation_order
 
     n = 60
     path = tmp_path / f"{kind}.xml"

@@ -1,9 +1,18 @@
 """Blackboards, remapping and port access, checked against BehaviorTree.CPP 4.6.2."""
 import pytest
 
-from btgen.lang.blackboard import (Blackboard, BlackboardError, Entry, create_port_entry, get_input,
-                              is_blackboard_pointer, remapped_key, set_blackboard, set_output,
-                              strip_blackboard_pointer)
+from btgen.lang.blackboard import (
+    Blackboard,
+    BlackboardError,
+    Entry,
+    create_port_entry,
+    get_input,
+    is_blackboard_pointer,
+    remapped_key,
+    set_blackboard,
+    set_output,
+    strip_blackboard_pointer,
+)
 from btgen.lang.script import evaluate, parse_script
 from btgen.lang.status import NodeStatus
 from btgen.lang.values import Queue

@@ -8,15 +8,14 @@ from pathlib import Path
 
 import pytest
 
-from conftest import CASES, ROOT
-
 from btgen.backend_cpp import naming
+from btgen.backend_cpp.emit import render
 from btgen.compiler import committed_outputs, compile_command, generate, generator_inputs, main, mission_files
 from btgen.diagnostics import UserError
-from btgen.backend_cpp.emit import render
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
+from conftest import CASES, ROOT, conformance_stems
 
 
 def _write(tmp_path, name, text):
@@ -107,14 +106,8 @@ def _trace_nodes(stem):
     return seen
 
 
-def _stems():
-    if not os.path.isdir(CASES):
-        return []
-    return sorted(f[:-4] for f in os.listdir(CASES) if f.endswith(".xml"))
-
-
-@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
-@pytest.mark.parametrize("stem", _stems() or ["(none)"])
+@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
+@pytest.mark.parametrize("stem", conformance_stems() or ["(none)"])
 def test_uids_are_behaviortree_cpp_creation_order(stem):
     order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(os.path.join(CASES, stem + ".xml")))}
     recorded = _trace_nodes(stem)
@@ -123,7 +116,7 @@ def test_uids_are_behaviortree_cpp_creation_order(stem):
         assert order.get(uid) == (rid, name), f"UID {uid}"
 
 
-@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
+@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
 def test_lowered_table_of_nested_subtrees_matches_the_trace():
     program = lower(load_mission(os.path.join(CASES, "decorators_halted.xml")))
     for uid, (rid, name) in _trace_nodes("decorators_halted").items():
@@ -267,7 +260,7 @@ def test_cli_compile_reports_errors_with_exit_1(tmp_path):
     bad = _write(tmp_path, "bad.xml", _mission('<Sequence><Act/><Precondition if="a"><Act/></Precondition>'
                                                '</Sequence>'))
     proc = subprocess.run([sys.executable, "-m", "btgen", "compile", bad, "-o", str(tmp_path / "o")],
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=str(tmp_path))
+                          capture_output=True, text=True, cwd=str(tmp_path), check=False)
     assert proc.returncode == 1
     assert proc.stderr == (f"{bad}:1:{_col(bad, 'if=') + 4}: error: `if` of `Precondition` \"Precondition\" reads "
                            f"`a`, but nothing creates that blackboard entry: no port, script or SetBlackboard writes "
@@ -343,14 +336,14 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     subprocess.run(cmd, check=True)  # the matching runtime compiles
     version = runtime / "btgen" / "version.hpp"
     version.write_text(version.read_text().replace(f"kRuntimeAbi = {RUNTIME_ABI};", f"kRuntimeAbi = {RUNTIME_ABI + 1};"))
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert proc.returncode != 0
     assert "regenerate it with the btgen that matches your runtime headers" in proc.stdout
 
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
 def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
-    """A model's ports get their getter/setter whether or not the mission sets them (issue 17):
+    """A model's ports get their getter/setter whether or not the mission sets them:
     the same leaf code builds against tests/cpp/missions/leaf_api_{wired,unwired}.xml."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
@@ -371,7 +364,7 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
 def test_user_controls_and_decorators_compile(compiler, tmp_path):
     """A Control or Decorator of TreeNodesModel gets a model class with typed ports and child
-    operations and a tick()/halt() hook (issue 17); it used to be an internal error."""
+    operations and a tick()/halt() hook; it used to be an internal error."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "user_nodes.xml"), relative_to=ROOT)
@@ -396,13 +389,13 @@ def test_run_of_a_user_control_says_it_needs_an_implementation(engine, tmp_path)
     scenario = tmp_path / "m.scenario"
     scenario.write_text("ticks 1\n", encoding="utf-8")
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(mission), "--scenario", str(scenario),
-                           "--engine", engine], capture_output=True, text=True, cwd=str(tmp_path))
+                           "--engine", engine], capture_output=True, text=True, cwd=str(tmp_path), check=False)
     assert proc.returncode == 1, proc.stderr
     assert re.search(r"m\.xml:\d+:\d+: error: `PipelineSequence` is a Control of this mission's TreeNodesModel: it "
                      r"needs your implementation", proc.stderr), proc.stderr
     assert "Traceback" not in proc.stderr
     compiled = subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(tmp_path / "out")],
-                              capture_output=True, text=True, cwd=str(tmp_path))
+                              capture_output=True, text=True, cwd=str(tmp_path), check=False)
     assert compiled.returncode == 0, compiled.stderr
 
 
@@ -417,5 +410,5 @@ def test_a_groot2_tree_text_over_64_kib_builds_with_clang_pedantic(tmp_path):
     (tmp_path / "t.cpp").write_text('#include "scripts_1000.hpp"\nint main() { return 0; }\n')
     proc = subprocess.run(["clang++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
                            f"-I{ROOT}/runtime/include", f"-I{tmp_path}", str(tmp_path / "t.cpp")],
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert proc.returncode == 0, proc.stdout

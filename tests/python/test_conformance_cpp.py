@@ -16,28 +16,21 @@ import os
 import random
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-from conftest import CASES, ROOT
-
-from btgen.tools.cppengine import build_cpp, run_cpp
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
+from btgen.tools.cppengine import build_cpp, run_cpp
+from conftest import CASES, ROOT, case_stems
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 
 
-def _stems():
-    if not os.path.isdir(CASES):
-        return []
-    return sorted(f[:-4] for f in os.listdir(CASES)
-                  if f.endswith(".xml") and os.path.exists(os.path.join(CASES, f[:-4] + ".trace")))
-
-
-STEMS = _stems()
+STEMS = case_stems(CASES, ".trace")
 
 
 def _case(stem, ext):
@@ -62,7 +55,7 @@ def executors():
 
 
 def _run(binary, scenario):
-    proc = subprocess.run([str(binary), scenario], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+    proc = subprocess.run([str(binary), scenario], capture_output=True, check=False)
     return proc.returncode, proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8")
 
 
@@ -96,7 +89,7 @@ def test_run_cpp_streams_output_and_status(capfd):
 def test_cli_runs_the_cpp_engine():
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", _case("fallback_halted", ".xml"),
                            "--scenario", _case("fallback_halted", ".scenario"), "--engine", "cpp"],
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False)
+                          capture_output=True, check=False)
     with open(_case("fallback_halted", ".trace"), "rb") as f:
         assert proc.stdout == f.read()
     assert proc.returncode == 0, proc.stderr
@@ -245,7 +238,7 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
             expected = trace_text(m, sc)
             rc, out, err = _run(binaries[mission], str(scenario))
             assert rc == 0, err
-            assert out == expected, (f"{mission} with {scenario}:\n{open(mission).read()}\n"
+            assert out == expected, (f"{mission} with {scenario}:\n{Path(mission).read_text()}\n"
                                      f"{scenario.read_text()}\n" + _diff(expected, out, "C++ (expected: interp)"))
 
 

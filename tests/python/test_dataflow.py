@@ -4,13 +4,13 @@ import glob
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-from conftest import CASES, ROOT
-
-from btgen.ir.dataflow import DataOptions, analyze
 from btgen.frontend.loader import load_mission
+from btgen.ir.dataflow import DataOptions, analyze
+from conftest import CASES, ROOT
 
 BAD = os.path.join(ROOT, "tests", "bad_data")
 BAD_STEMS = sorted(os.path.basename(p)[:-4] for p in glob.glob(os.path.join(BAD, "*.xml")))
@@ -46,14 +46,14 @@ def test_bad_data_folder_is_complete():
 def test_bad_data_mission_is_rejected_by_compile_and_validate_alike(stem, tmp_path):
     rel = os.path.join("tests", "bad_data", stem + ".xml")
     args_file = os.path.join(BAD, stem + ".args")
-    extra = open(args_file, encoding="utf-8").read().split() if os.path.exists(args_file) else []
+    extra = Path(args_file).read_text(encoding="utf-8").split() if os.path.exists(args_file) else []
     # BehaviorTree.CPP would load it, but a CI gate on `btgen validate` must mean what compile means.
     valid = subprocess.run([sys.executable, "-m", "btgen", "validate", "-q", rel, *extra], cwd=ROOT,
-                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                           capture_output=True, text=True, check=False)
     with open(os.path.join(BAD, stem + ".stderr"), encoding="utf-8") as f:
         assert (valid.returncode, valid.stderr) == (1, f.read())
     proc = subprocess.run([sys.executable, "-m", "btgen", "compile", rel, "-o", str(tmp_path / "out"), *extra],
-                          cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                          cwd=ROOT, capture_output=True, text=True, check=False)
     with open(os.path.join(BAD, stem + ".stderr"), encoding="utf-8") as f:
         expected = f.read()
     assert proc.returncode == 1
@@ -103,7 +103,7 @@ def test_string_capacities_are_computed_and_capped(tmp_path):
         'f := \'v=\' .. 0.5"/></Sequence>'))
     slots, _ = _slots(path, DataOptions(string_capacity=40))
     caps = {k[1]: s.capacity for k, s in slots.items()}
-    # 20: an int's text; f: 2 + 317, a known bound above the capacity (issue 14: `'a' .. 1e300` needs it);
+    # 20: an int's text; f: 2 + 317, a known bound above the capacity (`'a' .. 1e300` needs it);
     # grow: grows without a bound, so the capacity
     assert caps == {"a": 7, "b": 7 + 1 + 20, "grow": 40, "f": 2 + 317}
 
@@ -172,11 +172,11 @@ def test_every_conformance_case_compiles():
     ('<Script code="color := RED"/>', "", "reads `RED`, but nothing creates that blackboard entry"),
 ])
 def test_validate_runs_the_data_side_checks_of_compile(body, models, message, tmp_path):
-    """Issue 17: a port type clash or an undeclared name passed `btgen validate`, then failed compile."""
+    """A port type clash or an undeclared name passed `btgen validate`, then failed compile."""
     path = tmp_path / "m.xml"
     path.write_text(f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}'
                     f'</BehaviorTree><TreeNodesModel>{models}</TreeNodesModel></root>\n', encoding="utf-8")
-    results = [subprocess.run([sys.executable, "-m", "btgen", *cmd], cwd=str(tmp_path), capture_output=True, text=True)
+    results = [subprocess.run([sys.executable, "-m", "btgen", *cmd], cwd=str(tmp_path), capture_output=True, text=True, check=False)
                for cmd in (["validate", "m.xml"], ["compile", "m.xml", "-o", "out"])]
     for r in results:
         assert r.returncode == 1 and message in r.stderr, r.stderr

@@ -6,7 +6,7 @@ Each case is `<stem>.xml` + `<stem>.scenario` with the expected `<stem>.trace`
 source (the comment at the top of each mission says what broke and why the
 expected trace is right), not copied from an engine. Every case runs on the
 interpreter and on the C++ engine; a case the C++ back end does not compile
-yet (issue 5) is skipped there with the back end's reason.
+yet is skipped there with the back end's reason.
 """
 import os
 import subprocess
@@ -14,18 +14,13 @@ import sys
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, case_stems
 
 REG = os.path.join(ROOT, "tests", "regressions")
 UNSUPPORTED_MARK = "not supported by the C++ back end yet"
 
 
-def _stems():
-    return sorted(f[:-4] for f in os.listdir(REG) if f.endswith(".xml")
-                  and os.path.exists(os.path.join(REG, f[:-4] + ".scenario")))
-
-
-STEMS = _stems()
+STEMS = case_stems(REG, ".scenario")
 
 
 def _expected(stem):
@@ -41,8 +36,7 @@ def _expected(stem):
 def _run(stem, engine):
     rel = os.path.join("tests", "regressions", stem)
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", rel + ".xml", "--scenario", rel + ".scenario",
-                           "--engine", engine], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          check=False, timeout=600)
+                           "--engine", engine], cwd=ROOT, capture_output=True, check=False, timeout=600)
     return proc.returncode, proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8")
 
 
@@ -71,7 +65,7 @@ def test_runtime_error_names_the_mission_as_given(engine, tmp_path):
     stem = "runtime_error_ends_tick"
     src = os.path.join(REG, stem)
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", src + ".xml", "--scenario", src + ".scenario",
-                           "--engine", engine], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+                           "--engine", engine], cwd=tmp_path, capture_output=True, text=True, timeout=600, check=False)
     rc, trace, stderr = _expected(stem)
     rel = os.path.join("tests", "regressions", stem + ".xml")
     assert (proc.returncode, proc.stdout) == (rc, trace)

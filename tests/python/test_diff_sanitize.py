@@ -18,8 +18,8 @@ from conftest import CASES, ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
-import difftest  # noqa: E402
-from btgen.tools.cppengine import cxx_flags  # noqa: E402
+import difftest
+from btgen.tools.cppengine import cxx_flags
 
 REG = os.path.join(ROOT, "tests", "regressions")
 SEEDS = range(0, int(os.environ.get("BTGEN_SANITIZE_SEEDS", "25")))

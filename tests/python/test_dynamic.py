@@ -14,10 +14,9 @@ import sys
 
 import pytest
 
-from conftest import ROOT
-
-from btgen.ir.dataflow import analyze
 from btgen.frontend.loader import load_mission
+from btgen.ir.dataflow import analyze
+from conftest import ROOT
 
 MODELS = ('<TreeNodesModel><Action ID="A"><input_port name="p"/></Action>'
           '<Action ID="B"><input_port name="n" type="int"/></Action></TreeNodesModel>')
@@ -65,7 +64,7 @@ PROBES = {
 
 def _run(path, scenario, engine):
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", path, "--scenario", scenario, "--engine", engine],
-                          cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False, timeout=600)
+                          cwd=ROOT, capture_output=True, check=False, timeout=600)
     return proc.returncode, proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8")
 
 

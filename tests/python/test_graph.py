@@ -11,9 +11,9 @@ import pytest
 
 from btgen.cli import main
 from btgen.frontend.loader import load_mission
-from btgen.tools.graph import FILL, WAS_FILL, walk
 from btgen.ir.lower import creation_order
 from btgen.ir.treexml import groot2_tree
+from btgen.tools.graph import FILL, WAS_FILL, walk
 
 ROOT = Path(__file__).resolve().parents[2]
 MISSION = ROOT / "tests" / "groot2" / "monitored.xml"

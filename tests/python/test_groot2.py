@@ -259,7 +259,7 @@ def test_recording_gives_the_same_transitions(pair, executor):
             reply = c.request("r", b"start")
             assert len(reply) == 2 and abs(int(reply[1]) - time.time() * 1e6) < 120e6
         got = {id(a): [], id(b): []}
-        for n in range(TICKS[executor.name]):
+        for _n in range(TICKS[executor.name]):
             assert ref.tick() == cpp.tick()
             for c in (a, b):
                 buf = c.request("t")[1]
@@ -275,7 +275,7 @@ def test_recording_gives_the_same_transitions(pair, executor):
 
 def test_btlog_records_agree(pair, executor):
     ref, cpp, _, _, tmp = pair
-    for n in range(TICKS[executor.name]):
+    for _n in range(TICKS[executor.name]):
         assert ref.tick() == cpp.tick()
     assert cpp.close() == 0
     ref.close()
@@ -306,12 +306,12 @@ def test_btlog_records_agree(pair, executor):
 def test_btview_snapshot_shows_the_same_lines(pair):
     ref, cpp, p_ref, p_cpp, _ = pair
     btview = str(Path(sys.executable).parent / "btview")
-    for n in range(3):
+    for _n in range(3):
         assert ref.tick() == cpp.tick()
 
     def snapshot(port: int) -> str:
-        proc = subprocess.run([btview, "snapshot", "-p", str(port), "--uid", "--no-color"], stdout=subprocess.PIPE,
-                              stderr=subprocess.PIPE, text=True, timeout=60)
+        proc = subprocess.run([btview, "snapshot", "-p", str(port), "--uid", "--no-color"], capture_output=True,
+                              text=True, timeout=60, check=False)
         assert proc.returncode == 0, proc.stderr
         return proc.stdout
 
@@ -362,7 +362,7 @@ def test_protocol_robustness_the_executor_keeps_ticking(executor, tmp_path):
         assert good.request("T")[1].startswith(b"<root")
         # Two clients at once, interleaved with ticks.
         other = Client(port)
-        for n in range(3):
+        for _n in range(3):
             cpp.tick()
             s1, s2 = good.request("S"), other.request("S")
             assert s1[1] == s2[1] and len(s1[1]) == 3 * 20

@@ -1,4 +1,4 @@
-"""Hostile names and inputs (issue 14): every mission name becomes a C++ identifier that
+"""Hostile names and inputs: every mission name becomes a C++ identifier that
 builds, with both compilers, optimised or not, warnings as errors."""
 import os
 import shutil
@@ -8,10 +8,9 @@ import time
 
 import pytest
 
-from conftest import ROOT
 import hostile_names
 from btgen.backend_cpp import naming
-from btgen.tools.fuzzgen import HOSTILE_NAMES
+from conftest import ROOT
 
 RUNTIME = os.path.join(ROOT, "runtime", "include")
 DRIVER = os.path.join(ROOT, "runtime", "src", "main_driver.cpp")
@@ -59,12 +58,12 @@ def test_hostile_names_build(hostile_sources, compiler, opt):
 
 def test_pool_covers_the_issue():
     pool = set(hostile_names.pool())
-    assert naming.CPP_KEYWORDS <= pool
+    assert pool >= naming.CPP_KEYWORDS
     assert set(hostile_names.compiler_macros("g++")) <= pool
     assert {"std", "btgen", "detail", "NULL", "errno", "EOF", "kId", "kKind", "kModel", "node", "blackboard",
             "bb_", "err_", "node_", "scratch0_"} <= pool
     assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
-    assert ISSUE_STEMS <= pool
+    assert pool >= ISSUE_STEMS
 
 
 def test_compilers_define_no_macro_btgen_does_not_know():
@@ -153,7 +152,7 @@ def test_interpreter_bounds_a_doubling_string(tmp_path):
     (tmp_path / "m.xml").write_text(DOUBLING, encoding="utf-8")
     (tmp_path / "s.scenario").write_text("ticks 60\n", encoding="utf-8")
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 1
     assert proc.stderr == (f"m.xml:5:52: error: script error in `code` of `Script` \"Script\": `..` would make a "
                            f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
@@ -184,7 +183,7 @@ def _run(tmp_path, engine, scenario, env=None, shell=False):
     cmd = [sys.executable, "-m", "btgen", "run", "two.xml", "--scenario", scenario, "--engine", engine]
     if shell:  # bash for `<(...)`
         cmd = ["bash", "-c", " ".join(cmd[:6]) + f" {scenario} --engine {engine}"]
-    return subprocess.run(cmd, cwd=tmp_path, capture_output=True, timeout=600, env=env)
+    return subprocess.run(cmd, cwd=tmp_path, capture_output=True, timeout=600, env=env, check=False)
 
 
 @pytest.mark.parametrize("engine", ["interp", "cpp"])
@@ -241,7 +240,7 @@ def test_cpp_engine_with_an_unusable_cache_dir(tmp_path, bad):
 
 def _compile(mission, out, cwd):
     return subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)], cwd=cwd,
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True, timeout=120, check=False)
 
 
 def test_compile_refuses_to_overwrite_its_input(tmp_path):
@@ -277,6 +276,6 @@ def test_header_and_source_of_two_runs_do_not_build(tmp_path):
     subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], check=True)
     (tmp_path / "a" / "m.hpp").write_bytes((tmp_path / "b" / "m.hpp").read_bytes())  # the mix
     proc = subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], capture_output=True,
-                          text=True)
+                          text=True, check=False)
     assert proc.returncode != 0
     assert "m.hpp and m.cpp come from different btgen runs: run btgen compile again" in proc.stderr

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 import xmlschema
 
-from btgen.kb import lint as kb
 from btgen.cli import main
 from btgen.diagnostics import Loc, UserError
+from btgen.kb import lint as kb
 
 ROOT = Path(__file__).resolve().parents[2]
 BAD = ROOT / "tests" / "bad_kb"

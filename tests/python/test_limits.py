@@ -9,21 +9,17 @@ import sys
 
 import pytest
 
-from conftest import ROOT
-
-from btgen.frontend import loader as frontend
-
-from btgen.interp import scenario as scenario_mod
-
-from btgen.lang import script
-
-from btgen.frontend import xmlsource
 from btgen.diagnostics import UserError
+from btgen.frontend import loader as frontend
+from btgen.frontend import xmlsource
 from btgen.frontend.loader import load_mission
+from btgen.interp import scenario as scenario_mod
 from btgen.interp.engine import trace_text
-from btgen.kb.lint import KB_MAX_FILE_BYTES, lint_kb
-from btgen.ir.lower import lower
 from btgen.interp.scenario import parse_scenario, parse_scenario_text
+from btgen.ir.lower import lower
+from btgen.kb.lint import KB_MAX_FILE_BYTES, lint_kb
+from btgen.lang import script
+from conftest import ROOT
 
 MODEL = '<TreeNodesModel><Action ID="Act"/></TreeNodesModel>'
 
@@ -92,8 +88,8 @@ def test_65535_nodes_build_and_run_on_both_engines(tmp_path, monkeypatch, cxx):
     scen = _write(tmp_path, "one.scenario", "ticks 1\n")
     mission = load_mission(str(mission_path))
     expected = trace_text(mission, parse_scenario_text("ticks 1\n"))
-    proc = subprocess.run([str(build_cpp(str(mission_path))), str(scen)], stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, check=False, timeout=300)
+    proc = subprocess.run([str(build_cpp(str(mission_path))), str(scen)], capture_output=True,
+                          check=False, timeout=300)
     assert (proc.returncode, proc.stderr) == (0, b"")
     assert proc.stdout.decode() == expected
     # Sequences and SubTrees go to RUNNING, SUCCESS and IDLE, leaves to SUCCESS and IDLE; tick and result
@@ -156,11 +152,10 @@ def test_expanded_depth_is_bounded_by_the_node_count_alone(tmp_path):
     mission = load_mission(str(p))
     assert lower(mission).max_depth == 4800
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(p), "--scenario", str(scen)],
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False, timeout=300)
+                          capture_output=True, check=False, timeout=300)
     assert (proc.returncode, proc.stderr) == (0, b"")
     assert b'4800 Act "a" IDLE -> RUNNING' in proc.stdout and proc.stdout.endswith(b"result SUCCESS\n")
-    cpp = subprocess.run([str(build_cpp(str(p))), str(scen)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         check=False, timeout=300)
+    cpp = subprocess.run([str(build_cpp(str(p))), str(scen)], capture_output=True, check=False, timeout=300)
     assert (cpp.returncode, cpp.stdout, cpp.stderr) == (0, proc.stdout, b"")
 
 
@@ -177,7 +172,7 @@ def test_script_nesting():
 def test_include_depth(tmp_path):
     for i in range(34):
         nxt = f'<include path="f{i + 1}.xml"/>' if i < 33 else ""
-        tree = f'<BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree>' if i == 0 else ""
+        tree = '<BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree>' if i == 0 else ""
         _write(tmp_path, f"f{i}.xml", f'<root BTCPP_format="4">{nxt}{tree}</root>\n')
     errors = _errors(tmp_path / "f0.xml")
     assert len(errors) == 1 and errors[0].endswith("error: includes nested deeper than 32 files"), errors

@@ -5,7 +5,8 @@ import pytest
 
 from btgen.backend_cpp import naming
 from btgen.cli import main
-from btgen.compiler import generate, main as build_info, mission_files
+from btgen.compiler import generate, mission_files
+from btgen.compiler import main as build_info
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 

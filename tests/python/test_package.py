@@ -19,18 +19,17 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT
-
 from btgen import resources
 from btgen.version import __version__
+from conftest import ROOT
 
 USER_PROJECT = Path(ROOT) / "examples" / "user_project"
 PACKAGING = ("pyproject.toml", "setup.py", "MANIFEST.in", "requirements.txt", "generator")
 
 
 def _run(cmd, cwd, env=None, check=True):
-    proc = subprocess.run([str(c) for c in cmd], cwd=str(cwd), env=env, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True, check=False)
+    proc = subprocess.run([str(c) for c in cmd], cwd=str(cwd), env=env, capture_output=True,
+                          text=True, check=False)
     if check and proc.returncode != 0:
         raise AssertionError(f"{' '.join(map(str, cmd))} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}")
     return proc

@@ -4,18 +4,24 @@ Errors must stop `btgen run` before any trace line: exit status 1, nothing on
 stdout, `path:line:col: error: ...` on stderr. A `leaf` line naming no leaf
 of the mission is only a warning.
 """
+import dataclasses
 import os
 import subprocess
 import sys
 
 import pytest
 
-from conftest import ROOT
-
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
-from btgen.interp.scenario import (DEFAULT_TICKS, check_scenario, load_scenario, mission_leaves, parse_scenario,
-                            parse_scenario_text)
+from btgen.interp.scenario import (
+    DEFAULT_TICKS,
+    check_scenario,
+    load_scenario,
+    mission_leaves,
+    parse_scenario,
+    parse_scenario_text,
+)
+from conftest import ROOT
 
 MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
@@ -50,7 +56,7 @@ def run_cli(tmp_path, scenario_text, mission="m.xml"):
     (tmp_path / "s.scenario").write_text(scenario_text, encoding="utf-8")
     return subprocess.run([sys.executable, "-m", "btgen", "run", mission, "--scenario", "s.scenario"],
                           cwd=tmp_path, capture_output=True, text=True, timeout=120,
-                          env={**os.environ, "PYTHONPATH": os.path.join(ROOT, "generator")})
+                          env={**os.environ, "PYTHONPATH": os.path.join(ROOT, "generator")}, check=False)
 
 
 # ---------------------------------------------------------------- parsing
@@ -67,12 +73,12 @@ def test_full_file_model():
                             "leaf PickBall RUNNING RUNNING SUCCESS\r\n"
                             "clock_ms 100\n", "x.scenario")
     assert s.ticks == 20 and s.default == "FAILURE" and s.clock_ms == 100
-    assert [(l.name, l.statuses) for l in s.leaves] == [("FindBall", ("FAILURE", "SUCCESS")),
+    assert [(leaf.name, leaf.statuses) for leaf in s.leaves] == [("FindBall", ("FAILURE", "SUCCESS")),
                                                         ("PickBall", ("RUNNING", "RUNNING", "SUCCESS"))]
     find = s.leaf("FindBall")
     assert (find.loc.line, find.loc.col) == (3, 7)
-    assert [(l.line, l.col) for l in find.status_locs] == [(3, 16), (3, 24)]
-    with pytest.raises(Exception):
+    assert [(loc.line, loc.col) for loc in find.status_locs] == [(3, 16), (3, 24)]
+    with pytest.raises(dataclasses.FrozenInstanceError):
         s.ticks = 3  # frozen
 
 
@@ -181,7 +187,7 @@ def test_scripted_condition_failure_is_fine(tmp_path, mission_path):
 
 def test_missing_scenario_file(tmp_path, mission_path):
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "nope.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == ["nope.scenario:1:1: error: cannot read scenario: No such file or directory"]
 
@@ -189,7 +195,7 @@ def test_missing_scenario_file(tmp_path, mission_path):
 def test_invalid_utf8(tmp_path, mission_path):
     (tmp_path / "s.scenario").write_bytes(b"ticks 2\nleaf Mo\xffve SUCCESS\n")
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == ["s.scenario:2:8: error: invalid UTF-8 (byte 0xff); scenarios must be UTF-8"]
 
@@ -198,7 +204,7 @@ def test_mission_errors_come_first(tmp_path):
     (tmp_path / "bad.xml").write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
     (tmp_path / "s.scenario").write_text("ticks 0\n")
     proc = subprocess.run([sys.executable, "-m", "btgen", "run", "bad.xml", "--scenario", "s.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.startswith("bad.xml:1:")
 

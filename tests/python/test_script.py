@@ -7,11 +7,27 @@ import math
 
 import pytest
 
-from btgen.lang.blackboard import Blackboard
 from btgen.diagnostics import Loc
-from btgen.lang.script import (Assign, Binary, Compare, Literal, Name, Script, ScriptRuntimeError, ScriptSyntaxError,
-                          Ternary, Unary, evaluate, format_expr, parse_script, script_error_loc, script_truth,
-                          variables_read, variables_written)
+from btgen.lang.blackboard import Blackboard
+from btgen.lang.script import (
+    Assign,
+    Binary,
+    Compare,
+    Literal,
+    Name,
+    Script,
+    ScriptRuntimeError,
+    ScriptSyntaxError,
+    Ternary,
+    Unary,
+    evaluate,
+    format_expr,
+    parse_script,
+    script_error_loc,
+    script_truth,
+    variables_read,
+    variables_written,
+)
 from btgen.lang.status import NodeStatus
 from btgen.lang.values import Queue
 

@@ -4,10 +4,21 @@ import math
 import pytest
 
 from btgen.lang.status import NodeStatus
-from btgen.lang.values import (ConversionError, Queue, cast, convert_from_string, copy_into, format_double,
-                          is_casting_safe, is_number, is_opaque_type, normalize_type, queue_element_type, to_text,
-                          type_of)
-
+from btgen.lang.values import (
+    ConversionError,
+    Queue,
+    cast,
+    convert_from_string,
+    copy_into,
+    format_double,
+    is_casting_safe,
+    is_number,
+    is_opaque_type,
+    normalize_type,
+    queue_element_type,
+    to_text,
+    type_of,
+)
 
 # ------------------------------------------------------------------ status
 

@@ -6,7 +6,8 @@ tests/python/test_compiler.py. Templates never build a name themselves.
 from __future__ import annotations
 
 import re
-from typing import Callable, Iterable, Optional, Union
+from collections.abc import Iterable
+from typing import Callable, Optional, Union
 
 from btgen.backend_cpp.cpp_reserved import GLOBALS, MACROS
 

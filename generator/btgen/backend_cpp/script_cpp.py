@@ -30,12 +30,13 @@ are those of btgen/lang/script.py, which is the reference.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Optional, Sequence
+from typing import Callable, Optional
 
+from btgen.backend_cpp.naming import cpp_string
 from btgen.lang import script as sc
 from btgen.lang import values
-from btgen.backend_cpp.naming import cpp_string
 
 NUMERIC = ("int", "double", "bool", "status")
 # The kind of a dynamic slot (btgen::Dyn<N>: its type changes at run time) and of
@@ -337,7 +338,7 @@ class CodeWriter:
         fail = f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
         self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}{self.msg_args}); !({call})) {fail}")
 
-    def to_ref(self, v: "Val") -> str:
+    def to_ref(self, v: Val) -> str:
         """The value as a btgen::dyn::Ref (empty when it has none)."""
         if v.kind == DYN:
             return v.expr  # type: ignore[return-value]
@@ -353,7 +354,7 @@ class CodeWriter:
     def errc_check(self, call: str, offset: int, message: str) -> None:
         self.check(f"{call} != btgen::Errc::kOk", offset, message)
 
-    def text_number(self, v: "Val", offset: int, op: str, side: str) -> str:
+    def text_number(self, v: Val, offset: int, op: str, side: str) -> str:
         """A string read as a number (StringToDouble: `true`, `false`, else from_chars)."""
         if v.literal is not None:
             text = v.literal
@@ -376,7 +377,7 @@ class CodeWriter:
         self.dyn_call(f"btgen::dyn::string_to_double({v.expr}, {t}, dm)", offset)
         return t
 
-    def as_double(self, v: "Val", offset: int, what: str) -> str:
+    def as_double(self, v: Val, offset: int, what: str) -> str:
         if v.kind == "double":
             return v.expr  # type: ignore[return-value]
         if v.kind == "int" and isinstance(v.literal, int) and abs(v.literal) <= 2 ** 53:
@@ -549,7 +550,7 @@ class ScriptCompiler(CodeWriter):
         else:
             self.emit(f"double {t} = 0.0;")
             self.errc_check(f"btgen::script::complement({d}, {t})", node.offset,
-                            f"the operand of `~` is out of range")
+                            "the operand of `~` is out of range")
         return Val("double", t, None)
 
     def binary(self, node: sc.Binary) -> Val:

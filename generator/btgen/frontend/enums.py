@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from typing import Iterable, Optional, Sequence
+from collections.abc import Iterable, Sequence
+from typing import Optional
 
-from btgen.lang import script as sc
 from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang import script as sc
 from btgen.lang.model import Attr, Mission, Node
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -124,7 +125,7 @@ def _substitute(e, table: dict[str, int]):
         if e.name in table:
             return sc.Literal(float(table[e.name]), e.name, e.offset)
         return e
-    if not dataclasses.is_dataclass(e):
+    if not dataclasses.is_dataclass(e) or isinstance(e, type):
         return e
     changes = {}
     for f in dataclasses.fields(e):

@@ -10,18 +10,30 @@ from __future__ import annotations
 
 import os
 import re
-from typing import Optional, Sequence
+from collections.abc import Sequence
+from typing import Optional
 
 from lxml import etree
 
+from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import script as script_lang
 from btgen.lang import values
-from btgen.lang.catalogue import (BUILTINS, KEY_NAME_PORTS, KIND_CHILDREN, KINDS, POST_CONDITIONS, PRE_CONDITIONS,
-                        RESERVED_PORT_NAMES, SCRIPT_PORTS, SPECIAL_ATTRIBUTES, METADATA_ATTRIBUTES, NodeSpec,
-                        PortSpec)
-from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.lang.catalogue import (
+    BUILTINS,
+    KEY_NAME_PORTS,
+    KIND_CHILDREN,
+    KINDS,
+    METADATA_ATTRIBUTES,
+    POST_CONDITIONS,
+    PRE_CONDITIONS,
+    RESERVED_PORT_NAMES,
+    SCRIPT_PORTS,
+    SPECIAL_ATTRIBUTES,
+    NodeSpec,
+    PortSpec,
+)
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
-from btgen.frontend.xmlsource import Source, read_source
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -448,11 +460,10 @@ class _Loader:
         if is_remap(value):
             self._check_key(attr, remap_key(value, attr.name), what)
             return attr
-        if "{" in value or "}" in value:
-            if value.startswith("{") or value.endswith("}"):
-                self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: "
-                                                f"write `{{key}}`")
-                return attr
+        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
+            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: "
+                                            f"write `{{key}}`")
+            return attr
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
         if (spec.id, attr.name) in KEY_NAME_PORTS:

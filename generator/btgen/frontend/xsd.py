@@ -15,17 +15,17 @@ from __future__ import annotations
 import functools
 import os
 import re
-from typing import Iterable
+from collections.abc import Iterable
 from xml.sax.saxutils import quoteattr
 
 import xmlschema
 from lxml import etree
 
 from btgen import resources
-from btgen.lang.catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
 from btgen.diagnostics import Diagnostic, Loc
-from btgen.lang.model import Mission
 from btgen.frontend.xmlsource import Source
+from btgen.lang.catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from btgen.lang.model import Mission
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
 SCHEMA_DIR = str(resources.SCHEMA_DIR)
@@ -35,7 +35,7 @@ def _schema_path(name: str) -> str:
     return os.path.join(SCHEMA_DIR, name)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def structure_schema() -> xmlschema.XMLSchema:
     return xmlschema.XMLSchema(_schema_path("btcpp_v4.xsd"))
 

@@ -1,4 +1,4 @@
-"""The data side of a mission, resolved at compile time (issue 5).
+"""The data side of a mission, resolved at compile time.
 
 BehaviorTree.CPP 4.6.2 keeps one blackboard per tree instance, a map from
 key to a type-erased entry, and finds entries by string at run time
@@ -35,15 +35,23 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from btgen.backend_cpp import script_cpp as scpp
+from btgen.backend_cpp.naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
+from btgen.backend_cpp.script_cpp import (
+    DYN,
+    ScriptTypeError,
+    cpp_view,
+    describe_kind,
+    is_numeric,
+    is_queue,
+    kind_of_type,
+)
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
-from btgen.backend_cpp import script_cpp as scpp
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
-from btgen.backend_cpp.naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
-from btgen.backend_cpp.script_cpp import DYN, ScriptTypeError, cpp_view, describe_kind, is_numeric, is_queue, kind_of_type
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16
@@ -476,10 +484,13 @@ class _Analyzer:
                 text = attr.value[n.offset:_end_offset(n, attr.value)].strip() or attr.value
                 what = f"`{text}` in {prefix}"
                 if n.op in (":=", "="):
-                    kind_fn = (lambda v=value, nm=names: self._expr_kind(v, nm))
-                    bound_fn = (lambda v=value, nm=names: self._expr_bound(v, nm))
+                    def kind_fn(v=value, nm=names):
+                        return (self._expr_kind(v, nm))
+                    def bound_fn(v=value, nm=names):
+                        return (self._expr_bound(v, nm))
                 else:
-                    kind_fn = (lambda t=target: self.slots[t].kind)
+                    def kind_fn(t=target):
+                        return (self.slots[t].kind)
                     bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
                 lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
                 if lit is not None and n.op in (":=", "="):
@@ -812,7 +823,7 @@ class _Analyzer:
                         changed = True
                         break
 
-    def _mark_typed_number_dynamic(self, s: "_Slot") -> None:
+    def _mark_typed_number_dynamic(self, s: _Slot) -> None:
         """A typed number entry (a port declared it `int` or `double`) that a script may give
         its first value with the other kind of number (`speed := 1` for a double port): 4.6.2's
         Any::copyInto into the empty entry stores the value as it is, so the entry then holds
@@ -885,7 +896,7 @@ class _Analyzer:
         owner_of: dict[int, tuple[str, str, int]] = {}
         for bb in self.bbs:
             for key in bb.local_keys():
-                entry = bb._storage[key]  # noqa: SLF001 - the reference blackboard's own storage
+                entry = bb._storage[key]
                 owner_of[id(entry)] = (self.bb_labels[id(bb)], key, self.bb_uid.get(id(bb), 0))
         raw_names = []
         for s in self.slots:
@@ -1073,7 +1084,7 @@ class _Compiler:
     # ------------------------------------------------------------ data nodes
     def unset(self, inst: _Inst, op: dict) -> CodeIR:
         key = op["key"]
-        entry = inst.bb._storage.get(key)  # noqa: SLF001 - UnsetBlackboard removes only this blackboard's own entry
+        entry = inst.bb._storage.get(key)
         body: list[str] = []
         if entry is not None:
             slot = self.a.slot_of_entry[id(entry)]
@@ -1088,7 +1099,7 @@ class _Compiler:
         for kind, inst, op in self.a.node_ops:
             if kind != "unset":
                 continue
-            entry = inst.bb._storage.get(op["key"])  # noqa: SLF001
+            entry = inst.bb._storage.get(op["key"])
             if entry is None:
                 continue
             s = self.a.slots[self.a.slot_of_entry[id(entry)]]
@@ -1258,7 +1269,7 @@ class _Compiler:
         ok = self.read_text(slot, raw, "v", body)
         if ok != "true":
             body.append(f"if (!{ok}) return {n_cases};")
-        for i, (cname, craw, cslot) in enumerate(reads[1:]):
+        for i, (_cname, craw, cslot) in enumerate(reads[1:]):
             if cslot is None and craw is not None:
                 body.append(f"if (btgen::switch_equal(v, {cpp_view(craw)})) return {i};")
                 continue

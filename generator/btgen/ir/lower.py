@@ -17,13 +17,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Optional
 
+from btgen.backend_cpp.naming import model_identifiers
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
+from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS
-from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
-from btgen.backend_cpp.naming import model_identifiers
-from btgen.ir.treexml import Groot2Tree, groot2_tree
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.

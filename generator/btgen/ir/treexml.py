@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from btgen.lang.catalogue import BUILTINS, NodeSpec, POST_CONDITIONS, PRE_CONDITIONS
+from btgen.lang.catalogue import BUILTINS, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec
 from btgen.lang.model import Mission, Node, SubTreeNode
 
 # 4.6.2's demangled type names for the canonical ones (values.normalize_type reads them back).

@@ -26,8 +26,9 @@ from __future__ import annotations
 import functools
 import os
 import re
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Iterator, Optional, Sequence
+from typing import Any, Optional
 from xml.etree import ElementTree as ET
 
 import xmlschema
@@ -68,7 +69,7 @@ _PLACEHOLDER_RE = re.compile(
 SCHEMA_PATH = str(resources.SCHEMA_DIR / "environment_knowledge_base.xsd")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def kb_schema() -> xmlschema.XMLSchema10:
     """The compiled schema (built once per process)."""
     return xmlschema.XMLSchema10(SCHEMA_PATH)
@@ -624,7 +625,7 @@ def _build_model(path: str, entries: Sequence[_Entry], warnings: Sequence[Diagno
     locations = []
     for lid in sorted(by_id):
         e = by_id[lid]
-        first = min((x.key.loc for x in e.values()), key=lambda l: (l.line, l.col))
+        first = min((x.key.loc for x in e.values()), key=lambda loc: (loc.line, loc.col))
         locations.append(Location(
             id=lid, loc=first, description=text(e, "robotLocationDescription"),
             pose=Pose(*nums(e, "robotLocationPose")), gesture_target=Point3(*nums(e, "gestureTarget")),

@@ -23,7 +23,8 @@ Errors raise :class:`BlackboardError`.
 """
 from __future__ import annotations
 
-from typing import Iterable, Optional
+from collections.abc import Iterable
+from typing import Optional
 
 from btgen.lang import values
 from btgen.lang.values import ANY, STRING, ConversionError, Value
@@ -78,7 +79,7 @@ def _is_private(key: str) -> bool:
 class Blackboard:
     """A blackboard, optionally the child of a SubTree's parent blackboard."""
 
-    def __init__(self, parent: Optional["Blackboard"] = None, *, autoremap: bool = False) -> None:
+    def __init__(self, parent: Optional[Blackboard] = None, *, autoremap: bool = False) -> None:
         self.parent = parent
         self.autoremap = autoremap
         self._storage: dict[str, Entry] = {}
@@ -86,7 +87,7 @@ class Blackboard:
 
     # ----------------------------------------------------------- structure
     @property
-    def root(self) -> "Blackboard":
+    def root(self) -> Blackboard:
         bb = self
         while bb.parent is not None:
             bb = bb.parent
@@ -105,8 +106,8 @@ class Blackboard:
         return tuple(self._storage)
 
     @classmethod
-    def for_subtree(cls, parent: "Blackboard", ports: Iterable[tuple[str, str]],
-                    autoremap: bool = False) -> "Blackboard":
+    def for_subtree(cls, parent: Blackboard, ports: Iterable[tuple[str, str]],
+                    autoremap: bool = False) -> Blackboard:
         """The blackboard 4.6.2's XML loader makes for a SubTree instance.
 
         ``ports`` are the SubTree element's port attributes (name, value),

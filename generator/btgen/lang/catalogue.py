@@ -50,7 +50,7 @@ class NodeSpec:
     max_children: Optional[int] = 0  # None: no upper bound
     description: str = ""
     loc: Optional[Loc] = None  # where a TreeNodesModel declares it
-    _index: dict = field(default=None, compare=False, hash=False, repr=False)  # type: ignore[assignment]
+    _index: dict = field(default=None, compare=False, hash=False, repr=False)  # type: ignore[arg-type]  # filled in __post_init__
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_index", {p.name: p for p in self.ports})
@@ -109,7 +109,7 @@ def _switch(n: int) -> NodeSpec:
         _in(f"case_{i}", "string", required=True) for i in range(1, n + 1)
     )
     return NodeSpec(f"Switch{n}", "Control", ports, True, n + 1, n + 1,
-                    f"ticks the child of the first case equal to `variable`, else the last (default) child")
+                    "ticks the child of the first case equal to `variable`, else the last (default) child")
 
 
 def _loop(id_: str, elem: str) -> NodeSpec:

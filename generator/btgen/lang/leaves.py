@@ -6,8 +6,9 @@ returns); a Control or Decorator declared in the mission's TreeNodesModel is a *
 """
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Iterator, Optional
+from typing import Optional
 
 from btgen.lang.model import Mission, Node, SubTreeNode
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Optional
 
-from btgen.lang.catalogue import BUILTINS, NodeSpec
 from btgen.diagnostics import Diagnostic, Loc
+from btgen.lang.catalogue import BUILTINS, NodeSpec
 
 
 @dataclass(frozen=True)
@@ -34,7 +34,7 @@ class Node:
     ports: tuple[Attr, ...]  # port assignments (for a SubTree: its remappings)
     pre: tuple[Attr, ...]  # _failureIf, _successIf, _skipIf, _while as written
     post: tuple[Attr, ...]  # _onHalted, _onFailure, _onSuccess, _post as written
-    children: tuple["Node", ...]
+    children: tuple[Node, ...]
     loc: Loc
     autoremap: bool = False  # SubTree only
 

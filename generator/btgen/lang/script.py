@@ -35,12 +35,13 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Callable, Iterator, Mapping, Optional, TypeVar, Union
+from typing import Callable, Optional, TypeVar, Union
 
+from btgen.diagnostics import Loc
 from btgen.lang import values
 from btgen.lang.blackboard import Blackboard, Entry
-from btgen.diagnostics import Loc
 from btgen.lang.values import ConversionError, Queue, Value
 
 
@@ -109,7 +110,7 @@ class Unary:
     result is a double."""
 
     op: str
-    operand: "Expr"
+    operand: Expr
     offset: int
 
 
@@ -126,8 +127,8 @@ class Binary:
     ``2.500000``). Anything else is an error."""
 
     op: str
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
     offset: int
     op_offset: int
 
@@ -142,7 +143,7 @@ class Compare:
     ``false`` 0, an enum name, else ``std::from_chars``)."""
 
     ops: tuple[str, ...]
-    operands: tuple["Expr", ...]
+    operands: tuple[Expr, ...]
     offset: int
     op_offsets: tuple[int, ...]
 
@@ -152,9 +153,9 @@ class Ternary:
     """``cond ? then : orelse``: cond must be a number (or a string holding
     one), true when non-zero; only the chosen branch is evaluated."""
 
-    cond: "Expr"
-    then: "Expr"
-    orelse: "Expr"
+    cond: Expr
+    then: Expr
+    orelse: Expr
     offset: int
     op_offset: int
 
@@ -176,7 +177,7 @@ class Assign:
 
     op: str
     target: str
-    value: "Expr"
+    value: Expr
     offset: int
     op_offset: int
 
@@ -541,7 +542,7 @@ MAX_NESTING = 32  # parentheses, `?:` middles and prefix operators inside each o
 MAX_DEPTH = 100  # levels of the syntax tree (evaluation and C++ code recurse on it)
 
 
-def _depth(node: "Expr") -> tuple[int, int]:
+def _depth(node: Expr) -> tuple[int, int]:
     """(depth of the tree under ``node``, offset of its deepest node), without recursion."""
     best = (0, node.offset)
     stack = [(node, 1)]

@@ -38,7 +38,8 @@ from __future__ import annotations
 import collections
 import math
 import re
-from typing import Iterable, Optional, Union
+from collections.abc import Iterable
+from typing import Optional, Union
 
 from btgen.lang.status import NodeStatus
 
@@ -400,7 +401,7 @@ def format_double(value: float) -> str:
     """``std::to_string(double)``: ``printf("%f")``, e.g. ``6.000000``, ``-nan``."""
     if math.isnan(value):
         return "-nan" if math.copysign(1.0, value) < 0 else "nan"
-    return "%f" % value
+    return f"{value:f}"
 
 
 def to_text(value: Value) -> str:

@@ -20,12 +20,13 @@ from __future__ import annotations
 import argparse
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional
 
 from btgen import resources
-from btgen.tools.cppengine import build_mission_executable
 from btgen.diagnostics import InternalError
+from btgen.tools.cppengine import build_mission_executable
 
 BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
 ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"
@@ -55,8 +56,7 @@ def parse_report(text: str) -> dict[str, str]:
 
 def run_report(binary: Path, ticks: int) -> dict[str, str]:
     """Run `binary ticks --report`; its numbers by key."""
-    proc = subprocess.run([str(binary), str(ticks), "--report"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          check=False)
+    proc = subprocess.run([str(binary), str(ticks), "--report"], capture_output=True, check=False)
     if proc.returncode != 0:
         raise InternalError(f"{binary} {ticks} --report exited with {proc.returncode}:\n"
                             + proc.stderr.decode("utf-8", "replace"))

@@ -25,16 +25,16 @@ import shutil
 import subprocess
 import sys
 import tempfile
-from functools import lru_cache
+from collections.abc import Sequence
+from functools import cache
 from pathlib import Path
-from typing import Optional, Sequence
-
-from btgen.backend_cpp import naming
+from typing import Optional
 
 from btgen import resources
+from btgen.backend_cpp import naming
+from btgen.backend_cpp.emit import render
 from btgen.compiler import mission_stem
 from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError
-from btgen.backend_cpp.emit import render
 
 ROOT = resources.ROOT
 RUNTIME_INCLUDE = resources.RUNTIME_INCLUDE
@@ -65,7 +65,7 @@ def compiler() -> str:
     return os.environ.get("CXX") or "c++"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _compiler_identity(cxx: str) -> str:
     """`c++ --version` (which compiler, which version): part of the cache key."""
     path = shutil.which(cxx)
@@ -110,10 +110,9 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
+    from btgen.frontend import enums as enums_mod
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
-
-    from btgen.frontend import enums as enums_mod
 
     mission = enums_mod.apply(load_mission(mission_path, models, main_tree), enums)
     if warnings is not None:
@@ -151,7 +150,7 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     except OSError as e:
         raise UserError(Diagnostic(Loc(mission_path, 1, 1),
                                    f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
-                                   f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory"))
+                                   f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory")) from None
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")
@@ -210,7 +209,7 @@ def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
     if out_fd is not None and err_fd is not None:
         return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False,
                               pass_fds=pass_fds).returncode
-    proc = subprocess.run([str(binary), scenario_path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, check=False,
+    proc = subprocess.run([str(binary), scenario_path], capture_output=True, check=False,
                           pass_fds=pass_fds)
     sys.stdout.write(proc.stdout.decode("utf-8", "replace"))
     sys.stderr.write(proc.stderr.decode("utf-8", "replace"))

@@ -16,6 +16,7 @@ is read up to record N (default: all); its tree must be the mission's.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import struct
@@ -27,8 +28,8 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError
-from btgen.lang.model import Mission, Node, SubTreeNode
 from btgen.ir.treexml import subtree_path
+from btgen.lang.model import Mission, Node, SubTreeNode
 
 STATUS_NAMES = ("IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED")
 FILL = {"RUNNING": "#f5a623", "SUCCESS": "#7ed321", "FAILURE": "#e74c3c", "SKIPPED": "#9ecae1", "IDLE": "#ffffff"}
@@ -162,11 +163,11 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
         raise _error(path, 1, 1, f"the log has {count} records; there is no record {record}")
     status: dict[int, str] = {}
     for k in range(count if record is None else record):
-        uid = int.from_bytes(body[9 * k + 6:9 * k + 8], "little")
+        rec_uid = int.from_bytes(body[9 * k + 6:9 * k + 8], "little")
         code = body[9 * k + 8]
-        if uid not in mine or code >= len(STATUS_NAMES):
-            raise _error(path, 1, 1, f"record {k + 1}: UID {uid} status {code} is not valid for this mission")
-        _was(status, uid, STATUS_NAMES[code])
+        if rec_uid not in mine or code >= len(STATUS_NAMES):
+            raise _error(path, 1, 1, f"record {k + 1}: UID {rec_uid} status {code} is not valid for this mission")
+        _was(status, rec_uid, STATUS_NAMES[code])
     return status, count if record is None else record
 
 
@@ -259,8 +260,7 @@ def graph_command(args) -> int:
         print("btgen: error: Graphviz `dot` is not installed (Debian: apt-get install graphviz); "
               "write a .dot file instead", file=sys.stderr)
         return 1
-    proc = subprocess.run([dot, "-Tsvg"], input=text.encode("utf-8"), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          timeout=600)
+    proc = subprocess.run([dot, "-Tsvg"], input=text.encode("utf-8"), capture_output=True, timeout=600, check=False)
     if proc.returncode != 0:
         print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}",
               file=sys.stderr)
@@ -284,8 +284,6 @@ def _write(path: str, data: bytes) -> None:
         os.chmod(tmp, 0o666 & ~umask)  # what a new file gets (mkstemp's are 0600)
         os.replace(tmp, path)
     except OSError as e:
-        try:
+        with contextlib.suppress(OSError):
             os.unlink(tmp)
-        except OSError:
-            pass
         raise _error(path, 1, 1, f"cannot write: {e.strerror}") from None

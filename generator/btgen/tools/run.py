@@ -8,12 +8,12 @@ status 1.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
-from typing import Sequence
 
+from btgen.diagnostics import print_diagnostics
 from btgen.frontend import enums
-from btgen.diagnostics import Diagnostic, print_diagnostics
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
 
@@ -59,8 +59,6 @@ def run_command(args) -> int:
             pass
         return EXIT_INPUT
     finally:
-        try:
+        with contextlib.suppress(BrokenPipeError, ValueError):
             out.flush()
-        except (BrokenPipeError, ValueError):
-            pass
     return EXIT_OK

@@ -33,19 +33,21 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Optional, Sequence
+from collections.abc import Sequence
+from typing import Optional
 
 SUCCESS_LEAVES = ("Work", "Ready")  # an Action and a Condition, both default SUCCESS
 KINDS = ("balanced", "reactive", "subtrees", "scripts")
 
 # The script variant: leaves that succeed, and one that fails, over entry `n`.
+SUCCESS_LEAF_ELEMENTS = tuple(f"<{leaf}/>" for leaf in SUCCESS_LEAVES)
 SCRIPT_SUCCESS_LEAVES = ('<Script code="n += 1"/>', '<ScriptCondition code="n &gt;= 0"/>',
                          '<Work _failureIf="n &lt; 0"/>')
 SCRIPT_FAILURE_LEAF = '<ScriptCondition code="n &lt; 0"/>'
 
 
 def _body(n_nodes: int, branching: int, depth: int, *, sequence: str = "Sequence", fallback: str = "Fallback",
-          success_leaves: Sequence[str] = tuple(f"<{x}/>" for x in SUCCESS_LEAVES),
+          success_leaves: Sequence[str] = SUCCESS_LEAF_ELEMENTS,
           failure_leaf: str = "<AlwaysFailure/>", name_prefix: str = "") -> list[str]:
     """The lines of a balanced subtree of `n_nodes` nodes that succeeds, indented for `depth`."""
     if n_nodes < 1:
