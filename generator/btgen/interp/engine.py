@@ -78,7 +78,7 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
-from btgen.lang.model import Mission, Node, SubTreeNode
+from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 from btgen.lang.status import NodeStatus
 
 # ================================================================ building the tree
@@ -163,12 +163,13 @@ class _Builder:
 
     def _node(self, model: Node, bb) -> TreeNode:
         rt = self.rt
+        node: TreeNode
         if isinstance(model, SubTreeNode):
-            node = SubTreeRunNode(rt, model, bb, "SubTree", {})
-            self.nodes.append(node)
+            subtree = SubTreeRunNode(rt, model, bb, "SubTree", {})
+            self.nodes.append(subtree)
             child_bb = self._subtree_blackboard(model, bb)
-            node.child = self._node(self.trees[model.target].root, child_bb)
-            return node
+            subtree.child = self._node(self.trees[model.target].root, child_bb)
+            return subtree
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
         if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
@@ -205,7 +206,7 @@ class _Builder:
     def _subtree_blackboard(self, model: SubTreeNode, parent_bb):
         """recursivelyCreateSubtree: a child blackboard with the SubTree's remappings."""
         model_spec = next((m for m in self.mission.models if m.id == model.target and m.kind == "SubTree"), None)
-        remap = [(a.name, a.value, a) for a in model.ports]
+        remap: list[tuple[str, str, Optional[Attr]]] = [(a.name, a.value, a) for a in model.ports]
         if model_spec is not None and not model.autoremap:
             given = {a.name for a in model.ports}
             for ps in model_spec.ports:

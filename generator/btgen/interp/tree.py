@@ -376,11 +376,11 @@ class _ScriptPort:
         self.node = node
         self.name = name
         p = node.ports.get(name)
-        self.attr = p.attr if p is not None else None
-        self.literal = self.attr is not None and self.attr.script is not None \
-            and not bbmod.is_blackboard_pointer(self.attr.value)
-        self.parsed = self.attr.script if self.literal else None
-        self.text = self.attr.value if self.literal else None
+        attr = p.attr if p is not None else None
+        self.attr: Optional[Attr] = attr
+        self.literal = attr is not None and attr.script is not None and not bbmod.is_blackboard_pointer(attr.value)
+        self.parsed = attr.script if attr is not None and self.literal else None
+        self.text = attr.value if attr is not None and self.literal else None
 
     def load(self):
         if not self.literal:
@@ -391,10 +391,15 @@ class _ScriptPort:
         return self.parsed
 
     def run(self):
-        return self.node.run_script(self.attr, self.load(), not self.literal)
+        parsed = self.load()
+        # load() fails for a missing port, and `code`/`if` have no model default
+        assert self.attr is not None
+        return self.node.run_script(self.attr, parsed, not self.literal)
 
     def truth(self) -> bool:
-        return self.node.truth(self.attr, self.load(), not self.literal)
+        parsed = self.load()
+        assert self.attr is not None
+        return self.node.truth(self.attr, parsed, not self.literal)
 
 
 def _entry_of(node):
