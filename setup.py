@@ -6,6 +6,7 @@ btgen.resources.DATA_FILES names) to btgen/_data/ in the build directory,
 where btgen.resources finds them once installed. Everything else is in
 pyproject.toml.
 """
+
 import os
 import shutil
 import sys

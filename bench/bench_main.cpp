@@ -52,13 +52,19 @@ namespace {
 // benchmark keeps building when hooks gain parameters (ports, blackboard).
 struct InstantLeaves {
   template <class Model, class... Rest>
-  btgen::Status onStart(Model&, Rest&&...) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status onStart(Model&, Rest&&...) noexcept {
+    return btgen::Status::SUCCESS;
+  }
   template <class Model, class... Rest>
-  btgen::Status onRunning(Model&, Rest&&...) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status onRunning(Model&, Rest&&...) noexcept {
+    return btgen::Status::SUCCESS;
+  }
   template <class Model, class... Rest>
   void onHalted(Model&, Rest&&...) noexcept {}
   template <class Model, class... Rest>
-  btgen::Status check(Model&, Rest&&...) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status check(Model&, Rest&&...) noexcept {
+    return btgen::Status::SUCCESS;
+  }
 };
 
 using Mission = BTGEN_MISSION_TEMPLATE<InstantLeaves, btgen::ManualClock, btgen::NoObserver>;

@@ -23,6 +23,7 @@ SUCCESS) one tick of the root visits every node and succeeds:
 
 Output is deterministic, so the committed files are what this script writes.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -53,35 +54,65 @@ def museum_mission() -> str:
     SubTree, a ReactiveSequence guarding a tour of exhibit SubTrees, two
     Parallels and a docking SubTree under a RetryUntilSuccessful. With leaves
     that succeed at once one tick visits every node and succeeds."""
-    exhibit = ["    <Sequence name=\"Exhibit\">", "      <Ready/>",
-               "      <Fallback name=\"Approach\">", "        <Inverter>", "          <Ready/>", "        </Inverter>",
-               "        <Work/>", "      </Fallback>", "      <Work/>", "      <Work/>", "    </Sequence>"]
-    startup = ["    <Sequence name=\"Startup\">", "      <Ready/>", "      <Work/>",
-               "      <ForceSuccess>", "        <Work/>", "      </ForceSuccess>", "      <Work/>", "    </Sequence>"]
-    dock = ["    <Sequence name=\"Dock\">", "      <Ready/>", "      <Work/>", "      <Work/>", "    </Sequence>"]
-    main = ["    <Sequence name=\"Museum\">",
-            "      <SubTree ID=\"Startup\"/>",
-            "      <ReactiveSequence name=\"Guarded\">",
-            "        <Ready/>",
-            "        <Ready/>",
-            "        <Sequence name=\"Tour\">"]
-    main += [f"          <SubTree ID=\"Exhibit\" name=\"Exhibit{i}\"/>" for i in range(5)]
-    main += ["        </Sequence>",
-             "      </ReactiveSequence>",
-             "      <Parallel name=\"Present\" success_count=\"2\" failure_count=\"1\">",
-             "        <SubTree ID=\"Exhibit\" name=\"Highlight\"/>",
-             "        <Sequence>", "          <Ready/>", "          <Work/>", "        </Sequence>",
-             "        <Work/>",
-             "      </Parallel>",
-             "      <RetryUntilSuccessful num_attempts=\"3\">",
-             "        <SubTree ID=\"Dock\"/>",
-             "      </RetryUntilSuccessful>",
-             "      <Parallel name=\"Farewell\" success_count=\"-1\" failure_count=\"1\">",
-             "        <Work/>", "        <Work/>", "        <Ready/>",
-             "        <Sequence>", "          <Ready/>", "          <Work/>", "        </Sequence>",
-             "      </Parallel>",
-             "      <SubTree ID=\"Exhibit\" name=\"Goodbye\"/>",
-             "    </Sequence>"]
+    exhibit = [
+        '    <Sequence name="Exhibit">',
+        "      <Ready/>",
+        '      <Fallback name="Approach">',
+        "        <Inverter>",
+        "          <Ready/>",
+        "        </Inverter>",
+        "        <Work/>",
+        "      </Fallback>",
+        "      <Work/>",
+        "      <Work/>",
+        "    </Sequence>",
+    ]
+    startup = [
+        '    <Sequence name="Startup">',
+        "      <Ready/>",
+        "      <Work/>",
+        "      <ForceSuccess>",
+        "        <Work/>",
+        "      </ForceSuccess>",
+        "      <Work/>",
+        "    </Sequence>",
+    ]
+    dock = ['    <Sequence name="Dock">', "      <Ready/>", "      <Work/>", "      <Work/>", "    </Sequence>"]
+    main = [
+        '    <Sequence name="Museum">',
+        '      <SubTree ID="Startup"/>',
+        '      <ReactiveSequence name="Guarded">',
+        "        <Ready/>",
+        "        <Ready/>",
+        '        <Sequence name="Tour">',
+    ]
+    main += [f'          <SubTree ID="Exhibit" name="Exhibit{i}"/>' for i in range(5)]
+    main += [
+        "        </Sequence>",
+        "      </ReactiveSequence>",
+        '      <Parallel name="Present" success_count="2" failure_count="1">',
+        '        <SubTree ID="Exhibit" name="Highlight"/>',
+        "        <Sequence>",
+        "          <Ready/>",
+        "          <Work/>",
+        "        </Sequence>",
+        "        <Work/>",
+        "      </Parallel>",
+        '      <RetryUntilSuccessful num_attempts="3">',
+        '        <SubTree ID="Dock"/>',
+        "      </RetryUntilSuccessful>",
+        '      <Parallel name="Farewell" success_count="-1" failure_count="1">',
+        "        <Work/>",
+        "        <Work/>",
+        "        <Ready/>",
+        "        <Sequence>",
+        "          <Ready/>",
+        "          <Work/>",
+        "        </Sequence>",
+        "      </Parallel>",
+        '      <SubTree ID="Exhibit" name="Goodbye"/>',
+        "    </Sequence>",
+    ]
     return synth._document("Main", [("Main", main), ("Startup", startup), ("Exhibit", exhibit), ("Dock", dock)])
 
 
@@ -102,8 +133,11 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     expected = missions()
     if args.check:
-        stale = [name for name, text in expected.items()
-                 if not (MISSION_DIR / name).is_file() or (MISSION_DIR / name).read_text(encoding="utf-8") != text]
+        stale = [
+            name
+            for name, text in expected.items()
+            if not (MISSION_DIR / name).is_file() or (MISSION_DIR / name).read_text(encoding="utf-8") != text
+        ]
         for name in stale:
             print(f"bench/missions/{name} is out of date: run bench/make_missions.py", file=sys.stderr)
         return 1 if stale else 0

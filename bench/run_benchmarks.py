@@ -37,6 +37,7 @@ bench/make_missions.py writes them):
 
 Missions the C++ back end cannot compile yet show `n/a (issue 5)` in its columns.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -99,8 +100,11 @@ def children_cpu() -> float:
 
 def callgrind_instructions(binary: Path, ticks: int) -> int:
     """Instructions callgrind counts for `binary ticks` (start-up included)."""
-    proc = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", str(binary),
-                           str(ticks)], capture_output=True, check=False)
+    proc = subprocess.run(
+        ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", str(binary), str(ticks)],
+        capture_output=True,
+        check=False,
+    )
     err = proc.stderr.decode("utf-8", "replace")
     m = re.search(r"Collected\s*:\s*(\d+)", err)
     if proc.returncode != 0 or m is None:
@@ -112,8 +116,13 @@ def time_btgen_compile(mission: str) -> tuple[Optional[float], str]:
     """CPU seconds of `btgen compile MISSION` (None when it does not compile) and its stderr."""
     with tempfile.TemporaryDirectory(prefix="btgen-bench-") as out:
         before = children_cpu()
-        proc = subprocess.run(BTGEN + ["compile", mission, "-o", out], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE, check=False, env=_env())
+        proc = subprocess.run(
+            BTGEN + ["compile", mission, "-o", out],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            check=False,
+            env=_env(),
+        )
         spent = children_cpu() - before
     return (spent if proc.returncode == 0 else None), proc.stderr.decode("utf-8", "replace")
 
@@ -227,9 +236,23 @@ def vs_btcpp(r: Row) -> str:
 
 
 def table(rows: list[Row]) -> str:
-    head = ("mission", "nodes", "visited/tick", "instr/tick", "instr/visit", "vs BT.CPP", "ns/tick",
-            "allocs create", "allocs/tick", "state B", "state B/node", "binary KiB", "btgen s", "g++ -O2 s",
-            "interp ticks/s")
+    head = (
+        "mission",
+        "nodes",
+        "visited/tick",
+        "instr/tick",
+        "instr/visit",
+        "vs BT.CPP",
+        "ns/tick",
+        "allocs create",
+        "allocs/tick",
+        "state B",
+        "state B/node",
+        "binary KiB",
+        "btgen s",
+        "g++ -O2 s",
+        "interp ticks/s",
+    )
     lines = ["| " + " | ".join(head) + " |", "|" + "|".join(["---"] + ["---:"] * (len(head) - 1)) + "|"]
     for r in rows:
         name = os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name
@@ -238,10 +261,23 @@ def table(rows: list[Row]) -> str:
         if r.cpp is not None:
             cells = [f"`{name}`", _num(r.nodes), r.cpp] + ["n/a"] * 9 + [btgen_s, "n/a", interp]
         else:
-            cells = [f"`{name}`", _num(r.nodes), _num(r.visited, 0), _num(r.instr_tick, 0),
-                     _num(r.instr_tick / r.visited, 1) if r.visited else "-", vs_btcpp(r), _num(r.ns_tick, 0),
-                     r.allocs_create, r.allocs_tick, _num(r.state_bytes), f"{r.state_bytes / r.nodes:.2f}",
-                     _num(r.binary_bytes / 1024, 0), btgen_s, f"{r.gxx_s:.2f}", interp]
+            cells = [
+                f"`{name}`",
+                _num(r.nodes),
+                _num(r.visited, 0),
+                _num(r.instr_tick, 0),
+                _num(r.instr_tick / r.visited, 1) if r.visited else "-",
+                vs_btcpp(r),
+                _num(r.ns_tick, 0),
+                r.allocs_create,
+                r.allocs_tick,
+                _num(r.state_bytes),
+                f"{r.state_bytes / r.nodes:.2f}",
+                _num(r.binary_bytes / 1024, 0),
+                btgen_s,
+                f"{r.gxx_s:.2f}",
+                interp,
+            ]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -265,8 +301,13 @@ def machine() -> list[str]:
     except OSError:
         pass
     commit = _first_line(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"])
-    dirty = subprocess.run(["git", "-C", str(ROOT), "diff", "--quiet", "HEAD", "--", "runtime", "generator",
-                            "templates", "bench"], check=False).returncode != 0
+    dirty = (
+        subprocess.run(
+            ["git", "-C", str(ROOT), "diff", "--quiet", "HEAD", "--", "runtime", "generator", "templates", "bench"],
+            check=False,
+        ).returncode
+        != 0
+    )
     return [
         f"- date: {datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d')} (UTC), "
         f"btgen commit {commit}{' with local changes' if dirty else ''}",
@@ -300,29 +341,43 @@ def targets(rows: list[Row]) -> list[str]:
         best = min(r.instr_tick / r.visited for r in families)
         verdict = "met" if worst <= TARGET_INSTR_PER_VISIT else "**missed**"
         lo, hi = BTCPP_INSTR_PER_NODE
-        out.append(f"- instructions per visited node on the balanced, reactive and SubTree missions <= "
-                   f"{TARGET_INSTR_PER_VISIT}: {verdict} ({best:.1f} to {worst:.1f}; BehaviorTree.CPP 4.6.2 "
-                   f"spends {lo:,} to {hi:,} according to the issue, so {lo / worst:.0f} to {hi / best:.0f} "
-                   f"times fewer)")
+        out.append(
+            f"- instructions per visited node on the balanced, reactive and SubTree missions <= "
+            f"{TARGET_INSTR_PER_VISIT}: {verdict} ({best:.1f} to {worst:.1f}; BehaviorTree.CPP 4.6.2 "
+            f"spends {lo:,} to {hi:,} according to the issue, so {lo / worst:.0f} to {hi / best:.0f} "
+            f"times fewer)"
+        )
     for r in built:
         known = BTCPP_INSTR_PER_TICK.get(os.path.basename(r.name))
         if known is not None and r.instr_tick:
             ratio = known / r.instr_tick
             verdict = "met" if ratio >= TARGET_RATIO else "**missed**"
-            out.append(f"- {TARGET_RATIO}x fewer instructions per tick than BehaviorTree.CPP 4.6.2 on `{r.name}`: "
-                       f"{verdict} ({r.instr_tick:,.0f} against {known:,}: {ratio:.1f}x; goal <= "
-                       f"{known / TARGET_RATIO:,.0f})")
+            out.append(
+                f"- {TARGET_RATIO}x fewer instructions per tick than BehaviorTree.CPP 4.6.2 on `{r.name}`: "
+                f"{verdict} ({r.instr_tick:,.0f} against {known:,}: {ratio:.1f}x; goal <= "
+                f"{known / TARGET_RATIO:,.0f})"
+            )
     alloc_bad = [r for r in built if r.allocs_create != "0" or float(r.allocs_tick or 0) != 0.0]
-    out.append("- 0 allocations at creation and per tick: "
-               + ("met on every mission built" if not alloc_bad else
-                  "**missed** on " + ", ".join(f"`{r.name}`" for r in alloc_bad)))
+    out.append(
+        "- 0 allocations at creation and per tick: "
+        + (
+            "met on every mission built"
+            if not alloc_bad
+            else "**missed** on " + ", ".join(f"`{r.name}`" for r in alloc_bad)
+        )
+    )
     over = [r for r in built if r.state_bytes > TARGET_STATE_PER_NODE * r.nodes]
     worst_state = max(built, key=lambda r: r.state_bytes / r.nodes)
-    out.append(f"- state <= {TARGET_STATE_PER_NODE} bytes per node plus the blackboard (`state B` includes "
-               f"the blackboard where a mission has one): "
-               + ("met" if not over else "**missed** on "
-                  + ", ".join(f"`{r.name}` ({r.state_bytes:,} B for {r.nodes:,} nodes)" for r in over))
-               + f"; largest {worst_state.state_bytes / worst_state.nodes:.2f} B/node")
+    out.append(
+        f"- state <= {TARGET_STATE_PER_NODE} bytes per node plus the blackboard (`state B` includes "
+        f"the blackboard where a mission has one): "
+        + (
+            "met"
+            if not over
+            else "**missed** on " + ", ".join(f"`{r.name}` ({r.state_bytes:,} B for {r.nodes:,} nodes)" for r in over)
+        )
+        + f"; largest {worst_state.state_bytes / worst_state.nodes:.2f} B/node"
+    )
     by_size = sorted((r for r in built if r.btgen_s is not None), key=lambda r: r.nodes)
     if balanced and len(balanced) >= 2:
         small, big = min(balanced, key=lambda r: r.nodes), max(balanced, key=lambda r: r.nodes)
@@ -330,10 +385,12 @@ def targets(rows: list[Row]) -> list[str]:
         slope = (total(big) - total(small)) / (big.nodes - small.nodes) * 1000
         slowest = max(by_size, key=total)
         verdict = "met" if total(slowest) < TARGET_COMPILE_S else "**missed**"
-        out.append(f"- compile time (btgen + g++ -O2) under {TARGET_COMPILE_S:.0f} s at 10,000 nodes: {verdict} "
-                   f"(largest {total(slowest):.1f} s CPU, `{slowest.name}`); growth on the balanced trees "
-                   f"{total(small):.1f} s at {small.nodes:,} nodes to {total(big):.1f} s at {big.nodes:,}: "
-                   f"a fixed {total(small):.1f} s plus about {slope:.2f} s per 1,000 nodes")
+        out.append(
+            f"- compile time (btgen + g++ -O2) under {TARGET_COMPILE_S:.0f} s at 10,000 nodes: {verdict} "
+            f"(largest {total(slowest):.1f} s CPU, `{slowest.name}`); growth on the balanced trees "
+            f"{total(small):.1f} s at {small.nodes:,} nodes to {total(big):.1f} s at {big.nodes:,}: "
+            f"a fixed {total(small):.1f} s plus about {slope:.2f} s per 1,000 nodes"
+        )
     return out
 
 
@@ -353,17 +410,25 @@ ISSUE20_STEPS = [
 
 
 def section(rows: list[Row], command: str) -> str:
-    parts = [SECTION, "",
-             f"Measured by `{command}` (method: the docstring of `bench/run_benchmarks.py`; one "
-             f"mission: `btgen bench MISSION.xml`). Leaves finish at once (Actions SUCCESS from "
-             f"`onStart`, Conditions SUCCESS), the clock does not move, so every tick does the same work.",
-             "", *machine(), "", table(rows), ""]
+    parts = [
+        SECTION,
+        "",
+        f"Measured by `{command}` (method: the docstring of `bench/run_benchmarks.py`; one "
+        f"mission: `btgen bench MISSION.xml`). Leaves finish at once (Actions SUCCESS from "
+        f"`onStart`, Conditions SUCCESS), the clock does not move, so every tick does the same work.",
+        "",
+        *machine(),
+        "",
+        table(rows),
+        "",
+    ]
     goals = targets(rows)
     if goals:
         parts += ["Targets of issues 7 and 20:", "", *goals, ""]
     notes = list(ISSUE20_STEPS)
-    notes += [f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}"
-              for r in rows for n in r.notes]
+    notes += [
+        f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}" for r in rows for n in r.notes
+    ]
     notes += [f"- `{r.name}`: interpreter {r.interp_note}" for r in rows if r.interp_note]
     if notes:
         parts += ["Notes:", "", *notes, ""]
@@ -395,8 +460,13 @@ def main(argv: Optional[list[str]] = None) -> int:
     p.add_argument("missions", nargs="*", metavar="MISSION.xml", help="default: missions/*.xml and bench/missions")
     p.add_argument("--quick", action="store_true", help="fewer ticks (for a smoke test; numbers less steady)")
     p.add_argument("--update-readme", action="store_true", help="replace README.md's Performance section")
-    p.add_argument("--readme", type=Path, default=README, metavar="PATH",
-                   help="the README --update-readme edits (default: this tree's README.md)")
+    p.add_argument(
+        "--readme",
+        type=Path,
+        default=README,
+        metavar="PATH",
+        help="the README --update-readme edits (default: this tree's README.md)",
+    )
     args = p.parse_args(argv)
     os.chdir(ROOT)
     if make_missions.main(["--check"]) != 0:

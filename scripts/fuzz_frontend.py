@@ -21,12 +21,13 @@ another exception (a traceback, an internal error), never more than
 --time-limit seconds of CPU (ITIMER_PROF: the process's own work, so a
 loaded machine does not make a slow input out of a fast one), nor
 WALL_FACTOR times that in wall-clock time (ITIMER_REAL: an input that blocks
-without computing), never unbounded memory (RLIMIT_AS, set here). `--cli K` also sends every K-th input through the real `btgen`
-executable and checks its exit status (0 or 1) and stderr.
+without computing), never unbounded memory (RLIMIT_AS, set here). `--cli K` also
+sends every K-th input through the real `btgen` executable and checks its exit status (0 or 1) and stderr.
 
 A finding is written to --keep (default build/fuzz-frontend) with the
 traceback; the exit status is 1 when there is any.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -47,7 +48,7 @@ from typing import Callable, Optional
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "generator"))
 CASES = ROOT.parent / "shared" / "conformance" / "cases"
-MEMORY_LIMIT = 2 * 1024 ** 3
+MEMORY_LIMIT = 2 * 1024**3
 
 from btgen.diagnostics import UserError
 from btgen.lang.catalogue import BUILTINS
@@ -71,8 +72,12 @@ def _alarm(signum, frame):  # pragma: no cover - only on a hang
 def mission_corpus() -> list[bytes]:
     from btgen.tools.fuzzgen import random_mission
 
-    files = sorted(CASES.glob("*.xml")) + sorted((ROOT / "missions").glob("*.xml")) \
-        + sorted((ROOT / "tests" / "bad_missions").glob("*.xml")) + sorted((ROOT / "tests" / "regressions").glob("*.xml"))
+    files = (
+        sorted(CASES.glob("*.xml"))
+        + sorted((ROOT / "missions").glob("*.xml"))
+        + sorted((ROOT / "tests" / "bad_missions").glob("*.xml"))
+        + sorted((ROOT / "tests" / "regressions").glob("*.xml"))
+    )
     corpus = [f.read_bytes() for f in files]
     corpus += [random_mission(s, f).encode("utf-8") for s in range(8) for f in ("control", "full")]
     return corpus
@@ -89,40 +94,193 @@ def config_corpus() -> list[bytes]:
 
 
 # ------------------------------------------------------------------ mutations
-TOKENS = [b"<", b">", b"/>", b"</", b"&", b"&amp;", b"&#0;", b"&#x110000;", b"&#9;", b"&lt;", b"&bogus;", b'"', b"'",
-          b"=", b"{", b"}", b"{=}", b"{@x}", b"@", b";", b":=", b"..", b"\x00", b"\xff", b"\xc3", b"\xe2\x82",
-          b"\r", b"\r\n", b"\t", b" ", b"\n", b"<!-- c -->", b"<![CDATA[x]]>", b"<?pi x?>", b"<!DOCTYPE r>",
-          b'<!ENTITY e "x">', b"\xef\xbb\xbf", b"-1", b"0", b"99999999999999999999", b"1e308", b"nan", b"-0",
-          b"true", b"FAILURE", b"SKIPPED", b"RUNNING", b"IV. Act", b"name", b"ID", b"_skipIf", b"_autoremap",
-          b'<include path="missing.xml"/>', b'<include path="."/>', b'<include path="/dev/null"/>',
-          b'<include ros_pkg="p" path="x"/>', b'<SubTree ID="Main"/>', b"main_tree_to_execute",
-          b'BTCPP_format="3"', b"<TreeNodesModel>", b"</TreeNodesModel>", b"<BehaviorTree ID=\"X\">",
-          b"</BehaviorTree>", b'<MetadataFields><Metadata k="v"/></MetadataFields>', b"<MetadataFields>",
-          b'editable="true"', b'_uid="7"', b'_fullpath="A::3"', b"\xf0\x9f\x98\x80", b"\xe2\x80\xae", b"x" * 300, b"\\", b"%s%n", b"${x}"]
-NODE_NAMES = [n.encode() for n in BUILTINS] + [b"Action", b"Condition", b"Control", b"Decorator", b"SubTree",
-                                              b"root", b"BehaviorTree", b"TreeNodesModel", b"input_port",
-                                              b"output_port", b"inout_port", b"include", b"MetadataFields",
-                                              b"Metadata", b"Bogus"]
-ATTR_VALUES = [b"", b" ", b"-1", b"0", b"1", b"2", b"65536", b"4294967296", b"-2147483649", b"1.5", b"0x10", b"abc",
-               b"{key}", b"{}", b"{=}", b"{ key }", b"{@key}", b"a;b;c", b";;", b"x := 1", b"x == 1", b"x = = 1",
-               b"((((((((((1))))))))))", b"(" * 300 + b"1" + b")" * 300, b"a &lt; b", b"'unterminated", b"1 ? 2 : 3",
-               b"SUCCESS", b"FAILURE", b"SKIPPED", b"RUNNING", b"IDLE", b"true", b"false", b"nan", b"inf",
-               b"\xc3\xa9", b"&#10;", b"&quot;", b"{a}{b}"]
+TOKENS = [
+    b"<",
+    b">",
+    b"/>",
+    b"</",
+    b"&",
+    b"&amp;",
+    b"&#0;",
+    b"&#x110000;",
+    b"&#9;",
+    b"&lt;",
+    b"&bogus;",
+    b'"',
+    b"'",
+    b"=",
+    b"{",
+    b"}",
+    b"{=}",
+    b"{@x}",
+    b"@",
+    b";",
+    b":=",
+    b"..",
+    b"\x00",
+    b"\xff",
+    b"\xc3",
+    b"\xe2\x82",
+    b"\r",
+    b"\r\n",
+    b"\t",
+    b" ",
+    b"\n",
+    b"<!-- c -->",
+    b"<![CDATA[x]]>",
+    b"<?pi x?>",
+    b"<!DOCTYPE r>",
+    b'<!ENTITY e "x">',
+    b"\xef\xbb\xbf",
+    b"-1",
+    b"0",
+    b"99999999999999999999",
+    b"1e308",
+    b"nan",
+    b"-0",
+    b"true",
+    b"FAILURE",
+    b"SKIPPED",
+    b"RUNNING",
+    b"IV. Act",
+    b"name",
+    b"ID",
+    b"_skipIf",
+    b"_autoremap",
+    b'<include path="missing.xml"/>',
+    b'<include path="."/>',
+    b'<include path="/dev/null"/>',
+    b'<include ros_pkg="p" path="x"/>',
+    b'<SubTree ID="Main"/>',
+    b"main_tree_to_execute",
+    b'BTCPP_format="3"',
+    b"<TreeNodesModel>",
+    b"</TreeNodesModel>",
+    b'<BehaviorTree ID="X">',
+    b"</BehaviorTree>",
+    b'<MetadataFields><Metadata k="v"/></MetadataFields>',
+    b"<MetadataFields>",
+    b'editable="true"',
+    b'_uid="7"',
+    b'_fullpath="A::3"',
+    b"\xf0\x9f\x98\x80",
+    b"\xe2\x80\xae",
+    b"x" * 300,
+    b"\\",
+    b"%s%n",
+    b"${x}",
+]
+NODE_NAMES = [n.encode() for n in BUILTINS] + [
+    b"Action",
+    b"Condition",
+    b"Control",
+    b"Decorator",
+    b"SubTree",
+    b"root",
+    b"BehaviorTree",
+    b"TreeNodesModel",
+    b"input_port",
+    b"output_port",
+    b"inout_port",
+    b"include",
+    b"MetadataFields",
+    b"Metadata",
+    b"Bogus",
+]
+ATTR_VALUES = [
+    b"",
+    b" ",
+    b"-1",
+    b"0",
+    b"1",
+    b"2",
+    b"65536",
+    b"4294967296",
+    b"-2147483649",
+    b"1.5",
+    b"0x10",
+    b"abc",
+    b"{key}",
+    b"{}",
+    b"{=}",
+    b"{ key }",
+    b"{@key}",
+    b"a;b;c",
+    b";;",
+    b"x := 1",
+    b"x == 1",
+    b"x = = 1",
+    b"((((((((((1))))))))))",
+    b"(" * 300 + b"1" + b")" * 300,
+    b"a &lt; b",
+    b"'unterminated",
+    b"1 ? 2 : 3",
+    b"SUCCESS",
+    b"FAILURE",
+    b"SKIPPED",
+    b"RUNNING",
+    b"IDLE",
+    b"true",
+    b"false",
+    b"nan",
+    b"inf",
+    b"\xc3\xa9",
+    b"&#10;",
+    b"&quot;",
+    b"{a}{b}",
+]
 # Hostile names: C++ keywords, macros, the runtime's and the generated code's own names
 # and IDs with white space, quotes, backslashes or a trigraph, as tokens, attribute values, keys.
 HOSTILE = [n.encode() for n in HOSTILE_NAMES] + [b"a\nb", b"a b", b'a"b', b"a\\b", b"ends ??/", b"bt_node"]
 TOKENS += HOSTILE
 NODE_NAMES += [n.encode() for n in HOSTILE_NAMES[:12]]
 ATTR_VALUES += HOSTILE + [b"{" + n + b"}" for n in HOSTILE[:20]] + [b"'a' .. 1e300", b"1 | 2.5", b"~1e30"]
-KB_TOKENS = [b"robotLocationPose", b"robotLocationDescription", b"gestureTarget", b"tour", b"culturalKnowledge",
-             b"preGestureMessageEnglish", b"postGestureMessageIsiZulu", b"knowledgeBase", b"verboseMode",
-             b"-1", b"0", b"00", b"1e9", b"nan", b"inf", b"99999999999999999999", b"1.5", b"-0.0", b",", b"#",
-             b"\t", b"  ", b"\r", b"\n", b"\x00", b"\xff", b"\xc3", b"x" * 400, b"No message in isiZulu", b"=",
-             b"environmentKnowledgeBaseInput.dat", b"/dev/zero", b"..", b"true", b"false"]
+KB_TOKENS = [
+    b"robotLocationPose",
+    b"robotLocationDescription",
+    b"gestureTarget",
+    b"tour",
+    b"culturalKnowledge",
+    b"preGestureMessageEnglish",
+    b"postGestureMessageIsiZulu",
+    b"knowledgeBase",
+    b"verboseMode",
+    b"-1",
+    b"0",
+    b"00",
+    b"1e9",
+    b"nan",
+    b"inf",
+    b"99999999999999999999",
+    b"1.5",
+    b"-0.0",
+    b",",
+    b"#",
+    b"\t",
+    b"  ",
+    b"\r",
+    b"\n",
+    b"\x00",
+    b"\xff",
+    b"\xc3",
+    b"x" * 400,
+    b"No message in isiZulu",
+    b"=",
+    b"environmentKnowledgeBaseInput.dat",
+    b"/dev/zero",
+    b"..",
+    b"true",
+    b"false",
+]
 
 
-def mutate(data: bytes, rng: random.Random, corpus: list[bytes], tokens: list[bytes],
-           structured: Callable[[bytes, random.Random], bytes]) -> bytes:
+def mutate(
+    data: bytes,
+    rng: random.Random,
+    corpus: list[bytes],
+    tokens: list[bytes],
+    structured: Callable[[bytes, random.Random], bytes],
+) -> bytes:
     """One to a few random edits of `data`."""
     for _ in range(rng.choice((1, 1, 1, 1, 2, 3))):
         op = rng.randrange(16)  # 8..15: format-aware, which keeps more inputs valid
@@ -130,7 +288,7 @@ def mutate(data: bytes, rng: random.Random, corpus: list[bytes], tokens: list[by
         pos = rng.randint(0, n)
         if op == 0 and n:  # flip a bit
             i = rng.randrange(n)
-            data = data[:i] + bytes([data[i] ^ (1 << rng.randrange(8))]) + data[i + 1:]
+            data = data[:i] + bytes([data[i] ^ (1 << rng.randrange(8))]) + data[i + 1 :]
         elif op == 1:  # insert a token
             data = data[:pos] + rng.choice(tokens) + data[pos:]
         elif op == 2 and n:  # delete a span
@@ -142,7 +300,7 @@ def mutate(data: bytes, rng: random.Random, corpus: list[bytes], tokens: list[by
         elif op == 4:  # splice with another input
             other = rng.choice(corpus)
             j = rng.randint(0, len(other))
-            data = data[:pos] + other[j:j + rng.choice((16, 256, 4096))] + data[pos:]
+            data = data[:pos] + other[j : j + rng.choice((16, 256, 4096))] + data[pos:]
         elif op == 5 and n:  # truncate
             data = data[:pos]
         elif op == 6:  # lines: delete, duplicate or swap
@@ -159,8 +317,11 @@ def mutate(data: bytes, rng: random.Random, corpus: list[bytes], tokens: list[by
                 data = b"\n".join(lines)
         elif op == 7 and n:  # replace a byte by an interesting one
             i = rng.randrange(n)
-            data = data[:i] + bytes([rng.choice((0, 9, 10, 13, 32, 34, 38, 39, 60, 62, 0x7F, 0x80, 0xC0, 0xFF))]) \
-                + data[i + 1:]
+            data = (
+                data[:i]
+                + bytes([rng.choice((0, 9, 10, 13, 32, 34, 38, 39, 60, 62, 0x7F, 0x80, 0xC0, 0xFF))])
+                + data[i + 1 :]
+            )
         else:  # format-aware edits
             data = structured(data, rng)
     return data
@@ -176,24 +337,53 @@ def mutate_mission_structure(data: bytes, rng: random.Random) -> bytes:
     op = rng.randrange(6)
     if op == 0 and attrs:  # change an attribute value
         m = rng.choice(attrs)
-        return data[:m.start(2)] + rng.choice(ATTR_VALUES) + data[m.end(2):]
+        return data[: m.start(2)] + rng.choice(ATTR_VALUES) + data[m.end(2) :]
     if op == 1 and attrs:  # rename an attribute
         m = rng.choice(attrs)
-        name = rng.choice([b"name", b"ID", b"_skipIf", b"_while", b"_post", b"_autoremap", b"num_cycles", b"msec",
-                           b"code", b"if", b"else", b"value", b"output_key", b"queue", b"port", b"x y", b"1bad",
-                           b"_uid", b"_fullpath", b"_description", b"editable"])
-        return data[:m.start(1)] + name + data[m.end(1):]
+        name = rng.choice(
+            [
+                b"name",
+                b"ID",
+                b"_skipIf",
+                b"_while",
+                b"_post",
+                b"_autoremap",
+                b"num_cycles",
+                b"msec",
+                b"code",
+                b"if",
+                b"else",
+                b"value",
+                b"output_key",
+                b"queue",
+                b"port",
+                b"x y",
+                b"1bad",
+                b"_uid",
+                b"_fullpath",
+                b"_description",
+                b"editable",
+            ]
+        )
+        return data[: m.start(1)] + name + data[m.end(1) :]
     if op == 2 and tags:  # rename an element (open or close tag)
         m = rng.choice(tags)
-        return data[:m.start(2)] + rng.choice(NODE_NAMES) + data[m.end(2):]
+        return data[: m.start(2)] + rng.choice(NODE_NAMES) + data[m.end(2) :]
     if op == 3 and tags:  # wrap the rest of the file in deep nesting
         m = rng.choice(tags)
         depth = rng.choice((10, 100, 255, 256, 257, 600, 5000))
-        return data[:m.start()] + b"<Inverter>" * depth + data[m.start():]
+        return data[: m.start()] + b"<Inverter>" * depth + data[m.start() :]
     if op == 4 and tags:  # add an attribute to a start tag
         m = rng.choice([t for t in tags if not t.group(1)] or tags)
-        return data[:m.end()] + b" " + rng.choice([b"name", b"ID", b"_skipIf", b"_onHalted", b"extra", b"name"]) \
-            + b'="' + rng.choice(ATTR_VALUES) + b'"' + data[m.end():]
+        return (
+            data[: m.end()]
+            + b" "
+            + rng.choice([b"name", b"ID", b"_skipIf", b"_onHalted", b"extra", b"name"])
+            + b'="'
+            + rng.choice(ATTR_VALUES)
+            + b'"'
+            + data[m.end() :]
+        )
     if op == 5:  # many siblings
         i = data.find(b"<AlwaysSuccess")
         if i < 0:
@@ -246,8 +436,10 @@ def check_mission(path: str) -> tuple[Optional[str], bool]:
     try:
         mission = load_mission(path)
     except UserError as e:
-        return (_check_diagnostics("\n".join(str(d) for d in e.diagnostics), path, "validate")
-                or (None if e.diagnostics else "validate: UserError without diagnostics")), False
+        return (
+            _check_diagnostics("\n".join(str(d) for d in e.diagnostics), path, "validate")
+            or (None if e.diagnostics else "validate: UserError without diagnostics")
+        ), False
     problem = _check_diagnostics("\n".join(str(d) for d in mission.warnings), path, "validate warnings")
     if problem:
         return problem, True
@@ -281,8 +473,7 @@ def check_cli(args: list[str], path: str, timeout: float) -> Optional[str]:
     """The real executable: exit 0 or 1, every stderr line a diagnostic about `path` (or the config)."""
     exe = shutil.which("btgen", path=str(ROOT / ".venv" / "bin")) or "btgen"
     try:
-        proc = subprocess.run([exe, *args], capture_output=True, timeout=timeout,
-                              check=False, preexec_fn=_limit_memory)
+        proc = subprocess.run([exe, *args], capture_output=True, timeout=timeout, check=False, preexec_fn=_limit_memory)
     except subprocess.TimeoutExpired:
         return f"btgen {' '.join(args)}: no answer within {timeout} s"
     err = proc.stderr.decode("utf-8", "replace")
@@ -302,8 +493,15 @@ def _limit_memory() -> None:
 
 
 # ------------------------------------------------------------------ the loop
-def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, keep: Optional[Path] = None,
-         time_limit: float = 10.0, log=lambda s: None) -> dict:
+def fuzz(
+    iterations: int,
+    seed: int,
+    target: str = "all",
+    cli_every: int = 0,
+    keep: Optional[Path] = None,
+    time_limit: float = 10.0,
+    log=lambda s: None,
+) -> dict:
     """Run the fuzzer; returns counts and findings (never raises on a finding)."""
     rng = random.Random(seed)
     keep = (keep or ROOT / "build" / "fuzz-frontend").resolve()
@@ -344,8 +542,11 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                     stats["configs"] += 1
                     problem = check_kb(str(work / "environmentKnowledgeBaseInput.dat"), path)
             except Hang as e:
-                problem = (f"no answer within {time_limit} s of CPU" if e.args[0] == signal.SIGPROF
-                           else f"no answer within {time_limit * WALL_FACTOR} s of wall-clock time")
+                problem = (
+                    f"no answer within {time_limit} s of CPU"
+                    if e.args[0] == signal.SIGPROF
+                    else f"no answer within {time_limit * WALL_FACTOR} s of wall-clock time"
+                )
             except MemoryError:
                 problem = f"ran out of memory (limit {MEMORY_LIMIT >> 20} MiB)"
             except BaseException as e:
@@ -358,8 +559,11 @@ def fuzz(iterations: int, seed: int, target: str = "all", cli_every: int = 0, ke
                 sys.setrecursionlimit(old_limit)
             if problem is None and cli_every and it % cli_every == 0:
                 stats["cli"] += 1
-                args = {"mission": ["validate", "-q", path], "kb": ["lint-kb", path],
-                        "config": ["lint-kb", str(work / "environmentKnowledgeBaseInput.dat"), "--config", path]}[kind]
+                args = {
+                    "mission": ["validate", "-q", path],
+                    "kb": ["lint-kb", path],
+                    "config": ["lint-kb", str(work / "environmentKnowledgeBaseInput.dat"), "--config", path],
+                }[kind]
                 problem = check_cli(args, path, max(30.0, time_limit * 3))
             if problem is not None:
                 keep.mkdir(parents=True, exist_ok=True)
@@ -387,11 +591,20 @@ def main(argv: Optional[list[str]] = None) -> int:
     args = p.parse_args(argv)
     _limit_memory()
     start = time.monotonic()
-    stats = fuzz(args.iterations, args.seed, args.target, args.cli, args.keep, args.time_limit,
-                 log=lambda s: print(s, file=sys.stderr, flush=True))
-    print(f"fuzz-frontend: seed {args.seed}: {stats['missions']} missions ({stats['valid_missions']} valid), "
-          f"{stats['kbs']} knowledge bases, {stats['configs']} configurations, {stats['cli']} through the CLI, "
-          f"{len(stats['findings'])} findings, {time.monotonic() - start:.1f} s")
+    stats = fuzz(
+        args.iterations,
+        args.seed,
+        args.target,
+        args.cli,
+        args.keep,
+        args.time_limit,
+        log=lambda s: print(s, file=sys.stderr, flush=True),
+    )
+    print(
+        f"fuzz-frontend: seed {args.seed}: {stats['missions']} missions ({stats['valid_missions']} valid), "
+        f"{stats['kbs']} knowledge bases, {stats['configs']} configurations, {stats['cli']} through the CLI, "
+        f"{len(stats['findings'])} findings, {time.monotonic() - start:.1f} s"
+    )
     for saved, last in stats["findings"]:
         print(f"  {saved}: {last}")
     return 1 if stats["findings"] else 0

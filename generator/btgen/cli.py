@@ -3,6 +3,7 @@
 Exit status: 0 success, 1 invalid input (diagnostics on stderr),
 2 command-line misuse, 3 internal error (a bug in btgen).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -38,26 +39,40 @@ def _namespace(text: str) -> str:
 
 def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> None:
     """--models and --main-tree (and --namespace for commands that write C++)."""
-    p.add_argument("--models", action="append", default=[], metavar="FILE.xml",
-                   help="a file whose <root> holds only <TreeNodesModel>: its node models count as declared in "
-                        "the mission (repeatable; identical repeated declarations are accepted)")
-    p.add_argument("--main-tree", metavar="ID",
-                   help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)")
+    p.add_argument(
+        "--models",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="a file whose <root> holds only <TreeNodesModel>: its node models count as declared in "
+        "the mission (repeatable; identical repeated declarations are accepted)",
+    )
+    p.add_argument(
+        "--main-tree",
+        metavar="ID",
+        help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
+    )
     if namespace:
-        p.add_argument("--namespace", type=_namespace, metavar="NS",
-                       help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
-                            "from the file name; `main.xml` gives `main_`)")
+        p.add_argument(
+            "--namespace",
+            type=_namespace,
+            metavar="NS",
+            help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
+            "from the file name; `main.xml` gives `main_`)",
+        )
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
-        print(f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr)
+        print(
+            f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr
+        )
         raise SystemExit(EXIT_USAGE)
 
 
 class _PrintCMakeDir(argparse.Action):
-    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
+    def __call__(self, parser, namespace, values, option_string=None):
         from btgen.resources import CMAKE_DIR
 
         print(CMAKE_DIR)
@@ -138,18 +153,32 @@ def _count(text: str) -> int:
 
 
 def _enum_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--enum", action="append", default=[], metavar="Type=NAME,NAME=VALUE,...",
-                   help="register scripting enum values, as BehaviorTree.CPP's registerScriptingEnum: "
-                        "Color=RED,GREEN,BLUE gives 0, 1, 2; NAME=VALUE sets a value (the next one counts on)")
-    p.add_argument("--enums", action="append", default=[], metavar="FILE",
-                   help="a file of such declarations, one per line (# comments)")
+    p.add_argument(
+        "--enum",
+        action="append",
+        default=[],
+        metavar="Type=NAME,NAME=VALUE,...",
+        help="register scripting enum values, as BehaviorTree.CPP's registerScriptingEnum: "
+        "Color=RED,GREEN,BLUE gives 0, 1, 2; NAME=VALUE sets a value (the next one counts on)",
+    )
+    p.add_argument(
+        "--enums",
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="a file of such declarations, one per line (# comments)",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
-    p.add_argument("--cmake-dir", action=_PrintCMakeDir, nargs=0,
-                   help="print the folder of btgen's CMake package (for -Dbtgen_DIR=...) and exit")
+    p.add_argument(
+        "--cmake-dir",
+        action=_PrintCMakeDir,
+        nargs=0,
+        help="print the folder of btgen's CMake package (for -Dbtgen_DIR=...) and exit",
+    )
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
@@ -157,10 +186,20 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
     _mission_options(v)
-    v.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
-                   help="check as `btgen compile --string-capacity N` would (default 128)")
-    v.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
-                   help="check as `btgen compile --queue-capacity N` would (default 16)")
+    v.add_argument(
+        "--string-capacity",
+        type=_capacity,
+        default=None,
+        metavar="N",
+        help="check as `btgen compile --string-capacity N` would (default 128)",
+    )
+    v.add_argument(
+        "--queue-capacity",
+        type=_capacity,
+        default=None,
+        metavar="N",
+        help="check as `btgen compile --queue-capacity N` would (default 16)",
+    )
     _enum_options(v)
     v.set_defaults(func=_cmd_validate)
 
@@ -180,15 +219,29 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("compile", help="generate C++17 for a mission")
     c.add_argument("mission", metavar="MISSION.xml")
     c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
-    c.add_argument("--relative-to", default=None, metavar="DIR",
-                   help="directory the banner's input path is relative to (default: the current one)")
-    c.add_argument("--string-capacity", type=_capacity, default=None, metavar="N",
-                   help="most bytes of a blackboard string (default 128): strings written by robot code or "
-                        "growing without bound get N, literals at most N, computed strings the longest value "
-                        "they can take; "
-                        "a longer value fails the node that writes it")
-    c.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N",
-                   help="most elements of a blackboard queue written by robot code (default 16)")
+    c.add_argument(
+        "--relative-to",
+        default=None,
+        metavar="DIR",
+        help="directory the banner's input path is relative to (default: the current one)",
+    )
+    c.add_argument(
+        "--string-capacity",
+        type=_capacity,
+        default=None,
+        metavar="N",
+        help="most bytes of a blackboard string (default 128): strings written by robot code or "
+        "growing without bound get N, literals at most N, computed strings the longest value "
+        "they can take; "
+        "a longer value fails the node that writes it",
+    )
+    c.add_argument(
+        "--queue-capacity",
+        type=_capacity,
+        default=None,
+        metavar="N",
+        help="most elements of a blackboard queue written by robot code (default 16)",
+    )
     _mission_options(c, namespace=True)
     _enum_options(c)
     c.set_defaults(func=_cmd_compile)
@@ -205,9 +258,12 @@ def build_parser() -> argparse.ArgumentParser:
     _mission_options(b)
     b.set_defaults(func=_cmd_bench)
 
-    i = sub.add_parser("build-info", add_help=False,
-                       help="for build systems (btgen_add_mission): a mission's dependencies, outputs, class "
-                            "template; `btgen build-info --help` tells more")
+    i = sub.add_parser(
+        "build-info",
+        add_help=False,
+        help="for build systems (btgen_add_mission): a mission's dependencies, outputs, class "
+        "template; `btgen build-info --help` tells more",
+    )
     i.add_argument("args", nargs=argparse.REMAINDER)  # main() hands them to btgen.compiler.main
 
     g = sub.add_parser("graph", help="draw a mission (Graphviz), optionally with the statuses of a run")
@@ -216,7 +272,9 @@ def build_parser() -> argparse.ArgumentParser:
     src = g.add_mutually_exclusive_group()
     src.add_argument("--trace", metavar="FILE", help="status trace (`btgen run` output): colour by status")
     src.add_argument("--btlog", metavar="FILE", help="Groot2 log (.btlog): colour by status")
-    g.add_argument("--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)")
+    g.add_argument(
+        "--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)"
+    )
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
     g.set_defaults(func=_cmd_graph)
     return p
@@ -238,7 +296,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         return 130
     except (InternalError, Exception):
-        print("btgen: internal error: this is a bug in btgen, please report it with the input that caused it",
-              file=sys.stderr)
+        print(
+            "btgen: internal error: this is a bug in btgen, please report it with the input that caused it",
+            file=sys.stderr,
+        )
         traceback.print_exc(limit=-3, file=sys.stderr)
         return EXIT_INTERNAL

@@ -24,6 +24,7 @@ Also a small entry point for build systems:
 CMake's btgen_add_mission runs that.) --models, --main-tree and --namespace
 are those of `btgen compile`.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -67,9 +68,14 @@ def load_options(args: Optional[argparse.Namespace] = None) -> dict:
     return dict(models=tuple(getattr(args, "models", None) or ()), main_tree=getattr(args, "main_tree", None))
 
 
-def generate(mission_path: str, relative_to: Optional[str] = None,
-             options: Optional[DataOptions] = None, models: Sequence[str] = (),
-             main_tree: Optional[str] = None, namespace: Optional[str] = None) -> tuple[Output, ...]:
+def generate(
+    mission_path: str,
+    relative_to: Optional[str] = None,
+    options: Optional[DataOptions] = None,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    namespace: Optional[str] = None,
+) -> tuple[Output, ...]:
     """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
@@ -166,23 +172,31 @@ def compile_command(args: argparse.Namespace) -> int:
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
-    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(),
-                     getattr(args, "namespace", None))
+    outputs = render(
+        program, mission_stem(args.mission), args.relative_to or os.getcwd(), getattr(args, "namespace", None)
+    )
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
         target = out_dir / out.name
         for f in mission.files:
             if target.exists() and os.path.samefile(f, target):
-                raise UserError(Diagnostic(Loc(f, 1, 1), f"`btgen compile -o {args.output_dir}` would overwrite "
-                                                          f"this input file with the generated {out.name}: "
-                                                          f"choose another output directory"))
+                raise UserError(
+                    Diagnostic(
+                        Loc(f, 1, 1),
+                        f"`btgen compile -o {args.output_dir}` would overwrite "
+                        f"this input file with the generated {out.name}: "
+                        f"choose another output directory",
+                    )
+                )
     try:  # rendered completely before anything is written; then all outputs or none
         write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
     except OSError as e:
         where = e.filename if isinstance(e.filename, str) else str(out_dir / outputs[0].name)
         if os.path.basename(where).startswith("."):  # a temporary file: name the output it was for
-            where = next((str(out_dir / o.name) for o in outputs
-                          if os.path.basename(where)[1:].startswith(o.name[:64] + ".")), where)
+            where = next(
+                (str(out_dir / o.name) for o in outputs if os.path.basename(where)[1:].startswith(o.name[:64] + ".")),
+                where,
+            )
         raise UserError(Diagnostic(Loc(where, 1, 1), f"cannot write the generated file: {e.strerror or e}")) from None
     return 0
 
@@ -242,22 +256,31 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     g.add_argument("--inputs", action="store_true", help="print the generator's own sources, templates and schemas")
     g.add_argument("--template", metavar="MISSION.xml", help="print the mission's C++ class template")
     g.add_argument("--check", metavar="MISSION.xml", help="exit 0 if the mission compiles, else print why and exit 1")
-    g.add_argument("--update-generated", action="store_true",
-                   help="regenerate the committed generated/ from missions/*.xml")
+    g.add_argument(
+        "--update-generated", action="store_true", help="regenerate the committed generated/ from missions/*.xml"
+    )
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
-    p.add_argument("--models", action="append", default=[], metavar="FILE.xml",
-                   help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`")
+    p.add_argument(
+        "--models",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`",
+    )
     p.add_argument("--main-tree", metavar="ID", help="the tree to run, as `btgen compile --main-tree`")
     p.add_argument("--namespace", metavar="NS", help="the C++ namespace, as `btgen compile --namespace`")
     args = p.parse_args(argv)
     if args.namespace is not None and naming.namespace_problem(args.namespace):
-        print(f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}",
-              file=sys.stderr)
+        print(
+            f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}", file=sys.stderr
+        )
         return 2
     if args.update_generated:
         if resources.installed():
-            print("btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
-                  file=sys.stderr)
+            print(
+                "btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
+                file=sys.stderr,
+            )
             return 2
         for name in update_generated(resources.ROOT):
             print(f"generated/{name}")

@@ -6,6 +6,7 @@ User mistakes raise :class:`UserError` (one or more diagnostics, exit 1);
 bugs in btgen itself raise :class:`InternalError`, which the command line
 reports as an internal error and asks to be reported.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -124,12 +125,14 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> Optional[str]:
     pref = [c for c in cands if c.startswith(word) or word.startswith(c)]
     if len(pref) == 1:
         return pref[0]
+
     # A long shared beginning ("IV. VisitLandmark" vs "IV. VisitExhibit").
     def shared(c: str) -> int:
         n = 0
         while n < min(len(c), len(word)) and c[n] == word[n]:
             n += 1
         return n
+
     best = max(cands, key=shared, default=None)
     if best is not None and shared(best) >= max(4, len(word) // 2):
         if sum(1 for c in cands if shared(c) == shared(best)) == 1:

@@ -6,6 +6,7 @@ In a wheel, setup.py's build step copies the same folders to `btgen/_data/`
 inside the installed package. Every module asks here; nothing else builds a
 path to them.
 """
+
 from __future__ import annotations
 
 from pathlib import Path

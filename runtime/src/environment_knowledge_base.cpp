@@ -75,14 +75,11 @@ std::string backticked(std::string_view s) { return "`" + str(s) + "`"; }
 
 std::string describeValues(const KeyInfo& key) {
   switch (key.kind) {
-    case Kind::kPoint:
-      return "a location id and 3 numbers (" + str(key.coordinates) + ")";
+    case Kind::kPoint: return "a location id and 3 numbers (" + str(key.coordinates) + ")";
     case Kind::kCultural:
       return "a location id and 1 to " + std::to_string(kMaxCulturalKeys) + " cultural knowledge keys";
-    case Kind::kTour:
-      return "the number of locations, then their ids in visiting order";
-    case Kind::kText:
-      break;
+    case Kind::kTour: return "the number of locations, then their ids in visiting order";
+    case Kind::kText: break;
   }
   return "a location id and a text";
 }
@@ -163,16 +160,15 @@ class Reporter {
   explicit Reporter(std::string path) : path_(std::move(path)) {}
 
   void error(int line, int col, const std::string& message) {
-    items_.push_back({line, col,
-                      path_ + ":" + std::to_string(line) + ":" + std::to_string(col) + ": error: " + message});
+    items_.push_back(
+        {line, col, path_ + ":" + std::to_string(line) + ":" + std::to_string(col) + ": error: " + message});
   }
   bool empty() const { return items_.empty(); }
   const std::string& path() const { return path_; }
 
   std::vector<std::string> take() {
-    std::stable_sort(items_.begin(), items_.end(), [](const Item& a, const Item& b) {
-      return std::tie(a.line, a.col) < std::tie(b.line, b.col);
-    });
+    std::stable_sort(items_.begin(), items_.end(),
+                     [](const Item& a, const Item& b) { return std::tie(a.line, a.col) < std::tie(b.line, b.col); });
     std::vector<std::string> out;
     for (Item& item : items_) {
       if (out.empty() || out.back() != item.text) out.push_back(std::move(item.text));
@@ -249,9 +245,9 @@ std::optional<std::vector<Line>> readLines(const std::string& path, const char* 
   }
   if (data.size() > kMaxFileBytes) {
     const auto size = fs::file_size(path, ec);
-    r.error(1, 1, "file is " + (ec ? std::string("more than ") + std::to_string(kMaxFileBytes)
-                                   : std::to_string(size)) +
-                      " bytes; " + what + " files are limited to " + std::to_string(kMaxFileBytes) + " bytes");
+    r.error(1, 1,
+            "file is " + (ec ? std::string("more than ") + std::to_string(kMaxFileBytes) : std::to_string(size)) +
+                " bytes; " + what + " files are limited to " + std::to_string(kMaxFileBytes) + " bytes");
     return std::nullopt;
   }
   std::size_t start = data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
@@ -409,7 +405,7 @@ class KbParser {
  private:
   struct Partial {
     KbLocation location;
-    int col = 0;  // column of the key of the location's first entry
+    int col = 0;                                   // column of the key of the location's first entry
     std::array<int, kLocationKeyCount> line_of{};  // line of each key's entry, 0 if absent
   };
 
@@ -475,7 +471,8 @@ class KbParser {
       }
       case Kind::kPoint: {
         Eigen::Vector3d v = Eigen::Vector3d::Zero();
-        for (std::size_t i = 1; i < values.size() && i <= 3; ++i) v[static_cast<Eigen::Index>(i - 1)] = number(info, values[i]);
+        for (std::size_t i = 1; i < values.size() && i <= 3; ++i)
+          v[static_cast<Eigen::Index>(i - 1)] = number(info, values[i]);
         if (values.size() < 4) {
           const std::size_t found = values.size() - 1;
           missing(backticked(info.name) + " takes " + describeValues(info) + "; found " + std::to_string(found) +
@@ -506,14 +503,13 @@ class KbParser {
           missing("`culturalKnowledge` of location " + values[0].text + " lists no keys");
           complete_entry = false;
         } else if (values.size() > kMaxCulturalKeys + 1) {
-          too_many(values[kMaxCulturalKeys + 1], "more than " + std::to_string(kMaxCulturalKeys) +
-                                                     " cultural knowledge keys for one location");
+          too_many(values[kMaxCulturalKeys + 1],
+                   "more than " + std::to_string(kMaxCulturalKeys) + " cultural knowledge keys for one location");
           complete_entry = false;
         }
         break;
       }
-      case Kind::kTour:
-        break;
+      case Kind::kTour: break;
     }
     if (!id) return;
     Partial& p = partial_[*id];
@@ -545,8 +541,8 @@ class KbParser {
     if (!n) {
       error(count, "expected the number of tour locations (a whole number), found " + backticked(count.text));
     } else if (*n > kMaxTourLocations) {
-      error(count, "the tour has " + count.text + " locations; at most " + std::to_string(kMaxTourLocations) +
-                       " are allowed");
+      error(count,
+            "the tour has " + count.text + " locations; at most " + std::to_string(kMaxTourLocations) + " are allowed");
     }
     const std::size_t ids = values.size() - 1;
     for (std::size_t i = 1; i < values.size() && i <= kMaxTourLocations; ++i) {
@@ -596,9 +592,9 @@ class KbParser {
     }
     for (std::size_t i = 0; i < kb_.tour_.size(); ++i) {
       if (partial_.count(kb_.tour_[i]) == 0) {
-        error(tour_tokens_[i], "the tour visits location " + std::to_string(kb_.tour_[i]) +
-                                   ", which the knowledge base does not define (locations: " +
-                                   (known.empty() ? "none" : known) + ")");
+        error(tour_tokens_[i],
+              "the tour visits location " + std::to_string(kb_.tour_[i]) +
+                  ", which the knowledge base does not define (locations: " + (known.empty() ? "none" : known) + ")");
       }
     }
   }
@@ -625,14 +621,11 @@ class KbParser {
 
   static std::string& textSlot(KbLocation& loc, std::size_t key) {
     switch (key) {
-      case 0:
-        return loc.description;
+      case 0: return loc.description;
       case 3:
       case 4:
-      case 5:
-        return loc.pre_gesture_message[key - 3];
-      default:
-        return loc.post_gesture_message[key - 6];
+      case 5: return loc.pre_gesture_message[key - 3];
+      default: return loc.post_gesture_message[key - 6];
     }
   }
 
@@ -642,7 +635,8 @@ class KbParser {
     }
     for (const KeyInfo& k : kKeys) {
       if (lower(k.name) == lower(word)) {
-        return "unknown key " + backticked(word) + " (did you mean " + backticked(k.name) + "? keys are case-sensitive)";
+        return "unknown key " + backticked(word) + " (did you mean " + backticked(k.name) +
+               "? keys are case-sensitive)";
       }
     }
     if (previous != nullptr) {
@@ -723,7 +717,8 @@ KbResult<KbConfiguration> EnvironmentKnowledgeBase::loadConfiguration(const std:
   KbConfiguration config;
   if (auto v = values.find("verboseMode"); v != values.end()) {
     if (v->second.text != "true" && v->second.text != "false") {
-      r.error(v->second.line, v->second.col, "`verboseMode` must be `true` or `false`, found " + backticked(v->second.text));
+      r.error(v->second.line, v->second.col,
+              "`verboseMode` must be `true` or `false`, found " + backticked(v->second.text));
     }
     config.verbose_mode = v->second.text == "true";
   }
@@ -745,7 +740,7 @@ KbResult<KbConfiguration> EnvironmentKnowledgeBase::loadConfiguration(const std:
 }
 
 KbResult<EnvironmentKnowledgeBase> EnvironmentKnowledgeBase::loadFromConfiguration(const std::string& ini_path,
-                                                                                    std::ostream& verbose_out) {
+                                                                                   std::ostream& verbose_out) {
   KbResult<KbConfiguration> config = loadConfiguration(ini_path);
   if (!config) return KbResult<EnvironmentKnowledgeBase>::failure(config.errors());
   KbResult<EnvironmentKnowledgeBase> kb = load(config.value().knowledge_base_path);

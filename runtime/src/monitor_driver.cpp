@@ -41,10 +41,14 @@ int main(int argc, char** argv) {
   std::string btlog;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--groot2" && i + 1 < argc) port = std::strtol(argv[++i], nullptr, 10);
-    else if (a == "--address" && i + 1 < argc) address = argv[++i];
-    else if (a == "--btlog" && i + 1 < argc) btlog = argv[++i];
-    else if (scenario_path == nullptr && a.rfind("--", 0) != 0) scenario_path = argv[i];
+    if (a == "--groot2" && i + 1 < argc)
+      port = std::strtol(argv[++i], nullptr, 10);
+    else if (a == "--address" && i + 1 < argc)
+      address = argv[++i];
+    else if (a == "--btlog" && i + 1 < argc)
+      btlog = argv[++i];
+    else if (scenario_path == nullptr && a.rfind("--", 0) != 0)
+      scenario_path = argv[i];
     else {
       std::fprintf(stderr, "usage: %s SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog]\n", argv[0]);
       return 2;

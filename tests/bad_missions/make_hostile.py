@@ -18,6 +18,7 @@ Usage from a test::
 
 or from the shell: ``python tests/bad_missions/make_hostile.py OUT_DIR``.
 """
+
 from __future__ import annotations
 
 import os
@@ -26,10 +27,12 @@ from typing import Union
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-_HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-         '<root BTCPP_format="4" main_tree_to_execute="Hostile">\n'
-         '  <BehaviorTree ID="Hostile">\n')
-_TAIL = '  </BehaviorTree>\n</root>\n'
+_HEAD = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<root BTCPP_format="4" main_tree_to_execute="Hostile">\n'
+    '  <BehaviorTree ID="Hostile">\n'
+)
+_TAIL = "  </BehaviorTree>\n</root>\n"
 _CHUNK = 1 << 20  # write in pieces of about 1 MiB
 
 

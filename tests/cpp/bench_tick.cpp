@@ -27,8 +27,8 @@ void bench(const char* name, long ticks) {
   btgen_test::InstantLeaves leaves;
   unsigned long long changes = 0;
   {
-    Mission<btgen_test::InstantLeaves, btgen::ManualClock, CountingObserver> counted(
-        leaves, btgen::ManualClock{}, CountingObserver{&changes});
+    Mission<btgen_test::InstantLeaves, btgen::ManualClock, CountingObserver> counted(leaves, btgen::ManualClock{},
+                                                                                     CountingObserver{&changes});
     for (int i = 0; i < 1000; ++i) (void)counted.tick();
   }
   static Mission<btgen_test::InstantLeaves, btgen::ManualClock, btgen::NoObserver> mission(leaves);

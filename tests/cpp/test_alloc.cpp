@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "btgen/testing/alloc_counter.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/testing/alloc_counter.hpp"
 #include "control_flow.hpp"
 #include "test_leaves.hpp"
 #ifdef BTGEN_TEST_HAVE_LAB_TOUR
@@ -83,13 +83,11 @@ TEST(Allocation, MissionInStaticStorage) {
 class VirtualLeaves final : public control_flow::ControlFlowLeaves {
  public:
   explicit VirtualLeaves(std::uint64_t seed) : random_(seed) {}
-#define BTGEN_TEST_ACTION(M)                                                                            \
-  btgen::Status onStart(control_flow::leaf::M& m, const btgen::NodeInfo& n) override {                \
-    return random_.onStart(m, n);                                                                       \
-  }                                                                                                     \
-  btgen::Status onRunning(control_flow::leaf::M& m, const btgen::NodeInfo& n) override {              \
-    return random_.onRunning(m, n);                                                                     \
-  }                                                                                                     \
+#define BTGEN_TEST_ACTION(M)                                                                                           \
+  btgen::Status onStart(control_flow::leaf::M& m, const btgen::NodeInfo& n) override { return random_.onStart(m, n); } \
+  btgen::Status onRunning(control_flow::leaf::M& m, const btgen::NodeInfo& n) override {                               \
+    return random_.onRunning(m, n);                                                                                    \
+  }                                                                                                                    \
   void onHalted(control_flow::leaf::M& m, const btgen::NodeInfo& n) override { random_.onHalted(m, n); }
   BTGEN_TEST_ACTION(Move)
   BTGEN_TEST_ACTION(Grasp)
@@ -98,9 +96,7 @@ class VirtualLeaves final : public control_flow::ControlFlowLeaves {
   btgen::Status check(control_flow::leaf::IsBatteryOk& m, const btgen::NodeInfo& n) override {
     return random_.check(m, n);
   }
-  btgen::Status check(control_flow::leaf::IsDone& m, const btgen::NodeInfo& n) override {
-    return random_.check(m, n);
-  }
+  btgen::Status check(control_flow::leaf::IsDone& m, const btgen::NodeInfo& n) override { return random_.check(m, n); }
   RandomLeaves random_;
 };
 
@@ -143,8 +139,8 @@ TEST(Allocation, LabTourWithItsPortsAllocatesNothing) {
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_GT(completed, 0);
-  EXPECT_GT(leaves.reads, 10000u);   // ports really read ...
-  EXPECT_GT(leaves.values, 1000u);   // ... with values the leaves wrote
+  EXPECT_GT(leaves.reads, 10000u);  // ports really read ...
+  EXPECT_GT(leaves.values, 1000u);  // ... with values the leaves wrote
   EXPECT_GT(leaves.writes, 1000u);
 }
 #endif

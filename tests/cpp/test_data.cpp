@@ -35,7 +35,7 @@ struct Seen {
 
 struct DataLeaves {
   std::string_view label = "abc";
-  bool produce_ok = true;      // what the setters returned
+  bool produce_ok = true;  // what the setters returned
   Seen outer, inner;
 
   Status onStart(leaf::Produce& m, const btgen::NodeInfo&) {
@@ -108,9 +108,9 @@ TEST(DataSide, PortsReadAndWriteTheTypedBlackboard) {
   EXPECT_EQ(s.label, "abc");
   EXPECT_TRUE(*s.ok);
   EXPECT_EQ(s.note, "n1");
-  EXPECT_EQ(*s.limit, 17u);                 // literal, converted by the generator
+  EXPECT_EQ(*s.limit, 17u);  // literal, converted by the generator
   EXPECT_EQ(*s.mode, Status::RUNNING);
-  EXPECT_DOUBLE_EQ(*s.scale, 0.25);         // TreeNodesModel default
+  EXPECT_DOUBLE_EQ(*s.scale, 0.25);  // TreeNodesModel default
 
   // The SubTree instance: `target` remapped to `count`; `missing` never written.
   const Seen& in = leaves.inner;
@@ -119,7 +119,7 @@ TEST(DataSide, PortsReadAndWriteTheTypedBlackboard) {
   EXPECT_EQ(in.ratio_error, btgen::PortError::kNoValue);
   EXPECT_EQ(in.label, "inner");
   EXPECT_TRUE(*in.ok);
-  EXPECT_EQ(*in.limit, 5u);                 // default
+  EXPECT_EQ(*in.limit, 5u);  // default
 
   // The blackboard is typed: its slots are plain members.
   const auto& bb = mission.blackboard();

@@ -76,8 +76,9 @@ TEST(Dynamic, OperatorsFollowTheKindsFoundAtRunTime) {
   EXPECT_TRUE(res);
   dyn::Msg e2;
   EXPECT_FALSE(dyn::logic_operand("&&", dyn::of_int(3), res, e2));
-  EXPECT_EQ(text(e2), "`&&` needs operands that convert to bool: cannot convert 3 (int) to bool: only the "
-                      "integers 0 and 1 convert to bool");
+  EXPECT_EQ(text(e2),
+            "`&&` needs operands that convert to bool: cannot convert 3 (int) to bool: only the "
+            "integers 0 and 1 convert to bool");
   dyn::Msg e3;
   EXPECT_EQ(dyn::truth(dyn::of_string("x"), e3), -1);
   EXPECT_EQ(text(e3), "the script gives 'x' (string), which is not a condition");

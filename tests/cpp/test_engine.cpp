@@ -59,8 +59,7 @@ TEST(Time, SleepDelayTimeoutFollowTheInjectedClock) {
   TimingLeaves leaves;
   btgen_test::Recorder rec;
   Timing m(leaves, btgen::ManualClock{1000}, btgen_test::RecordingObserver{&rec});
-  const std::size_t nap = index_of("Nap"), wait = index_of("Wait"), limit = index_of("Limit"),
-                    slow = index_of("Slow");
+  const std::size_t nap = index_of("Nap"), wait = index_of("Wait"), limit = index_of("Limit"), slow = index_of("Slow");
 
   EXPECT_EQ(m.tick(), Status::RUNNING);  // t=1000: Nap starts
   EXPECT_EQ(m.status(nap), Status::RUNNING);
@@ -165,8 +164,9 @@ TEST(Trace, EscapesNamesAsTheFormatSays) {
 
 TEST(Trace, WriterPrintsOneLinePerChange) {
   const std::string text = run_to_text([](std::FILE* f) {
-    static constexpr btgen::NodeInfo node{btgen::NodeKind::Action, 4, 5, 0, 0, 0, 0, btgen::kNoSlot, btgen::kNoSlot,
-                                          0, 0, 0, 0, "FindBall", "my \"ball\"", "x.xml:1:1"};
+    static constexpr btgen::NodeInfo node{
+        btgen::NodeKind::Action, 4,          5, 0, 0, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, "FindBall",
+        "my \"ball\"",           "x.xml:1:1"};
     btgen::TraceWriter w(f);
     w.on_status_change(node, Status::IDLE, Status::RUNNING);
     w.on_status_change(node, Status::RUNNING, Status::SUCCESS);
@@ -179,8 +179,22 @@ TEST(Trace, WriterPrintsOneLinePerChange) {
 TEST(Trace, LongNamesNeedNoBuffer) {
   const std::string text = run_to_text([](std::FILE* f) {
     static const std::string name(1000, '"');
-    const btgen::NodeInfo node{btgen::NodeKind::Action, 0, 1, btgen::kNoNode, 0, 0, 0, btgen::kNoSlot,
-                               btgen::kNoSlot, 0, 0, 0, 0, "X", name, "x.xml:1:1"};
+    const btgen::NodeInfo node{btgen::NodeKind::Action,
+                               0,
+                               1,
+                               btgen::kNoNode,
+                               0,
+                               0,
+                               0,
+                               btgen::kNoSlot,
+                               btgen::kNoSlot,
+                               0,
+                               0,
+                               0,
+                               0,
+                               "X",
+                               name,
+                               "x.xml:1:1"};
     btgen::TraceWriter(f).on_status_change(node, Status::IDLE, Status::FAILURE);
   });
   std::string expected = "1 X \"";

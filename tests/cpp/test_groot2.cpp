@@ -156,7 +156,9 @@ TEST(Groot2, MsgPackAsNlohmannWritesIt) {
   mp.map(1);
   mp.str("a");
   mp.integer(-33);
-  EXPECT_EQ(mp.out, std::string("\x81\xa1" "a\xd0\xdf", 5));
+  EXPECT_EQ(mp.out, std::string("\x81\xa1"
+                                "a\xd0\xdf",
+                                5));
   btgen::groot2::MsgPack f;
   f.real(0.25);  // exact in float32
   f.real(0.1);   // not

@@ -64,10 +64,10 @@ class RandomLeaves {
 // pseudo-random values. Detection is by member name, so one type serves any
 // mission with such ports.
 namespace port_detail {
-#define BTGEN_TEST_HAS(name, expr)                                             \
-  template <class M, class = void>                                             \
-  struct name : std::false_type {};                                            \
-  template <class M>                                                           \
+#define BTGEN_TEST_HAS(name, expr)  \
+  template <class M, class = void>  \
+  struct name : std::false_type {}; \
+  template <class M>                \
   struct name<M, std::void_t<decltype(expr)>> : std::true_type {};
 BTGEN_TEST_HAS(has_location_id, std::declval<M&>().location_id())
 BTGEN_TEST_HAS(has_set_location_id, std::declval<M&>().set_location_id(0))
@@ -121,7 +121,8 @@ class PortLeaves : public RandomLeaves {
     if constexpr (has_response<Model>::value) seen(m.response());
     if constexpr (has_destination<Model>::value) seen(m.destination());
     if constexpr (has_message<Model>::value) seen(m.message());
-    if constexpr (has_set_location_id<Model>::value) writes += m.set_location_id(static_cast<std::int32_t>(r % 200)) ? 1 : 0;
+    if constexpr (has_set_location_id<Model>::value)
+      writes += m.set_location_id(static_cast<std::int32_t>(r % 200)) ? 1 : 0;
     if constexpr (has_set_exhibits<Model>::value) writes += m.set_exhibits(kLists[r % 4]) ? 1 : 0;
     if constexpr (has_set_response<Model>::value) writes += m.set_response(kAnswers[r % 2]) ? 1 : 0;
     if constexpr (has_set_destination<Model>::value) writes += m.set_destination(kAnswers[r % 4]) ? 1 : 0;
@@ -133,13 +134,19 @@ class PortLeaves : public RandomLeaves {
 // Every leaf answers at once: Actions and Conditions SUCCESS.
 struct InstantLeaves {
   template <class Model>
-  btgen::Status onStart(Model&, const btgen::NodeInfo&) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status onStart(Model&, const btgen::NodeInfo&) noexcept {
+    return btgen::Status::SUCCESS;
+  }
   template <class Model>
-  btgen::Status onRunning(Model&, const btgen::NodeInfo&) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status onRunning(Model&, const btgen::NodeInfo&) noexcept {
+    return btgen::Status::SUCCESS;
+  }
   template <class Model>
   void onHalted(Model&, const btgen::NodeInfo&) noexcept {}
   template <class Model>
-  btgen::Status check(Model&, const btgen::NodeInfo&) noexcept { return btgen::Status::SUCCESS; }
+  btgen::Status check(Model&, const btgen::NodeInfo&) noexcept {
+    return btgen::Status::SUCCESS;
+  }
 };
 
 // Records status changes in a fixed buffer (no allocation).

@@ -25,8 +25,7 @@ std::vector<std::string> parse(const std::string& text, Scenario* out = nullptr)
 
 TEST(ScenarioParse, ReadsEveryKeyword) {
   Scenario sc;
-  EXPECT_TRUE(parse("# comment\n\nticks 20   # budget\ndefault FAILURE\nleaf Move RUNNING SUCCESS\r\nclock_ms 5\n",
-                    &sc)
+  EXPECT_TRUE(parse("# comment\n\nticks 20   # budget\ndefault FAILURE\nleaf Move RUNNING SUCCESS\r\nclock_ms 5\n", &sc)
                   .empty());
   EXPECT_EQ(sc.ticks, 20);
   EXPECT_EQ(sc.default_status, btgen::Status::FAILURE);
@@ -141,7 +140,11 @@ TEST(ScenarioCheck, UnknownLeafIsAWarning) {
 // printed raw by the C++ runner and escaped by the interpreter.
 TEST(ScenarioCheck, DiagnosticsStayOnOneLine) {
   bool ok = false;
-  const auto lines = check("leaf a\x01" "b SUCCESS\nleaf c\xc2\x85\x7f\xe2\x80\xa8" "d FAILURE\n", &ok);
+  const auto lines = check(
+      "leaf a\x01"
+      "b SUCCESS\nleaf c\xc2\x85\x7f\xe2\x80\xa8"
+      "d FAILURE\n",
+      &ok);
   EXPECT_TRUE(ok);
   const std::vector<std::string> expected{
       "s.scenario:1:6: warning: leaf `a\\x01b` matches no Action or Condition of the mission; its line is ignored",

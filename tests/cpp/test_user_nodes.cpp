@@ -95,16 +95,14 @@ struct Leaves {
           m.halt_children();
           last = 0;
           return Status::FAILURE;
-        case Status::SUCCESS:
-          break;
+        case Status::SUCCESS: break;
         case Status::RUNNING:
           if (i >= last) {
             last = i;
             return Status::RUNNING;
           }
           break;
-        default:
-          return m.fail("PipelineSequence: a child returned an invalid status");
+        default: return m.fail("PipelineSequence: a child returned an invalid status");
       }
     }
     m.halt_children();
@@ -138,14 +136,9 @@ struct Leaves {
       const Status child = m.tick_child(r.current);
       if (r.current == 0) {
         switch (child) {
-          case Status::SKIPPED:
-            reset(m, r);
-            return Status::SKIPPED;
-          case Status::SUCCESS:
-            reset(m, r);
-            return Status::SUCCESS;
-          case Status::RUNNING:
-            return Status::RUNNING;
+          case Status::SKIPPED: reset(m, r); return Status::SKIPPED;
+          case Status::SUCCESS: reset(m, r); return Status::SUCCESS;
+          case Status::RUNNING: return Status::RUNNING;
           case Status::FAILURE:
             if (r.retries < number_of_retries) {
               m.halt_child(0);
@@ -154,8 +147,7 @@ struct Leaves {
             }
             reset(m, r);
             return Status::FAILURE;
-          default:
-            return m.fail("RecoveryNode: invalid status");
+          default: return m.fail("RecoveryNode: invalid status");
         }
       } else {
         switch (child) {
@@ -163,18 +155,14 @@ struct Leaves {
             r.current = 0;
             m.halt_child(1);
             return Status::FAILURE;
-          case Status::RUNNING:
-            return Status::RUNNING;
+          case Status::RUNNING: return Status::RUNNING;
           case Status::SUCCESS:
             m.halt_child(1);
             ++r.retries;
             r.current = 0;
             break;
-          case Status::FAILURE:
-            reset(m, r);
-            return Status::FAILURE;
-          default:
-            return m.fail("RecoveryNode: invalid status");
+          case Status::FAILURE: reset(m, r); return Status::FAILURE;
+          default: return m.fail("RecoveryNode: invalid status");
         }
       }
     }
@@ -207,13 +195,9 @@ struct Leaves {
     if (r.first_time || m.child_status(0) == Status::RUNNING || static_cast<double>(now - r.start) >= period_ms) {
       r.first_time = false;
       switch (m.tick_child(0)) {
-        case Status::RUNNING:
-          return Status::RUNNING;
-        case Status::SUCCESS:
-          r.start = now;
-          return Status::SUCCESS;
-        default:
-          return Status::FAILURE;
+        case Status::RUNNING: return Status::RUNNING;
+        case Status::SUCCESS: r.start = now; return Status::SUCCESS;
+        default: return Status::FAILURE;
       }
     }
     return m.status();

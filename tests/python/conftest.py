@@ -14,8 +14,11 @@ def case_stems(folder: str, companion: str = "") -> list[str]:
     ".scenario"), only those that have that file beside them. No folder: no stems."""
     if not os.path.isdir(folder):
         return []
-    return sorted(f[:-4] for f in os.listdir(folder) if f.endswith(".xml")
-                  and (not companion or os.path.exists(os.path.join(folder, f[:-4] + companion))))
+    return sorted(
+        f[:-4]
+        for f in os.listdir(folder)
+        if f.endswith(".xml") and (not companion or os.path.exists(os.path.join(folder, f[:-4] + companion)))
+    )
 
 
 def conformance_stems():

@@ -4,6 +4,7 @@ every generated member name as model IDs, ports and blackboard keys, and as file
 
 The macros are read from the compiler here (not from btgen's own list), so a macro the
 naming layer does not know fails the build instead of passing unseen."""
+
 from __future__ import annotations
 
 import re
@@ -21,8 +22,9 @@ def compiler_macros(cxx: str = "g++") -> list[str]:
     if shutil.which(cxx) is None:
         return []
     src = "".join(f"#include <{h}>\n" for h in SIX_HEADERS)
-    out = subprocess.run([cxx, "-std=c++17", "-x", "c++", "-dM", "-E", "-"], input=src, text=True,
-                         stdout=subprocess.PIPE, check=True).stdout
+    out = subprocess.run(
+        [cxx, "-std=c++17", "-x", "c++", "-dM", "-E", "-"], input=src, text=True, stdout=subprocess.PIPE, check=True
+    ).stdout
     return sorted({m.group(1) for m in re.finditer(r"^#define ([A-Za-z][A-Za-z0-9_]*)", out, re.M)})
 
 
@@ -41,7 +43,8 @@ def _xml_name(n: str) -> bool:
 def mission(names: list[str]) -> str:
     """Every name as a model ID (an Action whose one port is named like its model, read from
     the key of that name), and as a port and key of one model `Ports` (typed int, double, string
-    and untyped in turn, all inout: getter and setter); each model's port has the same type. Comment text ends in `??/`."""
+    and untyped in turn, all inout: getter and setter); each model's port has the same type.
+    Comment text ends in `??/`."""
     types = ("int", "double", "std::string", None)
     models, nodes, ports, attrs = [], [], [], []
     for i, n in enumerate(names):
@@ -52,12 +55,21 @@ def mission(names: list[str]) -> str:
         # A description ending in the trigraph `??/` (it would continue a // comment).
         ports.append(f'      <inout_port name="{n}"' + (f' type="{t}"' if t else "") + ">ends ??/</inout_port>")
         attrs.append(f'{n}="{{{n}}}"')
-    return ("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\">\n  <BehaviorTree ID=\"Main\">\n    <Sequence>\n"
-            + "\n".join([f"      <Ports {' '.join(attrs)}/>",
-                         '      <LoopString queue="a;b??/" value="{loop_value}"><AlwaysSuccess/></LoopString>']
-                        + nodes)
-            + "\n    </Sequence>\n  </BehaviorTree>\n  <TreeNodesModel>\n    <Action ID=\"Ports\">\n"
-            + "\n".join(ports) + "\n    </Action>\n" + "\n".join(models) + "\n  </TreeNodesModel>\n</root>\n")
+    return (
+        '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <BehaviorTree ID="Main">\n    <Sequence>\n'
+        + "\n".join(
+            [
+                f"      <Ports {' '.join(attrs)}/>",
+                '      <LoopString queue="a;b??/" value="{loop_value}"><AlwaysSuccess/></LoopString>',
+            ]
+            + nodes
+        )
+        + '\n    </Sequence>\n  </BehaviorTree>\n  <TreeNodesModel>\n    <Action ID="Ports">\n'
+        + "\n".join(ports)
+        + "\n    </Action>\n"
+        + "\n".join(models)
+        + "\n  </TreeNodesModel>\n</root>\n"
+    )
 
 
 STEM_MISSION = """<root BTCPP_format="4">
@@ -74,6 +86,7 @@ def stems_translation_unit(tmp, names: list[str], instantiate: frozenset = froze
     translation unit that includes every header, and the source (the explicit instantiation
     of the mission's engine, slow) of the stems in `instantiate`."""
     from btgen.compiler import generate
+
     seen: set[str] = set()
     lines = []
     for n in names:

@@ -9,6 +9,7 @@ and Inverter over leaves; one tick visits every node and the root succeeds).
 (tickExactlyOnce; the run does not stop at SUCCESS), with the trace written
 to /dev/null unless ``--no-trace``, and prints the time taken.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,8 +33,10 @@ def measure(path: str, ticks: int, trace: bool) -> dict:
     t1 = time.perf_counter()
     interp = Interpreter(mission, parse_scenario_text(f"ticks {ticks}\n"))
     if not trace:
+
         def discard(_pieces) -> None:
             pass
+
         for node in interp.nodes:
             node.emit = discard
     t2 = time.perf_counter()
@@ -48,15 +51,23 @@ def measure(path: str, ticks: int, trace: bool) -> dict:
             lines += text.count("\n")
             sink.write(text)
     t3 = time.perf_counter()
-    return {"nodes": len(interp.nodes), "load_s": t1 - t0, "build_s": t2 - t1, "ticks": ticks,
-            "tick_s": t3 - t2, "tick_cpu_s": time.process_time() - cpu0, "trace_lines": lines}
+    return {
+        "nodes": len(interp.nodes),
+        "load_s": t1 - t0,
+        "build_s": t2 - t1,
+        "ticks": ticks,
+        "tick_s": t3 - t2,
+        "tick_cpu_s": time.process_time() - cpu0,
+        "trace_lines": lines,
+    }
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("nodes", type=int)
-    p.add_argument("-o", "--output", help="where to write the mission (default: stdout, or a temporary "
-                                          "file with --measure)")
+    p.add_argument(
+        "-o", "--output", help="where to write the mission (default: stdout, or a temporary file with --measure)"
+    )
     p.add_argument("--branching", type=int, default=4)
     p.add_argument("--measure", type=int, metavar="TICKS", help="time this many ticks of the interpreter")
     p.add_argument("--no-trace", action="store_true", help="measure without producing trace lines")
@@ -73,7 +84,8 @@ def main(argv=None) -> int:
     tmp = None
     if path is None:
         tmp = tempfile.NamedTemporaryFile(  # noqa: SIM115  (closed below, kept on disk)
-            "w", suffix=".xml", delete=False, encoding="utf-8")
+            "w", suffix=".xml", delete=False, encoding="utf-8"
+        )
         path = tmp.name
         tmp.close()
     with open(path, "w", encoding="utf-8") as f:
@@ -83,9 +95,11 @@ def main(argv=None) -> int:
     finally:
         if tmp is not None:
             os.unlink(path)
-    print(f"{r['nodes']} nodes: load {r['load_s']:.2f} s, build {r['build_s']:.2f} s; "
-          f"{r['ticks']} ticks in {r['tick_s']:.2f} s ({r['tick_cpu_s']:.2f} s CPU), "
-          f"{r['trace_lines']} trace lines" + ("" if not args.no_trace else " (trace off)"))
+    print(
+        f"{r['nodes']} nodes: load {r['load_s']:.2f} s, build {r['build_s']:.2f} s; "
+        f"{r['ticks']} ticks in {r['tick_s']:.2f} s ({r['tick_cpu_s']:.2f} s CPU), "
+        f"{r['trace_lines']} trace lines" + ("" if not args.no_trace else " (trace off)")
+    )
     return 0
 
 

@@ -10,6 +10,7 @@ Each claim of compiler.py's docstring has a test here:
   step; SIGKILL of a real `btgen compile` at random moments) never leaves a
   partial output: each file holds one complete generation.
 """
+
 import os
 import random
 import signal
@@ -36,20 +37,26 @@ MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
 
 
 def _compile(mission, out_dir, cwd=None):
-    return subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out_dir)],
-                          cwd=cwd, capture_output=True, check=False, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out_dir)],
+        cwd=cwd,
+        capture_output=True,
+        check=False,
+        timeout=120,
+    )
 
 
 def _snapshot(out_dir):
-    return {p.name: (b"<dir>" if p.is_dir() else p.read_bytes(), p.stat().st_mtime_ns, p.stat().st_mode)
-            for p in sorted(Path(out_dir).iterdir())}
+    return {
+        p.name: (b"<dir>" if p.is_dir() else p.read_bytes(), p.stat().st_mtime_ns, p.stat().st_mode)
+        for p in sorted(Path(out_dir).iterdir())
+    }
 
 
 def _in_process(mission, out_dir):
     import argparse
 
-    return compiler.compile_command(argparse.Namespace(mission=str(mission), output_dir=str(out_dir),
-                                                       relative_to=None))
+    return compiler.compile_command(argparse.Namespace(mission=str(mission), output_dir=str(out_dir), relative_to=None))
 
 
 @pytest.fixture
@@ -92,12 +99,17 @@ def test_unchanged_output_keeps_its_mtime(compiled):
     assert after["atomic_probe.hpp"][1] != before["atomic_probe.hpp"][1]
 
 
-@pytest.mark.parametrize("broken", [
-    MISSION.format(name="Broken", n=2).replace("</Sequence>", ""),  # not well-formed
-    MISSION.format(name="Broken", n="two"),  # fails validation
-    # valid, but the C++ back end rejects it (a condition that can be SKIPPED makes 4.6.2 throw)
-    MISSION.format(name="Broken", n=2).replace("<Move/>", "<IfThenElse><RunOnce><IsReady/></RunOnce><Move/></IfThenElse>"),
-])
+@pytest.mark.parametrize(
+    "broken",
+    [
+        MISSION.format(name="Broken", n=2).replace("</Sequence>", ""),  # not well-formed
+        MISSION.format(name="Broken", n="two"),  # fails validation
+        # valid, but the C++ back end rejects it (a condition that can be SKIPPED makes 4.6.2 throw)
+        MISSION.format(name="Broken", n=2).replace(
+            "<Move/>", "<IfThenElse><RunOnce><IsReady/></RunOnce><Move/></IfThenElse>"
+        ),
+    ],
+)
 def test_failed_compile_leaves_previous_output_byte_identical(compiled, broken):
     mission, out = compiled
     before = _snapshot(out)
@@ -135,6 +147,7 @@ def test_a_fault_at_any_step_leaves_one_generation(compiled, monkeypatch, step):
             if calls["n"] == step + 1:
                 raise OSError(5, "injected fault")
             return real(*args, **kwargs)
+
         return op
 
     for name in ("replace", "rename", "fsync", "chmod", "fdopen", "unlink"):
@@ -176,8 +189,12 @@ def test_sigkill_at_random_moments_never_leaves_a_partial_file(tmp_path):
     kills = 0
     for i in range(40):
         mission.write_text(versions[i % 2])
-        proc = subprocess.Popen([sys.executable, "-m", "btgen", "compile", mission.name, "-o", str(out)],
-                                cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "btgen", "compile", mission.name, "-o", str(out)],
+            cwd=tmp_path,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         time.sleep(rng.uniform(0.5, 1.0) * full)
         if proc.poll() is None:
             proc.send_signal(signal.SIGKILL)

@@ -4,6 +4,7 @@ The benchmark builds a mission with instant leaves at -O2 (cached), ticks it
 and reports its numbers; these tests check the report is complete and sane
 and that nothing allocates. How fast it is belongs to bench/run_benchmarks.py.
 """
+
 from __future__ import annotations
 
 import os
@@ -57,9 +58,12 @@ def bench_20(cache, tmp_path_factory):
     """`btgen bench` on a 20-node balanced mission, 50 ticks: (exit status, report, stderr)."""
     path = tmp_path_factory.mktemp("mission") / "balanced_20.xml"
     path.write_text(synth.balanced_mission(20), encoding="utf-8")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "bench", str(path), "--ticks", "50"],
-                          capture_output=True, check=False,
-                          env=dict(os.environ, PYTHONPATH=os.path.join(ROOT, "generator")))
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "bench", str(path), "--ticks", "50"],
+        capture_output=True,
+        check=False,
+        env=dict(os.environ, PYTHONPATH=os.path.join(ROOT, "generator")),
+    )
     return proc.returncode, _parse(proc.stdout.decode()), proc.stderr.decode()
 
 
@@ -108,16 +112,18 @@ def test_ticks_must_be_positive(capsys, balanced_20):
 
 def test_invalid_mission_is_a_diagnostic_not_a_traceback(capsys, tmp_path):
     bad = tmp_path / "bad.xml"
-    bad.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><NoSuchNode/></BehaviorTree></root>\n',
-                   encoding="utf-8")
+    bad.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><NoSuchNode/></BehaviorTree></root>\n', encoding="utf-8"
+    )
     rc, _, err = _bench(capsys, str(bad), "--ticks", "10")
     assert rc == 1
     assert err.startswith(f"{bad}:") and "error:" in err and "Traceback" not in err
 
 
 def test_committed_synthetic_missions_are_what_make_missions_writes():
-    proc = subprocess.run([sys.executable, os.path.join(BENCH_DIR, "make_missions.py"), "--check"],
-                          capture_output=True, check=False)
+    proc = subprocess.run(
+        [sys.executable, os.path.join(BENCH_DIR, "make_missions.py"), "--check"], capture_output=True, check=False
+    )
     assert proc.returncode == 0, proc.stderr.decode()
 
 

@@ -1,4 +1,5 @@
 """Blackboards, remapping and port access, checked against BehaviorTree.CPP 4.6.2."""
+
 import pytest
 
 from btgen.lang.blackboard import (
@@ -27,6 +28,7 @@ def state(entry):
 
 
 # ----------------------------------------------------------------- look-up
+
 
 def test_lookup_order_local_then_remapping_then_autoremap():
     root = Blackboard()
@@ -81,6 +83,7 @@ def test_get_reports_missing_and_unset_values():
 
 # ---------------------------------------------------------------- creation
 
+
 def test_create_entry_types():
     bb = Blackboard()
     e = bb.create_entry("n", "int")
@@ -123,6 +126,7 @@ def test_remapping_to_at_key_creates_on_the_root():
 # ------------------------------------------------------------------- set
 # blackboard.h Blackboard::set<T>
 
+
 def test_set_creates_entries_typed_by_the_writer():
     bb = Blackboard()
     assert state(bb.set("s", "hello")) == ("any", "hello", 1)  # a string creates a generic entry
@@ -154,9 +158,10 @@ def test_set_on_a_typed_entry_converts_or_rejects():
     with pytest.raises(BlackboardError, match="is declared as int; it cannot be written with a double"):
         bb.set("n", 7.5)
     with pytest.raises(BlackboardError) as err:
-        bb.set("n", 2 ** 40)
-    assert err.value.message == ("cannot write 1099511627776 to `n`: cannot convert 1099511627776 (int) to int: "
-                                 "the value is out of range")
+        bb.set("n", 2**40)
+    assert err.value.message == (
+        "cannot write 1099511627776 to `n`: cannot convert 1099511627776 (int) to int: the value is out of range"
+    )
     assert bb.get("n") == 9 and bb.get_entry("n").sequence_id == 3
     e = bb.set("n", True)  # isCastingSafe(int, true) holds; the entry keeps its type
     assert state(e) == ("int", 1, 4) and type(e.value) is int
@@ -206,6 +211,7 @@ def test_unset_removes_only_local_entries():
 # --------------------------------------------------------------- subtrees
 # xml_parsing.cpp recursivelyCreateSubtree
 
+
 def test_for_subtree_remaps_and_sets_constants():
     root = Blackboard()
     run(root, "target := 'kitchen'; visits := 0")
@@ -243,10 +249,21 @@ def test_nested_subtrees_with_autoremap_share_the_outer_remapping():
 # ------------------------------------------------------------ port helpers
 # tree_node.h getInputStamped / setOutput, tree_node.cpp isBlackboardPointer
 
-@pytest.mark.parametrize("text, key", [
-    ("{goal}", "goal"), ("  {goal} ", "goal"), ("{@mode}", "@mode"), ("{ goal }", " goal "),
-    ("{}", None), ("{a", None), ("goal", None), ("x{a}", None), ("\t{a}", None),
-])
+
+@pytest.mark.parametrize(
+    "text, key",
+    [
+        ("{goal}", "goal"),
+        ("  {goal} ", "goal"),
+        ("{@mode}", "@mode"),
+        ("{ goal }", " goal "),
+        ("{}", None),
+        ("{a", None),
+        ("goal", None),
+        ("x{a}", None),
+        ("\t{a}", None),
+    ],
+)
 def test_blackboard_pointer(text, key):
     assert strip_blackboard_pointer(text) == key
     assert is_blackboard_pointer(text) == (key is not None)
@@ -344,6 +361,7 @@ def test_create_port_entry():
 
 
 # ------------------------------------------------------------ SetBlackboard
+
 
 def test_set_blackboard_literal_and_copy():
     # set_blackboard_always: a literal, then a copy, read back by a script.

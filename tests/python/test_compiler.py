@@ -1,4 +1,5 @@
 """The C++ back end in Python: naming, lowering, emission, `btgen compile`, generated/."""
+
 import os
 import re
 import shutil
@@ -25,8 +26,10 @@ def _write(tmp_path, name, text):
 
 
 def _mission(body, models='<Action ID="Act"/><Condition ID="Cond"/>', extra=""):
-    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}</BehaviorTree>'
-            f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+    return (
+        f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}</BehaviorTree>'
+        f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n"
+    )
 
 
 def _col(path, needle):
@@ -42,16 +45,19 @@ def _errors(path):
 
 
 # ------------------------------------------------------------------------ naming
-@pytest.mark.parametrize("stem,snake,pascal", [
-    ("LabTour", "lab_tour", "LabTour"),
-    ("lab_tour", "lab_tour", "LabTour"),
-    ("PickPlaceBall", "pick_place_ball", "PickPlaceBall"),
-    ("HTTPServer2", "http_server2", "HttpServer2"),
-    ("robot-lab tour", "robot_lab_tour", "RobotLabTour"),
-    ("seq_basic", "seq_basic", "SeqBasic"),
-    ("01_mission", "01_mission", "Mission_01Mission"),
-    ("___", "mission", "Mission"),
-])
+@pytest.mark.parametrize(
+    "stem,snake,pascal",
+    [
+        ("LabTour", "lab_tour", "LabTour"),
+        ("lab_tour", "lab_tour", "LabTour"),
+        ("PickPlaceBall", "pick_place_ball", "PickPlaceBall"),
+        ("HTTPServer2", "http_server2", "HttpServer2"),
+        ("robot-lab tour", "robot_lab_tour", "RobotLabTour"),
+        ("seq_basic", "seq_basic", "SeqBasic"),
+        ("01_mission", "01_mission", "Mission_01Mission"),
+        ("___", "mission", "Mission"),
+    ],
+)
 def test_file_and_class_names(stem, snake, pascal):
     assert naming.snake_case(stem) == snake
     assert naming.header_name(stem) == snake + ".hpp"
@@ -65,24 +71,31 @@ def test_namespace_and_guard_are_identifiers():
     assert naming.include_guard("LabTour") == "BTGEN_GENERATED_LAB_TOUR_HPP"
 
 
-@pytest.mark.parametrize("text,ident", [
-    ("FindBall", "FindBall"),
-    ("IV. VisitExhibit", "IV_VisitExhibit"),
-    ("9lives", "n_9lives"),
-    ("_Reserved", "n_Reserved"),
-    ("a__b", "a_b"),
-    ("class", "class_"),
-    ("Ünïcode", "n_n_code"),
-    ("", "n"),
-])
+@pytest.mark.parametrize(
+    "text,ident",
+    [
+        ("FindBall", "FindBall"),
+        ("IV. VisitExhibit", "IV_VisitExhibit"),
+        ("9lives", "n_9lives"),
+        ("_Reserved", "n_Reserved"),
+        ("a__b", "a_b"),
+        ("class", "class_"),
+        ("Ünïcode", "n_n_code"),
+        ("", "n"),
+    ],
+)
 def test_cpp_identifier(text, ident):
     assert naming.cpp_identifier(text) == ident
     assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", naming.cpp_identifier(text))
 
 
 def test_unique_identifiers_disambiguate():
-    assert naming.unique_identifiers(["a b", "a-b", "a_b", "Leaf"], taken=["Leaf"]) == ("a_b", "a_b_2", "a_b_3",
-                                                                                       "Leaf_2")
+    assert naming.unique_identifiers(["a b", "a-b", "a_b", "Leaf"], taken=["Leaf"]) == (
+        "a_b",
+        "a_b_2",
+        "a_b_3",
+        "Leaf_2",
+    )
 
 
 def test_cpp_string_is_ascii_and_exact():
@@ -129,15 +142,25 @@ def test_lowered_table_of_nested_subtrees_matches_the_trace():
 
 
 def test_lowering_tables(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence name="Root"><SubTree ID="Sub" name="S1"/><Repeat num_cycles="3"><Act/></Repeat>'
-        '<SubTree ID="Sub" name="S2"/><Timeout msec="250"><Act name="Slow"/></Timeout><RunOnce><Cond/></RunOnce>'
-        '<Parallel success_count="-1"><Act/><Act/><Act/></Parallel></Sequence>',
-        extra='<BehaviorTree ID="Sub"><Inverter><Cond name="Inner"/></Inverter></BehaviorTree>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence name="Root"><SubTree ID="Sub" name="S1"/><Repeat num_cycles="3"><Act/></Repeat>'
+            '<SubTree ID="Sub" name="S2"/><Timeout msec="250"><Act name="Slow"/></Timeout><RunOnce><Cond/></RunOnce>'
+            '<Parallel success_count="-1"><Act/><Act/><Act/></Parallel></Sequence>',
+            extra='<BehaviorTree ID="Sub"><Inverter><Cond name="Inner"/></Inverter></BehaviorTree>',
+        ),
+    )
     p = lower(load_mission(path))
     assert [(n.uid, n.id, n.name) for n in p.nodes][:6] == [
-        (1, "Sequence", "Root"), (2, "SubTree", "S1"), (3, "Inverter", "Inverter"), (4, "Cond", "Inner"),
-        (5, "Repeat", "Repeat"), (6, "Act", "Act")]
+        (1, "Sequence", "Root"),
+        (2, "SubTree", "S1"),
+        (3, "Inverter", "Inverter"),
+        (4, "Cond", "Inner"),
+        (5, "Repeat", "Repeat"),
+        (6, "Act", "Act"),
+    ]
     by_name = {n.name: n for n in p.nodes}
     assert by_name["Repeat"].params == (3, 0, 0)
     assert by_name["Timeout"].params == (250, 0, 0) and by_name["Timeout"].timer >= 0
@@ -152,7 +175,7 @@ def test_lowering_tables(tmp_path):
     assert len(used) == len(set(used)) and max(used) < p.counter_count
     # each node's children are in the child table at its offset
     for n in p.nodes:
-        assert p.child_table[n.child_begin:n.child_begin + len(n.children)] == n.children
+        assert p.child_table[n.child_begin : n.child_begin + len(n.children)] == n.children
         for c in n.children:
             assert p.nodes[c].parent == n.index
     assert [m.id for m in p.actions] == ["Act"] and [m.id for m in p.conditions] == ["Cond"]
@@ -162,30 +185,41 @@ def test_parallel_that_can_never_succeed_is_rejected(tmp_path):
     path = _write(tmp_path, "m.xml", _mission('<Parallel success_count="3"><Act/><Act/></Parallel>'))
     col = _col(path, '3"><Act/>')
     assert _errors(path) == [
-        f"{path}:1:{col}: error: `Parallel` \"Parallel\" has 2 children but needs 3 successes (success_count=3): it "
-        f"can never succeed (BehaviorTree.CPP throws when it is ticked)"]
+        f'{path}:1:{col}: error: `Parallel` "Parallel" has 2 children but needs 3 successes (success_count=3): it '
+        f"can never succeed (BehaviorTree.CPP throws when it is ticked)"
+    ]
 
 
 def test_skippable_if_condition_is_rejected(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission('<IfThenElse><RunOnce><Cond/></RunOnce><Act/></IfThenElse>'))
+    path = _write(tmp_path, "m.xml", _mission("<IfThenElse><RunOnce><Cond/></RunOnce><Act/></IfThenElse>"))
     assert _errors(path) == [
-        f"{path}:1:{_col(path, '<RunOnce>')}: error: the condition of `IfThenElse` \"IfThenElse\" (`RunOnce` \"RunOnce\") can return "
-        f"SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that answers SUCCESS or FAILURE there"]
-    ok = _write(tmp_path, "ok.xml", _mission('<IfThenElse><RunOnce then_skip="false"><Cond/></RunOnce><Act/>'
-                                             '</IfThenElse>'))
+        f'{path}:1:{_col(path, "<RunOnce>")}: error: the condition of `IfThenElse` "IfThenElse" '
+        '(`RunOnce` "RunOnce") can return '
+        f"SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that answers SUCCESS or FAILURE there"
+    ]
+    ok = _write(
+        tmp_path, "ok.xml", _mission('<IfThenElse><RunOnce then_skip="false"><Cond/></RunOnce><Act/></IfThenElse>')
+    )
     lower(load_mission(ok))
 
 
 def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence>\n<Script code="n := 2"/>\n<Repeat num_cycles="{n}"><Act/></Repeat>\n'
-        '<SubTree ID="Sub"/><SubTree ID="Sub"/></Sequence>',
-        extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence>\n<Script code="n := 2"/>\n<Repeat num_cycles="{n}"><Act/></Repeat>\n'
+            '<SubTree ID="Sub"/><SubTree ID="Sub"/></Sequence>',
+            extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>',
+        ),
+    )
     errs = _errors(path)
-    assert errs == [f"{path}:3:21: error: port `num_cycles` of `Repeat` \"Repeat\" reads blackboard entry `{{n}}`; "
-                    f"the C++ back end needs a literal value here",
-                    f"{path}:4:101: error: port `msec` of `Sleep` \"Sleep\" reads blackboard entry `{{n}}`; the C++ "
-                    f"back end needs a literal value here"]  # once, though the subtree is used twice
+    assert errs == [
+        f'{path}:3:21: error: port `num_cycles` of `Repeat` "Repeat" reads blackboard entry `{{n}}`; '
+        f"the C++ back end needs a literal value here",
+        f'{path}:4:101: error: port `msec` of `Sleep` "Sleep" reads blackboard entry `{{n}}`; the C++ '
+        f"back end needs a literal value here",
+    ]  # once, though the subtree is used twice
 
 
 # ---------------------------------------------------------------------- emission
@@ -196,8 +230,11 @@ def test_generation_is_deterministic(tmp_path):
     assert [(o.name, o.text) for o in first] == [(o.name, o.text) for o in second]
     # and through the command line, into two directories, byte for byte
     for d in ("a", "b"):
-        subprocess.run([sys.executable, "-m", "btgen", "compile", mission, "-o", str(tmp_path / d),
-                        "--relative-to", ROOT], check=True, cwd=str(tmp_path))
+        subprocess.run(
+            [sys.executable, "-m", "btgen", "compile", mission, "-o", str(tmp_path / d), "--relative-to", ROOT],
+            check=True,
+            cwd=str(tmp_path),
+        )
     for name in ("control_flow.hpp", "control_flow.cpp"):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
         assert (tmp_path / "a" / name).read_text() == dict((o.name, o.text) for o in first)[name]
@@ -206,24 +243,34 @@ def test_generation_is_deterministic(tmp_path):
 def test_banner_abi_and_shape_of_the_header():
     mission = os.path.join(ROOT, "tests", "cpp", "missions", "control_flow.xml")
     header, source = generate(mission, relative_to=ROOT)
-    assert header.text.startswith(f"// control_flow.hpp: generated by btgen {__version__} from "
-                                  f"tests/cpp/missions/control_flow.xml\n")
+    assert header.text.startswith(
+        f"// control_flow.hpp: generated by btgen {__version__} from tests/cpp/missions/control_flow.xml\n"
+    )
     assert source.text.startswith(f"// control_flow.cpp: generated by btgen {__version__} from ")
     assert f"static_assert(btgen::kRuntimeAbi == {RUNTIME_ABI}," in header.text
     runtime = (Path(ROOT) / "runtime" / "include" / "btgen" / "version.hpp").read_text()
     assert f"inline constexpr int kRuntimeAbi = {RUNTIME_ABI};" in runtime
-    assert "template <class Leaves, class Clock = btgen::SteadyClock, class Observer = btgen::NoObserver>\n" \
-           "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
-    for hook in ("onStart(leaf::Move& model", "onRunning(leaf::Move& model", "onHalted(leaf::Move& model",
-                 "check(leaf::IsDone& model"):
+    assert (
+        "template <class Leaves, class Clock = btgen::SteadyClock, class Observer = btgen::NoObserver>\n"
+        "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
+    )
+    for hook in (
+        "onStart(leaf::Move& model",
+        "onRunning(leaf::Move& model",
+        "onHalted(leaf::Move& model",
+        "check(leaf::IsDone& model",
+    ):
         assert f"virtual {'void' if 'Halted' in hook else 'btgen::Status'} {hook}" in header.text
     assert "/work/" not in header.text and "/tmp/" not in header.text  # no absolute paths
     assert "template class btgen::Engine<control_flow::detail::Spec, control_flow::ControlFlowLeaves" in source.text
 
 
 def test_names_in_tables_are_escaped(tmp_path):
-    path = _write(tmp_path, "odd name.xml", _mission('<Sequence name="say &quot;hi&quot;&#10;\\"><IV.Act-2/></Sequence>',
-                                                     models='<Action ID="IV.Act-2"/>'))
+    path = _write(
+        tmp_path,
+        "odd name.xml",
+        _mission('<Sequence name="say &quot;hi&quot;&#10;\\"><IV.Act-2/></Sequence>', models='<Action ID="IV.Act-2"/>'),
+    )
     header, _ = render(lower(load_mission(path)), "odd name", str(tmp_path))
     assert header.name == "odd_name.hpp"
     assert '"say \\"hi\\"\\012\\\\"' in header.text
@@ -257,33 +304,50 @@ def test_compile_writes_only_what_changed_and_nothing_on_error(tmp_path):
 
 
 def test_cli_compile_reports_errors_with_exit_1(tmp_path):
-    bad = _write(tmp_path, "bad.xml", _mission('<Sequence><Act/><Precondition if="a"><Act/></Precondition>'
-                                               '</Sequence>'))
-    proc = subprocess.run([sys.executable, "-m", "btgen", "compile", bad, "-o", str(tmp_path / "o")],
-                          capture_output=True, text=True, cwd=str(tmp_path), check=False)
+    bad = _write(tmp_path, "bad.xml", _mission('<Sequence><Act/><Precondition if="a"><Act/></Precondition></Sequence>'))
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", bad, "-o", str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+        cwd=str(tmp_path),
+        check=False,
+    )
     assert proc.returncode == 1
-    assert proc.stderr == (f"{bad}:1:{_col(bad, 'if=') + 4}: error: `if` of `Precondition` \"Precondition\" reads "
-                           f"`a`, but nothing creates that blackboard entry: no port, script or SetBlackboard writes "
-                           f"it (create it with `a := ...` first)\n")
+    assert proc.stderr == (
+        f'{bad}:1:{_col(bad, "if=") + 4}: error: `if` of `Precondition` "Precondition" reads '
+        f"`a`, but nothing creates that blackboard entry: no port, script or SetBlackboard writes "
+        f"it (create it with `a := ...` first)\n"
+    )
     assert not (tmp_path / "o").exists()
 
 
 def test_deps_outputs_and_inputs_for_build_systems(tmp_path):
     (tmp_path / "sub").mkdir()
-    _write(tmp_path, "sub/lib.xml", '<root BTCPP_format="4"><BehaviorTree ID="Lib"><Act/></BehaviorTree>'
-                                    '<TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n')
-    main_xml = _write(tmp_path, "Main.xml", '<root BTCPP_format="4" main_tree_to_execute="Main">'
-                                            '<include path="sub/lib.xml"/><BehaviorTree ID="Main">'
-                                            '<SubTree ID="Lib"/></BehaviorTree></root>\n')
+    _write(
+        tmp_path,
+        "sub/lib.xml",
+        '<root BTCPP_format="4"><BehaviorTree ID="Lib"><Act/></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n',
+    )
+    main_xml = _write(
+        tmp_path,
+        "Main.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="Main">'
+        '<include path="sub/lib.xml"/><BehaviorTree ID="Main">'
+        '<SubTree ID="Lib"/></BehaviorTree></root>\n',
+    )
     assert mission_files(main_xml) == [os.path.abspath(main_xml), str(tmp_path / "sub" / "lib.xml")]
     inputs = generator_inputs()
     assert any(p.endswith("lower.py") for p in inputs) and any(p.endswith("mission.hpp.j2") for p in inputs)
     assert any(p.endswith(".xsd") for p in inputs)
-    for argv, expected in ((["--outputs", main_xml], "main.hpp\nmain.cpp\n"),
-                           (["--outputs", main_xml, "--cmake"], "main.hpp;main.cpp"),
-                           (["--template", main_xml], "main_::Main\n")):
-        proc = subprocess.run([sys.executable, "-m", "btgen.compiler", *argv], stdout=subprocess.PIPE, text=True,
-                              check=True)
+    for argv, expected in (
+        (["--outputs", main_xml], "main.hpp\nmain.cpp\n"),
+        (["--outputs", main_xml, "--cmake"], "main.hpp;main.cpp"),
+        (["--template", main_xml], "main_::Main\n"),
+    ):
+        proc = subprocess.run(
+            [sys.executable, "-m", "btgen.compiler", *argv], stdout=subprocess.PIPE, text=True, check=True
+        )
         assert proc.stdout == expected
     assert main(["--check", main_xml]) == 0
 
@@ -293,8 +357,9 @@ def test_committed_generated_matches_a_fresh_run():
     """generated/ holds exactly what `python -m btgen.compiler --update-generated` writes."""
     root = Path(ROOT)
     expected = committed_outputs(root)
-    present = {p.name: p.read_text(encoding="utf-8") for p in (root / "generated").glob("*")
-               if p.suffix in (".hpp", ".cpp")}
+    present = {
+        p.name: p.read_text(encoding="utf-8") for p in (root / "generated").glob("*") if p.suffix in (".hpp", ".cpp")
+    }
     assert sorted(present) == sorted(expected), "run `python -m btgen.compiler --update-generated`"
     for name, text in expected.items():
         assert present[name] == text, f"generated/{name} is stale: run `python -m btgen.compiler --update-generated`"
@@ -306,23 +371,63 @@ def test_committed_generated_compiles_warning_free(tmp_path):
     if not sources:
         pytest.skip("no shipped mission compiles on the C++ back end yet")
     for src in sources:
-        subprocess.run(["c++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
-                        "-I", str(root / "runtime" / "include"), "-I", str(root / "generated"), str(src)],
-                       check=True)
+        subprocess.run(
+            [
+                "c++",
+                "-std=c++17",
+                "-Wall",
+                "-Wextra",
+                "-Wpedantic",
+                "-Werror",
+                "-fsyntax-only",
+                "-I",
+                str(root / "runtime" / "include"),
+                "-I",
+                str(root / "generated"),
+                str(src),
+            ],
+            check=True,
+        )
 
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
-@pytest.mark.parametrize("stem", ["script_expressions", "robot_lab_tour", "loop_double_string", "entry_updated",
-                                  "unset_blackboard", "root_blackboard_at", "pick_and_place", "post_conditions"])
+@pytest.mark.parametrize(
+    "stem",
+    [
+        "script_expressions",
+        "robot_lab_tour",
+        "loop_double_string",
+        "entry_updated",
+        "unset_blackboard",
+        "root_blackboard_at",
+        "pick_and_place",
+        "post_conditions",
+    ],
+)
 def test_data_side_code_compiles_warning_free(stem, compiler, tmp_path):
     """Scripts, ports, slots and the data nodes' functions: no warning with either compiler."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     for out in generate(os.path.join(CASES, stem + ".xml"), relative_to=ROOT):
         (tmp_path / out.name).write_text(out.text, encoding="utf-8")
-    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
-                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path),
-                    str(tmp_path / (naming.snake_case(stem) + ".cpp"))], check=True)
+    subprocess.run(
+        [
+            compiler,
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Wshadow",
+            "-Werror",
+            "-fsyntax-only",
+            "-I",
+            os.path.join(ROOT, "runtime", "include"),
+            "-I",
+            str(tmp_path),
+            str(tmp_path / (naming.snake_case(stem) + ".cpp")),
+        ],
+        check=True,
+    )
 
 
 def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
@@ -335,7 +440,9 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     cmd = ["c++", "-std=c++17", "-fsyntax-only", "-I", str(runtime), "-I", str(tmp_path), str(tmp_path / source.name)]
     subprocess.run(cmd, check=True)  # the matching runtime compiles
     version = runtime / "btgen" / "version.hpp"
-    version.write_text(version.read_text().replace(f"kRuntimeAbi = {RUNTIME_ABI};", f"kRuntimeAbi = {RUNTIME_ABI + 1};"))
+    version.write_text(
+        version.read_text().replace(f"kRuntimeAbi = {RUNTIME_ABI};", f"kRuntimeAbi = {RUNTIME_ABI + 1};")
+    )
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert proc.returncode != 0
     assert "regenerate it with the btgen that matches your runtime headers" in proc.stdout
@@ -347,18 +454,37 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
     the same leaf code builds against tests/cpp/missions/leaf_api_{wired,unwired}.xml."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
-    header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "leaf_api_unwired.xml"),
-                              relative_to=ROOT)
-    for accessor in ("btgen::Input<std::string_view> target() const", "btgen::Input<std::int32_t> retries() const",
-                     "bool set_retries(std::int32_t value) const", "bool set_error_code(std::int32_t value) const",
-                     "bool set_pose(const T& value) const", "btgen::Input<double> threshold() const"):
+    header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "leaf_api_unwired.xml"), relative_to=ROOT)
+    for accessor in (
+        "btgen::Input<std::string_view> target() const",
+        "btgen::Input<std::int32_t> retries() const",
+        "bool set_retries(std::int32_t value) const",
+        "bool set_error_code(std::int32_t value) const",
+        "bool set_pose(const T& value) const",
+        "btgen::Input<double> threshold() const",
+    ):
         assert accessor in header.text
     assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
-    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
-                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)],
-                   check=True)
+    subprocess.run(
+        [
+            compiler,
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Wshadow",
+            "-Werror",
+            "-fsyntax-only",
+            "-I",
+            os.path.join(ROOT, "runtime", "include"),
+            "-I",
+            str(tmp_path),
+            str(tmp_path / source.name),
+        ],
+        check=True,
+    )
 
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
@@ -368,34 +494,73 @@ def test_user_controls_and_decorators_compile(compiler, tmp_path):
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "user_nodes.xml"), relative_to=ROOT)
-    for text in ("static constexpr btgen::LeafKind kKind = btgen::LeafKind::Control;",
-                 "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Decorator;",
-                 "btgen::Input<std::int32_t> number_of_retries() const", "btgen::Input<double> hz() const",
-                 "btgen::Status tick_child(std::size_t i) const", "namespace control = leaf;",
-                 "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
-                 "btgen::NodeKind::UserControl", "btgen::NodeKind::UserDecorator"):
+    for text in (
+        "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Control;",
+        "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Decorator;",
+        "btgen::Input<std::int32_t> number_of_retries() const",
+        "btgen::Input<double> hz() const",
+        "btgen::Status tick_child(std::size_t i) const",
+        "namespace control = leaf;",
+        "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
+        "btgen::NodeKind::UserControl",
+        "btgen::NodeKind::UserDecorator",
+    ):
         assert text in header.text, text
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
-    subprocess.run([compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only",
-                    "-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)],
-                   check=True)
+    subprocess.run(
+        [
+            compiler,
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Wshadow",
+            "-Werror",
+            "-fsyntax-only",
+            "-I",
+            os.path.join(ROOT, "runtime", "include"),
+            "-I",
+            str(tmp_path),
+            str(tmp_path / source.name),
+        ],
+        check=True,
+    )
 
 
 @pytest.mark.parametrize("engine", ["interp", "cpp"])
 def test_run_of_a_user_control_says_it_needs_an_implementation(engine, tmp_path):
-    mission = _write(tmp_path, "m.xml", _mission('<Sequence><PipelineSequence><AlwaysSuccess/></PipelineSequence>'
-                                                 '</Sequence>', models='<Control ID="PipelineSequence"/>'))
+    mission = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            "<Sequence><PipelineSequence><AlwaysSuccess/></PipelineSequence></Sequence>",
+            models='<Control ID="PipelineSequence"/>',
+        ),
+    )
     scenario = tmp_path / "m.scenario"
     scenario.write_text("ticks 1\n", encoding="utf-8")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(mission), "--scenario", str(scenario),
-                           "--engine", engine], capture_output=True, text=True, cwd=str(tmp_path), check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", str(mission), "--scenario", str(scenario), "--engine", engine],
+        capture_output=True,
+        text=True,
+        cwd=str(tmp_path),
+        check=False,
+    )
     assert proc.returncode == 1, proc.stderr
-    assert re.search(r"m\.xml:\d+:\d+: error: `PipelineSequence` is a Control of this mission's TreeNodesModel: it "
-                     r"needs your implementation", proc.stderr), proc.stderr
+    assert re.search(
+        r"m\.xml:\d+:\d+: error: `PipelineSequence` is a Control of this mission's TreeNodesModel: it "
+        r"needs your implementation",
+        proc.stderr,
+    ), proc.stderr
     assert "Traceback" not in proc.stderr
-    compiled = subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(tmp_path / "out")],
-                              capture_output=True, text=True, cwd=str(tmp_path), check=False)
+    compiled = subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        cwd=str(tmp_path),
+        check=False,
+    )
     assert compiled.returncode == 0, compiled.stderr
 
 
@@ -408,7 +573,22 @@ def test_a_groot2_tree_text_over_64_kib_builds_with_clang_pedantic(tmp_path):
 
     assert btgen_main(["compile", str(mission), "-o", str(tmp_path)]) == 0
     (tmp_path / "t.cpp").write_text('#include "scripts_1000.hpp"\nint main() { return 0; }\n')
-    proc = subprocess.run(["clang++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
-                           f"-I{ROOT}/runtime/include", f"-I{tmp_path}", str(tmp_path / "t.cpp")],
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
+    proc = subprocess.run(
+        [
+            "clang++",
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Werror",
+            "-fsyntax-only",
+            f"-I{ROOT}/runtime/include",
+            f"-I{tmp_path}",
+            str(tmp_path / "t.cpp"),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        check=False,
+    )
     assert proc.returncode == 0, proc.stdout

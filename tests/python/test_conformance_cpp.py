@@ -9,6 +9,7 @@ interpreter (a separate back end) on the shipped missions' scenarios and on
 random missions made of every node kind the C++ back end supports, with time
 (clock_ms) in play.
 """
+
 import concurrent.futures
 import difflib
 import glob
@@ -87,9 +88,21 @@ def test_run_cpp_streams_output_and_status(capfd):
 
 @pytest.mark.skipif(not STEMS, reason=NO_CASES)
 def test_cli_runs_the_cpp_engine():
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", _case("fallback_halted", ".xml"),
-                           "--scenario", _case("fallback_halted", ".scenario"), "--engine", "cpp"],
-                          capture_output=True, check=False)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "btgen",
+            "run",
+            _case("fallback_halted", ".xml"),
+            "--scenario",
+            _case("fallback_halted", ".scenario"),
+            "--engine",
+            "cpp",
+        ],
+        capture_output=True,
+        check=False,
+    )
     with open(_case("fallback_halted", ".trace"), "rb") as f:
         assert proc.stdout == f.read()
     assert proc.returncode == 0, proc.stderr
@@ -97,20 +110,25 @@ def test_cli_runs_the_cpp_engine():
 
 def test_data_errors_are_user_errors(tmp_path):
     mission = tmp_path / "data.xml"
-    mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>\n'
-                       '  <Script code="x := 1; x := nothing"/>\n</Sequence></BehaviorTree></root>\n')
+    mission.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>\n'
+        '  <Script code="x := 1; x := nothing"/>\n</Sequence></BehaviorTree></root>\n'
+    )
     with pytest.raises(UserError) as e:
         build_cpp(str(mission))
     assert [str(d) for d in e.value.diagnostics] == [
-        f"{mission}:2:30: error: `code` of `Script` \"Script\" reads `nothing`, but nothing creates that blackboard "
-        f"entry: no port, script or SetBlackboard writes it (create it with `nothing := ...` first)"]
+        f'{mission}:2:30: error: `code` of `Script` "Script" reads `nothing`, but nothing creates that blackboard '
+        f"entry: no port, script or SetBlackboard writes it (create it with `nothing := ...` first)"
+    ]
 
 
 def test_scenario_errors_come_before_any_trace(tmp_path):
     mission = tmp_path / "m.xml"
-    mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Ok/><Done/></Sequence>'
-                       '</BehaviorTree><TreeNodesModel><Action ID="Ok"/><Condition ID="Done"/></TreeNodesModel>'
-                       '</root>\n')
+    mission.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Ok/><Done/></Sequence>'
+        '</BehaviorTree><TreeNodesModel><Action ID="Ok"/><Condition ID="Done"/></TreeNodesModel>'
+        "</root>\n"
+    )
     scenario = tmp_path / "s.scenario"
     scenario.write_text("ticks 0\nleaf Done RUNNING\n")
     rc, out, err = _run(build_cpp(str(mission)), str(scenario))
@@ -119,10 +137,12 @@ def test_scenario_errors_come_before_any_trace(tmp_path):
     scenario.write_text("leaf Done SUCCESS RUNNING\nleaf Nobody FAILURE\n")
     rc, out, err = _run(build_cpp(str(mission)), str(scenario))
     assert rc == 1 and out == ""
-    assert err == (f"{scenario}:1:19: error: `Done` is a Condition and cannot return RUNNING (a Condition answers "
-                   f"in one tick; its Condition node is at {mission}:1:60)\n"
-                   f"{scenario}:2:6: warning: leaf `Nobody` matches no Action or Condition of the mission; its line "
-                   f"is ignored\n")
+    assert err == (
+        f"{scenario}:1:19: error: `Done` is a Condition and cannot return RUNNING (a Condition answers "
+        f"in one tick; its Condition node is at {mission}:1:60)\n"
+        f"{scenario}:2:6: warning: leaf `Nobody` matches no Action or Condition of the mission; its line "
+        f"is ignored\n"
+    )
 
 
 # ------------------------------------------------ the C++ engine against the interpreter
@@ -135,8 +155,7 @@ def _shipped_runs():
     return runs
 
 
-@pytest.mark.parametrize("mission,scenario", _shipped_runs(),
-                         ids=[os.path.basename(s) for _, s in _shipped_runs()])
+@pytest.mark.parametrize("mission,scenario", _shipped_runs(), ids=[os.path.basename(s) for _, s in _shipped_runs()])
 def test_shipped_missions_agree_with_the_interpreter(mission, scenario):
     m = load_mission(mission)
     sc, _ = load_scenario(scenario, m)
@@ -147,10 +166,28 @@ def test_shipped_missions_agree_with_the_interpreter(mission, scenario):
 
 
 # Random missions: every supported node kind, leaves scripted at random, time moving.
-_CONTROLS = ["Sequence", "AsyncSequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "AsyncFallback",
-             "ReactiveFallback", "Parallel", "ParallelAll"]
-_DECORATORS = ["Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure", "Repeat",
-               "RetryUntilSuccessful", "RunOnce", "Timeout", "Delay"]
+_CONTROLS = [
+    "Sequence",
+    "AsyncSequence",
+    "SequenceWithMemory",
+    "ReactiveSequence",
+    "Fallback",
+    "AsyncFallback",
+    "ReactiveFallback",
+    "Parallel",
+    "ParallelAll",
+]
+_DECORATORS = [
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "KeepRunningUntilFailure",
+    "Repeat",
+    "RetryUntilSuccessful",
+    "RunOnce",
+    "Timeout",
+    "Delay",
+]
 
 
 def _random_mission(rng, n_trees=3):
@@ -185,33 +222,45 @@ def _random_mission(rng, n_trees=3):
             return f'<{kind} name="{next(names)}"{attrs}>' + "".join(kids) + f"</{kind}>"
         if r < 0.55:
             kind = rng.choice(["IfThenElse", "WhileDoElse"])
-            kids = [f'<Cond name="{rng.choice(["p", "q"])}"/>'] + [node(depth + 1, tree_index)
-                                                                     for _ in range(rng.randint(1, 2))]
+            kids = [f'<Cond name="{rng.choice(["p", "q"])}"/>'] + [
+                node(depth + 1, tree_index) for _ in range(rng.randint(1, 2))
+            ]
             return f'<{kind} name="{next(names)}">' + "".join(kids) + f"</{kind}>"
         kind = rng.choice(_DECORATORS)
-        attrs = {"Repeat": f' num_cycles="{rng.choice([-1, 0, 1, 2, 3])}"',
-                 "RetryUntilSuccessful": f' num_attempts="{rng.choice([-1, 1, 2, 3])}"',
-                 "RunOnce": f' then_skip="{rng.choice(["true", "false"])}"',
-                 "Timeout": f' msec="{rng.choice([0, 15, 40])}"',
-                 "Delay": f' delay_msec="{rng.choice([0, 10, 30])}"'}.get(kind, "")
+        attrs = {
+            "Repeat": f' num_cycles="{rng.choice([-1, 0, 1, 2, 3])}"',
+            "RetryUntilSuccessful": f' num_attempts="{rng.choice([-1, 1, 2, 3])}"',
+            "RunOnce": f' then_skip="{rng.choice(["true", "false"])}"',
+            "Timeout": f' msec="{rng.choice([0, 15, 40])}"',
+            "Delay": f' delay_msec="{rng.choice([0, 10, 30])}"',
+        }.get(kind, "")
         return f'<{kind} name="{next(names)}"{attrs}>' + node(depth + 1, tree_index) + f"</{kind}>"
 
     trees = "".join(f'<BehaviorTree ID="T{i}">{node(0, i)}</BehaviorTree>' for i in range(n_trees))
-    return ('<root BTCPP_format="4" main_tree_to_execute="T0">' + trees +
-            '<TreeNodesModel><Action ID="Act"/><Condition ID="Cond"/></TreeNodesModel></root>\n')
+    return (
+        '<root BTCPP_format="4" main_tree_to_execute="T0">'
+        + trees
+        + '<TreeNodesModel><Action ID="Act"/><Condition ID="Cond"/></TreeNodesModel></root>\n'
+    )
 
 
 def _random_scenario(rng):
-    lines = [f"ticks {rng.randint(5, 40)}", f"clock_ms {rng.choice([0, 5, 10, 20])}",
-             f"default {rng.choice(['SUCCESS', 'FAILURE'])}"]
+    lines = [
+        f"ticks {rng.randint(5, 40)}",
+        f"clock_ms {rng.choice([0, 5, 10, 20])}",
+        f"default {rng.choice(['SUCCESS', 'FAILURE'])}",
+    ]
     for name in ["a", "b", "c", "d", "e"]:
         if rng.random() < 0.8:
-            lines.append(f"leaf {name} " + " ".join(rng.choice(["SUCCESS", "FAILURE", "RUNNING", "RUNNING"])
-                                                     for _ in range(rng.randint(1, 12))))
+            lines.append(
+                f"leaf {name} "
+                + " ".join(rng.choice(["SUCCESS", "FAILURE", "RUNNING", "RUNNING"]) for _ in range(rng.randint(1, 12)))
+            )
     for name in ["p", "q"]:
         if rng.random() < 0.8:
-            lines.append(f"leaf {name} " + " ".join(rng.choice(["SUCCESS", "FAILURE"])
-                                                     for _ in range(rng.randint(1, 12))))
+            lines.append(
+                f"leaf {name} " + " ".join(rng.choice(["SUCCESS", "FAILURE"]) for _ in range(rng.randint(1, 12)))
+            )
     return "\n".join(lines) + "\n"
 
 
@@ -224,6 +273,7 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
         try:
             load_mission(str(path))
             from btgen.ir.lower import lower
+
             lower(load_mission(str(path)))
         except UserError:
             continue  # e.g. a SKIPPED-able IfThenElse condition, rejected by design
@@ -238,8 +288,10 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
             expected = trace_text(m, sc)
             rc, out, err = _run(binaries[mission], str(scenario))
             assert rc == 0, err
-            assert out == expected, (f"{mission} with {scenario}:\n{Path(mission).read_text()}\n"
-                                     f"{scenario.read_text()}\n" + _diff(expected, out, "C++ (expected: interp)"))
+            assert out == expected, (
+                f"{mission} with {scenario}:\n{Path(mission).read_text()}\n"
+                f"{scenario.read_text()}\n" + _diff(expected, out, "C++ (expected: interp)")
+            )
 
 
 # ------------------------------------------------ the data side beyond the recordings
@@ -248,55 +300,72 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
 # reference for each.
 _DATA_MISSIONS = {
     # A Loop over a literal queue re-entered: the queue is whole again (4.7.0).
-    "loop_reentry": ('<Repeat num_cycles="3"><Sequence><LoopInt queue="4;5" value="{v}"><Sequence>'
-                     '<Script code="sum := sum + v"/><Act name="a"/></Sequence></LoopInt>'
-                     '<ScriptCondition code="sum == 9 || sum == 18 || sum == 27"/></Sequence></Repeat>',
-                     "sum := 0", "leaf a RUNNING SUCCESS\n"),
+    "loop_reentry": (
+        '<Repeat num_cycles="3"><Sequence><LoopInt queue="4;5" value="{v}"><Sequence>'
+        '<Script code="sum := sum + v"/><Act name="a"/></Sequence></LoopInt>'
+        '<ScriptCondition code="sum == 9 || sum == 18 || sum == 27"/></Sequence></Repeat>',
+        "sum := 0",
+        "leaf a RUNNING SUCCESS\n",
+    ),
     # SetBlackboard copying {src} counts as an update (4.7.0); SkipUnlessUpdated halted with a RUNNING
     # child halts it (4.9.0); WaitValueUpdate resumes its running child.
-    "entry_updates": ('<ReactiveSequence><ScriptCondition code="go"/><Sequence>'
-                      '<SetBlackboard output_key="copy" value="{src}"/><WasEntryUpdated entry="copy"/>'
-                      '<SkipUnlessUpdated entry="{copy}"><Act name="a" _onHalted="halts += 1"/></SkipUnlessUpdated>'
-                      '</Sequence></ReactiveSequence>',
-                      "go := true; src := 'x'; halts := 0",
-                      "leaf a RUNNING RUNNING SUCCESS\n"),
+    "entry_updates": (
+        '<ReactiveSequence><ScriptCondition code="go"/><Sequence>'
+        '<SetBlackboard output_key="copy" value="{src}"/><WasEntryUpdated entry="copy"/>'
+        '<SkipUnlessUpdated entry="{copy}"><Act name="a" _onHalted="halts += 1"/></SkipUnlessUpdated>'
+        "</Sequence></ReactiveSequence>",
+        "go := true; src := 'x'; halts := 0",
+        "leaf a RUNNING RUNNING SUCCESS\n",
+    ),
     # Time with scripts on a clock: a Timeout halts its RUNNING leaf (_onHalted runs, _post does not),
     # a Delay, a Sleep.
-    "time_and_scripts": ('<Sequence><ForceSuccess><Timeout msec="25">'
-                         '<Act name="slow" _post="n := n + 1" _onHalted="h := 1"/></Timeout></ForceSuccess>'
-                         '<Delay delay_msec="20"><Script code="n := n + 5"/></Delay><Sleep msec="10"/>'
-                         '<ScriptCondition code="n == 5 &amp;&amp; h == 1"/></Sequence>',
-                         "n := 0; h := 0", "leaf slow RUNNING\nclock_ms 10\n"),
+    "time_and_scripts": (
+        '<Sequence><ForceSuccess><Timeout msec="25">'
+        '<Act name="slow" _post="n := n + 1" _onHalted="h := 1"/></Timeout></ForceSuccess>'
+        '<Delay delay_msec="20"><Script code="n := n + 5"/></Delay><Sleep msec="10"/>'
+        '<ScriptCondition code="n == 5 &amp;&amp; h == 1"/></Sequence>',
+        "n := 0; h := 0",
+        "leaf slow RUNNING\nclock_ms 10\n",
+    ),
     # _while halting a RUNNING leaf (the node is then SKIPPED); Switch on a double ("1.500000" is not
     # case "2" as an integer prefix, but equals "1.5" as a real); Precondition answering `else` SKIPPED.
-    "while_switch_precondition": ('<Sequence><ReactiveSequence><Script code="t += 1"/>'
-                                  '<Sequence _while="t &lt; 3"><Act name="long" _onHalted="h := t"/></Sequence>'
-                                  '</ReactiveSequence><Script code="x := t / 2"/>'
-                                  '<Switch2 variable="{x}" case_1="2" case_2="1.5"><Act name="one"/>'
-                                  '<Act name="half"/><Act name="other"/></Switch2>'
-                                  '<Precondition if="t &gt; 9" else="SKIPPED"><Act name="never"/></Precondition>'
-                                  '<ScriptCondition code="h == 3"/></Sequence>',
-                                  "t := 0; h := 0", "leaf long RUNNING\nleaf one FAILURE\nleaf other FAILURE\n"
-                                                    "leaf never FAILURE\n"),
+    "while_switch_precondition": (
+        '<Sequence><ReactiveSequence><Script code="t += 1"/>'
+        '<Sequence _while="t &lt; 3"><Act name="long" _onHalted="h := t"/></Sequence>'
+        '</ReactiveSequence><Script code="x := t / 2"/>'
+        '<Switch2 variable="{x}" case_1="2" case_2="1.5"><Act name="one"/>'
+        '<Act name="half"/><Act name="other"/></Switch2>'
+        '<Precondition if="t &gt; 9" else="SKIPPED"><Act name="never"/></Precondition>'
+        '<ScriptCondition code="h == 3"/></Sequence>',
+        "t := 0; h := 0",
+        "leaf long RUNNING\nleaf one FAILURE\nleaf other FAILURE\nleaf never FAILURE\n",
+    ),
     # Typed ports between robot leaves (scenario leaves do not write them), SubTree constants and
     # defaults, @ keys, a string growing towards its capacity.
-    "ports_and_subtrees": ('<Sequence><Repeat num_cycles="4"><SubTree ID="Sub" who="bob" count="{n}"/></Repeat>'
-                           '<ScriptCondition code="n == 4 &amp;&amp; @log == \'bob;bob;bob;bob;\'"/></Sequence>',
-                           "n := 0; log := ''", ""),
+    "ports_and_subtrees": (
+        '<Sequence><Repeat num_cycles="4"><SubTree ID="Sub" who="bob" count="{n}"/></Repeat>'
+        "<ScriptCondition code=\"n == 4 &amp;&amp; @log == 'bob;bob;bob;bob;'\"/></Sequence>",
+        "n := 0; log := ''",
+        "",
+    ),
 }
-_SUB = ('<BehaviorTree ID="Sub"><Sequence><Use level="{count}" name_in="{who}"/>'
-        '<Script code="count += 1; @log := @log .. who .. \';\'"/></Sequence></BehaviorTree>'
-        '<TreeNodesModel><Action ID="Act"/><Action ID="Use"><input_port name="level" type="int"/>'
-        '<input_port name="name_in" type="std::string"/><input_port name="unused" type="double" default="1.5"/>'
-        '</Action><SubTree ID="Sub"><input_port name="who"/><inout_port name="count"/></SubTree></TreeNodesModel>')
+_SUB = (
+    '<BehaviorTree ID="Sub"><Sequence><Use level="{count}" name_in="{who}"/>'
+    "<Script code=\"count += 1; @log := @log .. who .. ';'\"/></Sequence></BehaviorTree>"
+    '<TreeNodesModel><Action ID="Act"/><Action ID="Use"><input_port name="level" type="int"/>'
+    '<input_port name="name_in" type="std::string"/><input_port name="unused" type="double" default="1.5"/>'
+    '</Action><SubTree ID="Sub"><input_port name="who"/><inout_port name="count"/></SubTree></TreeNodesModel>'
+)
 
 
 @pytest.mark.parametrize("stem", sorted(_DATA_MISSIONS))
 def test_data_side_paths_agree_with_the_interpreter(stem, tmp_path):
     body, init, scenario_text = _DATA_MISSIONS[stem]
     mission = tmp_path / f"{stem}.xml"
-    mission.write_text(f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
-                       f'<Script code="{init}"/>{body}</Sequence></BehaviorTree>{_SUB}</root>\n')
+    mission.write_text(
+        f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
+        f'<Script code="{init}"/>{body}</Sequence></BehaviorTree>{_SUB}</root>\n'
+    )
     scenario = tmp_path / f"{stem}.scenario"
     scenario.write_text("ticks 30\n" + scenario_text)
     m = load_mission(str(mission))

@@ -4,6 +4,7 @@ The cases live in ``<repo>/../shared/conformance/cases`` (FORMAT.md next to
 them is the contract): ``<stem>.xml``, ``<stem>.scenario``, ``<stem>.trace``.
 Each runs in-process for speed; one also goes through the real command line.
 """
+
 import difflib
 import os
 import subprocess
@@ -32,8 +33,11 @@ def _read_trace(stem):
 
 
 def _diff(expected, got):
-    return "".join(difflib.unified_diff(expected.splitlines(True), got.splitlines(True),
-                                        "expected (BehaviorTree.CPP 4.6.2)", "interpreter", n=2))
+    return "".join(
+        difflib.unified_diff(
+            expected.splitlines(True), got.splitlines(True), "expected (BehaviorTree.CPP 4.6.2)", "interpreter", n=2
+        )
+    )
 
 
 def test_cases_present():
@@ -61,9 +65,13 @@ def test_trace_matches_recording(stem):
 def test_cli_run_reproduces_a_trace():
     """Through the installed command line: stdout is the trace, byte for byte; nothing on stderr."""
     stem = "robot_lab_tour" if "robot_lab_tour" in STEMS else STEMS[0]
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", _case(stem, ".xml"),
-                           "--scenario", _case(stem, ".scenario")],
-                          cwd=ROOT, capture_output=True, timeout=300, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", _case(stem, ".xml"), "--scenario", _case(stem, ".scenario")],
+        cwd=ROOT,
+        capture_output=True,
+        timeout=300,
+        check=False,
+    )
     assert proc.returncode == 0, proc.stderr.decode()
     assert proc.stderr == b""
     expected = _read_trace(stem).encode("utf-8")

@@ -1,5 +1,6 @@
 """The data side at compile time (dataflow.py): entries resolved to slots, their types and
 capacities, and the missions it rejects, each with its exact diagnostics (tests/bad_data)."""
+
 import glob
 import os
 import subprocess
@@ -23,8 +24,10 @@ def _write(tmp_path, name, text):
 
 
 def _mission(body, models="", extra="", main="Main"):
-    return (f'<root BTCPP_format="4" main_tree_to_execute="{main}"><BehaviorTree ID="Main">{body}</BehaviorTree>'
-            f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+    return (
+        f'<root BTCPP_format="4" main_tree_to_execute="{main}"><BehaviorTree ID="Main">{body}</BehaviorTree>'
+        f"{extra}<TreeNodesModel>{models}</TreeNodesModel></root>\n"
+    )
 
 
 def _slots(path, options=None):
@@ -48,12 +51,22 @@ def test_bad_data_mission_is_rejected_by_compile_and_validate_alike(stem, tmp_pa
     args_file = os.path.join(BAD, stem + ".args")
     extra = Path(args_file).read_text(encoding="utf-8").split() if os.path.exists(args_file) else []
     # BehaviorTree.CPP would load it, but a CI gate on `btgen validate` must mean what compile means.
-    valid = subprocess.run([sys.executable, "-m", "btgen", "validate", "-q", rel, *extra], cwd=ROOT,
-                           capture_output=True, text=True, check=False)
+    valid = subprocess.run(
+        [sys.executable, "-m", "btgen", "validate", "-q", rel, *extra],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     with open(os.path.join(BAD, stem + ".stderr"), encoding="utf-8") as f:
         assert (valid.returncode, valid.stderr) == (1, f.read())
-    proc = subprocess.run([sys.executable, "-m", "btgen", "compile", rel, "-o", str(tmp_path / "out"), *extra],
-                          cwd=ROOT, capture_output=True, text=True, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", rel, "-o", str(tmp_path / "out"), *extra],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     with open(os.path.join(BAD, stem + ".stderr"), encoding="utf-8") as f:
         expected = f.read()
     assert proc.returncode == 1
@@ -66,7 +79,7 @@ def test_subtree_remapping_autoremap_and_root_keys_resolve_to_one_slot_each():
     slots, _ = _slots(os.path.join(CASES, "subtree_remap_nested.xml"))
     # `goal` of the first GoTo instance is the parent's `target`; of the second a constant.
     assert ("root", "target") in slots and ("root", "visits") in slots
-    assert slots[("GoToDock", "goal")].initializer.startswith("{btgen::FixedString<4>(std::string_view(\"dock\", 4)), 1,")
+    assert slots[("GoToDock", "goal")].initializer.startswith('{btgen::FixedString<4>(std::string_view("dock", 4)), 1,')
     assert ("GoToKitchen", "goal") not in slots  # remapped: the parent's entry
     # `last_goal` is written inside GoTo without remapping: one slot per instance.
     assert ("GoToKitchen", "last_goal") in slots and ("GoToDock", "last_goal") in slots
@@ -77,30 +90,50 @@ def test_subtree_remapping_autoremap_and_root_keys_resolve_to_one_slot_each():
 
 
 def test_autoremap_writes_land_in_the_parent_and_private_keys_stay(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence><Script code="n := 1"/><SubTree ID="Sub" _autoremap="true"/></Sequence>',
-        extra='<BehaviorTree ID="Sub"><Script code="n += 1; m := 2; _p := 3"/></BehaviorTree>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence><Script code="n := 1"/><SubTree ID="Sub" _autoremap="true"/></Sequence>',
+            extra='<BehaviorTree ID="Sub"><Script code="n += 1; m := 2; _p := 3"/></BehaviorTree>',
+        ),
+    )
     slots, _ = _slots(path)
     assert set(slots) == {("root", "n"), ("root", "m"), ("Sub", "_p")}
 
 
 def test_types_come_from_ports_then_from_the_first_write(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence><Script code="d := 1.5; s := \'a\'; c := 0; c := c + 1"/>'
-        '<Go goal="{g}" speed="{v}" name_out="{who}"/><Script code="v := 2.5"/></Sequence>',
-        models='<Action ID="Go"><input_port name="goal" type="unsigned"/><input_port name="speed" type="double"/>'
-               '<output_port name="name_out" type="std::string"/></Action>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            "<Sequence><Script code=\"d := 1.5; s := 'a'; c := 0; c := c + 1\"/>"
+            '<Go goal="{g}" speed="{v}" name_out="{who}"/><Script code="v := 2.5"/></Sequence>',
+            models='<Action ID="Go"><input_port name="goal" type="unsigned"/><input_port name="speed" type="double"/>'
+            '<output_port name="name_out" type="std::string"/></Action>',
+        ),
+    )
     slots, _ = _slots(path)
     kinds = {k[1]: (s.kind, s.declared, s.cpp_type) for k, s in slots.items()}
-    assert kinds == {"d": ("double", "any", "double"), "s": ("string", "any", "btgen::FixedString<1>"),
-                     "c": ("int", "any", "std::int64_t"), "g": ("int", "unsigned", "std::int64_t"),
-                     "v": ("double", "double", "double"), "who": ("string", "string", "btgen::FixedString<128>")}
+    assert kinds == {
+        "d": ("double", "any", "double"),
+        "s": ("string", "any", "btgen::FixedString<1>"),
+        "c": ("int", "any", "std::int64_t"),
+        "g": ("int", "unsigned", "std::int64_t"),
+        "v": ("double", "double", "double"),
+        "who": ("string", "string", "btgen::FixedString<128>"),
+    }
 
 
 def test_string_capacities_are_computed_and_capped(tmp_path):
-    path = _write(tmp_path, "m.xml", _mission(
-        '<Sequence><Script code="a := \'kitchen\'; b := a .. \'-\' .. 7; grow := \'x\'; grow := grow .. a; '
-        'f := \'v=\' .. 0.5"/></Sequence>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            "<Sequence><Script code=\"a := 'kitchen'; b := a .. '-' .. 7; grow := 'x'; grow := grow .. a; "
+            "f := 'v=' .. 0.5\"/></Sequence>"
+        ),
+    )
     slots, _ = _slots(path, DataOptions(string_capacity=40))
     caps = {k[1]: s.capacity for k, s in slots.items()}
     # 20: an int's text; f: 2 + 317, a known bound above the capacity (`'a' .. 1e300` needs it);
@@ -114,9 +147,14 @@ def test_a_string_growing_by_little_per_write_gets_the_capacity(tmp_path, piece)
     the compiler ("string capacities do not settle", found by front-end fuzzing) when the capacity
     needed more rounds than the mission has slots."""
     setup = "u := ''; " if piece.startswith("u") else ""
-    path = _write(tmp_path, "m.xml", _mission(
-        f'<Sequence><Script code="{setup}s := \'\'"/><Repeat num_cycles="3"><Script code="s := s .. {piece}"/>'
-        f'</Repeat><Script code="t := s .. \'!\'"/></Sequence>'))
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            f'<Sequence><Script code="{setup}s := \'\'"/><Repeat num_cycles="3"><Script code="s := s .. {piece}"/>'
+            f"</Repeat><Script code=\"t := s .. '!'\"/></Sequence>"
+        ),
+    )
     slots, _ = _slots(path, DataOptions(string_capacity=300))
     caps = {k[1]: s.capacity for k, s in slots.items()}
     assert caps["s"] == 300 and caps["t"] in (300, 301)  # t follows s: widened with it, or s + 1
@@ -150,7 +188,7 @@ def test_untyped_ports_between_robot_leaves_hold_text():
 
 def test_unset_entries_may_be_missing_when_a_script_runs():
     _, ir = _slots(os.path.join(CASES, "unset_blackboard.xml"))
-    check = next(c for c in ir.scripts if c.comment.startswith("ScriptCondition \"CheckTarget\""))
+    check = next(c for c in ir.scripts if c.comment.startswith('ScriptCondition "CheckTarget"'))
     assert any("if (!bb.target.exists)" in line for line in check.body)
     unset = next(c for c in ir.data_leaves if "ForgetTarget" in c.comment)
     assert unset.body == ("bb.target.unset();", "return btgen::Status::SUCCESS;")
@@ -164,20 +202,32 @@ def test_every_conformance_case_compiles():
         assert not sink.items, (path, [str(d) for d in sink.items])
 
 
-@pytest.mark.parametrize("body, models, message", [
-    ('<Sequence><Produce value="{x}"/><Consume value="{x}"/></Sequence>',
-     '<Action ID="Produce"><output_port name="value" type="int"/></Action>'
-     '<Action ID="Consume"><input_port name="value" type="double"/></Action>',
-     "blackboard entry `x` was created as int, but port `value` uses it as double"),
-    ('<Script code="color := RED"/>', "", "reads `RED`, but nothing creates that blackboard entry"),
-])
+@pytest.mark.parametrize(
+    "body, models, message",
+    [
+        (
+            '<Sequence><Produce value="{x}"/><Consume value="{x}"/></Sequence>',
+            '<Action ID="Produce"><output_port name="value" type="int"/></Action>'
+            '<Action ID="Consume"><input_port name="value" type="double"/></Action>',
+            "blackboard entry `x` was created as int, but port `value` uses it as double",
+        ),
+        ('<Script code="color := RED"/>', "", "reads `RED`, but nothing creates that blackboard entry"),
+    ],
+)
 def test_validate_runs_the_data_side_checks_of_compile(body, models, message, tmp_path):
     """A port type clash or an undeclared name passed `btgen validate`, then failed compile."""
     path = tmp_path / "m.xml"
-    path.write_text(f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}'
-                    f'</BehaviorTree><TreeNodesModel>{models}</TreeNodesModel></root>\n', encoding="utf-8")
-    results = [subprocess.run([sys.executable, "-m", "btgen", *cmd], cwd=str(tmp_path), capture_output=True, text=True, check=False)
-               for cmd in (["validate", "m.xml"], ["compile", "m.xml", "-o", "out"])]
+    path.write_text(
+        f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}'
+        f"</BehaviorTree><TreeNodesModel>{models}</TreeNodesModel></root>\n",
+        encoding="utf-8",
+    )
+    results = [
+        subprocess.run(
+            [sys.executable, "-m", "btgen", *cmd], cwd=str(tmp_path), capture_output=True, text=True, check=False
+        )
+        for cmd in (["validate", "m.xml"], ["compile", "m.xml", "-o", "out"])
+    ]
     for r in results:
         assert r.returncode == 1 and message in r.stderr, r.stderr
     assert results[0].stderr == results[1].stderr

@@ -5,6 +5,7 @@ Missions the C++ back end does not compile yet are counted and
 printed as skipped, so the `full` feature set starts to bite as soon as the
 back end accepts it, without a change here.
 """
+
 import os
 import sys
 
@@ -46,19 +47,61 @@ def test_generated_missions_are_valid_and_varied(tmp_path, features):
         p = tmp_path / f"m{seed}.xml"
         p.write_text(case.mission, encoding="utf-8")
         load_mission(str(p))  # raises on an invalid mission
-        for tag in ("<Sequence", "<Parallel", "<ReactiveFallback", "<IfThenElse", "<WhileDoElse", "<Timeout",
-                    "<Delay", "<RetryUntilSuccessful", "<SubTree", "<Check", "<Act", "<Sleep", "<RunOnce",
-                    "<Script ", "<Precondition", "<Switch", "<LoopInt", "_skipIf", "_onHalted", "_autoremap",
-                    "<SetBlackboard", "<WaitValueUpdate"):
+        for tag in (
+            "<Sequence",
+            "<Parallel",
+            "<ReactiveFallback",
+            "<IfThenElse",
+            "<WhileDoElse",
+            "<Timeout",
+            "<Delay",
+            "<RetryUntilSuccessful",
+            "<SubTree",
+            "<Check",
+            "<Act",
+            "<Sleep",
+            "<RunOnce",
+            "<Script ",
+            "<Precondition",
+            "<Switch",
+            "<LoopInt",
+            "_skipIf",
+            "_onHalted",
+            "_autoremap",
+            "<SetBlackboard",
+            "<WaitValueUpdate",
+        ):
             if tag in case.mission:
                 seen.add(tag)
-    expected = {"<Sequence", "<Parallel", "<ReactiveFallback", "<IfThenElse", "<WhileDoElse", "<Timeout",
-                "<Delay", "<RetryUntilSuccessful", "<SubTree", "<Check", "<Act", "<Sleep", "<RunOnce"}
+    expected = {
+        "<Sequence",
+        "<Parallel",
+        "<ReactiveFallback",
+        "<IfThenElse",
+        "<WhileDoElse",
+        "<Timeout",
+        "<Delay",
+        "<RetryUntilSuccessful",
+        "<SubTree",
+        "<Check",
+        "<Act",
+        "<Sleep",
+        "<RunOnce",
+    }
     if features == "hostile":  # its leaf models have names of the hostile pool
         expected -= {"<Check", "<Act"}
     if features == "full":
-        expected |= {"<Script ", "<Precondition", "<Switch", "<LoopInt", "_skipIf", "_onHalted", "_autoremap",
-                     "<SetBlackboard", "<WaitValueUpdate"}
+        expected |= {
+            "<Script ",
+            "<Precondition",
+            "<Switch",
+            "<LoopInt",
+            "_skipIf",
+            "_onHalted",
+            "_autoremap",
+            "<SetBlackboard",
+            "<WaitValueUpdate",
+        }
     assert expected <= seen, expected - seen
 
 

@@ -8,6 +8,7 @@ expected trace is right), not copied from an engine. Every case runs on the
 interpreter and on the C++ engine; a case the C++ back end does not compile
 yet is skipped there with the back end's reason.
 """
+
 import os
 import subprocess
 import sys
@@ -30,13 +31,19 @@ def _expected(stem):
             return default
         with open(p, encoding="utf-8", newline="") as f:
             return f.read()
+
     return int(read(".exit", "0").strip()), read(".trace", None), read(".stderr", "")
 
 
 def _run(stem, engine):
     rel = os.path.join("tests", "regressions", stem)
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", rel + ".xml", "--scenario", rel + ".scenario",
-                           "--engine", engine], cwd=ROOT, capture_output=True, check=False, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", rel + ".xml", "--scenario", rel + ".scenario", "--engine", engine],
+        cwd=ROOT,
+        capture_output=True,
+        check=False,
+        timeout=600,
+    )
     return proc.returncode, proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8")
 
 
@@ -64,8 +71,14 @@ def test_runtime_error_names_the_mission_as_given(engine, tmp_path):
     relative to the working directory: `../../tmp/...`)."""
     stem = "runtime_error_ends_tick"
     src = os.path.join(REG, stem)
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", src + ".xml", "--scenario", src + ".scenario",
-                           "--engine", engine], cwd=tmp_path, capture_output=True, text=True, timeout=600, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", src + ".xml", "--scenario", src + ".scenario", "--engine", engine],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
     rc, trace, stderr = _expected(stem)
     rel = os.path.join("tests", "regressions", stem + ".xml")
     assert (proc.returncode, proc.stdout) == (rc, trace)

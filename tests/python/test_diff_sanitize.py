@@ -8,6 +8,7 @@ empty, so any sanitizer report (which also makes the exit status non-zero)
 fails the test. A slice of the random missions of btgen.tools.fuzzgen runs the
 same way against the interpreter.
 """
+
 import glob
 import os
 import sys
@@ -52,7 +53,9 @@ def _runs():
     for xml in sorted(glob.glob(os.path.join(ROOT, "missions", "*.xml"))):
         stem = os.path.splitext(os.path.basename(xml))[0]
         for sc in sorted(glob.glob(os.path.join(ROOT, "missions", "scenarios", stem + ".*scenario"))):
-            out.append((os.path.relpath(xml, ROOT), os.path.relpath(sc, ROOT), None))  # expected: what the interpreter prints
+            out.append(
+                (os.path.relpath(xml, ROOT), os.path.relpath(sc, ROOT), None)
+            )  # expected: what the interpreter prints
     return out
 
 
@@ -61,10 +64,12 @@ def test_recorded_cases_and_shipped_missions_are_clean():
     missions = sorted({m for m, _, _ in runs})
     compiled = [m for m in missions if difftest.classify(m)[0] == "compiled"]
     skipped = [m for m in missions if m not in compiled]
-    print(f"\nsanitized executors: {len(compiled)} missions compiled, {len(skipped)} not supported by the C++ "
-          f"back end yet: {', '.join(os.path.basename(m) for m in skipped)}")
+    print(
+        f"\nsanitized executors: {len(compiled)} missions compiled, {len(skipped)} not supported by the C++ "
+        f"back end yet: {', '.join(os.path.basename(m) for m in skipped)}"
+    )
     assert len(compiled) >= 25
-    batches = [compiled[i:i + 20] for i in range(0, len(compiled), 20)]
+    batches = [compiled[i : i + 20] for i in range(0, len(compiled), 20)]
     index = {}
     for batch in batches:
         binary = difftest.build_batch(batch)
@@ -98,13 +103,15 @@ def test_the_sanitizers_report(tmp_path):
     from btgen.tools.cppengine import compiler
 
     src = tmp_path / "bad.cpp"
-    src.write_text("#include <climits>\n#include <cstdlib>\n"
-                   "int main(int argc, char**) {\n"
-                   "  if (argc > 1) { int x = INT_MAX; x += argc; return x; }\n"
-                   "  int* a = new int[2]();\n"
-                   "  delete[] a;\n"
-                   "  return a[argc];\n"
-                   "}\n")
+    src.write_text(
+        "#include <climits>\n#include <cstdlib>\n"
+        "int main(int argc, char**) {\n"
+        "  if (argc > 1) { int x = INT_MAX; x += argc; return x; }\n"
+        "  int* a = new int[2]();\n"
+        "  delete[] a;\n"
+        "  return a[argc];\n"
+        "}\n"
+    )
     subprocess.run([compiler(), *cxx_flags(), str(src), "-o", str(tmp_path / "bad")], check=True)
     asan = subprocess.run([str(tmp_path / "bad")], stderr=subprocess.PIPE, check=False)
     assert asan.returncode != 0 and b"AddressSanitizer: heap-use-after-free" in asan.stderr

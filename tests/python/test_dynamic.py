@@ -8,6 +8,7 @@ gives those entries a dynamic slot; every probe here runs through
 diagnostics, exit status). Missions whose entries keep one type keep their
 static slots (the generated code of generated/ is checked elsewhere).
 """
+
 import os
 import subprocess
 import sys
@@ -18,53 +19,62 @@ from btgen.frontend.loader import load_mission
 from btgen.ir.dataflow import analyze
 from conftest import ROOT
 
-MODELS = ('<TreeNodesModel><Action ID="A"><input_port name="p"/></Action>'
-          '<Action ID="B"><input_port name="n" type="int"/></Action></TreeNodesModel>')
+MODELS = (
+    '<TreeNodesModel><Action ID="A"><input_port name="p"/></Action>'
+    '<Action ID="B"><input_port name="n" type="int"/></Action></TreeNodesModel>'
+)
 
 
 def _mission(body):
-    return (f'<root BTCPP_format="4" main_tree_to_execute="M">\n<BehaviorTree ID="M"><Sequence>\n{body}\n'
-            f'</Sequence></BehaviorTree>\n{MODELS}\n</root>\n')
+    return (
+        f'<root BTCPP_format="4" main_tree_to_execute="M">\n<BehaviorTree ID="M"><Sequence>\n{body}\n'
+        f"</Sequence></BehaviorTree>\n{MODELS}\n</root>\n"
+    )
 
 
 PROBES = {
     # the brief's probes
     "setbb_after_script": '<Script code="x := 5"/><SetBlackboard value="7" output_key="x"/>'
-                          '<ScriptCondition code="x == 7"/>',
+    '<ScriptCondition code="x == 7"/>',
     "untyped_port_then_text": '<Script code="x := 3"/><A p="{x}"/><SetBlackboard value="abc" output_key="x"/>',
-    "string_then_int": "<Script code=\"x := 'abc'\"/><Script code=\"x := 5\"/><ScriptCondition code=\"x == 5\"/>",
+    "string_then_int": '<Script code="x := \'abc\'"/><Script code="x := 5"/><ScriptCondition code="x == 5"/>',
     "setbb_then_arith": '<SetBlackboard value="3" output_key="x"/><Script code="y := x + 1"/>',
     # more mixes
-    "int_then_numeric_text": "<Script code=\"x := 5; x := '7'\"/><ScriptCondition code=\"x == 7.0\"/>"
-                             "<Script code=\"s := '' .. x\"/><ScriptCondition code=\"s == '7.000000'\"/>",
+    "int_then_numeric_text": '<Script code="x := 5; x := \'7\'"/><ScriptCondition code="x == 7.0"/>'
+    "<Script code=\"s := '' .. x\"/><ScriptCondition code=\"s == '7.000000'\"/>",
     "copy_of_changing_entry": '<Script code="x := 1"/><SetBlackboard value="{x}" output_key="y"/>'
-                              '<SetBlackboard value="t" output_key="x"/><SetBlackboard value="{x}" output_key="y"/>'
-                              "<ScriptCondition code=\"y == 't'\"/><SetBlackboard value=\"{x}\" output_key=\"x\"/>",
+    '<SetBlackboard value="t" output_key="x"/><SetBlackboard value="{x}" output_key="y"/>'
+    '<ScriptCondition code="y == \'t\'"/><SetBlackboard value="{x}" output_key="x"/>',
     "typed_string_entry_refuses_numbers": '<Script code="x := 1"/><SetBlackboard value="a" output_key="x"/>'
-                                          '<Script code="x := 2"/>',
-    "update_and_concat": "<Script code=\"x := 2\"/><SetBlackboard value=\"ab\" output_key=\"x\"/>"
-                         "<Script code=\"x += 'c'; y := x .. 1\"/><ScriptCondition code=\"y == 'abc1'\"/>"
-                         "<Script code=\"x -= 1\"/>",
-    "ternary_of_changing_entry": "<Script code=\"x := 1\"/><SetBlackboard value=\"0\" output_key=\"x\"/>"
-                                 "<Script code=\"y := x ? 'yes' : 'no'\"/><ScriptCondition code=\"y == 'no'\"/>"
-                                 "<ScriptCondition code=\"x\"/>",
-    "unset_and_recreate": "<A p=\"{x}\"/><Script code=\"x := 1\"/><SetBlackboard value=\"a\" output_key=\"x\"/>"
-                          "<UnsetBlackboard key=\"x\"/><Script code=\"x := 2; x += 1\"/>"
-                          "<ScriptCondition code=\"x == 3\"/><A p=\"{x}\"/><B n=\"{x}\"/>",
+    '<Script code="x := 2"/>',
+    "update_and_concat": '<Script code="x := 2"/><SetBlackboard value="ab" output_key="x"/>'
+    "<Script code=\"x += 'c'; y := x .. 1\"/><ScriptCondition code=\"y == 'abc1'\"/>"
+    '<Script code="x -= 1"/>',
+    "ternary_of_changing_entry": '<Script code="x := 1"/><SetBlackboard value="0" output_key="x"/>'
+    "<Script code=\"y := x ? 'yes' : 'no'\"/><ScriptCondition code=\"y == 'no'\"/>"
+    '<ScriptCondition code="x"/>',
+    "unset_and_recreate": '<A p="{x}"/><Script code="x := 1"/><SetBlackboard value="a" output_key="x"/>'
+    '<UnsetBlackboard key="x"/><Script code="x := 2; x += 1"/>'
+    '<ScriptCondition code="x == 3"/><A p="{x}"/><B n="{x}"/>',
     # scripts that fail whenever they run: at run time, with the interpreter's message
     "no_value_assigned": '<Script code="n := 2"/><Script code="y := n .. 3"/>',
-    "string_as_condition": "<Script code=\"name := 'robot'\"/><ScriptCondition code=\"name\"/>",
+    "string_as_condition": '<Script code="name := \'robot\'"/><ScriptCondition code="name"/>',
     "ternary_two_kinds": "<Script code=\"n := 2; z := n > 1 ? 'many' : 1\"/><ScriptCondition code=\"z == 'many'\"/>"
-                         "<Script code=\"n := 0; z := n > 1 ? 'many' : 1\"/>",
-    "string_compared_with_number": "<Script code=\"s := 'abc'; i := 3\"/><ScriptCondition code=\"i &lt; s\"/>",
-    "integer_in_logic": "<Script code=\"i := 3\"/><ScriptCondition code=\"i &amp;&amp; 1\"/>",
-    "negated_string": "<Script code=\"s := 'abc'\"/><Script code=\"t := -s\"/>",
+    "<Script code=\"n := 0; z := n > 1 ? 'many' : 1\"/>",
+    "string_compared_with_number": '<Script code="s := \'abc\'; i := 3"/><ScriptCondition code="i &lt; s"/>',
+    "integer_in_logic": '<Script code="i := 3"/><ScriptCondition code="i &amp;&amp; 1"/>',
+    "negated_string": '<Script code="s := \'abc\'"/><Script code="t := -s"/>',
 }
 
 
 def _run(path, scenario, engine):
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", path, "--scenario", scenario, "--engine", engine],
-                          cwd=ROOT, capture_output=True, check=False, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", path, "--scenario", scenario, "--engine", engine],
+        cwd=ROOT,
+        capture_output=True,
+        check=False,
+        timeout=600,
+    )
     return proc.returncode, proc.stdout.decode("utf-8"), proc.stderr.decode("utf-8")
 
 
@@ -93,8 +103,11 @@ def _kinds(tmp_path, body):
 
 
 def test_only_entries_whose_type_changes_are_dynamic(tmp_path):
-    kinds = _kinds(tmp_path, '<Script code="x := 5; n := 1; n := 2.5; y := n + 1"/>'
-                             '<SetBlackboard value="7" output_key="x"/><Script code="z := x; k := x == 7"/>')
+    kinds = _kinds(
+        tmp_path,
+        '<Script code="x := 5; n := 1; n := 2.5; y := n + 1"/>'
+        '<SetBlackboard value="7" output_key="x"/><Script code="z := x; k := x == 7"/>',
+    )
     assert kinds["x"] == ("dyn", "btgen::Dyn<1>")
     assert kinds["z"][0] == "dyn"  # a copy of a dynamic value
     assert kinds["n"] == ("int", "std::int64_t")  # integer and double: a conversion, not a type change

@@ -1,5 +1,6 @@
 """Scripting enums (`--enum`, `--enums FILE`; BehaviorTree.CPP's registerScriptingEnum):
 the same values on both engines, undeclared names still errors in validate and compile."""
+
 import os
 import subprocess
 import sys
@@ -27,24 +28,32 @@ ENUMS = ["--enum", "Color=RED,GREEN,BLUE", "--enum", "Size=SMALL=5,MEDIUM,LARGE"
 
 
 def _btgen(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "btgen", *args], cwd=str(cwd), capture_output=True, text=True, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", *args], cwd=str(cwd), capture_output=True, text=True, check=False
+    )
 
 
-@pytest.mark.parametrize("text, table", [
-    ("Color=RED,GREEN,BLUE", [("RED", 0), ("GREEN", 1), ("BLUE", 2)]),
-    ("Size = SMALL=5, MEDIUM ,LARGE", [("SMALL", 5), ("MEDIUM", 6), ("LARGE", 7)]),
-    ("M=A=-1,B,C=0x10,D", [("A", -1), ("B", 0), ("C", 16), ("D", 17)]),
-])
+@pytest.mark.parametrize(
+    "text, table",
+    [
+        ("Color=RED,GREEN,BLUE", [("RED", 0), ("GREEN", 1), ("BLUE", 2)]),
+        ("Size = SMALL=5, MEDIUM ,LARGE", [("SMALL", 5), ("MEDIUM", 6), ("LARGE", 7)]),
+        ("M=A=-1,B,C=0x10,D", [("A", -1), ("B", 0), ("C", 16), ("D", 17)]),
+    ],
+)
 def test_declarations_number_as_register_scripting_enum(text, table):
     assert enums.parse_declaration(text) == table
 
 
-@pytest.mark.parametrize("text, message", [
-    ("RED,GREEN", "is not an enum declaration"),
-    ("Color=RED,2X", "`2X` in enum `Color` is not a name"),
-    ("Color=RED=x", "the value of `RED` in enum `Color` is not an integer"),
-    ("Color=RED=4294967296", "does not fit an int"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("RED,GREEN", "is not an enum declaration"),
+        ("Color=RED,2X", "`2X` in enum `Color` is not a name"),
+        ("Color=RED=x", "the value of `RED` in enum `Color` is not an integer"),
+        ("Color=RED=4294967296", "does not fit an int"),
+    ],
+)
 def test_bad_declarations(text, message):
     with pytest.raises(enums.EnumSyntaxError, match=message):
         enums.parse_declaration(text)
@@ -65,15 +74,18 @@ def test_a_name_with_two_values_is_an_error(tmp_path):
 def test_both_engines_give_the_same_trace_with_enums(tmp_path):
     (tmp_path / "m.xml").write_text(MISSION, encoding="utf-8")
     (tmp_path / "m.scenario").write_text("ticks 1\n", encoding="utf-8")
-    runs = [_btgen("run", "m.xml", "--scenario", "m.scenario", "--engine", e, *ENUMS, cwd=tmp_path)
-            for e in ("interp", "cpp")]
+    runs = [
+        _btgen("run", "m.xml", "--scenario", "m.scenario", "--engine", e, *ENUMS, cwd=tmp_path)
+        for e in ("interp", "cpp")
+    ]
     for r in runs:
         assert r.returncode == 0, r.stderr
         assert "result SUCCESS" in r.stdout
     assert runs[0].stdout == runs[1].stdout
     # The enums file gives the same.
-    (tmp_path / "m.enums").write_text("Color=RED,GREEN,BLUE  # as registerScriptingEnums<Color>\n"
-                                      "Size=SMALL=5,MEDIUM,LARGE\n", encoding="utf-8")
+    (tmp_path / "m.enums").write_text(
+        "Color=RED,GREEN,BLUE  # as registerScriptingEnums<Color>\nSize=SMALL=5,MEDIUM,LARGE\n", encoding="utf-8"
+    )
     r = _btgen("run", "m.xml", "--scenario", "m.scenario", "--engine", "cpp", "--enums", "m.enums", cwd=tmp_path)
     assert (r.returncode, r.stdout) == (0, runs[0].stdout)
 
@@ -95,6 +107,20 @@ def test_compiled_to_constants(tmp_path):
     assert r.returncode == 0, r.stderr
     header = (tmp_path / "out" / "m.hpp").read_text(encoding="utf-8")
     assert 'btgen::dyn::ScriptingEnum{"LARGE", 7.0}' in header
-    subprocess.run(["c++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-fsyntax-only",
-                    "-I", os.path.join(os.path.dirname(__file__), "..", "..", "runtime", "include"),
-                    "-I", str(tmp_path / "out"), str(tmp_path / "out" / "m.cpp")], check=True)
+    subprocess.run(
+        [
+            "c++",
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Werror",
+            "-fsyntax-only",
+            "-I",
+            os.path.join(os.path.dirname(__file__), "..", "..", "runtime", "include"),
+            "-I",
+            str(tmp_path / "out"),
+            str(tmp_path / "out" / "m.cpp"),
+        ],
+        check=True,
+    )

@@ -1,4 +1,5 @@
 """Front end: secure parsing, positions, structural/semantic checks, exact diagnostics."""
+
 import glob
 import inspect
 import os
@@ -18,8 +19,9 @@ BAD = os.path.join(ROOT, "tests", "bad_missions")
 
 
 def btgen(*args, cwd=ROOT):
-    return subprocess.run([sys.executable, "-m", "btgen", *args], cwd=cwd, capture_output=True, text=True,
-                          timeout=120, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", *args], cwd=cwd, capture_output=True, text=True, timeout=120, check=False
+    )
 
 
 def errors_of(path):
@@ -52,8 +54,7 @@ def test_conformance_missions_validate(stem):
     assert m.main_tree in {t.id for t in m.trees}
 
 
-@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(ROOT, "missions", "*.xml"))),
-                         ids=os.path.basename)
+@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(ROOT, "missions", "*.xml"))), ids=os.path.basename)
 def test_shipped_missions_validate_clean(path):
     m = load_mission(path)
     assert [str(w) for w in m.warnings] == []
@@ -76,15 +77,21 @@ def test_bad_mission_exact_stderr(path, capsys, monkeypatch):
 
 
 def test_every_bad_mission_has_expected_stderr():
-    missing = [os.path.basename(p) for p in glob.glob(os.path.join(BAD, "*.xml"))
-               if not os.path.exists(p[:-4] + ".stderr")]
+    missing = [
+        os.path.basename(p) for p in glob.glob(os.path.join(BAD, "*.xml")) if not os.path.exists(p[:-4] + ".stderr")
+    ]
     assert missing == []
 
 
 def test_deep_nesting_rejected_before_any_recursion(tmp_path):
     depth = 10000
-    text = "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\">" + "<Inverter>" * depth + "<AlwaysSuccess/>" \
-           + "</Inverter>" * depth + "</BehaviorTree></root>"
+    text = (
+        '<root BTCPP_format="4"><BehaviorTree ID="M">'
+        + "<Inverter>" * depth
+        + "<AlwaysSuccess/>"
+        + "</Inverter>" * depth
+        + "</BehaviorTree></root>"
+    )
     p = write(tmp_path, text)
     # The depth check runs before any recursive walk of the tree: with Python's recursion
     # limit far below the nesting depth, the answer is still the clean error.
@@ -96,8 +103,9 @@ def test_deep_nesting_rejected_before_any_recursion(tmp_path):
         sys.setrecursionlimit(limit)
     prefix = '<root BTCPP_format="4"><BehaviorTree ID="M">'
     col = len(prefix) + 254 * len("<Inverter>") + 1  # root and BehaviorTree are levels 1 and 2
-    assert errs == [f"{p}:1:{col}: error: elements nested deeper than 256 levels "
-                    f"(BehaviorTree.CPP refuses such trees too)"]
+    assert errs == [
+        f"{p}:1:{col}: error: elements nested deeper than 256 levels (BehaviorTree.CPP refuses such trees too)"
+    ]
 
 
 def test_huge_file_rejected_without_reading_it(tmp_path):
@@ -107,33 +115,40 @@ def test_huge_file_rejected_without_reading_it(tmp_path):
         f.write(b"x" * (50 * 1024 * 1024))
         f.write(b"--></root>")
     errs = errors_of(str(p))
-    assert errs == [f"{p}:1:1: error: file is {os.path.getsize(p)} bytes; missions are limited to "
-                    f"{xmlsource.MAX_FILE_BYTES} bytes"]
+    assert errs == [
+        f"{p}:1:1: error: file is {os.path.getsize(p)} bytes; missions are limited to {xmlsource.MAX_FILE_BYTES} bytes"
+    ]
 
 
 def _errors_in_a_process_limited_to(path, megabytes):
     """load_mission(path)'s diagnostics from a child process whose address space is capped."""
-    code = ("import resource, sys\n"
-            f"resource.setrlimit(resource.RLIMIT_AS, ({megabytes} << 20, {megabytes} << 20))\n"
-            "from btgen.diagnostics import UserError\n"
-            "from btgen.frontend.loader import load_mission\n"
-            "try:\n    load_mission(sys.argv[1])\n"
-            "except UserError as e:\n    print('\\n'.join(str(d) for d in e.diagnostics))\n")
+    code = (
+        "import resource, sys\n"
+        f"resource.setrlimit(resource.RLIMIT_AS, ({megabytes} << 20, {megabytes} << 20))\n"
+        "from btgen.diagnostics import UserError\n"
+        "from btgen.frontend.loader import load_mission\n"
+        "try:\n    load_mission(sys.argv[1])\n"
+        "except UserError as e:\n    print('\\n'.join(str(d) for d in e.diagnostics))\n"
+    )
     proc = subprocess.run([sys.executable, "-c", code, path], capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stderr
     return proc.stdout.splitlines()
 
 
 def test_billion_laughs_rejected_without_expanding(tmp_path):
-    ents = "".join(f'<!ENTITY l{i} "&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};&l{i-1};">'
-                   for i in range(1, 10))
-    p = write(tmp_path, f'<?xml version="1.0"?>\n<!DOCTYPE root [<!ENTITY l0 "lol">{ents}]>\n'
-                        f'<root BTCPP_format="4"><BehaviorTree ID="M"><Say text="&l9;"/></BehaviorTree></root>\n')
+    ents = "".join(f'<!ENTITY l{i} "{f"&l{i - 1};" * 10}">' for i in range(1, 10))
+    p = write(
+        tmp_path,
+        f'<?xml version="1.0"?>\n<!DOCTYPE root [<!ENTITY l0 "lol">{ents}]>\n'
+        f'<root BTCPP_format="4"><BehaviorTree ID="M"><Say text="&l9;"/></BehaviorTree></root>\n',
+    )
     # Expanded, &l9; is 3 GB of text: in 256 MiB of address space only a reader that never
     # expands the entities can answer.
     errs = _errors_in_a_process_limited_to(p, 256)
-    assert errs == [f"{p}:2:1: error: document type declarations are not allowed in a mission "
-                    f"(entities could expand without bound or read other files)"]
+    assert errs == [
+        f"{p}:2:1: error: document type declarations are not allowed in a mission "
+        f"(entities could expand without bound or read other files)"
+    ]
 
 
 def test_positions_of_attributes_with_entities_and_newlines(tmp_path):
@@ -153,11 +168,17 @@ def test_positions_of_attributes_with_entities_and_newlines(tmp_path):
 
 
 def test_compact_and_explicit_forms_are_the_same_node(tmp_path):
-    body = '    <Sequence>\n      <Action ID="Say" text="hi"/>\n      <Say text="hi"/>\n      <Condition ID="IsReady"/>\n    </Sequence>'
+    body = (
+        '    <Sequence>\n      <Action ID="Say" text="hi"/>\n      <Say text="hi"/>\n'
+        '      <Condition ID="IsReady"/>\n    </Sequence>'
+    )
     m = load_mission(write(tmp_path, MINI.format(body=body)))
     kids = m.main.root.children
-    assert [(k.id, k.kind, k.display_name) for k in kids] == [("Say", "Action", "Say"), ("Say", "Action", "Say"),
-                                                              ("IsReady", "Condition", "IsReady")]
+    assert [(k.id, k.kind, k.display_name) for k in kids] == [
+        ("Say", "Action", "Say"),
+        ("Say", "Action", "Say"),
+        ("IsReady", "Condition", "IsReady"),
+    ]
 
 
 def test_explicit_form_with_wrong_kind(tmp_path):
@@ -185,18 +206,26 @@ def test_script_error_points_into_the_attribute(tmp_path):
 def test_include_resolved_relative_to_including_file(tmp_path):
     sub = tmp_path / "lib"
     sub.mkdir()
-    (sub / "parts.xml").write_text('<root BTCPP_format="4"><BehaviorTree ID="Part"><AlwaysSuccess/></BehaviorTree></root>')
-    p = write(tmp_path, '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <include path="lib/parts.xml"/>\n'
-                        '  <BehaviorTree ID="Main"><SubTree ID="Part"/></BehaviorTree>\n</root>\n')
+    (sub / "parts.xml").write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Part"><AlwaysSuccess/></BehaviorTree></root>'
+    )
+    p = write(
+        tmp_path,
+        '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <include path="lib/parts.xml"/>\n'
+        '  <BehaviorTree ID="Main"><SubTree ID="Part"/></BehaviorTree>\n</root>\n',
+    )
     m = load_mission(p)
     assert [t.id for t in m.trees] == ["Main", "Part"] or [t.id for t in m.trees] == ["Part", "Main"]
     assert m.files == (p, os.path.join(str(tmp_path), "lib", "parts.xml"))
 
 
 def test_model_port_defaults_are_type_checked(tmp_path):
-    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Go/></BehaviorTree>\n  <TreeNodesModel>\n'
-                        '    <Action ID="Go"><input_port name="speed" type="int" default="fast"/></Action>\n'
-                        '  </TreeNodesModel>\n</root>\n')
+    p = write(
+        tmp_path,
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Go/></BehaviorTree>\n  <TreeNodesModel>\n'
+        '    <Action ID="Go"><input_port name="speed" type="int" default="fast"/></Action>\n'
+        "  </TreeNodesModel>\n</root>\n",
+    )
     errs = errors_of(p)
     assert len(errs) == 1 and errs[0].startswith(f"{p}:4:66: error: default of port `speed` of `Go`: ")
 
@@ -217,7 +246,7 @@ def test_mission_xsd_accepts_its_own_mission(tmp_path):
     m = load_mission(path)
     schema = xmlschema.XMLSchema(mission_xsd(m))
     assert schema.is_valid(path)
-    bad = Path(path).read_text(encoding="utf-8").replace("<Sequence", "<Sequence bogus=\"1\"", 1)
+    bad = Path(path).read_text(encoding="utf-8").replace("<Sequence", '<Sequence bogus="1"', 1)
     assert not schema.is_valid(bad)
 
 
@@ -230,7 +259,10 @@ def test_cli_exit_codes(tmp_path):
     assert btgen("validate").returncode == 2
     assert btgen("frobnicate").returncode == 2
     r = btgen("validate", str(tmp_path / "missing.xml"))
-    assert r.returncode == 1 and r.stderr == f"{tmp_path / 'missing.xml'}:1:1: error: cannot read file: No such file or directory\n"
+    assert (
+        r.returncode == 1
+        and r.stderr == f"{tmp_path / 'missing.xml'}:1:1: error: cannot read file: No such file or directory\n"
+    )
 
 
 def test_xsd_command_prints_schema(tmp_path):
@@ -243,8 +275,11 @@ def test_xsd_command_prints_schema(tmp_path):
 
 def test_model_id_that_is_not_an_xml_name(tmp_path):
     """Regression: a TreeNodesModel ID that is not an XML name crashed writing the mission XSD."""
-    p = write(tmp_path, '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Action ID="IV.Act/1"/></BehaviorTree>\n'
-                        '  <TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel>\n</root>\n')
+    p = write(
+        tmp_path,
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="M"><Action ID="IV.Act/1"/></BehaviorTree>\n'
+        '  <TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel>\n</root>\n',
+    )
     m = load_mission(p)
     assert m.main.root.id == "IV.Act/1" and m.main.root.kind == "Action"
 
@@ -254,8 +289,10 @@ def test_literal_on_output_port_is_an_error(tmp_path):
     line = '    <LoopInt queue="1;2" value="x"><AlwaysSuccess/></LoopInt>'
     p = write(tmp_path, MINI.format(body=line))
     col = line.index('"x"') + 2
-    assert errors_of(p) == [f"{p}:3:{col}: error: port `value` of `LoopInt` is an output port "
-                            f"and must name a blackboard entry as `{{key}}` (or `{{=}}`), not the literal `x`"]
+    assert errors_of(p) == [
+        f"{p}:3:{col}: error: port `value` of `LoopInt` is an output port "
+        f"and must name a blackboard entry as `{{key}}` (or `{{=}}`), not the literal `x`"
+    ]
 
 
 def test_set_blackboard_output_key_names_the_entry(tmp_path):

@@ -5,6 +5,7 @@ with exit status 1: never a traceback, an internal error (exit 3), a hang or
 unbounded memory. The bounded run goes through a subprocess with its own
 memory limit and time budget; scripts/fuzz_frontend.py runs any number.
 """
+
 import os
 import subprocess
 import sys
@@ -21,14 +22,30 @@ ITERATIONS = int(os.environ.get("BTGEN_FUZZ_ITERATIONS", "1500"))
 
 
 def _btgen(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "btgen", *args], cwd=cwd, capture_output=True,
-                          check=False, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", *args], cwd=cwd, capture_output=True, check=False, timeout=120
+    )
 
 
 def test_bounded_fuzz_run(tmp_path):
-    proc = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "fuzz_frontend.py"), "--iterations",
-                           str(ITERATIONS), "--seed", "20261122", "--cli", "100", "--keep", str(tmp_path)],
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False, timeout=1200)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            os.path.join(ROOT, "scripts", "fuzz_frontend.py"),
+            "--iterations",
+            str(ITERATIONS),
+            "--seed",
+            "20261122",
+            "--cli",
+            "100",
+            "--keep",
+            str(tmp_path),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        check=False,
+        timeout=1200,
+    )
     out = proc.stdout.decode("utf-8", "replace")
     print(out[-3000:])
     assert proc.returncode == 0, out[-6000:]
@@ -76,22 +93,37 @@ def test_mutations_are_deterministic():
     import random
 
     corpus = fuzz_frontend.mission_corpus()
-    a = [fuzz_frontend.mutate(corpus[0], random.Random(s), corpus, fuzz_frontend.TOKENS,
-                              fuzz_frontend.mutate_mission_structure) for s in range(20)]
-    b = [fuzz_frontend.mutate(corpus[0], random.Random(s), corpus, fuzz_frontend.TOKENS,
-                              fuzz_frontend.mutate_mission_structure) for s in range(20)]
+    a = [
+        fuzz_frontend.mutate(
+            corpus[0], random.Random(s), corpus, fuzz_frontend.TOKENS, fuzz_frontend.mutate_mission_structure
+        )
+        for s in range(20)
+    ]
+    b = [
+        fuzz_frontend.mutate(
+            corpus[0], random.Random(s), corpus, fuzz_frontend.TOKENS, fuzz_frontend.mutate_mission_structure
+        )
+        for s in range(20)
+    ]
     assert a == b and len(set(a)) > 10
 
 
 # ------------------------------------------------------------ what fuzzing found
-@pytest.mark.parametrize("xml,expected", [
-    # A line break quoted from the input made a diagnostic span two lines.
-    ('<root BTCPP_format="&#10;"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>\n',
-     'm.xml:1:21: error: BTCPP_format="\\n" is not supported; btgen reads BehaviorTree.CPP v4 files '
-     '(BTCPP_format="4")\n'),
-    ('<root BTCPP_format="4">\n<!--\n a -- b -->\n<BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>\n',
-     "m.xml:3:4: error: malformed XML: Double hyphen within comment: <!--\\n a \n"),
-])
+@pytest.mark.parametrize(
+    "xml,expected",
+    [
+        # A line break quoted from the input made a diagnostic span two lines.
+        (
+            '<root BTCPP_format="&#10;"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>\n',
+            'm.xml:1:21: error: BTCPP_format="\\n" is not supported; btgen reads BehaviorTree.CPP v4 files '
+            '(BTCPP_format="4")\n',
+        ),
+        (
+            '<root BTCPP_format="4">\n<!--\n a -- b -->\n<BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>\n',
+            "m.xml:3:4: error: malformed XML: Double hyphen within comment: <!--\\n a \n",
+        ),
+    ],
+)
 def test_a_diagnostic_is_one_line(tmp_path, xml, expected):
     (tmp_path / "m.xml").write_text(xml, encoding="utf-8")
     proc = _btgen("validate", "m.xml", cwd=tmp_path)
@@ -103,7 +135,9 @@ def test_node_id_with_a_space_in_the_mission_xsd(tmp_path):
     (tmp_path / "m.xml").write_text(
         '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Action ID="IV.Act/1"/>'
         '<Action ID="IV.Act/1" name="again"/></Sequence></BehaviorTree>'
-        '<TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel></root>\n', encoding="utf-8")
+        '<TreeNodesModel><Action ID="IV.Act/1"/></TreeNodesModel></root>\n',
+        encoding="utf-8",
+    )
     proc = _btgen("validate", "m.xml", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     proc = _btgen("xsd", "m.xml", cwd=tmp_path)

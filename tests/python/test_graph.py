@@ -1,4 +1,5 @@
 """`btgen graph`: Graphviz pictures of a mission, coloured by a trace or a .btlog."""
+
 from __future__ import annotations
 
 import os
@@ -40,15 +41,16 @@ def cli(capsys, *args: str) -> tuple[int, str]:
 
 def nodes_of(dot: str) -> dict[int, dict[str, str]]:
     found = {}
-    for m in re.finditer(r'^\s*n(\d+) \[label="((?:[^"\\]|\\.)*)", shape=(\w+), style="([^"]*)", fillcolor="([^"]*)"\];$',
-                         dot, re.M):
+    for m in re.finditer(
+        r'^\s*n(\d+) \[label="((?:[^"\\]|\\.)*)", shape=(\w+), style="([^"]*)", fillcolor="([^"]*)"\];$', dot, re.M
+    ):
         found[int(m.group(1))] = dict(label=m.group(2), shape=m.group(3), style=m.group(4), fill=m.group(5))
     return found
 
 
 def test_whole_mission_with_clusters_shapes_names_and_ports(tmp_path):
     out = tmp_path / "m.dot"
-    assert main([ "graph", str(MISSION), "-o", str(out)]) == 0
+    assert main(["graph", str(MISSION), "-o", str(out)]) == 0
     dot = out.read_text()
     nodes = nodes_of(dot)
     mission = load_mission(str(MISSION))
@@ -110,16 +112,26 @@ def test_btlog_colours_and_a_log_of_another_mission(tmp_path, capsys):
     bad.write_bytes(b"BTCPP4-FileLogger2\x01" + struct.pack("<i", len(xml2)) + xml2 + struct.pack("<q", 0))
     rc, err = cli(capsys, "graph", str(MISSION), "-o", str(out), "--btlog", str(bad))
     assert rc == 1
-    assert re.fullmatch(rf"{re.escape(str(bad))}:1:24: error: the log's tree is not this mission's \(\d+ nodes, "
-                        rf"the mission has 20; first difference at UID \d+\)\n", err)
+    assert re.fullmatch(
+        rf"{re.escape(str(bad))}:1:24: error: the log's tree is not this mission's \(\d+ nodes, "
+        rf"the mission has 20; first difference at UID \d+\)\n",
+        err,
+    )
 
 
-@pytest.mark.parametrize("content, where, message", [
-    ("tick 1\nbogus line\n", "2:1", "not a line of a status trace: `bogus line`"),
-    ("tick 1\n99 Sequence \"x\" IDLE -> RUNNING\n", "2:1", "UID 99 is not a node of the mission (it has 20)"),
-    ("tick 1\n1 Fallback \"root\" IDLE -> RUNNING\n", "2:3", "UID 1 is `Sequence` in the mission, `Fallback` in the trace"),
-    ("tick 1\nresult RUNNING\n", "2:1", "the trace ends at tick 1; there is no tick 4"),
-])
+@pytest.mark.parametrize(
+    "content, where, message",
+    [
+        ("tick 1\nbogus line\n", "2:1", "not a line of a status trace: `bogus line`"),
+        ('tick 1\n99 Sequence "x" IDLE -> RUNNING\n', "2:1", "UID 99 is not a node of the mission (it has 20)"),
+        (
+            'tick 1\n1 Fallback "root" IDLE -> RUNNING\n',
+            "2:3",
+            "UID 1 is `Sequence` in the mission, `Fallback` in the trace",
+        ),
+        ("tick 1\nresult RUNNING\n", "2:1", "the trace ends at tick 1; there is no tick 4"),
+    ],
+)
 def test_bad_traces_are_path_line_col_errors(tmp_path, capsys, content, where, message):
     trace = tmp_path / "t.trace"
     trace.write_text(content)

@@ -15,14 +15,15 @@ more built-in nodes and words its port descriptions differently; btgen writes
 4.6.2's node set with its own catalogue's descriptions), so only the
 BehaviorTree part is compared, and the mission's own models are checked to be
 in both; and 4.6.2 writes a SubTree's `_autoremap` attribute on its element,
-4.8.2 does not (trees_part says how the comparison allows for it). Everything the protocol carries besides (node attributes, UIDs,
-status bytes and order, blackboard MessagePack, .btlog records) is the same in
-both versions.
+4.8.2 does not (trees_part says how the comparison allows for it). Everything the
+protocol carries besides (node attributes, UIDs, status bytes and order, blackboard
+MessagePack, .btlog records) is the same in both versions.
 
 Sockets: btgen's publisher binds 127.0.0.1 here; behaviortreepy's Groot2Publisher
 has no address parameter and binds every interface (as BehaviorTree.CPP does),
 on a free port, for the few seconds of a test.
 """
+
 from __future__ import annotations
 
 import os
@@ -48,7 +49,6 @@ TICKS = {"monitored": 5, "builtins": 6}
 bt = pytest.importorskip("behaviortreepy") if not os.environ.get("CI") else __import__("behaviortreepy")
 zmq = pytest.importorskip("zmq") if not os.environ.get("CI") else __import__("zmq")
 msgpack = pytest.importorskip("msgpack") if not os.environ.get("CI") else __import__("msgpack")
-
 
 
 def free_port_pair() -> int:
@@ -80,9 +80,21 @@ def scenario_lists(scenario: Path) -> dict[str, list[str]]:
 # ------------------------------------------------------------ the two executors
 class Compiled:
     def __init__(self, exe: Path, port: int, btlog: Path):
-        self.proc = subprocess.Popen([str(exe), str(exe.with_suffix(".scenario")), "--groot2", str(port), "--address", "127.0.0.1",
-                                      "--btlog", str(btlog)],
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        self.proc = subprocess.Popen(
+            [
+                str(exe),
+                str(exe.with_suffix(".scenario")),
+                "--groot2",
+                str(port),
+                "--address",
+                "127.0.0.1",
+                "--btlog",
+                str(btlog),
+            ],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+        )
         assert self.proc.stdout.readline().strip() == "ready"
 
     def tick(self) -> str:
@@ -141,18 +153,41 @@ def executor(request, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp(f"groot2_{stem}")
     env = {**os.environ, "PYTHONPATH": str(ROOT / "generator")}
     mission = CASES / f"{stem}.xml"
-    subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)], check=True, cwd=ROOT,
-                   env=env)
-    template = subprocess.run([sys.executable, "-m", "btgen.compiler", "--template", str(mission)], check=True,
-                              stdout=subprocess.PIPE, text=True, env=env).stdout.strip()
+    subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)], check=True, cwd=ROOT, env=env
+    )
+    template = subprocess.run(
+        [sys.executable, "-m", "btgen.compiler", "--template", str(mission)],
+        check=True,
+        stdout=subprocess.PIPE,
+        text=True,
+        env=env,
+    ).stdout.strip()
     exe = out / stem
     shutil.copy(CASES / f"{stem}.scenario", exe.with_suffix(".scenario"))
     cxx = os.environ.get("CXX", "c++")
-    subprocess.run([cxx, "-std=c++17", "-O1", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
-                    f"-I{ROOT / 'runtime' / 'include'}", f"-I{out}",
-                    f'-DBTGEN_MISSION_HEADER="{stem}.hpp"', f"-DBTGEN_MISSION_TEMPLATE={template}",
-                    str(ROOT / "runtime" / "src" / "monitor_driver.cpp"), str(out / f"{stem}.cpp"),
-                    "-lzmq", "-pthread", "-o", str(exe)], check=True)
+    subprocess.run(
+        [
+            cxx,
+            "-std=c++17",
+            "-O1",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Werror",
+            f"-I{ROOT / 'runtime' / 'include'}",
+            f"-I{out}",
+            f'-DBTGEN_MISSION_HEADER="{stem}.hpp"',
+            f"-DBTGEN_MISSION_TEMPLATE={template}",
+            str(ROOT / "runtime" / "src" / "monitor_driver.cpp"),
+            str(out / f"{stem}.cpp"),
+            "-lzmq",
+            "-pthread",
+            "-o",
+            str(exe),
+        ],
+        check=True,
+    )
     return exe
 
 
@@ -174,7 +209,7 @@ class Client:
 
 
 def statuses(buf: bytes) -> list[tuple[int, int]]:
-    return [(int.from_bytes(buf[i:i + 2], "little"), buf[i + 2]) for i in range(0, len(buf), 3)]
+    return [(int.from_bytes(buf[i : i + 2], "little"), buf[i + 2]) for i in range(0, len(buf), 3)]
 
 
 def trees_part(xml: str, as_4_8_2: bool = False) -> list:
@@ -240,10 +275,18 @@ def test_fulltree_status_and_blackboard_agree_tick_by_tick(pair, executor):
             ba, bb = a.request("B", names), b.request("B", names)
             assert msgpack.unpackb(bb[1]) == msgpack.unpackb(ba[1]), f"BLACKBOARD after tick {n}"
         # The final blackboards, as both publishers give them.
-        final = {"monitored": {"Main": {"count": 4, "label": "hi", "ratio": 0.25}, "sub1": {"steps": 7},
-                               "Sub::14": {"steps": 7, "x": 4}},
-                 "builtins": {"Main": {"done": 1, "mode": "patrol", "n": 11, "speed": 1.5}, "outer": None,
-                              "outer/Inner::16": None}}
+        final = {
+            "monitored": {
+                "Main": {"count": 4, "label": "hi", "ratio": 0.25},
+                "sub1": {"steps": 7},
+                "Sub::14": {"steps": 7, "x": 4},
+            },
+            "builtins": {
+                "Main": {"done": 1, "mode": "patrol", "n": 11, "speed": 1.5},
+                "outer": None,
+                "outer/Inner::16": None,
+            },
+        }
         assert msgpack.unpackb(b.request("B", names)[1]) == final[executor.name]
     finally:
         a.close()
@@ -264,7 +307,9 @@ def test_recording_gives_the_same_transitions(pair, executor):
             for c in (a, b):
                 buf = c.request("t")[1]
                 assert len(buf) % 9 == 0
-                got[id(c)] += [(int.from_bytes(buf[i + 6:i + 8], "little"), buf[i + 8]) for i in range(0, len(buf), 9)]
+                got[id(c)] += [
+                    (int.from_bytes(buf[i + 6 : i + 8], "little"), buf[i + 8]) for i in range(0, len(buf), 9)
+                ]
         assert got[id(b)] == got[id(a)] and len(got[id(b)]) > 20
         for c in (a, b):
             assert c.request("r", b"stop")[0][:6] == struct.pack("<BBI", 2, ord("r"), 77)
@@ -284,12 +329,14 @@ def test_btlog_records_agree(pair, executor):
         data = path.read_bytes()
         assert data[:18] == b"BTCPP4-FileLogger2" and data[18] == 1
         n = struct.unpack_from("<i", data, 19)[0]
-        xml = data[23:23 + n].decode()
+        xml = data[23 : 23 + n].decode()
         first = struct.unpack_from("<q", data, 23 + n)[0]
-        body = data[31 + n:]
+        body = data[31 + n :]
         assert len(body) % 9 == 0
-        records = [(int.from_bytes(body[i:i + 6], "little"), int.from_bytes(body[i + 6:i + 8], "little"), body[i + 8])
-                   for i in range(0, len(body), 9)]
+        records = [
+            (int.from_bytes(body[i : i + 6], "little"), int.from_bytes(body[i + 6 : i + 8], "little"), body[i + 8])
+            for i in range(0, len(body), 9)
+        ]
         return xml, first, records
 
     xa, fa, ra = read(tmp / "ref.btlog")
@@ -301,8 +348,10 @@ def test_btlog_records_agree(pair, executor):
     assert len(rb) > 30
 
 
-@pytest.mark.skipif(shutil.which("btview", path=str(Path(sys.executable).parent)) is None and not os.environ.get("CI"),
-                    reason="btview is not installed")
+@pytest.mark.skipif(
+    shutil.which("btview", path=str(Path(sys.executable).parent)) is None and not os.environ.get("CI"),
+    reason="btview is not installed",
+)
 def test_btview_snapshot_shows_the_same_lines(pair):
     ref, cpp, p_ref, p_cpp, _ = pair
     btview = str(Path(sys.executable).parent / "btview")
@@ -310,8 +359,13 @@ def test_btview_snapshot_shows_the_same_lines(pair):
         assert ref.tick() == cpp.tick()
 
     def snapshot(port: int) -> str:
-        proc = subprocess.run([btview, "snapshot", "-p", str(port), "--uid", "--no-color"], capture_output=True,
-                              text=True, timeout=60, check=False)
+        proc = subprocess.run(
+            [btview, "snapshot", "-p", str(port), "--uid", "--no-color"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
         assert proc.returncode == 0, proc.stderr
         return proc.stdout
 
@@ -396,5 +450,5 @@ def test_tree_xml_is_byte_identical_for_hostile_names():
         del publisher
     mine = groot2_tree(load_mission(str(mission))).xml
     cut = "    <TreeNodesModel>"
-    assert mine[:mine.index(cut)] == theirs[:theirs.index(cut)]
+    assert mine[: mine.index(cut)] == theirs[: theirs.index(cut)]
     assert "&quot;quoted&quot; &amp; &lt;tagged&gt; &apos;name&apos;" in mine and 'name=""' in mine

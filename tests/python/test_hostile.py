@@ -1,5 +1,6 @@
 """Hostile names and inputs: every mission name becomes a C++ identifier that
 builds, with both compilers, optimised or not, warnings as errors."""
+
 import os
 import shutil
 import subprocess
@@ -25,6 +26,7 @@ def hostile_sources(tmp_path_factory):
     """The hostile mission (every hostile name as model ID, port and key) and one translation
     unit of a small mission under every hostile name as its stem."""
     from btgen.compiler import generate
+
     tmp = tmp_path_factory.mktemp("hostile")
     names = hostile_names.pool()
     xml = tmp / "hostile.xml"
@@ -33,8 +35,9 @@ def hostile_sources(tmp_path_factory):
         (tmp / out.name).write_text(out.text, encoding="utf-8")
     stems = tmp / "stems"
     stems.mkdir()
-    (stems / "all_stems.cpp").write_text(hostile_names.stems_translation_unit(stems, names, ISSUE_STEMS),
-                                         encoding="utf-8")
+    (stems / "all_stems.cpp").write_text(
+        hostile_names.stems_translation_unit(stems, names, ISSUE_STEMS), encoding="utf-8"
+    )
     return tmp
 
 
@@ -47,9 +50,24 @@ def test_hostile_names_build(hostile_sources, compiler, opt):
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     tmp = hostile_sources
-    cmd = [compiler, *FLAGS, opt, "-I", RUNTIME, "-I", str(tmp), "-I", str(tmp / "stems"),
-           '-DBTGEN_MISSION_HEADER="hostile.hpp"', "-DBTGEN_MISSION_TEMPLATE=hostile::Hostile",
-           DRIVER, str(tmp / "hostile.cpp"), str(tmp / "stems" / "all_stems.cpp"), "-o", str(tmp / f"run{opt}")]
+    cmd = [
+        compiler,
+        *FLAGS,
+        opt,
+        "-I",
+        RUNTIME,
+        "-I",
+        str(tmp),
+        "-I",
+        str(tmp / "stems"),
+        '-DBTGEN_MISSION_HEADER="hostile.hpp"',
+        "-DBTGEN_MISSION_TEMPLATE=hostile::Hostile",
+        DRIVER,
+        str(tmp / "hostile.cpp"),
+        str(tmp / "stems" / "all_stems.cpp"),
+        "-o",
+        str(tmp / f"run{opt}"),
+    ]
     start = time.monotonic()
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert proc.returncode == 0, proc.stdout[:6000]
@@ -60,8 +78,23 @@ def test_pool_covers_the_issue():
     pool = set(hostile_names.pool())
     assert pool >= naming.CPP_KEYWORDS
     assert set(hostile_names.compiler_macros("g++")) <= pool
-    assert {"std", "btgen", "detail", "NULL", "errno", "EOF", "kId", "kKind", "kModel", "node", "blackboard",
-            "bb_", "err_", "node_", "scratch0_"} <= pool
+    assert {
+        "std",
+        "btgen",
+        "detail",
+        "NULL",
+        "errno",
+        "EOF",
+        "kId",
+        "kKind",
+        "kModel",
+        "node",
+        "blackboard",
+        "bb_",
+        "err_",
+        "node_",
+        "scratch0_",
+    } <= pool
     assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
     assert pool >= ISSUE_STEMS
 
@@ -74,13 +107,27 @@ def test_compilers_define_no_macro_btgen_does_not_know():
         assert not missing, f"{cxx} defines {missing[:10]}: run scripts/update_cpp_reserved.py"
 
 
-@pytest.mark.parametrize("name,kind,expected", [
-    ("NULL", "entry", "NULL_"), ("errno", "port", "errno_"), ("std", "model", "std_"), ("kId", "model", "kId_"),
-    ("bb_", "port", "bb_1"), ("scratch0_", "port", "scratch0_1"), ("loop_3", "entry", "loop_3_"),
-    ("exit", "namespace", "exit_"), ("main", "namespace", "main_"), ("lab_tour", "namespace", "lab_tour"),
-    ("Engine", "class", "Engine_"), ("LabTour", "class", "LabTour"), ("SayHello", "model", "SayHello"),
-    ("message", "port", "message"), ("x", "entry", "x"), ("class", "plain", "class_"),
-])
+@pytest.mark.parametrize(
+    "name,kind,expected",
+    [
+        ("NULL", "entry", "NULL_"),
+        ("errno", "port", "errno_"),
+        ("std", "model", "std_"),
+        ("kId", "model", "kId_"),
+        ("bb_", "port", "bb_1"),
+        ("scratch0_", "port", "scratch0_1"),
+        ("loop_3", "entry", "loop_3_"),
+        ("exit", "namespace", "exit_"),
+        ("main", "namespace", "main_"),
+        ("lab_tour", "namespace", "lab_tour"),
+        ("Engine", "class", "Engine_"),
+        ("LabTour", "class", "LabTour"),
+        ("SayHello", "model", "SayHello"),
+        ("message", "port", "message"),
+        ("x", "entry", "x"),
+        ("class", "plain", "class_"),
+    ],
+)
 def test_cpp_identifier_by_kind(name, kind, expected):
     assert naming.cpp_identifier(name, kind=kind) == expected
 
@@ -91,10 +138,16 @@ def test_port_identifiers_keep_getters_and_setters_apart():
     assert naming.unique_identifiers(["NULL", "NULL_"], kind="entry") == ("NULL_", "NULL_2")
 
 
-@pytest.mark.parametrize("text,expected", [
-    ("ends ??/", "ends ?_?/"), ("a???/b", "a?_?_?/b"), ("line\nbreak\r", "line?break?"), ("back\\", "back"),
-    ("ok?", "ok?"),
-])
+@pytest.mark.parametrize(
+    "text,expected",
+    [
+        ("ends ??/", "ends ?_?/"),
+        ("a???/b", "a?_?_?/b"),
+        ("line\nbreak\r", "line?break?"),
+        ("back\\", "back"),
+        ("ok?", "ok?"),
+    ],
+)
 def test_comment_text_is_escaped(text, expected):
     """`??/` would continue a // comment onto the next line (g++ -Wall: -Werror=trigraphs)."""
     assert naming.cpp_comment(text) == expected
@@ -121,14 +174,30 @@ def test_long_concatenation_chain_has_a_linear_stack_frame(tmp_path):
     mission.write_text(CHAIN, encoding="utf-8")
     (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
     out = tmp_path / "out"
-    subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out), "--string-capacity",
-                    "1048576"], check=True)
+    subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out), "--string-capacity", "1048576"],
+        check=True,
+    )
     header = (out / "chain.hpp").read_text(encoding="utf-8")
     assert header.count("btgen::FixedString<5242880>") == 1 and "FixedString<3145728>" not in header
     exe = tmp_path / "chain"
-    subprocess.run([os.environ.get("CXX", "c++"), "-std=c++17", "-O0", "-I", RUNTIME, "-I", str(out),
-                    '-DBTGEN_MISSION_HEADER="chain.hpp"', "-DBTGEN_MISSION_TEMPLATE=chain::Chain", DRIVER,
-                    "-o", str(exe)], check=True)
+    subprocess.run(
+        [
+            os.environ.get("CXX", "c++"),
+            "-std=c++17",
+            "-O0",
+            "-I",
+            RUNTIME,
+            "-I",
+            str(out),
+            '-DBTGEN_MISSION_HEADER="chain.hpp"',
+            "-DBTGEN_MISSION_TEMPLATE=chain::Chain",
+            DRIVER,
+            "-o",
+            str(exe),
+        ],
+        check=True,
+    )
     proc = subprocess.run([str(exe), str(tmp_path / "one.scenario")], capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stdout.splitlines()[-1]) == (0, "result SUCCESS"), proc.stderr
 
@@ -149,14 +218,23 @@ def test_interpreter_bounds_a_doubling_string(tmp_path):
     stops at MAX_STRING_BYTES with a run-time error at the operator (the C++ engine stops
     much earlier, at the entry's capacity)."""
     from btgen.lang.script import MAX_STRING_BYTES
+
     (tmp_path / "m.xml").write_text(DOUBLING, encoding="utf-8")
     (tmp_path / "s.scenario").write_text("ticks 60\n", encoding="utf-8")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=120, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert proc.returncode == 1
-    assert proc.stderr == (f"m.xml:5:52: error: script error in `code` of `Script` \"Script\": `..` would make a "
-                           f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
-                           f"{MAX_STRING_BYTES} bytes\n")
+    assert proc.stderr == (
+        f'm.xml:5:52: error: script error in `code` of `Script` "Script": `..` would make a '
+        f"string of {2 * MAX_STRING_BYTES} bytes; the interpreter holds strings of at most "
+        f"{MAX_STRING_BYTES} bytes\n"
+    )
     assert proc.stdout.splitlines()[-1] == "tick 26"
 
 
@@ -193,10 +271,13 @@ def test_scenario_limits_apply_to_pipes_and_devices(tmp_path, engine):
     silently by the interpreter)."""
     proc = _run(tmp_path, engine, "/dev/zero")
     assert (proc.returncode, proc.stderr.decode()) == (
-        1, "/dev/zero:1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+        1,
+        "/dev/zero:1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n",
+    )
     proc = _run(tmp_path, engine, "<(head -c 17000000 /dev/zero)", shell=True)
     assert proc.returncode == 1 and proc.stderr.decode().endswith(
-        ":1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n")
+        ":1:1: error: file is larger than 16777216 bytes; scenarios are limited to 16777216 bytes\n"
+    )
 
 
 @pytest.mark.parametrize("engine", ["interp", "cpp"])
@@ -207,12 +288,19 @@ def test_scenario_through_process_substitution(tmp_path, engine):
 
 
 @pytest.mark.parametrize("engine", ["interp", "cpp"])
-@pytest.mark.parametrize("text,expected", [
-    ("ticks " + "9" * 3_000_000 + "\n",
-     "s.scenario:1:7: error: ticks " + "9" * 4075 + "... (cut: 3000040 bytes in all)\n"),
-    ("ticks 1\n" + "y" * 3_000_000 + "\n",
-     "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000071 bytes in all)\n"),
-])
+@pytest.mark.parametrize(
+    "text,expected",
+    [
+        (
+            "ticks " + "9" * 3_000_000 + "\n",
+            "s.scenario:1:7: error: ticks " + "9" * 4075 + "... (cut: 3000040 bytes in all)\n",
+        ),
+        (
+            "ticks 1\n" + "y" * 3_000_000 + "\n",
+            "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000071 bytes in all)\n",
+        ),
+    ],
+)
 def test_long_diagnostics_are_cut_alike(tmp_path, engine, text, expected):
     """A 3-million-digit `ticks` crashed the interpreter (int() digit limit: exit 3) and was
     quoted whole by the C++ runner; quotes of megabytes of input are cut at 4096 bytes, the same
@@ -221,8 +309,7 @@ def test_long_diagnostics_are_cut_alike(tmp_path, engine, text, expected):
     proc = _run(tmp_path, engine, "s.scenario")
     stderr = proc.stderr.decode()
     assert proc.returncode == 1
-    assert stderr.split(":", 3)[3].startswith(expected.split(":", 3)[3][:60]) and stderr.endswith(
-        expected[-40:])
+    assert stderr.split(":", 3)[3].startswith(expected.split(":", 3)[3][:60]) and stderr.endswith(expected[-40:])
     assert len(stderr) < 4300
 
 
@@ -234,13 +321,21 @@ def test_cpp_engine_with_an_unusable_cache_dir(tmp_path, bad):
     (tmp_path / "one.scenario").write_text("ticks 1\n", encoding="utf-8")
     proc = _run(tmp_path, "cpp", "one.scenario", env={**os.environ, "BTGEN_CACHE_DIR": str(cache)})
     assert (proc.returncode, proc.stderr.decode()) == (
-        1, f"two.xml:1:1: error: cannot build the C++ executor: the cache directory `{cache}` is not usable "
-           f"(Not a directory); set BTGEN_CACHE_DIR to a writable directory\n")
+        1,
+        f"two.xml:1:1: error: cannot build the C++ executor: the cache directory `{cache}` is not usable "
+        f"(Not a directory); set BTGEN_CACHE_DIR to a writable directory\n",
+    )
 
 
 def _compile(mission, out, cwd):
-    return subprocess.run([sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)], cwd=cwd,
-                          capture_output=True, text=True, timeout=120, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", "compile", str(mission), "-o", str(out)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
 
 
 def test_compile_refuses_to_overwrite_its_input(tmp_path):
@@ -249,8 +344,10 @@ def test_compile_refuses_to_overwrite_its_input(tmp_path):
     (tmp_path / "mission.hpp").write_text(TWO_EDGES, encoding="utf-8")
     proc = _compile("mission.hpp", ".", tmp_path)
     assert (proc.returncode, proc.stderr) == (
-        1, "mission.hpp:1:1: error: `btgen compile -o .` would overwrite this input file with the generated "
-           "mission.hpp: choose another output directory\n")
+        1,
+        "mission.hpp:1:1: error: `btgen compile -o .` would overwrite this input file with the generated "
+        "mission.hpp: choose another output directory\n",
+    )
     assert (tmp_path / "mission.hpp").read_text(encoding="utf-8") == TWO_EDGES
 
 
@@ -275,7 +372,8 @@ def test_header_and_source_of_two_runs_do_not_build(tmp_path):
     cmd = [os.environ.get("CXX", "c++"), "-std=c++17", "-fsyntax-only", "-I", RUNTIME]
     subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], check=True)
     (tmp_path / "a" / "m.hpp").write_bytes((tmp_path / "b" / "m.hpp").read_bytes())  # the mix
-    proc = subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], capture_output=True,
-                          text=True, check=False)
+    proc = subprocess.run(
+        cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], capture_output=True, text=True, check=False
+    )
     assert proc.returncode != 0
     assert "m.hpp and m.cpp come from different btgen runs: run btgen compile again" in proc.stderr

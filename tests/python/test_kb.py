@@ -1,4 +1,5 @@
 """The environment knowledge base: linter, loader, limits shared with the C++ reader."""
+
 from __future__ import annotations
 
 import os
@@ -59,8 +60,9 @@ def test_every_case_has_its_expected_output() -> None:
 def test_document_mistakes_are_covered() -> None:
     """Each mistake of D5.4.2's file has a case of its own."""
     text = {p.stem: p.read_text(encoding="utf-8") for p in BAD.glob("*.stderr")}
-    assert "unknown key `postGestureMessageenglish` (did you mean `postGestureMessageEnglish`?" \
-        in text["misspelled_key"]
+    assert (
+        "unknown key `postGestureMessageenglish` (did you mean `postGestureMessageEnglish`?" in text["misspelled_key"]
+    )
     assert "write `robotLocationPose`" in text["robot_location_renamed"]
     assert "is a placeholder, not a message: `No message in isiZulu`" in text["placeholder_message"]
     assert "the tour count is 3 but 2 location ids follow (1 2)" in text["tour_count_off_by_one"]
@@ -76,9 +78,14 @@ def test_shipped_base_has_only_the_documented_warnings() -> None:
     diags = kb.lint_kb(SHIPPED, config_path=SHIPPED_INI)
     assert [d.severity for d in diags] == ["warning"] * 10
     assert [d.loc.line for d in diags] == ISIZULU_PLACEHOLDER_LINES
-    assert all(re.fullmatch(r"`(pre|post)GestureMessageIsiZulu` of location [1-5] is a placeholder, "
-                            r"not a message: `No message in isiZulu` \(the robot would say it\)", d.message)
-               for d in diags)
+    assert all(
+        re.fullmatch(
+            r"`(pre|post)GestureMessageIsiZulu` of location [1-5] is a placeholder, "
+            r"not a message: `No message in isiZulu` \(the robot would say it\)",
+            d.message,
+        )
+        for d in diags
+    )
     readme = (ROOT / "data" / "README.md").read_text(encoding="utf-8")
     assert "prints these ten warnings and no others" in readme
 
@@ -109,20 +116,26 @@ def test_load_shipped_base() -> None:
     assert base.location(6) is None
     assert len(base.warnings) == 10
     assert sorted(kb.iter_placeholders(base)) == sorted(
-        (i, f"{phase}GestureMessageIsiZulu") for i in range(1, 6) for phase in ("pre", "post"))
+        (i, f"{phase}GestureMessageIsiZulu") for i in range(1, 6) for phase in ("pre", "post")
+    )
 
 
 def test_load_kb_raises_user_error_with_every_problem() -> None:
     with pytest.raises(UserError) as info:
         kb.load_kb("tests/bad_kb/wrong_value_count.dat")
-    assert [str(d) for d in info.value.diagnostics] == \
-        (BAD / "wrong_value_count.stderr").read_text(encoding="utf-8").splitlines()
+    assert [str(d) for d in info.value.diagnostics] == (BAD / "wrong_value_count.stderr").read_text(
+        encoding="utf-8"
+    ).splitlines()
 
 
 def test_load_config() -> None:
     config = kb.load_config(SHIPPED_INI)
-    assert config == kb.KbConfiguration(SHIPPED_INI, "environmentKnowledgeBaseInput.dat",
-                                        os.path.join("data", "environmentKnowledgeBaseInput.dat"), False)
+    assert config == kb.KbConfiguration(
+        SHIPPED_INI,
+        "environmentKnowledgeBaseInput.dat",
+        os.path.join("data", "environmentKnowledgeBaseInput.dat"),
+        False,
+    )
     assert kb.load_config("tests/bad_kb/config_ok.ini").verbose_mode is True
     with pytest.raises(UserError):
         kb.load_config("tests/bad_kb/config_equals.ini")
@@ -143,8 +156,9 @@ def _minimal_bytes() -> bytes:
 
 def test_crlf_bom_tabs_and_commas_are_accepted(tmp_path: Path) -> None:
     text = _minimal_bytes().decode()
-    text = text.replace("2 3.2 8.4 0.82", "2\t3.2, 8.4 ,0.82").replace("tourSpecification 2 1 2",
-                                                                         "tourSpecification 2, 1,2")
+    text = text.replace("2 3.2 8.4 0.82", "2\t3.2, 8.4 ,0.82").replace(
+        "tourSpecification 2 1 2", "tourSpecification 2, 1,2"
+    )
     path = _write(tmp_path, b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode())
     assert kb.lint_kb(path) == []
     base = kb.load_kb(path)
@@ -174,18 +188,22 @@ def test_text_limit_is_inclusive_and_in_bytes(tmp_path: Path) -> None:
 
 
 def test_missing_file_and_directory() -> None:
-    assert [str(d) for d in kb.lint_kb("tests/bad_kb/no_such.dat")] == \
-        ["tests/bad_kb/no_such.dat:1:1: error: cannot read file: No such file or directory"]
-    assert [str(d) for d in kb.lint_kb("tests/bad_kb")] == \
-        ["tests/bad_kb:1:1: error: is a directory, not a knowledge base file"]
+    assert [str(d) for d in kb.lint_kb("tests/bad_kb/no_such.dat")] == [
+        "tests/bad_kb/no_such.dat:1:1: error: cannot read file: No such file or directory"
+    ]
+    assert [str(d) for d in kb.lint_kb("tests/bad_kb")] == [
+        "tests/bad_kb:1:1: error: is a directory, not a knowledge base file"
+    ]
 
 
 def test_file_too_big(tmp_path: Path) -> None:
     path = _write(tmp_path, b"#" * (kb.KB_MAX_FILE_BYTES + 1))
-    assert [d.message for d in kb.lint_kb(path)] == \
-        [f"file is {kb.KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited to 131072 bytes"]
+    assert [d.message for d in kb.lint_kb(path)] == [
+        f"file is {kb.KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited to 131072 bytes"
+    ]
     assert kb.lint_kb(_write(tmp_path, b"#" * kb.KB_MAX_FILE_BYTES, "at_limit.dat"))[0].message.startswith(
-        "the knowledge base is empty")
+        "the knowledge base is empty"
+    )
 
 
 def test_every_bad_utf8_line_is_reported(tmp_path: Path) -> None:
@@ -199,14 +217,12 @@ def test_every_bad_utf8_line_is_reported(tmp_path: Path) -> None:
 
 def test_lone_carriage_return_is_a_control_character(tmp_path: Path) -> None:
     data = _minimal_bytes().replace(b"1 Welcome to the lab", b"1 Welcome\rto the lab")
-    assert [d.message for d in kb.lint_kb(_write(tmp_path, data))] == \
-        ["control character U+000D is not allowed"]
+    assert [d.message for d in kb.lint_kb(_write(tmp_path, data))] == ["control character U+000D is not allowed"]
 
 
 def test_config_must_be_readable(tmp_path: Path) -> None:
     diags = kb.lint_kb(MINIMAL, config_path=str(tmp_path / "none.ini"))
-    assert [str(d) for d in diags] == \
-        [f"{tmp_path}/none.ini:1:1: error: cannot read file: No such file or directory"]
+    assert [str(d) for d in diags] == [f"{tmp_path}/none.ini:1:1: error: cannot read file: No such file or directory"]
 
 
 # ----- Schema and limits ------------------------------------------------------------
@@ -265,8 +281,26 @@ def test_mutated_bases_give_diagnostics_never_exceptions(tmp_path: Path) -> None
     """A small fuzz: random edits of a valid base must lint without raising."""
     rng = random.Random(20250322)
     original = _minimal_bytes()
-    alphabet = [b" ", b"\t", b",", b"\n", b"#", b"0", b"1", b"9", b"-", b".", b"e", b"x", b"\xc3", b"\xa9",
-                b"\x00", b"\r", b"tourSpecification 1 1\n", b"gestureTarget 1 1 2 3\n"]
+    alphabet = [
+        b" ",
+        b"\t",
+        b",",
+        b"\n",
+        b"#",
+        b"0",
+        b"1",
+        b"9",
+        b"-",
+        b".",
+        b"e",
+        b"x",
+        b"\xc3",
+        b"\xa9",
+        b"\x00",
+        b"\r",
+        b"tourSpecification 1 1\n",
+        b"gestureTarget 1 1 2 3\n",
+    ]
     path = tmp_path / "fuzz.dat"
     for _ in range(300):
         data = bytearray(original)
@@ -274,7 +308,7 @@ def test_mutated_bases_give_diagnostics_never_exceptions(tmp_path: Path) -> None
             i = rng.randrange(len(data))
             op = rng.random()
             if op < 0.4:
-                del data[i:i + rng.randint(1, 12)]
+                del data[i : i + rng.randint(1, 12)]
             elif op < 0.8:
                 data[i:i] = rng.choice(alphabet)
             else:

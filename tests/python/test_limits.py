@@ -3,6 +3,7 @@
 Limits exist so that no input can crash btgen, exhaust its memory or exceed
 what BehaviorTree.CPP itself can represent (16-bit node UIDs).
 """
+
 import os
 import subprocess
 import sys
@@ -51,8 +52,17 @@ def test_the_limits_are_the_documented_ones():
     limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0]
     from btgen.ir.dataflow import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
 
-    for number in ("65,535", "256", "32", "16 MiB", "100", "128 KiB", "2,147,483,647",
-                   f"{DEFAULT_STRING_CAPACITY} bytes", f"{DEFAULT_QUEUE_CAPACITY} elements"):
+    for number in (
+        "65,535",
+        "256",
+        "32",
+        "16 MiB",
+        "100",
+        "128 KiB",
+        "2,147,483,647",
+        f"{DEFAULT_STRING_CAPACITY} bytes",
+        f"{DEFAULT_QUEUE_CAPACITY} elements",
+    ):
         assert number in limits, number
 
 
@@ -61,8 +71,10 @@ def _many_nodes(calls, leaves):
     """Main: a Sequence of `calls` SubTrees, each a Sequence of `leaves` leaves: 1 + calls * (2 + leaves) nodes."""
     sub = "<Sequence>" + "<AlwaysSuccess/>" * leaves + "</Sequence>"
     main = "<Sequence>" + '<SubTree ID="Leaves"/>' * calls + "</Sequence>"
-    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{main}</BehaviorTree>'
-            f'<BehaviorTree ID="Leaves">{sub}</BehaviorTree></root>\n')
+    return (
+        f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{main}</BehaviorTree>'
+        f'<BehaviorTree ID="Leaves">{sub}</BehaviorTree></root>\n'
+    )
 
 
 def test_65535_nodes_are_allowed(tmp_path):
@@ -88,8 +100,7 @@ def test_65535_nodes_build_and_run_on_both_engines(tmp_path, monkeypatch, cxx):
     scen = _write(tmp_path, "one.scenario", "ticks 1\n")
     mission = load_mission(str(mission_path))
     expected = trace_text(mission, parse_scenario_text("ticks 1\n"))
-    proc = subprocess.run([str(build_cpp(str(mission_path))), str(scen)], capture_output=True,
-                          check=False, timeout=300)
+    proc = subprocess.run([str(build_cpp(str(mission_path))), str(scen)], capture_output=True, check=False, timeout=300)
     assert (proc.returncode, proc.stderr) == (0, b"")
     assert proc.stdout.decode() == expected
     # Sequences and SubTrees go to RUNNING, SUCCESS and IDLE, leaves to SUCCESS and IDLE; tick and result
@@ -99,14 +110,18 @@ def test_65535_nodes_build_and_run_on_both_engines(tmp_path, monkeypatch, cxx):
 def test_65536_nodes_are_an_error(tmp_path):
     # 1 + 15 * (2 + 4367) = 65536
     p = _write(tmp_path, "over.xml", _many_nodes(15, 4367))
-    assert _errors(p) == [f"{p}:1:52: error: the main tree expands to 65536 nodes with its SubTrees; "
-                          f"BehaviorTree.CPP numbers nodes with 16 bits, so at most 65535 are allowed"]
+    assert _errors(p) == [
+        f"{p}:1:52: error: the main tree expands to 65536 nodes with its SubTrees; "
+        f"BehaviorTree.CPP numbers nodes with 16 bits, so at most 65535 are allowed"
+    ]
 
 
 def test_a_subtree_explosion_is_counted_without_building_it(tmp_path):
     """Ten trees each calling the next ten times: 10^10 nodes, reported at once."""
-    trees = "".join(f'<BehaviorTree ID="T{i}"><Sequence>' + f'<SubTree ID="T{i + 1}"/>' * 10
-                    + "</Sequence></BehaviorTree>" for i in range(10))
+    trees = "".join(
+        f'<BehaviorTree ID="T{i}"><Sequence>' + f'<SubTree ID="T{i + 1}"/>' * 10 + "</Sequence></BehaviorTree>"
+        for i in range(10)
+    )
     trees += '<BehaviorTree ID="T10"><AlwaysSuccess/></BehaviorTree>'
     p = _write(tmp_path, "boom.xml", f'<root BTCPP_format="4" main_tree_to_execute="T0">{trees}</root>\n')
     (err,) = _errors(p)
@@ -117,16 +132,19 @@ def test_a_subtree_explosion_is_counted_without_building_it(tmp_path):
 def _nested(depth_of_leaf):
     """One tree whose leaf is at level `depth_of_leaf` (Inverters above it)."""
     d = depth_of_leaf - 1
-    return (f'<root BTCPP_format="4"><BehaviorTree ID="M">{"<Inverter>" * d}<Act/>{"</Inverter>" * d}'
-            f"</BehaviorTree>{MODEL}</root>\n")
+    return (
+        f'<root BTCPP_format="4"><BehaviorTree ID="M">{"<Inverter>" * d}<Act/>{"</Inverter>" * d}'
+        f"</BehaviorTree>{MODEL}</root>\n"
+    )
 
 
 def test_xml_nesting_at_the_limit_and_past_it(tmp_path):
     ok = _write(tmp_path, "ok.xml", _nested(254))  # root + BehaviorTree + 254 levels = 256 elements
     load_mission(str(ok))
     bad = _write(tmp_path, "bad.xml", _nested(255))
-    assert _errors(bad) == [f"{bad}:1:2585: error: elements nested deeper than 256 levels (BehaviorTree.CPP "
-                            f"refuses such trees too)"]
+    assert _errors(bad) == [
+        f"{bad}:1:2585: error: elements nested deeper than 256 levels (BehaviorTree.CPP refuses such trees too)"
+    ]
 
 
 def _chain(total, per=100):
@@ -137,8 +155,10 @@ def _chain(total, per=100):
         remaining -= per
         t += 1
     trees.append((f"T{t}", remaining - 1, '<Act name="a"/>'))
-    body = "".join(f'<BehaviorTree ID="{tid}">{"<Inverter>" * d}{inner}{"</Inverter>" * d}</BehaviorTree>'
-                   for tid, d, inner in trees)
+    body = "".join(
+        f'<BehaviorTree ID="{tid}">{"<Inverter>" * d}{inner}{"</Inverter>" * d}</BehaviorTree>'
+        for tid, d, inner in trees
+    )
     return f'<root BTCPP_format="4" main_tree_to_execute="T0">{body}{MODEL}</root>\n'
 
 
@@ -151,8 +171,12 @@ def test_expanded_depth_is_bounded_by_the_node_count_alone(tmp_path):
     scen = _write(tmp_path, "s.scenario", "ticks 3\nleaf a RUNNING SUCCESS\n")
     mission = load_mission(str(p))
     assert lower(mission).max_depth == 4800
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", str(p), "--scenario", str(scen)],
-                          capture_output=True, check=False, timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", str(p), "--scenario", str(scen)],
+        capture_output=True,
+        check=False,
+        timeout=300,
+    )
     assert (proc.returncode, proc.stderr) == (0, b"")
     assert b'4800 Act "a" IDLE -> RUNNING' in proc.stdout and proc.stdout.endswith(b"result SUCCESS\n")
     cpp = subprocess.run([str(build_cpp(str(p))), str(scen)], capture_output=True, check=False, timeout=300)
@@ -195,7 +219,8 @@ def test_scenario_file_size(tmp_path):
     with pytest.raises(UserError) as e:
         parse_scenario(str(p))
     assert [str(d) for d in e.value.diagnostics] == [
-        f"{p}:1:1: error: file is 16777217 bytes; scenarios are limited to 16777216 bytes"]
+        f"{p}:1:1: error: file is 16777217 bytes; scenarios are limited to 16777216 bytes"
+    ]
 
 
 def test_scenario_ticks(tmp_path):
@@ -203,11 +228,14 @@ def test_scenario_ticks(tmp_path):
     with pytest.raises(UserError) as e:
         parse_scenario_text("ticks 2147483648\n", "s.scenario")
     assert [str(d) for d in e.value.diagnostics] == [
-        "s.scenario:1:7: error: ticks 2147483648 is too large (at most 2147483647)"]
+        "s.scenario:1:7: error: ticks 2147483648 is too large (at most 2147483647)"
+    ]
 
 
 def test_knowledge_base_file_size(tmp_path):
     p = _sparse(tmp_path / "huge.dat", KB_MAX_FILE_BYTES + 1)
     errors = [str(d) for d in lint_kb(str(p)) if d.severity == "error"]
-    assert errors == [f"{p}:1:1: error: file is {KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited "
-                      f"to {KB_MAX_FILE_BYTES} bytes"]
+    assert errors == [
+        f"{p}:1:1: error: file is {KB_MAX_FILE_BYTES + 1} bytes; knowledge base files are limited "
+        f"to {KB_MAX_FILE_BYTES} bytes"
+    ]

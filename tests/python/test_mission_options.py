@@ -1,4 +1,5 @@
 """--models, --main-tree and --namespace; repeated TreeNodesModel declarations."""
+
 import os
 
 import pytest
@@ -10,21 +11,25 @@ from btgen.compiler import main as build_info
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 
-MODELS = ('<root BTCPP_format="4">\n'
-          '  <TreeNodesModel>\n'
-          '    <Action ID="MoveBase">\n'
-          '      <input_port name="goal" type="std::string"/>\n'
-          '    </Action>\n'
-          '    <Condition ID="BatteryOk"/>\n'
-          '  </TreeNodesModel>\n'
-          '</root>\n')
+MODELS = (
+    '<root BTCPP_format="4">\n'
+    "  <TreeNodesModel>\n"
+    '    <Action ID="MoveBase">\n'
+    '      <input_port name="goal" type="std::string"/>\n'
+    "    </Action>\n"
+    '    <Condition ID="BatteryOk"/>\n'
+    "  </TreeNodesModel>\n"
+    "</root>\n"
+)
 # Two trees, no main_tree_to_execute, no TreeNodesModel: the models live elsewhere.
-BARE = ('<root BTCPP_format="4">\n'
-        '  <BehaviorTree ID="Patrol">\n'
-        '    <Sequence><BatteryOk/><MoveBase goal="kitchen"/></Sequence>\n'
-        '  </BehaviorTree>\n'
-        '  <BehaviorTree ID="Dock"><MoveBase goal="dock"/></BehaviorTree>\n'
-        '</root>\n')
+BARE = (
+    '<root BTCPP_format="4">\n'
+    '  <BehaviorTree ID="Patrol">\n'
+    '    <Sequence><BatteryOk/><MoveBase goal="kitchen"/></Sequence>\n'
+    "  </BehaviorTree>\n"
+    '  <BehaviorTree ID="Dock"><MoveBase goal="dock"/></BehaviorTree>\n'
+    "</root>\n"
+)
 
 
 def _write(tmp_path, name, text):
@@ -53,13 +58,19 @@ def test_models_file_declares_the_missions_nodes(tmp_path):
 def test_main_tree_picks_and_overrides(tmp_path):
     mission, models = _write(tmp_path, "m.xml", BARE), _write(tmp_path, "models.xml", MODELS)
     errors = _errors(mission, models=[models])
-    assert errors == [f"{mission}:1:1: error: the mission defines 2 BehaviorTrees; say which one runs with "
-                      f"main_tree_to_execute=\"...\" or --main-tree (one of `Dock`, `Patrol`)"]
+    assert errors == [
+        f"{mission}:1:1: error: the mission defines 2 BehaviorTrees; say which one runs with "
+        f'main_tree_to_execute="..." or --main-tree (one of `Dock`, `Patrol`)'
+    ]
     assert load_mission(mission, models=[models], main_tree="Dock").main_tree == "Dock"
     assert _errors(mission, models=[models], main_tree="Dok") == [
-        f"{mission}:1:1: error: --main-tree names `Dok`, but no BehaviorTree has that ID (did you mean `Dock`?)"]
-    with_main = _write(tmp_path, "w.xml", BARE.replace("<root BTCPP_format=\"4\">",
-                                                       "<root BTCPP_format=\"4\" main_tree_to_execute=\"Patrol\">"))
+        f"{mission}:1:1: error: --main-tree names `Dok`, but no BehaviorTree has that ID (did you mean `Dock`?)"
+    ]
+    with_main = _write(
+        tmp_path,
+        "w.xml",
+        BARE.replace('<root BTCPP_format="4">', '<root BTCPP_format="4" main_tree_to_execute="Patrol">'),
+    )
     assert load_mission(with_main, models=[models]).main_tree == "Patrol"
     assert load_mission(with_main, models=[models], main_tree="Dock").main_tree == "Dock"
     header = generate(with_main, models=[models], main_tree="Dock")[0].text
@@ -68,48 +79,67 @@ def test_main_tree_picks_and_overrides(tmp_path):
 
 def test_identical_repeated_declarations_are_one_model(tmp_path):
     """A Groot2 project split over files repeats each model; BehaviorTree.CPP loads it."""
-    mission = _write(tmp_path, "m.xml", BARE.replace("</root>", MODELS.split("\n", 1)[1].rsplit("</root>", 1)[0]
-                                                     + "</root>"))
+    mission = _write(
+        tmp_path, "m.xml", BARE.replace("</root>", MODELS.split("\n", 1)[1].rsplit("</root>", 1)[0] + "</root>")
+    )
     models = _write(tmp_path, "models.xml", MODELS)
     m = load_mission(mission, models=[models, models], main_tree="Patrol")
     assert sorted(s.id for s in m.models) == ["BatteryOk", "MoveBase"]
     assert m.models[0].loc.path == mission  # the first declaration is the one kept
 
 
-@pytest.mark.parametrize("changed, why", [
-    ('<Condition ID="MoveBase"><input_port name="goal" type="std::string"/></Condition>',
-     "<Action> there, <Condition> here"),
-    ('<Action ID="MoveBase"><input_port name="goal" type="int"/></Action>',
-     "port `goal` has type `string` there, `int` here"),
-    ('<Action ID="MoveBase"><output_port name="goal" type="std::string"/></Action>',
-     "port `goal` is an input port there, an output port here"),
-    ('<Action ID="MoveBase"><input_port name="goal" type="std::string" default="x"/></Action>',
-     "port `goal` has no default there, default `x` here"),
-    ('<Action ID="MoveBase"><input_port name="goal" type="std::string"/><input_port name="speed"/></Action>',
-     "port `speed` here, not there"),
-    ('<Action ID="MoveBase"/>', "port `goal` there, not here"),
-])
+@pytest.mark.parametrize(
+    "changed, why",
+    [
+        (
+            '<Condition ID="MoveBase"><input_port name="goal" type="std::string"/></Condition>',
+            "<Action> there, <Condition> here",
+        ),
+        (
+            '<Action ID="MoveBase"><input_port name="goal" type="int"/></Action>',
+            "port `goal` has type `string` there, `int` here",
+        ),
+        (
+            '<Action ID="MoveBase"><output_port name="goal" type="std::string"/></Action>',
+            "port `goal` is an input port there, an output port here",
+        ),
+        (
+            '<Action ID="MoveBase"><input_port name="goal" type="std::string" default="x"/></Action>',
+            "port `goal` has no default there, default `x` here",
+        ),
+        (
+            '<Action ID="MoveBase"><input_port name="goal" type="std::string"/><input_port name="speed"/></Action>',
+            "port `speed` here, not there",
+        ),
+        ('<Action ID="MoveBase"/>', "port `goal` there, not here"),
+    ],
+)
 def test_conflicting_declarations_name_both_places(tmp_path, changed, why):
     mission = _write(tmp_path, "m.xml", BARE)
     models = _write(tmp_path, "models.xml", MODELS)
-    other = _write(tmp_path, "other.xml", f'<root BTCPP_format="4">\n<TreeNodesModel>{changed}</TreeNodesModel>'
-                                          f'</root>\n')
+    other = _write(
+        tmp_path, "other.xml", f'<root BTCPP_format="4">\n<TreeNodesModel>{changed}</TreeNodesModel></root>\n'
+    )
     col = changed.index('"MoveBase"') + 18  # the ID's value, after <TreeNodesModel>
     assert _errors(mission, models=[models, other], main_tree="Patrol") == [
         f"{other}:2:{col}: error: `MoveBase` is declared twice in TreeNodesModel and the declarations differ: "
-        f"{why} (first at {models}:3:5)"]
+        f"{why} (first at {models}:3:5)"
+    ]
 
 
 def test_models_file_holds_only_tree_nodes_model(tmp_path):
     mission = _write(tmp_path, "m.xml", BARE)
-    not_models = _write(tmp_path, "x.xml", '<root BTCPP_format="4">\n<BehaviorTree ID="T"><AlwaysSuccess/>'
-                                           '</BehaviorTree>\n</root>\n')
+    not_models = _write(
+        tmp_path, "x.xml", '<root BTCPP_format="4">\n<BehaviorTree ID="T"><AlwaysSuccess/></BehaviorTree>\n</root>\n'
+    )
     assert _errors(mission, models=[not_models], main_tree="Patrol")[0] == (
         f"{not_models}:2:1: error: a models file (--models) holds only <TreeNodesModel>, not <BehaviorTree>; "
-        f"pass a mission as the mission, or include it with <include path=...>")
+        f"pass a mission as the mission, or include it with <include path=...>"
+    )
     missing = str(tmp_path / "nope.xml")
     assert _errors(mission, models=[missing], main_tree="Patrol") == [
-        f"{missing}:1:1: error: cannot read file: No such file or directory"]
+        f"{missing}:1:1: error: cannot read file: No such file or directory"
+    ]
 
 
 def test_namespace_default_never_clashes():
@@ -120,19 +150,22 @@ def test_namespace_default_never_clashes():
     assert naming.namespace_name("LabTour") == "lab_tour"
 
 
-@pytest.mark.parametrize("ns, problem", [
-    ("class", "`class` is a C++ keyword"),
-    ("main", "`main` clashes with the program's main(); choose another name"),
-    ("btgen::x", "`btgen` clashes with btgen's runtime; choose another name"),
-    ("errno", "`errno` is a macro of the C++ standard library"),
-    ("exit::robot", "`exit` names something of the C++ standard library at global scope; choose another name"),
-    ("std", "`std` clashes with the standard library; choose another name"),
-    ("9lives", "`9lives` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
-    ("a__b", "`a__b` is reserved in C++ (a leading `_` or a double underscore)"),
-    ("_robot", "`_robot` is reserved in C++ (a leading `_` or a double underscore)"),
-    ("robot::", "`robot::` has an empty part"),
-    ("", "the namespace is empty"),
-])
+@pytest.mark.parametrize(
+    "ns, problem",
+    [
+        ("class", "`class` is a C++ keyword"),
+        ("main", "`main` clashes with the program's main(); choose another name"),
+        ("btgen::x", "`btgen` clashes with btgen's runtime; choose another name"),
+        ("errno", "`errno` is a macro of the C++ standard library"),
+        ("exit::robot", "`exit` names something of the C++ standard library at global scope; choose another name"),
+        ("std", "`std` clashes with the standard library; choose another name"),
+        ("9lives", "`9lives` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
+        ("a__b", "`a__b` is reserved in C++ (a leading `_` or a double underscore)"),
+        ("_robot", "`_robot` is reserved in C++ (a leading `_` or a double underscore)"),
+        ("robot::", "`robot::` has an empty part"),
+        ("", "the namespace is empty"),
+    ],
+)
 def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
     assert naming.namespace_problem(ns) == problem
     mission = _write(tmp_path, "m.xml", BARE)
@@ -146,8 +179,23 @@ def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
 def test_compile_with_all_options(tmp_path, capsys):
     mission, models = _write(tmp_path, "main.xml", BARE), _write(tmp_path, "models.xml", MODELS)
     out = tmp_path / "o"
-    assert main(["compile", mission, "--models", models, "--main-tree", "Patrol", "--namespace", "robot::missions",
-                 "-o", str(out)]) == 0
+    assert (
+        main(
+            [
+                "compile",
+                mission,
+                "--models",
+                models,
+                "--main-tree",
+                "Patrol",
+                "--namespace",
+                "robot::missions",
+                "-o",
+                str(out),
+            ]
+        )
+        == 0
+    )
     header = (out / "main.hpp").read_text()
     assert "namespace robot::missions {" in header and "}  // namespace robot::missions" in header
     assert main(["compile", mission, "--models", models, "--main-tree", "Patrol", "-o", str(out)]) == 0
@@ -168,5 +216,6 @@ def test_validate_run_and_xsd_take_the_options(tmp_path, capsys):
     assert main(["xsd", mission, "--models", models, "--main-tree", "Dock"]) == 0
     assert 'name="MoveBase"' in capsys.readouterr().out
     assert main(["run", mission, "--models", models, "--main-tree", "Dock", "--scenario", scenario]) == 0
-    assert capsys.readouterr().out == ('tick 1\n1 MoveBase "MoveBase" IDLE -> SUCCESS\n'
-                                       '1 MoveBase "MoveBase" SUCCESS -> IDLE\nresult SUCCESS\n')
+    assert capsys.readouterr().out == (
+        'tick 1\n1 MoveBase "MoveBase" IDLE -> SUCCESS\n1 MoveBase "MoveBase" SUCCESS -> IDLE\nresult SUCCESS\n'
+    )

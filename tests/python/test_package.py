@@ -9,6 +9,7 @@ checkout is never written, with `pip wheel --no-build-isolation` (setuptools
 and wheel of .venv: no download). Installing it fetches btgen's dependencies
 at the versions of requirements.txt (from pip's cache when setup.sh ran).
 """
+
 import os
 import re
 import shutil
@@ -28,8 +29,7 @@ PACKAGING = ("pyproject.toml", "setup.py", "MANIFEST.in", "requirements.txt", "g
 
 
 def _run(cmd, cwd, env=None, check=True):
-    proc = subprocess.run([str(c) for c in cmd], cwd=str(cwd), env=env, capture_output=True,
-                          text=True, check=False)
+    proc = subprocess.run([str(c) for c in cmd], cwd=str(cwd), env=env, capture_output=True, text=True, check=False)
     if check and proc.returncode != 0:
         raise AssertionError(f"{' '.join(map(str, cmd))} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}")
     return proc
@@ -39,8 +39,9 @@ def _clean_env(tmp: Path) -> dict:
     """The environment of a user: no PYTHONPATH to the checkout, no .venv on PATH, a private cache."""
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "BTGEN_EXECUTABLE")}
     venv_bin = os.path.dirname(sys.executable)
-    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
-                                  if p and os.path.realpath(p) != os.path.realpath(venv_bin))
+    env["PATH"] = os.pathsep.join(
+        p for p in env.get("PATH", "").split(os.pathsep) if p and os.path.realpath(p) != os.path.realpath(venv_bin)
+    )
     env["BTGEN_CACHE_DIR"] = str(tmp / "cache")
     return env
 
@@ -60,14 +61,42 @@ def installed(tmp_path_factory):
         else:
             shutil.copy2(path, src / name)
     wheels = tmp / "wheels"
-    _run([sys.executable, "-m", "pip", "wheel", "-q", "--disable-pip-version-check", "--no-build-isolation",
-          "--no-deps", "-w", wheels, src], cwd=tmp)
+    _run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "-q",
+            "--disable-pip-version-check",
+            "--no-build-isolation",
+            "--no-deps",
+            "-w",
+            wheels,
+            src,
+        ],
+        cwd=tmp,
+    )
     (wheel,) = wheels.glob("btgen-*.whl")
     venv = tmp / "venv"
     _run([sys.executable, "-m", "venv", "--without-pip", venv], cwd=tmp)
     python = venv / "bin" / "python"
-    _run([sys.executable, "-m", "pip", "--python", python, "install", "-q", "--disable-pip-version-check",
-          "-c", Path(ROOT) / "requirements.txt", wheel], cwd=tmp)
+    _run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "--python",
+            python,
+            "install",
+            "-q",
+            "--disable-pip-version-check",
+            "-c",
+            Path(ROOT) / "requirements.txt",
+            wheel,
+        ],
+        cwd=tmp,
+    )
     work = tmp / "work"
     work.mkdir()
     return venv / "bin" / "btgen", _clean_env(tmp), tmp, wheel
@@ -85,8 +114,10 @@ def test_wheel_holds_every_mapped_file(installed):
     assert "btgen/_data/cmake/btgenConfig.cmake" in names and "btgen/_data/templates/mission.hpp.j2" in names
     # the package is typed (mypy runs in CI), and every stage's subpackage is in the wheel
     assert "btgen/py.typed" in names
-    sources = {f"btgen/{f.relative_to(Path(ROOT) / 'generator' / 'btgen').as_posix()}"
-               for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")}
+    sources = {
+        f"btgen/{f.relative_to(Path(ROOT) / 'generator' / 'btgen').as_posix()}"
+        for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")
+    }
     assert "btgen/ir/lower.py" in sources and sources <= names
 
 
@@ -98,8 +129,12 @@ def test_cmake_package_version_is_the_generators():
 def test_every_command_works_from_another_directory(installed):
     btgen, env, tmp, _ = installed
     work = tmp / "work"
-    for f in ("missions/Reception.xml", "missions/scenarios/Reception.scenario",
-              "data/environmentKnowledgeBaseInput.dat", "data/environmentKnowledgeBaseConfiguration.ini"):
+    for f in (
+        "missions/Reception.xml",
+        "missions/scenarios/Reception.scenario",
+        "data/environmentKnowledgeBaseInput.dat",
+        "data/environmentKnowledgeBaseConfiguration.ini",
+    ):
         shutil.copy2(Path(ROOT) / f, work / os.path.basename(f))
     site = _run([btgen.parent / "python", "-c", "import btgen, sys; print(btgen.__file__)"], work, env).stdout
     assert site.startswith(str(tmp / "venv"))  # the installed package, not the checkout
@@ -108,16 +143,33 @@ def test_every_command_works_from_another_directory(installed):
     cmake_dir = Path(_run([btgen, "--cmake-dir"], work, env).stdout.strip())
     assert cmake_dir.is_relative_to(tmp / "venv") and (cmake_dir / "btgenConfig.cmake").is_file()
 
-    assert _run([btgen, "validate", "Reception.xml"], work, env).stdout == "Reception.xml: ok (6 trees, main `ReceptionGuide`)\n"
+    assert (
+        _run([btgen, "validate", "Reception.xml"], work, env).stdout
+        == "Reception.xml: ok (6 trees, main `ReceptionGuide`)\n"
+    )
     assert "<xs:schema" in _run([btgen, "xsd", "Reception.xml"], work, env).stdout
     _run([btgen, "compile", "Reception.xml", "-o", "out", "--namespace", "front_desk"], work, env)
     assert "namespace front_desk {" in (work / "out" / "reception.hpp").read_text()
     interp = _run([btgen, "run", "Reception.xml", "--scenario", "Reception.scenario"], work, env).stdout
     assert interp.endswith("result SUCCESS\n")
-    assert _run([btgen, "run", "Reception.xml", "--scenario", "Reception.scenario", "--engine", "cpp"],
-                work, env).stdout == interp
-    lint = _run([btgen, "lint-kb", "environmentKnowledgeBaseInput.dat", "--config",
-                 "environmentKnowledgeBaseConfiguration.ini", "--mission", "Reception.xml"], work, env, check=False)
+    assert (
+        _run([btgen, "run", "Reception.xml", "--scenario", "Reception.scenario", "--engine", "cpp"], work, env).stdout
+        == interp
+    )
+    lint = _run(
+        [
+            btgen,
+            "lint-kb",
+            "environmentKnowledgeBaseInput.dat",
+            "--config",
+            "environmentKnowledgeBaseConfiguration.ini",
+            "--mission",
+            "Reception.xml",
+        ],
+        work,
+        env,
+        check=False,
+    )
     assert lint.returncode == 0 and "error" not in lint.stderr
     bench = _run([btgen, "bench", "Reception.xml", "--ticks", "50"], work, env).stdout
     assert "ticks 50\n" in bench and "allocs_per_tick 0" in bench
@@ -127,8 +179,26 @@ def test_every_command_works_from_another_directory(installed):
     mission, models = USER_PROJECT / "mission" / "patrol.xml", USER_PROJECT / "mission" / "nodes.xml"
     assert _run([btgen, "validate", mission, "--models", models], work, env).returncode == 0
     (work / "patrol.scenario").write_text("ticks 5\ndefault SUCCESS\n")
-    runs = [_run([btgen, "run", mission, "--models", models, "--main-tree", "Patrol", "--scenario", "patrol.scenario",
-                  "--engine", engine], work, env).stdout for engine in ("interp", "cpp")]
+    runs = [
+        _run(
+            [
+                btgen,
+                "run",
+                mission,
+                "--models",
+                models,
+                "--main-tree",
+                "Patrol",
+                "--scenario",
+                "patrol.scenario",
+                "--engine",
+                engine,
+            ],
+            work,
+            env,
+        ).stdout
+        for engine in ("interp", "cpp")
+    ]
     assert runs[0] == runs[1] and runs[0].endswith("result SUCCESS\n") and 'MoveTo "MoveTo"' in runs[0]
     bad = _run([btgen, "validate", mission], work, env, check=False)
     assert bad.returncode == 1 and re.match(rf"{re.escape(str(mission))}:\d+:\d+: error: ", bad.stderr)
@@ -165,8 +235,10 @@ def test_user_project_builds_with_find_package(installed):
     assert failed.returncode != 0
     line = next(i for i, text in enumerate(good.splitlines(), 1) if 'goal="door"' in text)
     col = good.splitlines()[line - 1].index('goal="door"') + 1
-    assert (f"{mission}:{line}:{col}: error: `MoveTo` has no port `gaol` (its ports: `goal`, `arrived_at`); "
-            f"did you mean `goal`?") in failed.stdout + failed.stderr
+    assert (
+        f"{mission}:{line}:{col}: error: `MoveTo` has no port `gaol` (its ports: `goal`, `arrived_at`); "
+        f"did you mean `goal`?"
+    ) in failed.stdout + failed.stderr
     mission.write_text(good)
     _cmake_build(src, build, btgen, env)
     assert _run([build / "patrol_robot"], tmp, env).returncode == 0
@@ -193,8 +265,10 @@ def _runtime_only_project(tmp, find):
     src = tmp / "runtime_only"
     src.mkdir()
     (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find=find))
-    (src / "main.cpp").write_text("#include <btgen/status.hpp>\n#include <btgen/version.hpp>\n"
-                                  "int main() { return btgen::Status::SUCCESS == btgen::Status::FAILURE; }\n")
+    (src / "main.cpp").write_text(
+        "#include <btgen/status.hpp>\n#include <btgen/version.hpp>\n"
+        "int main() { return btgen::Status::SUCCESS == btgen::Status::FAILURE; }\n"
+    )
     return src
 
 
@@ -211,11 +285,36 @@ def test_package_kb_component_requires_eigen(installed):
     btgen, env, tmp, _ = installed
     cmake_dir = _run([btgen, "--cmake-dir"], tmp, env).stdout.strip()
     src = _runtime_only_project(tmp, "find_package(btgen CONFIG REQUIRED)")
-    _run(["cmake", "-S", src, "-B", tmp / "runtime_only_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
-          "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env)
+    _run(
+        [
+            "cmake",
+            "-S",
+            src,
+            "-B",
+            tmp / "runtime_only_build",
+            *_generator(),
+            f"-Dbtgen_DIR={cmake_dir}",
+            "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON",
+        ],
+        tmp,
+        env,
+    )
     (src / "CMakeLists.txt").write_text(RUNTIME_ONLY.format(find="find_package(btgen CONFIG REQUIRED COMPONENTS kb)"))
-    failed = _run(["cmake", "-S", src, "-B", tmp / "kb_build", *_generator(), f"-Dbtgen_DIR={cmake_dir}",
-                   "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"], tmp, env, check=False)
+    failed = _run(
+        [
+            "cmake",
+            "-S",
+            src,
+            "-B",
+            tmp / "kb_build",
+            *_generator(),
+            f"-Dbtgen_DIR={cmake_dir}",
+            "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON",
+        ],
+        tmp,
+        env,
+        check=False,
+    )
     assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
 
 

@@ -4,6 +4,7 @@ Errors must stop `btgen run` before any trace line: exit status 1, nothing on
 stdout, `path:line:col: error: ...` on stderr. A `leaf` line naming no leaf
 of the mission is only a warning.
 """
+
 import dataclasses
 import os
 import subprocess
@@ -54,9 +55,15 @@ def mission_path(tmp_path):
 
 def run_cli(tmp_path, scenario_text, mission="m.xml"):
     (tmp_path / "s.scenario").write_text(scenario_text, encoding="utf-8")
-    return subprocess.run([sys.executable, "-m", "btgen", "run", mission, "--scenario", "s.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120,
-                          env={**os.environ, "PYTHONPATH": os.path.join(ROOT, "generator")}, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", "run", mission, "--scenario", "s.scenario"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": os.path.join(ROOT, "generator")},
+        check=False,
+    )
 
 
 # ---------------------------------------------------------------- parsing
@@ -67,14 +74,19 @@ def test_defaults():
 
 
 def test_full_file_model():
-    s = parse_scenario_text("ticks 20   # most ticks\n"
-                            "default FAILURE\n"
-                            "\tleaf FindBall FAILURE SUCCESS # trailing comment\n"
-                            "leaf PickBall RUNNING RUNNING SUCCESS\r\n"
-                            "clock_ms 100\n", "x.scenario")
+    s = parse_scenario_text(
+        "ticks 20   # most ticks\n"
+        "default FAILURE\n"
+        "\tleaf FindBall FAILURE SUCCESS # trailing comment\n"
+        "leaf PickBall RUNNING RUNNING SUCCESS\r\n"
+        "clock_ms 100\n",
+        "x.scenario",
+    )
     assert s.ticks == 20 and s.default == "FAILURE" and s.clock_ms == 100
-    assert [(leaf.name, leaf.statuses) for leaf in s.leaves] == [("FindBall", ("FAILURE", "SUCCESS")),
-                                                        ("PickBall", ("RUNNING", "RUNNING", "SUCCESS"))]
+    assert [(leaf.name, leaf.statuses) for leaf in s.leaves] == [
+        ("FindBall", ("FAILURE", "SUCCESS")),
+        ("PickBall", ("RUNNING", "RUNNING", "SUCCESS")),
+    ]
     find = s.leaf("FindBall")
     assert (find.loc.line, find.loc.col) == (3, 7)
     assert [(loc.line, loc.col) for loc in find.status_locs] == [(3, 16), (3, 24)]
@@ -88,45 +100,78 @@ def test_hash_starts_a_comment_anywhere():
 
 
 ERRORS = [
-    ("unknown keyword", "ticks 3\ntick 4\n",
-     "s.scenario:2:1: error: unknown keyword `tick`: a line starts with ticks, default, leaf or clock_ms "
-     "(did you mean `ticks`?)"),
-    ("repeated ticks", "ticks 2\n\nticks 3\n",
-     "s.scenario:3:1: error: `ticks` is given twice (first at line 1)"),
-    ("repeated default", "default FAILURE\ndefault SUCCESS\n",
-     "s.scenario:2:1: error: `default` is given twice (first at line 1)"),
-    ("repeated leaf", "leaf MoveFast RUNNING\nleaf MoveFast SUCCESS\n",
-     "s.scenario:2:6: error: leaf `MoveFast` is listed twice (first at line 1)"),
-    ("leaf without status", "leaf MoveFast   # nothing\n",
-     "s.scenario:1:6: error: leaf `MoveFast` has no status: list one or more of SUCCESS, FAILURE, RUNNING"),
-    ("leaf without name", "leaf\n",
-     "s.scenario:1:1: error: `leaf` needs a leaf name and at least one status"),
+    (
+        "unknown keyword",
+        "ticks 3\ntick 4\n",
+        "s.scenario:2:1: error: unknown keyword `tick`: a line starts with ticks, default, leaf or clock_ms "
+        "(did you mean `ticks`?)",
+    ),
+    ("repeated ticks", "ticks 2\n\nticks 3\n", "s.scenario:3:1: error: `ticks` is given twice (first at line 1)"),
+    (
+        "repeated default",
+        "default FAILURE\ndefault SUCCESS\n",
+        "s.scenario:2:1: error: `default` is given twice (first at line 1)",
+    ),
+    (
+        "repeated leaf",
+        "leaf MoveFast RUNNING\nleaf MoveFast SUCCESS\n",
+        "s.scenario:2:6: error: leaf `MoveFast` is listed twice (first at line 1)",
+    ),
+    (
+        "leaf without status",
+        "leaf MoveFast   # nothing\n",
+        "s.scenario:1:6: error: leaf `MoveFast` has no status: list one or more of SUCCESS, FAILURE, RUNNING",
+    ),
+    ("leaf without name", "leaf\n", "s.scenario:1:1: error: `leaf` needs a leaf name and at least one status"),
     ("ticks zero", "ticks 0\n", "s.scenario:1:7: error: ticks must be at least 1, got 0"),
     ("ticks negative", "ticks -3\n", "s.scenario:1:7: error: ticks must be at least 1, got -3"),
     ("ticks not a number", "ticks many\n", "s.scenario:1:7: error: `ticks` needs a whole number, got `many`"),
-    ("ticks missing", "ticks\n",
-     "s.scenario:1:1: error: `ticks` needs a whole number (the most root ticks to send)"),
+    ("ticks missing", "ticks\n", "s.scenario:1:1: error: `ticks` needs a whole number (the most root ticks to send)"),
     ("ticks two numbers", "ticks 2 3\n", "s.scenario:1:9: error: `ticks` takes one number, found also `3`"),
-    ("unknown status", "leaf MoveFast SUCCESS DONE\n",
-     "s.scenario:1:23: error: unknown status `DONE`: use SUCCESS, FAILURE or RUNNING"),
-    ("lower-case status", "default success\n",
-     "s.scenario:1:9: error: unknown status `success`: use SUCCESS, FAILURE or RUNNING (did you mean `SUCCESS`?)"),
-    ("SKIPPED is no leaf result", "leaf MoveFast SKIPPED\n",
-     "s.scenario:1:15: error: `SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING"),
-    ("default without status", "default\n",
-     "s.scenario:1:1: error: `default` needs a status: SUCCESS, FAILURE or RUNNING"),
+    (
+        "unknown status",
+        "leaf MoveFast SUCCESS DONE\n",
+        "s.scenario:1:23: error: unknown status `DONE`: use SUCCESS, FAILURE or RUNNING",
+    ),
+    (
+        "lower-case status",
+        "default success\n",
+        "s.scenario:1:9: error: unknown status `success`: use SUCCESS, FAILURE or RUNNING (did you mean `SUCCESS`?)",
+    ),
+    (
+        "SKIPPED is no leaf result",
+        "leaf MoveFast SKIPPED\n",
+        "s.scenario:1:15: error: `SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING",
+    ),
+    (
+        "default without status",
+        "default\n",
+        "s.scenario:1:1: error: `default` needs a status: SUCCESS, FAILURE or RUNNING",
+    ),
     ("negative clock", "clock_ms -1\n", "s.scenario:1:10: error: clock_ms cannot be negative, got -1"),
-    ("repeated clock", "clock_ms 10\nclock_ms 20\n",
-     "s.scenario:2:1: error: `clock_ms` is given twice (first at line 1)"),
-    ("scripted RUNNING Condition", "leaf IsReady SUCCESS RUNNING\n",
-     "s.scenario:1:22: error: `IsReady` is a Condition and cannot return RUNNING (a Condition answers in one "
-     "tick; its Condition node is at m.xml:4:7)"),
-    ("default RUNNING reaching Conditions", "ticks 3\ndefault RUNNING\n",
-     "s.scenario:2:9: error: `default RUNNING` reaches the Conditions `IsReady` (m.xml:4:7), `ReadyAgain` "
-     "(m.xml:11:7), which cannot return RUNNING; give each its own `leaf` line"),
-    ("default RUNNING reaching one Condition", "default RUNNING\nleaf IsReady FAILURE\n",
-     "s.scenario:1:9: error: `default RUNNING` reaches the Condition `ReadyAgain` (m.xml:11:7), which cannot "
-     "return RUNNING; give it its own `leaf` line"),
+    (
+        "repeated clock",
+        "clock_ms 10\nclock_ms 20\n",
+        "s.scenario:2:1: error: `clock_ms` is given twice (first at line 1)",
+    ),
+    (
+        "scripted RUNNING Condition",
+        "leaf IsReady SUCCESS RUNNING\n",
+        "s.scenario:1:22: error: `IsReady` is a Condition and cannot return RUNNING (a Condition answers in one "
+        "tick; its Condition node is at m.xml:4:7)",
+    ),
+    (
+        "default RUNNING reaching Conditions",
+        "ticks 3\ndefault RUNNING\n",
+        "s.scenario:2:9: error: `default RUNNING` reaches the Conditions `IsReady` (m.xml:4:7), `ReadyAgain` "
+        "(m.xml:11:7), which cannot return RUNNING; give each its own `leaf` line",
+    ),
+    (
+        "default RUNNING reaching one Condition",
+        "default RUNNING\nleaf IsReady FAILURE\n",
+        "s.scenario:1:9: error: `default RUNNING` reaches the Condition `ReadyAgain` (m.xml:11:7), which cannot "
+        "return RUNNING; give it its own `leaf` line",
+    ),
 ]
 
 
@@ -164,8 +209,9 @@ def test_unknown_leaf_is_only_a_warning(tmp_path, mission_path):
     assert proc.returncode == 0
     assert proc.stderr.splitlines() == [
         "s.scenario:2:6: warning: leaf `Movefast` matches no Action or Condition of the mission; its line is "
-        "ignored (did you mean `MoveFast`?)"]
-    assert proc.stdout.startswith("tick 1\n1 Sequence \"Sequence\" IDLE -> RUNNING\n")
+        "ignored (did you mean `MoveFast`?)"
+    ]
+    assert proc.stdout.startswith('tick 1\n1 Sequence "Sequence" IDLE -> RUNNING\n')
     assert proc.stdout.endswith("result SUCCESS\n")  # MoveFast was not made to fail
 
 
@@ -174,7 +220,8 @@ def test_builtin_leaf_keeps_its_behaviour(tmp_path, mission_path):
     assert proc.returncode == 0
     assert proc.stderr.splitlines() == [
         "s.scenario:2:6: warning: `Fine` is a built-in node of BehaviorTree.CPP and keeps its built-in "
-        "behaviour; its line is ignored"]
+        "behaviour; its line is ignored"
+    ]
     assert '6 AlwaysSuccess "Fine"' not in proc.stdout  # the Fallback stops at its first child
     assert proc.stdout.endswith("result SUCCESS\n")
 
@@ -186,16 +233,28 @@ def test_scripted_condition_failure_is_fine(tmp_path, mission_path):
 
 
 def test_missing_scenario_file(tmp_path, mission_path):
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "nope.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "nope.scenario"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == ["nope.scenario:1:1: error: cannot read scenario: No such file or directory"]
 
 
 def test_invalid_utf8(tmp_path, mission_path):
     (tmp_path / "s.scenario").write_bytes(b"ticks 2\nleaf Mo\xffve SUCCESS\n")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", "m.xml", "--scenario", "s.scenario"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == ["s.scenario:2:8: error: invalid UTF-8 (byte 0xff); scenarios must be UTF-8"]
 
@@ -203,8 +262,14 @@ def test_invalid_utf8(tmp_path, mission_path):
 def test_mission_errors_come_first(tmp_path):
     (tmp_path / "bad.xml").write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
     (tmp_path / "s.scenario").write_text("ticks 0\n")
-    proc = subprocess.run([sys.executable, "-m", "btgen", "run", "bad.xml", "--scenario", "s.scenario"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", "bad.xml", "--scenario", "s.scenario"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.startswith("bad.xml:1:")
 
@@ -212,7 +277,10 @@ def test_mission_errors_come_first(tmp_path):
 def test_leaves_of_the_mission(mission_path):
     mission = load_mission(str(mission_path))
     assert [(u.name, u.kind) for u in mission_leaves(mission)] == [
-        ("IsReady", "Condition"), ("MoveFast", "Action"), ("ReadyAgain", "Condition")]
+        ("IsReady", "Condition"),
+        ("MoveFast", "Action"),
+        ("ReadyAgain", "Condition"),
+    ]
 
 
 def test_parse_scenario_reads_files(tmp_path):
@@ -225,14 +293,17 @@ def test_check_returns_warnings(tmp_path, mission_path):
     mission = load_mission(str(mission_path))
     s = parse_scenario_text("leaf Ghost SUCCESS\nleaf MoveFast RUNNING\n", "x.scenario")
     assert [str(d) for d in check_scenario(s, mission)] == [
-        "x.scenario:1:6: warning: leaf `Ghost` matches no Action or Condition of the mission; its line is ignored"]
+        "x.scenario:1:6: warning: leaf `Ghost` matches no Action or Condition of the mission; its line is ignored"
+    ]
 
 
 def test_leaf_of_a_tree_the_main_tree_does_not_run(tmp_path):
-    (tmp_path / "m.xml").write_text(MISSION.replace("</root>", '  <BehaviorTree ID="Spare"><Move name="Dance"/>'
-                                                               '</BehaviorTree>\n</root>'))
+    (tmp_path / "m.xml").write_text(
+        MISSION.replace("</root>", '  <BehaviorTree ID="Spare"><Move name="Dance"/></BehaviorTree>\n</root>')
+    )
     proc = run_cli(tmp_path, "ticks 1\nleaf Dance RUNNING\n")
     assert proc.returncode == 0
     assert proc.stderr.splitlines() == [
         "s.scenario:2:6: warning: leaf `Dance` is only in BehaviorTree `Spare`, which the main tree `Main` does "
-        "not run; its line is ignored"]
+        "not run; its line is ignored"
+    ]

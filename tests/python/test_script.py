@@ -3,6 +3,7 @@
 Sources: scripting/operators.hpp (grammar and Expr* evaluate), scripting/any_types.hpp
 (literals), utils/safe_any.hpp and utils/convert_impl.hpp (value conversions).
 """
+
 import math
 
 import pytest
@@ -46,59 +47,66 @@ def typed(value):
 
 # ================================================================== parsing
 
-@pytest.mark.parametrize("code, expected", [
-    ("a + b * c", "(a + (b * c))"),
-    ("a * b + c", "((a * b) + c)"),
-    ("a - b - c", "((a - b) - c)"),
-    ("a / b * c", "((a / b) * c)"),
-    ("-a * b", "(-a * b)"),
-    ("- -a", "--a"),
-    ("a .. b + c", "(a .. (b + c))"),
-    ("a + b .. c * d", "((a + b) .. (c * d))"),
-    ("a .. b .. c", "((a .. b) .. c)"),
-    ("a | b & c", "(a | (b & c))"),
-    ("a & b | c ^ d", "(((a & b) | c) ^ d)"),
-    ("~a & !b", "(~a & !b)"),
-    ("!!a", "!!a"),
-    ("a == b", "(a == b)"),
-    ("a < b < c", "(a < b < c)"),
-    ("a == b != c >= d", "(a == b != c >= d)"),
-    ("a + 1 < b * 2", "((a + 1) < (b * 2))"),
-    ("!a == b", "(!a == b)"),
-    ("a && b || c", "((a && b) || c)"),
-    ("a || b && c", "((a || b) && c)"),  # && and || share one level, left to right
-    ("a < b && c > d", "((a < b) && (c > d))"),
-    ("c ? a : b", "(c ? a : b)"),
-    ("x > 1 ? 'big' : 'small'", "((x > 1) ? 'big' : 'small')"),
-    ("c ? x := 1 : 2", "(c ? (x := 1) : 2)"),  # the middle is a full expression
-    ("c ? a : (d ? e : f)", "(c ? a : (d ? e : f))"),
-    ("x := c ? 1 : 2", "(x := (c ? 1 : 2))"),
-    ("x := a || b", "(x := (a || b))"),
-    ("x += 1; y -= 2; z *= 3; w /= 4; v = 5", "(x += 1); (y -= 2); (z *= 3); (w /= 4); (v = 5)"),
-    ("(a) := 1", "(a := 1)"),
-    ("(a := 1) + 2", "((a := 1) + 2)"),
-    ("@visits += 1", "(@visits += 1)"),
-    ("x := @log .. '+' .. room", "(x := ((@log .. '+') .. room))"),
-    ("a\t:=\n1 ;\r\nb := 2", "(a := 1); (b := 2)"),
-    ("a := \\\n1", "(a := 1)"),  # a backslash-newline is a blank
-    ("déjà_vu := 1", "(déjà_vu := 1)"),  # names are Unicode identifiers
-    ("_x := 1", "(_x := 1)"),
-])
+
+@pytest.mark.parametrize(
+    "code, expected",
+    [
+        ("a + b * c", "(a + (b * c))"),
+        ("a * b + c", "((a * b) + c)"),
+        ("a - b - c", "((a - b) - c)"),
+        ("a / b * c", "((a / b) * c)"),
+        ("-a * b", "(-a * b)"),
+        ("- -a", "--a"),
+        ("a .. b + c", "(a .. (b + c))"),
+        ("a + b .. c * d", "((a + b) .. (c * d))"),
+        ("a .. b .. c", "((a .. b) .. c)"),
+        ("a | b & c", "(a | (b & c))"),
+        ("a & b | c ^ d", "(((a & b) | c) ^ d)"),
+        ("~a & !b", "(~a & !b)"),
+        ("!!a", "!!a"),
+        ("a == b", "(a == b)"),
+        ("a < b < c", "(a < b < c)"),
+        ("a == b != c >= d", "(a == b != c >= d)"),
+        ("a + 1 < b * 2", "((a + 1) < (b * 2))"),
+        ("!a == b", "(!a == b)"),
+        ("a && b || c", "((a && b) || c)"),
+        ("a || b && c", "((a || b) && c)"),  # && and || share one level, left to right
+        ("a < b && c > d", "((a < b) && (c > d))"),
+        ("c ? a : b", "(c ? a : b)"),
+        ("x > 1 ? 'big' : 'small'", "((x > 1) ? 'big' : 'small')"),
+        ("c ? x := 1 : 2", "(c ? (x := 1) : 2)"),  # the middle is a full expression
+        ("c ? a : (d ? e : f)", "(c ? a : (d ? e : f))"),
+        ("x := c ? 1 : 2", "(x := (c ? 1 : 2))"),
+        ("x := a || b", "(x := (a || b))"),
+        ("x += 1; y -= 2; z *= 3; w /= 4; v = 5", "(x += 1); (y -= 2); (z *= 3); (w /= 4); (v = 5)"),
+        ("(a) := 1", "(a := 1)"),
+        ("(a := 1) + 2", "((a := 1) + 2)"),
+        ("@visits += 1", "(@visits += 1)"),
+        ("x := @log .. '+' .. room", "(x := ((@log .. '+') .. room))"),
+        ("a\t:=\n1 ;\r\nb := 2", "(a := 1); (b := 2)"),
+        ("a := \\\n1", "(a := 1)"),  # a backslash-newline is a blank
+        ("déjà_vu := 1", "(déjà_vu := 1)"),  # names are Unicode identifiers
+        ("_x := 1", "(_x := 1)"),
+    ],
+)
 def test_precedence_and_associativity(code, expected):
     assert shape(code) == expected
 
 
-@pytest.mark.parametrize("code, expected", [
-    # 4.6.2 rejects arithmetic as a direct comparison operand; the fixed meaning is used.
-    ("a - b == 2", "((a - b) == 2)"),
-    ("(a - b) == 2", "((a - b) == 2)"),
-    # 4.6.2 rejects `A==-1` (fixed in 4.7.0).
-    ("A==-1", "(A == -1)"),
-    ("A != -1.5", "(A != -1.5)"),
-    # 4.6.2 may read `A - B + C` as `A - (B + C)` (fixed in 4.9.0).
-    ("A - B + C", "((A - B) + C)"),
-    ("A - B - C + D", "(((A - B) - C) + D)"),
-])
+@pytest.mark.parametrize(
+    "code, expected",
+    [
+        # 4.6.2 rejects arithmetic as a direct comparison operand; the fixed meaning is used.
+        ("a - b == 2", "((a - b) == 2)"),
+        ("(a - b) == 2", "((a - b) == 2)"),
+        # 4.6.2 rejects `A==-1` (fixed in 4.7.0).
+        ("A==-1", "(A == -1)"),
+        ("A != -1.5", "(A != -1.5)"),
+        # 4.6.2 may read `A - B + C` as `A - (B + C)` (fixed in 4.9.0).
+        ("A - B + C", "((A - B) + C)"),
+        ("A - B - C + D", "(((A - B) - C) + D)"),
+    ],
+)
 def test_fixed_4_6_2_parser_bugs(code, expected):
     assert shape(code) == expected
 
@@ -117,27 +125,30 @@ def test_ast_nodes_and_offsets():
         t.op_offset = 1  # frozen
 
 
-@pytest.mark.parametrize("code, value", [
-    ("42", 42),
-    ("0x1F", 31),
-    ("0XfF", 255),
-    ("007", 7),
-    ("9223372036854775807", 9223372036854775807),
-    ("2.5", 2.5),
-    ("1e3", 1000.0),
-    ("1.5E-2", 0.015),
-    ("2.0e+1", 20.0),
-    ("true", 1),  # BooleanLiteral is lexy::constant(1): an integer
-    ("false", 0),
-    ("'it''", None),
-    ("'single'", "single"),
-    ('"double"', "double"),
-    ("'say \"hi\"'", 'say "hi"'),
-    ("''", ""),
-    ("'a;b:=c'", "a;b:=c"),
-    ("+5", 5),  # Integer takes a sign: a literal, not an operator
-    ("+2.5", 2.5),
-])
+@pytest.mark.parametrize(
+    "code, value",
+    [
+        ("42", 42),
+        ("0x1F", 31),
+        ("0XfF", 255),
+        ("007", 7),
+        ("9223372036854775807", 9223372036854775807),
+        ("2.5", 2.5),
+        ("1e3", 1000.0),
+        ("1.5E-2", 0.015),
+        ("2.0e+1", 20.0),
+        ("true", 1),  # BooleanLiteral is lexy::constant(1): an integer
+        ("false", 0),
+        ("'it''", None),
+        ("'single'", "single"),
+        ('"double"', "double"),
+        ("'say \"hi\"'", 'say "hi"'),
+        ("''", ""),
+        ("'a;b:=c'", "a;b:=c"),
+        ("+5", 5),  # Integer takes a sign: a literal, not an operator
+        ("+2.5", 2.5),
+    ],
+)
 def test_literals(code, value):
     if value is None:
         with pytest.raises(ScriptSyntaxError):
@@ -159,55 +170,83 @@ def test_signed_literal_only_where_4_6_2_reads_one():
 
 # ============================================================ syntax errors
 
-@pytest.mark.parametrize("code, message, offset", [
-    ("", "empty script", 0),
-    ("   ", "empty script", 3),
-    ("a := 5;", "unexpected `;` after the last statement (BehaviorTree.CPP 4.6.2 rejects a trailing `;`)", 6),
-    ("a := 1;; b := 2", "empty statement between two `;`", 7),
-    ("x := 1 +", "expected a value, a name or `(`, found the end of the script", 8),
-    ("x := (1 + 2", "expected `)` to close the `(` at offset 5, found the end of the script", 11),
-    ("x := 1 + 2)", "unexpected `)`; expected an operator, `;` or the end", 10),
-    ("a b", "unexpected `b`; expected an operator, `;` or the end", 2),
-    ("f(x)", "unexpected `(`; expected an operator, `;` or the end", 1),
-    ("a = = b", "expected a value, a name or `(`, found `=`", 4),
-    ("a := b := 1", "assignments cannot be chained; separate them with `;`", 7),
-    ("a + 1 := 3", "the left side of `:=` must be a blackboard entry name", 0),
-    ("1 += 2", "the left side of `+=` must be a blackboard entry name", 0),
-    ("a ? b : c ? d : e", "`?:` cannot be chained without parentheses: write `a ? b : (c ? d : e)`", 10),
-    ("a ? b", "expected `:` of `?:` here, found the end of the script", 5),
-    ("a + b & c", "`&` cannot be mixed with `+` without parentheses (BehaviorTree.CPP keeps arithmetic "
-                  "and bitwise operators apart)", 6),
-    ("~a + 1", "`+` cannot be mixed with `~` without parentheses (BehaviorTree.CPP keeps arithmetic "
-               "and bitwise operators apart)", 3),
-    ("!a .. 'x'", "`..` cannot be mixed with `!` without parentheses (BehaviorTree.CPP keeps arithmetic "
-                  "and bitwise operators apart)", 3),
-    ("-!a", "`!` cannot be mixed with `-` without parentheses (BehaviorTree.CPP keeps arithmetic "
-            "and bitwise operators apart)", 1),
-    ("1..2", "invalid number `1..2` (write `..` with a space after a number, e.g. `1 .. x`)", 0),
-    ("5abc", "invalid number `5abc`", 0),
-    ("1_000", "invalid number `1_000`", 0),
-    ("1.5.2", "invalid number `1.5.2`", 0),
-    ("1e", "invalid number `1e`", 0),
-    ("0x", "invalid number `0x`", 0),
-    ("0x1g", "invalid number `0x1g`", 0),
-    (".5", "unexpected character '.'", 0),
-    ("9223372036854775808", "integer `9223372036854775808` is out of range (at most 9223372036854775807)", 0),
-    ("1e999", "number `1e999` is out of range for a double", 0),
-    ("x := 'abc", "unterminated string: missing closing '", 5),
-    ("x := 'café'", "only ASCII characters are allowed in a script string (BehaviorTree.CPP 4.6.2)", 9),
-    ("x := 1 # note", "unexpected character '#'", 7),
-    ("x := a$", "unexpected character '$'", 6),
-    ("x := 1 % 2", "unexpected character '%'", 7),
-    ("x\u00a0:= 1", "unexpected character U+00A0", 1),
-    ("@ := 1", "`@` must be followed by a name (`@key` is `key` on the root blackboard)", 0),
-    ("a@b := 1", "unexpected `@b`; expected an operator, `;` or the end", 1),
-    ("true_flag := 1", "`true_flag`: BehaviorTree.CPP 4.6.2 reads a name starting with `true` as the literal "
-                       "true followed by `_flag`; rename it", 0),
-    ("x := falsey", "`falsey`: BehaviorTree.CPP 4.6.2 reads a name starting with `false` as the literal "
-                    "false followed by `y`; rename it", 5),
-    ("x := !=1", "expected a value, a name or `(`, found `!=`", 5),
-    ("x := - 'a' + + 1", "expected a value, a name or `(`, found `+`", 13),
-])
+
+@pytest.mark.parametrize(
+    "code, message, offset",
+    [
+        ("", "empty script", 0),
+        ("   ", "empty script", 3),
+        ("a := 5;", "unexpected `;` after the last statement (BehaviorTree.CPP 4.6.2 rejects a trailing `;`)", 6),
+        ("a := 1;; b := 2", "empty statement between two `;`", 7),
+        ("x := 1 +", "expected a value, a name or `(`, found the end of the script", 8),
+        ("x := (1 + 2", "expected `)` to close the `(` at offset 5, found the end of the script", 11),
+        ("x := 1 + 2)", "unexpected `)`; expected an operator, `;` or the end", 10),
+        ("a b", "unexpected `b`; expected an operator, `;` or the end", 2),
+        ("f(x)", "unexpected `(`; expected an operator, `;` or the end", 1),
+        ("a = = b", "expected a value, a name or `(`, found `=`", 4),
+        ("a := b := 1", "assignments cannot be chained; separate them with `;`", 7),
+        ("a + 1 := 3", "the left side of `:=` must be a blackboard entry name", 0),
+        ("1 += 2", "the left side of `+=` must be a blackboard entry name", 0),
+        ("a ? b : c ? d : e", "`?:` cannot be chained without parentheses: write `a ? b : (c ? d : e)`", 10),
+        ("a ? b", "expected `:` of `?:` here, found the end of the script", 5),
+        (
+            "a + b & c",
+            "`&` cannot be mixed with `+` without parentheses (BehaviorTree.CPP keeps arithmetic "
+            "and bitwise operators apart)",
+            6,
+        ),
+        (
+            "~a + 1",
+            "`+` cannot be mixed with `~` without parentheses (BehaviorTree.CPP keeps arithmetic "
+            "and bitwise operators apart)",
+            3,
+        ),
+        (
+            "!a .. 'x'",
+            "`..` cannot be mixed with `!` without parentheses (BehaviorTree.CPP keeps arithmetic "
+            "and bitwise operators apart)",
+            3,
+        ),
+        (
+            "-!a",
+            "`!` cannot be mixed with `-` without parentheses (BehaviorTree.CPP keeps arithmetic "
+            "and bitwise operators apart)",
+            1,
+        ),
+        ("1..2", "invalid number `1..2` (write `..` with a space after a number, e.g. `1 .. x`)", 0),
+        ("5abc", "invalid number `5abc`", 0),
+        ("1_000", "invalid number `1_000`", 0),
+        ("1.5.2", "invalid number `1.5.2`", 0),
+        ("1e", "invalid number `1e`", 0),
+        ("0x", "invalid number `0x`", 0),
+        ("0x1g", "invalid number `0x1g`", 0),
+        (".5", "unexpected character '.'", 0),
+        ("9223372036854775808", "integer `9223372036854775808` is out of range (at most 9223372036854775807)", 0),
+        ("1e999", "number `1e999` is out of range for a double", 0),
+        ("x := 'abc", "unterminated string: missing closing '", 5),
+        ("x := 'café'", "only ASCII characters are allowed in a script string (BehaviorTree.CPP 4.6.2)", 9),
+        ("x := 1 # note", "unexpected character '#'", 7),
+        ("x := a$", "unexpected character '$'", 6),
+        ("x := 1 % 2", "unexpected character '%'", 7),
+        ("x\u00a0:= 1", "unexpected character U+00A0", 1),
+        ("@ := 1", "`@` must be followed by a name (`@key` is `key` on the root blackboard)", 0),
+        ("a@b := 1", "unexpected `@b`; expected an operator, `;` or the end", 1),
+        (
+            "true_flag := 1",
+            "`true_flag`: BehaviorTree.CPP 4.6.2 reads a name starting with `true` as the literal "
+            "true followed by `_flag`; rename it",
+            0,
+        ),
+        (
+            "x := falsey",
+            "`falsey`: BehaviorTree.CPP 4.6.2 reads a name starting with `false` as the literal "
+            "false followed by `y`; rename it",
+            5,
+        ),
+        ("x := !=1", "expected a value, a name or `(`, found `!=`", 5),
+        ("x := - 'a' + + 1", "expected a value, a name or `(`, found `+`", 13),
+    ],
+)
 def test_syntax_errors(code, message, offset):
     with pytest.raises(ScriptSyntaxError) as e:
         parse_script(code)
@@ -232,83 +271,87 @@ def test_error_locations_inside_the_attribute():
 
 # =============================================================== evaluation
 
-@pytest.mark.parametrize("code, expected", [
-    # numbers: every arithmetic result is a double (ExprBinaryArithmetic casts to double)
-    ("7", ("int", 7)),
-    ("2 + 3", ("float", 5.0)),
-    ("7 - 10", ("float", -3.0)),
-    ("6 * 7", ("float", 42.0)),
-    ("7 / 2", ("float", 3.5)),
-    ("1 / 3", ("float", 1 / 3)),
-    ("-4", ("float", -4.0)),
-    ("2.5 * 2", ("float", 5.0)),
-    ("true + true", ("float", 2.0)),
-    ("0x10 | 1", ("float", 17.0)),
-    ("12 & 10", ("float", 8.0)),
-    ("12 ^ 10", ("float", 6.0)),
-    ("~5", ("float", -6.0)),
-    ("~0", ("float", -1.0)),
-    ("~2.9", ("float", -3.0)),  # static_cast<int64_t> truncates
-    ("!0", ("float", 1.0)),
-    ("!3", ("float", 0.0)),
-    ("!0.5", ("float", 0.0)),
-    ("!-1", ("float", 0.0)),
-    ("1 && 0", ("float", 0.0)),
-    ("1 || 0", ("float", 1.0)),
-    ("0.5 && 2.5", ("float", 1.0)),  # a double converts to bool when non-zero
-    ("true && false || true", ("float", 1.0)),
-    # strings
-    ("'ab' + 'cd'", ("str", "abcd")),
-    ("'ab' .. 'cd'", ("str", "abcd")),
-    ("'n=' .. 5", ("str", "n=5")),
-    ("5 .. '!'", ("str", "5!")),
-    ("'x=' .. 2.5", ("str", "x=2.500000")),  # Any::cast<std::string> is std::to_string
-    ("'x=' .. -1", ("str", "x=-1.000000")),  # -1 is a negation: a double
-    ("'x=' .. (2 + 2)", ("str", "x=4.000000")),
-    ("'t=' .. true", ("str", "t=1")),
-    ("'a' .. 1 + 2", ("str", "a3.000000")),
-    ("1 .. 2", ("NoneType", None)),  # two numbers: 4.6.2 returns an empty value
-    # comparisons give 1.0 / 0.0
-    ("3 == 3", ("float", 1.0)),
-    ("3 == 3.0", ("float", 1.0)),
-    ("0.1 + 0.2 == 0.3", ("float", 1.0)),
-    ("1 == 1.0000001", ("float", 1.0)),  # within FLT_EPSILON
-    ("1 == 1.000001", ("float", 0.0)),
-    ("1 != 1.0000001", ("float", 0.0)),
-    ("2 < 3", ("float", 1.0)),
-    ("3 < 3", ("float", 0.0)),
-    ("3 <= 3", ("float", 1.0)),
-    ("4 > 3", ("float", 1.0)),
-    ("3 >= 4", ("float", 0.0)),
-    ("'abc' == 'abc'", ("float", 1.0)),
-    ("'abc' < 'abd'", ("float", 1.0)),
-    ("'ab' < 'abc'", ("float", 1.0)),
-    ("'B' < 'a'", ("float", 1.0)),  # byte order
-    ("'b' >= 'a'", ("float", 1.0)),
-    ("'42' == 42", ("float", 1.0)),  # a string against a number is read as a number
-    ("42 == '42.0'", ("float", 1.0)),
-    ("'7abc' == 7", ("float", 1.0)),  # from_chars ignores the rest
-    ("'true' == 1", ("float", 1.0)),
-    ("'false' < 1", ("float", 1.0)),
-    # chained comparisons: every adjacent pair, not C's (a < b) < c
-    ("1 < 2 < 3", ("float", 1.0)),
-    ("3 > 2 > 1", ("float", 1.0)),
-    ("1 < 3 < 2", ("float", 0.0)),
-    ("5 > 1 < 3", ("float", 1.0)),
-    ("1 == 1 == 1", ("float", 1.0)),
-    ("2 == 2 == 1", ("float", 0.0)),
-    # ternary
-    ("1 ? 'yes' : 'no'", ("str", "yes")),
-    ("0 ? 'yes' : 'no'", ("str", "no")),
-    ("0.0 ? 1 : 2", ("int", 2)),
-    ("'1' ? 1 : 2", ("int", 1)),  # a string condition must hold a number
-    ("'0' ? 1 : 2", ("int", 2)),
-    ("2 > 1 ? 3 > 2 ? 'a' : 'b' : 'c'", ("str", "a")),
-    # IEEE arithmetic as in C++
-    ("1 / 0", ("float", math.inf)),
-    ("-1 / 0", ("float", -math.inf)),
-    ("1 / -0.0", ("float", -math.inf)),
-])
+
+@pytest.mark.parametrize(
+    "code, expected",
+    [
+        # numbers: every arithmetic result is a double (ExprBinaryArithmetic casts to double)
+        ("7", ("int", 7)),
+        ("2 + 3", ("float", 5.0)),
+        ("7 - 10", ("float", -3.0)),
+        ("6 * 7", ("float", 42.0)),
+        ("7 / 2", ("float", 3.5)),
+        ("1 / 3", ("float", 1 / 3)),
+        ("-4", ("float", -4.0)),
+        ("2.5 * 2", ("float", 5.0)),
+        ("true + true", ("float", 2.0)),
+        ("0x10 | 1", ("float", 17.0)),
+        ("12 & 10", ("float", 8.0)),
+        ("12 ^ 10", ("float", 6.0)),
+        ("~5", ("float", -6.0)),
+        ("~0", ("float", -1.0)),
+        ("~2.9", ("float", -3.0)),  # static_cast<int64_t> truncates
+        ("!0", ("float", 1.0)),
+        ("!3", ("float", 0.0)),
+        ("!0.5", ("float", 0.0)),
+        ("!-1", ("float", 0.0)),
+        ("1 && 0", ("float", 0.0)),
+        ("1 || 0", ("float", 1.0)),
+        ("0.5 && 2.5", ("float", 1.0)),  # a double converts to bool when non-zero
+        ("true && false || true", ("float", 1.0)),
+        # strings
+        ("'ab' + 'cd'", ("str", "abcd")),
+        ("'ab' .. 'cd'", ("str", "abcd")),
+        ("'n=' .. 5", ("str", "n=5")),
+        ("5 .. '!'", ("str", "5!")),
+        ("'x=' .. 2.5", ("str", "x=2.500000")),  # Any::cast<std::string> is std::to_string
+        ("'x=' .. -1", ("str", "x=-1.000000")),  # -1 is a negation: a double
+        ("'x=' .. (2 + 2)", ("str", "x=4.000000")),
+        ("'t=' .. true", ("str", "t=1")),
+        ("'a' .. 1 + 2", ("str", "a3.000000")),
+        ("1 .. 2", ("NoneType", None)),  # two numbers: 4.6.2 returns an empty value
+        # comparisons give 1.0 / 0.0
+        ("3 == 3", ("float", 1.0)),
+        ("3 == 3.0", ("float", 1.0)),
+        ("0.1 + 0.2 == 0.3", ("float", 1.0)),
+        ("1 == 1.0000001", ("float", 1.0)),  # within FLT_EPSILON
+        ("1 == 1.000001", ("float", 0.0)),
+        ("1 != 1.0000001", ("float", 0.0)),
+        ("2 < 3", ("float", 1.0)),
+        ("3 < 3", ("float", 0.0)),
+        ("3 <= 3", ("float", 1.0)),
+        ("4 > 3", ("float", 1.0)),
+        ("3 >= 4", ("float", 0.0)),
+        ("'abc' == 'abc'", ("float", 1.0)),
+        ("'abc' < 'abd'", ("float", 1.0)),
+        ("'ab' < 'abc'", ("float", 1.0)),
+        ("'B' < 'a'", ("float", 1.0)),  # byte order
+        ("'b' >= 'a'", ("float", 1.0)),
+        ("'42' == 42", ("float", 1.0)),  # a string against a number is read as a number
+        ("42 == '42.0'", ("float", 1.0)),
+        ("'7abc' == 7", ("float", 1.0)),  # from_chars ignores the rest
+        ("'true' == 1", ("float", 1.0)),
+        ("'false' < 1", ("float", 1.0)),
+        # chained comparisons: every adjacent pair, not C's (a < b) < c
+        ("1 < 2 < 3", ("float", 1.0)),
+        ("3 > 2 > 1", ("float", 1.0)),
+        ("1 < 3 < 2", ("float", 0.0)),
+        ("5 > 1 < 3", ("float", 1.0)),
+        ("1 == 1 == 1", ("float", 1.0)),
+        ("2 == 2 == 1", ("float", 0.0)),
+        # ternary
+        ("1 ? 'yes' : 'no'", ("str", "yes")),
+        ("0 ? 'yes' : 'no'", ("str", "no")),
+        ("0.0 ? 1 : 2", ("int", 2)),
+        ("'1' ? 1 : 2", ("int", 1)),  # a string condition must hold a number
+        ("'0' ? 1 : 2", ("int", 2)),
+        ("2 > 1 ? 3 > 2 ? 'a' : 'b' : 'c'", ("str", "a")),
+        # IEEE arithmetic as in C++
+        ("1 / 0", ("float", math.inf)),
+        ("-1 / 0", ("float", -math.inf)),
+        ("1 / -0.0", ("float", -math.inf)),
+    ],
+)
 def test_operators(code, expected):
     assert typed(run(code)) == expected
 
@@ -376,6 +419,7 @@ def test_enums_are_numbers_and_win_over_entries():
 # ============================================================ assignments
 # operators.hpp ExprAssignment::evaluate
 
+
 def test_create_assign_and_update_counters():
     bb = Blackboard()
     run("n := 1", bb)
@@ -395,8 +439,10 @@ def test_integer_entries_keep_integers():
     assert typed(run("n := 7.0", bb)) == ("int", 7)
     with pytest.raises(ScriptRuntimeError) as e:
         run("n /= 2", bb)  # 3.5 cannot go back into an integer
-    assert e.value.message == ("cannot store the result of `/=` in `n`: cannot convert 3.5 (double) to integer: "
-                               "the value is not a whole number")
+    assert e.value.message == (
+        "cannot store the result of `/=` in `n`: cannot convert 3.5 (double) to integer: "
+        "the value is not a whole number"
+    )
     assert bb.get("n") == 7 and bb.get_entry("n").sequence_id == 2
     run("d := 5.0; d /= 2", bb)
     assert bb.get("d") == 2.5
@@ -416,19 +462,26 @@ def test_strings_into_typed_and_numeric_entries():
     assert run("flag := 'true'", bb) is True
 
 
-@pytest.mark.parametrize("setup, code, message, offset", [
-    ("", "x = 1", "blackboard entry `x` does not exist yet; use `:=` to create it", 2),
-    ("", "x += 1", "blackboard entry `x` does not exist yet; use `:=` to create it", 2),
-    ("s := 'a'", "s := 5", "cannot assign 5 to `s`: a int cannot be stored where a string is", 2),
-    ("n := 5", "n := 'abc'", "the string 'abc' is not a number", 2),
-    ("n := 5", "n := 2.5", "cannot assign 2.5 to `n`: cannot convert 2.5 (double) to integer: "
-                           "the value is not a whole number", 2),
-    ("n := 5", "n -= 'a'", "`-=` cannot be used with a string", 2),
-    ("n := 5", "n += 'a'", "cannot store the result of `+=` in `n`: a string cannot be stored where a int is", 2),
-    ("s := 'a'", "s += 1", "`+=` with a number needs a numeric `s`, but it holds a string", 2),
-    ("", "x := 1 .. 2", "the right operand of `:=` has no value", 2),
-    ("", "x := y", "unknown variable `y` (no blackboard entry of that name; create it with `y := ...`)", 5),
-])
+@pytest.mark.parametrize(
+    "setup, code, message, offset",
+    [
+        ("", "x = 1", "blackboard entry `x` does not exist yet; use `:=` to create it", 2),
+        ("", "x += 1", "blackboard entry `x` does not exist yet; use `:=` to create it", 2),
+        ("s := 'a'", "s := 5", "cannot assign 5 to `s`: a int cannot be stored where a string is", 2),
+        ("n := 5", "n := 'abc'", "the string 'abc' is not a number", 2),
+        (
+            "n := 5",
+            "n := 2.5",
+            "cannot assign 2.5 to `n`: cannot convert 2.5 (double) to integer: the value is not a whole number",
+            2,
+        ),
+        ("n := 5", "n -= 'a'", "`-=` cannot be used with a string", 2),
+        ("n := 5", "n += 'a'", "cannot store the result of `+=` in `n`: a string cannot be stored where a int is", 2),
+        ("s := 'a'", "s += 1", "`+=` with a number needs a numeric `s`, but it holds a string", 2),
+        ("", "x := 1 .. 2", "the right operand of `:=` has no value", 2),
+        ("", "x := y", "unknown variable `y` (no blackboard entry of that name; create it with `y := ...`)", 5),
+    ],
+)
 def test_assignment_errors(setup, code, message, offset):
     bb = Blackboard()
     if setup:
@@ -468,25 +521,42 @@ def test_create_inside_subtrees():
 
 # =========================================================== runtime errors
 
-@pytest.mark.parametrize("setup, code, message, offset", [
-    ("", "'a' - 1", "`-` cannot be applied to a string and a int", 4),
-    ("", "'a' + 1", "`+` cannot be applied to a string and a int", 4),
-    ("", "'a' * 'b'", "`*` cannot be applied to a string and a string", 4),
-    ("", "'a' && 1", "`&&` cannot be applied to a string and a int", 4),
-    ("", "2 && 1", "`&&` needs operands that convert to bool: cannot convert 2 (int) to bool: "
-                   "only the integers 0 and 1 convert to bool", 2),
-    ("", "1.5 | 1", "`|` needs whole-number operands: cannot convert 1.5 (double) to integer: "
-                    "the value is not a whole number", 4),
-    ("", "-'a'", "`-` cannot be applied to a string", 0),
-    ("", "!'a'", "`!` cannot be applied to a string", 0),
-    ("", "~1e30", "1e+30 is out of range for `~`", 0),
-    ("", "'a' == 1", "the string 'a' is not a number", 4),
-    ("", "1 < 'x'", "the string 'x' is not a number", 2),
-    ("x := 1", "y + 1", "unknown variable `y` (no blackboard entry of that name; create it with `y := ...`)", 0),
-    ("", "'abc' ? 1 : 2", "the condition of `?:` is the string 'abc', which is not a number", 6),
-    ("", "9007199254740993 + 0", "left operand of `+`: cannot convert 9007199254740993 (int) to double: "
-                                 "precision would be lost", 17),
-])
+
+@pytest.mark.parametrize(
+    "setup, code, message, offset",
+    [
+        ("", "'a' - 1", "`-` cannot be applied to a string and a int", 4),
+        ("", "'a' + 1", "`+` cannot be applied to a string and a int", 4),
+        ("", "'a' * 'b'", "`*` cannot be applied to a string and a string", 4),
+        ("", "'a' && 1", "`&&` cannot be applied to a string and a int", 4),
+        (
+            "",
+            "2 && 1",
+            "`&&` needs operands that convert to bool: cannot convert 2 (int) to bool: "
+            "only the integers 0 and 1 convert to bool",
+            2,
+        ),
+        (
+            "",
+            "1.5 | 1",
+            "`|` needs whole-number operands: cannot convert 1.5 (double) to integer: the value is not a whole number",
+            4,
+        ),
+        ("", "-'a'", "`-` cannot be applied to a string", 0),
+        ("", "!'a'", "`!` cannot be applied to a string", 0),
+        ("", "~1e30", "1e+30 is out of range for `~`", 0),
+        ("", "'a' == 1", "the string 'a' is not a number", 4),
+        ("", "1 < 'x'", "the string 'x' is not a number", 2),
+        ("x := 1", "y + 1", "unknown variable `y` (no blackboard entry of that name; create it with `y := ...`)", 0),
+        ("", "'abc' ? 1 : 2", "the condition of `?:` is the string 'abc', which is not a number", 6),
+        (
+            "",
+            "9007199254740993 + 0",
+            "left operand of `+`: cannot convert 9007199254740993 (int) to double: precision would be lost",
+            17,
+        ),
+    ],
+)
 def test_runtime_errors(setup, code, message, offset):
     bb = Blackboard()
     if setup:
@@ -524,24 +594,44 @@ def test_queues_in_scripts():
 
 # ============================================================ truth, queries
 
-@pytest.mark.parametrize("value, truth", [
-    (1.0, True), (0.0, False), (-0.5, True), (math.nan, True), (1, True), (0, False), (True, True),
-    (NodeStatus.RUNNING, True), (NodeStatus.IDLE, False),
-])
+
+@pytest.mark.parametrize(
+    "value, truth",
+    [
+        (1.0, True),
+        (0.0, False),
+        (-0.5, True),
+        (math.nan, True),
+        (1, True),
+        (0, False),
+        (True, True),
+        (NodeStatus.RUNNING, True),
+        (NodeStatus.IDLE, False),
+    ],
+)
 def test_script_truth(value, truth):
     # ScriptCondition / Precondition / _skipIf...: result.cast<bool>()
     assert script_truth(value) is truth
 
 
-@pytest.mark.parametrize("value, message", [
-    (None, "the script gives no value, so it cannot be used as a condition"),
-    (2, "the script's result cannot be used as a condition: cannot convert 2 (int) to bool: "
-        "only the integers 0 and 1 convert to bool"),
-    ("true", "the script gives 'true' (string), which is not a condition"),
-    (Queue("int"), "the script gives queue<int> [] (queue<int>), which is not a condition"),
-    (NodeStatus.SUCCESS, "the script's result cannot be used as a condition: cannot convert SUCCESS (NodeStatus) "
-                         "to bool: only the integers 0 and 1 convert to bool"),
-])
+@pytest.mark.parametrize(
+    "value, message",
+    [
+        (None, "the script gives no value, so it cannot be used as a condition"),
+        (
+            2,
+            "the script's result cannot be used as a condition: cannot convert 2 (int) to bool: "
+            "only the integers 0 and 1 convert to bool",
+        ),
+        ("true", "the script gives 'true' (string), which is not a condition"),
+        (Queue("int"), "the script gives queue<int> [] (queue<int>), which is not a condition"),
+        (
+            NodeStatus.SUCCESS,
+            "the script's result cannot be used as a condition: cannot convert SUCCESS (NodeStatus) "
+            "to bool: only the integers 0 and 1 convert to bool",
+        ),
+    ],
+)
 def test_script_truth_errors(value, message):
     with pytest.raises(ScriptRuntimeError) as e:
         script_truth(value)
@@ -552,7 +642,12 @@ def test_conditions_of_the_conformance_cases():
     bb = Blackboard()
     run("arm_ready := false; door_locked := true; at_goal := true; n := 0", bb)
     assert [script_truth(run(c, bb)) for c in ("!arm_ready", "door_locked", "at_goal", "n != 4", "n < 4")] == [
-        True, True, True, True, True]
+        True,
+        True,
+        True,
+        True,
+        True,
+    ]
     run("level := 2", bb)
     with pytest.raises(ScriptRuntimeError):
         script_truth(run("level", bb))  # an integer 2 is no bool in 4.6.2
@@ -578,4 +673,6 @@ def test_absurd_nesting_is_an_error_not_a_crash():
     with pytest.raises(ScriptSyntaxError) as e:
         parse_script("x := " + " + ".join(["1"] * 100))
     assert (e.value.message, e.value.offset) == (
-        "the expression is too deep (101 levels, at most 100); split it into several statements", 5)
+        "the expression is too deep (101 levels, at most 100); split it into several statements",
+        5,
+    )

@@ -5,6 +5,7 @@ code; and differential runs: the C++ conversions (runtime/include/btgen/value.hp
 against values.py on a corpus of inputs, and compiled scripts against the
 interpreter on missions whose conditions check every value a script computes.
 """
+
 import math
 import os
 import random
@@ -33,44 +34,56 @@ def kind(code, **names):
 
 
 # ------------------------------------------------------------------ kinds
-@pytest.mark.parametrize("code,names,expected", [
-    ("1", {}, "int"), ("1.5", {}, "double"), ("'a'", {}, "string"), ("true", {}, "int"),
-    ("a + b", {"a": "i", "b": "i"}, "double"),  # 4.6.2 arithmetic is in doubles
-    ("a + b", {"a": "s", "b": "s"}, "string"),
-    ("a .. b", {"a": "s", "b": "i"}, "string"),
-    ("a .. b", {"a": "i", "b": "d"}, "none"),  # 4.6.2: `..` of two numbers gives no value
-    ("a == b", {"a": "s", "b": "i"}, "double"),
-    ("!a", {"a": "b"}, "double"),
-    ("a & 3", {"a": "d"}, "double"),
-    ("c ? a : b", {"c": "s", "a": "s", "b": "s"}, "string"),
-    ("x := a", {"x": "d", "a": "i"}, "double"),  # an assignment gives the entry's value
-    ("a + b", {"a": "i"}, None),  # b unknown yet
-])
+@pytest.mark.parametrize(
+    "code,names,expected",
+    [
+        ("1", {}, "int"),
+        ("1.5", {}, "double"),
+        ("'a'", {}, "string"),
+        ("true", {}, "int"),
+        ("a + b", {"a": "i", "b": "i"}, "double"),  # 4.6.2 arithmetic is in doubles
+        ("a + b", {"a": "s", "b": "s"}, "string"),
+        ("a .. b", {"a": "s", "b": "i"}, "string"),
+        ("a .. b", {"a": "i", "b": "d"}, "none"),  # 4.6.2: `..` of two numbers gives no value
+        ("a == b", {"a": "s", "b": "i"}, "double"),
+        ("!a", {"a": "b"}, "double"),
+        ("a & 3", {"a": "d"}, "double"),
+        ("c ? a : b", {"c": "s", "a": "s", "b": "s"}, "string"),
+        ("x := a", {"x": "d", "a": "i"}, "double"),  # an assignment gives the entry's value
+        ("a + b", {"a": "i"}, None),  # b unknown yet
+    ],
+)
 def test_expression_kinds(code, names, expected):
     assert kind(code, **names) == expected
 
 
-@pytest.mark.parametrize("code,names,message", [
-    ("a + 1", {"a": "q"}, "`+` cannot be applied to a queue<int> and an integer"),
-    ("a < b", {"a": "q", "b": "i"}, "cannot compare a queue<int> with an integer using `<`"),
-])
+@pytest.mark.parametrize(
+    "code,names,message",
+    [
+        ("a + 1", {"a": "q"}, "`+` cannot be applied to a queue<int> and an integer"),
+        ("a < b", {"a": "q", "b": "i"}, "cannot compare a queue<int> with an integer using `<`"),
+    ],
+)
 def test_expressions_that_always_fail(code, names, message):
     with pytest.raises(scpp.ScriptTypeError) as e:
         kind(code, **names)
     assert e.value.message == message
 
 
-@pytest.mark.parametrize("code,names,expected", [
-    # 4.6.2 fails whenever these run; they compile to code that reports the interpreter's error then
-    ("-a", {"a": "s"}, "double"),
-    ("a - b", {"a": "s", "b": "s"}, "double"),
-    ("a && 1", {"a": "s"}, "double"),
-    ("a + 1", {"a": "n"}, "dyn"),
-    ("x := 1 .. 2", {"x": "s"}, "string"),
-    # `?:` branches of two kinds give a value whose type is known at run time only
-    ("c ? 1 : 'x'", {"c": "i"}, "dyn"),
-    ("c ? 1 : 2.5", {"c": "i"}, "dyn"),
-])
+@pytest.mark.parametrize(
+    "code,names,expected",
+    [
+        # 4.6.2 fails whenever these run; they compile to code that reports the interpreter's error then
+        ("-a", {"a": "s"}, "double"),
+        ("a - b", {"a": "s", "b": "s"}, "double"),
+        ("a && 1", {"a": "s"}, "double"),
+        ("a + 1", {"a": "n"}, "dyn"),
+        ("x := 1 .. 2", {"x": "s"}, "string"),
+        # `?:` branches of two kinds give a value whose type is known at run time only
+        ("c ? 1 : 'x'", {"c": "i"}, "dyn"),
+        ("c ? 1 : 2.5", {"c": "i"}, "dyn"),
+    ],
+)
 def test_expressions_that_fail_or_change_type_at_run_time(code, names, expected):
     assert kind(code, **names) == expected
 
@@ -80,8 +93,8 @@ def test_cpp_literals_are_exact():
         text = scpp.cpp_double(v)
         assert float(text) == v and ("." in text or "e" in text)
     assert scpp.cpp_double(math.inf) == "std::numeric_limits<double>::infinity()"
-    assert scpp.cpp_int64(-2 ** 63) == "std::int64_t{-9223372036854775807 - 1}"
-    assert scpp.cpp_view("a\"é") == 'std::string_view("a\\"\\303\\251", 4)'
+    assert scpp.cpp_int64(-(2**63)) == "std::int64_t{-9223372036854775807 - 1}"
+    assert scpp.cpp_view('a"é') == 'std::string_view("a\\"\\303\\251", 4)'
 
 
 def _compile(code, slots, condition=False):
@@ -179,8 +192,22 @@ def conversions_exe(tmp_path_factory):
     src = d / "conv.cpp"
     src.write_text(CONVERSIONS_CPP)
     exe = d / "conv"
-    subprocess.run([os.environ.get("CXX", "c++"), "-std=c++17", "-O1", "-Wall", "-Wextra", "-Werror", "-I",
-                    os.path.join(ROOT, "runtime", "include"), str(src), "-o", str(exe)], check=True)
+    subprocess.run(
+        [
+            os.environ.get("CXX", "c++"),
+            "-std=c++17",
+            "-O1",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-I",
+            os.path.join(ROOT, "runtime", "include"),
+            str(src),
+            "-o",
+            str(exe),
+        ],
+        check=True,
+    )
     return exe
 
 
@@ -213,16 +240,63 @@ def _py(op, arg):
 
 
 def _number_texts(rng):
-    yield from ["0", "-0", "1", "-1", "2147483647", "2147483648", "-2147483648", "-2147483649", "4294967295",
-                "4294967296", "9223372036854775807", "9223372036854775808", "12abc", "-", "+5", " 5", "", "007",
-                "1.5", "1e3", ".5", "5.", "-.5", "1e", "1e+", "1e-999", "1e999", "-1e999", "inf", "-INF", "Infinity",
-                "infinit", "nan", "-nan", "NaN(123)", "nan(", "0x1p3", "0X1.8P1", "0x", "0x.8", "  \t3.25xyz",
-                "1.7976931348623157e308", "1.7976931348623159e308", "4.9e-324", "2.2250738585072014e-308",
-                "2.2e-308", "1_000", "١", "1e5x", "--1", "0.000000000000000000000000000000000000001"]
+    yield from [
+        "0",
+        "-0",
+        "1",
+        "-1",
+        "2147483647",
+        "2147483648",
+        "-2147483648",
+        "-2147483649",
+        "4294967295",
+        "4294967296",
+        "9223372036854775807",
+        "9223372036854775808",
+        "12abc",
+        "-",
+        "+5",
+        " 5",
+        "",
+        "007",
+        "1.5",
+        "1e3",
+        ".5",
+        "5.",
+        "-.5",
+        "1e",
+        "1e+",
+        "1e-999",
+        "1e999",
+        "-1e999",
+        "inf",
+        "-INF",
+        "Infinity",
+        "infinit",
+        "nan",
+        "-nan",
+        "NaN(123)",
+        "nan(",
+        "0x1p3",
+        "0X1.8P1",
+        "0x",
+        "0x.8",
+        "  \t3.25xyz",
+        "1.7976931348623157e308",
+        "1.7976931348623159e308",
+        "4.9e-324",
+        "2.2250738585072014e-308",
+        "2.2e-308",
+        "1_000",
+        "١",
+        "1e5x",
+        "--1",
+        "0.000000000000000000000000000000000000001",
+    ]
     for _ in range(300):
         kind = rng.randrange(4)
         if kind == 0:
-            yield str(rng.randint(-2 ** 40, 2 ** 40))
+            yield str(rng.randint(-(2**40), 2**40))
         elif kind == 1:
             yield repr(rng.uniform(-1e6, 1e6))
         elif kind == 2:
@@ -232,11 +306,35 @@ def _number_texts(rng):
 
 
 def _doubles(rng):
-    yield from [0.0, -0.0, 1.0, -1.0, 0.5, 2.5, 1e-7, 0.0078125, 1.0000005, 123456.7891235, 1e300, -1e300,
-                1.7976931348623157e308, 5e-324, math.inf, -math.inf, math.nan, -math.nan, 0.1, 2 ** 53, 1e22]
+    yield from [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        2.5,
+        1e-7,
+        0.0078125,
+        1.0000005,
+        123456.7891235,
+        1e300,
+        -1e300,
+        1.7976931348623157e308,
+        5e-324,
+        math.inf,
+        -math.inf,
+        math.nan,
+        -math.nan,
+        0.1,
+        2**53,
+        1e22,
+    ]
     for _ in range(300):
-        yield struct.unpack("<d", struct.pack("<Q", rng.getrandbits(64)))[0] if rng.random() < 0.3 else \
-            rng.uniform(-1e9, 1e9) * 10 ** rng.randint(-12, 12)
+        yield (
+            struct.unpack("<d", struct.pack("<Q", rng.getrandbits(64)))[0]
+            if rng.random() < 0.3
+            else rng.uniform(-1e9, 1e9) * 10 ** rng.randint(-12, 12)
+        )
 
 
 def test_conversions_agree_with_values_py(conversions_exe):
@@ -247,15 +345,18 @@ def test_conversions_agree_with_values_py(conversions_exe):
             cases.append((op, text))
     for x in _doubles(rng):
         cases.append(("text_double", struct.pack(">d", x).hex()))
-    for v in [0, -1, 2 ** 63 - 1, -2 ** 63, 42, -7] + [rng.randint(-2 ** 63, 2 ** 63 - 1) for _ in range(50)]:
+    for v in [0, -1, 2**63 - 1, -(2**63), 42, -7] + [rng.randint(-(2**63), 2**63 - 1) for _ in range(50)]:
         cases.append(("text_int", str(v)))
     words = ["1", "01", "1.0", "1.00000001", "abc", "-0", "0", "2147483648", "1e2", "100", "inf", "x1", "", "1 "]
     for a in words:
         for b in words:
             cases.append(("switch", f"{a}\t{b}"))
     stdin = "".join(f"{op}\t{arg}\n" for op, arg in cases)
-    out = subprocess.run([str(conversions_exe)], input=stdin.encode("utf-8"), stdout=subprocess.PIPE,
-                         check=True).stdout.decode("utf-8").splitlines()
+    out = (
+        subprocess.run([str(conversions_exe)], input=stdin.encode("utf-8"), stdout=subprocess.PIPE, check=True)
+        .stdout.decode("utf-8")
+        .splitlines()
+    )
     assert len(out) == len(cases)
     wrong = [(op, arg, got, _py(op, arg)) for (op, arg), got in zip(cases, out) if got != _py(op, arg)]
     assert wrong == []
@@ -267,17 +368,58 @@ def test_conversions_agree_with_values_py(conversions_exe):
 # fails the condition and the trace differs from the interpreter's.
 INIT = "i := 7; j := -3; big := 9007199254740993; d := 2.5; z := 0.0; s := 'robot'; n := '42'; t := true"
 EXPRESSIONS = [
-    "i + j", "i - j * 2", "i / j", "i / 0", "-i / 0", "z / z", "d * d", "-d", "!i", "!z", "~j", "i & 3", "i | 8",
-    "i ^ 5", "i > j", "i == 7.00000001", "d != 2.5000001", "i >= 7 && j < 0", "z || t", "i < j || d > 1",
-    "1 < 2 < 3", "3 > 2 > 1", "s == 'robot'", "s < 'rocket'", "n == 42", "n > 41.5", "'true' == 1",
-    "i > 5 ? 'big' : 'small'", "n ? 1 : 2", "s .. i", "i .. s", "d .. '/' .. z", "s .. (i / 3)", "s + '!'",
-    "(i + 1) .. ''", "1e300 * 1e300 .. ''", "-(1e300 * 1e300) .. ''", "0.1 + 0.2", "(0.1 + 0.2) == 0.3",
-    "i == 7 ? (d .. '') : s", "i += 1", "i -= 0.5 * 2", "d *= 4", "d /= 0", "s += '-x'", "t := !t",
+    "i + j",
+    "i - j * 2",
+    "i / j",
+    "i / 0",
+    "-i / 0",
+    "z / z",
+    "d * d",
+    "-d",
+    "!i",
+    "!z",
+    "~j",
+    "i & 3",
+    "i | 8",
+    "i ^ 5",
+    "i > j",
+    "i == 7.00000001",
+    "d != 2.5000001",
+    "i >= 7 && j < 0",
+    "z || t",
+    "i < j || d > 1",
+    "1 < 2 < 3",
+    "3 > 2 > 1",
+    "s == 'robot'",
+    "s < 'rocket'",
+    "n == 42",
+    "n > 41.5",
+    "'true' == 1",
+    "i > 5 ? 'big' : 'small'",
+    "n ? 1 : 2",
+    "s .. i",
+    "i .. s",
+    "d .. '/' .. z",
+    "s .. (i / 3)",
+    "s + '!'",
+    "(i + 1) .. ''",
+    "1e300 * 1e300 .. ''",
+    "-(1e300 * 1e300) .. ''",
+    "0.1 + 0.2",
+    "(0.1 + 0.2) == 0.3",
+    "i == 7 ? (d .. '') : s",
+    "i += 1",
+    "i -= 0.5 * 2",
+    "d *= 4",
+    "d /= 0",
+    "s += '-x'",
+    "t := !t",
 ]
 
 
 def _expected_text(code):
     from btgen.lang.blackboard import Blackboard
+
     bb = Blackboard()
     sc.evaluate(sc.parse_script(INIT), bb)
     value = sc.evaluate(sc.parse_script(code), bb)
@@ -290,19 +432,21 @@ def test_compiled_scripts_compute_what_the_interpreter_computes(tmp_path):
         expected = _expected_text(code)
         assert "'" not in expected
         esc = code.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
-        rows.append(f'<Script name="init{k}" code="{INIT}"/>'
-                    f'<Script name="eval{k}" code="r{k} := \'\' .. ({esc})"/>'
-                    f'<ScriptCondition name="check{k}" code="r{k} == \'{expected}\'"/>')
+        rows.append(
+            f'<Script name="init{k}" code="{INIT}"/>'
+            f'<Script name="eval{k}" code="r{k} := \'\' .. ({esc})"/>'
+            f'<ScriptCondition name="check{k}" code="r{k} == \'{expected}\'"/>'
+        )
     mission = tmp_path / "scripts.xml"
-    mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>' + "".join(rows) +
-                       '</Sequence></BehaviorTree></root>\n')
+    mission.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>' + "".join(rows) + "</Sequence></BehaviorTree></root>\n"
+    )
     scenario = tmp_path / "s.scenario"
     scenario.write_text("ticks 1\n")
     m = load_mission(str(mission))
     sc_, _ = load_scenario(str(scenario), m)
     expected = trace_text(m, sc_)
     assert expected.endswith("result SUCCESS\n")  # every check holds in the interpreter
-    proc = subprocess.run([str(build_cpp(str(mission))), str(scenario)], capture_output=True,
-                          text=True, check=False)
+    proc = subprocess.run([str(build_cpp(str(mission))), str(scenario)], capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stderr) == (0, "")
     assert proc.stdout == expected

@@ -89,8 +89,12 @@ class LabTourRobotLeaves {
   Status onStart(lab_tour::leaf::HandleFallBack&, const NodeInfo& n) {
     return pepper_->handleFallBack(n, failed_before_[n.index]);
   }
-  Status onStart(lab_tour::leaf::WelcomeGesture&, const NodeInfo& n) { return pepper_->gestureStart(n, "welcome gesture"); }
-  Status onStart(lab_tour::leaf::GoodbyeGesture&, const NodeInfo& n) { return pepper_->gestureStart(n, "goodbye gesture"); }
+  Status onStart(lab_tour::leaf::WelcomeGesture&, const NodeInfo& n) {
+    return pepper_->gestureStart(n, "welcome gesture");
+  }
+  Status onStart(lab_tour::leaf::GoodbyeGesture&, const NodeInfo& n) {
+    return pepper_->gestureStart(n, "goodbye gesture");
+  }
 
   // Instant actions are RUNNING only when a scenario scripts it: the robot
   // then tries again (outputs are written only on SUCCESS).
@@ -157,7 +161,7 @@ class LabTourRobotLeaves {
   Status onStart(lab_tour::leaf::RetrieveListOfExhibits& m, const NodeInfo& n) {
     const Status st = pepper_->retrieveListOfExhibits(n, text_);
     return st == Status::SUCCESS && !m.set_exhibits(std::string_view(text_)) ? pepper_->writeFailure(n, "exhibits")
-                                                                              : st;
+                                                                             : st;
   }
   Status onStart(lab_tour::leaf::SelectExhibit& m, const NodeInfo& n) {
     const btgen::Input<std::string_view> list = m.exhibits();
@@ -183,17 +187,17 @@ class LabTourRobotLeaves {
   Status check(lab_tour::leaf::IsYesNoUttered& m, const NodeInfo& n) {
     const Status st = pepper_->isYesNoUttered(n, text_);
     return st == Status::SUCCESS && !m.set_response(std::string_view(text_)) ? pepper_->writeFailure(n, "response")
-                                                                              : st;
+                                                                             : st;
   }
   Status onStart(lab_tour::leaf::PressYesNoDialogue& m, const NodeInfo& n) {
     const Status st = pepper_->pressYesNoDialogueStart(n, text_);
     return st == Status::SUCCESS && !m.set_response(std::string_view(text_)) ? pepper_->writeFailure(n, "response")
-                                                                              : st;
+                                                                             : st;
   }
   Status onRunning(lab_tour::leaf::PressYesNoDialogue& m, const NodeInfo& n) {
     const Status st = pepper_->pressYesNoDialogueRunning(n, text_);
     return st == Status::SUCCESS && !m.set_response(std::string_view(text_)) ? pepper_->writeFailure(n, "response")
-                                                                              : st;
+                                                                             : st;
   }
   void onHalted(lab_tour::leaf::PressYesNoDialogue&, const NodeInfo& n) { pepper_->pressYesNoDialogueHalted(n); }
   Status check(lab_tour::leaf::IsVisitorResponseYes& m, const NodeInfo& n) {

@@ -2,24 +2,24 @@
 // C++ by btgen at build time) on a simulated Pepper robot that takes its
 // facts from the environment knowledge base. `lab_tour_robot --help` lists
 // the options; examples/lab_tour_robot/README.md explains the simulation.
+#include <sys/stat.h>
 #include <chrono>
-#include <exception>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <string>
-#include <sys/stat.h>
 #include <thread>
 #include <vector>
 
 #include "btgen/blackboard.hpp"
+#include "btgen/btlog.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/environment_knowledge_base.hpp"
+#include "btgen/monitor.hpp"
 #include "btgen/scenario.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
-#include "btgen/btlog.hpp"
-#include "btgen/monitor.hpp"
 #ifdef LAB_TOUR_WITH_GROOT2
 #include "btgen/groot2.hpp"
 #endif
@@ -53,8 +53,8 @@ class OptionalTrace {
   void on_error(const btgen::RuntimeError& e) const noexcept {
     std::fflush(stdout);  // keep it in order with the narration when both go to one place
     std::fprintf(stderr, "%s: run-time error: %.*s: %.*s (node %u `%.*s`)\n", kProgram,
-                 static_cast<int>(e.where.size()), e.where.data(), static_cast<int>(e.message.size()),
-                 e.message.data(), e.node != nullptr ? static_cast<unsigned>(e.node->uid) : 0u,
+                 static_cast<int>(e.where.size()), e.where.data(), static_cast<int>(e.message.size()), e.message.data(),
+                 e.node != nullptr ? static_cast<unsigned>(e.node->uid) : 0u,
                  e.node != nullptr ? static_cast<int>(e.node->name.size()) : 0,
                  e.node != nullptr ? e.node->name.data() : "");
   }
@@ -90,8 +90,7 @@ int main(int argc, char** argv) {
   lab_tour_robot::Options options;
   std::string error;
   if (!lab_tour_robot::parse_options(argc, argv, options, error)) {
-    std::fprintf(stderr, "%s: error: %s\n%s", kProgram, error.c_str(),
-                 lab_tour_robot::usage_text(kProgram).c_str());
+    std::fprintf(stderr, "%s: error: %s\n%s", kProgram, error.c_str(), lab_tour_robot::usage_text(kProgram).c_str());
     return 2;
   }
   if (options.help) {
@@ -161,8 +160,10 @@ int main(int argc, char** argv) {
     if (!options.btlog.empty()) btlog = std::make_unique<btgen::btlog::FileLogger>(g_mission, options.btlog);
     if (options.groot2_port != 0) {
 #ifdef LAB_TOUR_WITH_GROOT2
-      groot2 = std::make_unique<btgen::groot2::Publisher<Mission>>(g_mission, static_cast<unsigned>(options.groot2_port));
-      std::printf("%s: Groot2 publisher on ports %ld and %ld\n", kProgram, options.groot2_port, options.groot2_port + 1);
+      groot2 =
+          std::make_unique<btgen::groot2::Publisher<Mission>>(g_mission, static_cast<unsigned>(options.groot2_port));
+      std::printf("%s: Groot2 publisher on ports %ld and %ld\n", kProgram, options.groot2_port,
+                  options.groot2_port + 1);
 #else
       return bad_input("--groot2: this lab_tour_robot was built without ZeroMQ (install libzmq3-dev and cppzmq-dev)");
 #endif
@@ -178,14 +179,14 @@ int main(int argc, char** argv) {
     const std::string_view lang = lab_tour_robot::language_name(options.language);
     std::printf("%s: knowledge base %s: %zu locations, tour %s\n", kProgram, kb.path().c_str(), kb.locations().size(),
                 tour.c_str());
-    std::printf("%s: home %d, exhibits %s, tour ends at %d; language %.*s; visitor answers %s%s\n", kProgram,
-                plan.home, exhibits.empty() ? "none" : exhibits.c_str(), plan.exit, static_cast<int>(lang.size()),
-                lang.data(), options.answer_yes ? "yes" : "no",
+    std::printf("%s: home %d, exhibits %s, tour ends at %d; language %.*s; visitor answers %s%s\n", kProgram, plan.home,
+                exhibits.empty() ? "none" : exhibits.c_str(), plan.exit, static_cast<int>(lang.size()), lang.data(),
+                options.answer_yes ? "yes" : "no",
                 options.scenario.empty() ? "" : ("; statuses from " + options.scenario).c_str());
     if (speech.fallback_count() > 0) {
-      std::printf("%s: %zu texts have no %.*s translation: said in English after \"[no %.*s translation]\"\n",
-                  kProgram, speech.fallback_count(), static_cast<int>(lang.size()), lang.data(),
-                  static_cast<int>(lang.size()), lang.data());
+      std::printf("%s: %zu texts have no %.*s translation: said in English after \"[no %.*s translation]\"\n", kProgram,
+                  speech.fallback_count(), static_cast<int>(lang.size()), lang.data(), static_cast<int>(lang.size()),
+                  lang.data());
     }
   }
 

@@ -32,9 +32,11 @@ std::string usage_text(std::string_view program) {
   std::string p(program);
   return "usage: " + p +
          " [--language English|isiZulu|Kinyarwanda] [--kb-config FILE.ini]\n"
-         "       " + std::string(p.size(), ' ') +
+         "       " +
+         std::string(p.size(), ' ') +
          " [--answer yes|no] [--scenario FILE.scenario] [--trace]\n"
-         "       " + std::string(p.size(), ' ') +
+         "       " +
+         std::string(p.size(), ' ') +
          " [--tick-ms N] [--max-ticks N] [--groot2 PORT] [--btlog FILE.btlog]\n"
          "\n"
          "Runs the Lab Tour mission (missions/LabTour.xml, compiled by btgen) on a\n"
@@ -91,8 +93,8 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
     }
     const bool flag = name == "--trace";
     const bool known = flag || name == "--language" || name == "--kb-config" || name == "--answer" ||
-                       name == "--scenario" || name == "--tick-ms" || name == "--max-ticks" ||
-                       name == "--groot2" || name == "--btlog";
+                       name == "--scenario" || name == "--tick-ms" || name == "--max-ticks" || name == "--groot2" ||
+                       name == "--btlog";
     if (!known) {
       error = "unknown option `" + std::string(name) + "`";
       return false;
@@ -159,7 +161,8 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
     } else if (name == "--groot2") {
       if (twice(seen_groot2)) return false;
       if (!parse_count(value, 1, 65534, out.groot2_port)) {
-        error = "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `" + std::string(value) + "`";
+        error =
+            "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `" + std::string(value) + "`";
         return false;
       }
     } else if (name == "--btlog") {

@@ -33,7 +33,12 @@ double heading_change(double from_deg, double to_deg) noexcept {
 SimulatedPepper::SimulatedPepper(const btgen::EnvironmentKnowledgeBase& kb, const SpeechBook& speech,
                                  const TourPlan& plan, Settings settings, std::size_t node_count,
                                  btgen::ScenarioLeaves* scenario, std::FILE* out)
-    : kb_(kb), speech_(speech), plan_(plan), settings_(settings), scenario_(scenario), out_(out),
+    : kb_(kb),
+      speech_(speech),
+      plan_(plan),
+      settings_(settings),
+      scenario_(scenario),
+      out_(out),
       activity_(node_count) {
   // Pepper starts the day at home.
   if (const btgen::KbLocation* home = kb_.find(plan_.home)) {
@@ -118,8 +123,8 @@ Status SimulatedPepper::setAttention(const btgen::NodeInfo& node, Attention mode
 Status SimulatedPepper::gestureStart(const btgen::NodeInfo& node, std::string_view what) {
   const Status st = decide(node, Status::RUNNING);
   const std::string keys = cultural(at_);
-  say("%.*s%s%s%s", static_cast<int>(what.size()), what.data(), keys.empty() ? "" : " (cultural knowledge: ",
-      keys.c_str(), keys.empty() ? "" : ")");
+  say("%.*s%s%s%s", static_cast<int>(what.size()), what.data(),
+      keys.empty() ? "" : " (cultural knowledge: ", keys.c_str(), keys.empty() ? "" : ")");
   if (st == Status::FAILURE) say("the gesture failed");
   return st;
 }
@@ -200,8 +205,8 @@ Status SimulatedPepper::navigateStart(const btgen::NodeInfo& node, LocationPort 
   const double distance = (target->pose.head<2>() - pose_.head<2>()).norm();
   a.steps = std::max(1, static_cast<int>(std::ceil(distance / kMetresPerTick - 1e-9)));
   ++navigations_;
-  say("navigating to %s: x %.2f m, y %.2f m, theta %.1f deg (%.1f m away)", place(target->id).c_str(),
-      target->pose.x(), target->pose.y(), target->pose.z(), distance);
+  say("navigating to %s: x %.2f m, y %.2f m, theta %.1f deg (%.1f m away)", place(target->id).c_str(), target->pose.x(),
+      target->pose.y(), target->pose.z(), distance);
   const Status st = decide(node, Status::RUNNING);
   if (st == Status::SUCCESS) {
     pose_ = target->pose;

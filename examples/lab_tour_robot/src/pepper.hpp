@@ -57,8 +57,8 @@ enum class Attention : std::uint8_t { kDisabled, kScanning, kSocial };
 class SimulatedPepper {
  public:
   struct Settings {
-    bool answer_yes = true;          ///< the visitor's answer
-    long visitor_check = 2;          ///< the IsVisitorDiscovered check that finds the visitor
+    bool answer_yes = true;  ///< the visitor's answer
+    long visitor_check = 2;  ///< the IsVisitorDiscovered check that finds the visitor
   };
 
   /// `node_count` is the mission's number of nodes (per-node state is kept
@@ -136,9 +136,9 @@ class SimulatedPepper {
 
  private:
   struct Activity {
-    std::int32_t target = 0;   // location (navigation, pointing, speech about it)
-    int step = 0;              // ticks done
-    int steps = 1;             // ticks needed (simulation)
+    std::int32_t target = 0;  // location (navigation, pointing, speech about it)
+    int step = 0;             // ticks done
+    int steps = 1;            // ticks needed (simulation)
     Eigen::Vector3d from = Eigen::Vector3d::Zero();
   };
 

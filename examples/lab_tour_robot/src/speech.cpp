@@ -40,10 +40,9 @@ bool parse_language(std::string_view text, btgen::Language& out) noexcept {
 
 bool is_placeholder(std::string_view text) {
   // generator/btgen/kb/lint.py, _PLACEHOLDER_RE (a full match, any case).
-  static const std::regex kPlaceholder(
-      R"((no (message|translation|text)\b.*|(todo|tbd|fixme)\b.*|placeholder\b.*)"
-      R"(|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*))",
-      std::regex::ECMAScript | std::regex::icase);
+  static const std::regex kPlaceholder(R"((no (message|translation|text)\b.*|(todo|tbd|fixme)\b.*|placeholder\b.*)"
+                                       R"(|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*))",
+                                       std::regex::ECMAScript | std::regex::icase);
   return std::regex_match(text.begin(), text.end(), kPlaceholder);
 }
 
@@ -64,7 +63,8 @@ SpeechBook SpeechBook::build(const btgen::EnvironmentKnowledgeBase& kb, btgen::L
   for (const btgen::KbLocation& loc : kb.locations()) {
     book.locations_.push_back(LocationTexts{loc.id, resolve_text(texts_of(loc.pre_gesture_message), language),
                                             resolve_text(texts_of(loc.post_gesture_message), language)});
-    book.fallbacks_ += (book.locations_.back().pre.fallback ? 1u : 0u) + (book.locations_.back().post.fallback ? 1u : 0u);
+    book.fallbacks_ +=
+        (book.locations_.back().pre.fallback ? 1u : 0u) + (book.locations_.back().post.fallback ? 1u : 0u);
   }
   auto message = [&book](std::int32_t id, bool post) {
     const Utterance* u = book.location_message(id, post);
@@ -102,6 +102,5 @@ const Utterance* SpeechBook::location_message(std::int32_t id, bool post_gesture
   if (it == locations_.end() || it->id != id) return nullptr;
   return post_gesture ? &it->post : &it->pre;
 }
-
 
 }  // namespace lab_tour_robot

@@ -44,17 +44,17 @@ struct PhraseText {
 
 /// Where a phrase takes its words from.
 enum class PhraseSource : std::uint8_t {
-  kTable,             ///< its PhraseText
-  kHomeMessages,      ///< the pre- then post-gesture message of the tour's home location
-  kExitPreMessage,    ///< the pre-gesture message of the tour's exit location
-  kExitPostMessage,   ///< the post-gesture message of the tour's exit location
+  kTable,            ///< its PhraseText
+  kHomeMessages,     ///< the pre- then post-gesture message of the tour's home location
+  kExitPreMessage,   ///< the pre-gesture message of the tour's exit location
+  kExitPostMessage,  ///< the post-gesture message of the tour's exit location
 };
 
 /// One row of the phrase table.
 struct Phrase {
   std::string_view key;  ///< the value of a speech node's `message` port
   PhraseSource source;
-  PhraseText table;      ///< used when source == kTable
+  PhraseText table;  ///< used when source == kTable
 };
 
 /// The phrase table (phrases.cpp): every default `message` key of
@@ -79,8 +79,8 @@ class SpeechBook {
  public:
   /// Resolves the knowledge base's messages and the phrase table. `home`
   /// and `exit` are the ids the tour starts and ends at (tour_plan.hpp).
-  static SpeechBook build(const btgen::EnvironmentKnowledgeBase& kb, btgen::Language language,
-                          std::int32_t home, std::int32_t exit);
+  static SpeechBook build(const btgen::EnvironmentKnowledgeBase& kb, btgen::Language language, std::int32_t home,
+                          std::int32_t exit);
 
   [[nodiscard]] btgen::Language language() const noexcept { return language_; }
 

@@ -27,6 +27,7 @@ it (btgen.kb.lint), not from the robot's own C++ code:
                 configuration files.
   max_ticks     a mission cut short by --max-ticks is halted and exits 1.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -58,7 +59,7 @@ def fail(message: str, output: str = "") -> NoReturn:
 class Run:
     def __init__(self, robot: str, args: list[str]) -> None:
         self.args = args
-        proc = subprocess.run([robot, *args], capture_output=True, text=True, timeout=120)
+        proc = subprocess.run([robot, *args], capture_output=True, text=True, timeout=120, check=False)
         self.rc = proc.returncode
         self.out = proc.stdout
         self.err = proc.stderr
@@ -95,23 +96,35 @@ def check_full_tour(robot: str, repo: Path, language: str) -> None:
     run = Run(robot, ["--answer", "yes", "--language", language])
     run.check(run.rc == 0, f"exit status {run.rc}, expected 0")
     navigations = [int(i) for i in run.matches(NAV_RE)]
-    run.check(navigations == [*exhibits, end, home],
-              f"navigated to {navigations}, expected the exhibits {exhibits} of the tour {tour}, "
-              f"then its end {end}, then home {home}")
+    run.check(
+        navigations == [*exhibits, end, home],
+        f"navigated to {navigations}, expected the exhibits {exhibits} of the tour {tour}, "
+        f"then its end {end}, then home {home}",
+    )
     arrivals = [int(i) for i in run.matches(ARRIVED_RE)]
     run.check(arrivals == navigations, f"arrived at {arrivals}, expected {navigations}")
     pointed = [int(i) for i in run.matches(POINT_RE)]
     run.check(pointed == [*exhibits, end], f"pointed at {pointed}, expected {[*exhibits, end]}")
     last = run.lines[-1] if run.lines else ""
-    run.check(re.match(rf"lab_tour_robot: mission SUCCESS at tick \d+ after {len(tour)} navigations; "
-                       rf"Pepper is at {home} \(.*\), home: ", last) is not None,
-              f"last line `{last}` does not say the mission succeeded with Pepper at home {home}")
+    run.check(
+        re.match(
+            rf"lab_tour_robot: mission SUCCESS at tick \d+ after {len(tour)} navigations; "
+            rf"Pepper is at {home} \(.*\), home: ",
+            last,
+        )
+        is not None,
+        f"last line `{last}` does not say the mission succeeded with Pepper at home {home}",
+    )
     # Per exhibit, in order: navigate, pre-gesture message, point, post-gesture message.
     said = run.matches(SAYS_RE)
     pos = 0
     for ex in exhibits:
-        want = [("nav", ex), ("say", expected_text(base, ex, "pre", language)), ("point", ex),
-                ("say", expected_text(base, ex, "post", language))]
+        want = [
+            ("nav", ex),
+            ("say", expected_text(base, ex, "pre", language)),
+            ("point", ex),
+            ("say", expected_text(base, ex, "post", language)),
+        ]
         for kind, value in want:
             for i in range(pos, len(run.lines)):
                 line = run.lines[i]
@@ -122,14 +135,18 @@ def check_full_tour(robot: str, repo: Path, language: str) -> None:
             else:
                 run.check(False, f"exhibit {ex}: no `{kind} {value}` after line {pos + 1}")
     for text in said:
-        run.check(not re.fullmatch(r"(?i)no (message|translation|text)\b.*", text),
-                  f"the robot said a placeholder aloud: `{text}`")
+        run.check(
+            not re.fullmatch(r"(?i)no (message|translation|text)\b.*", text),
+            f"the robot said a placeholder aloud: `{text}`",
+        )
     if language != "English":
         marker = f"[no {language} translation]"
         key_lang = {"isiZulu": "IsiZulu", "Kinyarwanda": "Kinyarwanda"}[language]
         if any(key.endswith(key_lang) for _, key in kbmod.iter_placeholders(base)):
-            run.check(any(t.startswith(marker + " ") for t in said),
-                      f"no `{marker}` marker although the base lacks {language} texts")
+            run.check(
+                any(t.startswith(marker + " ") for t in said),
+                f"no `{marker}` marker although the base lacks {language} texts",
+            )
 
 
 def case_tour_yes(robot: str, repo: Path) -> None:
@@ -143,8 +160,10 @@ def case_tour_no(robot: str, repo: Path) -> None:
     run.check(not run.matches(POINT_RE), "the robot pointed at something although the visitor said no")
     said = run.matches(SAYS_RE)
     run.check(any("another time" in s for s in said), "the robot did not say `maybe another time`")
-    run.check(re.match(r"lab_tour_robot: mission SUCCESS at tick \d+ after 0 navigations", run.lines[-1]) is not None,
-              f"last line `{run.lines[-1]}`")
+    run.check(
+        re.match(r"lab_tour_robot: mission SUCCESS at tick \d+ after 0 navigations", run.lines[-1]) is not None,
+        f"last line `{run.lines[-1]}`",
+    )
 
 
 def trace_lines(lines: list[str]) -> list[str]:
@@ -155,8 +174,14 @@ def check_scenario(robot: str, repo: Path, name: str) -> None:
     scenario = f"missions/scenarios/LabTour.{name}.scenario"
     run = Run(robot, ["--scenario", scenario, "--trace"])
     run.check(run.rc == 0, f"exit status {run.rc}, expected 0")
-    ref = subprocess.run([sys.executable, "-m", "btgen", "run", "missions/LabTour.xml", "--scenario", scenario],
-                         capture_output=True, text=True, timeout=120, cwd=repo)
+    ref = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", "missions/LabTour.xml", "--scenario", scenario],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=repo,
+        check=False,
+    )
     if ref.returncode != 0:
         fail(f"btgen run failed ({ref.returncode}): {ref.stderr}")
     got = trace_lines(run.lines)
@@ -181,8 +206,11 @@ def case_scenario_no(robot: str, repo: Path) -> None:
 
 def case_bad_options(robot: str, repo: Path) -> None:
     no_scenario = "missions/scenarios/LabTour.no.scenario"
-    line = next(i for i, text in enumerate((repo / no_scenario).read_text(encoding="utf-8").splitlines(), 1)
-                if text.split()[:2] == ["leaf", "IsVisitorResponseYes"])
+    line = next(
+        i
+        for i, text in enumerate((repo / no_scenario).read_text(encoding="utf-8").splitlines(), 1)
+        if text.split()[:2] == ["leaf", "IsVisitorResponseYes"]
+    )
     for args, message in [
         (["--language", "French"], "unknown language `French`: use English, isiZulu or Kinyarwanda"),
         (["--answer", "maybe"], "`--answer` is yes or no, not `maybe`"),
@@ -190,8 +218,10 @@ def case_bad_options(robot: str, repo: Path) -> None:
         (["--bogus"], "unknown option `--bogus`"),
         (["--groot2", "65535"], "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `65535`"),
         (["--btlog", "run.log"], "`--btlog` needs a file name ending in .btlog, not `run.log`"),
-        (["--scenario", no_scenario, "--answer", "yes"],
-         f"--answer yes contradicts {no_scenario}:{line}, which scripts IsVisitorResponseYes FAILURE"),
+        (
+            ["--scenario", no_scenario, "--answer", "yes"],
+            f"--answer yes contradicts {no_scenario}:{line}, which scripts IsVisitorResponseYes FAILURE",
+        ),
     ]:
         run = Run(robot, args)
         run.check(run.rc == 2, f"exit status {run.rc}, expected 2")
@@ -239,8 +269,10 @@ def case_max_ticks(robot: str, repo: Path) -> None:
     run = Run(robot, ["--answer", "yes", "--max-ticks", "25"])
     run.check(run.rc == 1, f"exit status {run.rc}, expected 1")
     run.check(any("no result after 25 ticks: halting the mission" in ln for ln in run.lines), "no halting line")
-    run.check(run.lines[-1].startswith("lab_tour_robot: mission still RUNNING after 25 ticks (halted)"),
-              f"last line `{run.lines[-1]}`")
+    run.check(
+        run.lines[-1].startswith("lab_tour_robot: mission still RUNNING after 25 ticks (halted)"),
+        f"last line `{run.lines[-1]}`",
+    )
 
 
 def case_btlog(robot: str, repo: Path) -> None:
@@ -256,11 +288,11 @@ def case_btlog(robot: str, repo: Path) -> None:
         data = Path(path).read_bytes()
     run.check(data[:19] == b"BTCPP4-FileLogger2\x01", "no FileLogger2 header")
     n = struct.unpack_from("<i", data, 19)[0]
-    xml = data[23:23 + n].decode()
+    xml = data[23 : 23 + n].decode()
     run.check(xml.startswith('<root BTCPP_format="4">') and '_uid="1"' in xml, "no tree XML with _uid")
-    body = data[31 + n:]
+    body = data[31 + n :]
     run.check(len(body) % 9 == 0, f"{len(body)} bytes of records, not a multiple of 9")
-    got = [(int.from_bytes(body[i + 6:i + 8], "little"), body[i + 8]) for i in range(0, len(body), 9)]
+    got = [(int.from_bytes(body[i + 6 : i + 8], "little"), body[i + 8]) for i in range(0, len(body), 9)]
     want = []
     for line in trace_lines(run.lines):
         words = line.split()

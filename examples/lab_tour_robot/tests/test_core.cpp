@@ -67,8 +67,8 @@ TEST(TourPlan, ShippedBaseStartsAndEndsAtPeppersStartingLocation) {
 }
 
 TEST(Speech, Placeholders) {
-  for (std::string_view p : {"No message in isiZulu", "no translation yet", "TODO: translate", "TBD", "xxx",
-                             "...", "Placeholder text", "Lorem ipsum dolor"}) {
+  for (std::string_view p : {"No message in isiZulu", "no translation yet", "TODO: translate", "TBD", "xxx", "...",
+                             "Placeholder text", "Lorem ipsum dolor"}) {
     EXPECT_TRUE(is_placeholder(p)) << p;
   }
   for (std::string_view m : {"Iyi yitwa rumba", "Nothing to say", "See you again soon", "xx", "Notice"}) {

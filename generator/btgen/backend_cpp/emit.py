@@ -6,6 +6,7 @@ naming.py. Templates only loop and substitute. Output depends on nothing
 but the Program, the file stem and the banner's input paths: same input,
 same bytes.
 """
+
 from __future__ import annotations
 
 import os
@@ -24,8 +25,7 @@ from btgen.version import RUNTIME_ABI, __version__
 TEMPLATE_DIR = resources.TEMPLATE_DIR
 TEMPLATES = ("mission.hpp.j2", "mission.cpp.j2")
 
-_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition", "UserControl",
-                                                                  "UserDecorator"}
+_NODE_KINDS = frozenset(k for k, _, _ in SUPPORTED.values()) | {"Action", "Condition", "UserControl", "UserDecorator"}
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,7 @@ def node_kind(kind: str) -> str:
 
 def cpp_int(value: int) -> str:
     """An int64 literal (INT64_MIN cannot be written as a literal)."""
-    if value == -(2 ** 63):
+    if value == -(2**63):
         return "(-9223372036854775807 - 1)"
     return str(value)
 
@@ -89,9 +89,13 @@ def groot2_context(program: Program) -> dict:
             raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
         entries.append(dict(bb=bb, key=sl.key, member=sl.member))
     entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
-    return dict(xml_lines=tree.xml.splitlines(keepends=True), xml_size=len(tree.xml.encode("utf-8")),
-                order=tree.status_order,
-                blackboards=names, entries=entries)
+    return dict(
+        xml_lines=tree.xml.splitlines(keepends=True),
+        xml_size=len(tree.xml.encode("utf-8")),
+        order=tree.status_order,
+        blackboards=names,
+        entries=entries,
+    )
 
 
 def _environment() -> jinja2.Environment:
@@ -140,8 +144,9 @@ def output_names(stem: str) -> tuple[str, str]:
     return naming.header_name(stem), naming.source_name(stem)
 
 
-def render(program: Program, stem: str, relative_to: Optional[str] = ".",
-           namespace: Optional[str] = None) -> tuple[Output, ...]:
+def render(
+    program: Program, stem: str, relative_to: Optional[str] = ".", namespace: Optional[str] = None
+) -> tuple[Output, ...]:
     """The generated header and source for `program`; paths in it are relative to
     `relative_to`, or as the diagnostics give them when it is None. `namespace`:
     the C++ namespace (`--namespace`, checked by the command line), else derived
@@ -172,16 +177,22 @@ def render(program: Program, stem: str, relative_to: Optional[str] = ".",
         program=program,
         nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],
         data=data,
-        slots=[dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))
-               for sl in data.slots],
+        slots=[
+            dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))
+            for sl in data.slots
+        ],
         where=[show_loc(loc) for loc in data.where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
         scripts=[dict(c=c, key=c.node * 16 + SCRIPT_BIT[c.which]) for c in data.scripts],
         groot2=groot2_context(program),
     )
     env = environment()
-    return _stamped(Output(header, env.get_template("mission.hpp.j2").render(ctx)),
-                    Output(source, env.get_template("mission.cpp.j2").render(ctx)), ctx["ns"], ctx["guard"])
+    return _stamped(
+        Output(header, env.get_template("mission.hpp.j2").render(ctx)),
+        Output(source, env.get_template("mission.cpp.j2").render(ctx)),
+        ctx["ns"],
+        ctx["guard"],
+    )
 
 
 def _stamped(header: Output, source: Output, ns: str, guard: str) -> tuple[Output, Output]:
@@ -195,9 +206,13 @@ def _stamped(header: Output, source: Output, ns: str, guard: str) -> tuple[Outpu
     end = f"#endif  // {guard}\n"
     if not header.text.endswith(end):
         raise InternalError("the generated header does not end with its include guard")
-    stamp = (f"// The generation of {header.name} and {source.name} (both carry it; {source.name} checks it).\n"
-             f"namespace {ns}::detail {{\ninline constexpr unsigned long long kGeneration = 0x{digest}ULL;\n}}\n\n")
-    check = (f"\nstatic_assert({ns}::detail::kGeneration == 0x{digest}ULL,\n"
-             f"              \"{header.name} and {source.name} come from different btgen runs: run btgen compile "
-             f"again\");\n")
-    return (Output(header.name, header.text[:-len(end)] + stamp + end), Output(source.name, source.text + check))
+    stamp = (
+        f"// The generation of {header.name} and {source.name} (both carry it; {source.name} checks it).\n"
+        f"namespace {ns}::detail {{\ninline constexpr unsigned long long kGeneration = 0x{digest}ULL;\n}}\n\n"
+    )
+    check = (
+        f"\nstatic_assert({ns}::detail::kGeneration == 0x{digest}ULL,\n"
+        f'              "{header.name} and {source.name} come from different btgen runs: run btgen compile '
+        f'again");\n'
+    )
+    return (Output(header.name, header.text[: -len(end)] + stamp + end), Output(source.name, source.text + check))

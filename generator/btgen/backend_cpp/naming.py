@@ -3,6 +3,7 @@
 Pure functions, registered as Jinja2 filters by emit.py and unit-tested in
 tests/python/test_compiler.py. Templates never build a name themselves.
 """
+
 from __future__ import annotations
 
 import re
@@ -12,7 +13,8 @@ from typing import Callable, Optional, Union
 from btgen.backend_cpp.cpp_reserved import GLOBALS, MACROS
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
-CPP_KEYWORDS = frozenset("""
+CPP_KEYWORDS = frozenset(
+    """
 alignas alignof and and_eq asm auto bitand bitor bool break case catch char char8_t char16_t char32_t
 class compl concept const consteval constexpr constinit const_cast continue co_await co_return co_yield
 decltype default delete do double dynamic_cast else enum explicit export extern false float for friend
@@ -20,7 +22,8 @@ goto if inline int long mutable namespace new noexcept not not_eq nullptr operat
 protected public register reinterpret_cast requires return short signed sizeof static static_assert
 static_cast struct switch template this thread_local throw true try typedef typeid typename union
 unsigned using virtual void volatile wchar_t while xor xor_eq
-""".split())
+""".split()
+)
 
 _WORD_RE = re.compile(r"[A-Z]+(?=[A-Z][a-z0-9])|[A-Z]?[a-z0-9]+|[A-Z]+")
 
@@ -56,12 +59,39 @@ def pascal_case(stem: str) -> str:
 # class `std` in namespace `leaf`, a port `detail`, an entry `btgen` would hide them).
 QUALIFIERS = frozenset({"std", "btgen", "detail", "leaf"})
 # Members of every generated leaf class and the names its accessors use unqualified.
-LEAF_MEMBERS = frozenset({"kId", "kKind", "kModel", "node", "blackboard", "bb_", "err_", "node_", "bb", "n",
-                          "err", "e", "value", "T",
-                          # the members custom Control and Decorator classes add
-                          "fail", "sync_result", "children_count", "tick_child", "halt_child", "halt_children",
-                          "reset_child_status", "child_status", "status", "set_status", "now_ms", "name", "uid",
-                          "children"})
+LEAF_MEMBERS = frozenset(
+    {
+        "kId",
+        "kKind",
+        "kModel",
+        "node",
+        "blackboard",
+        "bb_",
+        "err_",
+        "node_",
+        "bb",
+        "n",
+        "err",
+        "e",
+        "value",
+        "T",
+        # the members custom Control and Decorator classes add
+        "fail",
+        "sync_result",
+        "children_count",
+        "tick_child",
+        "halt_child",
+        "halt_children",
+        "reset_child_status",
+        "child_status",
+        "status",
+        "set_status",
+        "now_ms",
+        "name",
+        "uid",
+        "children",
+    }
+)
 # Members of btgen::Slot, which the generated code reads beside the entries' members.
 SLOT_MEMBERS = frozenset({"value", "seq", "exists", "has_value"})
 # The names the mission class template and its scope use: its base and template parameters.
@@ -98,8 +128,9 @@ def is_reserved(ident: str, kind: str = "plain", reserved: Optional[Reserved] = 
     return reserved(ident) if callable(reserved) else ident in reserved
 
 
-def cpp_identifier(text: str, prefix: Optional[str] = None, kind: str = "plain",
-                   reserved: Optional[Reserved] = None) -> str:
+def cpp_identifier(
+    text: str, prefix: Optional[str] = None, kind: str = "plain", reserved: Optional[Reserved] = None
+) -> str:
     """A valid C++ identifier close to `text` that cannot collide with a keyword, a standard
     macro, or what the generated code declares or uses in the scope of `kind` (KINDS).
 
@@ -122,8 +153,9 @@ def cpp_identifier(text: str, prefix: Optional[str] = None, kind: str = "plain",
     return ident
 
 
-def unique_identifiers(names: Iterable[str], taken: Iterable[str] = (), prefix: Optional[str] = None,
-                       kind: str = "plain") -> tuple[str, ...]:
+def unique_identifiers(
+    names: Iterable[str], taken: Iterable[str] = (), prefix: Optional[str] = None, kind: str = "plain"
+) -> tuple[str, ...]:
     """cpp_identifier of each name, with `_2`, `_3`, ... added where two would collide."""
     used = set(taken)
     out = []
@@ -134,8 +166,13 @@ def unique_identifiers(names: Iterable[str], taken: Iterable[str] = (), prefix: 
     return tuple(out)
 
 
-def unique_identifier(name: str, used: Union[set, Callable[[str], bool]], prefix: Optional[str] = None,
-                      kind: str = "plain", reserved: Optional[Reserved] = None) -> str:
+def unique_identifier(
+    name: str,
+    used: Union[set, Callable[[str], bool]],
+    prefix: Optional[str] = None,
+    kind: str = "plain",
+    reserved: Optional[Reserved] = None,
+) -> str:
     """cpp_identifier(name) not in `used` (a set or a predicate), with `_2`, `_3`, ... added."""
     taken = used if callable(used) else used.__contains__
     base = cpp_identifier(name, prefix, kind, reserved)
@@ -157,8 +194,13 @@ def port_identifiers(ports: Iterable[str], model_class: str) -> tuple[str, ...]:
     used: set[str] = set()
 
     def taken(ident: str) -> bool:
-        return (ident in used or "set_" + ident in used or ident == model_class
-                or (ident.startswith("set_") and ident[4:] in used))
+        return (
+            ident in used
+            or "set_" + ident in used
+            or ident == model_class
+            or (ident.startswith("set_") and ident[4:] in used)
+        )
+
     out = []
     for name in ports:
         ident = unique_identifier(name, taken, kind="port")
@@ -208,8 +250,11 @@ def namespace_problem(ns: str) -> str:
     parts = ns.split("::")
     for part in parts:
         if not _NAMESPACE_PART_RE.match(part):
-            return (f"`{part}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
-                    if part else f"`{ns}` has an empty part")
+            return (
+                f"`{part}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
+                if part
+                else f"`{ns}` has an empty part"
+            )
         if part in CPP_KEYWORDS:
             return f"`{part}` is a C++ keyword"
         if part in MACROS:
@@ -219,8 +264,11 @@ def namespace_problem(ns: str) -> str:
     if parts[0] in GLOBALS and parts[0] not in CLASHING_NAMESPACES:
         return f"`{parts[0]}` names something of the C++ standard library at global scope; choose another name"
     if parts[0] in CLASHING_NAMESPACES:
-        what = "the program's main()" if parts[0] == "main" else (
-            "btgen's runtime" if parts[0] == "btgen" else "the standard library")
+        what = (
+            "the program's main()"
+            if parts[0] == "main"
+            else ("btgen's runtime" if parts[0] == "btgen" else "the standard library")
+        )
         return f"`{parts[0]}` clashes with {what}; choose another name"
     return ""
 

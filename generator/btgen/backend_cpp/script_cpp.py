@@ -27,6 +27,7 @@ Evaluation order, short-circuiting (only comparison chains stop early; `&&`
 and `||` evaluate both sides), the double arithmetic and the text of numbers
 are those of btgen/lang/script.py, which is the reference.
 """
+
 from __future__ import annotations
 
 import math
@@ -46,8 +47,8 @@ CPP_SCALAR = {"int": "std::int64_t", "double": "double", "bool": "bool", "status
 # Longest text of a value of each kind (std::to_string): bool and status print one digit.
 TEXT_BOUND = {"int": 20, "double": 317, "bool": 1, "status": 1}
 
-INT32_MIN, INT32_MAX = -(2 ** 31), 2 ** 31 - 1
-UINT32_MAX = 2 ** 32 - 1
+INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
+UINT32_MAX = 2**32 - 1
 
 
 def is_numeric(kind: Optional[str]) -> bool:
@@ -79,8 +80,15 @@ def kind_of_type(type_name: str) -> Optional[str]:
 
 
 def describe_kind(kind: str) -> str:
-    return {"int": "an integer", "double": "a double", "bool": "a bool", "status": "a NodeStatus",
-            "string": "a string", "none": "no value", DYN: "a value of changing type"}.get(kind, f"a {kind}")
+    return {
+        "int": "an integer",
+        "double": "a double",
+        "bool": "a bool",
+        "status": "a NodeStatus",
+        "string": "a string",
+        "none": "no value",
+        DYN: "a value of changing type",
+    }.get(kind, f"a {kind}")
 
 
 def value_kind(value: object) -> str:
@@ -99,6 +107,7 @@ class ScriptTypeError(Exception):
 
 
 # ================================================================ kinds
+
 
 def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optional[str]:
     """The static kind of an expression's value; None while a name's kind is unknown.
@@ -163,21 +172,27 @@ def _static_update_ok(op: str, k: str, r: str) -> bool:
 
 def overflow_message(text: str, key: str, capacity: int) -> str:
     """A string literal longer than the entry it is written to (the deliberate difference from 4.6.2)."""
-    return (f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard entry "
-            f"`{key}`, whose capacity is {capacity} bytes (strings have a fixed capacity in btgen; raise it with "
-            f"--string-capacity)")
+    return (
+        f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard entry "
+        f"`{key}`, whose capacity is {capacity} bytes (strings have a fixed capacity in btgen; raise it with "
+        f"--string-capacity)"
+    )
 
 
 def ternary_message(a: str, b: str) -> str:
     hint = " (e.g. `1.0` rather than `1` next to a double)" if is_numeric(a) and is_numeric(b) else ""
-    return (f"the branches of `?:` give {describe_kind(a)} and {describe_kind(b)}; btgen gives every value one "
-            f"type, so write both with the same type{hint}")
+    return (
+        f"the branches of `?:` give {describe_kind(a)} and {describe_kind(b)}; btgen gives every value one "
+        f"type, so write both with the same type{hint}"
+    )
 
 
 def none_message(op: str, value: sc.Expr) -> str:
     if isinstance(value, sc.Binary) and value.op == "..":
-        return (f"the right operand of `{op}` has no value: `..` of two numbers gives none in BehaviorTree.CPP "
-                f"4.6.2 (start with a string: `'' .. a .. b`)")
+        return (
+            f"the right operand of `{op}` has no value: `..` of two numbers gives none in BehaviorTree.CPP "
+            f"4.6.2 (start with a string: `'' .. a .. b`)"
+        )
     return f"the right operand of `{op}` has no value"
 
 
@@ -233,6 +248,7 @@ def compare_check(op: str, a: str, b: str, offset: int) -> None:
 
 
 # ================================================================ C++
+
 
 @dataclass(frozen=True)
 class SlotView:
@@ -303,8 +319,9 @@ class CodeWriter:
     `detail::kWhere[3]`) and `prefix + message`, then returns
     `error_return` (None: the -1 that ErrorSink::fail gives)."""
 
-    def __init__(self, where: Callable[[int], str], prefix: str, error_return: Optional[str] = None,
-                 indent: int = 1) -> None:
+    def __init__(
+        self, where: Callable[[int], str], prefix: str, error_return: Optional[str] = None, indent: int = 1
+    ) -> None:
         self.where = where
         self.prefix = prefix
         self.error_return = error_return
@@ -335,7 +352,9 @@ class CodeWriter:
         """A fallible btgen::dyn operation: `call` uses `dm`, the message it fills on failure
         (after this writer's prefix), which is then reported."""
         report = f"err.fail(n, {self.where(offset)}, dm.view())"
-        fail = f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
+        fail = (
+            f"return {report};" if self.error_return is None else f"{{ (void){report}; return {self.error_return}; }}"
+        )
         self.emit(f"if (btgen::dyn::Msg dm({cpp_view(self.prefix)}{self.msg_args}); !({call})) {fail}")
 
     def to_ref(self, v: Val) -> str:
@@ -344,8 +363,9 @@ class CodeWriter:
             return v.expr  # type: ignore[return-value]
         if v.kind == "none" or is_queue(v.kind) or v.has == "false":
             return "btgen::dyn::Ref{}"
-        fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status",
-              "string": "of_string"}[v.kind]
+        fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status", "string": "of_string"}[
+            v.kind
+        ]
         r = f"btgen::dyn::{fn}({v.expr})"
         if v.has is not None:
             r = f"({v.has} ? {r} : btgen::dyn::Ref{{}})"
@@ -380,13 +400,16 @@ class CodeWriter:
     def as_double(self, v: Val, offset: int, what: str) -> str:
         if v.kind == "double":
             return v.expr  # type: ignore[return-value]
-        if v.kind == "int" and isinstance(v.literal, int) and abs(v.literal) <= 2 ** 53:
+        if v.kind == "int" and isinstance(v.literal, int) and abs(v.literal) <= 2**53:
             return cpp_double(float(v.literal))
         t = self.temp()
         self.emit(f"double {t} = 0.0;")
         if v.kind == "int":
-            self.errc_check(f"btgen::script::num({v.expr}, {t})", offset,
-                            f"{what}: cannot convert the integer to double: precision would be lost")
+            self.errc_check(
+                f"btgen::script::num({v.expr}, {t})",
+                offset,
+                f"{what}: cannot convert the integer to double: precision would be lost",
+            )
         else:
             self.emit(f"(void)btgen::script::num({v.expr}, {t});")
         return t
@@ -443,8 +466,11 @@ class ScriptCompiler(CodeWriter):
             return
         t = self.temp()
         self.emit(f"const int {t} = btgen::script::truth({v.expr});")
-        self.check(f"{t} < 0", 0, "the script's result cannot be used as a condition: only the integers 0 "
-                                  "and 1 convert to bool")
+        self.check(
+            f"{t} < 0",
+            0,
+            "the script's result cannot be used as a condition: only the integers 0 and 1 convert to bool",
+        )
         self.emit(f"return {t};")
 
     # ------------------------------------------------------------ expressions
@@ -474,9 +500,12 @@ class ScriptCompiler(CodeWriter):
     def name(self, node: sc.Name) -> Val:
         s = self.slot(node.name)
         if s.may_be_missing:
-            self.check(f"!{s.member}.exists", node.offset,
-                       f"unknown variable `{node.name}` (no blackboard entry of that name; create it with "
-                       f"`{node.name} := ...`)")
+            self.check(
+                f"!{s.member}.exists",
+                node.offset,
+                f"unknown variable `{node.name}` (no blackboard entry of that name; create it with "
+                f"`{node.name} := ...`)",
+            )
         if s.kind == "none":
             return Val("none", None, "false")
         if is_queue(s.kind):
@@ -549,8 +578,7 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"const double {t} = btgen::script::logical_not({d});")
         else:
             self.emit(f"double {t} = 0.0;")
-            self.errc_check(f"btgen::script::complement({d}, {t})", node.offset,
-                            "the operand of `~` is out of range")
+            self.errc_check(f"btgen::script::complement({d}, {t})", node.offset, "the operand of `~` is out of range")
         return Val("double", t, None)
 
     def binary(self, node: sc.Binary) -> Val:
@@ -558,8 +586,11 @@ class ScriptCompiler(CodeWriter):
         lv = self.expr(node.left)
         rv = self.expr(node.right)
         kind = binary_kind(op, lv.kind, rv.kind, off)
-        if DYN in (lv.kind, rv.kind) or not _static_binary_ok(op, lv.kind, rv.kind) or \
-                (op in sc.BIT_OPS and "double" in (lv.kind, rv.kind)):
+        if (
+            DYN in (lv.kind, rv.kind)
+            or not _static_binary_ok(op, lv.kind, rv.kind)
+            or (op in sc.BIT_OPS and "double" in (lv.kind, rv.kind))
+        ):
             # (a double operand of a bit operator may not be whole: the dynamic path names the
             # value in the error, as the interpreter does)
             return self.dyn_binary(op, off, lv, rv, kind)
@@ -651,8 +682,9 @@ class ScriptCompiler(CodeWriter):
             if DYN in (lv.kind, rv.kind) or "none" in (lv.kind, rv.kind):
                 c = self.temp()
                 self.emit(f"bool {c} = false;")
-                self.dyn_call(f"btgen::dyn::compare({cpp_view(op)}, {self.to_ref(lv)}, {self.to_ref(rv)}, {c}, dm)",
-                              off)
+                self.dyn_call(
+                    f"btgen::dyn::compare({cpp_view(op)}, {self.to_ref(lv)}, {self.to_ref(rv)}, {c}, dm)", off
+                )
                 self.emit(f"if (!{c}) break;")
                 lv = rv
                 continue
@@ -662,10 +694,16 @@ class ScriptCompiler(CodeWriter):
             if lv.kind == "string" and rv.kind == "string":
                 a, b = lv.expr, rv.expr
             else:
-                a = self.text_number(lv, off, op, "left") if lv.kind == "string" else \
-                    self.as_double(lv, off, f"left operand of `{op}`")
-                b = self.text_number(rv, off, op, "right") if rv.kind == "string" else \
-                    self.as_double(rv, off, f"right operand of `{op}`")
+                a = (
+                    self.text_number(lv, off, op, "left")
+                    if lv.kind == "string"
+                    else self.as_double(lv, off, f"left operand of `{op}`")
+                )
+                b = (
+                    self.text_number(rv, off, op, "right")
+                    if rv.kind == "string"
+                    else self.as_double(rv, off, f"right operand of `{op}`")
+                )
             self.emit(f"if (!btgen::script::{fn}({a}, {b})) break;")
             lv = rv
         self.emit(f"{r} = 1.0;")
@@ -688,8 +726,11 @@ class ScriptCompiler(CodeWriter):
         if cv.kind == "string":
             c = self.temp()
             self.emit(f"double {c} = 0.0;")
-            self.errc_check(f"btgen::parse_double_from_chars({cv.expr}, {c})", node.op_offset,
-                            "the condition of `?:` is a string that is not a number")
+            self.errc_check(
+                f"btgen::parse_double_from_chars({cv.expr}, {c})",
+                node.op_offset,
+                "the condition of `?:` is a string that is not a number",
+            )
         else:
             c = self.as_double(cv, node.op_offset, "condition of `?:`")
         return self.ternary_branches(node, c)
@@ -713,8 +754,7 @@ class ScriptCompiler(CodeWriter):
         self.indent -= 1
         self.emit("}")
         pad = "  " * self.indent
-        dynamic = DYN in (tv.kind, ev.kind) or (tv.kind != ev.kind and not is_queue(tv.kind)
-                                                 and not is_queue(ev.kind))
+        dynamic = DYN in (tv.kind, ev.kind) or (tv.kind != ev.kind and not is_queue(tv.kind) and not is_queue(ev.kind))
         if not dynamic and tv.kind != ev.kind:
             raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
         # The takes, inserted at the end of each branch (the else branch first: indexes stay valid).
@@ -743,8 +783,9 @@ class ScriptCompiler(CodeWriter):
         if dynamic:
             ref = self.to_ref(v)
             self.emit(f"(void){r}.set({ref});")
-            self.emit(f"{rh} = !{r}.ref().none();" if v.kind == DYN else
-                      f"{rh} = {v.has if v.has is not None else 'true'};")
+            self.emit(
+                f"{rh} = !{r}.ref().none();" if v.kind == DYN else f"{rh} = {v.has if v.has is not None else 'true'};"
+            )
             return
         if v.kind == "none" or is_queue(v.kind):
             return
@@ -763,8 +804,11 @@ class ScriptCompiler(CodeWriter):
             if s.may_be_missing:
                 self.emit(f"{s.member}.exists = true;")
         elif s.may_be_missing:
-            self.check(f"!{s.member}.exists", off,
-                       f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it")
+            self.check(
+                f"!{s.member}.exists",
+                off,
+                f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it",
+            )
         v = self.expr(node.value)
         if v.kind == "none":  # `x := 1 .. 2`: 4.6.2 fails whenever this runs
             self.emit(self.fail(off, f"the right operand of `{op}` has no value"))
@@ -807,8 +851,11 @@ class ScriptCompiler(CodeWriter):
                 # a text that does not fit
                 self.emit(f"btgen::FixedString<{dyn_slot_bound(s) + self.dyn_bound(v)}> {t}b;")
                 self.emit(f"btgen::dyn::Ref {t};")
-                self.dyn_call(f"btgen::dyn::compound('{op[0]}', btgen::dyn::ref({s.member}), {ref}, "
-                              f"{cpp_view(key)}, {t}, {t}b, dm)", off)
+                self.dyn_call(
+                    f"btgen::dyn::compound('{op[0]}', btgen::dyn::ref({s.member}), {ref}, "
+                    f"{cpp_view(key)}, {t}, {t}b, dm)",
+                    off,
+                )
                 self.dyn_call(f"btgen::dyn::put({s.member}, {t}, {cpp_view(key)}, dm)", off)
             if self.assigned.get(idx, 0) <= 1:
                 return Val(DYN, f"btgen::dyn::ref({s.member})", None, dyn_slot_bound(s))
@@ -821,22 +868,33 @@ class ScriptCompiler(CodeWriter):
         if s.may_be_missing:
             pass  # (checked above: `+=` needs the entry)
         if op in (":=", "="):
-            raise ScriptTypeError(f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
-                                  f"{describe_kind(s.kind)}{_origin_text(s)}; not supported by the C++ back end "
-                                  f"yet", off)
+            raise ScriptTypeError(
+                f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
+                f"{describe_kind(s.kind)}{_origin_text(s)}; not supported by the C++ back end "
+                f"yet",
+                off,
+            )
         if not (is_numeric(s.kind) or s.kind == "string"):
             raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", off)
-        cur = Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
-                  f"{s.member}.has_value", s.capacity)
+        cur = Val(
+            s.kind,
+            f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
+            f"{s.member}.has_value",
+            s.capacity,
+        )
         t = self.temp()
         # the text of the entry (a number's, when `+=` appends a string) and the value
         self.emit(f"btgen::FixedString<{self.dyn_bound(cur) + self.dyn_bound(v)}> {t}b;")
         self.emit(f"btgen::dyn::Ref {t};")
-        self.dyn_call(f"btgen::dyn::compound('{op[0]}', {self.to_ref(cur)}, {ref}, {cpp_view(key)}, {t}, {t}b, dm)",
-                      off)
+        self.dyn_call(
+            f"btgen::dyn::compound('{op[0]}', {self.to_ref(cur)}, {ref}, {cpp_view(key)}, {t}, {t}b, dm)", off
+        )
         if s.kind == "string":
-            self.check(f"!{s.member}.value.assign({t}.s)", off,
-                       f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)")
+            self.check(
+                f"!{s.member}.value.assign({t}.s)",
+                off,
+                f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)",
+            )
         elif s.kind == "double":
             self.emit(f"{s.member}.value = {t}.d;")
         elif s.kind == "status":
@@ -846,27 +904,34 @@ class ScriptCompiler(CodeWriter):
         else:
             self.emit(f"{s.member}.value = {t}.i;")
         self.emit(f"{s.member}.mark_written();")
-        return Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value", None,
-                   s.capacity)
+        return Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value", None, s.capacity)
 
     def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""
         if is_numeric(v.kind):
             if not is_numeric(s.kind):
-                raise ScriptTypeError(f"`{op}` with a number needs a numeric `{key}`, but it holds "
-                                      f"{describe_kind(s.kind)}{_origin_text(s)}", off)
+                raise ScriptTypeError(
+                    f"`{op}` with a number needs a numeric `{key}`, but it holds "
+                    f"{describe_kind(s.kind)}{_origin_text(s)}",
+                    off,
+                )
         elif v.kind == "string":
             if op != "+=":
                 raise ScriptTypeError(f"`{op}` cannot be used with a string", off)
             if s.kind != "string":
-                raise ScriptTypeError(f"`+=` of a string needs a string `{key}`, but it holds "
-                                      f"{describe_kind(s.kind)}{_origin_text(s)}", off)
+                raise ScriptTypeError(
+                    f"`+=` of a string needs a string `{key}`, but it holds {describe_kind(s.kind)}{_origin_text(s)}",
+                    off,
+                )
         else:
             raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(v.kind)}", off)
         self.check(f"!{s.member}.has_value", off, f"`{key}` has no value yet, so `{op}` cannot update it")
         if v.kind == "string":
-            self.check(f"!{s.member}.value.append({v.expr})", off,
-                       f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)")
+            self.check(
+                f"!{s.member}.value.append({v.expr})",
+                off,
+                f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)",
+            )
             return
         cur = Val(s.kind, f"{s.member}.value", None)
         a = self.as_double(cur, off, f"`{key}`")
@@ -878,6 +943,7 @@ class ScriptCompiler(CodeWriter):
 
 
 # ------------------------------------------------------------------ stores
+
 
 def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str) -> None:
     """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind.
@@ -907,8 +973,11 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str
     elif is_numeric(r) and is_numeric(k):
         store_number(c, s, v, off, what, op, guard=True)
         return
-    raise ScriptTypeError(f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
-                          f"{_origin_text(s)}; btgen gives every entry one type", off)
+    raise ScriptTypeError(
+        f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
+        f"{_origin_text(s)}; btgen gives every entry one type",
+        off,
+    )
 
 
 def _origin_text(s: SlotView) -> str:
@@ -918,17 +987,21 @@ def _origin_text(s: SlotView) -> str:
 
 
 def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
-    c.check(f"!{s.member}.has_value", off,
-            f"{what} would store {describe_kind(r)} in the empty entry `{s.key}`, which btgen types as "
-            f"{describe_kind(s.kind)} (BehaviorTree.CPP would change its type): write {describe_kind(s.kind)}")
+    c.check(
+        f"!{s.member}.has_value",
+        off,
+        f"{what} would store {describe_kind(r)} in the empty entry `{s.key}`, which btgen types as "
+        f"{describe_kind(s.kind)} (BehaviorTree.CPP would change its type): write {describe_kind(s.kind)}",
+    )
 
 
 def store_same(c, s: SlotView, v: Val, off: int) -> None:
     if s.kind == "string":
         if v.literal is not None and len(str(v.literal).encode("utf-8")) > s.capacity:
             raise ScriptTypeError(overflow_message(str(v.literal), s.key, s.capacity), off)
-        c.check(f"!{s.member}.value.assign({v.expr})", off,
-                f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)")
+        c.check(
+            f"!{s.member}.value.assign({v.expr})", off, f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)"
+        )
     elif is_queue(s.kind):
         raise ScriptTypeError(f"a script cannot copy the queue `{s.key}`", off)
     else:
@@ -944,8 +1017,11 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
                 values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
             except values.ConversionError as e:
                 raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
-        c.errc_check(f"btgen::port::parse_queue({v.expr}, {s.member}.value)", off,
-                     f"{what}: the string is not a valid {decl} of at most {s.capacity} elements")
+        c.errc_check(
+            f"btgen::port::parse_queue({v.expr}, {s.member}.value)",
+            off,
+            f"{what}: the string is not a valid {decl} of at most {s.capacity} elements",
+        )
         return
     if v.literal is not None:
         try:
@@ -988,8 +1064,11 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         c.emit(f"double {t} = 0.0;")
         if r == "int":
             c.emit(f"btgen::dyn::Ref {t}r;")
-            c.dyn_call(f"btgen::dyn::store_into(btgen::dyn::of_int({v.expr}), btgen::dyn::of_double(0.0), "
-                       f"{cpp_view(op)}, {cpp_view(s.key)}, {t}r, dm)", off)
+            c.dyn_call(
+                f"btgen::dyn::store_into(btgen::dyn::of_int({v.expr}), btgen::dyn::of_double(0.0), "
+                f"{cpp_view(op)}, {cpp_view(s.key)}, {t}r, dm)",
+                off,
+            )
             c.emit(f"{t} = {t}r.d;")
         else:
             c.emit(f"(void)btgen::script::num({v.expr}, {t});")
@@ -999,20 +1078,29 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
     c.emit(f"std::int64_t {n} = 0;")
     if r == "double":
         c.emit(f"btgen::dyn::Ref {n}r;")
-        c.dyn_call(f"btgen::dyn::store_into(btgen::dyn::of_double({v.expr}), btgen::dyn::of_int(0), "
-                   f"{cpp_view(op)}, {cpp_view(s.key)}, {n}r, dm)", off)
+        c.dyn_call(
+            f"btgen::dyn::store_into(btgen::dyn::of_double({v.expr}), btgen::dyn::of_int(0), "
+            f"{cpp_view(op)}, {cpp_view(s.key)}, {n}r, dm)",
+            off,
+        )
         c.emit(f"{n} = {n}r.i;")
     else:
         c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
     if k == "int":
         c.emit(f"{s.member}.value = {n};")
     elif k == "bool":
-        c.errc_check(f"btgen::script::as_bool({n}, {s.member}.value)", off,
-                     f"{what}: `{s.key}` holds a bool, and the value is neither 0 nor 1 (BehaviorTree.CPP would "
-                     f"change its type)")
+        c.errc_check(
+            f"btgen::script::as_bool({n}, {s.member}.value)",
+            off,
+            f"{what}: `{s.key}` holds a bool, and the value is neither 0 nor 1 (BehaviorTree.CPP would "
+            f"change its type)",
+        )
     else:
-        c.errc_check(f"btgen::script::as_status({n}, {s.member}.value)", off,
-                     f"{what}: `{s.key}` holds a NodeStatus, and the value is no status number (0 to 4)")
+        c.errc_check(
+            f"btgen::script::as_status({n}, {s.member}.value)",
+            off,
+            f"{what}: `{s.key}` holds a NodeStatus, and the value is no status number (0 to 4)",
+        )
 
 
 def dyn_slot_bound(s: SlotView) -> int:

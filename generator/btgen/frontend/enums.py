@@ -13,6 +13,7 @@ the same way: the parsed scripts get the values as literals (``apply``), and str
 conversions consult the table at run time (the interpreter's evaluator; the generated
 code's ``detail::kScriptingEnums``).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -25,7 +26,7 @@ from btgen.lang import script as sc
 from btgen.lang.model import Attr, Mission, Node
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-_INT32 = (-(2 ** 31), 2 ** 31 - 1)
+_INT32 = (-(2**31), 2**31 - 1)
 
 Enums = tuple[tuple[str, int], ...]
 
@@ -43,8 +44,9 @@ def parse_declaration(text: str) -> list[tuple[str, int]]:
     """``Type=NAME[=VALUE],NAME[=VALUE],...`` -> [(NAME, value), ...]."""
     type_name, eq, rest = text.partition("=")
     if not eq or not _NAME.match(type_name.strip()):
-        raise EnumSyntaxError(f"`{text}` is not an enum declaration: write Type=NAME,NAME,... "
-                              f"(for example Color=RED,GREEN,BLUE)")
+        raise EnumSyntaxError(
+            f"`{text}` is not an enum declaration: write Type=NAME,NAME,... (for example Color=RED,GREEN,BLUE)"
+        )
     out: list[tuple[str, int]] = []
     value = -1
     column = len(type_name) + 2
@@ -52,19 +54,24 @@ def parse_declaration(text: str) -> list[tuple[str, int]]:
         name, eq, number = item.partition("=")
         name = name.strip()
         if not _NAME.match(name):
-            raise EnumSyntaxError(f"`{name or item}` in enum `{type_name.strip()}` is not a name "
-                                  f"(letters, digits and _, not starting with a digit)", column)
+            raise EnumSyntaxError(
+                f"`{name or item}` in enum `{type_name.strip()}` is not a name "
+                f"(letters, digits and _, not starting with a digit)",
+                column,
+            )
         if eq:
             try:
                 value = int(number.strip(), 0)
             except ValueError:
-                raise EnumSyntaxError(f"the value of `{name}` in enum `{type_name.strip()}` is not an integer: "
-                                      f"`{number.strip()}`", column) from None
+                raise EnumSyntaxError(
+                    f"the value of `{name}` in enum `{type_name.strip()}` is not an integer: `{number.strip()}`", column
+                ) from None
         else:
             value += 1
         if not _INT32[0] <= value <= _INT32[1]:
-            raise EnumSyntaxError(f"the value of `{name}` ({value}) does not fit an int "
-                                  f"(registerScriptingEnum takes an int)", column)
+            raise EnumSyntaxError(
+                f"the value of `{name}` ({value}) does not fit an int (registerScriptingEnum takes an int)", column
+            )
         out.append((name, value))
         column += len(item) + 1
     return out
@@ -88,7 +95,9 @@ def load(declarations: Sequence[str] = (), files: Sequence[str] = ()) -> Enums:
             with open(path, encoding="utf-8") as f:
                 lines = f.read().splitlines()
         except (OSError, UnicodeDecodeError) as e:
-            problems.append(Diagnostic(Loc(path, 1, 1), f"cannot read the enums file: {getattr(e, 'strerror', e) or e}"))
+            problems.append(
+                Diagnostic(Loc(path, 1, 1), f"cannot read the enums file: {getattr(e, 'strerror', e) or e}")
+            )
             continue
         for number, line in enumerate(lines, 1):
             text = line.split("#", 1)[0]
@@ -109,7 +118,7 @@ def load(declarations: Sequence[str] = (), files: Sequence[str] = ()) -> Enums:
             problems.append(Diagnostic(Loc("--enum", 1, e.column), e.message))
             continue
         if problem:
-            problems.append(Diagnostic(Loc("--enum", 1, 1), problem[len("--enum: "):]))
+            problems.append(Diagnostic(Loc("--enum", 1, 1), problem[len("--enum: ") :]))
     if problems:
         raise UserError(problems)
     return tuple(table.items())
@@ -142,14 +151,19 @@ def _substitute(e, table: dict[str, int]):
 
 
 def _attrs(attrs: tuple[Attr, ...], table: dict[str, int]) -> tuple[Attr, ...]:
-    return tuple(dataclasses.replace(a, script=_substitute(a.script, table)) if a.script is not None else a
-                 for a in attrs)
+    return tuple(
+        dataclasses.replace(a, script=_substitute(a.script, table)) if a.script is not None else a for a in attrs
+    )
 
 
 def _node(node: Node, table: dict[str, int]) -> Node:
-    return dataclasses.replace(node, ports=_attrs(node.ports, table), pre=_attrs(node.pre, table),
-                               post=_attrs(node.post, table),
-                               children=tuple(_node(c, table) for c in node.children))
+    return dataclasses.replace(
+        node,
+        ports=_attrs(node.ports, table),
+        pre=_attrs(node.pre, table),
+        post=_attrs(node.post, table),
+        children=tuple(_node(c, table) for c in node.children),
+    )
 
 
 def apply(mission: Mission, enums: Enums) -> Mission:

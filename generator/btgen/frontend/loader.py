@@ -6,6 +6,7 @@
 Every problem becomes a diagnostic at `path:line:col`; all problems of a
 mission are reported together.
 """
+
 from __future__ import annotations
 
 import os
@@ -44,8 +45,9 @@ _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 # Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
 # (4.6.2 reads <Action/> as the explicit form and asks for its ID attribute).
-RESERVED_MODEL_IDS = frozenset({"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition",
-                                "Control", "Decorator", "SubTree"})
+RESERVED_MODEL_IDS = frozenset(
+    {"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition", "Control", "Decorator", "SubTree"}
+)
 _MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
 
 
@@ -90,12 +92,21 @@ class _Loader:
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
         tree_ids = self._check_tree_ids()
-        trees = tuple(TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
-                      for tid, elem, src in self.tree_elems if tid in tree_ids)
+        trees = tuple(
+            TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
+            for tid, elem, src in self.tree_elems
+            if tid in tree_ids
+        )
         self._check_subtree_cycles(trees)
         self.sink.raise_if_errors()
-        mission = Mission(self.path, trees, main, tuple(self.models), tuple(self.files),
-                          tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")))
+        mission = Mission(
+            self.path,
+            trees,
+            main,
+            tuple(self.models),
+            tuple(self.files),
+            tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
+        )
         self._check_instance_count(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
@@ -110,11 +121,15 @@ class _Loader:
             if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
                 q = etree.QName(root.tag)
                 shown = f"{root.prefix}:{q.localname}" if root.prefix else q.localname
-                raise UserError.at(src.loc(root), f"the root element <{shown}> is in namespace {q.namespace}; "
-                                                  f"BehaviorTree.CPP missions use no namespaces (remove the "
-                                                  f"xmlns declaration)")
-            raise UserError.at(src.loc(root), f"the root element is <{root.tag}>; a mission starts with "
-                                              f"<root BTCPP_format=\"4\">")
+                raise UserError.at(
+                    src.loc(root),
+                    f"the root element <{shown}> is in namespace {q.namespace}; "
+                    f"BehaviorTree.CPP missions use no namespaces (remove the "
+                    f"xmlns declaration)",
+                )
+            raise UserError.at(
+                src.loc(root), f'the root element is <{root.tag}>; a mission starts with <root BTCPP_format="4">'
+            )
         from btgen.frontend.xsd import validate_structure
 
         errors = validate_structure(src)
@@ -124,9 +139,10 @@ class _Loader:
         if fmt is None:
             self.sink.warning(src.loc(root), "<root> has no BTCPP_format attribute; reading it as format 4")
         elif fmt != "4":
-            self.sink.error(src.value_loc(root, "BTCPP_format"),
-                            f"BTCPP_format=\"{fmt}\" is not supported; btgen reads BehaviorTree.CPP v4 files "
-                            f"(BTCPP_format=\"4\")")
+            self.sink.error(
+                src.value_loc(root, "BTCPP_format"),
+                f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
+            )
         for child in root:
             if not isinstance(child.tag, str):
                 continue
@@ -151,8 +167,10 @@ class _Loader:
         self.files.append(path)
         root = src.root
         if root.tag != "root":
-            self.sink.error(src.loc(root), f"the root element of a models file is <{root.tag}>; it must be <root> "
-                                           f"holding only <TreeNodesModel>")
+            self.sink.error(
+                src.loc(root),
+                f"the root element of a models file is <{root.tag}>; it must be <root> holding only <TreeNodesModel>",
+            )
             return
         from btgen.frontend.xsd import validate_structure
 
@@ -166,15 +184,20 @@ class _Loader:
             if child.tag == "TreeNodesModel":
                 self._read_models(child, src)
             else:
-                self.sink.error(src.loc(child), f"a models file (--models) holds only <TreeNodesModel>, not "
-                                                f"<{child.tag}>; pass a mission as the mission, or include it "
-                                                f"with <include path=...>")
+                self.sink.error(
+                    src.loc(child),
+                    f"a models file (--models) holds only <TreeNodesModel>, not "
+                    f"<{child.tag}>; pass a mission as the mission, or include it "
+                    f"with <include path=...>",
+                )
 
     def _include(self, elem: etree._Element, src: Source, stack: tuple[str, ...]) -> None:
         loc = src.loc(elem)
         if elem.get("ros_pkg") is not None:
-            self.sink.error(src.attr_loc(elem, "ros_pkg"), "<include ros_pkg=...> needs ROS; give a path relative "
-                                                           "to this file instead")
+            self.sink.error(
+                src.attr_loc(elem, "ros_pkg"),
+                "<include ros_pkg=...> needs ROS; give a path relative to this file instead",
+            )
             return
         rel = elem.get("path")
         base_real = os.path.dirname(stack[-1])
@@ -182,17 +205,22 @@ class _Loader:
         target_real = os.path.realpath(os.path.join(base_real, rel))
         target_shown = os.path.normpath(os.path.join(base_shown, rel))
         if target_real in stack:
-            chain = " -> ".join([os.path.basename(p) for p in stack[stack.index(target_real):]] +
-                                [os.path.basename(target_real)])
+            chain = " -> ".join(
+                [os.path.basename(p) for p in stack[stack.index(target_real) :]] + [os.path.basename(target_real)]
+            )
             self.sink.error(src.value_loc(elem, "path"), f"include cycle: {chain}")
             return
         if len(stack) >= MAX_INCLUDE_DEPTH:
             self.sink.error(loc, f"includes nested deeper than {MAX_INCLUDE_DEPTH} files")
             return
         if not os.path.isfile(target_real):
-            why = ("is a directory, not a mission file" if os.path.isdir(target_real) else
-                   "is not a regular file" if os.path.exists(target_real) else
-                   f"not found (looked for {target_shown})")
+            why = (
+                "is a directory, not a mission file"
+                if os.path.isdir(target_real)
+                else "is not a regular file"
+                if os.path.exists(target_real)
+                else f"not found (looked for {target_shown})"
+            )
             self.sink.error(src.value_loc(elem, "path"), f"included file `{rel}` {why}")
             return
         if target_shown in self.files:
@@ -210,21 +238,34 @@ class _Loader:
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
             if mid in BUILTINS:
-                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is a built-in node of BehaviorTree.CPP; "
-                                                         f"remove it from TreeNodesModel")
+                self.sink.error(
+                    src.value_loc(m, "ID"),
+                    f"`{mid}` is a built-in node of BehaviorTree.CPP; remove it from TreeNodesModel",
+                )
                 continue
             # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
             bad = _ID_FORBIDDEN.search(mid or "") if kind != "SubTree" else None
             if bad:
-                what = {" ": "a space", "\t": "a tab", "\n": "a line break", "\r": "a carriage return",
-                        '"': "`\"`", "\\": "`\\`"}.get(bad.group(0), "white space")
-                self.sink.error(src.value_loc(m, "ID"), f"node ID `{mid}` contains {what}: node IDs contain no "
-                                                         f"white space, `\"` or `\\` (they appear unquoted in "
-                                                         f"status traces)")
+                what = {
+                    " ": "a space",
+                    "\t": "a tab",
+                    "\n": "a line break",
+                    "\r": "a carriage return",
+                    '"': '`"`',
+                    "\\": "`\\`",
+                }.get(bad.group(0), "white space")
+                self.sink.error(
+                    src.value_loc(m, "ID"),
+                    f"node ID `{mid}` contains {what}: node IDs contain no "
+                    f'white space, `"` or `\\` (they appear unquoted in '
+                    f"status traces)",
+                )
                 continue
             if mid in RESERVED_MODEL_IDS and kind != "SubTree":
-                self.sink.error(src.value_loc(m, "ID"), f"`{mid}` cannot be a node ID: <{mid}> is an element "
-                                                         f"of the file format itself")
+                self.sink.error(
+                    src.value_loc(m, "ID"),
+                    f"`{mid}` cannot be a node ID: <{mid}> is an element of the file format itself",
+                )
                 continue
             ports: list[PortSpec] = []
             for p in m:
@@ -241,9 +282,12 @@ class _Loader:
                 # only a declaration that differs is an error.
                 conflict = model_conflict(known[mid], spec)
                 if conflict:
-                    self.sink.error(src.value_loc(m, "ID"), f"`{mid}` is declared twice in TreeNodesModel and "
-                                                             f"the declarations differ: {conflict} (first at "
-                                                             f"{known[mid].loc})")
+                    self.sink.error(
+                        src.value_loc(m, "ID"),
+                        f"`{mid}` is declared twice in TreeNodesModel and "
+                        f"the declarations differ: {conflict} (first at "
+                        f"{known[mid].loc})",
+                    )
                 continue
             known[mid] = spec
             self.models.append(spec)
@@ -252,8 +296,9 @@ class _Loader:
         name = p.get("name")
         loc = src.value_loc(p, "name")
         if not _PORT_NAME_RE.match(name):
-            self.sink.error(loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, "
-                                 f"not starting with a digit")
+            self.sink.error(
+                loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, not starting with a digit"
+            )
             return None
         if name in RESERVED_PORT_NAMES:
             self.sink.error(loc, f"`{name}` is reserved and cannot be a port name (in `{mid}`)")
@@ -286,8 +331,9 @@ class _Loader:
             seen[tid] = src.loc(elem)
             ok.add(tid)
         # The first definition wins; a duplicate is dropped (and reported).
-        self.tree_elems = [(t, e, s) for i, (t, e, s) in enumerate(self.tree_elems)
-                           if t not in [x[0] for x in self.tree_elems[:i]]]
+        self.tree_elems = [
+            (t, e, s) for i, (t, e, s) in enumerate(self.tree_elems) if t not in [x[0] for x in self.tree_elems[:i]]
+        ]
         return ok
 
     def _main_tree(self, src: Source) -> str:
@@ -296,8 +342,9 @@ class _Loader:
         if self.main_tree_override is not None:
             main = self.main_tree_override
             if main not in ids:
-                self.sink.error(src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID"
-                                               f"{suggestion(main, ids)}")
+                self.sink.error(
+                    src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}"
+                )
             return main
         main = root.get("main_tree_to_execute")
         if main is None:
@@ -306,14 +353,18 @@ class _Loader:
             if not ids:
                 self.sink.error(src.loc(root), "the mission defines no <BehaviorTree>")
                 return ""
-            self.sink.error(src.loc(root), f"the mission defines {len(set(ids))} BehaviorTrees; say which one "
-                                           f"runs with main_tree_to_execute=\"...\" or --main-tree (one of "
-                                           f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})")
+            self.sink.error(
+                src.loc(root),
+                f"the mission defines {len(set(ids))} BehaviorTrees; say which one "
+                f'runs with main_tree_to_execute="..." or --main-tree (one of '
+                f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})",
+            )
             return ""
         if main not in ids:
-            self.sink.error(src.value_loc(root, "main_tree_to_execute"),
-                            f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID"
-                            f"{suggestion(main, ids)}")
+            self.sink.error(
+                src.value_loc(root, "main_tree_to_execute"),
+                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}",
+            )
         return main
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
@@ -354,8 +405,11 @@ class _Loader:
             elif aname in METADATA_ATTRIBUTES:
                 continue
             elif aname.startswith("_") or aname == "ID":
-                specials = [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")] + list(METADATA_ATTRIBUTES) + \
-                    (["_autoremap"] if tag == "SubTree" else [])
+                specials = (
+                    [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
+                    + list(METADATA_ATTRIBUTES)
+                    + (["_autoremap"] if tag == "SubTree" else [])
+                )
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
@@ -368,17 +422,21 @@ class _Loader:
             self._check_children(spec, children, loc, node_id, tag)
         kind = "SubTree" if tag == "SubTree" else (spec.kind if spec else "Action")
         if tag == "SubTree":
-            return SubTreeNode(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc,
-                               autoremap, target=node_id)
+            return SubTreeNode(
+                node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
+            )
         return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
 
-    def _spec_for(self, tag: str, node_id: str, elem: etree._Element, src: Source,
-                  tree_ids: set[str]) -> Optional[NodeSpec]:
+    def _spec_for(
+        self, tag: str, node_id: str, elem: etree._Element, src: Source, tree_ids: set[str]
+    ) -> Optional[NodeSpec]:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
             if node_id not in tree_ids:
-                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID"
-                                     f"{suggestion(node_id, tree_ids)}")
+                self.sink.error(
+                    loc,
+                    f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
+                )
             return BUILTINS["SubTree"]
         user = {m.id: m for m in self.models}
         spec = BUILTINS.get(node_id) or user.get(node_id)
@@ -386,29 +444,38 @@ class _Loader:
             local = etree.QName(node_id).localname
             shown = f"{elem.prefix}:{local}" if elem.prefix else local
             known = local in BUILTINS or local in user
-            self.sink.error(loc, f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
-                                 f"(it is in {etree.QName(node_id).namespace})"
-                                 + (f"; write <{local}>" if known else ""))
+            self.sink.error(
+                loc,
+                f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
+                f"(it is in {etree.QName(node_id).namespace})" + (f"; write <{local}>" if known else ""),
+            )
             return None
         if spec is None:
             if node_id in tree_ids:
-                self.sink.error(loc, f"`{node_id}` is a BehaviorTree, not a node: "
-                                     f"write <SubTree ID=\"{node_id}\"/>")
+                self.sink.error(loc, f'`{node_id}` is a BehaviorTree, not a node: write <SubTree ID="{node_id}"/>')
                 return None
             hint = did_you_mean(node_id, list(BUILTINS) + list(user))
             where = "built in"
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
-                self.sink.error(loc, f"unknown node `{node_id}`: it is neither built in nor declared in "
-                                     f"TreeNodesModel; `{hint}` is {where} (did you mean it?)")
+                self.sink.error(
+                    loc,
+                    f"unknown node `{node_id}`: it is neither built in nor declared in "
+                    f"TreeNodesModel; `{hint}` is {where} (did you mean it?)",
+                )
             else:
-                self.sink.error(loc, f"unknown node `{node_id}`: it is neither built in nor declared in "
-                                     f"TreeNodesModel (declare it as <Action ID=\"{node_id}\"/> or "
-                                     f"<Condition ID=\"{node_id}\"/>)")
+                self.sink.error(
+                    loc,
+                    f"unknown node `{node_id}`: it is neither built in nor declared in "
+                    f'TreeNodesModel (declare it as <Action ID="{node_id}"/> or '
+                    f'<Condition ID="{node_id}"/>)',
+                )
             return None
         if tag in KINDS and tag != spec.kind:
-            self.sink.error(src.loc(elem), f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} "
-                                           f"{spec.kind}, but is used as <{tag}>")
+            self.sink.error(
+                src.loc(elem),
+                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is used as <{tag}>",
+            )
         return spec
 
     def _bool_attr(self, attr: Attr) -> bool:
@@ -422,16 +489,20 @@ class _Loader:
         try:
             parsed = script_lang.parse_script(attr.value)
         except script_lang.ScriptSyntaxError as e:
-            self.sink.error(src.value_loc(elem, attr.name, e.offset),
-                            f"invalid script in `{attr.name}` of `{node_id}`: {e.message}")
+            self.sink.error(
+                src.value_loc(elem, attr.name, e.offset), f"invalid script in `{attr.name}` of `{node_id}`: {e.message}"
+            )
             return attr
         return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
 
     def _check_key(self, attr: Attr, key: str, what: str) -> bool:
         if not _KEY_RE.match(key):
-            self.sink.error(attr.value_loc, f"`{attr.value}` in {what} is not a valid blackboard key "
-                                            f"(use letters, digits, `_`, optionally `@` first for the root "
-                                            f"blackboard)")
+            self.sink.error(
+                attr.value_loc,
+                f"`{attr.value}` in {what} is not a valid blackboard key "
+                f"(use letters, digits, `_`, optionally `@` first for the root "
+                f"blackboard)",
+            )
             return False
         return True
 
@@ -440,8 +511,9 @@ class _Loader:
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
-            self.sink.error(attr.loc, f"SubTree `{tree_id}` has no port `{attr.name}`"
-                                      f"{suggestion(attr.name, model.port_names)}")
+            self.sink.error(
+                attr.loc, f"SubTree `{tree_id}` has no port `{attr.name}`{suggestion(attr.name, model.port_names)}"
+            )
         if is_remap(attr.value):
             self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
         return attr
@@ -461,8 +533,7 @@ class _Loader:
             self._check_key(attr, remap_key(value, attr.name), what)
             return attr
         if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
-            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: "
-                                            f"write `{{key}}`")
+            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: write `{{key}}`")
             return attr
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
@@ -472,8 +543,11 @@ class _Loader:
             return attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
-            self.sink.error(attr.value_loc, f"{what} is an {port.direction} port and must name a blackboard "
-                                            f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`")
+            self.sink.error(
+                attr.value_loc,
+                f"{what} is an {port.direction} port and must name a blackboard "
+                f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
+            )
             return attr
         try:
             values.convert_from_string(port.type, value, strict=True)
@@ -485,14 +559,21 @@ class _Loader:
         given = {p.name for p in ports}
         for p in spec.ports:
             if p.required and p.name not in given:
-                self.sink.error(loc, f"`{node_id}` needs port `{p.name}`" + (f" ({p.description})" if p.description else ""))
+                self.sink.error(
+                    loc, f"`{node_id}` needs port `{p.name}`" + (f" ({p.description})" if p.description else "")
+                )
 
     def _check_children(self, spec: NodeSpec, children: tuple[Node, ...], loc: Loc, node_id: str, tag: str) -> None:
         n = len(children)
         lo, hi = spec.min_children, spec.max_children
         if n < lo or (hi is not None and n > hi):
-            what = {"Action": "an Action", "Condition": "a Condition", "Control": "a control node",
-                    "Decorator": "a decorator", "SubTree": "a SubTree"}[spec.kind]
+            what = {
+                "Action": "an Action",
+                "Condition": "a Condition",
+                "Control": "a control node",
+                "Decorator": "a decorator",
+                "SubTree": "a SubTree",
+            }[spec.kind]
             has = "no children" if n == 0 else ("1 child" if n == 1 else f"{n} children")
             self.sink.error(loc, f"`{node_id}` is {what} and takes {spec.children_text()}, but has {has}")
 
@@ -515,13 +596,17 @@ class _Loader:
                 if st.target not in by_id:
                     continue
                 if state.get(st.target) == 1:
-                    cycle = path[path.index(st.target):] + [st.target]
+                    cycle = path[path.index(st.target) :] + [st.target]
                     key = tuple(sorted(cycle[:-1]))
                     if key not in reported:
                         reported.add(key)
                         what = "calls itself" if len(cycle) == 2 else "recursion"
-                        self.sink.error(st.loc, f"SubTree {what}: " + " -> ".join(f"`{c}`" for c in cycle)
-                                        + " (BehaviorTree.CPP would recurse without end)")
+                        self.sink.error(
+                            st.loc,
+                            f"SubTree {what}: "
+                            + " -> ".join(f"`{c}`" for c in cycle)
+                            + " (BehaviorTree.CPP would recurse without end)",
+                        )
                 elif state.get(st.target) is None:
                     visit(st.target, path + [st.target])
             state[tid] = 2
@@ -559,9 +644,12 @@ class _Loader:
             return memo[tree_id]
 
         if mission.main_tree and count(mission.main_tree) > MAX_NODES:
-            self.sink.error(mission.main.loc, f"the main tree expands to {count(mission.main_tree)} nodes with its "
-                                              f"SubTrees; BehaviorTree.CPP numbers nodes with 16 bits, so at most "
-                                              f"{MAX_NODES} are allowed")
+            self.sink.error(
+                mission.main.loc,
+                f"the main tree expands to {count(mission.main_tree)} nodes with its "
+                f"SubTrees; BehaviorTree.CPP numbers nodes with 16 bits, so at most "
+                f"{MAX_NODES} are allowed",
+            )
 
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
@@ -589,8 +677,10 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
         if pa.type != pb.type:
             return f"port `{name}` has type `{pa.type}` there, `{pb.type}` here"
         if pa.default != pb.default:
+
             def show(d: Optional[str]) -> str:
                 return "no default" if d is None else f"default `{d}`"
+
             return f"port `{name}` has {show(pa.default)} there, {show(pb.default)} here"
     return ""
 

@@ -11,6 +11,7 @@ and column, 1-based, in characters). Elements come out of lxml in document
 order, which is the order of the start tags, so the i-th element gets the
 i-th start tag's positions.
 """
+
 from __future__ import annotations
 
 import os
@@ -122,7 +123,7 @@ class Source:
                 else:
                     if text.startswith("<![CDATA[", i):
                         end = text.find("]]>", i)
-                        if depth == 0 and text[i + 9:end if end >= 0 else len(text)].strip():
+                        if depth == 0 and text[i + 9 : end if end >= 0 else len(text)].strip():
                             return Loc(self.path, *self._lines.pos(i))
                         i = len(text) if end < 0 else end + 3
                         continue
@@ -170,9 +171,11 @@ def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
             continue
         if c == "!":
             line, col = lines.pos(j)
-            raise UserError.at(Loc(path, line, col),
-                               "document type declarations are not allowed in a mission "
-                               "(entities could expand without bound or read other files)")
+            raise UserError.at(
+                Loc(path, line, col),
+                "document type declarations are not allowed in a mission "
+                "(entities could expand without bound or read other files)",
+            )
         if c == "/":
             depth -= 1
             k = text.find(">", j)
@@ -198,8 +201,9 @@ def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
         self_closing = bool(rest and rest.group(1))
         tags.append(tag)
         if depth + 1 > MAX_DEPTH:  # a self-closing element is a level too (libxml2 counts it)
-            raise UserError.at(tag.loc, f"elements nested deeper than {MAX_DEPTH} levels "
-                                        f"(BehaviorTree.CPP refuses such trees too)")
+            raise UserError.at(
+                tag.loc, f"elements nested deeper than {MAX_DEPTH} levels (BehaviorTree.CPP refuses such trees too)"
+            )
         if not self_closing:
             depth += 1
         i = rest.end() if rest else k
@@ -207,17 +211,24 @@ def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
 
 
 _LIBXML_MSG = [
-    (re.compile(r"Opening and ending tag mismatch: (\S+) line (\d+) and (\S+)"),
-     lambda m: f"closing tag </{m.group(3)}> does not match <{m.group(1)}> opened on line {m.group(2)} "
-               f"(is a closing tag missing?)"),
-    (re.compile(r"Specification mandates value for attribute (\S+)"),
-     lambda m: f"attribute `{m.group(1)}` has no value (attribute names cannot contain spaces)"),
+    (
+        re.compile(r"Opening and ending tag mismatch: (\S+) line (\d+) and (\S+)"),
+        lambda m: (
+            f"closing tag </{m.group(3)}> does not match <{m.group(1)}> opened on line {m.group(2)} "
+            f"(is a closing tag missing?)"
+        ),
+    ),
+    (
+        re.compile(r"Specification mandates value for attribute (\S+)"),
+        lambda m: f"attribute `{m.group(1)}` has no value (attribute names cannot contain spaces)",
+    ),
     (re.compile(r"Attribute (\S+) redefined"), lambda m: f"attribute `{m.group(1)}` appears twice"),
-    (re.compile(r"Premature end of data in tag (\S+) line (\d+)"),
-     lambda m: f"file ends before <{m.group(1)}> opened on line {m.group(2)} is closed"),
-    (re.compile(r"Document is empty"), lambda m: "file is empty: expected <root BTCPP_format=\"4\">"),
-    (re.compile(r"Extra content at the end of the document"),
-     lambda m: "content after the end of the root element"),
+    (
+        re.compile(r"Premature end of data in tag (\S+) line (\d+)"),
+        lambda m: f"file ends before <{m.group(1)}> opened on line {m.group(2)} is closed",
+    ),
+    (re.compile(r"Document is empty"), lambda m: 'file is empty: expected <root BTCPP_format="4">'),
+    (re.compile(r"Extra content at the end of the document"), lambda m: "content after the end of the root element"),
 ]
 
 
@@ -229,17 +240,21 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
     if 1 <= line <= len(lines):
         bad = re.search(r"</\s+(" + _NAME + r")\s*>", lines[line - 1])
         if bad:
-            return UserError.at(Loc(path, line, bad.start() + 1),
-                                f"malformed closing tag `{bad.group(0)}`: no space is allowed after `</` "
-                                f"(write `</{bad.group(1)}>`)")
+            return UserError.at(
+                Loc(path, line, bad.start() + 1),
+                f"malformed closing tag `{bad.group(0)}`: no space is allowed after `</` (write `</{bad.group(1)}>`)",
+            )
     if 1 <= line <= len(lines):
         m = re.search(r"Specification mandates value for attribute (\S+)", msg)
-        spaced = m is not None and re.search(r"\b" + re.escape(m.group(1)) + r"\s+([A-Za-z_][\w]*)\s*=", lines[line - 1])
+        spaced = m is not None and re.search(
+            r"\b" + re.escape(m.group(1)) + r"\s+([A-Za-z_][\w]*)\s*=", lines[line - 1]
+        )
         if m is not None and spaced:
             joined = f"{m.group(1)}_{spaced.group(1)}"
-            return UserError.at(Loc(path, line, spaced.start() + 1),
-                                f"attribute name `{m.group(1)} {spaced.group(1)}` contains a space "
-                                f"(did you mean `{joined}`?)")
+            return UserError.at(
+                Loc(path, line, spaced.start() + 1),
+                f"attribute name `{m.group(1)} {spaced.group(1)}` contains a space (did you mean `{joined}`?)",
+            )
     for pattern, render in _LIBXML_MSG:
         m = pattern.search(msg)
         if m:
@@ -256,8 +271,9 @@ def read_source(path: str, display_path: Optional[str] = None) -> Source:
     try:
         size = os.stat(path).st_size
         if size > MAX_FILE_BYTES:
-            raise UserError.at(Loc(shown, 1, 1), f"file is {size} bytes; missions are limited to "
-                                                 f"{MAX_FILE_BYTES} bytes")
+            raise UserError.at(
+                Loc(shown, 1, 1), f"file is {size} bytes; missions are limited to {MAX_FILE_BYTES} bytes"
+            )
         with open(path, "rb") as f:
             data = f.read(MAX_FILE_BYTES + 1)
     except IsADirectoryError:
@@ -278,25 +294,37 @@ def parse_bytes(data: bytes, path: str) -> Source:
         good = data[: e.start].decode("utf-8")
         line = good.count("\n") + 1
         col = len(good) - (good.rfind("\n") + 1) + 1
-        raise UserError.at(Loc(path, line, col),
-                           f"invalid UTF-8 (byte 0x{data[e.start]:02x}); missions must be UTF-8") from None
+        raise UserError.at(
+            Loc(path, line, col), f"invalid UTF-8 (byte 0x{data[e.start]:02x}); missions must be UTF-8"
+        ) from None
     if not text.strip():
-        raise UserError.at(Loc(path, 1, 1), "file is empty: expected <root BTCPP_format=\"4\">")
+        raise UserError.at(Loc(path, 1, 1), 'file is empty: expected <root BTCPP_format="4">')
     nul = text.find("\x00")
     if nul >= 0:  # (XML allows no NUL; UTF-16 text read as UTF-8 is full of them)
         line, col = _LineIndex(text).pos(nul)
         utf16 = len(text) >= 4 and (text[1] == text[3] == "\x00" or text[0] == text[2] == "\x00")
-        raise UserError.at(Loc(path, line, col),
-                           "NUL bytes: the file looks like UTF-16 without a byte-order mark; missions must be UTF-8"
-                           if utf16 else "a NUL byte (0x00), which XML does not allow; missions must be UTF-8 text")
+        raise UserError.at(
+            Loc(path, line, col),
+            "NUL bytes: the file looks like UTF-16 without a byte-order mark; missions must be UTF-8"
+            if utf16
+            else "a NUL byte (0x00), which XML does not allow; missions must be UTF-8 text",
+        )
     decl = re.match(r"<\?xml[^>]*encoding\s*=\s*[\"']([^\"']+)", text)
     if decl and decl.group(1).replace("-", "").lower() != "utf8":
-        raise UserError.at(Loc(path, 1, decl.start(1) + 1),
-                           f"encoding `{decl.group(1)}` is not supported; missions must be UTF-8")
+        raise UserError.at(
+            Loc(path, 1, decl.start(1) + 1), f"encoding `{decl.group(1)}` is not supported; missions must be UTF-8"
+        )
     lines = _LineIndex(text)
     tags = _scan(path, text, lines)
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, dtd_validation=False,
-                             huge_tree=False, remove_comments=False, remove_pis=True)
+    parser = etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        remove_comments=False,
+        remove_pis=True,
+    )
     try:
         root = etree.fromstring(text.encode("utf-8"), parser)
     except etree.XMLSyntaxError as e:

@@ -1,5 +1,6 @@
 """Leaf nodes: 4.6.2's built-in actions and conditions (``src/actions/``) and the
 scenario-scripted leaves that stand for the robot's own."""
+
 from __future__ import annotations
 
 from typing import Optional
@@ -67,11 +68,11 @@ class SetBlackboardNode(TreeNode):
         key = self.require_input("output_key", "string")
         p = self.ports.get("value")
         if p is None:
-            raise _run_error(self.model.loc, f"`SetBlackboard` \"{self.name}\" needs port `value`")
+            raise _run_error(self.model.loc, f'`SetBlackboard` "{self.name}" needs port `value`')
         try:
             ok = bbmod.set_blackboard(self.bb, str(key), p.raw)
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc("value"), f"`SetBlackboard` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc("value"), f'`SetBlackboard` "{self.name}": {e}') from None
         return SUCCESS if ok is not False else FAILURE
 
 
@@ -85,7 +86,7 @@ class UnsetBlackboardNode(TreeNode):
         try:
             self.bb.unset(str(key))
         except bbmod.BlackboardError as e:
-            raise _run_error(self.port_loc("key"), f"`UnsetBlackboard` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc("key"), f'`UnsetBlackboard` "{self.name}": {e}') from None
         return SUCCESS
 
 

@@ -1,5 +1,6 @@
 """Control nodes as in BehaviorTree.CPP 4.6.2's ``src/controls/``: sequences, fallbacks,
 Parallel, IfThenElse, WhileDoElse and Switch."""
+
 from __future__ import annotations
 
 from typing import Optional
@@ -37,7 +38,7 @@ class ControlNode(TreeNode):
         c.reset_status()
 
     def _child_idle_error(self) -> RunError:
-        return _run_error(self.model.loc, f"a child of `{self.reg_id}` \"{self.name}\" returned IDLE")
+        return _run_error(self.model.loc, f'a child of `{self.reg_id}` "{self.name}" returned IDLE')
 
 
 class _FirstDecidingChildNode(ControlNode):
@@ -263,13 +264,17 @@ class ParallelNode(ControlNode):
         required_success = _threshold(success_threshold, n)
         required_failure = _threshold(failure_threshold, n)
         if n < required_success:
-            raise _run_error(self.port_loc("success_count"),
-                             f"`Parallel` \"{self.name}\" needs {required_success} successes but has only "
-                             f"{n} children: it can never succeed")
+            raise _run_error(
+                self.port_loc("success_count"),
+                f'`Parallel` "{self.name}" needs {required_success} successes but has only '
+                f"{n} children: it can never succeed",
+            )
         if n < required_failure:
-            raise _run_error(self.port_loc("failure_count"),
-                             f"`Parallel` \"{self.name}\" fails after {required_failure} failures but has only "
-                             f"{n} children: it can never fail")
+            raise _run_error(
+                self.port_loc("failure_count"),
+                f'`Parallel` "{self.name}" fails after {required_failure} failures but has only '
+                f"{n} children: it can never fail",
+            )
         self.set_status(RUNNING)
         skipped = 0
         completed = self.completed
@@ -287,7 +292,8 @@ class ParallelNode(ControlNode):
                 elif cs != RUNNING:
                     raise self._child_idle_error()
             if self.success_count >= required_success or (
-                    success_threshold < 0 and self.success_count + skipped >= required_success):
+                success_threshold < 0 and self.success_count + skipped >= required_success
+            ):
                 self.clear()
                 self.reset_children()
                 return SUCCESS
@@ -319,9 +325,11 @@ class ParallelAllNode(ControlNode):
         n = len(children)
         threshold = _threshold(max_failures, n)
         if n < threshold:
-            raise _run_error(self.port_loc("max_failures"),
-                             f"`ParallelAll` \"{self.name}\" fails after {threshold} failures but has only "
-                             f"{n} children: it can never fail")
+            raise _run_error(
+                self.port_loc("max_failures"),
+                f'`ParallelAll` "{self.name}" fails after {threshold} failures but has only '
+                f"{n} children: it can never fail",
+            )
         skipped = 0
         self.set_status(RUNNING)
         completed = self.completed
@@ -420,9 +428,12 @@ class WhileDoElseNode(ControlNode):
 
 
 def _skipped_condition_error(node: TreeNode, cond: TreeNode) -> RunError:
-    return _run_error(cond.model.loc, f"the condition of `{node.reg_id}` \"{node.name}\" (`{cond.reg_id}` "
-                                      f"\"{cond.name}\") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a "
-                                      f"condition child must not be skippable")
+    return _run_error(
+        cond.model.loc,
+        f'the condition of `{node.reg_id}` "{node.name}" (`{cond.reg_id}` '
+        f'"{cond.name}") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a '
+        f"condition child must not be skippable",
+    )
 
 
 def _to_int_prefix(text: str) -> Optional[int]:
@@ -436,7 +447,7 @@ def _to_int_prefix(text: str) -> Optional[int]:
     if j == i:
         return None
     value = int(text[:j])
-    if value < -2**31 or value > 2**31 - 1:
+    if value < -(2**31) or value > 2**31 - 1:
         return None
     return value
 
@@ -449,8 +460,11 @@ def _to_real_prefix(text: str) -> Optional[float]:
     global _FLOAT_RE
     if _FLOAT_RE is None:
         import re
-        _FLOAT_RE = re.compile(r"-?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)",
-                               re.IGNORECASE)
+
+        _FLOAT_RE = re.compile(
+            r"-?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)",
+            re.IGNORECASE,
+        )
     m = _FLOAT_RE.match(text)
     if not m:
         return None

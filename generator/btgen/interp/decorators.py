@@ -1,4 +1,5 @@
 """Decorator nodes as in BehaviorTree.CPP 4.6.2's ``src/decorators/``, plus the SubTree node."""
+
 from __future__ import annotations
 
 from typing import Optional
@@ -80,7 +81,7 @@ class InverterNode(DecoratorNode):
             c.emit((c.prefix, _TRANS[FAILURE][IDLE]))
             return SUCCESS
         if cs == IDLE:
-            raise _run_error(self.model.loc, f"the child of `Inverter` \"{self.name}\" returned IDLE")
+            raise _run_error(self.model.loc, f'the child of `Inverter` "{self.name}" returned IDLE')
         return cs
 
     def execute_tick(self) -> int:
@@ -103,7 +104,7 @@ class InverterNode(DecoratorNode):
             c.emit((c.prefix, _TRANS[FAILURE][IDLE]))
             new = SUCCESS
         elif cs == IDLE:
-            raise _run_error(self.model.loc, f"the child of `Inverter` \"{self.name}\" returned IDLE")
+            raise _run_error(self.model.loc, f'the child of `Inverter` "{self.name}" returned IDLE')
         else:
             return cs  # RUNNING (already stored) or SKIPPED (never stored)
         self.status = new
@@ -190,7 +191,7 @@ class RepeatNode(DecoratorNode):
                 self.reset_child()
                 return SKIPPED
             else:
-                raise _run_error(self.model.loc, f"the child of `Repeat` \"{self.name}\" returned IDLE")
+                raise _run_error(self.model.loc, f'the child of `Repeat` "{self.name}" returned IDLE')
         self.count = 0
         return SUCCESS
 
@@ -233,8 +234,7 @@ class RetryNode(DecoratorNode):
                 self.reset_child()
                 return SKIPPED
             else:
-                raise _run_error(self.model.loc, f"the child of `RetryUntilSuccessful` \"{self.name}\" "
-                                                 f"returned IDLE")
+                raise _run_error(self.model.loc, f'the child of `RetryUntilSuccessful` "{self.name}" returned IDLE')
         self.tries = 0
         return FAILURE
 
@@ -373,8 +373,7 @@ class LoopNode(DecoratorNode):
             try:
                 self.static_queue = values.convert_from_string(f"queue<{elem}>", p.raw)  # type: ignore
             except values.ConversionError as e:
-                raise _run_error(self.port_loc("queue"), f"port `queue` of `{reg_id}` \"{self.name}\": {e}") \
-                    from None
+                raise _run_error(self.port_loc("queue"), f'port `queue` of `{reg_id}` "{self.name}": {e}') from None
 
     def tick(self) -> int:
         popped = False
@@ -414,13 +413,14 @@ class LoopNode(DecoratorNode):
         if entry is None:
             return None
         if entry.value is None:
-            raise _run_error(self.port_loc("queue"), f"port `queue` of `{self.reg_id}` \"{self.name}\" reads "
-                                                     f"blackboard entry `{key}`, which has no value yet")
+            raise _run_error(
+                self.port_loc("queue"),
+                f'port `queue` of `{self.reg_id}` "{self.name}" reads blackboard entry `{key}`, which has no value yet',
+            )
         try:
             return values.cast(entry.value, f"queue<{self.elem}>")
         except values.ConversionError as e:
-            raise _run_error(self.port_loc("queue"), f"port `queue` of `{self.reg_id}` \"{self.name}\": {e}") \
-                from None
+            raise _run_error(self.port_loc("queue"), f'port `queue` of `{self.reg_id}` "{self.name}": {e}') from None
 
 
 class EntryUpdatedDecorator(TreeNode):

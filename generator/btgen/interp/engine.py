@@ -26,6 +26,7 @@ BehaviorTree.CPP's sources: ``tree.py`` (the TreeNode base, statuses, the run
 context), ``controls.py``, ``decorators.py`` and ``actions.py``; this module
 builds the tree from them and runs it.
 """
+
 from __future__ import annotations
 
 import sys
@@ -147,8 +148,13 @@ class _Builder:
         for a in model.ports:
             ps = spec.port(a.name) if spec is not None else None
             raw = a.value
-            if raw == "" and ps is not None and ps.default is not None and ps.type not in ("string", "any") \
-                    and not values.is_opaque_type(ps.type):
+            if (
+                raw == ""
+                and ps is not None
+                and ps.default is not None
+                and ps.type not in ("string", "any")
+                and not values.is_opaque_type(ps.type)
+            ):
                 raw = ps.default  # TreeNode::getInput: an empty value reads the model's (non-string) default
             ports[a.name] = _Port(a.name, raw, a, ps)
         if spec is not None:
@@ -179,8 +185,7 @@ class _Builder:
             cls = ScriptedCondition if leaf_kind(self.mission, model) == "Condition" else ScriptedAction
             node = cls(rt, model, bb, model.id, ports)
         else:
-            raise _run_error(model.loc, user_node_message(model.id, user_node_kind(self.mission, model)
-                                                          or "node"))
+            raise _run_error(model.loc, user_node_message(model.id, user_node_kind(self.mission, model) or "node"))
         self.nodes.append(node)
         kids = [self._node(c, bb) for c in model.children]
         if isinstance(node, ControlNode):
@@ -212,8 +217,11 @@ class _Builder:
             for ps in model_spec.ports:
                 if ps.name not in given:
                     if ps.default is None:
-                        raise _run_error(model.loc, f"SubTree `{model.target}` declares port `{ps.name}` "
-                                                    f"without a default, and this instance does not remap it")
+                        raise _run_error(
+                            model.loc,
+                            f"SubTree `{model.target}` declares port `{ps.name}` "
+                            f"without a default, and this instance does not remap it",
+                        )
                     remap.append((ps.name, ps.default, None))
         try:
             return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)

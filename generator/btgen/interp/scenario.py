@@ -12,6 +12,7 @@ every syntax problem as ``path:line:col: error: ...``. :func:`check_scenario`
 does the checks that need the mission: no Condition may return RUNNING, and a
 ``leaf`` line that names no leaf of the mission is a warning.
 """
+
 from __future__ import annotations
 
 import os
@@ -76,7 +77,9 @@ def _tokens(path: str, lineno: int, line: str) -> list[Token]:
 
 
 def _status_error(tok: Token) -> str:
-    hint = did_you_mean(tok.text.upper(), STATUSES) if tok.text.upper() != tok.text else did_you_mean(tok.text, STATUSES)
+    hint = (
+        did_you_mean(tok.text.upper(), STATUSES) if tok.text.upper() != tok.text else did_you_mean(tok.text, STATUSES)
+    )
     extra = f" (did you mean `{hint}`?)" if hint else ""
     if tok.text == "SKIPPED":
         return "`SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING"
@@ -89,13 +92,16 @@ def _read_text(path: str) -> str:
     try:
         size = os.stat(path).st_size
         if size > MAX_SCENARIO_BYTES:
-            raise UserError.at(Loc(path, 1, 1), f"file is {size} bytes; scenarios are limited to "
-                                                f"{MAX_SCENARIO_BYTES} bytes")
+            raise UserError.at(
+                Loc(path, 1, 1), f"file is {size} bytes; scenarios are limited to {MAX_SCENARIO_BYTES} bytes"
+            )
         with open(path, "rb") as f:
             data = f.read(MAX_SCENARIO_BYTES + 1)
         if len(data) > MAX_SCENARIO_BYTES:  # a pipe or device: its size shows only while reading
-            raise UserError.at(Loc(path, 1, 1), f"file is larger than {MAX_SCENARIO_BYTES} bytes; scenarios are "
-                                                f"limited to {MAX_SCENARIO_BYTES} bytes")
+            raise UserError.at(
+                Loc(path, 1, 1),
+                f"file is larger than {MAX_SCENARIO_BYTES} bytes; scenarios are limited to {MAX_SCENARIO_BYTES} bytes",
+            )
     except IsADirectoryError:
         raise UserError.at(Loc(path, 1, 1), "is a directory, not a scenario file") from None
     except OSError as e:
@@ -108,8 +114,9 @@ def _read_text(path: str) -> str:
         good = data[: e.start].decode("utf-8")
         line = good.count("\n") + 1
         col = len(good) - (good.rfind("\n") + 1) + 1
-        raise UserError.at(Loc(path, line, col),
-                           f"invalid UTF-8 (byte 0x{data[e.start]:02x}); scenarios must be UTF-8") from None
+        raise UserError.at(
+            Loc(path, line, col), f"invalid UTF-8 (byte 0x{data[e.start]:02x}); scenarios must be UTF-8"
+        ) from None
 
 
 def parse_scenario(path: str) -> Scenario:
@@ -180,20 +187,27 @@ def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
                 sink.error(name.loc, f"leaf `{name.text}` is listed twice (first at line {leaves[name.text].loc.line})")
                 continue
             if not sts:
-                sink.error(name.loc,
-                           f"leaf `{name.text}` has no status: list one or more of SUCCESS, FAILURE, RUNNING")
+                sink.error(name.loc, f"leaf `{name.text}` has no status: list one or more of SUCCESS, FAILURE, RUNNING")
                 continue
             bad = [t for t in sts if t.text not in STATUSES]
             for t in bad:
                 sink.error(t.loc, _status_error(t))
-            leaves[name.text] = LeafScript(name.text, tuple(t.text for t in sts), name.loc,
-                                           tuple(t.loc for t in sts))
+            leaves[name.text] = LeafScript(name.text, tuple(t.text for t in sts), name.loc, tuple(t.loc for t in sts))
         else:
-            sink.error(kw.loc, f"unknown keyword `{kw.text}`: a line starts with ticks, default, leaf or clock_ms"
-                               f"{suggestion(kw.text, KEYWORDS)}")
+            sink.error(
+                kw.loc,
+                f"unknown keyword `{kw.text}`: a line starts with ticks, default, leaf or clock_ms"
+                f"{suggestion(kw.text, KEYWORDS)}",
+            )
     sink.raise_if_errors()
-    return Scenario(path, ticks if ticks is not None else DEFAULT_TICKS, default or "SUCCESS",
-                    tuple(leaves.values()), clock if clock is not None else 0, default_loc)
+    return Scenario(
+        path,
+        ticks if ticks is not None else DEFAULT_TICKS,
+        default or "SUCCESS",
+        tuple(leaves.values()),
+        clock if clock is not None else 0,
+        default_loc,
+    )
 
 
 def _one_int(sink: DiagnosticSink, kw: Token, args: list[Token], what: str, meaning: str) -> Optional[int]:
@@ -233,8 +247,10 @@ def closest_leaf(word: str, names: list[str]) -> Optional[str]:
     a name equal but for ASCII case, else the first of the closest names (in mission order) at
     most a third of whose bytes differ. (The generic did_you_mean gave `b` for `bb` where the
     runner gave none: hostile names in the random missions found it.)"""
+
     def upper(b: bytes) -> bytes:
         return bytes(c - 32 if 97 <= c <= 122 else c for c in b)
+
     w = word.encode("utf-8", "surrogatepass")
     encoded = [(n, n.encode("utf-8", "surrogatepass")) for n in names]
     for n, b in encoded:
@@ -264,38 +280,52 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
     for script in scenario.leaves:
         found = uses.get(script.name)
         if not found and script.name in builtin_names:
-            sink.warning(script.loc, f"`{script.name}` is a built-in node of BehaviorTree.CPP and keeps its "
-                                     f"built-in behaviour; its line is ignored")
+            sink.warning(
+                script.loc,
+                f"`{script.name}` is a built-in node of BehaviorTree.CPP and keeps its "
+                f"built-in behaviour; its line is ignored",
+            )
             continue
         unused_tree = _tree_with_leaf(mission, script.name) if not found else None
         if unused_tree is not None:
-            sink.warning(script.loc, f"leaf `{script.name}` is only in BehaviorTree `{unused_tree}`, which the "
-                                     f"main tree `{mission.main_tree}` does not run; its line is ignored")
+            sink.warning(
+                script.loc,
+                f"leaf `{script.name}` is only in BehaviorTree `{unused_tree}`, which the "
+                f"main tree `{mission.main_tree}` does not run; its line is ignored",
+            )
             continue
         if not found:
             hint = closest_leaf(script.name, list(uses))
             extra = f" (did you mean `{hint}`?)" if hint else ""
-            sink.warning(script.loc, f"leaf `{script.name}` matches no Action or Condition of the mission; "
-                                     f"its line is ignored{extra}")
+            sink.warning(
+                script.loc,
+                f"leaf `{script.name}` matches no Action or Condition of the mission; its line is ignored{extra}",
+            )
             continue
         cond = next((u for u in found if u.kind == "Condition"), None)
         if cond is not None:
             for status, loc in zip(script.statuses, script.status_locs):
                 if status == "RUNNING":
-                    sink.error(loc, f"`{script.name}` is a Condition and cannot return RUNNING "
-                                    f"(a Condition answers in one tick; its Condition node is at {cond.node.loc})")
+                    sink.error(
+                        loc,
+                        f"`{script.name}` is a Condition and cannot return RUNNING "
+                        f"(a Condition answers in one tick; its Condition node is at {cond.node.loc})",
+                    )
                     break
     if scenario.default == "RUNNING":
-        reached = [(name, next(u for u in found if u.kind == "Condition"))
-                   for name, found in uses.items()
-                   if scenario.leaf(name) is None and any(u.kind == "Condition" for u in found)]
+        reached = [
+            (name, next(u for u in found if u.kind == "Condition"))
+            for name, found in uses.items()
+            if scenario.leaf(name) is None and any(u.kind == "Condition" for u in found)
+        ]
         if reached:
             listed = ", ".join(f"`{name}` ({use.node.loc})" for name, use in reached)
             what = "the Condition" if len(reached) == 1 else "the Conditions"
             each = "it its" if len(reached) == 1 else "each its"
-            sink.error(scenario.default_loc or Loc(scenario.path, 1, 1),
-                       f"`default RUNNING` reaches {what} {listed}, which cannot return RUNNING; "
-                       f"give {each} own `leaf` line")
+            sink.error(
+                scenario.default_loc or Loc(scenario.path, 1, 1),
+                f"`default RUNNING` reaches {what} {listed}, which cannot return RUNNING; give {each} own `leaf` line",
+            )
     sink.raise_if_errors()
     return list(sink.items)
 

@@ -1,5 +1,6 @@
 """The interpreter's node base: statuses, the run context, ports and 4.6.2's ``TreeNode``
 (pre/post conditions, status changes and the trace they write)."""
+
 from __future__ import annotations
 
 from typing import Callable, Optional
@@ -85,7 +86,7 @@ def _raw_attr_value(value_loc: Loc) -> Optional[str]:
     if start < 1 or start > len(line) or line[start - 1] not in "\"'":
         return None
     quote = line[start - 1]
-    text = "\n".join([line[start:]] + lines[value_loc.line:])
+    text = "\n".join([line[start:]] + lines[value_loc.line :])
     end = text.find(quote)
     return text[:end] if end >= 0 else None
 
@@ -159,8 +160,24 @@ class _Port:
 class TreeNode:
     """4.6.2 ``TreeNode``: executeTick with pre/post conditions, setStatus, resetStatus, haltNode."""
 
-    __slots__ = ("uid", "reg_id", "name", "status", "prefix", "emit", "rt", "model", "bb", "ports",
-                 "conds", "pre", "on_halted", "on_success", "on_failure", "post_always")
+    __slots__ = (
+        "uid",
+        "reg_id",
+        "name",
+        "status",
+        "prefix",
+        "emit",
+        "rt",
+        "model",
+        "bb",
+        "ports",
+        "conds",
+        "pre",
+        "on_halted",
+        "on_success",
+        "on_failure",
+        "post_always",
+    )
 
     def __init__(self, rt: Runtime, model: Node, bb, reg_id: str, ports: Optional[dict] = None) -> None:
         self.uid = rt.next_uid()
@@ -184,8 +201,9 @@ class TreeNode:
         self.on_success = model.post_condition("_onSuccess")
         self.on_failure = model.post_condition("_onFailure")
         self.post_always = model.post_condition("_post")
-        self.conds = bool(self.pre) or self.on_success is not None or self.on_failure is not None \
-            or self.post_always is not None
+        self.conds = (
+            bool(self.pre) or self.on_success is not None or self.on_failure is not None or self.post_always is not None
+        )
 
     # -- status
     def set_status(self, new: int) -> None:
@@ -229,8 +247,9 @@ class TreeNode:
         return new
 
     def _idle_error(self) -> RunError:
-        return _run_error(self.model.loc, f"`{self.reg_id}` \"{self.name}\" returned IDLE, which "
-                                          f"BehaviorTree.CPP forbids")
+        return _run_error(
+            self.model.loc, f'`{self.reg_id}` "{self.name}" returned IDLE, which BehaviorTree.CPP forbids'
+        )
 
     def _check_pre_conditions(self) -> Optional[int]:
         """TreeNode::checkPreConditions (4.6.2): all of them when IDLE, only _while when RUNNING."""
@@ -302,14 +321,17 @@ class TreeNode:
         loc = attr.value_loc
         if not at_start and offset > 0:
             loc = scriptmod.script_error_loc(attr.value_loc, attr.value, offset, _raw_attr_value(attr.value_loc))
-        return _run_error(loc, f"script error in `{attr.name}` of `{self.reg_id}` \"{self.name}\": {message}")
+        return _run_error(loc, f'script error in `{attr.name}` of `{self.reg_id}` "{self.name}": {message}')
 
     def _parse_at_run_time(self, attr: Attr, text: str):
         try:
             return scriptmod.parse_script(text)
         except scriptmod.ScriptSyntaxError as e:
-            raise _run_error(attr.value_loc, f"`{attr.name}` of `{self.reg_id}` \"{self.name}\" reads the script "
-                                             f"`{text}`, which is invalid: {e.message}") from None
+            raise _run_error(
+                attr.value_loc,
+                f'`{attr.name}` of `{self.reg_id}` "{self.name}" reads the script '
+                f"`{text}`, which is invalid: {e.message}",
+            ) from None
 
     def port_loc(self, name: str) -> Loc:
         p = self.ports.get(name)
@@ -335,12 +357,12 @@ class TreeNode:
         """getInput of a port the node cannot work without: 4.6.2 throws when it fails."""
         p = self.ports.get(name)
         if p is None:
-            raise _run_error(self.model.loc, f"`{self.reg_id}` \"{self.name}\" needs port `{name}`")
+            raise _run_error(self.model.loc, f'`{self.reg_id}` "{self.name}" needs port `{name}`')
         t = type_name or (p.spec.type if p.spec is not None else "any")
         try:
             return bbmod.get_input(self.bb, p.raw, t, port_name=name)
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc(name), f"`{self.reg_id}` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc(name), f'`{self.reg_id}` "{self.name}": {e}') from None
 
     def set_output(self, name: str, value, type_name: Optional[str] = None) -> bool:
         """TreeNode::setOutput: a port not written, or written as a literal, is not set
@@ -353,14 +375,15 @@ class TreeNode:
             bbmod.set_output(self.bb, p.raw, value, t, port_name=name)
             return True
         except (values.ConversionError, bbmod.BlackboardError) as e:
-            raise _run_error(self.port_loc(name), f"`{self.reg_id}` \"{self.name}\": {e}") from None
+            raise _run_error(self.port_loc(name), f'`{self.reg_id}` "{self.name}": {e}') from None
 
     def status_input(self, name: str) -> int:
         value = self.require_input(name, "NodeStatus")
         if isinstance(value, NodeStatus):
             return value.value
-        raise _run_error(self.port_loc(name), f"port `{name}` of `{self.reg_id}` \"{self.name}\": "
-                                              f"`{value}` is not a NodeStatus")
+        raise _run_error(
+            self.port_loc(name), f'port `{name}` of `{self.reg_id}` "{self.name}": `{value}` is not a NodeStatus'
+        )
 
 
 # ================================================================ controls
@@ -407,4 +430,4 @@ def _entry_of(node):
     try:
         return node.bb.get_entry(node.key)
     except bbmod.BlackboardError as e:
-        raise _run_error(node.port_loc("entry"), f"`{node.reg_id}` \"{node.name}\": {e}") from None
+        raise _run_error(node.port_loc("entry"), f'`{node.reg_id}` "{node.name}": {e}') from None

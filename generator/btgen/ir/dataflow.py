@@ -30,6 +30,7 @@ of that here, once:
    become small C++ functions over the slots (DataIR), which emit.py places
    in the generated header.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -69,21 +70,56 @@ class DataOptions:
 
 
 # ScriptSlot enumerators (runtime/include/btgen/blackboard.hpp), by attribute.
-SCRIPT_SLOTS = {"_failureIf": "kFailureIf", "_successIf": "kSuccessIf", "_skipIf": "kSkipIf", "_while": "kWhile",
-                "_onSuccess": "kOnSuccess", "_onFailure": "kOnFailure", "_post": "kPost", "_onHalted": "kOnHalted",
-                "code": "kCode", "if": "kCode"}
-SCRIPT_BIT = {"kFailureIf": 0, "kSuccessIf": 1, "kSkipIf": 2, "kWhile": 3, "kOnSuccess": 4, "kOnFailure": 5,
-              "kPost": 6, "kOnHalted": 7, "kCode": 8}
+SCRIPT_SLOTS = {
+    "_failureIf": "kFailureIf",
+    "_successIf": "kSuccessIf",
+    "_skipIf": "kSkipIf",
+    "_while": "kWhile",
+    "_onSuccess": "kOnSuccess",
+    "_onFailure": "kOnFailure",
+    "_post": "kPost",
+    "_onHalted": "kOnHalted",
+    "code": "kCode",
+    "if": "kCode",
+}
+SCRIPT_BIT = {
+    "kFailureIf": 0,
+    "kSuccessIf": 1,
+    "kSkipIf": 2,
+    "kWhile": 3,
+    "kOnSuccess": 4,
+    "kOnFailure": 5,
+    "kPost": 6,
+    "kOnHalted": 7,
+    "kCode": 8,
+}
 
-DECLARED_ENUM = {values.ANY: "kAny", values.INT: "kInt", values.UNSIGNED: "kUnsigned", values.DOUBLE: "kDouble",
-                 values.BOOL: "kBool", values.STRING: "kString", values.NODE_STATUS: "kStatus"}
+DECLARED_ENUM = {
+    values.ANY: "kAny",
+    values.INT: "kInt",
+    values.UNSIGNED: "kUnsigned",
+    values.DOUBLE: "kDouble",
+    values.BOOL: "kBool",
+    values.STRING: "kString",
+    values.NODE_STATUS: "kStatus",
+}
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 LITERAL_ONLY = {
-    ("Parallel", "success_count"), ("Parallel", "failure_count"), ("ParallelAll", "max_failures"),
-    ("Repeat", "num_cycles"), ("RetryUntilSuccessful", "num_attempts"), ("RunOnce", "then_skip"),
-    ("Timeout", "msec"), ("Delay", "delay_msec"), ("Sleep", "msec"), ("Precondition", "else"),
-    ("LoopInt", "if_empty"), ("LoopBool", "if_empty"), ("LoopDouble", "if_empty"), ("LoopString", "if_empty"),
+    ("Parallel", "success_count"),
+    ("Parallel", "failure_count"),
+    ("ParallelAll", "max_failures"),
+    ("Repeat", "num_cycles"),
+    ("RetryUntilSuccessful", "num_attempts"),
+    ("RunOnce", "then_skip"),
+    ("Timeout", "msec"),
+    ("Delay", "delay_msec"),
+    ("Sleep", "msec"),
+    ("Precondition", "else"),
+    ("LoopInt", "if_empty"),
+    ("LoopBool", "if_empty"),
+    ("LoopDouble", "if_empty"),
+    ("LoopString", "if_empty"),
 }
 LOOPS = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"}
 ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
@@ -98,6 +134,7 @@ def declared_enum(type_name: str) -> str:
 
 
 # ================================================================ IR
+
 
 @dataclass(frozen=True)
 class SlotIR:
@@ -192,7 +229,7 @@ def _raw_attr_value(value_loc: Loc) -> Optional[str]:
     if start < 1 or start > len(line) or line[start - 1] not in "\"'":
         return None
     quote = line[start - 1]
-    text = "\n".join([line[start:]] + lines[value_loc.line:])
+    text = "\n".join([line[start:]] + lines[value_loc.line :])
     end = text.find(quote)
     return text[:end] if end >= 0 else None
 
@@ -228,7 +265,7 @@ class _Inst:
 
     @property
     def what(self) -> str:
-        return f"`{self.reg_id}` \"{self.node.display_name}\""
+        return f'`{self.reg_id}` "{self.node.display_name}"'
 
 
 @dataclass
@@ -284,8 +321,13 @@ def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
     for a in model.ports:
         ps = spec.port(a.name) if spec is not None else None
         raw = a.value
-        if raw == "" and ps is not None and ps.default is not None and ps.type not in ("string", "any") \
-                and not values.is_opaque_type(ps.type):
+        if (
+            raw == ""
+            and ps is not None
+            and ps.default is not None
+            and ps.type not in ("string", "any")
+            and not values.is_opaque_type(ps.type)
+        ):
             raw = ps.default
         ports[a.name] = _Port(a.name, raw, a, ps)
     if spec is not None:
@@ -298,6 +340,7 @@ def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
 
 
 # ================================================================ the analysis
+
 
 class _Analyzer:
     def __init__(self, mission: Mission, options: DataOptions) -> None:
@@ -382,8 +425,11 @@ class _Analyzer:
             for ps in model_spec.ports:
                 if ps.name not in given:
                     if ps.default is None:
-                        self.error(model.loc, f"SubTree `{model.target}` declares port `{ps.name}` without a "
-                                              f"default, and this instance does not remap it")
+                        self.error(
+                            model.loc,
+                            f"SubTree `{model.target}` declares port `{ps.name}` without a "
+                            f"default, and this instance does not remap it",
+                        )
                         continue
                     remap.append((ps.name, ps.default, model.loc))
         try:
@@ -399,13 +445,22 @@ class _Analyzer:
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
             s.initial = str(entry.value)
-            s.origin = f"the constant port `{key}` of SubTree \"{model.display_name}\""
+            s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
             text = str(entry.value)
-            s.writes.append(_Write(self.slots.index(s), self.next_order(), locs.get(key, model.loc),
-                                   f"the constant port `{key}=\"{text}\"` of SubTree \"{model.display_name}\"",
-                                   lambda: "string", True, lambda t=text: len(t.encode("utf-8")), text,
-                                   "constant"))
+            s.writes.append(
+                _Write(
+                    self.slots.index(s),
+                    self.next_order(),
+                    locs.get(key, model.loc),
+                    f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
+                    lambda: "string",
+                    True,
+                    lambda t=text: len(t.encode("utf-8")),
+                    text,
+                    "constant",
+                )
+            )
         return bb
 
     def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
@@ -442,9 +497,11 @@ class _Analyzer:
             builtin = inst.spec is not None and inst.spec.builtin
             for p in inst.ports.values():
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
-                    self.error(p.loc_or or node.loc,
-                               f"port `{p.name}` of {inst.what} reads blackboard entry `{p.raw}`; the C++ back end "
-                               f"needs a literal value here")
+                    self.error(
+                        p.loc_or or node.loc,
+                        f"port `{p.name}` of {inst.what} reads blackboard entry `{p.raw}`; the C++ back end "
+                        f"needs a literal value here",
+                    )
             if inst.spec is not None and inst.spec.builtin:
                 self._collect_builtin(inst)
             elif inst.spec is not None and inst.spec.kind in ("Action", "Condition", "Control", "Decorator"):
@@ -457,9 +514,12 @@ class _Analyzer:
         script = attr.script
         if script is None:
             if bbmod.is_blackboard_pointer(attr.value):
-                self.error(attr.value_loc, f"`{attr.name}` of {inst.what} reads its script from blackboard entry "
-                                           f"`{attr.value}`; the C++ back end compiles scripts and needs the code "
-                                           f"written here")
+                self.error(
+                    attr.value_loc,
+                    f"`{attr.name}` of {inst.what} reads its script from blackboard entry "
+                    f"`{attr.value}`; the C++ back end compiles scripts and needs the code "
+                    f"written here",
+                )
             return  # a syntax error, already reported by the front end
         names: dict[str, int] = {}
         for stmt in script.statements:
@@ -481,22 +541,27 @@ class _Analyzer:
                 determining = n.op in (":=", "=") and not reads_self
                 value = n.value
                 loc = script_loc(attr, n.offset)
-                text = attr.value[n.offset:_end_offset(n, attr.value)].strip() or attr.value
+                text = attr.value[n.offset : _end_offset(n, attr.value)].strip() or attr.value
                 what = f"`{text}` in {prefix}"
                 if n.op in (":=", "="):
+
                     def kind_fn(v=value, nm=names):
-                        return (self._expr_kind(v, nm))
+                        return self._expr_kind(v, nm)
+
                     def bound_fn(v=value, nm=names):
-                        return (self._expr_bound(v, nm))
+                        return self._expr_bound(v, nm)
                 else:
+
                     def kind_fn(t=target):
-                        return (self.slots[t].kind)
+                        return self.slots[t].kind
+
                     bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
                 lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
                 if lit is not None and n.op in (":=", "="):
                     self._queue_literal(target, lit)
-                self.slots[target].writes.append(_Write(target, self.next_order(), loc, what, kind_fn, determining,
-                                                        bound_fn, lit))
+                self.slots[target].writes.append(
+                    _Write(target, self.next_order(), loc, what, kind_fn, determining, bound_fn, lit)
+                )
 
     def _bound_of(self, slot: int) -> Optional[int]:
         s = self.slots[slot]
@@ -518,8 +583,11 @@ class _Analyzer:
     def _expr_bound(self, expr: sc.Expr, names: dict[str, int]) -> Optional[int]:
         """Most bytes a string expression gives (None: unknown yet)."""
         if isinstance(expr, sc.Literal):
-            return len(expr.value.encode("utf-8")) if isinstance(expr.value, str) else \
-                scpp.TEXT_BOUND[scpp.value_kind(expr.value)]
+            return (
+                len(expr.value.encode("utf-8"))
+                if isinstance(expr.value, str)
+                else scpp.TEXT_BOUND[scpp.value_kind(expr.value)]
+            )
         if isinstance(expr, sc.Name):
             s = self.slots[names[expr.name]]
             if s.kind == DYN:
@@ -568,8 +636,11 @@ class _Analyzer:
             p = inst.ports["key"]
             key = p.raw
             if bbmod.is_blackboard_pointer(key):
-                self.error(p.loc_or or node.loc, f"port `key` of {inst.what} reads the key from blackboard entry "
-                                                 f"`{key}`; the C++ back end needs the key written here")
+                self.error(
+                    p.loc_or or node.loc,
+                    f"port `key` of {inst.what} reads the key from blackboard entry "
+                    f"`{key}`; the C++ back end needs the key written here",
+                )
                 return
             self.node_ops.append(("unset", inst, {"key": key, "loc": p.loc_or or node.loc}))
         elif nid in ENTRY_NODES:
@@ -597,8 +668,11 @@ class _Analyzer:
         node = inst.node
         out = inst.ports["output_key"]
         if bbmod.is_blackboard_pointer(out.raw):
-            self.error(out.loc_or or node.loc, f"port `output_key` of {inst.what} reads the key from blackboard "
-                                               f"entry `{out.raw}`; the C++ back end needs the key written here")
+            self.error(
+                out.loc_or or node.loc,
+                f"port `output_key` of {inst.what} reads the key from blackboard "
+                f"entry `{out.raw}`; the C++ back end needs the key written here",
+            )
             return
         dst = self.resolve(inst.bb, out.raw, out.loc_or or node.loc)
         if dst is None:
@@ -608,7 +682,7 @@ class _Analyzer:
         loc = value.loc_or or node.loc
         if src_key is None:
             text = value.raw
-            what = f"`value=\"{text}\"` of {inst.what}"
+            what = f'`value="{text}"` of {inst.what}'
 
             def lit_kind(d=dst) -> Optional[str]:
                 s = self.slots[d]
@@ -617,20 +691,42 @@ class _Analyzer:
                     return kind_of_type(declared)
                 return "string"
 
-            self.slots[dst].writes.append(_Write(dst, self.next_order(), loc, what, lit_kind, True,
-                                                 lambda t=text: len(t.encode("utf-8")), text, "set"))
+            self.slots[dst].writes.append(
+                _Write(
+                    dst,
+                    self.next_order(),
+                    loc,
+                    what,
+                    lit_kind,
+                    True,
+                    lambda t=text: len(t.encode("utf-8")),
+                    text,
+                    "set",
+                )
+            )
             self._queue_literal(dst, text)
             self.node_ops.append(("set_literal", inst, {"dst": dst, "text": text, "loc": loc, "key": out.raw}))
             return
         src = self.resolve(inst.bb, src_key, loc)
         if src is None:
             return
-        what = f"`value=\"{value.raw}\"` of {inst.what}"
-        self.slots[dst].writes.append(_Write(dst, self.next_order(), loc, what,
-                                             lambda s=src: self.slots[s].kind, True,
-                                             lambda s=src: self._bound_of(s), None, "copy"))
-        self.node_ops.append(("set_copy", inst, {"dst": dst, "src": src, "loc": loc, "key": out.raw,
-                                                 "src_key": src_key}))
+        what = f'`value="{value.raw}"` of {inst.what}'
+        self.slots[dst].writes.append(
+            _Write(
+                dst,
+                self.next_order(),
+                loc,
+                what,
+                lambda s=src: self.slots[s].kind,
+                True,
+                lambda s=src: self._bound_of(s),
+                None,
+                "copy",
+            )
+        )
+        self.node_ops.append(
+            ("set_copy", inst, {"dst": dst, "src": src, "loc": loc, "key": out.raw, "src_key": src_key})
+        )
 
     def _queue_literal(self, slot: int, text: str) -> None:
         s = self.slots[slot]
@@ -643,7 +739,7 @@ class _Analyzer:
             s.elem_literals.extend(len(x.encode("utf-8")) for x in parts)
 
     def _collect_switch(self, inst: _Inst) -> None:
-        n_cases = int(inst.reg_id[len("Switch"):])
+        n_cases = int(inst.reg_id[len("Switch") :])
         reads = []
         for name in ["variable"] + [f"case_{i}" for i in range(1, n_cases + 1)]:
             p = inst.ports.get(name)
@@ -678,10 +774,14 @@ class _Analyzer:
                     return max((len(str(x).encode("utf-8")) for x in st), default=0)
                 return self.slots[q].elem_capacity if q is not None else 0
 
-            self.slots[vslot].writes.append(_Write(vslot, self.next_order(), vloc, what,
-                                                   lambda e=elem: scpp.kind_of_type(e), True, bound, None, "loop"))
-        self.node_ops.append(("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot,
-                                             "loc": loc}))
+            self.slots[vslot].writes.append(
+                _Write(
+                    vslot, self.next_order(), vloc, what, lambda e=elem: scpp.kind_of_type(e), True, bound, None, "loop"
+                )
+            )
+        self.node_ops.append(
+            ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc})
+        )
         self.node_ops.append(("params", inst, {"p0": self._literal(inst, "if_empty", values.NODE_STATUS)}))
 
     # -- user leaves
@@ -704,9 +804,19 @@ class _Analyzer:
                     kind = kind_of_type(ps.type)
                     if is_queue(kind):
                         self.slots[slot].queue_unbounded = True
-                    self.slots[slot].writes.append(_Write(
-                        slot, self.next_order(), loc, what, (lambda k=kind: k), kind is not None,
-                        (lambda: None), None, "port"))
+                    self.slots[slot].writes.append(
+                        _Write(
+                            slot,
+                            self.next_order(),
+                            loc,
+                            what,
+                            (lambda k=kind: k),
+                            kind is not None,
+                            (lambda: None),
+                            None,
+                            "port",
+                        )
+                    )
             self.node_ops.append(("port", inst, {"port": ps, "slot": slot, "raw": p.raw, "p": p}))
 
     # ------------------------------------------------------------ 3. kinds
@@ -774,15 +884,24 @@ class _Analyzer:
                 continue
             s.failed = True
             if any(x.determining for x in s.writes):
-                self.error(w.loc, f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
-                                  f"another entry of unknown type; write it with a literal first")
+                self.error(
+                    w.loc,
+                    f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
+                    f"another entry of unknown type; write it with a literal first",
+                )
             elif all(x.source == "script" for x in s.writes):
-                self.error(w.loc, f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
-                                  f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)")
+                self.error(
+                    w.loc,
+                    f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
+                    f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)",
+                )
             else:
-                self.error(w.loc, f"cannot tell the type of blackboard entry `{s.key}`: {w.what} writes it, but "
-                                  f"the port has no type; give the port a type in TreeNodesModel (e.g. "
-                                  f"type=\"std::string\")")
+                self.error(
+                    w.loc,
+                    f"cannot tell the type of blackboard entry `{s.key}`: {w.what} writes it, but "
+                    f"the port has no type; give the port a type in TreeNodesModel (e.g. "
+                    f'type="std::string")',
+                )
             s.kind = "string"
         self.mark_dynamic()
 
@@ -802,8 +921,16 @@ class _Analyzer:
         while changed:
             changed = False
             for s in self.slots:
-                if s.kind == DYN or s.failed or s.entry.type_name != values.ANY or s.initial is not None \
-                        or s.untyped_text or s.kind is None or is_queue(s.kind) or (s.kind == "none" and not s.writes):
+                if (
+                    s.kind == DYN
+                    or s.failed
+                    or s.entry.type_name != values.ANY
+                    or s.initial is not None
+                    or s.untyped_text
+                    or s.kind is None
+                    or is_queue(s.kind)
+                    or (s.kind == "none" and not s.writes)
+                ):
                     continue
                 for w in s.writes:
                     if w.source in ("port", "loop"):
@@ -813,8 +940,12 @@ class _Analyzer:
                         continue
                     if s.kind == "none" and k != DYN:
                         continue  # (a script that fails whatever runs: compiling it says why)
-                    if k == DYN or (k == "string") != (s.kind == "string") or \
-                            (k == "status") != (s.kind == "status") or (w.source == "copy" and k != s.kind):
+                    if (
+                        k == DYN
+                        or (k == "string") != (s.kind == "string")
+                        or (k == "status") != (s.kind == "status")
+                        or (w.source == "copy" and k != s.kind)
+                    ):
                         # (a SetBlackboard copy is set<Any>: it replaces an untyped entry's value with the
                         # source's, an integer stays an integer in a double entry)
                         s.kind = DYN
@@ -829,8 +960,12 @@ class _Analyzer:
         Any::copyInto into the empty entry stores the value as it is, so the entry then holds
         an integer (and converts later writes to integers). Its slot is dynamic so the C++
         engine follows (it stopped with "would store an integer in the empty entry")."""
-        if s.kind not in ("int", "double") or s.failed or s.initial is not None or \
-                kind_of_type(s.entry.type_name) != s.kind:
+        if (
+            s.kind not in ("int", "double")
+            or s.failed
+            or s.initial is not None
+            or kind_of_type(s.entry.type_name) != s.kind
+        ):
             return
         kinds = [w.kind() for w in s.writes]
         if any(k not in ("int", "double", None) for k in kinds):
@@ -838,8 +973,10 @@ class _Analyzer:
         for w, k in zip(s.writes, kinds):
             if w.source == "script" and w.determining and k in ("int", "double") and k != s.kind:
                 s.kind = DYN
-                s.origin = (f"4.6.2 stores the other kind of number as it is in the empty entry ({w.what} writes "
-                            f"{describe_kind(k)})")
+                s.origin = (
+                    f"4.6.2 stores the other kind of number as it is in the empty entry ({w.what} writes "
+                    f"{describe_kind(k)})"
+                )
                 s.origin_loc = w.loc
                 return
 
@@ -910,8 +1047,15 @@ class _Analyzer:
     # ------------------------------------------------------------ 5. compile
     def slot_view(self, i: int) -> scpp.SlotView:
         s = self.slots[i]
-        return scpp.SlotView(f"bb.{s.member}", s.key, s.kind or "none", s.entry.type_name, s.capacity,
-                             not s.at_load or s.unset, s.origin_text)
+        return scpp.SlotView(
+            f"bb.{s.member}",
+            s.key,
+            s.kind or "none",
+            s.entry.type_name,
+            s.capacity,
+            not s.at_load or s.unset,
+            s.origin_text,
+        )
 
     def cpp_type(self, s: _Slot) -> str:
         k = s.kind
@@ -922,9 +1066,10 @@ class _Analyzer:
         if k == DYN:
             return f"btgen::Dyn<{max(s.capacity, 1)}>"
         if is_queue(k):
-            elem = k[len("queue<"):-1]
+            elem = k[len("queue<") : -1]
             etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(
-                elem, f"btgen::FixedString<{s.elem_capacity}>")
+                elem, f"btgen::FixedString<{s.elem_capacity}>"
+            )
             return f"btgen::FixedQueue<{etype}, {s.capacity}>"
         return scpp.CPP_SCALAR[k]  # type: ignore[index]
 
@@ -965,10 +1110,21 @@ def _end_offset(node: sc.Expr, code: str) -> int:
 
 # ================================================================ compile
 
-CPP_PORT_TYPE = {values.INT: "std::int32_t", values.UNSIGNED: "std::uint32_t", values.DOUBLE: "double",
-                 values.BOOL: "bool", values.NODE_STATUS: "btgen::Status", values.STRING: "std::string_view"}
-TYPE_NAME_OF_KIND = {"int": values.INT, "double": values.DOUBLE, "bool": values.BOOL, "string": values.STRING,
-                     "status": values.NODE_STATUS}
+CPP_PORT_TYPE = {
+    values.INT: "std::int32_t",
+    values.UNSIGNED: "std::uint32_t",
+    values.DOUBLE: "double",
+    values.BOOL: "bool",
+    values.NODE_STATUS: "btgen::Status",
+    values.STRING: "std::string_view",
+}
+TYPE_NAME_OF_KIND = {
+    "int": values.INT,
+    "double": values.DOUBLE,
+    "bool": values.BOOL,
+    "string": values.STRING,
+    "status": values.NODE_STATUS,
+}
 
 
 def port_cpp_type(type_name: str) -> str:
@@ -1025,21 +1181,30 @@ class _Compiler:
         declared = s.entry.type_name
         k = kind_of_type(type_name)
         if s.kind == DYN:
-            self.error(loc, f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
-                            f"`{s.key}`, whose type changes at run time ({s.origin_text}); typed writes into "
-                            f"such entries are not supported by the C++ back end yet")
+            self.error(
+                loc,
+                f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                f"`{s.key}`, whose type changes at run time ({s.origin_text}); typed writes into "
+                f"such entries are not supported by the C++ back end yet",
+            )
             return False
         if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
             ok = k == s.kind
         elif type_name == values.STRING:
             ok = declared != values.NODE_STATUS and kind_of_type(declared) == s.kind
         else:
-            ok = type_name in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) and \
-                declared in (values.INT, values.UNSIGNED, values.DOUBLE)
+            ok = type_name in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) and declared in (
+                values.INT,
+                values.UNSIGNED,
+                values.DOUBLE,
+            )
         if not ok:
-            self.error(loc, f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
-                            f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); btgen "
-                            f"gives every entry one type")
+            self.error(
+                loc,
+                f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); btgen "
+                f"gives every entry one type",
+            )
         return ok
 
     # ------------------------------------------------------------ scripts
@@ -1052,15 +1217,20 @@ class _Compiler:
             if any(self.a.slots[i].failed for i in names.values()):
                 continue  # its entry's type is already reported as unknown
             enum = SCRIPT_SLOTS[which]
-            ctx = scpp.ScriptContext(self.views, names, lambda off, at=attr: self.where(script_loc(at, off)),
-                                     f"script error in `{attr.name}` of {inst.what}: ", dict(self.a.m.enums))
+            ctx = scpp.ScriptContext(
+                self.views,
+                names,
+                lambda off, at=attr: self.where(script_loc(at, off)),
+                f"script error in `{attr.name}` of {inst.what}: ",
+                dict(self.a.m.enums),
+            )
             try:
                 body = scpp.compile_script(script, ctx, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
             name = f"s{inst.index}_{which.lstrip('_')}"
-            comment = f"{inst.reg_id} \"{inst.node.display_name}\" {attr.name}: {attr.value}"
+            comment = f'{inst.reg_id} "{inst.node.display_name}" {attr.name}: {attr.value}'
             out.append(CodeIR(inst.index, name, comment, tuple(body), enum))
             if enum != "kCode":
                 bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
@@ -1074,10 +1244,12 @@ class _Compiler:
                 if isinstance(node, sc.Name):
                     s = self.a.slots[names[node.name]]
                     if not s.at_load and not s.writes:
-                        self.error(script_loc(attr, node.offset),
-                                   f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
-                                   f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
-                                   f"`{node.name} := ...` first)")
+                        self.error(
+                            script_loc(attr, node.offset),
+                            f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
+                            f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
+                            f"`{node.name} := ...` first)",
+                        )
                         ok = False
         return ok
 
@@ -1092,7 +1264,7 @@ class _Compiler:
         else:
             body.append(f"// `{cpp_comment(key)}` is not an entry of this blackboard: 4.6.2 removes nothing")
         body.append("return btgen::Status::SUCCESS;")
-        return CodeIR(inst.index, "", f"UnsetBlackboard \"{inst.node.display_name}\" key={key}", tuple(body))
+        return CodeIR(inst.index, "", f'UnsetBlackboard "{inst.node.display_name}" key={key}', tuple(body))
 
     def mark_unsets(self) -> None:
         """Entries UnsetBlackboard can remove may be missing when a script runs."""
@@ -1105,9 +1277,12 @@ class _Compiler:
             s = self.a.slots[self.a.slot_of_entry[id(entry)]]
             key = op["key"]
             if s.initial is not None and (key in inst.bb.remapping or (inst.bb.autoremap and not key.startswith("_"))):
-                self.error(op["loc"], f"UnsetBlackboard of `{key}`, a constant port of its SubTree, would make "
-                                      f"`{key}` reach the parent's entry afterwards; the C++ back end resolves keys "
-                                      f"once, so it cannot follow that")
+                self.error(
+                    op["loc"],
+                    f"UnsetBlackboard of `{key}`, a constant port of its SubTree, would make "
+                    f"`{key}` reach the parent's entry afterwards; the C++ back end resolves keys "
+                    f"once, so it cannot follow that",
+                )
             s.unset = True
         self.views = [self.a.slot_view(i) for i in range(len(self.a.slots))]
 
@@ -1115,21 +1290,25 @@ class _Compiler:
         dst, text, loc = op["dst"], op["text"], op["loc"]
         s = self.a.slots[dst]
         declared = s.entry.type_name
-        what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        what = f'`SetBlackboard` "{inst.node.display_name}"'
         if s.kind == DYN:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
                 return None
-            body = [f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
-                    f"if (!btgen::dyn::set_literal({self.member(dst)}, {cpp_view(text)}, {cpp_view(op['key'])}, dm)) "
-                    f"{{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
-                    "return btgen::Status::SUCCESS;"]
-            return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}",
-                          tuple(body))
+            body = [
+                f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
+                f"if (!btgen::dyn::set_literal({self.member(dst)}, {cpp_view(text)}, {cpp_view(op['key'])}, dm)) "
+                f"{{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
+                "return btgen::Status::SUCCESS;",
+            ]
+            return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
-                self.error(loc, f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
-                                f"BehaviorTree.CPP cannot convert text into")
+                self.error(
+                    loc,
+                    f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
+                    f"BehaviorTree.CPP cannot convert text into",
+                )
                 return None
             try:
                 values.convert_from_string(declared, text)
@@ -1137,20 +1316,24 @@ class _Compiler:
                 self.error(loc, f"{what} writes `{text}` to `{s.key}`, which is declared {declared}: {e}")
                 return None
         elif s.kind != "string":
-            self.error(loc, f"{what} writes the text `{text}` to blackboard entry `{s.key}`, which holds "
-                            f"{describe_kind(s.kind or 'none')} ({s.origin_text}); BehaviorTree.CPP would "
-                            f"replace the value with the string \"{text}\", and btgen gives every entry one type "
-                            f"(to write a number, use a Script: `{s.key} := {text}`)")
+            self.error(
+                loc,
+                f"{what} writes the text `{text}` to blackboard entry `{s.key}`, which holds "
+                f"{describe_kind(s.kind or 'none')} ({s.origin_text}); BehaviorTree.CPP would "
+                f'replace the value with the string "{text}", and btgen gives every entry one type '
+                f"(to write a number, use a Script: `{s.key} := {text}`)",
+            )
             return None
         if s.kind == "string" and len(text.encode("utf-8")) > s.capacity:
             self.error(loc, self.overflow_message(text, s))
             return None
-        body = [f"const btgen::Errc e = btgen::port::write({self.member(dst)}, btgen::Declared::"
-                f"{declared_enum(declared)}, {cpp_view(text)});",
-                "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot write `{s.key}`",
-                                                           "btgen::describe(e)"),
-                "return btgen::Status::SUCCESS;"]
-        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {s.key} = {text!r}", tuple(body))
+        body = [
+            f"const btgen::Errc e = btgen::port::write({self.member(dst)}, btgen::Declared::"
+            f"{declared_enum(declared)}, {cpp_view(text)});",
+            "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot write `{s.key}`", "btgen::describe(e)"),
+            "return btgen::Status::SUCCESS;",
+        ]
+        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
 
     def overflow_message(self, text: str, s: _Slot) -> str:
         return scpp.overflow_message(text, s.key, s.capacity)
@@ -1158,13 +1341,16 @@ class _Compiler:
     def set_copy(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
         dst, src, loc = op["dst"], op["src"], op["loc"]
         d, s = self.a.slots[dst], self.a.slots[src]
-        what = f"`SetBlackboard` \"{inst.node.display_name}\""
+        what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
         strong = values.is_strongly_typed(declared)
         convert = False
         if is_queue(s.kind):
-            self.error(loc, f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
-                            f"both entries, which the C++ back end does not do")
+            self.error(
+                loc,
+                f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
+                f"both entries, which the C++ back end does not do",
+            )
             return None
         if DYN in (d.kind, s.kind):
             return self.set_copy_dynamic(inst, op, d, s, what)
@@ -1177,39 +1363,49 @@ class _Compiler:
             ok = TYPE_NAME_OF_KIND.get(s.kind or "") == declared
         if not ok:
             dst_what = f"declared {declared}" if strong else d.origin_text
-            self.error(loc, f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
-                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {dst_what}); BehaviorTree.CPP "
-                            f"refuses that copy or changes the entry's type")
+            self.error(
+                loc,
+                f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                f"`{d.key}` ({describe_kind(d.kind or 'none')}, {dst_what}); BehaviorTree.CPP "
+                f"refuses that copy or changes the entry's type",
+            )
             return None
         ms, md = self.member(src), self.member(dst)
-        body = [f"if (!{ms}.exists) " + self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, "
-                                                       f"which does not exist"),
-                f"{md}.exists = true;",
-                f"if (!{ms}.has_value) return btgen::Status::FAILURE;"]
+        body = [
+            f"if (!{ms}.exists) "
+            + self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, which does not exist"),
+            f"{md}.exists = true;",
+            f"if (!{ms}.has_value) return btgen::Status::FAILURE;",
+        ]
         if convert:
-            body += [f"const btgen::Errc e = btgen::port::convert_into({md}, btgen::Declared::{declared_enum(declared)}, "
-                     f"{ms}.value.view());",
-                     "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`",
-                                                               "btgen::describe(e)")]
+            body += [
+                f"const btgen::Errc e = btgen::port::convert_into({md}, btgen::Declared::{declared_enum(declared)}, "
+                f"{ms}.value.view());",
+                "if (e != btgen::Errc::kOk) "
+                + self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`", "btgen::describe(e)"),
+            ]
         elif d.kind == "string":
-            body.append(f"if (!{md}.value.assign({ms}.value.view())) " +
-                        self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity "
-                                       f"{d.capacity} bytes)"))
+            body.append(
+                f"if (!{md}.value.assign({ms}.value.view())) "
+                + self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity {d.capacity} bytes)")
+            )
         elif d.kind != "none":
             body.append(f"{md}.value = {ms}.value;")
         body += [f"{md}.mark_written();", "return btgen::Status::SUCCESS;"]
-        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {d.key} = {{{s.key}}}",
-                      tuple(body))
+        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}', tuple(body))
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[CodeIR]:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
         loc = op["loc"]
         src_decl = s.entry.type_name
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
-            self.error(loc, f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
-                            f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); copies between "
-                            f"typed entries and entries whose type changes at run time are not supported by the "
-                            f"C++ back end yet")
+            self.error(
+                loc,
+                f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); copies between "
+                f"typed entries and entries whose type changes at run time are not supported by the "
+                f"C++ back end yet",
+            )
             return None
         ms, md = self.member(op["src"]), self.member(op["dst"])
         if s.kind == DYN:
@@ -1220,19 +1416,26 @@ class _Compiler:
             ref = scpp.CodeWriter(lambda off: "", "").to_ref(scpp.Val(s.kind or "none", expr, f"{ms}.has_value"))
             del view
             src_string = "true" if src_decl == values.STRING else "false"
-        body = [f"if (!{ms}.exists) " + self.fail(loc, f"{what}: SetBlackboard: `value` reads blackboard entry "
-                                                       f"`{op['src_key']}`, which does not exist"),
-                f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
-                f"const int r = btgen::dyn::set_copy({md}, {ref}, {src_string}, {cpp_view(op['key'])}, dm);",
-                f"if (r < 0) {{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
-                "return r == 1 ? btgen::Status::SUCCESS : btgen::Status::FAILURE;"]
-        return CodeIR(inst.index, "", f"SetBlackboard \"{inst.node.display_name}\" {d.key} = {{{s.key}}}",
-                      tuple(body))
+        body = [
+            f"if (!{ms}.exists) "
+            + self.fail(
+                loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op['src_key']}`, which does not exist"
+            ),
+            f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
+            f"const int r = btgen::dyn::set_copy({md}, {ref}, {src_string}, {cpp_view(op['key'])}, dm);",
+            f"if (r < 0) {{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
+            "return r == 1 ? btgen::Status::SUCCESS : btgen::Status::FAILURE;",
+        ]
+        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}', tuple(body))
 
     def entry(self, inst: _Inst, op: dict) -> CodeIR:
         m = self.member(op["slot"])
-        return CodeIR(inst.index, "", f"{inst.reg_id} \"{inst.node.display_name}\" entry={op['key']}",
-                      (f"return {m}.exists ? static_cast<std::int64_t>({m}.seq) : -1;",))
+        return CodeIR(
+            inst.index,
+            "",
+            f'{inst.reg_id} "{inst.node.display_name}" entry={op["key"]}',
+            (f"return {m}.exists ? static_cast<std::int64_t>({m}.seq) : -1;",),
+        )
 
     def read_text(self, slot: Optional[int], raw: Optional[str], var: str, body: list[str]) -> str:
         """getInput<std::string> into `var` (a std::string_view); returns the C++ "it was read" condition."""
@@ -1277,11 +1480,11 @@ class _Compiler:
             cok = self.read_text(cslot, craw, var, body)
             body.append(f"if ({cok} && btgen::switch_equal(v, {var})) return {i};")
         body.append(f"return {n_cases};")
-        return CodeIR(inst.index, "", f"{inst.reg_id} \"{inst.node.display_name}\"", tuple(body))
+        return CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}"', tuple(body))
 
     def loop(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[CodeIR]:
         elem, static, qslot, vslot, loc = op["elem"], op["static"], op["qslot"], op["vslot"], op["loc"]
-        what = f"`{inst.reg_id}` \"{inst.node.display_name}\""
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
         etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(elem)
         body: list[str] = []
         if static is not None:
@@ -1289,8 +1492,13 @@ class _Compiler:
             if etype is None:
                 cap = max((len(x.encode("utf-8")) for x in static), default=0)
                 etype = f"btgen::FixedString<{cap}>"
-            locals_.append(LocalIR(member, f"btgen::FixedQueue<{etype}, {max(len(static), 1)}>",
-                                   f"{what}: its literal queue, copied afresh each time it starts (4.7.0)"))
+            locals_.append(
+                LocalIR(
+                    member,
+                    f"btgen::FixedQueue<{etype}, {max(len(static), 1)}>",
+                    f"{what}: its literal queue, copied afresh each time it starts (4.7.0)",
+                )
+            )
             body.append("if (restart) {")
             body.append(f"  bb.{member}.clear();")
             for x in static:
@@ -1305,13 +1513,20 @@ class _Compiler:
             s = self.a.slots[qslot]
             want = f"queue<{elem}>"
             if s.kind != want:
-                self.error(loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
-                                f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}")
+                self.error(
+                    loc,
+                    f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
+                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
+                )
                 return None
             m = self.member(qslot)
             body.append(f"if (!{m}.exists) return 0;")
-            body.append(f"if (!{m}.has_value) " + self.fail(loc, f"port `queue` of {what} reads blackboard entry "
-                                                                 f"`{s.key}`, which has no value yet", ret="-1"))
+            body.append(
+                f"if (!{m}.has_value) "
+                + self.fail(
+                    loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet", ret="-1"
+                )
+            )
             body.append(f"auto& q = {m}.value;")
         body.append("if (q.empty()) return 0;")
         if vslot is not None:
@@ -1319,11 +1534,15 @@ class _Compiler:
             if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
                 return None
             value = "q.front().view()" if elem == "string" else "q.front()"
-            body.append(f"const btgen::Errc e = btgen::port::write({self.member(vslot)}, btgen::Declared::"
-                        f"{declared_enum(self.a.slots[vslot].entry.type_name)}, {value});")
+            body.append(
+                f"const btgen::Errc e = btgen::port::write({self.member(vslot)}, btgen::Declared::"
+                f"{declared_enum(self.a.slots[vslot].entry.type_name)}, {value});"
+            )
             body.append("q.pop_front();")
-            body.append("if (e != btgen::Errc::kOk) " +
-                        self.fail(vloc, f"{what} cannot write its `value`", "btgen::describe(e)", ret="-1"))
+            body.append(
+                "if (e != btgen::Errc::kOk) "
+                + self.fail(vloc, f"{what} cannot write its `value`", "btgen::describe(e)", ret="-1")
+            )
         else:
             body.append("q.pop_front();")
         body.append("return 1;")
@@ -1341,44 +1560,56 @@ class _Compiler:
             slot, raw, p = op["slot"], op["raw"], op["p"]
             loc = p.loc_or or inst.node.loc
             if values.queue_element_type(ps.type) is not None:
-                self.error(loc, f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
-                                f"nodes are not supported by the C++ back end yet")
+                self.error(
+                    loc,
+                    f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
+                    f"nodes are not supported by the C++ back end yet",
+                )
                 continue
             t = port_cpp_type(ps.type)
             if ps.reads:
                 if slot is not None:
                     s = self.a.slots[slot]
                     if is_queue(s.kind):
-                        self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a "
-                                        f"{s.kind}")
+                        self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a {s.kind}")
                         continue
                     numeric = is_numeric(s.kind) or s.kind == DYN
                     if (t in ("", "std::string_view")) and numeric:
                         entry["scratch"] = True
                     targ = t or "T"
                     scratch = "{scratch}" if (t in ("", "std::string_view")) and numeric else ""
-                    entry["reads"].append((inst.index, f"return btgen::port::read<{targ}>(bb.{s.member}"
-                                                       f"{scratch});"))
+                    entry["reads"].append((inst.index, f"return btgen::port::read<{targ}>(bb.{s.member}{scratch});"))
                 elif t:
                     try:
-                        value = values.convert_from_string(ps.type if not values.is_opaque_type(ps.type)
-                                                           else values.STRING, raw)
+                        value = values.convert_from_string(
+                            ps.type if not values.is_opaque_type(ps.type) else values.STRING, raw
+                        )
                         entry["reads"].append((inst.index, f"return {cpp_port_literal(ps.type, value)};"))
                     except values.ConversionError:
                         entry["reads"].append((inst.index, "return btgen::PortError::kConversion;"))
                 else:
                     entry["reads"].append((inst.index, f"return btgen::port::parse<T>({cpp_view(raw)});"))
             if ps.writes and slot is not None:
-                if ps.type != values.ANY and not self.typed_write_ok(slot, ps.type if not values.is_opaque_type(
-                        ps.type) else values.STRING, loc, f"output port `{ps.name}` of {inst.what}"):
+                if ps.type != values.ANY and not self.typed_write_ok(
+                    slot,
+                    ps.type if not values.is_opaque_type(ps.type) else values.STRING,
+                    loc,
+                    f"output port `{ps.name}` of {inst.what}",
+                ):
                     continue
                 s = self.a.slots[slot]
-                stmts = (f"const btgen::Errc e = btgen::port::write(bb.{s.member}, btgen::Declared::"
-                         f"{declared_enum(s.entry.type_name)}, value);",
-                         "if (e != btgen::Errc::kOk) " + self.fail(
-                             loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`",
-                             "btgen::describe(e)", ret="false"),
-                         "return true;")
+                stmts = (
+                    f"const btgen::Errc e = btgen::port::write(bb.{s.member}, btgen::Declared::"
+                    f"{declared_enum(s.entry.type_name)}, value);",
+                    "if (e != btgen::Errc::kOk) "
+                    + self.fail(
+                        loc,
+                        f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`",
+                        "btgen::describe(e)",
+                        ret="false",
+                    ),
+                    "return true;",
+                )
                 entry["writes"].append((inst.index, stmts))
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,
@@ -1403,8 +1634,19 @@ class _Compiler:
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]
                 reads = tuple((i, stmt.replace("{scratch}", f", &scratch{k}_")) for i, stmt in e["reads"])
-                irs.append(PortIR(cname, pname, ps.direction, ps.type, port_cpp_type(ps.type), ps.description,
-                                  f"scratch{k}_" if e["scratch"] else "", reads, tuple(e["writes"])))
+                irs.append(
+                    PortIR(
+                        cname,
+                        pname,
+                        ps.direction,
+                        ps.type,
+                        port_cpp_type(ps.type),
+                        ps.description,
+                        f"scratch{k}_" if e["scratch"] else "",
+                        reads,
+                        tuple(e["writes"]),
+                    )
+                )
             out[model_id] = tuple(irs)
         return out
 
@@ -1445,15 +1687,46 @@ class _Compiler:
         ports = self.ports()
         for s in self.a.slots:
             for w in s.writes:
-                if w.literal is not None and w.source != "script" and s.kind == "string" and \
-                        len(w.literal.encode("utf-8")) > s.capacity:  # (scripts: reported as they compile)
+                if (
+                    w.literal is not None
+                    and w.source != "script"
+                    and s.kind == "string"
+                    and len(w.literal.encode("utf-8")) > s.capacity
+                ):  # (scripts: reported as they compile)
                     self.error(w.loc, self.overflow_message(w.literal, s))
-        slots = tuple(SlotIR(i, s.member, s.key, s.owner, s.entry.type_name, s.kind or "none", self.a.cpp_type(s),
-                             self.a.initializer(s), s.origin, s.origin_loc, s.capacity, s.owner_uid)
-                      for i, s in enumerate(self.a.slots))
-        return DataIR(slots, tuple(locals_), tuple(scripts), tuple(data_leaves), tuple(entries), tuple(switches),
-                      tuple(loops), ports, bits, params, self.a.opt.string_capacity, self.a.opt.queue_capacity,
-                      tuple(self.where_locs), tuple(self.a.m.enums))
+        slots = tuple(
+            SlotIR(
+                i,
+                s.member,
+                s.key,
+                s.owner,
+                s.entry.type_name,
+                s.kind or "none",
+                self.a.cpp_type(s),
+                self.a.initializer(s),
+                s.origin,
+                s.origin_loc,
+                s.capacity,
+                s.owner_uid,
+            )
+            for i, s in enumerate(self.a.slots)
+        )
+        return DataIR(
+            slots,
+            tuple(locals_),
+            tuple(scripts),
+            tuple(data_leaves),
+            tuple(entries),
+            tuple(switches),
+            tuple(loops),
+            ports,
+            bits,
+            params,
+            self.a.opt.string_capacity,
+            self.a.opt.queue_capacity,
+            tuple(self.where_locs),
+            tuple(self.a.m.enums),
+        )
 
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:

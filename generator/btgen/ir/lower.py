@@ -12,6 +12,7 @@ a `path:line:col` diagnostic.
 The data side (blackboard entries, ports, scripts, pre/post conditions) is
 resolved by dataflow.py; its DataIR travels in the Program.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -168,8 +169,10 @@ def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
     """(UID, registration ID, name) of every node of the main tree, SubTrees inlined:
     the numbers BehaviorTree.CPP (and Groot2) give them. Works on any mission,
     including those the C++ back end cannot compile yet."""
-    return [(i + 1, "SubTree" if isinstance(n, SubTreeNode) else n.id, n.display_name)
-            for i, (n, _, _, _) in enumerate(_expanded(mission))]
+    return [
+        (i + 1, "SubTree" if isinstance(n, SubTreeNode) else n.id, n.display_name)
+        for i, (n, _, _, _) in enumerate(_expanded(mission))
+    ]
 
 
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
@@ -226,20 +229,29 @@ class _Lowerer:
             need_s = max(n_children + succ + 1, 0) if succ < 0 else succ
             need_f = max(n_children + fail + 1, 0) if fail < 0 else fail
             if n_children < need_s:
-                self.error(sloc, f"`Parallel` \"{node.display_name}\" has {n_children} children but needs "
-                                 f"{need_s} successes (success_count={succ}): it can never succeed "
-                                 f"(BehaviorTree.CPP throws when it is ticked)")
+                self.error(
+                    sloc,
+                    f'`Parallel` "{node.display_name}" has {n_children} children but needs '
+                    f"{need_s} successes (success_count={succ}): it can never succeed "
+                    f"(BehaviorTree.CPP throws when it is ticked)",
+                )
             if n_children < need_f:
-                self.error(floc, f"`Parallel` \"{node.display_name}\" has {n_children} children but fails after "
-                                 f"{need_f} failures (failure_count={fail}): it can never fail that way "
-                                 f"(BehaviorTree.CPP throws when it is ticked)")
+                self.error(
+                    floc,
+                    f'`Parallel` "{node.display_name}" has {n_children} children but fails after '
+                    f"{need_f} failures (failure_count={fail}): it can never fail that way "
+                    f"(BehaviorTree.CPP throws when it is ticked)",
+                )
             return need_s, need_f, 1 if succ < 0 else 0
         if nid == "ParallelAll":
             mf, loc = self.literal(node, "max_failures", "int")
             need = max(n_children + mf + 1, 0) if mf < 0 else mf
             if n_children < need:
-                self.error(loc, f"`ParallelAll` \"{node.display_name}\" has {n_children} children but "
-                                f"max_failures={mf}: it can never fail (BehaviorTree.CPP throws when it is ticked)")
+                self.error(
+                    loc,
+                    f'`ParallelAll` "{node.display_name}" has {n_children} children but '
+                    f"max_failures={mf}: it can never fail (BehaviorTree.CPP throws when it is ticked)",
+                )
             return need, 0, 0
         if nid == "Repeat":
             return int(self.literal(node, "num_cycles", "int")[0]), 0, 0
@@ -283,8 +295,18 @@ class _Lowerer:
                 model = model_index[node.id]
             else:
                 raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")
-            raw.append(dict(node=node, parent=parent, depth=depth, tree=tree, kind=kind, model=model,
-                            slot=counter if nslots else -1, timer=timer if ntimers else -1))
+            raw.append(
+                dict(
+                    node=node,
+                    parent=parent,
+                    depth=depth,
+                    tree=tree,
+                    kind=kind,
+                    model=model,
+                    slot=counter if nslots else -1,
+                    timer=timer if ntimers else -1,
+                )
+            )
             counter += nslots
             timer += ntimers
             if index + 1 > 0xFFFF:  # UIDs are 16-bit; index 0xFFFF is kNoNode, so at most 65535 nodes
@@ -297,16 +319,44 @@ class _Lowerer:
             kids = tuple(children[index])
             params = data.params.get(index) or self.params(node, len(kids))
             reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id
-            nodes.append(IRNode(index, index + 1, r["kind"], reg_id, node.display_name, r["parent"], kids,
-                                len(child_table), r["depth"], params, r["slot"], r["timer"], r["model"], node.loc,
-                                r["tree"], data.script_bits.get(index, 0)))
+            nodes.append(
+                IRNode(
+                    index,
+                    index + 1,
+                    r["kind"],
+                    reg_id,
+                    node.display_name,
+                    r["parent"],
+                    kids,
+                    len(child_table),
+                    r["depth"],
+                    params,
+                    r["slot"],
+                    r["timer"],
+                    r["model"],
+                    node.loc,
+                    r["tree"],
+                    data.script_bits.get(index, 0),
+                )
+            )
             child_table.extend(kids)
         self._check_conditions(nodes)
         self.sink.raise_if_errors()
-        return Program(m.path, m.files, m.main_tree, tuple(nodes), tuple(child_table), leaf_models,
-                       max(n.depth for n in nodes), counter, timer,
-                       any(n.kind in ("Parallel", "ParallelAll") for n in nodes), _unrun_leaves(m), data,
-                       groot2_tree(m))
+        return Program(
+            m.path,
+            m.files,
+            m.main_tree,
+            tuple(nodes),
+            tuple(child_table),
+            leaf_models,
+            max(n.depth for n in nodes),
+            counter,
+            timer,
+            any(n.kind in ("Parallel", "ParallelAll") for n in nodes),
+            _unrun_leaves(m),
+            data,
+            groot2_tree(m),
+        )
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
         """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""
@@ -317,8 +367,17 @@ class _Lowerer:
             k = n.kind
             if k == "RunOnce":
                 skips[n.index] = n.params[0] == 1 or kid[0]
-            elif k in ("Sequence", "AsyncSequence", "SequenceWithMemory", "ReactiveSequence", "Fallback",
-                       "AsyncFallback", "ReactiveFallback", "Parallel", "ParallelAll"):
+            elif k in (
+                "Sequence",
+                "AsyncSequence",
+                "SequenceWithMemory",
+                "ReactiveSequence",
+                "Fallback",
+                "AsyncFallback",
+                "ReactiveFallback",
+                "Parallel",
+                "ParallelAll",
+            ):
                 skips[n.index] = all(kid)
             elif k in ("IfThenElse", "WhileDoElse"):
                 skips[n.index] = any(kid[1:])
@@ -328,8 +387,17 @@ class _Lowerer:
                 skips[n.index] = n.params[0] == skipped or (k == "Precondition" and kid[0])
             elif k == "SkipUnlessUpdated":
                 skips[n.index] = True
-            elif k in ("Inverter", "ForceSuccess", "ForceFailure", "Repeat", "RetryUntilSuccessful", "Timeout",
-                       "Delay", "SubTree", "WaitValueUpdate"):
+            elif k in (
+                "Inverter",
+                "ForceSuccess",
+                "ForceFailure",
+                "Repeat",
+                "RetryUntilSuccessful",
+                "Timeout",
+                "Delay",
+                "SubTree",
+                "WaitValueUpdate",
+            ):
                 skips[n.index] = kid[0]
             else:  # KeepRunningUntilFailure answers RUNNING; leaves never skip
                 skips[n.index] = False
@@ -338,9 +406,12 @@ class _Lowerer:
         for n in nodes:
             if n.kind in ("IfThenElse", "WhileDoElse") and skips[n.children[0]]:
                 cond = nodes[n.children[0]]
-                self.error(cond.loc, f"the condition of `{n.id}` \"{n.name}\" (`{cond.id}` \"{cond.name}\") can "
-                                     f"return SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that "
-                                     f"answers SUCCESS or FAILURE there")
+                self.error(
+                    cond.loc,
+                    f'the condition of `{n.id}` "{n.name}" (`{cond.id}` "{cond.name}") can '
+                    f"return SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that "
+                    f"answers SUCCESS or FAILURE there",
+                )
 
 
 def lower(mission: Mission, options: Optional[DataOptions] = None) -> Program:

@@ -16,6 +16,7 @@ buffer (instances in creation order, each with its own nodes in creation
 order). What 4.6.2 leaves to hash order (a node's port attributes, a model's
 ports) is written here in a fixed order: the file's order, then defaults.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -39,15 +40,20 @@ def _cpp_type(canonical: str) -> str:
     if canonical in _CPP_TYPES:
         return _CPP_TYPES[canonical]
     if canonical.startswith("queue<") and canonical.endswith(">"):
-        elem = _cpp_type(canonical[len("queue<"):-1])
+        elem = _cpp_type(canonical[len("queue<") : -1])
         return f"std::shared_ptr<std::deque<{elem}, std::allocator<{elem}> > >"
     return canonical
 
 
 def escape(text: str) -> str:
     """tinyxml2's escaping of text and attribute values."""
-    return (text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-            .replace('"', "&quot;").replace("'", "&apos;"))
+    return (
+        text.replace("&", "&amp;")
+        .replace("<", "&lt;")
+        .replace(">", "&gt;")
+        .replace('"', "&quot;")
+        .replace("'", "&apos;")
+    )
 
 
 @dataclass(frozen=True)

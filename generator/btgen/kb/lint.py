@@ -21,6 +21,7 @@ The limits below are shared with the C++ reader
 (runtime/include/btgen/kb_limits.hpp) and the schema; a test checks that
 all three agree.
 """
+
 from __future__ import annotations
 
 import functools
@@ -38,7 +39,9 @@ from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_yo
 
 # ----- Limits: keep equal to runtime/include/btgen/kb_limits.hpp ----------------
 
-KB_MAX_FILE_BYTES = 131072  # .dat and .ini files; the Lab Tour base is 4 kB (lint time grows with size: README "Limits")
+KB_MAX_FILE_BYTES = (
+    131072  # .dat and .ini files; the Lab Tour base is 4 kB (lint time grows with size: README "Limits")
+)
 KB_MAX_TEXT_BYTES = 255  # description or message, UTF-8 bytes, without terminator
 KB_MAX_CULTURAL_KEYS = 10  # per location (D5.4.2 MAX_CULTURAL_KEYS)
 KB_MAX_CULTURAL_KEY_BYTES = 63  # one cultural knowledge key
@@ -49,8 +52,10 @@ KB_MAX_ABS_COORDINATE = 1000000  # metres (degrees for theta)
 # ----- Keys ------------------------------------------------------------------
 
 LANGUAGES = ("English", "IsiZulu", "Kinyarwanda")
-TEXT_KEYS = ("robotLocationDescription",
-             *(f"{phase}GestureMessage{lang}" for phase in ("pre", "post") for lang in LANGUAGES))
+TEXT_KEYS = (
+    "robotLocationDescription",
+    *(f"{phase}GestureMessage{lang}" for phase in ("pre", "post") for lang in LANGUAGES),
+)
 POINT_KEYS = {"robotLocationPose": "x y theta", "gestureTarget": "x y z"}
 CULTURAL_KEY = "culturalKnowledge"
 TOUR_KEY = "tourSpecification"
@@ -64,7 +69,8 @@ CONFIG_KEYS = ("knowledgeBase", "verboseMode")
 # A message that stands in for a missing one ("No message in isiZulu").
 _PLACEHOLDER_RE = re.compile(
     r"(?i)(no (message|translation|text)\b.*|(todo|tbd|fixme)\b.*|placeholder\b.*"
-    r"|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*)")
+    r"|to be translated\b.*|x{3,}|\.\.\.|lorem ipsum\b.*)"
+)
 
 SCHEMA_PATH = str(resources.SCHEMA_DIR / "environment_knowledge_base.xsd")
 
@@ -112,8 +118,7 @@ class Messages:
 
     def in_language(self, language: str) -> str:
         """``language`` is one of :data:`LANGUAGES` (any case)."""
-        return {"english": self.english, "isizulu": self.isizulu,
-                "kinyarwanda": self.kinyarwanda}[language.lower()]
+        return {"english": self.english, "isizulu": self.isizulu, "kinyarwanda": self.kinyarwanda}[language.lower()]
 
 
 @dataclass(frozen=True)
@@ -199,14 +204,12 @@ def _read_lines(path: str, sink: DiagnosticSink, what: str) -> Optional[list[_Li
             text = raw.decode("utf-8")
         except UnicodeDecodeError as e:
             col = len(raw[: e.start].decode("utf-8")) + 1
-            sink.error(Loc(path, number, col),
-                       f"invalid UTF-8 byte 0x{raw[e.start]:02X}; save the file as UTF-8")
+            sink.error(Loc(path, number, col), f"invalid UTF-8 byte 0x{raw[e.start]:02X}; save the file as UTF-8")
             ok = False
             continue
         bad = re.search(r"[\x00-\x08\x0a-\x1f\x7f]", text)
         if bad:
-            sink.error(Loc(path, number, bad.start() + 1),
-                       f"control character U+{ord(bad.group()):04X} is not allowed")
+            sink.error(Loc(path, number, bad.start() + 1), f"control character U+{ord(bad.group()):04X} is not allowed")
             ok = False
             continue
         lines.append(_Line(number, text))
@@ -262,7 +265,7 @@ class _Scanner:
         start = self.i
         while self.i < len(self.text) and self.text[self.i] not in " \t,":
             self.i += 1
-        token = _Token(self.text[start:self.i], self.loc(start))
+        token = _Token(self.text[start : self.i], self.loc(start))
         self._skip_blanks()
         if self.i < len(self.text) and self.text[self.i] == ",":
             comma = self.i
@@ -276,7 +279,7 @@ class _Scanner:
     def rest(self) -> Optional[_Token]:
         """The rest of the line without trailing blanks (text values), None if empty."""
         self._skip_blanks()
-        text = self.text[self.i:].rstrip(" \t")
+        text = self.text[self.i :].rstrip(" \t")
         start, self.i = self.i, len(self.text)
         return _Token(text, self.loc(start)) if text else None
 
@@ -338,8 +341,10 @@ def _unknown_key_message(word: str, known: Sequence[str], previous: Optional[_Li
         return f"unknown key `{word}` (did you mean `{m}`?)"
     previous_key = re.match(r"[ \t]*([^ \t,]*)", previous.text) if previous is not None else None
     if previous is not None and previous_key is not None and previous_key.group(1) in TEXT_KEYS:
-        return (f"unknown key `{word}`; if this line continues the text on line {previous.number}, "
-                f"join them: an entry is one line")
+        return (
+            f"unknown key `{word}`; if this line continues the text on line {previous.number}, "
+            f"join them: an entry is one line"
+        )
     return f"unknown key `{word}`: a line starts with a key such as `{known[0]}`"
 
 
@@ -412,8 +417,7 @@ def _type_message(elem: ET.Element, parent: ET.Element, validator: object) -> st
         return f"expected a location id (a whole number from 1 to {KB_MAX_LOCATION_ID}), found `{value}`"
     if elem.tag == "value":
         if "Inclusive" in facet:
-            return (f"`{value}` is out of range: coordinates are at most {KB_MAX_ABS_COORDINATE} "
-                    f"in magnitude")
+            return f"`{value}` is out of range: coordinates are at most {KB_MAX_ABS_COORDINATE} in magnitude"
         try:
             float(value)
             why = " (write a plain decimal such as 0.82: no exponent, INF or NaN)"
@@ -422,10 +426,11 @@ def _type_message(elem: ET.Element, parent: ET.Element, validator: object) -> st
         return f"expected a number in `{key}` ({POINT_KEYS.get(key, 'x y z')}), found `{value}`{why}"
     if elem.tag == "key":
         if "Length" in facet:
-            return (f"cultural knowledge key `{value[:20]}...` is {len(value.encode())} bytes long; "
-                    f"at most {KB_MAX_CULTURAL_KEY_BYTES} are allowed")
-        return (f"`{value}` is not a cultural knowledge key (an ASCII letter, then letters, "
-                f"digits or `_`)")
+            return (
+                f"cultural knowledge key `{value[:20]}...` is {len(value.encode())} bytes long; "
+                f"at most {KB_MAX_CULTURAL_KEY_BYTES} are allowed"
+            )
+        return f"`{value}` is not a cultural knowledge key (an ASCII letter, then letters, digits or `_`)"
     if elem.tag == "count":
         if "Inclusive" in facet:
             return f"the tour has {value} locations; at most {KB_MAX_TOUR_LOCATIONS} are allowed"
@@ -462,8 +467,9 @@ def _validate(tree: _Tree, explained: set[tuple[str, str]], path: str, sink: Dia
     return bad
 
 
-def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError, elem: ET.Element,
-                   path: str, sink: DiagnosticSink) -> None:
+def _content_error(
+    tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError, elem: ET.Element, path: str, sink: DiagnosticSink
+) -> None:
     key = elem.tag
     child = getattr(err, "invalid_child", None)
     if elem is tree.root:
@@ -471,11 +477,14 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
             # The content model stops at the second tour: report every later one.
             tours = [e for e in tree.root if e.tag == TOUR_KEY]
             for later in tours[1:]:
-                sink.error(tree.locs[id(later)], f"duplicate `{TOUR_KEY}`; the first is on line "
-                                                 f"{tree.locs[id(tours[0])].line}")
+                sink.error(
+                    tree.locs[id(later)], f"duplicate `{TOUR_KEY}`; the first is on line {tree.locs[id(tours[0])].line}"
+                )
         elif child is None:
-            sink.error(Loc(path, 1, 1), f"the knowledge base has no `{TOUR_KEY}` "
-                                        f"(the number of locations, then their ids in visiting order)")
+            sink.error(
+                Loc(path, 1, 1),
+                f"the knowledge base has no `{TOUR_KEY}` (the number of locations, then their ids in visiting order)",
+            )
         else:  # cannot happen: unknown keys never reach the tree
             sink.error(tree.locs[id(child)], f"unexpected `{child.tag}`")
         return
@@ -484,11 +493,11 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
         return  # the separator error already explains the count
     if child is not None:  # too many values
         if key == TOUR_KEY:
-            sink.error(tree.locs[id(child)],
-                       f"the tour lists more than {KB_MAX_TOUR_LOCATIONS} locations")
+            sink.error(tree.locs[id(child)], f"the tour lists more than {KB_MAX_TOUR_LOCATIONS} locations")
         elif key == CULTURAL_KEY:
-            sink.error(tree.locs[id(child)],
-                       f"more than {KB_MAX_CULTURAL_KEYS} cultural knowledge keys for one location")
+            sink.error(
+                tree.locs[id(child)], f"more than {KB_MAX_CULTURAL_KEYS} cultural knowledge keys for one location"
+            )
         else:
             sink.error(tree.locs[id(child)], f"too many values: `{key}` takes {_describe_values(key)}")
         return
@@ -497,14 +506,16 @@ def _content_error(tree: _Tree, err: xmlschema.XMLSchemaChildrenValidationError,
     if not entry.values:
         sink.error(entry.end.shifted(1), f"`{key}` needs {_describe_values(key)}")
     elif key in POINT_KEYS:
-        sink.error(entry.end.shifted(1), f"`{key}` takes {_describe_values(key)}; "
-                                         f"found {len(entry.values) - 1} number"
-                                         f"{'' if len(entry.values) == 2 else 's'}")
+        sink.error(
+            entry.end.shifted(1),
+            f"`{key}` takes {_describe_values(key)}; "
+            f"found {len(entry.values) - 1} number"
+            f"{'' if len(entry.values) == 2 else 's'}",
+        )
     elif key == TOUR_KEY:
         sink.error(entry.end.shifted(1), f"`{TOUR_KEY}` lists no location ids after the count")
     elif key == CULTURAL_KEY:
-        sink.error(entry.end.shifted(1), f"`{CULTURAL_KEY}` of location {entry.values[0].text} "
-                                         f"lists no keys")
+        sink.error(entry.end.shifted(1), f"`{CULTURAL_KEY}` of location {entry.values[0].text} lists no keys")
     else:
         sink.error(entry.end.shifted(1), f"`{key}` of location {entry.values[0].text} has no text")
 
@@ -517,9 +528,15 @@ def _entry_id(tree: _Tree, elem: ET.Element, bad: set[int]) -> Optional[int]:
     return int(first.text or "0")
 
 
-def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationError], bad: set[int],
-                     reported: set[int], explained: set[tuple[str, str]], path: str,
-                     sink: DiagnosticSink) -> None:
+def _identity_errors(
+    tree: _Tree,
+    errs: Sequence[xmlschema.XMLSchemaValidationError],
+    bad: set[int],
+    reported: set[int],
+    explained: set[tuple[str, str]],
+    path: str,
+    sink: DiagnosticSink,
+) -> None:
     first_of: dict[int, ET.Element] = {}  # location id -> its first entry element
     unidentified: set[str] = set()  # keys with an entry whose id is missing or malformed
     for elem in tree.root:
@@ -545,8 +562,11 @@ def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationEr
             for later in same[1:]:
                 if id(later) not in reported:  # an entry with a count error is not also a duplicate
                     reported.add(id(later))
-                    sink.error(tree.locs[id(later)], f"duplicate `{tag}` entry for location {lid}; "
-                                                     f"the first is on line {tree.locs[id(same[0])].line}")
+                    sink.error(
+                        tree.locs[id(later)],
+                        f"duplicate `{tag}` entry for location {lid}; "
+                        f"the first is on line {tree.locs[id(same[0])].line}",
+                    )
             continue
         ref = _KEYREF_RE.match(reason)
         if ref:
@@ -563,8 +583,11 @@ def _identity_errors(tree: _Tree, errs: Sequence[xmlschema.XMLSchemaValidationEr
                 for tid in tree.root.iter("id"):
                     parent_is_tour = any(tid is c for t in tree.root.iter(TOUR_KEY) for c in t)
                     if parent_is_tour and id(tid) not in bad and int(tid.text or "0") == lid:
-                        sink.error(tree.locs[id(tid)], f"the tour visits location {lid}, which the knowledge "
-                                                       f"base does not define (locations: {known})")
+                        sink.error(
+                            tree.locs[id(tid)],
+                            f"the tour visits location {lid}, which the knowledge "
+                            f"base does not define (locations: {known})",
+                        )
             elif lid in first_of and key not in unidentified and (str(lid), key) not in explained:
                 # Location entries keep their file order in the tree: first_of is the first line.
                 sink.error(tree.locs[id(first_of[lid])], f"location {lid} has no `{key}` entry")
@@ -585,18 +608,29 @@ def _lint_entries(entries: Sequence[_Entry], sink: DiagnosticSink) -> None:
             size = len(text.text.encode("utf-8"))
             where = f"`{key}` of location {entry.values[0].text}"
             if size > KB_MAX_TEXT_BYTES:
-                sink.error(text.loc, f"{where} is {size} bytes long; the runtime holds at most "
-                                     f"{KB_MAX_TEXT_BYTES} bytes (UTF-8)")
+                sink.error(
+                    text.loc,
+                    f"{where} is {size} bytes long; the runtime holds at most {KB_MAX_TEXT_BYTES} bytes (UTF-8)",
+                )
             elif _PLACEHOLDER_RE.fullmatch(text.text) and key != "robotLocationDescription":
-                sink.warning(text.loc, f"{where} is a placeholder, not a message: `{text.text}` "
-                                       f"(the robot would say it)")
+                sink.warning(
+                    text.loc, f"{where} is a placeholder, not a message: `{text.text}` (the robot would say it)"
+                )
         if key == TOUR_KEY and entry.values:
             count, ids = entry.values[0], entry.values[1:]
-            if re.fullmatch(r"0|[1-9][0-9]*", count.text) and int(count.text) <= KB_MAX_TOUR_LOCATIONS \
-                    and ids and len(ids) <= KB_MAX_TOUR_LOCATIONS and int(count.text) != len(ids):
-                sink.error(count.loc, f"the tour count is {count.text} but {len(ids)} location "
-                                      f"id{'' if len(ids) == 1 else 's'} follow "
-                                      f"({' '.join(t.text for t in ids)})")
+            if (
+                re.fullmatch(r"0|[1-9][0-9]*", count.text)
+                and int(count.text) <= KB_MAX_TOUR_LOCATIONS
+                and ids
+                and len(ids) <= KB_MAX_TOUR_LOCATIONS
+                and int(count.text) != len(ids)
+            ):
+                sink.error(
+                    count.loc,
+                    f"the tour count is {count.text} but {len(ids)} location "
+                    f"id{'' if len(ids) == 1 else 's'} follow "
+                    f"({' '.join(t.text for t in ids)})",
+                )
 
 
 # ----- The model ---------------------------------------------------------------
@@ -626,11 +660,18 @@ def _build_model(path: str, entries: Sequence[_Entry], warnings: Sequence[Diagno
     for lid in sorted(by_id):
         e = by_id[lid]
         first = min((x.key.loc for x in e.values()), key=lambda loc: (loc.line, loc.col))
-        locations.append(Location(
-            id=lid, loc=first, description=text(e, "robotLocationDescription"),
-            pose=Pose(*nums(e, "robotLocationPose")), gesture_target=Point3(*nums(e, "gestureTarget")),
-            pre_gesture=messages(e, "pre"), post_gesture=messages(e, "post"),
-            cultural_knowledge=tuple(t.text for t in e[CULTURAL_KEY].values[1:])))
+        locations.append(
+            Location(
+                id=lid,
+                loc=first,
+                description=text(e, "robotLocationDescription"),
+                pose=Pose(*nums(e, "robotLocationPose")),
+                gesture_target=Point3(*nums(e, "gestureTarget")),
+                pre_gesture=messages(e, "pre"),
+                post_gesture=messages(e, "post"),
+                cultural_knowledge=tuple(t.text for t in e[CULTURAL_KEY].values[1:]),
+            )
+        )
     return KnowledgeBase(path, tuple(locations), tour, tuple(warnings))
 
 
@@ -645,8 +686,11 @@ def _check_kb(dat_path: str) -> tuple[list[Diagnostic], Optional[KnowledgeBase],
     if lines is None:
         return _sorted(sink.items), None, []
     if not any(_content(line) for line in lines):
-        sink.error(Loc(dat_path, 1, 1), "the knowledge base is empty: it has no locations and no "
-                                        f"`{TOUR_KEY}` (format: key, location id, values; one entry a line)")
+        sink.error(
+            Loc(dat_path, 1, 1),
+            "the knowledge base is empty: it has no locations and no "
+            f"`{TOUR_KEY}` (format: key, location id, values; one entry a line)",
+        )
         return _sorted(sink.items), None, []
     parsed = _tokenize(dat_path, lines, sink)
     entries = parsed.entries
@@ -710,13 +754,17 @@ def _check_config(ini_path: str) -> tuple[list[Diagnostic], Optional[KbConfigura
     kb = values.get("knowledgeBase")
     if kb is None:
         if not kb_written:
-            sink.error(Loc(ini_path, 1, 1), "the configuration has no `knowledgeBase` "
-                                            "(the file name of the knowledge base)")
+            sink.error(
+                Loc(ini_path, 1, 1), "the configuration has no `knowledgeBase` (the file name of the knowledge base)"
+            )
         return _sorted(sink.items), None, None
     resolved = os.path.join(os.path.dirname(ini_path), kb.text)
     if not os.path.isfile(resolved):
-        sink.error(kb.loc, f"knowledge base file `{kb.text}` not found (looked for `{resolved}`; "
-                           f"the name is relative to the configuration file's folder)")
+        sink.error(
+            kb.loc,
+            f"knowledge base file `{kb.text}` not found (looked for `{resolved}`; "
+            f"the name is relative to the configuration file's folder)",
+        )
     if sink.errors:
         return _sorted(sink.items), None, kb.loc
     return _sorted(sink.items), KbConfiguration(ini_path, kb.text, resolved, verbose), kb.loc
@@ -749,10 +797,16 @@ def _check_mission(mission_path: str, kb: Sequence[_Entry], sink: DiagnosticSink
     except UserError as e:
         sink.items.extend(e.diagnostics)
         return
-    ids = {int(e.values[0].text) for e in kb
-           if e.key.text != TOUR_KEY and e.values and re.fullmatch(r"[1-9][0-9]{0,9}", e.values[0].text)}
-    descriptions = {e.values[1].text.lower(): e.values[0].text for e in kb
-                    if e.key.text == "robotLocationDescription" and len(e.values) == 2}
+    ids = {
+        int(e.values[0].text)
+        for e in kb
+        if e.key.text != TOUR_KEY and e.values and re.fullmatch(r"[1-9][0-9]{0,9}", e.values[0].text)
+    }
+    descriptions = {
+        e.values[1].text.lower(): e.values[0].text
+        for e in kb
+        if e.key.text == "robotLocationDescription" and len(e.values) == 2
+    }
     known = ", ".join(str(i) for i in sorted(ids)[:12]) or "none"
     for elem in src.root.iter():
         if not isinstance(elem.tag, str):
@@ -767,20 +821,24 @@ def _check_mission(mission_path: str, kb: Sequence[_Entry], sink: DiagnosticSink
             loc = src.value_loc(elem, name, len(value) - len(value.lstrip()))
             if re.fullmatch(r"[1-9][0-9]*", v):
                 if int(v) not in ids:
-                    sink.error(loc, f"`{name}` names location {v}, which the knowledge base does not "
-                                    f"define (locations: {known})")
+                    sink.error(
+                        loc,
+                        f"`{name}` names location {v}, which the knowledge base does not define (locations: {known})",
+                    )
                 continue
             hint = descriptions.get(v.lower())
             more = f" (location {hint} is described as `{v}`)" if hint else ""
-            sink.error(loc, f"`{name}` must be a location id of the knowledge base or a blackboard "
-                            f"entry such as `{{{name}}}`, found `{v}`{more}")
+            sink.error(
+                loc,
+                f"`{name}` must be a location id of the knowledge base or a blackboard "
+                f"entry such as `{{{name}}}`, found `{v}`{more}",
+            )
 
 
 # ----- Entry points -----------------------------------------------------------
 
 
-def lint_kb(dat_path: str, config_path: Optional[str] = None,
-            mission_path: Optional[str] = None) -> list[Diagnostic]:
+def lint_kb(dat_path: str, config_path: Optional[str] = None, mission_path: Optional[str] = None) -> list[Diagnostic]:
     """Every problem of a knowledge base (and its configuration and mission), never raising.
 
     Diagnostics come file by file (base, configuration, mission), each
@@ -790,10 +848,19 @@ def lint_kb(dat_path: str, config_path: Optional[str] = None,
     if config_path is not None:
         cdiags, config, kb_loc = _check_config(config_path)
         diags += cdiags
-        if config is not None and kb_loc is not None and os.path.exists(dat_path) \
-                and not os.path.samefile(config.knowledge_base_path, dat_path):
-            diags.append(Diagnostic(kb_loc, f"the configuration names `{config.knowledge_base}`, "
-                                            f"not the file being checked (`{dat_path}`)", "warning"))
+        if (
+            config is not None
+            and kb_loc is not None
+            and os.path.exists(dat_path)
+            and not os.path.samefile(config.knowledge_base_path, dat_path)
+        ):
+            diags.append(
+                Diagnostic(
+                    kb_loc,
+                    f"the configuration names `{config.knowledge_base}`, not the file being checked (`{dat_path}`)",
+                    "warning",
+                )
+            )
     if mission_path is not None:
         sink = DiagnosticSink()
         _check_mission(mission_path, entries, sink)
@@ -819,9 +886,23 @@ def iter_placeholders(kb: KnowledgeBase) -> Iterator[tuple[int, str]]:
 
 
 __all__ = [
-    "KB_MAX_FILE_BYTES", "KB_MAX_TEXT_BYTES", "KB_MAX_CULTURAL_KEYS", "KB_MAX_CULTURAL_KEY_BYTES",
-    "KB_MAX_TOUR_LOCATIONS", "KB_MAX_LOCATION_ID", "KB_MAX_ABS_COORDINATE", "LANGUAGES",
-    "Pose", "Point3", "Messages", "Location", "KnowledgeBase", "KbConfiguration",
-    "lint_kb", "load_kb", "load_config", "iter_placeholders", "schema_keys",
+    "KB_MAX_FILE_BYTES",
+    "KB_MAX_TEXT_BYTES",
+    "KB_MAX_CULTURAL_KEYS",
+    "KB_MAX_CULTURAL_KEY_BYTES",
+    "KB_MAX_TOUR_LOCATIONS",
+    "KB_MAX_LOCATION_ID",
+    "KB_MAX_ABS_COORDINATE",
+    "LANGUAGES",
+    "Pose",
+    "Point3",
+    "Messages",
+    "Location",
+    "KnowledgeBase",
+    "KbConfiguration",
+    "lint_kb",
+    "load_kb",
+    "load_config",
+    "iter_placeholders",
+    "schema_keys",
 ]
-

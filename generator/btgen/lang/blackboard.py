@@ -21,6 +21,7 @@ The module also has what nodes need to read and write ports the way
 it builds a tree (:func:`create_port_entry`, :meth:`Blackboard.for_subtree`).
 Errors raise :class:`BlackboardError`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -106,8 +107,7 @@ class Blackboard:
         return tuple(self._storage)
 
     @classmethod
-    def for_subtree(cls, parent: Blackboard, ports: Iterable[tuple[str, str]],
-                    autoremap: bool = False) -> Blackboard:
+    def for_subtree(cls, parent: Blackboard, ports: Iterable[tuple[str, str]], autoremap: bool = False) -> Blackboard:
         """The blackboard 4.6.2's XML loader makes for a SubTree instance.
 
         ``ports`` are the SubTree element's port attributes (name, value),
@@ -170,10 +170,10 @@ class Blackboard:
     def _create_entry_impl(self, key: str, type_name: str) -> Entry:
         entry = self._storage.get(key)
         if entry is not None:
-            if (entry.type_name != type_name and entry.strongly_typed
-                    and values.is_strongly_typed(type_name)):
+            if entry.type_name != type_name and entry.strongly_typed and values.is_strongly_typed(type_name):
                 raise BlackboardError(
-                    f"blackboard entry `{key}` is declared as {entry.type_name}; it cannot be used as {type_name}")
+                    f"blackboard entry `{key}` is declared as {entry.type_name}; it cannot be used as {type_name}"
+                )
             return entry
         if key in self._remapping:
             if self.parent is None:
@@ -241,15 +241,19 @@ class Blackboard:
                     new_value = entry.convert(value)  # type: ignore[arg-type]
                     mismatching = False
                 except ConversionError as e:
-                    raise BlackboardError(f"cannot write {values.describe(value)} to `{key}` "
-                                          f"({entry.type_name}): {e}") from None
-            if mismatching and t in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) \
-                    and values.is_casting_safe(entry.type_name, value):
+                    raise BlackboardError(
+                        f"cannot write {values.describe(value)} to `{key}` ({entry.type_name}): {e}"
+                    ) from None
+            if (
+                mismatching
+                and t in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL)
+                and values.is_casting_safe(entry.type_name, value)
+            ):
                 mismatching = False
             if mismatching:
                 raise BlackboardError(
-                    f"blackboard entry `{key}` is declared as {entry.type_name}; "
-                    f"it cannot be written with a {t}")
+                    f"blackboard entry `{key}` is declared as {entry.type_name}; it cannot be written with a {t}"
+                )
         if t == ANY:
             entry.value = new_value
         else:
@@ -270,6 +274,7 @@ class Blackboard:
 
 
 # ------------------------------------------------------------ port helpers
+
 
 def is_blackboard_pointer(text: str) -> bool:
     """4.6.2 ``isBlackboardPointer``: ``{key}`` with optional blanks around it."""
@@ -327,8 +332,7 @@ def get_input(bb: Blackboard, port_value_text: str, port_type: str, port_name: s
         raise BlackboardError(f"{what} reads blackboard entry `{key}`: {e}") from None
 
 
-def set_output(bb: Blackboard, port_value_text: str, value: Value, port_type: str,
-               port_name: str = "") -> Entry:
+def set_output(bb: Blackboard, port_value_text: str, value: Value, port_type: str, port_name: str = "") -> Entry:
     """Write a port as 4.6.2 ``TreeNode::setOutput<T>`` with T = ``port_type``.
 
     The port must name an entry (``{key}``, ``{=}``); a literal is an error.
@@ -341,8 +345,7 @@ def set_output(bb: Blackboard, port_value_text: str, value: Value, port_type: st
     return bb.set(key, value, t)
 
 
-def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str,
-                      port_name: str = "") -> Optional[Entry]:
+def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str, port_name: str = "") -> Optional[Entry]:
     """What 4.6.2's XML loader does for one port of a node it creates.
 
     A port naming an entry (``{key}``, ``{=}``) creates that entry with the
@@ -356,10 +359,16 @@ def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str,
         return None
     entry = bb.get_entry(key)
     if entry is not None:
-        if (entry.strongly_typed and values.is_strongly_typed(port_type)
-                and entry.type_name != port_type and entry.type_name != STRING):
-            raise BlackboardError(f"blackboard entry `{key}` was created as {entry.type_name}, "
-                                  f"but port `{port_name}` uses it as {port_type}")
+        if (
+            entry.strongly_typed
+            and values.is_strongly_typed(port_type)
+            and entry.type_name != port_type
+            and entry.type_name != STRING
+        ):
+            raise BlackboardError(
+                f"blackboard entry `{key}` was created as {entry.type_name}, "
+                f"but port `{port_name}` uses it as {port_type}"
+            )
         return entry
     return bb.create_entry(key, port_type)
 

@@ -10,6 +10,7 @@ without: 4.6.2 accepts a missing one when it loads the tree and fails (or
 throws) when the node first runs; btgen rejects it when it checks the
 mission.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -76,7 +77,9 @@ class NodeSpec:
         return f"{lo} or {hi} children" if hi == lo + 1 else f"{lo} to {hi} children"
 
 
-def _in(name: str, type_: str = "any", default: Optional[str] = None, required: bool = False, description: str = "") -> PortSpec:
+def _in(
+    name: str, type_: str = "any", default: Optional[str] = None, required: bool = False, description: str = ""
+) -> PortSpec:
     return PortSpec(name, "input", type_, default, required, description)
 
 
@@ -88,7 +91,9 @@ def _inout(name: str, type_: str = "any", required: bool = False, description: s
     return PortSpec(name, "inout", type_, None, required, description)
 
 
-def _control(id_: str, ports: tuple[PortSpec, ...] = (), lo: int = 1, hi: Optional[int] = None, d: str = "") -> NodeSpec:
+def _control(
+    id_: str, ports: tuple[PortSpec, ...] = (), lo: int = 1, hi: Optional[int] = None, d: str = ""
+) -> NodeSpec:
     return NodeSpec(id_, "Control", ports, True, lo, hi, d)
 
 
@@ -108,16 +113,32 @@ def _switch(n: int) -> NodeSpec:
     ports = (_in("variable", "string", required=True, description="value matched against the cases"),) + tuple(
         _in(f"case_{i}", "string", required=True) for i in range(1, n + 1)
     )
-    return NodeSpec(f"Switch{n}", "Control", ports, True, n + 1, n + 1,
-                    "ticks the child of the first case equal to `variable`, else the last (default) child")
+    return NodeSpec(
+        f"Switch{n}",
+        "Control",
+        ports,
+        True,
+        n + 1,
+        n + 1,
+        "ticks the child of the first case equal to `variable`, else the last (default) child",
+    )
 
 
 def _loop(id_: str, elem: str) -> NodeSpec:
-    return _decorator(id_, (
-        _inout("queue", f"queue<{elem}>", required=True, description="`;`-separated literal or a blackboard queue"),
-        _in("if_empty", "NodeStatus", "SUCCESS", description="status when the queue is empty: SUCCESS, FAILURE or SKIPPED"),
-        _out("value", elem, "the element popped for this run of the child"),
-    ), "pops one element per run of its child")
+    return _decorator(
+        id_,
+        (
+            _inout("queue", f"queue<{elem}>", required=True, description="`;`-separated literal or a blackboard queue"),
+            _in(
+                "if_empty",
+                "NodeStatus",
+                "SUCCESS",
+                description="status when the queue is empty: SUCCESS, FAILURE or SKIPPED",
+            ),
+            _out("value", elem, "the element popped for this run of the child"),
+        ),
+        "pops one element per run of its child",
+    )
 
 
 _BUILTINS: tuple[NodeSpec, ...] = (
@@ -129,48 +150,95 @@ _BUILTINS: tuple[NodeSpec, ...] = (
     _control("Fallback", d="ticks children in order; succeeds at the first success"),
     _control("AsyncFallback", d="like Fallback, but yields RUNNING after each synchronous failure"),
     _control("ReactiveFallback", d="re-ticks every child from the first on every tick"),
-    _control("Parallel", (
-        _in("success_count", "int", "-1", description="successes needed; negative counts from the number of children"),
-        _in("failure_count", "int", "1", description="failures that fail the node; negative counts from the number of children"),
-    )),
-    _control("ParallelAll", (
-        _in("max_failures", "int", "1", description="failures tolerated before failing; negative counts from the number of children"),
-    )),
+    _control(
+        "Parallel",
+        (
+            _in(
+                "success_count",
+                "int",
+                "-1",
+                description="successes needed; negative counts from the number of children",
+            ),
+            _in(
+                "failure_count",
+                "int",
+                "1",
+                description="failures that fail the node; negative counts from the number of children",
+            ),
+        ),
+    ),
+    _control(
+        "ParallelAll",
+        (
+            _in(
+                "max_failures",
+                "int",
+                "1",
+                description="failures tolerated before failing; negative counts from the number of children",
+            ),
+        ),
+    ),
     _control("IfThenElse", lo=2, hi=3, d="condition, then-branch, optional else-branch"),
     _control("WhileDoElse", lo=2, hi=3, d="condition re-checked each tick, do-branch, optional else-branch"),
-    _switch(2), _switch(3), _switch(4), _switch(5), _switch(6),
+    _switch(2),
+    _switch(3),
+    _switch(4),
+    _switch(5),
+    _switch(6),
     # -- decorators
     _decorator("Inverter"),
     _decorator("ForceSuccess"),
     _decorator("ForceFailure"),
     _decorator("KeepRunningUntilFailure"),
     _decorator("Repeat", (_in("num_cycles", "int", required=True, description="repetitions, -1 for ever"),)),
-    _decorator("RetryUntilSuccessful", (_in("num_attempts", "int", required=True, description="attempts, -1 for ever"),)),
-    _decorator("RunOnce", (_in("then_skip", "bool", "true", description="SKIPPED after the first run instead of the stored status"),)),
-    _decorator("Precondition", (
-        _in("if", "string", required=True, description="script condition"),
-        _in("else", "NodeStatus", "FAILURE", description="status returned when the condition is false"),
-    )),
+    _decorator(
+        "RetryUntilSuccessful", (_in("num_attempts", "int", required=True, description="attempts, -1 for ever"),)
+    ),
+    _decorator(
+        "RunOnce",
+        (_in("then_skip", "bool", "true", description="SKIPPED after the first run instead of the stored status"),),
+    ),
+    _decorator(
+        "Precondition",
+        (
+            _in("if", "string", required=True, description="script condition"),
+            _in("else", "NodeStatus", "FAILURE", description="status returned when the condition is false"),
+        ),
+    ),
     _decorator("Timeout", (_in("msec", "unsigned", required=True, description="time limit in milliseconds"),)),
-    _decorator("Delay", (_in("delay_msec", "unsigned", required=True, description="delay in milliseconds before the child is ticked"),)),
+    _decorator(
+        "Delay",
+        (_in("delay_msec", "unsigned", required=True, description="delay in milliseconds before the child is ticked"),),
+    ),
     _loop("LoopInt", "int"),
     _loop("LoopBool", "bool"),
     _loop("LoopDouble", "double"),
     _loop("LoopString", "string"),
-    _decorator("SkipUnlessUpdated", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)),
-    _decorator("WaitValueUpdate", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)),
+    _decorator(
+        "SkipUnlessUpdated", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)
+    ),
+    _decorator(
+        "WaitValueUpdate", (_in("entry", "any", required=True, description="blackboard entry to watch, as {key}"),)
+    ),
     # -- leaves
     _action("AlwaysSuccess"),
     _action("AlwaysFailure"),
     _action("Script", (_in("code", "string", required=True, description="script to execute"),)),
-    _condition("ScriptCondition", (_in("code", "string", required=True, description="script whose result is the condition"),)),
-    _action("SetBlackboard", (
-        _in("value", "any", required=True, description="value to write: a literal or {key}"),
-        _inout("output_key", "any", required=True, description="entry to write"),
-    )),
+    _condition(
+        "ScriptCondition", (_in("code", "string", required=True, description="script whose result is the condition"),)
+    ),
+    _action(
+        "SetBlackboard",
+        (
+            _in("value", "any", required=True, description="value to write: a literal or {key}"),
+            _inout("output_key", "any", required=True, description="entry to write"),
+        ),
+    ),
     _action("UnsetBlackboard", (_in("key", "string", required=True, description="entry to remove"),)),
     _action("Sleep", (_in("msec", "unsigned", required=True, description="time to sleep in milliseconds"),)),
-    _condition("WasEntryUpdated", (_in("entry", "any", required=True, description="blackboard entry to check, as {key}"),)),
+    _condition(
+        "WasEntryUpdated", (_in("entry", "any", required=True, description="blackboard entry to check, as {key}"),)
+    ),
     # -- SubTree: its ports are the remappings; checked separately
     NodeSpec("SubTree", "SubTree", (), True, 0, 0, "instance of another BehaviorTree"),
 )

@@ -4,6 +4,7 @@ A user Action or Condition is a *scripted leaf* (a scenario or the robot decides
 returns); a Control or Decorator declared in the mission's TreeNodesModel is a *user node*
 (only robot code can tick it). Every stage asks these questions the same way.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterator
@@ -34,7 +35,7 @@ def is_scripted_leaf(mission: Mission, node: Node) -> bool:
 
 
 def user_node_kind(mission: Mission, node: Node) -> Optional[str]:
-    """"Control" or "Decorator" for a node of the mission's own TreeNodesModel Controls and
+    """ "Control" or "Decorator" for a node of the mission's own TreeNodesModel Controls and
     Decorators (implemented only by robot code), else None."""
     if isinstance(node, SubTreeNode):
         return None
@@ -47,8 +48,10 @@ def user_node_kind(mission: Mission, node: Node) -> Optional[str]:
 
 def user_node_message(node_id: str, kind: str) -> str:
     """Why `btgen run` cannot run a user Control/Decorator (the same on both engines)."""
-    return (f"`{node_id}` is a {kind} of this mission's TreeNodesModel: it needs your implementation "
-            f"(its tick() hook in the C++ that `btgen compile` generates), which `btgen run` does not have")
+    return (
+        f"`{node_id}` is a {kind} of this mission's TreeNodesModel: it needs your implementation "
+        f"(its tick() hook in the C++ that `btgen compile` generates), which `btgen run` does not have"
+    )
 
 
 def leaf_kind(mission: Mission, node: Node) -> str:
@@ -85,6 +88,7 @@ def mission_leaves(mission: Mission, builtin_names: Optional[set] = None) -> Ite
 
 def _tree_with_leaf(mission: Mission, name: str) -> Optional[str]:
     """The first BehaviorTree (in file order) with a scripted leaf called `name`, if any."""
+
     def walk(node: Node) -> bool:
         if is_scripted_leaf(mission, node) and node.display_name == name:
             return True

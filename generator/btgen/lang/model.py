@@ -3,6 +3,7 @@
 The front end (frontend.py) builds it; the interpreter walks it; the
 compiler lowers it. Nothing downstream of the front end sees lxml.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -31,6 +31,7 @@ literals are integers, ``true``/``false`` are the integers 1/0, real literals
 and the result of every arithmetic, comparison and logical operator are
 doubles. ``None`` is 4.6.2's empty value.
 """
+
 from __future__ import annotations
 
 import math
@@ -64,8 +65,11 @@ def _joined(a: str, b: str, op: str, offset: int) -> str:
     if len(a) + len(b) > MAX_STRING_BYTES // 4:
         size = len(a.encode("utf-8")) + len(b.encode("utf-8"))
         if size > MAX_STRING_BYTES:
-            raise ScriptRuntimeError(f"`{op}` would make a string of {size} bytes; the interpreter holds "
-                                     f"strings of at most {MAX_STRING_BYTES} bytes", offset)
+            raise ScriptRuntimeError(
+                f"`{op}` would make a string of {size} bytes; the interpreter holds "
+                f"strings of at most {MAX_STRING_BYTES} bytes",
+                offset,
+            )
     return a + b
 
 
@@ -79,6 +83,7 @@ class ScriptRuntimeError(Exception):
 
 
 # ====================================================================== AST
+
 
 @dataclass(frozen=True)
 class Literal:
@@ -211,9 +216,41 @@ class _Token:
     value: Union[int, float, str, None] = None
 
 
-_OPERATORS = sorted([":=", "==", "!=", "<=", ">=", "&&", "||", "+=", "-=", "*=", "/=", "..",
-                     "<", ">", "=", "+", "-", "*", "/", "&", "|", "^", "~", "!", "?", ":",
-                     "(", ")", ";"], key=len, reverse=True)
+_OPERATORS = sorted(
+    [
+        ":=",
+        "==",
+        "!=",
+        "<=",
+        ">=",
+        "&&",
+        "||",
+        "+=",
+        "-=",
+        "*=",
+        "/=",
+        "..",
+        "<",
+        ">",
+        "=",
+        "+",
+        "-",
+        "*",
+        "/",
+        "&",
+        "|",
+        "^",
+        "~",
+        "!",
+        "?",
+        ":",
+        "(",
+        ")",
+        ";",
+    ],
+    key=len,
+    reverse=True,
+)
 _WHITESPACE = " \t\n\r\f\v"
 _HEX_RE = re.compile(r"0[xX]([0-9a-fA-F]+)")
 _REAL_RE = re.compile(r"[0-9]+(?:\.[0-9]+(?:[eE][+-]?[0-9]+)?|[eE][+-]?[0-9]+)")
@@ -252,13 +289,13 @@ def _tokens(code: str) -> Iterator[_Token]:
             end = code.find(c, i + 1)
             if end < 0:
                 raise ScriptSyntaxError(f"unterminated string: missing closing {c}", i)
-            text = code[i + 1:end]
+            text = code[i + 1 : end]
             for k, ch in enumerate(text):
                 if not ch.isascii():
                     raise ScriptSyntaxError(
-                        "only ASCII characters are allowed in a script string (BehaviorTree.CPP 4.6.2)",
-                        i + 1 + k)
-            tok = _Token("str", code[i:end + 1], i, end + 1, text)
+                        "only ASCII characters are allowed in a script string (BehaviorTree.CPP 4.6.2)", i + 1 + k
+                    )
+            tok = _Token("str", code[i : end + 1], i, end + 1, text)
         elif _name_start(c):
             j = i + 1
             while j < n and _name_continue(code[j]):
@@ -270,7 +307,9 @@ def _tokens(code: str) -> Iterator[_Token]:
                 if word.startswith(lit) and word != lit:
                     raise ScriptSyntaxError(
                         f"`{word}`: BehaviorTree.CPP 4.6.2 reads a name starting with `{lit}` as the "
-                        f"literal {lit} followed by `{word[len(lit):]}`; rename it", i)
+                        f"literal {lit} followed by `{word[len(lit) :]}`; rename it",
+                        i,
+                    )
             tok = _Token("name", word, i, j)
         else:
             for op in _OPERATORS:
@@ -300,8 +339,11 @@ def _number(code: str, i: int) -> _Token:
         j = end
         while j < len(code) and (code[j] == "." or code[j] == "_" or code[j].isalnum()):
             j += 1
-        raise ScriptSyntaxError(f"invalid number `{code[i:j]}`" + (
-            " (write `..` with a space after a number, e.g. `1 .. x`)" if code.startswith("..", end) else ""), i)
+        raise ScriptSyntaxError(
+            f"invalid number `{code[i:j]}`"
+            + (" (write `..` with a space after a number, e.g. `1 .. x`)" if code.startswith("..", end) else ""),
+            i,
+        )
     text = code[i:end]
     value: Union[int, float]
     if kind == "hex":
@@ -320,8 +362,18 @@ def _number(code: str, i: int) -> _Token:
 
 # =================================================================== parser
 
-_GROUP_OF = {"-": "math", "+": "math", "*": "math", "/": "math", "..": "math",
-             "~": "bits", "!": "bits", "&": "bits", "|": "bits", "^": "bits"}
+_GROUP_OF = {
+    "-": "math",
+    "+": "math",
+    "*": "math",
+    "/": "math",
+    "..": "math",
+    "~": "bits",
+    "!": "bits",
+    "&": "bits",
+    "|": "bits",
+    "^": "bits",
+}
 
 
 class _Parser:
@@ -369,7 +421,9 @@ class _Parser:
             if _GROUP_OF[prev] != group:
                 raise ScriptSyntaxError(
                     f"`{op}` cannot be mixed with `{prev}` without parentheses (BehaviorTree.CPP "
-                    f"keeps arithmetic and bitwise operators apart)", offset)
+                    f"keeps arithmetic and bitwise operators apart)",
+                    offset,
+                )
         frame.append((op, offset))
 
     # -- grammar
@@ -380,8 +434,10 @@ class _Parser:
         while self.at_op(";"):
             semi = self.advance()
             if self.tok.kind == "end":
-                raise ScriptSyntaxError("unexpected `;` after the last statement (BehaviorTree.CPP 4.6.2 "
-                                        "rejects a trailing `;`)", semi.start)
+                raise ScriptSyntaxError(
+                    "unexpected `;` after the last statement (BehaviorTree.CPP 4.6.2 rejects a trailing `;`)",
+                    semi.start,
+                )
             if self.at_op(";"):
                 raise self.error("empty statement between two `;`")
             stmts.append(self._statement())
@@ -403,8 +459,7 @@ class _Parser:
         if self.at_op(*ASSIGN_OPS):
             op = self.advance()
             if not isinstance(lhs, Name):
-                raise ScriptSyntaxError(f"the left side of `{op.text}` must be a blackboard entry name",
-                                        start)
+                raise ScriptSyntaxError(f"the left side of `{op.text}` must be a blackboard entry name", start)
             rhs = self.conditional()
             if self.at_op(*ASSIGN_OPS):
                 raise self.error("assignments cannot be chained; separate them with `;`")
@@ -528,8 +583,7 @@ class _Parser:
             self.advance()
             inner = self.statement(t)
             if not self.at_op(")"):
-                raise self.error(f"expected `)` to close the `(` at offset {t.start}, "
-                                 f"found {self.describe(self.tok)}")
+                raise self.error(f"expected `)` to close the `(` at offset {t.start}, found {self.describe(self.tok)}")
             self.advance()
             return inner
         signed = self.signed_number()
@@ -560,8 +614,10 @@ def parse_script(code: str) -> Script:
     for stmt in script.statements:
         depth, offset = _depth(stmt)
         if depth > MAX_DEPTH:
-            raise ScriptSyntaxError(f"the expression is too deep ({depth} levels, at most {MAX_DEPTH}); "
-                                    f"split it into several statements", offset)
+            raise ScriptSyntaxError(
+                f"the expression is too deep ({depth} levels, at most {MAX_DEPTH}); split it into several statements",
+                offset,
+            )
     return script
 
 
@@ -593,6 +649,7 @@ def script_error_loc(attr_value_loc: Loc, code: str, offset: int, raw_value: Opt
 
 
 # ============================================================ static queries
+
 
 def _children(node: Expr) -> tuple[Expr, ...]:
     if isinstance(node, Unary):
@@ -635,6 +692,7 @@ def variables_read(script: Script) -> tuple[str, ...]:
                     yield node.name
                 elif isinstance(node, Assign) and node.op not in (":=", "="):
                     yield node.target
+
     return _dedup(gen())
 
 
@@ -718,8 +776,11 @@ class _Evaluator:
             return float(self.enums[node.name])
         entry = self.bb.get_entry(node.name)
         if entry is None:
-            raise ScriptRuntimeError(f"unknown variable `{node.name}` (no blackboard entry of that name; "
-                                     f"create it with `{node.name} := ...`)", node.offset)
+            raise ScriptRuntimeError(
+                f"unknown variable `{node.name}` (no blackboard entry of that name; "
+                f"create it with `{node.name} := ...`)",
+                node.offset,
+            )
         return entry.value
 
     def unary(self, node: Unary) -> Value:
@@ -731,7 +792,7 @@ class _Evaluator:
                 return -x
             if node.op == "!":
                 return 1.0 if x == 0.0 else 0.0
-            if math.isnan(x) or not float(values.INT64_MIN) <= x < 2.0 ** 63:
+            if math.isnan(x) or not float(values.INT64_MIN) <= x < 2.0**63:
                 raise ScriptRuntimeError(f"{values.describe(v)} is out of range for `~`", node.offset)
             return float(~int(x))
         if v is None:
@@ -767,8 +828,12 @@ class _Evaluator:
             return None  # `..` of two numbers: 4.6.2 yields an empty value
         if isinstance(lv, str) and isinstance(rv, str) and op in ("+", ".."):
             return _joined(lv, rv, op, off)
-        if op == ".." and (isinstance(lv, str) or isinstance(rv, str)) and \
-                (values.is_number(lv) or isinstance(lv, str)) and (values.is_number(rv) or isinstance(rv, str)):
+        if (
+            op == ".."
+            and (isinstance(lv, str) or isinstance(rv, str))
+            and (values.is_number(lv) or isinstance(lv, str))
+            and (values.is_number(rv) or isinstance(rv, str))
+        ):
             return _joined(values.to_text(lv), values.to_text(rv), op, off)
         raise ScriptRuntimeError(f"`{op}` cannot be applied to {self.kind(lv)} and {self.kind(rv)}", off)
 
@@ -781,16 +846,20 @@ class _Evaluator:
             if rv is None:
                 raise ScriptRuntimeError(f"the right operand of `{op}` has no value", off)
             if values.is_number(lv) and values.is_number(rv):
-                ok = _compare(op, self.double(lv, off, f"left operand of `{op}`"),
-                              self.double(rv, off, f"right operand of `{op}`"), True)
+                ok = _compare(
+                    op,
+                    self.double(lv, off, f"left operand of `{op}`"),
+                    self.double(rv, off, f"right operand of `{op}`"),
+                    True,
+                )
             elif isinstance(lv, str) and isinstance(rv, str):
                 ok = _compare(op, lv.encode(), rv.encode(), False)
             elif isinstance(lv, str) and values.is_number(rv):
-                ok = _compare(op, self.string_to_double(lv, off), self.double(rv, off, f"right operand of `{op}`"),
-                              True)
+                ok = _compare(
+                    op, self.string_to_double(lv, off), self.double(rv, off, f"right operand of `{op}`"), True
+                )
             elif values.is_number(lv) and isinstance(rv, str):
-                ok = _compare(op, self.double(lv, off, f"left operand of `{op}`"), self.string_to_double(rv, off),
-                              True)
+                ok = _compare(op, self.double(lv, off, f"left operand of `{op}`"), self.string_to_double(rv, off), True)
             else:
                 raise ScriptRuntimeError(f"cannot compare {self.kind(lv)} with {self.kind(rv)} using `{op}`", off)
             if not ok:
@@ -806,8 +875,9 @@ class _Evaluator:
             try:
                 x = values.to_double(v)
             except ConversionError:
-                raise ScriptRuntimeError(f"the condition of `?:` is the string {values.describe(v)}, "
-                                         f"which is not a number", node.op_offset) from None
+                raise ScriptRuntimeError(
+                    f"the condition of `?:` is the string {values.describe(v)}, which is not a number", node.op_offset
+                ) from None
         elif values.is_number(v):
             x = self.double(v, node.op_offset, "condition of `?:`")
         else:
@@ -819,8 +889,7 @@ class _Evaluator:
         entry = self.bb.get_entry(key)
         if entry is None:
             if op != ":=":
-                raise ScriptRuntimeError(f"blackboard entry `{key}` does not exist yet; use `:=` to create it",
-                                         off)
+                raise ScriptRuntimeError(f"blackboard entry `{key}` does not exist yet; use `:=` to create it", off)
             self.bb.create_entry(key, values.ANY)
             entry = self.bb.get_entry(key)
             assert entry is not None
@@ -843,12 +912,14 @@ class _Evaluator:
                 try:
                     return entry.convert(value)
                 except ConversionError as e:
-                    raise ScriptRuntimeError(f"cannot assign {values.describe(value)} to `{key}` "
-                                             f"({entry.type_name}): {e}", off) from None
+                    raise ScriptRuntimeError(
+                        f"cannot assign {values.describe(value)} to `{key}` ({entry.type_name}): {e}", off
+                    ) from None
             if values.is_number(dst):
                 return self.string_to_double(value, off)
-            raise ScriptRuntimeError(f"cannot assign the string {values.describe(value)} to `{key}`, "
-                                     f"which holds {self.kind(dst)}", off)
+            raise ScriptRuntimeError(
+                f"cannot assign the string {values.describe(value)} to `{key}`, which holds {self.kind(dst)}", off
+            )
         try:
             return values.copy_into(value, dst)
         except ConversionError as e:
@@ -861,8 +932,9 @@ class _Evaluator:
         result: Value = current
         if values.is_number(value):
             if not values.is_number(current):
-                raise ScriptRuntimeError(f"`{op}` with a number needs a numeric `{key}`, "
-                                         f"but it holds {self.kind(current)}", off)
+                raise ScriptRuntimeError(
+                    f"`{op}` with a number needs a numeric `{key}`, but it holds {self.kind(current)}", off
+                )
             a = self.double(current, off, f"`{key}`")
             b = self.double(value, off, f"right operand of `{op}`")
             result = _arith(op[0], a, b)
@@ -936,8 +1008,9 @@ def script_truth(value: Optional[Value]) -> bool:
     if value is None:
         raise ScriptRuntimeError("the script gives no value, so it cannot be used as a condition", 0)
     if isinstance(value, (str, Queue)):
-        raise ScriptRuntimeError(f"the script gives {values.describe(value)} ({values.type_of(value)}), "
-                                 f"which is not a condition", 0)
+        raise ScriptRuntimeError(
+            f"the script gives {values.describe(value)} ({values.type_of(value)}), which is not a condition", 0
+        )
     try:
         return bool(values.cast(value, values.BOOL))
     except ConversionError as e:

@@ -4,6 +4,7 @@ The integer values are 4.6.2's enumerators (``basic_types.h``): a status
 stored in a blackboard entry is an integer there, so a script reading one
 sees these numbers.
 """
+
 from __future__ import annotations
 
 import enum

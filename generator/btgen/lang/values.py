@@ -33,6 +33,7 @@ port) and :func:`cast` (``BT::Any::cast<T>``: a stored value read as another
 type, with 4.6.2's range and precision checks). :func:`to_text` is
 ``Any::cast<std::string>`` (``std::to_string`` for numbers).
 """
+
 from __future__ import annotations
 
 import collections
@@ -55,10 +56,10 @@ QUEUE_TYPES = tuple(f"queue<{t}>" for t in QUEUE_ELEMENT_TYPES)
 SCALAR_TYPES = (INT, UNSIGNED, DOUBLE, BOOL, STRING, NODE_STATUS)
 CANONICAL_TYPES = SCALAR_TYPES + (ANY,) + QUEUE_TYPES
 
-INT_MIN, INT_MAX = -(2 ** 31), 2 ** 31 - 1
-UNSIGNED_MAX = 2 ** 32 - 1
-INT64_MIN, INT64_MAX = -(2 ** 63), 2 ** 63 - 1
-UINT64_MAX = 2 ** 64 - 1
+INT_MIN, INT_MAX = -(2**31), 2**31 - 1
+UNSIGNED_MAX = 2**32 - 1
+INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
+UINT64_MAX = 2**64 - 1
 _DBL_MIN_NORMAL = 2.2250738585072014e-308
 
 
@@ -88,29 +89,65 @@ class Queue(collections.deque[object]):
         return NotImplemented
 
 
-
 Value = Union[int, float, bool, str, NodeStatus, Queue]
 
 # --------------------------------------------------------------------- types
 
 _STRING_NAMES = {
-    "std::string", "string", "std::__cxx11::string", "std::basic_string<char>",
+    "std::string",
+    "string",
+    "std::__cxx11::string",
+    "std::basic_string<char>",
     "std::basic_string<char,std::char_traits<char>,std::allocator<char>>",
     "std::__cxx11::basic_string<char,std::char_traits<char>,std::allocator<char>>",
-    "std::string_view", "std::basic_string_view<char>",
-    "std::basic_string_view<char,std::char_traits<char>>", "BT::StringView",
+    "std::string_view",
+    "std::basic_string_view<char>",
+    "std::basic_string_view<char,std::char_traits<char>>",
+    "BT::StringView",
     "SafeAny::SimpleString",
 }
 _INT_NAMES = {
-    "int", "signed", "signed int", "int32_t", "std::int32_t", "int64_t", "std::int64_t",
-    "long", "long int", "signed long", "long long", "long long int", "short", "short int",
-    "int16_t", "std::int16_t", "int8_t", "std::int8_t", "char", "signed char",
+    "int",
+    "signed",
+    "signed int",
+    "int32_t",
+    "std::int32_t",
+    "int64_t",
+    "std::int64_t",
+    "long",
+    "long int",
+    "signed long",
+    "long long",
+    "long long int",
+    "short",
+    "short int",
+    "int16_t",
+    "std::int16_t",
+    "int8_t",
+    "std::int8_t",
+    "char",
+    "signed char",
 }
 _UNSIGNED_NAMES = {
-    "unsigned", "unsigned int", "uint32_t", "std::uint32_t", "uint64_t", "std::uint64_t",
-    "unsigned long", "unsigned long int", "unsigned long long", "unsigned long long int",
-    "size_t", "std::size_t", "unsigned short", "unsigned short int", "uint16_t",
-    "std::uint16_t", "uint8_t", "std::uint8_t", "unsigned char",
+    "unsigned",
+    "unsigned int",
+    "uint32_t",
+    "std::uint32_t",
+    "uint64_t",
+    "std::uint64_t",
+    "unsigned long",
+    "unsigned long int",
+    "unsigned long long",
+    "unsigned long long int",
+    "size_t",
+    "std::size_t",
+    "unsigned short",
+    "unsigned short int",
+    "uint16_t",
+    "std::uint16_t",
+    "uint8_t",
+    "std::uint8_t",
+    "unsigned char",
 }
 _DOUBLE_NAMES = {"double", "float", "long double"}
 _BOOL_NAMES = {"bool"}
@@ -128,7 +165,7 @@ def _template_args(compact: str, names: tuple[str, ...]) -> Optional[list[str]]:
     """Top-level template arguments when ``compact`` is ``N<...>`` for N in names."""
     for name in names:
         if compact.startswith(name + "<") and compact.endswith(">"):
-            inner = compact[len(name) + 1:-1]
+            inner = compact[len(name) + 1 : -1]
             args, depth, start = [], 0, 0
             for i, c in enumerate(inner):
                 if c == "<":
@@ -175,9 +212,15 @@ def normalize_type(text: Optional[str]) -> str:
     compact = _compact(text)
     if compact in CANONICAL_TYPES:
         return compact
-    for names, canonical in ((_STRING_NAMES, STRING), (_INT_NAMES, INT), (_UNSIGNED_NAMES, UNSIGNED),
-                             (_DOUBLE_NAMES, DOUBLE), (_BOOL_NAMES, BOOL), (_STATUS_NAMES, NODE_STATUS),
-                             (_ANY_NAMES, ANY)):
+    for names, canonical in (
+        (_STRING_NAMES, STRING),
+        (_INT_NAMES, INT),
+        (_UNSIGNED_NAMES, UNSIGNED),
+        (_DOUBLE_NAMES, DOUBLE),
+        (_BOOL_NAMES, BOOL),
+        (_STATUS_NAMES, NODE_STATUS),
+        (_ANY_NAMES, ANY),
+    ):
         if compact in names:
             return canonical
     elem = _queue_element(compact)
@@ -191,7 +234,7 @@ def normalize_type(text: Optional[str]) -> str:
 def queue_element_type(type_name: str) -> Optional[str]:
     """``int`` for ``queue<int>``; None when ``type_name`` is not a queue type."""
     if type_name in QUEUE_TYPES:
-        return type_name[len("queue<"):-1]
+        return type_name[len("queue<") : -1]
     return None
 
 
@@ -239,12 +282,16 @@ def is_string(value: object) -> bool:
 _FROM_CHARS_INT_RE = re.compile(r"-?[0-9]+")
 _FROM_CHARS_DOUBLE_RE = re.compile(
     r"-?(?:(?P<inf>inf(?:inity)?)|(?P<nan>nan(?:\([0-9A-Za-z_]*\))?)"
-    r"|(?P<mant>[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)", re.IGNORECASE)
+    r"|(?P<mant>[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)",
+    re.IGNORECASE,
+)
 _STOD_RE = re.compile(
     r"[ \t\n\v\f\r]*(?P<num>[+-]?(?:"
     r"(?P<hex>0[xX](?P<hmant>[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?[0-9]+)?)"
     r"|(?P<inf>inf(?:inity)?)|(?P<nan>nan(?:\([0-9A-Za-z_]*\))?)"
-    r"|(?P<mant>[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?))", re.IGNORECASE)
+    r"|(?P<mant>[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?))",
+    re.IGNORECASE,
+)
 
 
 def _range_text(type_name: str) -> str:
@@ -280,8 +327,7 @@ def _float_checked(text: str, literal: str, mant: Optional[str], hexa: bool, rej
     if mant is not None:
         digits = re.sub(r"[^0-9a-fA-F]" if hexa else r"[^0-9]", "", mant)
         nonzero = any(c != "0" for c in digits)
-        if math.isinf(value) or (nonzero and value == 0.0) or (
-                reject_subnormal and 0.0 < abs(value) < _DBL_MIN_NORMAL):
+        if math.isinf(value) or (nonzero and value == 0.0) or (reject_subnormal and 0.0 < abs(value) < _DBL_MIN_NORMAL):
             raise ConversionError(f"`{text}` is out of range for double")
     return value
 
@@ -397,6 +443,7 @@ def convert_from_string(type_name: str, text: str, *, strict: bool = False) -> V
 
 # ----------------------------------------------------------- value -> text
 
+
 def format_double(value: float) -> str:
     """``std::to_string(double)``: ``printf("%f")``, e.g. ``6.000000``, ``-nan``."""
     if math.isnan(value):
@@ -443,6 +490,7 @@ def describe(value: Optional[Value]) -> str:
 
 
 # ------------------------------------------------------------------- casts
+
 
 def _number_value(value: Value) -> Union[int, float]:
     if isinstance(value, NodeStatus):

@@ -15,6 +15,7 @@ instructions of one tick as the difference divided by the difference of N.
 `BINARY N --report` prints the numbers. `bench/run_benchmarks.py` does all
 of that for the shipped and the synthetic missions and prints a table.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -33,15 +34,24 @@ ALLOC_COUNTER = resources.RUNTIME_SRC / "testing" / "alloc_counter.cpp"
 BENCH_FLAGS = ("-std=c++17", "-O2", "-DNDEBUG")
 
 # What the executable reports, in the order `btgen bench` prints it.
-KEYS = ("nodes", "ticks", "ns_per_tick", "allocs_create", "allocs_per_tick", "state_bytes", "visited_per_tick",
-        "result", "alloc_counter")
+KEYS = (
+    "nodes",
+    "ticks",
+    "ns_per_tick",
+    "allocs_create",
+    "allocs_per_tick",
+    "state_bytes",
+    "visited_per_tick",
+    "result",
+    "alloc_counter",
+)
 
 
-def build_bench(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
-                main_tree: Optional[str] = None) -> Path:
+def build_bench(
+    mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (), main_tree: Optional[str] = None
+) -> Path:
     """The mission's benchmark executable (cached); errors as cppengine.build_cpp."""
-    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models,
-                                    main_tree)
+    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models, main_tree)
 
 
 def parse_report(text: str) -> dict[str, str]:
@@ -58,8 +68,9 @@ def run_report(binary: Path, ticks: int) -> dict[str, str]:
     """Run `binary ticks --report`; its numbers by key."""
     proc = subprocess.run([str(binary), str(ticks), "--report"], capture_output=True, check=False)
     if proc.returncode != 0:
-        raise InternalError(f"{binary} {ticks} --report exited with {proc.returncode}:\n"
-                            + proc.stderr.decode("utf-8", "replace"))
+        raise InternalError(
+            f"{binary} {ticks} --report exited with {proc.returncode}:\n" + proc.stderr.decode("utf-8", "replace")
+        )
     report = parse_report(proc.stdout.decode("utf-8", "replace"))
     missing = [k for k in KEYS if k not in report]
     if missing:
@@ -73,8 +84,9 @@ def bench_command(args: argparse.Namespace) -> int:
         print(f"btgen: error: --ticks must be at least 1, not {args.ticks}", file=sys.stderr)
         return 2
     warnings: list = []
-    binary = build_bench(args.mission, warnings, tuple(getattr(args, "models", None) or ()),
-                         getattr(args, "main_tree", None))
+    binary = build_bench(
+        args.mission, warnings, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)
+    )
     for w in warnings:
         print(str(w), file=sys.stderr)
     report = run_report(binary, args.ticks)

@@ -15,6 +15,7 @@ renamed into place, so concurrent runs never see a half-written executable.
 UBSan (any finding aborts the run with a non-zero status); the flags are part
 of the cache key, so sanitized and plain executors are cached side by side.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -72,8 +73,9 @@ def _compiler_identity(cxx: str) -> str:
     if path is None:
         return ""
     try:
-        out = subprocess.run([path, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False,
-                             timeout=60).stdout
+        out = subprocess.run(
+            [path, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False, timeout=60
+        ).stdout
     except (OSError, subprocess.SubprocessError):
         out = b""
     return os.path.realpath(path) + "\n" + out.decode("utf-8", "replace")
@@ -83,8 +85,13 @@ def _runtime_headers() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
-def build_cpp(mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (),
-              main_tree: Optional[str] = None, enums: tuple = ()) -> Path:
+def build_cpp(
+    mission_path: str,
+    warnings: Optional[list] = None,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    enums: tuple = (),
+) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given. `models` and
@@ -104,9 +111,15 @@ def _check_no_user_nodes(mission) -> None:
             raise UserError(Diagnostic(node.loc, user_node_message(node.id, kind)))
 
 
-def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags: tuple[str, ...],
-                             warnings: Optional[list] = None, models: Sequence[str] = (),
-                             main_tree: Optional[str] = None, enums: tuple = ()) -> Path:
+def build_mission_executable(
+    mission_path: str,
+    sources: tuple[Path, ...],
+    flags: tuple[str, ...],
+    warnings: Optional[list] = None,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    enums: tuple = (),
+) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
@@ -124,9 +137,12 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
     cxx = compiler()
     identity = _compiler_identity(cxx)
     if not identity:
-        raise UserError(Diagnostic(Loc(mission_path, 1, 1),
-                                   f"cannot build the C++ executor: no C++ compiler `{cxx}` on PATH "
-                                   f"(install g++ or clang++, or set CXX)"))
+        raise UserError(
+            Diagnostic(
+                Loc(mission_path, 1, 1),
+                f"cannot build the C++ executor: no C++ compiler `{cxx}` on PATH (install g++ or clang++, or set CXX)",
+            )
+        )
     template = f"{naming.namespace_name(stem)}::{naming.pascal_case(stem)}"
     header = outputs[0].name
     defines = (f'-DBTGEN_MISSION_HEADER="{header}"', f"-DBTGEN_MISSION_TEMPLATE={template}")
@@ -148,18 +164,36 @@ def build_mission_executable(mission_path: str, sources: tuple[Path, ...], flags
         final.parent.mkdir(parents=True, exist_ok=True)
         work = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=str(final.parent)))
     except OSError as e:
-        raise UserError(Diagnostic(Loc(mission_path, 1, 1),
-                                   f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
-                                   f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory")) from None
+        raise UserError(
+            Diagnostic(
+                Loc(mission_path, 1, 1),
+                f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
+                f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory",
+            )
+        ) from None
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")
-        cmd = [cxx, *flags, *defines, "-I", str(RUNTIME_INCLUDE), "-I", str(work), *(str(s) for s in sources),
-               "-o", str(work / BINARY)]
+        cmd = [
+            cxx,
+            *flags,
+            *defines,
+            "-I",
+            str(RUNTIME_INCLUDE),
+            "-I",
+            str(work),
+            *(str(s) for s in sources),
+            "-o",
+            str(work / BINARY),
+        ]
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False)
         if proc.returncode != 0:
-            raise InternalError(f"the generated C++ for {mission_path} does not build:\n"
-                                + " ".join(cmd) + "\n" + proc.stdout.decode("utf-8", "replace"))
+            raise InternalError(
+                f"the generated C++ for {mission_path} does not build:\n"
+                + " ".join(cmd)
+                + "\n"
+                + proc.stdout.decode("utf-8", "replace")
+            )
         try:
             os.rename(work, final)
         except OSError:
@@ -191,8 +225,13 @@ def _inherited_fd(path: str) -> Optional[int]:
     return fd
 
 
-def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
-            main_tree: Optional[str] = None, enums: tuple = ()) -> int:
+def run_cpp(
+    mission_path: str,
+    scenario_path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    enums: tuple = (),
+) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
@@ -207,10 +246,10 @@ def run_cpp(mission_path: str, scenario_path: str, models: Sequence[str] = (),
     inherited = _inherited_fd(scenario_path)
     pass_fds = (inherited,) if inherited is not None else ()
     if out_fd is not None and err_fd is not None:
-        return subprocess.run([str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False,
-                              pass_fds=pass_fds).returncode
-    proc = subprocess.run([str(binary), scenario_path], capture_output=True, check=False,
-                          pass_fds=pass_fds)
+        return subprocess.run(
+            [str(binary), scenario_path], stdout=out_fd, stderr=err_fd, check=False, pass_fds=pass_fds
+        ).returncode
+    proc = subprocess.run([str(binary), scenario_path], capture_output=True, check=False, pass_fds=pass_fds)
     sys.stdout.write(proc.stdout.decode("utf-8", "replace"))
     sys.stderr.write(proc.stderr.decode("utf-8", "replace"))
     return proc.returncode

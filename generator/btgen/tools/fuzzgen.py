@@ -38,6 +38,7 @@ rejects are counted, never silently dropped.
 
     python -m btgen.tools.fuzzgen SEED [--features control|full]   # print mission and scenarios
 """
+
 from __future__ import annotations
 
 import argparse
@@ -50,12 +51,37 @@ from typing import Optional
 FEATURE_SETS = ("control", "full", "dynamic", "hostile")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
 
-CONTROLS = ("Sequence", "SequenceWithMemory", "AsyncSequence", "ReactiveSequence", "Fallback", "AsyncFallback",
-            "ReactiveFallback", "Parallel", "ParallelAll")
-DECORATORS = ("Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure", "Repeat",
-              "RetryUntilSuccessful", "RunOnce", "Timeout", "Delay")
-DATA_DECORATORS = ("Precondition", "LoopInt", "LoopBool", "LoopDouble", "LoopString", "SkipUnlessUpdated",
-                   "WaitValueUpdate")
+CONTROLS = (
+    "Sequence",
+    "SequenceWithMemory",
+    "AsyncSequence",
+    "ReactiveSequence",
+    "Fallback",
+    "AsyncFallback",
+    "ReactiveFallback",
+    "Parallel",
+    "ParallelAll",
+)
+DECORATORS = (
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "KeepRunningUntilFailure",
+    "Repeat",
+    "RetryUntilSuccessful",
+    "RunOnce",
+    "Timeout",
+    "Delay",
+)
+DATA_DECORATORS = (
+    "Precondition",
+    "LoopInt",
+    "LoopBool",
+    "LoopDouble",
+    "LoopString",
+    "SkipUnlessUpdated",
+    "WaitValueUpdate",
+)
 
 # Scripted leaves: IDs declared in TreeNodesModel, and the names the scenario scripts.
 ACTION_IDS = ("Act", "Move")
@@ -63,19 +89,92 @@ CONDITION_IDS = ("Check",)
 ACTION_NAMES = ("a", "b", "c", "d", "e")
 CONDITION_NAMES = ("p", "q", "r")
 # Names that exercise the trace's quoting (FORMAT.md): given to non-leaf nodes only.
-ODD_NAMES = ('say "hi"', "back\\slash", "tab\there", "line\nbreak", "caf\u00e9 \u2615", "", " spaced ",
-             "cr\rhere", "del\x7f", "<&>")
+ODD_NAMES = (
+    'say "hi"',
+    "back\\slash",
+    "tab\there",
+    "line\nbreak",
+    "caf\u00e9 \u2615",
+    "",
+    " spaced ",
+    "cr\rhere",
+    "del\x7f",
+    "<&>",
+)
 
 # Names that must survive the trip to C++ identifiers: what the generated code and
 # the runtime declare or use unqualified, what the C library declares at global scope and a
 # few macros; C++ keywords come from naming.CPP_KEYWORDS. Drawn for model IDs, ports, keys.
-HOSTILE_NAMES = ("std", "btgen", "detail", "leaf", "kId", "kKind", "kModel", "node", "blackboard", "bb_", "err_",
-                 "node_", "bb", "n", "err", "e", "value", "seq", "exists", "has_value", "T", "scratch0_",
-                 "scratch1_", "loop_0", "loop_1", "Engine", "Leaves", "Clock", "Observer", "Spec", "Blackboard",
-                 "model", "leaves", "main", "engine", "observer", "clock", "errno", "time", "exit", "random",
-                 "remove", "system", "abs", "printf", "NULL", "EOF", "EDOM", "INT_MAX", "SIZE_MAX", "stdin",
-                 "stdout", "stderr", "assert", "linux", "unix", "set_x", "x", "int", "class", "and",
-                 "not", "bool", "true", "delete", "operator", "this", "return")
+HOSTILE_NAMES = (
+    "std",
+    "btgen",
+    "detail",
+    "leaf",
+    "kId",
+    "kKind",
+    "kModel",
+    "node",
+    "blackboard",
+    "bb_",
+    "err_",
+    "node_",
+    "bb",
+    "n",
+    "err",
+    "e",
+    "value",
+    "seq",
+    "exists",
+    "has_value",
+    "T",
+    "scratch0_",
+    "scratch1_",
+    "loop_0",
+    "loop_1",
+    "Engine",
+    "Leaves",
+    "Clock",
+    "Observer",
+    "Spec",
+    "Blackboard",
+    "model",
+    "leaves",
+    "main",
+    "engine",
+    "observer",
+    "clock",
+    "errno",
+    "time",
+    "exit",
+    "random",
+    "remove",
+    "system",
+    "abs",
+    "printf",
+    "NULL",
+    "EOF",
+    "EDOM",
+    "INT_MAX",
+    "SIZE_MAX",
+    "stdin",
+    "stdout",
+    "stderr",
+    "assert",
+    "linux",
+    "unix",
+    "set_x",
+    "x",
+    "int",
+    "class",
+    "and",
+    "not",
+    "bool",
+    "true",
+    "delete",
+    "operator",
+    "this",
+    "return",
+)
 
 INT_VARS = ("i0", "i1")
 PARAM_VARS = ("p0", "p1")  # the ports of a remapped SubTree, bound to the caller's ints
@@ -165,14 +264,22 @@ class _Gen:
 
     def int_expr(self, scope: _Scope) -> str:
         v = self.int_var(scope)
-        return self.rng.choice((f"{v} + 1", f"{v} - 1", f"{v} * 2", "3", f"{v}", f"{v} > 2 ? {v} - 2 : {v} + 1",
-                                f"({v} + {self.int_var(scope)}) - 1"))
+        return self.rng.choice(
+            (
+                f"{v} + 1",
+                f"{v} - 1",
+                f"{v} * 2",
+                "3",
+                f"{v}",
+                f"{v} > 2 ? {v} - 2 : {v} + 1",
+                f"({v} + {self.int_var(scope)}) - 1",
+            )
+        )
 
     def cond_expr(self, scope: _Scope) -> str:
         v = self.int_var(scope)
         k = self.rng.randint(0, 4)
-        simple = [f"{v} < {k}", f"{v} == {k}", f"{v} >= {k}", f"{v} != {self.int_var(scope)}",
-                  "true", "false"]
+        simple = [f"{v} < {k}", f"{v} == {k}", f"{v} >= {k}", f"{v} != {self.int_var(scope)}", "true", "false"]
         if scope.has_root_vars:
             s, f = scope.var("s"), scope.var("flag")
             simple += [f"{s} == 'a'", f"{s} != 'b'", f"!{f}", f"{f}"]
@@ -180,9 +287,21 @@ class _Gen:
                 simple.append("u == 'x'")  # a run-time error once UnsetBlackboard removed `u`
             if self.dyn:
                 dv, dw = scope.var("v"), scope.var("w")
-                simple += [f"{dv} == 7", f"{dv} == 'abc'", f"{dv} != {dw}", f"{dv} .. '' == '7'", f"{dv} > 2",
-                           f"{dw} < {dv}", f"{dw} == '7.000000'", f"{dv} == {v}", f"{dv}", f"!{dw}",
-                           f"{dv} .. {dw} != 'x'", f"({dv} + 1) >= 3", f"{v} > 1 ? {dv} == 7 : {dw} != 2"]
+                simple += [
+                    f"{dv} == 7",
+                    f"{dv} == 'abc'",
+                    f"{dv} != {dw}",
+                    f"{dv} .. '' == '7'",
+                    f"{dv} > 2",
+                    f"{dw} < {dv}",
+                    f"{dw} == '7.000000'",
+                    f"{dv} == {v}",
+                    f"{dv}",
+                    f"!{dw}",
+                    f"{dv} .. {dw} != 'x'",
+                    f"({dv} + 1) >= 3",
+                    f"{v} > 1 ? {dv} == 7 : {dw} != 2",
+                ]
         e = self.rng.choice(simple)
         r = self.rng.random()
         if r < 0.15:
@@ -208,16 +327,29 @@ class _Gen:
         return st
 
     def dyn_value(self) -> str:
-        return self.rng.choice(("3", "7", "-1", "2.5", "7.0", "'abc'", "'7'", "'2.5'", "''", "true", "false",
-                                "0x10"))
+        return self.rng.choice(("3", "7", "-1", "2.5", "7.0", "'abc'", "'7'", "'2.5'", "''", "true", "false", "0x10"))
 
     def dyn_statements(self, scope: _Scope, v: str) -> list[str]:
         dv, dw, s = scope.var("v"), scope.var("w"), scope.var("s")
         x = self.dyn_value()
-        return [f"{dv} := {x}", f"{dw} := {self.dyn_value()}", f"{dv} = {x}", f"{dv} += 1", f"{dv} += 'z'",
-                f"{dw} -= 2", f"{dw} := {dv}", f"{dv} := {dv} .. 'x'", f"{dw} := {dv} + 1", f"{dv} := {dw} .. {v}",
-                f"{dv} := {v} > 1 ? 'big' : {v}", f"{dw} := {dv} == 7", f"{s} := {dv} .. ''", f"{v} += {dv}",
-                f"{dv} := -{dw}", f"{dw} := {dv} * 2"]
+        return [
+            f"{dv} := {x}",
+            f"{dw} := {self.dyn_value()}",
+            f"{dv} = {x}",
+            f"{dv} += 1",
+            f"{dv} += 'z'",
+            f"{dw} -= 2",
+            f"{dw} := {dv}",
+            f"{dv} := {dv} .. 'x'",
+            f"{dw} := {dv} + 1",
+            f"{dv} := {dw} .. {v}",
+            f"{dv} := {v} > 1 ? 'big' : {v}",
+            f"{dw} := {dv} == 7",
+            f"{s} := {dv} .. ''",
+            f"{v} += {dv}",
+            f"{dv} := -{dw}",
+            f"{dw} := {dv} * 2",
+        ]
 
     # ------------------------------------------------------------- nodes
     def node(self, depth: int, tree: int, scope: _Scope) -> str:
@@ -263,7 +395,7 @@ class _Gen:
                 attrs += f' failure_count="{self.rng.choice((1, -1, n, -n, max(1, n - 1)))}"'
         elif kind == "ParallelAll" and self.rng.random() < 0.7:
             attrs = f' max_failures="{self.rng.choice((1, -1, n, 0, max(1, n - 1)))}"'
-        return (f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>")
+        return f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>"
 
     def safe_condition(self, scope: _Scope) -> str:
         """A child that never returns SKIPPED or RUNNING (IfThenElse/WhileDoElse condition)."""
@@ -283,8 +415,11 @@ class _Gen:
         cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
         attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases))
         kids = [self.node(depth + 1, tree, scope) for _ in range(n + 1)]
-        return (f"<Switch{n}{self.name_attr()} variable={_xml_attr(var)}{attrs}{self.with_conditions(scope)}>"
-                + "".join(kids) + f"</Switch{n}>")
+        return (
+            f"<Switch{n}{self.name_attr()} variable={_xml_attr(var)}{attrs}{self.with_conditions(scope)}>"
+            + "".join(kids)
+            + f"</Switch{n}>"
+        )
 
     def decorator(self, depth: int, tree: int, scope: _Scope) -> str:
         pool = DECORATORS + (DATA_DECORATORS if self.data else ())
@@ -310,8 +445,12 @@ class _Gen:
 
     def loop_ports(self, kind: str, scope: _Scope) -> str:
         rng = self.rng
-        elem = {"LoopInt": ("1", "2", "3", "-4"), "LoopBool": ("true", "false", "1", "0"),
-                "LoopDouble": ("0.5", "1.25", "2", "-3.5"), "LoopString": ("a", "b", "kitchen")}[kind]
+        elem = {
+            "LoopInt": ("1", "2", "3", "-4"),
+            "LoopBool": ("true", "false", "1", "0"),
+            "LoopDouble": ("0.5", "1.25", "2", "-3.5"),
+            "LoopString": ("a", "b", "kitchen"),
+        }[kind]
         # Each loop writes an entry of its own element type (LoopInt's `int` is not a script's integer).
         target = scope.var({"LoopInt": "li", "LoopBool": "lb", "LoopDouble": "ld", "LoopString": "ls"}[kind])
         queue = ";".join(rng.choice(elem) for _ in range(rng.randint(0, 4)))
@@ -375,18 +514,23 @@ class _Gen:
                 return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}/>"
             if self.dyn and d < 0.75 and rng.random() < 0.5:
                 dv, dw = scope.var("v"), scope.var("w")
-                opts = [f'value="{rng.choice(("7", "abc", "2.5", "", "true"))}" output_key="{rng.choice((dv, dw))}"',
-                        f'value="{{{dv}}}" output_key="{dw}"', f'value="{{{dw}}}" output_key="{dv}"',
-                        f'value="{{{self.int_var(scope)}}}" output_key="{dv}"',
-                        f'value="{{{scope.var("s")}}}" output_key="{dw}"']
+                opts = [
+                    f'value="{rng.choice(("7", "abc", "2.5", "", "true"))}" output_key="{rng.choice((dv, dw))}"',
+                    f'value="{{{dv}}}" output_key="{dw}"',
+                    f'value="{{{dw}}}" output_key="{dv}"',
+                    f'value="{{{self.int_var(scope)}}}" output_key="{dv}"',
+                    f'value="{{{scope.var("s")}}}" output_key="{dw}"',
+                ]
                 if scope.main_like:
                     opts.append('value="{v}" output_key="fresh"')
                 return f"<SetBlackboard{self.name_attr()} {rng.choice(opts)}/>"
             if d < 0.75:
                 # A literal is a string (4.6.2 stores the text): only into string entries.
                 if rng.random() < 0.5:  # a copy between two integer entries
-                    return (f'<SetBlackboard{self.name_attr()} value="{{{self.int_var(scope)}}}" '
-                            f'output_key="{self.int_var(scope)}"/>')
+                    return (
+                        f'<SetBlackboard{self.name_attr()} value="{{{self.int_var(scope)}}}" '
+                        f'output_key="{self.int_var(scope)}"/>'
+                    )
                 return f'<SetBlackboard{self.name_attr()} value="{rng.choice("abcx")}" output_key="{scope.var("s")}"/>'
             if scope.main_like:
                 if d < 0.85:
@@ -415,21 +559,31 @@ class _Gen:
                 body = self.with_init(body)
             trees.append(f'  <BehaviorTree ID="T{t}">\n    {body}\n  </BehaviorTree>\n')
         speed = '      <input_port name="speed" type="double"/>\n' if self.hostile else ""
-        models = ['    <Action ID="Act"/>\n',
-                  f'    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n{speed}    </Action>\n',
-                  '    <Condition ID="Check">\n      <input_port name="level" type="int" default="1"/>\n'
-                  '    </Condition>\n']
+        models = [
+            '    <Action ID="Act"/>\n',
+            f'    <Action ID="Move">\n      <input_port name="goal" type="int"/>\n{speed}    </Action>\n',
+            '    <Condition ID="Check">\n      <input_port name="level" type="int" default="1"/>\n    </Condition>\n',
+        ]
         if self.dyn:
-            models.append('    <Action ID="Show">\n      <input_port name="what"/>\n      <input_port name="other"/>\n'
-                          '    </Action>\n')
+            models.append(
+                '    <Action ID="Show">\n      <input_port name="what"/>\n      <input_port name="other"/>\n'
+                "    </Action>\n"
+            )
         for t in range(1, self.n_trees):
             if self.modes[t] == "remap":
-                models.append(f'    <SubTree ID="T{t}">\n'
-                              + "".join(f'      <inout_port name="{p}"/>\n' for p in PARAM_VARS)
-                              + "    </SubTree>\n")
-        return ('<?xml version="1.0" encoding="UTF-8"?>\n'
-                '<root BTCPP_format="4" main_tree_to_execute="T0">\n' + "".join(trees)
-                + "  <TreeNodesModel>\n" + "".join(models) + "  </TreeNodesModel>\n</root>\n")
+                models.append(
+                    f'    <SubTree ID="T{t}">\n'
+                    + "".join(f'      <inout_port name="{p}"/>\n' for p in PARAM_VARS)
+                    + "    </SubTree>\n"
+                )
+        return (
+            '<?xml version="1.0" encoding="UTF-8"?>\n'
+            '<root BTCPP_format="4" main_tree_to_execute="T0">\n'
+            + "".join(trees)
+            + "  <TreeNodesModel>\n"
+            + "".join(models)
+            + "  </TreeNodesModel>\n</root>\n"
+        )
 
     def with_init(self, body: str) -> str:
         """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
@@ -441,8 +595,10 @@ class _Gen:
             # `speed` a double one): 4.6.2 keeps the value's kind in the empty entry.
             i0_text = rng.choice((str(i0), f"{i0}.0", f"-{i0}", f"{2 * i0} / 2"))
             d = rng.choice(("0.5", "1", "-2", "3 / 2", "2.0"))
-        init = (f"i0 := {i0_text}; i1 := {i1}; s := '{rng.choice('abc')}'; "
-                f"flag := {rng.choice(('true', 'false'))}; d := {d}; u := 'x'")
+        init = (
+            f"i0 := {i0_text}; i1 := {i1}; s := '{rng.choice('abc')}'; "
+            f"flag := {rng.choice(('true', 'false'))}; d := {d}; u := 'x'"
+        )
         extra = ""
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
@@ -464,11 +620,38 @@ def random_mission(seed: int, features: str = "control") -> str:
 # script identifiers: not the script's `true`/`false`, not 4.6.2's reserved port names).
 # Nor the generator's own leaf names, keys and models (a Condition ID `e` would be scripted by
 # the lines of the Action named `e`).
-_GENERATOR_NAMES = frozenset(ACTION_NAMES + CONDITION_NAMES + DYN_VARS + INT_VARS + PARAM_VARS + (
-    "s", "d", "u", "q", "flag", "lb", "li", "ld", "ls", "Show", "what", "other", "Act", "Move", "Check", "goal",
-    "speed", "level"))
-_HOSTILE_IDS = tuple(n for n in HOSTILE_NAMES if n not in ("true", "false", "name", "ID") and n not in _GENERATOR_NAMES
-                     and not n.startswith("T"))
+_GENERATOR_NAMES = frozenset(
+    ACTION_NAMES
+    + CONDITION_NAMES
+    + DYN_VARS
+    + INT_VARS
+    + PARAM_VARS
+    + (
+        "s",
+        "d",
+        "u",
+        "q",
+        "flag",
+        "lb",
+        "li",
+        "ld",
+        "ls",
+        "Show",
+        "what",
+        "other",
+        "Act",
+        "Move",
+        "Check",
+        "goal",
+        "speed",
+        "level",
+    )
+)
+_HOSTILE_IDS = tuple(
+    n
+    for n in HOSTILE_NAMES
+    if n not in ("true", "false", "name", "ID") and n not in _GENERATOR_NAMES and not n.startswith("T")
+)
 
 
 def hostile_names(seed: int) -> dict[str, str]:
@@ -482,6 +665,7 @@ def hostile_names(seed: int) -> dict[str, str]:
 
 def _rename(text: str, names: dict[str, str], mission: bool) -> str:
     import re
+
     if not mission:  # scenario lines `leaf <ID> ...`
         return re.sub(r"^leaf (Act|Move|Check) ", lambda m: f"leaf {names[m.group(1)]} ", text, flags=re.M)
     text = re.sub(r'(<|ID=")(Act|Move|Check)\b', lambda m: m.group(1) + names[m.group(2)], text)
@@ -501,12 +685,15 @@ def random_scenario(rng: random.Random, clock: bool = True) -> str:
         lines.append(f"default {default}")
     for name in ACTION_NAMES + ACTION_IDS:
         if rng.random() < 0.75:
-            lines.append(f"leaf {name} " + " ".join(rng.choice(("SUCCESS", "FAILURE", "RUNNING", "RUNNING"))
-                                                    for _ in range(rng.randint(1, 12))))
+            lines.append(
+                f"leaf {name} "
+                + " ".join(rng.choice(("SUCCESS", "FAILURE", "RUNNING", "RUNNING")) for _ in range(rng.randint(1, 12)))
+            )
     for name in CONDITION_NAMES + CONDITION_IDS:
         if all_conditions_scripted or rng.random() < 0.75:
-            lines.append(f"leaf {name} " + " ".join(rng.choice(("SUCCESS", "FAILURE"))
-                                                    for _ in range(rng.randint(1, 12))))
+            lines.append(
+                f"leaf {name} " + " ".join(rng.choice(("SUCCESS", "FAILURE")) for _ in range(rng.randint(1, 12)))
+            )
     rng.shuffle(lines)
     return "\n".join(lines) + "\n"
 
@@ -524,7 +711,9 @@ def random_case(seed: int, features: str = "control", n_scenarios: int = 3) -> C
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.tools.fuzzgen", description="print a random mission and scenarios")
+    p = argparse.ArgumentParser(
+        prog="python -m btgen.tools.fuzzgen", description="print a random mission and scenarios"
+    )
     p.add_argument("seed", type=int)
     p.add_argument("--features", choices=FEATURE_SETS, default="control")
     p.add_argument("--scenarios", type=int, default=1)

@@ -14,6 +14,7 @@ tick in the file). A .btlog (Groot2's FileLogger2 format, written by
 btgen::btlog::FileLogger or BehaviorTree.CPP) has no tick boundaries, so it
 is read up to record N (default: all); its tree must be the mission's.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -45,8 +46,15 @@ def _was(status: dict[int, str], uid: int, to: str) -> None:
         status[uid] = "was:" + before.removeprefix("was:")
     else:
         status[uid] = to
-SHAPES = {"Control": ("box", ""), "Decorator": ("hexagon", ""), "Action": ("box", "rounded"),
-          "Condition": ("ellipse", ""), "SubTree": ("box3d", "")}
+
+
+SHAPES = {
+    "Control": ("box", ""),
+    "Decorator": ("hexagon", ""),
+    "Action": ("box", "rounded"),
+    "Condition": ("ellipse", ""),
+    "SubTree": ("box3d", ""),
+}
 
 
 def _error(path: str, line: int, col: int, message: str) -> UserError:
@@ -80,8 +88,17 @@ def walk(mission: Mission) -> tuple[list[GNode], list[tuple[str, str]]]:
             except KeyError:
                 kind = "Action"
         ports = tuple((p.name, p.value) for p in node.ports) + tuple((a.name, a.value) for a in node.pre + node.post)
-        nodes.append(GNode(uid, kind, "SubTree" if isinstance(node, SubTreeNode) else node.id, node.display_name,
-                           ports, parent, cluster))
+        nodes.append(
+            GNode(
+                uid,
+                kind,
+                "SubTree" if isinstance(node, SubTreeNode) else node.id,
+                node.display_name,
+                ports,
+                parent,
+                cluster,
+            )
+        )
         if isinstance(node, SubTreeNode):
             path = subtree_path(prefix, node, uid)
             clusters.append((node.target, path))
@@ -115,14 +132,23 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
             continue
         if words[0] == "result" and len(words) == 2 and words[1] in STATUS_NAMES:
             continue
-        if len(words) >= 5 and words[0].isdigit() and words[-2] == "->" and words[-1] in STATUS_NAMES \
-                and words[-3] in STATUS_NAMES:
+        if (
+            len(words) >= 5
+            and words[0].isdigit()
+            and words[-2] == "->"
+            and words[-1] in STATUS_NAMES
+            and words[-3] in STATUS_NAMES
+        ):
             uid = int(words[0])
             if uid not in by_uid:
                 raise _error(path, i, 1, f"UID {uid} is not a node of the mission (it has {len(nodes)})")
             if words[1] != by_uid[uid].id:
-                raise _error(path, i, len(words[0]) + 2,
-                             f"UID {uid} is `{by_uid[uid].id}` in the mission, `{words[1]}` in the trace")
+                raise _error(
+                    path,
+                    i,
+                    len(words[0]) + 2,
+                    f"UID {uid} is `{by_uid[uid].id}` in the mission, `{words[1]}` in the trace",
+                )
             _was(status, uid, words[-1])
             continue
         raise _error(path, i, 1, f"not a line of a status trace: `{line[:60]}`")
@@ -144,7 +170,7 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
     if size < 0 or 23 + size + 8 > len(data):
         raise _error(path, 1, 20, f"the tree XML length {size} runs past the end of the file")
     try:
-        root = ET.fromstring(data[23:23 + size].decode("utf-8"))
+        root = ET.fromstring(data[23 : 23 + size].decode("utf-8"))
     except (ET.ParseError, UnicodeDecodeError) as e:
         raise _error(path, 1, 24, f"the log's tree XML does not parse: {e}") from None
     logged = {}
@@ -155,15 +181,20 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
     mine = {n.uid: n.id for n in nodes}
     if logged != mine:
         differ = sorted(set(logged.items()) ^ set(mine.items()))
-        raise _error(path, 1, 24, f"the log's tree is not this mission's ({len(logged)} nodes, the mission has "
-                                  f"{len(mine)}; first difference at UID {differ[0][0]})")
-    body = data[23 + size + 8:]
+        raise _error(
+            path,
+            1,
+            24,
+            f"the log's tree is not this mission's ({len(logged)} nodes, the mission has "
+            f"{len(mine)}; first difference at UID {differ[0][0]})",
+        )
+    body = data[23 + size + 8 :]
     count = len(body) // 9
     if record is not None and record > count:
         raise _error(path, 1, 1, f"the log has {count} records; there is no record {record}")
     status: dict[int, str] = {}
     for k in range(count if record is None else record):
-        rec_uid = int.from_bytes(body[9 * k + 6:9 * k + 8], "little")
+        rec_uid = int.from_bytes(body[9 * k + 6 : 9 * k + 8], "little")
         code = body[9 * k + 8]
         if rec_uid not in mine or code >= len(STATUS_NAMES):
             raise _error(path, 1, 1, f"record {k + 1}: UID {rec_uid} status {code} is not valid for this mission")
@@ -186,10 +217,21 @@ def _label(n: GNode) -> str:
     return "\n".join(lines)
 
 
-def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str]],
-             status: Optional[dict[int, str]] = None, caption: str = "") -> str:
-    out = ["digraph mission {", "  rankdir=TB;", '  node [fontname="Helvetica", fontsize=10];',
-           '  edge [arrowsize=0.6];', f"  label={_q(caption or mission.path)};", "  labelloc=t;"]
+def dot_text(
+    mission: Mission,
+    nodes: list[GNode],
+    clusters: list[tuple[str, str]],
+    status: Optional[dict[int, str]] = None,
+    caption: str = "",
+) -> str:
+    out = [
+        "digraph mission {",
+        "  rankdir=TB;",
+        '  node [fontname="Helvetica", fontsize=10];',
+        "  edge [arrowsize=0.6];",
+        f"  label={_q(caption or mission.path)};",
+        "  labelloc=t;",
+    ]
     members: dict[int, list[GNode]] = {}
     for n in nodes:
         members.setdefault(n.cluster, []).append(n)
@@ -219,9 +261,14 @@ def dot_text(mission: Mission, nodes: list[GNode], clusters: list[tuple[str, str
         if n.parent:
             out.append(f"  n{n.parent} -> n{n.uid};")
     if status is not None:
-        cells = "".join(f'<td bgcolor="{FILL[s]}">{s}</td>' for s in ("RUNNING", "SUCCESS", "FAILURE", "SKIPPED", "IDLE"))
+        cells = "".join(
+            f'<td bgcolor="{FILL[s]}">{s}</td>' for s in ("RUNNING", "SUCCESS", "FAILURE", "SKIPPED", "IDLE")
+        )
         cells += "".join(f'<td bgcolor="{WAS_FILL[s]}">was {s}</td>' for s in ("SUCCESS", "FAILURE", "SKIPPED"))
-        out.append(f'  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0"><tr>{cells}</tr></table>>];')
+        out.append(
+            '  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0">'
+            f"<tr>{cells}</tr></table>>];"
+        )
     out.append("}")
     return "\n".join(out) + "\n"
 
@@ -235,8 +282,10 @@ def graph_command(args) -> int:
         print(f"btgen: error: -o {output}: the output is a .svg or a .dot file", file=sys.stderr)
         return 2
     if args.tick is not None and args.trace is None:
-        print("btgen: error: --tick needs --trace (a .btlog has no tick boundaries: use --btlog FILE --record N)",
-              file=sys.stderr)
+        print(
+            "btgen: error: --tick needs --trace (a .btlog has no tick boundaries: use --btlog FILE --record N)",
+            file=sys.stderr,
+        )
         return 2
     if args.record is not None and args.btlog is None:
         print("btgen: error: --record needs --btlog", file=sys.stderr)
@@ -257,13 +306,15 @@ def graph_command(args) -> int:
         return 0
     dot = shutil.which("dot")
     if dot is None:
-        print("btgen: error: Graphviz `dot` is not installed (Debian: apt-get install graphviz); "
-              "write a .dot file instead", file=sys.stderr)
+        print(
+            "btgen: error: Graphviz `dot` is not installed (Debian: apt-get install graphviz); "
+            "write a .dot file instead",
+            file=sys.stderr,
+        )
         return 1
     proc = subprocess.run([dot, "-Tsvg"], input=text.encode("utf-8"), capture_output=True, timeout=600, check=False)
     if proc.returncode != 0:
-        print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}",
-              file=sys.stderr)
+        print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}", file=sys.stderr)
         return 1
     _write(output, proc.stdout)
     return 0

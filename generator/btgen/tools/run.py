@@ -6,6 +6,7 @@ found while running (a script error, a value a port cannot take) is reported
 after the lines already printed, as ``path:line:col: error: ...``, with exit
 status 1.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -24,8 +25,13 @@ def run_command(args) -> int:
     if engine == "cpp":
         from btgen.tools.cppengine import run_cpp
 
-        return run_cpp(args.mission, args.scenario, tuple(getattr(args, "models", None) or ()),
-                       getattr(args, "main_tree", None), enums.from_args(args))
+        return run_cpp(
+            args.mission,
+            args.scenario,
+            tuple(getattr(args, "models", None) or ()),
+            getattr(args, "main_tree", None),
+            enums.from_args(args),
+        )
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
@@ -36,8 +42,10 @@ def run_command(args) -> int:
 
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
-    mission = enums.apply(load_mission(args.mission, tuple(getattr(args, "models", None) or ()),
-                                       getattr(args, "main_tree", None)), enums.from_args(args))
+    mission = enums.apply(
+        load_mission(args.mission, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)),
+        enums.from_args(args),
+    )
     print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
     print_diagnostics(warnings)

@@ -29,6 +29,7 @@ succeeds, exactly ``n_nodes`` nodes with SubTrees expanded):
 Run as a script to print a mission: ``python -m btgen.tools.synth 10000 > big.xml``
 (``--kind reactive|subtrees|scripts`` for the variants).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -41,14 +42,25 @@ KINDS = ("balanced", "reactive", "subtrees", "scripts")
 
 # The script variant: leaves that succeed, and one that fails, over entry `n`.
 SUCCESS_LEAF_ELEMENTS = tuple(f"<{leaf}/>" for leaf in SUCCESS_LEAVES)
-SCRIPT_SUCCESS_LEAVES = ('<Script code="n += 1"/>', '<ScriptCondition code="n &gt;= 0"/>',
-                         '<Work _failureIf="n &lt; 0"/>')
+SCRIPT_SUCCESS_LEAVES = (
+    '<Script code="n += 1"/>',
+    '<ScriptCondition code="n &gt;= 0"/>',
+    '<Work _failureIf="n &lt; 0"/>',
+)
 SCRIPT_FAILURE_LEAF = '<ScriptCondition code="n &lt; 0"/>'
 
 
-def _body(n_nodes: int, branching: int, depth: int, *, sequence: str = "Sequence", fallback: str = "Fallback",
-          success_leaves: Sequence[str] = SUCCESS_LEAF_ELEMENTS,
-          failure_leaf: str = "<AlwaysFailure/>", name_prefix: str = "") -> list[str]:
+def _body(
+    n_nodes: int,
+    branching: int,
+    depth: int,
+    *,
+    sequence: str = "Sequence",
+    fallback: str = "Fallback",
+    success_leaves: Sequence[str] = SUCCESS_LEAF_ELEMENTS,
+    failure_leaf: str = "<AlwaysFailure/>",
+    name_prefix: str = "",
+) -> list[str]:
     """The lines of a balanced subtree of `n_nodes` nodes that succeeds, indented for `depth`."""
     if n_nodes < 1:
         raise ValueError("a tree has at least one node")
@@ -137,8 +149,9 @@ def balanced_mission(n_nodes: int, branching: int = 4, tree_id: str = "Main") ->
 
 def reactive_mission(n_nodes: int, branching: int = 4) -> str:
     """As balanced_mission, with ReactiveSequence and ReactiveFallback."""
-    return _document("Main", [("Main", _body(n_nodes, branching, 2, sequence="ReactiveSequence",
-                                             fallback="ReactiveFallback"))])
+    return _document(
+        "Main", [("Main", _body(n_nodes, branching, 2, sequence="ReactiveSequence", fallback="ReactiveFallback"))]
+    )
 
 
 def subtree_mission(n_nodes: int, branching: int = 4) -> str:
@@ -159,13 +172,21 @@ def subtree_mission(n_nodes: int, branching: int = 4) -> str:
     part_rest = part - 1 - fan * (1 + leg)
 
     def caller(callee: str, rest: int, prefix: str) -> list[str]:
-        return (['    <Sequence name="Calls">']
-                + [f'      <SubTree ID="{callee}" name="{callee}{i}"/>' for i in range(fan)]
-                + _body(rest, branching, 3, name_prefix=prefix)
-                + ["    </Sequence>"])
+        return (
+            ['    <Sequence name="Calls">']
+            + [f'      <SubTree ID="{callee}" name="{callee}{i}"/>' for i in range(fan)]
+            + _body(rest, branching, 3, name_prefix=prefix)
+            + ["    </Sequence>"]
+        )
 
-    return _document("Main", [("Main", caller("Part", main_rest, "M")), ("Part", caller("Leg", part_rest, "P")),
-                              ("Leg", _body(leg, branching, 2, name_prefix="L"))])
+    return _document(
+        "Main",
+        [
+            ("Main", caller("Part", main_rest, "M")),
+            ("Part", caller("Leg", part_rest, "P")),
+            ("Leg", _body(leg, branching, 2, name_prefix="L")),
+        ],
+    )
 
 
 def script_mission(n_nodes: int, branching: int = 4) -> str:
@@ -175,17 +196,22 @@ def script_mission(n_nodes: int, branching: int = 4) -> str:
     `n < 0`). One tick visits every node."""
     if n_nodes < 3:
         raise ValueError("a script mission has at least 3 nodes")
-    body = (['    <Sequence name="Root">', '      <Script name="Init" code="n := 0"/>']
-            + _body(n_nodes - 2, branching, 3, success_leaves=SCRIPT_SUCCESS_LEAVES,
-                    failure_leaf=SCRIPT_FAILURE_LEAF)
-            + ["    </Sequence>"])
+    body = (
+        ['    <Sequence name="Root">', '      <Script name="Init" code="n := 0"/>']
+        + _body(n_nodes - 2, branching, 3, success_leaves=SCRIPT_SUCCESS_LEAVES, failure_leaf=SCRIPT_FAILURE_LEAF)
+        + ["    </Sequence>"]
+    )
     return _document("Main", [("Main", body)])
 
 
 def mission(kind: str, n_nodes: int, branching: int = 4) -> str:
     """The synthetic mission of `kind` (one of KINDS) with `n_nodes` nodes."""
-    makers = {"balanced": balanced_mission, "reactive": reactive_mission, "subtrees": subtree_mission,
-              "scripts": script_mission}
+    makers = {
+        "balanced": balanced_mission,
+        "reactive": reactive_mission,
+        "subtrees": subtree_mission,
+        "scripts": script_mission,
+    }
     if kind not in makers:
         raise ValueError(f"unknown kind {kind!r}; one of {', '.join(KINDS)}")
     return makers[kind](n_nodes, branching)

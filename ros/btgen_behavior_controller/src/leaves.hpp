@@ -61,7 +61,7 @@ struct Interfaces {
   static constexpr const char* kSpeechTopic = "/speechEvent/text";
 
   static const std::vector<const char*>& services() {
-    static const std::vector<const char*> all = {kAnimate,    kGesture,   kAttention, kSetPose, kNavigate,
+    static const std::vector<const char*> all = {kAnimate,     kGesture,   kAttention, kSetPose, kNavigate,
                                                  kSetLanguage, kSetSpeech, kTablet,    kSay};
     return all;
   }
@@ -142,8 +142,8 @@ class Leaves {
     }
     current_ = kb_.find(kb_.tour()[visits_++]);  // taken off the list even if it were missing: no endless loop
     if (current_ == nullptr) return Status::FAILURE;
-    ROS_INFO("behaviorController: SelectExhibit: %d (%s), stop %zu of %zu", current_->id,
-             current_->description.c_str(), visits_, kb_.tour().size());
+    ROS_INFO("behaviorController: SelectExhibit: %d (%s), stop %zu of %zu", current_->id, current_->description.c_str(),
+             visits_, kb_.tour().size());
     return Status::SUCCESS;
   }
 
@@ -173,8 +173,9 @@ class Leaves {
     if (!has_translation(text) && settings_.language != Language::kEnglish) {
       ROS_WARN("behaviorController: location %d has no %s %s-gesture message: saying it in English", current_->id,
                language_name(settings_.language), pre ? "pre" : "post");
-      return say(n, pre ? current_->preGestureMessage(btgen::Language::kEnglish)
-                        : current_->postGestureMessage(btgen::Language::kEnglish),
+      return say(n,
+                 pre ? current_->preGestureMessage(btgen::Language::kEnglish)
+                     : current_->postGestureMessage(btgen::Language::kEnglish),
                  Language::kEnglish);
     }
     return say(n, text, settings_.language);
@@ -297,12 +298,9 @@ class Leaves {
   template <class M>
   Status onRunning(M& m, const NodeInfo& n) {
     switch (worker_.poll(n.index)) {
-      case ServiceWorker::Poll::kRunning:
-        return Status::RUNNING;
-      case ServiceWorker::Poll::kFailed:
-        return Status::FAILURE;
-      case ServiceWorker::Poll::kSucceeded:
-        break;
+      case ServiceWorker::Poll::kRunning: return Status::RUNNING;
+      case ServiceWorker::Poll::kFailed: return Status::FAILURE;
+      case ServiceWorker::Poll::kSucceeded: break;
     }
     completed(m, n);
     return Status::SUCCESS;

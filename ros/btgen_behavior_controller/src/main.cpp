@@ -124,8 +124,7 @@ bool wait_for_robot(const Leaves& leaves, double report_s) {
       missing.push_back(std::string("a publisher of ") + Interfaces::kSpeechTopic);
     }
     if (missing.empty()) {
-      ROS_INFO("behaviorController: all %zu services and both topics are available",
-               Interfaces::services().size());
+      ROS_INFO("behaviorController: all %zu services and both topics are available", Interfaces::services().size());
       return true;
     }
     std::string now;
@@ -266,8 +265,7 @@ int main(int argc, char** argv) {
     if (groot2) groot2->sync();
 #endif
     if (btgen::is_completed(result)) {
-      ROS_INFO("behaviorController: mission %s after %ld ticks", std::string(btgen::to_string(result)).c_str(),
-               ticks);
+      ROS_INFO("behaviorController: mission %s after %ld ticks", std::string(btgen::to_string(result)).c_str(), ticks);
       exit_status = result == Status::SUCCESS ? 0 : 1;
       if (!repeat) break;
       ticks = 0;

@@ -26,8 +26,7 @@ constexpr std::array<Phrase, 6> kPhrases = {{
       "Mukande kuri Yego cyangwa Oya kuri tablet yanjye."}},
     {"2", {"Please follow me.", "Sicela ungilandele.", "Nimunkurikire."}},
     {"3",
-     {"No problem. Maybe another time.", "Akunankinga. Mhlawumbe ngesinye isikhathi.",
-      "Nta kibazo. Wenda ubutaha."}},
+     {"No problem. Maybe another time.", "Akunankinga. Mhlawumbe ngesinye isikhathi.", "Nta kibazo. Wenda ubutaha."}},
     {"4",
      {"Hello! Welcome to the robotics lab. I am Pepper, your guide.",
       "Sawubona! Wamukelekile elebhu yamarobhothi. NginguPepper, umhambisi wakho.",
@@ -88,12 +87,9 @@ std::optional<Language> parse_language(std::string_view name) {
 
 const char* language_name(Language language) {
   switch (language) {
-    case Language::kEnglish:
-      return "English";
-    case Language::kIsiZulu:
-      return "IsiZulu";
-    case Language::kKinyarwanda:
-      return "Kinyarwanda";
+    case Language::kEnglish: return "English";
+    case Language::kIsiZulu: return "IsiZulu";
+    case Language::kKinyarwanda: return "Kinyarwanda";
   }
   return "English";
 }

@@ -31,20 +31,28 @@ import threading
 import time
 
 import rospy
-from std_msgs.msg import String
-
 from cssr_system.msg import overtAttentionMode
 from cssr_system.srv import (
-    animateBehaviorSetActivation, animateBehaviorSetActivationResponse,
-    gestureExecutionPerformGesture, gestureExecutionPerformGestureResponse,
-    overtAttentionSetMode, overtAttentionSetModeResponse,
-    robotLocalizationSetPose, robotLocalizationSetPoseResponse,
-    robotNavigationSetGoal, robotNavigationSetGoalResponse,
-    speechEventSetLanguage, speechEventSetLanguageResponse,
-    speechEventSetStatus, speechEventSetStatusResponse,
-    tabletEventPromptAndGetResponse, tabletEventPromptAndGetResponseResponse,
-    textToSpeechSayText, textToSpeechSayTextResponse,
+    animateBehaviorSetActivation,
+    animateBehaviorSetActivationResponse,
+    gestureExecutionPerformGesture,
+    gestureExecutionPerformGestureResponse,
+    overtAttentionSetMode,
+    overtAttentionSetModeResponse,
+    robotLocalizationSetPose,
+    robotLocalizationSetPoseResponse,
+    robotNavigationSetGoal,
+    robotNavigationSetGoalResponse,
+    speechEventSetLanguage,
+    speechEventSetLanguageResponse,
+    speechEventSetStatus,
+    speechEventSetStatusResponse,
+    tabletEventPromptAndGetResponse,
+    tabletEventPromptAndGetResponseResponse,
+    textToSpeechSayText,
+    textToSpeechSayTextResponse,
 )
+from std_msgs.msg import String
 
 
 def parse_pairs(values, cast):
@@ -145,8 +153,9 @@ class Robot:
             if self.arrives_at is not None and time.time() >= self.arrives_at:
                 self.present = True
             mode, present = self.mode, self.present
-        value = {"scanning": 2 if present else 1, "seeking": 2 if present else 3,
-                 "social": 2 if present else 3}.get(mode, 0)
+        value = {"scanning": 2 if present else 1, "seeking": 2 if present else 3, "social": 2 if present else 3}.get(
+            mode, 0
+        )
         self.mode_pub.publish(overtAttentionMode(mode, value))
 
 
@@ -188,7 +197,7 @@ def main():
         rospy.sleep(max(0.0, start + delay - time.time()))
         srv_type, method = SERVICES[name]
         rospy.Service(name, srv_type, getattr(robot, method))
-        print("robot_stub: advertised %s at %.6f" % (name, time.time()), flush=True)
+        print(f"robot_stub: advertised {name} at {time.time():.6f}", flush=True)
     print("robot_stub: ready", flush=True)
     rospy.spin()
 

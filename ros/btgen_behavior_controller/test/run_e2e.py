@@ -114,15 +114,23 @@ class Expect:
         self.call(GOAL, goal_x=x, goal_y=y, goal_theta=theta)
 
     def gesture(self, kind, gid, xyz=(0.0, 0.0, 0.0)):
-        self.call(GESTURE, gesture_type=kind, gesture_id=gid, gesture_duration=3000, bow_nod_angle=0,
-                  location_x=xyz[0], location_y=xyz[1], location_z=xyz[2])
+        self.call(
+            GESTURE,
+            gesture_type=kind,
+            gesture_id=gid,
+            gesture_duration=3000,
+            bow_nod_angle=0,
+            location_x=xyz[0],
+            location_y=xyz[1],
+            location_z=xyz[2],
+        )
 
     def message(self, lid, which):
         loc = self.locations[lid]
         lang = {"English": "english", "IsiZulu": "isizulu", "Kinyarwanda": "kinyarwanda"}[self.language]
-        text = loc.get("%sgesturemessage%s" % (which, lang), "")
+        text = loc.get(f"{which}gesturemessage{lang}", "")
         if not text or text.startswith("No message in"):
-            self.say(loc["%sgesturemessageenglish" % which], "English")
+            self.say(loc[f"{which}gesturemessageenglish"], "English")
         else:
             self.say(text)
 
@@ -203,12 +211,24 @@ class Roscore:
     def __init__(self, workdir):
         self.port = free_port()
         self.uri = "http://127.0.0.1:%d" % self.port
-        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1", ROS_HOSTNAME="127.0.0.1",
-                        ROS_HOME=os.path.join(workdir, "ros_home"), ROS_LOG_DIR=os.path.join(workdir, "ros_log"),
-                        ROSCONSOLE_FORMAT="[${severity}] [${walltime}] ${message}", PYTHONUNBUFFERED="1")
+        self.env = dict(
+            os.environ,
+            ROS_MASTER_URI=self.uri,
+            ROS_IP="127.0.0.1",
+            ROS_HOSTNAME="127.0.0.1",
+            ROS_HOME=os.path.join(workdir, "ros_home"),
+            ROS_LOG_DIR=os.path.join(workdir, "ros_log"),
+            ROSCONSOLE_FORMAT="[${severity}] [${walltime}] ${message}",
+            PYTHONUNBUFFERED="1",
+        )
         self.log = open(os.path.join(workdir, "roscore.log"), "w")
-        self.proc = subprocess.Popen(["roscore", "-p", str(self.port)], env=self.env, stdout=self.log,
-                                     stderr=subprocess.STDOUT, start_new_session=True)
+        self.proc = subprocess.Popen(
+            ["roscore", "-p", str(self.port)],
+            env=self.env,
+            stdout=self.log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
         master = xmlrpc.client.ServerProxy(self.uri)
         deadline = time.time() + 30
         while True:
@@ -293,21 +313,35 @@ def check_calls(recorded, expected):
         if g[0] != e[0] or set(g[1]) != set(e[1]) or not all(same_value(g[1][k], e[1][k]) for k in e[1]):
             raise Failure("call %d: got %s %s, expected %s %s" % (i + 1, g[0], g[1], e[0], e[1]))
     if len(got) != len(expected):
-        extra = got[len(expected):] or expected[len(got):]
-        raise Failure("%d calls, expected %d; first %s: %s" % (
-            len(got), len(expected), "extra" if len(got) > len(expected) else "missing", extra[0]))
+        extra = got[len(expected) :] or expected[len(got) :]
+        raise Failure(
+            "%d calls, expected %d; first %s: %s"
+            % (len(got), len(expected), "extra" if len(got) > len(expected) else "missing", extra[0])
+        )
 
 
 def message_time(log, pattern):
-    for sev, t, msg in log:
+    for _sev, t, msg in log:
         if re.search(pattern, msg):
             return t
     return None
 
 
 class Scenario:
-    def __init__(self, name, language="English", asr=True, answer="yes", say=None, tablet="yes",
-                 leave_at_goal=0, stub_args=(), check=None, launch=False, groot2=False):
+    def __init__(
+        self,
+        name,
+        language="English",
+        asr=True,
+        answer="yes",
+        say=None,
+        tablet="yes",
+        leave_at_goal=0,
+        stub_args=(),
+        check=None,
+        launch=False,
+        groot2=False,
+    ):
         self.name, self.language, self.asr, self.answer = name, language, asr, answer
         self.launch = launch  # through behaviorController.launch (roslaunch) rather than the bare node
         self.groot2 = groot2  # with ~groot2_port set
@@ -334,19 +368,33 @@ def run_scenario(sc, core, node, kb_path, kb, workdir):
         deadline = time.time() + 20
         while not (wanted - late) <= core.services():
             if time.time() > deadline or stub.poll() is not None:
-                raise Failure("the robot stub did not advertise its services (see %s)" % os.path.join(d, "stub.log"))
+                raise Failure(
+                    "the robot stub did not advertise its services (see {})".format(os.path.join(d, "stub.log"))
+                )
             time.sleep(0.1)
         config = os.path.join(d, "kb.ini")
         with open(config, "w") as f:
-            f.write("knowledgeBase %s\nverboseMode false\n" % kb_path)
+            f.write(f"knowledgeBase {kb_path}\nverboseMode false\n")
         if sc.launch:
-            node_cmd = ["roslaunch", "btgen_behavior_controller", "behaviorController.launch", "tick_rate:=50",
-                        "language:=" + sc.language, "asr_enabled:=" + ("true" if sc.asr else "false"),
-                        "knowledge_base_config:=" + config]
+            node_cmd = [
+                "roslaunch",
+                "btgen_behavior_controller",
+                "behaviorController.launch",
+                "tick_rate:=50",
+                "language:=" + sc.language,
+                "asr_enabled:=" + ("true" if sc.asr else "false"),
+                "knowledge_base_config:=" + config,
+            ]
         else:
-            node_cmd = [node, "__name:=behaviorController", "_tick_rate:=50", "_language:=" + sc.language,
-                        "_asr_enabled:=" + ("true" if sc.asr else "false"), "_wait_report_period:=1.0",
-                        "_knowledge_base_config:=" + config]
+            node_cmd = [
+                node,
+                "__name:=behaviorController",
+                "_tick_rate:=50",
+                "_language:=" + sc.language,
+                "_asr_enabled:=" + ("true" if sc.asr else "false"),
+                "_wait_report_period:=1.0",
+                "_knowledge_base_config:=" + config,
+            ]
         groot2_port = None
         if sc.groot2:
             groot2_port = free_port(pair=True)
@@ -386,7 +434,7 @@ def check_mission(sc, ctx, kb, timeout=60):
         raise Failure("the node did not report the end of the mission")
     got = [m for _, _, m in log if m.startswith("behaviorController: mission ")][0].split()[2]
     if got != result:
-        raise Failure("mission %s, expected %s" % (got, result))
+        raise Failure(f"mission {got}, expected {result}")
     if sc.launch:  # roslaunch's own status; the node is `required`, so its end ends the launch
         with open(os.path.join(ctx["dir"], "node.log"), encoding="utf-8", errors="replace") as f:
             text = f.read()
@@ -429,10 +477,10 @@ def check_groot2(ctx, port):
 def check_failing_services(sc, ctx, kb):
     log = check_mission(sc, ctx, kb)
     fallbacks = [m for sev, _, m in log if "HandleFallBack:" in m]
-    expected = ['SayText "2" failed', 'Navigate failed', 'SetAnimateBehavior "enabled" failed']
+    expected = ['SayText "2" failed', "Navigate failed", 'SetAnimateBehavior "enabled" failed']
     for text in expected:
         if not any(text in m for m in fallbacks):
-            raise Failure("no HandleFallBack report for %s; reports: %s" % (text, fallbacks))
+            raise Failure(f"no HandleFallBack report for {text}; reports: {fallbacks}")
     if len(fallbacks) != len(expected):
         raise Failure("%d HandleFallBack reports, expected %d: %s" % (len(fallbacks), len(expected), fallbacks))
 
@@ -442,16 +490,18 @@ def check_missing_service(sc, ctx, kb):
     # The first reports may also name the topics (their publishers take a moment to connect).
     waits = [m for sev, _, m in log if sev == "WARN" and "waiting for" in m]
     if not waits or waits[-1] != "behaviorController: waiting for service " + TABLET:
-        raise Failure("the node did not report waiting for %s alone: %s" % (TABLET, waits))
+        raise Failure(f"the node did not report waiting for {TABLET} alone: {waits}")
     if any("service" in m and TABLET not in m for m in waits) or any(m.count("service ") > 1 for m in waits):
-        raise Failure("the node reported waiting for another service: %s" % waits)
+        raise Failure(f"the node reported waiting for another service: {waits}")
     with open(os.path.join(ctx["dir"], "stub.log"), encoding="utf-8") as f:
-        m = re.search(r"advertised %s at (\d+\.\d+)" % re.escape(TABLET), f.read())
+        m = re.search(rf"advertised {re.escape(TABLET)} at (\d+\.\d+)", f.read())
     if m is None:
-        raise Failure("the stub did not advertise %s" % TABLET)
+        raise Failure(f"the stub did not advertise {TABLET}")
     first = read_calls(ctx["calls"])[0]["t"]
     if first < float(m.group(1)):
-        raise Failure("the mission called %s before %s was advertised" % (read_calls(ctx["calls"])[0]["service"], TABLET))
+        raise Failure(
+            "the mission called {} before {} was advertised".format(read_calls(ctx["calls"])[0]["service"], TABLET)
+        )
     if message_time(log, r"all 9 services and both topics are available") is None:
         raise Failure("the node did not report that everything is available")
 
@@ -465,7 +515,7 @@ def check_bad_parameter(sc, ctx, kb):
     if status != 2:
         raise Failure("exit status %d for a bad ~language, expected 2" % status)
     log = node_log(os.path.join(ctx["dir"], "node.log"))
-    want = 'behaviorController: ~language "%s": expected English, IsiZulu or Kinyarwanda' % sc.language
+    want = f'behaviorController: ~language "{sc.language}": expected English, IsiZulu or Kinyarwanda'
     if not any(sev == "FATAL" and m == want for sev, _, m in log):
         raise Failure("no FATAL report of the bad ~language in the node's log")
     time.sleep(0.3)
@@ -478,7 +528,7 @@ def check_sigint(sc, ctx, kb):
     deadline = time.time() + 40
     while not any(c["service"] == GOAL for c in read_calls(ctx["calls"])):
         if time.time() > deadline or ctx["node"].poll() is not None:
-            raise Failure("the node never called %s" % GOAL)
+            raise Failure(f"the node never called {GOAL}")
         time.sleep(0.05)
     time.sleep(0.3)
     n_before = len(read_calls(ctx["calls"]))
@@ -492,7 +542,7 @@ def check_sigint(sc, ctx, kb):
     if status != 0:
         raise Failure("exit status %d after SIGINT" % status)
     if took > 5:
-        raise Failure("the node took %.1f s to stop after SIGINT" % took)
+        raise Failure(f"the node took {took:.1f} s to stop after SIGINT")
     time.sleep(0.5)
     after = read_calls(ctx["calls"])[n_before:]
     if after:
@@ -500,21 +550,29 @@ def check_sigint(sc, ctx, kb):
     log = node_log(os.path.join(ctx["dir"], "node.log"))
     for text in ("interrupted: halting the mission", "behaviorController: shutting down"):
         if message_time(log, re.escape(text)) is None:
-            raise Failure("no \"%s\" in the node's log" % text)
+            raise Failure(f'no "{text}" in the node\'s log')
     expected, _ = expected_for(sc, kb)
     calls = read_calls(ctx["calls"])
-    check_calls(calls, expected[:len(calls)])
+    check_calls(calls, expected[: len(calls)])
 
 
 SCENARIOS = [
     Scenario("yes", say="yes, I would love to", groot2=True),
     Scenario("no_tablet_isizulu_launch", language="IsiZulu", asr=False, answer="no", tablet="no", launch=True),
-    Scenario("failing_services", say="yes please",
-             stub_args=["--error", SAY + ":3", "--fail", GOAL + ":3", "--fail", ANIMATE + ":1"],
-             check=check_failing_services),
+    Scenario(
+        "failing_services",
+        say="yes please",
+        stub_args=["--error", SAY + ":3", "--fail", GOAL + ":3", "--fail", ANIMATE + ":1"],
+        check=check_failing_services,
+    ),
     Scenario("walks_away_kinyarwanda", language="Kinyarwanda", say="yego", answer="yes", leave_at_goal=3),
-    Scenario("missing_service", answer="no", say="no thanks", stub_args=["--late", TABLET + ":2.5"],
-             check=check_missing_service),
+    Scenario(
+        "missing_service",
+        answer="no",
+        say="no thanks",
+        stub_args=["--late", TABLET + ":2.5"],
+        check=check_missing_service,
+    ),
     Scenario("sigint", say="yes", stub_args=["--slow", GOAL + ":30"], check=check_sigint),
     Scenario("bad_language", language="Klingon", check=check_bad_parameter),
 ]
@@ -545,13 +603,16 @@ def main():
                 print("PASS %-26s %5.1f s" % (sc.name, time.time() - t0), flush=True)
             except Failure as e:
                 failed += 1
-                print("FAIL %-26s %5.1f s: %s (logs: %s)" % (sc.name, time.time() - t0, e,
-                                                              os.path.join(workdir, sc.name)), flush=True)
+                print(
+                    "FAIL %-26s %5.1f s: %s (logs: %s)"
+                    % (sc.name, time.time() - t0, e, os.path.join(workdir, sc.name)),
+                    flush=True,
+                )
     finally:
         core.stop()
         if not args.keep and failed == 0:
             shutil.rmtree(workdir, ignore_errors=True)
-    print("ros1 e2e: Groot2: %s" % GROOT2["status"])
+    print("ros1 e2e: Groot2: {}".format(GROOT2["status"]))
     print("ros1 e2e: %d passed, %d failed" % (passed, failed))
     return 0 if failed == 0 and passed > 0 else 1
 

@@ -111,7 +111,7 @@ TEST(ServiceWorker, ResultOfAnAbandonedCallIsDroppedAndARestartGetsItsOwn) {
     return false;  // the old call fails...
   });
   gate.wait_entered();
-  w.abandon(0);  // ...but the node was halted meanwhile
+  w.abandon(0);                     // ...but the node was halted meanwhile
   w.start(0, [] { return true; });  // and started again
   gate.open();
   EXPECT_EQ(wait_result(w, 0), Poll::kSucceeded);  // the new call's result, not the old one's

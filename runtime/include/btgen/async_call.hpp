@@ -89,8 +89,9 @@ class AsyncCall {
   template <class F>
   bool start(F&& fn) noexcept(std::is_nothrow_constructible_v<std::decay_t<F>, F&&>) {
     using Fn = std::decay_t<F>;
-    static_assert(sizeof(Fn) <= Capacity, "AsyncCall: the callable is larger than Capacity bytes; capture less "
-                                          "(a pointer to your state) or raise Capacity");
+    static_assert(sizeof(Fn) <= Capacity,
+                  "AsyncCall: the callable is larger than Capacity bytes; capture less "
+                  "(a pointer to your state) or raise Capacity");
     static_assert(alignof(Fn) <= alignof(std::max_align_t), "AsyncCall: over-aligned callable");
     static_assert(std::is_invocable_r_v<R, Fn&, const CancelToken&>,
                   "AsyncCall<R>: the callable is R fn(const btgen::CancelToken&)");

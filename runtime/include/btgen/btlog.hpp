@@ -51,8 +51,7 @@ struct Transition {
 // pushes, one other thread pops. Fixed capacity (allocated once).
 class TransitionRing {
  public:
-  explicit TransitionRing(std::size_t capacity)
-      : cap_(capacity < 2 ? 2 : capacity), buf_(new Transition[cap_]) {}
+  explicit TransitionRing(std::size_t capacity) : cap_(capacity < 2 ? 2 : capacity), buf_(new Transition[cap_]) {}
 
   // Tick thread. False (and counted) when full.
   bool push(const Transition& t) noexcept {
@@ -102,8 +101,7 @@ inline void pack_transition(const Transition& t, char out[9]) noexcept {
 }
 
 [[nodiscard]] inline std::int64_t wall_clock_usec() noexcept {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 

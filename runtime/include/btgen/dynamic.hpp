@@ -39,8 +39,8 @@ namespace dyn {
 // A value of a dynamic slot or expression (a view: the text is not owned).
 struct Ref {
   DynTag tag = DynTag::kNone;
-  std::int64_t i = 0;  // kInt, kBool (0/1), kStatus
-  double d = 0.0;      // kDouble
+  std::int64_t i = 0;    // kInt, kBool (0/1), kStatus
+  double d = 0.0;        // kDouble
   std::string_view s{};  // kString
 
   [[nodiscard]] constexpr bool none() const noexcept { return tag == DynTag::kNone; }
@@ -384,8 +384,10 @@ inline bool unary(char op, const Ref& v, double& out, Msg& m) noexcept {
 // A text result goes into `buf`; `out` may be empty (`..` of two numbers).
 template <std::size_t B>
 bool binary(char op, const Ref& l, const Ref& r, Ref& out, FixedString<B>& buf, Msg& m) noexcept {
-  const std::string_view o = op == 'c' ? std::string_view("..") : op == 'a' ? std::string_view("&&")
-                             : op == 'o' ? std::string_view("||") : std::string_view(&op, 1);
+  const std::string_view o = op == 'c'   ? std::string_view("..")
+                             : op == 'a' ? std::string_view("&&")
+                             : op == 'o' ? std::string_view("||")
+                                         : std::string_view(&op, 1);
   if (l.none()) {
     m.add("the left operand of `").add(o).add("` has no value");
     return false;
@@ -430,9 +432,8 @@ bool binary(char op, const Ref& l, const Ref& r, Ref& out, FixedString<B>& buf, 
     out = Ref{};  // `..` of two numbers: an empty value
     return true;
   }
-  if ((op == '+' || op == 'c') && (l.is_string() || r.is_string()) &&
-      (op == 'c' || (l.is_string() && r.is_string())) && (l.is_string() || l.is_number()) &&
-      (r.is_string() || r.is_number())) {
+  if ((op == '+' || op == 'c') && (l.is_string() || r.is_string()) && (op == 'c' || (l.is_string() && r.is_string())) &&
+      (l.is_string() || l.is_number()) && (r.is_string() || r.is_number())) {
     NumberText lt, rt;
     const std::string_view a = to_text(l, lt);
     const std::string_view b = to_text(r, rt);
@@ -467,12 +468,18 @@ inline bool compare(std::string_view op, const Ref& l, const Ref& r, bool& res, 
   rw.add("right operand of `").add(op).add("`");
   if (l.is_string() && r.is_string()) {
     const std::string_view a = l.s, b = r.s;
-    if (op == "==") res = a == b;
-    else if (op == "!=") res = a != b;
-    else if (op == "<") res = !(a >= b);
-    else if (op == ">") res = !(a <= b);
-    else if (op == "<=") res = !(a > b);
-    else res = !(a < b);
+    if (op == "==")
+      res = a == b;
+    else if (op == "!=")
+      res = a != b;
+    else if (op == "<")
+      res = !(a >= b);
+    else if (op == ">")
+      res = !(a <= b);
+    else if (op == "<=")
+      res = !(a > b);
+    else
+      res = !(a < b);
     return true;
   }
   double a = 0.0, b = 0.0;
@@ -484,12 +491,18 @@ inline bool compare(std::string_view op, const Ref& l, const Ref& r, bool& res, 
     if (!number_to_double(l, a, m, lw.view()) || !number_to_double(r, b, m, rw.view())) return false;
   }
   const bool same = std::fabs(a - b) <= 1.1920928955078125e-07;
-  if (op == "==") res = same;
-  else if (op == "!=") res = !same;
-  else if (op == "<") res = !(a >= b);
-  else if (op == ">") res = !(a <= b);
-  else if (op == "<=") res = !(a > b);
-  else res = !(a < b);
+  if (op == "==")
+    res = same;
+  else if (op == "!=")
+    res = !same;
+  else if (op == "<")
+    res = !(a >= b);
+  else if (op == ">")
+    res = !(a <= b);
+  else if (op == "<=")
+    res = !(a > b);
+  else
+    res = !(a < b);
   return true;
 }
 
@@ -554,7 +567,9 @@ struct Dyn {
   double d = 0.0;
   FixedString<N> s{};
 
-  [[nodiscard]] dyn::Ref ref() const noexcept { return dyn::Ref{tag, i, d, tag == DynTag::kString ? s.view() : std::string_view()}; }
+  [[nodiscard]] dyn::Ref ref() const noexcept {
+    return dyn::Ref{tag, i, d, tag == DynTag::kString ? s.view() : std::string_view()};
+  }
   // Holds `v` (false: a text longer than N, nothing changed).
   [[nodiscard]] bool set(const dyn::Ref& v) noexcept {
     if (v.tag == DynTag::kString && !s.assign(v.s)) return false;
@@ -710,7 +725,10 @@ bool compound(char op, const Ref& current, const Ref& value, std::string_view ke
     NumberText t;
     const std::string_view a = to_text(current, t);
     if (a.size() + value.s.size() > B) {
-      m.add("the text of `").add(key).add("` would be longer than its capacity (").add_int(static_cast<std::int64_t>(B))
+      m.add("the text of `")
+          .add(key)
+          .add("` would be longer than its capacity (")
+          .add_int(static_cast<std::int64_t>(B))
           .add(" bytes)");
       return false;
     }

@@ -142,17 +142,16 @@ class Engine {
   static constexpr bool mission_wakes_up() noexcept {
     for (const NodeInfo& n : Spec::kNodes) {
       if (n.kind == NodeKind::AsyncSequence || n.kind == NodeKind::SequenceWithMemory ||
-          n.kind == NodeKind::AsyncFallback || n.kind == NodeKind::Repeat ||
-          n.kind == NodeKind::RetryUntilSuccessful) {
+          n.kind == NodeKind::AsyncFallback || n.kind == NodeKind::Repeat || n.kind == NodeKind::RetryUntilSuccessful) {
         return true;
       }
     }
     return false;
   }
   static constexpr bool kWakeUp = mission_wakes_up();
-  static constexpr std::uint16_t kPreBits = static_cast<std::uint16_t>(
-      script_bit(ScriptSlot::kFailureIf) | script_bit(ScriptSlot::kSuccessIf) | script_bit(ScriptSlot::kSkipIf) |
-      script_bit(ScriptSlot::kWhile));
+  static constexpr std::uint16_t kPreBits =
+      static_cast<std::uint16_t>(script_bit(ScriptSlot::kFailureIf) | script_bit(ScriptSlot::kSuccessIf) |
+                                 script_bit(ScriptSlot::kSkipIf) | script_bit(ScriptSlot::kWhile));
   static constexpr std::uint16_t kPostBits = static_cast<std::uint16_t>(
       script_bit(ScriptSlot::kOnSuccess) | script_bit(ScriptSlot::kOnFailure) | script_bit(ScriptSlot::kPost));
 
@@ -313,18 +312,14 @@ class Engine {
       case NodeKind::IfThenElse:
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful:
-      case NodeKind::Delay:
-        counter(n, 0) = 0;
-        break;
+      case NodeKind::Delay: counter(n, 0) = 0; break;
       case NodeKind::Timeout:
         counter(n, 0) = 0;
         counter(n, 1) = 0;
         break;
       case NodeKind::Switch:             // no case RUNNING
       case NodeKind::SkipUnlessUpdated:  // child no longer executing (its update counter is kept)
-      case NodeKind::WaitValueUpdate:
-        counter(n, 0) = 0;
-        break;
+      case NodeKind::WaitValueUpdate: counter(n, 0) = 0; break;
       default:  // SequenceWithMemory keeps its index, RunOnce its memory (as 4.6.2)
         break;
     }
@@ -435,10 +430,10 @@ class Engine {
     static_cast<Engine*>(e)->set_status(node, s);
   }
   static std::uint64_t ops_now_ms(void* e) noexcept { return static_cast<Engine*>(e)->clock_.now_ms(); }
-  static constexpr ChildOpsTable kChildOps{&Engine::ops_tick_child,     &Engine::ops_halt_child,
-                                           &Engine::ops_reset_child_status, &Engine::ops_child_status,
-                                           &Engine::ops_status,         &Engine::ops_set_status,
-                                           &Engine::ops_now_ms};
+  static constexpr ChildOpsTable kChildOps{
+      &Engine::ops_tick_child,   &Engine::ops_halt_child, &Engine::ops_reset_child_status,
+      &Engine::ops_child_status, &Engine::ops_status,     &Engine::ops_set_status,
+      &Engine::ops_now_ms};
 
   // The start of executeTick: the pre-conditions may decide instead of tick().
   [[gnu::always_inline]] Step begin(Frame& f) noexcept {
@@ -629,8 +624,7 @@ class Engine {
         f.decorator = 1;
         // EntryUpdatedDecorator: the child runs only when the entry's
         // update counter moved since this node last looked.
-        const Status not_updated =
-            n.kind == NodeKind::SkipUnlessUpdated ? Status::SKIPPED : Status::RUNNING;
+        const Status not_updated = n.kind == NodeKind::SkipUnlessUpdated ? Status::SKIPPED : Status::RUNNING;
         if (counter(n, 0) != 0) return descend(child(n, 0));  // the child is still executing
         const std::int64_t seq = Spec::entry_seq(bb_, n);
         if (seq < 0) return done(not_updated);
@@ -640,11 +634,9 @@ class Engine {
         return descend(child(n, 0));
       }
 
-      case NodeKind::AlwaysSuccess:
-        return done(Status::SUCCESS);
+      case NodeKind::AlwaysSuccess: return done(Status::SUCCESS);
 
-      case NodeKind::AlwaysFailure:
-        return done(Status::FAILURE);
+      case NodeKind::AlwaysFailure: return done(Status::FAILURE);
 
       case NodeKind::Sleep: {
         const Status st = status_[f.node];
@@ -658,8 +650,7 @@ class Engine {
         return done(st);
       }
 
-      case NodeKind::Script:
-        return done(run_script(n, ScriptSlot::kCode) < 0 ? Status::FAILURE : Status::SUCCESS);
+      case NodeKind::Script: return done(run_script(n, ScriptSlot::kCode) < 0 ? Status::FAILURE : Status::SUCCESS);
 
       case NodeKind::ScriptCondition:
         return done(run_script(n, ScriptSlot::kCode) == 1 ? Status::SUCCESS : Status::FAILURE);
@@ -686,8 +677,8 @@ class Engine {
         if (st != Status::IDLE && st != Status::RUNNING && !Spec::template sync_action<Leaves>(n)) return done(st);
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
-        const Status s = st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n)
-                                            : Spec::on_running(*leaves_, bb_, es, n);
+        const Status s =
+            st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n) : Spec::on_running(*leaves_, bb_, es, n);
         return done(guarded(s, before));
       }
 
@@ -729,8 +720,7 @@ class Engine {
         std::int32_t& idx = counter(n, 0);
         if (cs != Status::SKIPPED) counter(n, 1) = 1;
         switch (cs) {
-          case Status::RUNNING:
-            return done(Status::RUNNING);
+          case Status::RUNNING: return done(Status::RUNNING);
           case Status::SUCCESS:
             ++idx;
             // SequenceWithMemory always has the wake-up rule in 4.6.2,
@@ -739,9 +729,7 @@ class Engine {
               return done(Status::RUNNING);
             }
             return sequence_next(f, n);
-          case Status::SKIPPED:
-            ++idx;
-            return sequence_next(f, n);
+          case Status::SKIPPED: ++idx; return sequence_next(f, n);
           default:  // FAILURE
             if (n.kind == NodeKind::SequenceWithMemory) {
               for (std::size_t i = static_cast<std::size_t>(idx); i < n.child_count; ++i) halt_child(n, i);
@@ -758,17 +746,14 @@ class Engine {
         std::int32_t& idx = counter(n, 0);
         if (cs != Status::SKIPPED) counter(n, 1) = 1;
         switch (cs) {
-          case Status::RUNNING:
-            return done(Status::RUNNING);
+          case Status::RUNNING: return done(Status::RUNNING);
           case Status::FAILURE:
             ++idx;
             if (n.kind == NodeKind::AsyncFallback && f.child_prev == Status::IDLE && idx < n.child_count) {
               return done(Status::RUNNING);
             }
             return sequence_next(f, n);
-          case Status::SKIPPED:
-            ++idx;
-            return sequence_next(f, n);
+          case Status::SKIPPED: ++idx; return sequence_next(f, n);
           default:  // SUCCESS
             reset_children(n);
             idx = 0;
@@ -800,8 +785,14 @@ class Engine {
         const std::uint16_t c = child(n, f.pos);
         switch (cs) {
           case Status::SKIPPED: ++f.aux; break;
-          case Status::SUCCESS: set_done(c, true); ++counter(n, 0); break;
-          case Status::FAILURE: set_done(c, true); ++counter(n, 1); break;
+          case Status::SUCCESS:
+            set_done(c, true);
+            ++counter(n, 0);
+            break;
+          case Status::FAILURE:
+            set_done(c, true);
+            ++counter(n, 1);
+            break;
           default: break;
         }
         const Status decided = parallel_check(f, n);
@@ -815,7 +806,10 @@ class Engine {
         switch (cs) {
           case Status::SKIPPED: ++f.aux; break;
           case Status::SUCCESS: set_done(c, true); break;
-          case Status::FAILURE: set_done(c, true); ++counter(n, 0); break;
+          case Status::FAILURE:
+            set_done(c, true);
+            ++counter(n, 0);
+            break;
           default: break;
         }
         ++f.pos;
@@ -966,9 +960,7 @@ class Engine {
         return done(cs == Status::FAILURE ? Status::FAILURE : Status::RUNNING);
 
       case NodeKind::SkipUnlessUpdated:
-      case NodeKind::WaitValueUpdate:
-        counter(n, 0) = cs == Status::RUNNING ? 1 : 0;
-        return done(cs);
+      case NodeKind::WaitValueUpdate: counter(n, 0) = cs == Status::RUNNING ? 1 : 0; return done(cs);
 
       default:  // leaves have no children
         return done(cs);

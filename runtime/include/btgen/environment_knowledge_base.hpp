@@ -48,11 +48,11 @@ struct KbLocation {
   std::int32_t id = 0;
   int line = 0;  ///< first line of the location in the .dat file
   std::string description;
-  Eigen::Vector3d pose = Eigen::Vector3d::Zero();            ///< x [m], y [m], theta [deg]
-  Eigen::Vector3d gesture_target = Eigen::Vector3d::Zero();  ///< x, y, z [m]
+  Eigen::Vector3d pose = Eigen::Vector3d::Zero();                ///< x [m], y [m], theta [deg]
+  Eigen::Vector3d gesture_target = Eigen::Vector3d::Zero();      ///< x, y, z [m]
   std::array<std::string, kLanguageCount> pre_gesture_message;   ///< indexed by Language
   std::array<std::string, kLanguageCount> post_gesture_message;  ///< indexed by Language
-  std::vector<std::string> cultural_knowledge;  ///< keys of the culture knowledge base
+  std::vector<std::string> cultural_knowledge;                   ///< keys of the culture knowledge base
 
   [[nodiscard]] const std::string& preGestureMessage(Language language) const noexcept {
     return pre_gesture_message[static_cast<std::size_t>(language)];
@@ -74,9 +74,7 @@ template <typename T>
 class [[nodiscard]] KbResult {
  public:
   static KbResult success(T value) { return KbResult(std::move(value), {}); }
-  static KbResult failure(std::vector<std::string> errors) {
-    return KbResult(std::nullopt, std::move(errors));
-  }
+  static KbResult failure(std::vector<std::string> errors) { return KbResult(std::nullopt, std::move(errors)); }
 
   [[nodiscard]] bool ok() const noexcept { return value_.has_value(); }
   explicit operator bool() const noexcept { return ok(); }
@@ -121,8 +119,8 @@ class EnvironmentKnowledgeBase {
 
   /// The document's constructor: read the configuration, then the base it
   /// names; in verbose mode, print the base to `verbose_out`.
-  [[nodiscard]] static KbResult<EnvironmentKnowledgeBase> loadFromConfiguration(
-      const std::string& ini_path, std::ostream& verbose_out);
+  [[nodiscard]] static KbResult<EnvironmentKnowledgeBase> loadFromConfiguration(const std::string& ini_path,
+                                                                                std::ostream& verbose_out);
 
   /// The location with this id, or nullptr (the document's getValue()).
   [[nodiscard]] const KbLocation* find(std::int32_t id) const noexcept;

@@ -35,9 +35,9 @@
 #pragma once
 
 #include <algorithm>
-#include <cerrno>
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -90,17 +90,36 @@ class MsgPack {
   void integer(std::int64_t v) {
     if (v >= 0) {
       const auto u = static_cast<std::uint64_t>(v);
-      if (u < 128) byte(static_cast<std::uint8_t>(u));
-      else if (u <= 0xFF) { byte(0xcc); be(u, 1); }
-      else if (u <= 0xFFFF) { byte(0xcd); be(u, 2); }
-      else if (u <= 0xFFFFFFFFu) { byte(0xce); be(u, 4); }
-      else { byte(0xcf); be(u, 8); }
+      if (u < 128)
+        byte(static_cast<std::uint8_t>(u));
+      else if (u <= 0xFF) {
+        byte(0xcc);
+        be(u, 1);
+      } else if (u <= 0xFFFF) {
+        byte(0xcd);
+        be(u, 2);
+      } else if (u <= 0xFFFFFFFFu) {
+        byte(0xce);
+        be(u, 4);
+      } else {
+        byte(0xcf);
+        be(u, 8);
+      }
     } else if (v >= -32) {
       byte(static_cast<std::uint8_t>(static_cast<std::int8_t>(v)));
-    } else if (v >= INT8_MIN) { byte(0xd0); be(static_cast<std::uint64_t>(v), 1); }
-    else if (v >= INT16_MIN) { byte(0xd1); be(static_cast<std::uint64_t>(v), 2); }
-    else if (v >= INT32_MIN) { byte(0xd2); be(static_cast<std::uint64_t>(v), 4); }
-    else { byte(0xd3); be(static_cast<std::uint64_t>(v), 8); }
+    } else if (v >= INT8_MIN) {
+      byte(0xd0);
+      be(static_cast<std::uint64_t>(v), 1);
+    } else if (v >= INT16_MIN) {
+      byte(0xd1);
+      be(static_cast<std::uint64_t>(v), 2);
+    } else if (v >= INT32_MIN) {
+      byte(0xd2);
+      be(static_cast<std::uint64_t>(v), 4);
+    } else {
+      byte(0xd3);
+      be(static_cast<std::uint64_t>(v), 8);
+    }
   }
   void real(double v) {
     const auto f = static_cast<float>(v);
@@ -118,16 +137,30 @@ class MsgPack {
   }
   void str(std::string_view s) {
     const std::size_t n = s.size();
-    if (n < 32) byte(static_cast<std::uint8_t>(0xa0 | n));
-    else if (n <= 0xFF) { byte(0xd9); be(n, 1); }
-    else if (n <= 0xFFFF) { byte(0xda); be(n, 2); }
-    else { byte(0xdb); be(n, 4); }
+    if (n < 32)
+      byte(static_cast<std::uint8_t>(0xa0 | n));
+    else if (n <= 0xFF) {
+      byte(0xd9);
+      be(n, 1);
+    } else if (n <= 0xFFFF) {
+      byte(0xda);
+      be(n, 2);
+    } else {
+      byte(0xdb);
+      be(n, 4);
+    }
     out.append(s.data(), n);
   }
   void map(std::size_t n) {
-    if (n < 16) byte(static_cast<std::uint8_t>(0x80 | n));
-    else if (n <= 0xFFFF) { byte(0xde); be(n, 2); }
-    else { byte(0xdf); be(n, 4); }
+    if (n < 16)
+      byte(static_cast<std::uint8_t>(0x80 | n));
+    else if (n <= 0xFFFF) {
+      byte(0xde);
+      be(n, 2);
+    } else {
+      byte(0xdf);
+      be(n, 4);
+    }
   }
 
  private:
@@ -161,7 +194,8 @@ void write_value(MsgPack& mp, const Slot<T>& slot) {
     mp.str(v.view());
   } else if constexpr (is_dyn<T>::value) {
     switch (v.tag) {
-      case DynTag::kInt: case DynTag::kBool: return mp.integer(v.i);
+      case DynTag::kInt:
+      case DynTag::kBool: return mp.integer(v.i);
       case DynTag::kDouble: return mp.real(v.d);
       case DynTag::kString: return mp.str(v.s.view());
       default: return mp.nil();
@@ -196,8 +230,7 @@ class Publisher final : public StatusSink {
   using Blackboard = typename Mission::Blackboard;
   static constexpr std::size_t kNodes = Mission::node_count();
 
-  Publisher(Mission& mission, unsigned port, const std::string& address = "*",
-            std::size_t recording_capacity = 1000)
+  Publisher(Mission& mission, unsigned port, const std::string& address = "*", std::size_t recording_capacity = 1000)
       : mission_(&mission),
         port_(port),
         recording_(recording_capacity),
@@ -228,11 +261,13 @@ class Publisher final : public StatusSink {
 
   // Tick thread, inside tick(): one byte, and a record while recording.
   void on_status(const NodeInfo& node, Status from, Status to) noexcept override {
-    const auto code = static_cast<std::uint8_t>(to == Status::IDLE ? 10 + static_cast<int>(from) : static_cast<int>(to));
+    const auto code =
+        static_cast<std::uint8_t>(to == Status::IDLE ? 10 + static_cast<int>(from) : static_cast<int>(to));
     status_[node.index].store(code, std::memory_order_relaxed);
     if (recording_on_.load(std::memory_order_relaxed)) {
       const std::int64_t now = btgen::wall_clock_usec() - record_origin_.load(std::memory_order_relaxed);
-      recording_.push(Transition{now > 0 ? static_cast<std::uint64_t>(now) : 0, node.uid, static_cast<std::uint8_t>(to)});
+      recording_.push(
+          Transition{now > 0 ? static_cast<std::uint64_t>(now) : 0, node.uid, static_cast<std::uint8_t>(to)});
     }
     if (bb_wanted_.load(std::memory_order_acquire)) sync();
   }
@@ -334,9 +369,7 @@ class Publisher final : public StatusSink {
       return std::string(static_cast<const char*>(parts[1].data()), parts[1].size());
     };
     switch (h[1]) {
-      case kFullTree:
-        reply.emplace_back(Groot2::kTreeXml);
-        break;
+      case kFullTree: reply.emplace_back(Groot2::kTreeXml); break;
       case kStatus: {
         std::string buf(3 * kNodes, '\0');
         for (std::size_t i = 0; i < kNodes; ++i) {
@@ -376,19 +409,13 @@ class Publisher final : public StatusSink {
         reply.push_back(std::move(buf));
         break;
       }
-      case kHooksDump:
-        reply.emplace_back("[]");
-        break;
+      case kHooksDump: reply.emplace_back("[]"); break;
       case kRemoveAllHooks:
-      case kDisableAllHooks:
-        break;
-      case kHookInsert:
-        return error("btgen: breakpoints and hooks are not supported by compiled missions");
+      case kDisableAllHooks: break;
+      case kHookInsert: return error("btgen: breakpoints and hooks are not supported by compiled missions");
       case kHookRemove:
-      case kBreakpointUnlock:
-        return error("Node ID not found");
-      default:
-        return error("Request not recognized");
+      case kBreakpointUnlock: return error("Node ID not found");
+      default: return error("Request not recognized");
     }
     send(reply);
   }

@@ -40,25 +40,25 @@ namespace hooks_detail {
 template <class Leaves, class Model, class = void>
 struct has_on_start : std::false_type {};
 template <class Leaves, class Model>
-struct has_on_start<Leaves, Model,
-                    std::void_t<decltype(std::declval<Leaves&>().onStart(std::declval<Model&>(),
-                                                                         std::declval<const NodeInfo&>()))>>
+struct has_on_start<
+    Leaves, Model,
+    std::void_t<decltype(std::declval<Leaves&>().onStart(std::declval<Model&>(), std::declval<const NodeInfo&>()))>>
     : std::true_type {};
 
 template <class Leaves, class Model, class = void>
 struct has_tick : std::false_type {};
 template <class Leaves, class Model>
-struct has_tick<Leaves, Model,
-                std::void_t<decltype(std::declval<Leaves&>().tick(std::declval<Model&>(),
-                                                                  std::declval<const NodeInfo&>()))>>
+struct has_tick<
+    Leaves, Model,
+    std::void_t<decltype(std::declval<Leaves&>().tick(std::declval<Model&>(), std::declval<const NodeInfo&>()))>>
     : std::true_type {};
 
 template <class Leaves, class Model, class = void>
 struct has_halt : std::false_type {};
 template <class Leaves, class Model>
-struct has_halt<Leaves, Model,
-                std::void_t<decltype(std::declval<Leaves&>().halt(std::declval<Model&>(),
-                                                                  std::declval<const NodeInfo&>()))>>
+struct has_halt<
+    Leaves, Model,
+    std::void_t<decltype(std::declval<Leaves&>().halt(std::declval<Model&>(), std::declval<const NodeInfo&>()))>>
     : std::true_type {};
 
 }  // namespace hooks_detail

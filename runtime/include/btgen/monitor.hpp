@@ -54,8 +54,7 @@ class MonitorObserver {
   static constexpr std::size_t kMaxSinks = 4;
 
   MonitorObserver() = default;
-  explicit MonitorObserver(Next next) noexcept(std::is_nothrow_move_constructible_v<Next>)
-      : next_(std::move(next)) {}
+  explicit MonitorObserver(Next next) noexcept(std::is_nothrow_move_constructible_v<Next>) : next_(std::move(next)) {}
 
   void on_status_change(const NodeInfo& node, Status from, Status to) noexcept {
     for (std::size_t i = 0; i < count_; ++i) sinks_[i]->on_status(node, from, to);
@@ -64,8 +63,10 @@ class MonitorObserver {
 
   // Run-time errors go to Next when it takes them.
   void on_error(const RuntimeError& error) noexcept {
-    if constexpr (monitor_detail::has_on_error<Next>::value) next_.on_error(error);
-    else (void)error;
+    if constexpr (monitor_detail::has_on_error<Next>::value)
+      next_.on_error(error);
+    else
+      (void)error;
   }
 
   // False when kMaxSinks monitors are attached already (or `sink` is).

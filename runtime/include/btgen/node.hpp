@@ -90,16 +90,16 @@ struct NodeInfo {
   std::uint16_t parent;       // kNoNode for the root
   std::uint32_t child_begin;  // first entry in the child table
   std::uint16_t child_count;
-  std::uint16_t model;        // user model (Action/Condition/Control/Decorator), else kNoModel
-  std::uint32_t slot;         // first counter slot, else kNoSlot
-  std::uint32_t timer;        // 64-bit slot: start time, or the update counter seen; else kNoSlot
-  std::uint16_t scripts;      // pre/post conditions present (1 << ScriptSlot)
+  std::uint16_t model;    // user model (Action/Condition/Control/Decorator), else kNoModel
+  std::uint32_t slot;     // first counter slot, else kNoSlot
+  std::uint32_t timer;    // 64-bit slot: start time, or the update counter seen; else kNoSlot
+  std::uint16_t scripts;  // pre/post conditions present (1 << ScriptSlot)
   std::int64_t p0;
   std::int64_t p1;
   std::int64_t p2;
-  std::string_view id;        // registration ID: "Sequence", "SubTree", "FindBall", ...
-  std::string_view name;      // name attribute, else the ID
-  std::string_view source;    // "path:line:col" of the element
+  std::string_view id;      // registration ID: "Sequence", "SubTree", "FindBall", ...
+  std::string_view name;    // name attribute, else the ID
+  std::string_view source;  // "path:line:col" of the element
 };
 
 [[nodiscard]] constexpr bool is_control(NodeKind k) noexcept {

@@ -13,11 +13,11 @@
 // the Python reference (btgen/interp/scenario.py).
 #pragma once
 
+#include <array>
 #include <cerrno>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <array>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -37,7 +37,8 @@ struct Diagnostic {
   std::string message;
 
   [[nodiscard]] std::string str() const {
-    std::string s = path + ":" + std::to_string(line) + ":" + std::to_string(col) + (error ? ": error: " : ": warning: ");
+    std::string s =
+        path + ":" + std::to_string(line) + ":" + std::to_string(col) + (error ? ": error: " : ": warning: ");
     one_line(message, [&s](std::string_view part) { s.append(part); });  // the interpreter's escaping
     return s;
   }
@@ -104,9 +105,18 @@ inline std::vector<Token> tokens(std::string_view line) {
 }
 
 inline bool parse_status(std::string_view s, Status& out) {
-  if (s == "SUCCESS") { out = Status::SUCCESS; return true; }
-  if (s == "FAILURE") { out = Status::FAILURE; return true; }
-  if (s == "RUNNING") { out = Status::RUNNING; return true; }
+  if (s == "SUCCESS") {
+    out = Status::SUCCESS;
+    return true;
+  }
+  if (s == "FAILURE") {
+    out = Status::FAILURE;
+    return true;
+  }
+  if (s == "RUNNING") {
+    out = Status::RUNNING;
+    return true;
+  }
   return false;
 }
 
@@ -305,10 +315,9 @@ class ScenarioParser {
         }
         out.leaves.push_back(std::move(leaf));
       } else {
-        std::string msg = "unknown keyword `" + std::string(kw.text) +
-                          "`: a line starts with ticks, default, leaf or clock_ms";
-        const std::string hint =
-            scenario_detail::did_you_mean(kw.text, {"ticks", "default", "leaf", "clock_ms"});
+        std::string msg =
+            "unknown keyword `" + std::string(kw.text) + "`: a line starts with ticks, default, leaf or clock_ms";
+        const std::string hint = scenario_detail::did_you_mean(kw.text, {"ticks", "default", "leaf", "clock_ms"});
         if (!hint.empty()) msg += " (did you mean `" + hint + "`?)";
         error(lineno, kw.col, msg);
       }
@@ -325,7 +334,9 @@ class ScenarioParser {
     return n;
   }
 
-  void error(long line, long col, std::string msg) { diags_.push_back(Diagnostic{path_, line, col, true, std::move(msg)}); }
+  void error(long line, long col, std::string msg) {
+    diags_.push_back(Diagnostic{path_, line, col, true, std::move(msg)});
+  }
 
   bool one_int(long line, const scenario_detail::Token& kw, long after_kw,
                const std::vector<scenario_detail::Token>& args, const char* what, const char* meaning,
@@ -372,8 +383,9 @@ inline bool read_scenario(const std::string& path, Scenario& out, std::vector<Di
     data.append(buf, n);
     if (data.size() > kMaxBytes) {
       std::fclose(f);
-      return fail(1, 1, "file is larger than " + std::to_string(kMaxBytes) + " bytes; scenarios are limited to " +
-                            std::to_string(kMaxBytes) + " bytes");
+      return fail(1, 1,
+                  "file is larger than " + std::to_string(kMaxBytes) + " bytes; scenarios are limited to " +
+                      std::to_string(kMaxBytes) + " bytes");
     }
     if (n < sizeof buf) break;
   }
@@ -420,8 +432,7 @@ inline bool read_scenario(const std::string& path, Scenario& out, std::vector<Di
 // a `leaf` line naming no user leaf of the mission is ignored (warning).
 // `unrun` lists {name, tree} of leaves only in trees the main tree `main_tree`
 // does not run (the generated class's unrun_leaves()), for a sharper warning.
-inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_t count,
-                           std::vector<Diagnostic>& diags,
+inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_t count, std::vector<Diagnostic>& diags,
                            const std::array<std::string_view, 2>* unrun = nullptr, std::size_t unrun_count = 0,
                            std::string_view main_tree = {}) {
   bool ok = true;
@@ -447,7 +458,8 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
     for (const auto& s : leaf_names) found = found || s == leaf.name;
     if (!found) {
       bool builtin = false;
-      for (std::size_t i = 0; i < count; ++i) builtin = builtin || (is_builtin_leaf(nodes[i]) && nodes[i].name == leaf.name);
+      for (std::size_t i = 0; i < count; ++i)
+        builtin = builtin || (is_builtin_leaf(nodes[i]) && nodes[i].name == leaf.name);
       const std::array<std::string_view, 2>* elsewhere = nullptr;
       for (std::size_t k = 0; k < unrun_count && elsewhere == nullptr; ++k) {
         if (unrun[k][0] == leaf.name) elsewhere = &unrun[k];
@@ -488,11 +500,10 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
     for (const auto& name : leaf_names) {
       const NodeInfo* cond = first_condition(name);
       if (cond == nullptr || sc.leaf(name) != nullptr) continue;
-      diags.push_back(Diagnostic{sc.path, sc.has_default_loc ? sc.default_line : 1,
-                                 sc.has_default_loc ? sc.default_col : 1, true,
-                                 "`default RUNNING` reaches the Condition `" + name + "` (at " +
-                                     std::string(cond->source) + "), which cannot return RUNNING; give it its own `leaf " +
-                                     name + " ...` line"});
+      diags.push_back(
+          Diagnostic{sc.path, sc.has_default_loc ? sc.default_line : 1, sc.has_default_loc ? sc.default_col : 1, true,
+                     "`default RUNNING` reaches the Condition `" + name + "` (at " + std::string(cond->source) +
+                         "), which cannot return RUNNING; give it its own `leaf " + name + " ...` line"});
       ok = false;
     }
   }
@@ -516,13 +527,19 @@ class ScenarioLeaves {
   }
 
   template <class Leaf>
-  Status onStart(Leaf&, const NodeInfo& node) noexcept { return next(node); }
+  Status onStart(Leaf&, const NodeInfo& node) noexcept {
+    return next(node);
+  }
   template <class Leaf>
-  Status onRunning(Leaf&, const NodeInfo& node) noexcept { return next(node); }
+  Status onRunning(Leaf&, const NodeInfo& node) noexcept {
+    return next(node);
+  }
   template <class Leaf>
   void onHalted(Leaf&, const NodeInfo&) noexcept {}
   template <class Leaf>
-  Status check(Leaf&, const NodeInfo& node) noexcept { return next(node); }
+  Status check(Leaf&, const NodeInfo& node) noexcept {
+    return next(node);
+  }
 
  private:
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;

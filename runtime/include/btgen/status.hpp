@@ -27,13 +27,9 @@ enum class Status : std::uint8_t {
 }
 
 // SUCCESS or FAILURE (BT::isStatusCompleted).
-[[nodiscard]] constexpr bool is_completed(Status s) noexcept {
-  return s == Status::SUCCESS || s == Status::FAILURE;
-}
+[[nodiscard]] constexpr bool is_completed(Status s) noexcept { return s == Status::SUCCESS || s == Status::FAILURE; }
 
 // Neither IDLE nor SKIPPED (BT::isStatusActive).
-[[nodiscard]] constexpr bool is_active(Status s) noexcept {
-  return s != Status::IDLE && s != Status::SKIPPED;
-}
+[[nodiscard]] constexpr bool is_active(Status s) noexcept { return s != Status::IDLE && s != Status::SKIPPED; }
 
 }  // namespace btgen

@@ -45,14 +45,32 @@ inline std::size_t escape_name(std::string_view name, char* out, std::size_t cap
   for (const char ch : name) {
     const auto b = static_cast<unsigned char>(ch);
     switch (ch) {
-      case '"': put('\\'); put('"'); break;
-      case '\\': put('\\'); put('\\'); break;
-      case '\n': put('\\'); put('n'); break;
-      case '\r': put('\\'); put('r'); break;
-      case '\t': put('\\'); put('t'); break;
+      case '"':
+        put('\\');
+        put('"');
+        break;
+      case '\\':
+        put('\\');
+        put('\\');
+        break;
+      case '\n':
+        put('\\');
+        put('n');
+        break;
+      case '\r':
+        put('\\');
+        put('r');
+        break;
+      case '\t':
+        put('\\');
+        put('t');
+        break;
       default:
         if (b < 0x20 || b == 0x7f) {
-          put('\\'); put('x'); put(kHex[b >> 4]); put(kHex[b & 0xF]);
+          put('\\');
+          put('x');
+          put(kHex[b >> 4]);
+          put(kHex[b & 0xF]);
         } else {
           put(ch);
         }

@@ -54,9 +54,7 @@ class ChildOps {
   }
   // child(i)->resetStatus(): IDLE without halting.
   void reset_child_status(std::size_t i) const noexcept { table_->reset_child_status(engine_, *node_, i); }
-  [[nodiscard]] Status child_status(std::size_t i) const noexcept {
-    return table_->child_status(engine_, *node_, i);
-  }
+  [[nodiscard]] Status child_status(std::size_t i) const noexcept { return table_->child_status(engine_, *node_, i); }
   // The node's own status (IDLE on its first tick), and setStatus().
   [[nodiscard]] Status status() const noexcept { return table_->status(engine_, node_->index); }
   void set_status(Status s) const noexcept { table_->set_status(engine_, node_->index, s); }

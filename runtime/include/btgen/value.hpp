@@ -118,9 +118,7 @@ class NumberText {
 namespace value_detail {
 
 constexpr bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
-constexpr bool is_hex(char c) noexcept {
-  return is_digit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
-}
+constexpr bool is_hex(char c) noexcept { return is_digit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); }
 constexpr char lower(char c) noexcept { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
 // Case-insensitive "does `text` continue with `word` at `i`".
@@ -408,8 +406,8 @@ namespace btgen {
 inline bool switch_equal(std::string_view a, std::string_view b) noexcept {
   if (a == b) return true;
   std::int64_t ia = 0, ib = 0;
-  if (parse_integer(a, INT32_MIN, INT32_MAX, ia) == Errc::kOk && parse_integer(b, INT32_MIN, INT32_MAX, ib) == Errc::kOk &&
-      ia == ib) {
+  if (parse_integer(a, INT32_MIN, INT32_MAX, ia) == Errc::kOk &&
+      parse_integer(b, INT32_MIN, INT32_MAX, ib) == Errc::kOk && ia == ib) {
     return true;
   }
   double ra = 0.0, rb = 0.0;

@@ -66,7 +66,9 @@ std::vector<std::string> loadErrors(const std::string& stem) {
 class TempFile {
  public:
   TempFile(const std::string& name, const std::string& contents)
-      : path_((fs::temp_directory_path() / ("btgen_kb_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name)).string()) {
+      : path_((fs::temp_directory_path() /
+               ("btgen_kb_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name))
+                  .string()) {
     std::ofstream(path_, std::ios::binary) << contents;
   }
   ~TempFile() {
@@ -147,31 +149,31 @@ TEST(EnvironmentKnowledgeBase, PrintsEveryValue) {
   ASSERT_TRUE(kb.ok()) << kb.errorText();
   std::ostringstream out;
   kb.value().print(out);
-  EXPECT_EQ(out.str(),
-            "Environment knowledge base " + path + ": 2 locations\n"
-            "Location 1\n"
-            "  Description                       Entrance\n"
-            "  Robot location pose (x y theta)   (0.5, 1, 90)\n"
-            "  Gesture target (x y z)            (1, 2, 0.8)\n"
-            "  Pre-gesture message English       Welcome to the lab\n"
-            "  Pre-gesture message isiZulu       Sawubona\n"
-            "  Pre-gesture message Kinyarwanda   Muraho\n"
-            "  Post-gesture message English      Please follow me\n"
-            "  Post-gesture message isiZulu      Siyabonga\n"
-            "  Post-gesture message Kinyarwanda  Murakoze\n"
-            "  Cultural knowledge                BowExtentRespect\n"
-            "Location 2\n"
-            "  Description                       The Pepper robot\n"
-            "  Robot location pose (x y theta)   (2.6, 8.1, -45)\n"
-            "  Gesture target (x y z)            (3.2, 8.4, 0.82)\n"
-            "  Pre-gesture message English       This is the Pepper robot\n"
-            "  Pre-gesture message isiZulu       Sawubona\n"
-            "  Pre-gesture message Kinyarwanda   Muraho\n"
-            "  Post-gesture message English      Thank you for visiting\n"
-            "  Post-gesture message isiZulu      Hamba kahle\n"
-            "  Post-gesture message Kinyarwanda  Murakoze\n"
-            "  Cultural knowledge                DeicticShape\n"
-            "Tour (2 locations): 1 2\n");
+  EXPECT_EQ(out.str(), "Environment knowledge base " + path +
+                           ": 2 locations\n"
+                           "Location 1\n"
+                           "  Description                       Entrance\n"
+                           "  Robot location pose (x y theta)   (0.5, 1, 90)\n"
+                           "  Gesture target (x y z)            (1, 2, 0.8)\n"
+                           "  Pre-gesture message English       Welcome to the lab\n"
+                           "  Pre-gesture message isiZulu       Sawubona\n"
+                           "  Pre-gesture message Kinyarwanda   Muraho\n"
+                           "  Post-gesture message English      Please follow me\n"
+                           "  Post-gesture message isiZulu      Siyabonga\n"
+                           "  Post-gesture message Kinyarwanda  Murakoze\n"
+                           "  Cultural knowledge                BowExtentRespect\n"
+                           "Location 2\n"
+                           "  Description                       The Pepper robot\n"
+                           "  Robot location pose (x y theta)   (2.6, 8.1, -45)\n"
+                           "  Gesture target (x y z)            (3.2, 8.4, 0.82)\n"
+                           "  Pre-gesture message English       This is the Pepper robot\n"
+                           "  Pre-gesture message isiZulu       Sawubona\n"
+                           "  Pre-gesture message Kinyarwanda   Muraho\n"
+                           "  Post-gesture message English      Thank you for visiting\n"
+                           "  Post-gesture message isiZulu      Hamba kahle\n"
+                           "  Post-gesture message Kinyarwanda  Murakoze\n"
+                           "  Cultural knowledge                DeicticShape\n"
+                           "Tour (2 locations): 1 2\n");
 }
 
 TEST(EnvironmentKnowledgeBase, ConfigurationSelectsTheBaseAndVerboseMode) {
@@ -182,8 +184,8 @@ TEST(EnvironmentKnowledgeBase, ConfigurationSelectsTheBaseAndVerboseMode) {
   EXPECT_FALSE(config.value().verbose_mode);
 
   std::ostringstream quiet;
-  auto shipped = EnvironmentKnowledgeBase::loadFromConfiguration(
-      src("data/environmentKnowledgeBaseConfiguration.ini"), quiet);
+  auto shipped =
+      EnvironmentKnowledgeBase::loadFromConfiguration(src("data/environmentKnowledgeBaseConfiguration.ini"), quiet);
   ASSERT_TRUE(shipped.ok()) << shipped.errorText();
   EXPECT_EQ(shipped.value().tour().size(), 5u);
   EXPECT_EQ(quiet.str(), "");
@@ -202,8 +204,9 @@ TEST(EnvironmentKnowledgeBase, ConfigurationSelectsTheBaseAndVerboseMode) {
 TEST(EnvironmentKnowledgeBase, MissingFileAndDirectory) {
   auto missing = EnvironmentKnowledgeBase::load(src("tests/bad_kb/no_such.dat"));
   ASSERT_FALSE(missing.ok());
-  EXPECT_EQ(relative(missing.errors()),
-            std::vector<std::string>{"tests/bad_kb/no_such.dat:1:1: error: cannot read file: No such file or directory"});
+  EXPECT_EQ(
+      relative(missing.errors()),
+      std::vector<std::string>{"tests/bad_kb/no_such.dat:1:1: error: cannot read file: No such file or directory"});
   auto directory = EnvironmentKnowledgeBase::load(src("tests/bad_kb"));
   ASSERT_FALSE(directory.ok());
   EXPECT_EQ(relative(directory.errors()),
@@ -221,8 +224,9 @@ TEST(EnvironmentKnowledgeBase, BadNumber) {
 }
 
 TEST(EnvironmentKnowledgeBase, MissingKey) {
-  EXPECT_EQ(loadErrors("missing_key"), std::vector<std::string>{
-      "tests/bad_kb/missing_key.dat:13:1: error: location 2 has no `gestureTarget` entry"});
+  EXPECT_EQ(
+      loadErrors("missing_key"),
+      std::vector<std::string>{"tests/bad_kb/missing_key.dat:13:1: error: location 2 has no `gestureTarget` entry"});
 }
 
 TEST(EnvironmentKnowledgeBase, OverlongStringIsAnErrorNotTruncated) {
@@ -236,13 +240,15 @@ TEST(EnvironmentKnowledgeBase, OverlongStringIsAnErrorNotTruncated) {
   auto bad = EnvironmentKnowledgeBase::load(over.path());
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.errors(), std::vector<std::string>{
-      over.path() + ":5:33: error: `preGestureMessageEnglish` of location 1 is 256 bytes long; "
-                    "the runtime holds at most 255 bytes (UTF-8)"});
+                              over.path() + ":5:33: error: `preGestureMessageEnglish` of location 1 is 256 bytes long; "
+                                            "the runtime holds at most 255 bytes (UTF-8)"});
 }
 
 TEST(EnvironmentKnowledgeBase, BadTourCount) {
-  EXPECT_EQ(loadErrors("tour_count_off_by_one"), std::vector<std::string>{
-      "tests/bad_kb/tour_count_off_by_one.dat:24:19: error: the tour count is 3 but 2 location ids follow (1 2)"});
+  EXPECT_EQ(
+      loadErrors("tour_count_off_by_one"),
+      std::vector<std::string>{
+          "tests/bad_kb/tour_count_off_by_one.dat:24:19: error: the tour count is 3 but 2 location ids follow (1 2)"});
   EXPECT_EQ(loadErrors("tour_count_over_limit"), expectedErrors("tour_count_over_limit"));
   EXPECT_EQ(loadErrors("unknown_tour_id"), expectedErrors("unknown_tour_id"));
 }
@@ -254,8 +260,9 @@ TEST(EnvironmentKnowledgeBase, EncodingAndEmptyFiles) {
   TempFile big("big.dat", std::string(btgen::kb_limits::kMaxFileBytes + 1, '#'));
   auto kb = EnvironmentKnowledgeBase::load(big.path());
   ASSERT_FALSE(kb.ok());
-  EXPECT_EQ(kb.errors(), std::vector<std::string>{
-      big.path() + ":1:1: error: file is 131073 bytes; knowledge base files are limited to 131072 bytes"});
+  EXPECT_EQ(kb.errors(),
+            std::vector<std::string>{
+                big.path() + ":1:1: error: file is 131073 bytes; knowledge base files are limited to 131072 bytes"});
 }
 
 TEST(EnvironmentKnowledgeBase, AcceptsCrlfBomTabsAndCommas) {
@@ -283,9 +290,7 @@ std::vector<std::string> casesWithSuffix(const std::string& suffix) {
 }
 
 /// "path:line:col: error:" of a diagnostic.
-std::string position(const std::string& diagnostic) {
-  return diagnostic.substr(0, diagnostic.find(": error: ") + 8);
-}
+std::string position(const std::string& diagnostic) { return diagnostic.substr(0, diagnostic.find(": error: ") + 8); }
 
 // The C++ reader stops before the checks across entries when a line is bad,
 // so it may report fewer errors than the linter, but it rejects exactly the
