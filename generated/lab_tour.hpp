@@ -2617,7 +2617,7 @@ struct Spec {
 };
 
 // The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
 struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
@@ -3707,7 +3707,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x5beac4038eafc2a4ULL;
+inline constexpr unsigned long long kGeneration = 0x17f38b555c594f1bULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

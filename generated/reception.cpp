@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x340a0a5e3e960d50ULL,
+static_assert(reception::detail::kGeneration == 0x4b808e2b6fa4b62bULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -10,7 +10,7 @@ classified first:
 - invalid: `btgen validate` rejects it (a generator bug: counted, printed,
   and the run fails);
 - unsupported: `btgen compile` rejects it only with "not supported by the C++
-  back end yet" (issue 5): counted and reported as skipped, never silently;
+  back end yet": counted and reported as skipped, never silently;
 - rejected: `btgen compile` rejects it for another reason although the
   interpreter accepts it: a finding (the run fails);
 - compiled: run on both engines.

@@ -10,17 +10,12 @@ import argparse
 import sys
 import traceback
 from collections.abc import Sequence
-from typing import Callable
+from typing import Callable, NoReturn
 
-from btgen.diagnostics import Diagnostic, InternalError, UserError
+from btgen.diagnostics import InternalError, UserError, print_diagnostics
 from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    for d in diags:
-        print(str(d), file=sys.stderr)
 
 
 def _capacity(text: str) -> int:
@@ -68,7 +63,7 @@ def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> Non
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # exit 2, as argparse does, but no usage spam
+    def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
         print(
             f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr
@@ -77,7 +72,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 class _PrintCMakeDir(argparse.Action):
-    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
+    def __call__(self, parser, namespace, values, option_string=None):
         from btgen.resources import CMAKE_DIR
 
         print(CMAKE_DIR)
@@ -85,7 +80,7 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from btgen import usertypes
+    from btgen.frontend import usertypes
     from btgen.compiler import data_options
     from btgen.frontend import enums
     from btgen.frontend.loader import load_mission

@@ -164,8 +164,8 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
-    from btgen import usertypes
-    from btgen.cli import print_diagnostics
+    from btgen.diagnostics import print_diagnostics
+    from btgen.frontend import usertypes
     from btgen.frontend import enums
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
@@ -205,7 +205,7 @@ def compile_command(args: argparse.Namespace) -> int:
 
 def generator_inputs() -> list[str]:
     """Files whose change changes the output of every mission: sources, templates, schemas."""
-    files = sorted(str(p) for p in PACKAGE_DIR.glob("*.py"))
+    files = sorted(str(p) for p in PACKAGE_DIR.rglob("*.py"))
     files += sorted(str(p) for p in TEMPLATE_DIR.glob("*.j2"))
     files += sorted(str(p) for p in SCHEMA_DIR.glob("*.xsd"))
     return files
@@ -233,7 +233,7 @@ def committed_outputs(root: Path) -> dict[str, str]:
         try:
             outputs = generate(rel, relative_to=str(root))
         except UserError:
-            continue  # needs the data side (issue 5) or is broken: `btgen validate` tells
+            continue  # needs the data side or is broken: `btgen validate` tells
         for out in outputs:
             expected[out.name] = out.text
     return expected
@@ -288,7 +288,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"generated/{name}")
         return 0
     if args.check:
-        from btgen.cli import print_diagnostics
+        from btgen.diagnostics import print_diagnostics
 
         try:
             generate(args.check, **load_options(args))

@@ -112,7 +112,13 @@ def test_wheel_holds_every_mapped_file(installed):
                 expected.add(f"btgen/{resources.INSTALLED_DATA}/{f.relative_to(ROOT).as_posix()}")
     assert expected and expected <= names
     assert "btgen/_data/cmake/btgenConfig.cmake" in names and "btgen/_data/templates/mission.hpp.j2" in names
-    assert not [n for n in names if n.endswith("py.typed")]
+    # the package is typed (mypy runs in CI), and every stage's subpackage is in the wheel
+    assert "btgen/py.typed" in names
+    sources = {
+        f"btgen/{f.relative_to(Path(ROOT) / 'generator' / 'btgen').as_posix()}"
+        for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")
+    }
+    assert "btgen/ir/lower.py" in sources and sources <= names
 
 
 def test_cmake_package_version_is_the_generators():

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from btgen import usertypes
+from btgen.frontend import usertypes
 
 ROOT = Path(__file__).resolve().parents[2]
 RUNTIME = ROOT / "runtime" / "include"

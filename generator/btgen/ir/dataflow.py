@@ -1,4 +1,4 @@
-"""The data side of a mission, resolved at compile time (issue 5).
+"""The data side of a mission, resolved at compile time.
 
 BehaviorTree.CPP 4.6.2 keeps one blackboard per tree instance, a map from
 key to a type-erased entry, and finds entries by string at run time

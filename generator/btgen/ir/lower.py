@@ -178,7 +178,7 @@ def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
     """Scripted leaf names the main tree does not run, each with the first tree (in file
     order) that has one: what scenario.check_scenario names in its warning."""
-    from btgen.interp.scenario import is_scripted_leaf, mission_leaves
+    from btgen.lang.leaves import is_scripted_leaf, mission_leaves
 
     run = {u.name for u in mission_leaves(mission)}
     found: dict[str, str] = {}
