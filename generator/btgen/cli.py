@@ -80,9 +80,8 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from btgen.frontend import usertypes
     from btgen.compiler import data_options
-    from btgen.frontend import enums
+    from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 

@@ -165,8 +165,7 @@ def write_if_changed(path: Path, text: str) -> bool:
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
     from btgen.diagnostics import print_diagnostics
-    from btgen.frontend import usertypes
-    from btgen.frontend import enums
+    from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 

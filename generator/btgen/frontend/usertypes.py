@@ -48,7 +48,8 @@ class UserType:
     def cpp(self) -> str:
         """The type as generated code names it: from the global namespace (`::nav::Pose2D`), so that no
         name of the generated namespaces (`detail`, `leaf`, `Blackboard`, ...) can capture it."""
-        first = re.match(rf"\s*({_IDENT})?", self.cpp_type).group(1) or ""
+        m = re.match(rf"\s*({_IDENT})", self.cpp_type)
+        first = m.group(1) if m else ""
         if self.cpp_type.startswith("::") or first in _FUNDAMENTAL:
             return self.cpp_type
         return "::" + self.cpp_type
