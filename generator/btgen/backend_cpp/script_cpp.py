@@ -319,7 +319,7 @@ class ScriptContext:
 
     slots: Sequence[SlotView]
     names: Mapping[str, int]  # name as written (with `@`) -> slot index
-    where: Callable[[int], str]  # offset in the code -> C++ expression of its "path:line:col"
+    where: Callable[..., str]  # offset in the code -> C++ expression of its "path:line:col"
     prefix: str  # message prefix, e.g. 'script error in `code` of `Script` "Init": '
     enums: Mapping[str, int] = field(default_factory=dict)  # scripting enums (enums.py)
 

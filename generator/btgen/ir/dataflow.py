@@ -33,6 +33,7 @@ of that here, once:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
@@ -272,6 +273,10 @@ class _Inst:
         return f'`{self.reg_id}` "{self.node.display_name}"'
 
 
+def _no_bound() -> Optional[int]:
+    return None
+
+
 @dataclass
 class _Write:
     """A place that writes a slot."""
@@ -280,9 +285,9 @@ class _Write:
     order: int
     loc: Loc
     what: str  # e.g. "`x := 1` in `code` of `Script` \"Init\""
-    kind: Callable[[], Optional[str]]  # the kind it writes, given the kinds known so far
+    kind: Callable[..., Optional[str]]  # the kind it writes, given the kinds known so far
     determining: bool  # may be the entry's first value (decides the type of an untyped entry)
-    bound: Callable[[], Optional[int]]  # strings: most bytes written (None: no bound)
+    bound: Callable[..., Optional[int]]  # strings: most bytes written (None: no bound)
     literal: Optional[str] = None  # the text written, when it is a literal
     source: str = "script"  # script | constant | set | copy | loop | port
 
@@ -369,6 +374,12 @@ class _Analyzer:
             self.reported.add((loc, message))
             self.sink.error(loc, message)
 
+    def _kind_of_slot(self, slot: int) -> Optional[str]:
+        return self.slots[slot].kind
+
+    def _capacity_of_slot(self, slot: int) -> Optional[int]:
+        return self.slots[slot].capacity
+
     def next_order(self) -> int:
         self.order += 1
         return self.order
@@ -385,9 +396,9 @@ class _Analyzer:
                 inst = _Inst(index, node, "SubTree", BUILTINS["SubTree"], bb, {})
                 self.insts.append(inst)
                 sub_path = f"{path}/{node.display_name}" if path else node.display_name
-                child = self._subtree_blackboard(node, bb, sub_path)
-                self.bb_uid[id(child)] = index + 1
-                stack.append((self.m.tree(node.target).root, child, sub_path))
+                child_bb = self._subtree_blackboard(node, bb, sub_path)
+                self.bb_uid[id(child_bb)] = index + 1
+                stack.append((self.m.tree(node.target).root, child_bb, sub_path))
                 continue
             ports = _ports_of(self.m, node)
             try:
@@ -549,18 +560,11 @@ class _Analyzer:
                 text = attr.value[n.offset : _end_offset(n, attr.value)].strip() or attr.value
                 what = f"`{text}` in {prefix}"
                 if n.op in (":=", "="):
-
-                    def kind_fn(v=value, nm=names):
-                        return self._expr_kind(v, nm)
-
-                    def bound_fn(v=value, nm=names):
-                        return self._expr_bound(v, nm)
+                    kind_fn: Callable[..., Optional[str]] = functools.partial(self._expr_kind, value, names)
+                    bound_fn: Callable[..., Optional[int]] = functools.partial(self._expr_bound, value, names)
                 else:
-
-                    def kind_fn(t=target):
-                        return self.slots[t].kind
-
-                    bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
+                    kind_fn = functools.partial(self._kind_of_slot, target)
+                    bound_fn = _no_bound if n.op == "+=" else functools.partial(self._capacity_of_slot, target)
                 lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
                 if lit is not None and n.op in (":=", "="):
                     self._queue_literal(target, lit)
@@ -1066,7 +1070,7 @@ class _Analyzer:
         )
 
     def cpp_type(self, s: _Slot) -> str:
-        k = s.kind
+        k = s.kind or "none"
         if is_user(k):
             return self.user[k].cpp
         if k == "string":
@@ -1081,7 +1085,7 @@ class _Analyzer:
                 elem, f"btgen::FixedString<{s.elem_capacity}>"
             )
             return f"btgen::FixedQueue<{etype}, {s.capacity}>"
-        return scpp.CPP_SCALAR[k]  # type: ignore[index]
+        return scpp.CPP_SCALAR[k]
 
     def initializer(self, s: _Slot) -> str:
         if s.initial is not None:
@@ -1648,7 +1652,7 @@ class _Compiler:
 
     def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> str:
         """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
-        t = self.a.user[kind_of_type(ps.type)]  # type: ignore[index]
+        t = self.a.user[kind_of_type(ps.type) or ""]
         member = self.user_constant(
             inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}", f"port `{ps.name}` of {inst.what}"
         )
@@ -1685,7 +1689,7 @@ class _Compiler:
         pk = kind_of_type(ps.type)
         what = f"output port `{ps.name}` of {inst.what}"
         if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
-            t = self.a.user[s.kind]  # type: ignore[index]
+            t = self.a.user[s.kind or ""]
             return (
                 f"if constexpr (std::is_same_v<T, {t.cpp}>) {{",
                 f"  btgen::port::write_user(bb.{s.member}, value);",
