@@ -38,7 +38,8 @@
 # Python3_EXECUTABLE, a Python that has btgen's requirements (Jinja2, lxml,
 # xmlschema): pass -DPython3_EXECUTABLE=.venv/bin/python.
 #
-# Targets: btgen::runtime (header only, C++17) always; btgen::kb (the
+# Targets: btgen::runtime (header only, C++17) and btgen::scenario (the
+# scenario harness, btgen/harness/) always; btgen::kb (the
 # environment knowledge base reader, needs Eigen) when Eigen3::Eigen exists
 # (see _btgen_define_kb); btgen::btlog and btgen::groot2 (Groot2 monitors, the
 # latter needs cppzmq) when their dependencies are targets (see
@@ -55,6 +56,16 @@ if(NOT TARGET btgen_runtime)
   add_library(btgen::runtime ALIAS btgen_runtime)
   target_include_directories(btgen_runtime INTERFACE "${_btgen_root}/runtime/include")
   target_compile_features(btgen_runtime INTERFACE cxx_std_17)
+endif()
+
+# ==== btgen::scenario: the scenario harness (btgen/harness/*.hpp): reads scenario files
+# and runs a mission on scripted leaves, printing the status trace. For simulators, tests and
+# the SCENARIO_RUNNER of btgen_add_mission; it allocates (std::string, std::vector) and is
+# not part of what a mission on the robot needs.
+if(NOT TARGET btgen_scenario)
+  add_library(btgen_scenario INTERFACE)
+  add_library(btgen::scenario ALIAS btgen_scenario)
+  target_link_libraries(btgen_scenario INTERFACE btgen_runtime)
 endif()
 
 # ==== btgen::kb: EnvironmentKnowledgeBase, defined when Eigen3::Eigen is a target
@@ -248,7 +259,7 @@ function(btgen_add_mission)
   if(ARG_SCENARIO_RUNNER)
     _btgen_query(template --template "${mission}" ${ns_option})
     add_executable(${ARG_SCENARIO_RUNNER} "${root}/runtime/src/main_driver.cpp")
-    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target})
+    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target} btgen::scenario)
     target_compile_definitions(${ARG_SCENARIO_RUNNER} PRIVATE
       "BTGEN_MISSION_HEADER=\"${header_name}\""
       "BTGEN_MISSION_TEMPLATE=${template}")

@@ -153,7 +153,7 @@ def _batch_main(entries: list[tuple[str, str]]) -> str:
     ]
     lines += [f'#include "{header}"' for header, _ in entries]
     lines += [
-        '#include "btgen/driver.hpp"',
+        '#include "btgen/harness/driver.hpp"',
         "",
         "int main(int argc, char** argv) {",
         "  if (argc < 2) return 2;",
