@@ -428,7 +428,13 @@ ISSUE20_STEPS = [
     "compiles to the same code (places and messages of its errors come from the node's ScriptSite), "
     "and found through a table instead of a switch into which g++ inlined every script: g++ -O2 on "
     "`scripts_10000` 62.7 s -> 5.3 s before the straight-line ticks.",
-    "- build time, btgen + g++ -O2 (CPU): 2.3 to 2.6 s at 1,000 nodes before the straight-line ticks, 5.2 to 5.4 s now (the whole mission is straight-line code); 4.1 to 4.5 s at 10,000 before, 7.8 to 8.4 s now (`scripts_10000`: 65.7 s before, 8.2 s now). So growth is no longer linear in the node count: about 4.5 ms per straight-line node up to the budget, then about 0.3 s per 1,000 nodes (the interpreter's tables); the generated code per node is bounded (straight-line code for at most the budget, table rows beyond). The fixed-plus-slope line among the targets is a fit through the 100- and 10,000-node balanced trees only.",
+    "- build time, btgen + g++ -O2 (CPU): 2.3 to 2.6 s at 1,000 nodes before the straight-line ticks, 5.2 "
+    "to 5.4 s now (the whole mission is straight-line code); 4.1 to 4.5 s at 10,000 before, 7.8 to 8.4 s "
+    "now (`scripts_10000`: 65.7 s before, 8.2 s now). So growth is no longer linear in the node count: "
+    "about 4.5 ms per straight-line node up to the budget, then about 0.3 s per 1,000 nodes (the "
+    "interpreter's tables); the generated code per node is bounded (straight-line code for at most the "
+    "budget, table rows beyond). The fixed-plus-slope line among the targets is a fit through the 100- "
+    "and 10,000-node balanced trees only.",
 ]
 
 

@@ -6,6 +6,8 @@
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
+#                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
+#                                                 # target needs HEADER's folder on its include path
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
@@ -36,7 +38,8 @@
 # Python3_EXECUTABLE, a Python that has btgen's requirements (Jinja2, lxml,
 # xmlschema): pass -DPython3_EXECUTABLE=.venv/bin/python.
 #
-# Targets: btgen::runtime (header only, C++17) always; btgen::kb (the
+# Targets: btgen::runtime (header only, C++17) and btgen::scenario (the
+# scenario harness, btgen/harness/) always; btgen::kb (the
 # environment knowledge base reader, needs Eigen) when Eigen3::Eigen exists
 # (see _btgen_define_kb); btgen::btlog and btgen::groot2 (Groot2 monitors, the
 # latter needs cppzmq) when their dependencies are targets (see
@@ -53,6 +56,16 @@ if(NOT TARGET btgen_runtime)
   add_library(btgen::runtime ALIAS btgen_runtime)
   target_include_directories(btgen_runtime INTERFACE "${_btgen_root}/runtime/include")
   target_compile_features(btgen_runtime INTERFACE cxx_std_17)
+endif()
+
+# ==== btgen::scenario: the scenario harness (btgen/harness/*.hpp): reads scenario files
+# and runs a mission on scripted leaves, printing the status trace. For simulators, tests and
+# the SCENARIO_RUNNER of btgen_add_mission; it allocates (std::string, std::vector) and is
+# not part of what a mission on the robot needs.
+if(NOT TARGET btgen_scenario)
+  add_library(btgen_scenario INTERFACE)
+  add_library(btgen::scenario ALIAS btgen_scenario)
+  target_link_libraries(btgen_scenario INTERFACE btgen_runtime)
 endif()
 
 # ==== btgen::kb: EnvironmentKnowledgeBase, defined when Eigen3::Eigen is a target
@@ -140,7 +153,7 @@ function(btgen_add_mission)
   endif()
   cmake_parse_arguments(ARG ""
     "TARGET;MISSION;NAMESPACE;MAIN_TREE;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
-    "MODELS;ENUMS;ENUM_FILES" ${args})
+    "MODELS;ENUMS;ENUM_FILES;TYPES" ${args})
   if(ARG_TARGET)
     set(target "${ARG_TARGET}")
   endif()
@@ -194,6 +207,10 @@ function(btgen_add_mission)
   foreach(enum IN LISTS ARG_ENUMS)
     list(APPEND write_options --enum "${enum}")
   endforeach()
+  # User port types: `Pose2D=nav::Pose2D@nav/pose2d.hpp` each.
+  foreach(type IN LISTS ARG_TYPES)
+    list(APPEND write_options --type "${type}")
+  endforeach()
   set(enum_files "")
   foreach(enum_file IN LISTS ARG_ENUM_FILES)
     get_filename_component(enum_file "${enum_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
@@ -242,7 +259,7 @@ function(btgen_add_mission)
   if(ARG_SCENARIO_RUNNER)
     _btgen_query(template --template "${mission}" ${ns_option})
     add_executable(${ARG_SCENARIO_RUNNER} "${root}/runtime/src/main_driver.cpp")
-    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target})
+    target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target} btgen::scenario)
     target_compile_definitions(${ARG_SCENARIO_RUNNER} PRIVATE
       "BTGEN_MISSION_HEADER=\"${header_name}\""
       "BTGEN_MISSION_TEMPLATE=${template}")

@@ -8,7 +8,8 @@
 #   target_link_libraries(my_robot PRIVATE my_mission)
 #
 # gives btgen_add_mission() (see btgen.cmake beside this file), the targets
-# btgen::runtime (header only, C++17, no Eigen) and, when Eigen 3.3 is found,
+# btgen::runtime (header only, C++17, no Eigen), btgen::scenario (the scenario
+# harness for simulators and tests) and, when Eigen 3.3 is found,
 # btgen::kb (the environment knowledge base reader; built only when linked),
 # when threads are found btgen::btlog (Groot2 .btlog files) and, when cppzmq
 # is found, btgen::groot2 (the Groot2 live publisher). COMPONENTS kb, btlog,

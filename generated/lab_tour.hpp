@@ -2615,7 +2615,7 @@ struct Spec {
 };
 
 // The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
 struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
@@ -3705,7 +3705,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x2701cc8a94720b50ULL;
+inline constexpr unsigned long long kGeneration = 0x3d06ba44cd15da6eULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

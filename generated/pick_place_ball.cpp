@@ -8,5 +8,5 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0x3e5d2da9eb11ea06ULL,
+static_assert(pick_place_ball::detail::kGeneration == 0x00c2cc71e1b5b3adULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

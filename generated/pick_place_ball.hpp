@@ -489,7 +489,7 @@ struct Spec {
 };
 
 // The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
 struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
@@ -779,7 +779,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x3e5d2da9eb11ea06ULL;
+inline constexpr unsigned long long kGeneration = 0x00c2cc71e1b5b3adULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

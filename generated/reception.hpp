@@ -1791,7 +1791,7 @@ struct Spec {
 };
 
 // The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
 struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
@@ -2539,7 +2539,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xa4b58a69d239cc16ULL;
+inline constexpr unsigned long long kGeneration = 0x9b68b7936f1948ebULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

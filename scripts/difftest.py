@@ -10,7 +10,7 @@ classified first:
 - invalid: `btgen validate` rejects it (a generator bug: counted, printed,
   and the run fails);
 - unsupported: `btgen compile` rejects it only with "not supported by the C++
-  back end yet" (issue 5): counted and reported as skipped, never silently;
+  back end yet": counted and reported as skipped, never silently;
 - rejected: `btgen compile` rejects it for another reason although the
   interpreter accepts it: a finding (the run fails);
 - compiled: run on both engines.
@@ -153,7 +153,7 @@ def _batch_main(entries: list[tuple[str, str]]) -> str:
     ]
     lines += [f'#include "{header}"' for header, _ in entries]
     lines += [
-        '#include "btgen/driver.hpp"',
+        '#include "btgen/harness/driver.hpp"',
         "",
         "int main(int argc, char** argv) {",
         "  if (argc < 2) return 2;",

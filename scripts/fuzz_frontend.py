@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Front-end fuzzing: mutated and random missions and knowledge bases (issue 8).
+"""Front-end fuzzing: mutated and random missions and knowledge bases (reliability).
 
     scripts/fuzz_frontend.py [--iterations N] [--seed S] [--target mission|kb|all]
                              [--cli K] [--keep DIR] [--time-limit S]
@@ -21,8 +21,8 @@ another exception (a traceback, an internal error), never more than
 --time-limit seconds of CPU (ITIMER_PROF: the process's own work, so a
 loaded machine does not make a slow input out of a fast one), nor
 WALL_FACTOR times that in wall-clock time (ITIMER_REAL: an input that blocks
-without computing), never unbounded memory (RLIMIT_AS, set here). `--cli K` also sends every K-th input through the real `btgen`
-executable and checks its exit status (0 or 1) and stderr.
+without computing), never unbounded memory (RLIMIT_AS, set here). `--cli K` also
+sends every K-th input through the real `btgen` executable and checks its exit status (0 or 1) and stderr.
 
 A finding is written to --keep (default build/fuzz-frontend) with the
 traceback; the exit status is 1 when there is any.
@@ -229,7 +229,7 @@ ATTR_VALUES = [
     b"&quot;",
     b"{a}{b}",
 ]
-# Hostile names (issue 14): C++ keywords, macros, the runtime's and the generated code's own names
+# Hostile names: C++ keywords, macros, the runtime's and the generated code's own names
 # and IDs with white space, quotes, backslashes or a trigraph, as tokens, attribute values, keys.
 HOSTILE = [n.encode() for n in HOSTILE_NAMES] + [b"a\nb", b"a b", b'a"b', b"a\\b", b"ends ??/", b"bt_node"]
 TOKENS += HOSTILE

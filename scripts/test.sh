@@ -10,6 +10,12 @@ bash scripts/setup.sh
 export PATH="$PWD/.venv/bin:$PATH"
 jobs=$(nproc 2>/dev/null || echo 2)
 
+echo "== code style: ruff, mypy, clang-format (configuration: pyproject.toml, .clang-format)"
+ruff check .
+ruff format --check .
+mypy
+bash scripts/format_cpp.sh --check
+
 echo "== validate shipped missions"
 btgen validate -q missions/*.xml
 

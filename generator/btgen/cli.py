@@ -10,17 +10,12 @@ import argparse
 import sys
 import traceback
 from collections.abc import Sequence
-from typing import Callable
+from typing import Callable, NoReturn
 
-from btgen.diagnostics import Diagnostic, InternalError, UserError
+from btgen.diagnostics import InternalError, UserError, print_diagnostics
 from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    for d in diags:
-        print(str(d), file=sys.stderr)
 
 
 def _capacity(text: str) -> int:
@@ -68,7 +63,7 @@ def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> Non
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # exit 2, as argparse does, but no usage spam
+    def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
         print(
             f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr
@@ -77,7 +72,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 class _PrintCMakeDir(argparse.Action):
-    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[override]
+    def __call__(self, parser, namespace, values, option_string=None):
         from btgen.resources import CMAKE_DIR
 
         print(CMAKE_DIR)
@@ -86,7 +81,7 @@ class _PrintCMakeDir(argparse.Action):
 
 def _cmd_validate(args: argparse.Namespace) -> int:
     from btgen.compiler import data_options
-    from btgen.frontend import enums
+    from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 
@@ -94,6 +89,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     for path in args.missions:
         try:
             mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
+            mission = usertypes.apply(mission, usertypes.from_args(args))
             print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
@@ -175,6 +171,18 @@ def _enum_options(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _type_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--type",
+        action="append",
+        default=[],
+        metavar="NAME=CPP_TYPE@HEADER",
+        help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
+        '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
+        "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -206,6 +214,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="check as `btgen compile --queue-capacity N` would (default 16)",
     )
     _enum_options(v)
+    _type_options(v)
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
@@ -249,6 +258,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _mission_options(c, namespace=True)
     _enum_options(c)
+    _type_options(c)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")

@@ -164,12 +164,13 @@ def write_if_changed(path: Path, text: str) -> bool:
 
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
-    from btgen.cli import print_diagnostics
-    from btgen.frontend import enums
+    from btgen.diagnostics import print_diagnostics
+    from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 
     mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
+    mission = usertypes.apply(mission, usertypes.from_args(args))
     print_diagnostics(mission.warnings)
     program = lower(mission, data_options(args))
     outputs = render(
@@ -203,7 +204,7 @@ def compile_command(args: argparse.Namespace) -> int:
 
 def generator_inputs() -> list[str]:
     """Files whose change changes the output of every mission: sources, templates, schemas."""
-    files = sorted(str(p) for p in PACKAGE_DIR.glob("*.py"))
+    files = sorted(str(p) for p in PACKAGE_DIR.rglob("*.py"))
     files += sorted(str(p) for p in TEMPLATE_DIR.glob("*.j2"))
     files += sorted(str(p) for p in SCHEMA_DIR.glob("*.xsd"))
     return files
@@ -231,7 +232,7 @@ def committed_outputs(root: Path) -> dict[str, str]:
         try:
             outputs = generate(rel, relative_to=str(root))
         except UserError:
-            continue  # needs the data side (issue 5) or is broken: `btgen validate` tells
+            continue  # needs the data side or is broken: `btgen validate` tells
         for out in outputs:
             expected[out.name] = out.text
     return expected
@@ -286,7 +287,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(f"generated/{name}")
         return 0
     if args.check:
-        from btgen.cli import print_diagnostics
+        from btgen.diagnostics import print_diagnostics
 
         try:
             generate(args.check, **load_options(args))

@@ -10,6 +10,7 @@ reports as an internal error and asks to be reported.
 from __future__ import annotations
 
 import difflib
+import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Optional
@@ -143,3 +144,9 @@ def suggestion(word: str, candidates: Iterable[str]) -> str:
     """`` (did you mean `X`?)`` or the empty string."""
     m = did_you_mean(word, candidates)
     return f" (did you mean `{m}`?)" if m else ""
+
+
+def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
+    """Write each diagnostic on its own line of stderr (the `path:line:col: error: ...` form)."""
+    for diag in diags:
+        print(str(diag), file=sys.stderr)

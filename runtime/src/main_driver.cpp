@@ -10,6 +10,6 @@
 
 #include BTGEN_MISSION_HEADER
 
-#include "btgen/driver.hpp"
+#include "btgen/harness/driver.hpp"
 
 int main(int argc, char** argv) { return btgen::run_scenario_main<BTGEN_MISSION_TEMPLATE>(argc, argv); }

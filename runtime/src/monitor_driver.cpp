@@ -29,8 +29,8 @@
 #include "btgen/btlog.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/groot2.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "btgen/monitor.hpp"
-#include "btgen/scenario.hpp"
 
 using Runner = BTGEN_MISSION_TEMPLATE<btgen::ScenarioLeaves, btgen::ManualClock, btgen::MonitorObserver<>>;
 

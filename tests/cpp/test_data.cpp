@@ -133,7 +133,7 @@ TEST(DataSide, PortsReadAndWriteTheTypedBlackboard) {
 TEST(DataSide, AComputedStringGetsItsKnownBoundAboveTheCapacity) {
   // `log := label .. '+' .. count`: label comes from robot code (the capacity, 8 bytes), count is
   // an integer (at most 20 bytes of text), so log needs 8 + 1 + 20 bytes, and gets them although
-  // the capacity is 8 (issue 14: a known bound is not cut to the capacity, or the executor would
+  // the capacity is 8 (a known bound is not cut to the capacity, or the executor would
   // fail where BehaviorTree.CPP succeeds).
   DataLeaves leaves;
   leaves.label = "abcdefgh";

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "btgen/scenario.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "control_flow.hpp"
 #include "test_leaves.hpp"
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "btgen/clock.hpp"
-#include "btgen/scenario.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "btgen/trace.hpp"
 #include "control_flow.hpp"
 #include "fuzz_common.hpp"

@@ -9,10 +9,20 @@ CASES = os.path.normpath(os.path.join(ROOT, "..", "shared", "conformance", "case
 sys.path.insert(0, os.path.join(ROOT, "generator"))
 
 
-def conformance_stems():
-    if not os.path.isdir(CASES):
+def case_stems(folder: str, companion: str = "") -> list[str]:
+    """The stems of the missions (`*.xml`) in `folder`, sorted; with `companion` (".trace",
+    ".scenario"), only those that have that file beside them. No folder: no stems."""
+    if not os.path.isdir(folder):
         return []
-    return sorted(f[:-4] for f in os.listdir(CASES) if f.endswith(".xml"))
+    return sorted(
+        f[:-4]
+        for f in os.listdir(folder)
+        if f.endswith(".xml") and (not companion or os.path.exists(os.path.join(folder, f[:-4] + companion)))
+    )
+
+
+def conformance_stems():
+    return case_stems(CASES)
 
 
 @pytest.fixture

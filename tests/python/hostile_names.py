@@ -1,4 +1,4 @@
-"""Hostile names for generated C++ (issue 14): a mission that uses every C++ keyword, every
+"""Hostile names for generated C++: a mission that uses every C++ keyword, every
 macro of <cerrno> <cstdio> <cstdlib> <cmath> <climits> <cstdint>, every runtime name and
 every generated member name as model IDs, ports and blackboard keys, and as file stems.
 
@@ -43,7 +43,8 @@ def _xml_name(n: str) -> bool:
 def mission(names: list[str]) -> str:
     """Every name as a model ID (an Action whose one port is named like its model, read from
     the key of that name), and as a port and key of one model `Ports` (typed int, double, string
-    and untyped in turn, all inout: getter and setter); each model's port has the same type. Comment text ends in `??/`."""
+    and untyped in turn, all inout: getter and setter); each model's port has the same type.
+    Comment text ends in `??/`."""
     types = ("int", "double", "std::string", None)
     models, nodes, ports, attrs = [], [], [], []
     for i, n in enumerate(names):

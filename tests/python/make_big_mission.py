@@ -83,7 +83,9 @@ def main(argv=None) -> int:
     path = args.output
     tmp = None
     if path is None:
-        tmp = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False, encoding="utf-8")
+        tmp = tempfile.NamedTemporaryFile(  # noqa: SIM115  (closed below, kept on disk)
+            "w", suffix=".xml", delete=False, encoding="utf-8"
+        )
         path = tmp.name
         tmp.close()
     with open(path, "w", encoding="utf-8") as f:

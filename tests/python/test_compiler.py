@@ -16,7 +16,7 @@ from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
-from conftest import CASES, ROOT
+from conftest import CASES, ROOT, conformance_stems
 
 
 def _write(tmp_path, name, text):
@@ -119,14 +119,8 @@ def _trace_nodes(stem):
     return seen
 
 
-def _stems():
-    if not os.path.isdir(CASES):
-        return []
-    return sorted(f[:-4] for f in os.listdir(CASES) if f.endswith(".xml"))
-
-
-@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
-@pytest.mark.parametrize("stem", _stems() or ["(none)"])
+@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
+@pytest.mark.parametrize("stem", conformance_stems() or ["(none)"])
 def test_uids_are_behaviortree_cpp_creation_order(stem):
     order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(os.path.join(CASES, stem + ".xml")))}
     recorded = _trace_nodes(stem)
@@ -135,7 +129,7 @@ def test_uids_are_behaviortree_cpp_creation_order(stem):
         assert order.get(uid) == (rid, name), f"UID {uid}"
 
 
-@pytest.mark.skipif(not _stems(), reason=f"conformance cases not found at {CASES}")
+@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
 def test_lowered_table_of_nested_subtrees_matches_the_trace():
     program = lower(load_mission(os.path.join(CASES, "decorators_halted.xml")))
     for uid, (rid, name) in _trace_nodes("decorators_halted").items():
@@ -199,7 +193,8 @@ def test_parallel_that_can_never_succeed_is_rejected(tmp_path):
 def test_skippable_if_condition_is_rejected(tmp_path):
     path = _write(tmp_path, "m.xml", _mission("<IfThenElse><RunOnce><Cond/></RunOnce><Act/></IfThenElse>"))
     assert _errors(path) == [
-        f'{path}:1:{_col(path, "<RunOnce>")}: error: the condition of `IfThenElse` "IfThenElse" (`RunOnce` "RunOnce") can return '
+        f'{path}:1:{_col(path, "<RunOnce>")}: error: the condition of `IfThenElse` "IfThenElse" '
+        '(`RunOnce` "RunOnce") can return '
         f"SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that answers SUCCESS or FAILURE there"
     ]
     ok = _write(
@@ -455,7 +450,7 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
 def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
-    """A model's ports get their getter/setter whether or not the mission sets them (issue 17):
+    """A model's ports get their getter/setter whether or not the mission sets them:
     the same leaf code builds against tests/cpp/missions/leaf_api_{wired,unwired}.xml."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
@@ -495,7 +490,7 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
 def test_user_controls_and_decorators_compile(compiler, tmp_path):
     """A Control or Decorator of TreeNodesModel gets a model class with typed ports and child
-    operations and a tick()/halt() hook (issue 17); it used to be an internal error."""
+    operations and a tick()/halt() hook; it used to be an internal error."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "user_nodes.xml"), relative_to=ROOT)

@@ -17,6 +17,7 @@ import os
 import random
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -25,22 +26,12 @@ from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
 from btgen.tools.cppengine import build_cpp, run_cpp
-from conftest import CASES, ROOT
+from conftest import CASES, ROOT, case_stems
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 
 
-def _stems():
-    if not os.path.isdir(CASES):
-        return []
-    return sorted(
-        f[:-4]
-        for f in os.listdir(CASES)
-        if f.endswith(".xml") and os.path.exists(os.path.join(CASES, f[:-4] + ".trace"))
-    )
-
-
-STEMS = _stems()
+STEMS = case_stems(CASES, ".trace")
 
 
 def _case(stem, ext):
@@ -298,7 +289,7 @@ def test_random_missions_agree_with_the_interpreter(tmp_path):
             rc, out, err = _run(binaries[mission], str(scenario))
             assert rc == 0, err
             assert out == expected, (
-                f"{mission} with {scenario}:\n{open(mission).read()}\n"
+                f"{mission} with {scenario}:\n{Path(mission).read_text()}\n"
                 f"{scenario.read_text()}\n" + _diff(expected, out, "C++ (expected: interp)")
             )
 

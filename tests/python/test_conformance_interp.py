@@ -15,22 +15,12 @@ import pytest
 from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
-from conftest import CASES, ROOT
+from conftest import CASES, ROOT, case_stems
 
 NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
 
 
-def _stems():
-    if not os.path.isdir(CASES):
-        return []
-    return sorted(
-        f[:-4]
-        for f in os.listdir(CASES)
-        if f.endswith(".xml") and os.path.exists(os.path.join(CASES, f[:-4] + ".trace"))
-    )
-
-
-STEMS = _stems()
+STEMS = case_stems(CASES, ".trace")
 
 
 def _case(stem, ext):

@@ -5,6 +5,7 @@ import glob
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -48,7 +49,7 @@ def test_bad_data_folder_is_complete():
 def test_bad_data_mission_is_rejected_by_compile_and_validate_alike(stem, tmp_path):
     rel = os.path.join("tests", "bad_data", stem + ".xml")
     args_file = os.path.join(BAD, stem + ".args")
-    extra = open(args_file, encoding="utf-8").read().split() if os.path.exists(args_file) else []
+    extra = Path(args_file).read_text(encoding="utf-8").split() if os.path.exists(args_file) else []
     # BehaviorTree.CPP would load it, but a CI gate on `btgen validate` must mean what compile means.
     valid = subprocess.run(
         [sys.executable, "-m", "btgen", "validate", "-q", rel, *extra],
@@ -135,7 +136,7 @@ def test_string_capacities_are_computed_and_capped(tmp_path):
     )
     slots, _ = _slots(path, DataOptions(string_capacity=40))
     caps = {k[1]: s.capacity for k, s in slots.items()}
-    # 20: an int's text; f: 2 + 317, a known bound above the capacity (issue 14: `'a' .. 1e300` needs it);
+    # 20: an int's text; f: 2 + 317, a known bound above the capacity (`'a' .. 1e300` needs it);
     # grow: grows without a bound, so the capacity
     assert caps == {"a": 7, "b": 7 + 1 + 20, "grow": 40, "f": 2 + 317}
 
@@ -214,7 +215,7 @@ def test_every_conformance_case_compiles():
     ],
 )
 def test_validate_runs_the_data_side_checks_of_compile(body, models, message, tmp_path):
-    """Issue 17: a port type clash or an undeclared name passed `btgen validate`, then failed compile."""
+    """A port type clash or an undeclared name passed `btgen validate`, then failed compile."""
     path = tmp_path / "m.xml"
     path.write_text(
         f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">{body}'

@@ -1,7 +1,7 @@
 """Differential testing: random missions (btgen.tools.fuzzgen) through the interpreter and the C++ engine.
 
 CI runs a bounded number of seeds here; scripts/difftest.py runs any number.
-Missions the C++ back end does not compile yet (issue 5) are counted and
+Missions the C++ back end does not compile yet are counted and
 printed as skipped, so the `full` feature set starts to bite as soon as the
 back end accepts it, without a change here.
 """
@@ -150,7 +150,7 @@ HOSTILE_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_HOSTILE_SEEDS", "25")))
 def test_hostile_missions_agree(tmp_path):
     """The dynamic feature set with model IDs, ports and keys from the hostile pool (C++ keywords,
     macros, the runtime's and generated code's names) and typed entries first written with the
-    other kind of number (issue 14)."""
+    other kind of number."""
     report = difftest.difftest(HOSTILE_SEEDS, "hostile", 2, keep=tmp_path / "kept")
     print("\n" + report.summary())
     assert len(report.compiled) + len(report.unsupported) == len(HOSTILE_SEEDS), report.summary()

@@ -6,7 +6,7 @@ Each case is `<stem>.xml` + `<stem>.scenario` with the expected `<stem>.trace`
 source (the comment at the top of each mission says what broke and why the
 expected trace is right), not copied from an engine. Every case runs on the
 interpreter and on the C++ engine; a case the C++ back end does not compile
-yet (issue 5) is skipped there with the back end's reason.
+yet is skipped there with the back end's reason.
 """
 
 import os
@@ -15,21 +15,13 @@ import sys
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, case_stems
 
 REG = os.path.join(ROOT, "tests", "regressions")
 UNSUPPORTED_MARK = "not supported by the C++ back end yet"
 
 
-def _stems():
-    return sorted(
-        f[:-4]
-        for f in os.listdir(REG)
-        if f.endswith(".xml") and os.path.exists(os.path.join(REG, f[:-4] + ".scenario"))
-    )
-
-
-STEMS = _stems()
+STEMS = case_stems(REG, ".scenario")
 
 
 def _expected(stem):

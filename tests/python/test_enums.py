@@ -1,4 +1,4 @@
-"""Scripting enums (`--enum`, `--enums FILE`; BehaviorTree.CPP's registerScriptingEnum), issue 17:
+"""Scripting enums (`--enum`, `--enums FILE`; BehaviorTree.CPP's registerScriptingEnum):
 the same values on both engines, undeclared names still errors in validate and compile."""
 
 import os

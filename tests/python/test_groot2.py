@@ -15,9 +15,9 @@ more built-in nodes and words its port descriptions differently; btgen writes
 4.6.2's node set with its own catalogue's descriptions), so only the
 BehaviorTree part is compared, and the mission's own models are checked to be
 in both; and 4.6.2 writes a SubTree's `_autoremap` attribute on its element,
-4.8.2 does not (trees_part says how the comparison allows for it). Everything the protocol carries besides (node attributes, UIDs,
-status bytes and order, blackboard MessagePack, .btlog records) is the same in
-both versions.
+4.8.2 does not (trees_part says how the comparison allows for it). Everything the
+protocol carries besides (node attributes, UIDs, status bytes and order, blackboard
+MessagePack, .btlog records) is the same in both versions.
 
 Sockets: btgen's publisher binds 127.0.0.1 here; behaviortreepy's Groot2Publisher
 has no address parameter and binds every interface (as BehaviorTree.CPP does),

@@ -1,4 +1,4 @@
-"""Hostile names and inputs (issue 14): every mission name becomes a C++ identifier that
+"""Hostile names and inputs: every mission name becomes a C++ identifier that
 builds, with both compilers, optimised or not, warnings as errors."""
 
 import os

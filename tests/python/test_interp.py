@@ -15,8 +15,10 @@ import time
 import pytest
 
 from btgen.frontend.loader import load_mission
-from btgen.interp.engine import Interpreter, RunError, quote_name, switch_equal, trace_text
+from btgen.interp.controls import switch_equal
+from btgen.interp.engine import Interpreter, trace_text
 from btgen.interp.scenario import load_scenario, parse_scenario_text
+from btgen.interp.tree import RunError, quote_name
 from btgen.lang.status import NodeStatus
 from btgen.tools.synth import balanced_mission, count_nodes
 

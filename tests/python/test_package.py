@@ -112,7 +112,13 @@ def test_wheel_holds_every_mapped_file(installed):
                 expected.add(f"btgen/{resources.INSTALLED_DATA}/{f.relative_to(ROOT).as_posix()}")
     assert expected and expected <= names
     assert "btgen/_data/cmake/btgenConfig.cmake" in names and "btgen/_data/templates/mission.hpp.j2" in names
-    assert not [n for n in names if n.endswith("py.typed")]
+    # the package is typed (mypy runs in CI), and every stage's subpackage is in the wheel
+    assert "btgen/py.typed" in names
+    sources = {
+        f"btgen/{f.relative_to(Path(ROOT) / 'generator' / 'btgen').as_posix()}"
+        for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")
+    }
+    assert "btgen/ir/lower.py" in sources and sources <= names
 
 
 def test_cmake_package_version_is_the_generators():
@@ -447,3 +453,66 @@ def test_btgen_add_mission_takes_scripting_enums(installed):
     (src / "CMakeLists.txt").write_text(ENUM_PROJECT.format(enums=""))
     failed = _cmake_build(src, build, btgen, env, check=False)
     assert failed.returncode != 0 and "reads `GREEN`" in failed.stdout + failed.stderr
+
+
+TYPE_PROJECT = """cmake_minimum_required(VERSION 3.16)
+project(type_user LANGUAGES CXX)
+find_package(btgen CONFIG REQUIRED)
+btgen_add_mission(poses MISSION poses.xml TYPES Pose2D=nav::Pose2D@nav/pose2d.hpp)
+target_include_directories(poses PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+add_executable(poses_run main.cpp)
+target_link_libraries(poses_run PRIVATE poses)
+target_compile_options(poses_run PRIVATE -Wall -Wextra -Wpedantic -Werror)
+"""
+
+TYPE_MISSION = """<root BTCPP_format="4" main_tree_to_execute="Poses">
+  <BehaviorTree ID="Poses">
+    <MoveTo goal="1.5;2;0"/>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/></Action>
+  </TreeNodesModel>
+</root>
+"""
+
+TYPE_MAIN = """#include "poses.hpp"
+struct Leaves {
+  btgen::Status tick(poses::leaf::MoveTo& m, const btgen::NodeInfo&) {
+    const btgen::Input<nav::Pose2D> goal = m.goal();
+    return goal && goal->x == 1.5 && goal->y == 2.0 ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+};
+int main() {
+  Leaves leaves;
+  poses::Poses<Leaves> mission(leaves);
+  return mission.errors() == 0 && mission.tick() == btgen::Status::SUCCESS ? 0 : 1;
+}
+"""
+
+TYPE_HEADER = """#pragma once
+#include <cstdio>
+#include <string_view>
+namespace nav {
+struct Pose2D { double x, y, theta; };
+inline bool convertFromString(std::string_view text, Pose2D& out) {
+  char buffer[64] = {};
+  if (text.size() >= sizeof buffer) return false;
+  text.copy(buffer, text.size());
+  return std::sscanf(buffer, "%lf;%lf;%lf", &out.x, &out.y, &out.theta) == 3;
+}
+}  // namespace nav
+"""
+
+
+def test_btgen_add_mission_takes_user_port_types(installed):
+    """TYPES reaches `btgen compile --type`; the installed runtime has btgen/user_type.hpp."""
+    btgen, env, tmp, _ = installed
+    src = tmp / "type_user"
+    (src / "include" / "nav").mkdir(parents=True)
+    (src / "poses.xml").write_text(TYPE_MISSION)
+    (src / "main.cpp").write_text(TYPE_MAIN)
+    (src / "include" / "nav" / "pose2d.hpp").write_text(TYPE_HEADER)
+    (src / "CMakeLists.txt").write_text(TYPE_PROJECT)
+    build = tmp / "type_build"
+    _cmake_build(src, build, btgen, env)
+    assert _run([build / "poses_run"], tmp, env, check=False).returncode == 0

@@ -5,6 +5,7 @@ stdout, `path:line:col: error: ...` on stderr. A `leaf` line naming no leaf
 of the mission is only a warning.
 """
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -82,14 +83,14 @@ def test_full_file_model():
         "x.scenario",
     )
     assert s.ticks == 20 and s.default == "FAILURE" and s.clock_ms == 100
-    assert [(l.name, l.statuses) for l in s.leaves] == [
+    assert [(leaf.name, leaf.statuses) for leaf in s.leaves] == [
         ("FindBall", ("FAILURE", "SUCCESS")),
         ("PickBall", ("RUNNING", "RUNNING", "SUCCESS")),
     ]
     find = s.leaf("FindBall")
     assert (find.loc.line, find.loc.col) == (3, 7)
-    assert [(l.line, l.col) for l in find.status_locs] == [(3, 16), (3, 24)]
-    with pytest.raises(Exception):
+    assert [(loc.line, loc.col) for loc in find.status_locs] == [(3, 16), (3, 24)]
+    with pytest.raises(dataclasses.FrozenInstanceError):
         s.ticks = 3  # frozen
 
 

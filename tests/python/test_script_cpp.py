@@ -17,7 +17,8 @@ import pytest
 
 from btgen.backend_cpp import script_cpp as scpp
 from btgen.frontend.loader import load_mission
-from btgen.interp.engine import switch_equal, trace_text
+from btgen.interp.controls import switch_equal
+from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
 from btgen.lang import script as sc
 from btgen.lang import values

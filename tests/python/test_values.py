@@ -59,7 +59,8 @@ def test_node_status_prints_its_name_and_keeps_the_4_6_2_numbers():
         ("std::shared_ptr<std::deque<double, std::allocator<double> > >", "queue<double>"),
         ("std::shared_ptr<std::deque<bool, std::allocator<bool> > >", "queue<bool>"),
         (
-            "std::shared_ptr<std::deque<std::__cxx11::basic_string<char, std::char_traits<char>, std::allocator<char> >, "
+            "std::shared_ptr<std::deque<std::__cxx11::basic_string<char, std::char_traits<char>, "
+            "std::allocator<char> >, "
             "std::allocator<std::__cxx11::basic_string<char, std::char_traits<char>, std::allocator<char> > > > >",
             "queue<string>",
         ),

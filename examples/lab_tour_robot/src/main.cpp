@@ -16,8 +16,8 @@
 #include "btgen/btlog.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/environment_knowledge_base.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "btgen/monitor.hpp"
-#include "btgen/scenario.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
 #ifdef LAB_TOUR_WITH_GROOT2

@@ -33,8 +33,8 @@
 #include <Eigen/Core>
 
 #include "btgen/environment_knowledge_base.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "btgen/node.hpp"
-#include "btgen/scenario.hpp"
 #include "btgen/status.hpp"
 #include "speech.hpp"
 #include "tour_plan.hpp"

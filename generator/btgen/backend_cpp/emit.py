@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 import jinja2
 
@@ -82,7 +82,7 @@ def groot2_context(program: Program) -> dict:
     index_of_uid = {0: 0}
     for i, inst in enumerate(tree.instances[1:], start=1):
         index_of_uid[inst.nodes[0]] = i  # the SubTree node's UID is its tree root's index
-    entries = []
+    entries: list[dict[str, Any]] = []
     for sl in data.slots:
         bb = index_of_uid.get(sl.owner_uid)
         if bb is None:
@@ -164,7 +164,7 @@ def render(
     def show_loc(loc) -> str:
         return f"{show(loc.path)}:{loc.line}:{loc.col}"
 
-    ctx = dict(
+    ctx: dict[str, Any] = dict(
         version=__version__,
         abi=RUNTIME_ABI,
         input=show(program.mission_path),

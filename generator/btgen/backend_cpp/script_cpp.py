@@ -59,6 +59,16 @@ def is_queue(kind: Optional[str]) -> bool:
     return kind is not None and kind.startswith("queue<")
 
 
+# The user port types (usertypes.py) of the mission being compiled: type name (blanks
+# around `<>,:*&` removed) -> kind (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
+USER_KINDS: dict[str, str] = {}
+
+
+def is_user(kind: Optional[str]) -> bool:
+    """A kind of a user port type (`--type`): the value is the user's C++ type, held as is."""
+    return kind is not None and kind.startswith("user:")
+
+
 def kind_of_type(type_name: str) -> Optional[str]:
     """The kind an entry of a declared type holds; None for `any` (inferred from writes).
 
@@ -76,10 +86,14 @@ def kind_of_type(type_name: str) -> Optional[str]:
         return None
     if values.queue_element_type(type_name) is not None:
         return f"queue<{values.queue_element_type(type_name)}>"
+    if USER_KINDS and values._compact(type_name) in USER_KINDS:
+        return USER_KINDS[values._compact(type_name)]
     return "string"  # string and opaque user types
 
 
 def describe_kind(kind: str) -> str:
+    if is_user(kind):
+        return f"a {kind[len('user:') :]}"
     return {
         "int": "an integer",
         "double": "a double",
@@ -305,7 +319,7 @@ class ScriptContext:
 
     slots: Sequence[SlotView]
     names: Mapping[str, int]  # name as written (with `@`) -> slot index
-    where: Callable[[int], str]  # offset in the code -> C++ expression of its "path:line:col"
+    where: Callable[..., str]  # offset in the code -> C++ expression of its "path:line:col"
     prefix: str  # message prefix, e.g. 'script error in `code` of `Script` "Init": '
     enums: Mapping[str, int] = field(default_factory=dict)  # scripting enums (enums.py)
     # Given: the script is compiled to a body that identical scripts elsewhere share; its

@@ -134,7 +134,7 @@ def _substitute(e, table: dict[str, int]):
         if e.name in table:
             return sc.Literal(float(table[e.name]), e.name, e.offset)
         return e
-    if not dataclasses.is_dataclass(e):
+    if not dataclasses.is_dataclass(e) or isinstance(e, type):
         return e
     changes = {}
     for f in dataclasses.fields(e):

@@ -532,10 +532,9 @@ class _Loader:
         if is_remap(value):
             self._check_key(attr, remap_key(value, attr.name), what)
             return attr
-        if "{" in value or "}" in value:
-            if value.startswith("{") or value.endswith("}"):
-                self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: write `{{key}}`")
-                return attr
+        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
+            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: write `{{key}}`")
+            return attr
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
         if (spec.id, attr.name) in KEY_NAME_PORTS:

@@ -246,8 +246,10 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
             )
     if 1 <= line <= len(lines):
         m = re.search(r"Specification mandates value for attribute (\S+)", msg)
-        spaced = m and re.search(r"\b" + re.escape(m.group(1)) + r"\s+([A-Za-z_][\w]*)\s*=", lines[line - 1])
-        if spaced:
+        spaced = m is not None and re.search(
+            r"\b" + re.escape(m.group(1)) + r"\s+([A-Za-z_][\w]*)\s*=", lines[line - 1]
+        )
+        if m is not None and spaced:
             joined = f"{m.group(1)}_{spaced.group(1)}"
             return UserError.at(
                 Loc(path, line, spaced.start() + 1),

@@ -1,4 +1,4 @@
-"""The data side of a mission, resolved at compile time (issue 5).
+"""The data side of a mission, resolved at compile time.
 
 BehaviorTree.CPP 4.6.2 keeps one blackboard per tree instance, a map from
 key to a type-erased entry, and finds entries by string at run time
@@ -33,6 +33,7 @@ of that here, once:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
@@ -45,6 +46,7 @@ from btgen.backend_cpp.script_cpp import (
     describe_kind,
     is_numeric,
     is_queue,
+    is_user,
     kind_of_type,
 )
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
@@ -192,6 +194,7 @@ class PortIR:
     scratch: str  # the member the getter writes a number's text into ("" when it never needs one)
     reads: tuple[tuple[int, str], ...]  # (node index, C++ statement returning the Input)
     writes: tuple[tuple[int, tuple[str, ...]], ...]  # (node index, C++ statements)
+    user: bool = False  # a user port type (--type): the setter takes `const T&`
 
 
 @dataclass(frozen=True)
@@ -210,6 +213,8 @@ class DataIR:
     queue_capacity: int
     where: tuple[Loc, ...]  # the places run-time errors name: `detail::kWhere[i]` in the code above
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
+    user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
+    inits: tuple[CodeIR, ...] = ()  # literals of user-typed ports, converted when the mission is constructed
 
 
 # ================================================================ helpers
@@ -281,6 +286,10 @@ class _Inst:
         return f'`{self.reg_id}` "{self.node.display_name}"'
 
 
+def _no_bound() -> Optional[int]:
+    return None
+
+
 @dataclass
 class _Write:
     """A place that writes a slot."""
@@ -289,9 +298,9 @@ class _Write:
     order: int
     loc: Loc
     what: str  # e.g. "`x := 1` in `code` of `Script` \"Init\""
-    kind: Callable[[], Optional[str]]  # the kind it writes, given the kinds known so far
+    kind: Callable[..., Optional[str]]  # the kind it writes, given the kinds known so far
     determining: bool  # may be the entry's first value (decides the type of an untyped entry)
-    bound: Callable[[], Optional[int]]  # strings: most bytes written (None: no bound)
+    bound: Callable[..., Optional[int]]  # strings: most bytes written (None: no bound)
     literal: Optional[str] = None  # the text written, when it is a literal
     source: str = "script"  # script | constant | set | copy | loop | port
 
@@ -371,11 +380,18 @@ class _Analyzer:
         # per-node uses, filled by _collect
         self.script_uses: list[tuple[_Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
         self.node_ops: list[tuple[str, _Inst, dict]] = []
+        self.user = {t.kind: t for t in mission.user_types}  # kind -> usertypes.UserType
 
     def error(self, loc: Loc, message: str) -> None:
         if (loc, message) not in self.reported:
             self.reported.add((loc, message))
             self.sink.error(loc, message)
+
+    def _kind_of_slot(self, slot: int) -> Optional[str]:
+        return self.slots[slot].kind
+
+    def _capacity_of_slot(self, slot: int) -> Optional[int]:
+        return self.slots[slot].capacity
 
     def next_order(self) -> int:
         self.order += 1
@@ -393,9 +409,9 @@ class _Analyzer:
                 inst = _Inst(index, node, "SubTree", BUILTINS["SubTree"], bb, {})
                 self.insts.append(inst)
                 sub_path = f"{path}/{node.display_name}" if path else node.display_name
-                child = self._subtree_blackboard(node, bb, sub_path)
-                self.bb_uid[id(child)] = index + 1
-                stack.append((self.m.tree(node.target).root, child, sub_path))
+                child_bb = self._subtree_blackboard(node, bb, sub_path)
+                self.bb_uid[id(child_bb)] = index + 1
+                stack.append((self.m.tree(node.target).root, child_bb, sub_path))
                 continue
             ports = _ports_of(self.m, node)
             try:
@@ -557,18 +573,11 @@ class _Analyzer:
                 text = attr.value[n.offset : _end_offset(n, attr.value)].strip() or attr.value
                 what = f"`{text}` in {prefix}"
                 if n.op in (":=", "="):
-
-                    def kind_fn(v=value, nm=names):
-                        return self._expr_kind(v, nm)
-
-                    def bound_fn(v=value, nm=names):
-                        return self._expr_bound(v, nm)
+                    kind_fn: Callable[..., Optional[str]] = functools.partial(self._expr_kind, value, names)
+                    bound_fn: Callable[..., Optional[int]] = functools.partial(self._expr_bound, value, names)
                 else:
-
-                    def kind_fn(t=target):
-                        return self.slots[t].kind
-
-                    bound_fn = (lambda: None) if n.op == "+=" else (lambda t=target: self.slots[t].capacity)
+                    kind_fn = functools.partial(self._kind_of_slot, target)
+                    bound_fn = _no_bound if n.op == "+=" else functools.partial(self._capacity_of_slot, target)
                 lit = value.value if isinstance(value, sc.Literal) and isinstance(value.value, str) else None
                 if lit is not None and n.op in (":=", "="):
                     self._queue_literal(target, lit)
@@ -588,6 +597,8 @@ class _Analyzer:
     def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[str]:
         """The kind of a script value; "error" when it fails whatever the kinds (compiling the script
         reports why), None while a name's kind is unknown."""
+        if any(is_user(self.slots[names[n.name]].kind) for n in sc.walk(expr) if isinstance(n, sc.Name)):
+            return "error"  # (compiling the script says that user-typed entries are not for scripts)
         try:
             return scpp.expr_kind(expr, self._kind_of(names))
         except ScriptTypeError:
@@ -943,7 +954,8 @@ class _Analyzer:
                     or s.kind is None
                     or is_queue(s.kind)
                     or (s.kind == "none" and not s.writes)
-                ):
+                    or is_user(s.kind)
+                ):  # (a user type's entry: other writes are errors, reported as such)
                     continue
                 for w in s.writes:
                     if w.source in ("port", "loop"):
@@ -1071,7 +1083,9 @@ class _Analyzer:
         )
 
     def cpp_type(self, s: _Slot) -> str:
-        k = s.kind
+        k = s.kind or "none"
+        if is_user(k):
+            return self.user[k].cpp
         if k == "string":
             return f"btgen::FixedString<{s.capacity}>"
         if k == "none":
@@ -1084,7 +1098,7 @@ class _Analyzer:
                 elem, f"btgen::FixedString<{s.elem_capacity}>"
             )
             return f"btgen::FixedQueue<{etype}, {s.capacity}>"
-        return scpp.CPP_SCALAR[k]  # type: ignore[index]
+        return scpp.CPP_SCALAR[k]
 
     def initializer(self, s: _Slot) -> str:
         if s.initial is not None:
@@ -1167,6 +1181,8 @@ class _Compiler:
         self.views = [a.slot_view(i) for i in range(len(a.slots))]
         self.where_locs: list[Loc] = []
         self.where_index: dict[Loc, int] = {}
+        self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
+        self.user_inits: list[CodeIR] = []
 
     def where(self, loc: Loc) -> str:
         """The C++ expression naming `loc` in run-time errors (an entry of detail::kWhere)."""
@@ -1229,6 +1245,8 @@ class _Compiler:
                 continue
             if any(self.a.slots[i].failed for i in names.values()):
                 continue  # its entry's type is already reported as unknown
+            if not self.check_user_free(inst, attr, script, names):
+                continue
             enum = SCRIPT_SLOTS[which]
             table = scpp.ErrorTable()
             prefix = f"script error in `{attr.name}` of {inst.what}: "
@@ -1251,6 +1269,27 @@ class _Compiler:
             if enum != "kCode":
                 bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
         return out, bits
+
+    def check_user_free(self, inst: _Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
+        """Scripts neither read nor write entries of user port types (`--type`): the script
+        language knows numbers, strings and statuses only. False: reported."""
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                key = node.name if isinstance(node, sc.Name) else node.target if isinstance(node, sc.Assign) else None
+                if key is None:
+                    continue
+                s = self.a.slots[names[key]]
+                if is_user(s.kind):
+                    t = self.a.user[s.kind]
+                    verb = "reads" if isinstance(node, sc.Name) else "writes"
+                    self.error(
+                        script_loc(attr, node.offset),
+                        f"`{attr.name}` of {inst.what} {verb} `{key}`, an entry of user type {t.name} "
+                        f"({t.cpp_type}, --type {t.name}); scripts cannot use user-typed entries (read and "
+                        f"write them from your nodes through their typed ports)",
+                    )
+                    return False
+        return True
 
     def check_reads(self, inst: _Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
         """A name read that can never find its entry: nothing anywhere creates it. False: reported."""
@@ -1307,6 +1346,20 @@ class _Compiler:
         s = self.a.slots[dst]
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
+        if is_user(s.kind):
+            # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
+            # changes, so it is converted once, when the mission is constructed, and copied here.
+            t = self.a.user[s.kind]
+            member = self.user_constant(
+                inst.index, t, text, loc, f"`value` of {what} (`{text}`, for `{s.key}`)", f"`value` of {what}"
+            )
+            body = [
+                f"if (!bb.{member}.ok) "
+                + self.fail(loc, f"{what}: `{text}` does not convert to {t.name} ({t.cpp_type}) for `{s.key}`"),
+                f"btgen::port::write_user({self.member(dst)}, bb.{member}.value);",
+                "return btgen::Status::SUCCESS;",
+            ]
+            return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
         if s.kind == DYN:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
@@ -1368,9 +1421,11 @@ class _Compiler:
                 f"both entries, which the C++ back end does not do",
             )
             return None
-        if DYN in (d.kind, s.kind):
+        if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
             return self.set_copy_dynamic(inst, op, d, s, what)
-        if not strong:
+        if is_user(d.kind) or is_user(s.kind):
+            ok = d.kind == s.kind
+        elif not strong:
             ok = s.kind == d.kind
         elif s.kind == "string" and declared != values.STRING:
             ok = declared != values.NODE_STATUS and not values.is_opaque_type(declared)
@@ -1564,6 +1619,110 @@ class _Compiler:
         body.append("return 1;")
         return CodeIR(inst.index, "", f"{what} queue={inst.ports['queue'].raw}", tuple(body))
 
+    # ------------------------------------------------------------ user port types
+    def port_type(self, type_name: str) -> str:
+        """The C++ type of a port's accessors ("" for an untyped port): a user type's own (--type)."""
+        k = kind_of_type(type_name)
+        return self.a.user[k].cpp if is_user(k) else port_cpp_type(type_name)
+
+    def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[str]:
+        """The getter statement of an input port where a user type (--type) is involved: a literal
+        converted once when the mission is constructed, or the entry's value as it is."""
+        pk = kind_of_type(ps.type)
+        if slot is None:  # a literal (or a TreeNodesModel default) of a user-typed port
+            return self.user_literal(inst, ps, raw, loc, f"`{raw}`")
+        s = self.a.slots[slot]
+        if is_user(pk) and s.initial is not None and not s.unset and all(w.source == "constant" for w in s.writes):
+            # A SubTree's constant port that nothing else writes: a literal too (4.6.2 converts its
+            # text on every read; it never changes).
+            return self.user_literal(
+                inst,
+                ps,
+                s.initial,
+                s.writes[0].loc if s.writes else loc,
+                f"`{s.initial}` (the constant port `{s.key}` of its SubTree)",
+            )
+        if is_user(pk) and s.kind == pk:
+            return f"return btgen::port::read_user(bb.{s.member});"
+        if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
+            return f"return btgen::port::read_user_as<T>(bb.{s.member});"
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
+        if is_user(pk):
+            t = self.a.user[pk]
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} ({t.name}) reads blackboard entry `{s.key}`, which holds "
+                f"{describe_kind(s.kind or 'none')} ({s.origin_text}); a {t.name} port reads only "
+                f"{t.name} entries in the C++ back end (BehaviorTree.CPP would convert a string with "
+                f"convertFromString<{t.name}> on every read)",
+            )
+        else:
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} ({ps.type}) reads blackboard entry `{s.key}`, which "
+                f"holds {describe_kind(s.kind or 'none')} ({s.origin_text}); it does not convert to "
+                f"{ps.type}",
+            )
+        return None
+
+    def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> str:
+        """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
+        t = self.a.user[kind_of_type(ps.type) or ""]
+        member = self.user_constant(
+            inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}", f"port `{ps.name}` of {inst.what}"
+        )
+        return f"return btgen::port::read_literal(bb.{member});"
+
+    def user_constant(self, node: int, t, raw: str, loc: Loc, what: str, comment: str) -> str:
+        """A `btgen::UserLiteral` member of the blackboard holding `raw` converted to the user type `t` when
+        the mission is constructed (Spec::init; a failure is reported there, naming `what`); its name."""
+        member = f"ulit{len(self.user_locals)}_"
+        self.user_locals.append(
+            LocalIR(
+                member,
+                f"btgen::UserLiteral<{t.cpp}>",
+                f"{comment}: {values.describe(raw)} as a {t.name}, converted when the mission is constructed",
+            )
+        )
+        message = f"{what} does not convert to {t.name} ({t.cpp_type}): its convertFromString returned false"
+        self.user_inits.append(
+            CodeIR(
+                node,
+                "",
+                comment,
+                (
+                    f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
+                    f"(void)err.fail(kNodes[{node}], {self.where(loc)}, {cpp_string(message)});",
+                ),
+            )
+        )
+        return member
+
+    def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[tuple[str, ...]]:
+        """The setter statements of an output port where a user type (--type) is involved."""
+        s = self.a.slots[slot]
+        pk = kind_of_type(ps.type)
+        what = f"output port `{ps.name}` of {inst.what}"
+        if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
+            t = self.a.user[s.kind or ""]
+            return (
+                f"if constexpr (std::is_same_v<T, {t.cpp}>) {{",
+                f"  btgen::port::write_user(bb.{s.member}, value);",
+                "  return true;",
+                "} else {",
+                "  "
+                + self.fail(
+                    loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to `{s.key}`", ret="false"
+                ),
+                "}",
+            )
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
+        if not self.typed_write_ok(slot, ps.type, loc, what):
+            return None
+        return (f"btgen::port::write_user(bb.{s.member}, value);", "return true;")
+
     # ------------------------------------------------------------ user leaf ports
     def ports(self) -> dict:
         by_model: dict[str, dict[str, dict]] = {}
@@ -1582,8 +1741,14 @@ class _Compiler:
                     f"nodes are not supported by the C++ back end yet",
                 )
                 continue
-            t = port_cpp_type(ps.type)
-            if ps.reads:
+            t = self.port_type(ps.type)
+            pk = kind_of_type(ps.type)
+            if ps.reads and (is_user(pk) or (slot is not None and is_user(self.a.slots[slot].kind))):
+                stmt = self.user_read(inst, ps, slot, raw, loc)
+                if stmt is None:
+                    continue
+                entry["reads"].append((inst.index, stmt))
+            elif ps.reads:
                 if slot is not None:
                     s = self.a.slots[slot]
                     if is_queue(s.kind):
@@ -1605,7 +1770,11 @@ class _Compiler:
                         entry["reads"].append((inst.index, "return btgen::PortError::kConversion;"))
                 else:
                     entry["reads"].append((inst.index, f"return btgen::port::parse<T>({cpp_view(raw)});"))
-            if ps.writes and slot is not None:
+            if ps.writes and slot is not None and (is_user(pk) or is_user(self.a.slots[slot].kind)):
+                stmts = self.user_write(inst, ps, slot, loc)
+                if stmts is not None:
+                    entry["writes"].append((inst.index, stmts))
+            elif ps.writes and slot is not None:
                 if ps.type != values.ANY and not self.typed_write_ok(
                     slot,
                     ps.type if not values.is_opaque_type(ps.type) else values.STRING,
@@ -1656,11 +1825,12 @@ class _Compiler:
                         pname,
                         ps.direction,
                         ps.type,
-                        port_cpp_type(ps.type),
+                        self.port_type(ps.type),
                         ps.description,
                         f"scratch{k}_" if e["scratch"] else "",
                         reads,
                         tuple(e["writes"]),
+                        is_user(kind_of_type(ps.type)),
                     )
                 )
             out[model_id] = tuple(irs)
@@ -1727,9 +1897,13 @@ class _Compiler:
             )
             for i, s in enumerate(self.a.slots)
         )
+        used = {kind_of_type(ps.type) for spec in self.a.m.user_models() for ps in spec.ports} | {
+            s.kind for s in self.a.slots
+        }
+        user_types = tuple(t for t in self.a.m.user_types if t.kind in used)
         return DataIR(
             slots,
-            tuple(locals_),
+            tuple(locals_ + self.user_locals),
             tuple(scripts),
             tuple(data_leaves),
             tuple(entries),
@@ -1742,16 +1916,25 @@ class _Compiler:
             self.a.opt.queue_capacity,
             tuple(self.where_locs),
             tuple(self.a.m.enums),
+            user_types,
+            tuple(self.user_inits),
         )
 
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
-    a = _Analyzer(mission, options or DataOptions())
-    a.load()
-    a.collect()
-    a.name_slots()
-    a.type_slots()
-    a.size_slots()
-    ir = _Compiler(a).run()
+    saved = dict(scpp.USER_KINDS)
+    scpp.USER_KINDS.clear()
+    scpp.USER_KINDS.update({values._compact(t.name): t.kind for t in mission.user_types})
+    try:
+        a = _Analyzer(mission, options or DataOptions())
+        a.load()
+        a.collect()
+        a.name_slots()
+        a.type_slots()
+        a.size_slots()
+        ir = _Compiler(a).run()
+    finally:
+        scpp.USER_KINDS.clear()
+        scpp.USER_KINDS.update(saved)
     return ir, a.sink

@@ -178,7 +178,7 @@ def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
     """Scripted leaf names the main tree does not run, each with the first tree (in file
     order) that has one: what scenario.check_scenario names in its warning."""
-    from btgen.interp.scenario import is_scripted_leaf, mission_leaves
+    from btgen.lang.leaves import is_scripted_leaf, mission_leaves
 
     run = {u.name for u in mission_leaves(mission)}
     found: dict[str, str] = {}
@@ -221,11 +221,18 @@ class _Lowerer:
                 return 0, loc
             raise InternalError(f"{loc}: port `{port_name}`: {e}") from None
 
+    def int_literal(self, node: Node, port_name: str, type_name: str = "int") -> tuple[int, Loc]:
+        """An `int`/`unsigned` port's literal (0 when it is a `{key}` that dataflow reported)."""
+        value, loc = self.literal(node, port_name, type_name)
+        if not isinstance(value, int) or isinstance(value, bool):
+            raise InternalError(f"{loc}: port `{port_name}` converted to {value!r}, not an int")
+        return value, loc
+
     def params(self, node: Node, n_children: int) -> tuple[int, int, int]:
         nid = node.id
         if nid == "Parallel":
-            succ, sloc = self.literal(node, "success_count", "int")
-            fail, floc = self.literal(node, "failure_count", "int")
+            succ, sloc = self.int_literal(node, "success_count")
+            fail, floc = self.int_literal(node, "failure_count")
             need_s = max(n_children + succ + 1, 0) if succ < 0 else succ
             need_f = max(n_children + fail + 1, 0) if fail < 0 else fail
             if n_children < need_s:
@@ -244,7 +251,7 @@ class _Lowerer:
                 )
             return need_s, need_f, 1 if succ < 0 else 0
         if nid == "ParallelAll":
-            mf, loc = self.literal(node, "max_failures", "int")
+            mf, loc = self.int_literal(node, "max_failures")
             need = max(n_children + mf + 1, 0) if mf < 0 else mf
             if n_children < need:
                 self.error(
@@ -254,15 +261,15 @@ class _Lowerer:
                 )
             return need, 0, 0
         if nid == "Repeat":
-            return int(self.literal(node, "num_cycles", "int")[0]), 0, 0
+            return self.int_literal(node, "num_cycles")[0], 0, 0
         if nid == "RetryUntilSuccessful":
-            return int(self.literal(node, "num_attempts", "int")[0]), 0, 0
+            return self.int_literal(node, "num_attempts")[0], 0, 0
         if nid == "RunOnce":
             return (1 if self.literal(node, "then_skip", "bool")[0] else 0), 0, 0
         if nid in ("Timeout", "Sleep"):
-            return int(self.literal(node, "msec", "unsigned")[0]), 0, 0
+            return self.int_literal(node, "msec", "unsigned")[0], 0, 0
         if nid == "Delay":
-            return int(self.literal(node, "delay_msec", "unsigned")[0]), 0, 0
+            return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
         return 0, 0, 0
 
     def lower(self) -> Program:
@@ -315,7 +322,7 @@ class _Lowerer:
         child_table: list[int] = []
         nodes: list[IRNode] = []
         for index, r in enumerate(raw):
-            node: Node = r["node"]
+            node = r["node"]
             kids = tuple(children[index])
             params = data.params.get(index) or self.params(node, len(kids))
             reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id

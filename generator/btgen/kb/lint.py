@@ -659,7 +659,7 @@ def _build_model(path: str, entries: Sequence[_Entry], warnings: Sequence[Diagno
     locations = []
     for lid in sorted(by_id):
         e = by_id[lid]
-        first = min((x.key.loc for x in e.values()), key=lambda l: (l.line, l.col))
+        first = min((x.key.loc for x in e.values()), key=lambda loc: (loc.line, loc.col))
         locations.append(
             Location(
                 id=lid,

@@ -51,7 +51,7 @@ class NodeSpec:
     max_children: Optional[int] = 0  # None: no upper bound
     description: str = ""
     loc: Optional[Loc] = None  # where a TreeNodesModel declares it
-    _index: dict = field(default=None, compare=False, hash=False, repr=False)  # type: ignore[assignment]
+    _index: dict = field(default=None, compare=False, hash=False, repr=False)  # type: ignore[arg-type]  # filled in __post_init__
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_index", {p.name: p for p in self.ports})

@@ -95,6 +95,8 @@ class Mission:
     warnings: tuple[Diagnostic, ...] = ()
     # Scripting enums (enums.py): (name, value) as registerScriptingEnum registers them.
     enums: tuple[tuple[str, int], ...] = ()
+    # User port types (usertypes.py: `--type NAME=CPP_TYPE@HEADER`): usertypes.UserType each.
+    user_types: tuple[Any, ...] = ()
 
     def tree(self, tree_id: str) -> TreeDef:
         for t in self.trees:

@@ -106,8 +106,8 @@ def build_cpp(
 def _check_no_user_nodes(mission) -> None:
     """The scenario runner scripts leaves only: a Control or Decorator of the mission's own
     TreeNodesModel needs robot code (the interpreter says the same)."""
-    from btgen.interp.scenario import user_node_kind, user_node_message
     from btgen.ir.lower import _expanded
+    from btgen.lang.leaves import user_node_kind, user_node_message
 
     for node, _, _, _ in _expanded(mission):
         kind = user_node_kind(mission, node)
@@ -174,7 +174,7 @@ def build_mission_executable(
                 f"cannot build the C++ executor: the cache directory `{cache_dir()}` is not "
                 f"usable ({e.strerror or e}); set BTGEN_CACHE_DIR to a writable directory",
             )
-        )
+        ) from None
     try:
         for out in outputs:
             (work / out.name).write_text(out.text, encoding="utf-8")

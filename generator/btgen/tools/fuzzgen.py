@@ -1,4 +1,4 @@
-"""Random valid missions and scenarios for differential testing (issue 8).
+"""Random valid missions and scenarios for differential testing (reliability).
 
 :func:`random_case` turns a seed into a mission (BTCPP_format="4" XML) and a
 few scenarios, deterministically: the same seed and feature set give the
@@ -28,7 +28,7 @@ Feature sets:
 - ``hostile``: all of ``dynamic`` with the leaf models, their ports and the integer
   entries renamed to names of HOSTILE_NAMES (C++ keywords, macros, the runtime's and the
   generated code's own names), Move's typed ports first written with the other kind of
-  number (``i0 := 2.0`` for an int port, ``d := 1`` for a double one), issue 14.
+  number (``i0 := 2.0`` for an int port, ``d := 1`` for a double one).
 
 Every mission the generator writes passes ``btgen validate`` by construction
 (the differential driver counts and reports any that does not); whether the
@@ -102,7 +102,7 @@ ODD_NAMES = (
     "<&>",
 )
 
-# Names that must survive the trip to C++ identifiers (issue 14): what the generated code and
+# Names that must survive the trip to C++ identifiers: what the generated code and
 # the runtime declare or use unqualified, what the C library declares at global scope and a
 # few macros; C++ keywords come from naming.CPP_KEYWORDS. Drawn for model IDs, ports, keys.
 HOSTILE_NAMES = (
@@ -589,13 +589,14 @@ class _Gen:
         """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
         rng = self.rng
         i0, i1, d = rng.randint(0, 3), rng.randint(0, 3), "0.5"
+        i0_text = str(i0)
         if self.hostile:
             # The other kind of number as the first write of a typed entry (`goal` is an int port,
             # `speed` a double one): 4.6.2 keeps the value's kind in the empty entry.
-            i0 = rng.choice((i0, f"{i0}.0", f"-{i0}", f"{2 * i0} / 2"))
+            i0_text = rng.choice((str(i0), f"{i0}.0", f"-{i0}", f"{2 * i0} / 2"))
             d = rng.choice(("0.5", "1", "-2", "3 / 2", "2.0"))
         init = (
-            f"i0 := {i0}; i1 := {i1}; s := '{rng.choice('abc')}'; "
+            f"i0 := {i0_text}; i1 := {i1}; s := '{rng.choice('abc')}'; "
             f"flag := {rng.choice(('true', 'false'))}; d := {d}; u := 'x'"
         )
         extra = ""

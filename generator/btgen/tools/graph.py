@@ -194,11 +194,11 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
         raise _error(path, 1, 1, f"the log has {count} records; there is no record {record}")
     status: dict[int, str] = {}
     for k in range(count if record is None else record):
-        uid = int.from_bytes(body[9 * k + 6 : 9 * k + 8], "little")
+        rec_uid = int.from_bytes(body[9 * k + 6 : 9 * k + 8], "little")
         code = body[9 * k + 8]
-        if uid not in mine or code >= len(STATUS_NAMES):
-            raise _error(path, 1, 1, f"record {k + 1}: UID {uid} status {code} is not valid for this mission")
-        _was(status, uid, STATUS_NAMES[code])
+        if rec_uid not in mine or code >= len(STATUS_NAMES):
+            raise _error(path, 1, 1, f"record {k + 1}: UID {rec_uid} status {code} is not valid for this mission")
+        _was(status, rec_uid, STATUS_NAMES[code])
     return status, count if record is None else record
 
 
@@ -266,7 +266,8 @@ def dot_text(
         )
         cells += "".join(f'<td bgcolor="{WAS_FILL[s]}">was {s}</td>' for s in ("SUCCESS", "FAILURE", "SKIPPED"))
         out.append(
-            f'  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0"><tr>{cells}</tr></table>>];'
+            '  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0">'
+            f"<tr>{cells}</tr></table>>];"
         )
     out.append("}")
     return "\n".join(out) + "\n"

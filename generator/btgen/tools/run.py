@@ -12,17 +12,11 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
-from collections.abc import Sequence
 
-from btgen.diagnostics import Diagnostic
+from btgen.diagnostics import print_diagnostics
 from btgen.frontend import enums
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
-
-
-def _print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    for d in diags:
-        print(str(d), file=sys.stderr)
 
 
 def run_command(args) -> int:
@@ -52,9 +46,9 @@ def run_command(args) -> int:
         load_mission(args.mission, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)),
         enums.from_args(args),
     )
-    _print_diagnostics(mission.warnings)
+    print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
-    _print_diagnostics(warnings)
+    print_diagnostics(warnings)
 
     out = sys.stdout
 

@@ -41,6 +41,7 @@ SUCCESS_LEAVES = ("Work", "Ready")  # an Action and a Condition, both default SU
 KINDS = ("balanced", "reactive", "subtrees", "scripts")
 
 # The script variant: leaves that succeed, and one that fails, over entry `n`.
+SUCCESS_LEAF_ELEMENTS = tuple(f"<{leaf}/>" for leaf in SUCCESS_LEAVES)
 SCRIPT_SUCCESS_LEAVES = (
     '<Script code="n += 1"/>',
     '<ScriptCondition code="n &gt;= 0"/>',
@@ -56,7 +57,7 @@ def _body(
     *,
     sequence: str = "Sequence",
     fallback: str = "Fallback",
-    success_leaves: Sequence[str] = tuple(f"<{x}/>" for x in SUCCESS_LEAVES),
+    success_leaves: Sequence[str] = SUCCESS_LEAF_ELEMENTS,
     failure_leaf: str = "<AlwaysFailure/>",
     name_prefix: str = "",
 ) -> list[str]:

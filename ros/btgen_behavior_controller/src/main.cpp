@@ -30,7 +30,7 @@
 #include "phrases.hpp"
 
 // ==== Groot2 hook ==============================================================================
-// Issue 13 adds a Groot2 publisher to the btgen runtime (btgen/groot2.hpp,
+// The btgen runtime has a Groot2 publisher (btgen/groot2.hpp,
 // CMake target btgen::groot2). When that target exists, CMakeLists.txt
 // defines BTGEN_BEHAVIOR_CONTROLLER_WITH_GROOT2 and the mission is published
 // on ~groot2_port (and the next port), as BT::Groot2Publisher does in the

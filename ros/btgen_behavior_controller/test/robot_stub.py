@@ -197,7 +197,7 @@ def main():
         rospy.sleep(max(0.0, start + delay - time.time()))
         srv_type, method = SERVICES[name]
         rospy.Service(name, srv_type, getattr(robot, method))
-        print("robot_stub: advertised %s at %.6f" % (name, time.time()), flush=True)
+        print(f"robot_stub: advertised {name} at {time.time():.6f}", flush=True)
     print("robot_stub: ready", flush=True)
     rospy.spin()
 

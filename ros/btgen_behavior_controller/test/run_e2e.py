@@ -128,9 +128,9 @@ class Expect:
     def message(self, lid, which):
         loc = self.locations[lid]
         lang = {"English": "english", "IsiZulu": "isizulu", "Kinyarwanda": "kinyarwanda"}[self.language]
-        text = loc.get("%sgesturemessage%s" % (which, lang), "")
+        text = loc.get(f"{which}gesturemessage{lang}", "")
         if not text or text.startswith("No message in"):
-            self.say(loc["%sgesturemessageenglish" % which], "English")
+            self.say(loc[f"{which}gesturemessageenglish"], "English")
         else:
             self.say(text)
 
@@ -368,11 +368,13 @@ def run_scenario(sc, core, node, kb_path, kb, workdir):
         deadline = time.time() + 20
         while not (wanted - late) <= core.services():
             if time.time() > deadline or stub.poll() is not None:
-                raise Failure("the robot stub did not advertise its services (see %s)" % os.path.join(d, "stub.log"))
+                raise Failure(
+                    "the robot stub did not advertise its services (see {})".format(os.path.join(d, "stub.log"))
+                )
             time.sleep(0.1)
         config = os.path.join(d, "kb.ini")
         with open(config, "w") as f:
-            f.write("knowledgeBase %s\nverboseMode false\n" % kb_path)
+            f.write(f"knowledgeBase {kb_path}\nverboseMode false\n")
         if sc.launch:
             node_cmd = [
                 "roslaunch",
@@ -432,7 +434,7 @@ def check_mission(sc, ctx, kb, timeout=60):
         raise Failure("the node did not report the end of the mission")
     got = [m for _, _, m in log if m.startswith("behaviorController: mission ")][0].split()[2]
     if got != result:
-        raise Failure("mission %s, expected %s" % (got, result))
+        raise Failure(f"mission {got}, expected {result}")
     if sc.launch:  # roslaunch's own status; the node is `required`, so its end ends the launch
         with open(os.path.join(ctx["dir"], "node.log"), encoding="utf-8", errors="replace") as f:
             text = f.read()
@@ -478,7 +480,7 @@ def check_failing_services(sc, ctx, kb):
     expected = ['SayText "2" failed', "Navigate failed", 'SetAnimateBehavior "enabled" failed']
     for text in expected:
         if not any(text in m for m in fallbacks):
-            raise Failure("no HandleFallBack report for %s; reports: %s" % (text, fallbacks))
+            raise Failure(f"no HandleFallBack report for {text}; reports: {fallbacks}")
     if len(fallbacks) != len(expected):
         raise Failure("%d HandleFallBack reports, expected %d: %s" % (len(fallbacks), len(expected), fallbacks))
 
@@ -488,17 +490,17 @@ def check_missing_service(sc, ctx, kb):
     # The first reports may also name the topics (their publishers take a moment to connect).
     waits = [m for sev, _, m in log if sev == "WARN" and "waiting for" in m]
     if not waits or waits[-1] != "behaviorController: waiting for service " + TABLET:
-        raise Failure("the node did not report waiting for %s alone: %s" % (TABLET, waits))
+        raise Failure(f"the node did not report waiting for {TABLET} alone: {waits}")
     if any("service" in m and TABLET not in m for m in waits) or any(m.count("service ") > 1 for m in waits):
-        raise Failure("the node reported waiting for another service: %s" % waits)
+        raise Failure(f"the node reported waiting for another service: {waits}")
     with open(os.path.join(ctx["dir"], "stub.log"), encoding="utf-8") as f:
-        m = re.search(r"advertised %s at (\d+\.\d+)" % re.escape(TABLET), f.read())
+        m = re.search(rf"advertised {re.escape(TABLET)} at (\d+\.\d+)", f.read())
     if m is None:
-        raise Failure("the stub did not advertise %s" % TABLET)
+        raise Failure(f"the stub did not advertise {TABLET}")
     first = read_calls(ctx["calls"])[0]["t"]
     if first < float(m.group(1)):
         raise Failure(
-            "the mission called %s before %s was advertised" % (read_calls(ctx["calls"])[0]["service"], TABLET)
+            "the mission called {} before {} was advertised".format(read_calls(ctx["calls"])[0]["service"], TABLET)
         )
     if message_time(log, r"all 9 services and both topics are available") is None:
         raise Failure("the node did not report that everything is available")
@@ -513,7 +515,7 @@ def check_bad_parameter(sc, ctx, kb):
     if status != 2:
         raise Failure("exit status %d for a bad ~language, expected 2" % status)
     log = node_log(os.path.join(ctx["dir"], "node.log"))
-    want = 'behaviorController: ~language "%s": expected English, IsiZulu or Kinyarwanda' % sc.language
+    want = f'behaviorController: ~language "{sc.language}": expected English, IsiZulu or Kinyarwanda'
     if not any(sev == "FATAL" and m == want for sev, _, m in log):
         raise Failure("no FATAL report of the bad ~language in the node's log")
     time.sleep(0.3)
@@ -526,7 +528,7 @@ def check_sigint(sc, ctx, kb):
     deadline = time.time() + 40
     while not any(c["service"] == GOAL for c in read_calls(ctx["calls"])):
         if time.time() > deadline or ctx["node"].poll() is not None:
-            raise Failure("the node never called %s" % GOAL)
+            raise Failure(f"the node never called {GOAL}")
         time.sleep(0.05)
     time.sleep(0.3)
     n_before = len(read_calls(ctx["calls"]))
@@ -540,7 +542,7 @@ def check_sigint(sc, ctx, kb):
     if status != 0:
         raise Failure("exit status %d after SIGINT" % status)
     if took > 5:
-        raise Failure("the node took %.1f s to stop after SIGINT" % took)
+        raise Failure(f"the node took {took:.1f} s to stop after SIGINT")
     time.sleep(0.5)
     after = read_calls(ctx["calls"])[n_before:]
     if after:
@@ -548,7 +550,7 @@ def check_sigint(sc, ctx, kb):
     log = node_log(os.path.join(ctx["dir"], "node.log"))
     for text in ("interrupted: halting the mission", "behaviorController: shutting down"):
         if message_time(log, re.escape(text)) is None:
-            raise Failure('no "%s" in the node\'s log' % text)
+            raise Failure(f'no "{text}" in the node\'s log')
     expected, _ = expected_for(sc, kb)
     calls = read_calls(ctx["calls"])
     check_calls(calls, expected[: len(calls)])
@@ -610,7 +612,7 @@ def main():
         core.stop()
         if not args.keep and failed == 0:
             shutil.rmtree(workdir, ignore_errors=True)
-    print("ros1 e2e: Groot2: %s" % GROOT2["status"])
+    print("ros1 e2e: Groot2: {}".format(GROOT2["status"]))
     print("ros1 e2e: %d passed, %d failed" % (passed, failed))
     return 0 if failed == 0 and passed > 0 else 1
 

@@ -63,6 +63,13 @@ struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT
 template <class S>
 struct straight_line_budget<S, std::void_t<decltype(S::kStraightLineBudget)>>
     : std::integral_constant<std::size_t, S::kStraightLineBudget> {};
+// A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
+template <class S, class = void>
+struct has_init : std::false_type {};
+template <class S>
+struct has_init<
+    S, std::void_t<decltype(S::init(std::declval<typename S::Blackboard&>(), std::declval<const ErrorSink&>()))>>
+    : std::true_type {};
 }  // namespace engine_detail
 
 // Spec requirements (the generator writes them):
@@ -85,6 +92,8 @@ struct straight_line_budget<S, std::void_t<decltype(S::kStraightLineBudget)>>
 //   static std::int64_t entry_seq(const BB&, const NodeInfo&); // update counter; -1: no entry
 //   static int switch_case(const BB&, const NodeInfo&);        // child to tick (the last: default)
 //   static int loop_pop(BB&, const NodeInfo&, ES&, bool restart);  // 1 popped, 0 empty, -1 error
+// and, optionally (missions with literals of user port types),
+//   static void init(BB&, ES&);  // converts them, once, in the constructor; reports failures
 template <class Spec, class Leaves, class Clock = SteadyClock, class Observer = NoObserver>
 class Engine {
  public:
@@ -98,8 +107,13 @@ class Engine {
   static_assert(kNodeCount <= kNoNode, "node indices are 16-bit (0 to 65534; 65535 is kNoNode)");
   static_assert(kMaxDepth >= 1 && kMaxDepth <= kNodeCount, "tree depth out of range");
 
+  // A mission with literals of user port types (btgen compile --type) converts
+  // them here, once; each that does not convert is reported to the Observer's
+  // on_error() and counted by errors().
   constexpr explicit Engine(Leaves& leaves, Clock clock = Clock{}, Observer observer = Observer{}) noexcept
-      : leaves_(&leaves), clock_(clock), observer_(observer) {}
+      : leaves_(&leaves), clock_(clock), observer_(observer) {
+    if constexpr (engine_detail::has_init<Spec>::value) Spec::init(bb_, sink());
+  }
 
   // One tick of the root, as BT::Tree::tickExactlyOnce(): when the root
   // returns SUCCESS or FAILURE it is reset to IDLE before returning.

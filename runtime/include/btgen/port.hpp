@@ -62,6 +62,7 @@ class Input {
   // The value; T{} when there is none.
   [[nodiscard]] constexpr const T& value() const noexcept { return value_; }
   [[nodiscard]] constexpr const T& operator*() const noexcept { return value_; }
+  [[nodiscard]] constexpr const T* operator->() const noexcept { return &value_; }  // (a user type's members)
   [[nodiscard]] constexpr T value_or(T fallback) const noexcept { return has_value() ? value_ : fallback; }
   [[nodiscard]] constexpr PortError error() const noexcept { return error_; }
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "btgen/clock.hpp"
-#include "btgen/scenario.hpp"
+#include "btgen/harness/scenario.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
 

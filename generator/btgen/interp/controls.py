@@ -1,0 +1,529 @@
+"""Control nodes as in BehaviorTree.CPP 4.6.2's ``src/controls/``: sequences, fallbacks,
+Parallel, IfThenElse, WhileDoElse and Switch."""
+
+from __future__ import annotations
+
+from typing import Optional
+
+from btgen.interp.tree import _TRANS, FAILURE, IDLE, MISSING, RUNNING, SKIPPED, SUCCESS, RunError, TreeNode, _run_error
+
+
+class ControlNode(TreeNode):
+    """4.6.2 ``ControlNode``: halt() resets the children (halting the RUNNING ones), then itself."""
+
+    __slots__ = ("children",)
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.children: list[TreeNode] = []
+
+    def halt(self) -> None:
+        self.reset_children()
+        self.reset_status()
+
+    def reset_children(self) -> None:
+        for c in self.children:
+            st = c.status
+            if st == RUNNING:
+                c.halt_node()
+                c.reset_status()
+            elif st != IDLE:  # resetStatus(), inlined: this is the hottest loop of a run
+                c.status = IDLE
+                c.emit((c.prefix, _TRANS[st][IDLE]))
+
+    def halt_child(self, i: int) -> None:
+        c = self.children[i]
+        if c.status == RUNNING:
+            c.halt_node()
+        c.reset_status()
+
+    def _child_idle_error(self) -> RunError:
+        return _run_error(self.model.loc, f'a child of `{self.reg_id}` "{self.name}" returned IDLE')
+
+
+class _FirstDecidingChildNode(ControlNode):
+    """The loop 4.6.2's ``SequenceNode`` and ``FallbackNode`` share, with the roles of SUCCESS
+    and FAILURE swapped: children are ticked in order from the current one; a child returning
+    ``DECIDES`` ends the node with that status (children reset), ``GOES_ON`` moves to the
+    next child, and the node returns ``GOES_ON`` when all have.
+
+    The Async variants (``make_async``) return RUNNING after a child that was IDLE completes,
+    so the next child runs on the next tick. SKIPPED follows 4.6.2's member flag
+    ``all_skipped_``: set when the node is ticked from IDLE, cleared by any child that does not
+    return SKIPPED, never reset when the loop completes. (4.7.0 counts skipped children
+    instead; the results differ when a child that was RUNNING is later skipped by ``_while``,
+    and when a completed node is ticked again.)"""
+
+    __slots__ = ("idx", "all_skipped", "asynch")
+    DECIDES = FAILURE
+    GOES_ON = SUCCESS
+
+    def __init__(self, rt, model, bb, reg_id, ports, asynch: bool = False) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.idx = 0
+        self.all_skipped = True
+        self.asynch = asynch
+
+    def halt(self) -> None:
+        self.idx = 0
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        decides, goes_on = self.DECIDES, self.GOES_ON
+        children = self.children
+        n = len(children)
+        st = self.status
+        if st == IDLE:
+            self.all_skipped = True
+        if st != RUNNING:  # setStatus(RUNNING)
+            self.status = RUNNING
+            self.emit((self.prefix, _TRANS[st][RUNNING]))
+        idx = self.idx
+        while idx < n:
+            child = children[idx]
+            prev = child.status
+            cs = child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
+            if cs == RUNNING:
+                self.idx = idx
+                return RUNNING
+            if cs == decides:
+                self.reset_children()
+                self.idx = 0
+                return decides
+            if cs == goes_on:
+                idx += 1
+                # every node has a wake-up signal in a Tree, so requiresWakeUp() holds
+                if self.asynch and prev == IDLE and idx < n:
+                    self.idx = idx
+                    return RUNNING
+            elif cs == SKIPPED:
+                idx += 1
+            else:
+                self.idx = idx
+                raise self._child_idle_error()
+        self.idx = idx
+        if idx == n:
+            self.reset_children()
+            self.idx = 0
+        return SKIPPED if self.all_skipped else goes_on
+
+
+class SequenceNode(_FirstDecidingChildNode):
+    """4.6.2 ``SequenceNode`` (Sequence, and AsyncSequence): the first FAILURE decides."""
+
+    __slots__ = ()
+    DECIDES = FAILURE
+    GOES_ON = SUCCESS
+
+
+class FallbackNode(_FirstDecidingChildNode):
+    """4.6.2 ``FallbackNode`` (Fallback, and AsyncFallback): the first SUCCESS decides."""
+
+    __slots__ = ()
+    DECIDES = SUCCESS
+    GOES_ON = FAILURE
+
+
+class SequenceWithMemoryNode(ControlNode):
+    """4.6.2 ``SequenceWithMemory``: a FAILURE halts the children from the current one on but
+    keeps the index; halt() keeps it too. SKIPPED as in SequenceNode (``all_skipped_``)."""
+
+    __slots__ = ("idx", "all_skipped")
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.idx = 0
+        self.all_skipped = True
+
+    def tick(self) -> int:
+        children = self.children
+        n = len(children)
+        if self.status == IDLE:
+            self.all_skipped = True
+        self.set_status(RUNNING)
+        while self.idx < n:
+            child = children[self.idx]
+            prev = child.status
+            cs = child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
+            if cs == RUNNING:
+                return RUNNING
+            if cs == FAILURE:
+                for i in range(self.idx, n):
+                    self.halt_child(i)
+                return FAILURE
+            if cs == SUCCESS:
+                self.idx += 1
+                if prev == IDLE and self.idx < n:  # wake-up rule
+                    return RUNNING
+            elif cs == SKIPPED:
+                self.idx += 1
+            else:
+                raise self._child_idle_error()
+        if self.idx == n:
+            self.reset_children()
+            self.idx = 0
+        return SKIPPED if self.all_skipped else SUCCESS
+
+
+class ReactiveSequenceNode(ControlNode):
+    """4.6.2 ``ReactiveSequence``: every child from the first, every tick; a RUNNING child halts
+    all the others."""
+
+    __slots__ = ()
+
+    def tick(self) -> int:
+        all_skipped = True
+        self.set_status(RUNNING)
+        children = self.children
+        n = len(children)
+        for index in range(n):
+            cs = children[index].execute_tick()
+            if cs != SKIPPED:
+                all_skipped = False
+            if cs == RUNNING:
+                for i in range(n):
+                    if i != index:
+                        self.halt_child(i)
+                return RUNNING
+            if cs == FAILURE:
+                self.reset_children()
+                return FAILURE
+            if cs == SKIPPED:
+                self.halt_child(index)
+            elif cs != SUCCESS:
+                raise self._child_idle_error()
+        self.reset_children()
+        return SKIPPED if all_skipped else SUCCESS
+
+
+class ReactiveFallbackNode(ControlNode):
+    """4.6.2 ``ReactiveFallback``."""
+
+    __slots__ = ()
+
+    def tick(self) -> int:
+        all_skipped = True
+        self.set_status(RUNNING)
+        children = self.children
+        n = len(children)
+        for index in range(n):
+            cs = children[index].execute_tick()
+            if cs != SKIPPED:
+                all_skipped = False
+            if cs == RUNNING:
+                for i in range(n):
+                    if i != index:
+                        self.halt_child(i)
+                return RUNNING
+            if cs == SUCCESS:
+                self.reset_children()
+                return SUCCESS
+            if cs == SKIPPED:
+                self.halt_child(index)
+            elif cs != FAILURE:
+                raise self._child_idle_error()
+        self.reset_children()
+        return SKIPPED if all_skipped else FAILURE
+
+
+def _threshold(value: int, n: int) -> int:
+    """ParallelNode::successThreshold / failureThreshold: negative counts from the number of children."""
+    return max(n + value + 1, 0) if value < 0 else value
+
+
+class ParallelNode(ControlNode):
+    """4.6.2 ``ParallelNode``: finished children are not ticked again; the thresholds are checked
+    after every child."""
+
+    __slots__ = ("completed", "success_count", "failure_count")
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.completed: set[int] = set()
+        self.success_count = 0
+        self.failure_count = 0
+
+    def clear(self) -> None:
+        self.completed.clear()
+        self.success_count = 0
+        self.failure_count = 0
+
+    def halt(self) -> None:
+        self.clear()
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        success_threshold = self.require_input("success_count", "int")
+        failure_threshold = self.require_input("failure_count", "int")
+        children = self.children
+        n = len(children)
+        required_success = _threshold(success_threshold, n)
+        required_failure = _threshold(failure_threshold, n)
+        if n < required_success:
+            raise _run_error(
+                self.port_loc("success_count"),
+                f'`Parallel` "{self.name}" needs {required_success} successes but has only '
+                f"{n} children: it can never succeed",
+            )
+        if n < required_failure:
+            raise _run_error(
+                self.port_loc("failure_count"),
+                f'`Parallel` "{self.name}" fails after {required_failure} failures but has only '
+                f"{n} children: it can never fail",
+            )
+        self.set_status(RUNNING)
+        skipped = 0
+        completed = self.completed
+        for i in range(n):
+            if i not in completed:
+                cs = children[i].execute_tick()
+                if cs == SKIPPED:
+                    skipped += 1
+                elif cs == SUCCESS:
+                    completed.add(i)
+                    self.success_count += 1
+                elif cs == FAILURE:
+                    completed.add(i)
+                    self.failure_count += 1
+                elif cs != RUNNING:
+                    raise self._child_idle_error()
+            if self.success_count >= required_success or (
+                success_threshold < 0 and self.success_count + skipped >= required_success
+            ):
+                self.clear()
+                self.reset_children()
+                return SUCCESS
+            if n - self.failure_count < required_success or self.failure_count == required_failure:
+                self.clear()
+                self.reset_children()
+                return FAILURE
+        return SKIPPED if skipped == n else RUNNING
+
+
+class ParallelAllNode(ControlNode):
+    """4.6.2 ``ParallelAllNode``: waits for every child; FAILURE when failures reach max_failures."""
+
+    __slots__ = ("completed", "failure_count")
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.completed: set[int] = set()
+        self.failure_count = 0
+
+    def halt(self) -> None:
+        self.completed.clear()
+        self.failure_count = 0
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        max_failures = self.require_input("max_failures", "int")
+        children = self.children
+        n = len(children)
+        threshold = _threshold(max_failures, n)
+        if n < threshold:
+            raise _run_error(
+                self.port_loc("max_failures"),
+                f'`ParallelAll` "{self.name}" fails after {threshold} failures but has only '
+                f"{n} children: it can never fail",
+            )
+        skipped = 0
+        self.set_status(RUNNING)
+        completed = self.completed
+        for i in range(n):
+            if i in completed:
+                continue
+            cs = children[i].execute_tick()
+            if cs == SUCCESS:
+                completed.add(i)
+            elif cs == FAILURE:
+                completed.add(i)
+                self.failure_count += 1
+            elif cs == SKIPPED:
+                skipped += 1
+            elif cs != RUNNING:
+                raise self._child_idle_error()
+        if skipped == n:
+            return SKIPPED
+        if skipped + len(completed) >= n:
+            for i in range(n):
+                self.halt_child(i)
+            completed.clear()
+            status = FAILURE if self.failure_count >= threshold else SUCCESS
+            self.failure_count = 0
+            return status
+        return RUNNING
+
+
+class IfThenElseNode(ControlNode):
+    """4.6.2 ``IfThenElseNode``: the condition is not re-evaluated while a branch is RUNNING.
+    A SKIPPED condition makes 4.6.2 throw; btgen reports it as an error."""
+
+    __slots__ = ("child_idx",)
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.child_idx = 0
+
+    def halt(self) -> None:
+        self.child_idx = 0
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        children = self.children
+        n = len(children)
+        self.set_status(RUNNING)
+        if self.child_idx == 0:
+            cond = children[0].execute_tick()
+            if cond == RUNNING:
+                return RUNNING
+            if cond == SUCCESS:
+                self.child_idx = 1
+            elif cond == FAILURE:
+                if n == 3:
+                    self.child_idx = 2
+                else:
+                    return FAILURE
+            else:
+                raise _skipped_condition_error(self, children[0])
+        status = children[self.child_idx].execute_tick()
+        if status == RUNNING:
+            return RUNNING
+        self.reset_children()
+        self.child_idx = 0
+        return status
+
+
+class WhileDoElseNode(ControlNode):
+    """4.6.2 ``WhileDoElseNode``: the condition every tick; switching branch halts the other one."""
+
+    __slots__ = ()
+
+    def tick(self) -> int:
+        children = self.children
+        n = len(children)
+        self.set_status(RUNNING)
+        cond = children[0].execute_tick()
+        if cond == RUNNING:
+            return RUNNING
+        if cond == SUCCESS:
+            if n == 3:
+                self.halt_child(2)
+            status = children[1].execute_tick()
+        elif cond == FAILURE:
+            if n == 3:
+                self.halt_child(1)
+                status = children[2].execute_tick()
+            else:
+                status = FAILURE
+        else:
+            raise _skipped_condition_error(self, children[0])
+        if status == RUNNING:
+            return RUNNING
+        self.reset_children()
+        return status
+
+
+def _skipped_condition_error(node: TreeNode, cond: TreeNode) -> RunError:
+    return _run_error(
+        cond.model.loc,
+        f'the condition of `{node.reg_id}` "{node.name}" (`{cond.reg_id}` '
+        f'"{cond.name}") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a '
+        f"condition child must not be skippable",
+    )
+
+
+def _to_int_prefix(text: str) -> Optional[int]:
+    """std::from_chars<int> as SwitchNode uses it: an optional '-', digits; the rest is ignored."""
+    i = 0
+    if i < len(text) and text[i] == "-":
+        i += 1
+    j = i
+    while j < len(text) and "0" <= text[j] <= "9":
+        j += 1
+    if j == i:
+        return None
+    value = int(text[:j])
+    if value < -(2**31) or value > 2**31 - 1:
+        return None
+    return value
+
+
+_FLOAT_RE = None
+
+
+def _to_real_prefix(text: str) -> Optional[float]:
+    """std::from_chars<double> (general format): the longest prefix that is a number, inf or nan."""
+    global _FLOAT_RE
+    if _FLOAT_RE is None:
+        import re
+
+        _FLOAT_RE = re.compile(
+            r"-?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)",
+            re.IGNORECASE,
+        )
+    m = _FLOAT_RE.match(text)
+    if not m:
+        return None
+    try:
+        value = float(m.group(0))
+    except ValueError:
+        return None
+    if value in (float("inf"), float("-inf")) and "inf" not in m.group(0).lower():
+        return None  # out of range: from_chars reports an error
+    return value
+
+
+def switch_equal(v1: str, v2: str) -> bool:
+    """SwitchNode's CheckStringEquality (4.6.2): as text, then as integers, then as reals."""
+    if v1 == v2:
+        return True
+    i1, i2 = _to_int_prefix(v1), _to_int_prefix(v2)
+    if i1 is not None and i2 is not None and i1 == i2:
+        return True
+    r1, r2 = _to_real_prefix(v1), _to_real_prefix(v2)
+    return bool(r1 is not None and r2 is not None and abs(r1 - r2) <= 1.1920928955078125e-07)
+
+
+class SwitchNode(ControlNode):
+    """4.6.2 ``SwitchNode<N>``: no RUNNING before the selected child is ticked; a change of case halts
+    the one that was running."""
+
+    __slots__ = ("cases", "running_child")
+
+    def __init__(self, rt, model, bb, reg_id, ports, cases: int) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.cases = cases
+        self.running_child = -1
+
+    def halt(self) -> None:
+        self.running_child = -1
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        match = self.cases
+        variable = self.get_input("variable", "string")
+        if variable is not MISSING:
+            for index in range(self.cases):
+                value = self.get_input(f"case_{index + 1}", "string")
+                if value is not MISSING and switch_equal(variable, value):
+                    match = index
+                    break
+        if self.running_child != -1 and self.running_child != match:
+            self.halt_child(self.running_child)
+        ret = self.children[match].execute_tick()
+        if ret == SKIPPED:
+            self.running_child = -1
+            return SKIPPED
+        if ret == RUNNING:
+            self.running_child = match
+        else:
+            self.reset_children()
+            self.running_child = -1
+        return ret
+
+
+# ================================================================ decorators

@@ -1,0 +1,1 @@
+"""The environment knowledge base linter (`btgen lint-kb`)."""

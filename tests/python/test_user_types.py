@@ -1,0 +1,439 @@
+"""User port types (`--type NAME=CPP_TYPE@HEADER`, TYPES in btgen_add_mission): declarations,
+the type checks of validate and compile, scripts, the generated C++ (by-value slots, typed
+accessors, a literal converted once at construction, the static_assert on non-trivially-copyable
+types) and both engines' traces without `--type`."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from btgen.frontend import usertypes
+
+ROOT = Path(__file__).resolve().parents[2]
+RUNTIME = ROOT / "runtime" / "include"
+NAV = ROOT / "tests" / "cpp" / "user_types"
+MISSION = ROOT / "tests" / "cpp" / "missions" / "user_types.xml"
+POSE = ["--type", "Pose2D=nav::Pose2D@nav/pose2d.hpp"]
+TYPES = POSE + ["--type", "Pose3D=nav::Pose3D@nav/pose3d.hpp"]
+
+
+def _btgen(*args, cwd):
+    return subprocess.run(
+        [sys.executable, "-m", "btgen", *args], cwd=str(cwd), capture_output=True, text=True, check=False
+    )
+
+
+def _mission(tmp_path, name, body, models):
+    (tmp_path / name).write_text(
+        f"""<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+{body}
+  </BehaviorTree>
+  <TreeNodesModel>
+{models}
+  </TreeNodesModel>
+</root>
+""",
+        encoding="utf-8",
+    )
+    return name
+
+
+def _both(tmp_path, name, *types):
+    """validate and compile give the same diagnostics (exit 1); the stderr."""
+    v = _btgen("validate", name, *types, cwd=tmp_path)
+    c = _btgen("compile", name, "-o", "out", *types, cwd=tmp_path)
+    assert (v.returncode, c.returncode) == (1, 1), (v.stderr, c.stderr)
+    assert v.stderr == c.stderr
+    assert "Traceback" not in v.stderr
+    return v.stderr
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("Pose2D=nav::Pose2D@nav/pose2d.hpp", ("Pose2D", "nav::Pose2D", "nav/pose2d.hpp", '"nav/pose2d.hpp"')),
+        (
+            " std::vector< double > = std::array<double,3> @ <array>",
+            ("std::vector< double >", "std::array<double, 3>", "<array>", "<array>"),
+        ),
+        (
+            "Ms=::std::chrono::duration<long long, std::milli>@<chrono>",
+            ("Ms", "::std::chrono::duration<long long, std::milli>", "<chrono>", "<chrono>"),
+        ),
+    ],
+)
+def test_declarations(text, expected):
+    t = usertypes.parse(text)
+    assert (t.name, t.cpp_type, t.header, t.include) == expected
+
+
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        (
+            "Pose2D=nav::Pose2D",
+            "`Pose2D=nav::Pose2D` is not a type declaration: write NAME=CPP_TYPE@HEADER "
+            "(for example Pose2D=nav::Pose2D@nav/pose2d.hpp)",
+        ),
+        (
+            "std::string=my::Text@t.hpp",
+            "`std::string` is a type btgen already knows (string); --type declares only types that are not built in",
+        ),
+        (
+            "Pose2D=nav:Pose2D@p.hpp",
+            "`nav:Pose2D` is not a C++ type btgen can use for `Pose2D`: `:` cannot appear in a C++ type name here",
+        ),
+        (
+            "Pose2D=nav::Pose2D*@p.hpp",
+            "`nav::Pose2D*` is not a C++ type btgen can use for `Pose2D`: pointers and "
+            "references cannot live in the blackboard by value",
+        ),
+        (
+            "Pose2D=std::array<double,@p.hpp",
+            "`std::array<double,` is not a C++ type btgen can use for `Pose2D`: it is incomplete",
+        ),
+        (
+            "Pose2D=struct Pose@p.hpp",
+            "`struct Pose` is not a C++ type btgen can use for `Pose2D`: `struct` is a C++ keyword",
+        ),
+        (
+            "Pose2D=nav::Pose2D@<p.hpp",
+            "`<p.hpp` is not a header name: write path/to/header.hpp or <path/to/header.hpp>",
+        ),
+    ],
+)
+def test_bad_declarations_are_clean_errors(tmp_path, spec, message):
+    name = _mission(tmp_path, "m.xml", "    <AlwaysSuccess/>", "")
+    stderr = _both(tmp_path, name, "--type", spec)
+    assert stderr == f"--type:1:1: error: {message}\n"
+
+
+def test_a_type_declared_twice_differently(tmp_path):
+    name = _mission(tmp_path, "m.xml", "    <AlwaysSuccess/>", "")
+    stderr = _both(tmp_path, name, *POSE, "--type", "Pose2D=geo::Pose@geo.hpp")
+    assert stderr == (
+        "--type:1:1: error: type `Pose2D` is declared twice, as nav::Pose2D@nav/pose2d.hpp and as geo::Pose@geo.hpp\n"
+    )
+
+
+CLASH_MODELS = """    <Action ID="ComputeGoal"><output_port name="goal" type="Pose2D"/></Action>
+    <Action ID="Turn"><input_port name="heading" type="{type}"/></Action>"""
+
+
+@pytest.mark.parametrize("other", ["Pose3D", "double"])
+def test_a_type_clash_across_a_subtree_remap(tmp_path, other):
+    (tmp_path / "m.xml").write_text(
+        f"""<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <ComputeGoal goal="{{target}}"/>
+      <SubTree ID="Follow" pose="{{target}}"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Follow">
+    <Turn heading="{{pose}}"/>
+  </BehaviorTree>
+  <TreeNodesModel>
+{CLASH_MODELS.format(type=other)}
+  </TreeNodesModel>
+</root>
+""",
+        encoding="utf-8",
+    )
+    stderr = _both(tmp_path, "m.xml", *TYPES)
+    assert stderr == (
+        f"m.xml:9:20: error: port `heading` of `Turn`: blackboard entry `pose` was created as Pose2D, "
+        f"but port `heading` uses it as {other} (created as Pose2D by port `goal` of `ComputeGoal` "
+        f'"ComputeGoal" at m.xml:4:26)\n'
+    )
+
+
+def test_a_user_port_reading_a_string_entry(tmp_path):
+    name = _mission(
+        tmp_path,
+        "m.xml",
+        """    <Sequence>
+      <Describe text="{target}"/>
+      <MoveTo goal="{target}"/>
+    </Sequence>""",
+        """    <Action ID="Describe"><output_port name="text" type="std::string"/></Action>
+    <Action ID="MoveTo"><input_port name="goal" type="Pose2D"/></Action>""",
+    )
+    stderr = _both(tmp_path, name, *POSE)
+    assert stderr == (
+        'm.xml:5:21: error: port `goal` of `MoveTo` "MoveTo" (Pose2D) reads blackboard entry '
+        "`target`, which holds a string (first written by output port `text` of `Describe` "
+        '"Describe" at m.xml:4:23); a Pose2D port reads only Pose2D entries in the C++ back end '
+        "(BehaviorTree.CPP would convert a string with convertFromString<Pose2D> on every read)\n"
+    )
+
+
+@pytest.mark.parametrize(
+    "code, column, verb", [("x := 1; target := target + 1", 29, "writes"), ("ok := target == 2", 27, "reads")]
+)
+def test_scripts_cannot_use_user_typed_entries(tmp_path, code, column, verb):
+    name = _mission(
+        tmp_path,
+        "m.xml",
+        f"""    <Sequence>
+      <ComputeGoal goal="{{target}}"/>
+      <Script code="{code}"/>
+    </Sequence>""",
+        """    <Action ID="ComputeGoal"><output_port name="goal" type="Pose2D"/></Action>""",
+    )
+    stderr = _both(tmp_path, name, *POSE)
+    assert stderr == (
+        f'm.xml:5:{column}: error: `code` of `Script` "Script" {verb} `target`, an entry of user type '
+        f"Pose2D (nav::Pose2D, --type Pose2D); scripts cannot use user-typed entries (read and write "
+        f"them from your nodes through their typed ports)\n"
+    )
+
+
+def _untyped_mission(tmp_path):
+    """user_types.xml without its SetBlackboard copy (without --type, a copy of text into an entry of an
+    unknown type is refused, as before)."""
+    text = MISSION.read_text(encoding="utf-8")
+    text = text.replace('      <SetBlackboard output_key="saved" value="{target}"/>\n', "")
+    text = text.replace('goal="{saved}"', 'goal="{target}"')
+    assert "saved" not in text
+    (tmp_path / "untyped.xml").write_text(text, encoding="utf-8")
+    return "untyped.xml"
+
+
+def test_without_type_an_unknown_port_type_stays_text(tmp_path):
+    r = _btgen("compile", _untyped_mission(tmp_path), "-o", "out", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    header = (tmp_path / "out" / "untyped.hpp").read_text(encoding="utf-8")
+    assert "btgen::Input<std::string_view> goal()" in header and "Pose2D>" not in header
+    r = _btgen("compile", str(MISSION), "-o", "typed", *POSE, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    header = (tmp_path / "typed" / "user_types.hpp").read_text(encoding="utf-8")
+    assert '#include "nav/pose2d.hpp"' in header
+    assert "btgen::Input<::nav::Pose2D> goal()" in header and "bool set_goal(const ::nav::Pose2D& value)" in header
+    assert "btgen::Slot<::nav::Pose2D> target" in header
+    assert "static void init(" in header
+
+
+def test_both_engines_agree_without_type(tmp_path):
+    """`btgen run` scripts the leaves: a user-typed port's literal is opaque text to it."""
+    (tmp_path / "m.scenario").write_text("ticks 2\nleaf again FAILURE SUCCESS\n", encoding="utf-8")
+    name = _untyped_mission(tmp_path)
+    runs = [_btgen("run", name, "--scenario", "m.scenario", "--engine", e, cwd=tmp_path) for e in ("interp", "cpp")]
+    for r in runs:
+        assert r.returncode == 0, r.stderr
+    assert runs[0].stdout == runs[1].stdout
+    assert 'MoveTo "again"' in runs[0].stdout
+
+
+def _cxx(tmp_path, out, main, *extra, compiler="c++"):
+    (tmp_path / "main.cpp").write_text(main, encoding="utf-8")
+    return subprocess.run(
+        [
+            compiler,
+            "-std=c++17",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Werror",
+            "-I",
+            str(RUNTIME),
+            "-I",
+            str(NAV),
+            "-I",
+            str(tmp_path),
+            "-I",
+            str(out),
+            str(out / "user_types.cpp"),
+            str(tmp_path / "main.cpp"),
+            *extra,
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+
+
+BAD_LITERAL_MAIN = r"""#include <cstdio>
+#include "user_types.hpp"
+struct Leaves {
+  int kconversion = 0;
+  btgen::Status tick(user_types::leaf::MoveTo& m, const btgen::NodeInfo&) {
+    const auto goal = m.goal();
+    if (!goal && goal.error() == btgen::PortError::kConversion) ++kconversion;
+    return goal ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+  btgen::Status tick(user_types::leaf::ComputeGoal& m, const btgen::NodeInfo&) {
+    return m.set_goal(nav::Pose2D{1, 2, 3}) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+};
+struct Print {
+  void on_status_change(const btgen::NodeInfo&, btgen::Status, btgen::Status) noexcept {}
+  void on_error(const btgen::RuntimeError& e) noexcept {
+    std::printf("%.*s: error: %.*s\n", static_cast<int>(e.where.size()), e.where.data(),
+                static_cast<int>(e.message.size()), e.message.data());
+  }
+};
+int main() {
+  Leaves leaves;
+  const int before = nav::convert_calls;
+  user_types::UserTypes<Leaves, btgen::ManualClock, Print> mission(leaves);
+  std::printf("errors %d calls %d\n", static_cast<int>(mission.errors()), nav::convert_calls - before);
+  const btgen::Status s = mission.tick();
+  std::printf("tick %s kConversion %d calls %d\n", s == btgen::Status::FAILURE ? "FAILURE" : "other",
+              leaves.kconversion, nav::convert_calls - before);
+  return 0;
+}
+"""
+
+
+@pytest.mark.parametrize(
+    "case, compiler", [("literal", "g++"), ("literal", "clang++"), ("constant", "g++"), ("set", "g++")]
+)
+def test_a_literal_that_does_not_convert_is_reported_at_construction(tmp_path, case, compiler):
+    text = MISSION.read_text(encoding="utf-8")
+    tick = "tick FAILURE kConversion 1 calls 3\n"
+    if case == "literal":
+        text = text.replace('goal="1.5;-2;0.25"', 'goal="1.5;north;0.25"')
+        first = (
+            'user_types.xml:5:33: error: port `goal` of `MoveTo` "home": `1.5;north;0.25` does not convert to '
+            "Pose2D (nav::Pose2D): its convertFromString returned false\n"
+        )
+    elif case == "constant":  # a SubTree's constant port read by a Pose2D port: converted once too
+        text = text.replace('pose="0;1;2"', 'pose="0;1"')
+        first = (
+            'user_types.xml:10:47: error: port `goal` of `MoveTo` "follow_goal": `0;1` (the constant port '
+            "`pose` of its SubTree) does not convert to Pose2D (nav::Pose2D): its convertFromString returned "
+            "false\n"
+        )
+    else:  # a SetBlackboard literal into a Pose2D entry: converted once; the node fails when it runs
+        text = text.replace('value="7;8;9"', 'value="7;8"')
+        first = (
+            'user_types.xml:11:49: error: `value` of `SetBlackboard` "SetBlackboard" (`7;8`, for `target`) '
+            "does not convert to Pose2D (nav::Pose2D): its convertFromString returned false\n"
+        )
+        tick = (
+            'user_types.xml:11:49: error: `SetBlackboard` "SetBlackboard": `7;8` does not convert to Pose2D '
+            "(nav::Pose2D) for `target`\ntick FAILURE kConversion 0 calls 3\n"
+        )
+    (tmp_path / "user_types.xml").write_text(text, encoding="utf-8")
+    r = _btgen("compile", "user_types.xml", "-o", "out", *POSE, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    built = _cxx(tmp_path, tmp_path / "out", BAD_LITERAL_MAIN, "-o", str(tmp_path / "run"), compiler=compiler)
+    assert built.returncode == 0, built.stderr
+    run = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=True)
+    assert run.stdout == first + "errors 1 calls 3\n" + tick
+
+
+def test_a_type_that_is_not_trivially_copyable_is_a_clear_compile_error(tmp_path):
+    (tmp_path / "nav").mkdir()
+    (tmp_path / "nav" / "named.hpp").write_text(
+        """#pragma once
+#include <string>
+#include <string_view>
+namespace nav {
+struct Named { std::string name; };
+inline bool convertFromString(std::string_view text, Named& out) { out.name = std::string(text); return true; }
+}  // namespace nav
+""",
+        encoding="utf-8",
+    )
+    r = _btgen("compile", str(MISSION), "-o", "out", "--type", "Pose2D=nav::Named@nav/named.hpp", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    built = _cxx(tmp_path, tmp_path / "out", '#include "user_types.hpp"\n', "-fsyntax-only")
+    assert built.returncode != 0
+    assert (
+        "port type `Pose2D` (btgen compile --type Pose2D=nav::Named@nav/named.hpp): nav::Named must be trivially "
+        "copyable: the mission's static blackboard holds it by value"
+    ) in built.stderr
+
+
+UNTYPED_MAIN = r"""#include <cstdio>
+#include "m.hpp"
+struct Leaves {
+  bool wrong = false;
+  btgen::Status tick(m::leaf::Plan& m, const btgen::NodeInfo&) {
+    if (wrong) return m.set_out(1.0) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+    return m.set_out(nav::Pose2D{1, 2, 3}) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+  btgen::Status tick(m::leaf::Compute&, const btgen::NodeInfo&) { return btgen::Status::SUCCESS; }
+  btgen::Status tick(m::leaf::Use& m, const btgen::NodeInfo&) {
+    const auto pose = m.goal<nav::Pose2D>();
+    const auto number = m.goal<double>();
+    std::printf("use %d %g %g %d\n", pose.has_value(), pose->y, pose->theta,
+                number.error() == btgen::PortError::kConversion);
+    return btgen::Status::SUCCESS;
+  }
+};
+struct Print {
+  void on_status_change(const btgen::NodeInfo&, btgen::Status, btgen::Status) noexcept {}
+  void on_error(const btgen::RuntimeError& e) noexcept {
+    std::printf("%.*s: error: %.*s\n", static_cast<int>(e.where.size()), e.where.data(),
+                static_cast<int>(e.message.size()), e.message.data());
+  }
+};
+int main(int argc, char**) {
+  Leaves leaves;
+  leaves.wrong = argc > 1;
+  m::M<Leaves, btgen::ManualClock, Print> mission(leaves);
+  std::printf("%s\n", mission.tick() == btgen::Status::SUCCESS ? "SUCCESS" : "FAILURE");
+}
+"""
+
+
+def test_untyped_ports_take_a_user_typed_entry_as_its_own_type_only(tmp_path):
+    name = _mission(
+        tmp_path,
+        "m.xml",
+        """    <Sequence>
+      <Plan out="{p}"/>
+      <Compute goal="{p}"/>
+      <Use goal="{p}"/>
+    </Sequence>""",
+        """    <Action ID="Plan"><output_port name="out"/></Action>
+    <Action ID="Compute"><output_port name="goal" type="Pose2D"/></Action>
+    <Action ID="Use"><input_port name="goal"/></Action>""",
+    )
+    r = _btgen("compile", name, "-o", "out", *POSE, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
+    built = _cxx(tmp_path, tmp_path / "out", UNTYPED_MAIN, "-o", str(tmp_path / "run"))
+    assert built.returncode == 0, built.stderr
+    ok = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=True)
+    assert ok.stdout == "use 1 2 3 1\nSUCCESS\n"
+    wrong = subprocess.run([str(tmp_path / "run"), "x"], capture_output=True, text=True, check=True)
+    assert wrong.stdout == (
+        'm.xml:4:18: error: output port `out` of `Plan` "Plan" writes a value of another type '
+        "than Pose2D (nav::Pose2D) to `p`\nFAILURE\n"
+    )
+
+
+def test_generated_names_never_capture_user_names(tmp_path):
+    """The blackboard's `ulit<k>_` members (converted literals) never collide with an entry's member, and a
+    user type named like a generated one (`Blackboard`, at global scope) is named from `::`."""
+    (tmp_path / "board.hpp").write_text(
+        """#pragma once
+#include <string_view>
+struct Blackboard { double width; };
+inline bool convertFromString(std::string_view text, Blackboard& out) { out.width = double(text.size()); return true; }
+""",
+        encoding="utf-8",
+    )
+    name = _mission(
+        tmp_path,
+        "m.xml",
+        """    <Sequence>
+      <MoveTo goal="1;2;3" board="wide"/>
+      <Script code="ulit0_ := 1"/>
+    </Sequence>""",
+        """    <Action ID="MoveTo">
+      <input_port name="goal" type="Pose2D"/><input_port name="board" type="Board"/>
+    </Action>""",
+    )
+    r = _btgen("compile", name, "-o", "out", *POSE, "--type", "Board=Blackboard@board.hpp", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "out" / "user_types.cpp").symlink_to(tmp_path / "out" / "m.cpp")
+    built = _cxx(tmp_path, tmp_path / "out", '#include "m.hpp"\n', "-fsyntax-only")
+    assert built.returncode == 0, built.stderr
