@@ -1465,157 +1465,610 @@ struct Spec {
   static constexpr bool kHasParallel = true;
   using Blackboard = detail::Blackboard;
 
-  // kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2, id, name, source
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
+  //   kind,
+  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //   id, name,
+  //   source
+  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
+  // SUPPORTED in generator/btgen/ir/lower.py).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 5, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("LabTour", 7), std::string_view("missions/LabTour.xml:24:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 1, 2, 0, 5u, 0, 30, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13), std::string_view("missions/LabTour.xml:28:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 2, 3, 0, 5u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16), std::string_view("missions/LabTour.xml:29:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 3, 4, 2, 6u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:75:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 4, 5, 3, 9u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:76:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 5, 6, 4, 11u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21), std::string_view("missions/LabTour.xml:77:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 4, 11u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:78:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 7, 8, 3, 11u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:80:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 8, 9, 7, 13u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:81:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 9, 10, 7, 13u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:82:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 10, 11, 3, 13u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14), std::string_view("missions/LabTour.xml:84:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 11, 12, 10, 14u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19), std::string_view("missions/LabTour.xml:85:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 12, 13, 0, 14u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17), std::string_view("missions/LabTour.xml:30:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 13, 14, 12, 15u, 5, btgen::kNoModel, 9u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:91:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 14, 15, 13, 20u, 2, btgen::kNoModel, 11u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:92:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 15, 16, 14, 22u, 3, btgen::kNoModel, 13u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30), std::string_view("missions/LabTour.xml:93:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 16, 17, 15, 25u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22), std::string_view("missions/LabTour.xml:94:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 17, 18, 15, 25u, 0, 31, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14), std::string_view("missions/LabTour.xml:95:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 18, 19, 15, 25u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21), std::string_view("missions/LabTour.xml:96:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 19, 20, 14, 25u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:99:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 20, 21, 13, 25u, 2, btgen::kNoModel, 15u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:101:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 21, 22, 20, 27u, 0, 32, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13), std::string_view("missions/LabTour.xml:102:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 22, 23, 20, 27u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:103:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 23, 24, 13, 27u, 2, btgen::kNoModel, 17u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:110:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 24, 25, 23, 29u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:111:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 25, 26, 23, 29u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:112:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 26, 27, 13, 29u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22), std::string_view("missions/LabTour.xml:114:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 27, 28, 13, 29u, 2, btgen::kNoModel, 19u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:120:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 28, 29, 27, 31u, 0, 29, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SocialOvertAttentionMode", 24), std::string_view("SocialOvertAttentionMode", 24), std::string_view("missions/LabTour.xml:121:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 29, 30, 27, 31u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:122:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 30, 31, 0, 31u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("III. QueryVisitorResponse", 25), std::string_view("missions/LabTour.xml:34:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 31, 32, 30, 32u, 2, btgen::kNoModel, 21u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:128:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 32, 33, 31, 34u, 2, btgen::kNoModel, 23u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:134:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 33, 34, 32, 36u, 0, 23, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("QueryTourSpeech", 15), std::string_view("QueryTourSpeech", 15), std::string_view("missions/LabTour.xml:135:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 34, 35, 32, 36u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:136:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 35, 36, 31, 36u, 2, btgen::kNoModel, 25u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14), std::string_view("missions/LabTour.xml:138:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 36, 37, 35, 38u, 2, btgen::kNoModel, 27u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12), std::string_view("missions/LabTour.xml:139:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 37, 38, 36, 40u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12), std::string_view("missions/LabTour.xml:140:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 38, 39, 36, 40u, 1, btgen::kNoModel, 29u, btgen::kNoSlot, 0, 3, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17), std::string_view("missions/LabTour.xml:144:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 39, 40, 38, 41u, 2, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:145:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 40, 41, 39, 43u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:146:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 41, 42, 40, 45u, 0, 26, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SayYesNoSpeech", 14), std::string_view("SayYesNoSpeech", 14), std::string_view("missions/LabTour.xml:147:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 42, 43, 40, 45u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:148:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 43, 44, 39, 45u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsYesNoUttered", 14), std::string_view("IsYesNoUttered", 14), std::string_view("missions/LabTour.xml:150:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 44, 45, 35, 45u, 1, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 3, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12), std::string_view("missions/LabTour.xml:160:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 45, 46, 44, 46u, 2, btgen::kNoModel, 35u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:161:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 46, 47, 45, 48u, 2, btgen::kNoModel, 37u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:162:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 47, 48, 46, 50u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PressYesNoSpeech", 16), std::string_view("PressYesNoSpeech", 16), std::string_view("missions/LabTour.xml:163:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 48, 49, 46, 50u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:164:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 49, 50, 45, 50u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PressYesNoDialogue", 18), std::string_view("PressYesNoDialogue", 18), std::string_view("missions/LabTour.xml:171:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 50, 51, 0, 50u, 2, btgen::kNoModel, 39u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("DeclineOrTour", 13), std::string_view("missions/LabTour.xml:35:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 51, 52, 50, 52u, 2, btgen::kNoModel, 41u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Declined", 8), std::string_view("missions/LabTour.xml:36:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Inverter, 52, 53, 51, 54u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Inverter", 8), std::string_view("Inverter", 8), std::string_view("missions/LabTour.xml:40:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 53, 54, 52, 55u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsVisitorResponseYes", 20), std::string_view("IsVisitorResponseYes", 20), std::string_view("missions/LabTour.xml:41:13", 26)},
-      btgen::NodeInfo{btgen::NodeKind::ForceSuccess, 54, 55, 51, 55u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ForceSuccess", 12), std::string_view("ForceSuccess", 12), std::string_view("missions/LabTour.xml:47:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 55, 56, 54, 56u, 2, btgen::kNoModel, 43u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:48:13", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 56, 57, 55, 58u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("MaybeAnotherTimeSpeech", 22), std::string_view("MaybeAnotherTimeSpeech", 22), std::string_view("missions/LabTour.xml:49:15", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 57, 58, 55, 58u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:50:15", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 58, 59, 50, 58u, 2, btgen::kNoModel, 45u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Tour", 4), std::string_view("missions/LabTour.xml:54:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 59, 60, 58, 60u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("IV. VisitExhibit", 16), std::string_view("missions/LabTour.xml:58:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 60, 61, 59, 61u, 2, btgen::kNoModel, 47u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:182:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 61, 62, 60, 63u, 2, btgen::kNoModel, 49u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:183:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 62, 63, 61, 65u, 0, 24, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("RetrieveListOfExhibits", 22), std::string_view("RetrieveListOfExhibits", 22), std::string_view("missions/LabTour.xml:184:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 63, 64, 61, 65u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:185:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Inverter, 64, 65, 60, 65u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Inverter", 8), std::string_view("UntilNoExhibitLeft", 18), std::string_view("missions/LabTour.xml:187:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::KeepRunningUntilFailure, 65, 66, 64, 66u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("KeepRunningUntilFailure", 23), std::string_view("ExhibitLoop", 11), std::string_view("missions/LabTour.xml:188:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 66, 67, 65, 67u, 2, btgen::kNoModel, 51u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:189:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 67, 68, 66, 69u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsListWithExhibit", 17), std::string_view("IsListWithExhibit", 17), std::string_view("missions/LabTour.xml:190:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 68, 69, 66, 69u, 6, btgen::kNoModel, 53u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("VisitOneExhibit", 15), std::string_view("missions/LabTour.xml:191:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 69, 70, 68, 75u, 2, btgen::kNoModel, 55u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:192:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 70, 71, 69, 77u, 0, 28, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SelectExhibit", 13), std::string_view("SelectExhibit", 13), std::string_view("missions/LabTour.xml:193:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 71, 72, 69, 77u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:194:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 72, 73, 68, 77u, 2, btgen::kNoModel, 57u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:196:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 73, 74, 72, 79u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("FollowMeSpeech", 14), std::string_view("FollowMeSpeech", 14), std::string_view("missions/LabTour.xml:197:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 74, 75, 72, 79u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:198:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 75, 76, 68, 79u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19), std::string_view("missions/LabTour.xml:202:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 76, 77, 75, 80u, 5, btgen::kNoModel, 59u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:269:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 77, 78, 76, 85u, 2, btgen::kNoModel, 61u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:274:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 78, 79, 77, 87u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:275:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 79, 80, 77, 87u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:276:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 80, 81, 76, 87u, 2, btgen::kNoModel, 63u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:278:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 81, 82, 80, 89u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22), std::string_view("missions/LabTour.xml:279:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 82, 83, 80, 89u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:280:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 83, 84, 76, 89u, 2, btgen::kNoModel, 65u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:282:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 84, 85, 83, 91u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Navigate", 8), std::string_view("Navigate", 8), std::string_view("missions/LabTour.xml:283:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 85, 86, 83, 91u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:284:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 86, 87, 76, 91u, 2, btgen::kNoModel, 67u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:288:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 87, 88, 86, 93u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:289:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 88, 89, 86, 93u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:290:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 89, 90, 76, 93u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22), std::string_view("missions/LabTour.xml:292:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 90, 91, 68, 93u, 2, btgen::kNoModel, 69u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:203:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 91, 92, 90, 95u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DescribeExhibitSpeech_1", 23), std::string_view("DescribeExhibitSpeech_1", 23), std::string_view("missions/LabTour.xml:204:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 92, 93, 90, 95u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:205:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 93, 94, 68, 95u, 2, btgen::kNoModel, 71u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:210:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 94, 95, 93, 97u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExhibit", 14), std::string_view("missions/LabTour.xml:211:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 95, 96, 93, 97u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:212:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 96, 97, 68, 97u, 2, btgen::kNoModel, 73u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:214:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 97, 98, 96, 99u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DescribeExhibitSpeech_2", 23), std::string_view("DescribeExhibitSpeech_2", 23), std::string_view("missions/LabTour.xml:215:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 98, 99, 96, 99u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:216:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 99, 100, 58, 99u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("V. EndTour", 10), std::string_view("missions/LabTour.xml:59:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 100, 101, 99, 100u, 7, btgen::kNoModel, 75u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:226:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 101, 102, 100, 107u, 2, btgen::kNoModel, 77u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:227:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 102, 103, 101, 109u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("EndTourSpeech", 13), std::string_view("EndTourSpeech", 13), std::string_view("missions/LabTour.xml:228:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 103, 104, 101, 109u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:229:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 104, 105, 100, 109u, 2, btgen::kNoModel, 79u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:231:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 105, 106, 104, 111u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("LookUpEntrance", 14), std::string_view("LookUpEntrance", 14), std::string_view("missions/LabTour.xml:232:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 106, 107, 104, 111u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:233:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 107, 108, 100, 111u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19), std::string_view("missions/LabTour.xml:237:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 108, 109, 107, 112u, 5, btgen::kNoModel, 81u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:269:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 109, 110, 108, 117u, 2, btgen::kNoModel, 83u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:274:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 110, 111, 109, 119u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:275:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 111, 112, 109, 119u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:276:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 112, 113, 108, 119u, 2, btgen::kNoModel, 85u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:278:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 113, 114, 112, 121u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22), std::string_view("missions/LabTour.xml:279:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 114, 115, 112, 121u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:280:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 115, 116, 108, 121u, 2, btgen::kNoModel, 87u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:282:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 116, 117, 115, 123u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Navigate", 8), std::string_view("Navigate", 8), std::string_view("missions/LabTour.xml:283:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 117, 118, 115, 123u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:284:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 118, 119, 108, 123u, 2, btgen::kNoModel, 89u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:288:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 119, 120, 118, 125u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:289:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 120, 121, 118, 125u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:290:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 121, 122, 108, 125u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22), std::string_view("missions/LabTour.xml:292:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 122, 123, 100, 125u, 2, btgen::kNoModel, 91u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:238:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 123, 124, 122, 127u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HereIsTheDoorSpeech", 19), std::string_view("HereIsTheDoorSpeech", 19), std::string_view("missions/LabTour.xml:239:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 124, 125, 122, 127u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:240:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 125, 126, 100, 127u, 2, btgen::kNoModel, 93u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:244:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 126, 127, 125, 129u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExit", 11), std::string_view("missions/LabTour.xml:245:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 127, 128, 125, 129u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:246:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Parallel, 128, 129, 100, 129u, 2, btgen::kNoModel, 95u, btgen::kNoSlot, 0, 2, 1, 0, std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17), std::string_view("missions/LabTour.xml:248:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 129, 130, 128, 131u, 2, btgen::kNoModel, 97u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:249:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 130, 131, 129, 133u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14), std::string_view("missions/LabTour.xml:250:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 131, 132, 129, 133u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:251:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 132, 133, 128, 133u, 2, btgen::kNoModel, 99u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:255:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 133, 134, 132, 135u, 0, 25, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16), std::string_view("missions/LabTour.xml:256:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 134, 135, 132, 135u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:257:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 135, 136, 100, 135u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("_GoHome", 7), std::string_view("missions/LabTour.xml:260:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 136, 137, 135, 136u, 4, btgen::kNoModel, 101u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/LabTour.xml:300:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 137, 138, 136, 140u, 2, btgen::kNoModel, 103u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:301:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 138, 139, 137, 142u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("LookUpHome", 10), std::string_view("LookUpHome", 10), std::string_view("missions/LabTour.xml:302:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 139, 140, 137, 142u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:303:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 140, 141, 136, 142u, 2, btgen::kNoModel, 105u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:305:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 141, 142, 140, 144u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26), std::string_view("missions/LabTour.xml:306:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 142, 143, 140, 144u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:307:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 143, 144, 136, 144u, 2, btgen::kNoModel, 107u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:309:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 144, 145, 143, 146u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22), std::string_view("missions/LabTour.xml:310:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 145, 146, 143, 146u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:311:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 146, 147, 136, 146u, 2, btgen::kNoModel, 109u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/LabTour.xml:313:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 147, 148, 146, 148u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Navigate", 8), std::string_view("Navigate", 8), std::string_view("missions/LabTour.xml:314:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 148, 149, 146, 148u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/LabTour.xml:315:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      0, 1, btgen::kNoNode, 0u, 5, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("LabTour", 7),
+                      std::string_view("missions/LabTour.xml:24:5", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      1, 2, 0, 5u, 0, 30, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13),
+                      std::string_view("missions/LabTour.xml:28:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      2, 3, 0, 5u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16),
+                      std::string_view("missions/LabTour.xml:29:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      3, 4, 2, 6u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:75:5", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      4, 5, 3, 9u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:76:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      5, 6, 4, 11u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
+                      std::string_view("missions/LabTour.xml:77:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      6, 7, 4, 11u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:78:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      7, 8, 3, 11u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:80:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      8, 9, 7, 13u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:81:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      9, 10, 7, 13u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:82:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      10, 11, 3, 13u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14),
+                      std::string_view("missions/LabTour.xml:84:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      11, 12, 10, 14u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19),
+                      std::string_view("missions/LabTour.xml:85:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      12, 13, 0, 14u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17),
+                      std::string_view("missions/LabTour.xml:30:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      13, 14, 12, 15u, 5, btgen::kNoModel, 9u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:91:5", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      14, 15, 13, 20u, 2, btgen::kNoModel, 11u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:92:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      15, 16, 14, 22u, 3, btgen::kNoModel, 13u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30),
+                      std::string_view("missions/LabTour.xml:93:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      16, 17, 15, 25u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
+                      std::string_view("missions/LabTour.xml:94:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      17, 18, 15, 25u, 0, 31, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14),
+                      std::string_view("missions/LabTour.xml:95:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      18, 19, 15, 25u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
+                      std::string_view("missions/LabTour.xml:96:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      19, 20, 14, 25u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:99:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      20, 21, 13, 25u, 2, btgen::kNoModel, 15u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:101:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      21, 22, 20, 27u, 0, 32, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13),
+                      std::string_view("missions/LabTour.xml:102:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      22, 23, 20, 27u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:103:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      23, 24, 13, 27u, 2, btgen::kNoModel, 17u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:110:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      24, 25, 23, 29u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:111:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      25, 26, 23, 29u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:112:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      26, 27, 13, 29u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
+                      std::string_view("missions/LabTour.xml:114:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      27, 28, 13, 29u, 2, btgen::kNoModel, 19u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:120:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      28, 29, 27, 31u, 0, 29, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SocialOvertAttentionMode", 24), std::string_view("SocialOvertAttentionMode", 24),
+                      std::string_view("missions/LabTour.xml:121:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      29, 30, 27, 31u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:122:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      30, 31, 0, 31u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("III. QueryVisitorResponse", 25),
+                      std::string_view("missions/LabTour.xml:34:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      31, 32, 30, 32u, 2, btgen::kNoModel, 21u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:128:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      32, 33, 31, 34u, 2, btgen::kNoModel, 23u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:134:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      33, 34, 32, 36u, 0, 23, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("QueryTourSpeech", 15), std::string_view("QueryTourSpeech", 15),
+                      std::string_view("missions/LabTour.xml:135:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      34, 35, 32, 36u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:136:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      35, 36, 31, 36u, 2, btgen::kNoModel, 25u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14),
+                      std::string_view("missions/LabTour.xml:138:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      36, 37, 35, 38u, 2, btgen::kNoModel, 27u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12),
+                      std::string_view("missions/LabTour.xml:139:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      37, 38, 36, 40u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12),
+                      std::string_view("missions/LabTour.xml:140:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      38, 39, 36, 40u, 1, btgen::kNoModel, 29u, btgen::kNoSlot, 0, 3, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17),
+                      std::string_view("missions/LabTour.xml:144:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      39, 40, 38, 41u, 2, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:145:13", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      40, 41, 39, 43u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:146:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      41, 42, 40, 45u, 0, 26, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SayYesNoSpeech", 14), std::string_view("SayYesNoSpeech", 14),
+                      std::string_view("missions/LabTour.xml:147:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      42, 43, 40, 45u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:148:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      43, 44, 39, 45u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsYesNoUttered", 14), std::string_view("IsYesNoUttered", 14),
+                      std::string_view("missions/LabTour.xml:150:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      44, 45, 35, 45u, 1, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 3, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12),
+                      std::string_view("missions/LabTour.xml:160:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      45, 46, 44, 46u, 2, btgen::kNoModel, 35u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:161:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      46, 47, 45, 48u, 2, btgen::kNoModel, 37u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:162:13", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      47, 48, 46, 50u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PressYesNoSpeech", 16), std::string_view("PressYesNoSpeech", 16),
+                      std::string_view("missions/LabTour.xml:163:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      48, 49, 46, 50u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:164:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      49, 50, 45, 50u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PressYesNoDialogue", 18), std::string_view("PressYesNoDialogue", 18),
+                      std::string_view("missions/LabTour.xml:171:13", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      50, 51, 0, 50u, 2, btgen::kNoModel, 39u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("DeclineOrTour", 13),
+                      std::string_view("missions/LabTour.xml:35:7", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      51, 52, 50, 52u, 2, btgen::kNoModel, 41u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Declined", 8),
+                      std::string_view("missions/LabTour.xml:36:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::Inverter,
+                      52, 53, 51, 54u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Inverter", 8), std::string_view("Inverter", 8),
+                      std::string_view("missions/LabTour.xml:40:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      53, 54, 52, 55u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsVisitorResponseYes", 20), std::string_view("IsVisitorResponseYes", 20),
+                      std::string_view("missions/LabTour.xml:41:13", 26)},
+      btgen::NodeInfo{btgen::NodeKind::ForceSuccess,
+                      54, 55, 51, 55u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ForceSuccess", 12), std::string_view("ForceSuccess", 12),
+                      std::string_view("missions/LabTour.xml:47:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      55, 56, 54, 56u, 2, btgen::kNoModel, 43u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:48:13", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      56, 57, 55, 58u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("MaybeAnotherTimeSpeech", 22), std::string_view("MaybeAnotherTimeSpeech", 22),
+                      std::string_view("missions/LabTour.xml:49:15", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      57, 58, 55, 58u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:50:15", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      58, 59, 50, 58u, 2, btgen::kNoModel, 45u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Tour", 4),
+                      std::string_view("missions/LabTour.xml:54:9", 25)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      59, 60, 58, 60u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("IV. VisitExhibit", 16),
+                      std::string_view("missions/LabTour.xml:58:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      60, 61, 59, 61u, 2, btgen::kNoModel, 47u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:182:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      61, 62, 60, 63u, 2, btgen::kNoModel, 49u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:183:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      62, 63, 61, 65u, 0, 24, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("RetrieveListOfExhibits", 22), std::string_view("RetrieveListOfExhibits", 22),
+                      std::string_view("missions/LabTour.xml:184:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      63, 64, 61, 65u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:185:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Inverter,
+                      64, 65, 60, 65u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Inverter", 8), std::string_view("UntilNoExhibitLeft", 18),
+                      std::string_view("missions/LabTour.xml:187:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::KeepRunningUntilFailure,
+                      65, 66, 64, 66u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("KeepRunningUntilFailure", 23), std::string_view("ExhibitLoop", 11),
+                      std::string_view("missions/LabTour.xml:188:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      66, 67, 65, 67u, 2, btgen::kNoModel, 51u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:189:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      67, 68, 66, 69u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsListWithExhibit", 17), std::string_view("IsListWithExhibit", 17),
+                      std::string_view("missions/LabTour.xml:190:13", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      68, 69, 66, 69u, 6, btgen::kNoModel, 53u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("VisitOneExhibit", 15),
+                      std::string_view("missions/LabTour.xml:191:13", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      69, 70, 68, 75u, 2, btgen::kNoModel, 55u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:192:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      70, 71, 69, 77u, 0, 28, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SelectExhibit", 13), std::string_view("SelectExhibit", 13),
+                      std::string_view("missions/LabTour.xml:193:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      71, 72, 69, 77u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:194:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      72, 73, 68, 77u, 2, btgen::kNoModel, 57u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:196:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      73, 74, 72, 79u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("FollowMeSpeech", 14), std::string_view("FollowMeSpeech", 14),
+                      std::string_view("missions/LabTour.xml:197:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      74, 75, 72, 79u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:198:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      75, 76, 68, 79u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19),
+                      std::string_view("missions/LabTour.xml:202:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      76, 77, 75, 80u, 5, btgen::kNoModel, 59u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:269:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      77, 78, 76, 85u, 2, btgen::kNoModel, 61u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:274:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      78, 79, 77, 87u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:275:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      79, 80, 77, 87u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:276:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      80, 81, 76, 87u, 2, btgen::kNoModel, 63u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:278:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      81, 82, 80, 89u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
+                      std::string_view("missions/LabTour.xml:279:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      82, 83, 80, 89u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:280:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      83, 84, 76, 89u, 2, btgen::kNoModel, 65u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:282:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      84, 85, 83, 91u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
+                      std::string_view("missions/LabTour.xml:283:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      85, 86, 83, 91u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:284:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      86, 87, 76, 91u, 2, btgen::kNoModel, 67u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:288:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      87, 88, 86, 93u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:289:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      88, 89, 86, 93u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:290:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      89, 90, 76, 93u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
+                      std::string_view("missions/LabTour.xml:292:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      90, 91, 68, 93u, 2, btgen::kNoModel, 69u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:203:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      91, 92, 90, 95u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DescribeExhibitSpeech_1", 23), std::string_view("DescribeExhibitSpeech_1", 23),
+                      std::string_view("missions/LabTour.xml:204:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      92, 93, 90, 95u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:205:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      93, 94, 68, 95u, 2, btgen::kNoModel, 71u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:210:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      94, 95, 93, 97u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExhibit", 14),
+                      std::string_view("missions/LabTour.xml:211:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      95, 96, 93, 97u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:212:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      96, 97, 68, 97u, 2, btgen::kNoModel, 73u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:214:15", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      97, 98, 96, 99u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DescribeExhibitSpeech_2", 23), std::string_view("DescribeExhibitSpeech_2", 23),
+                      std::string_view("missions/LabTour.xml:215:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      98, 99, 96, 99u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:216:17", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      99, 100, 58, 99u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("V. EndTour", 10),
+                      std::string_view("missions/LabTour.xml:59:11", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      100, 101, 99, 100u, 7, btgen::kNoModel, 75u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:226:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      101, 102, 100, 107u, 2, btgen::kNoModel, 77u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:227:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      102, 103, 101, 109u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("EndTourSpeech", 13), std::string_view("EndTourSpeech", 13),
+                      std::string_view("missions/LabTour.xml:228:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      103, 104, 101, 109u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:229:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      104, 105, 100, 109u, 2, btgen::kNoModel, 79u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:231:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      105, 106, 104, 111u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("LookUpEntrance", 14), std::string_view("LookUpEntrance", 14),
+                      std::string_view("missions/LabTour.xml:232:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      106, 107, 104, 111u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:233:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      107, 108, 100, 111u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19),
+                      std::string_view("missions/LabTour.xml:237:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      108, 109, 107, 112u, 5, btgen::kNoModel, 81u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:269:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      109, 110, 108, 117u, 2, btgen::kNoModel, 83u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:274:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      110, 111, 109, 119u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:275:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      111, 112, 109, 119u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:276:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      112, 113, 108, 119u, 2, btgen::kNoModel, 85u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:278:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      113, 114, 112, 121u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
+                      std::string_view("missions/LabTour.xml:279:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      114, 115, 112, 121u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:280:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      115, 116, 108, 121u, 2, btgen::kNoModel, 87u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:282:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      116, 117, 115, 123u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
+                      std::string_view("missions/LabTour.xml:283:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      117, 118, 115, 123u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:284:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      118, 119, 108, 123u, 2, btgen::kNoModel, 89u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:288:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      119, 120, 118, 125u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:289:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      120, 121, 118, 125u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:290:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      121, 122, 108, 125u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
+                      std::string_view("missions/LabTour.xml:292:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      122, 123, 100, 125u, 2, btgen::kNoModel, 91u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:238:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      123, 124, 122, 127u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HereIsTheDoorSpeech", 19), std::string_view("HereIsTheDoorSpeech", 19),
+                      std::string_view("missions/LabTour.xml:239:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      124, 125, 122, 127u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:240:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      125, 126, 100, 127u, 2, btgen::kNoModel, 93u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:244:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      126, 127, 125, 129u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExit", 11),
+                      std::string_view("missions/LabTour.xml:245:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      127, 128, 125, 129u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:246:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Parallel,
+                      128, 129, 100, 129u, 2, btgen::kNoModel, 95u, btgen::kNoSlot, 0, 2, 1, 0,
+                      std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17),
+                      std::string_view("missions/LabTour.xml:248:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      129, 130, 128, 131u, 2, btgen::kNoModel, 97u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:249:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      130, 131, 129, 133u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14),
+                      std::string_view("missions/LabTour.xml:250:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      131, 132, 129, 133u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:251:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      132, 133, 128, 133u, 2, btgen::kNoModel, 99u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:255:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      133, 134, 132, 135u, 0, 25, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16),
+                      std::string_view("missions/LabTour.xml:256:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      134, 135, 132, 135u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:257:11", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      135, 136, 100, 135u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("_GoHome", 7),
+                      std::string_view("missions/LabTour.xml:260:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      136, 137, 135, 136u, 4, btgen::kNoModel, 101u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/LabTour.xml:300:5", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      137, 138, 136, 140u, 2, btgen::kNoModel, 103u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:301:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      138, 139, 137, 142u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("LookUpHome", 10), std::string_view("LookUpHome", 10),
+                      std::string_view("missions/LabTour.xml:302:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      139, 140, 137, 142u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:303:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      140, 141, 136, 142u, 2, btgen::kNoModel, 105u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:305:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      141, 142, 140, 144u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisabledOvertAttentionMode", 26), std::string_view("DisabledOvertAttentionMode", 26),
+                      std::string_view("missions/LabTour.xml:306:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      142, 143, 140, 144u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:307:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      143, 144, 136, 144u, 2, btgen::kNoModel, 107u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:309:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      144, 145, 143, 146u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
+                      std::string_view("missions/LabTour.xml:310:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      145, 146, 143, 146u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:311:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      146, 147, 136, 146u, 2, btgen::kNoModel, 109u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/LabTour.xml:313:7", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      147, 148, 146, 148u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
+                      std::string_view("missions/LabTour.xml:314:9", 26)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      148, 149, 146, 148u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/LabTour.xml:315:9", 26)},
   };
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
@@ -1776,12 +2229,13 @@ struct Spec {
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_1");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DescribeExhibitSpeech_1");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1791,7 +2245,8 @@ struct Spec {
       case 1: {
         leaf::DescribeExhibitSpeech_2 model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeExhibitSpeech_2");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DescribeExhibitSpeech_2");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1801,7 +2256,8 @@ struct Spec {
       case 2: {
         leaf::DisableAnimateBehavior model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisableAnimateBehavior");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DisableAnimateBehavior");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1811,7 +2267,8 @@ struct Spec {
       case 3: {
         leaf::DisabledOvertAttentionMode model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisabledOvertAttentionMode");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DisabledOvertAttentionMode");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1821,7 +2278,8 @@ struct Spec {
       case 4: {
         leaf::EnableAnimateBehavior model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EnableAnimateBehavior");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action EnableAnimateBehavior");
         if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1831,7 +2289,8 @@ struct Spec {
       case 5: {
         leaf::EndTourSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EndTourSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action EndTourSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1841,7 +2300,8 @@ struct Spec {
       case 6: {
         leaf::FollowMeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FollowMeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action FollowMeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1851,7 +2311,8 @@ struct Spec {
       case 7: {
         leaf::GoodbyeGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action GoodbyeGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action GoodbyeGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1861,7 +2322,8 @@ struct Spec {
       case 8: {
         leaf::HandleFallBack model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HandleFallBack");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action HandleFallBack");
         if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1871,7 +2333,8 @@ struct Spec {
       case 9: {
         leaf::HereIsTheDoorSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HereIsTheDoorSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action HereIsTheDoorSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1881,7 +2344,8 @@ struct Spec {
       case 16: {
         leaf::LookUpEntrance model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpEntrance");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action LookUpEntrance");
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1891,7 +2355,8 @@ struct Spec {
       case 17: {
         leaf::LookUpHome model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpHome");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action LookUpHome");
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1901,7 +2366,8 @@ struct Spec {
       case 18: {
         leaf::MaybeAnotherTimeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MaybeAnotherTimeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action MaybeAnotherTimeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1911,7 +2377,8 @@ struct Spec {
       case 19: {
         leaf::Navigate model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action Navigate");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action Navigate");
         if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1921,7 +2388,8 @@ struct Spec {
       case 20: {
         leaf::PerformDeicticGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PerformDeicticGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PerformDeicticGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1931,7 +2399,8 @@ struct Spec {
       case 21: {
         leaf::PressYesNoDialogue model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoDialogue");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PressYesNoDialogue");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1941,7 +2410,8 @@ struct Spec {
       case 22: {
         leaf::PressYesNoSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressYesNoSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PressYesNoSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1951,7 +2421,8 @@ struct Spec {
       case 23: {
         leaf::QueryTourSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action QueryTourSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action QueryTourSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1961,7 +2432,8 @@ struct Spec {
       case 24: {
         leaf::RetrieveListOfExhibits model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action RetrieveListOfExhibits");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action RetrieveListOfExhibits");
         if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1971,7 +2443,8 @@ struct Spec {
       case 25: {
         leaf::SayGoodByeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayGoodByeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SayGoodByeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1981,7 +2454,8 @@ struct Spec {
       case 26: {
         leaf::SayYesNoSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayYesNoSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SayYesNoSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1991,7 +2465,8 @@ struct Spec {
       case 27: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action ScanningOvertAttentionMode");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action ScanningOvertAttentionMode");
         if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2001,7 +2476,8 @@ struct Spec {
       case 28: {
         leaf::SelectExhibit model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SelectExhibit");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SelectExhibit");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2011,7 +2487,8 @@ struct Spec {
       case 29: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SocialOvertAttentionMode");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SocialOvertAttentionMode");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2021,7 +2498,8 @@ struct Spec {
       case 30: {
         leaf::START_OF_TREE model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action START_OF_TREE");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action START_OF_TREE");
         if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2031,7 +2509,8 @@ struct Spec {
       case 31: {
         leaf::WelcomeGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action WelcomeGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2041,7 +2520,8 @@ struct Spec {
       case 32: {
         leaf::WelcomeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action WelcomeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -2059,7 +2539,7 @@ struct Spec {
 
   template <class Leaves>
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
@@ -2287,7 +2767,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
+  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DescribeExhibitSpeech_1 model(bb, err, node);
@@ -2435,7 +2915,7 @@ struct Spec {
   // Whether the node is an Action that Leaves implements as a SyncActionNode
   // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
   template <class Leaves>
-  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
     switch (node.model) {
       case 0:
         return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>;
@@ -2500,11 +2980,7 @@ struct Spec {
   // The mission's own Controls and Decorators: tick() and the optional halt().
   template <class Leaves>
   static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
+                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -2513,12 +2989,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node,
                         const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
     (void)leaves;
     (void)bb;
     (void)err;
@@ -2526,7 +2998,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
+  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 10: {
         leaf::IsASREnabled model(bb, err, node);
@@ -2573,31 +3045,19 @@ struct Spec {
   }
 
   // SetBlackboard and UnsetBlackboard.
-  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, const btgen::NodeInfo& n,
+  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                                  [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return btgen::Status::FAILURE;
   }
 
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return -1;
   }
 
   // SwitchN: the child to tick (the last one is the default).
-  static int switch_case([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return static_cast<int>(n.child_count) - 1;
   }
 
@@ -2606,10 +3066,6 @@ struct Spec {
   // `restart` (the loop starts from IDLE) refills a literal queue.
   static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                       [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return 0;
   }
 };
@@ -3274,7 +3730,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DescribeExhibitSpeech_1 has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DescribeExhibitSpeech_1 has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3289,7 +3746,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DescribeExhibitSpeech_2 has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DescribeExhibitSpeech_2 has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3304,7 +3762,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DisableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DisableAnimateBehavior has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3319,7 +3778,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DisabledOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DisabledOvertAttentionMode has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3334,7 +3794,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action EnableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action EnableAnimateBehavior has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3349,7 +3810,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action EndTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action EndTourSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3364,7 +3826,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action FollowMeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action FollowMeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3379,7 +3842,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action GoodbyeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action GoodbyeGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3394,7 +3858,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action HandleFallBack has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action HandleFallBack has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3409,7 +3874,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action HereIsTheDoorSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action HereIsTheDoorSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3424,7 +3890,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action LookUpEntrance has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action LookUpEntrance has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3439,7 +3906,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action LookUpHome has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action LookUpHome has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3454,7 +3922,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action MaybeAnotherTimeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action MaybeAnotherTimeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3469,7 +3938,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::Navigate& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action Navigate has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action Navigate has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3484,7 +3954,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PerformDeicticGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PerformDeicticGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3499,7 +3970,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PressYesNoDialogue has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PressYesNoDialogue has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3514,7 +3986,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PressYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PressYesNoSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3529,7 +4002,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action QueryTourSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action QueryTourSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3544,7 +4018,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action RetrieveListOfExhibits has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action RetrieveListOfExhibits has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3559,7 +4034,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SayGoodByeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SayGoodByeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3574,7 +4050,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SayYesNoSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SayYesNoSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3589,7 +4066,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action ScanningOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action ScanningOvertAttentionMode has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3604,7 +4082,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SelectExhibit has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SelectExhibit has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3619,7 +4098,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SocialOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SocialOvertAttentionMode has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3634,7 +4114,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action START_OF_TREE has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action START_OF_TREE has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3649,7 +4130,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action WelcomeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action WelcomeGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3664,7 +4146,8 @@ class LabTourLeaves {
 
   virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action WelcomeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action WelcomeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -3705,7 +4188,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x3d06ba44cd15da6eULL;
+inline constexpr unsigned long long kGeneration = 0x72df2e0a7da060aaULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

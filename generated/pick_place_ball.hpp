@@ -222,15 +222,42 @@ struct Spec {
   static constexpr bool kHasParallel = false;
   using Blackboard = detail::Blackboard;
 
-  // kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2, id, name, source
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
+  //   kind,
+  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //   id, name,
+  //   source
+  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
+  // SUPPORTED in generator/btgen/ir/lower.py).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("PickPlaceBall", 13), std::string_view("missions/PickPlaceBall.xml:17:5", 31)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("FindBallTwice", 13), std::string_view("missions/PickPlaceBall.xml:18:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("FindBall", 8), std::string_view("FindBall", 8), std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 3, 4, 0, 3u, 3, btgen::kNoModel, 3u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13), std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PickBall", 8), std::string_view("PickBall", 8), std::string_view("missions/PickPlaceBall.xml:22:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("MoveBall", 8), std::string_view("MoveBall", 8), std::string_view("missions/PickPlaceBall.xml:23:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PlaceBall", 9), std::string_view("PlaceBall", 9), std::string_view("missions/PickPlaceBall.xml:24:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("PickPlaceBall", 13),
+                      std::string_view("missions/PickPlaceBall.xml:17:5", 31)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("FindBallTwice", 13),
+                      std::string_view("missions/PickPlaceBall.xml:18:7", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("FindBall", 8), std::string_view("FindBall", 8),
+                      std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      3, 4, 0, 3u, 3, btgen::kNoModel, 3u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13),
+                      std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PickBall", 8), std::string_view("PickBall", 8),
+                      std::string_view("missions/PickPlaceBall.xml:22:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("MoveBall", 8), std::string_view("MoveBall", 8),
+                      std::string_view("missions/PickPlaceBall.xml:23:9", 31)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PlaceBall", 9), std::string_view("PlaceBall", 9),
+                      std::string_view("missions/PickPlaceBall.xml:24:9", 31)},
   };
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
@@ -249,12 +276,13 @@ struct Spec {
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action FindBall");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action FindBall");
         if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -264,7 +292,8 @@ struct Spec {
       case 1: {
         leaf::PickBall model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PickBall");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PickBall");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -274,7 +303,8 @@ struct Spec {
       case 2: {
         leaf::MoveBall model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action MoveBall");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action MoveBall");
         if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -284,7 +314,8 @@ struct Spec {
       case 3: {
         leaf::PlaceBall model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PlaceBall");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PlaceBall");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -302,7 +333,7 @@ struct Spec {
 
   template <class Leaves>
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
@@ -346,7 +377,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
+  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
@@ -379,7 +410,7 @@ struct Spec {
   // Whether the node is an Action that Leaves implements as a SyncActionNode
   // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
   template <class Leaves>
-  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
     switch (node.model) {
       case 0:
         return btgen::is_sync_action<Leaves, leaf::FindBall>;
@@ -398,11 +429,7 @@ struct Spec {
   // The mission's own Controls and Decorators: tick() and the optional halt().
   template <class Leaves>
   static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
+                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -411,12 +438,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node,
                         const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
     (void)leaves;
     (void)bb;
     (void)err;
@@ -424,11 +447,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
-    switch (node.model) {
-      default:
-        break;
-    }
+  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -447,31 +466,19 @@ struct Spec {
   }
 
   // SetBlackboard and UnsetBlackboard.
-  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, const btgen::NodeInfo& n,
+  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                                  [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return btgen::Status::FAILURE;
   }
 
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return -1;
   }
 
   // SwitchN: the child to tick (the last one is the default).
-  static int switch_case([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return static_cast<int>(n.child_count) - 1;
   }
 
@@ -480,10 +487,6 @@ struct Spec {
   // `restart` (the loop starts from IDLE) refills a literal queue.
   static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                       [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return 0;
   }
 };
@@ -705,7 +708,8 @@ class PickPlaceBallLeaves {
 
   virtual btgen::Status tick(leaf::FindBall& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action FindBall has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action FindBall has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -720,7 +724,8 @@ class PickPlaceBallLeaves {
 
   virtual btgen::Status tick(leaf::PickBall& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PickBall has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PickBall has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -735,7 +740,8 @@ class PickPlaceBallLeaves {
 
   virtual btgen::Status tick(leaf::MoveBall& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action MoveBall has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action MoveBall has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -750,7 +756,8 @@ class PickPlaceBallLeaves {
 
   virtual btgen::Status tick(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PlaceBall has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PlaceBall has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -779,7 +786,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x00c2cc71e1b5b3adULL;
+inline constexpr unsigned long long kGeneration = 0x975bbc7ff26d34b0ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

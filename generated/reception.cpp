@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x9b68b7936f1948ebULL,
+static_assert(reception::detail::kGeneration == 0xe10831395eba5bccULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -997,83 +997,314 @@ struct Spec {
   static constexpr bool kHasParallel = true;
   using Blackboard = detail::Blackboard;
 
-  // kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2, id, name, source
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
+  //   kind,
+  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //   id, name,
+  //   source
+  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
+  // SUPPORTED in generator/btgen/ir/lower.py).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 6, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Reception", 9), std::string_view("missions/Reception.xml:29:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 1, 2, 0, 6u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13), std::string_view("missions/Reception.xml:30:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 2, 3, 0, 6u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16), std::string_view("missions/Reception.xml:31:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 3, 4, 2, 7u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/Reception.xml:42:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 4, 5, 3, 10u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:43:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 5, 6, 4, 12u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21), std::string_view("missions/Reception.xml:44:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 6, 7, 4, 12u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:45:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 7, 8, 3, 12u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:47:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 8, 9, 7, 14u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/Reception.xml:48:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 9, 10, 7, 14u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:49:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 10, 11, 3, 14u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14), std::string_view("missions/Reception.xml:51:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 11, 12, 10, 15u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19), std::string_view("missions/Reception.xml:52:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 12, 13, 0, 15u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17), std::string_view("missions/Reception.xml:32:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 13, 14, 12, 16u, 5, btgen::kNoModel, 9u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/Reception.xml:58:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 14, 15, 13, 21u, 2, btgen::kNoModel, 11u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:59:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 15, 16, 14, 23u, 3, btgen::kNoModel, 13u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30), std::string_view("missions/Reception.xml:60:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 16, 17, 15, 26u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22), std::string_view("missions/Reception.xml:61:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 17, 18, 15, 26u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14), std::string_view("missions/Reception.xml:62:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 18, 19, 15, 26u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21), std::string_view("missions/Reception.xml:63:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 19, 20, 14, 26u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:65:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 20, 21, 13, 26u, 2, btgen::kNoModel, 15u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:68:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 21, 22, 20, 28u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13), std::string_view("missions/Reception.xml:69:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 22, 23, 20, 28u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:70:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 23, 24, 13, 28u, 2, btgen::kNoModel, 17u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:72:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 24, 25, 23, 30u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26), std::string_view("missions/Reception.xml:73:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 25, 26, 23, 30u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:74:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 26, 27, 13, 30u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22), std::string_view("missions/Reception.xml:76:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 27, 28, 13, 30u, 2, btgen::kNoModel, 19u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:77:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 28, 29, 27, 32u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SocialOvertAttentionMode", 24), std::string_view("SocialOvertAttentionMode", 24), std::string_view("missions/Reception.xml:78:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:79:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 30, 31, 0, 32u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("III. QueryDestination", 21), std::string_view("missions/Reception.xml:33:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 31, 32, 30, 33u, 2, btgen::kNoModel, 21u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/Reception.xml:89:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 32, 33, 31, 35u, 2, btgen::kNoModel, 23u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:90:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 33, 34, 32, 37u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("QueryDestinationSpeech", 22), std::string_view("QueryDestinationSpeech", 22), std::string_view("missions/Reception.xml:91:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 34, 35, 32, 37u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:92:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 35, 36, 31, 37u, 2, btgen::kNoModel, 25u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14), std::string_view("missions/Reception.xml:94:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 36, 37, 35, 39u, 2, btgen::kNoModel, 27u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12), std::string_view("missions/Reception.xml:95:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 37, 38, 36, 41u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12), std::string_view("missions/Reception.xml:96:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 38, 39, 36, 41u, 1, btgen::kNoModel, 29u, btgen::kNoSlot, 0, 3, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17), std::string_view("missions/Reception.xml:97:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 39, 40, 38, 42u, 2, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/Reception.xml:98:13", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 40, 41, 39, 44u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:99:15", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 41, 42, 40, 46u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SayDestinationSpeech", 20), std::string_view("SayDestinationSpeech", 20), std::string_view("missions/Reception.xml:100:17", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 42, 43, 40, 46u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:101:17", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Condition, 43, 44, 39, 46u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IsDestinationUttered", 20), std::string_view("IsDestinationUttered", 20), std::string_view("missions/Reception.xml:103:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful, 44, 45, 35, 46u, 1, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 3, 0, 0, std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12), std::string_view("missions/Reception.xml:107:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 45, 46, 44, 47u, 2, btgen::kNoModel, 35u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Sequence", 8), std::string_view("missions/Reception.xml:108:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 46, 47, 45, 49u, 2, btgen::kNoModel, 37u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:109:13", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 47, 48, 46, 51u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PressDestinationSpeech", 22), std::string_view("PressDestinationSpeech", 22), std::string_view("missions/Reception.xml:110:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 48, 49, 46, 51u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:111:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PressDestinationDialogue", 24), std::string_view("PressDestinationDialogue", 24), std::string_view("missions/Reception.xml:113:13", 29)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("IV. GiveDirections", 18), std::string_view("missions/Reception.xml:34:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::IfThenElse, 51, 52, 50, 52u, 3, btgen::kNoModel, 39u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("IfThenElse", 10), std::string_view("KnownPlace", 10), std::string_view("missions/Reception.xml:125:5", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 52, 53, 51, 55u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("LookUpDestination", 17), std::string_view("LookUpDestination", 17), std::string_view("missions/Reception.xml:126:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence, 53, 54, 51, 55u, 3, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Sequence", 8), std::string_view("Directions", 10), std::string_view("missions/Reception.xml:127:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 54, 55, 53, 58u, 2, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:128:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 55, 56, 54, 60u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DescribeRouteSpeech_1", 21), std::string_view("DescribeRouteSpeech_1", 21), std::string_view("missions/Reception.xml:129:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 56, 57, 54, 60u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:130:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 57, 58, 53, 60u, 2, btgen::kNoModel, 44u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:132:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 58, 59, 57, 62u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("PerformDeicticGesture", 21), std::string_view("PointToDestination", 18), std::string_view("missions/Reception.xml:133:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 59, 60, 57, 62u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:134:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 60, 61, 53, 62u, 2, btgen::kNoModel, 46u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:136:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 61, 62, 60, 64u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("DescribeRouteSpeech_2", 21), std::string_view("DescribeRouteSpeech_2", 21), std::string_view("missions/Reception.xml:137:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 62, 63, 60, 64u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:138:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::ForceSuccess, 63, 64, 51, 64u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("ForceSuccess", 12), std::string_view("Apology", 7), std::string_view("missions/Reception.xml:141:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 64, 65, 63, 65u, 2, btgen::kNoModel, 48u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:142:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 65, 66, 64, 67u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("UnknownDestinationSpeech", 24), std::string_view("UnknownDestinationSpeech", 24), std::string_view("missions/Reception.xml:143:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:144:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree, 67, 68, 0, 67u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SubTree", 7), std::string_view("V. Farewell", 11), std::string_view("missions/Reception.xml:35:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Parallel, 68, 69, 67, 68u, 2, btgen::kNoModel, 50u, btgen::kNoSlot, 0, 2, 1, 0, std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17), std::string_view("missions/Reception.xml:153:5", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 69, 70, 68, 70u, 2, btgen::kNoModel, 52u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:154:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 70, 71, 69, 72u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14), std::string_view("missions/Reception.xml:155:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 71, 72, 69, 72u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:156:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback, 72, 73, 68, 72u, 2, btgen::kNoModel, 54u, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("Fallback", 8), std::string_view("Fallback", 8), std::string_view("missions/Reception.xml:158:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 73, 74, 72, 74u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16), std::string_view("missions/Reception.xml:159:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action, 74, 75, 72, 74u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0, std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14), std::string_view("missions/Reception.xml:160:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      0, 1, btgen::kNoNode, 0u, 6, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Reception", 9),
+                      std::string_view("missions/Reception.xml:29:5", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      1, 2, 0, 6u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13),
+                      std::string_view("missions/Reception.xml:30:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      2, 3, 0, 6u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16),
+                      std::string_view("missions/Reception.xml:31:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      3, 4, 2, 7u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/Reception.xml:42:5", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      4, 5, 3, 10u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:43:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      5, 6, 4, 12u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
+                      std::string_view("missions/Reception.xml:44:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      6, 7, 4, 12u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:45:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      7, 8, 3, 12u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:47:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      8, 9, 7, 14u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/Reception.xml:48:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      9, 10, 7, 14u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:49:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      10, 11, 3, 14u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14),
+                      std::string_view("missions/Reception.xml:51:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      11, 12, 10, 15u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19),
+                      std::string_view("missions/Reception.xml:52:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      12, 13, 0, 15u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17),
+                      std::string_view("missions/Reception.xml:32:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      13, 14, 12, 16u, 5, btgen::kNoModel, 9u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/Reception.xml:58:5", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      14, 15, 13, 21u, 2, btgen::kNoModel, 11u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:59:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      15, 16, 14, 23u, 3, btgen::kNoModel, 13u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30),
+                      std::string_view("missions/Reception.xml:60:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      16, 17, 15, 26u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
+                      std::string_view("missions/Reception.xml:61:11", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      17, 18, 15, 26u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14),
+                      std::string_view("missions/Reception.xml:62:11", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      18, 19, 15, 26u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
+                      std::string_view("missions/Reception.xml:63:11", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      19, 20, 14, 26u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:65:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      20, 21, 13, 26u, 2, btgen::kNoModel, 15u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:68:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      21, 22, 20, 28u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13),
+                      std::string_view("missions/Reception.xml:69:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      22, 23, 20, 28u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:70:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      23, 24, 13, 28u, 2, btgen::kNoModel, 17u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:72:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      24, 25, 23, 30u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("missions/Reception.xml:73:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      25, 26, 23, 30u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:74:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      26, 27, 13, 30u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
+                      std::string_view("missions/Reception.xml:76:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      27, 28, 13, 30u, 2, btgen::kNoModel, 19u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:77:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      28, 29, 27, 32u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SocialOvertAttentionMode", 24), std::string_view("SocialOvertAttentionMode", 24),
+                      std::string_view("missions/Reception.xml:78:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:79:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      30, 31, 0, 32u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("III. QueryDestination", 21),
+                      std::string_view("missions/Reception.xml:33:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      31, 32, 30, 33u, 2, btgen::kNoModel, 21u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/Reception.xml:89:5", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      32, 33, 31, 35u, 2, btgen::kNoModel, 23u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:90:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      33, 34, 32, 37u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("QueryDestinationSpeech", 22), std::string_view("QueryDestinationSpeech", 22),
+                      std::string_view("missions/Reception.xml:91:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      34, 35, 32, 37u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:92:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      35, 36, 31, 37u, 2, btgen::kNoModel, 25u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14),
+                      std::string_view("missions/Reception.xml:94:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      36, 37, 35, 39u, 2, btgen::kNoModel, 27u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12),
+                      std::string_view("missions/Reception.xml:95:9", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      37, 38, 36, 41u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12),
+                      std::string_view("missions/Reception.xml:96:11", 28)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      38, 39, 36, 41u, 1, btgen::kNoModel, 29u, btgen::kNoSlot, 0, 3, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17),
+                      std::string_view("missions/Reception.xml:97:11", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      39, 40, 38, 42u, 2, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/Reception.xml:98:13", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      40, 41, 39, 44u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:99:15", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      41, 42, 40, 46u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SayDestinationSpeech", 20), std::string_view("SayDestinationSpeech", 20),
+                      std::string_view("missions/Reception.xml:100:17", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      42, 43, 40, 46u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:101:17", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Condition,
+                      43, 44, 39, 46u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IsDestinationUttered", 20), std::string_view("IsDestinationUttered", 20),
+                      std::string_view("missions/Reception.xml:103:15", 29)},
+      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
+                      44, 45, 35, 46u, 1, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 3, 0, 0,
+                      std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12),
+                      std::string_view("missions/Reception.xml:107:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      45, 46, 44, 47u, 2, btgen::kNoModel, 35u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
+                      std::string_view("missions/Reception.xml:108:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      46, 47, 45, 49u, 2, btgen::kNoModel, 37u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:109:13", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      47, 48, 46, 51u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PressDestinationSpeech", 22), std::string_view("PressDestinationSpeech", 22),
+                      std::string_view("missions/Reception.xml:110:15", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      48, 49, 46, 51u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:111:15", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PressDestinationDialogue", 24), std::string_view("PressDestinationDialogue", 24),
+                      std::string_view("missions/Reception.xml:113:13", 29)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("IV. GiveDirections", 18),
+                      std::string_view("missions/Reception.xml:34:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::IfThenElse,
+                      51, 52, 50, 52u, 3, btgen::kNoModel, 39u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("IfThenElse", 10), std::string_view("KnownPlace", 10),
+                      std::string_view("missions/Reception.xml:125:5", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      52, 53, 51, 55u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("LookUpDestination", 17), std::string_view("LookUpDestination", 17),
+                      std::string_view("missions/Reception.xml:126:7", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Sequence,
+                      53, 54, 51, 55u, 3, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Sequence", 8), std::string_view("Directions", 10),
+                      std::string_view("missions/Reception.xml:127:7", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      54, 55, 53, 58u, 2, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:128:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      55, 56, 54, 60u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DescribeRouteSpeech_1", 21), std::string_view("DescribeRouteSpeech_1", 21),
+                      std::string_view("missions/Reception.xml:129:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      56, 57, 54, 60u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:130:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      57, 58, 53, 60u, 2, btgen::kNoModel, 44u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:132:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      58, 59, 57, 62u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToDestination", 18),
+                      std::string_view("missions/Reception.xml:133:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      59, 60, 57, 62u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:134:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      60, 61, 53, 62u, 2, btgen::kNoModel, 46u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:136:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      61, 62, 60, 64u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("DescribeRouteSpeech_2", 21), std::string_view("DescribeRouteSpeech_2", 21),
+                      std::string_view("missions/Reception.xml:137:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      62, 63, 60, 64u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:138:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::ForceSuccess,
+                      63, 64, 51, 64u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("ForceSuccess", 12), std::string_view("Apology", 7),
+                      std::string_view("missions/Reception.xml:141:7", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      64, 65, 63, 65u, 2, btgen::kNoModel, 48u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:142:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      65, 66, 64, 67u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("UnknownDestinationSpeech", 24), std::string_view("UnknownDestinationSpeech", 24),
+                      std::string_view("missions/Reception.xml:143:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:144:11", 29)},
+      btgen::NodeInfo{btgen::NodeKind::SubTree,
+                      67, 68, 0, 67u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SubTree", 7), std::string_view("V. Farewell", 11),
+                      std::string_view("missions/Reception.xml:35:7", 27)},
+      btgen::NodeInfo{btgen::NodeKind::Parallel,
+                      68, 69, 67, 68u, 2, btgen::kNoModel, 50u, btgen::kNoSlot, 0, 2, 1, 0,
+                      std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17),
+                      std::string_view("missions/Reception.xml:153:5", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      69, 70, 68, 70u, 2, btgen::kNoModel, 52u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:154:7", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      70, 71, 69, 72u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14),
+                      std::string_view("missions/Reception.xml:155:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      71, 72, 69, 72u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:156:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Fallback,
+                      72, 73, 68, 72u, 2, btgen::kNoModel, 54u, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
+                      std::string_view("missions/Reception.xml:158:7", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      73, 74, 72, 74u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16),
+                      std::string_view("missions/Reception.xml:159:9", 28)},
+      btgen::NodeInfo{btgen::NodeKind::Action,
+                      74, 75, 72, 74u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
+                      std::string_view("missions/Reception.xml:160:9", 28)},
   };
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
@@ -1160,12 +1391,13 @@ struct Spec {
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DisableAnimateBehavior");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DisableAnimateBehavior");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1175,7 +1407,8 @@ struct Spec {
       case 1: {
         leaf::EnableAnimateBehavior model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action EnableAnimateBehavior");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action EnableAnimateBehavior");
         if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1185,7 +1418,8 @@ struct Spec {
       case 2: {
         leaf::GoodbyeGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action GoodbyeGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action GoodbyeGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1195,7 +1429,8 @@ struct Spec {
       case 3: {
         leaf::HandleFallBack model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action HandleFallBack");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action HandleFallBack");
         if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1205,7 +1440,8 @@ struct Spec {
       case 7: {
         leaf::PerformDeicticGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PerformDeicticGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PerformDeicticGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1215,7 +1451,8 @@ struct Spec {
       case 8: {
         leaf::SayGoodByeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayGoodByeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SayGoodByeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1225,7 +1462,8 @@ struct Spec {
       case 9: {
         leaf::ScanningOvertAttentionMode model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action ScanningOvertAttentionMode");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action ScanningOvertAttentionMode");
         if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1235,7 +1473,8 @@ struct Spec {
       case 10: {
         leaf::SocialOvertAttentionMode model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SocialOvertAttentionMode");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SocialOvertAttentionMode");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1245,7 +1484,8 @@ struct Spec {
       case 11: {
         leaf::START_OF_TREE model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action START_OF_TREE");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action START_OF_TREE");
         if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1255,7 +1495,8 @@ struct Spec {
       case 12: {
         leaf::WelcomeGesture model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeGesture");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action WelcomeGesture");
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1265,7 +1506,8 @@ struct Spec {
       case 13: {
         leaf::WelcomeSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action WelcomeSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action WelcomeSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1275,7 +1517,8 @@ struct Spec {
       case 14: {
         leaf::QueryDestinationSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action QueryDestinationSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action QueryDestinationSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1285,7 +1528,8 @@ struct Spec {
       case 15: {
         leaf::SayDestinationSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action SayDestinationSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action SayDestinationSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1295,7 +1539,8 @@ struct Spec {
       case 17: {
         leaf::PressDestinationSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressDestinationSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PressDestinationSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1305,7 +1550,8 @@ struct Spec {
       case 18: {
         leaf::PressDestinationDialogue model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action PressDestinationDialogue");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action PressDestinationDialogue");
         if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1315,7 +1561,8 @@ struct Spec {
       case 19: {
         leaf::LookUpDestination model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action LookUpDestination");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action LookUpDestination");
         if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1325,7 +1572,8 @@ struct Spec {
       case 20: {
         leaf::DescribeRouteSpeech_1 model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeRouteSpeech_1");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DescribeRouteSpeech_1");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1335,7 +1583,8 @@ struct Spec {
       case 21: {
         leaf::DescribeRouteSpeech_2 model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action DescribeRouteSpeech_2");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action DescribeRouteSpeech_2");
         if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1345,7 +1594,8 @@ struct Spec {
       case 22: {
         leaf::UnknownDestinationSpeech model(bb, err, node);
         static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted for Action UnknownDestinationSpeech");
+                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                      "for Action UnknownDestinationSpeech");
         if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
           return model.sync_result(leaves.tick(model, node));
         } else {
@@ -1363,7 +1613,7 @@ struct Spec {
 
   template <class Leaves>
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                const btgen::NodeInfo& node) {
+                                [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
@@ -1527,7 +1777,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
+  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
@@ -1635,7 +1885,7 @@ struct Spec {
   // Whether the node is an Action that Leaves implements as a SyncActionNode
   // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
   template <class Leaves>
-  static constexpr bool sync_action(const btgen::NodeInfo& node) noexcept {
+  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
     switch (node.model) {
       case 0:
         return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
@@ -1684,11 +1934,7 @@ struct Spec {
   // The mission's own Controls and Decorators: tick() and the optional halt().
   template <class Leaves>
   static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
+                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -1697,12 +1943,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node,
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node,
                         const btgen::ChildOps& ops) {
-    switch (node.model) {
-      default:
-        break;
-    }
     (void)leaves;
     (void)bb;
     (void)err;
@@ -1710,7 +1952,7 @@ struct Spec {
   }
 
   template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, const btgen::NodeInfo& node) {
+  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 4: {
         leaf::IsASREnabled model(bb, err, node);
@@ -1749,31 +1991,19 @@ struct Spec {
   }
 
   // SetBlackboard and UnsetBlackboard.
-  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, const btgen::NodeInfo& n,
+  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                                  [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return btgen::Status::FAILURE;
   }
 
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return -1;
   }
 
   // SwitchN: the child to tick (the last one is the default).
-  static int switch_case([[maybe_unused]] const Blackboard& bb, const btgen::NodeInfo& n) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
+  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return static_cast<int>(n.child_count) - 1;
   }
 
@@ -1782,10 +2012,6 @@ struct Spec {
   // `restart` (the loop starts from IDLE) refills a literal queue.
   static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
                       [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
-    switch (n.index) {
-      default:
-        break;
-    }
     return 0;
   }
 };
@@ -2232,7 +2458,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DisableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DisableAnimateBehavior has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2247,7 +2474,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action EnableAnimateBehavior has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action EnableAnimateBehavior has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2262,7 +2490,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action GoodbyeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action GoodbyeGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2277,7 +2506,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action HandleFallBack has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action HandleFallBack has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2292,7 +2522,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PerformDeicticGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PerformDeicticGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2307,7 +2538,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SayGoodByeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SayGoodByeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2322,7 +2554,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action ScanningOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action ScanningOvertAttentionMode has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2337,7 +2570,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SocialOvertAttentionMode has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SocialOvertAttentionMode has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2352,7 +2586,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action START_OF_TREE has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action START_OF_TREE has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2367,7 +2602,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action WelcomeGesture has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action WelcomeGesture has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2382,7 +2618,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action WelcomeSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action WelcomeSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2397,7 +2634,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action QueryDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action QueryDestinationSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2412,7 +2650,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action SayDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action SayDestinationSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2427,7 +2666,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PressDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PressDestinationSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2442,7 +2682,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action PressDestinationDialogue has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action PressDestinationDialogue has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2457,7 +2698,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action LookUpDestination has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action LookUpDestination has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2472,7 +2714,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DescribeRouteSpeech_1 has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DescribeRouteSpeech_1 has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2487,7 +2730,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action DescribeRouteSpeech_2 has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action DescribeRouteSpeech_2 has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2502,7 +2746,8 @@ class ReceptionLeaves {
 
   virtual btgen::Status tick(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
     (void)node;
-    return model.fail("Action UnknownDestinationSpeech has no implementation: override tick() or onStart/onRunning/onHalted");
+    return model.fail("Action UnknownDestinationSpeech has no implementation: "
+                      "override tick() or onStart/onRunning/onHalted");
   }
   virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
     return model.sync_result(tick(model, node));
@@ -2539,7 +2784,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x9b68b7936f1948ebULL;
+inline constexpr unsigned long long kGeneration = 0xe10831395eba5bccULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP
