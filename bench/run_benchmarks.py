@@ -31,11 +31,11 @@ bench/make_missions.py writes them):
   off, same leaves (default SUCCESS) and a clock that does not move;
 - vs BT.CPP: how many times fewer instructions per tick than
   BehaviorTree.CPP 4.6.2 (Release, callgrind, the same mission files,
-  figures of issue 20, not measured here): exact on
+  figures of the performance targets, not measured here): exact on
   bench/missions/museum_93.xml (128,888) and balanced5_1043.xml (997,604);
   elsewhere `~A-B` from its 950 to 1,400 instructions per visited node.
 
-Missions the C++ back end cannot compile yet show `n/a (issue 5)` in its columns.
+Missions `btgen compile` rejects show `does not compile` in its columns.
 """
 
 from __future__ import annotations
@@ -71,7 +71,6 @@ from btgen.tools import (
 BTGEN = [sys.executable, "-m", "btgen"]
 README = ROOT / "README.md"
 SECTION = "## Performance"
-NA = "n/a (issue 5)"
 
 
 @dataclass
@@ -171,7 +170,7 @@ def measure(mission: str, quick: bool) -> Row:
     if row.btgen_s is None:
         errors = [line for line in stderr.splitlines() if ": error: " in line]
         first = errors[0].split(": error: ", 1)[1] if errors else stderr.strip()[:200]
-        row.cpp = NA if "issue 5" in stderr else "does not compile"
+        row.cpp = "does not compile"
         row.notes.append(f"`btgen compile` fails ({len(errors)} errors), first: {first}")
     row.interp_tps, row.interp_note = interp_ticks_per_second(mission, 0.2 if quick else 1.0)
     if row.cpp is not None:
@@ -318,7 +317,7 @@ def machine() -> list[str]:
     ]
 
 
-# BehaviorTree.CPP 4.6.2, Release, callgrind, as issues 7 and 20 give them (not measured here):
+# BehaviorTree.CPP 4.6.2, Release, callgrind, as the performance targets give them (not measured here):
 # instructions per visited node, and per tick on two of bench/missions.
 BTCPP_INSTR_PER_NODE = (950, 1400)
 BTCPP_INSTR_PER_TICK = {"museum_93.xml": 128_888, "balanced5_1043.xml": 997_604}
@@ -329,7 +328,7 @@ TARGET_COMPILE_S = 10.0
 
 
 def targets(rows: list[Row]) -> list[str]:
-    """The issue's targets, each with the measured numbers and met / missed."""
+    """The performance targets, each with the measured numbers and met / missed."""
     built = [r for r in rows if r.cpp is None]
     if not built:
         return []
@@ -344,7 +343,7 @@ def targets(rows: list[Row]) -> list[str]:
         out.append(
             f"- instructions per visited node on the balanced, reactive and SubTree missions <= "
             f"{TARGET_INSTR_PER_VISIT}: {verdict} ({best:.1f} to {worst:.1f}; BehaviorTree.CPP 4.6.2 "
-            f"spends {lo:,} to {hi:,} according to the issue, so {lo / worst:.0f} to {hi / best:.0f} "
+            f"spends {lo:,} to {hi:,} by the targets' own measurement, so {lo / worst:.0f} to {hi / best:.0f} "
             f"times fewer)"
         )
     for r in built:
@@ -394,10 +393,10 @@ def targets(rows: list[Row]) -> list[str]:
     return out
 
 
-# What the issue-20 changes to runtime/include/btgen/engine.hpp bought, measured with callgrind as
+# What the changes to runtime/include/btgen/engine.hpp bought, measured with callgrind as
 # above (instructions per tick; before: the merge of the custom-node and Groot2 branches, 812a102).
 ISSUE20_STEPS = [
-    "- issue 20, instructions per tick on `bench/missions/balanced_1000.xml` (per visited node): "
+    "- the table interpreter, instructions per tick on `bench/missions/balanced_1000.xml` (per visited node): "
     "108,096 (108.1) before; 84,415 (84.4) once the child table is read without a bounds clamp "
     "(kept only for child tables of at most 16 entries, the -Warray-bounds case) and the pre-/post-"
     "condition checks compile away in missions without such scripts; 77,969 (78.0) once the frame "
@@ -453,7 +452,7 @@ def section(rows: list[Row], command: str) -> str:
     ]
     goals = targets(rows)
     if goals:
-        parts += ["Targets of issues 7 and 20:", "", *goals, ""]
+        parts += ["Targets:", "", *goals, ""]
     notes = list(ISSUE20_STEPS)
     notes += [
         f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}" for r in rows for n in r.notes
