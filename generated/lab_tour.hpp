@@ -1470,8 +1470,8 @@ struct Spec {
   //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //   id, name,
   //   source
-  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
-  // SUPPORTED in generator/btgen/ir/lower.py).
+  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
+  // read by meaning through btgen::param there).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
       btgen::NodeInfo{btgen::NodeKind::Sequence,
                       0, 1, btgen::kNoNode, 0u, 5, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -4188,7 +4188,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x72df2e0a7da060aaULL;
+inline constexpr unsigned long long kGeneration = 0x576faae9c8b094acULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

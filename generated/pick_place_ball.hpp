@@ -227,8 +227,8 @@ struct Spec {
   //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //   id, name,
   //   source
-  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
-  // SUPPORTED in generator/btgen/ir/lower.py).
+  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
+  // read by meaning through btgen::param there).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
       btgen::NodeInfo{btgen::NodeKind::Sequence,
                       0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -786,7 +786,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x975bbc7ff26d34b0ULL;
+inline constexpr unsigned long long kGeneration = 0xaecb8df81992b821ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

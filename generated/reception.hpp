@@ -1002,8 +1002,8 @@ struct Spec {
   //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //   id, name,
   //   source
-  // (btgen::NodeInfo in btgen/node.hpp; what p0..p2 hold for each kind is written beside
-  // SUPPORTED in generator/btgen/ir/lower.py).
+  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
+  // read by meaning through btgen::param there).
   static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
       btgen::NodeInfo{btgen::NodeKind::Sequence,
                       0, 1, btgen::kNoNode, 0u, 6, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -2784,7 +2784,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xe10831395eba5bccULL;
+inline constexpr unsigned long long kGeneration = 0xc4fc5f87e991b732ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

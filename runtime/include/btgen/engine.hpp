@@ -746,14 +746,14 @@ class Engine {
       case NodeKind::RetryUntilSuccessful:
         f.decorator = 1;
         set_status(f.node, Status::RUNNING);
-        if (counter(n, 0) < n.p0 || n.p0 == -1) return descend(child(n, 0));
+        if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
         f.decorator = 1;
         if (counter(n, 0) != 0) {
-          return done(n.p0 != 0 ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
+          return done(param::then_skip(n) ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
         }
         set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
@@ -765,9 +765,9 @@ class Engine {
         if (started == 0) {
           started = 1;
           set_status(f.node, Status::RUNNING);
-          armed = n.p0 > 0 ? 1 : 0;
+          armed = param::duration_ms(n) > 0 ? 1 : 0;
           timer(n) = clock_.now_ms();
-        } else if (armed != 0 && reached(elapsed(n), n.p0)) {
+        } else if (armed != 0 && reached(elapsed(n), param::duration_ms(n))) {
           // The timer fires: a RUNNING child is halted and the node fails.
           armed = 0;
           if (status_[child(n, 0)] == Status::RUNNING) {
@@ -787,7 +787,7 @@ class Engine {
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
         }
-        if (reached(elapsed(n), n.p0)) return descend(child(n, 0));
+        if (reached(elapsed(n), param::duration_ms(n))) return descend(child(n, 0));
         return done(Status::RUNNING);
       }
 
@@ -813,7 +813,7 @@ class Engine {
         const int r = run_script(n, ScriptSlot::kCode);
         if (r < 0) return done(Status::FAILURE);
         if (r == 1) return descend(child(n, 0));
-        return done(static_cast<Status>(n.p0));
+        return done(param::otherwise(n));
       }
 
       case NodeKind::Loop: {
@@ -828,7 +828,7 @@ class Engine {
           const ErrorSink es = sink();
           const int r = Spec::loop_pop(bb_, n, es, idle);
           if (r < 0) return done(Status::FAILURE);
-          if (r == 0) return done(static_cast<Status>(n.p0));
+          if (r == 0) return done(param::otherwise(n));
         }
         if (idle) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
@@ -856,12 +856,13 @@ class Engine {
       case NodeKind::Sleep: {
         const Status st = status_[f.node];
         if (st == Status::IDLE) {
-          if (n.p0 <= 0) return done(Status::SUCCESS);
+          if (param::duration_ms(n) <= 0) return done(Status::SUCCESS);
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
           return done(Status::RUNNING);
         }
-        if (st == Status::RUNNING) return done(reached(elapsed(n), n.p0) ? Status::SUCCESS : Status::RUNNING);
+        if (st == Status::RUNNING)
+          return done(reached(elapsed(n), param::duration_ms(n)) ? Status::SUCCESS : Status::RUNNING);
         return done(st);
       }
 
@@ -1115,7 +1116,7 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
-        const bool again = count < n.p0 || n.p0 == -1;
+        const bool again = count < param::max_cycles(n) || param::max_cycles(n) == -1;
         halt_child(n, 0);
         if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule
         if (again) return descend(child(n, 0));
@@ -1213,11 +1214,11 @@ class Engine {
   Status parallel_check(Frame& f, const NodeInfo& n) noexcept {
     const std::int64_t successes = counter(n, 0);
     const std::int64_t failures = counter(n, 1);
-    const std::int64_t required = n.p0;
+    const std::int64_t required = param::success_threshold(n);
     Status decided = Status::IDLE;
-    if (successes >= required || (n.p2 != 0 && successes + f.aux >= required)) {
+    if (successes >= required || (param::success_count_relative(n) && successes + f.aux >= required)) {
       decided = Status::SUCCESS;
-    } else if (n.child_count - failures < required || failures == n.p1) {
+    } else if (n.child_count - failures < required || failures == param::failure_threshold(n)) {
       decided = Status::FAILURE;
     }
     if (decided != Status::IDLE) {
@@ -1241,7 +1242,7 @@ class Engine {
     if (f.aux + completed < n.child_count) return done(Status::RUNNING);
     reset_children(n);
     clear_done(n);
-    const Status s = counter(n, 0) >= n.p0 ? Status::FAILURE : Status::SUCCESS;
+    const Status s = counter(n, 0) >= param::max_failures(n) ? Status::FAILURE : Status::SUCCESS;
     counter(n, 0) = 0;
     return done(s);
   }

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "btgen/status.hpp"
+
 namespace btgen {
 
 // Every node kind the C++ back end executes. The names are the
@@ -113,5 +115,32 @@ struct NodeInfo {
 [[nodiscard]] constexpr bool is_leaf(NodeKind k) noexcept {
   return k >= NodeKind::AlwaysSuccess && k <= NodeKind::Condition;
 }
+
+// What NodeInfo::p0..p2 hold: a node's port literals, converted when btgen compiles the
+// mission (generator/btgen/ir/lower.py, `params`). The engine reads them by meaning.
+namespace param {
+
+// Repeat `num_cycles`, RetryUntilSuccessful `num_attempts`: -1 for no limit.
+[[nodiscard]] constexpr std::int64_t max_cycles(const NodeInfo& n) noexcept { return n.p0; }
+
+// RunOnce `then_skip`: SKIPPED after the first run, else the first run's status again.
+[[nodiscard]] constexpr bool then_skip(const NodeInfo& n) noexcept { return n.p0 != 0; }
+
+// Timeout and Sleep `msec`, Delay `delay_msec`.
+[[nodiscard]] constexpr std::int64_t duration_ms(const NodeInfo& n) noexcept { return n.p0; }
+
+// Precondition `else`, Loop* `if_empty`: the status returned instead of ticking the child.
+[[nodiscard]] constexpr Status otherwise(const NodeInfo& n) noexcept { return static_cast<Status>(n.p0); }
+
+// Parallel: the successes and the failures that decide (negative counts made absolute), and
+// whether `success_count` was negative (4.6.2 then counts skipped children as successes).
+[[nodiscard]] constexpr std::int64_t success_threshold(const NodeInfo& n) noexcept { return n.p0; }
+[[nodiscard]] constexpr std::int64_t failure_threshold(const NodeInfo& n) noexcept { return n.p1; }
+[[nodiscard]] constexpr bool success_count_relative(const NodeInfo& n) noexcept { return n.p2 != 0; }
+
+// ParallelAll `max_failures` (made absolute).
+[[nodiscard]] constexpr std::int64_t max_failures(const NodeInfo& n) noexcept { return n.p0; }
+
+}  // namespace param
 
 }  // namespace btgen
