@@ -65,32 +65,6 @@ def _run_error(loc: Loc, message: str) -> RunError:
     return RunError(Diagnostic(loc, message))
 
 
-_FILE_LINES: dict[str, list[str]] = {}
-
-
-def _raw_attr_value(value_loc: Loc) -> Optional[str]:
-    """The attribute value as written in the file (entity references undecoded), for positions
-    inside it; None when the file cannot be read again."""
-    lines = _FILE_LINES.get(value_loc.path)
-    if lines is None:
-        try:
-            with open(value_loc.path, encoding="utf-8-sig") as f:
-                lines = f.read().split("\n")
-        except (OSError, UnicodeDecodeError):
-            return None
-        _FILE_LINES[value_loc.path] = lines
-    if not 1 <= value_loc.line <= len(lines):
-        return None
-    line = lines[value_loc.line - 1]
-    start = value_loc.col - 1
-    if start < 1 or start > len(line) or line[start - 1] not in "\"'":
-        return None
-    quote = line[start - 1]
-    text = "\n".join([line[start:]] + lines[value_loc.line :])
-    end = text.find(quote)
-    return text[:end] if end >= 0 else None
-
-
 # ---------------------------------------------------------------- the run context
 class _Cursor:
     """The scripted results of one leaf name, shared by all its instances."""
@@ -320,7 +294,9 @@ class TreeNode:
     def _script_error(self, attr: Attr, message: str, offset: int, at_start: bool) -> RunError:
         loc = attr.value_loc
         if not at_start and offset > 0:
-            loc = scriptmod.script_error_loc(attr.value_loc, attr.value, offset, _raw_attr_value(attr.value_loc))
+            loc = scriptmod.script_error_loc(
+                attr.value_loc, attr.value, offset, scriptmod.raw_attr_value(attr.value_loc)
+            )
         return _run_error(loc, f'script error in `{attr.name}` of `{self.reg_id}` "{self.name}": {message}')
 
     def _parse_at_run_time(self, attr: Attr, text: str):

@@ -1015,3 +1015,38 @@ def script_truth(value: Optional[Value]) -> bool:
         return bool(values.cast(value, values.BOOL))
     except ConversionError as e:
         raise ScriptRuntimeError(f"the script's result cannot be used as a condition: {e}", 0) from None
+
+
+# The text of a script attribute as written in its file (for error columns past entity
+# references), shared by the compiler's and the interpreter's script error positions.
+_FILE_LINES: dict[str, list[str]] = {}
+
+
+def raw_attr_value(value_loc: Loc) -> Optional[str]:
+    """The attribute value as written in the file (entity references undecoded)."""
+    lines = _FILE_LINES.get(value_loc.path)
+    if lines is None:
+        try:
+            with open(value_loc.path, encoding="utf-8-sig") as f:
+                lines = f.read().split("\n")
+        except (OSError, UnicodeDecodeError):
+            return None
+        _FILE_LINES[value_loc.path] = lines
+    if not 1 <= value_loc.line <= len(lines):
+        return None
+    line = lines[value_loc.line - 1]
+    start = value_loc.col - 1
+    if start < 1 or start > len(line) or line[start - 1] not in "\"'":
+        return None
+    quote = line[start - 1]
+    # Up to the closing quote, joining the following lines only while it is not found (joining
+    # the whole rest of the file for every attribute made large missions quadratic).
+    text = line[start:]
+    end = text.find(quote)
+    following = value_loc.line
+    while end < 0 and following < len(lines):
+        searched = len(text) + 1
+        text += "\n" + lines[following]
+        following += 1
+        end = text.find(quote, searched)
+    return text[:end] if end >= 0 else None
