@@ -20,6 +20,7 @@ from btgen.frontend.loader import load_mission
 from btgen.interp.controls import switch_equal
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
+from btgen.ir import kinds
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.tools.cppengine import build_cpp
@@ -30,7 +31,7 @@ KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": "queue<int>
 
 def kind(code, **names):
     expr = sc.parse_script(code).statements[-1]
-    return scpp.expr_kind(expr, lambda name: KINDS[names[name]] if name in names else None)
+    return kinds.expr_kind(expr, lambda name: KINDS[names[name]] if name in names else None)
 
 
 # ------------------------------------------------------------------ kinds
@@ -65,7 +66,7 @@ def test_expression_kinds(code, names, expected):
     ],
 )
 def test_expressions_that_always_fail(code, names, message):
-    with pytest.raises(scpp.ScriptTypeError) as e:
+    with pytest.raises(kinds.ScriptTypeError) as e:
         kind(code, **names)
     assert e.value.message == message
 

@@ -36,229 +36,29 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import cpp_string
+from btgen.ir.kinds import (
+    DYN,
+    INT32_MAX,
+    INT32_MIN,
+    TEXT_BOUND,
+    UINT32_MAX,
+    ScriptTypeError,
+    binary_kind,
+    compare_check,
+    describe_kind,
+    is_numeric,
+    is_queue,
+    kind_of_type,
+    need_number,
+    overflow_message,
+    static_binary_ok,
+    static_update_ok,
+    ternary_message,
+)
 from btgen.lang import script as sc
 from btgen.lang import values
 
-NUMERIC = ("int", "double", "bool", "status")
-# The kind of a dynamic slot (btgen::Dyn<N>: its type changes at run time) and of
-# expressions over one: btgen::dyn::Ref values, operated on by runtime/include/btgen/dynamic.hpp.
-DYN = "dyn"
 CPP_SCALAR = {"int": "std::int64_t", "double": "double", "bool": "bool", "status": "btgen::Status"}
-# Longest text of a value of each kind (std::to_string): bool and status print one digit.
-TEXT_BOUND = {"int": 20, "double": 317, "bool": 1, "status": 1}
-
-INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
-UINT32_MAX = 2**32 - 1
-
-
-def is_numeric(kind: Optional[str]) -> bool:
-    return kind in NUMERIC
-
-
-def is_queue(kind: Optional[str]) -> bool:
-    return kind is not None and kind.startswith("queue<")
-
-
-# The user port types (usertypes.py) of the mission being compiled: type name (blanks
-# around `<>,:*&` removed) -> kind (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
-USER_KINDS: dict[str, str] = {}
-
-
-def is_user(kind: Optional[str]) -> bool:
-    """A kind of a user port type (`--type`): the value is the user's C++ type, held as is."""
-    return kind is not None and kind.startswith("user:")
-
-
-def kind_of_type(type_name: str) -> Optional[str]:
-    """The kind an entry of a declared type holds; None for `any` (inferred from writes).
-
-    A bool entry holds an integer: 4.6.2 keeps bools as the integers 0 and 1
-    (its Any holds an int64), a script writes `true` as the integer 1 into
-    it, and every operation (arithmetic, `..`, conditions, casts to a port's
-    type) treats both alike."""
-    if type_name in (values.INT, values.UNSIGNED, values.BOOL):
-        return "int"
-    if type_name == values.DOUBLE:
-        return "double"
-    if type_name == values.NODE_STATUS:
-        return "status"
-    if type_name == values.ANY:
-        return None
-    if values.queue_element_type(type_name) is not None:
-        return f"queue<{values.queue_element_type(type_name)}>"
-    if USER_KINDS and values._compact(type_name) in USER_KINDS:
-        return USER_KINDS[values._compact(type_name)]
-    return "string"  # string and opaque user types
-
-
-def describe_kind(kind: str) -> str:
-    if is_user(kind):
-        return f"a {kind[len('user:') :]}"
-    return {
-        "int": "an integer",
-        "double": "a double",
-        "bool": "a bool",
-        "status": "a NodeStatus",
-        "string": "a string",
-        "none": "no value",
-        DYN: "a value of changing type",
-    }.get(kind, f"a {kind}")
-
-
-def value_kind(value: object) -> str:
-    """The kind of a Python value (values.py representation)."""
-    t = values.type_of(value)  # type: ignore[arg-type]
-    return {"int": "int", "double": "double", "bool": "bool", "string": "string", "NodeStatus": "status"}.get(t, t)
-
-
-class ScriptTypeError(Exception):
-    """A script that fails whenever it runs; ``offset`` indexes its code."""
-
-    def __init__(self, message: str, offset: int) -> None:
-        super().__init__(message)
-        self.message = message
-        self.offset = offset
-
-
-# ================================================================ kinds
-
-
-def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optional[str]:
-    """The static kind of an expression's value; None while a name's kind is unknown.
-
-    Raises ScriptTypeError when the kinds make the expression fail whenever it
-    is evaluated."""
-    if isinstance(node, sc.Literal):
-        return value_kind(node.value)
-    if isinstance(node, sc.Name):
-        return kind_of(node.name)
-    if isinstance(node, sc.Unary):
-        k = expr_kind(node.operand, kind_of)
-        if k is None:
-            return None
-        if is_queue(k):
-            _need_number(node.op, k, node.offset, "operand")
-        return "double"
-    if isinstance(node, sc.Binary):
-        lk = expr_kind(node.left, kind_of)
-        rk = expr_kind(node.right, kind_of)
-        if lk is None or rk is None:
-            return None
-        return binary_kind(node.op, lk, rk, node.op_offset)
-    if isinstance(node, sc.Compare):
-        kinds = [expr_kind(o, kind_of) for o in node.operands]
-        if any(k is None for k in kinds):
-            return None
-        for op, off, a, b in zip(node.ops, node.op_offsets, kinds, kinds[1:]):
-            compare_check(op, a, b, off)  # type: ignore[arg-type]
-        return "double"
-    if isinstance(node, sc.Ternary):
-        ck = expr_kind(node.cond, kind_of)
-        tk = expr_kind(node.then, kind_of)
-        ek = expr_kind(node.orelse, kind_of)
-        if ck is None:
-            return None
-        if ck == "none":
-            raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
-        if is_queue(ck):
-            raise ScriptTypeError(f"the condition of `?:` is {describe_kind(ck)}", node.op_offset)
-        if tk is None or ek is None:
-            return None
-        if DYN in (tk, ek) or (tk != ek and not is_queue(tk) and not is_queue(ek)):
-            return DYN
-        if tk != ek:
-            raise ScriptTypeError(ternary_message(tk, ek), node.op_offset)
-        return tk
-    if isinstance(node, sc.Assign):
-        expr_kind(node.value, kind_of)  # (no value: fails at run time, as in 4.6.2)
-        return kind_of(node.target)
-    raise TypeError(node)
-
-
-def _static_update_ok(op: str, k: str, r: str) -> bool:
-    """Whether `k op= r` compiles statically (else it fails whenever it runs, or is dynamic)."""
-    if is_numeric(r):
-        return is_numeric(k)
-    if r == "string":
-        return op == "+=" and k == "string"
-    return r == DYN and False
-
-
-def overflow_message(text: str, key: str, capacity: int) -> str:
-    """A string literal longer than the entry it is written to (the deliberate difference from 4.6.2)."""
-    return (
-        f"the string {values.describe(text)} ({len(text.encode('utf-8'))} bytes) does not fit blackboard entry "
-        f"`{key}`, whose capacity is {capacity} bytes (strings have a fixed capacity in btgen; raise it with "
-        f"--string-capacity)"
-    )
-
-
-def ternary_message(a: str, b: str) -> str:
-    hint = " (e.g. `1.0` rather than `1` next to a double)" if is_numeric(a) and is_numeric(b) else ""
-    return (
-        f"the branches of `?:` give {describe_kind(a)} and {describe_kind(b)}; btgen gives every value one "
-        f"type, so write both with the same type{hint}"
-    )
-
-
-def none_message(op: str, value: sc.Expr) -> str:
-    if isinstance(value, sc.Binary) and value.op == "..":
-        return (
-            f"the right operand of `{op}` has no value: `..` of two numbers gives none in BehaviorTree.CPP "
-            f"4.6.2 (start with a string: `'' .. a .. b`)"
-        )
-    return f"the right operand of `{op}` has no value"
-
-
-def _need_number(op: str, kind: str, offset: int, which: str) -> None:
-    if kind == "none":
-        raise ScriptTypeError(f"the {which} of `{op}` has no value", offset)
-    if not is_numeric(kind):
-        raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(kind)}", offset)
-
-
-def _static_binary_ok(op: str, lk: str, rk: str) -> bool:
-    if "none" in (lk, rk):
-        return False
-    if is_numeric(lk) and is_numeric(rk):
-        return True
-    if lk == "string" and rk == "string" and op in ("+", ".."):
-        return True
-    return op == ".." and {lk, rk} <= {"string", *NUMERIC}
-
-
-def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
-    if not is_queue(lk) and not is_queue(rk) and not _static_binary_ok(op, lk, rk) and DYN not in (lk, rk):
-        return DYN if op in ("+", "..") else "double"
-    if lk == "none":
-        raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
-    if rk == "none":
-        raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
-    if DYN in (lk, rk) and not is_queue(lk) and not is_queue(rk):
-        return DYN if op in ("+", "..") else "double"
-    if not is_queue(lk) and not is_queue(rk) and not _static_binary_ok(op, lk, rk):
-        # Fails whenever it runs (a string where a number is needed): compiled as the dynamic
-        # operation, which reports the interpreter's error at run time.
-        return DYN if op in ("+", "..") else "double"
-    if is_numeric(lk) and is_numeric(rk):
-        return "none" if op == ".." else "double"
-    if lk == "string" and rk == "string" and op in ("+", ".."):
-        return "string"
-    if op == ".." and {lk, rk} <= {"string", *NUMERIC} and "string" in (lk, rk):
-        return "string"
-    raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(lk)} and {describe_kind(rk)}", offset)
-
-
-def compare_check(op: str, a: str, b: str, offset: int) -> None:
-    if "none" in (a, b) and not is_queue(a) and not is_queue(b):
-        return  # compiled as the dynamic comparison: no value fails at run time, as in 4.6.2
-    if a == "none":
-        raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
-    if b == "none":
-        raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
-    ok = {a, b} <= {"string", DYN, *NUMERIC}
-    if not ok:
-        raise ScriptTypeError(f"cannot compare {describe_kind(a)} with {describe_kind(b)} using `{op}`", offset)
 
 
 # ================================================================ C++
@@ -621,7 +421,7 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"double {t} = 0.0;")
             self.dyn_call(f"btgen::dyn::unary('{node.op}', {self.to_ref(v)}, {t}, dm)", node.offset)
             return Val("double", t, None)
-        _need_number(node.op, v.kind, node.offset, "operand")
+        need_number(node.op, v.kind, node.offset, "operand")
         self.need_value(v, node.offset, f"the operand of `{node.op}`")
         d = self.as_double(v, node.offset, f"operand of `{node.op}`")
         t = self.temp()
@@ -641,7 +441,7 @@ class ScriptCompiler(CodeWriter):
         kind = binary_kind(op, lv.kind, rv.kind, off)
         if (
             DYN in (lv.kind, rv.kind)
-            or not _static_binary_ok(op, lv.kind, rv.kind)
+            or not static_binary_ok(op, lv.kind, rv.kind)
             or (op in sc.BIT_OPS and "double" in (lv.kind, rv.kind))
         ):
             # (a double operand of a bit operator may not be whole: the dynamic path names the
@@ -866,7 +666,7 @@ class ScriptCompiler(CodeWriter):
         if v.kind == "none":  # `x := 1 .. 2`: 4.6.2 fails whenever this runs
             self.emit(self.fail(off, f"the right operand of `{op}` has no value"))
             return Val("none", None, "false")
-        if op not in (":=", "=") and not _static_update_ok(op, s.kind, v.kind):
+        if op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind):
             return self.dyn_assign(node, idx, s, v)
         if DYN in (s.kind, v.kind):
             return self.dyn_assign(node, idx, s, v)

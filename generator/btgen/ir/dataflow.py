@@ -39,17 +39,10 @@ from typing import Callable, Optional
 
 from btgen.backend_cpp import script_cpp as scpp
 from btgen.backend_cpp.naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
-from btgen.backend_cpp.script_cpp import (
-    DYN,
-    ScriptTypeError,
-    cpp_view,
-    describe_kind,
-    is_numeric,
-    is_queue,
-    is_user,
-    kind_of_type,
-)
+from btgen.backend_cpp.script_cpp import cpp_view
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.ir import kinds
+from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -556,8 +549,8 @@ class _Analyzer:
     def _bound_of(self, slot: int) -> Optional[int]:
         s = self.slots[slot]
         if s.kind == DYN:  # its text, or the text of a number it holds
-            return max(s.capacity, scpp.TEXT_BOUND["double"])
-        return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
+            return max(s.capacity, kinds.TEXT_BOUND["double"])
+        return s.capacity if s.kind == "string" else kinds.TEXT_BOUND.get(s.kind or "", 0)
 
     def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[str]]:
         return lambda name: self.slots[names[name]].kind
@@ -568,7 +561,7 @@ class _Analyzer:
         if any(is_user(self.slots[names[n.name]].kind) for n in sc.walk(expr) if isinstance(n, sc.Name)):
             return "error"  # (compiling the script says that user-typed entries are not for scripts)
         try:
-            return scpp.expr_kind(expr, self._kind_of(names))
+            return kinds.expr_kind(expr, self._kind_of(names))
         except ScriptTypeError:
             return "error"
 
@@ -578,15 +571,15 @@ class _Analyzer:
             return (
                 len(expr.value.encode("utf-8"))
                 if isinstance(expr.value, str)
-                else scpp.TEXT_BOUND[scpp.value_kind(expr.value)]
+                else kinds.TEXT_BOUND[kinds.value_kind(expr.value)]
             )
         if isinstance(expr, sc.Name):
             s = self.slots[names[expr.name]]
             if s.kind == DYN:
-                return max(s.capacity, scpp.TEXT_BOUND["double"])
+                return max(s.capacity, kinds.TEXT_BOUND["double"])
             if s.kind == "string":
                 return s.capacity
-            return scpp.TEXT_BOUND.get(s.kind or "", 0)
+            return kinds.TEXT_BOUND.get(s.kind or "", 0)
         if isinstance(expr, sc.Binary):
             a, b = self._expr_bound(expr.left, names), self._expr_bound(expr.right, names)
             return None if a is None or b is None else a + b
@@ -596,9 +589,9 @@ class _Analyzer:
         if isinstance(expr, sc.Assign):
             s = self.slots[names[expr.target]]
             if s.kind == DYN:  # its text, or the text of a number it holds
-                return max(s.capacity, scpp.TEXT_BOUND["double"])
-            return s.capacity if s.kind == "string" else scpp.TEXT_BOUND.get(s.kind or "", 0)
-        return scpp.TEXT_BOUND["double"]  # unary, comparison: numbers
+                return max(s.capacity, kinds.TEXT_BOUND["double"])
+            return s.capacity if s.kind == "string" else kinds.TEXT_BOUND.get(s.kind or "", 0)
+        return kinds.TEXT_BOUND["double"]  # unary, comparison: numbers
 
     # -- built-in nodes
     def _literal(self, inst: _Inst, name: str, type_name: str) -> object:
@@ -767,9 +760,7 @@ class _Analyzer:
                 return self.slots[q].elem_capacity if q is not None else 0
 
             self.slots[vslot].writes.append(
-                _Write(
-                    vslot, self.next_order(), vloc, what, lambda e=elem: scpp.kind_of_type(e), True, bound, None, "loop"
-                )
+                _Write(vslot, self.next_order(), vloc, what, lambda e=elem: kind_of_type(e), True, bound, None, "loop")
             )
         self.node_ops.append(
             ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc})
@@ -1373,7 +1364,7 @@ class _Compiler:
         return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
 
     def overflow_message(self, text: str, s: _Slot) -> str:
-        return scpp.overflow_message(text, s.key, s.capacity)
+        return kinds.overflow_message(text, s.key, s.capacity)
 
     def set_copy(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
         dst, src, loc = op["dst"], op["src"], op["loc"]
@@ -1891,9 +1882,9 @@ class _Compiler:
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
-    saved = dict(scpp.USER_KINDS)
-    scpp.USER_KINDS.clear()
-    scpp.USER_KINDS.update({values._compact(t.name): t.kind for t in mission.user_types})
+    saved = dict(kinds.USER_KINDS)
+    kinds.USER_KINDS.clear()
+    kinds.USER_KINDS.update({values._compact(t.name): t.kind for t in mission.user_types})
     try:
         a = _Analyzer(mission, options or DataOptions())
         a.load()
@@ -1903,6 +1894,6 @@ def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[Da
         a.size_slots()
         ir = _Compiler(a).run()
     finally:
-        scpp.USER_KINDS.clear()
-        scpp.USER_KINDS.update(saved)
+        kinds.USER_KINDS.clear()
+        kinds.USER_KINDS.update(saved)
     return ir, a.sink
