@@ -9,7 +9,9 @@ from pathlib import Path
 
 import pytest
 
+from btgen.backend_cpp.data_cpp import port_type, slot_init, slot_type
 from btgen.frontend.loader import load_mission
+from btgen.ir import dataops as ops
 from btgen.ir.dataflow import DataOptions, analyze
 from conftest import CASES, ROOT
 
@@ -79,7 +81,9 @@ def test_subtree_remapping_autoremap_and_root_keys_resolve_to_one_slot_each():
     slots, _ = _slots(os.path.join(CASES, "subtree_remap_nested.xml"))
     # `goal` of the first GoTo instance is the parent's `target`; of the second a constant.
     assert ("root", "target") in slots and ("root", "visits") in slots
-    assert slots[("GoToDock", "goal")].initializer.startswith('{btgen::FixedString<4>(std::string_view("dock", 4)), 1,')
+    goal = slots[("GoToDock", "goal")]
+    assert (goal.initial, goal.kind, goal.capacity) == ("dock", "string", 4)
+    assert slot_init(goal).startswith('{btgen::FixedString<4>(std::string_view("dock", 4)), 1,')
     assert ("GoToKitchen", "goal") not in slots  # remapped: the parent's entry
     # `last_goal` is written inside GoTo without remapping: one slot per instance.
     assert ("GoToKitchen", "last_goal") in slots and ("GoToDock", "last_goal") in slots
@@ -114,7 +118,7 @@ def test_types_come_from_ports_then_from_the_first_write(tmp_path):
         ),
     )
     slots, _ = _slots(path)
-    kinds = {k[1]: (s.kind, s.declared, s.cpp_type) for k, s in slots.items()}
+    kinds = {k[1]: (s.kind, s.declared, slot_type(s)) for k, s in slots.items()}
     assert kinds == {
         "d": ("double", "any", "double"),
         "s": ("string", "any", "btgen::FixedString<1>"),
@@ -162,7 +166,7 @@ def test_a_string_growing_by_little_per_write_gets_the_capacity(tmp_path, piece)
 
 def test_lab_tour_slots():
     slots, ir = _slots(os.path.join(ROOT, "missions", "LabTour.xml"))
-    assert {k: s.cpp_type for k, s in slots.items()} == {
+    assert {k: slot_type(s) for k, s in slots.items()} == {
         ("root", "response"): "btgen::FixedString<128>",
         ("IV. VisitExhibit", "exhibits"): "btgen::FixedString<128>",
         ("IV. VisitExhibit", "location_id"): "std::int64_t",
@@ -170,11 +174,11 @@ def test_lab_tour_slots():
         ("V. EndTour/_GoHome", "location_id"): "std::int64_t",
     }
     ports = {p.port: p for p in ir.ports["SelectExhibit"]}
-    assert ports["exhibits"].direction == "inout" and ports["exhibits"].cpp_type == "std::string_view"
-    assert ports["location_id"].cpp_type == "std::int32_t" and not ports["location_id"].reads
+    assert ports["exhibits"].direction == "inout" and port_type(ports["exhibits"]) == "std::string_view"
+    assert port_type(ports["location_id"]) == "std::int32_t" and not ports["location_id"].reads
     # the speech nodes' `message` defaults are literals, converted at generation time
     welcome = {p.port: p for p in ir.ports["WelcomeSpeech"]}["message"]
-    assert [stmt for _, stmt in welcome.reads] == ['return std::string_view("welcome", 7);']
+    assert [r for _, r in welcome.reads] == [ops.ReadLiteral("string", "welcome")]
 
 
 def test_untyped_ports_between_robot_leaves_hold_text():
@@ -183,7 +187,7 @@ def test_untyped_ports_between_robot_leaves_hold_text():
     assert (loc.kind, loc.capacity) == ("string", 128)
     assert "untyped ports" in loc.origin
     find = {p.port: p for p in ir.ports["FindBall"]}["ball_location"]
-    assert find.cpp_type == "" and find.writes  # a template setter
+    assert port_type(find) == "" and find.writes  # a template setter
 
 
 def test_unset_entries_may_be_missing_when_a_script_runs():
@@ -191,9 +195,9 @@ def test_unset_entries_may_be_missing_when_a_script_runs():
     check = next(c for c in ir.scripts if c.comment.startswith('ScriptCondition "CheckTarget"'))
     assert any("if (!bb.target.exists)" in line for line in check.body)
     unset = next(c for c in ir.data_leaves if "ForgetTarget" in c.comment)
-    assert unset.body == ("bb.target.unset();", "return btgen::Status::SUCCESS;")
+    assert isinstance(unset.op, ops.Unset) and ir.slots[unset.op.slot].key == "target"
     unknown = next(c for c in ir.data_leaves if "ForgetUnknown" in c.comment)
-    assert unknown.body[-1] == "return btgen::Status::SUCCESS;"
+    assert isinstance(unknown.op, ops.Unset) and unknown.op.slot is None
 
 
 def test_every_conformance_case_compiles():

@@ -15,6 +15,7 @@ import sys
 
 import pytest
 
+from btgen.backend_cpp.data_cpp import slot_type
 from btgen.frontend.loader import load_mission
 from btgen.ir.dataflow import analyze
 from conftest import ROOT
@@ -99,7 +100,7 @@ def _kinds(tmp_path, body):
     p.write_text(_mission(body), encoding="utf-8")
     ir, sink = analyze(load_mission(str(p)))
     assert not sink.errors, [str(d) for d in sink.errors]
-    return {s.key: (s.kind, s.cpp_type) for s in ir.slots}
+    return {s.key: (s.kind, slot_type(s)) for s in ir.slots}
 
 
 def test_only_entries_whose_type_changes_are_dynamic(tmp_path):

@@ -16,7 +16,7 @@ from typing import Any, Callable, Optional
 import jinja2
 
 from btgen import resources
-from btgen.backend_cpp import naming
+from btgen.backend_cpp import data_cpp, naming
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
@@ -118,6 +118,8 @@ def _environment() -> jinja2.Environment:
         cpp_bool=cpp_bool,
         cpp_string_view=cpp_string_view,
     )
+    env.filters.update(data_cpp.FILTERS)
+    env.tests.update(data_cpp.TESTS)
     return env
 
 

@@ -86,6 +86,21 @@ class Val:
     literal: object = None  # the Python value when the expression is a literal
 
 
+def to_ref(v: Val) -> str:
+    """The value as a btgen::dyn::Ref (empty when it has none)."""
+    if v.kind == DYN:
+        return v.expr  # type: ignore[return-value]
+    if v.kind == "none" or is_queue(v.kind) or v.has == "false":
+        return "btgen::dyn::Ref{}"
+    fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status", "string": "of_string"}[
+        v.kind
+    ]
+    r = f"btgen::dyn::{fn}({v.expr})"
+    if v.has is not None:
+        r = f"({v.has} ? {r} : btgen::dyn::Ref{{}})"
+    return r
+
+
 def cpp_double(value: float) -> str:
     """A C++ literal of exactly this double."""
     if math.isinf(value):
@@ -210,18 +225,7 @@ class CodeWriter:
         self.emit(f"if (btgen::dyn::Msg dm({self.prefix_view()}{self.msg_args}); !({call})) {fail}")
 
     def to_ref(self, v: Val) -> str:
-        """The value as a btgen::dyn::Ref (empty when it has none)."""
-        if v.kind == DYN:
-            return v.expr  # type: ignore[return-value]
-        if v.kind == "none" or is_queue(v.kind) or v.has == "false":
-            return "btgen::dyn::Ref{}"
-        fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status", "string": "of_string"}[
-            v.kind
-        ]
-        r = f"btgen::dyn::{fn}({v.expr})"
-        if v.has is not None:
-            r = f"({v.has} ? {r} : btgen::dyn::Ref{{}})"
-        return r
+        return to_ref(v)
 
     def errc_check(self, call: str, offset: int, message: str) -> None:
         self.check(f"{call} != btgen::Errc::kOk", offset, message)

@@ -38,9 +38,9 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp import script_cpp as scpp
-from btgen.backend_cpp.naming import cpp_comment, cpp_string, entry_identifiers, model_identifiers, port_identifiers
-from btgen.backend_cpp.script_cpp import cpp_view
+from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
 from btgen.lang import blackboard as bbmod
@@ -89,16 +89,6 @@ SCRIPT_BIT = {
     "kCode": 8,
 }
 
-DECLARED_ENUM = {
-    values.ANY: "kAny",
-    values.INT: "kInt",
-    values.UNSIGNED: "kUnsigned",
-    values.DOUBLE: "kDouble",
-    values.BOOL: "kBool",
-    values.STRING: "kString",
-    values.NODE_STATUS: "kStatus",
-}
-
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 LITERAL_ONLY = {
     ("Parallel", "success_count"),
@@ -120,14 +110,6 @@ LOOPS = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopStri
 ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
 
 
-def declared_enum(type_name: str) -> str:
-    if type_name in DECLARED_ENUM:
-        return DECLARED_ENUM[type_name]
-    if values.queue_element_type(type_name) is not None:
-        return "kQueue"
-    return "kOpaque"
-
-
 # ================================================================ IR
 
 
@@ -140,18 +122,20 @@ class SlotIR:
     key: str  # its key on its blackboard
     owner: str  # "root" or the SubTree instance path
     declared: str  # declared type (values.py canonical name; `any` when none)
-    kind: str  # script_cpp kind
-    cpp_type: str  # C++ type of the value
-    initializer: str  # C++ braced initializer of the Slot
+    kind: str  # ir.kinds kind
     origin: str  # why it has its type, for the header comment (without the place)
     origin_loc: Optional[Loc]  # where that is
     capacity: int  # strings: bytes; queues: elements
     owner_uid: int = 0  # UID of the SubTree node whose blackboard holds it; 0: the root blackboard
+    elem_capacity: int = 0  # queues of strings: bytes per element
+    initial: Optional[str] = None  # a SubTree constant: the entry exists with this text from the start
+    at_load: bool = False  # the entry exists from the start (a port created it when the tree loaded)
+    user_cpp: str = ""  # a user port type's C++ spelling (--type)
 
 
 @dataclass(frozen=True)
 class CodeIR:
-    """A generated function body (or a case of a dispatcher) for one node."""
+    """A compiled script of one node (C++ from backend_cpp/script_cpp.py)."""
 
     node: int
     name: str  # C++ function name, or "" for a dispatcher case
@@ -167,11 +151,24 @@ class CodeIR:
 
 @dataclass(frozen=True)
 class LocalIR:
-    """Node-local storage in the Blackboard struct (the copy of a Loop's literal queue)."""
+    """Node-local storage in the Blackboard struct: the copy of a Loop's literal queue
+    (`elem`, `length`, `elem_capacity`), or a user-typed literal (`user_cpp`)."""
 
     member: str
-    cpp_type: str
     comment: str
+    elem: str = ""  # int, bool, double, string
+    length: int = 0
+    elem_capacity: int = 0
+    user_cpp: str = ""
+
+
+@dataclass(frozen=True)
+class DataOp:
+    """The data operation of one node (a case of its dispatcher in the generated header)."""
+
+    node: int
+    comment: str
+    op: object  # a record of ir/dataops.py
 
 
 @dataclass(frozen=True)
@@ -182,12 +179,11 @@ class PortIR:
     port: str  # the port's name
     direction: str
     type_name: str
-    cpp_type: str  # "" for an untyped port (template accessors)
     description: str
     scratch: str  # the member the getter writes a number's text into ("" when it never needs one)
-    reads: tuple[tuple[int, str], ...]  # (node index, C++ statement returning the Input)
-    writes: tuple[tuple[int, tuple[str, ...]], ...]  # (node index, C++ statements)
-    user: bool = False  # a user port type (--type): the setter takes `const T&`
+    reads: tuple[tuple[int, ops.PortRead], ...]  # (node index, what the getter returns there)
+    writes: tuple[tuple[int, ops.PortWrite], ...]  # (node index, what the setter does there)
+    user_cpp: str = ""  # a user port type (--type): its C++ spelling; the setter takes `const T&`
 
 
 @dataclass(frozen=True)
@@ -195,19 +191,19 @@ class DataIR:
     slots: tuple[SlotIR, ...]
     locals: tuple[LocalIR, ...]
     scripts: tuple[CodeIR, ...]
-    data_leaves: tuple[CodeIR, ...]  # SetBlackboard, UnsetBlackboard: cases returning a Status
-    entries: tuple[CodeIR, ...]  # WasEntryUpdated & co.: cases returning the update counter or -1
-    switches: tuple[CodeIR, ...]  # SwitchN: cases returning the index of the child to tick
-    loops: tuple[CodeIR, ...]  # LoopX: cases returning 1 (popped), 0 (empty) or -1 (error)
+    data_leaves: tuple[DataOp, ...]  # SetBlackboard, UnsetBlackboard
+    entries: tuple[DataOp, ...]  # WasEntryUpdated & co.: EntrySeq
+    switches: tuple[DataOp, ...]  # SwitchN: SwitchCases
+    loops: tuple[DataOp, ...]  # LoopX: LoopPop
     ports: dict  # model id -> tuple[PortIR, ...]
     script_bits: dict  # node index -> NodeInfo::scripts bits
     params: dict  # node index -> (p0, p1, p2) for data nodes
     string_capacity: int
     queue_capacity: int
-    where: tuple[Loc, ...]  # the places run-time errors name: `detail::kWhere[i]` in the code above
+    where: tuple[Loc, ...]  # the places run-time errors name (Fail.where indexes them)
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
-    inits: tuple[CodeIR, ...] = ()  # literals of user-typed ports, converted when the mission is constructed
+    inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
 
 
 # ================================================================ helpers
@@ -672,7 +668,7 @@ class _Analyzer:
             def lit_kind(d=dst) -> Optional[str]:
                 s = self.slots[d]
                 declared = s.entry.type_name
-                if declared not in (values.ANY, values.STRING) and declared_enum(declared) != "kOpaque":
+                if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
                     return kind_of_type(declared)
                 return "string"
 
@@ -1041,35 +1037,6 @@ class _Analyzer:
             s.origin_text,
         )
 
-    def cpp_type(self, s: _Slot) -> str:
-        k = s.kind or "none"
-        if is_user(k):
-            return self.user[k].cpp
-        if k == "string":
-            return f"btgen::FixedString<{s.capacity}>"
-        if k == "none":
-            return "btgen::NoValue"
-        if k == DYN:
-            return f"btgen::Dyn<{max(s.capacity, 1)}>"
-        if is_queue(k):
-            elem = k[len("queue<") : -1]
-            etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(
-                elem, f"btgen::FixedString<{s.elem_capacity}>"
-            )
-            return f"btgen::FixedQueue<{etype}, {s.capacity}>"
-        return scpp.CPP_SCALAR[k]
-
-    def initializer(self, s: _Slot) -> str:
-        if s.initial is not None:
-            if s.kind == "string":
-                value = f"{self.cpp_type(s)}({cpp_view(s.initial)})"
-            else:
-                raise InternalError(f"a SubTree constant of kind {s.kind}")
-            return f"{{{value}, 1, true, true}}"
-        if s.at_load:
-            return "{{}, 0, true, false}"
-        return "{}"
-
 
 def _end_offset(node: sc.Expr, code: str) -> int:
     """The offset after an assignment's text (for messages): the next `;` at depth 0, or the end."""
@@ -1096,14 +1063,6 @@ def _end_offset(node: sc.Expr, code: str) -> int:
 
 # ================================================================ compile
 
-CPP_PORT_TYPE = {
-    values.INT: "std::int32_t",
-    values.UNSIGNED: "std::uint32_t",
-    values.DOUBLE: "double",
-    values.BOOL: "bool",
-    values.NODE_STATUS: "btgen::Status",
-    values.STRING: "std::string_view",
-}
 TYPE_NAME_OF_KIND = {
     "int": values.INT,
     "double": values.DOUBLE,
@@ -1113,27 +1072,10 @@ TYPE_NAME_OF_KIND = {
 }
 
 
-def port_cpp_type(type_name: str) -> str:
-    """The C++ type of a port's accessors; "" for an untyped port (template accessors)."""
-    if type_name == values.ANY:
-        return ""
-    if type_name in CPP_PORT_TYPE:
-        return CPP_PORT_TYPE[type_name]
-    return "std::string_view"  # opaque user types are strings
-
-
-def cpp_port_literal(type_name: str, value: object) -> str:
-    if type_name == values.INT:
-        return f"std::int32_t{{{value}}}"
-    if type_name == values.UNSIGNED:
-        return f"std::uint32_t{{{value}u}}"
-    if isinstance(value, str):
-        return cpp_view(value)
-    return scpp.cpp_value(value)
-
-
 class _Compiler:
-    """Step 5: C++ for every data operation, over the typed and sized slots."""
+    """Step 5: every data operation decided over the typed and sized slots (ir/dataops.py
+    records; scripts: compiled by backend_cpp/script_cpp.py), and the errors that would
+    happen whenever one runs reported."""
 
     def __init__(self, a: _Analyzer) -> None:
         self.a = a
@@ -1141,25 +1083,21 @@ class _Compiler:
         self.where_locs: list[Loc] = []
         self.where_index: dict[Loc, int] = {}
         self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
-        self.user_inits: list[CodeIR] = []
+        self.user_inits: list[DataOp] = []
 
-    def where(self, loc: Loc) -> str:
-        """The C++ expression naming `loc` in run-time errors (an entry of detail::kWhere)."""
+    def where(self, loc: Loc) -> int:
+        """The index of `loc` among the places run-time errors name (DataIR.where)."""
         idx = self.where_index.get(loc)
         if idx is None:
             idx = self.where_index[loc] = len(self.where_locs)
             self.where_locs.append(loc)
-        return f"detail::kWhere[{idx}]"
+        return idx
 
     def error(self, loc: Loc, message: str) -> None:
         self.a.error(loc, message)
 
-    def member(self, slot: int) -> str:
-        return f"bb.{self.a.slots[slot].member}"
-
-    def fail(self, where: Loc, message: str, detail: str = "", ret: str = "btgen::Status::FAILURE") -> str:
-        extra = f", {detail}" if detail else ""
-        return f"{{ (void)err.fail(n, {self.where(where)}, {cpp_string(message)}{extra}); return {ret}; }}"
+    def fail(self, where: Loc, message: str, errc: bool = False) -> ops.Fail:
+        return ops.Fail(self.where(where), message, errc)
 
     # ------------------------------------------------------------ typed writes
     def typed_write_ok(self, slot: int, type_name: str, loc: Loc, what: str) -> bool:
@@ -1212,7 +1150,7 @@ class _Compiler:
             ctx = scpp.ScriptContext(
                 self.views,
                 names,
-                lambda off, at=attr: self.where(script_loc(at, off)),
+                lambda off, at=attr: f"detail::kWhere[{self.where(script_loc(at, off))}]",
                 prefix,
                 dict(self.a.m.enums),
                 table,
@@ -1268,17 +1206,11 @@ class _Compiler:
         return ok
 
     # ------------------------------------------------------------ data nodes
-    def unset(self, inst: _Inst, op: dict) -> CodeIR:
+    def unset(self, inst: _Inst, op: dict) -> DataOp:
         key = op["key"]
         entry = inst.bb._storage.get(key)
-        body: list[str] = []
-        if entry is not None:
-            slot = self.a.slot_of_entry[id(entry)]
-            body.append(f"{self.member(slot)}.unset();")
-        else:
-            body.append(f"// `{cpp_comment(key)}` is not an entry of this blackboard: 4.6.2 removes nothing")
-        body.append("return btgen::Status::SUCCESS;")
-        return CodeIR(inst.index, "", f'UnsetBlackboard "{inst.node.display_name}" key={key}', tuple(body))
+        slot = self.a.slot_of_entry[id(entry)] if entry is not None else None
+        return DataOp(inst.index, f'UnsetBlackboard "{inst.node.display_name}" key={key}', ops.Unset(slot, key))
 
     def mark_unsets(self) -> None:
         """Entries UnsetBlackboard can remove may be missing when a script runs."""
@@ -1300,11 +1232,12 @@ class _Compiler:
             s.unset = True
         self.views = [self.a.slot_view(i) for i in range(len(self.a.slots))]
 
-    def set_literal(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
+    def set_literal(self, inst: _Inst, op: dict) -> Optional[DataOp]:
         dst, text, loc = op["dst"], op["text"], op["loc"]
         s = self.a.slots[dst]
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
+        comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
         if is_user(s.kind):
             # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
             # changes, so it is converted once, when the mission is constructed, and copied here.
@@ -1312,24 +1245,13 @@ class _Compiler:
             member = self.user_constant(
                 inst.index, t, text, loc, f"`value` of {what} (`{text}`, for `{s.key}`)", f"`value` of {what}"
             )
-            body = [
-                f"if (!bb.{member}.ok) "
-                + self.fail(loc, f"{what}: `{text}` does not convert to {t.name} ({t.cpp_type}) for `{s.key}`"),
-                f"btgen::port::write_user({self.member(dst)}, bb.{member}.value);",
-                "return btgen::Status::SUCCESS;",
-            ]
-            return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
+            fail = self.fail(loc, f"{what}: `{text}` does not convert to {t.name} ({t.cpp_type}) for `{s.key}`")
+            return DataOp(inst.index, comment, ops.SetUserLiteral(dst, member, fail))
         if s.kind == DYN:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
                 return None
-            body = [
-                f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
-                f"if (!btgen::dyn::set_literal({self.member(dst)}, {cpp_view(text)}, {cpp_view(op['key'])}, dm)) "
-                f"{{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
-                "return btgen::Status::SUCCESS;",
-            ]
-            return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
+            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op["key"], what + ": ", self.where(loc)))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
                 self.error(
@@ -1355,18 +1277,13 @@ class _Compiler:
         if s.kind == "string" and len(text.encode("utf-8")) > s.capacity:
             self.error(loc, self.overflow_message(text, s))
             return None
-        body = [
-            f"const btgen::Errc e = btgen::port::write({self.member(dst)}, btgen::Declared::"
-            f"{declared_enum(declared)}, {cpp_view(text)});",
-            "if (e != btgen::Errc::kOk) " + self.fail(loc, f"{what} cannot write `{s.key}`", "btgen::describe(e)"),
-            "return btgen::Status::SUCCESS;",
-        ]
-        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}', tuple(body))
+        fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
+        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail))
 
     def overflow_message(self, text: str, s: _Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
 
-    def set_copy(self, inst: _Inst, op: dict) -> Optional[CodeIR]:
+    def set_copy(self, inst: _Inst, op: dict) -> Optional[DataOp]:
         dst, src, loc = op["dst"], op["src"], op["loc"]
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
@@ -1400,31 +1317,23 @@ class _Compiler:
                 f"refuses that copy or changes the entry's type",
             )
             return None
-        ms, md = self.member(src), self.member(dst)
-        body = [
-            f"if (!{ms}.exists) "
-            + self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, which does not exist"),
-            f"{md}.exists = true;",
-            f"if (!{ms}.has_value) return btgen::Status::FAILURE;",
-        ]
+        missing = self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, which does not exist")
+        fail: Optional[ops.Fail] = None
         if convert:
-            body += [
-                f"const btgen::Errc e = btgen::port::convert_into({md}, btgen::Declared::{declared_enum(declared)}, "
-                f"{ms}.value.view());",
-                "if (e != btgen::Errc::kOk) "
-                + self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`", "btgen::describe(e)"),
-            ]
+            how = "convert"
+            fail = self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`", errc=True)
         elif d.kind == "string":
-            body.append(
-                f"if (!{md}.value.assign({ms}.value.view())) "
-                + self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity {d.capacity} bytes)")
-            )
-        elif d.kind != "none":
-            body.append(f"{md}.value = {ms}.value;")
-        body += [f"{md}.mark_written();", "return btgen::Status::SUCCESS;"]
-        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}', tuple(body))
+            how = "string"
+            fail = self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity {d.capacity} bytes)")
+        else:
+            how = "none" if d.kind == "none" else "value"
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopy(dst, src, how, declared, missing, fail),
+        )
 
-    def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[CodeIR]:
+    def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
         loc = op["loc"]
         src_decl = s.entry.type_name
@@ -1437,107 +1346,55 @@ class _Compiler:
                 f"C++ back end yet",
             )
             return None
-        ms, md = self.member(op["src"]), self.member(op["dst"])
-        if s.kind == DYN:
-            ref, src_string = f"btgen::dyn::ref({ms})", f"{ms}.value.typed_string"
-        else:
-            view = scpp.SlotView(ms, s.key, s.kind or "none", src_decl, s.capacity, False)
-            expr = f"{ms}.value.view()" if s.kind == "string" else f"{ms}.value"
-            ref = scpp.CodeWriter(lambda off: "", "").to_ref(scpp.Val(s.kind or "none", expr, f"{ms}.has_value"))
-            del view
-            src_string = "true" if src_decl == values.STRING else "false"
-        body = [
-            f"if (!{ms}.exists) "
-            + self.fail(
-                loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op['src_key']}`, which does not exist"
-            ),
-            f"btgen::dyn::Msg dm({cpp_view(what + ': ')});",
-            f"const int r = btgen::dyn::set_copy({md}, {ref}, {src_string}, {cpp_view(op['key'])}, dm);",
-            f"if (r < 0) {{ (void)err.fail(n, {self.where(loc)}, dm.view()); return btgen::Status::FAILURE; }}",
-            "return r == 1 ? btgen::Status::SUCCESS : btgen::Status::FAILURE;",
-        ]
-        return CodeIR(inst.index, "", f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}', tuple(body))
-
-    def entry(self, inst: _Inst, op: dict) -> CodeIR:
-        m = self.member(op["slot"])
-        return CodeIR(
+        missing = self.fail(
+            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op['src_key']}`, which does not exist"
+        )
+        return DataOp(
             inst.index,
-            "",
-            f'{inst.reg_id} "{inst.node.display_name}" entry={op["key"]}',
-            (f"return {m}.exists ? static_cast<std::int64_t>({m}.seq) : -1;",),
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopyDyn(
+                op["dst"], op["src"], src_decl == values.STRING, op["key"], what + ": ", missing, self.where(loc)
+            ),
         )
 
-    def read_text(self, slot: Optional[int], raw: Optional[str], var: str, body: list[str]) -> str:
-        """getInput<std::string> into `var` (a std::string_view); returns the C++ "it was read" condition."""
+    def entry(self, inst: _Inst, op: dict) -> DataOp:
+        return DataOp(
+            inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op["key"]}', ops.EntrySeq(op["slot"])
+        )
+
+    @staticmethod
+    def operand(slot: Optional[int], raw: Optional[str]) -> ops.TextOperand:
+        """getInput<std::string> of a Switch's variable or case label."""
         if raw is None:
-            return "false"
-        if slot is None:
-            body.append(f"const std::string_view {var} = {cpp_view(raw)};")
-            return "true"
-        s = self.a.slots[slot]
-        m = self.member(slot)
-        if s.kind == DYN:
-            body.append(f"btgen::NumberText {var}_text;")
-            body.append(f"const btgen::dyn::Ref {var}_ref = btgen::dyn::ref({m});")
-            body.append(f"const bool {var}_ok = !{var}_ref.none();")
-            body.append(f"const std::string_view {var} = btgen::dyn::to_text({var}_ref, {var}_text);")
-            return f"{var}_ok"
-        if s.kind == "string":
-            body.append(f"const bool {var}_ok = {m}.exists && {m}.has_value;")
-            body.append(f"const std::string_view {var} = {m}.value.view();")
-            return f"{var}_ok"
-        if is_numeric(s.kind):
-            body.append(f"btgen::NumberText {var}_text;")
-            body.append(f"const bool {var}_ok = {m}.exists && {m}.has_value;")
-            body.append(f"const std::string_view {var} = {var}_ok ? {var}_text.set({m}.value) : std::string_view();")
-            return f"{var}_ok"
-        body.append(f"const std::string_view {var};  // a {s.kind} entry never reads as a string")
-        return "false"
+            return ops.TextOperand()
+        return ops.TextOperand(slot, raw if slot is None else None)
 
-    def switch(self, inst: _Inst, op: dict) -> CodeIR:
-        n_cases = op["cases"]
-        body: list[str] = []
+    def switch(self, inst: _Inst, op: dict) -> DataOp:
         reads = op["reads"]
-        name, raw, slot = reads[0]
-        ok = self.read_text(slot, raw, "v", body)
-        if ok != "true":
-            body.append(f"if (!{ok}) return {n_cases};")
-        for i, (_cname, craw, cslot) in enumerate(reads[1:]):
-            if cslot is None and craw is not None:
-                body.append(f"if (btgen::switch_equal(v, {cpp_view(craw)})) return {i};")
-                continue
-            var = f"c{i + 1}"
-            cok = self.read_text(cslot, craw, var, body)
-            body.append(f"if ({cok} && btgen::switch_equal(v, {var})) return {i};")
-        body.append(f"return {n_cases};")
-        return CodeIR(inst.index, "", f'{inst.reg_id} "{inst.node.display_name}"', tuple(body))
+        _name, raw, slot = reads[0]
+        labels = tuple(self.operand(cslot, craw) for _cname, craw, cslot in reads[1:])
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}"',
+            ops.SwitchCases(op["cases"], self.operand(slot, raw), labels),
+        )
 
-    def loop(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[CodeIR]:
+    def loop(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[DataOp]:
         elem, static, qslot, vslot, loc = op["elem"], op["static"], op["qslot"], op["vslot"], op["loc"]
         what = f'`{inst.reg_id}` "{inst.node.display_name}"'
-        etype = {"int": "std::int64_t", "double": "double", "bool": "bool"}.get(elem)
-        body: list[str] = []
+        local, items, no_value = "", (), None
         if static is not None:
-            member = f"loop_{inst.index}"
-            if etype is None:
-                cap = max((len(x.encode("utf-8")) for x in static), default=0)
-                etype = f"btgen::FixedString<{cap}>"
+            local, items = f"loop_{inst.index}", tuple(static)
+            cap = max((len(x.encode("utf-8")) for x in static), default=0) if elem == "string" else 0
             locals_.append(
                 LocalIR(
-                    member,
-                    f"btgen::FixedQueue<{etype}, {max(len(static), 1)}>",
+                    local,
                     f"{what}: its literal queue, copied afresh each time it starts (4.7.0)",
+                    elem,
+                    max(len(static), 1),
+                    cap,
                 )
             )
-            body.append("if (restart) {")
-            body.append(f"  bb.{member}.clear();")
-            for x in static:
-                if elem == "string":
-                    body.append(f"  (void)bb.{member}.push_back({etype}({cpp_view(x)}));")
-                else:
-                    body.append(f"  (void)bb.{member}.push_back({scpp.cpp_value(x)});")
-            body.append("}")
-            body.append(f"auto& q = bb.{member};")
         else:
             assert qslot is not None
             s = self.a.slots[qslot]
@@ -1549,42 +1406,29 @@ class _Compiler:
                     f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
                 )
                 return None
-            m = self.member(qslot)
-            body.append(f"if (!{m}.exists) return 0;")
-            body.append(
-                f"if (!{m}.has_value) "
-                + self.fail(
-                    loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet", ret="-1"
-                )
+            no_value = self.fail(
+                loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet"
             )
-            body.append(f"auto& q = {m}.value;")
-        body.append("if (q.empty()) return 0;")
+        declared, write_fail = "", None
         if vslot is not None:
             vloc = inst.ports["value"].loc_or or inst.node.loc
             if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
                 return None
-            value = "q.front().view()" if elem == "string" else "q.front()"
-            body.append(
-                f"const btgen::Errc e = btgen::port::write({self.member(vslot)}, btgen::Declared::"
-                f"{declared_enum(self.a.slots[vslot].entry.type_name)}, {value});"
-            )
-            body.append("q.pop_front();")
-            body.append(
-                "if (e != btgen::Errc::kOk) "
-                + self.fail(vloc, f"{what} cannot write its `value`", "btgen::describe(e)", ret="-1")
-            )
-        else:
-            body.append("q.pop_front();")
-        body.append("return 1;")
-        return CodeIR(inst.index, "", f"{what} queue={inst.ports['queue'].raw}", tuple(body))
+            declared = self.a.slots[vslot].entry.type_name
+            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        return DataOp(
+            inst.index,
+            f"{what} queue={inst.ports['queue'].raw}",
+            ops.LoopPop(elem, local, items, qslot, no_value, vslot, declared, write_fail),
+        )
 
     # ------------------------------------------------------------ user port types
-    def port_type(self, type_name: str) -> str:
-        """The C++ type of a port's accessors ("" for an untyped port): a user type's own (--type)."""
+    def user_cpp(self, type_name: str) -> str:
+        """A user port type's C++ spelling (--type); "" for the built-in types."""
         k = kind_of_type(type_name)
-        return self.a.user[k].cpp if is_user(k) else port_cpp_type(type_name)
+        return self.a.user[k].cpp if is_user(k) else ""
 
-    def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[str]:
+    def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[ops.PortRead]:
         """The getter statement of an input port where a user type (--type) is involved: a literal
         converted once when the mission is constructed, or the entry's value as it is."""
         pk = kind_of_type(ps.type)
@@ -1602,9 +1446,9 @@ class _Compiler:
                 f"`{s.initial}` (the constant port `{s.key}` of its SubTree)",
             )
         if is_user(pk) and s.kind == pk:
-            return f"return btgen::port::read_user(bb.{s.member});"
+            return ops.ReadUser(slot)
         if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
-            return f"return btgen::port::read_user_as<T>(bb.{s.member});"
+            return ops.ReadUser(slot, as_t=True)
         if any(at == loc for at, _ in self.a.reported):
             return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
         if is_user(pk):
@@ -1625,13 +1469,13 @@ class _Compiler:
             )
         return None
 
-    def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> str:
+    def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> ops.PortRead:
         """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
         t = self.a.user[kind_of_type(ps.type) or ""]
         member = self.user_constant(
             inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}", f"port `{ps.name}` of {inst.what}"
         )
-        return f"return btgen::port::read_literal(bb.{member});"
+        return ops.ReadUserLiteral(member)
 
     def user_constant(self, node: int, t, raw: str, loc: Loc, what: str, comment: str) -> str:
         """A `btgen::UserLiteral` member of the blackboard holding `raw` converted to the user type `t` when
@@ -1640,47 +1484,28 @@ class _Compiler:
         self.user_locals.append(
             LocalIR(
                 member,
-                f"btgen::UserLiteral<{t.cpp}>",
                 f"{comment}: {values.describe(raw)} as a {t.name}, converted when the mission is constructed",
+                user_cpp=t.cpp,
             )
         )
         message = f"{what} does not convert to {t.name} ({t.cpp_type}): its convertFromString returned false"
-        self.user_inits.append(
-            CodeIR(
-                node,
-                "",
-                comment,
-                (
-                    f"if (!btgen::convert_literal(bb.{member}, {cpp_view(raw)})) "
-                    f"(void)err.fail(kNodes[{node}], {self.where(loc)}, {cpp_string(message)});",
-                ),
-            )
-        )
+        self.user_inits.append(DataOp(node, comment, ops.UserInit(member, raw, self.fail(loc, message))))
         return member
 
-    def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[tuple[str, ...]]:
-        """The setter statements of an output port where a user type (--type) is involved."""
+    def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[ops.PortWrite]:
+        """The setter of an output port where a user type (--type) is involved."""
         s = self.a.slots[slot]
         pk = kind_of_type(ps.type)
         what = f"output port `{ps.name}` of {inst.what}"
         if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
             t = self.a.user[s.kind or ""]
-            return (
-                f"if constexpr (std::is_same_v<T, {t.cpp}>) {{",
-                f"  btgen::port::write_user(bb.{s.member}, value);",
-                "  return true;",
-                "} else {",
-                "  "
-                + self.fail(
-                    loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to `{s.key}`", ret="false"
-                ),
-                "}",
-            )
+            fail = self.fail(loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to `{s.key}`")
+            return ops.WriteUser(slot, t.cpp, fail)
         if any(at == loc for at, _ in self.a.reported):
             return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
         if not self.typed_write_ok(slot, ps.type, loc, what):
             return None
-        return (f"btgen::port::write_user(bb.{s.member}, value);", "return true;")
+        return ops.WriteUser(slot)
 
     # ------------------------------------------------------------ user leaf ports
     def ports(self) -> dict:
@@ -1700,39 +1525,38 @@ class _Compiler:
                     f"nodes are not supported by the C++ back end yet",
                 )
                 continue
-            t = self.port_type(ps.type)
             pk = kind_of_type(ps.type)
+            # Ports read as text: string and opaque types, and untyped ports (whose T may be text).
+            textual = ps.type in (values.ANY, values.STRING) or (values.is_opaque_type(ps.type) and not is_user(pk))
             if ps.reads and (is_user(pk) or (slot is not None and is_user(self.a.slots[slot].kind))):
-                stmt = self.user_read(inst, ps, slot, raw, loc)
-                if stmt is None:
+                read = self.user_read(inst, ps, slot, raw, loc)
+                if read is None:
                     continue
-                entry["reads"].append((inst.index, stmt))
+                entry["reads"].append((inst.index, read))
             elif ps.reads:
                 if slot is not None:
                     s = self.a.slots[slot]
                     if is_queue(s.kind):
                         self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a {s.kind}")
                         continue
-                    numeric = is_numeric(s.kind) or s.kind == DYN
-                    if (t in ("", "std::string_view")) and numeric:
+                    text = textual and (is_numeric(s.kind) or s.kind == DYN)
+                    if text:
                         entry["scratch"] = True
-                    targ = t or "T"
-                    scratch = "{scratch}" if (t in ("", "std::string_view")) and numeric else ""
-                    entry["reads"].append((inst.index, f"return btgen::port::read<{targ}>(bb.{s.member}{scratch});"))
-                elif t:
+                    entry["reads"].append((inst.index, ops.ReadEntry(slot, text)))
+                elif ps.type != values.ANY:
                     try:
                         value = values.convert_from_string(
                             ps.type if not values.is_opaque_type(ps.type) else values.STRING, raw
                         )
-                        entry["reads"].append((inst.index, f"return {cpp_port_literal(ps.type, value)};"))
+                        entry["reads"].append((inst.index, ops.ReadLiteral(ps.type, value)))
                     except values.ConversionError:
-                        entry["reads"].append((inst.index, "return btgen::PortError::kConversion;"))
+                        entry["reads"].append((inst.index, ops.ReadLiteral(ps.type, None, ok=False)))
                 else:
-                    entry["reads"].append((inst.index, f"return btgen::port::parse<T>({cpp_view(raw)});"))
+                    entry["reads"].append((inst.index, ops.ParseLiteral(raw)))
             if ps.writes and slot is not None and (is_user(pk) or is_user(self.a.slots[slot].kind)):
-                stmts = self.user_write(inst, ps, slot, loc)
-                if stmts is not None:
-                    entry["writes"].append((inst.index, stmts))
+                write = self.user_write(inst, ps, slot, loc)
+                if write is not None:
+                    entry["writes"].append((inst.index, write))
             elif ps.writes and slot is not None:
                 if ps.type != values.ANY and not self.typed_write_ok(
                     slot,
@@ -1742,19 +1566,8 @@ class _Compiler:
                 ):
                     continue
                 s = self.a.slots[slot]
-                stmts = (
-                    f"const btgen::Errc e = btgen::port::write(bb.{s.member}, btgen::Declared::"
-                    f"{declared_enum(s.entry.type_name)}, value);",
-                    "if (e != btgen::Errc::kOk) "
-                    + self.fail(
-                        loc,
-                        f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`",
-                        "btgen::describe(e)",
-                        ret="false",
-                    ),
-                    "return true;",
-                )
-                entry["writes"].append((inst.index, stmts))
+                fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)
+                entry["writes"].append((inst.index, ops.WriteEntry(slot, s.entry.type_name, fail)))
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
@@ -1777,19 +1590,17 @@ class _Compiler:
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
                 ps = e["spec"]
-                reads = tuple((i, stmt.replace("{scratch}", f", &scratch{k}_")) for i, stmt in e["reads"])
                 irs.append(
                     PortIR(
                         cname,
                         pname,
                         ps.direction,
                         ps.type,
-                        self.port_type(ps.type),
                         ps.description,
                         f"scratch{k}_" if e["scratch"] else "",
-                        reads,
+                        tuple(e["reads"]),
                         tuple(e["writes"]),
-                        is_user(kind_of_type(ps.type)),
+                        self.user_cpp(ps.type),
                     )
                 )
             out[model_id] = tuple(irs)
@@ -1799,14 +1610,14 @@ class _Compiler:
     def run(self) -> DataIR:
         self.mark_unsets()
         scripts, bits = self.scripts()
-        data_leaves: list[CodeIR] = []
-        entries: list[CodeIR] = []
-        switches: list[CodeIR] = []
-        loops: list[CodeIR] = []
+        data_leaves: list[DataOp] = []
+        entries: list[DataOp] = []
+        switches: list[DataOp] = []
+        loops: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for kind, inst, op in self.a.node_ops:
-            code: Optional[CodeIR] = None
+            code: Optional[DataOp] = None
             if kind == "unset":
                 data_leaves.append(self.unset(inst, op))
             elif kind == "set_literal":
@@ -1847,12 +1658,14 @@ class _Compiler:
                 s.owner,
                 s.entry.type_name,
                 s.kind or "none",
-                self.a.cpp_type(s),
-                self.a.initializer(s),
                 s.origin,
                 s.origin_loc,
                 s.capacity,
                 s.owner_uid,
+                s.elem_capacity,
+                s.initial,
+                s.at_load,
+                self.a.user[s.kind].cpp if is_user(s.kind) else "",
             )
             for i, s in enumerate(self.a.slots)
         )

@@ -1,0 +1,148 @@
+"""The C++ spelling of the data side: Jinja2 filters over the IR's slots, locals and ports.
+
+ir/dataflow.py decides what every blackboard entry holds and what every data
+operation does (ir/dataops.py); templates/_data.j2 writes the statements, and
+these filters give it the C++ types, enumerators and literals it needs.
+"""
+
+from __future__ import annotations
+
+from btgen.backend_cpp.naming import cpp_string
+from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
+from btgen.diagnostics import InternalError
+from btgen.ir.dataflow import LocalIR, PortIR, SlotIR
+from btgen.ir.dataops import TextOperand
+from btgen.ir.kinds import DYN, is_queue, is_user
+from btgen.lang import values
+
+# btgen::Declared enumerators (runtime/include/btgen/port.hpp), by declared type.
+DECLARED_ENUM = {
+    values.ANY: "kAny",
+    values.INT: "kInt",
+    values.UNSIGNED: "kUnsigned",
+    values.DOUBLE: "kDouble",
+    values.BOOL: "kBool",
+    values.STRING: "kString",
+    values.NODE_STATUS: "kStatus",
+}
+
+# The C++ type of a typed port's accessors.
+CPP_PORT_TYPE = {
+    values.INT: "std::int32_t",
+    values.UNSIGNED: "std::uint32_t",
+    values.DOUBLE: "double",
+    values.BOOL: "bool",
+    values.NODE_STATUS: "btgen::Status",
+    values.STRING: "std::string_view",
+}
+
+ELEMENT_TYPE = {"int": "std::int64_t", "double": "double", "bool": "bool"}
+
+
+def declared_enum(type_name: str) -> str:
+    """The btgen::Declared enumerator of a declared type (how a write converts into the entry)."""
+    if type_name in DECLARED_ENUM:
+        return DECLARED_ENUM[type_name]
+    if values.queue_element_type(type_name) is not None:
+        return "kQueue"
+    return "kOpaque"
+
+
+def slot_type(s: SlotIR) -> str:
+    """The C++ type of a slot's value (btgen::Slot<T>)."""
+    k = s.kind
+    if is_user(k):
+        return s.user_cpp
+    if k == "string":
+        return f"btgen::FixedString<{s.capacity}>"
+    if k == "none":
+        return "btgen::NoValue"
+    if k == DYN:
+        return f"btgen::Dyn<{max(s.capacity, 1)}>"
+    if is_queue(k):
+        elem = k[len("queue<") : -1]
+        etype = ELEMENT_TYPE.get(elem, f"btgen::FixedString<{s.elem_capacity}>")
+        return f"btgen::FixedQueue<{etype}, {s.capacity}>"
+    return CPP_SCALAR[k]
+
+
+def slot_init(s: SlotIR) -> str:
+    """The braced initializer of a slot: a SubTree constant's value, or an entry that exists from the start."""
+    if s.initial is not None:
+        if s.kind != "string":
+            raise InternalError(f"a SubTree constant of kind {s.kind}")
+        return f"{{{slot_type(s)}({cpp_view(s.initial)}), 1, true, true}}"
+    if s.at_load:
+        return "{{}, 0, true, false}"
+    return "{}"
+
+
+def local_type(local: LocalIR) -> str:
+    if local.user_cpp:
+        return f"btgen::UserLiteral<{local.user_cpp}>"
+    return f"btgen::FixedQueue<{element_type(local.elem, local.elem_capacity)}, {local.length}>"
+
+
+def element_type(elem: str, capacity: int) -> str:
+    return ELEMENT_TYPE.get(elem, f"btgen::FixedString<{capacity}>")
+
+
+def port_type(p: PortIR) -> str:
+    """The C++ type of a port's accessors; "" for an untyped port (template accessors)."""
+    if p.user_cpp:
+        return p.user_cpp
+    if p.type_name == values.ANY:
+        return ""
+    return CPP_PORT_TYPE.get(p.type_name, "std::string_view")  # opaque user types are strings
+
+
+def port_literal(type_name: str, value: object) -> str:
+    """A typed port's converted literal as its getter returns it."""
+    if type_name == values.INT:
+        return f"std::int32_t{{{value}}}"
+    if type_name == values.UNSIGNED:
+        return f"std::uint32_t{{{value}u}}"
+    if isinstance(value, str):
+        return cpp_view(value)
+    return cpp_value(value)
+
+
+def element_literal(value: object, elem: str, capacity: int) -> str:
+    """An element of a Loop's literal queue."""
+    if elem == "string":
+        return f"{element_type(elem, capacity)}({cpp_view(str(value))})"
+    return cpp_value(value)
+
+
+def dyn_ref(s: SlotIR) -> str:
+    """A slot's value as a btgen::dyn::Ref (the source of a copy into a dynamic entry)."""
+    m = f"bb.{s.member}"
+    if s.kind == DYN:
+        return f"btgen::dyn::ref({m})"
+    expr = f"{m}.value.view()" if s.kind == "string" else f"{m}.value"
+    return to_ref(Val(s.kind, expr, f"{m}.has_value"))
+
+
+def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
+    """Whether a Switch operand read as text has a value: `var`_ok, or a constant."""
+    if o.slot is not None:
+        k = slots[o.slot].kind
+        return f"{var}_ok" if k in ("dyn", "string", "int", "double", "bool", "status") else "false"
+    return "true" if o.literal is not None else "false"
+
+
+FILTERS = dict(
+    op_kind=lambda op: type(op).__name__,
+    text_ok=text_ok,
+    declared_enum=declared_enum,
+    slot_type=slot_type,
+    slot_init=slot_init,
+    local_type=local_type,
+    port_type=port_type,
+    port_literal=port_literal,
+    element_literal=element_literal,
+    dyn_ref=dyn_ref,
+    cpp_view=cpp_view,
+    cpp_message=cpp_string,
+)
+TESTS = dict(numeric_kind=lambda k: k in ("int", "double", "bool", "status"))

@@ -1,0 +1,199 @@
+"""The data side's operations as the IR holds them: what each data node and port does, decided.
+
+dataflow.py resolves every key to a slot, types and sizes the slots, and
+decides per node what its data operation is (which conversion, which check,
+which error message at which place). The records below say that with no
+C++ in them; backend_cpp turns each into statements (templates/_data.j2).
+Slots are indices into DataIR.slots; places are indices into DataIR.where.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Union
+
+
+@dataclass(frozen=True)
+class Fail:
+    """A run-time error: reported through the mission's error hook, then the operation gives up."""
+
+    where: int  # index into DataIR.where
+    message: str
+    errc: bool = False  # the failed write's btgen::Errc description follows the message
+
+
+# ------------------------------------------------------------ SetBlackboard, UnsetBlackboard
+
+
+@dataclass(frozen=True)
+class Unset:
+    slot: Optional[int]  # None: not an entry of this blackboard (4.6.2 removes nothing)
+    key: str
+
+
+@dataclass(frozen=True)
+class SetUserLiteral:
+    """SetBlackboard of a user-typed entry: the literal, converted at construction, copied in."""
+
+    slot: int
+    literal: str  # the UserLiteral local holding it (LocalIR.member)
+    fail: Fail  # it did not convert
+
+
+@dataclass(frozen=True)
+class SetDynLiteral:
+    """SetBlackboard of text into an entry whose type changes at run time."""
+
+    slot: int
+    text: str
+    key: str
+    prefix: str  # the message prefix of the run-time errors
+    where: int
+
+
+@dataclass(frozen=True)
+class SetText:
+    """SetBlackboard of text into a typed (or string) entry: converted by its declared type."""
+
+    slot: int
+    declared: str  # values.py type name
+    text: str
+    fail: Fail
+
+
+@dataclass(frozen=True)
+class SetCopy:
+    """SetBlackboard value="{src}" between entries of static types."""
+
+    dst: int
+    src: int
+    how: str  # "convert" (text into a declared type), "string", "value", "none" (no value to copy)
+    declared: str  # the declared type `convert` converts into
+    missing: Fail  # the source does not exist
+    fail: Optional[Fail]  # the conversion fails, or the text does not fit
+
+
+@dataclass(frozen=True)
+class SetCopyDyn:
+    """SetBlackboard value="{src}" where the destination's (or the source's) type changes at run time."""
+
+    dst: int
+    src: int
+    src_is_string: bool  # the source is declared std::string (a dynamic source knows itself)
+    key: str
+    prefix: str
+    missing: Fail
+    where: int
+
+
+DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn]
+
+
+# ------------------------------------------------------------ other data nodes
+
+
+@dataclass(frozen=True)
+class EntrySeq:
+    """WasEntryUpdated, SkipUnlessUpdated, WaitValueUpdate: the update counter of the entry."""
+
+    slot: int
+
+
+@dataclass(frozen=True)
+class TextOperand:
+    """getInput<std::string> of a Switch's `variable` or a case: a literal, an entry, or not set."""
+
+    slot: Optional[int] = None
+    literal: Optional[str] = None
+
+
+@dataclass(frozen=True)
+class SwitchCases:
+    cases: int
+    variable: TextOperand
+    labels: tuple[TextOperand, ...]
+
+
+@dataclass(frozen=True)
+class LoopPop:
+    """LoopInt/Bool/Double/String: pop the queue's front into `value`."""
+
+    elem: str  # int, bool, double, string
+    local: str  # the literal queue's LocalIR.member ("" when the queue is an entry)
+    items: tuple  # the literal queue's elements (values.py values)
+    queue: Optional[int]  # the queue's slot
+    no_value: Optional[Fail]  # the queue entry exists but has no value
+    value: Optional[int]  # the slot `value` writes, if wired
+    value_declared: str
+    write_fail: Optional[Fail]
+
+
+@dataclass(frozen=True)
+class UserInit:
+    """A user-typed literal converted when the mission is constructed (Spec::init)."""
+
+    local: str  # LocalIR.member
+    text: str
+    fail: Fail
+
+
+# ------------------------------------------------------------ ports of user leaves
+
+
+@dataclass(frozen=True)
+class ReadEntry:
+    """getInput from an entry of a built-in kind; `text`: into the getter's number-text scratch."""
+
+    slot: int
+    text: bool
+
+
+@dataclass(frozen=True)
+class ReadLiteral:
+    """A typed port's literal, converted now; `ok` false: it does not convert (kConversion)."""
+
+    type_name: str
+    value: object
+    ok: bool = True
+
+
+@dataclass(frozen=True)
+class ParseLiteral:
+    """An untyped port's literal, parsed as the T the caller asks for."""
+
+    text: str
+
+
+@dataclass(frozen=True)
+class ReadUser:
+    """A user-typed entry; `as_t`: through an untyped port (get<T>() with T the entry's type)."""
+
+    slot: int
+    as_t: bool = False
+
+
+@dataclass(frozen=True)
+class ReadUserLiteral:
+    local: str  # the UserLiteral local
+
+
+PortRead = Union[ReadEntry, ReadLiteral, ParseLiteral, ReadUser, ReadUserLiteral]
+
+
+@dataclass(frozen=True)
+class WriteEntry:
+    slot: int
+    declared: str
+    fail: Fail
+
+
+@dataclass(frozen=True)
+class WriteUser:
+    """Into a user-typed entry; with `fail`: through an untyped setter, whose T must be the entry's."""
+
+    slot: int
+    user_cpp: str = ""
+    fail: Optional[Fail] = None
+
+
+PortWrite = Union[WriteEntry, WriteUser]
