@@ -5,8 +5,8 @@
 
 // The virtual-interface flavour of the mission (lab_tour::LabTourVirtual),
 // compiled once for every program that links this file.
-template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves, btgen::SteadyClock,
-                             btgen::NoObserver>;
+template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
+                             btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0x576faae9c8b094acULL,
+static_assert(lab_tour::detail::kGeneration == 0xe4585e5b745c7341ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

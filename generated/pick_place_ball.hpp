@@ -377,7 +377,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
+  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::FindBall model(bb, err, node);
@@ -438,8 +439,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node,
-                        const btgen::ChildOps& ops) {
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -447,7 +448,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
+  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                             [[maybe_unused]] const btgen::NodeInfo& node) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -473,7 +475,8 @@ struct Spec {
 
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
+                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return -1;
   }
 
@@ -517,7 +520,8 @@ struct Groot2 {
       "        <Control ID=\"AsyncFallback\"/>\012"
       "        <Control ID=\"AsyncSequence\"/>\012"
       "        <Decorator ID=\"Delay\">\012"
-      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the"
+      " child is ticked</input_port>\012"
       "        </Decorator>\012"
       "        <Control ID=\"Fallback\"/>\012"
       "        <Action ID=\"FindBall\"/>\012"
@@ -527,38 +531,55 @@ struct Groot2 {
       "        <Decorator ID=\"Inverter\"/>\012"
       "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
       "        <Decorator ID=\"LoopBool\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocato"
+      "r&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child"
+      "</output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopDouble\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::alloca"
+      "tor&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the chi"
+      "ld</output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopInt\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator"
+      "&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child<"
+      "/output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopString\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::a"
+      "llocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>"
+      "\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of th"
+      "e child</output_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"MoveBall\"/>\012"
       "        <Control ID=\"Parallel\">\012"
-      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
-      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negat"
+      "ive counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the n"
+      "ode; negative counts from the number of children</input_port>\012"
       "        </Control>\012"
       "        <Control ID=\"ParallelAll\">\012"
-      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before"
+      " failing; negative counts from the number of children</input_port>\012"
       "        </Control>\012"
       "        <Action ID=\"PickBall\"/>\012"
       "        <Action ID=\"PlaceBall\"/>\012"
       "        <Decorator ID=\"Precondition\">\012"
       "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
-      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
+      "when the condition is false</input_port>\012"
       "        </Decorator>\012"
       "        <Control ID=\"ReactiveFallback\"/>\012"
       "        <Control ID=\"ReactiveSequence\"/>\012"
@@ -569,47 +590,57 @@ struct Groot2 {
       "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"RunOnce\">\012"
-      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
+      "run instead of the stored status</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"Script\">\012"
       "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
       "        </Action>\012"
       "        <Condition ID=\"ScriptCondition\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</i"
+      "nput_port>\012"
       "        </Condition>\012"
       "        <Control ID=\"Sequence\"/>\012"
       "        <Control ID=\"SequenceWithMemory\"/>\012"
       "        <Action ID=\"SetBlackboard\">\012"
-      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
-      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {k"
+      "ey}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port"
+      ">\012"
       "        </Action>\012"
       "        <Decorator ID=\"SkipUnlessUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {"
+      "key}</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"Sleep\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_p"
+      "ort>\012"
       "        </Action>\012"
       "        <SubTree ID=\"SubTree\"/>\012"
       "        <Control ID=\"Switch2\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch3\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch4\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch5\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
@@ -617,7 +648,8 @@ struct Groot2 {
       "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch6\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
@@ -626,16 +658,19 @@ struct Groot2 {
       "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Decorator ID=\"Timeout\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port"
+      ">\012"
       "        </Decorator>\012"
       "        <Action ID=\"UnsetBlackboard\">\012"
       "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
       "        </Action>\012"
       "        <Decorator ID=\"WaitValueUpdate\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {"
+      "key}</input_port>\012"
       "        </Decorator>\012"
       "        <Condition ID=\"WasEntryUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {"
+      "key}</input_port>\012"
       "        </Condition>\012"
       "        <Control ID=\"WhileDoElse\"/>\012"
       "    </TreeNodesModel>\012"
@@ -781,12 +816,12 @@ using PickPlaceBallVirtual = PickPlaceBall<PickPlaceBallLeaves>;
 }  // namespace pick_place_ball
 
 // Compiled once, in pick_place_ball.cpp.
-extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves, btgen::SteadyClock,
-                                    btgen::NoObserver>;
+extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
+                                    btgen::SteadyClock, btgen::NoObserver>;
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xaecb8df81992b821ULL;
+inline constexpr unsigned long long kGeneration = 0xb94de8750b5931baULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -5,8 +5,8 @@
 
 // The virtual-interface flavour of the mission (reception::ReceptionVirtual),
 // compiled once for every program that links this file.
-template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
-                             btgen::NoObserver>;
+template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
+                             btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0xc4fc5f87e991b732ULL,
+static_assert(reception::detail::kGeneration == 0x36c90def6be2b12bULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -47,9 +47,11 @@ namespace detail {
 // through the Observer's on_error(). This is the one deliberate difference
 // from BehaviorTree.CPP, whose strings grow on the heap.
 struct Blackboard {
-  // `destination` on the root blackboard: first written by output port `destination` of `IsDestinationUttered` "IsDestinationUttered" at missions/Reception.xml:103:50
+  // `destination` on the root blackboard: first written by output port `destination` of
+  // `IsDestinationUttered` "IsDestinationUttered" at missions/Reception.xml:103:50
   btgen::Slot<btgen::FixedString<128>> destination{{}, 0, true, false};
-  // `location_id` on the blackboard of SubTree IV. GiveDirections: created as int by port `location_id` of `LookUpDestination` "LookUpDestination" at missions/Reception.xml:126:67
+  // `location_id` on the blackboard of SubTree IV. GiveDirections: created as int by port `location_id`
+  // of `LookUpDestination` "LookUpDestination" at missions/Reception.xml:126:67
   btgen::Slot<std::int64_t> IV_GiveDirections_location_id{{}, 0, true, false};
 };
 
@@ -675,7 +677,13 @@ class IsDestinationUttered {
     switch (node_->index) {
       case 43: {
         const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
-        if (e != btgen::Errc::kOk) { (void)err.fail(n, detail::kWhere[0], "output port `destination` of `IsDestinationUttered` \"IsDestinationUttered\" cannot write `destination`", btgen::describe(e)); return false; }
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[0],
+                         "output port `destination` of `IsDestinationUttered` \"IsDestinationUttered\" cannot wr"
+                         "ite `destination`",
+                         btgen::describe(e));
+          return false;
+        }
         return true;
       }
       default:
@@ -761,7 +769,8 @@ class PressDestinationDialogue {
     return btgen::sync_result(s, err_, *node_);
   }
 
-  // output port `destination` (string): the place chosen on the tablet (from the knowledge base's location descriptions)
+  // output port `destination` (string): the place chosen on the tablet (from the knowledge base's
+  // location descriptions)
   bool set_destination(std::string_view value) const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     [[maybe_unused]] const btgen::NodeInfo& n = *node_;
@@ -769,7 +778,13 @@ class PressDestinationDialogue {
     switch (node_->index) {
       case 49: {
         const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
-        if (e != btgen::Errc::kOk) { (void)err.fail(n, detail::kWhere[1], "output port `destination` of `PressDestinationDialogue` \"PressDestinationDialogue\" cannot write `destination`", btgen::describe(e)); return false; }
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[1],
+                         "output port `destination` of `PressDestinationDialogue` \"PressDestinationDialogue\" c"
+                         "annot write `destination`",
+                         btgen::describe(e));
+          return false;
+        }
         return true;
       }
       default:
@@ -822,7 +837,8 @@ class LookUpDestination {
     }
   }
 
-  // output port `location_id` (int): its knowledge-base id; the node fails when no robotLocationDescription matches
+  // output port `location_id` (int): its knowledge-base id; the node fails when no
+  // robotLocationDescription matches
   bool set_location_id(std::int32_t value) const noexcept {
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     [[maybe_unused]] const btgen::NodeInfo& n = *node_;
@@ -830,7 +846,13 @@ class LookUpDestination {
     switch (node_->index) {
       case 52: {
         const btgen::Errc e = btgen::port::write(bb.IV_GiveDirections_location_id, btgen::Declared::kInt, value);
-        if (e != btgen::Errc::kOk) { (void)err.fail(n, detail::kWhere[2], "output port `location_id` of `LookUpDestination` \"LookUpDestination\" cannot write `location_id`", btgen::describe(e)); return false; }
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[2],
+                         "output port `location_id` of `LookUpDestination` \"LookUpDestination\" cannot write `l"
+                         "ocation_id`",
+                         btgen::describe(e));
+          return false;
+        }
         return true;
       }
       default:
@@ -1039,7 +1061,8 @@ struct Spec {
                       std::string_view("missions/Reception.xml:47:7", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       8, 9, 7, 14u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("ScanningOvertAttentionMode", 26),
                       std::string_view("missions/Reception.xml:48:9", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       9, 10, 7, 14u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -1103,7 +1126,8 @@ struct Spec {
                       std::string_view("missions/Reception.xml:72:7", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       24, 25, 23, 30u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26), std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("ScanningOvertAttentionMode", 26),
+                      std::string_view("ScanningOvertAttentionMode", 26),
                       std::string_view("missions/Reception.xml:73:9", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       25, 26, 23, 30u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -1119,7 +1143,8 @@ struct Spec {
                       std::string_view("missions/Reception.xml:77:7", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       28, 29, 27, 32u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SocialOvertAttentionMode", 24), std::string_view("SocialOvertAttentionMode", 24),
+                      std::string_view("SocialOvertAttentionMode", 24),
+                      std::string_view("SocialOvertAttentionMode", 24),
                       std::string_view("missions/Reception.xml:78:9", 27)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -1203,7 +1228,8 @@ struct Spec {
                       std::string_view("missions/Reception.xml:111:15", 29)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PressDestinationDialogue", 24), std::string_view("PressDestinationDialogue", 24),
+                      std::string_view("PressDestinationDialogue", 24),
+                      std::string_view("PressDestinationDialogue", 24),
                       std::string_view("missions/Reception.xml:113:13", 29)},
       btgen::NodeInfo{btgen::NodeKind::SubTree,
                       50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -1267,7 +1293,8 @@ struct Spec {
                       std::string_view("missions/Reception.xml:142:9", 28)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       65, 66, 64, 67u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("UnknownDestinationSpeech", 24), std::string_view("UnknownDestinationSpeech", 24),
+                      std::string_view("UnknownDestinationSpeech", 24),
+                      std::string_view("UnknownDestinationSpeech", 24),
                       std::string_view("missions/Reception.xml:143:11", 29)},
       btgen::NodeInfo{btgen::NodeKind::Action,
                       66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -1777,7 +1804,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
+  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 0: {
         leaf::DisableAnimateBehavior model(bb, err, node);
@@ -1943,8 +1971,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node,
-                        const btgen::ChildOps& ops) {
+  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
     (void)leaves;
     (void)bb;
     (void)err;
@@ -1952,7 +1980,8 @@ struct Spec {
   }
 
   template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
+  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                             [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
       case 4: {
         leaf::IsASREnabled model(bb, err, node);
@@ -1998,7 +2027,8 @@ struct Spec {
 
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
+                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
     return -1;
   }
 
@@ -2028,9 +2058,12 @@ struct Groot2 {
       "        <Sequence name=\"Reception\" _uid=\"1\">\012"
       "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
       "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
-      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>\012"
-      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" _uid=\"31\" destination=\"{destination}\"/>\012"
-      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" _uid=\"13\"/>"
+      "\012"
+      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" _uid=\"3"
+      "1\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" de"
+      "stination=\"{destination}\"/>\012"
       "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
@@ -2060,7 +2093,8 @@ struct Groot2 {
       "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
       "            </Fallback>\012"
       "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
-      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"reception_welcome\"/>\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"reception_welcome\"/>"
+      "\012"
       "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
       "            </Fallback>\012"
       "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
@@ -2077,29 +2111,35 @@ struct Groot2 {
       "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
-      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" message=\"query_destination\"/>\012"
+      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" message=\"quer"
+      "y_destination\"/>\012"
       "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
       "            </Fallback>\012"
       "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
       "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
       "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
-      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3\">\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" num_attempts=\"3"
+      "\">\012"
       "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
       "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
-      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" message=\"say_destination\"/>\012"
+      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" me"
+      "ssage=\"say_destination\"/>\012"
       "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
       "                            </Fallback>\012"
-      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" destination=\"{destination}\"/>\012"
+      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" destin"
+      "ation=\"{destination}\"/>\012"
       "                        </Sequence>\012"
       "                    </RetryUntilSuccessful>\012"
       "                </Sequence>\012"
       "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
       "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
       "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
-      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" message=\"press_destination\"/>\012"
+      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" me"
+      "ssage=\"press_destination\"/>\012"
       "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
       "                        </Fallback>\012"
-      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" destination=\"{destination}\"/>\012"
+      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" de"
+      "stination=\"{destination}\"/>\012"
       "                    </Sequence>\012"
       "                </RetryUntilSuccessful>\012"
       "            </Fallback>\012"
@@ -2107,31 +2147,37 @@ struct Groot2 {
       "    </BehaviorTree>\012"
       "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
       "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
-      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
+      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" destination=\"{destination}"
+      "\" location_id=\"{location_id}\"/>\012"
       "            <Sequence name=\"Directions\" _uid=\"54\">\012"
       "                <Fallback name=\"Fallback\" _uid=\"55\">\012"
-      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" location_id=\"{location_id}\"/>\012"
+      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" location_id="
+      "\"{location_id}\"/>\012"
       "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"57\"/>\012"
       "                </Fallback>\012"
       "                <Fallback name=\"Fallback\" _uid=\"58\">\012"
-      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" location_id=\"{location_id}\"/>\012"
+      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" location_id=\"{"
+      "location_id}\"/>\012"
       "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"60\"/>\012"
       "                </Fallback>\012"
       "                <Fallback name=\"Fallback\" _uid=\"61\">\012"
-      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" location_id=\"{location_id}\"/>\012"
+      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" location_id="
+      "\"{location_id}\"/>\012"
       "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"63\"/>\012"
       "                </Fallback>\012"
       "            </Sequence>\012"
       "            <ForceSuccess name=\"Apology\" _uid=\"64\">\012"
       "                <Fallback name=\"Fallback\" _uid=\"65\">\012"
-      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" message=\"unknown_destination\"/>\012"
+      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" messag"
+      "e=\"unknown_destination\"/>\012"
       "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"67\"/>\012"
       "                </Fallback>\012"
       "            </ForceSuccess>\012"
       "        </IfThenElse>\012"
       "    </BehaviorTree>\012"
       "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
-      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" failure_count=\"1\">\012"
+      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" failure_count=\"1\">"
+      "\012"
       "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
       "                <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"71\"/>\012"
       "                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
@@ -2148,13 +2194,16 @@ struct Groot2 {
       "        <Control ID=\"AsyncFallback\"/>\012"
       "        <Control ID=\"AsyncSequence\"/>\012"
       "        <Decorator ID=\"Delay\">\012"
-      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the child is ticked</input_port>\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before the"
+      " child is ticked</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"DescribeRouteSpeech_1\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said (where it is)</input_port>\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said "
+      "(where it is)</input_port>\012"
       "        </Action>\012"
       "        <Action ID=\"DescribeRouteSpeech_2\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is said (the way there)</input_port>\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is said"
+      " (the way there)</input_port>\012"
       "        </Action>\012"
       "        <Action ID=\"DisableAnimateBehavior\"/>\012"
       "        <Action ID=\"EnableAnimateBehavior\"/>\012"
@@ -2167,57 +2216,81 @@ struct Groot2 {
       "        <Decorator ID=\"Inverter\"/>\012"
       "        <Condition ID=\"IsASREnabled\"/>\012"
       "        <Condition ID=\"IsDestinationUttered\">\012"
-      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was heard clearly</output_port>\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was h"
+      "eard clearly</output_port>\012"
       "        </Condition>\012"
       "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
       "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
       "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
       "        <Action ID=\"LookUpDestination\">\012"
-      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor named</input_port>\012"
-      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails when no robotLocationDescription matches</output_port>\012"
+      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor named</inp"
+      "ut_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails w"
+      "hen no robotLocationDescription matches</output_port>\012"
       "        </Action>\012"
       "        <Decorator ID=\"LoopBool\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, std::allocato"
+      "r&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the child"
+      "</output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopDouble\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, std::alloca"
+      "tor&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the chi"
+      "ld</output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopInt\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, std::allocator"
+      "&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the child<"
+      "/output_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"LoopString\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of the child</output_port>\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, std::a"
+      "llocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>"
+      "\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of th"
+      "e child</output_port>\012"
       "        </Decorator>\012"
       "        <Control ID=\"Parallel\">\012"
-      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negative counts from the number of children</input_port>\012"
-      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the node; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; negat"
+      "ive counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the n"
+      "ode; negative counts from the number of children</input_port>\012"
       "        </Control>\012"
       "        <Control ID=\"ParallelAll\">\012"
-      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before failing; negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated before"
+      " failing; negative counts from the number of children</input_port>\012"
       "        </Control>\012"
       "        <Action ID=\"PerformDeicticGesture\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (its gestureTarget)</input_port>\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at (i"
+      "ts gestureTarget)</input_port>\012"
       "        </Action>\012"
       "        <Decorator ID=\"Precondition\">\012"
       "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
-      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned when the condition is false</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
+      "when the condition is false</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"PressDestinationDialogue\">\012"
-      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet (from the knowledge base&apos;s location descriptions)</output_port>\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet "
+      "(from the knowledge base&apos;s location descriptions)</output_port>\012"
       "        </Action>\012"
       "        <Action ID=\"PressDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"press_destination\">phrase to say: asks the visitor to choose the place on the tablet</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_destination\">phrase"
+      " to say: asks the visitor to choose the place on the tablet</input_port>\012"
       "        </Action>\012"
       "        <Action ID=\"QueryDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"query_destination\">phrase to say: asks which place the visitor is looking for</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_destination\">phrase"
+      " to say: asks which place the visitor is looking for</input_port>\012"
       "        </Action>\012"
       "        <Control ID=\"ReactiveFallback\"/>\012"
       "        <Control ID=\"ReactiveSequence\"/>\012"
@@ -2228,56 +2301,68 @@ struct Groot2 {
       "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
       "        </Decorator>\012"
       "        <Decorator ID=\"RunOnce\">\012"
-      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first run instead of the stored status</input_port>\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
+      "run instead of the stored status</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"START_OF_TREE\"/>\012"
       "        <Action ID=\"SayDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase to say: asks the visitor to say the name of the place</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase t"
+      "o say: asks the visitor to say the name of the place</input_port>\012"
       "        </Action>\012"
       "        <Action ID=\"SayGoodByeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to say</i"
+      "nput_port>\012"
       "        </Action>\012"
       "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
       "        <Action ID=\"Script\">\012"
       "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
       "        </Action>\012"
       "        <Condition ID=\"ScriptCondition\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</input_port>\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the condition</i"
+      "nput_port>\012"
       "        </Condition>\012"
       "        <Control ID=\"Sequence\"/>\012"
       "        <Control ID=\"SequenceWithMemory\"/>\012"
       "        <Action ID=\"SetBlackboard\">\012"
-      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {key}</input_port>\012"
-      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port>\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or {k"
+      "ey}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to write</inout_port"
+      ">\012"
       "        </Action>\012"
       "        <Decorator ID=\"SkipUnlessUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {"
+      "key}</input_port>\012"
       "        </Decorator>\012"
       "        <Action ID=\"Sleep\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_port>\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in milliseconds</input_p"
+      "ort>\012"
       "        </Action>\012"
       "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
       "        <SubTree ID=\"SubTree\"/>\012"
       "        <Control ID=\"Switch2\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch3\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch4\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch5\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
@@ -2285,7 +2370,8 @@ struct Groot2 {
       "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Control ID=\"Switch6\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</input_port>\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the cases</in"
+      "put_port>\012"
       "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
       "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
@@ -2294,23 +2380,28 @@ struct Groot2 {
       "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
       "        </Control>\012"
       "        <Decorator ID=\"Timeout\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port>\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in milliseconds</input_port"
+      ">\012"
       "        </Decorator>\012"
       "        <Action ID=\"UnknownDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"unknown_destination\">phrase to say: apologises that the place is not known</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"unknown_destination\">phra"
+      "se to say: apologises that the place is not known</input_port>\012"
       "        </Action>\012"
       "        <Action ID=\"UnsetBlackboard\">\012"
       "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
       "        </Action>\012"
       "        <Decorator ID=\"WaitValueUpdate\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as {"
+      "key}</input_port>\012"
       "        </Decorator>\012"
       "        <Condition ID=\"WasEntryUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {key}</input_port>\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as {"
+      "key}</input_port>\012"
       "        </Condition>\012"
       "        <Action ID=\"WelcomeGesture\"/>\012"
       "        <Action ID=\"WelcomeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</input_port>\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to say</i"
+      "nput_port>\012"
       "        </Action>\012"
       "        <Control ID=\"WhileDoElse\"/>\012"
       "    </TreeNodesModel>\012"
@@ -2779,12 +2870,12 @@ using ReceptionVirtual = Reception<ReceptionLeaves>;
 }  // namespace reception
 
 // Compiled once, in reception.cpp.
-extern template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
-                                    btgen::NoObserver>;
+extern template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
+                                    btgen::SteadyClock, btgen::NoObserver>;
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xc4fc5f87e991b732ULL;
+inline constexpr unsigned long long kGeneration = 0x36c90def6be2b12bULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -7,7 +7,7 @@ these filters give it the C++ types, enumerators and literals it needs.
 
 from __future__ import annotations
 
-from btgen.backend_cpp.naming import cpp_string
+from btgen.backend_cpp.naming import cpp_comment_lines, cpp_string, cpp_string_chunks
 from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import LocalIR, PortIR, SlotIR
@@ -144,5 +144,7 @@ FILTERS = dict(
     dyn_ref=dyn_ref,
     cpp_view=cpp_view,
     cpp_message=cpp_string,
+    cpp_string_chunks=cpp_string_chunks,
+    cpp_comment_lines=cpp_comment_lines,
 )
 TESTS = dict(numeric_kind=lambda k: k in ("int", "double", "bool", "status"))

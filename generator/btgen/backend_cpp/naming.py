@@ -7,6 +7,7 @@ tests/python/test_compiler.py. Templates never build a name themselves.
 from __future__ import annotations
 
 import re
+import textwrap
 from collections.abc import Iterable
 from typing import Callable, Optional, Union
 
@@ -295,6 +296,30 @@ def cpp_string(text: str) -> str:
     literal is pure ASCII, and no `?` sequences can form trigraphs.
     """
     return '"' + "".join(map(_CPP_STRING_BYTES.__getitem__, text.encode("utf-8"))) + '"'
+
+
+def cpp_string_chunks(text: str, width: int = 88) -> list[str]:
+    """cpp_string(text) as adjacent literals of at most `width` characters each (C++ joins them),
+    so that a long message or XML line stays readable; at least one literal."""
+    chunks: list[str] = []
+    part: list[str] = []
+    size = 2
+    for b in text.encode("utf-8"):
+        token = _CPP_STRING_BYTES[b]
+        if part and size + len(token) > width:
+            chunks.append('"' + "".join(part) + '"')
+            part, size = [], 2
+        part.append(token)
+        size += len(token)
+    chunks.append('"' + "".join(part) + '"')
+    return chunks
+
+
+def cpp_comment_lines(text: str, width: int = 100) -> list[str]:
+    """cpp_comment(text) wrapped at spaces into lines of at most `width` characters (a word
+    longer than that stays whole)."""
+    lines = textwrap.wrap(cpp_comment(text), width, break_long_words=False, break_on_hyphens=False)
+    return [line.rstrip("\\ ") for line in lines] or [""]
 
 
 # What cpp_string writes for each byte (a table: a 10,000-node mission has some 70,000 literals).
