@@ -169,11 +169,14 @@ class SequenceWithMemoryNode(ControlNode):
         return SKIPPED if self.all_skipped else SUCCESS
 
 
-class ReactiveSequenceNode(ControlNode):
-    """4.6.2 ``ReactiveSequence``: every child from the first, every tick; a RUNNING child halts
-    all the others."""
+class _ReactiveNode(ControlNode):
+    """4.6.2 ``ReactiveSequence`` and ``ReactiveFallback``: every child from the first, every
+    tick; a RUNNING child halts all the others; the first child that returns ``DECIDES``
+    decides, and when none does the node returns ``OTHERWISE``."""
 
     __slots__ = ()
+    DECIDES = FAILURE
+    OTHERWISE = SUCCESS
 
     def tick(self) -> int:
         all_skipped = True
@@ -189,45 +192,31 @@ class ReactiveSequenceNode(ControlNode):
                     if i != index:
                         self.halt_child(i)
                 return RUNNING
-            if cs == FAILURE:
+            if cs == self.DECIDES:
                 self.reset_children()
-                return FAILURE
+                return cs
             if cs == SKIPPED:
                 self.halt_child(index)
-            elif cs != SUCCESS:
+            elif cs != self.OTHERWISE:
                 raise self._child_idle_error()
         self.reset_children()
-        return SKIPPED if all_skipped else SUCCESS
+        return SKIPPED if all_skipped else self.OTHERWISE
 
 
-class ReactiveFallbackNode(ControlNode):
-    """4.6.2 ``ReactiveFallback``."""
+class ReactiveSequenceNode(_ReactiveNode):
+    """4.6.2 ``ReactiveSequence``: a FAILURE decides."""
 
     __slots__ = ()
+    DECIDES = FAILURE
+    OTHERWISE = SUCCESS
 
-    def tick(self) -> int:
-        all_skipped = True
-        self.set_status(RUNNING)
-        children = self.children
-        n = len(children)
-        for index in range(n):
-            cs = children[index].execute_tick()
-            if cs != SKIPPED:
-                all_skipped = False
-            if cs == RUNNING:
-                for i in range(n):
-                    if i != index:
-                        self.halt_child(i)
-                return RUNNING
-            if cs == SUCCESS:
-                self.reset_children()
-                return SUCCESS
-            if cs == SKIPPED:
-                self.halt_child(index)
-            elif cs != FAILURE:
-                raise self._child_idle_error()
-        self.reset_children()
-        return SKIPPED if all_skipped else FAILURE
+
+class ReactiveFallbackNode(_ReactiveNode):
+    """4.6.2 ``ReactiveFallback``: a SUCCESS decides."""
+
+    __slots__ = ()
+    DECIDES = SUCCESS
+    OTHERWISE = FAILURE
 
 
 def _threshold(value: int, n: int) -> int:

@@ -112,28 +112,29 @@ class InverterNode(DecoratorNode):
         return new
 
 
-class ForceSuccessNode(DecoratorNode):
+class _ForceNode(DecoratorNode):
+    """4.6.2 ``ForceSuccess`` and ``ForceFailure``: a finished child gives ``RESULT``."""
+
     __slots__ = ()
+    RESULT = SUCCESS
 
     def tick(self) -> int:
         self.set_status(RUNNING)
         cs = self.child.execute_tick()
         if cs in (SUCCESS, FAILURE):
             self.reset_child()
-            return SUCCESS
+            return self.RESULT
         return cs
 
 
-class ForceFailureNode(DecoratorNode):
+class ForceSuccessNode(_ForceNode):
     __slots__ = ()
+    RESULT = SUCCESS
 
-    def tick(self) -> int:
-        self.set_status(RUNNING)
-        cs = self.child.execute_tick()
-        if cs in (SUCCESS, FAILURE):
-            self.reset_child()
-            return FAILURE
-        return cs
+
+class ForceFailureNode(_ForceNode):
+    __slots__ = ()
+    RESULT = FAILURE
 
 
 class KeepRunningUntilFailureNode(DecoratorNode):
