@@ -150,7 +150,7 @@ class ErrorTable:
     are one function."""
 
     def __init__(self) -> None:
-        self.entries: list[tuple[str, str]] = []  # (C++ expression of the place, message or "")
+        self.entries: list[tuple[str, str]] = []  # (C++ expression of the place, message text or "")
         self._index: dict[tuple[str, str], int] = {}
 
     def ref(self, where: str, message: str = "") -> int:
@@ -206,7 +206,7 @@ class CodeWriter:
         if self.errors is None:
             call = f"err.fail(n, {self.where(offset)}, {cpp_string(self.prefix + message)})"
         else:
-            j = self.errors.ref(self.where(offset), cpp_string(self.prefix + message))
+            j = self.errors.ref(self.where(offset), self.prefix + message)
             call = f"err.fail(n, s.at[{j}].where, s.at[{j}].message)"
         if self.error_return is None:
             return f"return {call};"
