@@ -2226,6 +2226,39 @@ struct Spec {
       148,
   };
 
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 90;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 45, 6, 46, 47, 48, 49, 50, 6,
+      51, 52, 53, 54, 55, 56, 57, 6, 58, 59, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 67, 68, 6, 69, 70, 6,
+      71, 72, 6, 73, 74, 75, 76, 6, 77, 78, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 79, 80, 6, 69, 70, 6,
+      81, 82, 83, 6, 84, 85, 6, 86, 87, 88, 89, 6, 62, 63, 6, 64,
+      15, 6, 65, 66, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
+      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
+      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
+      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 34, 4, 4, 1, 1, 1, 1, 1, 1, 4,
+      1, 1, 1, 3, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 3,
+      3, 3, 3, 1, 1, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
@@ -4188,7 +4221,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x576faae9c8b094acULL;
+inline constexpr unsigned long long kGeneration = 0xa7637f54b62cb08eULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -273,6 +273,20 @@ struct Spec {
       6,
   };
 
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 7;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 1, 1,
+  };
+
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
@@ -786,7 +800,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xaecb8df81992b821ULL;
+inline constexpr unsigned long long kGeneration = 0xb5306d94337953d5ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

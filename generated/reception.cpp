@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0xc4fc5f87e991b732ULL,
+static_assert(reception::detail::kGeneration == 0x2fdeb0417ae93280ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -1388,6 +1388,30 @@ struct Spec {
       74,
   };
 
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 58;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 6, 45, 46, 6, 47, 48, 6, 49,
+      50, 51, 6, 52, 53, 54, 55, 6, 56, 57, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
+      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 15, 2, 2, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+
   // Leaf dispatch: a direct call of the hook of the node's model.
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
@@ -2784,7 +2808,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xc4fc5f87e991b732ULL;
+inline constexpr unsigned long long kGeneration = 0x2fdeb0417ae93280ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

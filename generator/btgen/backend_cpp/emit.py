@@ -17,6 +17,7 @@ import jinja2
 
 from btgen import resources
 from btgen.backend_cpp import naming
+from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
@@ -185,6 +186,7 @@ def render(
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
         scripts=script_tables(data.scripts, len(program.nodes)),
         groot2=groot2_context(program),
+        shapes=shapes(program),
     )
     env = environment()
     return _stamped(
