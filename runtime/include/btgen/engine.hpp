@@ -15,8 +15,8 @@
 // BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack
 // (the table interpreter). The first nodes of the tree (see
 // BTGEN_STRAIGHT_LINE_BUDGET) tick as straight-line code instead: the same
-// state machines instantiated per node, so their kind and table entry are
-// compile-time constants (tick_node below).
+// state machines instantiated per node shape (equal subtrees share one), so
+// their kind and children are compile-time constants (tick_node below).
 //
 // The data side is the Spec's: its Blackboard (one typed slot per entry,
 // held here), and the generated functions that run the mission's compiled
@@ -39,12 +39,13 @@
 #include "btgen/user_node.hpp"
 
 // How much of a mission ticks as straight-line code (Engine::tick_node):
-// the first nodes in creation order (the root and the part of the tree
-// drawn first) while their weights add up to at most this, a node 1, a node
-// running scripts 6. The others run on the table interpreter. Straight line
-// costs 6 to 11 instructions per visited node instead of 78, and g++ -O2
-// some milliseconds per node instead of almost nothing: the budget keeps
-// the build of a large mission fast. A Spec may set its own
+// the shapes first met in creation order (the root and the part of the tree
+// drawn first) while the weights of their first nodes add up to at most
+// this, a node 1, a node running scripts 6; a node of a shape met before is
+// free (its code is shared). The others run on the table interpreter.
+// Straight line costs 6 to 18 instructions per visited node instead of 78,
+// and g++ -O2 some milliseconds per distinct node instead of almost
+// nothing: the budget keeps the build of a large mission fast. A Spec may set its own
 // (`static constexpr std::size_t kStraightLineBudget`; 0: all interpreted).
 #ifndef BTGEN_STRAIGHT_LINE_BUDGET
 #define BTGEN_STRAIGHT_LINE_BUDGET 1000
@@ -504,7 +505,7 @@ class Engine {
   static constexpr Form form() noexcept {
     constexpr std::uint16_t R = rep_of(S);
     if (R == kNoNode || R >= kStraightLine) return Form::kInterpreted;
-    constexpr const NodeInfo& n = Spec::kNodes[R];
+    constexpr const NodeInfo& n = Spec::kNodes[R == kNoNode ? 0 : R];  // (row 0 unused then)
     if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return Form::kInterpreted;
     if ((n.scripts & (kPreBits | kPostBits)) != 0) return Form::kGeneric;
     if (n.child_count == 0) {
