@@ -152,6 +152,14 @@ class Engine {
   [[nodiscard]] const Blackboard& blackboard() const noexcept { return bb_; }
   // How many run-time errors were reported so far (each failed its node).
   [[nodiscard]] std::uint64_t errors() const noexcept { return errors_; }
+  // What the object's size is made of: the nodes' state (statuses, counters,
+  // timers, Parallel flags, the interpreter's and halts' stacks: all of it
+  // sized by the tree) and the blackboard (its entries); the rest is a few
+  // words (leaves, clock, observer, error count).
+  [[nodiscard]] static constexpr std::size_t node_state_bytes() noexcept {
+    return sizeof(status_) + sizeof(counters_) + sizeof(timers_) + sizeof(done_) + sizeof(stack_) + sizeof(halt_stack_);
+  }
+  [[nodiscard]] static constexpr std::size_t blackboard_bytes() noexcept { return sizeof(Blackboard); }
   [[nodiscard]] Clock& clock() noexcept { return clock_; }
   [[nodiscard]] const Clock& clock() const noexcept { return clock_; }
   [[nodiscard]] Observer& observer() noexcept { return observer_; }
@@ -459,6 +467,25 @@ class Engine {
     }
   }
   static constexpr std::size_t kStraightLine = straight_line_nodes();
+  // Whether any node runs on the table interpreter (execute_at and its
+  // stack): a shape beyond the budget or below the compiled depth, or the
+  // mission's own Controls and Decorators (their children run there). When
+  // none does, the interpreter's stack takes no room.
+  static constexpr bool uses_interpreter() noexcept {
+    if constexpr (!kShaped) {
+      return true;
+    } else {
+      if (kStraightLine < kNodeCount) return true;
+      for (const std::uint16_t rep : Spec::kShapeRep) {
+        if (rep == kNoNode) return true;
+      }
+      for (const NodeInfo& n : Spec::kNodes) {
+        if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return true;
+      }
+      return false;
+    }
+  }
+  static constexpr bool kUsesInterpreter = uses_interpreter();
   // Children ticked through a table of member-function pointers above this
   // many (else a chain of comparisons of the position).
   static constexpr std::size_t kDirectChildren = 8;
@@ -1373,7 +1400,7 @@ class Engine {
   std::array<std::int32_t, Spec::kCounterCount> counters_{};
   std::array<std::uint64_t, Spec::kTimerCount> timers_{};
   std::array<std::uint32_t, Spec::kHasParallel ? (kNodeCount + 31) / 32 : 0> done_{};
-  std::array<Frame, kMaxDepth> stack_{};
+  std::array<Frame, kUsesInterpreter ? kMaxDepth : 0> stack_{};  // execute_at's
   std::array<HaltFrame, kMaxDepth> halt_stack_{};
 };
 
