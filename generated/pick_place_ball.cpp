@@ -8,5 +8,5 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0xb5306d94337953d5ULL,
+static_assert(pick_place_ball::detail::kGeneration == 0xaf3b786d4c9084e5ULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

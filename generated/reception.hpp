@@ -1412,220 +1412,419 @@ struct Spec {
       1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
   };
 
-  // Leaf dispatch: a direct call of the hook of the node's model.
+  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
+  // (M: what the engine's straight-line code calls, the model a constant there) or by the
+  // node's (what the table interpreter calls).
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DisableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action EnableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action GoodbyeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action HandleFallBack");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PerformDeicticGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayGoodByeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action ScanningOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SocialOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action START_OF_TREE");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action QueryDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationDialogue");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action LookUpDestination");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_1");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_2");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action UnknownDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 4) {
+      leaf::IsASREnabled model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 5) {
+      leaf::IsMutualGazeDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 6) {
+      leaf::IsVisitorDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 16) {
+      leaf::IsDestinationUttered model(bb, err, node);
+      return leaves.check(model, node);
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DisableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 1: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action EnableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 2: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action GoodbyeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 3: {
-        leaf::HandleFallBack model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action HandleFallBack");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 7: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PerformDeicticGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 8: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayGoodByeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 9: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action ScanningOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 10: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SocialOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 11: {
-        leaf::START_OF_TREE model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action START_OF_TREE");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 12: {
-        leaf::WelcomeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 13: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 14: {
-        leaf::QueryDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action QueryDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 15: {
-        leaf::SayDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 17: {
-        leaf::PressDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 18: {
-        leaf::PressDestinationDialogue model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressDestinationDialogue");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 19: {
-        leaf::LookUpDestination model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action LookUpDestination");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 20: {
-        leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeRouteSpeech_1");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 21: {
-        leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeRouteSpeech_2");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 22: {
-        leaf::UnknownDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action UnknownDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
+      case 0:
+        return on_start_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_start_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_start_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_start_m<Leaves, 3>(leaves, bb, err, node);
+      case 7:
+        return on_start_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_start_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_start_m<Leaves, 9>(leaves, bb, err, node);
+      case 10:
+        return on_start_m<Leaves, 10>(leaves, bb, err, node);
+      case 11:
+        return on_start_m<Leaves, 11>(leaves, bb, err, node);
+      case 12:
+        return on_start_m<Leaves, 12>(leaves, bb, err, node);
+      case 13:
+        return on_start_m<Leaves, 13>(leaves, bb, err, node);
+      case 14:
+        return on_start_m<Leaves, 14>(leaves, bb, err, node);
+      case 15:
+        return on_start_m<Leaves, 15>(leaves, bb, err, node);
+      case 17:
+        return on_start_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_start_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_start_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_start_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_start_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_start_m<Leaves, 22>(leaves, bb, err, node);
       default:
         break;
     }
@@ -1639,158 +1838,44 @@ struct Spec {
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 1: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 2: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 3: {
-        leaf::HandleFallBack model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 7: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 8: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 9: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 10: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 11: {
-        leaf::START_OF_TREE model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 12: {
-        leaf::WelcomeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 13: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 14: {
-        leaf::QueryDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 15: {
-        leaf::SayDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 17: {
-        leaf::PressDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 18: {
-        leaf::PressDestinationDialogue model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 19: {
-        leaf::LookUpDestination model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 20: {
-        leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 21: {
-        leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 22: {
-        leaf::UnknownDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
+      case 0:
+        return on_running_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_running_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_running_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_running_m<Leaves, 3>(leaves, bb, err, node);
+      case 7:
+        return on_running_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_running_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_running_m<Leaves, 9>(leaves, bb, err, node);
+      case 10:
+        return on_running_m<Leaves, 10>(leaves, bb, err, node);
+      case 11:
+        return on_running_m<Leaves, 11>(leaves, bb, err, node);
+      case 12:
+        return on_running_m<Leaves, 12>(leaves, bb, err, node);
+      case 13:
+        return on_running_m<Leaves, 13>(leaves, bb, err, node);
+      case 14:
+        return on_running_m<Leaves, 14>(leaves, bb, err, node);
+      case 15:
+        return on_running_m<Leaves, 15>(leaves, bb, err, node);
+      case 17:
+        return on_running_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_running_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_running_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_running_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_running_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_running_m<Leaves, 22>(leaves, bb, err, node);
       default:
         break;
     }
@@ -1978,22 +2063,14 @@ struct Spec {
   template <class Leaves>
   static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err, [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 4: {
-        leaf::IsASREnabled model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 5: {
-        leaf::IsMutualGazeDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 6: {
-        leaf::IsVisitorDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 16: {
-        leaf::IsDestinationUttered model(bb, err, node);
-        return leaves.check(model, node);
-      }
+      case 4:
+        return check_m<Leaves, 4>(leaves, bb, err, node);
+      case 5:
+        return check_m<Leaves, 5>(leaves, bb, err, node);
+      case 6:
+        return check_m<Leaves, 6>(leaves, bb, err, node);
+      case 16:
+        return check_m<Leaves, 16>(leaves, bb, err, node);
       default:
         break;
     }
@@ -2808,7 +2885,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x2fdeb0417ae93280ULL;
+inline constexpr unsigned long long kGeneration = 0x2bfd33de7aa59b9fULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -70,7 +70,6 @@ struct has_shapes : std::false_type {};
 template <class S>
 struct has_shapes<S, std::void_t<decltype(S::kShape), decltype(S::kShapeRep), decltype(S::kShapeUses)>>
     : std::true_type {};
-[[noreturn]] inline void unreachable() noexcept { __builtin_unreachable(); }
 // A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
 template <class S, class = void>
 struct has_init : std::false_type {};
@@ -86,9 +85,16 @@ struct has_init<
 //   static constexpr bool kHasParallel;
 //   static constexpr std::array<NodeInfo, kNodeCount> kNodes;
 //   static constexpr std::array<std::uint16_t, kChildCount> kChildren;
+//   static constexpr std::array<std::uint16_t, kNodeCount> kShape;     // node -> its shape
+//   static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep; // shape -> first node (kNoNode: interpreted)
+//   static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses;  // shape -> its nodes
+//     (without the three shape tables every node runs on the interpreter)
 //   struct Blackboard;  (default-constructible: the entries as the tree is built)
 //   using BB = Blackboard; using ES = const ErrorSink;
 //   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
+//   template <class L, std::uint16_t M> static Status on_start_m(L&, BB&, ES&, const NodeInfo&);
+//     (on_start, on_running, check: by the node's model; the _m forms by the model M)
+//   template <class L, std::uint16_t M> static Status on_running_m(...), check_m(...);
 //   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static constexpr bool sync_action(const NodeInfo&);
@@ -601,8 +607,7 @@ class Engine {
       s = Status::SUCCESS;
     } else if constexpr (K == NodeKind::Action || K == NodeKind::Condition) {
       const NodeInfo& n = info(id);
-      // The model is the shape's: the hooks' dispatch on it folds.
-      if (n.model != Spec::kNodes[R].model) engine_detail::unreachable();
+      constexpr std::uint16_t kModel = Spec::kNodes[R].model;  // the shape's: a direct call of its hook
       const Status st = status_[id];
       if (K == NodeKind::Action && st != Status::IDLE && st != Status::RUNNING &&
           !Spec::template sync_action<Leaves>(Spec::kNodes[R])) {
@@ -611,11 +616,11 @@ class Engine {
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         if constexpr (K == NodeKind::Condition) {
-          s = guarded(Spec::check(*leaves_, bb_, es, n), before);
+          s = guarded(Spec::template check_m<Leaves, kModel>(*leaves_, bb_, es, n), before);
         } else {
-          s = guarded(
-              st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n) : Spec::on_running(*leaves_, bb_, es, n),
-              before);
+          s = guarded(st == Status::IDLE ? Spec::template on_start_m<Leaves, kModel>(*leaves_, bb_, es, n)
+                                         : Spec::template on_running_m<Leaves, kModel>(*leaves_, bb_, es, n),
+                      before);
         }
       }
     }
