@@ -466,7 +466,7 @@ class Engine {
         const NodeInfo& n = Spec::kNodes[i];
         const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
                               n.kind == NodeKind::Precondition;
-        weight += scripted ? 6 : 1;
+        weight += (scripted ? 6 : 1) + n.child_count;
         if (weight > engine_detail::straight_line_budget<Spec>::value) return i;
       }
       return kNodeCount;
@@ -502,25 +502,17 @@ class Engine {
   static constexpr std::uint16_t child_of(std::uint16_t n, std::size_t i) noexcept {
     return Spec::kChildren[std::size_t{Spec::kNodes[n].child_begin} + i];
   }
-  // Child I of node `id` whose shape's first node is R.
+  // Child I of a node whose shape's first node is R: its shape, its offset
+  // from the node. (The helpers below are few and shared, not one per shape
+  // and child: g++'s time per straight-line shape grew with their number.)
   template <std::uint16_t R, std::size_t I>
   static constexpr std::uint16_t kChildShape = shape_of(child_of(R, I));
   template <std::uint16_t R, std::size_t I>
-  static constexpr std::uint16_t kChildOffset = static_cast<std::uint16_t>(child_of(R, I) - R);
-  template <std::uint16_t R, std::size_t I>
-  [[gnu::always_inline]] Status tick_child_at(std::size_t id) noexcept {
-    return tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>);
-  }
-  // ControlNode::haltChild of child I, and resetChildren over all of them.
-  template <std::uint16_t R, std::size_t I>
-  [[gnu::always_inline]] void halt_child_at(std::size_t id) noexcept {
-    const std::size_t c = id + kChildOffset<R, I>;
+  static constexpr std::size_t kChildOffset = child_of(R, I) - R;
+  // ControlNode::haltChild of node `c`.
+  [[gnu::always_inline]] void halt_child_id(std::size_t c) noexcept {
     if (status_[c] == Status::RUNNING) halt_node(static_cast<std::uint16_t>(c));
     reset_status(c);
-  }
-  template <std::uint16_t R, std::size_t... I>
-  [[gnu::always_inline]] void reset_children_at(std::size_t id, std::index_sequence<I...>) noexcept {
-    (halt_child_at<R, I>(id), ...);
   }
 
   template <NodeKind K>
@@ -580,9 +572,16 @@ class Engine {
       } else if constexpr (kForm == Form::kReactive) {
         return tick_reactive<R, K == NodeKind::ReactiveSequence>(id, Children{});
       } else if constexpr (kForm == Form::kDecorator) {
-        return tick_decorator<R, K>(id);
+        // Inverter, ForceSuccess, ForceFailure, SubTree: enter, resume and finish above.
+        const std::size_t c = id + kChildOffset<R, 0>;
+        if constexpr (K == NodeKind::SubTree) {
+          if (status_[id] == Status::IDLE) set_status(id, Status::RUNNING);
+        } else {
+          set_status(id, Status::RUNNING);
+        }
+        return decorated<K>(id, c, tick_node<kChildShape<R, 0>>(c));
       } else if constexpr (kForm == Form::kLeaf) {
-        return tick_leaf<R, K>(id);
+        return tick_leaf<K, Spec::kNodes[R].model>(id);
       } else {
         Frame f{static_cast<std::uint16_t>(id), 0, 0, Status::IDLE, 0};
         Step step = begin_k<K>(f);
@@ -597,20 +596,20 @@ class Engine {
   }
 
   // Action, Condition, AlwaysSuccess and AlwaysFailure without pre- or
-  // post-conditions: enter and finish above for these kinds. (Written out,
-  // not enter and finish folded: g++ spent most of a straight-line node's
-  // compile time inlining the whole of enter and folding it away.)
-  template <std::uint16_t R, NodeKind K>
+  // post-conditions: enter and finish above for these kinds, the model's
+  // hook called directly. (Written out, not enter and finish folded: g++
+  // spent most of a straight-line node's compile time inlining the whole of
+  // enter and folding it away.)
+  template <NodeKind K, std::uint16_t kModel>
   [[gnu::always_inline]] Status tick_leaf(std::size_t id) noexcept {
     Status s = Status::FAILURE;
     if constexpr (K == NodeKind::AlwaysSuccess) {
       s = Status::SUCCESS;
     } else if constexpr (K == NodeKind::Action || K == NodeKind::Condition) {
       const NodeInfo& n = info(id);
-      constexpr std::uint16_t kModel = Spec::kNodes[R].model;  // the shape's: a direct call of its hook
       const Status st = status_[id];
       if (K == NodeKind::Action && st != Status::IDLE && st != Status::RUNNING &&
-          !Spec::template sync_action<Leaves>(Spec::kNodes[R])) {
+          !Spec::template sync_action<Leaves>(n)) {
         s = st;
       } else {
         const std::uint64_t before = errors_;
@@ -628,20 +627,12 @@ class Engine {
     return s;
   }
 
-  // Inverter, ForceSuccess, ForceFailure and SubTree without pre- or
-  // post-conditions: enter, resume and finish above for these kinds.
-  template <std::uint16_t R, NodeKind K>
-  [[gnu::always_inline]] Status tick_decorator(std::size_t id) noexcept {
-    const std::size_t c = id + kChildOffset<R, 0>;
-    if constexpr (K == NodeKind::SubTree) {
-      if (status_[id] == Status::IDLE) set_status(id, Status::RUNNING);
-    } else {
-      set_status(id, Status::RUNNING);
-    }
-    const Status cs = tick_child_at<R, 0>(id);
+  // The rest of a decorator's tick once its child `c` returned `cs`.
+  template <NodeKind K>
+  [[gnu::always_inline]] Status decorated(std::size_t id, std::size_t c, Status cs) noexcept {
     Status s = cs;
     if (is_completed(cs)) {
-      halt_child_at<R, 0>(id);
+      halt_child_id(c);
       if constexpr (K == NodeKind::Inverter) {
         s = cs == Status::SUCCESS ? Status::FAILURE : Status::SUCCESS;
       } else if constexpr (K == NodeKind::ForceSuccess) {
@@ -656,35 +647,37 @@ class Engine {
   }
 
   // Sequence (kSeq) and Fallback without pre- or post-conditions: enter,
-  // resume and sequence_next above, with the children in a row.
+  // resume and sequence_next above, with the children in a row: child I
+  // ticks when the index points at it, and then the node either goes on or
+  // returns (RUNNING, or the status that ends it: its children are reset
+  // then, by one copy of the resets, not one per child).
   template <std::uint16_t R, bool kSeq, std::size_t... I>
-  [[gnu::always_inline]] Status tick_sequence(std::size_t id, std::index_sequence<I...> all) noexcept {
+  [[gnu::always_inline]] Status tick_sequence(std::size_t id, std::index_sequence<I...>) noexcept {
     std::int32_t* const c = &counters_[info(id).slot];  // c[0]: the index, c[1]: a child did not skip
     if (!is_active(status_[id])) c[1] = 0;
     set_status(id, Status::RUNNING);
     Status s = Status::IDLE;
-    if (!(sequence_step<R, kSeq, I>(id, c, s) || ...)) {
-      const bool all_skipped = c[1] == 0;
-      reset_children_at<R>(id, all);
+    if (!((c[0] == static_cast<std::int32_t>(I) &&
+           sequence_step<kSeq>(tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), c, s)) ||
+          ...)) {
+      s = c[1] == 0 ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+    }
+    if (s != Status::RUNNING) {
+      (halt_child_id(id + kChildOffset<R, I>), ...);
       c[0] = 0;
-      s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
-  // Child I when the index points at it: true when the node returns `s`.
-  template <std::uint16_t R, bool kSeq, std::size_t I>
-  [[gnu::always_inline]] bool sequence_step(std::size_t id, std::int32_t* c, Status& s) noexcept {
-    if (c[0] != static_cast<std::int32_t>(I)) return false;
-    const Status cs = tick_child_at<R, I>(id);
+  // After the child at the index returned `cs`: true when the node returns `s`.
+  template <bool kSeq>
+  [[gnu::always_inline]] static bool sequence_step(Status cs, std::int32_t* c, Status& s) noexcept {
     if (cs != Status::SKIPPED) c[1] = 1;
     if (cs == Status::RUNNING) {
       s = Status::RUNNING;
       return true;
     }
     if (cs != Status::SKIPPED && cs != (kSeq ? Status::SUCCESS : Status::FAILURE)) {
-      reset_children_at<R>(id, std::make_index_sequence<Spec::kNodes[R].child_count>{});
-      c[0] = 0;
       s = kSeq ? Status::FAILURE : Status::SUCCESS;
       return true;
     }
@@ -702,32 +695,34 @@ class Engine {
 
   // ReactiveSequence (kSeq) and ReactiveFallback without pre- or post-conditions.
   template <std::uint16_t R, bool kSeq, std::size_t... I>
-  [[gnu::always_inline]] Status tick_reactive(std::size_t id, std::index_sequence<I...> all) noexcept {
+  [[gnu::always_inline]] Status tick_reactive(std::size_t id, std::index_sequence<I...>) noexcept {
     set_status(id, Status::RUNNING);
     bool all_skipped = true;
     Status s = Status::IDLE;
-    if (!(reactive_step<R, kSeq, I>(id, all_skipped, s) || ...)) {
-      reset_children_at<R>(id, all);
+    if (!(reactive_step<kSeq>(tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), id, I, id + kChildOffset<R, I>,
+                              all_skipped, s) ||
+          ...)) {
       s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
+    if (s != Status::RUNNING) (halt_child_id(id + kChildOffset<R, I>), ...);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
-  template <std::uint16_t R, bool kSeq, std::size_t I>
-  [[gnu::always_inline]] bool reactive_step(std::size_t id, bool& all_skipped, Status& s) noexcept {
-    const Status cs = tick_child_at<R, I>(id);
+  // After child `i` (node `c`) returned `cs`: true when the node returns `s`.
+  template <bool kSeq>
+  [[gnu::always_inline]] bool reactive_step(Status cs, std::size_t id, std::size_t i, std::size_t c, bool& all_skipped,
+                                            Status& s) noexcept {
     if (cs != Status::SKIPPED) all_skipped = false;
     if (cs == Status::RUNNING) {
-      halt_others(info(id), I);
+      halt_others(info(id), i);
       s = Status::RUNNING;
       return true;
     }
     if (cs == (kSeq ? Status::FAILURE : Status::SUCCESS)) {
-      reset_children_at<R>(id, std::make_index_sequence<Spec::kNodes[R].child_count>{});
       s = cs;
       return true;
     }
-    if (cs == Status::SKIPPED) halt_child_at<R, I>(id);
+    if (cs == Status::SKIPPED) halt_child_id(c);
     return false;
   }
 
@@ -736,7 +731,7 @@ class Engine {
   [[gnu::always_inline]] Status tick_child(std::size_t id, std::size_t pos, std::index_sequence<I...>) noexcept {
     if constexpr (sizeof...(I) <= kDirectChildren) {
       Status s = Status::IDLE;
-      (void)((pos == I ? (s = tick_child_at<R, I>(id), true) : false) || ...);
+      (void)((pos == I ? (s = tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), true) : false) || ...);
       return s;
     } else {
       using Tick = Status (Engine::*)(std::size_t) noexcept;
