@@ -40,9 +40,10 @@
 
 // How much of a mission ticks as straight-line code (Engine::tick_node):
 // the shapes first met in creation order (the root and the part of the tree
-// drawn first) while the weights of their first nodes add up to at most
-// this, a node 1, a node running scripts 6; a node of a shape met before is
-// free (its code is shared). The others run on the table interpreter.
+// drawn first) while the weights of the shapes before them add up to less
+// than this, a shape weighing 1 (6 when it runs scripts) plus its children;
+// a node of a shape met before is free (its code is shared). 0: none. The
+// others run on the table interpreter.
 // Straight line costs 6 to 18 instructions per visited node instead of 78,
 // and g++ -O2 some milliseconds per distinct node instead of almost
 // nothing: the budget keeps the build of a large mission fast. A Spec may set its own
@@ -466,8 +467,8 @@ class Engine {
         const NodeInfo& n = Spec::kNodes[i];
         const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
                               n.kind == NodeKind::Precondition;
-        weight += (scripted ? 6 : 1) + n.child_count;
-        if (weight > engine_detail::straight_line_budget<Spec>::value) return i;
+        if (weight >= engine_detail::straight_line_budget<Spec>::value) return i;
+        weight += (scripted ? 6 : 1) + n.child_count;  // its children's call sites are its code too
       }
       return kNodeCount;
     }
