@@ -5,7 +5,7 @@ write its own statuses, counters and timers. The missions here repeat shapes who
 instances the scenario drives differently (RUNNING in one, FAILURE in another, halts,
 retries), and nest deeper than the straight-line code goes; the compiled executor must
 give the reference interpreter's trace byte for byte, with the default budget and with a
-budget of 3 (the interpreter boundary inside shared shapes).
+budget of 3 (the interpreter boundary) and with one that shares the shapes' code.
 """
 
 import subprocess
@@ -114,13 +114,33 @@ def test_nodes_below_the_compiled_depth_share_the_interpreted_shape(tmp_path):
     assert all(s.rep[s.of_node[n.index]] != NO_NODE for n in program.nodes if n.depth - 1 < COMPILED_DEPTH)
 
 
-@pytest.mark.parametrize("budget", ["", "3"])
+def _weight(n) -> int:
+    """A node's weight in BTGEN_STRAIGHT_LINE_BUDGET (Engine::node_weight)."""
+    scripted = n.scripts != 0 or n.kind in ("Script", "ScriptCondition", "Precondition")
+    return (6 if scripted else 1) + len(n.children)
+
+
+def _shared_budget(program) -> int:
+    """A budget that compiles every shape once but is too small for a function per node, so
+    the engine shares the shapes' code (Engine::kPerNode false)."""
+    s = shapes(program)
+    by_shapes = sum(_weight(program.nodes[r]) for r in s.rep if r != NO_NODE)
+    by_nodes = sum(_weight(n) for n in program.nodes)
+    assert by_shapes < by_nodes
+    return by_shapes
+
+
+# "": a function per node (the mission fits the default budget); "3": the root only, the rest
+# on the interpreter; "shared": every shape compiled once, shared by its nodes.
+@pytest.mark.parametrize("budget", ["", "3", "shared"])
 @pytest.mark.parametrize("stem", ["repeated", "deep"])
 def test_shared_code_keeps_every_node_s_own_state(stem, budget, tmp_path, monkeypatch):
-    if budget:
-        monkeypatch.setenv("BTGEN_STRAIGHT_LINE_BUDGET", budget)
     xml, scenario_text = (REPEATED, REPEATED_SCENARIO) if stem == "repeated" else (_deep(), DEEP_SCENARIO)
     mission, scenario = _write(tmp_path, stem, xml, scenario_text)
+    if budget == "shared":
+        budget = str(_shared_budget(lower(load_mission(mission))))
+    if budget:
+        monkeypatch.setenv("BTGEN_STRAIGHT_LINE_BUDGET", budget)
     m = load_mission(mission)
     sc, _ = load_scenario(scenario, m)
     expected = trace_text(m, sc)

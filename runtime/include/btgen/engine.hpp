@@ -452,8 +452,48 @@ class Engine {
   // explicit stack, ChildOps) and the shapes beyond the budget.
   static constexpr std::size_t kCompiledDepth = 48;  // generator/btgen/backend_cpp/shapes.py
   static constexpr bool kShaped = engine_detail::has_shapes<Spec>::value;
-  static constexpr std::uint16_t shape_of(std::size_t i) noexcept { return Spec::kShape[i]; }
-  static constexpr std::uint16_t rep_of(std::uint16_t s) noexcept { return Spec::kShapeRep[s]; }
+  static constexpr std::size_t straight_line_budget = engine_detail::straight_line_budget<Spec>::value;
+  static constexpr std::size_t node_weight(const NodeInfo& n) noexcept {
+    const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
+                          n.kind == NodeKind::Precondition;
+    return (scripted ? 6 : 1) + n.child_count;  // its children's call sites are its code too
+  }
+  // A mission whose every node fits in the budget gets a function per node
+  // (a shape per node: its index and its state's places are constants, the
+  // fastest form); a larger one shares the functions of equal subtrees.
+  static constexpr bool per_node() noexcept {
+    if constexpr (!kShaped) {
+      return false;
+    } else {
+      std::size_t weight = 0;
+      for (const NodeInfo& n : Spec::kNodes) weight += node_weight(n);
+      return weight <= straight_line_budget;
+    }
+  }
+  static constexpr bool kPerNode = per_node();
+  static constexpr std::uint16_t shape_of(std::size_t i) noexcept {
+    if constexpr (kPerNode) {
+      return static_cast<std::uint16_t>(i);
+    } else {
+      return Spec::kShape[i];
+    }
+  }
+  // The first node of shape s (kNoNode: a node below the compiled depth).
+  static constexpr std::uint16_t rep_of(std::uint16_t s) noexcept {
+    if constexpr (kPerNode) {
+      return Spec::kShapeRep[Spec::kShape[s]] == kNoNode ? kNoNode : s;
+    } else {
+      return Spec::kShapeRep[s];
+    }
+  }
+  static constexpr std::size_t uses_of(std::uint16_t s) noexcept {
+    if constexpr (kPerNode) {
+      (void)s;
+      return 1;
+    } else {
+      return Spec::kShapeUses[s];
+    }
+  }
   // The shapes first met below this index tick as straight-line code
   // (BTGEN_STRAIGHT_LINE_BUDGET counts the nodes of distinct shapes). A Spec
   // without shape tables runs on the interpreter.
@@ -464,11 +504,8 @@ class Engine {
       std::size_t weight = 0;
       for (std::size_t i = 0; i < kNodeCount; ++i) {
         if (rep_of(shape_of(i)) != i) continue;  // compiled with an earlier node of its shape
-        const NodeInfo& n = Spec::kNodes[i];
-        const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
-                              n.kind == NodeKind::Precondition;
-        if (weight >= engine_detail::straight_line_budget<Spec>::value) return i;
-        weight += (scripted ? 6 : 1) + n.child_count;  // its children's call sites are its code too
+        if (weight >= straight_line_budget) return i;
+        weight += node_weight(Spec::kNodes[i]);
       }
       return kNodeCount;
     }
@@ -565,7 +602,7 @@ class Engine {
     } else {
       constexpr std::uint16_t R = rep_of(S);
       // A shape of one node: its index, its row and its state's places are constants.
-      if constexpr (Spec::kShapeUses[S] == 1) id = R;
+      if constexpr (uses_of(S) == 1) id = R;
       constexpr NodeKind K = Spec::kNodes[R].kind;
       using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
       if constexpr (kForm == Form::kSequence) {
