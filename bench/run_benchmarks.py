@@ -427,21 +427,23 @@ ISSUE20_STEPS = [
     "- shapes (`generator/btgen/backend_cpp/shapes.py`): nodes whose subtrees agree on kinds, models, "
     "scripts, parameters and children share one tick function, called with the node's index (a "
     "subtree is a contiguous run of the table, so its children sit at the same offsets); a shape "
-    "used once keeps its index constant. The SubTree instances of one BehaviorTree are the common "
+    "used once keeps its index constant. SubTree instances of one BehaviorTree are the common "
     "case: the 10,000-node benchmark missions have 33 to 64 shapes. `BTGEN_STRAIGHT_LINE_BUDGET` "
     "(default 1,000; a project sets another with `-DBTGEN_STRAIGHT_LINE_BUDGET=N`) now counts the "
-    "shapes first met in creation order, each weighing 1 plus its children (6 plus its children "
-    "when it runs scripts); nodes of shapes beyond it, and below depth 48, run on the interpreter. "
-    "Per visited node, one function per node -> shapes: `balanced_10000` 75.3 -> 16.4, "
-    "`reactive_10000` 68.7 -> 11.6, `subtrees_10000` 75.3 -> 16.5 (all of them straight-line now); "
-    "`balanced_1000` 7.6 -> 15.4 and `balanced5_1043` 11,720 -> 18,207 per tick (shared code finds "
-    "a node's counters through its table row at run time); `museum_93` 2,245 -> 2,286. g++ -O2 of "
-    "the benchmark: `balanced_1000` 4.7 s -> 1.2 s, `balanced_10000` 6.7 s -> 2.7 s. On a random "
-    "10,000-node tree of 2,037 shapes (not in the table) g++ takes 3.8 s (7.2 s before). Leaf hooks "
-    "are called by model number (`Spec::on_start_m<L, M>`), not through the switch on the node's "
-    "model. A reactive node halts its other children in one out-of-line loop. The benchmark counts "
-    "visits on a second, interpreted instance (the same statuses), so the straight-line code is "
-    "compiled once.",
+    "shapes first met in creation order, each weighing 1 (6 when it runs scripts) plus its children; "
+    "nodes of shapes beyond it, and below depth 48, run on the interpreter. A mission whose nodes "
+    "all fit in the budget keeps a function per node (shared code finds a node's counters through "
+    "its table row at run time, which costs instructions). Per visited node, one function per node "
+    "-> shapes: `balanced_10000` 75.3 -> 16.4, `reactive_10000` 68.7 -> 11.6, `subtrees_10000` 75.3 "
+    "-> 16.5 (all of them straight-line now); `balanced_1000` 7.6 -> 15.4, `balanced5_1043` 14,804 -> "
+    "18,207 per tick (shared); `museum_93` 2,245 -> 1,729 per tick, `missions/LabTour.xml` 41.9 -> "
+    "18.3 (a function per node, leaves and one-child decorators in forms of their own, leaf hooks "
+    "called by model number, `Spec::on_start_m<L, M>`, not through a switch on the node's model). "
+    "g++ -O2 of the benchmark: `balanced_1000` 4.7 s -> 1.3 s, `balanced_10000` 6.7 s -> 3.0 s; on "
+    "a random 10,000-node tree of 2,037 shapes (not in the table) 3.8 s (7.2 s before). A reactive "
+    "node halts its other children in one out-of-line loop, and a control's children are reset by "
+    "one copy of the resets, not one per child. The benchmark counts visits on a second, "
+    "interpreted instance (the same statuses), so the straight-line code is compiled once.",
     "- state: `node B/node` is `Engine::node_state_bytes()` (statuses, counters, timers, Parallel "
     "flags, the interpreter's and halts' stacks) per node, `bb B` is `Engine::blackboard_bytes()`; "
     "the rest of `state B` is a few words (leaves, clock, error count). A mission none of whose "
@@ -453,11 +455,11 @@ ISSUE20_STEPS = [
     "and found through a table instead of a switch into which g++ inlined every script: g++ -O2 on "
     "`scripts_10000` 62.7 s -> 5.3 s before the straight-line ticks.",
     "- build time, btgen + g++ -O2 (CPU): 2.3 to 2.6 s at 1,000 nodes before the straight-line ticks, 5.2 "
-    "to 5.4 s with one function per node, about 1.8 s with shapes; 4.1 to 4.5 s at 10,000 before, 7.8 "
-    "to 8.4 s with one function per node, 3.2 to 6.6 s with shapes (`scripts_10000` the largest). Growth "
-    "is linear in the node count (the tables) plus a bounded part for the straight-line shapes; the "
-    "fixed-plus-slope line among the targets is a fit through the 100- and 10,000-node balanced trees "
-    "only.",
+    "to 5.4 s with one function per node, 1.9 to 2.5 s with shapes; 4.1 to 4.5 s at 10,000 before, 7.8 "
+    "to 8.4 s with one function per node, 4.0 to 7.2 s with shapes (`scripts_10000` the largest). "
+    "Growth is linear in the node count (the tables) plus a bounded part for the straight-line "
+    "shapes; the fixed-plus-slope line among the targets is a fit through the 100- and 10,000-node "
+    "balanced trees only.",
 ]
 
 
