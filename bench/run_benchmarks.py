@@ -456,7 +456,7 @@ ISSUE20_STEPS = [
     "`scripts_10000` 62.7 s -> 5.3 s before the straight-line ticks.",
     "- build time, btgen + g++ -O2 (CPU): 2.3 to 2.6 s at 1,000 nodes before the straight-line ticks, 5.2 "
     "to 5.4 s with one function per node, 1.9 to 2.5 s with shapes; 4.1 to 4.5 s at 10,000 before, 7.8 "
-    "to 8.4 s with one function per node, 4.0 to 7.2 s with shapes (`scripts_10000` the largest). "
+    "to 8.4 s with one function per node, 3.9 to 7.3 s with shapes (`scripts_10000` the largest). "
     "Growth is linear in the node count (the tables) plus a bounded part for the straight-line "
     "shapes; the fixed-plus-slope line among the targets is a fit through the 100- and 10,000-node "
     "balanced trees only.",
