@@ -8,5 +8,5 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0x75202af1f73c5ee5ULL,
+static_assert(lab_tour::detail::kGeneration == 0xe4fb00a9a5852d64ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

@@ -61,13 +61,13 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 7> kWhere = {
-    "missions/LabTour.xml:150:41",
-    "missions/LabTour.xml:171:43",
-    "missions/LabTour.xml:184:43",
-    "missions/LabTour.xml:193:42",
-    "missions/LabTour.xml:193:67",
-    "missions/LabTour.xml:232:38",
-    "missions/LabTour.xml:302:34",
+    std::string_view("missions/LabTour.xml:150:41", 27),
+    std::string_view("missions/LabTour.xml:171:43", 27),
+    std::string_view("missions/LabTour.xml:184:43", 27),
+    std::string_view("missions/LabTour.xml:193:42", 27),
+    std::string_view("missions/LabTour.xml:193:67", 27),
+    std::string_view("missions/LabTour.xml:232:38", 27),
+    std::string_view("missions/LabTour.xml:302:34", 27),
 };
 
 }  // namespace detail
@@ -4316,7 +4316,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x75202af1f73c5ee5ULL;
+inline constexpr unsigned long long kGeneration = 0xe4fb00a9a5852d64ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

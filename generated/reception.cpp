@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves, btgen::SteadyClock,
                              btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x2bfd33de7aa59b9fULL,
+static_assert(reception::detail::kGeneration == 0x2fccd14f29eec0f2ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -55,9 +55,9 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 3> kWhere = {
-    "missions/Reception.xml:103:50",
-    "missions/Reception.xml:113:52",
-    "missions/Reception.xml:126:67",
+    std::string_view("missions/Reception.xml:103:50", 29),
+    std::string_view("missions/Reception.xml:113:52", 29),
+    std::string_view("missions/Reception.xml:126:67", 29),
 };
 
 }  // namespace detail
@@ -2885,7 +2885,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x2bfd33de7aa59b9fULL;
+inline constexpr unsigned long long kGeneration = 0x2fccd14f29eec0f2ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP
