@@ -14,6 +14,8 @@
 //     allocs_create     heap allocations while constructing the mission object
 //     allocs_per_tick   heap allocations during the N ticks / N
 //     state_bytes       sizeof the mission object (all of its run-time state)
+//     node_state_bytes  the part of it that is the nodes' state (Engine::node_state_bytes)
+//     blackboard_bytes  the part of it that is the blackboard (Engine::blackboard_bytes)
 //     visited_per_tick  nodes ticked per tick, counted on a second instance
 //                       (see VisitCounter), averaged over the first min(N, 64) ticks
 //     result            status the last tick returned
@@ -171,6 +173,8 @@ int main(int argc, char** argv) {
   std::printf("allocs_per_tick %.6g\n",
               ticks > 0 ? static_cast<double>(allocs_ticks) / static_cast<double>(ticks) : 0.0);
   std::printf("state_bytes %zu\n", sizeof(Mission));
+  std::printf("node_state_bytes %zu\n", Mission::node_state_bytes());
+  std::printf("blackboard_bytes %zu\n", Mission::blackboard_bytes());
   std::printf("visited_per_tick %.2f\n", visited);
   std::printf("result %.*s\n", static_cast<int>(btgen::to_string(last).size()), btgen::to_string(last).data());
   std::printf("alloc_counter %s\n", btgen_test::counts_malloc() ? "new+malloc" : "new");

@@ -66,13 +66,13 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 7> kWhere = {
-    "missions/LabTour.xml:150:41",
-    "missions/LabTour.xml:171:43",
-    "missions/LabTour.xml:184:43",
-    "missions/LabTour.xml:193:42",
-    "missions/LabTour.xml:193:67",
-    "missions/LabTour.xml:232:38",
-    "missions/LabTour.xml:302:34",
+    std::string_view("missions/LabTour.xml:150:41", 27),
+    std::string_view("missions/LabTour.xml:171:43", 27),
+    std::string_view("missions/LabTour.xml:184:43", 27),
+    std::string_view("missions/LabTour.xml:193:42", 27),
+    std::string_view("missions/LabTour.xml:193:67", 27),
+    std::string_view("missions/LabTour.xml:232:38", 27),
+    std::string_view("missions/LabTour.xml:302:34", 27),
 };
 
 }  // namespace detail
@@ -2280,308 +2280,610 @@ struct Spec {
       148,
   };
 
-  // Leaf dispatch: a direct call of the hook of the node's model.
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 90;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 45, 6, 46, 47, 48, 49, 50, 6,
+      51, 52, 53, 54, 55, 56, 57, 6, 58, 59, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 67, 68, 6, 69, 70, 6,
+      71, 72, 6, 73, 74, 75, 76, 6, 77, 78, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 79, 80, 6, 69, 70, 6,
+      81, 82, 83, 6, 84, 85, 6, 86, 87, 88, 89, 6, 62, 63, 6, 64,
+      15, 6, 65, 66, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
+      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
+      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
+      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 34, 4, 4, 1, 1, 1, 1, 1, 1, 4,
+      1, 1, 1, 3, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 3,
+      3, 3, 3, 1, 1, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+
+  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
+  // (M: what the engine's straight-line code calls, the model a constant there) or by the
+  // node's (what the table interpreter calls).
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DescribeExhibitSpeech_1 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeExhibitSpeech_1");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::DescribeExhibitSpeech_2 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeExhibitSpeech_2");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DisableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::DisabledOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DisabledOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 4) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action EnableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 5) {
+      leaf::EndTourSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action EndTourSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 6) {
+      leaf::FollowMeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action FollowMeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action GoodbyeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::HandleFallBack model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action HandleFallBack");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::HereIsTheDoorSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action HereIsTheDoorSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 16) {
+      leaf::LookUpEntrance model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action LookUpEntrance");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::LookUpHome model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action LookUpHome");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::MaybeAnotherTimeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action MaybeAnotherTimeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::Navigate model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action Navigate");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PerformDeicticGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::PressYesNoDialogue model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressYesNoDialogue");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::PressYesNoSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressYesNoSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 23) {
+      leaf::QueryTourSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action QueryTourSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 24) {
+      leaf::RetrieveListOfExhibits model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action RetrieveListOfExhibits");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 25) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayGoodByeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 26) {
+      leaf::SayYesNoSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayYesNoSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 27) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action ScanningOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 28) {
+      leaf::SelectExhibit model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SelectExhibit");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 29) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SocialOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 30) {
+      leaf::START_OF_TREE model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action START_OF_TREE");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 31) {
+      leaf::WelcomeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 32) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DescribeExhibitSpeech_1 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::DescribeExhibitSpeech_2 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::DisabledOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 4) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 5) {
+      leaf::EndTourSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 6) {
+      leaf::FollowMeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::HandleFallBack model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::HereIsTheDoorSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 16) {
+      leaf::LookUpEntrance model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::LookUpHome model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::MaybeAnotherTimeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::Navigate model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::PressYesNoDialogue model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::PressYesNoSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 23) {
+      leaf::QueryTourSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 24) {
+      leaf::RetrieveListOfExhibits model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 25) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 26) {
+      leaf::SayYesNoSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 27) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 28) {
+      leaf::SelectExhibit model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 29) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 30) {
+      leaf::START_OF_TREE model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 31) {
+      leaf::WelcomeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 32) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 10) {
+      leaf::IsASREnabled model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 11) {
+      leaf::IsListWithExhibit model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 12) {
+      leaf::IsMutualGazeDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 13) {
+      leaf::IsVisitorDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 14) {
+      leaf::IsVisitorResponseYes model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 15) {
+      leaf::IsYesNoUttered model(bb, err, node);
+      return leaves.check(model, node);
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeExhibitSpeech_1");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 1: {
-        leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeExhibitSpeech_2");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 2: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DisableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 3: {
-        leaf::DisabledOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DisabledOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 4: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action EnableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 5: {
-        leaf::EndTourSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action EndTourSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 6: {
-        leaf::FollowMeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action FollowMeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 7: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action GoodbyeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 8: {
-        leaf::HandleFallBack model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action HandleFallBack");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 9: {
-        leaf::HereIsTheDoorSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action HereIsTheDoorSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 16: {
-        leaf::LookUpEntrance model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action LookUpEntrance");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 17: {
-        leaf::LookUpHome model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action LookUpHome");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 18: {
-        leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action MaybeAnotherTimeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 19: {
-        leaf::Navigate model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action Navigate");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 20: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PerformDeicticGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 21: {
-        leaf::PressYesNoDialogue model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressYesNoDialogue");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 22: {
-        leaf::PressYesNoSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressYesNoSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 23: {
-        leaf::QueryTourSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action QueryTourSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 24: {
-        leaf::RetrieveListOfExhibits model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action RetrieveListOfExhibits");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 25: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayGoodByeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 26: {
-        leaf::SayYesNoSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayYesNoSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 27: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action ScanningOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 28: {
-        leaf::SelectExhibit model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SelectExhibit");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 29: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SocialOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 30: {
-        leaf::START_OF_TREE model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action START_OF_TREE");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 31: {
-        leaf::WelcomeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 32: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
+      case 0:
+        return on_start_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_start_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_start_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_start_m<Leaves, 3>(leaves, bb, err, node);
+      case 4:
+        return on_start_m<Leaves, 4>(leaves, bb, err, node);
+      case 5:
+        return on_start_m<Leaves, 5>(leaves, bb, err, node);
+      case 6:
+        return on_start_m<Leaves, 6>(leaves, bb, err, node);
+      case 7:
+        return on_start_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_start_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_start_m<Leaves, 9>(leaves, bb, err, node);
+      case 16:
+        return on_start_m<Leaves, 16>(leaves, bb, err, node);
+      case 17:
+        return on_start_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_start_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_start_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_start_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_start_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_start_m<Leaves, 22>(leaves, bb, err, node);
+      case 23:
+        return on_start_m<Leaves, 23>(leaves, bb, err, node);
+      case 24:
+        return on_start_m<Leaves, 24>(leaves, bb, err, node);
+      case 25:
+        return on_start_m<Leaves, 25>(leaves, bb, err, node);
+      case 26:
+        return on_start_m<Leaves, 26>(leaves, bb, err, node);
+      case 27:
+        return on_start_m<Leaves, 27>(leaves, bb, err, node);
+      case 28:
+        return on_start_m<Leaves, 28>(leaves, bb, err, node);
+      case 29:
+        return on_start_m<Leaves, 29>(leaves, bb, err, node);
+      case 30:
+        return on_start_m<Leaves, 30>(leaves, bb, err, node);
+      case 31:
+        return on_start_m<Leaves, 31>(leaves, bb, err, node);
+      case 32:
+        return on_start_m<Leaves, 32>(leaves, bb, err, node);
       default:
         break;
     }
@@ -2595,222 +2897,60 @@ struct Spec {
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 1: {
-        leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 2: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 3: {
-        leaf::DisabledOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 4: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 5: {
-        leaf::EndTourSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 6: {
-        leaf::FollowMeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 7: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 8: {
-        leaf::HandleFallBack model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 9: {
-        leaf::HereIsTheDoorSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 16: {
-        leaf::LookUpEntrance model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 17: {
-        leaf::LookUpHome model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 18: {
-        leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 19: {
-        leaf::Navigate model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 20: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 21: {
-        leaf::PressYesNoDialogue model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 22: {
-        leaf::PressYesNoSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 23: {
-        leaf::QueryTourSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 24: {
-        leaf::RetrieveListOfExhibits model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 25: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 26: {
-        leaf::SayYesNoSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 27: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 28: {
-        leaf::SelectExhibit model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 29: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 30: {
-        leaf::START_OF_TREE model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 31: {
-        leaf::WelcomeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 32: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
+      case 0:
+        return on_running_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_running_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_running_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_running_m<Leaves, 3>(leaves, bb, err, node);
+      case 4:
+        return on_running_m<Leaves, 4>(leaves, bb, err, node);
+      case 5:
+        return on_running_m<Leaves, 5>(leaves, bb, err, node);
+      case 6:
+        return on_running_m<Leaves, 6>(leaves, bb, err, node);
+      case 7:
+        return on_running_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_running_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_running_m<Leaves, 9>(leaves, bb, err, node);
+      case 16:
+        return on_running_m<Leaves, 16>(leaves, bb, err, node);
+      case 17:
+        return on_running_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_running_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_running_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_running_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_running_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_running_m<Leaves, 22>(leaves, bb, err, node);
+      case 23:
+        return on_running_m<Leaves, 23>(leaves, bb, err, node);
+      case 24:
+        return on_running_m<Leaves, 24>(leaves, bb, err, node);
+      case 25:
+        return on_running_m<Leaves, 25>(leaves, bb, err, node);
+      case 26:
+        return on_running_m<Leaves, 26>(leaves, bb, err, node);
+      case 27:
+        return on_running_m<Leaves, 27>(leaves, bb, err, node);
+      case 28:
+        return on_running_m<Leaves, 28>(leaves, bb, err, node);
+      case 29:
+        return on_running_m<Leaves, 29>(leaves, bb, err, node);
+      case 30:
+        return on_running_m<Leaves, 30>(leaves, bb, err, node);
+      case 31:
+        return on_running_m<Leaves, 31>(leaves, bb, err, node);
+      case 32:
+        return on_running_m<Leaves, 32>(leaves, bb, err, node);
       default:
         break;
     }
@@ -3056,30 +3196,18 @@ struct Spec {
   static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                              [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 10: {
-        leaf::IsASREnabled model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 11: {
-        leaf::IsListWithExhibit model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 12: {
-        leaf::IsMutualGazeDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 13: {
-        leaf::IsVisitorDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 14: {
-        leaf::IsVisitorResponseYes model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 15: {
-        leaf::IsYesNoUttered model(bb, err, node);
-        return leaves.check(model, node);
-      }
+      case 10:
+        return check_m<Leaves, 10>(leaves, bb, err, node);
+      case 11:
+        return check_m<Leaves, 11>(leaves, bb, err, node);
+      case 12:
+        return check_m<Leaves, 12>(leaves, bb, err, node);
+      case 13:
+        return check_m<Leaves, 13>(leaves, bb, err, node);
+      case 14:
+        return check_m<Leaves, 14>(leaves, bb, err, node);
+      case 15:
+        return check_m<Leaves, 15>(leaves, bb, err, node);
       default:
         break;
     }
@@ -4326,7 +4454,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xe4585e5b745c7341ULL;
+inline constexpr unsigned long long kGeneration = 0xe0891a778eeeb52dULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -273,55 +273,134 @@ struct Spec {
       6,
   };
 
-  // Leaf dispatch: a direct call of the hook of the node's model.
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 7;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 1, 1,
+  };
+
+  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
+  // (M: what the engine's straight-line code calls, the model a constant there) or by the
+  // node's (what the table interpreter calls).
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::FindBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action FindBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::PickBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PickBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::MoveBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action MoveBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::PlaceBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PlaceBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::FindBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::PickBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::MoveBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::PlaceBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    return btgen::Status::FAILURE;
+  }
+
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::FindBall model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action FindBall");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 1: {
-        leaf::PickBall model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PickBall");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 2: {
-        leaf::MoveBall model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action MoveBall");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 3: {
-        leaf::PlaceBall model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PlaceBall");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
+      case 0:
+        return on_start_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_start_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_start_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_start_m<Leaves, 3>(leaves, bb, err, node);
       default:
         break;
     }
@@ -335,38 +414,14 @@ struct Spec {
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::FindBall model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 1: {
-        leaf::PickBall model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 2: {
-        leaf::MoveBall model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 3: {
-        leaf::PlaceBall model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
+      case 0:
+        return on_running_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_running_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_running_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_running_m<Leaves, 3>(leaves, bb, err, node);
       default:
         break;
     }
@@ -821,7 +876,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xb94de8750b5931baULL;
+inline constexpr unsigned long long kGeneration = 0x44e8ae7f7fa01854ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

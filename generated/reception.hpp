@@ -57,9 +57,9 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 3> kWhere = {
-    "missions/Reception.xml:103:50",
-    "missions/Reception.xml:113:52",
-    "missions/Reception.xml:126:67",
+    std::string_view("missions/Reception.xml:103:50", 29),
+    std::string_view("missions/Reception.xml:113:52", 29),
+    std::string_view("missions/Reception.xml:126:67", 29),
 };
 
 }  // namespace detail
@@ -1415,220 +1415,443 @@ struct Spec {
       74,
   };
 
-  // Leaf dispatch: a direct call of the hook of the node's model.
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 58;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 6, 45, 46, 6, 47, 48, 6, 49,
+      50, 51, 6, 52, 53, 54, 55, 6, 56, 57, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
+      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 15, 2, 2, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+
+  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
+  // (M: what the engine's straight-line code calls, the model a constant there) or by the
+  // node's (what the table interpreter calls).
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DisableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action EnableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action GoodbyeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action HandleFallBack");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PerformDeicticGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayGoodByeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action ScanningOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SocialOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action START_OF_TREE");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action QueryDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationDialogue");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action LookUpDestination");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_1");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_2");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action UnknownDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
+  template <class Leaves, std::uint16_t M>
+  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 4) {
+      leaf::IsASREnabled model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 5) {
+      leaf::IsMutualGazeDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 6) {
+      leaf::IsVisitorDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 16) {
+      leaf::IsDestinationUttered model(bb, err, node);
+      return leaves.check(model, node);
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
+  }
+
   template <class Leaves>
   static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DisableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 1: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action EnableAnimateBehavior");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 2: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action GoodbyeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 3: {
-        leaf::HandleFallBack model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action HandleFallBack");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 7: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PerformDeicticGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 8: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayGoodByeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 9: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action ScanningOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 10: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SocialOvertAttentionMode");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 11: {
-        leaf::START_OF_TREE model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action START_OF_TREE");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 12: {
-        leaf::WelcomeGesture model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeGesture");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 13: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action WelcomeSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 14: {
-        leaf::QueryDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action QueryDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 15: {
-        leaf::SayDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action SayDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 17: {
-        leaf::PressDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 18: {
-        leaf::PressDestinationDialogue model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action PressDestinationDialogue");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 19: {
-        leaf::LookUpDestination model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action LookUpDestination");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 20: {
-        leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeRouteSpeech_1");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 21: {
-        leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action DescribeRouteSpeech_2");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
-      case 22: {
-        leaf::UnknownDestinationSpeech model(bb, err, node);
-        static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
-                      "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                      "for Action UnknownDestinationSpeech");
-        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));
-        } else {
-          return leaves.onStart(model, node);
-        }
-      }
+      case 0:
+        return on_start_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_start_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_start_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_start_m<Leaves, 3>(leaves, bb, err, node);
+      case 7:
+        return on_start_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_start_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_start_m<Leaves, 9>(leaves, bb, err, node);
+      case 10:
+        return on_start_m<Leaves, 10>(leaves, bb, err, node);
+      case 11:
+        return on_start_m<Leaves, 11>(leaves, bb, err, node);
+      case 12:
+        return on_start_m<Leaves, 12>(leaves, bb, err, node);
+      case 13:
+        return on_start_m<Leaves, 13>(leaves, bb, err, node);
+      case 14:
+        return on_start_m<Leaves, 14>(leaves, bb, err, node);
+      case 15:
+        return on_start_m<Leaves, 15>(leaves, bb, err, node);
+      case 17:
+        return on_start_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_start_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_start_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_start_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_start_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_start_m<Leaves, 22>(leaves, bb, err, node);
       default:
         break;
     }
@@ -1642,158 +1865,44 @@ struct Spec {
   static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                                 [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 0: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 1: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 2: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 3: {
-        leaf::HandleFallBack model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 7: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 8: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 9: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 10: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 11: {
-        leaf::START_OF_TREE model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 12: {
-        leaf::WelcomeGesture model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 13: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 14: {
-        leaf::QueryDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 15: {
-        leaf::SayDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 17: {
-        leaf::PressDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 18: {
-        leaf::PressDestinationDialogue model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 19: {
-        leaf::LookUpDestination model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 20: {
-        leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 21: {
-        leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
-      case 22: {
-        leaf::UnknownDestinationSpeech model(bb, err, node);
-        if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-          return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-        } else {
-          return leaves.onRunning(model, node);
-        }
-      }
+      case 0:
+        return on_running_m<Leaves, 0>(leaves, bb, err, node);
+      case 1:
+        return on_running_m<Leaves, 1>(leaves, bb, err, node);
+      case 2:
+        return on_running_m<Leaves, 2>(leaves, bb, err, node);
+      case 3:
+        return on_running_m<Leaves, 3>(leaves, bb, err, node);
+      case 7:
+        return on_running_m<Leaves, 7>(leaves, bb, err, node);
+      case 8:
+        return on_running_m<Leaves, 8>(leaves, bb, err, node);
+      case 9:
+        return on_running_m<Leaves, 9>(leaves, bb, err, node);
+      case 10:
+        return on_running_m<Leaves, 10>(leaves, bb, err, node);
+      case 11:
+        return on_running_m<Leaves, 11>(leaves, bb, err, node);
+      case 12:
+        return on_running_m<Leaves, 12>(leaves, bb, err, node);
+      case 13:
+        return on_running_m<Leaves, 13>(leaves, bb, err, node);
+      case 14:
+        return on_running_m<Leaves, 14>(leaves, bb, err, node);
+      case 15:
+        return on_running_m<Leaves, 15>(leaves, bb, err, node);
+      case 17:
+        return on_running_m<Leaves, 17>(leaves, bb, err, node);
+      case 18:
+        return on_running_m<Leaves, 18>(leaves, bb, err, node);
+      case 19:
+        return on_running_m<Leaves, 19>(leaves, bb, err, node);
+      case 20:
+        return on_running_m<Leaves, 20>(leaves, bb, err, node);
+      case 21:
+        return on_running_m<Leaves, 21>(leaves, bb, err, node);
+      case 22:
+        return on_running_m<Leaves, 22>(leaves, bb, err, node);
       default:
         break;
     }
@@ -1983,22 +2092,14 @@ struct Spec {
   static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
                              [[maybe_unused]] const btgen::NodeInfo& node) {
     switch (node.model) {
-      case 4: {
-        leaf::IsASREnabled model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 5: {
-        leaf::IsMutualGazeDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 6: {
-        leaf::IsVisitorDiscovered model(bb, err, node);
-        return leaves.check(model, node);
-      }
-      case 16: {
-        leaf::IsDestinationUttered model(bb, err, node);
-        return leaves.check(model, node);
-      }
+      case 4:
+        return check_m<Leaves, 4>(leaves, bb, err, node);
+      case 5:
+        return check_m<Leaves, 5>(leaves, bb, err, node);
+      case 6:
+        return check_m<Leaves, 6>(leaves, bb, err, node);
+      case 16:
+        return check_m<Leaves, 16>(leaves, bb, err, node);
       default:
         break;
     }
@@ -2875,7 +2976,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x36c90def6be2b12bULL;
+inline constexpr unsigned long long kGeneration = 0x56cfce70f2354075ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -19,7 +19,17 @@ from btgen.tools import synth
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BENCH_DIR = os.path.join(ROOT, "bench")
-KEYS = ("nodes", "ticks", "ns_per_tick", "allocs_create", "allocs_per_tick", "state_bytes", "binary")
+KEYS = (
+    "nodes",
+    "ticks",
+    "ns_per_tick",
+    "allocs_create",
+    "allocs_per_tick",
+    "state_bytes",
+    "node_state_bytes",
+    "blackboard_bytes",
+    "binary",
+)
 
 needs_cxx = pytest.mark.skipif(shutil.which(os.environ.get("CXX") or "c++") is None, reason="no C++ compiler")
 
@@ -80,6 +90,12 @@ def test_report_has_every_key_with_sane_values_and_no_allocation(bench_20):
     assert float(report["allocs_per_tick"]) == 0.0
     # a status byte per node at least, and all of the state in the object
     assert 20 <= int(report["state_bytes"]) <= 20 * 64
+    # the nodes' part of it: a status byte per node at least, at most the 8 bytes per node of
+    # the performance targets; this mission has no blackboard entries (an empty struct)
+    nodes_part, bb_part = int(report["node_state_bytes"]), int(report["blackboard_bytes"])
+    assert 20 <= nodes_part <= 20 * 8
+    assert bb_part == 1
+    assert nodes_part + bb_part <= int(report["state_bytes"])
     # a balanced synthetic mission: every tick visits every node and succeeds
     assert float(report["visited_per_tick"]) == 20.0
     assert report["result"] == "SUCCESS"

@@ -592,3 +592,31 @@ def test_a_groot2_tree_text_over_64_kib_builds_with_clang_pedantic(tmp_path):
         check=False,
     )
     assert proc.returncode == 0, proc.stdout
+
+
+def test_error_places_and_messages_are_sized_string_views(tmp_path):
+    """kWhere and the scripts' error messages give their lengths: read as plain literals, their
+    strlen in constant evaluation went past clang's step limit on a 10,000-node script mission
+    (bench/missions/scripts_10000.xml did not build with clang++)."""
+    import re
+
+    from btgen.backend_cpp.emit import render
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.lower import lower
+    from btgen.tools import synth
+
+    path = tmp_path / "scripts_40.xml"
+    path.write_text(synth.script_mission(40))
+    header = render(lower(load_mission(str(path))), "scripts_40")[0].text
+    where = header[header.index("kWhere = {") : header.index("};", header.index("kWhere = {"))]
+    errors = header[header.index("kScriptErrors = {") : header.index("};", header.index("kScriptErrors = {"))]
+    sized = re.compile(r'std::string_view\("((?:[^"\\]|\\[0-7]{3}|\\["\\])*)", (\d+)\)')
+    for block, rows in ((where, 1), (errors, 1)):
+        # (a message left empty, `{}`, is written at run time by a dynamic operation)
+        entries = [line for line in block.splitlines()[1:] if line.strip() and not line.endswith(", {}},")]
+        assert len(entries) >= rows
+        for line in entries:
+            m = sized.search(line)
+            assert m is not None, line
+            text = re.sub(r'\\[0-7]{3}|\\["\\]', "x", m.group(1))
+            assert len(text) == int(m.group(2)), line

@@ -41,6 +41,8 @@ KEYS = (
     "allocs_create",
     "allocs_per_tick",
     "state_bytes",
+    "node_state_bytes",
+    "blackboard_bytes",
     "visited_per_tick",
     "result",
     "alloc_counter",

@@ -15,8 +15,8 @@
 // BehaviorTree.CPP's recursive executeTick() unrolled onto the explicit stack
 // (the table interpreter). The first nodes of the tree (see
 // BTGEN_STRAIGHT_LINE_BUDGET) tick as straight-line code instead: the same
-// state machines instantiated per node, so their kind and table entry are
-// compile-time constants (tick_node below).
+// state machines instantiated per node shape (equal subtrees share one), so
+// their kind and children are compile-time constants (tick_node below).
 //
 // The data side is the Spec's: its Blackboard (one typed slot per entry,
 // held here), and the generated functions that run the mission's compiled
@@ -39,12 +39,14 @@
 #include "btgen/user_node.hpp"
 
 // How much of a mission ticks as straight-line code (Engine::tick_node):
-// the first nodes in creation order (the root and the part of the tree
-// drawn first) while their weights add up to at most this, a node 1, a node
-// running scripts 6. The others run on the table interpreter. Straight line
-// costs 6 to 11 instructions per visited node instead of 78, and g++ -O2
-// some milliseconds per node instead of almost nothing: the budget keeps
-// the build of a large mission fast. A Spec may set its own
+// the shapes first met in creation order (the root and the part of the tree
+// drawn first) while the weights of the shapes before them add up to less
+// than this, a shape weighing 1 (6 when it runs scripts) plus its children;
+// a node of a shape met before is free (its code is shared). 0: none. The
+// others run on the table interpreter.
+// Straight line costs 6 to 18 instructions per visited node instead of 78,
+// and g++ -O2 some milliseconds per distinct node instead of almost
+// nothing: the budget keeps the build of a large mission fast. A Spec may set its own
 // (`static constexpr std::size_t kStraightLineBudget`; 0: all interpreted).
 #ifndef BTGEN_STRAIGHT_LINE_BUDGET
 #define BTGEN_STRAIGHT_LINE_BUDGET 1000
@@ -63,6 +65,12 @@ struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT
 template <class S>
 struct straight_line_budget<S, std::void_t<decltype(S::kStraightLineBudget)>>
     : std::integral_constant<std::size_t, S::kStraightLineBudget> {};
+// A Spec with shape tables (Spec::kShape, kShapeRep: straight-line code shared by equal subtrees).
+template <class S, class = void>
+struct has_shapes : std::false_type {};
+template <class S>
+struct has_shapes<S, std::void_t<decltype(S::kShape), decltype(S::kShapeRep), decltype(S::kShapeUses)>>
+    : std::true_type {};
 // A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
 template <class S, class = void>
 struct has_init : std::false_type {};
@@ -78,9 +86,16 @@ struct has_init<
 //   static constexpr bool kHasParallel;
 //   static constexpr std::array<NodeInfo, kNodeCount> kNodes;
 //   static constexpr std::array<std::uint16_t, kChildCount> kChildren;
+//   static constexpr std::array<std::uint16_t, kNodeCount> kShape;     // node -> its shape
+//   static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep; // shape -> first node (kNoNode: interpreted)
+//   static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses;  // shape -> its nodes
+//     (without the three shape tables every node runs on the interpreter)
 //   struct Blackboard;  (default-constructible: the entries as the tree is built)
 //   using BB = Blackboard; using ES = const ErrorSink;
 //   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
+//   template <class L, std::uint16_t M> static Status on_start_m(L&, BB&, ES&, const NodeInfo&);
+//     (on_start, on_running, check: by the node's model; the _m forms by the model M)
+//   template <class L, std::uint16_t M> static Status on_running_m(...), check_m(...);
 //   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
 //   template <class L> static constexpr bool sync_action(const NodeInfo&);
@@ -144,6 +159,14 @@ class Engine {
   [[nodiscard]] const Blackboard& blackboard() const noexcept { return bb_; }
   // How many run-time errors were reported so far (each failed its node).
   [[nodiscard]] std::uint64_t errors() const noexcept { return errors_; }
+  // What the object's size is made of: the nodes' state (statuses, counters,
+  // timers, Parallel flags, the interpreter's and halts' stacks: all of it
+  // sized by the tree) and the blackboard (its entries); the rest is a few
+  // words (leaves, clock, observer, error count).
+  [[nodiscard]] static constexpr std::size_t node_state_bytes() noexcept {
+    return sizeof(status_) + sizeof(counters_) + sizeof(timers_) + sizeof(done_) + sizeof(stack_) + sizeof(halt_stack_);
+  }
+  [[nodiscard]] static constexpr std::size_t blackboard_bytes() noexcept { return sizeof(Blackboard); }
   [[nodiscard]] Clock& clock() noexcept { return clock_; }
   [[nodiscard]] const Clock& clock() const noexcept { return clock_; }
   [[nodiscard]] Observer& observer() noexcept { return observer_; }
@@ -259,7 +282,7 @@ class Engine {
   static constexpr Step descend(std::uint16_t c) noexcept { return Step{c, Status::IDLE}; }
   static constexpr Step done(Status s) noexcept { return Step{kNoNode, s}; }
 
-  static constexpr const NodeInfo& info(std::uint16_t n) noexcept { return Spec::kNodes[n]; }
+  static constexpr const NodeInfo& info(std::size_t n) noexcept { return Spec::kNodes[n]; }
   // The i-th child of `n` (i < n.child_count). The index is clamped only in
   // tiny child tables: there it keeps g++ -O2 from warning (-Warray-bounds)
   // about a branch for a third child it cannot prove dead when the whole
@@ -286,12 +309,12 @@ class Engine {
   }
 
   // ------------------------------------------------------------- statuses
-  void set_status(std::uint16_t n, Status s) noexcept {
+  void set_status(std::size_t n, Status s) noexcept {
     const Status prev = status_[n];
     status_[n] = s;
     if (prev != s) observer_.on_status_change(info(n), prev, s);
   }
-  void reset_status(std::uint16_t n) noexcept { set_status(n, Status::IDLE); }
+  void reset_status(std::size_t n) noexcept { set_status(n, Status::IDLE); }
 
   // Completed-child flags of Parallel / ParallelAll, one bit per node.
   bool is_done(std::uint16_t n) const noexcept {
@@ -405,32 +428,108 @@ class Engine {
   // separate functions they cost a call and a save of the callee-saved
   // registers each time (bench/run_benchmarks.py: 120 -> 78.5 instructions
   // per node on bench/missions/balanced_1000.xml with g++ 12 -O2).
-  Status execute() noexcept { return tick_node<0, 0>(); }
+  Status execute() noexcept {
+    if constexpr (kStraightLine == 0) {
+      return execute_at(0, 0);
+    } else {
+      return tick_node<shape_of(0)>(0);
+    }
+  }
 
   // ------------------------------------------------------- compiled ticks
-  // tick_node<N, D>() is executeTick of node N (at depth D) as straight-line
-  // code: the same begin / enter / resume / finish as the interpreter, with
-  // the node's kind and its table entry known when compiling, so that g++
-  // folds every branch of other kinds and every table read away, and calls
-  // its children's tick_node directly. The state stays where the interpreter
-  // keeps it (status_, counters_, timers_: halts and the user nodes' ChildOps
-  // read it there). Below kCompiledDepth (a template recursion limit) and
-  // for the mission's own Controls and Decorators (their children run on
-  // the explicit stack, ChildOps) the interpreter takes over.
-  static constexpr std::size_t kCompiledDepth = 48;
-  // The nodes below this index tick as straight-line code (BTGEN_STRAIGHT_LINE_BUDGET).
-  static constexpr std::size_t straight_line_nodes() noexcept {
-    std::size_t weight = 0;
-    for (std::size_t i = 0; i < kNodeCount; ++i) {
-      const NodeInfo& n = Spec::kNodes[i];
-      const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
-                            n.kind == NodeKind::Precondition;
-      weight += scripted ? 6 : 1;
-      if (weight > engine_detail::straight_line_budget<Spec>::value) return i;
+  // tick_node<S>(id) is executeTick of node `id`, whose shape is S, as
+  // straight-line code: the same begin / enter / resume / finish as the
+  // interpreter, with the node's kind, model, scripts, parameters and
+  // children (their shapes, their offsets from `id`) known when compiling,
+  // so that g++ folds every branch of other kinds away and calls its
+  // children's tick_node directly. Nodes of one shape (Spec::kShape: equal
+  // subtrees, e.g. the instances of one SubTree) share the function; their
+  // state stays where the interpreter keeps it (status_, counters_, timers_:
+  // halts and the user nodes' ChildOps read it there), found from `id` and
+  // its table row. The generator gives nodes at kCompiledDepth and below a
+  // shape of their own that runs on the interpreter, which also takes the
+  // mission's own Controls and Decorators (their children run on the
+  // explicit stack, ChildOps) and the shapes beyond the budget.
+  static constexpr std::size_t kCompiledDepth = 48;  // generator/btgen/backend_cpp/shapes.py
+  static constexpr bool kShaped = engine_detail::has_shapes<Spec>::value;
+  static constexpr std::size_t straight_line_budget = engine_detail::straight_line_budget<Spec>::value;
+  static constexpr std::size_t node_weight(const NodeInfo& n) noexcept {
+    const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
+                          n.kind == NodeKind::Precondition;
+    return (scripted ? 6 : 1) + n.child_count;  // its children's call sites are its code too
+  }
+  // A mission whose every node fits in the budget gets a function per node
+  // (a shape per node: its index and its state's places are constants, the
+  // fastest form); a larger one shares the functions of equal subtrees.
+  static constexpr bool per_node() noexcept {
+    if constexpr (!kShaped) {
+      return false;
+    } else {
+      std::size_t weight = 0;
+      for (const NodeInfo& n : Spec::kNodes) weight += node_weight(n);
+      return weight <= straight_line_budget;
     }
-    return kNodeCount;
+  }
+  static constexpr bool kPerNode = per_node();
+  static constexpr std::uint16_t shape_of(std::size_t i) noexcept {
+    if constexpr (kPerNode) {
+      return static_cast<std::uint16_t>(i);
+    } else {
+      return Spec::kShape[i];
+    }
+  }
+  // The first node of shape s (kNoNode: a node below the compiled depth).
+  static constexpr std::uint16_t rep_of(std::uint16_t s) noexcept {
+    if constexpr (kPerNode) {
+      return Spec::kShapeRep[Spec::kShape[s]] == kNoNode ? kNoNode : s;
+    } else {
+      return Spec::kShapeRep[s];
+    }
+  }
+  static constexpr std::size_t uses_of(std::uint16_t s) noexcept {
+    if constexpr (kPerNode) {
+      (void)s;
+      return 1;
+    } else {
+      return Spec::kShapeUses[s];
+    }
+  }
+  // The shapes first met below this index tick as straight-line code
+  // (BTGEN_STRAIGHT_LINE_BUDGET counts the nodes of distinct shapes). A Spec
+  // without shape tables runs on the interpreter.
+  static constexpr std::size_t straight_line_nodes() noexcept {
+    if constexpr (!kShaped) {
+      return 0;
+    } else {
+      std::size_t weight = 0;
+      for (std::size_t i = 0; i < kNodeCount; ++i) {
+        if (rep_of(shape_of(i)) != i) continue;  // compiled with an earlier node of its shape
+        if (weight >= straight_line_budget) return i;
+        weight += node_weight(Spec::kNodes[i]);
+      }
+      return kNodeCount;
+    }
   }
   static constexpr std::size_t kStraightLine = straight_line_nodes();
+  // Whether any node runs on the table interpreter (execute_at and its
+  // stack): a shape beyond the budget or below the compiled depth, or the
+  // mission's own Controls and Decorators (their children run there). When
+  // none does, the interpreter's stack takes no room.
+  static constexpr bool uses_interpreter() noexcept {
+    if constexpr (!kShaped) {
+      return true;
+    } else {
+      if (kStraightLine < kNodeCount) return true;
+      for (const std::uint16_t rep : Spec::kShapeRep) {
+        if (rep == kNoNode) return true;
+      }
+      for (const NodeInfo& n : Spec::kNodes) {
+        if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return true;
+      }
+      return false;
+    }
+  }
+  static constexpr bool kUsesInterpreter = uses_interpreter();
   // Children ticked through a table of member-function pointers above this
   // many (else a chain of comparisons of the position).
   static constexpr std::size_t kDirectChildren = 8;
@@ -440,6 +539,18 @@ class Engine {
 
   static constexpr std::uint16_t child_of(std::uint16_t n, std::size_t i) noexcept {
     return Spec::kChildren[std::size_t{Spec::kNodes[n].child_begin} + i];
+  }
+  // Child I of a node whose shape's first node is R: its shape, its offset
+  // from the node. (The helpers below are few and shared, not one per shape
+  // and child: g++'s time per straight-line shape grew with their number.)
+  template <std::uint16_t R, std::size_t I>
+  static constexpr std::uint16_t kChildShape = shape_of(child_of(R, I));
+  template <std::uint16_t R, std::size_t I>
+  static constexpr std::size_t kChildOffset = child_of(R, I) - R;
+  // ControlNode::haltChild of node `c`.
+  [[gnu::always_inline]] void halt_child_id(std::size_t c) noexcept {
+    if (status_[c] == Status::RUNNING) halt_node(static_cast<std::uint16_t>(c));
+    reset_status(c);
   }
 
   template <NodeKind K>
@@ -451,17 +562,24 @@ class Engine {
     return resume(f, cs, K);
   }
 
-  // Which straight-line form node N takes.
+  // Which straight-line form shape S takes.
   enum class Form { kInterpreted, kGeneric, kLeaf, kSequence, kReactive, kDecorator };
-  template <std::uint16_t N, std::size_t D>
+  template <std::uint16_t S>
   static constexpr Form form() noexcept {
-    constexpr const NodeInfo& n = Spec::kNodes[N];
-    if (N >= kStraightLine || D >= kCompiledDepth || n.kind == NodeKind::UserControl ||
-        n.kind == NodeKind::UserDecorator) {
-      return Form::kInterpreted;
-    }
+    constexpr std::uint16_t R = rep_of(S);
+    if (R == kNoNode || R >= kStraightLine) return Form::kInterpreted;
+    constexpr const NodeInfo& n = Spec::kNodes[R == kNoNode ? 0 : R];  // (row 0 unused then)
+    if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return Form::kInterpreted;
     if ((n.scripts & (kPreBits | kPostBits)) != 0) return Form::kGeneric;
-    if (n.child_count == 0) return Form::kLeaf;
+    if (n.child_count == 0) {
+      switch (n.kind) {
+        case NodeKind::Action:
+        case NodeKind::Condition:
+        case NodeKind::AlwaysSuccess:
+        case NodeKind::AlwaysFailure: return Form::kLeaf;
+        default: return Form::kGeneric;
+      }
+    }
     if (n.child_count > kInRow) return Form::kGeneric;
     switch (n.kind) {
       case NodeKind::Sequence:
@@ -476,69 +594,132 @@ class Engine {
     }
   }
 
-  template <std::uint16_t N, std::size_t D>
-  Status tick_node() noexcept {
-    constexpr NodeKind K = Spec::kNodes[N].kind;
-    constexpr Form kForm = form<N, D>();
+  template <std::uint16_t S>
+  Status tick_node(std::size_t id) noexcept {
+    constexpr Form kForm = form<S>();
     if constexpr (kForm == Form::kInterpreted) {
-      return execute_at(N, 0);
-    } else if constexpr (kForm == Form::kSequence) {
-      return tick_sequence<N, D, K == NodeKind::Sequence>(std::make_index_sequence<Spec::kNodes[N].child_count>{});
-    } else if constexpr (kForm == Form::kReactive) {
-      return tick_reactive<N, D, K == NodeKind::ReactiveSequence>(
-          std::make_index_sequence<Spec::kNodes[N].child_count>{});
+      return execute_at(static_cast<std::uint16_t>(id), 0);
     } else {
-      Frame f{N, 0, 0, Status::IDLE, 0};
-      Step step = begin_k<K>(f);
-      if constexpr (kForm == Form::kDecorator) {
-        if (step.child != kNoNode) step = resume_k<K>(f, tick_node<child_of(N, 0), D + 1>());
-      } else if constexpr (kForm == Form::kGeneric) {
+      constexpr std::uint16_t R = rep_of(S);
+      // A shape of one node: its index, its row and its state's places are constants.
+      if constexpr (uses_of(S) == 1) id = R;
+      constexpr NodeKind K = Spec::kNodes[R].kind;
+      using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
+      if constexpr (kForm == Form::kSequence) {
+        return tick_sequence<R, K == NodeKind::Sequence>(id, Children{});
+      } else if constexpr (kForm == Form::kReactive) {
+        return tick_reactive<R, K == NodeKind::ReactiveSequence>(id, Children{});
+      } else if constexpr (kForm == Form::kDecorator) {
+        // Inverter, ForceSuccess, ForceFailure, SubTree: enter, resume and finish above.
+        const std::size_t c = id + kChildOffset<R, 0>;
+        if constexpr (K == NodeKind::SubTree) {
+          if (status_[id] == Status::IDLE) set_status(id, Status::RUNNING);
+        } else {
+          set_status(id, Status::RUNNING);
+        }
+        return decorated<K>(id, c, tick_node<kChildShape<R, 0>>(c));
+      } else if constexpr (kForm == Form::kLeaf) {
+        return tick_leaf<K, Spec::kNodes[R].model>(id);
+      } else {
+        Frame f{static_cast<std::uint16_t>(id), 0, 0, Status::IDLE, 0};
+        Step step = begin_k<K>(f);
         while (step.child != kNoNode) {
           if constexpr (kWakeUp) f.child_prev = status_[step.child];
-          const Status cs = tick_child<N, D>(f.pos, std::make_index_sequence<Spec::kNodes[N].child_count>{});
+          const Status cs = tick_child<R>(id, f.pos, Children{});
           step = resume_k<K>(f, cs);
         }
+        return finish(f, step.status);
       }
-      return finish(f, step.status);
     }
   }
 
-  // Sequence (kSeq) and Fallback without pre- or post-conditions: enter,
-  // resume and sequence_next above, with the children in a row.
-  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t... I>
-  [[gnu::always_inline]] Status tick_sequence(std::index_sequence<I...>) noexcept {
-    constexpr const NodeInfo& n = Spec::kNodes[N];
-    if (!is_active(status_[N])) counter(n, 1) = 0;
-    set_status(N, Status::RUNNING);
-    std::int32_t& idx = counter(n, 0);
-    Status s = Status::IDLE;
-    if (!(sequence_step<N, D, kSeq, I>(idx, s) || ...)) {
-      const bool all_skipped = counter(n, 1) == 0;
-      reset_children(n);
-      idx = 0;
-      s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+  // Action, Condition, AlwaysSuccess and AlwaysFailure without pre- or
+  // post-conditions: enter and finish above for these kinds, the model's
+  // hook called directly. (Written out, not enter and finish folded: g++
+  // spent most of a straight-line node's compile time inlining the whole of
+  // enter and folding it away.)
+  template <NodeKind K, std::uint16_t kModel>
+  [[gnu::always_inline]] Status tick_leaf(std::size_t id) noexcept {
+    Status s = Status::FAILURE;
+    if constexpr (K == NodeKind::AlwaysSuccess) {
+      s = Status::SUCCESS;
+    } else if constexpr (K == NodeKind::Action || K == NodeKind::Condition) {
+      const NodeInfo& n = info(id);
+      const Status st = status_[id];
+      if (K == NodeKind::Action && st != Status::IDLE && st != Status::RUNNING &&
+          !Spec::template sync_action<Leaves>(n)) {
+        s = st;
+      } else {
+        const std::uint64_t before = errors_;
+        const ErrorSink es = sink();
+        if constexpr (K == NodeKind::Condition) {
+          s = guarded(Spec::template check_m<Leaves, kModel>(*leaves_, bb_, es, n), before);
+        } else {
+          s = guarded(st == Status::IDLE ? Spec::template on_start_m<Leaves, kModel>(*leaves_, bb_, es, n)
+                                         : Spec::template on_running_m<Leaves, kModel>(*leaves_, bb_, es, n),
+                      before);
+        }
+      }
     }
-    if (s != Status::SKIPPED) set_status(N, s);
+    if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
-  // Child I when the index points at it: true when the node returns `s`.
-  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t I>
-  [[gnu::always_inline]] bool sequence_step(std::int32_t& idx, Status& s) noexcept {
-    constexpr const NodeInfo& n = Spec::kNodes[N];
-    if (idx != static_cast<std::int32_t>(I)) return false;
-    const Status cs = tick_node<child_of(N, I), D + 1>();
-    if (cs != Status::SKIPPED) counter(n, 1) = 1;
+
+  // The rest of a decorator's tick once its child `c` returned `cs`.
+  template <NodeKind K>
+  [[gnu::always_inline]] Status decorated(std::size_t id, std::size_t c, Status cs) noexcept {
+    Status s = cs;
+    if (is_completed(cs)) {
+      halt_child_id(c);
+      if constexpr (K == NodeKind::Inverter) {
+        s = cs == Status::SUCCESS ? Status::FAILURE : Status::SUCCESS;
+      } else if constexpr (K == NodeKind::ForceSuccess) {
+        s = Status::SUCCESS;
+      } else if constexpr (K == NodeKind::ForceFailure) {
+        s = Status::FAILURE;
+      }
+    }
+    if (s != Status::SKIPPED) set_status(id, s);
+    if (is_completed(status_[c])) reset_status(c);  // DecoratorNode::executeTick
+    return s;
+  }
+
+  // Sequence (kSeq) and Fallback without pre- or post-conditions: enter,
+  // resume and sequence_next above, with the children in a row: child I
+  // ticks when the index points at it, and then the node either goes on or
+  // returns (RUNNING, or the status that ends it: its children are reset
+  // then, by one copy of the resets, not one per child).
+  template <std::uint16_t R, bool kSeq, std::size_t... I>
+  [[gnu::always_inline]] Status tick_sequence(std::size_t id, std::index_sequence<I...>) noexcept {
+    std::int32_t* const c = &counters_[info(id).slot];  // c[0]: the index, c[1]: a child did not skip
+    if (!is_active(status_[id])) c[1] = 0;
+    set_status(id, Status::RUNNING);
+    Status s = Status::IDLE;
+    if (!((c[0] == static_cast<std::int32_t>(I) &&
+           sequence_step<kSeq>(tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), c, s)) ||
+          ...)) {
+      s = c[1] == 0 ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+    }
+    if (s != Status::RUNNING) {
+      (halt_child_id(id + kChildOffset<R, I>), ...);
+      c[0] = 0;
+    }
+    if (s != Status::SKIPPED) set_status(id, s);
+    return s;
+  }
+  // After the child at the index returned `cs`: true when the node returns `s`.
+  template <bool kSeq>
+  [[gnu::always_inline]] static bool sequence_step(Status cs, std::int32_t* c, Status& s) noexcept {
+    if (cs != Status::SKIPPED) c[1] = 1;
     if (cs == Status::RUNNING) {
       s = Status::RUNNING;
       return true;
     }
     if (cs != Status::SKIPPED && cs != (kSeq ? Status::SUCCESS : Status::FAILURE)) {
-      reset_children(n);
-      idx = 0;
       s = kSeq ? Status::FAILURE : Status::SUCCESS;
       return true;
     }
-    ++idx;
+    ++c[0];
     return false;
   }
 
@@ -551,49 +732,50 @@ class Engine {
   }
 
   // ReactiveSequence (kSeq) and ReactiveFallback without pre- or post-conditions.
-  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t... I>
-  [[gnu::always_inline]] Status tick_reactive(std::index_sequence<I...>) noexcept {
-    constexpr const NodeInfo& n = Spec::kNodes[N];
-    set_status(N, Status::RUNNING);
+  template <std::uint16_t R, bool kSeq, std::size_t... I>
+  [[gnu::always_inline]] Status tick_reactive(std::size_t id, std::index_sequence<I...>) noexcept {
+    set_status(id, Status::RUNNING);
     bool all_skipped = true;
     Status s = Status::IDLE;
-    if (!(reactive_step<N, D, kSeq, I>(all_skipped, s) || ...)) {
-      reset_children(n);
+    if (!(reactive_step<kSeq>(tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), id, I, id + kChildOffset<R, I>,
+                              all_skipped, s) ||
+          ...)) {
       s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
-    if (s != Status::SKIPPED) set_status(N, s);
+    if (s != Status::RUNNING) (halt_child_id(id + kChildOffset<R, I>), ...);
+    if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
-  template <std::uint16_t N, std::size_t D, bool kSeq, std::size_t I>
-  [[gnu::always_inline]] bool reactive_step(bool& all_skipped, Status& s) noexcept {
-    constexpr const NodeInfo& n = Spec::kNodes[N];
-    const Status cs = tick_node<child_of(N, I), D + 1>();
+  // After child `i` (node `c`) returned `cs`: true when the node returns `s`.
+  template <bool kSeq>
+  [[gnu::always_inline]] bool reactive_step(Status cs, std::size_t id, std::size_t i, std::size_t c, bool& all_skipped,
+                                            Status& s) noexcept {
     if (cs != Status::SKIPPED) all_skipped = false;
     if (cs == Status::RUNNING) {
-      halt_others(n, I);
+      halt_others(info(id), i);
       s = Status::RUNNING;
       return true;
     }
     if (cs == (kSeq ? Status::FAILURE : Status::SUCCESS)) {
-      reset_children(n);
       s = cs;
       return true;
     }
-    if (cs == Status::SKIPPED) halt_child(n, I);
+    if (cs == Status::SKIPPED) halt_child_id(c);
     return false;
   }
 
-  // The child at position `pos` of N (the one begin / resume asked for).
-  template <std::uint16_t N, std::size_t D, std::size_t... I>
-  [[gnu::always_inline]] Status tick_child(std::size_t pos, std::index_sequence<I...>) noexcept {
+  // The child at position `pos` of node `id` (the one begin / resume asked for).
+  template <std::uint16_t R, std::size_t... I>
+  [[gnu::always_inline]] Status tick_child(std::size_t id, std::size_t pos, std::index_sequence<I...>) noexcept {
     if constexpr (sizeof...(I) <= kDirectChildren) {
       Status s = Status::IDLE;
-      (void)((pos == I ? (s = tick_node<child_of(N, I), D + 1>(), true) : false) || ...);
+      (void)((pos == I ? (s = tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), true) : false) || ...);
       return s;
     } else {
-      using Tick = Status (Engine::*)() noexcept;
-      static constexpr Tick kTicks[] = {&Engine::template tick_node<child_of(N, I), D + 1>...};
-      return (this->*kTicks[pos])();
+      using Tick = Status (Engine::*)(std::size_t) noexcept;
+      static constexpr Tick kTicks[] = {&Engine::template tick_node<kChildShape<R, I>>...};
+      static constexpr std::uint16_t kOffsets[] = {kChildOffset<R, I>...};
+      return (this->*kTicks[pos])(id + kOffsets[pos]);
     }
   }
 
@@ -1256,7 +1438,7 @@ class Engine {
   std::array<std::int32_t, Spec::kCounterCount> counters_{};
   std::array<std::uint64_t, Spec::kTimerCount> timers_{};
   std::array<std::uint32_t, Spec::kHasParallel ? (kNodeCount + 31) / 32 : 0> done_{};
-  std::array<Frame, kMaxDepth> stack_{};
+  std::array<Frame, kUsesInterpreter ? kMaxDepth : 0> stack_{};  // execute_at's
   std::array<HaltFrame, kMaxDepth> halt_stack_{};
 };
 

@@ -1,0 +1,63 @@
+"""Node shapes: which nodes can share one piece of straight-line code.
+
+The engine ticks the first part of a mission as straight-line code, one
+function per node (btgen::Engine::tick_node in runtime/include/btgen/engine.hpp),
+with everything about the node that decides its control flow folded in: its
+kind, its model, its pre-/post-condition bits, its parameters and, through
+its children's functions, the same for its whole subtree. Two nodes whose
+subtrees agree on all of that tick the same way; only where their state lives
+differs (a node's subtree is a contiguous run of the table, so its children
+are at the same offsets from it). They share one function, called with the
+node's index: the shape. SubTree instances of one BehaviorTree are the common
+case; repeated patterns inside a tree are the others.
+
+A node deeper than the engine's kCompiledDepth gets the shape `deep`, which
+the engine runs on its table interpreter, so that the native recursion of the
+straight-line code stays bounded whatever the tree's depth.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from btgen.ir.lower import Program
+
+# btgen::Engine::kCompiledDepth: nodes at this depth (the root at 0) and below
+# are interpreted.
+COMPILED_DEPTH = 48
+NO_NODE = 0xFFFF
+
+
+@dataclass(frozen=True)
+class Shapes:
+    of_node: tuple[int, ...]  # shape of every node, numbered by first appearance in creation order
+    rep: tuple[int, ...]  # the first node of every shape (NO_NODE for the deep shape)
+    uses: tuple[int, ...]  # how many nodes have each shape
+
+
+def shapes(program: Program) -> Shapes:
+    """The shapes of `program`'s nodes."""
+    nodes = program.nodes
+    key_id: dict[tuple, int] = {}
+    temp = [0] * len(nodes)
+    # Children come after their parent in creation order: keys bottom-up.
+    for n in reversed(nodes):
+        if n.depth - 1 >= COMPILED_DEPTH:
+            key: tuple = ("deep",)
+        else:
+            key = (n.kind, n.model, n.scripts, n.params, tuple(temp[c] for c in n.children))
+        temp[n.index] = key_id.setdefault(key, len(key_id))
+    deep = key_id.get(("deep",))
+    number: dict[int, int] = {}
+    rep: list[int] = []
+    uses: list[int] = []
+    of_node: list[int] = []
+    for n in nodes:
+        t = temp[n.index]
+        if t not in number:
+            number[t] = len(rep)
+            rep.append(NO_NODE if t == deep else n.index)
+            uses.append(0)
+        of_node.append(number[t])
+        uses[number[t]] += 1
+    return Shapes(tuple(of_node), tuple(rep), tuple(uses))
