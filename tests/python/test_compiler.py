@@ -610,13 +610,16 @@ def test_error_places_and_messages_are_sized_string_views(tmp_path):
     header = render(lower(load_mission(str(path))), "scripts_40")[0].text
     where = header[header.index("kWhere = {") : header.index("};", header.index("kWhere = {"))]
     errors = header[header.index("kScriptErrors = {") : header.index("};", header.index("kScriptErrors = {"))]
-    sized = re.compile(r'std::string_view\("((?:[^"\\]|\\[0-7]{3}|\\["\\])*)", (\d+)\)')
-    for block, rows in ((where, 1), (errors, 1)):
+    # (the literal may be split into adjacent pieces over several lines)
+    sized = re.compile(r'std::string_view\(((?:\s*"(?:[^"\\]|\\[0-7]{3}|\\["\\])*")+), (\d+)\)')
+    rows = {
+        "kWhere": len([line for line in where.splitlines()[1:] if line.strip()]),
         # (a message left empty, `{}`, is written at run time by a dynamic operation)
-        entries = [line for line in block.splitlines()[1:] if line.strip() and not line.endswith(", {}},")]
-        assert len(entries) >= rows
-        for line in entries:
-            m = sized.search(line)
-            assert m is not None, line
-            text = re.sub(r'\\[0-7]{3}|\\["\\]', "x", m.group(1))
-            assert len(text) == int(m.group(2)), line
+        "kScriptErrors": len([line for line in errors.splitlines() if "ScriptError{" in line and "{}}" not in line]),
+    }
+    for name, block in (("kWhere", where), ("kScriptErrors", errors)):
+        found = sized.findall(block)
+        assert rows[name] >= 1 and len(found) == rows[name], name
+        for pieces, size in found:
+            text = "".join(re.findall(r'"((?:[^"\\]|\\[0-7]{3}|\\["\\])*)"', pieces))
+            assert len(re.sub(r'\\[0-7]{3}|\\["\\]', "x", text)) == int(size), pieces

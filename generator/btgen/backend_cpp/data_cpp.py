@@ -144,6 +144,7 @@ FILTERS = dict(
     dyn_ref=dyn_ref,
     cpp_view=cpp_view,
     cpp_message=cpp_string,
+    byte_length=lambda text: len(text.encode("utf-8")),
     cpp_string_chunks=cpp_string_chunks,
     cpp_comment_lines=cpp_comment_lines,
 )

@@ -10,7 +10,6 @@ same bytes.
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
@@ -70,21 +69,6 @@ def cpp_string_view(text: str) -> str:
     strlen. The node table of a large mission would otherwise exceed the compilers'
     constexpr budgets (clang's 1M steps at about 10,000 nodes, g++'s 33M ops later)."""
     return f"std::string_view({naming.cpp_string(text)}, {len(text.encode('utf-8'))})"
-
-
-_LITERAL = re.compile(r'"((?:[^"\\]|\\[0-7]{3}|\\["\\])*)"')
-_ESCAPE = re.compile(r'\\[0-7]{3}|\\["\\]')
-
-
-def sized_literal(cpp: str) -> str:
-    """`cpp`, when it is one string literal as naming.cpp_string writes it, as
-    `std::string_view("...", N)` (cpp_string_view): a script mission has an error message per
-    error exit, and their strlen in constant evaluation went past clang's 1M steps at about
-    10,000 nodes. Anything else (an empty message) is kept."""
-    m = _LITERAL.fullmatch(cpp)
-    if m is None:
-        return cpp
-    return f"std::string_view({cpp}, {len(_ESCAPE.sub('x', m.group(1)))})"
 
 
 def groot2_context(program: Program) -> dict:
@@ -240,7 +224,7 @@ def script_tables(scripts, node_count: int) -> dict:
                 comment=c.comment,
             )
         )
-        errors.extend((where, sized_literal(message)) for where, message in c.errors)
+        errors.extend(c.errors)
     first = [0] * (node_count + 1)
     for site in sites:
         first[site["node"] + 1] += 1
