@@ -451,3 +451,76 @@ def test_compiled_scripts_compute_what_the_interpreter_computes(tmp_path):
     proc = subprocess.run([str(build_cpp(str(mission))), str(scenario)], capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stderr) == (0, "")
     assert proc.stdout == expected
+
+
+# ------------------------------------------------------------------ the typing pass agrees with the writer
+_DECLARED = {
+    "int": ("any", "int", "unsigned", "bool"),
+    "double": ("any", "double"),
+    "string": ("any", "std::string", "Pose2D"),
+    "status": ("NodeStatus",),
+    "queue<int>": ("std::deque<int>",),
+    "dyn": ("any",),
+    "none": ("any",),
+}
+_LITERALS = ("0", "1", "7", "-2", "2.5", "1e300", "'a'", "'12'", "'x y'", "'true'", "'RUNNING'", "true", "''")
+_OPS = ("+", "-", "*", "/", "..", "&", "|", "^", "&&", "||")
+
+
+def _random_expr(rng, names, depth):
+    if depth <= 0 or rng.random() < 0.3:
+        return rng.choice(_LITERALS) if rng.random() < 0.5 else rng.choice(names)
+    pick = rng.randrange(6)
+    if pick == 0:
+        return f"{rng.choice('-!~')}{_random_expr(rng, names, depth - 1)}"
+    if pick == 1:
+        return f"({_random_expr(rng, names, depth - 1)} {rng.choice(_OPS)} {_random_expr(rng, names, depth - 1)})"
+    if pick == 2:
+        op = rng.choice(("==", "!=", "<", ">=", "<="))
+        return f"({_random_expr(rng, names, depth - 1)} {op} {_random_expr(rng, names, depth - 1)})"
+    if pick == 3:
+        parts = [_random_expr(rng, names, depth - 1) for _ in range(3)]
+        return f"({parts[0]} ? {parts[1]} : {parts[2]})"
+    op = rng.choice((":=", "=", "+=", "-=", "*=", "/="))
+    return f"({rng.choice(names)} {op} {_random_expr(rng, names, depth - 1)})"
+
+
+def test_the_typing_pass_rejects_exactly_what_the_cpp_writer_cannot_compile():
+    """ir/script_types.py reports a script's type errors before any C++ is written; the writer
+    (script_cpp.py) must then meet none. Over random scripts on entries of every kind and
+    declared type, both raise the same ScriptTypeError (message and place) or neither does."""
+    from btgen.ir.script_types import check_script
+
+    rng = random.Random(20261124)
+    checked = rejected = 0
+    for _ in range(3000):
+        names = ["a", "b", "c"]
+        views = []
+        for k in names:
+            kd = rng.choice(list(_DECLARED))
+            views.append(
+                scpp.SlotView(
+                    f"bb.{k}", k, kd, rng.choice(_DECLARED[kd]), rng.choice((1, 4, 16)), rng.random() < 0.3, ""
+                )
+            )
+        index = {k: i for i, k in enumerate(names)}
+        code = "; ".join(_random_expr(rng, names, 3) for _ in range(rng.randint(1, 2)))
+        try:
+            script = sc.parse_script(code)
+        except sc.ScriptSyntaxError:
+            continue
+        condition = rng.random() < 0.5
+        typed = written = None
+        try:
+            check_script(script, views, index, condition)
+        except kinds.ScriptTypeError as e:
+            typed = (e.message, e.offset)
+        try:
+            ctx = scpp.ScriptContext(views, index, lambda off: f"W[{off}]", "P: ")
+            scpp.compile_script(script, ctx, condition)
+        except kinds.ScriptTypeError as e:
+            written = (e.message, e.offset)
+        assert typed == written, code
+        checked += 1
+        rejected += typed is not None
+    assert checked > 2000 and 100 < rejected < checked - 100, (checked, rejected)

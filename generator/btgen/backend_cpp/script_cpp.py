@@ -44,16 +44,20 @@ from btgen.ir.kinds import (
     UINT32_MAX,
     ScriptTypeError,
     binary_kind,
+    check_compound,
+    check_condition,
+    check_dynamic_update,
+    check_store_same,
+    check_ternary_condition,
     compare_check,
+    converted_literal,
     describe_kind,
-    is_numeric,
     is_queue,
-    kind_of_type,
     need_number,
-    overflow_message,
     static_binary_ok,
     static_update_ok,
-    ternary_message,
+    store_route,
+    ternary_is_dynamic,
 )
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -313,9 +317,7 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"if ({t} < 0) return err.fail(n, {self.where_at(0)}, {t}m.view());")
             self.emit(f"return {t};")
             return
-        if v.kind == "none" or is_queue(v.kind) or v.kind == "string":
-            what = "gives no value" if v.kind == "none" else f"gives {describe_kind(v.kind)}"
-            raise ScriptTypeError(f"the script {what}, which is not a condition", 0)
+        check_condition(v.kind)
         if v.has is not None:
             self.check(f"!{v.has}", 0, "the script gives no value, so it cannot be used as a condition")
         if v.kind in ("double", "bool"):
@@ -570,10 +572,7 @@ class ScriptCompiler(CodeWriter):
 
     def ternary(self, node: sc.Ternary) -> Val:
         cv = self.expr(node.cond)
-        if cv.kind == "none":
-            raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
-        if is_queue(cv.kind):
-            raise ScriptTypeError(f"the condition of `?:` is {describe_kind(cv.kind)}", node.op_offset)
+        check_ternary_condition(cv.kind, node.op_offset)
         if cv.kind == DYN:
             c = self.temp()
             self.emit(f"double {c} = 0.0;")
@@ -611,9 +610,7 @@ class ScriptCompiler(CodeWriter):
         self.indent -= 1
         self.emit("}")
         pad = "  " * self.indent
-        dynamic = DYN in (tv.kind, ev.kind) or (tv.kind != ev.kind and not is_queue(tv.kind) and not is_queue(ev.kind))
-        if not dynamic and tv.kind != ev.kind:
-            raise ScriptTypeError(ternary_message(tv.kind, ev.kind), node.op_offset)
+        dynamic = ternary_is_dynamic(tv.kind, ev.kind, node.op_offset)
         # The takes, inserted at the end of each branch (the else branch first: indexes stay valid).
         for at, v in ((else_at, ev), (then_at, tv)):
             saved, self.lines = self.lines, []
@@ -722,17 +719,7 @@ class ScriptCompiler(CodeWriter):
             return Val(DYN, t, None, dyn_slot_bound(s))
         # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
         # keeps the entry's kind (or fails as 4.6.2 does).
-        if s.may_be_missing:
-            pass  # (checked above: `+=` needs the entry)
-        if op in (":=", "="):
-            raise ScriptTypeError(
-                f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
-                f"{describe_kind(s.kind)}{_origin_text(s)}; not supported by the C++ back end "
-                f"yet",
-                off,
-            )
-        if not (is_numeric(s.kind) or s.kind == "string"):
-            raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", off)
+        check_dynamic_update(s, op, key, off)
         cur = Val(
             s.kind,
             f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
@@ -765,23 +752,7 @@ class ScriptCompiler(CodeWriter):
 
     def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""
-        if is_numeric(v.kind):
-            if not is_numeric(s.kind):
-                raise ScriptTypeError(
-                    f"`{op}` with a number needs a numeric `{key}`, but it holds "
-                    f"{describe_kind(s.kind)}{_origin_text(s)}",
-                    off,
-                )
-        elif v.kind == "string":
-            if op != "+=":
-                raise ScriptTypeError(f"`{op}` cannot be used with a string", off)
-            if s.kind != "string":
-                raise ScriptTypeError(
-                    f"`+=` of a string needs a string `{key}`, but it holds {describe_kind(s.kind)}{_origin_text(s)}",
-                    off,
-                )
-        else:
-            raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(v.kind)}", off)
+        check_compound(s, key, op, v.kind, off)
         self.check(f"!{s.member}.has_value", off, f"`{key}` has no value yet, so `{op}` cannot update it")
         if v.kind == "string":
             self.check(
@@ -803,44 +774,23 @@ class ScriptCompiler(CodeWriter):
 
 
 def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str) -> None:
-    """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind.
-
-    A value of the slot's kind is stored as it is. A string into a typed
-    non-string entry goes through the entry's converter; into an untyped
-    double one it is read as a number. Numbers of another kind convert as
-    Any::copyInto does, which 4.6.2 only does when the entry already holds a
-    value (an empty entry would change its type: reported as an error).
-    Anything else would fail or change the entry's type whenever it runs,
-    and is a compile error."""
-    k, r = s.kind, v.kind
-    if k == "none":
-        raise ScriptTypeError(f"{what}: `{s.key}` cannot hold {describe_kind(r)}", off)
-    if r == k:
+    """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind, by the
+    route ir.kinds.store_route picks: a value of the slot's kind as it is; a string into a typed
+    non-string entry through the entry's converter, into an untyped double one read as a
+    number; numbers of another kind as Any::copyInto converts them, which 4.6.2 only does when
+    the entry already holds a value (an empty entry would change its type: reported at run
+    time)."""
+    route = store_route(s, v.kind, v.literal, off, what)
+    if route == "same":
         store_same(c, s, v, off)
-        return
-    if r == "string":
-        if s.declared not in (values.ANY, values.NODE_STATUS) and kind_of_type(s.declared) == k:
-            store_converted(c, s, v, off, what)
-            return
-        if k == "double" and s.declared == values.ANY:
-            guard_type_change(c, s, r, off, what)
-            t = c.text_number(v, off, ":=", "right")
-            c.emit(f"{s.member}.value = {t};")
-            return
-    elif is_numeric(r) and is_numeric(k):
+    elif route == "converted":
+        store_converted(c, s, v, off, what)
+    elif route == "number_text":
+        guard_type_change(c, s, v.kind, off, what)
+        t = c.text_number(v, off, ":=", "right")
+        c.emit(f"{s.member}.value = {t};")
+    else:
         store_number(c, s, v, off, what, op, guard=True)
-        return
-    raise ScriptTypeError(
-        f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
-        f"{_origin_text(s)}; btgen gives every entry one type",
-        off,
-    )
-
-
-def _origin_text(s: SlotView) -> str:
-    if s.origin:
-        return f" ({s.origin})"
-    return f" (declared {s.declared})" if s.declared != values.ANY else ""
 
 
 def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
@@ -853,14 +803,11 @@ def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
 
 
 def store_same(c, s: SlotView, v: Val, off: int) -> None:
+    check_store_same(s, v.literal, off)
     if s.kind == "string":
-        if v.literal is not None and len(str(v.literal).encode("utf-8")) > s.capacity:
-            raise ScriptTypeError(overflow_message(str(v.literal), s.key, s.capacity), off)
         c.check(
             f"!{s.member}.value.assign({v.expr})", off, f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)"
         )
-    elif is_queue(s.kind):
-        raise ScriptTypeError(f"a script cannot copy the queue `{s.key}`", off)
     else:
         c.emit(f"{s.member}.value = {v.expr};")
 
@@ -868,12 +815,8 @@ def store_same(c, s: SlotView, v: Val, off: int) -> None:
 def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
     """A string through the converter of the entry's declared type (convertFromString)."""
     decl = s.declared
+    value = converted_literal(s, v.literal, off, what)
     if is_queue(s.kind):
-        if v.literal is not None:
-            try:
-                values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
-            except values.ConversionError as e:
-                raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
         c.errc_check(
             f"btgen::port::parse_queue({v.expr}, {s.member}.value)",
             off,
@@ -881,12 +824,8 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
         )
         return
     if v.literal is not None:
-        try:
-            value = values.convert_from_string(decl, v.literal)  # type: ignore[arg-type]
-        except values.ConversionError as e:
-            raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", off) from None
         if s.kind == "string":
-            store_same(c, s, Val("string", cpp_view(value), None, len(value), value), off)  # type: ignore[arg-type]
+            store_same(c, s, Val("string", cpp_view(str(value)), None, len(str(value)), value), off)
         else:
             c.emit(f"{s.member}.value = {cpp_value(value)};")
         return
@@ -899,11 +838,9 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
     elif decl == values.DOUBLE:
         c.emit(f"double {t} = 0.0;")
         c.errc_check(f"btgen::parse_double_stod({v.expr}, {t})", off, msg)
-    elif decl == values.BOOL:
+    else:  # bool (converted_literal refused the others)
         c.emit(f"bool {t} = false;")
         c.errc_check(f"btgen::parse_bool({v.expr}, {t})", off, msg)
-    else:
-        raise ScriptTypeError(f"{what}: cannot convert a string to {decl}", off)
     c.emit(f"{s.member}.value = {t};")
 
 

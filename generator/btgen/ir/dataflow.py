@@ -43,6 +43,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
+from btgen.ir.script_types import check_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -1156,10 +1157,14 @@ class _Compiler:
                 table,
             )
             try:
-                body = scpp.compile_script(script, ctx, condition)
+                check_script(script, self.views, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
+            try:
+                body = scpp.compile_script(script, ctx, condition)
+            except ScriptTypeError as e:  # the typing pass above lets no such script through
+                raise InternalError(f"`{attr.name}` of {inst.what}: the C++ writer refused: {e.message}") from e
             name = f"s{inst.index}_{which.lstrip('_')}"
             comment = f'{inst.reg_id} "{inst.node.display_name}" {attr.name}: {attr.value}'
             out.append(CodeIR(inst.index, name, comment, tuple(body), enum, tuple(table.entries), prefix))

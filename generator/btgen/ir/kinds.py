@@ -245,3 +245,129 @@ def compare_check(op: str, a: str, b: str, offset: int) -> None:
     ok = {a, b} <= {"string", DYN, *NUMERIC}
     if not ok:
         raise ScriptTypeError(f"cannot compare {describe_kind(a)} with {describe_kind(b)} using `{op}`", offset)
+
+
+# ================================================================ checks of a script's statements
+# Shared by the typing pass (script_types.py), which reports them, and the C++ writer
+# (backend_cpp/script_cpp.py), which relies on them. `s` is a slot as scripts see it: its
+# `key`, `kind`, `declared` type, `capacity` and `origin` (why it has its kind).
+
+
+def origin_text(s) -> str:
+    if s.origin:
+        return f" ({s.origin})"
+    return f" (declared {s.declared})" if s.declared != values.ANY else ""
+
+
+def check_condition(kind: str) -> None:
+    """The last statement's value of a condition script (ScriptCondition, `_skipIf` ...)."""
+    if is_queue(kind):
+        raise ScriptTypeError(f"the script gives {describe_kind(kind)}, which is not a condition", 0)
+
+
+def check_ternary_condition(kind: str, offset: int) -> None:
+    if kind == "none":
+        raise ScriptTypeError("the condition of `?:` has no value", offset)
+    if is_queue(kind):
+        raise ScriptTypeError(f"the condition of `?:` is {describe_kind(kind)}", offset)
+
+
+def ternary_is_dynamic(then_kind: str, else_kind: str, offset: int) -> bool:
+    """Whether `c ? a : b` gives a value of changing type; an error when its branches' kinds
+    can never agree."""
+    dynamic = DYN in (then_kind, else_kind) or (
+        then_kind != else_kind and not is_queue(then_kind) and not is_queue(else_kind)
+    )
+    if not dynamic and then_kind != else_kind:
+        raise ScriptTypeError(ternary_message(then_kind, else_kind), offset)
+    return dynamic
+
+
+def check_dynamic_update(s, op: str, key: str, offset: int) -> None:
+    """A value of changing type into the statically typed entry `s` (not itself dynamic)."""
+    if op in (":=", "="):
+        raise ScriptTypeError(
+            f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
+            f"{describe_kind(s.kind)}{origin_text(s)}; not supported by the C++ back end "
+            f"yet",
+            offset,
+        )
+    if not (is_numeric(s.kind) or s.kind == "string"):
+        raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", offset)
+
+
+def check_compound(s, key: str, op: str, value_kind: str, offset: int) -> None:
+    """`+= -= *= /=` of a value of `value_kind` into `s`."""
+    if is_numeric(value_kind):
+        if not is_numeric(s.kind):
+            raise ScriptTypeError(
+                f"`{op}` with a number needs a numeric `{key}`, but it holds {describe_kind(s.kind)}{origin_text(s)}",
+                offset,
+            )
+    elif value_kind == "string":
+        if op != "+=":
+            raise ScriptTypeError(f"`{op}` cannot be used with a string", offset)
+        if s.kind != "string":
+            raise ScriptTypeError(
+                f"`+=` of a string needs a string `{key}`, but it holds {describe_kind(s.kind)}{origin_text(s)}",
+                offset,
+            )
+    else:
+        raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(value_kind)}", offset)
+
+
+def store_route(s, value_kind: str, literal: object, offset: int, what: str) -> str:
+    """How 4.6.2's script store (`_store`) puts a value of `value_kind` (`literal`: its value when
+    it is a literal) into `s`, which then holds s.kind: "same" (as it is), "converted" (a string
+    through the declared type's converter), "number_text" (a string read as a number into an
+    untyped double entry) or "number" (a number of another kind, as Any::copyInto converts it).
+    What would fail or change the entry's type whenever it runs is an error."""
+    k, r = s.kind, value_kind
+    if k == "none":
+        raise ScriptTypeError(f"{what}: `{s.key}` cannot hold {describe_kind(r)}", offset)
+    if r == k:
+        check_store_same(s, literal, offset)
+        return "same"
+    if r == "string":
+        if s.declared not in (values.ANY, values.NODE_STATUS) and kind_of_type(s.declared) == k:
+            converted_literal(s, literal, offset, what)
+            return "converted"
+        if k == "double" and s.declared == values.ANY:
+            return "number_text"
+    elif is_numeric(r) and is_numeric(k):
+        return "number"
+    raise ScriptTypeError(
+        f"{what} stores {describe_kind(r)} in `{s.key}`, which holds {describe_kind(k)}"
+        f"{origin_text(s)}; btgen gives every entry one type",
+        offset,
+    )
+
+
+def check_store_same(s, literal: object, offset: int) -> None:
+    """A value of the entry's own kind: a string literal must fit; queues are not copied."""
+    if s.kind == "string":
+        if literal is not None and len(str(literal).encode("utf-8")) > s.capacity:
+            raise ScriptTypeError(overflow_message(str(literal), s.key, s.capacity), offset)
+    elif is_queue(s.kind):
+        raise ScriptTypeError(f"a script cannot copy the queue `{s.key}`", offset)
+
+
+CONVERTIBLE_FROM_TEXT = (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL)
+
+
+def converted_literal(s, literal: object, offset: int, what: str) -> object:
+    """A string stored through the converter of the entry's declared type: a literal is
+    converted now (its value returned, None for other strings); a declared type that text
+    never converts to is an error."""
+    decl = s.declared
+    if literal is not None:
+        try:
+            value = values.convert_from_string(decl, literal)  # type: ignore[arg-type]
+        except values.ConversionError as e:
+            raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", offset) from None
+        if s.kind == "string":
+            check_store_same(s, value, offset)
+        return value
+    if not is_queue(s.kind) and s.kind != "string" and decl not in CONVERTIBLE_FROM_TEXT:
+        raise ScriptTypeError(f"{what}: cannot convert a string to {decl}", offset)
+    return None
