@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from btgen.backend_cpp.data_cpp import port_type, slot_init, slot_type
+from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.frontend.loader import load_mission
 from btgen.ir import dataops as ops
 from btgen.ir.dataflow import DataOptions, analyze
@@ -192,7 +193,10 @@ def test_untyped_ports_between_robot_leaves_hold_text():
 
 def test_unset_entries_may_be_missing_when_a_script_runs():
     _, ir = _slots(os.path.join(CASES, "unset_blackboard.xml"))
-    check = next(c for c in ir.scripts if c.comment.startswith('ScriptCondition "CheckTarget"'))
+    target = next(s for s in ir.slots if s.key == "target")
+    assert target.may_be_missing
+    compiled, _ = compile_scripts(ir)
+    check = next(c for c in compiled if c.comment.startswith('ScriptCondition "CheckTarget"'))
     assert any("if (!bb.target.exists)" in line for line in check.body)
     unset = next(c for c in ir.data_leaves if "ForgetTarget" in c.comment)
     assert isinstance(unset.op, ops.Unset) and ir.slots[unset.op.slot].key == "target"

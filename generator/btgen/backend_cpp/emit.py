@@ -17,6 +17,7 @@ import jinja2
 
 from btgen import resources
 from btgen.backend_cpp import data_cpp, naming
+from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import SCRIPT_BIT
@@ -160,6 +161,7 @@ def render(
         raise InternalError("the program has no data side (lower() makes one)")
     header, source = output_names(stem)
     cls = naming.pascal_case(stem)
+    compiled, where = compile_scripts(data)
 
     def source_of(n: IRNode) -> str:
         return f"{show(n.loc.path)}:{n.loc.line}:{n.loc.col}"
@@ -184,9 +186,9 @@ def render(
             dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))
             for sl in data.slots
         ],
-        where=[show_loc(loc) for loc in data.where],
+        where=[show_loc(loc) for loc in where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
-        scripts=script_tables(data.scripts, len(program.nodes)),
+        scripts=script_tables(compiled, len(program.nodes)),
         groot2=groot2_context(program),
         shapes=shapes(program),
     )

@@ -36,12 +36,15 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import cpp_string
+from btgen.diagnostics import InternalError, Loc
+from btgen.ir.dataflow import DataIR, script_loc
 from btgen.ir.kinds import (
     DYN,
     INT32_MAX,
     INT32_MIN,
     TEXT_BOUND,
     UINT32_MAX,
+    USER_KINDS,
     ScriptTypeError,
     binary_kind,
     check_compound,
@@ -918,3 +921,59 @@ def cpp_value(value: object) -> str:
 def compile_script(script: sc.Script, ctx: ScriptContext, condition: bool) -> list[str]:
     """The C++ body of one script (see ScriptCompiler); raises ScriptTypeError."""
     return ScriptCompiler(ctx).compile(script, condition)
+
+
+@dataclass(frozen=True)
+class CompiledScript:
+    """A script written as C++: the body of its (possibly shared) function, and the places and
+    messages of its errors (ErrorTable) with the prefix, for its node's ScriptSite."""
+
+    node: int
+    which: str
+    comment: str
+    body: tuple[str, ...]
+    errors: tuple[tuple[str, str], ...]
+    prefix: str
+
+
+def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]]:
+    """Every typed script of the mission as C++, and the places run-time errors name: the
+    data side's (DataIR.where) followed by the scripts' own, each once."""
+    where = list(data.where)
+    index = {loc: i for i, loc in enumerate(where)}
+
+    def place(loc: Loc) -> str:
+        i = index.get(loc)
+        if i is None:
+            i = index[loc] = len(where)
+            where.append(loc)
+        return f"detail::kWhere[{i}]"
+
+    views = [
+        SlotView(f"bb.{s.member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
+        for s in data.slots
+    ]
+    saved = dict(USER_KINDS)
+    USER_KINDS.clear()
+    USER_KINDS.update({values._compact(t.name): t.kind for t in data.user_types})
+    out = []
+    try:
+        for c in data.scripts:
+            table = ErrorTable()
+            ctx = ScriptContext(
+                views,
+                dict(c.names),
+                lambda off, at=c.attr: place(script_loc(at, off)),
+                c.prefix,
+                dict(data.enums),
+                table,
+            )
+            try:
+                body = compile_script(c.script, ctx, c.condition)
+            except ScriptTypeError as e:  # ir/script_types.py lets no such script through
+                raise InternalError(f"{c.comment}: the C++ writer refused a typed script: {e.message}") from e
+            out.append(CompiledScript(c.node, c.which, c.comment, tuple(body), tuple(table.entries), c.prefix))
+    finally:
+        USER_KINDS.clear()
+        USER_KINDS.update(saved)
+    return out, tuple(where)

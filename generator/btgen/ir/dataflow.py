@@ -37,13 +37,12 @@ import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from btgen.backend_cpp import script_cpp as scpp
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import check_script
+from btgen.ir.script_types import SlotType, check_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -132,22 +131,23 @@ class SlotIR:
     initial: Optional[str] = None  # a SubTree constant: the entry exists with this text from the start
     at_load: bool = False  # the entry exists from the start (a port created it when the tree loaded)
     user_cpp: str = ""  # a user port type's C++ spelling (--type)
+    may_be_missing: bool = False  # the entry may not exist when a script runs
+    origin_text: str = ""  # why it has its type, for messages
 
 
 @dataclass(frozen=True)
-class CodeIR:
-    """A compiled script of one node (C++ from backend_cpp/script_cpp.py)."""
+class ScriptIR:
+    """A script of one node, typed (script_types.py): its expression tree over the slots it
+    names, for backend_cpp/script_cpp.py to write as C++."""
 
     node: int
-    name: str  # C++ function name, or "" for a dispatcher case
     comment: str
-    body: tuple[str, ...]
-    which: str = ""  # ScriptSlot enumerator for scripts
-    # Scripts: the body reads its places and messages from the node's ScriptSite (identical
-    # bodies are one function): (C++ expression of the place, C++ message literal or "")
-    # by number, and the message prefix.
-    errors: tuple[tuple[str, str], ...] = ()
-    prefix: str = ""
+    which: str  # the ScriptSlot it fills (SCRIPT_SLOTS)
+    attr: Attr  # the attribute holding it: the places of its run-time errors (script_loc)
+    script: sc.Script
+    names: tuple[tuple[str, int], ...]  # name -> slot index
+    condition: bool  # its last value is a condition's result
+    prefix: str  # the prefix of its run-time error messages
 
 
 @dataclass(frozen=True)
@@ -191,7 +191,7 @@ class PortIR:
 class DataIR:
     slots: tuple[SlotIR, ...]
     locals: tuple[LocalIR, ...]
-    scripts: tuple[CodeIR, ...]
+    scripts: tuple[ScriptIR, ...]
     data_leaves: tuple[DataOp, ...]  # SetBlackboard, UnsetBlackboard
     entries: tuple[DataOp, ...]  # WasEntryUpdated & co.: EntrySeq
     switches: tuple[DataOp, ...]  # SwitchN: SwitchCases
@@ -1025,18 +1025,10 @@ class _Analyzer:
         for s, mname in zip(self.slots, members):
             s.member = mname
 
-    # ------------------------------------------------------------ 5. compile
-    def slot_view(self, i: int) -> scpp.SlotView:
+    # ------------------------------------------------------------ 5. decide
+    def slot_type(self, i: int) -> SlotType:
         s = self.slots[i]
-        return scpp.SlotView(
-            f"bb.{s.member}",
-            s.key,
-            s.kind or "none",
-            s.entry.type_name,
-            s.capacity,
-            not s.at_load or s.unset,
-            s.origin_text,
-        )
+        return SlotType(s.key, s.kind or "none", s.entry.type_name, s.capacity, s.origin_text)
 
 
 def _end_offset(node: sc.Expr, code: str) -> int:
@@ -1080,7 +1072,7 @@ class _Compiler:
 
     def __init__(self, a: _Analyzer) -> None:
         self.a = a
-        self.views = [a.slot_view(i) for i in range(len(a.slots))]
+        self.types = [a.slot_type(i) for i in range(len(a.slots))]
         self.where_locs: list[Loc] = []
         self.where_index: dict[Loc, int] = {}
         self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
@@ -1135,8 +1127,8 @@ class _Compiler:
         return ok
 
     # ------------------------------------------------------------ scripts
-    def scripts(self) -> tuple[list[CodeIR], dict[int, int]]:
-        out: list[CodeIR] = []
+    def scripts(self) -> tuple[list[ScriptIR], dict[int, int]]:
+        out: list[ScriptIR] = []
         bits: dict[int, int] = {}
         for inst, attr, which, script, names, condition in self.a.script_uses:
             if not self.check_reads(inst, attr, script, names):
@@ -1145,29 +1137,24 @@ class _Compiler:
                 continue  # its entry's type is already reported as unknown
             if not self.check_user_free(inst, attr, script, names):
                 continue
-            enum = SCRIPT_SLOTS[which]
-            table = scpp.ErrorTable()
-            prefix = f"script error in `{attr.name}` of {inst.what}: "
-            ctx = scpp.ScriptContext(
-                self.views,
-                names,
-                lambda off, at=attr: f"detail::kWhere[{self.where(script_loc(at, off))}]",
-                prefix,
-                dict(self.a.m.enums),
-                table,
-            )
             try:
-                check_script(script, self.views, names, condition)
+                check_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
-            try:
-                body = scpp.compile_script(script, ctx, condition)
-            except ScriptTypeError as e:  # the typing pass above lets no such script through
-                raise InternalError(f"`{attr.name}` of {inst.what}: the C++ writer refused: {e.message}") from e
-            name = f"s{inst.index}_{which.lstrip('_')}"
-            comment = f'{inst.reg_id} "{inst.node.display_name}" {attr.name}: {attr.value}'
-            out.append(CodeIR(inst.index, name, comment, tuple(body), enum, tuple(table.entries), prefix))
+            enum = SCRIPT_SLOTS[which]
+            out.append(
+                ScriptIR(
+                    inst.index,
+                    f'{inst.reg_id} "{inst.node.display_name}" {attr.name}: {attr.value}',
+                    enum,
+                    attr,
+                    script,
+                    tuple(sorted(names.items())),
+                    condition,
+                    f"script error in `{attr.name}` of {inst.what}: ",
+                )
+            )
             if enum != "kCode":
                 bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
         return out, bits
@@ -1235,7 +1222,6 @@ class _Compiler:
                     f"once, so it cannot follow that",
                 )
             s.unset = True
-        self.views = [self.a.slot_view(i) for i in range(len(self.a.slots))]
 
     def set_literal(self, inst: _Inst, op: dict) -> Optional[DataOp]:
         dst, text, loc = op["dst"], op["text"], op["loc"]
@@ -1671,6 +1657,8 @@ class _Compiler:
                 s.initial,
                 s.at_load,
                 self.a.user[s.kind].cpp if is_user(s.kind) else "",
+                not s.at_load or s.unset,
+                s.origin_text,
             )
             for i, s in enumerate(self.a.slots)
         )

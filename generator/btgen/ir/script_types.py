@@ -32,6 +32,17 @@ from btgen.lang import script as sc
 
 
 @dataclass(frozen=True)
+class SlotType:
+    """A slot as the typing pass sees it."""
+
+    key: str
+    kind: str
+    declared: str  # values.py type name
+    capacity: int  # strings: bytes
+    origin: str = ""  # why it has its kind (for messages)
+
+
+@dataclass(frozen=True)
 class Typed:
     kind: str
     literal: object = None  # the value of a literal
