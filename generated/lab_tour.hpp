@@ -2312,6 +2312,31 @@ struct Spec {
       3, 3, 3, 1, 1, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1,
       1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
   };
+  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
+  // plus its children), the first node of every compiled shape in creation order and the
+  // weight of those before it; whether a shape is too deep, and whether the mission has
+  // Controls or Decorators of its own (both run on the interpreter).
+  static constexpr std::size_t kTotalWeight = 297;
+  static constexpr std::array<std::uint16_t, 90> kRepNode = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
+      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
+      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
+      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
+  };
+  static constexpr std::array<std::uint32_t, 90> kRepWeightBefore = {
+      0, 6, 7, 9, 13, 16, 17, 18, 21, 22, 24, 25,
+      27, 33, 36, 40, 41, 42, 45, 46, 47, 50, 51, 53,
+      56, 59, 60, 63, 66, 67, 69, 72, 75, 76, 77, 79,
+      82, 85, 86, 87, 90, 93, 95, 96, 98, 101, 102, 105,
+      107, 110, 113, 114, 116, 118, 121, 122, 129, 132, 133, 136,
+      137, 139, 145, 148, 149, 152, 155, 156, 159, 160, 163, 164,
+      167, 168, 170, 178, 181, 182, 185, 186, 189, 190, 193, 196,
+      197, 200, 201, 203, 208, 211,
+  };
+  static constexpr bool kHasDeepShape = false;
+  static constexpr bool kHasUserControlFlow = false;
 
   // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
   // (M: what the engine's straight-line code calls, the model a constant there) or by the
@@ -4454,7 +4479,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xe0891a778eeeb52dULL;
+inline constexpr unsigned long long kGeneration = 0xdfac29c8df61878fULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

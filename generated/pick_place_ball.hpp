@@ -286,6 +286,19 @@ struct Spec {
   static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
       1, 1, 1, 1, 1, 1, 1,
   };
+  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
+  // plus its children), the first node of every compiled shape in creation order and the
+  // weight of those before it; whether a shape is too deep, and whether the mission has
+  // Controls or Decorators of its own (both run on the interpreter).
+  static constexpr std::size_t kTotalWeight = 13;
+  static constexpr std::array<std::uint16_t, 7> kRepNode = {
+      0, 1, 2, 3, 4, 5, 6,
+  };
+  static constexpr std::array<std::uint32_t, 7> kRepWeightBefore = {
+      0, 3, 5, 6, 10, 11, 12,
+  };
+  static constexpr bool kHasDeepShape = false;
+  static constexpr bool kHasUserControlFlow = false;
 
   // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
   // (M: what the engine's straight-line code calls, the model a constant there) or by the
@@ -876,7 +889,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x44e8ae7f7fa01854ULL;
+inline constexpr unsigned long long kGeneration = 0x2a6d9512c84a6908ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

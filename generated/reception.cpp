@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x56cfce70f2354075ULL,
+static_assert(reception::detail::kGeneration == 0xcd01327719822eb8ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -1438,6 +1438,26 @@ struct Spec {
       1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
       1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
   };
+  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
+  // plus its children), the first node of every compiled shape in creation order and the
+  // weight of those before it; whether a shape is too deep, and whether the mission has
+  // Controls or Decorators of its own (both run on the interpreter).
+  static constexpr std::size_t kTotalWeight = 149;
+  static constexpr std::array<std::uint16_t, 58> kRepNode = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
+      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
+  };
+  static constexpr std::array<std::uint32_t, 58> kRepWeightBefore = {
+      0, 7, 8, 10, 14, 17, 18, 19, 22, 23, 25, 26,
+      28, 34, 37, 41, 42, 43, 46, 47, 48, 51, 52, 54,
+      57, 60, 61, 64, 67, 68, 70, 73, 76, 77, 78, 80,
+      83, 86, 87, 88, 90, 94, 95, 99, 102, 103, 106, 107,
+      110, 111, 113, 116, 117, 119, 122, 125, 126, 129,
+  };
+  static constexpr bool kHasDeepShape = false;
+  static constexpr bool kHasUserControlFlow = false;
 
   // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
   // (M: what the engine's straight-line code calls, the model a constant there) or by the
@@ -2976,7 +2996,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x56cfce70f2354075ULL;
+inline constexpr unsigned long long kGeneration = 0xcd01327719822eb8ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -28,11 +28,29 @@ COMPILED_DEPTH = 48
 NO_NODE = 0xFFFF
 
 
+SCRIPTED_KINDS = ("Script", "ScriptCondition", "Precondition")
+
+
 @dataclass(frozen=True)
 class Shapes:
     of_node: tuple[int, ...]  # shape of every node, numbered by first appearance in creation order
     rep: tuple[int, ...]  # the first node of every shape (NO_NODE for the deep shape)
     uses: tuple[int, ...]  # how many nodes have each shape
+    # For BTGEN_STRAIGHT_LINE_BUDGET, summed here rather than in constant evaluation (a loop
+    # over 65,535 nodes passes clang's step limit): the weight of all nodes, the first node of
+    # every compiled shape in creation order and the weight of the ones before it.
+    total_weight: int = 0
+    rep_nodes: tuple[int, ...] = ()
+    rep_weight_before: tuple[int, ...] = ()
+    has_deep: bool = False
+    user_control_flow: bool = False
+
+
+def node_weight(n) -> int:
+    """What a node's straight-line code costs against the budget: 1, or 6 when it runs
+    scripts, plus its children's call sites."""
+    scripted = n.scripts != 0 or n.kind in SCRIPTED_KINDS
+    return (6 if scripted else 1) + len(n.children)
 
 
 def shapes(program: Program) -> Shapes:
@@ -60,4 +78,18 @@ def shapes(program: Program) -> Shapes:
             uses.append(0)
         of_node.append(number[t])
         uses[number[t]] += 1
-    return Shapes(tuple(of_node), tuple(rep), tuple(uses))
+    rep_nodes = [r for r in rep if r != NO_NODE]
+    before, total = [], 0
+    for r in rep_nodes:
+        before.append(total)
+        total += node_weight(nodes[r])
+    return Shapes(
+        tuple(of_node),
+        tuple(rep),
+        tuple(uses),
+        sum(node_weight(n) for n in nodes),
+        tuple(rep_nodes),
+        tuple(before),
+        deep is not None,
+        any(n.kind in ("UserControl", "UserDecorator") for n in nodes),
+    )

@@ -69,8 +69,9 @@ struct straight_line_budget<S, std::void_t<decltype(S::kStraightLineBudget)>>
 template <class S, class = void>
 struct has_shapes : std::false_type {};
 template <class S>
-struct has_shapes<S, std::void_t<decltype(S::kShape), decltype(S::kShapeRep), decltype(S::kShapeUses)>>
-    : std::true_type {};
+struct has_shapes<S, std::void_t<decltype(S::kShape), decltype(S::kShapeRep), decltype(S::kShapeUses),
+                                 decltype(S::kTotalWeight), decltype(S::kRepNode), decltype(S::kRepWeightBefore),
+                                 decltype(S::kHasDeepShape), decltype(S::kHasUserControlFlow)>> : std::true_type {};
 // A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
 template <class S, class = void>
 struct has_init : std::false_type {};
@@ -89,7 +90,11 @@ struct has_init<
 //   static constexpr std::array<std::uint16_t, kNodeCount> kShape;     // node -> its shape
 //   static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep; // shape -> first node (kNoNode: interpreted)
 //   static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses;  // shape -> its nodes
-//     (without the three shape tables every node runs on the interpreter)
+//   static constexpr std::size_t kTotalWeight;                          // all nodes' weights
+//   static constexpr std::array<std::uint16_t, R> kRepNode;             // first node of each shape
+//   static constexpr std::array<std::uint32_t, R> kRepWeightBefore;     // weight of the ones before
+//   static constexpr bool kHasDeepShape, kHasUserControlFlow;
+//     (without the shape tables every node runs on the interpreter)
 //   struct Blackboard;  (default-constructible: the entries as the tree is built)
 //   using BB = Blackboard; using ES = const ErrorSink;
 //   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
@@ -453,11 +458,8 @@ class Engine {
   static constexpr std::size_t kCompiledDepth = 48;  // generator/btgen/backend_cpp/shapes.py
   static constexpr bool kShaped = engine_detail::has_shapes<Spec>::value;
   static constexpr std::size_t straight_line_budget = engine_detail::straight_line_budget<Spec>::value;
-  static constexpr std::size_t node_weight(const NodeInfo& n) noexcept {
-    const bool scripted = n.scripts != 0 || n.kind == NodeKind::Script || n.kind == NodeKind::ScriptCondition ||
-                          n.kind == NodeKind::Precondition;
-    return (scripted ? 6 : 1) + n.child_count;  // its children's call sites are its code too
-  }
+  // A node's weight against the budget (1, or 6 when it runs scripts, plus its children's
+  // call sites) is summed by the generator (shapes.py): Spec::kTotalWeight, kRepWeightBefore.
   // A mission whose every node fits in the budget gets a function per node
   // (a shape per node: its index and its state's places are constants, the
   // fastest form); a larger one shares the functions of equal subtrees.
@@ -465,9 +467,7 @@ class Engine {
     if constexpr (!kShaped) {
       return false;
     } else {
-      std::size_t weight = 0;
-      for (const NodeInfo& n : Spec::kNodes) weight += node_weight(n);
-      return weight <= straight_line_budget;
+      return Spec::kTotalWeight <= straight_line_budget;
     }
   }
   static constexpr bool kPerNode = per_node();
@@ -500,14 +500,23 @@ class Engine {
   static constexpr std::size_t straight_line_nodes() noexcept {
     if constexpr (!kShaped) {
       return 0;
-    } else {
-      std::size_t weight = 0;
-      for (std::size_t i = 0; i < kNodeCount; ++i) {
-        if (rep_of(shape_of(i)) != i) continue;  // compiled with an earlier node of its shape
-        if (weight >= straight_line_budget) return i;
-        weight += node_weight(Spec::kNodes[i]);
-      }
+    } else if constexpr (kPerNode) {
       return kNodeCount;
+    } else {
+      // The first node of a compiled shape whose predecessors (Spec::kRepNode, in creation
+      // order) weigh the budget or more: a binary search of the generator's running sums (a
+      // loop over 65,535 nodes would pass clang's constant-evaluation step limit).
+      std::size_t lo = 0;
+      std::size_t hi = Spec::kRepNode.size();
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (Spec::kRepWeightBefore[mid] >= straight_line_budget) {
+          hi = mid;
+        } else {
+          lo = mid + 1;
+        }
+      }
+      return lo < Spec::kRepNode.size() ? Spec::kRepNode[lo] : kNodeCount;
     }
   }
   static constexpr std::size_t kStraightLine = straight_line_nodes();
@@ -519,14 +528,7 @@ class Engine {
     if constexpr (!kShaped) {
       return true;
     } else {
-      if (kStraightLine < kNodeCount) return true;
-      for (const std::uint16_t rep : Spec::kShapeRep) {
-        if (rep == kNoNode) return true;
-      }
-      for (const NodeInfo& n : Spec::kNodes) {
-        if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return true;
-      }
-      return false;
+      return kStraightLine < kNodeCount || Spec::kHasDeepShape || Spec::kHasUserControlFlow;
     }
   }
   static constexpr bool kUsesInterpreter = uses_interpreter();
