@@ -12,7 +12,7 @@ from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, t
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import LocalIR, PortIR, SlotIR
 from btgen.ir.dataops import TextOperand
-from btgen.ir.kinds import DYN, is_queue, is_user
+from btgen.ir.kinds import DYN, is_numeric, is_queue, is_user
 from btgen.lang import values
 
 # btgen::Declared enumerators (runtime/include/btgen/port.hpp), by declared type.
@@ -127,7 +127,7 @@ def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
     """Whether a Switch operand read as text has a value: `var`_ok, or a constant."""
     if o.slot is not None:
         k = slots[o.slot].kind
-        return f"{var}_ok" if k in ("dyn", "string", "int", "double", "bool", "status") else "false"
+        return f"{var}_ok" if k in (DYN, "string") or is_numeric(k) else "false"
     return "true" if o.literal is not None else "false"
 
 
@@ -148,4 +148,4 @@ FILTERS = dict(
     cpp_string_chunks=cpp_string_chunks,
     cpp_comment_lines=cpp_comment_lines,
 )
-TESTS = dict(numeric_kind=lambda k: k in ("int", "double", "bool", "status"))
+TESTS = dict(numeric_kind=is_numeric)

@@ -44,7 +44,6 @@ from btgen.ir.kinds import (
     INT32_MIN,
     TEXT_BOUND,
     UINT32_MAX,
-    USER_KINDS,
     ScriptTypeError,
     binary_kind,
     check_compound,
@@ -61,6 +60,7 @@ from btgen.ir.kinds import (
     static_update_ok,
     store_route,
     ternary_is_dynamic,
+    user_kinds,
 )
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -953,11 +953,8 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
         SlotView(f"bb.{s.member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
         for s in data.slots
     ]
-    saved = dict(USER_KINDS)
-    USER_KINDS.clear()
-    USER_KINDS.update({values._compact(t.name): t.kind for t in data.user_types})
     out = []
-    try:
+    with user_kinds(data.user_types):
         for c in data.scripts:
             table = ErrorTable()
             ctx = ScriptContext(
@@ -973,7 +970,4 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
             except ScriptTypeError as e:  # ir/script_types.py lets no such script through
                 raise InternalError(f"{c.comment}: the C++ writer refused a typed script: {e.message}") from e
             out.append(CompiledScript(c.node, c.which, c.comment, tuple(body), tuple(table.entries), c.prefix))
-    finally:
-        USER_KINDS.clear()
-        USER_KINDS.update(saved)
     return out, tuple(where)

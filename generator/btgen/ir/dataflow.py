@@ -1688,10 +1688,7 @@ class _Compiler:
 
 def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
-    saved = dict(kinds.USER_KINDS)
-    kinds.USER_KINDS.clear()
-    kinds.USER_KINDS.update({values._compact(t.name): t.kind for t in mission.user_types})
-    try:
+    with kinds.user_kinds(mission.user_types):
         a = _Analyzer(mission, options or DataOptions())
         a.load()
         a.collect()
@@ -1699,7 +1696,4 @@ def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[Da
         a.type_slots()
         a.size_slots()
         ir = _Compiler(a).run()
-    finally:
-        kinds.USER_KINDS.clear()
-        kinds.USER_KINDS.update(saved)
     return ir, a.sink

@@ -21,6 +21,8 @@ Kinds:
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from typing import Callable, Optional
 
 from btgen.lang import script as sc
@@ -48,6 +50,19 @@ def is_queue(kind: Optional[str]) -> bool:
 # The user port types (usertypes.py) of the mission being compiled: type name (blanks
 # around `<>,:*&` removed) -> kind (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
 USER_KINDS: dict[str, str] = {}
+
+
+@contextlib.contextmanager
+def user_kinds(user_types) -> Iterator[None]:
+    """USER_KINDS set to `user_types` (usertypes.UserType) while the block runs."""
+    saved = dict(USER_KINDS)
+    USER_KINDS.clear()
+    USER_KINDS.update({values._compact(t.name): t.kind for t in user_types})
+    try:
+        yield
+    finally:
+        USER_KINDS.clear()
+        USER_KINDS.update(saved)
 
 
 def is_user(kind: Optional[str]) -> bool:
