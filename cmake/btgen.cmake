@@ -130,9 +130,10 @@ function(_btgen_query out_var)
 endfunction()
 
 # The keywords of btgen_add_mission that are mission options of every btgen command
-# (generator/btgen/pipeline.py): one list, so every command is given the same options.
-set(_BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
-set(_BTGEN_MULTI_VALUE_OPTIONS "MODELS;ENUMS;ENUM_FILES;TYPES")
+# (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
+# a function called from another directory once the include guard skips this file).
+set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
+set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;ENUMS;ENUM_FILES;TYPES")
 
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
 # read: --models, --main-tree), `write_options` (the rest: --namespace, capacities, enums,
@@ -189,7 +190,9 @@ endfunction()
 # True in <out_var> when the C++ back end compiles <mission> with those options (the same
 # keywords as btgen_add_mission), so a mission it calls broken is one btgen_add_mission fails on.
 function(btgen_mission_compiles out_var mission)
-  cmake_parse_arguments(ARG "" "${_BTGEN_ONE_VALUE_OPTIONS}" "${_BTGEN_MULTI_VALUE_OPTIONS}" ${ARGN})
+  get_property(one GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS)
+  get_property(multi GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS)
+  cmake_parse_arguments(ARG "" "${one}" "${multi}" ${ARGN})
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "btgen_mission_compiles: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
   endif()
@@ -214,9 +217,9 @@ function(btgen_add_mission)
     list(GET args 0 target)  # btgen_add_mission(<target> MISSION ...)
     list(REMOVE_AT args 0)
   endif()
-  cmake_parse_arguments(ARG ""
-    "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;${_BTGEN_ONE_VALUE_OPTIONS}"
-    "${_BTGEN_MULTI_VALUE_OPTIONS}" ${args})
+  get_property(one GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS)
+  get_property(multi GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS)
+  cmake_parse_arguments(ARG "" "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;${one}" "${multi}" ${args})
   if(ARG_TARGET)
     set(target "${ARG_TARGET}")
   endif()

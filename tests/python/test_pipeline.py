@@ -182,3 +182,30 @@ def test_run_takes_enums(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.rstrip().endswith("SUCCESS")
+
+
+def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
+    # btgen_mission_compiles() gives build-info --check the options btgen_add_mission() gives
+    # compile: a mission that needs a scripting enum compiles with ENUMS, not without.
+    import shutil
+
+    if shutil.which("cmake") is None:
+        pytest.skip("cmake is not installed")
+    _write(tmp_path, "m.xml", ENUM_MISSION)
+    _write(
+        tmp_path,
+        "CMakeLists.txt",
+        "cmake_minimum_required(VERSION 3.16)\nproject(p CXX)\n"
+        f'include("{repo_root}/cmake/btgen.cmake")\n'
+        'btgen_mission_compiles(with_enum m.xml ENUMS "Color=RED,GREEN")\n'
+        "btgen_mission_compiles(without m.xml)\n"
+        'message(STATUS "RESULT ${with_enum} ${without}")\n',
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-DPython3_EXECUTABLE={sys.executable}"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "RESULT TRUE FALSE" in proc.stdout
