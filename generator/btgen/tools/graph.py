@@ -8,7 +8,7 @@ node kinds have their own shapes (Control: box, Decorator: hexagon, Action:
 rounded box, Condition: ellipse, SubTree: 3-D box), every node shows its name,
 its ID when the name differs, its UID and its ports as written.
 
-With a status trace (`btgen run` output, shared/conformance/FORMAT.md) the
+With a status trace (`btgen run` output, tests/conformance/FORMAT.md) the
 nodes are filled with their statuses at the end of tick N (default: the last
 tick in the file). A .btlog (Groot2's FileLogger2 format, written by
 btgen::btlog::FileLogger or BehaviorTree.CPP) has no tick boundaries, so it
