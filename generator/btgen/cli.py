@@ -291,6 +291,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)"
     )
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
+    _mission_options(g)
     g.set_defaults(func=_cmd_graph)
     return p
 
