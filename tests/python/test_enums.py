@@ -124,3 +124,29 @@ def test_compiled_to_constants(tmp_path):
         ],
         check=True,
     )
+
+
+def test_a_negated_negative_enum_builds_and_agrees(tmp_path):
+    # `-NEG` once generated `--1.0`: C++ has no negative literals, so the constant must compose
+    # as a primary expression after any operator.
+    (tmp_path / "m.xml").write_text(
+        """<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence>
+      <Script code="x := -NEG; y := 1 + -NEG; z := 1 - NEG; w := -(-NEG)"/>
+      <ScriptCondition code="x == 1 &amp;&amp; y == 2 &amp;&amp; z == 2 &amp;&amp; w == -1"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+""",
+        encoding="utf-8",
+    )
+    (tmp_path / "m.scenario").write_text("ticks 1\n", encoding="utf-8")
+    runs = [
+        _btgen("run", "m.xml", "--scenario", "m.scenario", "--engine", e, "--enum", "E=NEG=-1", cwd=tmp_path)
+        for e in ("interp", "cpp")
+    ]
+    for r in runs:
+        assert r.returncode == 0, r.stderr
+        assert "result SUCCESS" in r.stdout
+    assert runs[0].stdout == runs[1].stdout
