@@ -52,6 +52,10 @@ def test_declarations_number_as_register_scripting_enum(text, table):
         ("Color=RED,2X", "`2X` in enum `Color` is not a name"),
         ("Color=RED=x", "the value of `RED` in enum `Color` is not an integer"),
         ("Color=RED=4294967296", "does not fit an int"),
+        # int() takes these; no C++ enum declaration spells them
+        ("Color=RED=1_000", "the value of `RED` in enum `Color` is not an integer: `1_000`"),
+        ("Color=RED=\u0665", "the value of `RED` in enum `Color` is not an integer: `\u0665`"),
+        ("Color=RED=\uff11\uff12", "the value of `RED` in enum `Color` is not an integer: `\uff11\uff12`"),
     ],
 )
 def test_bad_declarations(text, message):
@@ -69,6 +73,20 @@ def test_a_name_with_two_values_is_an_error(tmp_path):
     with pytest.raises(UserError) as e:
         enums.load(files=[str(f)])
     assert str(e.value).startswith(f"{f}:1:11: error: ")
+
+
+def test_an_enums_file_with_a_byte_order_mark(tmp_path):
+    # (the BOM was read as part of the first declaration's type name, and quoted invisibly)
+    f = tmp_path / "e.enums"
+    f.write_bytes(b"\xef\xbb\xbfColor=RED,GREEN\n")
+    assert enums.load(files=[str(f)]) == (("RED", 0), ("GREEN", 1))
+    f.write_bytes(b"Color=RED,GREEN\n# caf\xe9\n")
+    with pytest.raises(UserError) as e:
+        enums.load(files=[str(f)])
+    assert str(e.value) == f"{f}:2:6: error: invalid UTF-8 (byte 0xe9); enums files must be UTF-8"
+    with pytest.raises(UserError) as e:
+        enums.load(files=[str(tmp_path)])
+    assert str(e.value) == f"{tmp_path}:1:1: error: is a directory, not an enums file"
 
 
 def test_both_engines_give_the_same_trace_with_enums(tmp_path):
