@@ -311,10 +311,7 @@ class _Loader:
         default = p.get("default")
         direction = _MODEL_PORT_TAGS[p.tag]
         if default is not None and direction != "output" and not is_remap(default):
-            try:
-                values.convert_from_string(type_name, default, strict=True)
-            except values.ConversionError as e:
-                self.sink.error(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`: {e}")
+            self._check_literal(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default)
         return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
 
     # ---------------------------------------------------------------- trees
@@ -549,11 +546,24 @@ class _Loader:
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
             return attr
-        try:
-            values.convert_from_string(port.type, value, strict=True)
-        except values.ConversionError as e:
-            self.sink.error(attr.value_loc, f"{what}: {e}")
+        self._check_literal(attr.value_loc, what, port.type, value)
         return attr
+
+    def _check_literal(self, loc: Loc, what: str, type_name: str, value: str) -> None:
+        """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
+        are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
+        convert at all is an error."""
+        try:
+            values.convert_from_string(type_name, value)
+        except values.ConversionError as e:
+            self.sink.error(loc, f"{what}: {e}")
+            return
+        try:
+            values.convert_from_string(type_name, value, strict=True)
+        except values.ConversionError as e:
+            read = values.convert_from_string(type_name, value)
+            shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}
