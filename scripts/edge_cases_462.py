@@ -174,6 +174,129 @@ case(
     ),
 )
 
+# ---------------------------------------------------------------- P1-P3: Parallel thresholds
+for stem, attrs, scen, what in (
+    ("p1_parallel_success_minus2", 'success_count="-2"', "leaf A RUNNING SUCCESS\nleaf B SUCCESS\nleaf C RUNNING", "-2 of 3: 2 needed"),
+    ("p1_parallel_success_int_min", 'success_count="-2147483648"', "leaf A RUNNING\nleaf B RUNNING", "INT_MIN: 0 needed"),
+    ("p1_parallel_failure_minus9", 'failure_count="-9" success_count="3"', "leaf A FAILURE\nleaf B RUNNING", "failure -9 of 3: 0"),
+    ("p1_parallel_success_0", 'success_count="0"', "leaf A FAILURE\nleaf B RUNNING", "0 needed: SUCCESS after the first child"),
+    ("p1_parallel_failure_0", 'failure_count="0" success_count="3"', "leaf A RUNNING SUCCESS\nleaf B SUCCESS", "failure 0"),
+):
+    case(
+        stem,
+        "P1",
+        f"Parallel {what}",
+        mission(f"<Parallel {attrs}>\n      <A/>\n      <B/>\n      <C/>\n    </Parallel>"),
+        f"ticks 4\n{scen}\n",
+    )
+case(
+    "p3_parallel_threshold_above_children",
+    "P3",
+    "Parallel success_count=4 over 3 children: 4.6.2 throws when it is ticked",
+    mission('<Parallel success_count="4">\n      <A/>\n      <B/>\n      <C/>\n    </Parallel>'),
+)
+
+# ---------------------------------------------------------------- T1: durations of 0
+case("t1_sleep_0", "T1", 'Sleep msec="0": SUCCESS at once', mission('<Sequence>\n      <Sleep msec="0"/>\n      <Done/>\n    </Sequence>'))
+case("t1_sleep_minus0", "T1", 'Sleep msec="-0": 0', mission('<Sequence>\n      <Sleep msec="-0"/>\n      <Done/>\n    </Sequence>'))
+
+# ---------------------------------------------------------------- I2: doubles
+case(
+    "i2_loopdouble_blanks",
+    "I2",
+    'LoopDouble queue=" 2.5; 1e1x" pops 2.5 and 10 (std::stod skips leading blanks, ignores the rest)',
+    mission(
+        '<LoopDouble queue=" 2.5; 1e1x" value="{v}">\n      <Fallback>\n'
+        '        <Sequence>\n          <ScriptCondition code="v == 2.5"/>\n          <A/>\n        </Sequence>\n'
+        '        <Sequence>\n          <ScriptCondition code="v == 10.0"/>\n          <B/>\n        </Sequence>\n'
+        "      </Fallback>\n    </LoopDouble>"
+    ),
+    "ticks 5\n",
+)
+
+# ---------------------------------------------------------------- L1, L2: IDLE as a result
+case(
+    "l1_loop_if_empty_idle",
+    "L1",
+    'LoopInt if_empty="IDLE" over an empty queue: 4.6.2 throws (a node may not set itself IDLE)',
+    mission('<Sequence>\n      <LoopInt queue="" if_empty="IDLE">\n        <Step/>\n      </LoopInt>\n    </Sequence>'),
+)
+case(
+    "l1_loop_if_empty_idle_after_items",
+    "L1",
+    'LoopInt if_empty="IDLE" over "1;2": two runs of the child, then 4.6.2 throws',
+    mission('<LoopInt queue="1;2" if_empty="IDLE">\n      <Step/>\n    </LoopInt>'),
+    "ticks 5\n",
+)
+case(
+    "l2_precondition_else_idle",
+    "L2",
+    'Precondition else="IDLE" with a false condition: 4.6.2 throws',
+    mission('<Sequence>\n      <Precondition if="false" else="IDLE">\n        <Step/>\n      </Precondition>\n    </Sequence>'),
+)
+case(
+    "l2_precondition_else_idle_true",
+    "L2",
+    'Precondition else="IDLE" with a true condition: the child runs as usual',
+    mission('<Sequence>\n      <Precondition if="true" else="IDLE">\n        <Step/>\n      </Precondition>\n      <Done/>\n    </Sequence>'),
+)
+
+# ---------------------------------------------------------------- L3: a queue written as text
+case(
+    "l3_loopstring_text_queue",
+    "L3",
+    'LoopString over {q} where SetBlackboard wrote q as the text "ab;cd;e": three items',
+    mission(
+        '<Sequence>\n      <SetBlackboard value="ab;cd;e" output_key="q"/>\n'
+        '      <LoopString queue="{q}" value="{s}">\n        <Fallback>\n'
+        '          <Sequence>\n            <ScriptCondition code="s == \'ab\'"/>\n            <A/>\n          </Sequence>\n'
+        '          <Sequence>\n            <ScriptCondition code="s == \'cd\'"/>\n            <B/>\n          </Sequence>\n'
+        '          <Sequence>\n            <ScriptCondition code="s == \'e\'"/>\n            <C/>\n          </Sequence>\n'
+        "        </Fallback>\n      </LoopString>\n    </Sequence>"
+    ),
+    "ticks 6\n",
+)
+
+# ---------------------------------------------------------------- M1, M2: SubTree remaps and models
+case(
+    "m1_subtree_undeclared_remap",
+    "M1",
+    "A SubTree instance remaps a port its model does not declare: a remapping all the same",
+    mission(
+        '<Sequence>\n      <Script code="w := 5"/>\n      <SubTree ID="Inner" n="1" extra="{w}"/>\n    </Sequence>',
+        '  <BehaviorTree ID="Inner">\n    <Sequence>\n      <ScriptCondition code="extra == 5"/>\n      <Step/>\n'
+        "    </Sequence>\n  </BehaviorTree>\n",
+        '\n    <SubTree ID="Inner">\n      <input_port name="n" type="int"/>\n    </SubTree>',
+    ),
+)
+case(
+    "m2_subtree_empty_default_omitted",
+    "M2",
+    'A SubTree model port with default="" that the instance omits: 4.6.2 refuses the tree',
+    mission(
+        '<SubTree ID="Inner"/>',
+        '  <BehaviorTree ID="Inner">\n    <Step/>\n  </BehaviorTree>\n',
+        '\n    <SubTree ID="Inner">\n      <input_port name="n" type="std::string" default=""/>\n    </SubTree>',
+    ),
+)
+
+# ---------------------------------------------------------------- B1: blackboard-reference forms
+for stem, variable, what in (
+    ("b1_blank_before_ref", " {v}", '" {v}" reads v'),
+    ("b1_empty_braces_literal", "{}", '"{}" is the literal text {}'),
+    ("b1_brace_then_text_literal", "{q}x", '"{q}x" is a literal'),
+):
+    case(
+        stem,
+        "B1",
+        f"Switch2 variable: {what}",
+        mission(
+            '<Sequence>\n      <Script code="v := \'on\'"/>\n'
+            f'      <Switch2 variable="{variable}" case_1="on" case_2="{variable.strip() if "v" not in variable else "x"}">\n'
+            "        <A/>\n        <B/>\n        <C/>\n      </Switch2>\n    </Sequence>"
+        ),
+    )
+
 
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)
