@@ -18,6 +18,7 @@ minute and a half on two cores); later runs rebuild only what changed
 
 import os
 import subprocess
+import sys
 
 import pytest
 
@@ -147,3 +148,23 @@ def test_os_only_headers_refuse_the_bare_metal_build(tmp_path):
         )
         assert proc.returncode != 0
         assert f"btgen/{header}.hpp needs an operating system" in proc.stderr.decode()
+
+
+def test_lab_tour_example_runs_on_the_board(tmp_path):
+    """examples/mcu: btgen_add_mission() and the toolchain file build the Lab Tour for the board,
+    with simulated leaves on the SysTick clock; run.sh runs it in QEMU and the tour succeeds."""
+    proc = subprocess.run(
+        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(tmp_path / "build")],
+        capture_output=True,
+        check=False,
+        timeout=900,
+        env={**os.environ, "Python3_EXECUTABLE": sys.executable},
+    )
+    out = proc.stdout.decode("utf-8", "replace")
+    assert proc.returncode == 0, out + proc.stderr.decode("utf-8", "replace")
+    assert out.startswith("Lab Tour on a Cortex-M4: 149 nodes")
+    # Three exhibits, the entrance, home: five journeys, each RUNNING for a while.
+    assert out.count("] Navigate RUNNING -> SUCCESS\n") == 5
+    assert out.count("] IsListWithExhibit IDLE -> FAILURE\n") == 1
+    last = out.splitlines()[-1]
+    assert last.startswith("mission SUCCESS after ") and "; errors 0;" in last, last
