@@ -108,6 +108,12 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     return analyze_command(args)
 
 
+def _cmd_explore(args: argparse.Namespace) -> int:
+    from btgen.tools.explore import explore_command
+
+    return explore_command(args)
+
+
 def _cmd_xsd(args: argparse.Namespace) -> int:
     from btgen.frontend.loader import load_mission
     from btgen.frontend.xsd import mission_xsd
@@ -239,6 +245,37 @@ def build_parser() -> argparse.ArgumentParser:
         "--tick-budget", type=_count, metavar="N", help="warn when a bound of a tick (nodes, hooks, scripts) exceeds N"
     )
     a.set_defaults(func=_cmd_analyze)
+
+    e = sub.add_parser(
+        "explore",
+        help="explore every leaf outcome up to a bound; write scenarios reaching full coverage; check properties",
+    )
+    e.add_argument("mission", metavar="MISSION.xml")
+    _mission_options(e)
+    _enum_options(e)
+    e.add_argument("--ticks", type=_count, default=8, metavar="N", help="most root ticks of a run (default 8)")
+    e.add_argument("--depth", type=_count, default=200, metavar="N", help="most leaf results in a run (default 200)")
+    e.add_argument(
+        "--max-states", type=_count, default=200000, metavar="N", help="stop after N explored states (default 200000)"
+    )
+    e.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
+    e.add_argument("-o", "--output-dir", metavar="DIR", help="write the covering scenarios there")
+    e.add_argument(
+        "--assert",
+        dest="asserts",
+        action="append",
+        default=[],
+        metavar="PROPERTY",
+        help="a property to check on every run (see README: `never A SUCCESS before B SUCCESS`, "
+        "`at most one child of N RUNNING`, `never A RUNNING`, `always root SUCCESS`...)",
+    )
+    e.add_argument(
+        "--no-merge",
+        action="store_true",
+        help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
+    )
+    e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.set_defaults(func=_cmd_explore)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
