@@ -143,11 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
     )
     a.add_argument("missions", nargs="+", metavar="MISSION.xml")
-    _mission_options(a)
-    a.add_argument("--string-capacity", type=_capacity, default=None, metavar="N", help=argparse.SUPPRESS)
-    a.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N", help=argparse.SUPPRESS)
-    _enum_options(a)
-    _type_options(a)
+    add_mission_options(a)
     a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
     a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
     a.add_argument(
@@ -160,8 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="explore every leaf outcome up to a bound; write scenarios reaching full coverage; check properties",
     )
     e.add_argument("mission", metavar="MISSION.xml")
-    _mission_options(e)
-    _enum_options(e)
+    add_mission_options(e)
     e.add_argument("--ticks", type=_count, default=8, metavar="N", help="most root ticks of a run (default 8)")
     e.add_argument("--depth", type=_count, default=200, metavar="N", help="most leaf results in a run (default 200)")
     e.add_argument(
@@ -176,7 +171,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="PROPERTY",
         help="a property to check on every run (see README: `never A SUCCESS before B SUCCESS`, "
-        "`at most one child of N RUNNING`, `never A RUNNING`, `always root SUCCESS`...)",
+        "`at most one child of N RUNNING`, `never A RUNNING`)",
     )
     e.add_argument(
         "--no-merge",

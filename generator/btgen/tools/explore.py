@@ -465,12 +465,12 @@ def scenario_text(path: Path, clock_ms: int, comment: str = "") -> str:
 
 def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     """The statuses `btgen analyze` finds possible per node (None when the mission does not lower)."""
-    from btgen.compiler import data_options
+    from btgen import pipeline
     from btgen.ir.lower import lower
     from btgen.tools.analyze import analyze_program
 
     try:
-        options = data_options(args)
+        options = pipeline.options_from_args(args).data
         program = lower(mission, options)
     except UserError:
         return None
@@ -482,11 +482,10 @@ def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
 
 
 def explore_command(args) -> int:
-    from btgen.frontend import enums
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.interp.engine import trace_text
 
-    mission = enums.apply(load_mission(args.mission, tuple(args.models), args.main_tree), enums.from_args(args))
+    mission = pipeline.load(args.mission, pipeline.options_from_args(args))
     print_diagnostics(mission.warnings)
     try:
         props = tuple(parse_property(t) for t in args.asserts)
