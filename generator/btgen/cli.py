@@ -69,6 +69,18 @@ def _cmd_explore(args: argparse.Namespace) -> int:
     return explore_command(args)
 
 
+def _cmd_cover(args: argparse.Namespace) -> int:
+    from btgen.tools.cover import cover_command
+
+    return cover_command(args)
+
+
+def _cmd_scenario_from_log(args: argparse.Namespace) -> int:
+    from btgen.tools.cover import scenario_from_log_command
+
+    return scenario_from_log_command(args)
+
+
 def _cmd_xsd(args: argparse.Namespace) -> int:
     from btgen import pipeline
     from btgen.frontend.xsd import mission_xsd
@@ -180,6 +192,24 @@ def build_parser() -> argparse.ArgumentParser:
     )
     e.add_argument("--json", action="store_true", help="print the report as JSON")
     e.set_defaults(func=_cmd_explore)
+
+    cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
+    cv.add_argument("mission", metavar="MISSION.xml")
+    cv.add_argument("runs", nargs="+", metavar="RUN", help="FILE.scenario, a trace (`btgen run` output) or FILE.btlog")
+    add_mission_options(cv)
+    cv.add_argument("--table", action="store_true", help="one line per node: ticked, statuses seen, missing")
+    cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
+    cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
+    cv.add_argument("--min", type=float, metavar="PCT", help="exit 1 when node coverage is below PCT percent")
+    cv.set_defaults(func=_cmd_cover)
+
+    sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")
+    sl.add_argument("mission", metavar="MISSION.xml")
+    sl.add_argument("log", metavar="RUN.btlog")
+    sl.add_argument("-o", "--output", metavar="FILE.scenario", help="write it there (default: stdout)")
+    sl.add_argument("--clock-ms", type=int, default=0, metavar="MS", help="clock_ms of the scenario (default 0)")
+    add_mission_options(sl)
+    sl.set_defaults(func=_cmd_scenario_from_log)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
