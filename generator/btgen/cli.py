@@ -220,6 +220,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("mission", metavar="MISSION.xml")
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
+    r.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) applied to the leaves",
+    )
     add_mission_options(r)
     r.set_defaults(func=_cmd_run)
 
