@@ -58,27 +58,30 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
-    from btgen.tools.analyze import analyze_command
+    from btgen.tools.analyze import analyze_command, stop_quietly_on_broken_pipe
 
-    return analyze_command(args)
+    return stop_quietly_on_broken_pipe(analyze_command, args)
 
 
 def _cmd_explore(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.explore import explore_command
 
-    return explore_command(args)
+    return stop_quietly_on_broken_pipe(explore_command, args)
 
 
 def _cmd_cover(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import cover_command
 
-    return cover_command(args)
+    return stop_quietly_on_broken_pipe(cover_command, args)
 
 
 def _cmd_scenario_from_log(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import scenario_from_log_command
 
-    return scenario_from_log_command(args)
+    return stop_quietly_on_broken_pipe(scenario_from_log_command, args)
 
 
 def _cmd_xsd(args: argparse.Namespace) -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import struct
 import subprocess
+import sys
 from pathlib import Path
 
 from btgen.cli import main
@@ -78,7 +79,7 @@ def test_scenario_from_log_replays_the_same_transitions(tmp_path, capsys):
         assert trace_transitions(replay) == trace_transitions(trace)
         if mission == PICK:  # and on the compiled engine (built once for test_explore too)
             got = subprocess.run(
-                ["btgen", "run", str(mission), "--scenario", str(back), "--engine", "cpp"],
+                [sys.executable, "-m", "btgen", "run", str(mission), "--scenario", str(back), "--engine", "cpp"],
                 capture_output=True,
                 text=True,
                 check=False,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -79,7 +80,7 @@ def test_scenarios_replay_identically_on_the_cpp_engine(capsys, tmp_path):
     for f in files:
         expected = trace_text(m, parse_scenario(str(f)))
         got = subprocess.run(
-            ["btgen", "run", str(PICK), "--scenario", str(f), "--engine", "cpp"],
+            [sys.executable, "-m", "btgen", "run", str(PICK), "--scenario", str(f), "--engine", "cpp"],
             capture_output=True,
             text=True,
             check=False,

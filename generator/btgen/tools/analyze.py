@@ -806,6 +806,21 @@ def memory(program: Program) -> dict:
 
 
 # ====================================================================== command
+def stop_quietly_on_broken_pipe(command, args) -> int:
+    """Run a command whose reader may go away (`btgen explore ... | head`): stop quietly, exit 1."""
+    import os
+
+    try:
+        return command(args)
+    except BrokenPipeError:
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 1
+
+
 def _fmt(v: int) -> str:
     return "unbounded" if v == UNBOUNDED else str(v)
 

@@ -144,6 +144,7 @@ class Path:
     ticks: int
     goals: frozenset
     end: str
+    mask: int = 0  # the goals as bits (Explorer.bit)
 
 
 @dataclass
@@ -254,6 +255,7 @@ class Explorer:
                         if s not in _NOT_STATE and s != "status" and s not in names:
                             names.append(s)
                 self._fields[cls] = tuple(names)
+        self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
         self.by_name: dict[str, list[int]] = {}
         for i, n in enumerate(probe.nodes):
             self.by_name.setdefault(n.name, []).append(i)
@@ -372,7 +374,7 @@ class Explorer:
         self.max_visits = self.max_hooks = 0
         restore = self._install()
         t0 = time.perf_counter()
-        found: list[Path] = []
+        candidates: dict[int, Path] = {}
         covered: set = set()
         violations: list[tuple[Property, Path]] = []
         runs = 0
@@ -390,15 +392,25 @@ class Explorer:
                     for o in reversed(options):
                         stack.append(plan + (o,))
                     continue
-                path = Path(plan, tuple(run.picks), max(run.tick_no, 1), frozenset(run.goals), end)
+                mask = 0
+                for goal in run.goals:
+                    b = self.bit.get(goal)
+                    if b is None:
+                        b = self.bit[goal] = len(self.bit)
+                    mask |= 1 << b
+                path = Path(plan, tuple(run.picks), max(run.tick_no, 1), frozenset(run.goals), end, mask)
                 if end == "violation":
                     prop = run.violation  # type: ignore[attr-defined]
                     if not any(p is prop for p, _ in violations):
                         violations.append((prop, path))
                     continue
+                # every finished run is a candidate for the cover (one per set of goals, the
+                # shortest): kept as bits, 37,000 runs of the Lab Tour take a few megabytes
                 if not path.goals <= covered:
                     covered |= path.goals
-                    found.append(path)
+                old = candidates.get(mask)
+                if old is None or len(path.picks) < len(old.picks):
+                    candidates[mask] = Path(plan, path.picks, path.ticks, frozenset(), end, mask)
         finally:
             restore()
         seconds = time.perf_counter() - t0
@@ -406,7 +418,7 @@ class Explorer:
         return Result(
             goals,
             covered & goals,
-            _cover(found, goals),
+            self._cover(list(candidates.values()), goals),
             runs,
             len(self.seen),
             seconds,
@@ -415,6 +427,41 @@ class Explorer:
             self.max_visits,
             self.max_hooks,
         )
+
+    def _cover(self, paths: list[Path], goals: set) -> list[Path]:
+        """Greedy set cover (the run adding most goals first, the shorter on a tie), then each
+        chosen run whose goals the others cover is dropped."""
+        want = 0
+        for goal in goals:
+            if goal in self.bit:
+                want |= 1 << self.bit[goal]
+        left = want
+        chosen: list[Path] = []
+        while left:
+            best = max(paths, key=lambda p: ((p.mask & left).bit_count(), -len(p.picks)))
+            if not best.mask & left:
+                break
+            chosen.append(best)
+            left &= ~best.mask
+        for p in list(chosen):
+            others = 0
+            for q in chosen:
+                if q is not p:
+                    others |= q.mask
+            if (p.mask & want) & ~others == 0:
+                chosen.remove(p)
+        names = {b: g for g, b in self.bit.items()}
+        return [
+            Path(
+                p.plan,
+                p.picks,
+                p.ticks,
+                frozenset(names[b] for b in range(len(names)) if p.mask >> b & 1),
+                p.end,
+                p.mask,
+            )
+            for p in chosen
+        ]
 
     def goals(self) -> set:
         out: set = set()
@@ -430,20 +477,6 @@ class Explorer:
 class _Violation(Exception):
     def __init__(self, prop: Property) -> None:
         self.prop = prop
-
-
-def _cover(paths: list[Path], goals: set) -> list[Path]:
-    """Greedy set cover: the path adding most goals first, until nothing more is gained."""
-    chosen: list[Path] = []
-    left = set().union(*(p.goals for p in paths)) & goals if paths else set()
-    while left:
-        best = max(paths, key=lambda p: (len(p.goals & left), -len(p.picks)))
-        gain = best.goals & left
-        if not gain:
-            break
-        chosen.append(best)
-        left -= gain
-    return chosen
 
 
 # ====================================================================== scenario files
