@@ -235,6 +235,12 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("mission", metavar="MISSION.xml")
     c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
     c.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="a test build: BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) "
+        "applied to the leaves",
+    )
+    c.add_argument(
         "--relative-to",
         default=None,
         metavar="DIR",

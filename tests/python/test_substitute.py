@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 from btgen.cli import main
@@ -109,10 +111,60 @@ def test_json_that_is_not_an_object(capsys, tmp_path):
         assert rc == 1 and ": error: " in err and "Traceback" not in err
 
 
-def test_substitute_is_for_the_interpreter(capsys, tmp_path):
+def test_both_engines_agree(capsys, tmp_path):
+    """The compiled test build (`compile --substitute`) runs the same trace as the interpreter."""
     (tmp_path / "m.xml").write_text(MISSION)
-    (tmp_path / "s.scenario").write_text("ticks 1\n")
+    (tmp_path / "s.scenario").write_text("ticks 10\nclock_ms 100\nleaf grab_left RUNNING SUCCESS\n")
     (tmp_path / "r.json").write_text(RULES)
-    argv = ["run", str(tmp_path / "m.xml"), "--scenario", str(tmp_path / "s.scenario")]
-    assert main([*argv, "--engine", "cpp", "--substitute", str(tmp_path / "r.json")]) == 2
-    assert "--substitute runs on the interpreter" in capsys.readouterr().err
+    argv = [
+        str(tmp_path / "m.xml"),
+        "--scenario",
+        str(tmp_path / "s.scenario"),
+        "--substitute",
+        str(tmp_path / "r.json"),
+    ]
+    assert main(["run", *argv]) == 0
+    expected = capsys.readouterr().out
+    assert '7 ScriptCondition "Check" IDLE -> SUCCESS' in expected
+    got = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", *argv, "--engine", "cpp"], capture_output=True, text=True, check=False
+    )
+    assert got.returncode == 0, got.stderr
+    assert got.stdout == expected
+    assert (
+        main(
+            ["compile", str(tmp_path / "m.xml"), "-o", str(tmp_path / "out"), "--substitute", str(tmp_path / "r.json")]
+        )
+        == 0
+    )
+    header = (tmp_path / "out" / "m.hpp").read_text()
+    assert "NodeKind::Sleep" in header and '"Find"' in header
+
+
+def test_compile_refuses_what_it_cannot_build(capsys, tmp_path):
+    (tmp_path / "m.xml").write_text(MISSION)
+    (tmp_path / "r.json").write_text(
+        '{"TestNodeConfigs": {"Late": {"return_status": "FAILURE", "async_delay": 5}},\n'
+        ' "SubstitutionRules": {"Find": "Late"}}'
+    )
+    assert (
+        main(
+            ["compile", str(tmp_path / "m.xml"), "-o", str(tmp_path / "out"), "--substitute", str(tmp_path / "r.json")]
+        )
+        == 1
+    )
+    err = capsys.readouterr().err
+    assert err.startswith(f"{tmp_path / 'r.json'}:2:24: error: `Late` fails after a delay")
+    (tmp_path / "r.json").write_text('{"TestNodeConfigs": {}, "SubstitutionRules": {"arm/grab_left": "AlwaysFailure"}}')
+    (tmp_path / "m2.xml").write_text(
+        MISSION.replace(
+            '<SubTree ID="Arm" name="arm"/>', '<SubTree ID="Arm" name="arm"/><SubTree ID="Arm" name="arm2"/>'
+        )
+    )
+    assert (
+        main(
+            ["compile", str(tmp_path / "m2.xml"), "-o", str(tmp_path / "out"), "--substitute", str(tmp_path / "r.json")]
+        )
+        == 1
+    )
+    assert "is substituted in some SubTree instances and not in others" in capsys.readouterr().err

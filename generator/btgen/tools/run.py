@@ -24,17 +24,10 @@ def run_command(args) -> int:
     """Entry point of `btgen run MISSION.xml --scenario FILE [--engine interp|cpp]`."""
     engine = getattr(args, "engine", "interp") or "interp"
     substitute = getattr(args, "substitute", None)
-    if substitute is not None and engine == "cpp":
-        print(
-            "btgen: error: --substitute runs on the interpreter (--engine interp); the compiled "
-            "executor does not take substitution rules yet",
-            file=sys.stderr,
-        )
-        return EXIT_USAGE
     if engine == "cpp":
         from btgen.tools.cppengine import run_cpp
 
-        return run_cpp(args.mission, args.scenario, options_from_args(args))
+        return run_cpp(args.mission, args.scenario, options_from_args(args), substitute)
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE

@@ -346,3 +346,147 @@ def run_trace(
         if last is NodeStatus.SUCCESS or last is NodeStatus.FAILURE:
             break
     return last
+
+
+# ====================================================================== compiled executor
+# `btgen compile --substitute`: the substituted leaves become built-in nodes of the table that
+# behave as the TestNode does (the trace keeps their ID and name, which the table holds apart
+# from the kind): SUCCESS at once -> AlwaysSuccess, FAILURE at once -> AlwaysFailure, SUCCESS
+# after async_delay -> Sleep (RUNNING until then, on the executor's clock), RUNNING -> a Sleep
+# that never ends in practice (2^32-1 ms). The TestNode's scripts run before the node's own
+# post-conditions, so they are prepended to them: `_onSuccess` becomes `success_script;
+# post_script; <its _onSuccess>`, `_onFailure` likewise; `_post` is unchanged.
+_FOREVER_MS = 2**32 - 1
+
+
+def _instances(mission: Mission):
+    """(index, model node, path) of the expanded main tree in creation order (lower._expanded)."""
+    from btgen.ir.lower import _expanded
+
+    prefixes: dict[int, str] = {-1: ""}
+    for index, (node, parent, _, _) in enumerate(_expanded(mission)):
+        prefix = prefixes[parent] if parent in prefixes else prefixes.get(-1, "")
+        uid = index + 1
+        if isinstance(node, SubTreeNode):
+            name = node.name if node.name is not None else f"{node.target}::{uid}"
+            prefixes[index] = f"{prefix}{name}/"
+        else:
+            prefixes[index] = prefix
+        yield index, node, _path(prefix, node, uid)
+
+
+def _match(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[Rule]:
+    reg = "SubTree" if isinstance(node, SubTreeNode) else node.id
+    for r in rules:
+        if r.filter in (node.display_name, reg) or wildcard_match(path, r.filter):
+            return r
+    return None
+
+
+def _merged(node: Node, config: TestConfig) -> Node:
+    from dataclasses import replace
+
+    def join(name: str, first: list[Optional[Attr]]) -> Optional[Attr]:
+        own = node.post_condition(name)
+        parts = [a for a in first if a is not None] + ([own] if own is not None else [])
+        if not parts:
+            return None
+        code = "; ".join(a.value for a in parts)
+        where = parts[0]
+        return Attr(name, code, where.loc, where.value_loc, sc.parse_script(code))
+
+    on_success = join("_onSuccess", [config.success_script, config.post_script])
+    on_failure = join("_onFailure", [config.failure_script, config.post_script])
+    post = tuple(a for a in node.post if a.name not in ("_onSuccess", "_onFailure"))
+    post += tuple(a for a in (on_success, on_failure) if a is not None)
+    return replace(node, post=post)
+
+
+def lower_substituted(mission: Mission, options, rules: tuple[Rule, ...]):
+    """The lowered program of `mission` with the rules applied (UserError when a rule cannot
+    be compiled: a FAILURE after a delay, a rule that matches some instances of a node only)."""
+    from dataclasses import replace
+
+    from btgen.ir.lower import lower
+
+    decided: dict[int, Optional[Rule]] = {}
+    per_index: dict[int, Rule] = {}
+    models: dict[int, Node] = {}
+    for index, node, path in _instances(mission):
+        rule = _match(rules, node, path)
+        kind = "SubTree" if isinstance(node, SubTreeNode) else mission.spec(node.id).kind
+        if rule is not None and kind not in ("Action", "Condition"):
+            raise UserError(
+                Diagnostic(
+                    rule.loc,
+                    f'the rule `{rule.filter}` matches `{node.id}` "{node.display_name}" ({node.loc}), a '
+                    f"{kind}: only leaves can be substituted",
+                )
+            )
+        if id(node) in decided and decided[id(node)] is not rule:
+            raise UserError(
+                Diagnostic(
+                    (rule or decided[id(node)]).loc,  # type: ignore[union-attr]
+                    f'`{node.id}` "{node.display_name}" ({node.loc}) is substituted in some SubTree instances '
+                    "and not in others (or by different rules): `btgen compile --substitute` needs one rule "
+                    "for all the instances of a node (`btgen run --substitute` takes any)",
+                )
+            )
+        decided[id(node)] = rule
+        models[id(node)] = node
+        if rule is not None:
+            per_index[index] = rule
+            c = rule.config
+            if c is not None and c.return_status == FAILURE and c.async_delay > 0:
+                raise UserError(
+                    Diagnostic(
+                        rule.loc,
+                        f"`{c.name}` fails after a delay: `btgen compile --substitute` has no such node yet "
+                        "(`btgen run --substitute` runs it)",
+                    )
+                )
+            if c is None and rule.target not in ("AlwaysSuccess", "AlwaysFailure"):
+                try:
+                    target = mission.spec(rule.target)
+                except KeyError:
+                    target = None
+                if target is None or target.kind not in ("Action", "Condition") or target.builtin:
+                    raise UserError(
+                        Diagnostic(
+                            rule.loc,
+                            f"`btgen compile --substitute` substitutes test node configs, AlwaysSuccess, "
+                            f"AlwaysFailure and the mission's own leaves, not `{rule.target}`",
+                        )
+                    )
+    # the scripts, at the model level (dataflow types and compiles them with the node's own)
+    replaced: dict[int, Node] = {}
+    for key, rule in decided.items():
+        if rule is not None and rule.config is not None:
+            replaced[key] = _merged(models[key], rule.config)
+
+    def rebuild(node: Node) -> Node:
+        kids = tuple(rebuild(c) for c in node.children)
+        new = replaced.get(id(node), node)
+        return replace(new, children=kids) if kids != new.children else new
+
+    trees = tuple(replace(t, root=rebuild(t.root)) for t in mission.trees)
+    program = lower(replace(mission, trees=trees), options)
+    model_index = {m.id: m.index for m in program.leaf_models}
+    nodes = list(program.nodes)
+    timers = program.timer_count
+    for index, rule in per_index.items():
+        n = nodes[index]
+        c = rule.config
+        if c is None:
+            if rule.target in ("AlwaysSuccess", "AlwaysFailure"):
+                nodes[index] = replace(n, kind=rule.target, model=-1)
+            else:
+                target = mission.spec(rule.target)
+                nodes[index] = replace(n, kind=target.kind, model=model_index[rule.target])
+        elif c.return_status == RUNNING or c.async_delay > 0:
+            ms = _FOREVER_MS if c.return_status == RUNNING else c.async_delay
+            nodes[index] = replace(n, kind="Sleep", model=-1, params=(ms, 0, 0), timer=timers)
+            timers += 1
+        else:
+            nodes[index] = replace(n, kind="AlwaysSuccess" if c.return_status == SUCCESS else "AlwaysFailure", model=-1)
+    return replace(program, nodes=tuple(nodes), timer_count=timers)
