@@ -23,6 +23,7 @@ from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
     BUILTINS,
+    EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
     KINDS,
@@ -49,7 +50,12 @@ _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 RESERVED_MODEL_IDS = frozenset(
     {"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition", "Control", "Decorator", "SubTree"}
 )
-_MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
+_MODEL_PORT_TAGS = {
+    "input_port": "input",
+    "output_port": "output",
+    "inout_port": "inout",
+    "bidirectional_port": "inout",  # Nav2's nav2_tree_nodes.xml
+}
 
 
 def is_remap(value: str) -> bool:
@@ -76,6 +82,7 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
     def load(self) -> Mission:
@@ -147,16 +154,52 @@ class _Loader:
                 src.value_loc(root, "BTCPP_format"),
                 f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
             )
-        for child in root:
-            if not isinstance(child.tag, str):
-                continue
+        self._warn_text(root, src)
+        elements = [c for c in root if isinstance(c.tag, str)]
+        for child in elements:
             if child.tag == "BehaviorTree":
-                self.tree_elems.append((child.get("ID"), child, src))
+                self.tree_elems.append((self._tree_id(child, src, len(elements)), child, src))
             elif child.tag == "TreeNodesModel":
                 self._read_models(child, src)
             elif child.tag == "include":
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
+
+    def _tree_id(self, elem: etree._Element, src: Source, siblings: int) -> str:
+        """The ID of a <BehaviorTree>; warns about the attributes BehaviorTree.CPP ignores."""
+        for aname in src.attr_names_in_order(elem) or list(elem.attrib):
+            if aname != "ID" and not aname.startswith("_"):  # `_favorite`, `_hardcoded`: editors' own
+                self.sink.warning(
+                    src.attr_loc(elem, aname),
+                    f"attribute `{aname}` of <BehaviorTree> is ignored: BehaviorTree.CPP reads only "
+                    f"`ID` there (a SubTree's ports and their defaults are declared in <TreeNodesModel>)",
+                )
+        tid = elem.get("ID")
+        if tid is not None:
+            return tid
+        # 4.6.2 (VerifyXML) accepts a tree without ID only when it is the only element
+        # under <root>, and names it BehaviorTree_<n>, counting such trees from 0.
+        if siblings > 1:
+            self.sink.error(
+                src.loc(elem),
+                "<BehaviorTree> needs an ID attribute: BehaviorTree.CPP accepts a tree without "
+                "one only when it is the only element of its file",
+            )
+        tid = f"BehaviorTree_{self.anonymous}"
+        self.anonymous += 1
+        return tid
+
+    def _warn_text(self, elem: etree._Element, src: Source) -> None:
+        """Text between the elements of a tree or of <root>: tinyxml2 keeps it, BehaviorTree.CPP
+        never reads it; btgen says so once per element."""
+        parts = [elem.text or ""] + [c.tail or "" for c in elem]
+        text = " ".join(p.strip() for p in parts if p.strip())
+        if text:
+            shown = text if len(text) <= 40 else text[:37] + "..."
+            self.sink.warning(
+                src.text_loc(elem),
+                f"text `{shown}` inside <{elem.tag}> is ignored (BehaviorTree.CPP reads only elements here)",
+            )
 
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
@@ -242,9 +285,12 @@ class _Loader:
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
             if mid in BUILTINS:
-                self.sink.error(
+                # 4.6.2 never reads leaf, control or decorator models from XML: the
+                # registered node, here the built-in, is what runs.
+                self.sink.warning(
                     src.value_loc(m, "ID"),
-                    f"`{mid}` is a built-in node of BehaviorTree.CPP; remove it from TreeNodesModel",
+                    f"`{mid}` is a built-in node of BehaviorTree.CPP: this declaration is ignored "
+                    f"and the built-in `{mid}` is used",
                 )
                 continue
             # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
@@ -313,10 +359,42 @@ class _Loader:
         type_text = p.get("type")
         type_name = values.normalize_type(type_text) if type_text is not None else "any"
         default = p.get("default")
+        if p.tag == "bidirectional_port":
+            self.sink.warning(
+                src.loc(p),
+                f"<bidirectional_port> (port `{name}` of `{mid}`) is not an element of "
+                f"BehaviorTree.CPP's models; btgen reads it as <inout_port>",
+            )
         direction = _MODEL_PORT_TAGS[p.tag]
+        default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
-            self._check_literal(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default)
-        return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
+            try:
+                values.convert_from_string(type_name, default)
+            except values.ConversionError as e:
+                # A model in XML documents a node registered in C++ (4.6.2 reads the default
+                # of providedPorts(), never this text): keep it, and report it only where a
+                # node of this mission would use it.
+                default_problem = f"{e}"
+                self.sink.warning(
+                    src.value_loc(p, "default"),
+                    f"default of port `{name}` of `{mid}`: {e}; btgen keeps it as documentation "
+                    f"and gives a node that leaves the port unset no default (its code finds the "
+                    f"port unset; BehaviorTree.CPP uses the default of the C++ providedPorts())",
+                )
+            else:  # read as 4.6.2 reads it (a number's prefix), with a warning where lenient
+                self._check_literal(
+                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default
+                )
+        return PortSpec(
+            name,
+            direction,
+            type_name,
+            None if default_problem else default,
+            False,
+            (p.text or "").strip(),
+            src.loc(p),
+            default_problem=default_problem,
+        )
 
     # ---------------------------------------------------------------- trees
     def _check_tree_ids(self) -> set[str]:
@@ -369,6 +447,7 @@ class _Loader:
         return main
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
+        self._warn_text(elem, src)
         kids = [c for c in elem if isinstance(c.tag, str)]
         if len(kids) != 1:
             self.sink.error(src.loc(elem), f"BehaviorTree `{tree_id}` must have exactly 1 child, it has {len(kids)}")
@@ -382,6 +461,7 @@ class _Loader:
         explicit = tag in KINDS
         node_id = elem.get("ID") if explicit else tag
         children = tuple(self._node(c, src) for c in elem if isinstance(c.tag, str))
+        self._warn_text(elem, src)
         name = elem.get("name")
         if explicit and node_id is None:
             self.sink.error(loc, f"<{tag}> needs an ID attribute naming the node")
@@ -403,15 +483,12 @@ class _Loader:
                 (pre if aname in PRE_CONDITIONS else post).append(attr)
             elif aname == "_autoremap" and tag == "SubTree":
                 autoremap = self._bool_attr(attr)
-            elif aname in METADATA_ATTRIBUTES:
+            elif aname in METADATA_ATTRIBUTES or aname in EDITOR_ATTRIBUTES:
                 continue
-            elif aname.startswith("_") or aname == "ID":
-                specials = (
-                    [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
-                    + list(METADATA_ATTRIBUTES)
-                    + (["_autoremap"] if tag == "SubTree" else [])
-                )
-                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
+            elif aname == "ID":
+                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
+            elif not aname[:1].isalpha():
+                self._ignored_attribute(attr, tag, node_id)
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -427,6 +504,28 @@ class _Loader:
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
         return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+
+    def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
+        """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
+        (IsAllowedPortName), so does btgen, with a warning saying what that means."""
+        if attr.name == "__shared_blackboard":
+            self.sink.warning(
+                attr.loc,
+                f"`__shared_blackboard` is BehaviorTree.CPP v3's and v4 ignores it: SubTree "
+                f'`{node_id}` gets a blackboard of its own (`_autoremap="true"` shares '
+                f"entries by name in v4)",
+            )
+            return
+        specials = (
+            [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
+            + list(METADATA_ATTRIBUTES)
+            + (["_autoremap"] if tag == "SubTree" else [])
+        )
+        self.sink.warning(
+            attr.loc,
+            f"attribute `{attr.name}` on `{node_id}` is ignored, as BehaviorTree.CPP ignores every "
+            f"attribute not starting with a letter{suggestion(attr.name, specials)}",
+        )
 
     def _spec_for(
         self, tag: str, node_id: str, elem: etree._Element, src: Source, tree_ids: set[str]
@@ -473,9 +572,12 @@ class _Loader:
                 )
             return None
         if tag in KINDS and tag != spec.kind:
-            self.sink.error(
+            # 4.6.2 creates the registered node whatever the element says (<Action
+            # ID="ScriptCondition"> is the Condition); the children are checked by its kind.
+            self.sink.warning(
                 src.loc(elem),
-                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is used as <{tag}>",
+                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is "
+                f"written <{tag}>; it runs as the {spec.kind} it is",
             )
         return spec
 

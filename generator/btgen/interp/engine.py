@@ -4,7 +4,7 @@ It builds one object per node, the way 4.6.2's ``XMLParser`` does (SubTrees
 instantiated recursively, UIDs in creation order, one blackboard per tree
 instance), and walks the tree with parents ticking and halting children as
 4.6.2's node classes do. Every status change goes to an observer that writes
-the trace lines of ``shared/conformance/FORMAT.md``.
+the trace lines of ``tests/conformance/FORMAT.md``.
 
 Each node class follows one 4.6.2 source (named in its docstring); where
 4.6.2 has a bug that later releases fixed and FORMAT.md says to follow the

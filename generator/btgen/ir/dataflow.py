@@ -1294,7 +1294,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail),
+            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1317,7 +1317,14 @@ class _Compiler:
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
             ops.SetCopyDyn(
-                op["dst"], op["src"], src_decl == values.STRING, op["key"], what + ": ", missing, self.where(loc)
+                op["dst"],
+                op["src"],
+                src_decl == values.STRING,
+                op["key"],
+                what + ": ",
+                missing,
+                self.where(loc),
+                bbmod.EMPTY_COPY_SUCCEEDS,
             ),
         )
 

@@ -143,6 +143,14 @@ class Program:
         """The mission's own Controls and Decorators."""
         return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
 
+    @property
+    def used_user_nodes(self) -> tuple[LeafModel, ...]:
+        """The mission's own Controls and Decorators that a node of the main tree is: the
+        engine dispatches to these only, so leaves without a tick() for a model no node
+        uses (a models file declaring every Control of a project) still compile."""
+        used = {n.model for n in self.nodes}
+        return tuple(m for m in self.user_nodes if m.index in used)
+
 
 # ------------------------------------------------------------------ traversal
 def _expanded(mission: Mission):
