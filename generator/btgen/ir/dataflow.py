@@ -939,6 +939,19 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
         # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
         # most `cap`: a longer literal is an error where it is written. A computed value
         # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
@@ -968,18 +981,6 @@ class _Analyzer:
                     changed = True
             if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
-        for s in self.slots:
-            if is_queue(s.kind):
-                qcap = self.opt.queue_capacity
-                s.capacity = max(s.queue_literals, default=0)
-                if s.queue_unbounded or not s.queue_literals:
-                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
-                s.capacity = max(s.capacity, 1)
-                if s.kind == "queue<string>":
-                    s.elem_capacity = max(s.elem_literals, default=0)
-                    if s.queue_unbounded:
-                        s.elem_capacity = cap
-                    s.elem_capacity = min(s.elem_capacity, cap)
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:

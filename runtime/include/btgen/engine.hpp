@@ -992,6 +992,20 @@ class Engine {
     return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE;
   }
 
+  // `else` / `if_empty` = IDLE: the node would set its own status to IDLE,
+  // which makes BehaviorTree.CPP 4.6.2 throw (edges table, L1 and L2): a
+  // run-time error, and the node fails.
+  Status not_idle(const NodeInfo& n, Status s) noexcept {
+    if (s != Status::IDLE) return s;
+    sink().fail(n, n.source,
+                n.kind == NodeKind::Precondition
+                    ? std::string_view("the condition is false and `else` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)")
+                    : std::string_view("the queue is empty and `if_empty` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)"));
+    return Status::FAILURE;
+  }
+
   static constexpr bool is_sequence(NodeKind k) noexcept {
     return k == NodeKind::Sequence || k == NodeKind::AsyncSequence || k == NodeKind::SequenceWithMemory ||
            k == NodeKind::ReactiveSequence;
@@ -1124,7 +1138,7 @@ class Engine {
         const int r = run_script(n, ScriptSlot::kCode);
         if (r < 0) return done(Status::FAILURE);
         if (r == 1) return descend(child(n, 0));
-        return done(param::otherwise(n));
+        return done(not_idle(n, param::otherwise(n)));
       }
 
       case NodeKind::Loop: {
@@ -1139,7 +1153,7 @@ class Engine {
           const ErrorSink es = sink();
           const int r = Spec::loop_pop(bb_, n, es, idle);
           if (r < 0) return done(Status::FAILURE);
-          if (r == 0) return done(param::otherwise(n));
+          if (r == 0) return done(not_idle(n, param::otherwise(n)));
         }
         if (idle) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
