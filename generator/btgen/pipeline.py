@@ -33,6 +33,7 @@ class CompileOptions:
 
     models: tuple[str, ...] = ()  # --models FILE.xml: files of <TreeNodesModel>
     main_tree: Optional[str] = None  # --main-tree ID
+    trees: tuple[str, ...] = ()  # --trees FILE|DIR: BehaviorTrees the mission's SubTrees may use
     enum_decls: tuple[str, ...] = ()  # --enum Type=A,B=3
     enum_files: tuple[str, ...] = ()  # --enums FILE
     types: tuple[str, ...] = ()  # --type NAME=CPP_TYPE@HEADER
@@ -89,6 +90,14 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         "--main-tree",
         metavar="ID",
         help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
+    )
+    g.add_argument(
+        "--trees",
+        action="append",
+        default=[],
+        metavar="FILE|DIR",
+        help="a file of BehaviorTrees, or a folder of such files (*.xml), whose trees the mission's "
+        "SubTrees may use, as registerBehaviorTreeFromFile registers them (repeatable)",
     )
     g.add_argument(
         "--enum",
@@ -149,6 +158,7 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
     return CompileOptions(
         models=tuple(get("models", ())),
         main_tree=get("main_tree"),
+        trees=tuple(get("trees", ())),
         enum_decls=tuple(get("enum", ())),
         enum_files=tuple(get("enums", ())),
         types=tuple(get("type", ())),
@@ -163,7 +173,7 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    mission = load_mission(path, opts.models, opts.main_tree)
+    mission = load_mission(path, opts.models, opts.main_tree, opts.trees)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, usertypes.load(opts.types))
     return mission
