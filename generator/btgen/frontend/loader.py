@@ -18,6 +18,7 @@ from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from btgen.frontend.xmlsource import Source, read_source
+from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
@@ -58,14 +59,17 @@ _MODEL_PORT_TAGS = {
 
 
 def is_remap(value: str) -> bool:
-    """`{key}` (or `{=}`): the port is connected to a blackboard entry."""
-    return len(value) >= 2 and value.startswith("{") and value.endswith("}")
+    """`{key}` (or `{=}`): the port is connected to a blackboard entry. As 4.6.2's
+    isBlackboardPointer: spaces around the braces are stripped, and at least 3 characters
+    from `{` to `}` (`{}` is a literal; edges table B1)."""
+    return bbmod.is_blackboard_pointer(value)
 
 
 def remap_key(value: str, port_name: str) -> str:
     """The entry a `{key}`/`{=}` value names."""
-    inner = value[1:-1]
-    return port_name if inner == "=" else inner
+    key = bbmod.remapped_key(port_name, value)
+    assert key is not None
+    return key
 
 
 class _Loader:
@@ -398,7 +402,7 @@ class _Loader:
         default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default, strict=True)
+                values.convert_from_string(type_name, default)
             except values.ConversionError as e:
                 # A model in XML documents a node registered in C++ (4.6.2 reads the default
                 # of providedPorts(), never this text): keep it, and report it only where a
@@ -409,6 +413,10 @@ class _Loader:
                     f"default of port `{name}` of `{mid}`: {e}; btgen keeps it as documentation "
                     f"and gives a node that leaves the port unset no default (its code finds the "
                     f"port unset; BehaviorTree.CPP uses the default of the C++ providedPorts())",
+                )
+            else:  # read as 4.6.2 reads it (a number's prefix), with a warning where lenient
+                self._check_literal(
+                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default
                 )
         return PortSpec(
             name,
@@ -642,11 +650,11 @@ class _Loader:
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
-            # 4.6.2 remaps it all the same (the model only adds defaults and mandatory ports).
+            # 4.6.2 remaps every attribute of a SubTree element, declared or not (edges M1)
             self.sink.warning(
                 attr.loc,
-                f"SubTree `{tree_id}` declares no port `{attr.name}` in TreeNodesModel; it is "
-                f"passed to the tree all the same{suggestion(attr.name, model.port_names)}",
+                f"SubTree `{tree_id}` declares no port `{attr.name}`{suggestion(attr.name, model.port_names)}; "
+                f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
             self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
@@ -663,14 +671,20 @@ class _Loader:
             return None
         value = attr.value
         what = f"port `{attr.name}` of `{spec.id}`"
+        typed = port.type not in ("string", "any") and not values.is_opaque_type(port.type)
         if is_remap(value):
+            if typed and value != value.strip(" "):
+                # 4.6.2's load-time check sees braces only at both ends of the unstripped text
+                # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
+                self._check_literal(attr.value_loc, what, port.type, value)
+                return attr
             self._check_key(attr, remap_key(value, attr.name), what)
             return attr
-        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
-            # Not `{key}` for 4.6.2 either (`${arg2}`, `{a`): the text is the port's literal value.
+        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
             self.sink.warning(
                 attr.value_loc,
-                f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`): it is the literal text",
+                f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`); "
+                f"BehaviorTree.CPP 4.6.2 reads it as this literal text",
             )
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
@@ -686,11 +700,24 @@ class _Loader:
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
             return attr
-        try:
-            values.convert_from_string(port.type, value, strict=True)
-        except values.ConversionError as e:
-            self.sink.error(attr.value_loc, f"{what}: {e}")
+        self._check_literal(attr.value_loc, what, port.type, value)
         return attr
+
+    def _check_literal(self, loc: Loc, what: str, type_name: str, value: str) -> None:
+        """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
+        are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
+        convert at all is an error."""
+        try:
+            values.convert_from_string(type_name, value)
+        except values.ConversionError as e:
+            self.sink.error(loc, f"{what}: {e}")
+            return
+        try:
+            values.convert_from_string(type_name, value, strict=True)
+        except values.ConversionError as e:
+            read = values.convert_from_string(type_name, value)
+            shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}

@@ -14,14 +14,13 @@ i-th start tag's positions.
 
 from __future__ import annotations
 
-import os
 import re
 from dataclasses import dataclass
 from typing import Optional
 
 from lxml import etree
 
-from btgen.diagnostics import Loc, UserError
+from btgen.diagnostics import Loc, UserError, read_bounded
 
 MAX_FILE_BYTES = 16 * 1024 * 1024  # a 10,000-node mission is about 1 MB
 MAX_DEPTH = 256  # BehaviorTree.CPP refuses deeper trees too
@@ -281,18 +280,7 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
 def read_source(path: str, display_path: Optional[str] = None) -> Source:
     """Read, decode and securely parse an XML file; UserError on any problem."""
     shown = display_path or path
-    try:
-        size = os.stat(path).st_size
-        if size > MAX_FILE_BYTES:
-            raise UserError.at(
-                Loc(shown, 1, 1), f"file is {size} bytes; missions are limited to {MAX_FILE_BYTES} bytes"
-            )
-        with open(path, "rb") as f:
-            data = f.read(MAX_FILE_BYTES + 1)
-    except IsADirectoryError:
-        raise UserError.at(Loc(shown, 1, 1), "is a directory, not a mission file") from None
-    except OSError as e:
-        raise UserError.at(Loc(shown, 1, 1), f"cannot read file: {e.strerror or e}") from None
+    data = read_bounded(path, MAX_FILE_BYTES, "mission", "missions", shown)
     return parse_bytes(data, shown)
 
 

@@ -120,9 +120,17 @@ _PRELUDE = """  <xs:simpleType name="bt_ref">
   <xs:simpleType name="bt_key">
     <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
   </xs:simpleType>
-  <xs:simpleType name="bt_int"><xs:union memberTypes="xs:int bt_ref"/></xs:simpleType>
-  <xs:simpleType name="bt_unsigned"><xs:union memberTypes="xs:unsignedInt bt_ref"/></xs:simpleType>
-  <xs:simpleType name="bt_double"><xs:union memberTypes="xs:double bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_int_prefix">
+    <xs:restriction base="xs:string"><xs:pattern value="-?[0-9]+[\\s\\S]*"/></xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_double_prefix">
+    <xs:restriction base="xs:string">
+      <xs:pattern value="\\s*[+\\-]?([0-9]|\\.[0-9]|[iI][nN][fF]|[nN][aA][nN])[\\s\\S]*"/>
+    </xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_int"><xs:union memberTypes="xs:int bt_int_prefix bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_unsigned"><xs:union memberTypes="xs:unsignedInt bt_int_prefix bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_double"><xs:union memberTypes="xs:double bt_double_prefix bt_ref"/></xs:simpleType>
   <xs:simpleType name="bt_bool_literal">
     <xs:restriction base="xs:string">
       <xs:enumeration value="true"/><xs:enumeration value="false"/><xs:enumeration value="True"/>

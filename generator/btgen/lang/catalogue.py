@@ -115,7 +115,9 @@ def _condition(id_: str, ports: tuple[PortSpec, ...] = (), d: str = "") -> NodeS
 
 def _switch(n: int) -> NodeSpec:
     ports = (_in("variable", "string", required=True, description="value matched against the cases"),) + tuple(
-        _in(f"case_{i}", "string", required=True) for i in range(1, n + 1)
+        # 4.6.2 loads a Switch with a case_N missing; that case never matches (edges table, S1).
+        _in(f"case_{i}", "string")
+        for i in range(1, n + 1)
     )
     return NodeSpec(
         f"Switch{n}",
