@@ -137,11 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
     )
     a.add_argument("missions", nargs="+", metavar="MISSION.xml")
-    _mission_options(a)
-    a.add_argument("--string-capacity", type=_capacity, default=None, metavar="N", help=argparse.SUPPRESS)
-    a.add_argument("--queue-capacity", type=_capacity, default=None, metavar="N", help=argparse.SUPPRESS)
-    _enum_options(a)
-    _type_options(a)
+    add_mission_options(a)
     a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
     a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
     a.add_argument(

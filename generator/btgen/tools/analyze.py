@@ -738,19 +738,17 @@ def _fmt(v: int) -> str:
 
 
 def analyze_command(args) -> int:
-    from btgen.compiler import data_options
-    from btgen.frontend import enums, usertypes
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.ir.lower import lower
 
+    opts = pipeline.options_from_args(args)
     status = 0
     reports = []
     for path in args.missions:
         try:
-            mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
-            mission = usertypes.apply(mission, usertypes.from_args(args))
+            mission = pipeline.load(path, opts)
             print_diagnostics(mission.warnings)
-            options = data_options(args)
+            options = opts.data
             program = lower(mission, options)
         except UserError as e:
             print_diagnostics(e.diagnostics)
