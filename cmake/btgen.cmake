@@ -5,6 +5,8 @@
 #                     [MAIN_TREE <id>]            # the tree to run (btgen compile --main-tree)
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
 #                     [TREES <file.xml|dir>...]   # BehaviorTrees the mission's SubTrees may use (btgen compile --trees)
+#                     [ENTRIES <[TREE:]NAME=TYPE>...]  # entries the application sets before the first tick
+#                                                 # (btgen compile --entry; the mission gets provide_<entry>())
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
 #                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
@@ -134,7 +136,7 @@ endfunction()
 # (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
 # a function called from another directory once the include guard skips this file).
 set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
-set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENUMS;ENUM_FILES;TYPES")
+set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
 
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
 # read: --models, --main-tree), `write_options` (the rest: --namespace, capacities, enums,
@@ -164,6 +166,9 @@ function(_btgen_collect_options caller)
   if(DEFINED ARG_MAIN_TREE)
     list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
   endif()
+  foreach(entry IN LISTS ARG_ENTRIES)
+    list(APPEND read_options --entry "${entry}")
+  endforeach()
   set(ns_option "")
   if(DEFINED ARG_NAMESPACE)
     set(ns_option --namespace "${ARG_NAMESPACE}")
