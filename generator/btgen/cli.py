@@ -125,6 +125,12 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     return graph_command(args)
 
 
+def _cmd_models(args: argparse.Namespace) -> int:
+    from btgen.tools.models import models_command
+
+    return models_command(args)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -254,6 +260,15 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--config", metavar="FILE.ini")
     k.add_argument("--mission", metavar="MISSION.xml")
     k.set_defaults(func=_cmd_lint_kb)
+
+    mo = sub.add_parser(
+        "models",
+        help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
+    )
+    mo.add_argument("mission", metavar="MISSION.xml")
+    mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
+    add_mission_options(mo)
+    mo.set_defaults(func=_cmd_models)
 
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")
