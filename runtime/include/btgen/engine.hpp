@@ -992,6 +992,20 @@ class Engine {
     return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE;
   }
 
+  // `else` / `if_empty` = IDLE: the node would set its own status to IDLE,
+  // which makes BehaviorTree.CPP 4.6.2 throw (edges table, L1 and L2): a
+  // run-time error, and the node fails.
+  Status not_idle(const NodeInfo& n, Status s) noexcept {
+    if (s != Status::IDLE) return s;
+    sink().fail(n, n.source,
+                n.kind == NodeKind::Precondition
+                    ? std::string_view("the condition is false and `else` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)")
+                    : std::string_view("the queue is empty and `if_empty` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)"));
+    return Status::FAILURE;
+  }
+
   static constexpr bool is_sequence(NodeKind k) noexcept {
     return k == NodeKind::Sequence || k == NodeKind::AsyncSequence || k == NodeKind::SequenceWithMemory ||
            k == NodeKind::ReactiveSequence;
@@ -1051,9 +1065,14 @@ class Engine {
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful:
         f.decorator = 1;
+        // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
+        // only from IDLE: a count of 0 or below -1 never ticks the child, so
+        // the node answers SKIPPED and stays RUNNING (edges table, R1).
+        if (status_[f.node] == Status::IDLE) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
+        if (counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -1119,7 +1138,7 @@ class Engine {
         const int r = run_script(n, ScriptSlot::kCode);
         if (r < 0) return done(Status::FAILURE);
         if (r == 1) return descend(child(n, 0));
-        return done(param::otherwise(n));
+        return done(not_idle(n, param::otherwise(n)));
       }
 
       case NodeKind::Loop: {
@@ -1134,7 +1153,7 @@ class Engine {
           const ErrorSink es = sink();
           const int r = Spec::loop_pop(bb_, n, es, idle);
           if (r < 0) return done(Status::FAILURE);
-          if (r == 0) return done(param::otherwise(n));
+          if (r == 0) return done(not_idle(n, param::otherwise(n)));
         }
         if (idle) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
@@ -1410,6 +1429,7 @@ class Engine {
       case NodeKind::RetryUntilSuccessful: {
         const bool repeat = kind == NodeKind::Repeat;
         std::int32_t& count = counter(n, 0);
+        if (cs != Status::SKIPPED) counter(n, 1) = 1;
         if (cs == Status::RUNNING) return done(Status::RUNNING);
         if (cs == Status::SKIPPED) {
           halt_child(n, 0);
