@@ -55,6 +55,7 @@ from btgen.interp.controls import (
     SequenceNode,
     SequenceWithMemoryNode,
     SwitchNode,
+    TryCatchNode,
     WhileDoElseNode,
 )
 from btgen.interp.decorators import (
@@ -77,7 +78,6 @@ from btgen.interp.scenario import Scenario
 from btgen.interp.tree import _BY_VALUE, FAILURE, RUNNING, SKIPPED, SUCCESS, Runtime, TreeNode, _Port, _run_error
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 from btgen.lang.status import NodeStatus
@@ -124,6 +124,7 @@ _BUILTIN_FACTORIES = {
     "UnsetBlackboard": UnsetBlackboardNode,
     "Sleep": SleepNode,
     "WasEntryUpdated": WasEntryUpdatedNode,
+    "TryCatch": TryCatchNode,  # 4.9.0; only in the catalogue of versions that have it
 }
 
 
@@ -178,7 +179,7 @@ class _Builder:
             return subtree
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
-        if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
+        if model.id in _BUILTIN_FACTORIES and model.id in self.mission.builtins:
             factory = _BUILTIN_FACTORIES[model.id]
             node = factory(rt, model, bb, model.id, ports)
         elif is_scripted_leaf(self.mission, model):
@@ -224,7 +225,12 @@ class _Builder:
                         )
                     remap.append((ps.name, ps.default, None))
         try:
-            return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            return bbmod.Blackboard.for_subtree(
+                parent_bb,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.rt.sem.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             raise _run_error(model.loc, f"SubTree `{model.target}`: {e}") from None
 
