@@ -13,53 +13,10 @@ from collections.abc import Sequence
 from typing import Callable, NoReturn
 
 from btgen.diagnostics import InternalError, UserError, print_diagnostics
+from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-def _capacity(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
-    if not 1 <= value <= 1 << 20:
-        raise argparse.ArgumentTypeError(f"{value} is out of range (1 to {1 << 20})")
-    return value
-
-
-def _namespace(text: str) -> str:
-    from btgen.backend_cpp.naming import namespace_problem
-
-    problem = namespace_problem(text)
-    if problem:
-        raise argparse.ArgumentTypeError(problem)
-    return text
-
-
-def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> None:
-    """--models and --main-tree (and --namespace for commands that write C++)."""
-    p.add_argument(
-        "--models",
-        action="append",
-        default=[],
-        metavar="FILE.xml",
-        help="a file whose <root> holds only <TreeNodesModel>: its node models count as declared in "
-        "the mission (repeatable; identical repeated declarations are accepted)",
-    )
-    p.add_argument(
-        "--main-tree",
-        metavar="ID",
-        help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
-    )
-    if namespace:
-        p.add_argument(
-            "--namespace",
-            type=_namespace,
-            metavar="NS",
-            help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
-            "from the file name; `main.xml` gives `main_`)",
-        )
 
 
 class _Parser(argparse.ArgumentParser):
@@ -80,20 +37,18 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from btgen.compiler import data_options
-    from btgen.frontend import enums, usertypes
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.ir.lower import lower
 
+    opts = pipeline.options_from_args(args)
     status = EXIT_OK
     for path in args.missions:
         try:
-            mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
-            mission = usertypes.apply(mission, usertypes.from_args(args))
+            mission = pipeline.load(path, opts)
             print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
-            lower(mission, data_options(args))
+            lower(mission, opts.data)
             if not args.quiet:
                 print(f"{path}: ok ({len(mission.trees)} trees, main `{mission.main_tree}`)")
         except UserError as e:
@@ -103,10 +58,10 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_xsd(args: argparse.Namespace) -> int:
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.frontend.xsd import mission_xsd
 
-    mission = load_mission(args.mission, tuple(args.models), args.main_tree)
+    mission = pipeline.load(args.mission, pipeline.options_from_args(args))
     sys.stdout.write(mission_xsd(mission))
     return EXIT_OK
 
@@ -153,36 +108,6 @@ def _count(text: str) -> int:
     return value
 
 
-def _enum_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--enum",
-        action="append",
-        default=[],
-        metavar="Type=NAME,NAME=VALUE,...",
-        help="register scripting enum values, as BehaviorTree.CPP's registerScriptingEnum: "
-        "Color=RED,GREEN,BLUE gives 0, 1, 2; NAME=VALUE sets a value (the next one counts on)",
-    )
-    p.add_argument(
-        "--enums",
-        action="append",
-        default=[],
-        metavar="FILE",
-        help="a file of such declarations, one per line (# comments)",
-    )
-
-
-def _type_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--type",
-        action="append",
-        default=[],
-        metavar="NAME=CPP_TYPE@HEADER",
-        help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
-        '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
-        "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
-    )
-
-
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -198,36 +123,19 @@ def build_parser() -> argparse.ArgumentParser:
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
-    _mission_options(v)
-    v.add_argument(
-        "--string-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="check as `btgen compile --string-capacity N` would (default 128)",
-    )
-    v.add_argument(
-        "--queue-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="check as `btgen compile --queue-capacity N` would (default 16)",
-    )
-    _enum_options(v)
-    _type_options(v)
+    add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
-    _mission_options(x)
+    add_mission_options(x)
     x.set_defaults(func=_cmd_xsd)
 
     r = sub.add_parser("run", help="run a mission with scripted leaves and print its status trace")
     r.add_argument("mission", metavar="MISSION.xml")
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
-    _mission_options(r)
-    _enum_options(r)
+    add_mission_options(r)
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
@@ -239,26 +147,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="DIR",
         help="directory the banner's input path is relative to (default: the current one)",
     )
-    c.add_argument(
-        "--string-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most bytes of a blackboard string (default 128): strings written by robot code or "
-        "growing without bound get N, literals at most N, computed strings the longest value "
-        "they can take; "
-        "a longer value fails the node that writes it",
-    )
-    c.add_argument(
-        "--queue-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most elements of a blackboard queue written by robot code (default 16)",
-    )
-    _mission_options(c, namespace=True)
-    _enum_options(c)
-    _type_options(c)
+    add_mission_options(c)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")
@@ -270,7 +159,7 @@ def build_parser() -> argparse.ArgumentParser:
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")
     b.add_argument("--ticks", type=int, default=100000)
-    _mission_options(b)
+    add_mission_options(b)
     b.set_defaults(func=_cmd_bench)
 
     i = sub.add_parser(
@@ -291,6 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)"
     )
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
+    add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
     return p
 

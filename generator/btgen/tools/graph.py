@@ -274,7 +274,8 @@ def dot_text(
 
 
 def graph_command(args) -> int:
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
+    from btgen.pipeline import options_from_args
 
     output: str = args.output
     ext = os.path.splitext(output)[1].lower()
@@ -290,7 +291,7 @@ def graph_command(args) -> int:
     if args.record is not None and args.btlog is None:
         print("btgen: error: --record needs --btlog", file=sys.stderr)
         return 2
-    mission = load_mission(args.mission)
+    mission = pipeline.load(args.mission, options_from_args(args))
     nodes, clusters = walk(mission)
     status = None
     caption = f"{mission.path} (main tree {mission.main_tree})"

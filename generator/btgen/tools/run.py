@@ -13,8 +13,9 @@ import contextlib
 import os
 import sys
 
+from btgen import pipeline
 from btgen.diagnostics import print_diagnostics
-from btgen.frontend import enums
+from btgen.pipeline import options_from_args
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
 
@@ -25,27 +26,19 @@ def run_command(args) -> int:
     if engine == "cpp":
         from btgen.tools.cppengine import run_cpp
 
-        return run_cpp(
-            args.mission,
-            args.scenario,
-            tuple(getattr(args, "models", None) or ()),
-            getattr(args, "main_tree", None),
-            enums.from_args(args),
-        )
+        return run_cpp(args.mission, args.scenario, options_from_args(args))
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
 
-    from btgen.frontend.loader import load_mission
     from btgen.interp.engine import run_trace
     from btgen.interp.scenario import load_scenario
 
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
-    mission = enums.apply(
-        load_mission(args.mission, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)),
-        enums.from_args(args),
-    )
+    # The front end only: the interpreter runs what BehaviorTree.CPP would load, including
+    # what the C++ back end refuses at compile time (README: deliberate differences).
+    mission = pipeline.load(args.mission, options_from_args(args))
     print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
     print_diagnostics(warnings)
