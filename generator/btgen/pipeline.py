@@ -23,6 +23,8 @@ if TYPE_CHECKING:  # the stages are imported when used: `btgen --help` stays qui
     from btgen.ir.lower import Program
     from btgen.lang.model import Mission
 
+from btgen.lang.versions import SUPPORTED_VERSIONS
+
 CAPACITY_MAX = 1 << 20
 
 
@@ -39,6 +41,7 @@ class CompileOptions:
     namespace: Optional[str] = None  # --namespace a::b (C++ outputs only)
     string_capacity: Optional[int] = None  # --string-capacity N (None: the IR's default)
     queue_capacity: Optional[int] = None  # --queue-capacity N
+    btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
 
     @property
     def data(self) -> DataOptions:
@@ -122,6 +125,15 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         "from the file name; `main.xml` gives `main_`)",
     )
     g.add_argument(
+        "--btcpp",
+        choices=SUPPORTED_VERSIONS,
+        default=None,
+        metavar="VERSION",
+        help="the BehaviorTree.CPP release whose semantics to follow: "
+        + " or ".join(SUPPORTED_VERSIONS)
+        + " (default 4.6.2); it decides loading, the script grammar, both engines and the generated C++",
+    )
+    g.add_argument(
         "--string-capacity",
         type=_capacity,
         default=None,
@@ -155,6 +167,7 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
         namespace=get("namespace"),
         string_capacity=get("string_capacity"),
         queue_capacity=get("queue_capacity"),
+        btcpp=get("btcpp", "4.6.2"),
     )
 
 
@@ -163,7 +176,7 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     from btgen.frontend import enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    mission = load_mission(path, opts.models, opts.main_tree)
+    mission = load_mission(path, opts.models, opts.main_tree, btcpp=opts.btcpp)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, usertypes.load(opts.types))
     return mission
