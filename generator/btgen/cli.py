@@ -57,6 +57,12 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     return status
 
 
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import analyze_command
+
+    return analyze_command(args)
+
+
 def _cmd_xsd(args: argparse.Namespace) -> int:
     from btgen import pipeline
     from btgen.frontend.xsd import mission_xsd
@@ -131,6 +137,19 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
     add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
+
+    a = sub.add_parser(
+        "analyze",
+        help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
+    )
+    a.add_argument("missions", nargs="+", metavar="MISSION.xml")
+    add_mission_options(a)
+    a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
+    a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
+    a.add_argument(
+        "--tick-budget", type=_count, metavar="N", help="warn when a bound of a tick (nodes, hooks, scripts) exceeds N"
+    )
+    a.set_defaults(func=_cmd_analyze)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")

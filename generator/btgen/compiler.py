@@ -118,7 +118,10 @@ def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
             if path.is_dir():
                 raise IsADirectoryError(21, "a directory is in the way", str(path))
             try:
-                old: Optional[bytes] = path.read_bytes()
+                # (only enough of the old file to tell whether it differs: an output path
+                # may name anything, /dev/zero included)
+                with open(path, "rb") as f:
+                    old: Optional[bytes] = f.read(len(data) + 1)
                 old_stat[path] = path.stat()
             except FileNotFoundError:
                 old = None

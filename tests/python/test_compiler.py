@@ -16,7 +16,7 @@ from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
-from conftest import CASES, ROOT, conformance_stems
+from conftest import CASES, ROOT, case_file, conformance_stems
 
 
 def _write(tmp_path, name, text):
@@ -110,7 +110,7 @@ def _trace_nodes(stem):
     """(uid, ID, name) of every node the recorded trace of a case mentions."""
     seen = {}
     line_re = re.compile(r'^(\d+) (\S+) "((?:[^"\\]|\\.)*)" [A-Z]+ -> [A-Z]+$')
-    with open(os.path.join(CASES, stem + ".trace"), encoding="utf-8") as f:
+    with open(case_file(stem, ".trace"), encoding="utf-8") as f:
         for line in f:
             m = line_re.match(line.rstrip("\n"))
             if m:
@@ -119,17 +119,15 @@ def _trace_nodes(stem):
     return seen
 
 
-@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
-@pytest.mark.parametrize("stem", conformance_stems() or ["(none)"])
+@pytest.mark.parametrize("stem", conformance_stems())
 def test_uids_are_behaviortree_cpp_creation_order(stem):
-    order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(os.path.join(CASES, stem + ".xml")))}
+    order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(case_file(stem, ".xml")))}
     recorded = _trace_nodes(stem)
     assert recorded, "the trace names no node"
     for uid, (rid, name) in recorded.items():
         assert order.get(uid) == (rid, name), f"UID {uid}"
 
 
-@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
 def test_lowered_table_of_nested_subtrees_matches_the_trace():
     program = lower(load_mission(os.path.join(CASES, "decorators_halted.xml")))
     for uid, (rid, name) in _trace_nodes("decorators_halted").items():

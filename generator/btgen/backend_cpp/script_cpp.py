@@ -109,15 +109,20 @@ def to_ref(v: Val) -> str:
 
 
 def cpp_double(value: float) -> str:
-    """A C++ literal of exactly this double."""
-    if math.isinf(value):
-        return ("-" if value < 0 else "") + "std::numeric_limits<double>::infinity()"
+    """A C++ primary expression of exactly this double.
+
+    A negative value is parenthesized: C++ has no negative literals, so `-1.0` is a unary
+    minus, and glued after another `-` (a negated enumerator, `x - NEG`) it would read `--`.
+    """
     if math.isnan(value):
         return "std::numeric_limits<double>::quiet_NaN()"
-    text = repr(value)
-    if "e" not in text and "." not in text:
-        text += ".0"
-    return text
+    if math.isinf(value):
+        text = "std::numeric_limits<double>::infinity()"
+    else:
+        text = repr(abs(value))
+        if "e" not in text and "." not in text:
+            text += ".0"
+    return f"(-{text})" if math.copysign(1.0, value) < 0 else text
 
 
 def cpp_int64(value: int) -> str:
@@ -435,7 +440,7 @@ class ScriptCompiler(CodeWriter):
         d = self.as_double(v, node.offset, f"operand of `{node.op}`")
         t = self.temp()
         if node.op == "-":
-            self.emit(f"const double {t} = -{d};")
+            self.emit(f"const double {t} = -({d});" if d.startswith("-") else f"const double {t} = -{d};")
         elif node.op == "!":
             self.emit(f"const double {t} = btgen::script::logical_not({d});")
         else:

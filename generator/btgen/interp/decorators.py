@@ -158,8 +158,11 @@ class KeepRunningUntilFailureNode(DecoratorNode):
 
 class RepeatNode(DecoratorNode):
     """4.6.2 ``RepeatNode``: a child that succeeded from IDLE yields RUNNING before the next cycle.
-    A loop that ends without running a child returns SKIPPED in 4.6.2 (its sticky all-skipped
-    flag), SUCCESS from 4.7.0 (versions.py loop_end_never_skipped)."""
+
+    ``all_skipped`` is 4.6.2's flag: set when ticked from IDLE, cleared by any child result
+    but SKIPPED. A count of 0 or below -1 never starts the loop, so the flag is still set and
+    the node answers SKIPPED while staying RUNNING (docs/btcpp-4.6.2-edges.md, R1).
+    From 4.7.0 the loop never ends SKIPPED (versions.py loop_end_never_skipped)."""
 
     __slots__ = ("count", "all_skipped")
 

@@ -47,6 +47,7 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
+from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 DEFAULT_STRING_CAPACITY = 128
@@ -292,31 +293,8 @@ class _Slot:
 
 
 def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
-    """The interpreter's _Builder._ports_of: written ports, then defaults (createNodeFromXML)."""
-    try:
-        spec = mission.spec(model.id)
-    except KeyError:
-        spec = None
-    ports: dict[str, _Port] = {}
-    for a in model.ports:
-        ps = spec.port(a.name) if spec is not None else None
-        raw = a.value
-        if (
-            raw == ""
-            and ps is not None
-            and ps.default is not None
-            and ps.type not in ("string", "any")
-            and not values.is_opaque_type(ps.type)
-        ):
-            raw = ps.default
-        ports[a.name] = _Port(a.name, raw, a, ps)
-    if spec is not None:
-        for ps in spec.ports:
-            if ps.name in ports or ps.default is None:
-                continue
-            if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
-                ports[ps.name] = _Port(ps.name, ps.default, None, ps)
-    return ports
+    """The ports of an instance as the interpreter builds them (lang/instance.py)."""
+    return {p.name: _Port(p.name, p.raw, p.attr, p.spec) for p in instance_ports(mission, model)}
 
 
 # ================================================================ the analysis
@@ -405,20 +383,14 @@ class _Analyzer:
         self.bb_labels[id(bb)] = label
 
     def _subtree_blackboard(self, model: SubTreeNode, parent: bbmod.Blackboard, path: str) -> bbmod.Blackboard:
-        model_spec = next((m for m in self.m.models if m.id == model.target and m.kind == "SubTree"), None)
-        remap: list[tuple[str, str, Loc]] = [(a.name, a.value, a.value_loc) for a in model.ports]
-        if model_spec is not None and not model.autoremap:
-            given = {a.name for a in model.ports}
-            for ps in model_spec.ports:
-                if ps.name not in given:
-                    if ps.default is None:
-                        self.error(
-                            model.loc,
-                            f"SubTree `{model.target}` declares port `{ps.name}` without a "
-                            f"default, and this instance does not remap it",
-                        )
-                        continue
-                    remap.append((ps.name, ps.default, model.loc))
+        remapping, missing = subtree_remapping(self.m, model)
+        for name in missing:
+            self.error(
+                model.loc,
+                f"SubTree `{model.target}` declares port `{name}` without a "
+                f"default, and this instance does not remap it",
+            )
+        remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
             bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
         except (values.ConversionError, bbmod.BlackboardError) as e:
@@ -1321,7 +1293,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail),
+            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1344,7 +1316,14 @@ class _Compiler:
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
             ops.SetCopyDyn(
-                op["dst"], op["src"], src_decl == values.STRING, op["key"], what + ": ", missing, self.where(loc)
+                op["dst"],
+                op["src"],
+                src_decl == values.STRING,
+                op["key"],
+                what + ": ",
+                missing,
+                self.where(loc),
+                bbmod.EMPTY_COPY_SUCCEEDS,
             ),
         )
 

@@ -1,6 +1,6 @@
 """`btgen run`: run a mission with scripted leaves and print its status trace.
 
-The trace format and the run loop are those of ``shared/conformance/FORMAT.md``.
+The trace format and the run loop are those of ``tests/conformance/FORMAT.md``.
 Mission and scenario problems are reported before any trace line; a problem
 found while running (a script error, a value a port cannot take) is reported
 after the lines already printed, as ``path:line:col: error: ...``, with exit

@@ -955,9 +955,14 @@ class Engine {
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful:
         f.decorator = 1;
+        // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
+        // only from IDLE: a count of 0 or below -1 never ticks the child, so
+        // the node answers SKIPPED and stays RUNNING (edges table, R1).
+        if (status_[f.node] == Status::IDLE) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
+        if (counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -1343,6 +1348,7 @@ class Engine {
       case NodeKind::RetryUntilSuccessful: {
         const bool repeat = kind == NodeKind::Repeat;
         std::int32_t& count = counter(n, 0);
+        if (cs != Status::SKIPPED) counter(n, 1) = 1;
         if (cs == Status::RUNNING) return done(Status::RUNNING);
         if (cs == Status::SKIPPED) {
           halt_child(n, 0);
