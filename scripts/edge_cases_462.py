@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# ruff: noqa: E501  (mission texts: one line of XML per Python line reads best)
 """Write the edge missions of tests/conformance/edges-4.6.2/ (one or more per row of
 docs/btcpp-4.6.2-edges.md), with their scenarios and INDEX.md.
 
