@@ -274,12 +274,12 @@ class CodeWriter:
         self.emit(f"double {t} = 0.0;")
         if v.kind == "int":
             self.errc_check(
-                f"btgen::script::num({v.expr}, {t})",
+                f"btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t})",
                 offset,
                 f"{what}: cannot convert the integer to double: precision would be lost",
             )
         else:
-            self.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            self.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         return t
 
 
@@ -866,7 +866,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         c.emit(f"double {t} = 0.0;")
         if r == "int":
             # The conversion inline; the dynamic store only for its message when it fails.
-            c.emit(f"if (btgen::script::num({v.expr}, {t}) != btgen::Errc::kOk) {{")
+            c.emit(f"if (btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t}) != btgen::Errc::kOk) {{")
             c.indent += 1
             c.emit(f"btgen::dyn::Ref {t}r;")
             c.dyn_call(
@@ -878,7 +878,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
             c.indent -= 1
             c.emit("}")
         else:
-            c.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            c.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
         return
     n = c.temp()
