@@ -337,6 +337,33 @@ for stem, variable, what in (
         ),
     )
 
+# ---------------------------------------------------------------- N1: NaN as text
+for stem, code, what in (
+    ("n1_nan_0_0_double", "a := 0.0 / 0.0", "0.0 / 0.0 is x86-64's default NaN: `-nan` as text"),
+    ("n1_nan_0_0_int", "a := 0 / 0", "0 / 0 (script numbers are doubles): `-nan` as text"),
+    ("n1_nan_inf_minus_inf", "b := 1e308 * 10.0; a := b - b", "inf - inf: `-nan` as text"),
+):
+    case(
+        stem,
+        "N1",
+        what,
+        mission(
+            f'<Sequence>\n      <Script code="{code}"/>\n'
+            '      <Switch2 variable="{a}" case_1="-nan" case_2="nan">\n'
+            "        <A/>\n        <B/>\n        <C/>\n      </Switch2>\n    </Sequence>"
+        ),
+    )
+case(
+    "n1_nan_loopdouble_item",
+    "N1",
+    'LoopDouble item "nan" is std::stod\'s positive NaN: `nan` as text',
+    mission(
+        '<LoopDouble queue="nan" value="{a}">\n      <Sequence>\n        <Script code="t := a .. \'\'"/>\n'
+        '        <Switch2 variable="{t}" case_1="-nan" case_2="nan">\n'
+        "          <A/>\n          <B/>\n          <C/>\n        </Switch2>\n      </Sequence>\n    </LoopDouble>"
+    ),
+)
+
 
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)
