@@ -114,8 +114,9 @@ def cpp_double(value: float) -> str:
     A negative value is parenthesized: C++ has no negative literals, so `-1.0` is a unary
     minus, and glued after another `-` (a negated enumerator, `x - NEG`) it would read `--`.
     """
-    if math.isnan(value):
-        return "std::numeric_limits<double>::quiet_NaN()"
+    if math.isnan(value):  # with its sign: `-nan` and `nan` are different texts
+        nan = "std::numeric_limits<double>::quiet_NaN()"
+        return f"(-{nan})" if math.copysign(1.0, value) < 0 else nan
     if math.isinf(value):
         text = "std::numeric_limits<double>::infinity()"
     else:
