@@ -42,7 +42,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import SlotType, check_script
+from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -150,6 +150,7 @@ class ScriptIR:
     names: tuple[tuple[str, int], ...]  # name -> slot index
     condition: bool  # its last value is a condition's result
     prefix: str  # the prefix of its run-time error messages
+    typed: TypedScript  # every expression's kind and how it is computed (script_types.py)
 
 
 @dataclass(frozen=True)
@@ -1156,7 +1157,7 @@ class _Compiler:
             if not self.check_user_free(inst, attr, script, names):
                 continue
             try:
-                check_script(script, self.types, names, condition)
+                typed = type_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
@@ -1171,6 +1172,7 @@ class _Compiler:
                     tuple(sorted(names.items())),
                     condition,
                     f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
                 )
             )
             if enum != "kCode":
