@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# ruff: noqa: E501  (mission texts: one line of XML per Python line reads best)
 """Write the edge missions of tests/conformance/edges-4.6.2/ (one or more per row of
 docs/btcpp-4.6.2-edges.md), with their scenarios and INDEX.md.
 
@@ -176,11 +177,36 @@ case(
 
 # ---------------------------------------------------------------- P1-P3: Parallel thresholds
 for stem, attrs, scen, what in (
-    ("p1_parallel_success_minus2", 'success_count="-2"', "leaf A RUNNING SUCCESS\nleaf B SUCCESS\nleaf C RUNNING", "-2 of 3: 2 needed"),
-    ("p1_parallel_success_int_min", 'success_count="-2147483648"', "leaf A RUNNING\nleaf B RUNNING", "INT_MIN: 0 needed"),
-    ("p1_parallel_failure_minus9", 'failure_count="-9" success_count="3"', "leaf A FAILURE\nleaf B RUNNING", "failure -9 of 3: 0"),
-    ("p1_parallel_success_0", 'success_count="0"', "leaf A FAILURE\nleaf B RUNNING", "0 needed: SUCCESS after the first child"),
-    ("p1_parallel_failure_0", 'failure_count="0" success_count="3"', "leaf A RUNNING SUCCESS\nleaf B SUCCESS", "failure 0"),
+    (
+        "p1_parallel_success_minus2",
+        'success_count="-2"',
+        "leaf A RUNNING SUCCESS\nleaf B SUCCESS\nleaf C RUNNING",
+        "-2 of 3: 2 needed",
+    ),
+    (
+        "p1_parallel_success_int_min",
+        'success_count="-2147483648"',
+        "leaf A RUNNING\nleaf B RUNNING",
+        "INT_MIN: 0 needed",
+    ),
+    (
+        "p1_parallel_failure_minus9",
+        'failure_count="-9" success_count="3"',
+        "leaf A FAILURE\nleaf B RUNNING",
+        "failure -9 of 3: 0",
+    ),
+    (
+        "p1_parallel_success_0",
+        'success_count="0"',
+        "leaf A FAILURE\nleaf B RUNNING",
+        "0 needed: SUCCESS after the first child",
+    ),
+    (
+        "p1_parallel_failure_0",
+        'failure_count="0" success_count="3"',
+        "leaf A RUNNING SUCCESS\nleaf B SUCCESS",
+        "failure 0",
+    ),
 ):
     case(
         stem,
@@ -197,8 +223,18 @@ case(
 )
 
 # ---------------------------------------------------------------- T1: durations of 0
-case("t1_sleep_0", "T1", 'Sleep msec="0": SUCCESS at once', mission('<Sequence>\n      <Sleep msec="0"/>\n      <Done/>\n    </Sequence>'))
-case("t1_sleep_minus0", "T1", 'Sleep msec="-0": 0', mission('<Sequence>\n      <Sleep msec="-0"/>\n      <Done/>\n    </Sequence>'))
+case(
+    "t1_sleep_0",
+    "T1",
+    'Sleep msec="0": SUCCESS at once',
+    mission('<Sequence>\n      <Sleep msec="0"/>\n      <Done/>\n    </Sequence>'),
+)
+case(
+    "t1_sleep_minus0",
+    "T1",
+    'Sleep msec="-0": 0',
+    mission('<Sequence>\n      <Sleep msec="-0"/>\n      <Done/>\n    </Sequence>'),
+)
 
 # ---------------------------------------------------------------- I2: doubles
 case(
@@ -232,13 +268,17 @@ case(
     "l2_precondition_else_idle",
     "L2",
     'Precondition else="IDLE" with a false condition: 4.6.2 throws',
-    mission('<Sequence>\n      <Precondition if="false" else="IDLE">\n        <Step/>\n      </Precondition>\n    </Sequence>'),
+    mission(
+        '<Sequence>\n      <Precondition if="false" else="IDLE">\n        <Step/>\n      </Precondition>\n    </Sequence>'
+    ),
 )
 case(
     "l2_precondition_else_idle_true",
     "L2",
     'Precondition else="IDLE" with a true condition: the child runs as usual',
-    mission('<Sequence>\n      <Precondition if="true" else="IDLE">\n        <Step/>\n      </Precondition>\n      <Done/>\n    </Sequence>'),
+    mission(
+        '<Sequence>\n      <Precondition if="true" else="IDLE">\n        <Step/>\n      </Precondition>\n      <Done/>\n    </Sequence>'
+    ),
 )
 
 # ---------------------------------------------------------------- L3: a queue written as text
@@ -249,9 +289,9 @@ case(
     mission(
         '<Sequence>\n      <SetBlackboard value="ab;cd;e" output_key="q"/>\n'
         '      <LoopString queue="{q}" value="{s}">\n        <Fallback>\n'
-        '          <Sequence>\n            <ScriptCondition code="s == \'ab\'"/>\n            <A/>\n          </Sequence>\n'
-        '          <Sequence>\n            <ScriptCondition code="s == \'cd\'"/>\n            <B/>\n          </Sequence>\n'
-        '          <Sequence>\n            <ScriptCondition code="s == \'e\'"/>\n            <C/>\n          </Sequence>\n'
+        "          <Sequence>\n            <ScriptCondition code=\"s == 'ab'\"/>\n            <A/>\n          </Sequence>\n"
+        "          <Sequence>\n            <ScriptCondition code=\"s == 'cd'\"/>\n            <B/>\n          </Sequence>\n"
+        "          <Sequence>\n            <ScriptCondition code=\"s == 'e'\"/>\n            <C/>\n          </Sequence>\n"
         "        </Fallback>\n      </LoopString>\n    </Sequence>"
     ),
     "ticks 6\n",
@@ -291,7 +331,7 @@ for stem, variable, what in (
         "B1",
         f"Switch2 variable: {what}",
         mission(
-            '<Sequence>\n      <Script code="v := \'on\'"/>\n'
+            "<Sequence>\n      <Script code=\"v := 'on'\"/>\n"
             f'      <Switch2 variable="{variable}" case_1="on" case_2="{variable.strip() if "v" not in variable else "x"}">\n'
             "        <A/>\n        <B/>\n        <C/>\n      </Switch2>\n    </Sequence>"
         ),

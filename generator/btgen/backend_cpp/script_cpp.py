@@ -865,6 +865,9 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         t = c.temp()
         c.emit(f"double {t} = 0.0;")
         if r == "int":
+            # The conversion inline; the dynamic store only for its message when it fails.
+            c.emit(f"if (btgen::script::num({v.expr}, {t}) != btgen::Errc::kOk) {{")
+            c.indent += 1
             c.emit(f"btgen::dyn::Ref {t}r;")
             c.dyn_call(
                 f"btgen::dyn::store_into(btgen::dyn::of_int({v.expr}), btgen::dyn::of_double(0.0), "
@@ -872,6 +875,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
                 off,
             )
             c.emit(f"{t} = {t}r.d;")
+            c.indent -= 1
+            c.emit("}")
         else:
             c.emit(f"(void)btgen::script::num({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
@@ -879,6 +884,10 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
     n = c.temp()
     c.emit(f"std::int64_t {n} = 0;")
     if r == "double":
+        # whole() accepts what copy_into does (a whole double in int64's range); the dynamic
+        # store runs only for its message when it fails.
+        c.emit(f"if (btgen::script::whole({v.expr}, {n}) != btgen::Errc::kOk) {{")
+        c.indent += 1
         c.emit(f"btgen::dyn::Ref {n}r;")
         c.dyn_call(
             f"btgen::dyn::store_into(btgen::dyn::of_double({v.expr}), btgen::dyn::of_int(0), "
@@ -886,6 +895,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
             off,
         )
         c.emit(f"{n} = {n}r.i;")
+        c.indent -= 1
+        c.emit("}")
     else:
         c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
     if k == "int":

@@ -73,9 +73,13 @@ def remap_key(value: str, port_name: str) -> str:
 
 
 class _Loader:
-    def __init__(self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> None:
+    def __init__(
+        self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+    ) -> None:
         self.path = path
         self.models_paths = tuple(models)
+        self.trees_paths = tuple(trees)
+        self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
         self.main_tree_override = main_tree
         self.sink = DiagnosticSink()
         self.sources: list[Source] = []
@@ -97,6 +101,9 @@ class _Loader:
 
     def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
+        self.mission_trees = len(self.tree_elems)
+        for trees_path in self.trees_paths:
+            self._load_tree_library(trees_path)
         for models_path in self.models_paths:
             self._load_models_file(models_path)
         self.sink.raise_if_errors()
@@ -164,6 +171,32 @@ class _Loader:
             elif child.tag == "include":
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
+
+    def _load_tree_library(self, path: str) -> None:
+        """`--trees FILE|DIR`: every <BehaviorTree> of the file (or of each `*.xml` of the
+        folder, in name order) becomes available to the mission's SubTrees, as
+        registerBehaviorTreeFromFile makes them; their includes and TreeNodesModel count too."""
+        if os.path.isdir(path):
+            files = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+            if not files:
+                self.sink.error(Loc(path, 1, 1), "--trees names a folder that holds no .xml file")
+                return
+        elif os.path.isfile(path):
+            files = [path]
+        else:
+            self.sink.error(Loc(path, 1, 1), "--trees: no such file or folder")
+            return
+        for f in files:
+            if os.path.realpath(f) in (os.path.realpath(g) for g in self.files):
+                continue  # the mission, one of its includes, or a file given twice
+            try:
+                self._load_file(f, f, ())
+            except UserError as e:
+                self.sink.items.extend(e.diagnostics)
 
     def _tree_id(self, elem: etree._Element, src: Source, siblings: int) -> str:
         """The ID of a <BehaviorTree>; warns about the attributes BehaviorTree.CPP ignores."""
@@ -417,12 +450,15 @@ class _Loader:
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
-        ids = [t for t, e, s in self.tree_elems]
+        every = [t for t, e, s in self.tree_elems]
+        # The tree to run is the mission's: a tree library (--trees) only lends SubTrees.
+        ids = every[: self.mission_trees]
         if self.main_tree_override is not None:
             main = self.main_tree_override
-            if main not in ids:
+            if main not in every:
                 self.sink.error(
-                    src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}"
+                    src.loc(root),
+                    f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
                 )
             return main
         main = root.get("main_tree_to_execute")
@@ -439,10 +475,10 @@ class _Loader:
                 f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})",
             )
             return ""
-        if main not in ids:
+        if main not in every:
             self.sink.error(
                 src.value_loc(root, "main_tree_to_execute"),
-                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}",
+                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
             )
         return main
 
@@ -813,10 +849,13 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     return ""
 
 
-def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
+def load_mission(
+    path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
-    (`--main-tree`), overriding main_tree_to_execute."""
-    return _Loader(path, models, main_tree).load()
+    (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
+    BehaviorTrees the mission's SubTrees may use (`--trees`)."""
+    return _Loader(path, models, main_tree, trees).load()

@@ -20,6 +20,9 @@ from btgen.interp.tree import (
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
 
+# The message of both engines (runtime/include/btgen/engine.hpp, Engine::not_idle).
+_IDLE_RESULT = "{} is IDLE: a node may not set its own status to IDLE (BehaviorTree.CPP throws)"
+
 
 class DecoratorNode(TreeNode):
     """4.6.2 ``DecoratorNode``: halt() resets the child (halting it when RUNNING), then itself;
@@ -48,10 +51,10 @@ class DecoratorNode(TreeNode):
         else:
             status = self.tick()
             if status != SKIPPED:
+                if status == IDLE:  # setStatus(IDLE) throws even when the node is IDLE already
+                    raise self._idle_error()
                 prev = self.status
                 if prev != status:
-                    if status == IDLE:
-                        raise self._idle_error()
                     self.status = status
                     self.emit((self.prefix, _TRANS[prev][status]))
         c = self.child
@@ -298,6 +301,8 @@ class PreconditionNode(DecoratorNode):
             if cs in (SUCCESS, FAILURE):
                 self.reset_child()
             return cs
+        if else_status == IDLE:  # setStatus(IDLE) throws (edges table, L2)
+            raise _run_error(self.model.loc, _IDLE_RESULT.format("the condition is false and `else`"))
         return else_status
 
 
@@ -406,7 +411,10 @@ class LoopNode(DecoratorNode):
                 popped = True
                 self.set_output("value", value, self.elem)
         if not popped and not self.child_running:
-            return self.status_input("if_empty")
+            if_empty = self.status_input("if_empty")
+            if if_empty == IDLE:  # setStatus(IDLE) throws (edges table, L1)
+                raise _run_error(self.model.loc, _IDLE_RESULT.format("the queue is empty and `if_empty`"))
+            return if_empty
         if self.status == IDLE:
             self.set_status(RUNNING)
         cs = self.child.execute_tick()

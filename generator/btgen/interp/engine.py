@@ -194,7 +194,9 @@ class _Builder:
                 f"without a default, and this instance does not remap it",
             )
         try:
-            return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            provide(self.mission, bb, model.target, False)
+            return bb
         except (values.ConversionError, bbmod.BlackboardError) as e:
             raise _run_error(model.loc, f"SubTree `{model.target}`: {e}") from None
 
@@ -223,6 +225,14 @@ def expanded_depth(mission: Mission) -> int:
     return tree_depth(mission.main_tree) if mission.main_tree in trees else 0
 
 
+def provide(mission: Mission, bb, tree_id: str, root: bool) -> None:
+    """The entries the application sets in this blackboard (--entry): created with their type
+    and no value (a scenario run has no application to set them)."""
+    for p in mission.provided:
+        if p.applies_to(tree_id, root):
+            bb.create_entry(p.key, p.type)
+
+
 def _ensure_recursion_depth(depth: int) -> None:
     """Ticking and halting recurse about three Python frames per tree level; a tree nested deeper
     than the default limit allows gets a higher limit (Python 3.11+ keeps such frames off the C
@@ -241,6 +251,7 @@ class Interpreter:
         _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
+        provide(mission, self.root_bb, mission.main_tree, True)
         builder = _Builder(self.rt, mission)
         self.root = builder.build(self.root_bb)
         self.nodes = builder.nodes

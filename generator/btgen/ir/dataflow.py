@@ -134,6 +134,7 @@ class SlotIR:
     user_cpp: str = ""  # a user port type's C++ spelling (--type)
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
+    provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
 
 
 @dataclass(frozen=True)
@@ -281,6 +282,7 @@ class _Slot:
     elem_literals: list[int] = field(default_factory=list)
     queue_unbounded: bool = False
     untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    provided: bool = False  # the application sets it before the first tick (--entry)
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
@@ -337,6 +339,7 @@ class _Analyzer:
     def load(self) -> None:
         root = bbmod.Blackboard()
         self._add_bb(root, "root")
+        self._provide(root, self.m.main_tree, True, self.m.main.loc)
         stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
         while stack:
             node, bb, path = stack.pop()
@@ -377,6 +380,36 @@ class _Analyzer:
                         s.origin_loc = p.attr.value_loc
             for child in reversed(node.children):
                 stack.append((child, bb, path))
+
+    def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
+        """The entries the application sets in this blackboard before the first tick (--entry):
+        created with their type; robot code writes them."""
+        for p in self.m.provided:
+            if not p.applies_to(tree_id, root):
+                continue
+            try:
+                entry = bb.create_entry(p.key, p.type)
+            except bbmod.BlackboardError as e:
+                self.error(loc, f"{p.option}: {e}")
+                continue
+            s = self._slot(entry, loc)
+            s.at_load = True
+            s.provided = True
+            s.origin = f"provided by the application ({p.option})"
+            kind = kind_of_type(p.type)
+            s.writes.append(
+                _Write(
+                    self.slots.index(s),
+                    self.next_order(),
+                    loc,
+                    f"the application ({p.option})",
+                    (lambda k=kind: k),
+                    kind is not None,
+                    (lambda: None),
+                    None,
+                    "port",
+                )
+            )
 
     def _add_bb(self, bb: bbmod.Blackboard, label: str) -> None:
         self.bbs.append(bb)
@@ -420,6 +453,7 @@ class _Analyzer:
                     "constant",
                 )
             )
+        self._provide(bb, model.target, False, model.loc)
         return bb
 
     def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
@@ -939,6 +973,19 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
         # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
         # most `cap`: a longer literal is an error where it is written. A computed value
         # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
@@ -968,18 +1015,6 @@ class _Analyzer:
                     changed = True
             if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
-        for s in self.slots:
-            if is_queue(s.kind):
-                qcap = self.opt.queue_capacity
-                s.capacity = max(s.queue_literals, default=0)
-                if s.queue_unbounded or not s.queue_literals:
-                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
-                s.capacity = max(s.capacity, 1)
-                if s.kind == "queue<string>":
-                    s.elem_capacity = max(s.elem_literals, default=0)
-                    if s.queue_unbounded:
-                        s.elem_capacity = cap
-                    s.elem_capacity = min(s.elem_capacity, cap)
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
@@ -1638,6 +1673,7 @@ class _Compiler:
                 self.a.user[s.kind].cpp if is_user(s.kind) else "",
                 not s.at_load or s.unset,
                 s.origin_text,
+                s.provided,
             )
             for i, s in enumerate(self.a.slots)
         )
