@@ -39,12 +39,12 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(ROOT / "generator"))
 
-from btgen.backend_cpp import naming  # noqa: E402
-from btgen.backend_cpp.emit import render  # noqa: E402
-from btgen.diagnostics import UserError  # noqa: E402
-from btgen.frontend.loader import load_mission  # noqa: E402
-from btgen.ir.lower import lower  # noqa: E402
-from btgen.tools import mcu  # noqa: E402
+from btgen.backend_cpp import naming
+from btgen.backend_cpp.emit import render
+from btgen.diagnostics import UserError
+from btgen.frontend.loader import load_mission
+from btgen.ir.lower import lower
+from btgen.tools import mcu
 
 OPTS = ("-Os", "-O2")
 BENCH_MISSIONS = ("bench/missions/balanced_100.xml", "bench/missions/balanced_1000.xml")
