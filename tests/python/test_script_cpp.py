@@ -115,7 +115,8 @@ def test_generated_code_for_an_assignment():
         "  [[maybe_unused]] const std::int64_t t2 = bb.y.value;",
         '  if (!t1h) return err.fail(n, W[7], "P: the left operand of `+` has no value");',
         "  double t4 = 0.0;",
-        '  if (btgen::script::num(t2, t4) != btgen::Errc::kOk) return err.fail(n, W[7], "P: left operand of `+`: '
+        "  if (btgen::script::num_v<Semantics::int_to_double_53_bits>(t2, t4) != btgen::Errc::kOk) "
+        'return err.fail(n, W[7], "P: left operand of `+`: '
         'cannot convert the integer to double: precision would be lost");',
         "  const double t3 = t4 + 1.0;",
         "  bb.x.value = t3;",

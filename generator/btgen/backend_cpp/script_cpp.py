@@ -95,8 +95,9 @@ def cpp_double(value: float) -> str:
     A negative value is parenthesized: C++ has no negative literals, so `-1.0` is a unary
     minus, and glued after another `-` (a negated enumerator, `x - NEG`) it would read `--`.
     """
-    if math.isnan(value):
-        return "std::numeric_limits<double>::quiet_NaN()"
+    if math.isnan(value):  # with its sign: `-nan` and `nan` are different texts
+        nan = "std::numeric_limits<double>::quiet_NaN()"
+        return f"(-{nan})" if math.copysign(1.0, value) < 0 else nan
     if math.isinf(value):
         text = "std::numeric_limits<double>::infinity()"
     else:
@@ -255,12 +256,12 @@ class CodeWriter:
         self.emit(f"double {t} = 0.0;")
         if v.kind == "int":
             self.errc_check(
-                f"btgen::script::num({v.expr}, {t})",
+                f"btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t})",
                 offset,
                 f"{what}: cannot convert the integer to double: precision would be lost",
             )
         else:
-            self.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            self.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         return t
 
 
@@ -855,7 +856,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         c.emit(f"double {t} = 0.0;")
         if r == "int":
             # The conversion inline; the dynamic store only for its message when it fails.
-            c.emit(f"if (btgen::script::num({v.expr}, {t}) != btgen::Errc::kOk) {{")
+            c.emit(f"if (btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t}) != btgen::Errc::kOk) {{")
             c.indent += 1
             c.emit(f"btgen::dyn::Ref {t}r;")
             c.dyn_call(
@@ -867,7 +868,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
             c.indent -= 1
             c.emit("}")
         else:
-            c.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            c.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
         return
     n = c.temp()

@@ -426,7 +426,12 @@ class _Analyzer:
             )
         remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
-            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.m.semantics.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             self.error(model.loc, f"SubTree `{model.target}`: {e}")
             bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
@@ -437,17 +442,23 @@ class _Analyzer:
             assert entry is not None
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
-            s.initial = str(entry.value)
+            # 4.9.1 stores a literal that is wholly a number as that number (subtree_literals_typed)
+            text = (
+                entry.value
+                if isinstance(entry.value, str)
+                else next((v for n, v, _ in remap if n == key), str(entry.value))
+            )
+            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
-            text = str(entry.value)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
                     self.next_order(),
                     locs.get(key, model.loc),
                     f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
-                    lambda: "string",
+                    lambda k=constant_kind: k,
                     True,
                     lambda t=text: len(t.encode("utf-8")),
                     text,
