@@ -272,7 +272,7 @@ def test_names_in_tables_are_escaped(tmp_path):
     header, _ = render(lower(load_mission(path)), "odd name", str(tmp_path))
     assert header.name == "odd_name.hpp"
     assert '"say \\"hi\\"\\012\\\\"' in header.text
-    assert "class IV_Act_2 {" in header.text and 'kId = "IV.Act-2"' in header.text
+    assert "class IV_Act_2 : public btgen::ModelBase<" in header.text and 'kId = "IV.Act-2"' in header.text
 
 
 # --------------------------------------------------------------- btgen compile
@@ -493,11 +493,11 @@ def test_user_controls_and_decorators_compile(compiler, tmp_path):
         pytest.skip(f"no {compiler}")
     header, source = generate(os.path.join(ROOT, "tests", "cpp", "missions", "user_nodes.xml"), relative_to=ROOT)
     for text in (
-        "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Control;",
-        "static constexpr btgen::LeafKind kKind = btgen::LeafKind::Decorator;",
+        "public btgen::ControlModelBase<detail::Blackboard, btgen::LeafKind::Control> {",
+        "public btgen::ControlModelBase<detail::Blackboard, btgen::LeafKind::Decorator> {",
         "btgen::Input<std::int32_t> number_of_retries() const",
         "btgen::Input<double> hz() const",
-        "btgen::Status tick_child(std::size_t i) const",
+        "using ControlModelBase::ControlModelBase;",
         "namespace control = leaf;",
         "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
         "btgen::NodeKind::UserControl",
@@ -621,3 +621,22 @@ def test_error_places_and_messages_are_sized_string_views(tmp_path):
         for pieces, size in found:
             text = "".join(re.findall(r'"((?:[^"\\]|\\[0-7]{3}|\\["\\])*)"', pieces))
             assert len(re.sub(r'\\[0-7]{3}|\\["\\]', "x", text)) == int(size), pieces
+
+
+def test_models_and_ports_named_like_the_leaf_base_classes_compile(tmp_path):
+    """Leaf classes derive from btgen::ModelBase / ControlModelBase and name them unqualified
+    (`using ModelBase::ModelBase;`): a model or port of that name is renamed, not a clash."""
+    models = (
+        '<Action ID="ModelBase"><input_port name="ControlModelBase" type="int"/>'
+        '<input_port name="ops_" type="int"/></Action>'
+        '<Control ID="ControlModelBase"><input_port name="ModelBase" type="int"/></Control>'
+    )
+    body = '<ControlModelBase ModelBase="1"><ModelBase ControlModelBase="2" ops_="3"/></ControlModelBase>'
+    path = _write(tmp_path, "bases.xml", _mission(body, models=models))
+    header, source = generate(path, relative_to=str(tmp_path))
+    (tmp_path / header.name).write_text(header.text, encoding="utf-8")
+    (tmp_path / source.name).write_text(source.text, encoding="utf-8")
+    cmd = ["g++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only"]
+    cmd += ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    assert proc.returncode == 0, proc.stderr[:3000]

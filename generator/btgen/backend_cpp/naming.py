@@ -91,6 +91,10 @@ LEAF_MEMBERS = frozenset(
         "name",
         "uid",
         "children",
+        # the base classes (btgen/user_node.hpp), named unqualified in each leaf class
+        "ModelBase",
+        "ControlModelBase",
+        "ops_",
     }
 )
 # Members of btgen::Slot, which the generated code reads beside the entries' members.

@@ -19,7 +19,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
+#include <type_traits>
 
+#include "btgen/blackboard.hpp"
+#include "btgen/hooks.hpp"
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
 
@@ -67,6 +71,65 @@ class ChildOps {
   void* engine_;
   const NodeInfo* node_;
   std::size_t base_;
+};
+
+// What every generated model class (namespace `leaf` of a mission header) has,
+// whatever its ports: the node instance being run, the mission's blackboard and
+// the reporting of errors. The model class adds its id, its number and its typed
+// port accessors, which read bb_, err_ and node_.
+template <class Blackboard, LeafKind K>
+class ModelBase {
+ public:
+  static constexpr LeafKind kKind = K;
+
+  ModelBase(Blackboard& bb, const ErrorSink& err, const NodeInfo& node) noexcept : bb_(&bb), err_(err), node_(&node) {}
+
+  // The node instance being run, and the mission's blackboard.
+  [[nodiscard]] const NodeInfo& node() const noexcept { return *node_; }
+  [[nodiscard]] Blackboard& blackboard() const noexcept { return *bb_; }
+
+  // Reports a run-time error of this node (btgen::RuntimeError, at the
+  // node's position; `message` must outlive the call) and returns FAILURE:
+  // the node fails whatever the hook then returns.
+  Status fail(std::string_view message) const noexcept {
+    (void)err_.fail(*node_, node_->source, message);
+    return Status::FAILURE;
+  }
+  // (Actions) A SyncActionNode's tick() result as the engine takes it: RUNNING
+  // is reported as an error and fails the node.
+  template <LeafKind L = K, std::enable_if_t<L == LeafKind::Action, int> = 0>
+  [[nodiscard]] Status sync_result(Status s) const noexcept {
+    return btgen::sync_result(s, err_, *node_);
+  }
+
+ protected:
+  Blackboard* bb_;
+  ErrorSink err_;
+  const NodeInfo* node_;
+};
+
+// A model class of the mission's own Controls and Decorators: what
+// BT::ControlNode and BT::DecoratorNode give their subclasses, through ChildOps.
+template <class Blackboard, LeafKind K>
+class ControlModelBase : public ModelBase<Blackboard, K> {
+ public:
+  ControlModelBase(Blackboard& bb, const ErrorSink& err, const NodeInfo& node, const ChildOps& ops) noexcept
+      : ModelBase<Blackboard, K>(bb, err, node), ops_(ops) {}
+
+  [[nodiscard]] std::size_t children_count() const noexcept { return ops_.children_count(); }
+  Status tick_child(std::size_t i) const noexcept { return ops_.tick_child(i); }
+  void halt_child(std::size_t i) const noexcept { ops_.halt_child(i); }
+  void halt_children() const noexcept { ops_.halt_children(); }
+  void reset_child_status(std::size_t i) const noexcept { ops_.reset_child_status(i); }
+  [[nodiscard]] Status child_status(std::size_t i) const noexcept { return ops_.child_status(i); }
+  [[nodiscard]] Status status() const noexcept { return ops_.status(); }
+  void set_status(Status s) const noexcept { ops_.set_status(s); }
+  [[nodiscard]] std::uint64_t now_ms() const noexcept { return ops_.now_ms(); }
+  [[nodiscard]] std::string_view name() const noexcept { return this->node_->name; }
+  [[nodiscard]] std::uint16_t uid() const noexcept { return this->node_->uid; }
+
+ private:
+  ChildOps ops_;
 };
 
 }  // namespace btgen
