@@ -8,5 +8,5 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0x44283137562663ecULL,
+static_assert(lab_tour::detail::kGeneration == 0x35b0ee73458f4b98ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

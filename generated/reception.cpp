@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0xb92c42bdfdd13732ULL,
+static_assert(reception::detail::kGeneration == 0x407cf0a2abac22e8ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

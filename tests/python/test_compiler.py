@@ -640,3 +640,18 @@ def test_models_and_ports_named_like_the_leaf_base_classes_compile(tmp_path):
     cmd += ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)]
     proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stderr[:3000]
+
+
+def test_long_literals_are_split_between_words():
+    """A message spread over adjacent literals is cut after a space, never inside a word, so
+    grepping the header for a word of a message seen in a log finds it; only a word longer
+    than the width is cut. The literals still join to exactly the text."""
+    from btgen.backend_cpp.naming import cpp_string, cpp_string_chunks
+
+    text = "the left operand of `+` has no value (an entry nothing writes: é\n) " * 3 + "x" * 50
+    chunks = cpp_string_chunks(text, 40)
+    assert "".join(c[1:-1] for c in chunks) == cpp_string(text)[1:-1]
+    assert all(len(c) <= 40 for c in chunks)
+    assert all(c.endswith(' "') for c in chunks[:-3]), chunks
+    header = (Path(ROOT) / "generated" / "lab_tour.hpp").read_text(encoding="utf-8")
+    assert not re.search(r'[A-Za-z]"\s*\n\s*"[A-Za-z]', header)

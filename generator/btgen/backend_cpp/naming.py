@@ -304,17 +304,25 @@ def cpp_string(text: str) -> str:
 
 def cpp_string_chunks(text: str, width: int = 88) -> list[str]:
     """cpp_string(text) as adjacent literals of at most `width` characters each (C++ joins them),
-    so that a long message or XML line stays readable; at least one literal."""
+    so that a long message or XML line stays readable; at least one literal. A literal ends
+    after a space where one allows it, so a word is never split (grepping the header for a
+    message finds it); only a word longer than the width is cut."""
     chunks: list[str] = []
     part: list[str] = []
     size = 2
+    space = -1  # index in `part` just after its last space
     for b in text.encode("utf-8"):
         token = _CPP_STRING_BYTES[b]
-        if part and size + len(token) > width:
-            chunks.append('"' + "".join(part) + '"')
-            part, size = [], 2
+        while part and size + len(token) > width:
+            cut = space if space > 0 else len(part)
+            chunks.append('"' + "".join(part[:cut]) + '"')
+            part = part[cut:]
+            size = 2 + sum(len(t) for t in part)
+            space = -1
         part.append(token)
         size += len(token)
+        if b == 0x20:
+            space = len(part)
     chunks.append('"' + "".join(part) + '"')
     return chunks
 
