@@ -3259,6 +3259,14 @@ struct Spec {
     return btgen::Status::FAILURE;
   }
 
+  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
+  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
+  // 4.6.2 reads it; 1, or -1 after reporting the error.
+  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
+    return -1;
+  }
+
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
   static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
@@ -4479,7 +4487,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x80ad08584b7fa097ULL;
+inline constexpr unsigned long long kGeneration = 0x36af6e56f57351b7ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

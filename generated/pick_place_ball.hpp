@@ -541,6 +541,14 @@ struct Spec {
     return btgen::Status::FAILURE;
   }
 
+  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
+  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
+  // 4.6.2 reads it; 1, or -1 after reporting the error.
+  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
+    return -1;
+  }
+
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
   static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
@@ -889,7 +897,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xb3559f39e4a1815bULL;
+inline constexpr unsigned long long kGeneration = 0xf536b78098eec507ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

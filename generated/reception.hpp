@@ -2146,6 +2146,14 @@ struct Spec {
     return btgen::Status::FAILURE;
   }
 
+  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
+  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
+  // 4.6.2 reads it; 1, or -1 after reporting the error.
+  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
+    return -1;
+  }
+
   // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
   // WaitValueUpdate watches; -1 when the entry does not exist.
   static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
@@ -2996,7 +3004,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xc4f251dd643cc8ccULL;
+inline constexpr unsigned long long kGeneration = 0x10320208d72eef5aULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -71,6 +71,9 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
     "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
 }
+# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# and the node has one more counter slot, after those of SUPPORTED, holding the value read.
+PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(BUILTINS), sorted(set(BUILTINS) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
@@ -304,6 +307,8 @@ class _Lowerer:
             elif node.id in SUPPORTED:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
+                if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
+                    nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)
