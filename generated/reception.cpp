@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x10320208d72eef5aULL,
+static_assert(reception::detail::kGeneration == 0x3ac0c8a566e4843bULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

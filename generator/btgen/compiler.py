@@ -161,7 +161,13 @@ def compile_command(args: argparse.Namespace) -> int:
     opts = options_from_args(args)
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
-    program = lower(mission, opts.data)
+    substitute = getattr(args, "substitute", None)
+    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(), opts.namespace)
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
