@@ -8,5 +8,5 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0xd92b6fbd457b4413ULL,
+static_assert(lab_tour::detail::kGeneration == 0x60a56e33fc379364ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

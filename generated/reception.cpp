@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x3ac0c8a566e4843bULL,
+static_assert(reception::detail::kGeneration == 0x47160e646e667129ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");
