@@ -47,17 +47,17 @@ def test_unreachable_children_and_constant_subtree_guards(capsys):
 
 def test_worst_tick_is_composed_per_outcome(capsys):
     doc = _json(capsys, CASES / "cost.xml")
-    assert doc["worst_tick"] == {"nodes_visited": 12, "leaf_hooks": 6, "script_evaluations": 2, "unbounded_by": None}
+    assert doc["worst_tick"] == {"nodes_visited": 9, "leaf_hooks": 4, "script_evaluations": 2, "unbounded_by": None}
     # Repeat num_cycles=-1 never succeeds, so neither does the root Sequence
     assert set(doc["root_outcomes"]) == {"FAILURE", "RUNNING"}
 
 
 def test_tick_budget_and_werror(capsys):
-    rc, _, err = _run(capsys, "--tick-budget", "11", "--werror", str(CASES / "cost.xml"))
+    rc, _, err = _run(capsys, "--tick-budget", "8", "--werror", str(CASES / "cost.xml"))
     assert rc == 1
-    assert "a tick can take 12 nodes visited, over the budget of 11" in err
+    assert "a tick can take 9 nodes visited, over the budget of 8" in err
     assert "leaf hooks" not in err
-    rc, _, err = _run(capsys, "--tick-budget", "12", str(CASES / "cost.xml"))
+    rc, _, err = _run(capsys, "--tick-budget", "9", str(CASES / "cost.xml"))
     assert rc == 0 and "budget" not in err
 
 

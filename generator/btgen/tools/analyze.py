@@ -232,9 +232,34 @@ class _Data:
 
 
 # ====================================================================== per node
-_SEQ = {"Sequence", "AsyncSequence", "SequenceWithMemory"}
-_FALLBACK = {"Fallback", "AsyncFallback"}
+_CHAINS = {
+    "Sequence": (F, S),
+    "AsyncSequence": (F, S),
+    "SequenceWithMemory": (F, S),
+    "ReactiveSequence": (F, S),
+    "Fallback": (S, F),
+    "AsyncFallback": (S, F),
+    "ReactiveFallback": (S, F),
+}
+
+
+def _union(a: Outcomes, b: Outcomes) -> Outcomes:
+    out = dict(a)
+    for st, c in b.items():
+        _put(out, st, c)
+    return out
+
+
+def _switch(kids: list[Outcomes]) -> Outcomes:
+    out: Outcomes = {}
+    for k in kids:
+        for st, c in k.items():
+            _put(out, st, _add(ONE, c))
+    return out
+
+
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_PRE_ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 
 class _Analyzer:
@@ -245,6 +270,9 @@ class _Analyzer:
         n = len(program.nodes)
         self.out: list[Outcomes] = [{} for _ in range(n)]
         self.kid_reach: list[list[bool]] = [[] for _ in range(n)]  # per child: reachable from this node
+        self.mark: list[list[bool]] = [[] for _ in range(n)]
+        self.fr: list[Outcomes] = [{} for _ in range(n)]
+        self.rs: list[Outcomes] = [{} for _ in range(n)]
         self.why: dict[int, str] = {}  # child index -> why its parent never ticks it
         self.gated: dict[int, str] = {}  # node -> why its own tick() never runs
         self.findings: list[Finding] = []
@@ -261,14 +289,18 @@ class _Analyzer:
     # -- composition
     def run(self) -> None:
         for node in reversed(self.p.nodes):
-            self.out[node.index] = self.node(node)
+            fr, rs = self.node(node)
+            self.fr[node.index], self.rs[node.index] = fr, rs
+            self.out[node.index] = _union(fr, rs)
 
-    def node(self, n: IRNode) -> Outcomes:
+    def node(self, n: IRNode) -> tuple[Outcomes, Outcomes]:
+        """(fresh, resumed): the outcomes of a tick that finds the node IDLE, and of one that finds
+        it RUNNING (empty when it can never be RUNNING)."""
         model = self.model(n.index)
         pre_scripts = 0
         pre_out: Outcomes = {}
         gate: Optional[tuple[str, str]] = None
-        for attr in model.pre:
+        for attr in sorted(model.pre, key=lambda a: _PRE_ORDER.index(a.name)):  # 4.6.2 checks them so
             const = self.data.constant(n.index, attr)
             if const is not None:
                 self.constants[(n.index, attr.name)] = const
@@ -288,19 +320,15 @@ class _Analyzer:
                 break
             if const is None:
                 _put(pre_out, _PRE_OUTCOME[attr.name], cost)
+        self.mark[n.index] = [False] * len(n.children)
         if gate is not None:
             self.gated[n.index] = gate[1]
-            self.kid_reach[n.index] = [False] * len(n.children)
             for c in n.children:
                 self.why[c] = f"{self.label(n.index)} never ticks its children: {gate[1]}"
-            base: Outcomes = {}
+            bases: tuple[Outcomes, Outcomes] = ({}, {})
         else:
-            base = self.tick(n)
-        out: Outcomes = {}
-        for st, cost in base.items():
-            _put(out, st, _add(cost, (0, 0, pre_scripts)))
-        for st, cost in pre_out.items():
-            _put(out, st, cost)
+            bases = self.tick(n)
+        self.kid_reach[n.index] = self.mark[n.index]
         post = {S: 0, F: 0}
         for attr in model.post:
             if attr.name == "_onSuccess":
@@ -310,86 +338,136 @@ class _Analyzer:
             elif attr.name == "_post":
                 post[S] += 1
                 post[F] += 1
-        for st in (S, F):
-            if st in out and post[st]:
-                out[st] = _add(out[st], (0, 0, post[st]))
-        return out
+        result = []
+        for which, base in enumerate(bases):
+            out: Outcomes = {}
+            for st, cost in base.items():
+                _put(out, st, _add(cost, (0, 0, pre_scripts)))
+            if which == 0:
+                for st, cost in pre_out.items():
+                    _put(out, st, cost)
+            for st in (S, F):
+                if st in out and post[st]:
+                    out[st] = _add(out[st], (0, 0, post[st]))
+            result.append(out)
+        fresh, resumed = result
+        if R not in fresh and R not in resumed:
+            resumed = {}
+        return fresh, resumed
 
-    def kid(self, n: IRNode, k: int) -> Outcomes:
-        return self.out[n.children[k]]
-
-    def tick(self, n: IRNode) -> Outcomes:
+    def tick(self, n: IRNode) -> tuple[Outcomes, Outcomes]:
         kind, nid = n.kind, n.id
-        kids = [self.out[c] for c in n.children]
-        self.kid_reach[n.index] = [True] * len(kids)
+        fr = [self.fr[c] for c in n.children]
+        rs = [self.rs[c] for c in n.children]
+        un = [self.out[c] for c in n.children]
+        mark = self.mark[n.index]
+        if kind not in _CHAINS and kind not in ("IfThenElse", "WhileDoElse"):
+            mark[:] = [True] * len(mark)
         if kind == "Action":
-            return {S: (1, 1, 0), F: (1, 1, 0), R: (1, 1, 0)}
+            t = {S: (1, 1, 0), F: (1, 1, 0), R: (1, 1, 0)}
+            return t, t
         if kind == "Condition":
-            return {S: (1, 1, 0), F: (1, 1, 0)}
+            return {S: (1, 1, 0), F: (1, 1, 0)}, {}
         if kind in ("UserControl", "UserDecorator"):
             if self.unbounded_by is None:
                 self.unbounded_by = n.index
             u: Cost = (UNBOUNDED, UNBOUNDED, UNBOUNDED)
-            return {S: u, F: u, R: u}
+            t = {S: u, F: u, R: u}
+            return t, t
         if nid == "AlwaysSuccess":
-            return {S: ONE}
+            return {S: ONE}, {}
         if nid == "AlwaysFailure":
-            return {F: ONE}
+            return {F: ONE}, {}
         if nid == "Script":
-            return {S: (1, 0, 1)}
+            return {S: (1, 0, 1)}, {}
         if nid == "ScriptCondition":
             attr = self.model(n.index).port("code")
             const = self.data.constant(n.index, attr) if attr is not None else None
             if const is not None:
                 self.constants[(n.index, "code")] = const
-                return {S if const else F: (1, 0, 1)}
-            return {S: (1, 0, 1), F: (1, 0, 1)}
+                return {S if const else F: (1, 0, 1)}, {}
+            return {S: (1, 0, 1), F: (1, 0, 1)}, {}
         if nid in ("SetBlackboard", "UnsetBlackboard"):
-            return {S: ONE}
+            return {S: ONE}, {}
         if nid == "WasEntryUpdated":
-            return {S: ONE, F: ONE}
+            return {S: ONE, F: ONE}, {}
         if nid == "Sleep":
-            return {S: ONE} if n.params[0] == 0 else {S: ONE, R: ONE}
-        if kind in ("Sequence", "AsyncSequence", "SequenceWithMemory", "ReactiveSequence"):
-            return self.chain(n, kids, F, S, asynch=kind == "AsyncSequence")
-        if kind in ("Fallback", "AsyncFallback", "ReactiveFallback"):
-            return self.chain(n, kids, S, F, asynch=kind == "AsyncFallback")
+            return ({S: ONE}, {}) if n.params[0] == 0 else ({S: ONE, R: ONE}, {S: ONE, R: ONE})
+        if kind in _CHAINS:
+            decides, goes_on = _CHAINS[kind]
+            asynch = kind.startswith("Async")
+            reactive = kind.startswith("Reactive")
+            fresh = self.chain(n, [(t, asynch) for t in fr], decides, goes_on, 0)
+            resumed: Outcomes = {}
+            done: set[tuple[str, int]] = set()
+            while True:  # until no new child is found ticked (a resumed tick may reach later ones)
+                before = list(mark)
+                for k in range(len(fr)):
+                    if R not in un[k] or not mark[k] or ("run", k) in done:  # only a ticked child resumes
+                        continue
+                    done.add(("run", k))
+                    if reactive:  # the others were halted: they start from IDLE
+                        tables = [(rs[k] if j == k else fr[j], False) for j in range(len(fr))]
+                        resumed = _union(resumed, self.chain(n, tables, decides, goes_on, 0))
+                    else:
+                        tables = [({}, False)] * k + [(rs[k], False)] + [(t, asynch) for t in fr[k + 1 :]]
+                        resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if asynch:  # resumed after a yield: the next child starts from IDLE
+                    for k in range(1, len(fr)):
+                        if goes_on in un[k - 1] and mark[k - 1] and ("yield", k) not in done:
+                            done.add(("yield", k))
+                            tables = [({}, False)] * k + [(t, asynch) for t in fr[k:]]
+                            resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if mark == before:
+                    break
+            return fresh, resumed
         if kind in ("Parallel", "ParallelAll"):
-            return self.parallel(n, kids)
-        if kind in ("IfThenElse", "WhileDoElse"):
-            return self.if_then_else(n, kids)
+            return self.parallel(n, fr), self.parallel(n, un)
+        if kind == "IfThenElse":
+            fresh = self.if_then_else(n, fr[0], fr[1:])
+            resumed = self.if_then_else(n, rs[0], fr[1:]) if rs[0] else {}
+            for k, b in enumerate(rs[1:], start=1):
+                for st, c in b.items() if mark[k] else ():
+                    _put(resumed, st, _add(ONE, c))
+            return fresh, resumed
+        if kind == "WhileDoElse":
+            return self.if_then_else(n, fr[0], fr[1:]), self.if_then_else(n, un[0], un[1:])
         if kind == "Switch":
-            out: Outcomes = {}
-            for k in kids:
-                for st, c in k.items():
-                    _put(out, st, _add(ONE, c))
-            return out
-        return self.decorator(n, kids)
+            return _switch(fr), _switch(un)
+        if kind in ("Repeat", "RetryUntilSuccessful"):
+            return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        child_fr = fr[0] if fr else {}
+        return self.decorator(n, child_fr, child_fr, False), self.decorator(n, un[0] if un else {}, {}, True)
 
-    def chain(self, n: IRNode, kids: list[Outcomes], decides: str, goes_on: str, asynch: bool) -> Outcomes:
-        """Sequence-like nodes: children in order while they return `goes_on` (or SKIPPED)."""
+    def chain(self, n: IRNode, kids: list[tuple[Outcomes, bool]], decides: str, goes_on: str, start: int) -> Outcomes:
+        """Sequence-like nodes: children in order from `start` while they return `goes_on` (or
+        SKIPPED); each child's table, and whether it yields after `goes_on` (the async variants)."""
         out: Outcomes = {}
         went: Optional[Cost] = None  # a path where some child went on
         skipped: Optional[Cost] = ONE  # a path where all children so far skipped
         last = len(kids) - 1
-        for k, w in enumerate(kids):
+        mark = self.mark[n.index]
+        for k in range(start, len(kids)):
+            w, yields = kids[k]
             if went is None and skipped is None:
-                self.kid_reach[n.index][k] = False
                 prev = n.children[k - 1]
                 self.why.setdefault(
                     n.children[k],
                     f"{self.label(n.index)} never gets past {self.label(prev)} (line {self.p.nodes[prev].loc.line}), "
                     f"which never returns {goes_on} or SKIPPED",
                 )
-                continue
+                break
+            mark[k] = True
             best = _max(went, skipped) if went is not None and skipped is not None else (went or skipped)
             assert best is not None
             for st, c in w.items():
                 if st in (decides, R):
                     _put(out, st, _add(best, c))
-                if st == goes_on and asynch and k < last:
+                if st == goes_on and yields and k < last:
                     _put(out, R, _add(best, c))  # the async variants yield after a child that was IDLE
             g, s = w.get(goes_on), w.get(K)
+            if yields and k < last:
+                g = None  # ... so the next child is not ticked in this tick
             new_went: Optional[Cost] = None
             if g is not None:
                 new_went = _add(best, g)
@@ -397,10 +475,11 @@ class _Analyzer:
                 new_went = _max(new_went, _add(went, s))
             skipped = _add(skipped, s) if skipped is not None and s is not None else None
             went = new_went
-        if went is not None:
-            _put(out, goes_on, went)
-        if skipped is not None and kids:
-            _put(out, K, skipped)
+        else:
+            if went is not None:
+                _put(out, goes_on, went)
+            if skipped is not None and kids:
+                _put(out, K, skipped)
         return out
 
     def parallel(self, n: IRNode, kids: list[Outcomes]) -> Outcomes:
@@ -412,48 +491,55 @@ class _Analyzer:
             total = _add(total, c)
         can = {st: sum(1 for w in kids if st in w) for st in ORDER}
         out: Outcomes = {}
-        if n.kind == "Parallel":
-            need_s, need_f = n.params[0], n.params[1]
-            if can[S] + can[K] >= need_s and can[S] > 0:
+        count = len(kids)
+        if n.kind == "Parallel":  # the thresholds are checked after every child (interp/controls.py)
+            need_s, need_f, negative = n.params
+            if (can[S] + can[K] if negative else can[S]) >= need_s:
                 out[S] = total
-            if can[F] >= need_f:
+            if can[F] >= min(need_f, count - need_s + 1):
                 out[F] = total
-        else:
+            if can[R] or can[K]:  # a child still RUNNING, or skipped ones that reach no threshold
+                out[R] = total
+        else:  # ParallelAll: decided when every child has completed or skipped
+            need = n.params[0]
             must_fail = sum(1 for w in kids if set(w) == {F})
-            if must_fail < n.params[0] or n.params[0] == 0:
+            if must_fail < need:
                 out[S] = total
-            if can[F] >= max(n.params[0], 1):
+            if can[F] >= need:
                 out[F] = total
-        if can[R]:
-            out[R] = total
+            if can[R]:
+                out[R] = total
         if kids and can[K] == len(kids):
             out[K] = total
         return out
 
-    def if_then_else(self, n: IRNode, kids: list[Outcomes]) -> Outcomes:
-        cond = kids[0]
+    def if_then_else(self, n: IRNode, cond: Outcomes, branches: list[Outcomes]) -> Outcomes:
         out: Outcomes = {}
+        mark = self.mark[n.index]
+        if cond:
+            mark[0] = True
         if R in cond:
             _put(out, R, _add(ONE, cond[R]))
         for branch, when in ((1, S), (2, F)):
             if when not in cond:
-                if branch < len(kids):
-                    self.kid_reach[n.index][branch] = False
+                if branch < len(n.children):
                     self.why.setdefault(
                         n.children[branch],
                         f"the condition {self.label(n.children[0])} of {self.label(n.index)} never returns {when}",
                     )
                 continue
-            if branch >= len(kids):
+            if branch > len(branches):
                 _put(out, F, _add(ONE, cond[when]))
                 continue
-            for st, c in kids[branch].items():
+            mark[branch] = True
+            for st, c in branches[branch - 1].items():
                 _put(out, st, _add(_add(ONE, cond[when]), c))
         return out
 
-    def decorator(self, n: IRNode, kids: list[Outcomes]) -> Outcomes:
+    def decorator(self, n: IRNode, w: Outcomes, w_fresh: Outcomes, resumed: bool) -> Outcomes:
+        """One tick of a decorator whose child answers from `w`; a Repeat or Retry resumed from
+        RUNNING may start the next cycle in the same tick, with the child fresh (`w_fresh`)."""
         kind = n.kind
-        w = kids[0] if kids else {}
         out: Outcomes = {}
 
         def through(mapping: dict[str, str], extra: Cost = ONE) -> None:
@@ -468,14 +554,15 @@ class _Analyzer:
             through({S: S, F: S, R: R, K: K})
         elif kind == "ForceFailure":
             through({S: F, F: F, R: R, K: K})
-        elif kind == "KeepRunningUntilFailure":
-            through({S: R, F: F, R: R, K: K})
+        elif kind == "KeepRunningUntilFailure":  # a SKIPPED child leaves its own status: RUNNING
+            through({S: R, F: F, R: R, K: R})
         elif kind in ("Repeat", "RetryUntilSuccessful"):
             limit = n.params[0]
             again = S if kind == "Repeat" else F
-            if limit == 0:
-                self.never(n, f"{self.label(n.index)} has {'num_cycles' if kind == 'Repeat' else 'num_attempts'}=0")
-                return {again: ONE} if kind == "Repeat" else {F: ONE}
+            if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+                port = "num_cycles" if kind == "Repeat" else "num_attempts"
+                self.never(n, f"{self.label(n.index)} has {port}={limit}")
+                return {K: ONE}
             final = S if kind == "Repeat" else F
 
             def single(st: str) -> list[str]:
@@ -487,17 +574,16 @@ class _Analyzer:
                 for t in single(st):
                     _put(out, t, _add(ONE, c))
             # a cycle resumed from RUNNING that ends with `again` starts the next one in the same tick
-            if R in w and again in w and (limit == -1 or limit >= 2):
+            if resumed and again in w and (limit == -1 or limit >= 2):
                 first = _add(ONE, w[again])
-                for st, c in w.items():
+                for st, c in w_fresh.items():
                     for t in single(st):
                         _put(out, t, _add(first, c))
         elif kind == "RunOnce":
             through(same)
-            _put(out, K if n.params[0] == 1 else S, ZERO)
+            _put(out, K if n.params[0] == 1 else S, ONE)
             if n.params[0] != 1:
                 _put(out, F, ONE)
-            out = {st: _max(c, ONE) for st, c in out.items()}
         elif kind == "Precondition":
             attr = self.model(n.index).port("if")
             const = self.data.constant(n.index, attr) if attr is not None else None
@@ -531,7 +617,7 @@ class _Analyzer:
         return out
 
     def never(self, n: IRNode, why: str) -> None:
-        self.kid_reach[n.index] = [False] * len(n.children)
+        self.mark[n.index][:] = [False] * len(n.children)
         for c in n.children:
             self.why.setdefault(c, f"{why}: it never ticks its child")
 
@@ -733,6 +819,21 @@ def memory(program: Program) -> dict:
 
 
 # ====================================================================== command
+def stop_quietly_on_broken_pipe(command, args) -> int:
+    """Run a command whose reader may go away (`btgen explore ... | head`): stop quietly, exit 1."""
+    import os
+
+    try:
+        return command(args)
+    except BrokenPipeError:
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 1
+
+
 def _fmt(v: int) -> str:
     return "unbounded" if v == UNBOUNDED else str(v)
 
@@ -742,13 +843,13 @@ def analyze_command(args) -> int:
     from btgen.ir.lower import lower
 
     opts = pipeline.options_from_args(args)
+    options = opts.data
     status = 0
     reports = []
     for path in args.missions:
         try:
             mission = pipeline.load(path, opts)
             print_diagnostics(mission.warnings)
-            options = opts.data
             program = lower(mission, options)
         except UserError as e:
             print_diagnostics(e.diagnostics)

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 
 #include "btgen/status.hpp"
 #include "btgen/value.hpp"
@@ -34,6 +35,18 @@ inline Errc num(bool v, double& out) noexcept {
 inline Errc num(Status v, double& out) noexcept {
   out = static_cast<double>(static_cast<int>(v));
   return Errc::kOk;
+}
+
+// An operand as a double as the mission's release converts it: from 4.7.0
+// (Semantics::int_to_double_53_bits) an integer beyond 2^53-1 fails, exact or not.
+template <bool k53, class T>
+inline Errc num_v(T v, double& out) noexcept {
+  if constexpr (k53 && std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    constexpr std::int64_t kMaxExact = (std::int64_t{1} << 53) - 1;
+    const auto w = static_cast<std::int64_t>(v);
+    if (w > kMaxExact || w < -kMaxExact) return Errc::kPrecision;
+  }
+  return num(v, out);
 }
 
 // An operand as an int64 (bitwise operators, and storing into an integer).
