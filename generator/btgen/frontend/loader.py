@@ -662,7 +662,17 @@ class _Loader:
             return attr
         return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
 
-    def _check_key(self, attr: Attr, key: str, what: str) -> bool:
+    def _check_key(self, attr: Attr, key: str, what: str, remap: bool = False) -> bool:
+        if remap and key and not _KEY_RE.match(key):
+            # 4.6.2 names the entry with whatever is between the braces (`{ n }` is the key
+            # ` n `; edges table B1): loaded, with a warning, since it is most likely a typo
+            self.sink.warning(
+                attr.value_loc,
+                f"`{attr.value}` in {what} names the blackboard key `{key}`, which scripts cannot "
+                f"name (keys are letters, digits, `_`, optionally `@` first); BehaviorTree.CPP 4.6.2 "
+                f"uses it as it is",
+            )
+            return True
         if not _KEY_RE.match(key):
             self.sink.error(
                 attr.value_loc,
@@ -685,7 +695,7 @@ class _Loader:
                 f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
-            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
+            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`", remap=True)
         return attr
 
     def _port(self, attr: Attr, spec: NodeSpec, elem: etree._Element, src: Source) -> Optional[Attr]:
@@ -706,7 +716,7 @@ class _Loader:
                 # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
                 self._check_literal(attr.value_loc, what, port.type, value)
                 return attr
-            self._check_key(attr, remap_key(value, attr.name), what)
+            self._check_key(attr, remap_key(value, attr.name), what, remap=True)
             return attr
         if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
             self.sink.warning(
