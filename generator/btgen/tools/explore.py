@@ -45,7 +45,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from btgen.diagnostics import UserError, print_diagnostics
+from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
 from btgen.interp.scenario import parse_scenario_text
@@ -541,12 +541,24 @@ def explore_command(args) -> int:
     result = ex.explore()
     files: list[str] = []
     if args.output_dir:
-        os.makedirs(args.output_dir, exist_ok=True)
+        try:
+            os.makedirs(args.output_dir, exist_ok=True)
+        except OSError as e:
+            raise UserError(
+                Diagnostic(Loc(args.output_dir, 1, 1), f"cannot create the output folder: {e.strerror or e}")
+            ) from None
         stem = os.path.splitext(os.path.basename(args.mission))[0]
         for i, path in enumerate(result.paths, start=1):
             name = os.path.join(args.output_dir, f"{stem}-{i:03d}.scenario")
             _write_atomic(name, scenario_text(path, args.clock_ms, f"btgen explore: {len(path.goals)} goals"))
             files.append(name)
+        # scenarios of an earlier exploration of this mission beyond this one's are stale: a set of
+        # files that together cover the mission must not mix two explorations
+        ours = re.compile(re.escape(stem) + r"-[0-9]{3,}\.scenario")
+        for other in sorted(os.listdir(args.output_dir)):
+            full = os.path.join(args.output_dir, other)
+            if ours.fullmatch(other) and full not in files:
+                os.remove(full)
     status = 0
     for prop, path in result.violations:
         status = 1
@@ -622,7 +634,7 @@ def explore_command(args) -> int:
 
 
 def _write_atomic(path: str, text: str) -> None:
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(tmp, path)
+    """Whole or not at all (graph.py's writer: a temporary file renamed over it)."""
+    from btgen.tools.graph import _write
+
+    _write(path, text.encode("utf-8"))
