@@ -8,5 +8,5 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0xb3559f39e4a1815bULL,
+static_assert(pick_place_ball::detail::kGeneration == 0x2d6265824e5d99d5ULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

@@ -125,6 +125,18 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     return graph_command(args)
 
 
+def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    from btgen.tools.upgrade import upgrade_command
+
+    return upgrade_command(args)
+
+
+def _cmd_models(args: argparse.Namespace) -> int:
+    from btgen.tools.models import models_command
+
+    return models_command(args)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -255,6 +267,15 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--mission", metavar="MISSION.xml")
     k.set_defaults(func=_cmd_lint_kb)
 
+    mo = sub.add_parser(
+        "models",
+        help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
+    )
+    mo.add_argument("mission", metavar="MISSION.xml")
+    mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
+    add_mission_options(mo)
+    mo.set_defaults(func=_cmd_models)
+
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")
     b.add_argument("--ticks", type=int, default=100000)
@@ -281,6 +302,19 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
     add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
+    from btgen.lang.versions import SUPPORTED_VERSIONS
+
+    u = sub.add_parser(
+        "upgrade-check",
+        help="list where moving between BehaviorTree.CPP releases changes loading or behaviour (exit 1 if anything)",
+    )
+    u.add_argument("mission")
+    u.add_argument("--from", dest="from_version", choices=SUPPORTED_VERSIONS, default="4.6.2")
+    u.add_argument("--to", dest="to_version", choices=SUPPORTED_VERSIONS, default="4.10.0")
+    u.add_argument("--scenario", help="also run the mission on both versions and print where the traces part")
+    add_mission_options(u)
+    u.set_defaults(func=_cmd_upgrade_check)
+
     return p
 
 

@@ -210,9 +210,9 @@ def mission_files(mission_path: str, opts: CompileOptions = DEFAULTS) -> list[st
     from btgen.frontend.loader import load_mission
 
     try:
-        files = list(load_mission(mission_path, opts.models, opts.main_tree).files)
+        files = list(load_mission(mission_path, opts.models, opts.main_tree, opts.trees).files)
     except UserError:
-        files = [mission_path, *opts.models]
+        files = [mission_path, *opts.models, *(t for t in opts.trees if os.path.isfile(t))]
     files += [f for f in opts.enum_files if f not in files]
     return [os.path.abspath(f) for f in files]
 

@@ -23,6 +23,8 @@ if TYPE_CHECKING:  # the stages are imported when used: `btgen --help` stays qui
     from btgen.ir.lower import Program
     from btgen.lang.model import Mission
 
+from btgen.lang.versions import SUPPORTED_VERSIONS
+
 CAPACITY_MAX = 1 << 20
 
 
@@ -33,12 +35,15 @@ class CompileOptions:
 
     models: tuple[str, ...] = ()  # --models FILE.xml: files of <TreeNodesModel>
     main_tree: Optional[str] = None  # --main-tree ID
+    trees: tuple[str, ...] = ()  # --trees FILE|DIR: BehaviorTrees the mission's SubTrees may use
+    entries: tuple[str, ...] = ()  # --entry [TREE:]NAME=TYPE: entries the application provides
     enum_decls: tuple[str, ...] = ()  # --enum Type=A,B=3
     enum_files: tuple[str, ...] = ()  # --enums FILE
     types: tuple[str, ...] = ()  # --type NAME=CPP_TYPE@HEADER
     namespace: Optional[str] = None  # --namespace a::b (C++ outputs only)
     string_capacity: Optional[int] = None  # --string-capacity N (None: the IR's default)
     queue_capacity: Optional[int] = None  # --queue-capacity N
+    btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
 
     @property
     def data(self) -> DataOptions:
@@ -91,6 +96,23 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
     )
     g.add_argument(
+        "--trees",
+        action="append",
+        default=[],
+        metavar="FILE|DIR",
+        help="a file of BehaviorTrees, or a folder of such files (*.xml), whose trees the mission's "
+        "SubTrees may use, as registerBehaviorTreeFromFile registers them (repeatable)",
+    )
+    g.add_argument(
+        "--entry",
+        action="append",
+        default=[],
+        metavar="[TREE:]NAME=TYPE",
+        help="a blackboard entry the application sets before the first tick (on the root "
+        "blackboard, or on that of every instance of BehaviorTree TREE), e.g. server_timeout=int; "
+        "the generated mission gets a setter for it (repeatable)",
+    )
+    g.add_argument(
         "--enum",
         action="append",
         default=[],
@@ -122,6 +144,15 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         "from the file name; `main.xml` gives `main_`)",
     )
     g.add_argument(
+        "--btcpp",
+        choices=SUPPORTED_VERSIONS,
+        default=None,
+        metavar="VERSION",
+        help="the BehaviorTree.CPP release whose semantics to follow: "
+        + " or ".join(SUPPORTED_VERSIONS)
+        + " (default 4.6.2); it decides loading, the script grammar, both engines and the generated C++",
+    )
+    g.add_argument(
         "--string-capacity",
         type=_capacity,
         default=None,
@@ -149,21 +180,26 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
     return CompileOptions(
         models=tuple(get("models", ())),
         main_tree=get("main_tree"),
+        trees=tuple(get("trees", ())),
+        entries=tuple(get("entry", ())),
         enum_decls=tuple(get("enum", ())),
         enum_files=tuple(get("enums", ())),
         types=tuple(get("type", ())),
         namespace=get("namespace"),
         string_capacity=get("string_capacity"),
         queue_capacity=get("queue_capacity"),
+        btcpp=get("btcpp", "4.6.2"),
     )
 
 
 def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     """The checked mission (front end only); UserError with every problem found."""
-    from btgen.frontend import enums, usertypes
+    from btgen.frontend import entries, enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    mission = load_mission(path, opts.models, opts.main_tree)
+    provided = entries.load(opts.entries)
+    mission = load_mission(path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp)
+    mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, usertypes.load(opts.types))
     return mission

@@ -9,6 +9,7 @@ mission are reported together.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 from collections.abc import Sequence
@@ -17,12 +18,12 @@ from typing import Optional
 from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.frontend import version_rules
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
-    BUILTINS,
     EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
@@ -35,8 +36,10 @@ from btgen.lang.catalogue import (
     SPECIAL_ATTRIBUTES,
     NodeSpec,
     PortSpec,
+    builtins_for,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.lang.versions import DEFAULT_VERSION, semantics
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -73,9 +76,21 @@ def remap_key(value: str, port_name: str) -> str:
 
 
 class _Loader:
-    def __init__(self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> None:
+    def __init__(
+        self,
+        path: str,
+        models: Sequence[str] = (),
+        main_tree: Optional[str] = None,
+        trees: Sequence[str] = (),
+        btcpp: str = DEFAULT_VERSION,
+    ) -> None:
         self.path = path
+        self.btcpp = btcpp
+        self.sem = semantics(btcpp)
+        self.builtins = builtins_for(btcpp)
         self.models_paths = tuple(models)
+        self.trees_paths = tuple(trees)
+        self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
         self.main_tree_override = main_tree
         self.sink = DiagnosticSink()
         self.sources: list[Source] = []
@@ -97,6 +112,9 @@ class _Loader:
 
     def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
+        self.mission_trees = len(self.tree_elems)
+        for trees_path in self.trees_paths:
+            self._load_tree_library(trees_path)
         for models_path in self.models_paths:
             self._load_models_file(models_path)
         self.sink.raise_if_errors()
@@ -117,11 +135,14 @@ class _Loader:
             tuple(self.models),
             tuple(self.files),
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
+            btcpp=self.btcpp,
         )
         self._check_instance_count(mission)
+        self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
-        return mission
+        warnings = tuple(self._sorted(d for d in self.sink.items if d.severity == "warning"))
+        return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
         src = read_source(path, shown)
@@ -164,6 +185,32 @@ class _Loader:
             elif child.tag == "include":
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
+
+    def _load_tree_library(self, path: str) -> None:
+        """`--trees FILE|DIR`: every <BehaviorTree> of the file (or of each `*.xml` of the
+        folder, in name order) becomes available to the mission's SubTrees, as
+        registerBehaviorTreeFromFile makes them; their includes and TreeNodesModel count too."""
+        if os.path.isdir(path):
+            files = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+            if not files:
+                self.sink.error(Loc(path, 1, 1), "--trees names a folder that holds no .xml file")
+                return
+        elif os.path.isfile(path):
+            files = [path]
+        else:
+            self.sink.error(Loc(path, 1, 1), "--trees: no such file or folder")
+            return
+        for f in files:
+            if os.path.realpath(f) in (os.path.realpath(g) for g in self.files):
+                continue  # the mission, one of its includes, or a file given twice
+            try:
+                self._load_file(f, f, ())
+            except UserError as e:
+                self.sink.items.extend(e.diagnostics)
 
     def _tree_id(self, elem: etree._Element, src: Source, siblings: int) -> str:
         """The ID of a <BehaviorTree>; warns about the attributes BehaviorTree.CPP ignores."""
@@ -284,7 +331,7 @@ class _Loader:
             if not isinstance(m.tag, str):
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
-            if mid in BUILTINS:
+            if mid in self.builtins:
                 # 4.6.2 never reads leaf, control or decorator models from XML: the
                 # registered node, here the built-in, is what runs.
                 self.sink.warning(
@@ -417,12 +464,15 @@ class _Loader:
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
-        ids = [t for t, e, s in self.tree_elems]
+        every = [t for t, e, s in self.tree_elems]
+        # The tree to run is the mission's: a tree library (--trees) only lends SubTrees.
+        ids = every[: self.mission_trees]
         if self.main_tree_override is not None:
             main = self.main_tree_override
-            if main not in ids:
+            if main not in every:
                 self.sink.error(
-                    src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}"
+                    src.loc(root),
+                    f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
                 )
             return main
         main = root.get("main_tree_to_execute")
@@ -439,10 +489,10 @@ class _Loader:
                 f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})",
             )
             return ""
-        if main not in ids:
+        if main not in every:
             self.sink.error(
                 src.value_loc(root, "main_tree_to_execute"),
-                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}",
+                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
             )
         return main
 
@@ -489,6 +539,13 @@ class _Loader:
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
             elif not aname[:1].isalpha():
                 self._ignored_attribute(attr, tag, node_id)
+            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+                self.sink.warning(
+                    attr.loc,
+                    f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
+                    f"attributes that are not valid port names",
+                )
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -503,7 +560,7 @@ class _Loader:
             return SubTreeNode(
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
-        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, tag=tag)
 
     def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
         """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
@@ -537,13 +594,13 @@ class _Loader:
                     loc,
                     f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
                 )
-            return BUILTINS["SubTree"]
+            return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
-        spec = BUILTINS.get(node_id) or user.get(node_id)
+        spec = self.builtins.get(node_id) or user.get(node_id)
         if spec is None and node_id.startswith("{"):  # lxml's `{uri}local` of a namespaced element
             local = etree.QName(node_id).localname
             shown = f"{elem.prefix}:{local}" if elem.prefix else local
-            known = local in BUILTINS or local in user
+            known = local in self.builtins or local in user
             self.sink.error(
                 loc,
                 f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
@@ -554,7 +611,14 @@ class _Loader:
             if node_id in tree_ids:
                 self.sink.error(loc, f'`{node_id}` is a BehaviorTree, not a node: write <SubTree ID="{node_id}"/>')
                 return None
-            hint = did_you_mean(node_id, list(BUILTINS) + list(user))
+            if node_id == "TryCatch" and not self.sem.trycatch:
+                self.sink.error(
+                    loc,
+                    f"unknown node `TryCatch`: it is built in from BehaviorTree.CPP 4.9.0, not in "
+                    f"{self.btcpp} (select the version with --btcpp 4.10.0)",
+                )
+                return None
+            hint = did_you_mean(node_id, list(self.builtins) + list(user))
             where = "built in"
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
@@ -590,7 +654,7 @@ class _Loader:
 
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
         try:
-            parsed = script_lang.parse_script(attr.value)
+            parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)
         except script_lang.ScriptSyntaxError as e:
             self.sink.error(
                 src.value_loc(elem, attr.name, e.offset), f"invalid script in `{attr.name}` of `{node_id}`: {e.message}"
@@ -655,6 +719,9 @@ class _Loader:
         if (spec.id, attr.name) in KEY_NAME_PORTS:
             # These nodes read the raw text as the name of an entry (`output_key="result"`).
             self._check_key(attr, value, what)
+            return attr
+        if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
+            version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
@@ -779,13 +846,29 @@ class _Loader:
                 f"{MAX_NODES} are allowed",
             )
 
+    def _check_version_rules(self, mission: Mission) -> None:
+        """What later releases refuse at load: errors when the selected version refuses it,
+        warnings under 4.6.2 so that a team learns before it upgrades."""
+        for finding in version_rules.loading_findings(mission):
+            if getattr(self.sem, finding.switch):
+                self.sink.error(finding.loc, f"{finding.message} (refused from BehaviorTree.CPP {finding.since})")
+            else:
+                self.sink.warning(finding.loc, f"refused from BehaviorTree.CPP {finding.since}: {finding.message}")
+
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
         from btgen.frontend.xsd import validate_against_mission_xsd
 
         for src in self.sources:
-            self.sink.items.extend(validate_against_mission_xsd(mission, src))
+            for d in validate_against_mission_xsd(mission, src):
+                # attributes the library ignores (not port names) were reported, if at all, above
+                m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
+                ignored = m is not None and (
+                    m.group(1).startswith("_") or not version_rules.is_port_name(m.group(1), self.sem)
+                )
+                if not ignored:
+                    self.sink.items.append(d)
 
 
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
@@ -813,10 +896,17 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     return ""
 
 
-def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
+def load_mission(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
-    (`--main-tree`), overriding main_tree_to_execute."""
-    return _Loader(path, models, main_tree).load()
+    (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp).load()

@@ -55,6 +55,7 @@ from btgen.interp.controls import (
     SequenceNode,
     SequenceWithMemoryNode,
     SwitchNode,
+    TryCatchNode,
     WhileDoElseNode,
 )
 from btgen.interp.decorators import (
@@ -77,7 +78,6 @@ from btgen.interp.scenario import Scenario
 from btgen.interp.tree import _BY_VALUE, FAILURE, RUNNING, SKIPPED, SUCCESS, Runtime, TreeNode, _Port, _run_error
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
 from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
 from btgen.lang.model import Mission, Node, SubTreeNode
@@ -125,6 +125,7 @@ _BUILTIN_FACTORIES = {
     "UnsetBlackboard": UnsetBlackboardNode,
     "Sleep": SleepNode,
     "WasEntryUpdated": WasEntryUpdatedNode,
+    "TryCatch": TryCatchNode,  # 4.9.0; only in the catalogue of versions that have it
 }
 
 
@@ -154,7 +155,7 @@ class _Builder:
             return subtree
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
-        if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
+        if model.id in _BUILTIN_FACTORIES and model.id in self.mission.builtins:
             factory = _BUILTIN_FACTORIES[model.id]
             node = factory(rt, model, bb, model.id, ports)
         elif is_scripted_leaf(self.mission, model):
@@ -194,7 +195,14 @@ class _Builder:
                 f"without a default, and this instance does not remap it",
             )
         try:
-            return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent_bb,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.rt.sem.subtree_literals_typed,
+            )
+            provide(self.mission, bb, model.target, False)
+            return bb
         except (values.ConversionError, bbmod.BlackboardError) as e:
             raise _run_error(model.loc, f"SubTree `{model.target}`: {e}") from None
 
@@ -223,6 +231,14 @@ def expanded_depth(mission: Mission) -> int:
     return tree_depth(mission.main_tree) if mission.main_tree in trees else 0
 
 
+def provide(mission: Mission, bb, tree_id: str, root: bool) -> None:
+    """The entries the application sets in this blackboard (--entry): created with their type
+    and no value (a scenario run has no application to set them)."""
+    for p in mission.provided:
+        if p.applies_to(tree_id, root):
+            bb.create_entry(p.key, p.type)
+
+
 def _ensure_recursion_depth(depth: int) -> None:
     """Ticking and halting recurse about three Python frames per tree level; a tree nested deeper
     than the default limit allows gets a higher limit (Python 3.11+ keeps such frames off the C
@@ -241,6 +257,7 @@ class Interpreter:
         _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
+        provide(mission, self.root_bb, mission.main_tree, True)
         builder = _Builder(self.rt, mission)
         self.root = builder.build(self.root_bb)
         self.nodes = builder.nodes

@@ -42,7 +42,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import SlotType, check_script
+from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -134,6 +134,7 @@ class SlotIR:
     user_cpp: str = ""  # a user port type's C++ spelling (--type)
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
+    provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
 
 
 @dataclass(frozen=True)
@@ -149,6 +150,7 @@ class ScriptIR:
     names: tuple[tuple[str, int], ...]  # name -> slot index
     condition: bool  # its last value is a condition's result
     prefix: str  # the prefix of its run-time error messages
+    typed: TypedScript  # every expression's kind and how it is computed (script_types.py)
 
 
 @dataclass(frozen=True)
@@ -281,6 +283,7 @@ class _Slot:
     elem_literals: list[int] = field(default_factory=list)
     queue_unbounded: bool = False
     untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    provided: bool = False  # the application sets it before the first tick (--entry)
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
@@ -337,6 +340,7 @@ class _Analyzer:
     def load(self) -> None:
         root = bbmod.Blackboard()
         self._add_bb(root, "root")
+        self._provide(root, self.m.main_tree, True, self.m.main.loc)
         stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
         while stack:
             node, bb, path = stack.pop()
@@ -378,6 +382,36 @@ class _Analyzer:
             for child in reversed(node.children):
                 stack.append((child, bb, path))
 
+    def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
+        """The entries the application sets in this blackboard before the first tick (--entry):
+        created with their type; robot code writes them."""
+        for p in self.m.provided:
+            if not p.applies_to(tree_id, root):
+                continue
+            try:
+                entry = bb.create_entry(p.key, p.type)
+            except bbmod.BlackboardError as e:
+                self.error(loc, f"{p.option}: {e}")
+                continue
+            s = self._slot(entry, loc)
+            s.at_load = True
+            s.provided = True
+            s.origin = f"provided by the application ({p.option})"
+            kind = kind_of_type(p.type)
+            s.writes.append(
+                _Write(
+                    self.slots.index(s),
+                    self.next_order(),
+                    loc,
+                    f"the application ({p.option})",
+                    (lambda k=kind: k),
+                    kind is not None,
+                    (lambda: None),
+                    None,
+                    "port",
+                )
+            )
+
     def _add_bb(self, bb: bbmod.Blackboard, label: str) -> None:
         self.bbs.append(bb)
         self.bb_labels[id(bb)] = label
@@ -392,7 +426,12 @@ class _Analyzer:
             )
         remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
-            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.m.semantics.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             self.error(model.loc, f"SubTree `{model.target}`: {e}")
             bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
@@ -403,23 +442,30 @@ class _Analyzer:
             assert entry is not None
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
-            s.initial = str(entry.value)
+            # 4.9.1 stores a literal that is wholly a number as that number (subtree_literals_typed)
+            text = (
+                entry.value
+                if isinstance(entry.value, str)
+                else next((v for n, v, _ in remap if n == key), str(entry.value))
+            )
+            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
-            text = str(entry.value)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
                     self.next_order(),
                     locs.get(key, model.loc),
                     f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
-                    lambda: "string",
+                    lambda k=constant_kind: k,
                     True,
                     lambda t=text: len(t.encode("utf-8")),
                     text,
                     "constant",
                 )
             )
+        self._provide(bb, model.target, False, model.loc)
         return bb
 
     def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
@@ -939,6 +985,19 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
         # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
         # most `cap`: a longer literal is an error where it is written. A computed value
         # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
@@ -968,18 +1027,6 @@ class _Analyzer:
                     changed = True
             if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
-        for s in self.slots:
-            if is_queue(s.kind):
-                qcap = self.opt.queue_capacity
-                s.capacity = max(s.queue_literals, default=0)
-                if s.queue_unbounded or not s.queue_literals:
-                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
-                s.capacity = max(s.capacity, 1)
-                if s.kind == "queue<string>":
-                    s.elem_capacity = max(s.elem_literals, default=0)
-                    if s.queue_unbounded:
-                        s.elem_capacity = cap
-                    s.elem_capacity = min(s.elem_capacity, cap)
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
@@ -1110,7 +1157,7 @@ class _Compiler:
             if not self.check_user_free(inst, attr, script, names):
                 continue
             try:
-                check_script(script, self.types, names, condition)
+                typed = type_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
@@ -1125,6 +1172,7 @@ class _Compiler:
                     tuple(sorted(names.items())),
                     condition,
                     f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
                 )
             )
             if enum != "kCode":
@@ -1638,6 +1686,7 @@ class _Compiler:
                 self.a.user[s.kind].cpp if is_user(s.kind) else "",
                 not s.at_load or s.unset,
                 s.origin_text,
+                s.provided,
             )
             for i, s in enumerate(self.a.slots)
         )
