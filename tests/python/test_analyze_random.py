@@ -14,13 +14,13 @@ from btgen.tools.explore import BY_NAME, Explorer
 from btgen.tools.fuzzgen import random_mission
 
 
-@pytest.mark.parametrize("features", ["control", "full"])
-def test_analyze_is_sound_and_mostly_exact(tmp_path, features):
+@pytest.mark.parametrize(("features", "btcpp"), [("control", "4.6.2"), ("full", "4.6.2"), ("full", "4.10.0")])
+def test_analyze_is_sound_and_mostly_exact(tmp_path, features, btcpp):
     exact = total = 0
     for seed in range(25):
         path = tmp_path / f"{features}_{seed}.xml"
         path.write_text(random_mission(seed, features))
-        mission = load_mission(str(path))
+        mission = load_mission(str(path), btcpp=btcpp)
         program = lower(mission)
         result = analyze_program(mission, program, DataOptions())
         possible = {

@@ -259,6 +259,20 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_DECORATORS = {
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "KeepRunningUntilFailure",
+    "RunOnce",
+    "Precondition",
+    "Timeout",
+    "Delay",
+    "Loop",
+    "SkipUnlessUpdated",
+    "WaitValueUpdate",
+    "SubTree",
+}
 _PRE_ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 
@@ -387,6 +401,8 @@ class _Analyzer:
                 self.constants[(n.index, "code")] = const
                 return {S if const else F: (1, 0, 1)}, {}
             return {S: (1, 0, 1), F: (1, 0, 1)}, {}
+        if nid == "SetBlackboard" and self.m.semantics.setblackboard_converts_to_entry_type:
+            return {S: ONE, F: ONE}, {}  # 4.7.0 on: copying an empty entry fails
         if nid in ("SetBlackboard", "UnsetBlackboard"):
             return {S: ONE}, {}
         if nid == "WasEntryUpdated":
@@ -436,6 +452,15 @@ class _Analyzer:
             return _switch(fr), _switch(un)
         if kind in ("Repeat", "RetryUntilSuccessful"):
             return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        if kind not in _DECORATORS:  # a node this analysis does not model: anything, each child once
+            total: Cost = ONE
+            for w in un:
+                most: Cost = ZERO
+                for v in w.values():
+                    most = _max(most, v)
+                total = _add(total, most)
+            anything = {st: total for st in ORDER}
+            return anything, anything
         child_fr = fr[0] if fr else {}
         return self.decorator(n, child_fr, child_fr, False), self.decorator(n, un[0] if un else {}, {}, True)
 
@@ -562,6 +587,8 @@ class _Analyzer:
             if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
                 port = "num_cycles" if kind == "Repeat" else "num_attempts"
                 self.never(n, f"{self.label(n.index)} has {port}={limit}")
+                if self.m.semantics.loop_end_never_skipped:  # 4.7.0 on
+                    return {S if kind == "Repeat" else F: ONE}
                 return {K: ONE}
             final = S if kind == "Repeat" else F
 
