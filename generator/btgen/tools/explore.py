@@ -19,11 +19,12 @@ reached at the same or an earlier tick is not explored again: what it leads to
 was explored from there.
 
 Coverage goals are each node ticked and each status each node can return (the
-statuses `btgen analyze` finds possible). The runs that end (root completed,
---ticks reached, --depth reached, state repeated) are kept when they add a goal;
-a greedy set cover of them gives the scenario files written with -o.
+statuses `btgen analyze` finds possible). Every run that ends (root completed,
+--ticks reached, --depth reached, state repeated) is a candidate, its goals kept
+as the bits of an int; a greedy set cover of them, without the runs the others
+make redundant, gives the scenario files written with -o.
 
-Properties (--assert), checked at every node return and at the end of every tick:
+Properties (--assert), checked at every node return (the root's is the end of a tick):
 
     never A STATUS                 A never returns STATUS
     never A STATUS before B STATUS A does not return STATUS while B has not yet
