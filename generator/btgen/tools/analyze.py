@@ -128,6 +128,8 @@ class _Data:
         a = dataflow._Analyzer(mission, options)
         a.load()
         self.insts = a.insts
+        # entries the application sets before the first tick (--entry): written from the start
+        self.provided = {eid for eid, i in a.slot_of_entry.items() if getattr(a.slots[i], "provided", False)}
         self.enums = dict(mission.enums)
         # id(entry) -> [(node index, loc, type or None)]
         self.reads: dict[int, list[tuple[int, Loc, Optional[str]]]] = {}
@@ -768,7 +770,7 @@ def _blackboard_findings(a: _Analyzer, data: _Data, reach: list[bool], add) -> N
     for eid, reads in data.reads.items():
         entry = data.entries[eid]
         key = data.entry_key.get(eid, "?")
-        if entry.value is not None:  # a SubTree constant or default: it has a value from the start
+        if entry.value is not None or eid in data.provided:  # a value from the start (constant, --entry)
             continue
         reads = [r for r in reads if reach[r[0]]]
         if not reads:
