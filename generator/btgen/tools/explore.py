@@ -160,6 +160,7 @@ class Result:
     violations: list[tuple[Property, Path]] = field(default_factory=list)
     max_visits: int = 0  # most nodes visited in one tick, over every run
     max_hooks: int = 0
+    errors: list = field(default_factory=list)  # (Diagnostic, Path): run-time errors some run meets
 
 
 # ====================================================================== one run
@@ -367,7 +368,8 @@ class Explorer:
         except _Violation as v:
             run.violation = v.prop  # type: ignore[attr-defined]
             return "violation", run, None
-        except UserError:
+        except UserError as e:  # a run-time error (a script, a port): a finding of its own
+            run.error = e.diagnostics[0] if e.diagnostics else None  # type: ignore[attr-defined]
             return "error", run, None
         finally:
             self.current = None
@@ -379,6 +381,7 @@ class Explorer:
         candidates: dict[int, Path] = {}
         covered: set = set()
         violations: list[tuple[Property, Path]] = []
+        errors: list[tuple[object, Path]] = []
         runs = 0
         truncated = False
         stack: list[tuple[int, ...]] = [()]
@@ -401,6 +404,10 @@ class Explorer:
                         b = self.bit[goal] = len(self.bit)
                     mask |= 1 << b
                 path = Path(plan, tuple(run.picks), max(run.tick_no, 1), frozenset(run.goals), end, mask)
+                if end == "error" and len(errors) < 5:
+                    diag = run.error  # type: ignore[attr-defined]
+                    if diag is not None and all(str(diag) != str(d) for d, _ in errors):
+                        errors.append((diag, path))
                 if end == "violation":
                     prop = run.violation  # type: ignore[attr-defined]
                     if not any(p is prop for p, _ in violations):
@@ -429,6 +436,7 @@ class Explorer:
             violations,
             self.max_visits,
             self.max_hooks,
+            errors,
         )
 
     def _cover(self, paths: list[Path], goals: set) -> list[Path]:
@@ -579,6 +587,18 @@ def explore_command(args) -> int:
             trace = "".join(str(d) + "\n" for d in e.diagnostics)
         for line in trace.splitlines():
             print(f"    {line}", file=sys.stderr)
+    for k, (diag, path) in enumerate(result.errors, start=1):
+        status = 1
+        print(f"{diag}", file=sys.stderr)
+        text = scenario_text(path, args.clock_ms, f"reaches: {diag}")
+        if args.output_dir:
+            name = os.path.join(args.output_dir, f"error-{k}.scenario")
+            _write_atomic(name, text)
+            print(f"  a run that reaches it: {name}", file=sys.stderr)
+        else:
+            print("  a run that reaches it:", file=sys.stderr)
+            for line in text.splitlines():
+                print(f"    {line}", file=sys.stderr)
     uncovered = sorted(result.goals - result.covered, key=lambda g: (g[1], g[2] if len(g) > 2 else -1))
     names = {n.uid: n for n in ex.nodes}
     impossible = []
@@ -611,6 +631,7 @@ def explore_command(args) -> int:
         ],
         "never_ticked": impossible,
         "violations": [p.text for p, _ in result.violations],
+        "run_time_errors": [str(d) for d, _ in result.errors],
     }
     if args.json:
         json.dump(report, sys.stdout, indent=2)
