@@ -18,10 +18,17 @@ IDLE, so they tick their child at most twice per tick; nothing built in loops
 without bound within one tick. A user Control or Decorator may tick its
 children any number of times: the bound is then "unbounded" and names it.
 
-The bounds are per outcome and composed exactly along the tick's paths (a
-Sequence child that only fails stops the count), so they are reached when
-the leaves' results are independent of each other; `btgen explore` measures
-the most it reaches.
+Each node has two tables, for a tick that finds it IDLE and for one that finds
+it RUNNING (a resumed Sequence skips the children before the running one; a
+Repeat starts a second cycle in a tick only when it resumed the first). The
+bounds are per outcome and composed along the tick's paths (a Sequence child
+that only fails stops the count); they are reached when the leaves' results
+are independent of each other, except for Parallel, whose count is an upper
+bound. `btgen explore --no-merge` measures the most a tick does, and the tests
+check on random missions that analyze is never below it, never calls a ticked
+node unreachable and never calls a returned status impossible. With
+`--btcpp 4.10.0` the switches of lang/versions.py that change what a tick
+returns are followed; a node not modelled here (TryCatch) may return anything.
 
 Scripts whose names are all SubTree constants never written by any node (or
 no names at all) are evaluated once here: a constant `_skipIf`, `_while`,
