@@ -4,6 +4,9 @@
 #                     [NAMESPACE <ns>]            # C++ namespace (btgen compile --namespace); default from the file name
 #                     [MAIN_TREE <id>]            # the tree to run (btgen compile --main-tree)
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
+#                     [TREES <file.xml|dir>...]   # BehaviorTrees the mission's SubTrees may use (btgen compile --trees)
+#                     [ENTRIES <[TREE:]NAME=TYPE>...]  # entries the application sets before the first tick
+#                                                 # (btgen compile --entry; the mission gets provide_<entry>())
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
 #                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
@@ -133,7 +136,7 @@ endfunction()
 # (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
 # a function called from another directory once the include guard skips this file).
 set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
-set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;ENUMS;ENUM_FILES;TYPES")
+set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
 
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
 # read: --models, --main-tree), `write_options` (the rest: --namespace, capacities, enums,
@@ -148,9 +151,24 @@ function(_btgen_collect_options caller)
     endif()
     list(APPEND read_options --models "${models_file}")
   endforeach()
+  # Tree libraries: a file, or a folder whose *.xml files are read (the folder itself is a
+  # configure dependency, so a file added to it is seen).
+  foreach(trees IN LISTS ARG_TREES)
+    get_filename_component(trees "${trees}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${trees}")
+      message(FATAL_ERROR "${caller}: trees file or folder ${trees} does not exist")
+    endif()
+    list(APPEND read_options --trees "${trees}")
+    if(IS_DIRECTORY "${trees}")
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${trees}")
+    endif()
+  endforeach()
   if(DEFINED ARG_MAIN_TREE)
     list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
   endif()
+  foreach(entry IN LISTS ARG_ENTRIES)
+    list(APPEND read_options --entry "${entry}")
+  endforeach()
   set(ns_option "")
   if(DEFINED ARG_NAMESPACE)
     set(ns_option --namespace "${ARG_NAMESPACE}")

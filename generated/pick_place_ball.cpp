@@ -8,5 +8,5 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0x2a6d9512c84a6908ULL,
+static_assert(pick_place_ball::detail::kGeneration == 0xb3559f39e4a1815bULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

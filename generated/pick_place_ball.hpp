@@ -216,7 +216,7 @@ struct Spec {
   static constexpr std::string_view kMainTree = "PickPlaceBall";
   static constexpr std::size_t kNodeCount = 7;
   static constexpr std::size_t kChildCount = 6;
-  static constexpr std::size_t kCounterCount = 5;
+  static constexpr std::size_t kCounterCount = 6;
   static constexpr std::size_t kTimerCount = 0;
   static constexpr std::size_t kMaxDepth = 3;
   static constexpr bool kHasParallel = false;
@@ -243,7 +243,7 @@ struct Spec {
                       std::string_view("FindBall", 8), std::string_view("FindBall", 8),
                       std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
       btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      3, 4, 0, 3u, 3, btgen::kNoModel, 3u, btgen::kNoSlot, 0, 0, 0, 0,
+                      3, 4, 0, 3u, 3, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
                       std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13),
                       std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
       btgen::NodeInfo{btgen::NodeKind::Action,
@@ -889,7 +889,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x2a6d9512c84a6908ULL;
+inline constexpr unsigned long long kGeneration = 0xb3559f39e4a1815bULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0xcd01327719822eb8ULL,
+static_assert(reception::detail::kGeneration == 0xc4f251dd643cc8ccULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -57,6 +57,33 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     return status
 
 
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import analyze_command, stop_quietly_on_broken_pipe
+
+    return stop_quietly_on_broken_pipe(analyze_command, args)
+
+
+def _cmd_explore(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.explore import explore_command
+
+    return stop_quietly_on_broken_pipe(explore_command, args)
+
+
+def _cmd_cover(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.cover import cover_command
+
+    return stop_quietly_on_broken_pipe(cover_command, args)
+
+
+def _cmd_scenario_from_log(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.cover import scenario_from_log_command
+
+    return stop_quietly_on_broken_pipe(scenario_from_log_command, args)
+
+
 def _cmd_xsd(args: argparse.Namespace) -> int:
     from btgen import pipeline
     from btgen.frontend.xsd import mission_xsd
@@ -98,6 +125,12 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     return graph_command(args)
 
 
+def _cmd_models(args: argparse.Namespace) -> int:
+    from btgen.tools.models import models_command
+
+    return models_command(args)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -126,6 +159,67 @@ def build_parser() -> argparse.ArgumentParser:
     add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
 
+    a = sub.add_parser(
+        "analyze",
+        help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
+    )
+    a.add_argument("missions", nargs="+", metavar="MISSION.xml")
+    add_mission_options(a)
+    a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
+    a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
+    a.add_argument(
+        "--tick-budget", type=_count, metavar="N", help="warn when a bound of a tick (nodes, hooks, scripts) exceeds N"
+    )
+    a.set_defaults(func=_cmd_analyze)
+
+    e = sub.add_parser(
+        "explore",
+        help="explore every leaf outcome up to a bound; write scenarios reaching full coverage; check properties",
+    )
+    e.add_argument("mission", metavar="MISSION.xml")
+    add_mission_options(e)
+    e.add_argument("--ticks", type=_count, default=8, metavar="N", help="most root ticks of a run (default 8)")
+    e.add_argument("--depth", type=_count, default=200, metavar="N", help="most leaf results in a run (default 200)")
+    e.add_argument(
+        "--max-states", type=_count, default=200000, metavar="N", help="stop after N explored states (default 200000)"
+    )
+    e.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
+    e.add_argument("-o", "--output-dir", metavar="DIR", help="write the covering scenarios there")
+    e.add_argument(
+        "--assert",
+        dest="asserts",
+        action="append",
+        default=[],
+        metavar="PROPERTY",
+        help="a property to check on every run (see README: `never A SUCCESS before B SUCCESS`, "
+        "`at most one child of N RUNNING`, `never A RUNNING`)",
+    )
+    e.add_argument(
+        "--no-merge",
+        action="store_true",
+        help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
+    )
+    e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.set_defaults(func=_cmd_explore)
+
+    cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
+    cv.add_argument("mission", metavar="MISSION.xml")
+    cv.add_argument("runs", nargs="+", metavar="RUN", help="FILE.scenario, a trace (`btgen run` output) or FILE.btlog")
+    add_mission_options(cv)
+    cv.add_argument("--table", action="store_true", help="one line per node: ticked, statuses seen, missing")
+    cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
+    cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
+    cv.add_argument("--min", type=float, metavar="PCT", help="exit 1 when node coverage is below PCT percent")
+    cv.set_defaults(func=_cmd_cover)
+
+    sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")
+    sl.add_argument("mission", metavar="MISSION.xml")
+    sl.add_argument("log", metavar="RUN.btlog")
+    sl.add_argument("-o", "--output", metavar="FILE.scenario", help="write it there (default: stdout)")
+    sl.add_argument("--clock-ms", type=int, default=0, metavar="MS", help="clock_ms of the scenario (default 0)")
+    add_mission_options(sl)
+    sl.set_defaults(func=_cmd_scenario_from_log)
+
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
     add_mission_options(x)
@@ -135,12 +229,23 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("mission", metavar="MISSION.xml")
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
+    r.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) applied to the leaves",
+    )
     add_mission_options(r)
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
     c.add_argument("mission", metavar="MISSION.xml")
     c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
+    c.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="a test build: BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) "
+        "applied to the leaves",
+    )
     c.add_argument(
         "--relative-to",
         default=None,
@@ -155,6 +260,15 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--config", metavar="FILE.ini")
     k.add_argument("--mission", metavar="MISSION.xml")
     k.set_defaults(func=_cmd_lint_kb)
+
+    mo = sub.add_parser(
+        "models",
+        help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
+    )
+    mo.add_argument("mission", metavar="MISSION.xml")
+    mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
+    add_mission_options(mo)
+    mo.set_defaults(func=_cmd_models)
 
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")

@@ -118,7 +118,10 @@ def write_all_if_changed(files: Sequence[tuple[Path, str]]) -> list[Path]:
             if path.is_dir():
                 raise IsADirectoryError(21, "a directory is in the way", str(path))
             try:
-                old: Optional[bytes] = path.read_bytes()
+                # (only enough of the old file to tell whether it differs: an output path
+                # may name anything, /dev/zero included)
+                with open(path, "rb") as f:
+                    old: Optional[bytes] = f.read(len(data) + 1)
                 old_stat[path] = path.stat()
             except FileNotFoundError:
                 old = None
@@ -158,7 +161,13 @@ def compile_command(args: argparse.Namespace) -> int:
     opts = options_from_args(args)
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
-    program = lower(mission, opts.data)
+    substitute = getattr(args, "substitute", None)
+    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
     outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(), opts.namespace)
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
@@ -201,9 +210,9 @@ def mission_files(mission_path: str, opts: CompileOptions = DEFAULTS) -> list[st
     from btgen.frontend.loader import load_mission
 
     try:
-        files = list(load_mission(mission_path, opts.models, opts.main_tree).files)
+        files = list(load_mission(mission_path, opts.models, opts.main_tree, opts.trees).files)
     except UserError:
-        files = [mission_path, *opts.models]
+        files = [mission_path, *opts.models, *(t for t in opts.trees if os.path.isfile(t))]
     files += [f for f in opts.enum_files if f not in files]
     return [os.path.abspath(f) for f in files]
 

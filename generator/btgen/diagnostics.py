@@ -10,6 +10,8 @@ reports as an internal error and asks to be reported.
 from __future__ import annotations
 
 import difflib
+import os
+import stat
 import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -85,6 +87,43 @@ class UserError(Exception):
     @classmethod
     def at(cls, loc: Loc, message: str) -> UserError:
         return cls(Diagnostic(loc, message))
+
+
+def read_bounded(
+    path: str,
+    limit: int,
+    kind: str,
+    plural: Optional[str] = None,
+    shown: Optional[str] = None,
+    cannot: str = "cannot read file",
+) -> bytes:
+    """The bytes of the file at `path`, never more than `limit` of them: the one reader of
+    every file btgen reads (missions, models, scenarios, enums, traces, logs, knowledge
+    bases), so /dev/zero or a FIFO that never ends costs `limit` bytes, not the machine.
+
+    `kind` names the file in messages ("mission", "scenario", "knowledge base"), `plural` the
+    limited things (default "<kind> files"); UserError at `shown:1:1` (default `path`) when it
+    is a directory, a socket, too large or unreadable (`cannot`: the words before the reason)."""
+    top = Loc(shown or path, 1, 1)
+    plural = plural or f"{kind} files"
+    a = "an" if kind[:1] in "aeiou" else "a"
+    try:
+        st = os.stat(path)
+        if stat.S_ISDIR(st.st_mode):
+            raise UserError.at(top, f"is a directory, not {a} {kind} file")
+        if stat.S_ISSOCK(st.st_mode):
+            raise UserError.at(top, f"is a socket, not {a} {kind} file")
+        if stat.S_ISREG(st.st_mode) and st.st_size > limit:
+            raise UserError.at(top, f"file is {st.st_size} bytes; {plural} are limited to {limit} bytes")
+        with open(path, "rb") as f:
+            data = f.read(limit + 1)
+    except IsADirectoryError:
+        raise UserError.at(top, f"is a directory, not {a} {kind} file") from None
+    except OSError as e:
+        raise UserError.at(top, f"{cannot}: {e.strerror or e}") from None
+    if len(data) > limit:  # a pipe or device (its size shows only while reading), or it grew
+        raise UserError.at(top, f"file is larger than {limit} bytes; {plural} are limited to {limit} bytes")
+    return data
 
 
 class InternalError(Exception):

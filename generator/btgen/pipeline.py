@@ -33,6 +33,8 @@ class CompileOptions:
 
     models: tuple[str, ...] = ()  # --models FILE.xml: files of <TreeNodesModel>
     main_tree: Optional[str] = None  # --main-tree ID
+    trees: tuple[str, ...] = ()  # --trees FILE|DIR: BehaviorTrees the mission's SubTrees may use
+    entries: tuple[str, ...] = ()  # --entry [TREE:]NAME=TYPE: entries the application provides
     enum_decls: tuple[str, ...] = ()  # --enum Type=A,B=3
     enum_files: tuple[str, ...] = ()  # --enums FILE
     types: tuple[str, ...] = ()  # --type NAME=CPP_TYPE@HEADER
@@ -89,6 +91,23 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         "--main-tree",
         metavar="ID",
         help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
+    )
+    g.add_argument(
+        "--trees",
+        action="append",
+        default=[],
+        metavar="FILE|DIR",
+        help="a file of BehaviorTrees, or a folder of such files (*.xml), whose trees the mission's "
+        "SubTrees may use, as registerBehaviorTreeFromFile registers them (repeatable)",
+    )
+    g.add_argument(
+        "--entry",
+        action="append",
+        default=[],
+        metavar="[TREE:]NAME=TYPE",
+        help="a blackboard entry the application sets before the first tick (on the root "
+        "blackboard, or on that of every instance of BehaviorTree TREE), e.g. server_timeout=int; "
+        "the generated mission gets a setter for it (repeatable)",
     )
     g.add_argument(
         "--enum",
@@ -149,6 +168,8 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
     return CompileOptions(
         models=tuple(get("models", ())),
         main_tree=get("main_tree"),
+        trees=tuple(get("trees", ())),
+        entries=tuple(get("entry", ())),
         enum_decls=tuple(get("enum", ())),
         enum_files=tuple(get("enums", ())),
         types=tuple(get("type", ())),
@@ -160,10 +181,12 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
 
 def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     """The checked mission (front end only); UserError with every problem found."""
-    from btgen.frontend import enums, usertypes
+    from btgen.frontend import entries, enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    mission = load_mission(path, opts.models, opts.main_tree)
+    provided = entries.load(opts.entries)
+    mission = load_mission(path, opts.models, opts.main_tree, opts.trees)
+    mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, usertypes.load(opts.types))
     return mission

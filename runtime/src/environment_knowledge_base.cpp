@@ -731,8 +731,12 @@ KbResult<KbConfiguration> EnvironmentKnowledgeBase::loadConfiguration(const std:
   config.knowledge_base_path = (fs::path(ini_path).parent_path() / kb->second.text).string();
   std::error_code ec;
   if (!fs::is_regular_file(config.knowledge_base_path, ec)) {
+    // (a directory or FIFO exists: "not found" sent the user looking for a typo)
+    const char* why = fs::is_directory(config.knowledge_base_path, ec) ? " is a directory, not a knowledge base file"
+                      : fs::exists(config.knowledge_base_path, ec)     ? " is not a regular file"
+                                                                       : " not found";
     r.error(kb->second.line, kb->second.col,
-            "knowledge base file " + backticked(config.knowledge_base) + " not found (looked for " +
+            "knowledge base file " + backticked(config.knowledge_base) + why + " (looked for " +
                 backticked(config.knowledge_base_path) + "; the name is relative to the configuration file's folder)");
   }
   if (!r.empty()) return KbResult<KbConfiguration>::failure(r.take());

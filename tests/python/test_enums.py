@@ -52,6 +52,10 @@ def test_declarations_number_as_register_scripting_enum(text, table):
         ("Color=RED,2X", "`2X` in enum `Color` is not a name"),
         ("Color=RED=x", "the value of `RED` in enum `Color` is not an integer"),
         ("Color=RED=4294967296", "does not fit an int"),
+        # int() takes these; no C++ enum declaration spells them
+        ("Color=RED=1_000", "the value of `RED` in enum `Color` is not an integer: `1_000`"),
+        ("Color=RED=\u0665", "the value of `RED` in enum `Color` is not an integer: `\u0665`"),
+        ("Color=RED=\uff11\uff12", "the value of `RED` in enum `Color` is not an integer: `\uff11\uff12`"),
     ],
 )
 def test_bad_declarations(text, message):
@@ -69,6 +73,20 @@ def test_a_name_with_two_values_is_an_error(tmp_path):
     with pytest.raises(UserError) as e:
         enums.load(files=[str(f)])
     assert str(e.value).startswith(f"{f}:1:11: error: ")
+
+
+def test_an_enums_file_with_a_byte_order_mark(tmp_path):
+    # (the BOM was read as part of the first declaration's type name, and quoted invisibly)
+    f = tmp_path / "e.enums"
+    f.write_bytes(b"\xef\xbb\xbfColor=RED,GREEN\n")
+    assert enums.load(files=[str(f)]) == (("RED", 0), ("GREEN", 1))
+    f.write_bytes(b"Color=RED,GREEN\n# caf\xe9\n")
+    with pytest.raises(UserError) as e:
+        enums.load(files=[str(f)])
+    assert str(e.value) == f"{f}:2:6: error: invalid UTF-8 (byte 0xe9); enums files must be UTF-8"
+    with pytest.raises(UserError) as e:
+        enums.load(files=[str(tmp_path)])
+    assert str(e.value) == f"{tmp_path}:1:1: error: is a directory, not an enums file"
 
 
 def test_both_engines_give_the_same_trace_with_enums(tmp_path):
@@ -124,3 +142,29 @@ def test_compiled_to_constants(tmp_path):
         ],
         check=True,
     )
+
+
+def test_a_negated_negative_enum_builds_and_agrees(tmp_path):
+    # `-NEG` once generated `--1.0`: C++ has no negative literals, so the constant must compose
+    # as a primary expression after any operator.
+    (tmp_path / "m.xml").write_text(
+        """<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence>
+      <Script code="x := -NEG; y := 1 + -NEG; z := 1 - NEG; w := -(-NEG)"/>
+      <ScriptCondition code="x == 1 &amp;&amp; y == 2 &amp;&amp; z == 2 &amp;&amp; w == -1"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+""",
+        encoding="utf-8",
+    )
+    (tmp_path / "m.scenario").write_text("ticks 1\n", encoding="utf-8")
+    runs = [
+        _btgen("run", "m.xml", "--scenario", "m.scenario", "--engine", e, "--enum", "E=NEG=-1", cwd=tmp_path)
+        for e in ("interp", "cpp")
+    ]
+    for r in runs:
+        assert r.returncode == 0, r.stderr
+        assert "result SUCCESS" in r.stdout
+    assert runs[0].stdout == runs[1].stdout

@@ -245,17 +245,26 @@ def test_btlog_colours_and_a_log_of_another_mission(tmp_path, capsys):
             "UID 1 is `Sequence` in the mission, `Fallback` in the trace",
         ),
         ("tick 1\nresult RUNNING\n", "2:1", "the trace ends at tick 1; there is no tick 4"),
+        # Unicode digits and numbers past int()'s 4,300 digits once ended in a traceback
+        ("tick \u00b2\n", "1:1", "not a line of a status trace: `tick \u00b2`"),
+        ('\u0661 Sequence "x" IDLE -> RUNNING\n', "1:1", "not a line of a status trace: `\u0661 Sequence"),
+        ("tick " + "9" * 5000 + "\n", "1:1", "not a line of a status trace: `tick " + "9" * 55 + "`"),
+        ("9" * 5000 + ' Sequence "x" IDLE -> RUNNING\n', "1:1", "not a line of a status trace: `" + "9" * 60 + "`"),
+        (b"tick 1\n\xff\n", "2:1", "invalid UTF-8 (byte 0xff); traces are UTF-8"),
     ],
 )
 def test_bad_traces_are_path_line_col_errors(tmp_path, capsys, content, where, message):
     trace = tmp_path / "t.trace"
-    trace.write_text(content)
+    if isinstance(content, bytes):
+        trace.write_bytes(content)
+    else:
+        trace.write_text(content, encoding="utf-8")
     args = ["graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", str(trace)]
     if "tick 4" in message:
         args += ["--tick", "4"]
     rc, err = cli(capsys, *args)
     assert rc == 1
-    assert err == f"{trace}:{where}: error: {message}\n"
+    assert err.startswith(f"{trace}:{where}: error: {message}") and err.count("\n") == 1
     assert not (tmp_path / "x.dot").exists()
 
 
@@ -272,6 +281,39 @@ def test_bad_btlog_and_bad_options(tmp_path, capsys):
     bad_mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
     rc, err = cli(capsys, "graph", str(bad_mission), "-o", str(tmp_path / "x.dot"))
     assert rc == 1 and err.startswith(f"{bad_mission}:1:") and "Traceback" not in err
+    assert not (tmp_path / "x.dot").exists()
+
+
+@pytest.mark.parametrize("uid", ["\u00b2", "9" * 5000])
+def test_btlog_uids_that_are_not_ascii_numbers(tmp_path, capsys, uid):
+    # (`str.isdigit()` took `²`, and int() refuses more than 4,300 digits: both were tracebacks)
+    xml = groot2_tree(load_mission(str(MISSION))).xml.replace('_uid="3"', f'_uid="{uid}"', 1).encode()
+    log = tmp_path / "odd.btlog"
+    log.write_bytes(b"BTCPP4-FileLogger2\x01" + struct.pack("<i", len(xml)) + xml + struct.pack("<q", 0))
+    rc, err = cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--btlog", str(log))
+    assert (rc, err) == (
+        1,
+        f"{log}:1:24: error: the log's tree is not this mission's (19 nodes, the mission has 20; "
+        "first difference at UID 3)\n",
+    )
+
+
+@pytest.mark.parametrize(
+    "option, message",
+    [
+        ("--trace", "file is larger than 67108864 bytes; trace files are limited to 67108864 bytes"),
+        ("--btlog", "file is larger than 67108864 bytes; log files are limited to 67108864 bytes"),
+        ("--enums", "file is larger than 1048576 bytes; enums files are limited to 1048576 bytes"),
+        ("--models", "file is larger than 16777216 bytes; missions are limited to 16777216 bytes"),
+    ],
+)
+def test_endless_inputs_are_read_to_a_bound(tmp_path, capsys, option, message):
+    # (each read /dev/zero until the kernel killed btgen at 24 GB)
+    if option in ("--trace", "--btlog"):
+        rc, err = cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), option, "/dev/zero")
+    else:
+        rc, err = cli(capsys, "validate", str(MISSION), option, "/dev/zero")
+    assert (rc, err) == (1, f"/dev/zero:1:1: error: {message}\n")
     assert not (tmp_path / "x.dot").exists()
 
 

@@ -320,3 +320,13 @@ def test_mutated_bases_give_diagnostics_never_exceptions(tmp_path: Path) -> None
             assert "schema" not in d.message, d  # every schema reason is translated
         if not any(d.severity == "error" for d in diags):
             kb.load_kb(str(path))  # a base without errors always loads
+
+
+def test_config_naming_a_fifo_says_what_it_is(tmp_path: Path) -> None:
+    # (it said "not found", and reading it would wait for a writer forever)
+    os.mkfifo(tmp_path / "kb.dat")
+    (tmp_path / "c.ini").write_text("knowledgeBase kb.dat\n", encoding="utf-8")
+    assert [str(d) for d in kb.lint_kb(MINIMAL, config_path=str(tmp_path / "c.ini"))] == [
+        f"{tmp_path}/c.ini:1:15: error: knowledge base file `kb.dat` is not a regular file (looked for "
+        f"`{tmp_path}/kb.dat`; the name is relative to the configuration file's folder)"
+    ]

@@ -53,9 +53,23 @@ USER_TYPE = """<root BTCPP_format="4" main_tree_to_execute="M">
 </root>
 """
 
+# A SubTree defined in no file of the mission: needs --trees with the library.
+USES_LIBRARY = """<root BTCPP_format="4">
+  <BehaviorTree ID="M"><SubTree ID="Lent"/></BehaviorTree>
+</root>
+"""
+LIBRARY = """<root BTCPP_format="4">
+  <BehaviorTree ID="Lent"><AlwaysSuccess/></BehaviorTree>
+</root>
+"""
+
 FULL_OPTIONS = [
     "--models",
     "{models}",
+    "--trees",
+    "lib",
+    "--entry",
+    "Sub:server_timeout=int",
     "--main-tree",
     "Patrol",
     "--enum",
@@ -102,6 +116,8 @@ def test_every_command_builds_the_same_options(command, tmp_path):
     assert options_from_args(args) == CompileOptions(
         models=("models.xml",),
         main_tree="Patrol",
+        trees=("lib",),
+        entries=("Sub:server_timeout=int",),
         enum_decls=("Color=RED,GREEN",),
         types=("Pose=geo::Pose@geo/pose.hpp",),
         namespace="robot::missions",
@@ -121,6 +137,7 @@ CASES = [
     # (mission text, options it needs, extra files)
     ("enum", ENUM_MISSION, ["--enum", "Color=RED,GREEN"]),
     ("models_main_tree", BARE_MISSION, ["--models", "{models}", "--main-tree", "Patrol"]),
+    ("trees", USES_LIBRARY, ["--trees", "{trees}"]),
 ]
 
 
@@ -128,7 +145,9 @@ CASES = [
 def test_validate_compile_and_check_agree(name, text, needed, tmp_path, capsys):
     mission = _write(tmp_path, "m.xml", text)
     models = _write(tmp_path, "models.xml", MODELS)
-    needed = [a.replace("{models}", models) for a in needed]
+    (tmp_path / "lib").mkdir()
+    _write(tmp_path / "lib", "library.xml", LIBRARY)
+    needed = [a.replace("{models}", models).replace("{trees}", str(tmp_path / "lib")) for a in needed]
     out = str(tmp_path / "out")
     with_option = (
         _exit(["validate", "-q", mission, *needed]),
@@ -192,6 +211,9 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
     if shutil.which("cmake") is None:
         pytest.skip("cmake is not installed")
     _write(tmp_path, "m.xml", ENUM_MISSION)
+    _write(tmp_path, "uses.xml", USES_LIBRARY)
+    (tmp_path / "lib").mkdir()
+    _write(tmp_path / "lib", "library.xml", LIBRARY)
     _write(
         tmp_path,
         "CMakeLists.txt",
@@ -199,7 +221,9 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
         f'include("{repo_root}/cmake/btgen.cmake")\n'
         'btgen_mission_compiles(with_enum m.xml ENUMS "Color=RED,GREEN")\n'
         "btgen_mission_compiles(without m.xml)\n"
-        'message(STATUS "RESULT ${with_enum} ${without}")\n',
+        "btgen_mission_compiles(with_trees uses.xml TREES lib)\n"
+        "btgen_mission_compiles(without_trees uses.xml)\n"
+        'message(STATUS "RESULT ${with_enum} ${without} ${with_trees} ${without_trees}")\n',
     )
     proc = subprocess.run(
         ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-DPython3_EXECUTABLE={sys.executable}"],
@@ -208,4 +232,4 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
         check=False,
     )
     assert proc.returncode == 0, proc.stderr
-    assert "RESULT TRUE FALSE" in proc.stdout
+    assert "RESULT TRUE FALSE TRUE FALSE" in proc.stdout

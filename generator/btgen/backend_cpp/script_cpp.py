@@ -109,15 +109,20 @@ def to_ref(v: Val) -> str:
 
 
 def cpp_double(value: float) -> str:
-    """A C++ literal of exactly this double."""
-    if math.isinf(value):
-        return ("-" if value < 0 else "") + "std::numeric_limits<double>::infinity()"
+    """A C++ primary expression of exactly this double.
+
+    A negative value is parenthesized: C++ has no negative literals, so `-1.0` is a unary
+    minus, and glued after another `-` (a negated enumerator, `x - NEG`) it would read `--`.
+    """
     if math.isnan(value):
         return "std::numeric_limits<double>::quiet_NaN()"
-    text = repr(value)
-    if "e" not in text and "." not in text:
-        text += ".0"
-    return text
+    if math.isinf(value):
+        text = "std::numeric_limits<double>::infinity()"
+    else:
+        text = repr(abs(value))
+        if "e" not in text and "." not in text:
+            text += ".0"
+    return f"(-{text})" if math.copysign(1.0, value) < 0 else text
 
 
 def cpp_int64(value: int) -> str:
@@ -435,7 +440,7 @@ class ScriptCompiler(CodeWriter):
         d = self.as_double(v, node.offset, f"operand of `{node.op}`")
         t = self.temp()
         if node.op == "-":
-            self.emit(f"const double {t} = -{d};")
+            self.emit(f"const double {t} = -({d});" if d.startswith("-") else f"const double {t} = -{d};")
         elif node.op == "!":
             self.emit(f"const double {t} = btgen::script::logical_not({d});")
         else:
@@ -860,6 +865,9 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         t = c.temp()
         c.emit(f"double {t} = 0.0;")
         if r == "int":
+            # The conversion inline; the dynamic store only for its message when it fails.
+            c.emit(f"if (btgen::script::num({v.expr}, {t}) != btgen::Errc::kOk) {{")
+            c.indent += 1
             c.emit(f"btgen::dyn::Ref {t}r;")
             c.dyn_call(
                 f"btgen::dyn::store_into(btgen::dyn::of_int({v.expr}), btgen::dyn::of_double(0.0), "
@@ -867,6 +875,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
                 off,
             )
             c.emit(f"{t} = {t}r.d;")
+            c.indent -= 1
+            c.emit("}")
         else:
             c.emit(f"(void)btgen::script::num({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
@@ -874,6 +884,10 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
     n = c.temp()
     c.emit(f"std::int64_t {n} = 0;")
     if r == "double":
+        # whole() accepts what copy_into does (a whole double in int64's range); the dynamic
+        # store runs only for its message when it fails.
+        c.emit(f"if (btgen::script::whole({v.expr}, {n}) != btgen::Errc::kOk) {{")
+        c.indent += 1
         c.emit(f"btgen::dyn::Ref {n}r;")
         c.dyn_call(
             f"btgen::dyn::store_into(btgen::dyn::of_double({v.expr}), btgen::dyn::of_int(0), "
@@ -881,6 +895,8 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
             off,
         )
         c.emit(f"{n} = {n}r.i;")
+        c.indent -= 1
+        c.emit("}")
     else:
         c.emit(f"(void)btgen::script::whole({v.expr}, {n});")
     if k == "int":

@@ -21,12 +21,16 @@ import re
 from collections.abc import Iterable, Sequence
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
 from btgen.lang import script as sc
 from btgen.lang.model import Attr, Mission, Node
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _INT32 = (-(2**31), 2**31 - 1)
+# The integer forms of a value: ASCII digits only (Python's int() also takes `1_000`, `٥`
+# and `１２`, which no C++ enum declaration spells), decimal or 0x/0o/0b.
+_INTEGER = re.compile(r"[+-]?(?:0[xX][0-9A-Fa-f]+|0[oO][0-7]+|0[bB][01]+|[0-9]+)\Z", re.ASCII)
+MAX_ENUMS_BYTES = 1 << 20
 
 Enums = tuple[tuple[str, int], ...]
 
@@ -61,6 +65,8 @@ def parse_declaration(text: str) -> list[tuple[str, int]]:
             )
         if eq:
             try:
+                if not _INTEGER.match(number.strip()):
+                    raise ValueError(number)
                 value = int(number.strip(), 0)
             except ValueError:
                 raise EnumSyntaxError(
@@ -92,11 +98,21 @@ def load(declarations: Sequence[str] = (), files: Sequence[str] = ()) -> Enums:
     problems: list[Diagnostic] = []
     for path in files:
         try:
-            with open(path, encoding="utf-8") as f:
-                lines = f.read().splitlines()
-        except (OSError, UnicodeDecodeError) as e:
+            data = read_bounded(path, MAX_ENUMS_BYTES, "enums", cannot="cannot read the enums file")
+        except UserError as e:
+            problems.extend(e.diagnostics)
+            continue
+        if data.startswith(b"\xef\xbb\xbf"):  # (a byte order mark, as Windows editors write)
+            data = data[3:]
+        try:
+            lines = data.decode("utf-8").splitlines()
+        except UnicodeDecodeError as e:
+            good = data[: e.start].decode("utf-8")
             problems.append(
-                Diagnostic(Loc(path, 1, 1), f"cannot read the enums file: {getattr(e, 'strerror', e) or e}")
+                Diagnostic(
+                    Loc(path, good.count("\n") + 1, len(good) - (good.rfind("\n") + 1) + 1),
+                    f"invalid UTF-8 (byte 0x{data[e.start]:02x}); enums files must be UTF-8",
+                )
             )
             continue
         for number, line in enumerate(lines, 1):

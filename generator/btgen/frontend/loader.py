@@ -20,10 +20,12 @@ from lxml import etree
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
+from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
     BUILTINS,
+    EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
     KINDS,
@@ -50,24 +52,36 @@ _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 RESERVED_MODEL_IDS = frozenset(
     {"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition", "Control", "Decorator", "SubTree"}
 )
-_MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
+_MODEL_PORT_TAGS = {
+    "input_port": "input",
+    "output_port": "output",
+    "inout_port": "inout",
+    "bidirectional_port": "inout",  # Nav2's nav2_tree_nodes.xml
+}
 
 
 def is_remap(value: str) -> bool:
-    """`{key}` (or `{=}`): the port is connected to a blackboard entry."""
-    return len(value) >= 2 and value.startswith("{") and value.endswith("}")
+    """`{key}` (or `{=}`): the port is connected to a blackboard entry. As 4.6.2's
+    isBlackboardPointer: spaces around the braces are stripped, and at least 3 characters
+    from `{` to `}` (`{}` is a literal; edges table B1)."""
+    return bbmod.is_blackboard_pointer(value)
 
 
 def remap_key(value: str, port_name: str) -> str:
     """The entry a `{key}`/`{=}` value names."""
-    inner = value[1:-1]
-    return port_name if inner == "=" else inner
+    key = bbmod.remapped_key(port_name, value)
+    assert key is not None
+    return key
 
 
 class _Loader:
-    def __init__(self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> None:
+    def __init__(
+        self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+    ) -> None:
         self.path = path
         self.models_paths = tuple(models)
+        self.trees_paths = tuple(trees)
+        self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
         self.main_tree_override = main_tree
         self.sink = DiagnosticSink()
         self.sources: list[Source] = []
@@ -76,6 +90,7 @@ class _Loader:
         self.files: list[str] = []
         self.siblings = SiblingIndex(self.files)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
+        self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
     def load(self) -> Mission:
@@ -94,6 +109,9 @@ class _Loader:
 
     def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
+        self.mission_trees = len(self.tree_elems)
+        for trees_path in self.trees_paths:
+            self._load_tree_library(trees_path)
         for models_path in self.models_paths:
             self._load_models_file(models_path)
         self.sink.raise_if_errors()
@@ -164,16 +182,78 @@ class _Loader:
                 src.value_loc(root, "BTCPP_format"),
                 f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
             )
-        for child in root:
-            if not isinstance(child.tag, str):
-                continue
+        self._warn_text(root, src)
+        elements = [c for c in root if isinstance(c.tag, str)]
+        for child in elements:
             if child.tag == "BehaviorTree":
-                self.tree_elems.append((child.get("ID"), child, src))
+                self.tree_elems.append((self._tree_id(child, src, len(elements)), child, src))
             elif child.tag == "TreeNodesModel":
                 self._read_models(child, src)
             elif child.tag == "include":
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
+
+    def _load_tree_library(self, path: str) -> None:
+        """`--trees FILE|DIR`: every <BehaviorTree> of the file (or of each `*.xml` of the
+        folder, in name order) becomes available to the mission's SubTrees, as
+        registerBehaviorTreeFromFile makes them; their includes and TreeNodesModel count too."""
+        if os.path.isdir(path):
+            files = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+            if not files:
+                self.sink.error(Loc(path, 1, 1), "--trees names a folder that holds no .xml file")
+                return
+        elif os.path.isfile(path):
+            files = [path]
+        else:
+            self.sink.error(Loc(path, 1, 1), "--trees: no such file or folder")
+            return
+        for f in files:
+            if os.path.realpath(f) in (os.path.realpath(g) for g in self.files):
+                continue  # the mission, one of its includes, or a file given twice
+            try:
+                self._load_file(f, f, ())
+            except UserError as e:
+                self.sink.items.extend(e.diagnostics)
+
+    def _tree_id(self, elem: etree._Element, src: Source, siblings: int) -> str:
+        """The ID of a <BehaviorTree>; warns about the attributes BehaviorTree.CPP ignores."""
+        for aname in src.attr_names_in_order(elem) or list(elem.attrib):
+            if aname != "ID" and not aname.startswith("_"):  # `_favorite`, `_hardcoded`: editors' own
+                self.sink.warning(
+                    src.attr_loc(elem, aname),
+                    f"attribute `{aname}` of <BehaviorTree> is ignored: BehaviorTree.CPP reads only "
+                    f"`ID` there (a SubTree's ports and their defaults are declared in <TreeNodesModel>)",
+                )
+        tid = elem.get("ID")
+        if tid is not None:
+            return tid
+        # 4.6.2 (VerifyXML) accepts a tree without ID only when it is the only element
+        # under <root>, and names it BehaviorTree_<n>, counting such trees from 0.
+        if siblings > 1:
+            self.sink.error(
+                src.loc(elem),
+                "<BehaviorTree> needs an ID attribute: BehaviorTree.CPP accepts a tree without "
+                "one only when it is the only element of its file",
+            )
+        tid = f"BehaviorTree_{self.anonymous}"
+        self.anonymous += 1
+        return tid
+
+    def _warn_text(self, elem: etree._Element, src: Source) -> None:
+        """Text between the elements of a tree or of <root>: tinyxml2 keeps it, BehaviorTree.CPP
+        never reads it; btgen says so once per element."""
+        parts = [elem.text or ""] + [c.tail or "" for c in elem]
+        text = " ".join(p.strip() for p in parts if p.strip())
+        if text:
+            shown = text if len(text) <= 40 else text[:37] + "..."
+            self.sink.warning(
+                src.text_loc(elem),
+                f"text `{shown}` inside <{elem.tag}> is ignored (BehaviorTree.CPP reads only elements here)",
+            )
 
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
@@ -259,9 +339,12 @@ class _Loader:
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
             if mid in BUILTINS:
-                self.sink.error(
+                # 4.6.2 never reads leaf, control or decorator models from XML: the
+                # registered node, here the built-in, is what runs.
+                self.sink.warning(
                     src.value_loc(m, "ID"),
-                    f"`{mid}` is a built-in node of BehaviorTree.CPP; remove it from TreeNodesModel",
+                    f"`{mid}` is a built-in node of BehaviorTree.CPP: this declaration is ignored "
+                    f"and the built-in `{mid}` is used",
                 )
                 continue
             # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
@@ -330,13 +413,42 @@ class _Loader:
         type_text = p.get("type")
         type_name = values.normalize_type(type_text) if type_text is not None else "any"
         default = p.get("default")
+        if p.tag == "bidirectional_port":
+            self.sink.warning(
+                src.loc(p),
+                f"<bidirectional_port> (port `{name}` of `{mid}`) is not an element of "
+                f"BehaviorTree.CPP's models; btgen reads it as <inout_port>",
+            )
         direction = _MODEL_PORT_TAGS[p.tag]
+        default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default, strict=True)
+                values.convert_from_string(type_name, default)
             except values.ConversionError as e:
-                self.sink.error(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`: {e}")
-        return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
+                # A model in XML documents a node registered in C++ (4.6.2 reads the default
+                # of providedPorts(), never this text): keep it, and report it only where a
+                # node of this mission would use it.
+                default_problem = f"{e}"
+                self.sink.warning(
+                    src.value_loc(p, "default"),
+                    f"default of port `{name}` of `{mid}`: {e}; btgen keeps it as documentation "
+                    f"and gives a node that leaves the port unset no default (its code finds the "
+                    f"port unset; BehaviorTree.CPP uses the default of the C++ providedPorts())",
+                )
+            else:  # read as 4.6.2 reads it (a number's prefix), with a warning where lenient
+                self._check_literal(
+                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default
+                )
+        return PortSpec(
+            name,
+            direction,
+            type_name,
+            None if default_problem else default,
+            False,
+            (p.text or "").strip(),
+            src.loc(p),
+            default_problem=default_problem,
+        )
 
     # ---------------------------------------------------------------- trees
     def _check_tree_ids(self) -> set[str]:
@@ -359,12 +471,15 @@ class _Loader:
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
-        ids = [t for t, e, s in self.tree_elems]
+        every = [t for t, e, s in self.tree_elems]
+        # The tree to run is the mission's: a tree library (--trees) only lends SubTrees.
+        ids = every[: self.mission_trees]
         if self.main_tree_override is not None:
             main = self.main_tree_override
-            if main not in ids:
+            if main not in every:
                 self.sink.error(
-                    src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}"
+                    src.loc(root),
+                    f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
                 )
             return main
         main = root.get("main_tree_to_execute")
@@ -381,14 +496,15 @@ class _Loader:
                 f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})",
             )
             return ""
-        if main not in ids:
+        if main not in every:
             self.sink.error(
                 src.value_loc(root, "main_tree_to_execute"),
-                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}",
+                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
             )
         return main
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
+        self._warn_text(elem, src)
         kids = [c for c in elem if isinstance(c.tag, str)]
         if len(kids) != 1:
             self.sink.error(src.loc(elem), f"BehaviorTree `{tree_id}` must have exactly 1 child, it has {len(kids)}")
@@ -402,6 +518,7 @@ class _Loader:
         explicit = tag in KINDS
         node_id = elem.get("ID") if explicit else tag
         children = tuple(self._node(c, src) for c in elem if isinstance(c.tag, str))
+        self._warn_text(elem, src)
         name = elem.get("name")
         if explicit and node_id is None:
             self.sink.error(loc, f"<{tag}> needs an ID attribute naming the node")
@@ -423,15 +540,12 @@ class _Loader:
                 (pre if aname in PRE_CONDITIONS else post).append(attr)
             elif aname == "_autoremap" and tag == "SubTree":
                 autoremap = self._bool_attr(attr)
-            elif aname in METADATA_ATTRIBUTES:
+            elif aname in METADATA_ATTRIBUTES or aname in EDITOR_ATTRIBUTES:
                 continue
-            elif aname.startswith("_") or aname == "ID":
-                specials = (
-                    [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
-                    + list(METADATA_ATTRIBUTES)
-                    + (["_autoremap"] if tag == "SubTree" else [])
-                )
-                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
+            elif aname == "ID":
+                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
+            elif not aname[:1].isalpha():
+                self._ignored_attribute(attr, tag, node_id)
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -447,6 +561,28 @@ class _Loader:
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
         return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+
+    def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
+        """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
+        (IsAllowedPortName), so does btgen, with a warning saying what that means."""
+        if attr.name == "__shared_blackboard":
+            self.sink.warning(
+                attr.loc,
+                f"`__shared_blackboard` is BehaviorTree.CPP v3's and v4 ignores it: SubTree "
+                f'`{node_id}` gets a blackboard of its own (`_autoremap="true"` shares '
+                f"entries by name in v4)",
+            )
+            return
+        specials = (
+            [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
+            + list(METADATA_ATTRIBUTES)
+            + (["_autoremap"] if tag == "SubTree" else [])
+        )
+        self.sink.warning(
+            attr.loc,
+            f"attribute `{attr.name}` on `{node_id}` is ignored, as BehaviorTree.CPP ignores every "
+            f"attribute not starting with a letter{suggestion(attr.name, specials)}",
+        )
 
     def _spec_for(
         self, tag: str, node_id: str, elem: etree._Element, src: Source, tree_ids: set[str]
@@ -499,9 +635,12 @@ class _Loader:
                 self.undeclared.append(len(self.sink.items) - 1)
             return None
         if tag in KINDS and tag != spec.kind:
-            self.sink.error(
+            # 4.6.2 creates the registered node whatever the element says (<Action
+            # ID="ScriptCondition"> is the Condition); the children are checked by its kind.
+            self.sink.warning(
                 src.loc(elem),
-                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is used as <{tag}>",
+                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is "
+                f"written <{tag}>; it runs as the {spec.kind} it is",
             )
         return spec
 
@@ -538,8 +677,11 @@ class _Loader:
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
-            self.sink.error(
-                attr.loc, f"SubTree `{tree_id}` has no port `{attr.name}`{suggestion(attr.name, model.port_names)}"
+            # 4.6.2 remaps every attribute of a SubTree element, declared or not (edges M1)
+            self.sink.warning(
+                attr.loc,
+                f"SubTree `{tree_id}` declares no port `{attr.name}`{suggestion(attr.name, model.port_names)}; "
+                f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
             self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
@@ -556,12 +698,21 @@ class _Loader:
             return None
         value = attr.value
         what = f"port `{attr.name}` of `{spec.id}`"
+        typed = port.type not in ("string", "any") and not values.is_opaque_type(port.type)
         if is_remap(value):
+            if typed and value != value.strip(" "):
+                # 4.6.2's load-time check sees braces only at both ends of the unstripped text
+                # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
+                self._check_literal(attr.value_loc, what, port.type, value)
+                return attr
             self._check_key(attr, remap_key(value, attr.name), what)
             return attr
-        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
-            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: write `{{key}}`")
-            return attr
+        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
+            self.sink.warning(
+                attr.value_loc,
+                f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`); "
+                f"BehaviorTree.CPP 4.6.2 reads it as this literal text",
+            )
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
         if (spec.id, attr.name) in KEY_NAME_PORTS:
@@ -576,11 +727,24 @@ class _Loader:
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
             return attr
-        try:
-            values.convert_from_string(port.type, value, strict=True)
-        except values.ConversionError as e:
-            self.sink.error(attr.value_loc, f"{what}: {e}")
+        self._check_literal(attr.value_loc, what, port.type, value)
         return attr
+
+    def _check_literal(self, loc: Loc, what: str, type_name: str, value: str) -> None:
+        """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
+        are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
+        convert at all is an error."""
+        try:
+            values.convert_from_string(type_name, value)
+        except values.ConversionError as e:
+            self.sink.error(loc, f"{what}: {e}")
+            return
+        try:
+            values.convert_from_string(type_name, value, strict=True)
+        except values.ConversionError as e:
+            read = values.convert_from_string(type_name, value)
+            shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}
@@ -712,10 +876,13 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     return ""
 
 
-def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
+def load_mission(
+    path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
-    (`--main-tree`), overriding main_tree_to_execute."""
-    return _Loader(path, models, main_tree).load()
+    (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
+    BehaviorTrees the mission's SubTrees may use (`--trees`)."""
+    return _Loader(path, models, main_tree, trees).load()

@@ -14,14 +14,13 @@ i-th start tag's positions.
 
 from __future__ import annotations
 
-import os
 import re
 from dataclasses import dataclass
 from typing import Optional
 
 from lxml import etree
 
-from btgen.diagnostics import Loc, UserError
+from btgen.diagnostics import Loc, UserError, read_bounded
 
 MAX_FILE_BYTES = 16 * 1024 * 1024  # a 10,000-node mission is about 1 MB
 MAX_DEPTH = 256  # BehaviorTree.CPP refuses deeper trees too
@@ -227,6 +226,15 @@ _LIBXML_MSG = [
         re.compile(r"Premature end of data in tag (\S+) line (\d+)"),
         lambda m: f"file ends before <{m.group(1)}> opened on line {m.group(2)} is closed",
     ),
+    # tinyxml2 (BehaviorTree.CPP's parser) reads these two, but they are not XML
+    (
+        re.compile(r"Unescaped '<' not allowed in attributes? values"),
+        lambda m: "a raw `<` in an attribute value is not XML: write `&lt;` (tinyxml2 reads it, other tools do not)",
+    ),
+    (
+        re.compile(r"xmlParseEntityRef: no name|EntityRef: expecting ';'"),
+        lambda m: "a raw `&` is not XML: write `&amp;` (`&&` is `&amp;&amp;`; tinyxml2 reads it, other tools do not)",
+    ),
     (re.compile(r"Document is empty"), lambda m: 'file is empty: expected <root BTCPP_format="4">'),
     (re.compile(r"Extra content at the end of the document"), lambda m: "content after the end of the root element"),
 ]
@@ -255,6 +263,10 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
                 Loc(path, line, spaced.start() + 1),
                 f"attribute name `{m.group(1)} {spaced.group(1)}` contains a space (did you mean `{joined}`?)",
             )
+    if 1 <= line <= len(lines) and re.search(r"xmlParseEntityRef|EntityRef: expecting", msg):
+        amp = lines[line - 1].rfind("&", 0, max(col - 1, 1))  # libxml2 points past the `&` (and its name)
+        if amp >= 0:
+            col = amp + 1
     for pattern, render in _LIBXML_MSG:
         m = pattern.search(msg)
         if m:
@@ -268,18 +280,7 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
 def read_source(path: str, display_path: Optional[str] = None) -> Source:
     """Read, decode and securely parse an XML file; UserError on any problem."""
     shown = display_path or path
-    try:
-        size = os.stat(path).st_size
-        if size > MAX_FILE_BYTES:
-            raise UserError.at(
-                Loc(shown, 1, 1), f"file is {size} bytes; missions are limited to {MAX_FILE_BYTES} bytes"
-            )
-        with open(path, "rb") as f:
-            data = f.read(MAX_FILE_BYTES + 1)
-    except IsADirectoryError:
-        raise UserError.at(Loc(shown, 1, 1), "is a directory, not a mission file") from None
-    except OSError as e:
-        raise UserError.at(Loc(shown, 1, 1), f"cannot read file: {e.strerror or e}") from None
+    data = read_bounded(path, MAX_FILE_BYTES, "mission", "missions", shown)
     return parse_bytes(data, shown)
 
 

@@ -20,6 +20,9 @@ from btgen.interp.tree import (
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
 
+# The message of both engines (runtime/include/btgen/engine.hpp, Engine::not_idle).
+_IDLE_RESULT = "{} is IDLE: a node may not set its own status to IDLE (BehaviorTree.CPP throws)"
+
 
 class DecoratorNode(TreeNode):
     """4.6.2 ``DecoratorNode``: halt() resets the child (halting it when RUNNING), then itself;
@@ -48,10 +51,10 @@ class DecoratorNode(TreeNode):
         else:
             status = self.tick()
             if status != SKIPPED:
+                if status == IDLE:  # setStatus(IDLE) throws even when the node is IDLE already
+                    raise self._idle_error()
                 prev = self.status
                 if prev != status:
-                    if status == IDLE:
-                        raise self._idle_error()
                     self.status = status
                     self.emit((self.prefix, _TRANS[prev][status]))
         c = self.child
@@ -157,13 +160,18 @@ class KeepRunningUntilFailureNode(DecoratorNode):
 
 
 class RepeatNode(DecoratorNode):
-    """4.6.2 ``RepeatNode``: a child that succeeded from IDLE yields RUNNING before the next cycle."""
+    """4.6.2 ``RepeatNode``: a child that succeeded from IDLE yields RUNNING before the next cycle.
 
-    __slots__ = ("count",)
+    ``all_skipped`` is 4.6.2's flag: set when ticked from IDLE, cleared by any child result
+    but SKIPPED. A count of 0 or below -1 never starts the loop, so the flag is still set and
+    the node answers SKIPPED while staying RUNNING (docs/btcpp-4.6.2-edges.md, R1)."""
+
+    __slots__ = ("count", "all_skipped")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.count = 0
+        self.all_skipped = True
 
     def halt(self) -> None:
         self.count = 0
@@ -172,10 +180,14 @@ class RepeatNode(DecoratorNode):
     def tick(self) -> int:
         cycles = self.require_input("num_cycles", "int")
         do_loop = self.count < cycles or cycles == -1
+        if self.status == IDLE:
+            self.all_skipped = True
         self.set_status(RUNNING)
         while do_loop:
             prev = self.child.status
             cs = self.child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
             if cs == SUCCESS:
                 self.count += 1
                 do_loop = self.count < cycles or cycles == -1
@@ -194,17 +206,18 @@ class RepeatNode(DecoratorNode):
             else:
                 raise _run_error(self.model.loc, f'the child of `Repeat` "{self.name}" returned IDLE')
         self.count = 0
-        return SUCCESS
+        return SKIPPED if self.all_skipped else SUCCESS
 
 
 class RetryNode(DecoratorNode):
-    """4.6.2 ``RetryNode`` (RetryUntilSuccessful)."""
+    """4.6.2 ``RetryNode`` (RetryUntilSuccessful); ``all_skipped`` as in :class:`RepeatNode`."""
 
-    __slots__ = ("tries",)
+    __slots__ = ("tries", "all_skipped")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.tries = 0
+        self.all_skipped = True
 
     def halt(self) -> None:
         self.tries = 0
@@ -213,10 +226,14 @@ class RetryNode(DecoratorNode):
     def tick(self) -> int:
         attempts = self.require_input("num_attempts", "int")
         do_loop = self.tries < attempts or attempts == -1
+        if self.status == IDLE:
+            self.all_skipped = True
         self.set_status(RUNNING)
         while do_loop:
             prev = self.child.status
             cs = self.child.execute_tick()
+            if cs != SKIPPED:
+                self.all_skipped = False
             if cs == SUCCESS:
                 self.tries = 0
                 self.reset_child()
@@ -237,7 +254,7 @@ class RetryNode(DecoratorNode):
             else:
                 raise _run_error(self.model.loc, f'the child of `RetryUntilSuccessful` "{self.name}" returned IDLE')
         self.tries = 0
-        return FAILURE
+        return SKIPPED if self.all_skipped else FAILURE
 
 
 class RunOnceNode(DecoratorNode):
@@ -284,6 +301,8 @@ class PreconditionNode(DecoratorNode):
             if cs in (SUCCESS, FAILURE):
                 self.reset_child()
             return cs
+        if else_status == IDLE:  # setStatus(IDLE) throws (edges table, L2)
+            raise _run_error(self.model.loc, _IDLE_RESULT.format("the condition is false and `else`"))
         return else_status
 
 
@@ -392,7 +411,10 @@ class LoopNode(DecoratorNode):
                 popped = True
                 self.set_output("value", value, self.elem)
         if not popped and not self.child_running:
-            return self.status_input("if_empty")
+            if_empty = self.status_input("if_empty")
+            if if_empty == IDLE:  # setStatus(IDLE) throws (edges table, L1)
+                raise _run_error(self.model.loc, _IDLE_RESULT.format("the queue is empty and `if_empty`"))
+            return if_empty
         if self.status == IDLE:
             self.set_status(RUNNING)
         cs = self.child.execute_tick()

@@ -15,12 +15,11 @@ does the checks that need the mission: no Condition may return RUNNING, and a
 
 from __future__ import annotations
 
-import os
 import re
 from dataclasses import dataclass
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, read_bounded, suggestion
 from btgen.lang.leaves import LeafUse, _tree_with_leaf, mission_leaves
 from btgen.lang.model import Mission
 
@@ -89,23 +88,7 @@ def _status_error(tok: Token) -> str:
 
 
 def _read_text(path: str) -> str:
-    try:
-        size = os.stat(path).st_size
-        if size > MAX_SCENARIO_BYTES:
-            raise UserError.at(
-                Loc(path, 1, 1), f"file is {size} bytes; scenarios are limited to {MAX_SCENARIO_BYTES} bytes"
-            )
-        with open(path, "rb") as f:
-            data = f.read(MAX_SCENARIO_BYTES + 1)
-        if len(data) > MAX_SCENARIO_BYTES:  # a pipe or device: its size shows only while reading
-            raise UserError.at(
-                Loc(path, 1, 1),
-                f"file is larger than {MAX_SCENARIO_BYTES} bytes; scenarios are limited to {MAX_SCENARIO_BYTES} bytes",
-            )
-    except IsADirectoryError:
-        raise UserError.at(Loc(path, 1, 1), "is a directory, not a scenario file") from None
-    except OSError as e:
-        raise UserError.at(Loc(path, 1, 1), f"cannot read scenario: {e.strerror or e}") from None
+    data = read_bounded(path, MAX_SCENARIO_BYTES, "scenario", "scenarios", cannot="cannot read scenario")
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
     try:

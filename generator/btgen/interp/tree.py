@@ -200,10 +200,10 @@ class TreeNode:
             return self._execute_tick_with_conditions()
         new = self.tick()
         if new != SKIPPED:
+            if new == IDLE:  # setStatus(IDLE) throws even when the node is IDLE already (edges L1)
+                raise self._idle_error()
             prev = self.status
             if prev != new:
-                if new == IDLE:
-                    raise self._idle_error()
                 self.status = new
                 self.emit((self.prefix, _TRANS[prev][new]))
         return new

@@ -47,6 +47,7 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
+from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 DEFAULT_STRING_CAPACITY = 128
@@ -133,6 +134,7 @@ class SlotIR:
     user_cpp: str = ""  # a user port type's C++ spelling (--type)
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
+    provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
 
 
 @dataclass(frozen=True)
@@ -280,6 +282,7 @@ class _Slot:
     elem_literals: list[int] = field(default_factory=list)
     queue_unbounded: bool = False
     untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    provided: bool = False  # the application sets it before the first tick (--entry)
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
@@ -292,31 +295,8 @@ class _Slot:
 
 
 def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
-    """The interpreter's _Builder._ports_of: written ports, then defaults (createNodeFromXML)."""
-    try:
-        spec = mission.spec(model.id)
-    except KeyError:
-        spec = None
-    ports: dict[str, _Port] = {}
-    for a in model.ports:
-        ps = spec.port(a.name) if spec is not None else None
-        raw = a.value
-        if (
-            raw == ""
-            and ps is not None
-            and ps.default is not None
-            and ps.type not in ("string", "any")
-            and not values.is_opaque_type(ps.type)
-        ):
-            raw = ps.default
-        ports[a.name] = _Port(a.name, raw, a, ps)
-    if spec is not None:
-        for ps in spec.ports:
-            if ps.name in ports or ps.default is None:
-                continue
-            if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
-                ports[ps.name] = _Port(ps.name, ps.default, None, ps)
-    return ports
+    """The ports of an instance as the interpreter builds them (lang/instance.py)."""
+    return {p.name: _Port(p.name, p.raw, p.attr, p.spec) for p in instance_ports(mission, model)}
 
 
 # ================================================================ the analysis
@@ -359,6 +339,7 @@ class _Analyzer:
     def load(self) -> None:
         root = bbmod.Blackboard()
         self._add_bb(root, "root")
+        self._provide(root, self.m.main_tree, True, self.m.main.loc)
         stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
         while stack:
             node, bb, path = stack.pop()
@@ -400,25 +381,49 @@ class _Analyzer:
             for child in reversed(node.children):
                 stack.append((child, bb, path))
 
+    def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
+        """The entries the application sets in this blackboard before the first tick (--entry):
+        created with their type; robot code writes them."""
+        for p in self.m.provided:
+            if not p.applies_to(tree_id, root):
+                continue
+            try:
+                entry = bb.create_entry(p.key, p.type)
+            except bbmod.BlackboardError as e:
+                self.error(loc, f"{p.option}: {e}")
+                continue
+            s = self._slot(entry, loc)
+            s.at_load = True
+            s.provided = True
+            s.origin = f"provided by the application ({p.option})"
+            kind = kind_of_type(p.type)
+            s.writes.append(
+                _Write(
+                    self.slots.index(s),
+                    self.next_order(),
+                    loc,
+                    f"the application ({p.option})",
+                    (lambda k=kind: k),
+                    kind is not None,
+                    (lambda: None),
+                    None,
+                    "port",
+                )
+            )
+
     def _add_bb(self, bb: bbmod.Blackboard, label: str) -> None:
         self.bbs.append(bb)
         self.bb_labels[id(bb)] = label
 
     def _subtree_blackboard(self, model: SubTreeNode, parent: bbmod.Blackboard, path: str) -> bbmod.Blackboard:
-        model_spec = next((m for m in self.m.models if m.id == model.target and m.kind == "SubTree"), None)
-        remap: list[tuple[str, str, Loc]] = [(a.name, a.value, a.value_loc) for a in model.ports]
-        if model_spec is not None and not model.autoremap:
-            given = {a.name for a in model.ports}
-            for ps in model_spec.ports:
-                if ps.name not in given:
-                    if ps.default is None:
-                        self.error(
-                            model.loc,
-                            f"SubTree `{model.target}` declares port `{ps.name}` without a "
-                            f"default, and this instance does not remap it",
-                        )
-                        continue
-                    remap.append((ps.name, ps.default, model.loc))
+        remapping, missing = subtree_remapping(self.m, model)
+        for name in missing:
+            self.error(
+                model.loc,
+                f"SubTree `{model.target}` declares port `{name}` without a "
+                f"default, and this instance does not remap it",
+            )
+        remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
             bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
         except (values.ConversionError, bbmod.BlackboardError) as e:
@@ -448,6 +453,7 @@ class _Analyzer:
                     "constant",
                 )
             )
+        self._provide(bb, model.target, False, model.loc)
         return bb
 
     def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
@@ -967,6 +973,19 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
         # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
         # most `cap`: a longer literal is an error where it is written. A computed value
         # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
@@ -996,18 +1015,6 @@ class _Analyzer:
                     changed = True
             if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
-        for s in self.slots:
-            if is_queue(s.kind):
-                qcap = self.opt.queue_capacity
-                s.capacity = max(s.queue_literals, default=0)
-                if s.queue_unbounded or not s.queue_literals:
-                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
-                s.capacity = max(s.capacity, 1)
-                if s.kind == "queue<string>":
-                    s.elem_capacity = max(s.elem_literals, default=0)
-                    if s.queue_unbounded:
-                        s.elem_capacity = cap
-                    s.elem_capacity = min(s.elem_capacity, cap)
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
@@ -1352,7 +1359,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail),
+            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1375,7 +1382,14 @@ class _Compiler:
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
             ops.SetCopyDyn(
-                op["dst"], op["src"], src_decl == values.STRING, op["key"], what + ": ", missing, self.where(loc)
+                op["dst"],
+                op["src"],
+                src_decl == values.STRING,
+                op["key"],
+                what + ": ",
+                missing,
+                self.where(loc),
+                bbmod.EMPTY_COPY_SUCCEEDS,
             ),
         )
 
@@ -1690,6 +1704,7 @@ class _Compiler:
                 self.a.user[s.kind].cpp if is_user(s.kind) else "",
                 not s.at_load or s.unset,
                 s.origin_text,
+                s.provided,
             )
             for i, s in enumerate(self.a.slots)
         )

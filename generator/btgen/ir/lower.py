@@ -43,8 +43,8 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "Inverter": ("Inverter", 0, 0),
     "ForceSuccess": ("ForceSuccess", 0, 0),
     "ForceFailure": ("ForceFailure", 0, 0),
-    "Repeat": ("Repeat", 1, 0),  # cycles done
-    "RetryUntilSuccessful": ("RetryUntilSuccessful", 1, 0),  # attempts done
+    "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
+    "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
     "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
     "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
     "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
@@ -142,6 +142,14 @@ class Program:
     def user_nodes(self) -> tuple[LeafModel, ...]:
         """The mission's own Controls and Decorators."""
         return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
+
+    @property
+    def used_user_nodes(self) -> tuple[LeafModel, ...]:
+        """The mission's own Controls and Decorators that a node of the main tree is: the
+        engine dispatches to these only, so leaves without a tick() for a model no node
+        uses (a models file declaring every Control of a project) still compile."""
+        used = {n.model for n in self.nodes}
+        return tuple(m for m in self.user_nodes if m.index in used)
 
 
 # ------------------------------------------------------------------ traversal
@@ -394,12 +402,12 @@ class _Lowerer:
                 skips[n.index] = n.params[0] == skipped or (k == "Precondition" and kid[0])
             elif k == "SkipUnlessUpdated":
                 skips[n.index] = True
+            elif k in ("Repeat", "RetryUntilSuccessful"):  # a count that never starts the loop skips
+                skips[n.index] = kid[0] or n.params[0] == 0 or n.params[0] < -1
             elif k in (
                 "Inverter",
                 "ForceSuccess",
                 "ForceFailure",
-                "Repeat",
-                "RetryUntilSuccessful",
                 "Timeout",
                 "Delay",
                 "SubTree",

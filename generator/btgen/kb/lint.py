@@ -35,7 +35,7 @@ from xml.etree import ElementTree as ET
 import xmlschema
 
 from btgen import resources
-from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, read_bounded, suggestion
 
 # ----- Limits: keep equal to runtime/include/btgen/kb_limits.hpp ----------------
 
@@ -176,22 +176,10 @@ def _read_lines(path: str, sink: DiagnosticSink, what: str) -> Optional[list[_Li
     Lines end with LF or CRLF; a UTF-8 byte order mark is skipped. Every line
     with invalid UTF-8 or a control character (other than tab) is reported.
     """
-    top = Loc(path, 1, 1)
     try:
-        size = os.stat(path).st_size
-        if size > KB_MAX_FILE_BYTES:
-            sink.error(top, f"file is {size} bytes; {what} files are limited to {KB_MAX_FILE_BYTES} bytes")
-            return None
-        with open(path, "rb") as f:
-            data = f.read(KB_MAX_FILE_BYTES + 1)
-    except IsADirectoryError:
-        sink.error(top, f"is a directory, not a {what} file")
-        return None
-    except OSError as e:
-        sink.error(top, f"cannot read file: {e.strerror or e}")
-        return None
-    if len(data) > KB_MAX_FILE_BYTES:  # grew while we looked
-        sink.error(top, f"file is larger than {KB_MAX_FILE_BYTES} bytes; {what} files are limited to that")
+        data = read_bounded(path, KB_MAX_FILE_BYTES, what)
+    except UserError as e:
+        sink.items.extend(e.diagnostics)
         return None
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
@@ -760,9 +748,17 @@ def _check_config(ini_path: str) -> tuple[list[Diagnostic], Optional[KbConfigura
         return _sorted(sink.items), None, None
     resolved = os.path.join(os.path.dirname(ini_path), kb.text)
     if not os.path.isfile(resolved):
+        # (a directory or FIFO exists: "not found" sent the user looking for a typo)
+        why = (
+            "is a directory, not a knowledge base file"
+            if os.path.isdir(resolved)
+            else "is not a regular file"
+            if os.path.exists(resolved)
+            else "not found"
+        )
         sink.error(
             kb.loc,
-            f"knowledge base file `{kb.text}` not found (looked for `{resolved}`; "
+            f"knowledge base file `{kb.text}` {why} (looked for `{resolved}`; "
             f"the name is relative to the configuration file's folder)",
         )
     if sink.errors:

@@ -373,6 +373,13 @@ def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str, port
     return bb.create_entry(key, port_type)
 
 
+# SetBlackboard value="{src}" when `src` exists but holds no value yet (a remapped port
+# created it): BehaviorTree.CPP 4.6.2 copies the empty value (the destination loses its
+# value, its update counter stays) and succeeds; 4.7.0 and later fail the node. The one
+# place this rule lives: both engines read it (dataflow.py passes it to the C++ template).
+EMPTY_COPY_SUCCEEDS = True  # BehaviorTree.CPP 4.6.2
+
+
 def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
     """The SetBlackboard action: write ``value_text`` (or the entry it names) to ``output_key``.
 
@@ -381,8 +388,9 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
     that entry's value; the destination is created with the source's type
     if missing, a string is converted to a typed destination, and the copy
     bumps the destination's update counter (4.7.0 behaviour, see FORMAT.md;
-    4.6.2 copied the counter along). Returns False (the node fails) when the
-    source has no value yet; a missing source is an error.
+    4.6.2 copied the counter along). A source with no value yet empties the
+    destination and succeeds, or returns False (the node fails), as
+    EMPTY_COPY_SUCCEEDS says; a missing source is an error.
     """
     src_key = strip_blackboard_pointer(value_text)
     if src_key is None:
@@ -395,7 +403,10 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
     if dst is None:
         dst = bb.create_entry(output_key, src.type_name)
     if src.value is None:
-        return False
+        if not EMPTY_COPY_SUCCEEDS:
+            return False
+        dst.value = None
+        return True
     out = src.value
     if dst.strongly_typed and dst.type_name != STRING and isinstance(out, str):
         if not dst.has_converter:

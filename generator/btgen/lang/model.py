@@ -86,6 +86,22 @@ class TreeDef:
 
 
 @dataclass(frozen=True)
+class ProvidedEntry:
+    """A blackboard entry the application sets before the first tick (`--entry`)."""
+
+    tree: Optional[str]  # None: the root blackboard; else every instance of that BehaviorTree's
+    key: str
+    type: str  # canonical type name (values.normalize_type)
+
+    def applies_to(self, tree_id: str, root: bool) -> bool:
+        return self.tree == tree_id if self.tree is not None else root
+
+    @property
+    def option(self) -> str:
+        return f"--entry {self.tree + ':' if self.tree else ''}{self.key}={self.type}"
+
+
+@dataclass(frozen=True)
 class Mission:
     path: str  # as the user gave it
     trees: tuple[TreeDef, ...]  # in file order, includes after their includer's own trees
@@ -97,6 +113,8 @@ class Mission:
     enums: tuple[tuple[str, int], ...] = ()
     # User port types (usertypes.py: `--type NAME=CPP_TYPE@HEADER`): usertypes.UserType each.
     user_types: tuple[Any, ...] = ()
+    # Entries the application provides (entries.py: `--entry [TREE:]NAME=TYPE`).
+    provided: tuple[ProvidedEntry, ...] = ()
 
     def tree(self, tree_id: str) -> TreeDef:
         for t in self.trees:

@@ -40,7 +40,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import Callable, Optional, TypeVar, Union
 
-from btgen.diagnostics import Loc
+from btgen.diagnostics import Loc, UserError, read_bounded
 from btgen.lang import values
 from btgen.lang.blackboard import Blackboard, Entry
 from btgen.lang.values import ConversionError, Queue, Value
@@ -1027,9 +1027,9 @@ def raw_attr_value(value_loc: Loc) -> Optional[str]:
     lines = _FILE_LINES.get(value_loc.path)
     if lines is None:
         try:
-            with open(value_loc.path, encoding="utf-8-sig") as f:
-                lines = f.read().split("\n")
-        except (OSError, UnicodeDecodeError):
+            data = read_bounded(value_loc.path, 16 << 20, "mission")  # (the mission's own bound)
+            lines = data.decode("utf-8-sig").split("\n")
+        except (UserError, UnicodeDecodeError):
             return None
         _FILE_LINES[value_loc.path] = lines
     if not 1 <= value_loc.line <= len(lines):

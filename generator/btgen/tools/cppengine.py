@@ -89,12 +89,17 @@ def _runtime_headers() -> list[Path]:
     return sorted(RUNTIME_INCLUDE.rglob("*.hpp"))
 
 
-def build_cpp(mission_path: str, warnings: Optional[list] = None, opts: CompileOptions = DEFAULTS) -> Path:
+def build_cpp(
+    mission_path: str,
+    warnings: Optional[list] = None,
+    opts: CompileOptions = DEFAULTS,
+    substitute: Optional[str] = None,
+) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given; `opts`: the
     mission options of every command (btgen.pipeline)."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, opts)
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, opts, substitute)
 
 
 def _check_no_user_nodes(mission) -> None:
@@ -115,6 +120,7 @@ def build_mission_executable(
     flags: tuple[str, ...],
     warnings: Optional[list] = None,
     opts: CompileOptions = DEFAULTS,
+    substitute: Optional[str] = None,
 ) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
@@ -126,7 +132,13 @@ def build_mission_executable(
         warnings.extend(mission.warnings)
     _check_no_user_nodes(mission)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
-    outputs = render(lower(mission, opts.data), mission_stem(mission_path), None, opts.namespace)
+    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
+    outputs = render(program, mission_stem(mission_path), None, opts.namespace)
     stem = mission_stem(mission_path)
     cxx = compiler()
     identity = _compiler_identity(cxx)
@@ -219,11 +231,13 @@ def _inherited_fd(path: str) -> Optional[int]:
     return fd
 
 
-def run_cpp(mission_path: str, scenario_path: str, opts: CompileOptions = DEFAULTS) -> int:
+def run_cpp(
+    mission_path: str, scenario_path: str, opts: CompileOptions = DEFAULTS, substitute: Optional[str] = None
+) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings, opts)
+    binary = build_cpp(mission_path, warnings, opts, substitute)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()

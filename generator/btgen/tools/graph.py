@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -33,7 +34,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
 from btgen.ir.treexml import subtree_path
 from btgen.lang.model import Mission, Node, SubTreeNode
 
@@ -115,13 +116,26 @@ def walk(mission: Mission) -> tuple[list[GNode], list[tuple[str, str]]]:
 
 
 # ------------------------------------------------------------------ statuses
+# Traces and logs are read whole: this bounds what `--trace /dev/zero` may cost.
+MAX_LOG_BYTES = 64 << 20
+# A UID or tick number: ASCII digits (str.isdigit() also takes `²` and `١`, which int() then
+# refuses) and few enough that int() never meets its 4,300-digit limit.
+_NUMBER = re.compile(r"[0-9]{1,18}\Z", re.ASCII)
+
+
 def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
     """Statuses at the end of `tick` (default: the last) from a status trace."""
+    data = read_bounded(path, MAX_LOG_BYTES, "trace", cannot="cannot read the trace")
     try:
-        with open(path, encoding="utf-8") as f:
-            lines = f.read().splitlines()
-    except (OSError, UnicodeDecodeError) as e:
-        raise _error(path, 1, 1, f"cannot read the trace: {e}") from None
+        lines = data.decode("utf-8").splitlines()
+    except UnicodeDecodeError as e:
+        good = data[: e.start].decode("utf-8")
+        raise _error(
+            path,
+            good.count("\n") + 1,
+            len(good) - (good.rfind("\n") + 1) + 1,
+            f"invalid UTF-8 (byte 0x{data[e.start]:02x}); traces are UTF-8",
+        ) from None
     by_uid = {n.uid: n for n in nodes}
     status: dict[int, str] = {}
     current = 0
@@ -129,7 +143,7 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
         if not line.strip():
             continue
         words = line.split()
-        if words[0] == "tick" and len(words) == 2 and words[1].isdigit():
+        if words[0] == "tick" and len(words) == 2 and _NUMBER.match(words[1]):
             n = int(words[1])
             if tick is not None and n > tick:
                 return status, current
@@ -139,7 +153,7 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
             continue
         if (
             len(words) >= 5
-            and words[0].isdigit()
+            and _NUMBER.match(words[0])
             and words[-2] == "->"
             and words[-1] in STATUS_NAMES
             and words[-3] in STATUS_NAMES
@@ -164,11 +178,7 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
 
 def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
     """Statuses after the first `record` transitions (default: all) of a .btlog."""
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as e:
-        raise _error(path, 1, 1, f"cannot read the log: {e}") from None
+    data = read_bounded(path, MAX_LOG_BYTES, "log", cannot="cannot read the log")
     if data[:18] != b"BTCPP4-FileLogger2" or len(data) < 23:
         raise _error(path, 1, 1, "not a Groot2 log: no `BTCPP4-FileLogger2` header")
     size = struct.unpack_from("<i", data, 19)[0]
@@ -181,7 +191,7 @@ def btlog_statuses(path: str, record: Optional[int], nodes: list[GNode]) -> tupl
     logged = {}
     for el in root.iter():
         uid = el.get("_uid")
-        if uid is not None and uid.isdigit():
+        if uid is not None and _NUMBER.match(uid):
             logged[int(uid)] = el.tag
     mine = {n.uid: n.id for n in nodes}
     if logged != mine:

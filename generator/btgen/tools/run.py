@@ -23,10 +23,11 @@ EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
 def run_command(args) -> int:
     """Entry point of `btgen run MISSION.xml --scenario FILE [--engine interp|cpp]`."""
     engine = getattr(args, "engine", "interp") or "interp"
+    substitute = getattr(args, "substitute", None)
     if engine == "cpp":
         from btgen.tools.cppengine import run_cpp
 
-        return run_cpp(args.mission, args.scenario, options_from_args(args))
+        return run_cpp(args.mission, args.scenario, options_from_args(args), substitute)
     if engine != "interp":
         print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
         return EXIT_USAGE
@@ -43,13 +44,24 @@ def run_command(args) -> int:
     scenario, warnings = load_scenario(args.scenario, mission)
     print_diagnostics(warnings)
 
+    rules = None
+    if substitute is not None:
+        from btgen.tools.substitute import load_rules
+
+        rules = load_rules(substitute)
+
     out = sys.stdout
 
     def write(text: str) -> None:
         out.write(text)
 
     try:
-        run_trace(mission, scenario, write)
+        if rules is not None:
+            from btgen.tools import substitute as subst
+
+            subst.run_trace(mission, scenario, rules, write)
+        else:
+            run_trace(mission, scenario, write)
         out.flush()
     except BrokenPipeError:
         # The reader went away (`btgen run ... | head`): stop quietly.

@@ -72,6 +72,12 @@ template <class S>
 struct has_shapes<S, std::void_t<decltype(S::kShape), decltype(S::kShapeRep), decltype(S::kShapeUses),
                                  decltype(S::kTotalWeight), decltype(S::kRepNode), decltype(S::kRepWeightBefore),
                                  decltype(S::kHasDeepShape), decltype(S::kHasUserControlFlow)>> : std::true_type {};
+// A Spec with a table of compiled scripts (Spec::kScripts, each a function and its node's
+// error sites; kScriptFirst[i] is node i's first): straight-line code calls them directly.
+template <class S, class = void>
+struct has_script_table : std::false_type {};
+template <class S>
+struct has_script_table<S, std::void_t<decltype(S::kScripts), decltype(S::kScriptFirst)>> : std::true_type {};
 // A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
 template <class S, class = void>
 struct has_init : std::false_type {};
@@ -565,13 +571,25 @@ class Engine {
   }
 
   // Which straight-line form shape S takes.
-  enum class Form { kInterpreted, kGeneric, kLeaf, kSequence, kReactive, kDecorator };
+  enum class Form { kInterpreted, kGeneric, kLeaf, kScripted, kSequence, kReactive, kDecorator };
+  static constexpr bool kScriptTable = engine_detail::has_script_table<Spec>::value;
+  // Leaves whose scripts (Script, ScriptCondition, pre- and post-conditions) the
+  // straight-line code calls directly (Form::kScripted).
+  static constexpr bool is_scripted_leaf(NodeKind k) noexcept {
+    return k == NodeKind::Action || k == NodeKind::Condition || k == NodeKind::AlwaysSuccess ||
+           k == NodeKind::AlwaysFailure || k == NodeKind::Script || k == NodeKind::ScriptCondition;
+  }
   template <std::uint16_t S>
   static constexpr Form form() noexcept {
     constexpr std::uint16_t R = rep_of(S);
     if (R == kNoNode || R >= kStraightLine) return Form::kInterpreted;
     constexpr const NodeInfo& n = Spec::kNodes[R == kNoNode ? 0 : R];  // (row 0 unused then)
     if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) return Form::kInterpreted;
+    if (kScriptTable && n.child_count == 0 && is_scripted_leaf(n.kind) &&
+        ((n.scripts & (kPreBits | kPostBits)) != 0 || n.kind == NodeKind::Script ||
+         n.kind == NodeKind::ScriptCondition)) {
+      return Form::kScripted;
+    }
     if ((n.scripts & (kPreBits | kPostBits)) != 0) return Form::kGeneric;
     if (n.child_count == 0) {
       switch (n.kind) {
@@ -622,6 +640,8 @@ class Engine {
         return decorated<K>(id, c, tick_node<kChildShape<R, 0>>(c));
       } else if constexpr (kForm == Form::kLeaf) {
         return tick_leaf<K, Spec::kNodes[R].model>(id);
+      } else if constexpr (kForm == Form::kScripted) {
+        return tick_scripted<R>(id);
       } else {
         Frame f{static_cast<std::uint16_t>(id), 0, 0, Status::IDLE, 0};
         Step step = begin_k<K>(f);
@@ -642,6 +662,14 @@ class Engine {
   // enter and folding it away.)
   template <NodeKind K, std::uint16_t kModel>
   [[gnu::always_inline]] Status tick_leaf(std::size_t id) noexcept {
+    const Status s = leaf_status<K, kModel>(id);
+    if (s != Status::SKIPPED) set_status(id, s);
+    return s;
+  }
+
+  // What a leaf answers when its pre-conditions did not decide (enter, for these kinds).
+  template <NodeKind K, std::uint16_t kModel>
+  [[gnu::always_inline]] Status leaf_status(std::size_t id) noexcept {
     Status s = Status::FAILURE;
     if constexpr (K == NodeKind::AlwaysSuccess) {
       s = Status::SUCCESS;
@@ -663,8 +691,102 @@ class Engine {
         }
       }
     }
+    return s;
+  }
+
+  // A leaf with scripts (Script, ScriptCondition, or pre- and post-conditions):
+  // begin, enter and finish above for these kinds, every script a direct call
+  // of its function (the same for every node of the shape; the node's own error
+  // sites are found from `id`).
+  template <std::uint16_t R>
+  Status tick_scripted(std::size_t id) noexcept {
+    constexpr NodeKind K = Spec::kNodes[R].kind;
+    constexpr std::uint16_t kBits = Spec::kNodes[R].scripts;
+    Status s = Status::IDLE;
+    if constexpr ((kBits & kPreBits) != 0) s = pre_conditions_c<R>(id);
+    if (s == Status::IDLE) {
+      if constexpr (K == NodeKind::Script) {
+        s = script_c<R, ScriptSlot::kCode>(id) < 0 ? Status::FAILURE : Status::SUCCESS;
+      } else if constexpr (K == NodeKind::ScriptCondition) {
+        s = script_c<R, ScriptSlot::kCode>(id) == 1 ? Status::SUCCESS : Status::FAILURE;
+      } else {
+        s = leaf_status<K, Spec::kNodes[R].model>(id);
+      }
+    }
+    if constexpr ((kBits & kPostBits) != 0) {
+      if (is_completed(s)) {
+        bool ok = true;
+        if constexpr (has_c<R>(ScriptSlot::kOnSuccess)) {
+          if (s == Status::SUCCESS) ok = script_c<R, ScriptSlot::kOnSuccess>(id) >= 0;
+        }
+        if constexpr (has_c<R>(ScriptSlot::kOnFailure)) {
+          if (s == Status::FAILURE) ok = script_c<R, ScriptSlot::kOnFailure>(id) >= 0;
+        }
+        if constexpr (has_c<R>(ScriptSlot::kPost)) {
+          if (ok) ok = script_c<R, ScriptSlot::kPost>(id) >= 0;
+        }
+        if (!ok) s = Status::FAILURE;
+      }
+    }
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
+  }
+
+  template <std::uint16_t R>
+  static constexpr bool has_c(ScriptSlot which) noexcept {
+    return has(Spec::kNodes[R], which);
+  }
+  // Where node R's script for `which` sits among its sites (ScriptSlot order).
+  template <std::uint16_t R, ScriptSlot W>
+  static constexpr std::uint32_t site_of() noexcept {
+    for (std::uint32_t i = Spec::kScriptFirst[R]; i < Spec::kScriptFirst[R + 1u]; ++i) {
+      if (Spec::kScripts[i].which == W) return i - Spec::kScriptFirst[R];
+    }
+    return 0;
+  }
+  // run_script of a node of shape R (first node R): the function is a constant.
+  template <std::uint16_t R, ScriptSlot W>
+  [[gnu::always_inline]] int script_c(std::size_t id) noexcept {
+    constexpr std::uint32_t k = site_of<R, W>();
+    constexpr auto fn = Spec::kScripts[Spec::kScriptFirst[R] + k].fn;
+    const ErrorSink es = sink();
+    return fn(bb_, info(id), es, Spec::kScripts[Spec::kScriptFirst[id] + k]);
+  }
+  // pre_conditions with the node's scripts known when compiling.
+  template <std::uint16_t R>
+  [[gnu::always_inline]] Status pre_conditions_c(std::size_t id) noexcept {
+    const Status st = status_[id];
+    if (st == Status::IDLE) {
+      if constexpr (has_c<R>(ScriptSlot::kFailureIf)) {
+        const int r = script_c<R, ScriptSlot::kFailureIf>(id);
+        if (r < 0) return Status::FAILURE;
+        if (r == 1) return Status::FAILURE;
+      }
+      if constexpr (has_c<R>(ScriptSlot::kSuccessIf)) {
+        const int r = script_c<R, ScriptSlot::kSuccessIf>(id);
+        if (r < 0) return Status::FAILURE;
+        if (r == 1) return Status::SUCCESS;
+      }
+      if constexpr (has_c<R>(ScriptSlot::kSkipIf)) {
+        const int r = script_c<R, ScriptSlot::kSkipIf>(id);
+        if (r < 0) return Status::FAILURE;
+        if (r == 1) return Status::SKIPPED;
+      }
+      if constexpr (has_c<R>(ScriptSlot::kWhile)) {
+        const int r = script_c<R, ScriptSlot::kWhile>(id);
+        if (r < 0) return Status::FAILURE;
+        if (r == 0) return Status::SKIPPED;
+      }
+    } else if constexpr (has_c<R>(ScriptSlot::kWhile)) {
+      if (st == Status::RUNNING) {
+        const int r = script_c<R, ScriptSlot::kWhile>(id);
+        if (r <= 0) {
+          halt_node(static_cast<std::uint16_t>(id));
+          return r < 0 ? Status::FAILURE : Status::SKIPPED;
+        }
+      }
+    }
+    return Status::IDLE;
   }
 
   // The rest of a decorator's tick once its child `c` returned `cs`.
@@ -870,6 +992,20 @@ class Engine {
     return (s == Status::SUCCESS || s == Status::FAILURE || s == Status::RUNNING) ? s : Status::FAILURE;
   }
 
+  // `else` / `if_empty` = IDLE: the node would set its own status to IDLE,
+  // which makes BehaviorTree.CPP 4.6.2 throw (edges table, L1 and L2): a
+  // run-time error, and the node fails.
+  Status not_idle(const NodeInfo& n, Status s) noexcept {
+    if (s != Status::IDLE) return s;
+    sink().fail(n, n.source,
+                n.kind == NodeKind::Precondition
+                    ? std::string_view("the condition is false and `else` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)")
+                    : std::string_view("the queue is empty and `if_empty` is IDLE: a node may not set its own status "
+                                       "to IDLE (BehaviorTree.CPP throws)"));
+    return Status::FAILURE;
+  }
+
   static constexpr bool is_sequence(NodeKind k) noexcept {
     return k == NodeKind::Sequence || k == NodeKind::AsyncSequence || k == NodeKind::SequenceWithMemory ||
            k == NodeKind::ReactiveSequence;
@@ -929,9 +1065,14 @@ class Engine {
       case NodeKind::Repeat:
       case NodeKind::RetryUntilSuccessful:
         f.decorator = 1;
+        // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
+        // only from IDLE: a count of 0 or below -1 never ticks the child, so
+        // the node answers SKIPPED and stays RUNNING (edges table, R1).
+        if (status_[f.node] == Status::IDLE) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
+        if (counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -997,7 +1138,7 @@ class Engine {
         const int r = run_script(n, ScriptSlot::kCode);
         if (r < 0) return done(Status::FAILURE);
         if (r == 1) return descend(child(n, 0));
-        return done(param::otherwise(n));
+        return done(not_idle(n, param::otherwise(n)));
       }
 
       case NodeKind::Loop: {
@@ -1012,7 +1153,7 @@ class Engine {
           const ErrorSink es = sink();
           const int r = Spec::loop_pop(bb_, n, es, idle);
           if (r < 0) return done(Status::FAILURE);
-          if (r == 0) return done(param::otherwise(n));
+          if (r == 0) return done(not_idle(n, param::otherwise(n)));
         }
         if (idle) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
@@ -1288,6 +1429,7 @@ class Engine {
       case NodeKind::RetryUntilSuccessful: {
         const bool repeat = kind == NodeKind::Repeat;
         std::int32_t& count = counter(n, 0);
+        if (cs != Status::SKIPPED) counter(n, 1) = 1;
         if (cs == Status::RUNNING) return done(Status::RUNNING);
         if (cs == Status::SKIPPED) {
           halt_child(n, 0);
