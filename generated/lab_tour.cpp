@@ -8,5 +8,5 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0x52bf99944a506af4ULL,
+static_assert(lab_tour::detail::kGeneration == 0xf48957feb495b070ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

@@ -8,5 +8,5 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0x3128c5fdc28ad96bULL,
+static_assert(pick_place_ball::detail::kGeneration == 0xd6707816521c8be2ULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x5a9eeea015315c91ULL,
+static_assert(reception::detail::kGeneration == 0xfdca3167a3769831ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

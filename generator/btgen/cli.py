@@ -129,6 +129,12 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     return graph_command(args)
 
 
+def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    from btgen.tools.upgrade import upgrade_command
+
+    return upgrade_command(args)
+
+
 def _cmd_models(args: argparse.Namespace) -> int:
     from btgen.tools.models import models_command
 
@@ -300,6 +306,19 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
     add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
+    from btgen.lang.versions import SUPPORTED_VERSIONS
+
+    u = sub.add_parser(
+        "upgrade-check",
+        help="list where moving between BehaviorTree.CPP releases changes loading or behaviour (exit 1 if anything)",
+    )
+    u.add_argument("mission")
+    u.add_argument("--from", dest="from_version", choices=SUPPORTED_VERSIONS, default="4.6.2")
+    u.add_argument("--to", dest="to_version", choices=SUPPORTED_VERSIONS, default="4.10.0")
+    u.add_argument("--scenario", help="also run the mission on both versions and print where the traces part")
+    add_mission_options(u)
+    u.set_defaults(func=_cmd_upgrade_check)
+
     return p
 
 

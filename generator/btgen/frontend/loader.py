@@ -18,13 +18,13 @@ from typing import Optional
 from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.frontend import version_rules
 from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
-    BUILTINS,
     EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
@@ -37,8 +37,10 @@ from btgen.lang.catalogue import (
     SPECIAL_ATTRIBUTES,
     NodeSpec,
     PortSpec,
+    builtins_for,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.lang.versions import DEFAULT_VERSION, semantics
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -76,9 +78,17 @@ def remap_key(value: str, port_name: str) -> str:
 
 class _Loader:
     def __init__(
-        self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+        self,
+        path: str,
+        models: Sequence[str] = (),
+        main_tree: Optional[str] = None,
+        trees: Sequence[str] = (),
+        btcpp: str = DEFAULT_VERSION,
     ) -> None:
         self.path = path
+        self.btcpp = btcpp
+        self.sem = semantics(btcpp)
+        self.builtins = builtins_for(btcpp)
         self.models_paths = tuple(models)
         self.trees_paths = tuple(trees)
         self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
@@ -142,14 +152,15 @@ class _Loader:
             tuple(self.models),
             tuple(self.files),
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
+            btcpp=self.btcpp,
         )
-        unmapped = unmapped_subtree_ports(mission)
-        if unmapped:
-            mission = dataclasses.replace(mission, warnings=tuple(self._sorted([*mission.warnings, *unmapped])))
+        self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
+        self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
-        return mission
+        warnings = tuple(self._sorted(d for d in self.sink.items if d.severity == "warning"))
+        return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
         src = read_source(path, shown)
@@ -338,7 +349,7 @@ class _Loader:
             if not isinstance(m.tag, str):
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
-            if mid in BUILTINS:
+            if mid in self.builtins:
                 # 4.6.2 never reads leaf, control or decorator models from XML: the
                 # registered node, here the built-in, is what runs.
                 self.sink.warning(
@@ -546,6 +557,13 @@ class _Loader:
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
             elif not aname[:1].isalpha():
                 self._ignored_attribute(attr, tag, node_id)
+            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+                self.sink.warning(
+                    attr.loc,
+                    f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
+                    f"attributes that are not valid port names",
+                )
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -560,7 +578,7 @@ class _Loader:
             return SubTreeNode(
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
-        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, tag=tag)
 
     def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
         """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
@@ -597,13 +615,13 @@ class _Loader:
                     else suggestion(node_id, tree_ids)
                 )
                 self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{where}")
-            return BUILTINS["SubTree"]
+            return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
-        spec = BUILTINS.get(node_id) or user.get(node_id)
+        spec = self.builtins.get(node_id) or user.get(node_id)
         if spec is None and node_id.startswith("{"):  # lxml's `{uri}local` of a namespaced element
             local = etree.QName(node_id).localname
             shown = f"{elem.prefix}:{local}" if elem.prefix else local
-            known = local in BUILTINS or local in user
+            known = local in self.builtins or local in user
             self.sink.error(
                 loc,
                 f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
@@ -613,6 +631,13 @@ class _Loader:
         if spec is None:
             if node_id in tree_ids:
                 self.sink.error(loc, f'`{node_id}` is a BehaviorTree, not a node: write <SubTree ID="{node_id}"/>')
+                return None
+            if node_id == "TryCatch" and not self.sem.trycatch:
+                self.sink.error(
+                    loc,
+                    f"unknown node `TryCatch`: it is built in from BehaviorTree.CPP 4.9.0, not in "
+                    f"{self.btcpp} (select the version with --btcpp 4.10.0)",
+                )
                 return None
             unknown = f"unknown node `{node_id}`: it is neither built in nor declared in TreeNodesModel"
             beside = self.siblings.declaring_model(src.path, node_id)
@@ -624,7 +649,7 @@ class _Loader:
                 )
                 self.sink.error(loc, f"{unknown}; `{beside.path}` beside it declares it: {load}")
                 return None
-            hint = did_you_mean(node_id, list(BUILTINS) + list(user))
+            hint = did_you_mean(node_id, list(self.builtins) + list(user))
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
                 self.sink.error(loc, f"{unknown}; `{hint}` is {where} (did you mean it?)")
@@ -653,7 +678,7 @@ class _Loader:
 
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
         try:
-            parsed = script_lang.parse_script(attr.value)
+            parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)
         except script_lang.ScriptSyntaxError as e:
             self.sink.error(
                 src.value_loc(elem, attr.name, e.offset), f"invalid script in `{attr.name}` of `{node_id}`: {e.message}"
@@ -718,6 +743,9 @@ class _Loader:
         if (spec.id, attr.name) in KEY_NAME_PORTS:
             # These nodes read the raw text as the name of an entry (`output_key="result"`).
             self._check_key(attr, value, what)
+            return attr
+        if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
+            version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
@@ -842,13 +870,29 @@ class _Loader:
                 f"{MAX_NODES} are allowed",
             )
 
+    def _check_version_rules(self, mission: Mission) -> None:
+        """What later releases refuse at load: errors when the selected version refuses it,
+        warnings under 4.6.2 so that a team learns before it upgrades."""
+        for finding in version_rules.loading_findings(mission):
+            if getattr(self.sem, finding.switch):
+                self.sink.error(finding.loc, f"{finding.message} (refused from BehaviorTree.CPP {finding.since})")
+            else:
+                self.sink.warning(finding.loc, f"refused from BehaviorTree.CPP {finding.since}: {finding.message}")
+
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
         from btgen.frontend.xsd import validate_against_mission_xsd
 
         for src in self.sources:
-            self.sink.items.extend(validate_against_mission_xsd(mission, src))
+            for d in validate_against_mission_xsd(mission, src):
+                # attributes the library ignores (not port names) were reported, if at all, above
+                m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
+                ignored = m is not None and (
+                    m.group(1).startswith("_") or not version_rules.is_port_name(m.group(1), self.sem)
+                )
+                if not ignored:
+                    self.sink.items.append(d)
 
 
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
@@ -877,12 +921,16 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
 
 
 def load_mission(
-    path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
-    BehaviorTrees the mission's SubTrees may use (`--trees`)."""
-    return _Loader(path, models, main_tree, trees).load()
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp).load()

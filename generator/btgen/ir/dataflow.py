@@ -42,7 +42,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import SlotType, check_script
+from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -150,6 +150,7 @@ class ScriptIR:
     names: tuple[tuple[str, int], ...]  # name -> slot index
     condition: bool  # its last value is a condition's result
     prefix: str  # the prefix of its run-time error messages
+    typed: TypedScript  # every expression's kind and how it is computed (script_types.py)
 
 
 @dataclass(frozen=True)
@@ -425,7 +426,12 @@ class _Analyzer:
             )
         remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
-            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.m.semantics.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             self.error(model.loc, f"SubTree `{model.target}`: {e}")
             bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
@@ -436,17 +442,23 @@ class _Analyzer:
             assert entry is not None
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
-            s.initial = str(entry.value)
+            # 4.9.1 stores a literal that is wholly a number as that number (subtree_literals_typed)
+            text = (
+                entry.value
+                if isinstance(entry.value, str)
+                else next((v for n, v, _ in remap if n == key), str(entry.value))
+            )
+            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
-            text = str(entry.value)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
                     self.next_order(),
                     locs.get(key, model.loc),
                     f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
-                    lambda: "string",
+                    lambda k=constant_kind: k,
                     True,
                     lambda t=text: len(t.encode("utf-8")),
                     text,
@@ -1145,7 +1157,7 @@ class _Compiler:
             if not self.check_user_free(inst, attr, script, names):
                 continue
             try:
-                check_script(script, self.types, names, condition)
+                typed = type_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
@@ -1160,6 +1172,7 @@ class _Compiler:
                     tuple(sorted(names.items())),
                     condition,
                     f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
                 )
             )
             if enum != "kCode":

@@ -259,6 +259,7 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_PRE_ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 
 class _Analyzer:
@@ -299,7 +300,7 @@ class _Analyzer:
         pre_scripts = 0
         pre_out: Outcomes = {}
         gate: Optional[tuple[str, str]] = None
-        for attr in model.pre:
+        for attr in sorted(model.pre, key=lambda a: _PRE_ORDER.index(a.name)):  # 4.6.2 checks them so
             const = self.data.constant(n.index, attr)
             if const is not None:
                 self.constants[(n.index, attr.name)] = const
@@ -398,20 +399,27 @@ class _Analyzer:
             reactive = kind.startswith("Reactive")
             fresh = self.chain(n, [(t, asynch) for t in fr], decides, goes_on, 0)
             resumed: Outcomes = {}
-            for k in range(len(fr)):
-                if R not in un[k] or not mark[k]:  # only a child that was ticked can be resumed
-                    continue
-                if reactive:  # the others were halted: they start from IDLE
-                    tables = [(rs[k] if j == k else fr[j], False) for j in range(len(fr))]
-                    resumed = _union(resumed, self.chain(n, tables, decides, goes_on, 0))
-                else:
-                    tables = [({}, False)] * k + [(rs[k], False)] + [(t, asynch) for t in fr[k + 1 :]]
-                    resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
-            if asynch:  # resumed after a yield: the next child starts from IDLE
-                for k in range(1, len(fr)):
-                    if goes_on in un[k - 1] and mark[k - 1]:
-                        tables = [({}, False)] * k + [(t, asynch) for t in fr[k:]]
+            done: set[tuple[str, int]] = set()
+            while True:  # until no new child is found ticked (a resumed tick may reach later ones)
+                before = list(mark)
+                for k in range(len(fr)):
+                    if R not in un[k] or not mark[k] or ("run", k) in done:  # only a ticked child resumes
+                        continue
+                    done.add(("run", k))
+                    if reactive:  # the others were halted: they start from IDLE
+                        tables = [(rs[k] if j == k else fr[j], False) for j in range(len(fr))]
+                        resumed = _union(resumed, self.chain(n, tables, decides, goes_on, 0))
+                    else:
+                        tables = [({}, False)] * k + [(rs[k], False)] + [(t, asynch) for t in fr[k + 1 :]]
                         resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if asynch:  # resumed after a yield: the next child starts from IDLE
+                    for k in range(1, len(fr)):
+                        if goes_on in un[k - 1] and mark[k - 1] and ("yield", k) not in done:
+                            done.add(("yield", k))
+                            tables = [({}, False)] * k + [(t, asynch) for t in fr[k:]]
+                            resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if mark == before:
+                    break
             return fresh, resumed
         if kind in ("Parallel", "ParallelAll"):
             return self.parallel(n, fr), self.parallel(n, un)
@@ -483,20 +491,24 @@ class _Analyzer:
             total = _add(total, c)
         can = {st: sum(1 for w in kids if st in w) for st in ORDER}
         out: Outcomes = {}
-        if n.kind == "Parallel":
-            need_s, need_f = n.params[0], n.params[1]
-            if can[S] + can[K] >= need_s and can[S] > 0:
+        count = len(kids)
+        if n.kind == "Parallel":  # the thresholds are checked after every child (interp/controls.py)
+            need_s, need_f, negative = n.params
+            if (can[S] + can[K] if negative else can[S]) >= need_s:
                 out[S] = total
-            if can[F] >= need_f:
+            if can[F] >= min(need_f, count - need_s + 1):
                 out[F] = total
-        else:
+            if can[R] or can[K]:  # a child still RUNNING, or skipped ones that reach no threshold
+                out[R] = total
+        else:  # ParallelAll: decided when every child has completed or skipped
+            need = n.params[0]
             must_fail = sum(1 for w in kids if set(w) == {F})
-            if must_fail < n.params[0] or n.params[0] == 0:
+            if must_fail < need:
                 out[S] = total
-            if can[F] >= max(n.params[0], 1):
+            if can[F] >= need:
                 out[F] = total
-        if can[R]:
-            out[R] = total
+            if can[R]:
+                out[R] = total
         if kids and can[K] == len(kids):
             out[K] = total
         return out
@@ -542,14 +554,15 @@ class _Analyzer:
             through({S: S, F: S, R: R, K: K})
         elif kind == "ForceFailure":
             through({S: F, F: F, R: R, K: K})
-        elif kind == "KeepRunningUntilFailure":
-            through({S: R, F: F, R: R, K: K})
+        elif kind == "KeepRunningUntilFailure":  # a SKIPPED child leaves its own status: RUNNING
+            through({S: R, F: F, R: R, K: R})
         elif kind in ("Repeat", "RetryUntilSuccessful"):
             limit = n.params[0]
             again = S if kind == "Repeat" else F
-            if limit == 0:
-                self.never(n, f"{self.label(n.index)} has {'num_cycles' if kind == 'Repeat' else 'num_attempts'}=0")
-                return {again: ONE} if kind == "Repeat" else {F: ONE}
+            if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+                port = "num_cycles" if kind == "Repeat" else "num_attempts"
+                self.never(n, f"{self.label(n.index)} has {port}={limit}")
+                return {K: ONE}
             final = S if kind == "Repeat" else F
 
             def single(st: str) -> list[str]:

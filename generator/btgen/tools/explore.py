@@ -256,6 +256,7 @@ class Explorer:
                             names.append(s)
                 self._fields[cls] = tuple(names)
         self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
+        self.reached: set = set()
         self.by_name: dict[str, list[int]] = {}
         for i, n in enumerate(probe.nodes):
             self.by_name.setdefault(n.name, []).append(i)
@@ -414,6 +415,7 @@ class Explorer:
         finally:
             restore()
         seconds = time.perf_counter() - t0
+        self.reached = covered  # every goal a run reached, possible or not (tests check analyze with it)
         goals = self.goals()
         return Result(
             goals,
