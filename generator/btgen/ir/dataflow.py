@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
@@ -1219,14 +1219,45 @@ class _Compiler:
                 if isinstance(node, sc.Name):
                     s = self.a.slots[names[node.name]]
                     if not s.at_load and not s.writes:
+                        if node.name.startswith("@"):
+                            known = {"@" + k for k in self.created_keys(inst.bb.root)}
+                        else:
+                            known = self.created_keys(inst.bb)
+                        hint = did_you_mean(node.name, known - {node.name})
+                        advice = f"did you mean `{hint}`?" if hint else f"create it with `{node.name} := ...` first"
+                        bb = inst.bb
+                        if (
+                            bb.parent is not None
+                            and not bb.autoremap
+                            and not node.name.startswith("@")
+                            and node.name not in bb.remapping
+                            and node.name in self.created_keys(bb.parent)
+                        ):
+                            advice = (
+                                f"the calling tree's `{node.name}` is not seen here: the SubTree node does "
+                                f'not remap it; add {node.name}="{{{node.name}}}" or _autoremap="true"'
+                            )
                         self.error(
                             script_loc(attr, node.offset),
                             f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
-                            f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
-                            f"`{node.name} := ...` first)",
+                            f"blackboard entry: no port, script or SetBlackboard writes it ({advice})",
                         )
                         ok = False
         return ok
+
+    def created_keys(self, bb: bbmod.Blackboard) -> set[str]:
+        """The keys a script on `bb` can name whose entries something creates: its own and
+        remapped keys, and through `_autoremap` its parent's (the candidates of a hint)."""
+        keys: set[str] = set(bb.local_keys()) | set(bb.remapping)
+        if bb.parent is not None and bb.autoremap:
+            keys |= {k for k in self.created_keys(bb.parent) if not k.startswith("_")}
+        out = set()
+        for key in keys:
+            entry = bb.get_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry)) if entry is not None else None
+            if idx is not None and (self.a.slots[idx].at_load or self.a.slots[idx].writes):
+                out.add(key)
+        return out
 
     # ------------------------------------------------------------ data nodes
     def unset(self, inst: _Inst, op: dict) -> DataOp:

@@ -8,6 +8,6 @@ namespace btgen {
 // (btgen.version.RUNTIME_ABI); a mismatch means: regenerate the mission.
 inline constexpr int kRuntimeAbi = 5;
 
-inline constexpr const char* kRuntimeVersion = "0.2.0";
+inline constexpr const char* kRuntimeVersion = "0.3.0";
 
 }  // namespace btgen
