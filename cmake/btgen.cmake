@@ -13,6 +13,8 @@
 #                                                 # target needs HEADER's folder on its include path
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
+#                     [BTCPP_VERSION <4.6.2|4.10.0>]  # the BehaviorTree.CPP release to follow (btgen --btcpp);
+#                                                 # default 4.6.2; one program follows one release
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
 #                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
 #                     [SCENARIO_RUNNER <exe>])    # also build `exe SCENARIO_FILE` (the trace printer)
@@ -135,7 +137,7 @@ endfunction()
 # The keywords of btgen_add_mission that are mission options of every btgen command
 # (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
 # a function called from another directory once the include guard skips this file).
-set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
+set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY;BTCPP_VERSION")
 set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
 
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
@@ -165,6 +167,9 @@ function(_btgen_collect_options caller)
   endforeach()
   if(DEFINED ARG_MAIN_TREE)
     list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
+  endif()
+  if(DEFINED ARG_BTCPP_VERSION)
+    list(APPEND read_options --btcpp "${ARG_BTCPP_VERSION}")
   endif()
   foreach(entry IN LISTS ARG_ENTRIES)
     list(APPEND read_options --entry "${entry}")

@@ -18,10 +18,17 @@ IDLE, so they tick their child at most twice per tick; nothing built in loops
 without bound within one tick. A user Control or Decorator may tick its
 children any number of times: the bound is then "unbounded" and names it.
 
-The bounds are per outcome and composed exactly along the tick's paths (a
-Sequence child that only fails stops the count), so they are reached when
-the leaves' results are independent of each other; `btgen explore` measures
-the most it reaches.
+Each node has two tables, for a tick that finds it IDLE and for one that finds
+it RUNNING (a resumed Sequence skips the children before the running one; a
+Repeat starts a second cycle in a tick only when it resumed the first). The
+bounds are per outcome and composed along the tick's paths (a Sequence child
+that only fails stops the count); they are reached when the leaves' results
+are independent of each other, except for Parallel, whose count is an upper
+bound. `btgen explore --no-merge` measures the most a tick does, and the tests
+check on random missions that analyze is never below it, never calls a ticked
+node unreachable and never calls a returned status impossible. With
+`--btcpp 4.10.0` the switches of lang/versions.py that change what a tick
+returns are followed; a node not modelled here (TryCatch) may return anything.
 
 Scripts whose names are all SubTree constants never written by any node (or
 no names at all) are evaluated once here: a constant `_skipIf`, `_while`,
@@ -128,6 +135,8 @@ class _Data:
         a = dataflow._Analyzer(mission, options)
         a.load()
         self.insts = a.insts
+        # entries the application sets before the first tick (--entry): written from the start
+        self.provided = {eid for eid, i in a.slot_of_entry.items() if getattr(a.slots[i], "provided", False)}
         self.enums = dict(mission.enums)
         # id(entry) -> [(node index, loc, type or None)]
         self.reads: dict[int, list[tuple[int, Loc, Optional[str]]]] = {}
@@ -259,6 +268,20 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_DECORATORS = {
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "KeepRunningUntilFailure",
+    "RunOnce",
+    "Precondition",
+    "Timeout",
+    "Delay",
+    "Loop",
+    "SkipUnlessUpdated",
+    "WaitValueUpdate",
+    "SubTree",
+}
 _PRE_ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 
@@ -387,6 +410,8 @@ class _Analyzer:
                 self.constants[(n.index, "code")] = const
                 return {S if const else F: (1, 0, 1)}, {}
             return {S: (1, 0, 1), F: (1, 0, 1)}, {}
+        if nid == "SetBlackboard" and self.m.semantics.setblackboard_converts_to_entry_type:
+            return {S: ONE, F: ONE}, {}  # 4.7.0 on: copying an empty entry fails
         if nid in ("SetBlackboard", "UnsetBlackboard"):
             return {S: ONE}, {}
         if nid == "WasEntryUpdated":
@@ -436,6 +461,15 @@ class _Analyzer:
             return _switch(fr), _switch(un)
         if kind in ("Repeat", "RetryUntilSuccessful"):
             return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        if kind not in _DECORATORS:  # a node this analysis does not model: anything, each child once
+            total: Cost = ONE
+            for w in un:
+                most: Cost = ZERO
+                for v in w.values():
+                    most = _max(most, v)
+                total = _add(total, most)
+            anything = {st: total for st in ORDER}
+            return anything, anything
         child_fr = fr[0] if fr else {}
         return self.decorator(n, child_fr, child_fr, False), self.decorator(n, un[0] if un else {}, {}, True)
 
@@ -562,6 +596,8 @@ class _Analyzer:
             if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
                 port = "num_cycles" if kind == "Repeat" else "num_attempts"
                 self.never(n, f"{self.label(n.index)} has {port}={limit}")
+                if self.m.semantics.loop_end_never_skipped:  # 4.7.0 on
+                    return {S if kind == "Repeat" else F: ONE}
                 return {K: ONE}
             final = S if kind == "Repeat" else F
 
@@ -741,7 +777,7 @@ def _blackboard_findings(a: _Analyzer, data: _Data, reach: list[bool], add) -> N
     for eid, reads in data.reads.items():
         entry = data.entries[eid]
         key = data.entry_key.get(eid, "?")
-        if entry.value is not None:  # a SubTree constant or default: it has a value from the start
+        if entry.value is not None or eid in data.provided:  # a value from the start (constant, --entry)
             continue
         reads = [r for r in reads if reach[r[0]]]
         if not reads:
