@@ -8,5 +8,5 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0xc7d0e99e95cb12d9ULL,
+static_assert(lab_tour::detail::kGeneration == 0x8fb1e39206b8d483ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

@@ -8,5 +8,5 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0x3d7d2f612af06cfeULL,
+static_assert(reception::detail::kGeneration == 0xba6275e0a9e2d97aULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");
