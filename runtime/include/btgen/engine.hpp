@@ -1098,7 +1098,8 @@ class Engine {
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
-        if (counter(n, 1) == 0) return done(Status::SKIPPED);
+        // From 4.7.0 (Sem::loop_end_never_skipped) the loop ends SUCCESS / FAILURE.
+        if (!Sem::loop_end_never_skipped && counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
