@@ -81,6 +81,9 @@ def test_blackboard_and_reactive_findings(capsys):
     assert len(reactive) == 1 and reactive[0].startswith(f'{path}:15:9: warning: `Make` "Slow2" and `Make` "Slow1"')
     rc, _, _ = _run(capsys, "--werror", str(path))
     assert rc == 1
+    # an entry the application provides (--entry) has a value from the start
+    rc, _, err = _run(capsys, "--entry", "ext=int", str(path))
+    assert rc == 0 and "`ext`" not in err and "`goal` is read by" in err
 
 
 def test_user_control_makes_the_tick_unbounded(capsys, tmp_path):

@@ -201,7 +201,9 @@ def test_skippable_if_condition_is_rejected(tmp_path):
     lower(load_mission(ok))
 
 
-def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
+def test_loop_counts_and_durations_read_from_the_blackboard(tmp_path):
+    # `{key}` for num_cycles, num_attempts, msec and delay_msec: read when 4.6.2 reads it
+    # (tests/regressions/key_loop_counts_and_durations runs it on both engines).
     path = _write(
         tmp_path,
         "m.xml",
@@ -211,13 +213,23 @@ def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
             extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>',
         ),
     )
-    errs = _errors(path)
-    assert errs == [
-        f'{path}:3:21: error: port `num_cycles` of `Repeat` "Repeat" reads blackboard entry `{{n}}`; '
-        f"the C++ back end needs a literal value here",
-        f'{path}:4:101: error: port `msec` of `Sleep` "Sleep" reads blackboard entry `{{n}}`; the C++ '
-        f"back end needs a literal value here",
-    ]  # once, though the subtree is used twice
+    header, _ = generate(path)
+    assert header.text.count('// Repeat "Repeat" num_cycles={n}') == 1
+    assert header.text.count('// Sleep "Sleep" msec={n}') == 2  # one per instance of Sub
+
+
+def test_key_count_from_a_text_entry_is_refused_by_the_cpp_back_end(tmp_path):
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence><Get out="{n}"/><Repeat num_cycles="{n}"><Act/></Repeat></Sequence>',
+            models='<Action ID="Act"/><Action ID="Get"><output_port name="out" type="std::string"/></Action>',
+        ),
+    )
+    [err] = _errors(path)
+    assert err.startswith(f'{path}:1:122: error: port `num_cycles` of `Repeat` "Repeat" reads `n` (a string, ')
+    assert err.endswith("the C++ back end reads it from an integer entry only")
 
 
 # ---------------------------------------------------------------------- emission

@@ -72,6 +72,28 @@ def test_interpreter_reports_what_462_refuses(stem):
         trace_text(mission, scenario)
 
 
+# Random missions of fuzzgen's `edges` set, recorded on 4.6.2 by scripts/record_random_edges.py
+# (those it runs without a timed node); the compiled executor is held to the interpreter on the
+# same generator by test_diff_random.py.
+RANDOM = os.path.join(EDGES, "random")
+RANDOM_STEMS = case_stems(RANDOM, ".trace")
+
+
+def test_random_sample_is_there():
+    assert len(RANDOM_STEMS) >= 100
+
+
+@pytest.mark.parametrize("stem", RANDOM_STEMS)
+def test_interpreter_matches_462_on_random_edges(stem):
+    base = os.path.join(RANDOM, stem)
+    mission = load_mission(base + ".xml")
+    scenario, _ = load_scenario(base + ".scenario", mission)
+    with open(base + ".trace", encoding="utf-8") as f:
+        expected = f.read()
+    got = trace_text(mission, scenario)
+    assert got == expected, _diff(expected, got, "interpreter")
+
+
 # ------------------------------------------------------------------ the compiled executor
 # One build per mission (about two seconds each, cached by btgen.tools.cppengine).
 @pytest.fixture(scope="module")

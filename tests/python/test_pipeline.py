@@ -108,6 +108,10 @@ def _exit(argv):
         ["bench", "M.xml"],
         ["graph", "M.xml", "-o", "g.svg"],
         ["xsd", "M.xml"],
+        ["analyze", "M.xml"],
+        ["explore", "M.xml"],
+        ["cover", "M.xml", "run.trace"],
+        ["scenario-from-log", "M.xml", "run.btlog"],
     ],
 )
 def test_every_command_builds_the_same_options(command, tmp_path):

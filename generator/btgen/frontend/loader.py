@@ -19,6 +19,7 @@ from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from btgen.frontend import version_rules
+from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
@@ -97,6 +98,8 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.siblings = SiblingIndex(self.files)
+        self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
@@ -105,6 +108,10 @@ class _Loader:
             return self._load()
         except UserError as e:
             raise UserError(self._sorted(e.diagnostics)) from None
+
+    def _position(self, i: int) -> tuple[int, int, int]:
+        d = self.sink.items[i]
+        return (self.files.index(d.loc.path) if d.loc.path in self.files else len(self.files), d.loc.line, d.loc.col)
 
     def _sorted(self, diags):
         order = {f: i for i, f in enumerate(self.files)}
@@ -127,6 +134,16 @@ class _Loader:
             if tid in tree_ids
         )
         self._check_subtree_cycles(trees)
+        if self.undeclared:
+            # No model anywhere (none in the mission, no --models): most likely the models file
+            # was forgotten; the first unknown node says so, once.
+            first = min(self.undeclared, key=self._position)
+            d = self.sink.items[first]
+            self.sink.items[first] = dataclasses.replace(
+                d,
+                message=d.message + "; the mission declares no node models: if they are in a file of their "
+                "own, pass it with `--models FILE.xml`",
+            )
         self.sink.raise_if_errors()
         mission = Mission(
             self.path,
@@ -137,6 +154,7 @@ class _Loader:
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
             btcpp=self.btcpp,
         )
+        self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
         self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
@@ -590,10 +608,13 @@ class _Loader:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
             if node_id not in tree_ids:
-                self.sink.error(
-                    loc,
-                    f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
+                beside = self.siblings.defining_tree(src.path, node_id)
+                where = (
+                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    if beside is not None
+                    else suggestion(node_id, tree_ids)
                 )
+                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{where}")
             return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
         spec = self.builtins.get(node_id) or user.get(node_id)
@@ -618,22 +639,25 @@ class _Loader:
                     f"{self.btcpp} (select the version with --btcpp 4.10.0)",
                 )
                 return None
+            unknown = f"unknown node `{node_id}`: it is neither built in nor declared in TreeNodesModel"
+            beside = self.siblings.declaring_model(src.path, node_id)
+            if beside is not None:
+                load = (
+                    f"pass `--models {beside.path}`"
+                    if beside.models_only
+                    else f'add <include path="{beside.name}"/> to <root>'
+                )
+                self.sink.error(loc, f"{unknown}; `{beside.path}` beside it declares it: {load}")
+                return None
             hint = did_you_mean(node_id, list(self.builtins) + list(user))
-            where = "built in"
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f"TreeNodesModel; `{hint}` is {where} (did you mean it?)",
-                )
-            else:
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f'TreeNodesModel (declare it as <Action ID="{node_id}"/> or '
-                    f'<Condition ID="{node_id}"/>)',
-                )
+                self.sink.error(loc, f"{unknown}; `{hint}` is {where} (did you mean it?)")
+                return None
+            children = sum(1 for c in elem if isinstance(c.tag, str))
+            self.sink.error(loc, f"{unknown} ({model_advice(node_id, children)})")
+            if not user and not self.models_paths:
+                self.undeclared.append(len(self.sink.items) - 1)
             return None
         if tag in KINDS and tag != spec.kind:
             # 4.6.2 creates the registered node whatever the element says (<Action
@@ -662,7 +686,17 @@ class _Loader:
             return attr
         return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
 
-    def _check_key(self, attr: Attr, key: str, what: str) -> bool:
+    def _check_key(self, attr: Attr, key: str, what: str, remap: bool = False) -> bool:
+        if remap and key and not _KEY_RE.match(key):
+            # 4.6.2 names the entry with whatever is between the braces (`{ n }` is the key
+            # ` n `; edges table B1): loaded, with a warning, since it is most likely a typo
+            self.sink.warning(
+                attr.value_loc,
+                f"`{attr.value}` in {what} names the blackboard key `{key}`, which scripts cannot "
+                f"name (keys are letters, digits, `_`, optionally `@` first); BehaviorTree.CPP 4.6.2 "
+                f"uses it as it is",
+            )
+            return True
         if not _KEY_RE.match(key):
             self.sink.error(
                 attr.value_loc,
@@ -685,7 +719,7 @@ class _Loader:
                 f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
-            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
+            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`", remap=True)
         return attr
 
     def _port(self, attr: Attr, spec: NodeSpec, elem: etree._Element, src: Source) -> Optional[Attr]:
@@ -706,7 +740,7 @@ class _Loader:
                 # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
                 self._check_literal(attr.value_loc, what, port.type, value)
                 return attr
-            self._check_key(attr, remap_key(value, attr.name), what)
+            self._check_key(attr, remap_key(value, attr.name), what, remap=True)
             return attr
         if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
             self.sink.warning(

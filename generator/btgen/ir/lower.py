@@ -72,6 +72,9 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
     "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
 }
+# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# and the node has one more counter slot, after those of SUPPORTED, holding the value read.
+PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
@@ -316,6 +319,8 @@ class _Lowerer:
             elif node.id in SUPPORTED:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
+                if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
+                    nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)

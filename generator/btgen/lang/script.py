@@ -1244,8 +1244,12 @@ def _arith(op: str, a: float, b: float) -> float:
     if op == "*":
         return a * b
     if b == 0.0:
-        if a == 0.0 or math.isnan(a):
-            return math.nan
+        if math.isnan(a):
+            return a  # a NaN operand comes through as it is
+        if a == 0.0:
+            # 0/0 gives x86-64's default NaN, whose sign bit is set: std::to_string
+            # writes it `-nan` (edges table N1)
+            return -math.nan
         return math.copysign(math.inf, a) * math.copysign(1.0, b)
     return a / b
 

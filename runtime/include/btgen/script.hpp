@@ -81,11 +81,14 @@ inline bool gt(std::string_view a, std::string_view b) noexcept { return !(a <= 
 inline bool le(std::string_view a, std::string_view b) noexcept { return !(a > b); }
 inline bool ge(std::string_view a, std::string_view b) noexcept { return !(a < b); }
 
-// Division as 4.6.2's double arithmetic, with division by zero spelled out
-// (0/0 and nan/0 are a positive NaN, x/0 an infinity with the signs' product).
+// Division as 4.6.2's double arithmetic on x86-64, with division by zero
+// spelled out: 0/0 is the processor's default NaN, whose sign bit is set
+// (std::to_string writes `-nan`; edges table N1), nan/0 that NaN as it is,
+// x/0 an infinity with the signs' product.
 inline double div(double a, double b) noexcept {
   if (b == 0.0) {
-    if (a == 0.0 || std::isnan(a)) return std::numeric_limits<double>::quiet_NaN();
+    if (std::isnan(a)) return a;
+    if (a == 0.0) return -std::numeric_limits<double>::quiet_NaN();
     return std::copysign(std::numeric_limits<double>::infinity(), a) * std::copysign(1.0, b);
   }
   return a / b;

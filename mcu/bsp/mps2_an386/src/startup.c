@@ -2,7 +2,7 @@
  *
  * The Cortex-M4 reads its initial stack pointer and reset vector from the
  * table at address 0 (the linker script puts .isr_vector first). The reset
- * handler paints the stack (for btgen_bsp::stack_used()), copies .data,
+ * handler paints the whole stack (for btgen_bsp::stack_used()), copies .data,
  * clears .bss, turns the FPU on, runs the static constructors and main(), and
  * exits with main()'s status. (C, not C++: C++ may not call main().)
  */
@@ -21,17 +21,28 @@ void btgen_bsp_exit(int status) __attribute__((noreturn));
 void btgen_bsp_write(const char* data, unsigned size);
 void SysTick_Handler(void);
 void Reset_Handler(void) __attribute__((noreturn));
+void btgen_bsp_start(void) __attribute__((noreturn, used));
 void Fault_Handler(void) __attribute__((noreturn));
 void Default_Handler(void) __attribute__((noreturn));
 
 /* What the stack is painted with (bsp.cpp's stack_used() looks for it). */
 #define BTGEN_BSP_PAINT 0x5AA5C33Cu
 
-void Reset_Handler(void) {
-  /* Paint the stack below this frame (a margin keeps clear of it). */
-  volatile uint32_t* p = __stack_limit;
-  volatile uint32_t* end = (volatile uint32_t*)((uintptr_t)__builtin_frame_address(0) - 256u);
-  while (p < end) *p++ = BTGEN_BSP_PAINT;
+/* Paints the whole stack before anything uses it (so stack_used() sees every byte ever
+ * used), then goes on in C. */
+__attribute__((naked)) void Reset_Handler(void) {
+  __asm volatile(
+      "ldr r0, =__stack_limit\n"
+      "ldr r1, =__stack_top\n"
+      "ldr r2, =0x5AA5C33C\n" /* BTGEN_BSP_PAINT */
+      "1: cmp r0, r1\n"
+      "bhs 2f\n"
+      "str r2, [r0], #4\n"
+      "b 1b\n"
+      "2: b btgen_bsp_start\n");
+}
+
+void btgen_bsp_start(void) {
   for (uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;) *dst++ = *src++;
   for (uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0;
   /* CPACR: full access to the coprocessors CP10 and CP11 (the FPU). */
