@@ -1524,6 +1524,10 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
+        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure.
+        if constexpr (Sem::retry_rereads_attempts) {
+          if (!repeat && !read_param(n, true)) return done(Status::FAILURE);
+        }
         const bool again = count < max_cycles(n) || max_cycles(n) == -1;
         halt_child(n, 0);
         if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule
