@@ -268,6 +268,7 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_ANY_COUNT = -(2**62)  # a Repeat/Retry count read from the blackboard: any value
 _DECORATORS = {
     "Inverter",
     "ForceSuccess",
@@ -417,7 +418,9 @@ class _Analyzer:
         if nid == "WasEntryUpdated":
             return {S: ONE, F: ONE}, {}
         if nid == "Sleep":
-            return ({S: ONE}, {}) if n.params[0] == 0 else ({S: ONE, R: ONE}, {S: ONE, R: ONE})
+            if n.params[0] == 0 and not self.keyed(n, "msec"):
+                return {S: ONE}, {}
+            return {S: ONE, R: ONE}, {S: ONE, R: ONE}
         if kind in _CHAINS:
             decides, goes_on = _CHAINS[kind]
             asynch = kind.startswith("Async")
@@ -593,7 +596,10 @@ class _Analyzer:
         elif kind in ("Repeat", "RetryUntilSuccessful"):
             limit = n.params[0]
             again = S if kind == "Repeat" else F
-            if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+            if self.keyed(n, "num_cycles" if kind == "Repeat" else "num_attempts"):
+                limit = _ANY_COUNT  # read from the blackboard at every tick: any count
+            # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+            if limit != _ANY_COUNT and (limit == 0 or limit < -1):
                 port = "num_cycles" if kind == "Repeat" else "num_attempts"
                 self.never(n, f"{self.label(n.index)} has {port}={limit}")
                 if self.m.semantics.loop_end_never_skipped:  # 4.7.0 on
@@ -604,13 +610,17 @@ class _Analyzer:
             def single(st: str) -> list[str]:
                 if st != again:
                     return [st]
+                if limit == _ANY_COUNT:
+                    return [R, final]
                 return ([R] if limit == -1 or limit >= 2 else []) + ([final] if limit >= 1 else [])
 
             for st, c in w.items():
                 for t in single(st):
                     _put(out, t, _add(ONE, c))
+            if limit == _ANY_COUNT:  # a count of 0 never starts the loop
+                _put(out, final if self.m.semantics.loop_end_never_skipped else K, ONE)
             # a cycle resumed from RUNNING that ends with `again` starts the next one in the same tick
-            if resumed and again in w and (limit == -1 or limit >= 2):
+            if resumed and again in w and (limit in (-1, _ANY_COUNT) or limit >= 2):
                 first = _add(ONE, w[again])
                 for st, c in w_fresh.items():
                     for t in single(st):
@@ -651,6 +661,11 @@ class _Analyzer:
         else:  # SubTree
             through(same)
         return out
+
+    def keyed(self, n: IRNode, port: str) -> bool:
+        """Whether the node reads `port` from the blackboard (`{key}`), so its value is not known here."""
+        attr = self.model(n.index).port(port)
+        return attr is not None and bbmod.strip_blackboard_pointer(attr.value) is not None
 
     def never(self, n: IRNode, why: str) -> None:
         self.mark[n.index][:] = [False] * len(n.children)
