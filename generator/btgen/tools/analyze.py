@@ -480,7 +480,8 @@ class _Analyzer:
         """Sequence-like nodes: children in order from `start` while they return `goes_on` (or
         SKIPPED); each child's table, and whether it yields after `goes_on` (the async variants)."""
         out: Outcomes = {}
-        went: Optional[Cost] = None  # a path where some child went on
+        # a tick resumed at a later child: the ones before went on or were skipped in earlier ticks
+        went: Optional[Cost] = ONE if start > 0 else None  # a path where some child went on
         skipped: Optional[Cost] = ONE  # a path where all children so far skipped
         last = len(kids) - 1
         mark = self.mark[n.index]
@@ -640,7 +641,7 @@ class _Analyzer:
                 through(same, (1, 0, 1))
             else:
                 self.never(n, f"the `if` of {self.label(n.index)} is always false ({attr.value if attr else ''!r})")
-            if const is not True:
+            if const is not True and else_status != "IDLE":  # IDLE: a run-time error (edge L1)
                 _put(out, else_status, (1, 0, 1))
         elif kind == "Timeout":
             through(same)
@@ -651,7 +652,8 @@ class _Analyzer:
         elif kind == "Loop":
             through({S: R, F: F, R: R, K: R})
             else_status = ("IDLE", R, S, F, K)[n.params[0]] if 0 <= n.params[0] <= 4 else S
-            _put(out, else_status, ONE)
+            if else_status != "IDLE":  # IDLE: a run-time error (edge L1)
+                _put(out, else_status, ONE)
         elif kind == "SkipUnlessUpdated":
             through(same)
             _put(out, K, ONE)
