@@ -54,6 +54,7 @@ def test_hostile_names_build(hostile_sources, compiler, opt):
         compiler,
         *FLAGS,
         opt,
+        *(["-DNDEBUG"] if opt == "-O2" else []),  # (as every CMake Release build defines it)
         "-I",
         RUNTIME,
         "-I",
@@ -97,6 +98,7 @@ def test_pool_covers_the_issue():
     } <= pool
     assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
     assert pool >= ISSUE_STEMS
+    assert {"NDEBUG", "BTGEN_STRAIGHT_LINE_BUDGET", "BTGEN_MISSION_HEADER", "ZMQ_PUB"} <= pool
 
 
 def test_compilers_define_no_macro_btgen_does_not_know():
@@ -126,6 +128,10 @@ def test_compilers_define_no_macro_btgen_does_not_know():
         ("message", "port", "message"),
         ("x", "entry", "x"),
         ("class", "plain", "class_"),
+        ("NDEBUG", "model", "NDEBUG_"),
+        ("BTGEN_STRAIGHT_LINE_BUDGET", "port", "port_BTGEN_STRAIGHT_LINE_BUDGET"),
+        ("BTGEN_GENERATED_M_HPP", "entry", "e_BTGEN_GENERATED_M_HPP"),
+        ("ZMQ_PUB", "entry", "e_ZMQ_PUB"),
     ],
 )
 def test_cpp_identifier_by_kind(name, kind, expected):

@@ -1,6 +1,9 @@
 """--models, --main-tree and --namespace; repeated TreeNodesModel declarations."""
 
 import os
+import shutil
+import subprocess
+from pathlib import Path
 
 import pytest
 
@@ -10,6 +13,8 @@ from btgen.compiler import generate, mission_files
 from btgen.compiler import main as build_info
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
+
+ROOT = Path(__file__).resolve().parents[2]
 
 MODELS = (
     '<root BTCPP_format="4">\n'
@@ -164,6 +169,31 @@ def test_namespace_default_never_clashes():
         ("_robot", "`_robot` is reserved in C++ (a leading `_` or a double underscore)"),
         ("robot::", "`robot::` has an empty part"),
         ("", "the namespace is empty"),
+        # Each of these generated C++ that does not build
+        (
+            "robot::std",
+            "`std` inside the mission's namespace would hide `::std`, which the generated code names there; "
+            "choose another name",
+        ),
+        (
+            "robot::btgen",
+            "`btgen` inside the mission's namespace would hide `::btgen`, which the generated code names there; "
+            "choose another name",
+        ),
+        ("a\n::b", "`a\\n` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
+        ("a::b\n", "`b\\n` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
+        (
+            "r\u00e9sum\u00e9",
+            "`r\u00e9sum\u00e9` is not a C++ identifier (letters, digits and `_`, not starting with a digit)",
+        ),
+        ("nullptr_t", "`nullptr_t` names something of the C++ standard library at global scope; choose another name"),
+        ("NDEBUG", "`NDEBUG` is a macro of btgen's runtime or of a build (`NDEBUG`, `BTGEN_...`, `ZMQ_...`)"),
+        ("robot::NDEBUG", "`NDEBUG` is a macro of btgen's runtime or of a build (`NDEBUG`, `BTGEN_...`, `ZMQ_...`)"),
+        (
+            "BTGEN_STRAIGHT_LINE_BUDGET",
+            "`BTGEN_STRAIGHT_LINE_BUDGET` is a macro of btgen's runtime or of a build "
+            "(`NDEBUG`, `BTGEN_...`, `ZMQ_...`)",
+        ),
     ],
 )
 def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
@@ -174,6 +204,26 @@ def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
     assert e.value.code == 2
     assert f"btgen: error: argument --namespace: {problem}" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.skipif(shutil.which("g++") is None, reason="no g++")
+def test_accepted_namespaces_with_odd_parts_build(tmp_path):
+    # Inner parts that are names the generated code declares itself, or globals: they build.
+    mission, models = _write(tmp_path, "m.xml", BARE), _write(tmp_path, "models.xml", MODELS)
+    for ns in ("robot::detail", "robot::leaf", "robot::exit", "robot::main", "robot::errno_"):
+        out = tmp_path / ns.replace("::", "_")
+        assert (
+            main(["compile", mission, "--models", models, "--main-tree", "Patrol", "--namespace", ns, "-o", str(out)])
+            == 0
+        )
+        proc = subprocess.run(
+            ["g++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Werror", "-DNDEBUG"]
+            + [f"-I{ROOT / 'runtime' / 'include'}", str(out / "m.cpp")],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert proc.returncode == 0, (ns, proc.stderr[:3000])
 
 
 def test_compile_with_all_options(tmp_path, capsys):
