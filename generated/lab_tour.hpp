@@ -4479,7 +4479,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xdfac29c8df61878fULL;
+inline constexpr unsigned long long kGeneration = 0x00906ab901e6941bULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -889,7 +889,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x2a6d9512c84a6908ULL;
+inline constexpr unsigned long long kGeneration = 0x99148f0bc4db450eULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

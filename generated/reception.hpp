@@ -2996,7 +2996,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xcd01327719822eb8ULL;
+inline constexpr unsigned long long kGeneration = 0x19810b2ade7429b5ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP
