@@ -9,6 +9,7 @@ mission are reported together.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 from collections.abc import Sequence
@@ -113,9 +114,9 @@ class _Loader:
         return mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
+        self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
         self.sources.append(src)
-        self.files.append(shown)
         root = src.root
         if root.tag != "root":
             if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
@@ -159,12 +160,12 @@ class _Loader:
         declarations count as the mission's own."""
         if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
             return  # given twice, or also the mission or one of its includes
+        self.files.append(path)
         try:
             src = read_source(path, path)
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
-        self.files.append(path)
         root = src.root
         if root.tag != "root":
             self.sink.error(
@@ -683,6 +684,17 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
 
             return f"port `{name}` has {show(pa.default)} there, {show(pb.default)} here"
     return ""
+
+
+def files_read(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> list[str]:
+    """The files loading the mission reads: the mission, its includes and the models files,
+    also when it does not load (a build system then keeps depending on an include that
+    stopped loading, and the build reports its errors instead of keeping a stale output)."""
+    loader = _Loader(path, models, main_tree)
+    with contextlib.suppress(UserError):
+        loader.load()
+    read = list(loader.files)
+    return read + [m for m in models if m not in read]
 
 
 def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
