@@ -506,6 +506,48 @@ def test_one_client_cannot_make_the_monitor_hold_much(executor, tmp_path):
         assert cpp.close() == 0
 
 
+def test_btlog_write_errors_are_reported(executor, tmp_path):
+    """To /dev/full the log got 0 bytes, on a full file system it stopped inside its tree
+    XML; the robot exited 0 and said nothing."""
+    if executor.name != "monitored":
+        pytest.skip("one mission is enough")
+    full = tmp_path / "full.btlog"
+    full.symlink_to("/dev/full")
+    scenario = str(executor.with_suffix(".scenario"))
+    proc = subprocess.run(
+        [str(executor), scenario, "--btlog", str(full)], input="quit\n", capture_output=True, text=True, check=False
+    )
+    assert (proc.returncode, proc.stderr) == (
+        2,
+        f"{executor}: error: btlog: cannot write {full}: No space left on device\n",
+    )
+    # A file that can take the header and two records, then no more (as a disk filling up).
+    import resource
+    import signal
+
+    xml = groot2_tree(load_mission(str(CASES / "monitored.xml"))).xml.encode()
+    limit = 18 + 1 + 4 + len(xml) + 8 + 2 * 9
+
+    def small_disk():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # (a write past the limit fails with EFBIG)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    log = tmp_path / "cut.btlog"
+    proc = subprocess.run(
+        [str(executor), scenario, "--btlog", str(log)],
+        input="tick\ntick\nquit\n",
+        capture_output=True,
+        text=True,
+        check=False,
+        preexec_fn=small_disk,
+    )
+    assert (proc.returncode, proc.stderr) == (
+        1,
+        f"{executor}: error: {log}: cannot write the log: File too large\n",
+    )
+    assert proc.stdout.startswith("ready\nresult ")  # (the mission ran; only the log failed)
+
+
 def test_tree_xml_is_byte_identical_for_hostile_names():
     """Names with quotes, `&`, `<`, `>`, apostrophes, UTF-8, a tab and a newline, an empty
     name, a `/` in a SubTree path: the generator's tree XML (the FULLTREE text and the

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <memory>
@@ -209,6 +210,12 @@ int main(int argc, char** argv) {
     if (btgen::is_completed(result)) break;
   }
 
+  // The .btlog: a full disk (or /dev/full) cuts it short; the run then fails, saying so.
+  const int log_error = btlog ? btlog->close() : 0;
+  if (log_error != 0) {
+    std::fprintf(stderr, "%s: error: %s: cannot write the log: %s\n", kProgram, options.btlog.c_str(),
+                 std::strerror(log_error));
+  }
   const btgen::KbLocation* where = kb.find(pepper.at());
   const std::string place =
       where != nullptr ? std::to_string(where->id) + " (" + where->description + ")" : std::string("between locations");
@@ -224,6 +231,6 @@ int main(int argc, char** argv) {
   std::printf("%s: mission %s at tick %ld after %d navigations; Pepper is at %s%s: x %.2f, y %.2f, theta %.1f\n",
               kProgram, std::string(btgen::to_string(result)).c_str(), n, pepper.navigations(), place.c_str(),
               pepper.at() == plan.home ? ", home" : "", pepper.pose().x(), pepper.pose().y(), pepper.pose().z());
-  if (std::fflush(stdout) != 0) return 1;
+  if (std::fflush(stdout) != 0 || log_error != 0) return 1;
   return result == Status::SUCCESS ? 0 : 1;
 }
