@@ -1,6 +1,7 @@
 """--models, --main-tree and --namespace; repeated TreeNodesModel declarations."""
 
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -269,3 +270,69 @@ def test_validate_run_and_xsd_take_the_options(tmp_path, capsys):
     assert capsys.readouterr().out == (
         'tick 1\n1 MoveBase "MoveBase" IDLE -> SUCCESS\n1 MoveBase "MoveBase" SUCCESS -> IDLE\nresult SUCCESS\n'
     )
+
+
+def test_models_no_node_uses_cost_nothing(tmp_path):
+    """A 2-node mission with a palette of 600 unused Actions took g++ 45 s (2,000: 7 minutes,
+    1.4 GB): every model got a leaf class, dispatch branches and virtual hooks, a pure virtual
+    check() per Condition. Only used models get them; Groot2 still sees the whole palette."""
+    palette = (
+        "\n".join(f'    <Action ID="Unused{i}"><input_port name="a" type="int"/></Action>' for i in range(600))
+        + '\n    <Condition ID="UnusedCheck"/>\n    <Condition ID="Used"/>'
+    )
+    models = _write(
+        tmp_path, "models.xml", f'<root BTCPP_format="4"><TreeNodesModel>\n{palette}\n</TreeNodesModel></root>'
+    )
+    mission = _write(
+        tmp_path,
+        "m.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M">'
+        "<Sequence><Used/><AlwaysSuccess/></Sequence></BehaviorTree></root>",
+    )
+    assert main(["compile", mission, "--models", models, "-o", str(tmp_path / "o")]) == 0
+    header = (tmp_path / "o" / "m.hpp").read_text()
+    assert re.search(r"\bUsed\b", header) and "check(" in header
+    assert not re.search(r"\b(class|struct) Unused", header)
+    assert all('ID=\\"Unused' in line for line in header.splitlines() if "Unused" in line)
+    assert header.count('<Action ID=\\"Unused') == 600  # (the tree XML of Groot2)
+
+
+@pytest.mark.parametrize(
+    "root, models, expected",
+    [
+        # (each was taken silently)
+        (
+            '<root BTCPP_format="3">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/>',
+            [
+                '1:21: error: BTCPP_format="3" is not supported; btgen reads BehaviorTree.CPP v4 files '
+                '(BTCPP_format="4")'
+            ],
+        ),
+        (
+            '<root BTCPP_format="4" main_tree_to_execute="Dock">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/>',
+            [
+                "1:24: error: a models file does not choose the tree to run; main_tree_to_execute belongs to the "
+                "mission (or --main-tree)"
+            ],
+        ),
+        (
+            '<root BTCPP_format="4">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/><SubTree ID="Dok"/>',
+            ["2:100: error: SubTree model `Dok` names no BehaviorTree of the mission (did you mean `Dock`?)"],
+        ),
+    ],
+)
+def test_models_file_mistakes_are_reported(tmp_path, capsys, root, models, expected):
+    mission = _write(tmp_path, "m.xml", BARE)
+    path = _write(tmp_path, "models.xml", f"{root}\n<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+    assert main(["validate", mission, "--models", path, "--main-tree", "Patrol"]) == 1
+    assert capsys.readouterr().err.splitlines() == [f"{path}:{e}" for e in expected]
+
+
+def test_an_empty_models_file_name(tmp_path, capsys):
+    # (it was reported at `:1:1:`)
+    mission = _write(tmp_path, "m.xml", BARE)
+    assert main(["validate", mission, "--models", "", "--main-tree", "Dock"]) == 1
+    assert capsys.readouterr().err == "--models:1:1: error: the file name is empty\n"

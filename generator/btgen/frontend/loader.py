@@ -73,6 +73,7 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
 
     # ---------------------------------------------------------------- files
     def load(self) -> Mission:
@@ -93,6 +94,12 @@ class _Loader:
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
         tree_ids = self._check_tree_ids()
+        for spec in self.palette_subtrees:
+            if spec.id not in tree_ids:
+                self.sink.error(
+                    spec.loc or Loc(self.path),
+                    f"SubTree model `{spec.id}` names no BehaviorTree of the mission{suggestion(spec.id, tree_ids)}",
+                )
         trees = tuple(
             TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
             for tid, elem, src in self.tree_elems
@@ -158,6 +165,9 @@ class _Loader:
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
         declarations count as the mission's own."""
+        if not path:  # (it was reported at `:1:1:`)
+            self.sink.error(Loc("--models", 1, 1), "the file name is empty")
+            return
         if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
             return  # given twice, or also the mission or one of its includes
         self.files.append(path)
@@ -179,11 +189,26 @@ class _Loader:
         if errors:
             self.sink.items.extend(errors)
             return
+        # (both were taken silently: a models file is read as format 4 and runs nothing)
+        fmt = root.get("BTCPP_format")
+        if fmt is not None and fmt != "4":
+            self.sink.error(
+                src.value_loc(root, "BTCPP_format"),
+                f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
+            )
+        if root.get("main_tree_to_execute") is not None:
+            self.sink.error(
+                src.attr_loc(root, "main_tree_to_execute"),
+                "a models file does not choose the tree to run; main_tree_to_execute belongs to the mission "
+                "(or --main-tree)",
+            )
         for child in root:
             if not isinstance(child.tag, str):
                 continue
             if child.tag == "TreeNodesModel":
+                before = len(self.models)
                 self._read_models(child, src)
+                self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
             else:
                 self.sink.error(
                     src.loc(child),
