@@ -4,12 +4,17 @@
 #                     [NAMESPACE <ns>]            # C++ namespace (btgen compile --namespace); default from the file name
 #                     [MAIN_TREE <id>]            # the tree to run (btgen compile --main-tree)
 #                     [MODELS <file.xml>...]      # files of <TreeNodesModel> declarations (btgen compile --models)
+#                     [TREES <file.xml|dir>...]   # BehaviorTrees the mission's SubTrees may use (btgen compile --trees)
+#                     [ENTRIES <[TREE:]NAME=TYPE>...]  # entries the application sets before the first tick
+#                                                 # (btgen compile --entry; the mission gets provide_<entry>())
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
 #                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
 #                                                 # target needs HEADER's folder on its include path
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
+#                     [BTCPP_VERSION <4.6.2|4.10.0>]  # the BehaviorTree.CPP release to follow (btgen --btcpp);
+#                                                 # default 4.6.2; one program follows one release
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
 #                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
 #                     [SCENARIO_RUNNER <exe>])    # also build `exe SCENARIO_FILE` (the trace printer)
@@ -129,12 +134,96 @@ function(_btgen_query out_var)
   set(${out_var} "${out}" PARENT_SCOPE)
 endfunction()
 
-# True in <out_var> when the C++ back end can compile <mission> (no diagnostics).
+# The keywords of btgen_add_mission that are mission options of every btgen command
+# (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
+# a function called from another directory once the include guard skips this file).
+set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY;BTCPP_VERSION")
+set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
+
+# From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
+# read: --models, --main-tree), `write_options` (the rest: --namespace, capacities, enums,
+# types), `ns_option` and `option_files` (files named by options, for dependencies), set in
+# the caller's scope. Relative files are taken from CMAKE_CURRENT_SOURCE_DIR.
+function(_btgen_collect_options caller)
+  set(read_options "")
+  foreach(models_file IN LISTS ARG_MODELS)
+    get_filename_component(models_file "${models_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${models_file}")
+      message(FATAL_ERROR "${caller}: models file ${models_file} does not exist")
+    endif()
+    list(APPEND read_options --models "${models_file}")
+  endforeach()
+  # Tree libraries: a file, or a folder whose *.xml files are read (the folder itself is a
+  # configure dependency, so a file added to it is seen).
+  foreach(trees IN LISTS ARG_TREES)
+    get_filename_component(trees "${trees}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${trees}")
+      message(FATAL_ERROR "${caller}: trees file or folder ${trees} does not exist")
+    endif()
+    list(APPEND read_options --trees "${trees}")
+    if(IS_DIRECTORY "${trees}")
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${trees}")
+    endif()
+  endforeach()
+  if(DEFINED ARG_MAIN_TREE)
+    list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
+  endif()
+  if(DEFINED ARG_BTCPP_VERSION)
+    list(APPEND read_options --btcpp "${ARG_BTCPP_VERSION}")
+  endif()
+  foreach(entry IN LISTS ARG_ENTRIES)
+    list(APPEND read_options --entry "${entry}")
+  endforeach()
+  set(ns_option "")
+  if(DEFINED ARG_NAMESPACE)
+    set(ns_option --namespace "${ARG_NAMESPACE}")
+  endif()
+  set(write_options ${ns_option})
+  if(ARG_STRING_CAPACITY)
+    list(APPEND write_options --string-capacity ${ARG_STRING_CAPACITY})
+  endif()
+  if(ARG_QUEUE_CAPACITY)
+    list(APPEND write_options --queue-capacity ${ARG_QUEUE_CAPACITY})
+  endif()
+  # Scripting enums (registerScriptingEnum): `Color=RED,GREEN,BLUE` each, and files of them.
+  foreach(enum IN LISTS ARG_ENUMS)
+    list(APPEND write_options --enum "${enum}")
+  endforeach()
+  # User port types: `Pose2D=nav::Pose2D@nav/pose2d.hpp` each.
+  foreach(type IN LISTS ARG_TYPES)
+    list(APPEND write_options --type "${type}")
+  endforeach()
+  set(option_files "")
+  foreach(enum_file IN LISTS ARG_ENUM_FILES)
+    get_filename_component(enum_file "${enum_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${enum_file}")
+      message(FATAL_ERROR "${caller}: enums file ${enum_file} does not exist")
+    endif()
+    list(APPEND write_options --enums "${enum_file}")
+    list(APPEND option_files "${enum_file}")
+  endforeach()
+  set(read_options "${read_options}" PARENT_SCOPE)
+  set(write_options "${write_options}" PARENT_SCOPE)
+  set(ns_option "${ns_option}" PARENT_SCOPE)
+  set(option_files "${option_files}" PARENT_SCOPE)
+endfunction()
+
+# btgen_mission_compiles(<out_var> <mission> [NAMESPACE ...] [MAIN_TREE ...] [MODELS ...]
+#                        [ENUMS ...] [ENUM_FILES ...] [TYPES ...] [STRING_CAPACITY n] [QUEUE_CAPACITY n])
+# True in <out_var> when the C++ back end compiles <mission> with those options (the same
+# keywords as btgen_add_mission), so a mission it calls broken is one btgen_add_mission fails on.
 function(btgen_mission_compiles out_var mission)
+  get_property(one GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS)
+  get_property(multi GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS)
+  cmake_parse_arguments(ARG "" "${one}" "${multi}" ${ARGN})
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "btgen_mission_compiles: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  _btgen_collect_options(btgen_mission_compiles)
   _btgen_command(cmd)
   get_filename_component(mission "${mission}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   execute_process(
-    COMMAND ${cmd} build-info --check "${mission}"
+    COMMAND ${cmd} build-info --check "${mission}" ${read_options} ${write_options}
     OUTPUT_QUIET ERROR_QUIET
     RESULT_VARIABLE rc)
   if(rc EQUAL 0)
@@ -151,9 +240,9 @@ function(btgen_add_mission)
     list(GET args 0 target)  # btgen_add_mission(<target> MISSION ...)
     list(REMOVE_AT args 0)
   endif()
-  cmake_parse_arguments(ARG ""
-    "TARGET;MISSION;NAMESPACE;MAIN_TREE;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;STRING_CAPACITY;QUEUE_CAPACITY"
-    "MODELS;ENUMS;ENUM_FILES;TYPES" ${args})
+  get_property(one GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS)
+  get_property(multi GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS)
+  cmake_parse_arguments(ARG "" "TARGET;MISSION;OUTPUT_DIR;RELATIVE_TO;SCENARIO_RUNNER;${one}" "${multi}" ${args})
   if(ARG_TARGET)
     set(target "${ARG_TARGET}")
   endif()
@@ -181,47 +270,10 @@ function(btgen_add_mission)
   endif()
 
   # Options that change what is read (--models, --main-tree) and what is written (--namespace, capacities).
-  set(read_options "")
-  foreach(models_file IN LISTS ARG_MODELS)
-    get_filename_component(models_file "${models_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
-    if(NOT EXISTS "${models_file}")
-      message(FATAL_ERROR "btgen_add_mission: models file ${models_file} does not exist")
-    endif()
-    list(APPEND read_options --models "${models_file}")
-  endforeach()
-  if(DEFINED ARG_MAIN_TREE)
-    list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
-  endif()
-  set(ns_option "")
-  if(DEFINED ARG_NAMESPACE)
-    set(ns_option --namespace "${ARG_NAMESPACE}")
-  endif()
-  set(write_options ${ns_option})
-  if(ARG_STRING_CAPACITY)
-    list(APPEND write_options --string-capacity ${ARG_STRING_CAPACITY})
-  endif()
-  if(ARG_QUEUE_CAPACITY)
-    list(APPEND write_options --queue-capacity ${ARG_QUEUE_CAPACITY})
-  endif()
-  # Scripting enums (registerScriptingEnum): `Color=RED,GREEN,BLUE` each, and files of them.
-  foreach(enum IN LISTS ARG_ENUMS)
-    list(APPEND write_options --enum "${enum}")
-  endforeach()
-  # User port types: `Pose2D=nav::Pose2D@nav/pose2d.hpp` each.
-  foreach(type IN LISTS ARG_TYPES)
-    list(APPEND write_options --type "${type}")
-  endforeach()
-  set(enum_files "")
-  foreach(enum_file IN LISTS ARG_ENUM_FILES)
-    get_filename_component(enum_file "${enum_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
-    if(NOT EXISTS "${enum_file}")
-      message(FATAL_ERROR "btgen_add_mission: enums file ${enum_file} does not exist")
-    endif()
-    list(APPEND write_options --enums "${enum_file}")
-    list(APPEND enum_files "${enum_file}")
-  endforeach()
+  _btgen_collect_options(btgen_add_mission)
+  set(enum_files ${option_files})
 
-  _btgen_query(deps --deps "${mission}" ${read_options})
+  _btgen_query(deps --deps "${mission}" ${read_options} ${write_options})
   _btgen_query(names --outputs "${mission}" ${ns_option})  # also rejects a bad NAMESPACE, at configure time
   # Two missions in one namespace linked into one program share their engine and script code
   # (the linker keeps one copy of each function): mission b would run mission a's code.

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mapfile -t files < <(git ls-files 'runtime/*.hpp' 'runtime/*.cpp' 'tests/cpp/*.cpp' 'tests/cpp/*.hpp' \
-  'tests/fuzz/*.cpp' 'examples/*.cpp' 'examples/*.hpp' 'ros/*.cpp' 'ros/*.hpp' 'ros/*.h' 'bench/*.cpp')
+  'tests/fuzz/*.cpp' 'examples/*.cpp' 'examples/*.hpp' 'ros/*.cpp' 'ros/*.hpp' 'ros/*.h' 'bench/*.cpp' \
+  'mcu/*.c' 'mcu/*.cpp' 'mcu/*.hpp')
 if [ "${1:-}" = "--check" ]; then
   clang-format --dry-run -Werror "${files[@]}"
 else

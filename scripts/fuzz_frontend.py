@@ -47,7 +47,7 @@ from typing import Callable, Optional
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "generator"))
-CASES = ROOT.parent / "shared" / "conformance" / "cases"
+CASES = ROOT / "tests" / "conformance" / "btcpp-4.6.2"  # the recorded cases the repository holds
 MEMORY_LIMIT = 2 * 1024**3
 
 from btgen.diagnostics import UserError

@@ -24,6 +24,9 @@ if [ -f data/environmentKnowledgeBaseInput.dat ] && [ -f generator/btgen/kb/lint
   btgen lint-kb data/environmentKnowledgeBaseInput.dat --config data/environmentKnowledgeBaseConfiguration.ini
 fi
 
+echo "== the Cortex-M toolchain and QEMU (scripts/test_mcu.sh; tests/python/test_mcu.py runs with pytest)"
+bash scripts/test_mcu.sh --install-only
+
 echo "== Python tests"
 pytest -q -p no:cacheprovider
 

@@ -13,61 +13,21 @@ from collections.abc import Sequence
 from typing import Callable, NoReturn
 
 from btgen.diagnostics import InternalError, UserError, print_diagnostics
+from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
 EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
 
-def _capacity(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
-    if not 1 <= value <= 1 << 20:
-        raise argparse.ArgumentTypeError(f"{value} is out of range (1 to {1 << 20})")
-    return value
-
-
-def _namespace(text: str) -> str:
-    from btgen.backend_cpp.naming import namespace_problem
-
-    problem = namespace_problem(text)
-    if problem:
-        raise argparse.ArgumentTypeError(problem)
-    return text
-
-
-def _mission_options(p: argparse.ArgumentParser, namespace: bool = False) -> None:
-    """--models and --main-tree (and --namespace for commands that write C++)."""
-    p.add_argument(
-        "--models",
-        action="append",
-        default=[],
-        metavar="FILE.xml",
-        help="a file whose <root> holds only <TreeNodesModel>: its node models count as declared in "
-        "the mission (repeatable; identical repeated declarations are accepted)",
-    )
-    p.add_argument(
-        "--main-tree",
-        metavar="ID",
-        help="the BehaviorTree to run (when the mission has no main_tree_to_execute, or to override it)",
-    )
-    if namespace:
-        p.add_argument(
-            "--namespace",
-            type=_namespace,
-            metavar="NS",
-            help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
-            "from the file name; `main.xml` gives `main_`)",
-        )
-
-
 class _Parser(argparse.ArgumentParser):
+    command = ""  # the command of the arguments being parsed, when they name one (main)
+
     def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
-        print(
-            f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr
-        )
+        # A command's own parser, or the top one reporting what the command left over
+        # (`unrecognized arguments`): the help to read is the command's.
+        command = self.prog.split()[-1] if " " in self.prog else _Parser.command
+        print(f"btgen: try 'btgen {command} --help'" if command else "btgen: try 'btgen --help'", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
 
 
@@ -80,33 +40,59 @@ class _PrintCMakeDir(argparse.Action):
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from btgen.compiler import data_options
-    from btgen.frontend import enums, usertypes
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.ir.lower import lower
 
+    opts = pipeline.options_from_args(args)
     status = EXIT_OK
     for path in args.missions:
         try:
-            mission = enums.apply(load_mission(path, tuple(args.models), args.main_tree), enums.from_args(args))
-            mission = usertypes.apply(mission, usertypes.from_args(args))
+            mission = pipeline.load(path, opts)
             print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
-            lower(mission, data_options(args))
+            lower(mission, opts.data)
             if not args.quiet:
-                print(f"{path}: ok ({len(mission.trees)} trees, main `{mission.main_tree}`)")
+                trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
+                print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")
         except UserError as e:
             print_diagnostics(e.diagnostics)
             status = EXIT_INPUT
     return status
 
 
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import analyze_command, stop_quietly_on_broken_pipe
+
+    return stop_quietly_on_broken_pipe(analyze_command, args)
+
+
+def _cmd_explore(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.explore import explore_command
+
+    return stop_quietly_on_broken_pipe(explore_command, args)
+
+
+def _cmd_cover(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.cover import cover_command
+
+    return stop_quietly_on_broken_pipe(cover_command, args)
+
+
+def _cmd_scenario_from_log(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.cover import scenario_from_log_command
+
+    return stop_quietly_on_broken_pipe(scenario_from_log_command, args)
+
+
 def _cmd_xsd(args: argparse.Namespace) -> int:
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.frontend.xsd import mission_xsd
 
-    mission = load_mission(args.mission, tuple(args.models), args.main_tree)
+    mission = pipeline.load(args.mission, pipeline.options_from_args(args))
     sys.stdout.write(mission_xsd(mission))
     return EXIT_OK
 
@@ -143,6 +129,18 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     return graph_command(args)
 
 
+def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    from btgen.tools.upgrade import upgrade_command
+
+    return upgrade_command(args)
+
+
+def _cmd_models(args: argparse.Namespace) -> int:
+    from btgen.tools.models import models_command
+
+    return models_command(args)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -151,36 +149,6 @@ def _count(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is below 1")
     return value
-
-
-def _enum_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--enum",
-        action="append",
-        default=[],
-        metavar="Type=NAME,NAME=VALUE,...",
-        help="register scripting enum values, as BehaviorTree.CPP's registerScriptingEnum: "
-        "Color=RED,GREEN,BLUE gives 0, 1, 2; NAME=VALUE sets a value (the next one counts on)",
-    )
-    p.add_argument(
-        "--enums",
-        action="append",
-        default=[],
-        metavar="FILE",
-        help="a file of such declarations, one per line (# comments)",
-    )
-
-
-def _type_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--type",
-        action="append",
-        default=[],
-        metavar="NAME=CPP_TYPE@HEADER",
-        help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
-        '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
-        "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
-    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -198,67 +166,103 @@ def build_parser() -> argparse.ArgumentParser:
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
     v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
-    _mission_options(v)
-    v.add_argument(
-        "--string-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="check as `btgen compile --string-capacity N` would (default 128)",
-    )
-    v.add_argument(
-        "--queue-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="check as `btgen compile --queue-capacity N` would (default 16)",
-    )
-    _enum_options(v)
-    _type_options(v)
+    add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
+
+    a = sub.add_parser(
+        "analyze",
+        help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
+    )
+    a.add_argument("missions", nargs="+", metavar="MISSION.xml")
+    add_mission_options(a)
+    a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
+    a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
+    a.add_argument(
+        "--tick-budget", type=_count, metavar="N", help="warn when a bound of a tick (nodes, hooks, scripts) exceeds N"
+    )
+    a.set_defaults(func=_cmd_analyze)
+
+    e = sub.add_parser(
+        "explore",
+        help="explore every leaf outcome up to a bound; write scenarios reaching full coverage; check properties",
+    )
+    e.add_argument("mission", metavar="MISSION.xml")
+    add_mission_options(e)
+    e.add_argument("--ticks", type=_count, default=8, metavar="N", help="most root ticks of a run (default 8)")
+    e.add_argument("--depth", type=_count, default=200, metavar="N", help="most leaf results in a run (default 200)")
+    e.add_argument(
+        "--max-states", type=_count, default=200000, metavar="N", help="stop after N explored states (default 200000)"
+    )
+    e.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
+    e.add_argument("-o", "--output-dir", metavar="DIR", help="write the covering scenarios there")
+    e.add_argument(
+        "--assert",
+        dest="asserts",
+        action="append",
+        default=[],
+        metavar="PROPERTY",
+        help="a property to check on every run (see README: `never A SUCCESS before B SUCCESS`, "
+        "`at most one child of N RUNNING`, `never A RUNNING`)",
+    )
+    e.add_argument(
+        "--no-merge",
+        action="store_true",
+        help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
+    )
+    e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.set_defaults(func=_cmd_explore)
+
+    cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
+    cv.add_argument("mission", metavar="MISSION.xml")
+    cv.add_argument("runs", nargs="+", metavar="RUN", help="FILE.scenario, a trace (`btgen run` output) or FILE.btlog")
+    add_mission_options(cv)
+    cv.add_argument("--table", action="store_true", help="one line per node: ticked, statuses seen, missing")
+    cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
+    cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
+    cv.add_argument("--min", type=float, metavar="PCT", help="exit 1 when node coverage is below PCT percent")
+    cv.set_defaults(func=_cmd_cover)
+
+    sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")
+    sl.add_argument("mission", metavar="MISSION.xml")
+    sl.add_argument("log", metavar="RUN.btlog")
+    sl.add_argument("-o", "--output", metavar="FILE.scenario", help="write it there (default: stdout)")
+    sl.add_argument("--clock-ms", type=int, default=0, metavar="MS", help="clock_ms of the scenario (default 0)")
+    add_mission_options(sl)
+    sl.set_defaults(func=_cmd_scenario_from_log)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
     x.add_argument("mission", metavar="MISSION.xml")
-    _mission_options(x)
+    add_mission_options(x)
     x.set_defaults(func=_cmd_xsd)
 
     r = sub.add_parser("run", help="run a mission with scripted leaves and print its status trace")
     r.add_argument("mission", metavar="MISSION.xml")
     r.add_argument("--scenario", required=True, metavar="FILE.scenario")
     r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
-    _mission_options(r)
-    _enum_options(r)
+    r.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) applied to the leaves",
+    )
+    add_mission_options(r)
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
     c.add_argument("mission", metavar="MISSION.xml")
     c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
     c.add_argument(
+        "--substitute",
+        metavar="FILE.json",
+        help="a test build: BehaviorTree.CPP substitution rules (TestNodeConfigs, SubstitutionRules) "
+        "applied to the leaves",
+    )
+    c.add_argument(
         "--relative-to",
         default=None,
         metavar="DIR",
         help="directory the banner's input path is relative to (default: the current one)",
     )
-    c.add_argument(
-        "--string-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most bytes of a blackboard string (default 128): strings written by robot code or "
-        "growing without bound get N, literals at most N, computed strings the longest value "
-        "they can take; "
-        "a longer value fails the node that writes it",
-    )
-    c.add_argument(
-        "--queue-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most elements of a blackboard queue written by robot code (default 16)",
-    )
-    _mission_options(c, namespace=True)
-    _enum_options(c)
-    _type_options(c)
+    add_mission_options(c)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")
@@ -267,10 +271,19 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--mission", metavar="MISSION.xml")
     k.set_defaults(func=_cmd_lint_kb)
 
+    mo = sub.add_parser(
+        "models",
+        help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
+    )
+    mo.add_argument("mission", metavar="MISSION.xml")
+    mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
+    add_mission_options(mo)
+    mo.set_defaults(func=_cmd_models)
+
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
     b.add_argument("mission", metavar="MISSION.xml")
     b.add_argument("--ticks", type=int, default=100000)
-    _mission_options(b)
+    add_mission_options(b)
     b.set_defaults(func=_cmd_bench)
 
     i = sub.add_parser(
@@ -291,7 +304,21 @@ def build_parser() -> argparse.ArgumentParser:
         "--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)"
     )
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
+    add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
+    from btgen.lang.versions import SUPPORTED_VERSIONS
+
+    u = sub.add_parser(
+        "upgrade-check",
+        help="list where moving between BehaviorTree.CPP releases changes loading or behaviour (exit 1 if anything)",
+    )
+    u.add_argument("mission")
+    u.add_argument("--from", dest="from_version", choices=SUPPORTED_VERSIONS, default="4.6.2")
+    u.add_argument("--to", dest="to_version", choices=SUPPORTED_VERSIONS, default="4.10.0")
+    u.add_argument("--scenario", help="also run the mission on both versions and print where the traces part")
+    add_mission_options(u)
+    u.set_defaults(func=_cmd_upgrade_check)
+
     return p
 
 
@@ -301,7 +328,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         from btgen.compiler import main as build_info
 
         return build_info(argv[1:])
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    _Parser.command = next((a for a in argv if not a.startswith("-")), "")
+    if _Parser.command not in commands:
+        _Parser.command = ""
+    args = parser.parse_args(argv)
     func: Callable[[argparse.Namespace], int] = args.func
     try:
         return func(args)

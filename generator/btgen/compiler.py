@@ -37,11 +37,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional
 
-from btgen import resources
+from btgen import pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.ir.dataflow import DataOptions
+from btgen.ir.lower import lower
+from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 
 PACKAGE_DIR = resources.PACKAGE_DIR
 SCHEMA_DIR = resources.SCHEMA_DIR
@@ -51,23 +53,6 @@ def mission_stem(path: str) -> str:
     return Path(path).stem
 
 
-def data_options(args: Optional[argparse.Namespace] = None) -> DataOptions:
-    """The capacities `btgen compile --string-capacity/--queue-capacity` ask for (defaults otherwise)."""
-    options = DataOptions()
-    string_capacity = getattr(args, "string_capacity", None)
-    queue_capacity = getattr(args, "queue_capacity", None)
-    if string_capacity is not None:
-        options = replace(options, string_capacity=string_capacity)
-    if queue_capacity is not None:
-        options = replace(options, queue_capacity=queue_capacity)
-    return options
-
-
-def load_options(args: Optional[argparse.Namespace] = None) -> dict:
-    """The keyword arguments of load_mission that `--models` and `--main-tree` ask for."""
-    return dict(models=tuple(getattr(args, "models", None) or ()), main_tree=getattr(args, "main_tree", None))
-
-
 def generate(
     mission_path: str,
     relative_to: Optional[str] = None,
@@ -75,14 +60,18 @@ def generate(
     models: Sequence[str] = (),
     main_tree: Optional[str] = None,
     namespace: Optional[str] = None,
+    opts: Optional[CompileOptions] = None,
 ) -> tuple[Output, ...]:
-    """Render the outputs of a mission in memory; UserError when it cannot be compiled."""
-    from btgen.frontend.loader import load_mission
-    from btgen.ir.lower import lower
+    """Render the outputs of a mission in memory; UserError when it cannot be compiled.
 
-    mission = load_mission(mission_path, models, main_tree)
-    program = lower(mission, options)
-    return render(program, mission_stem(mission_path), relative_to or os.getcwd(), namespace)
+    `opts`: every mission option (btgen.pipeline); the other keywords are a shorthand for
+    the few that tests and scripts set."""
+    if opts is None:
+        opts = CompileOptions(models=tuple(models), main_tree=main_tree, namespace=namespace)
+        if options is not None:
+            opts = replace(opts, string_capacity=options.string_capacity, queue_capacity=options.queue_capacity)
+    _, program = pipeline.build(mission_path, opts)
+    return render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
 
 
 def _file_mode() -> int:
@@ -168,17 +157,18 @@ def write_if_changed(path: Path, text: str) -> bool:
 def compile_command(args: argparse.Namespace) -> int:
     """The `compile` subcommand: 0 on success; UserError propagates to the CLI."""
     from btgen.diagnostics import print_diagnostics
-    from btgen.frontend import enums, usertypes
-    from btgen.frontend.loader import load_mission
-    from btgen.ir.lower import lower
 
-    mission = enums.apply(load_mission(args.mission, **load_options(args)), enums.from_args(args))
-    mission = usertypes.apply(mission, usertypes.from_args(args))
+    opts = options_from_args(args)
+    mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
-    program = lower(mission, data_options(args))
-    outputs = render(
-        program, mission_stem(args.mission), args.relative_to or os.getcwd(), getattr(args, "namespace", None)
-    )
+    substitute = getattr(args, "substitute", None)
+    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
+    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(), opts.namespace)
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
         target = out_dir / out.name
@@ -213,14 +203,17 @@ def generator_inputs() -> list[str]:
     return files
 
 
-def mission_files(mission_path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> list[str]:
-    """The mission, every file it includes and the models files (absolute), also when it
-    does not load: every file the loader reached (an include that stopped loading stays a
-    dependency, so the build regenerates and reports its errors instead of keeping the old
-    header)."""
+def mission_files(mission_path: str, opts: CompileOptions = DEFAULTS) -> list[str]:
+    """The mission, every file it includes, the models, --trees and enums files (absolute),
+    also when it does not load: every file the loader reached (an include that stopped
+    loading stays a dependency, so the build regenerates and reports its errors instead of
+    keeping the old header)."""
     from btgen.frontend.loader import files_read
 
-    return [os.path.abspath(f) for f in files_read(mission_path, models, main_tree)]
+    files = files_read(mission_path, opts.models, opts.main_tree, opts.trees, opts.btcpp)
+    files += [t for t in opts.trees if os.path.isfile(t) and t not in files]
+    files += [f for f in opts.enum_files if f not in files]
+    return [os.path.abspath(f) for f in files]
 
 
 def cmake_path_problem(path: str) -> str:
@@ -271,21 +264,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         "--update-generated", action="store_true", help="regenerate the committed generated/ from missions/*.xml"
     )
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
-    p.add_argument(
-        "--models",
-        action="append",
-        default=[],
-        metavar="FILE.xml",
-        help="a file of <TreeNodesModel> declarations (repeatable), as `btgen compile --models`",
-    )
-    p.add_argument("--main-tree", metavar="ID", help="the tree to run, as `btgen compile --main-tree`")
-    p.add_argument("--namespace", metavar="NS", help="the C++ namespace, as `btgen compile --namespace`")
+    pipeline.add_mission_options(p)
     args = p.parse_args(argv)
-    if args.namespace is not None and naming.namespace_problem(args.namespace):
-        print(
-            f"btgen: error: --namespace {args.namespace}: {naming.namespace_problem(args.namespace)}", file=sys.stderr
-        )
-        return 2
+    opts = options_from_args(args)
     if args.update_generated:
         if resources.installed():
             print(
@@ -300,13 +281,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         from btgen.diagnostics import print_diagnostics
 
         try:
-            generate(args.check, **load_options(args))
+            generate(args.check, opts=opts)
         except UserError as e:
             print_diagnostics(e.diagnostics)
             return 1
         return 0
     if args.deps:
-        items = mission_files(args.deps, args.models, args.main_tree)
+        items = mission_files(args.deps, opts)
         if args.cmake:
             bad = [(f, cmake_path_problem(f)) for f in items if cmake_path_problem(f)]
             if bad:

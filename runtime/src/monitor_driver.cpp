@@ -2,7 +2,7 @@
 //
 //     prog SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog]
 //
-// Leaves follow the scenario (shared/conformance/FORMAT.md). The program
+// Leaves follow the scenario (tests/conformance/FORMAT.md). The program
 // prints `ready` once its monitors run, then reads commands, one a line:
 // `tick` sends one tick and prints `result STATUS`; `sync` copies the
 // blackboard for the publisher; `quit` (or end of input) stops the monitors

@@ -4,7 +4,15 @@ import sys
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-CASES = os.path.normpath(os.path.join(ROOT, "..", "shared", "conformance", "cases"))
+# The recorded BehaviorTree.CPP 4.6.2 cases the repository holds (tests/conformance/README.md):
+# every test of them runs on a plain clone.
+CASES = os.path.join(ROOT, "tests", "conformance", "btcpp-4.6.2")
+# The project's shared conformance folder beside the checkout, when present, only adds the stems
+# the repository does not hold. BTGEN_SHARED_CASES names another folder (a folder that does not
+# exist: none, as on a plain clone).
+SHARED_CASES = os.environ.get("BTGEN_SHARED_CASES") or os.path.normpath(
+    os.path.join(ROOT, "..", "shared", "conformance", "cases")
+)
 
 sys.path.insert(0, os.path.join(ROOT, "generator"))
 
@@ -21,8 +29,17 @@ def case_stems(folder: str, companion: str = "") -> list[str]:
     )
 
 
-def conformance_stems():
-    return case_stems(CASES)
+def conformance_stems(companion: str = "") -> list[str]:
+    """The repository's 4.6.2 cases, plus those of the shared folder it does not hold."""
+    return sorted(set(case_stems(CASES, companion)) | set(case_stems(SHARED_CASES, companion)))
+
+
+def case_file(stem: str, ext: str) -> str:
+    """The path of a conformance case's `.xml`, `.scenario` or `.trace`: the repository's copy
+    when it holds the stem, else the shared folder's."""
+    if os.path.exists(os.path.join(CASES, stem + ".xml")):
+        return os.path.join(CASES, stem + ext)
+    return os.path.join(SHARED_CASES, stem + ext)
 
 
 @pytest.fixture

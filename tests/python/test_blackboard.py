@@ -398,8 +398,12 @@ def test_set_blackboard_errors_and_empty_source():
         set_blackboard(bb, "x", "{missing}")
     assert err.value.message == "SetBlackboard: `value` reads blackboard entry `missing`, which does not exist"
     bb.create_entry("empty", "double")
-    assert set_blackboard(bb, "x", "{empty}") is False
+    # 4.6.2 copies the empty value and succeeds (4.7.0 and later fail the node)
+    assert set_blackboard(bb, "x", "{empty}") is True
     assert state(bb.get_entry("x")) == ("double", None, 0)
+    bb.set("y", 2.5, "double")
+    assert set_blackboard(bb, "y", "{empty}") is True
+    assert state(bb.get_entry("y")) == ("double", None, 1)  # emptied; its counter stays
 
 
 def test_set_blackboard_to_the_root():

@@ -16,7 +16,7 @@ from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
 from btgen.version import RUNTIME_ABI, __version__
-from conftest import CASES, ROOT, conformance_stems
+from conftest import CASES, ROOT, case_file, conformance_stems
 
 
 def _write(tmp_path, name, text):
@@ -110,7 +110,7 @@ def _trace_nodes(stem):
     """(uid, ID, name) of every node the recorded trace of a case mentions."""
     seen = {}
     line_re = re.compile(r'^(\d+) (\S+) "((?:[^"\\]|\\.)*)" [A-Z]+ -> [A-Z]+$')
-    with open(os.path.join(CASES, stem + ".trace"), encoding="utf-8") as f:
+    with open(case_file(stem, ".trace"), encoding="utf-8") as f:
         for line in f:
             m = line_re.match(line.rstrip("\n"))
             if m:
@@ -119,17 +119,15 @@ def _trace_nodes(stem):
     return seen
 
 
-@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
-@pytest.mark.parametrize("stem", conformance_stems() or ["(none)"])
+@pytest.mark.parametrize("stem", conformance_stems())
 def test_uids_are_behaviortree_cpp_creation_order(stem):
-    order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(os.path.join(CASES, stem + ".xml")))}
+    order = {uid: (rid, name) for uid, rid, name in creation_order(load_mission(case_file(stem, ".xml")))}
     recorded = _trace_nodes(stem)
     assert recorded, "the trace names no node"
     for uid, (rid, name) in recorded.items():
         assert order.get(uid) == (rid, name), f"UID {uid}"
 
 
-@pytest.mark.skipif(not conformance_stems(), reason=f"conformance cases not found at {CASES}")
 def test_lowered_table_of_nested_subtrees_matches_the_trace():
     program = lower(load_mission(os.path.join(CASES, "decorators_halted.xml")))
     for uid, (rid, name) in _trace_nodes("decorators_halted").items():
@@ -203,7 +201,9 @@ def test_skippable_if_condition_is_rejected(tmp_path):
     lower(load_mission(ok))
 
 
-def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
+def test_loop_counts_and_durations_read_from_the_blackboard(tmp_path):
+    # `{key}` for num_cycles, num_attempts, msec and delay_msec: read when 4.6.2 reads it
+    # (tests/regressions/key_loop_counts_and_durations runs it on both engines).
     path = _write(
         tmp_path,
         "m.xml",
@@ -213,13 +213,23 @@ def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
             extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>',
         ),
     )
-    errs = _errors(path)
-    assert errs == [
-        f'{path}:3:21: error: port `num_cycles` of `Repeat` "Repeat" reads blackboard entry `{{n}}`; '
-        f"the C++ back end needs a literal value here",
-        f'{path}:4:101: error: port `msec` of `Sleep` "Sleep" reads blackboard entry `{{n}}`; the C++ '
-        f"back end needs a literal value here",
-    ]  # once, though the subtree is used twice
+    header, _ = generate(path)
+    assert header.text.count('// Repeat "Repeat" num_cycles={n}') == 1
+    assert header.text.count('// Sleep "Sleep" msec={n}') == 2  # one per instance of Sub
+
+
+def test_key_count_from_a_text_entry_is_refused_by_the_cpp_back_end(tmp_path):
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence><Get out="{n}"/><Repeat num_cycles="{n}"><Act/></Repeat></Sequence>',
+            models='<Action ID="Act"/><Action ID="Get"><output_port name="out" type="std::string"/></Action>',
+        ),
+    )
+    [err] = _errors(path)
+    assert err.startswith(f'{path}:1:122: error: port `num_cycles` of `Repeat` "Repeat" reads `n` (a string, ')
+    assert err.endswith("the C++ back end reads it from an integer entry only")
 
 
 # ---------------------------------------------------------------------- emission

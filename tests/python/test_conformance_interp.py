@@ -1,7 +1,8 @@
 """The reference interpreter reproduces every recorded BehaviorTree.CPP 4.6.2 trace byte for byte.
 
-The cases live in ``<repo>/../shared/conformance/cases`` (FORMAT.md next to
-them is the contract): ``<stem>.xml``, ``<stem>.scenario``, ``<stem>.trace``.
+The cases live in ``tests/conformance/btcpp-4.6.2`` (``tests/conformance/FORMAT.md`` is
+the contract): ``<stem>.xml``, ``<stem>.scenario``, ``<stem>.trace``; the shared folder beside
+the checkout, when present, adds the stems the repository does not hold (conftest.py).
 Each runs in-process for speed; one also goes through the real command line.
 """
 
@@ -15,16 +16,16 @@ import pytest
 from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
-from conftest import CASES, ROOT, case_stems
+from conftest import CASES, ROOT, case_file, conformance_stems
 
-NO_CASES = f"conformance cases not found at {CASES} (expected <repo>/../shared/conformance/cases)"
+NO_CASES = f"conformance cases not found at {CASES}"
 
 
-STEMS = case_stems(CASES, ".trace")
+STEMS = conformance_stems(".trace")
 
 
 def _case(stem, ext):
-    return os.path.join(CASES, stem + ext)
+    return case_file(stem, ext)
 
 
 def _read_trace(stem):
@@ -41,17 +42,13 @@ def _diff(expected, got):
 
 
 def test_cases_present():
-    # CI always has ../shared beside the checkout: there a missing corpus is a
-    # failure, not a run whose golden tests silently vanished.
-    if not os.path.isdir(CASES):
-        if os.environ.get("CI", "").lower() in ("1", "true", "yes"):
-            pytest.fail(NO_CASES)
-        pytest.skip(NO_CASES)
-    assert STEMS, f"no cases with a .trace in {CASES}"
+    # The repository holds the cases: a missing corpus is a failure, never a run whose golden
+    # tests silently vanished.
+    assert os.path.isdir(CASES), NO_CASES
+    assert len(STEMS) >= 40, f"only {len(STEMS)} cases with a .trace in {CASES}"
 
 
-@pytest.mark.skipif(not STEMS, reason=NO_CASES)
-@pytest.mark.parametrize("stem", STEMS or ["(none)"])
+@pytest.mark.parametrize("stem", STEMS)
 def test_trace_matches_recording(stem):
     mission = load_mission(_case(stem, ".xml"))
     scenario, warnings = load_scenario(_case(stem, ".scenario"), mission)
@@ -61,7 +58,6 @@ def test_trace_matches_recording(stem):
     assert got == expected, f"{stem}: trace differs from the recording\n{_diff(expected, got)}"
 
 
-@pytest.mark.skipif(not STEMS, reason=NO_CASES)
 def test_cli_run_reproduces_a_trace():
     """Through the installed command line: stdout is the trace, byte for byte; nothing on stderr."""
     stem = "robot_lab_tour" if "robot_lab_tour" in STEMS else STEMS[0]
@@ -78,7 +74,6 @@ def test_cli_run_reproduces_a_trace():
     assert proc.stdout == expected, _diff(expected.decode(), proc.stdout.decode())
 
 
-@pytest.mark.skipif(not STEMS, reason=NO_CASES)
 def test_cli_default_engine_is_the_interpreter():
     stem = STEMS[0]
     args = [sys.executable, "-m", "btgen", "run", _case(stem, ".xml"), "--scenario", _case(stem, ".scenario")]

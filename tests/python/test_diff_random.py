@@ -156,3 +156,35 @@ def test_hostile_missions_agree(tmp_path):
     assert len(report.compiled) + len(report.unsupported) == len(HOSTILE_SEEDS), report.summary()
     assert len(report.compiled) >= 0.9 * len(HOSTILE_SEEDS), report.summary()
     assert report.ok, report.summary()
+
+
+# The edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md); the long run is
+# `scripts/difftest.py --features edges --seeds 0:2000` (README, "Edges of 4.6.2").
+EDGES_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_EDGES_SEEDS", "40")))
+
+
+def test_edges_reach_the_edge_values():
+    """The pools are drawn: counts that never start a loop, INT_MIN/INT_MAX, literals read as
+    a prefix, skipped nodes, Switch cases left out, IDLE as a result, empty strings."""
+    missions = "".join(random_case(seed, "edges").mission for seed in range(100))
+    for text in (
+        'num_cycles="0"',
+        'num_cycles="-2147483648"',
+        'num_attempts="2147483647"',
+        'num_attempts="0"',
+        '="1abc"',
+        '="0x3"',
+        'msec="0x9"',
+        '_skipIf="true"',
+        'else="IDLE"',
+        'if_empty="IDLE"',
+        'value=""',
+    ):
+        assert text in missions, text
+
+
+def test_edge_missions_agree(tmp_path):
+    report = difftest.difftest(EDGES_SEEDS, "edges", 2, keep=tmp_path / "kept")
+    print("\n" + report.summary())
+    assert len(report.compiled) == len(EDGES_SEEDS), report.summary()
+    assert report.ok, report.summary()

@@ -15,7 +15,7 @@ import sys
 
 import pytest
 
-from conftest import CASES, ROOT
+from conftest import CASES, ROOT, SHARED_CASES
 
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
@@ -44,8 +44,11 @@ def _runs():
     """(mission, scenario, expected (exit, stdout, stderr) or None for the interpreter's) of the
     recorded cases, the regressions and the shipped missions."""
     out = []
-    for folder in (CASES, REG):
-        for xml in sorted(glob.glob(os.path.join(folder, "*.xml"))):
+    held = {os.path.basename(p) for p in glob.glob(os.path.join(CASES, "*.xml"))}
+    shared = [p for p in glob.glob(os.path.join(SHARED_CASES, "*.xml")) if os.path.basename(p) not in held]
+    for folder in (CASES, SHARED_CASES, REG):
+        xmls = shared if folder == SHARED_CASES else glob.glob(os.path.join(folder, "*.xml"))
+        for xml in sorted(xmls):
             stem = xml[:-4]
             if os.path.exists(stem + ".scenario") and os.path.exists(stem + ".trace"):
                 expected = (int(_read(stem + ".exit", "0")), _read(stem + ".trace"), _read(stem + ".stderr"))

@@ -6,6 +6,7 @@ import os
 import re
 import shutil
 import struct
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -55,13 +56,14 @@ def test_whole_mission_with_clusters_shapes_names_and_ports(tmp_path):
     nodes = nodes_of(dot)
     mission = load_mission(str(MISSION))
     assert sorted(nodes) == [uid for uid, _, _ in creation_order(mission)]  # every node once, by its UID
-    assert dot.count("subgraph cluster_") == 2
+    assert dot.count("subgraph cluster_") == 3  # the main tree and two SubTree instances
     assert 'label="Sub (sub1)";' in dot and 'label="Sub (Sub::14)";' in dot
     assert nodes[1]["label"].startswith("root\\n[Sequence]  #1") and nodes[1]["shape"] == "box"
     assert nodes[4]["shape"] == "ellipse" and nodes[5]["style"] == "rounded,filled"  # Condition, Action
     assert nodes[6]["shape"] == "hexagon" and "num_attempts = 2" in nodes[6]["label"]
     assert nodes[7]["shape"] == "box3d" and "x = {count}" in nodes[7]["label"]
-    assert "n7 -> n8;" in dot and "n1 -> n13;" in dot  # a SubTree node leads into its cluster
+    assert "n1 -> n13;" in dot
+    assert "n7 -> n8 [style=dashed, constraint=false];" in dot  # a SubTree node leads into its cluster
     assert {n["fill"] for n in nodes.values()} == {"#ffffff"}
 
 
@@ -89,6 +91,119 @@ def test_svg_through_graphviz(tmp_path):
     assert main(["graph", str(MISSION), "-o", str(out)]) == 0
     svg = out.read_text()
     assert svg.lstrip().startswith("<?xml") and "<svg" in svg and "RetryUntilSuccessful" in svg
+
+
+def _svg_positions(svg: str) -> dict[int, tuple[float, float]]:
+    """The (x, y) of the first text line of every node `n<UID>` of an SVG Graphviz wrote (x is
+    the node's centre: its lines are centred)."""
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    found = {}
+    for g in ET.fromstring(svg).iter("{http://www.w3.org/2000/svg}g"):
+        title = g.find("s:title", ns)
+        if g.get("class") == "node" and title is not None and re.fullmatch(r"n\d+", title.text or ""):
+            text = g.find("s:text", ns)
+            found[int(title.text[1:])] = (float(text.get("x")), float(text.get("y")))
+    return found
+
+
+def _order_problems(mission, svg: str) -> list[str]:
+    """Where the picture does not read left to right in execution order: a parent's children
+    not left to right in the order it ticks them, or a row of a tree (the nodes of one tree
+    instance at one depth) not left to right in creation (depth-first) order."""
+    nodes, _ = walk(mission)
+    at = _svg_positions(svg)
+    assert sorted(at) == [n.uid for n in nodes]
+    by_uid = {n.uid: n for n in nodes}
+    children: dict[int, list[int]] = {}
+    rows: dict[tuple[int, int], list[int]] = {}
+    depth: dict[int, int] = {}
+    for n in nodes:
+        children.setdefault(n.parent, []).append(n.uid)
+        inside = n.parent and by_uid[n.parent].cluster == n.cluster
+        depth[n.uid] = depth[n.parent] + 1 if inside else 0
+        rows.setdefault((n.cluster, depth[n.uid]), []).append(n.uid)
+    problems = []
+    for parent, uids in children.items():
+        xs = [at[u][0] for u in uids]
+        if parent and any(a >= b for a, b in zip(xs, xs[1:])):
+            problems.append(f"children of #{parent}: {list(zip(uids, xs))}")
+    for key, uids in rows.items():
+        xs = [at[u][0] for u in uids]
+        if any(a >= b for a, b in zip(xs, xs[1:])):
+            problems.append(f"row {key}: {list(zip(uids, xs))}")
+    return problems
+
+
+NEEDS_DOT = pytest.mark.skipif(
+    shutil.which("dot") is None and not os.environ.get("CI"), reason="Graphviz is not installed"
+)
+
+
+@NEEDS_DOT
+@pytest.mark.parametrize(
+    "mission",
+    [
+        ROOT / "missions" / "LabTour.xml",
+        ROOT / "missions" / "Reception.xml",
+        MISSION,
+        ROOT / "tests" / "conformance" / "btcpp-4.6.2" / "parallel_subtree.xml",
+    ],
+    ids=lambda p: p.stem,
+)
+def test_svg_reads_left_to_right_in_execution_order(mission, tmp_path):
+    """The Lab Tour's `DeclineOrTour` Fallback drew `Tour` left of `Declined`, and SubTree
+    clusters reordered whole branches."""
+    out = tmp_path / "m.svg"
+    assert main(["graph", str(mission), "-o", str(out)]) == 0
+    svg = out.read_text()
+    assert _order_problems(load_mission(str(mission)), svg) == []
+
+
+@NEEDS_DOT
+@pytest.mark.parametrize("seed", range(4))
+def test_svg_of_random_missions_reads_left_to_right(seed, tmp_path):
+    from btgen.tools.fuzzgen import random_mission
+
+    path = tmp_path / "r.xml"
+    path.write_text(random_mission(seed, "full"), encoding="utf-8")
+    out = tmp_path / "r.svg"
+    assert main(["graph", str(path), "-o", str(out)]) == 0
+    assert _order_problems(load_mission(str(path)), out.read_text()) == []
+
+
+@NEEDS_DOT
+def test_lab_tour_is_as_wide_as_its_widest_tree(tmp_path):
+    """Every SubTree instance side by side made the Lab Tour 9,764 pt wide (13,062 px as PNG);
+    stacked, each instance below the one before, it is as wide as its widest tree."""
+    out = tmp_path / "tour.svg"
+    assert main(["graph", str(ROOT / "missions" / "LabTour.xml"), "-o", str(out)]) == 0
+    width = float(re.search(r'<svg width="([0-9.]+)pt"', out.read_text()).group(1))
+    assert width < 2500, width
+    declined, tour = 52, 59  # DeclineOrTour's children, in the order it ticks them
+    at = _svg_positions(out.read_text())
+    assert at[declined][0] < at[tour][0]
+
+
+def test_models_and_main_tree_are_accepted(tmp_path, capsys):
+    """The layout the README recommends for one's own project: models in a file of their own."""
+    project = ROOT / "examples" / "user_project" / "mission"
+    out = tmp_path / "p.dot"
+    rc, err = cli(capsys, "graph", str(project / "patrol.xml"), "-o", str(out))
+    assert rc == 1 and "--models" in err
+    assert main(["graph", str(project / "patrol.xml"), "--models", str(project / "nodes.xml"), "-o", str(out)]) == 0
+    assert len(nodes_of(out.read_text())) == len(
+        walk(load_mission(str(project / "patrol.xml"), (str(project / "nodes.xml"),)))[0]
+    )
+    two = tmp_path / "two.xml"
+    two.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="A"><AlwaysSuccess name="in_a"/></BehaviorTree>'
+        '<BehaviorTree ID="B"><Sequence name="in_b"><AlwaysFailure/></Sequence></BehaviorTree></root>'
+    )
+    rc, err = cli(capsys, "graph", str(two), "-o", str(out))
+    assert rc == 1 and "main_tree_to_execute" in err
+    assert main(["graph", str(two), "--main-tree", "B", "-o", str(out)]) == 0
+    dot = out.read_text()
+    assert "in_b" in dot and "in_a" not in dot and "(main tree B)" in dot
 
 
 def test_btlog_colours_and_a_log_of_another_mission(tmp_path, capsys):

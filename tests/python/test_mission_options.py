@@ -14,6 +14,7 @@ from btgen.compiler import generate, mission_files
 from btgen.compiler import main as build_info
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
+from btgen.pipeline import CompileOptions
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -58,7 +59,10 @@ def test_models_file_declares_the_missions_nodes(tmp_path):
     assert m.main_tree == "Patrol"
     assert sorted(s.id for s in m.models) == ["BatteryOk", "MoveBase"]
     assert m.files == (mission, models)
-    assert mission_files(mission, [models]) == [os.path.abspath(mission), os.path.abspath(models)]
+    assert mission_files(mission, CompileOptions(models=(models,))) == [
+        os.path.abspath(mission),
+        os.path.abspath(models),
+    ]
 
 
 def test_main_tree_picks_and_overrides(tmp_path):

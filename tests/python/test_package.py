@@ -25,7 +25,16 @@ from btgen.version import __version__
 from conftest import ROOT
 
 USER_PROJECT = Path(ROOT) / "examples" / "user_project"
-PACKAGING = ("pyproject.toml", "setup.py", "MANIFEST.in", "requirements.txt", "generator")
+PACKAGING = (
+    "pyproject.toml",
+    "setup.py",
+    "MANIFEST.in",
+    "requirements.txt",
+    "README.md",
+    "LICENSE",
+    "CHANGELOG.md",
+    "generator",
+)
 
 
 def _run(cmd, cwd, env=None, check=True):
@@ -119,6 +128,23 @@ def test_wheel_holds_every_mapped_file(installed):
         for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")
     }
     assert "btgen/ir/lower.py" in sources and sources <= names
+
+
+def test_wheel_metadata_has_description_licence_and_urls(installed):
+    wheel = installed[3]
+    with zipfile.ZipFile(wheel) as z:
+        (meta,) = [n for n in z.namelist() if n.endswith(".dist-info/METADATA")]
+        text = z.read(meta).decode("utf-8")
+        names = z.namelist()
+    headers, _, body = text.partition("\n\n")
+    assert f"Version: {__version__}" in headers.splitlines()
+    assert "Summary: Compile BehaviorTree.CPP v4 missions to static, allocation-free C++17" in headers
+    assert "License: Apache-2.0" in headers
+    assert "Classifier: License :: OSI Approved :: Apache Software License" in headers
+    assert "Project-URL: BehaviorTree.CPP, https://www.behaviortree.dev/" in headers
+    assert "Description-Content-Type: text/markdown" in headers
+    assert body.startswith("# btgen")  # the README is the long description
+    assert any(n.endswith(".dist-info/LICENSE") for n in names)
 
 
 def test_cmake_package_version_is_the_generators():

@@ -22,6 +22,7 @@ from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
+from btgen.lang.versions import semantics, switch_names, version_number
 from btgen.version import RUNTIME_ABI, __version__
 
 TEMPLATE_DIR = resources.TEMPLATE_DIR
@@ -162,6 +163,7 @@ def render(
     header, source = output_names(stem)
     cls = naming.pascal_case(stem)
     compiled, where = compile_scripts(data)
+    tables = script_tables(compiled, len(program.nodes))
 
     def source_of(n: IRNode) -> str:
         return f"{show(n.loc.path)}:{n.loc.line}:{n.loc.col}"
@@ -188,9 +190,12 @@ def render(
         ],
         where=[show_loc(loc) for loc in where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
-        scripts=script_tables(compiled, len(program.nodes)),
+        scripts=tables,
         groot2=groot2_context(program),
-        shapes=shapes(program),
+        shapes=shapes(program, tables["node_fns"]),
+        btcpp=program.btcpp,
+        btcpp_number=version_number(program.btcpp),
+        switches=[(name, getattr(semantics(program.btcpp), name)) for name in switch_names()],
     )
     env = environment()
     return _stamped(
@@ -228,11 +233,13 @@ def script_tables(scripts, node_count: int) -> dict:
         )
         errors.extend(c.errors)
     first = [0] * (node_count + 1)
+    node_fns: list[tuple[str, ...]] = [()] * node_count
     for site in sites:
         first[site["node"] + 1] += 1
+        node_fns[site["node"]] += (site["fn"],)
     for i in range(node_count):
         first[i + 1] += first[i]
-    return dict(functions=functions, sites=sites, errors=errors, first=first)
+    return dict(functions=functions, sites=sites, errors=errors, first=first, node_fns=node_fns)
 
 
 def _stamped(header: Output, source: Output, ns: str, guard: str) -> tuple[Output, Output]:

@@ -18,7 +18,9 @@ straight-line code stays bounded whatever the tree's depth.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Optional
 
 from btgen.ir.lower import Program
 
@@ -53,9 +55,12 @@ def node_weight(n) -> int:
     return (6 if scripted else 1) + len(n.children)
 
 
-def shapes(program: Program) -> Shapes:
-    """The shapes of `program`'s nodes."""
+def shapes(program: Program, node_scripts: Optional[Sequence[tuple[str, ...]]] = None) -> Shapes:
+    """The shapes of `program`'s nodes. `node_scripts[i]`: the script functions node i calls,
+    in ScriptSlot order (emit.script_tables); nodes of one shape call the same ones, which
+    the straight-line code then calls directly."""
     nodes = program.nodes
+    fns = node_scripts if node_scripts is not None else [()] * len(nodes)
     key_id: dict[tuple, int] = {}
     temp = [0] * len(nodes)
     # Children come after their parent in creation order: keys bottom-up.
@@ -63,7 +68,7 @@ def shapes(program: Program) -> Shapes:
         if n.depth - 1 >= COMPILED_DEPTH:
             key: tuple = ("deep",)
         else:
-            key = (n.kind, n.model, n.scripts, n.params, tuple(temp[c] for c in n.children))
+            key = (n.kind, n.model, n.scripts, fns[n.index], n.params, tuple(temp[c] for c in n.children))
         temp[n.index] = key_id.setdefault(key, len(key_id))
     deep = key_id.get(("deep",))
     number: dict[int, int] = {}

@@ -140,10 +140,6 @@ def load(declarations: Sequence[str] = (), files: Sequence[str] = ()) -> Enums:
     return tuple(table.items())
 
 
-def from_args(args) -> Enums:
-    return load(tuple(getattr(args, "enum", None) or ()), tuple(getattr(args, "enums", None) or ()))
-
-
 # ------------------------------------------------------------------ applying the table
 def _substitute(e, table: dict[str, int]):
     if isinstance(e, sc.Name):

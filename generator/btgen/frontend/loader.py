@@ -10,6 +10,7 @@ mission are reported together.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 import re
 from collections.abc import Sequence
@@ -18,11 +19,14 @@ from typing import Optional
 from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.frontend import version_rules
+from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
+from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
-    BUILTINS,
+    EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
     KINDS,
@@ -34,8 +38,10 @@ from btgen.lang.catalogue import (
     SPECIAL_ATTRIBUTES,
     NodeSpec,
     PortSpec,
+    builtins_for,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.lang.versions import DEFAULT_VERSION, semantics
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -49,24 +55,44 @@ _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 RESERVED_MODEL_IDS = frozenset(
     {"root", "BehaviorTree", "include", "TreeNodesModel", "Action", "Condition", "Control", "Decorator", "SubTree"}
 )
-_MODEL_PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
+_MODEL_PORT_TAGS = {
+    "input_port": "input",
+    "output_port": "output",
+    "inout_port": "inout",
+    "bidirectional_port": "inout",  # Nav2's nav2_tree_nodes.xml
+}
 
 
 def is_remap(value: str) -> bool:
-    """`{key}` (or `{=}`): the port is connected to a blackboard entry."""
-    return len(value) >= 2 and value.startswith("{") and value.endswith("}")
+    """`{key}` (or `{=}`): the port is connected to a blackboard entry. As 4.6.2's
+    isBlackboardPointer: spaces around the braces are stripped, and at least 3 characters
+    from `{` to `}` (`{}` is a literal; edges table B1)."""
+    return bbmod.is_blackboard_pointer(value)
 
 
 def remap_key(value: str, port_name: str) -> str:
     """The entry a `{key}`/`{=}` value names."""
-    inner = value[1:-1]
-    return port_name if inner == "=" else inner
+    key = bbmod.remapped_key(port_name, value)
+    assert key is not None
+    return key
 
 
 class _Loader:
-    def __init__(self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> None:
+    def __init__(
+        self,
+        path: str,
+        models: Sequence[str] = (),
+        main_tree: Optional[str] = None,
+        trees: Sequence[str] = (),
+        btcpp: str = DEFAULT_VERSION,
+    ) -> None:
         self.path = path
+        self.btcpp = btcpp
+        self.sem = semantics(btcpp)
+        self.builtins = builtins_for(btcpp)
         self.models_paths = tuple(models)
+        self.trees_paths = tuple(trees)
+        self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
         self.main_tree_override = main_tree
         self.sink = DiagnosticSink()
         self.sources: list[Source] = []
@@ -74,6 +100,9 @@ class _Loader:
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
         self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
+        self.siblings = SiblingIndex(self.files)
+        self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
+        self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
     def load(self) -> Mission:
@@ -82,12 +111,19 @@ class _Loader:
         except UserError as e:
             raise UserError(self._sorted(e.diagnostics)) from None
 
+    def _position(self, i: int) -> tuple[int, int, int]:
+        d = self.sink.items[i]
+        return (self.files.index(d.loc.path) if d.loc.path in self.files else len(self.files), d.loc.line, d.loc.col)
+
     def _sorted(self, diags):
         order = {f: i for i, f in enumerate(self.files)}
         return sorted(diags, key=lambda d: (order.get(d.loc.path, len(order)), d.loc.line, d.loc.col))
 
     def _load(self) -> Mission:
         root_source = self._load_file(self.path, self.path, ())
+        self.mission_trees = len(self.tree_elems)
+        for trees_path in self.trees_paths:
+            self._load_tree_library(trees_path)
         for models_path in self.models_paths:
             self._load_models_file(models_path)
         self.sink.raise_if_errors()
@@ -106,6 +142,16 @@ class _Loader:
             if tid in tree_ids
         )
         self._check_subtree_cycles(trees)
+        if self.undeclared:
+            # No model anywhere (none in the mission, no --models): most likely the models file
+            # was forgotten; the first unknown node says so, once.
+            first = min(self.undeclared, key=self._position)
+            d = self.sink.items[first]
+            self.sink.items[first] = dataclasses.replace(
+                d,
+                message=d.message + "; the mission declares no node models: if they are in a file of their "
+                "own, pass it with `--models FILE.xml`",
+            )
         self.sink.raise_if_errors()
         mission = Mission(
             self.path,
@@ -114,11 +160,15 @@ class _Loader:
             tuple(self.models),
             tuple(self.files),
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
+            btcpp=self.btcpp,
         )
+        self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
+        self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
-        return mission
+        warnings = tuple(self._sorted(d for d in self.sink.items if d.severity == "warning"))
+        return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
         self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
@@ -151,16 +201,78 @@ class _Loader:
                 src.value_loc(root, "BTCPP_format"),
                 f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
             )
-        for child in root:
-            if not isinstance(child.tag, str):
-                continue
+        self._warn_text(root, src)
+        elements = [c for c in root if isinstance(c.tag, str)]
+        for child in elements:
             if child.tag == "BehaviorTree":
-                self.tree_elems.append((child.get("ID"), child, src))
+                self.tree_elems.append((self._tree_id(child, src, len(elements)), child, src))
             elif child.tag == "TreeNodesModel":
                 self._read_models(child, src)
             elif child.tag == "include":
                 self._include(child, src, stack + (os.path.realpath(path),))
         return src
+
+    def _load_tree_library(self, path: str) -> None:
+        """`--trees FILE|DIR`: every <BehaviorTree> of the file (or of each `*.xml` of the
+        folder, in name order) becomes available to the mission's SubTrees, as
+        registerBehaviorTreeFromFile makes them; their includes and TreeNodesModel count too."""
+        if os.path.isdir(path):
+            files = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+            if not files:
+                self.sink.error(Loc(path, 1, 1), "--trees names a folder that holds no .xml file")
+                return
+        elif os.path.isfile(path):
+            files = [path]
+        else:
+            self.sink.error(Loc(path, 1, 1), "--trees: no such file or folder")
+            return
+        for f in files:
+            if os.path.realpath(f) in (os.path.realpath(g) for g in self.files):
+                continue  # the mission, one of its includes, or a file given twice
+            try:
+                self._load_file(f, f, ())
+            except UserError as e:
+                self.sink.items.extend(e.diagnostics)
+
+    def _tree_id(self, elem: etree._Element, src: Source, siblings: int) -> str:
+        """The ID of a <BehaviorTree>; warns about the attributes BehaviorTree.CPP ignores."""
+        for aname in src.attr_names_in_order(elem) or list(elem.attrib):
+            if aname != "ID" and not aname.startswith("_"):  # `_favorite`, `_hardcoded`: editors' own
+                self.sink.warning(
+                    src.attr_loc(elem, aname),
+                    f"attribute `{aname}` of <BehaviorTree> is ignored: BehaviorTree.CPP reads only "
+                    f"`ID` there (a SubTree's ports and their defaults are declared in <TreeNodesModel>)",
+                )
+        tid = elem.get("ID")
+        if tid is not None:
+            return tid
+        # 4.6.2 (VerifyXML) accepts a tree without ID only when it is the only element
+        # under <root>, and names it BehaviorTree_<n>, counting such trees from 0.
+        if siblings > 1:
+            self.sink.error(
+                src.loc(elem),
+                "<BehaviorTree> needs an ID attribute: BehaviorTree.CPP accepts a tree without "
+                "one only when it is the only element of its file",
+            )
+        tid = f"BehaviorTree_{self.anonymous}"
+        self.anonymous += 1
+        return tid
+
+    def _warn_text(self, elem: etree._Element, src: Source) -> None:
+        """Text between the elements of a tree or of <root>: tinyxml2 keeps it, BehaviorTree.CPP
+        never reads it; btgen says so once per element."""
+        parts = [elem.text or ""] + [c.tail or "" for c in elem]
+        text = " ".join(p.strip() for p in parts if p.strip())
+        if text:
+            shown = text if len(text) <= 40 else text[:37] + "..."
+            self.sink.warning(
+                src.text_loc(elem),
+                f"text `{shown}` inside <{elem.tag}> is ignored (BehaviorTree.CPP reads only elements here)",
+            )
 
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
@@ -263,10 +375,13 @@ class _Loader:
             if not isinstance(m.tag, str):
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
-            if mid in BUILTINS:
-                self.sink.error(
+            if mid in self.builtins:
+                # 4.6.2 never reads leaf, control or decorator models from XML: the
+                # registered node, here the built-in, is what runs.
+                self.sink.warning(
                     src.value_loc(m, "ID"),
-                    f"`{mid}` is a built-in node of BehaviorTree.CPP; remove it from TreeNodesModel",
+                    f"`{mid}` is a built-in node of BehaviorTree.CPP: this declaration is ignored "
+                    f"and the built-in `{mid}` is used",
                 )
                 continue
             # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
@@ -335,13 +450,42 @@ class _Loader:
         type_text = p.get("type")
         type_name = values.normalize_type(type_text) if type_text is not None else "any"
         default = p.get("default")
+        if p.tag == "bidirectional_port":
+            self.sink.warning(
+                src.loc(p),
+                f"<bidirectional_port> (port `{name}` of `{mid}`) is not an element of "
+                f"BehaviorTree.CPP's models; btgen reads it as <inout_port>",
+            )
         direction = _MODEL_PORT_TAGS[p.tag]
+        default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default, strict=True)
+                values.convert_from_string(type_name, default)
             except values.ConversionError as e:
-                self.sink.error(src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`: {e}")
-        return PortSpec(name, direction, type_name, default, False, (p.text or "").strip(), src.loc(p))
+                # A model in XML documents a node registered in C++ (4.6.2 reads the default
+                # of providedPorts(), never this text): keep it, and report it only where a
+                # node of this mission would use it.
+                default_problem = f"{e}"
+                self.sink.warning(
+                    src.value_loc(p, "default"),
+                    f"default of port `{name}` of `{mid}`: {e}; btgen keeps it as documentation "
+                    f"and gives a node that leaves the port unset no default (its code finds the "
+                    f"port unset; BehaviorTree.CPP uses the default of the C++ providedPorts())",
+                )
+            else:  # read as 4.6.2 reads it (a number's prefix), with a warning where lenient
+                self._check_literal(
+                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default
+                )
+        return PortSpec(
+            name,
+            direction,
+            type_name,
+            None if default_problem else default,
+            False,
+            (p.text or "").strip(),
+            src.loc(p),
+            default_problem=default_problem,
+        )
 
     # ---------------------------------------------------------------- trees
     def _check_tree_ids(self) -> set[str]:
@@ -364,12 +508,15 @@ class _Loader:
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
-        ids = [t for t, e, s in self.tree_elems]
+        every = [t for t, e, s in self.tree_elems]
+        # The tree to run is the mission's: a tree library (--trees) only lends SubTrees.
+        ids = every[: self.mission_trees]
         if self.main_tree_override is not None:
             main = self.main_tree_override
-            if main not in ids:
+            if main not in every:
                 self.sink.error(
-                    src.loc(root), f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}"
+                    src.loc(root),
+                    f"--main-tree names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
                 )
             return main
         main = root.get("main_tree_to_execute")
@@ -386,14 +533,15 @@ class _Loader:
                 f"{', '.join('`' + i + '`' for i in sorted(set(ids)))})",
             )
             return ""
-        if main not in ids:
+        if main not in every:
             self.sink.error(
                 src.value_loc(root, "main_tree_to_execute"),
-                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, ids)}",
+                f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
             )
         return main
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
+        self._warn_text(elem, src)
         kids = [c for c in elem if isinstance(c.tag, str)]
         if len(kids) != 1:
             self.sink.error(src.loc(elem), f"BehaviorTree `{tree_id}` must have exactly 1 child, it has {len(kids)}")
@@ -407,6 +555,7 @@ class _Loader:
         explicit = tag in KINDS
         node_id = elem.get("ID") if explicit else tag
         children = tuple(self._node(c, src) for c in elem if isinstance(c.tag, str))
+        self._warn_text(elem, src)
         name = elem.get("name")
         if explicit and node_id is None:
             self.sink.error(loc, f"<{tag}> needs an ID attribute naming the node")
@@ -428,15 +577,19 @@ class _Loader:
                 (pre if aname in PRE_CONDITIONS else post).append(attr)
             elif aname == "_autoremap" and tag == "SubTree":
                 autoremap = self._bool_attr(attr)
-            elif aname in METADATA_ATTRIBUTES:
+            elif aname in METADATA_ATTRIBUTES or aname in EDITOR_ATTRIBUTES:
                 continue
-            elif aname.startswith("_") or aname == "ID":
-                specials = (
-                    [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
-                    + list(METADATA_ATTRIBUTES)
-                    + (["_autoremap"] if tag == "SubTree" else [])
+            elif aname == "ID":
+                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
+            elif not aname[:1].isalpha():
+                self._ignored_attribute(attr, tag, node_id)
+            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+                self.sink.warning(
+                    attr.loc,
+                    f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
+                    f"attributes that are not valid port names",
                 )
-                self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`{suggestion(aname, specials)}")
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -451,7 +604,29 @@ class _Loader:
             return SubTreeNode(
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
-        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, tag=tag)
+
+    def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
+        """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
+        (IsAllowedPortName), so does btgen, with a warning saying what that means."""
+        if attr.name == "__shared_blackboard":
+            self.sink.warning(
+                attr.loc,
+                f"`__shared_blackboard` is BehaviorTree.CPP v3's and v4 ignores it: SubTree "
+                f'`{node_id}` gets a blackboard of its own (`_autoremap="true"` shares '
+                f"entries by name in v4)",
+            )
+            return
+        specials = (
+            [a for a in SPECIAL_ATTRIBUTES if a.startswith("_")]
+            + list(METADATA_ATTRIBUTES)
+            + (["_autoremap"] if tag == "SubTree" else [])
+        )
+        self.sink.warning(
+            attr.loc,
+            f"attribute `{attr.name}` on `{node_id}` is ignored, as BehaviorTree.CPP ignores every "
+            f"attribute not starting with a letter{suggestion(attr.name, specials)}",
+        )
 
     def _spec_for(
         self, tag: str, node_id: str, elem: etree._Element, src: Source, tree_ids: set[str]
@@ -459,17 +634,20 @@ class _Loader:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
             if node_id not in tree_ids:
-                self.sink.error(
-                    loc,
-                    f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
+                beside = self.siblings.defining_tree(src.path, node_id)
+                where = (
+                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    if beside is not None
+                    else suggestion(node_id, tree_ids)
                 )
-            return BUILTINS["SubTree"]
+                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{where}")
+            return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
-        spec = BUILTINS.get(node_id) or user.get(node_id)
+        spec = self.builtins.get(node_id) or user.get(node_id)
         if spec is None and node_id.startswith("{"):  # lxml's `{uri}local` of a namespaced element
             local = etree.QName(node_id).localname
             shown = f"{elem.prefix}:{local}" if elem.prefix else local
-            known = local in BUILTINS or local in user
+            known = local in self.builtins or local in user
             self.sink.error(
                 loc,
                 f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
@@ -480,27 +658,40 @@ class _Loader:
             if node_id in tree_ids:
                 self.sink.error(loc, f'`{node_id}` is a BehaviorTree, not a node: write <SubTree ID="{node_id}"/>')
                 return None
-            hint = did_you_mean(node_id, list(BUILTINS) + list(user))
-            where = "built in"
+            if node_id == "TryCatch" and not self.sem.trycatch:
+                self.sink.error(
+                    loc,
+                    f"unknown node `TryCatch`: it is built in from BehaviorTree.CPP 4.9.0, not in "
+                    f"{self.btcpp} (select the version with --btcpp 4.10.0)",
+                )
+                return None
+            unknown = f"unknown node `{node_id}`: it is neither built in nor declared in TreeNodesModel"
+            beside = self.siblings.declaring_model(src.path, node_id)
+            if beside is not None:
+                load = (
+                    f"pass `--models {beside.path}`"
+                    if beside.models_only
+                    else f'add <include path="{beside.name}"/> to <root>'
+                )
+                self.sink.error(loc, f"{unknown}; `{beside.path}` beside it declares it: {load}")
+                return None
+            hint = did_you_mean(node_id, list(self.builtins) + list(user))
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f"TreeNodesModel; `{hint}` is {where} (did you mean it?)",
-                )
-            else:
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f'TreeNodesModel (declare it as <Action ID="{node_id}"/> or '
-                    f'<Condition ID="{node_id}"/>)',
-                )
+                self.sink.error(loc, f"{unknown}; `{hint}` is {where} (did you mean it?)")
+                return None
+            children = sum(1 for c in elem if isinstance(c.tag, str))
+            self.sink.error(loc, f"{unknown} ({model_advice(node_id, children)})")
+            if not user and not self.models_paths:
+                self.undeclared.append(len(self.sink.items) - 1)
             return None
         if tag in KINDS and tag != spec.kind:
-            self.sink.error(
+            # 4.6.2 creates the registered node whatever the element says (<Action
+            # ID="ScriptCondition"> is the Condition); the children are checked by its kind.
+            self.sink.warning(
                 src.loc(elem),
-                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is used as <{tag}>",
+                f"`{node_id}` is {'an' if spec.kind[0] in 'AEIOU' else 'a'} {spec.kind}, but is "
+                f"written <{tag}>; it runs as the {spec.kind} it is",
             )
         return spec
 
@@ -513,7 +704,7 @@ class _Loader:
 
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
         try:
-            parsed = script_lang.parse_script(attr.value)
+            parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)
         except script_lang.ScriptSyntaxError as e:
             self.sink.error(
                 src.value_loc(elem, attr.name, e.offset), f"invalid script in `{attr.name}` of `{node_id}`: {e.message}"
@@ -521,7 +712,17 @@ class _Loader:
             return attr
         return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
 
-    def _check_key(self, attr: Attr, key: str, what: str) -> bool:
+    def _check_key(self, attr: Attr, key: str, what: str, remap: bool = False) -> bool:
+        if remap and key and not _KEY_RE.match(key):
+            # 4.6.2 names the entry with whatever is between the braces (`{ n }` is the key
+            # ` n `; edges table B1): loaded, with a warning, since it is most likely a typo
+            self.sink.warning(
+                attr.value_loc,
+                f"`{attr.value}` in {what} names the blackboard key `{key}`, which scripts cannot "
+                f"name (keys are letters, digits, `_`, optionally `@` first); BehaviorTree.CPP 4.6.2 "
+                f"uses it as it is",
+            )
+            return True
         if not _KEY_RE.match(key):
             self.sink.error(
                 attr.value_loc,
@@ -537,11 +738,14 @@ class _Loader:
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
-            self.sink.error(
-                attr.loc, f"SubTree `{tree_id}` has no port `{attr.name}`{suggestion(attr.name, model.port_names)}"
+            # 4.6.2 remaps every attribute of a SubTree element, declared or not (edges M1)
+            self.sink.warning(
+                attr.loc,
+                f"SubTree `{tree_id}` declares no port `{attr.name}`{suggestion(attr.name, model.port_names)}; "
+                f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
-            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
+            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`", remap=True)
         return attr
 
     def _port(self, attr: Attr, spec: NodeSpec, elem: etree._Element, src: Source) -> Optional[Attr]:
@@ -555,17 +759,29 @@ class _Loader:
             return None
         value = attr.value
         what = f"port `{attr.name}` of `{spec.id}`"
+        typed = port.type not in ("string", "any") and not values.is_opaque_type(port.type)
         if is_remap(value):
-            self._check_key(attr, remap_key(value, attr.name), what)
+            if typed and value != value.strip(" "):
+                # 4.6.2's load-time check sees braces only at both ends of the unstripped text
+                # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
+                self._check_literal(attr.value_loc, what, port.type, value)
+                return attr
+            self._check_key(attr, remap_key(value, attr.name), what, remap=True)
             return attr
-        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")):
-            self.sink.error(attr.value_loc, f"malformed blackboard reference `{value}` in {what}: write `{{key}}`")
-            return attr
+        if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
+            self.sink.warning(
+                attr.value_loc,
+                f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`); "
+                f"BehaviorTree.CPP 4.6.2 reads it as this literal text",
+            )
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
         if (spec.id, attr.name) in KEY_NAME_PORTS:
             # These nodes read the raw text as the name of an entry (`output_key="result"`).
             self._check_key(attr, value, what)
+            return attr
+        if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
+            version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
@@ -575,11 +791,24 @@ class _Loader:
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
             return attr
-        try:
-            values.convert_from_string(port.type, value, strict=True)
-        except values.ConversionError as e:
-            self.sink.error(attr.value_loc, f"{what}: {e}")
+        self._check_literal(attr.value_loc, what, port.type, value)
         return attr
+
+    def _check_literal(self, loc: Loc, what: str, type_name: str, value: str) -> None:
+        """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
+        are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
+        convert at all is an error."""
+        try:
+            values.convert_from_string(type_name, value)
+        except values.ConversionError as e:
+            self.sink.error(loc, f"{what}: {e}")
+            return
+        try:
+            values.convert_from_string(type_name, value, strict=True)
+        except values.ConversionError as e:
+            read = values.convert_from_string(type_name, value)
+            shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}
@@ -677,13 +906,29 @@ class _Loader:
                 f"{MAX_NODES} are allowed",
             )
 
+    def _check_version_rules(self, mission: Mission) -> None:
+        """What later releases refuse at load: errors when the selected version refuses it,
+        warnings under 4.6.2 so that a team learns before it upgrades."""
+        for finding in version_rules.loading_findings(mission):
+            if getattr(self.sem, finding.switch):
+                self.sink.error(finding.loc, f"{finding.message} (refused from BehaviorTree.CPP {finding.since})")
+            else:
+                self.sink.warning(finding.loc, f"refused from BehaviorTree.CPP {finding.since}: {finding.message}")
+
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
         from btgen.frontend.xsd import validate_against_mission_xsd
 
         for src in self.sources:
-            self.sink.items.extend(validate_against_mission_xsd(mission, src))
+            for d in validate_against_mission_xsd(mission, src):
+                # attributes the library ignores (not port names) were reported, if at all, above
+                m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
+                ignored = m is not None and (
+                    m.group(1).startswith("_") or not version_rules.is_port_name(m.group(1), self.sem)
+                )
+                if not ignored:
+                    self.sink.items.append(d)
 
 
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
@@ -711,21 +956,35 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     return ""
 
 
-def files_read(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> list[str]:
-    """The files loading the mission reads: the mission, its includes and the models files,
-    also when it does not load (a build system then keeps depending on an include that
-    stopped loading, and the build reports its errors instead of keeping a stale output)."""
-    loader = _Loader(path, models, main_tree)
+def files_read(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> list[str]:
+    """The files loading the mission reads: the mission, its includes, the models files and
+    the --trees files, also when it does not load (a build system then keeps depending on an
+    include that stopped loading, and the build reports its errors instead of keeping a
+    stale output)."""
+    loader = _Loader(path, models, main_tree, trees, btcpp)
     with contextlib.suppress(UserError):
         loader.load()
     read = list(loader.files)
     return read + [m for m in models if m not in read]
 
 
-def load_mission(path: str, models: Sequence[str] = (), main_tree: Optional[str] = None) -> Mission:
+def load_mission(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
-    (`--main-tree`), overriding main_tree_to_execute."""
-    return _Loader(path, models, main_tree).load()
+    (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp).load()

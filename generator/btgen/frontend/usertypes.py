@@ -245,10 +245,6 @@ def load(declarations: Sequence[str] = ()) -> tuple[UserType, ...]:
     return tuple(out.values())
 
 
-def from_args(args) -> tuple[UserType, ...]:
-    return load(tuple(getattr(args, "type", None) or ()))
-
-
 def apply(mission: Mission, types: Sequence[UserType]) -> Mission:
     """The mission with `types` declared (mission.user_types)."""
     if not types:

@@ -226,6 +226,15 @@ _LIBXML_MSG = [
         re.compile(r"Premature end of data in tag (\S+) line (\d+)"),
         lambda m: f"file ends before <{m.group(1)}> opened on line {m.group(2)} is closed",
     ),
+    # tinyxml2 (BehaviorTree.CPP's parser) reads these two, but they are not XML
+    (
+        re.compile(r"Unescaped '<' not allowed in attributes? values"),
+        lambda m: "a raw `<` in an attribute value is not XML: write `&lt;` (tinyxml2 reads it, other tools do not)",
+    ),
+    (
+        re.compile(r"xmlParseEntityRef: no name|EntityRef: expecting ';'"),
+        lambda m: "a raw `&` is not XML: write `&amp;` (`&&` is `&amp;&amp;`; tinyxml2 reads it, other tools do not)",
+    ),
     (re.compile(r"Document is empty"), lambda m: 'file is empty: expected <root BTCPP_format="4">'),
     (re.compile(r"Extra content at the end of the document"), lambda m: "content after the end of the root element"),
 ]
@@ -254,6 +263,10 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
                 Loc(path, line, spaced.start() + 1),
                 f"attribute name `{m.group(1)} {spaced.group(1)}` contains a space (did you mean `{joined}`?)",
             )
+    if 1 <= line <= len(lines) and re.search(r"xmlParseEntityRef|EntityRef: expecting", msg):
+        amp = lines[line - 1].rfind("&", 0, max(col - 1, 1))  # libxml2 points past the `&` (and its name)
+        if amp >= 0:
+            col = amp + 1
     for pattern, render in _LIBXML_MSG:
         m = pattern.search(msg)
         if m:

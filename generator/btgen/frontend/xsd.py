@@ -25,7 +25,7 @@ from lxml import etree
 from btgen import resources
 from btgen.diagnostics import Diagnostic, Loc
 from btgen.frontend.xmlsource import Source
-from btgen.lang.catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from btgen.lang.catalogue import METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
 from btgen.lang.model import Mission
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
@@ -101,8 +101,10 @@ _SIMPLE = {
 }
 
 
-def _type_ref(port: PortSpec) -> str:
+def _type_ref(port: PortSpec, node_id: str = "") -> str:
     t = port.type
+    if node_id.startswith("Loop") and port.name == "queue":
+        return "xs:string"  # untyped from 4.9.1, a literal queue or a {key} all the same
     if port.direction == "output" or (port.direction == "inout" and not t.startswith("queue<")):
         return "bt_key"
     return {
@@ -115,14 +117,22 @@ def _type_ref(port: PortSpec) -> str:
 
 
 _PRELUDE = """  <xs:simpleType name="bt_ref">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *"/></xs:restriction>
   </xs:simpleType>
   <xs:simpleType name="bt_key">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
   </xs:simpleType>
-  <xs:simpleType name="bt_int"><xs:union memberTypes="xs:int bt_ref"/></xs:simpleType>
-  <xs:simpleType name="bt_unsigned"><xs:union memberTypes="xs:unsignedInt bt_ref"/></xs:simpleType>
-  <xs:simpleType name="bt_double"><xs:union memberTypes="xs:double bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_int_prefix">
+    <xs:restriction base="xs:string"><xs:pattern value="-?[0-9]+[\\s\\S]*"/></xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_double_prefix">
+    <xs:restriction base="xs:string">
+      <xs:pattern value="\\s*[+\\-]?([0-9]|\\.[0-9]|[iI][nN][fF]|[nN][aA][nN])[\\s\\S]*"/>
+    </xs:restriction>
+  </xs:simpleType>
+  <xs:simpleType name="bt_int"><xs:union memberTypes="xs:int bt_int_prefix bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_unsigned"><xs:union memberTypes="xs:unsignedInt bt_int_prefix bt_ref"/></xs:simpleType>
+  <xs:simpleType name="bt_double"><xs:union memberTypes="xs:double bt_double_prefix bt_ref"/></xs:simpleType>
   <xs:simpleType name="bt_bool_literal">
     <xs:restriction base="xs:string">
       <xs:enumeration value="true"/><xs:enumeration value="false"/><xs:enumeration value="True"/>
@@ -152,22 +162,29 @@ def _children(spec: NodeSpec) -> str:
     return f'      <xs:element ref="bt_node" minOccurs="{lo}" maxOccurs="{hi_text}"/>\n'
 
 
-def _node_type(spec: NodeSpec) -> str:
-    lines = [f"  <xs:complexType name={quoteattr('node.' + spec.id)}>\n"]
+def _node_type(spec: NodeSpec, lenient: bool) -> str:
+    mixed = ' mixed="true"' if lenient else ""
+    lines = [f"  <xs:complexType name={quoteattr('node.' + spec.id)}{mixed}>\n"]
     kids = _children(spec)
     if kids:
         lines.append("    <xs:sequence>\n" + kids.replace("      ", "      ", 1) + "    </xs:sequence>\n")
     for p in spec.ports:
         use = ' use="required"' if p.required else ""
-        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p)}"{use}/>\n')
+        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p, spec.id)}"{use}/>\n')
     lines.append('    <xs:attributeGroup ref="bt_common"/>\n')
+    if lenient:
+        lines.append('    <xs:anyAttribute processContents="skip"/>\n')
     lines.append("  </xs:complexType>\n")
     return "".join(lines)
 
 
-def mission_xsd(mission: Mission) -> str:
-    """The XSD for this mission's node elements (deterministic text)."""
-    specs: list[NodeSpec] = [s for s in BUILTINS.values() if s.id != "SubTree"]
+def mission_xsd(mission: Mission, lenient: bool = False) -> str:
+    """The XSD for this mission's node elements (deterministic text).
+
+    `lenient`: also accept what BehaviorTree.CPP ignores and the loader has already
+    warned about (text between elements, attributes starting with `_`); the loader's
+    backstop uses it, editors get the strict schema of `btgen xsd`."""
+    specs: list[NodeSpec] = [s for s in mission.builtins.values() if s.id != "SubTree"]
     # An ID that is not an XML name (`IV. Act`) can only be written in the explicit
     # form <Action ID="IV. Act"/>, which the explicit.* types cover.
     specs += [m for m in mission.models if m.kind != "SubTree" and _XML_NAME.match(m.id)]
@@ -182,13 +199,14 @@ def mission_xsd(mission: Mission) -> str:
         _PRELUDE.replace("{specials}", specials),
     ]
     # The root and file structure, as in schema/btcpp_v4.xsd, but with typed node content.
-    out.append("""  <xs:element name="root">
-    <xs:complexType>
+    out.append(
+        """  <xs:element name="root">
+    <xs:complexType{mixed}>
       <xs:choice minOccurs="0" maxOccurs="unbounded">
         <xs:element name="BehaviorTree">
-          <xs:complexType>
+          <xs:complexType{mixed}>
             <xs:sequence><xs:element ref="bt_node"/></xs:sequence>
-            <xs:attribute name="ID" type="xs:string" use="required"/>
+            <xs:attribute name="ID" type="xs:string"/>
             <xs:anyAttribute processContents="skip"/>
           </xs:complexType>
         </xs:element>
@@ -204,7 +222,8 @@ def mission_xsd(mission: Mission) -> str:
       <xs:anyAttribute processContents="skip"/>
     </xs:complexType>
   </xs:element>
-""")
+""".replace("{mixed}", ' mixed="true"' if lenient else "")
+    )
     # Every node element stands for the abstract `bt_node` (a substitution group
     # matches in one step, where a 50-way choice would be tried in turn).
     # Its name is one no node of this mission has (a model may be called `bt_node`).
@@ -218,7 +237,7 @@ def mission_xsd(mission: Mission) -> str:
     for kind in ("Action", "Condition", "Control", "Decorator", "SubTree"):
         out.append(f'  <xs:element name="{kind}" type="explicit.{kind}" substitutionGroup="{group}"/>\n')
     for s in specs:
-        out.append(_node_type(s))
+        out.append(_node_type(s, lenient))
     for kind, kids in (
         ("Action", ""),
         ("Condition", ""),
@@ -227,8 +246,9 @@ def mission_xsd(mission: Mission) -> str:
         ("SubTree", ""),
     ):
         seq = f"    <xs:sequence>\n{kids}    </xs:sequence>\n" if kids else ""
+        mixed = ' mixed="true"' if lenient else ""
         out.append(
-            f'  <xs:complexType name="explicit.{kind}">\n{seq}'
+            f'  <xs:complexType name="explicit.{kind}"{mixed}>\n{seq}'
             '    <xs:attribute name="ID" type="xs:string" use="required"/>\n'
             '    <xs:anyAttribute processContents="skip"/>\n  </xs:complexType>\n'
         )
@@ -242,4 +262,4 @@ def _compiled(xsd_text: str) -> xmlschema.XMLSchema:
 
 
 def validate_against_mission_xsd(mission: Mission, src: Source) -> Iterable[Diagnostic]:
-    return _iter_diags(_compiled(mission_xsd(mission)), src, src.root)
+    return _iter_diags(_compiled(mission_xsd(mission, lenient=True)), src, src.root)

@@ -4,7 +4,7 @@ It builds one object per node, the way 4.6.2's ``XMLParser`` does (SubTrees
 instantiated recursively, UIDs in creation order, one blackboard per tree
 instance), and walks the tree with parents ticking and halting children as
 4.6.2's node classes do. Every status change goes to an observer that writes
-the trace lines of ``shared/conformance/FORMAT.md``.
+the trace lines of ``tests/conformance/FORMAT.md``.
 
 Each node class follows one 4.6.2 source (named in its docstring); where
 4.6.2 has a bug that later releases fixed and FORMAT.md says to follow the
@@ -55,6 +55,7 @@ from btgen.interp.controls import (
     SequenceNode,
     SequenceWithMemoryNode,
     SwitchNode,
+    TryCatchNode,
     WhileDoElseNode,
 )
 from btgen.interp.decorators import (
@@ -77,9 +78,9 @@ from btgen.interp.scenario import Scenario
 from btgen.interp.tree import _BY_VALUE, FAILURE, RUNNING, SKIPPED, SUCCESS, Runtime, TreeNode, _Port, _run_error
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
+from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
-from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.lang.model import Mission, Node, SubTreeNode
 from btgen.lang.status import NodeStatus
 
 # ================================================================ building the tree
@@ -124,6 +125,7 @@ _BUILTIN_FACTORIES = {
     "UnsetBlackboard": UnsetBlackboardNode,
     "Sleep": SleepNode,
     "WasEntryUpdated": WasEntryUpdatedNode,
+    "TryCatch": TryCatchNode,  # 4.9.0; only in the catalogue of versions that have it
 }
 
 
@@ -140,32 +142,7 @@ class _Builder:
         return self._node(self.trees[self.mission.main_tree].root, root_bb)
 
     def _ports_of(self, model: Node) -> dict[str, _Port]:
-        try:
-            spec = self.mission.spec(model.id)
-        except KeyError:
-            spec = None
-        ports: dict[str, _Port] = {}
-        for a in model.ports:
-            ps = spec.port(a.name) if spec is not None else None
-            raw = a.value
-            if (
-                raw == ""
-                and ps is not None
-                and ps.default is not None
-                and ps.type not in ("string", "any")
-                and not values.is_opaque_type(ps.type)
-            ):
-                raw = ps.default  # TreeNode::getInput: an empty value reads the model's (non-string) default
-            ports[a.name] = _Port(a.name, raw, a, ps)
-        if spec is not None:
-            # createNodeFromXML: a port not written takes the model's default, an input port any
-            # default, an output port only a `{key}` one
-            for ps in spec.ports:
-                if ps.name in ports or ps.default is None:
-                    continue
-                if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
-                    ports[ps.name] = _Port(ps.name, ps.default, None, ps)
-        return ports
+        return {p.name: _Port(p.name, p.raw, p.attr, p.spec) for p in instance_ports(self.mission, model)}
 
     def _node(self, model: Node, bb) -> TreeNode:
         rt = self.rt
@@ -178,7 +155,7 @@ class _Builder:
             return subtree
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
-        if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
+        if model.id in _BUILTIN_FACTORIES and model.id in self.mission.builtins:
             factory = _BUILTIN_FACTORIES[model.id]
             node = factory(rt, model, bb, model.id, ports)
         elif is_scripted_leaf(self.mission, model):
@@ -210,21 +187,22 @@ class _Builder:
 
     def _subtree_blackboard(self, model: SubTreeNode, parent_bb):
         """recursivelyCreateSubtree: a child blackboard with the SubTree's remappings."""
-        model_spec = next((m for m in self.mission.models if m.id == model.target and m.kind == "SubTree"), None)
-        remap: list[tuple[str, str, Optional[Attr]]] = [(a.name, a.value, a) for a in model.ports]
-        if model_spec is not None and not model.autoremap:
-            given = {a.name for a in model.ports}
-            for ps in model_spec.ports:
-                if ps.name not in given:
-                    if ps.default is None:
-                        raise _run_error(
-                            model.loc,
-                            f"SubTree `{model.target}` declares port `{ps.name}` "
-                            f"without a default, and this instance does not remap it",
-                        )
-                    remap.append((ps.name, ps.default, None))
+        remap, missing = subtree_remapping(self.mission, model)
+        if missing:
+            raise _run_error(
+                model.loc,
+                f"SubTree `{model.target}` declares port `{missing[0]}` "
+                f"without a default, and this instance does not remap it",
+            )
         try:
-            return bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent_bb,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.rt.sem.subtree_literals_typed,
+            )
+            provide(self.mission, bb, model.target, False)
+            return bb
         except (values.ConversionError, bbmod.BlackboardError) as e:
             raise _run_error(model.loc, f"SubTree `{model.target}`: {e}") from None
 
@@ -253,6 +231,14 @@ def expanded_depth(mission: Mission) -> int:
     return tree_depth(mission.main_tree) if mission.main_tree in trees else 0
 
 
+def provide(mission: Mission, bb, tree_id: str, root: bool) -> None:
+    """The entries the application sets in this blackboard (--entry): created with their type
+    and no value (a scenario run has no application to set them)."""
+    for p in mission.provided:
+        if p.applies_to(tree_id, root):
+            bb.create_entry(p.key, p.type)
+
+
 def _ensure_recursion_depth(depth: int) -> None:
     """Ticking and halting recurse about three Python frames per tree level; a tree nested deeper
     than the default limit allows gets a higher limit (Python 3.11+ keeps such frames off the C
@@ -271,6 +257,7 @@ class Interpreter:
         _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
+        provide(mission, self.root_bb, mission.main_tree, True)
         builder = _Builder(self.rt, mission)
         self.root = builder.build(self.root_bb)
         self.nodes = builder.nodes

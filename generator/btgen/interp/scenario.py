@@ -1,6 +1,6 @@
 """Scenario files: what every scripted leaf of a mission returns, call by call.
 
-The format is the contract of ``shared/conformance/FORMAT.md``::
+The format is the contract of ``tests/conformance/FORMAT.md``::
 
     ticks 20                       # most root ticks to send (default 100, at least 1)
     default SUCCESS                # what unlisted leaves return (default SUCCESS)

@@ -38,15 +38,16 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import SlotType, check_script
+from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
+from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 DEFAULT_STRING_CAPACITY = 128
@@ -90,16 +91,20 @@ SCRIPT_BIT = {
 }
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
+# Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
+# (every tick of Repeat, RetryUntilSuccessful, Timeout and Delay, the start of a Sleep).
+PARAM_PORTS = {
+    ("Repeat", "num_cycles"),
+    ("RetryUntilSuccessful", "num_attempts"),
+    ("Timeout", "msec"),
+    ("Delay", "delay_msec"),
+    ("Sleep", "msec"),
+}
 LITERAL_ONLY = {
     ("Parallel", "success_count"),
     ("Parallel", "failure_count"),
     ("ParallelAll", "max_failures"),
-    ("Repeat", "num_cycles"),
-    ("RetryUntilSuccessful", "num_attempts"),
     ("RunOnce", "then_skip"),
-    ("Timeout", "msec"),
-    ("Delay", "delay_msec"),
-    ("Sleep", "msec"),
     ("Precondition", "else"),
     ("LoopInt", "if_empty"),
     ("LoopBool", "if_empty"),
@@ -133,6 +138,7 @@ class SlotIR:
     user_cpp: str = ""  # a user port type's C++ spelling (--type)
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
+    provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
 
 
 @dataclass(frozen=True)
@@ -148,6 +154,7 @@ class ScriptIR:
     names: tuple[tuple[str, int], ...]  # name -> slot index
     condition: bool  # its last value is a condition's result
     prefix: str  # the prefix of its run-time error messages
+    typed: TypedScript  # every expression's kind and how it is computed (script_types.py)
 
 
 @dataclass(frozen=True)
@@ -205,6 +212,7 @@ class DataIR:
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
     inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
+    param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
 
 
 # ================================================================ helpers
@@ -280,6 +288,7 @@ class _Slot:
     elem_literals: list[int] = field(default_factory=list)
     queue_unbounded: bool = False
     untyped_text: bool = False  # only untyped ports write it: robot code passes text
+    provided: bool = False  # the application sets it before the first tick (--entry)
     failed: bool = False  # its type could not be told (reported): scripts using it are not compiled
     key: str = ""
     owner: str = ""
@@ -292,31 +301,8 @@ class _Slot:
 
 
 def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
-    """The interpreter's _Builder._ports_of: written ports, then defaults (createNodeFromXML)."""
-    try:
-        spec = mission.spec(model.id)
-    except KeyError:
-        spec = None
-    ports: dict[str, _Port] = {}
-    for a in model.ports:
-        ps = spec.port(a.name) if spec is not None else None
-        raw = a.value
-        if (
-            raw == ""
-            and ps is not None
-            and ps.default is not None
-            and ps.type not in ("string", "any")
-            and not values.is_opaque_type(ps.type)
-        ):
-            raw = ps.default
-        ports[a.name] = _Port(a.name, raw, a, ps)
-    if spec is not None:
-        for ps in spec.ports:
-            if ps.name in ports or ps.default is None:
-                continue
-            if ps.direction != "output" or bbmod.is_blackboard_pointer(ps.default):
-                ports[ps.name] = _Port(ps.name, ps.default, None, ps)
-    return ports
+    """The ports of an instance as the interpreter builds them (lang/instance.py)."""
+    return {p.name: _Port(p.name, p.raw, p.attr, p.spec) for p in instance_ports(mission, model)}
 
 
 # ================================================================ the analysis
@@ -359,6 +345,7 @@ class _Analyzer:
     def load(self) -> None:
         root = bbmod.Blackboard()
         self._add_bb(root, "root")
+        self._provide(root, self.m.main_tree, True, self.m.main.loc)
         stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
         while stack:
             node, bb, path = stack.pop()
@@ -400,27 +387,56 @@ class _Analyzer:
             for child in reversed(node.children):
                 stack.append((child, bb, path))
 
+    def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
+        """The entries the application sets in this blackboard before the first tick (--entry):
+        created with their type; robot code writes them."""
+        for p in self.m.provided:
+            if not p.applies_to(tree_id, root):
+                continue
+            try:
+                entry = bb.create_entry(p.key, p.type)
+            except bbmod.BlackboardError as e:
+                self.error(loc, f"{p.option}: {e}")
+                continue
+            s = self._slot(entry, loc)
+            s.at_load = True
+            s.provided = True
+            s.origin = f"provided by the application ({p.option})"
+            kind = kind_of_type(p.type)
+            s.writes.append(
+                _Write(
+                    self.slots.index(s),
+                    self.next_order(),
+                    loc,
+                    f"the application ({p.option})",
+                    (lambda k=kind: k),
+                    kind is not None,
+                    (lambda: None),
+                    None,
+                    "port",
+                )
+            )
+
     def _add_bb(self, bb: bbmod.Blackboard, label: str) -> None:
         self.bbs.append(bb)
         self.bb_labels[id(bb)] = label
 
     def _subtree_blackboard(self, model: SubTreeNode, parent: bbmod.Blackboard, path: str) -> bbmod.Blackboard:
-        model_spec = next((m for m in self.m.models if m.id == model.target and m.kind == "SubTree"), None)
-        remap: list[tuple[str, str, Loc]] = [(a.name, a.value, a.value_loc) for a in model.ports]
-        if model_spec is not None and not model.autoremap:
-            given = {a.name for a in model.ports}
-            for ps in model_spec.ports:
-                if ps.name not in given:
-                    if ps.default is None:
-                        self.error(
-                            model.loc,
-                            f"SubTree `{model.target}` declares port `{ps.name}` without a "
-                            f"default, and this instance does not remap it",
-                        )
-                        continue
-                    remap.append((ps.name, ps.default, model.loc))
+        remapping, missing = subtree_remapping(self.m, model)
+        for name in missing:
+            self.error(
+                model.loc,
+                f"SubTree `{model.target}` declares port `{name}` without a "
+                f"default, and this instance does not remap it",
+            )
+        remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
-            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.m.semantics.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             self.error(model.loc, f"SubTree `{model.target}`: {e}")
             bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
@@ -431,23 +447,30 @@ class _Analyzer:
             assert entry is not None
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
-            s.initial = str(entry.value)
+            # 4.9.1 stores a literal that is wholly a number as that number (subtree_literals_typed)
+            text = (
+                entry.value
+                if isinstance(entry.value, str)
+                else next((v for n, v, _ in remap if n == key), str(entry.value))
+            )
+            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
-            text = str(entry.value)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
                     self.next_order(),
                     locs.get(key, model.loc),
                     f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
-                    lambda: "string",
+                    lambda k=constant_kind: k,
                     True,
                     lambda t=text: len(t.encode("utf-8")),
                     text,
                     "constant",
                 )
             )
+        self._provide(bb, model.target, False, model.loc)
         return bb
 
     def _slot(self, entry: bbmod.Entry, loc: Loc) -> _Slot:
@@ -483,6 +506,12 @@ class _Analyzer:
         if not isinstance(node, SubTreeNode):
             builtin = inst.spec is not None and inst.spec.builtin
             for p in inst.ports.values():
+                key = bbmod.remapped_key(p.name, p.raw)
+                if builtin and (nid, p.name) in PARAM_PORTS and key is not None:
+                    loc = p.loc_or or node.loc
+                    slot = self.resolve(inst.bb, key, loc)
+                    if slot is not None:
+                        self.node_ops.append(("param", inst, {"slot": slot, "port": p.name, "key": key, "loc": loc}))
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
                     self.error(
                         p.loc_or or node.loc,
@@ -967,6 +996,19 @@ class _Analyzer:
         for s in self.slots:
             if s.kind in ("string", DYN):
                 s.capacity = 0
+        # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
+        for s in self.slots:
+            if is_queue(s.kind):
+                qcap = self.opt.queue_capacity
+                s.capacity = max(s.queue_literals, default=0)
+                if s.queue_unbounded or not s.queue_literals:
+                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
+                s.capacity = max(s.capacity, 1)
+                if s.kind == "queue<string>":
+                    s.elem_capacity = max(s.elem_literals, default=0)
+                    if s.queue_unbounded:
+                        s.elem_capacity = cap
+                    s.elem_capacity = min(s.elem_capacity, cap)
         # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
         # most `cap`: a longer literal is an error where it is written. A computed value
         # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
@@ -996,18 +1038,6 @@ class _Analyzer:
                     changed = True
             if rounds > (WIDEN_AFTER + 2) * len(self.slots) + 2:
                 raise InternalError("string capacities do not settle")
-        for s in self.slots:
-            if is_queue(s.kind):
-                qcap = self.opt.queue_capacity
-                s.capacity = max(s.queue_literals, default=0)
-                if s.queue_unbounded or not s.queue_literals:
-                    s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
-                s.capacity = max(s.capacity, 1)
-                if s.kind == "queue<string>":
-                    s.elem_capacity = max(s.elem_literals, default=0)
-                    if s.queue_unbounded:
-                        s.elem_capacity = cap
-                    s.elem_capacity = min(s.elem_capacity, cap)
 
     # ------------------------------------------------------------ naming
     def name_slots(self) -> None:
@@ -1138,7 +1168,7 @@ class _Compiler:
             if not self.check_user_free(inst, attr, script, names):
                 continue
             try:
-                check_script(script, self.types, names, condition)
+                typed = type_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
@@ -1153,6 +1183,7 @@ class _Compiler:
                     tuple(sorted(names.items())),
                     condition,
                     f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
                 )
             )
             if enum != "kCode":
@@ -1188,14 +1219,45 @@ class _Compiler:
                 if isinstance(node, sc.Name):
                     s = self.a.slots[names[node.name]]
                     if not s.at_load and not s.writes:
+                        if node.name.startswith("@"):
+                            known = {"@" + k for k in self.created_keys(inst.bb.root)}
+                        else:
+                            known = self.created_keys(inst.bb)
+                        hint = did_you_mean(node.name, known - {node.name})
+                        advice = f"did you mean `{hint}`?" if hint else f"create it with `{node.name} := ...` first"
+                        bb = inst.bb
+                        if (
+                            bb.parent is not None
+                            and not bb.autoremap
+                            and not node.name.startswith("@")
+                            and node.name not in bb.remapping
+                            and node.name in self.created_keys(bb.parent)
+                        ):
+                            advice = (
+                                f"the calling tree's `{node.name}` is not seen here: the SubTree node does "
+                                f'not remap it; add {node.name}="{{{node.name}}}" or _autoremap="true"'
+                            )
                         self.error(
                             script_loc(attr, node.offset),
                             f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
-                            f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
-                            f"`{node.name} := ...` first)",
+                            f"blackboard entry: no port, script or SetBlackboard writes it ({advice})",
                         )
                         ok = False
         return ok
+
+    def created_keys(self, bb: bbmod.Blackboard) -> set[str]:
+        """The keys a script on `bb` can name whose entries something creates: its own and
+        remapped keys, and through `_autoremap` its parent's (the candidates of a hint)."""
+        keys: set[str] = set(bb.local_keys()) | set(bb.remapping)
+        if bb.parent is not None and bb.autoremap:
+            keys |= {k for k in self.created_keys(bb.parent) if not k.startswith("_")}
+        out = set()
+        for key in keys:
+            entry = bb.get_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry)) if entry is not None else None
+            if idx is not None and (self.a.slots[idx].at_load or self.a.slots[idx].writes):
+                out.add(key)
+        return out
 
     # ------------------------------------------------------------ data nodes
     def unset(self, inst: _Inst, op: dict) -> DataOp:
@@ -1321,7 +1383,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail),
+            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1344,7 +1406,35 @@ class _Compiler:
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
             ops.SetCopyDyn(
-                op["dst"], op["src"], src_decl == values.STRING, op["key"], what + ": ", missing, self.where(loc)
+                op["dst"],
+                op["src"],
+                src_decl == values.STRING,
+                op["key"],
+                what + ": ",
+                missing,
+                self.where(loc),
+                bbmod.EMPTY_COPY_SUCCEEDS,
+            ),
+        )
+
+    def param_read(self, inst: _Inst, op: dict) -> Optional[DataOp]:
+        """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
+        s = self.a.slots[op["slot"]]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op["port"]}` reads blackboard entry `{op["key"]}`'
+        if s.kind != "int":
+            self.error(
+                op["loc"],
+                f"port `{op['port']}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                f"{s.origin_text}); the C++ back end reads it from an integer entry only",
+            )
+            return None
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {op["port"]}={{{op["key"]}}}',
+            ops.ParamRead(
+                op["slot"],
+                self.fail(op["loc"], f"{what}, which does not exist"),
+                self.fail(op["loc"], f"{what}, which has no value yet"),
             ),
         )
 
@@ -1605,6 +1695,7 @@ class _Compiler:
         entries: list[DataOp] = []
         switches: list[DataOp] = []
         loops: list[DataOp] = []
+        param_reads: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for kind, inst, op in self.a.node_ops:
@@ -1627,6 +1718,11 @@ class _Compiler:
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
+            elif kind == "param":
+                read = self.param_read(inst, op)
+                if read is not None:
+                    param_reads.append(read)
+                    params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
             elif kind == "params":
                 p0 = op["p0"]
                 if p0 is not None:
@@ -1659,6 +1755,7 @@ class _Compiler:
                 self.a.user[s.kind].cpp if is_user(s.kind) else "",
                 not s.at_load or s.unset,
                 s.origin_text,
+                s.provided,
             )
             for i, s in enumerate(self.a.slots)
         )
@@ -1683,6 +1780,7 @@ class _Compiler:
             tuple(self.a.m.enums),
             user_types,
             tuple(self.user_inits),
+            tuple(param_reads),
         )
 
 

@@ -71,6 +71,7 @@ class SetCopy:
     declared: str  # the declared type `convert` converts into
     missing: Fail  # the source does not exist
     fail: Optional[Fail]  # the conversion fails, or the text does not fit
+    empty_succeeds: bool = True  # a source without value empties `dst` (4.6.2) or fails the node
 
 
 @dataclass(frozen=True)
@@ -84,6 +85,7 @@ class SetCopyDyn:
     prefix: str
     missing: Fail
     where: int
+    empty_succeeds: bool = True  # as SetCopy's
 
 
 DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn]
@@ -126,6 +128,16 @@ class LoopPop:
     value: Optional[int]  # the slot `value` writes, if wired
     value_declared: str
     write_fail: Optional[Fail]
+
+
+@dataclass(frozen=True)
+class ParamRead:
+    """Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec, Delay delay_msec
+    given as `{key}`: the integer entry, read whenever 4.6.2's node calls getInput."""
+
+    slot: int
+    missing: Fail  # the entry does not exist (UnsetBlackboard removed it)
+    no_value: Fail  # it exists without a value
 
 
 @dataclass(frozen=True)

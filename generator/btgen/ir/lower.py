@@ -23,7 +23,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
+from btgen.lang.catalogue import builtins_for
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
@@ -43,8 +43,8 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "Inverter": ("Inverter", 0, 0),
     "ForceSuccess": ("ForceSuccess", 0, 0),
     "ForceFailure": ("ForceFailure", 0, 0),
-    "Repeat": ("Repeat", 1, 0),  # cycles done
-    "RetryUntilSuccessful": ("RetryUntilSuccessful", 1, 0),  # attempts done
+    "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
+    "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
     "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
     "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
     "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
@@ -55,7 +55,7 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "Switch4": ("Switch", 1, 0),
     "Switch5": ("Switch", 1, 0),
     "Switch6": ("Switch", 1, 0),
-    "Precondition": ("Precondition", 0, 0),
+    "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
     "LoopInt": ("Loop", 1, 0),  # child RUNNING
     "LoopBool": ("Loop", 1, 0),
     "LoopDouble": ("Loop", 1, 0),
@@ -70,8 +70,12 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "SetBlackboard": ("SetBlackboard", 0, 0),
     "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
     "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
+    "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
 }
-assert set(SUPPORTED) == set(BUILTINS), sorted(set(BUILTINS) ^ set(SUPPORTED))
+# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# and the node has one more counter slot, after those of SUPPORTED, holding the value read.
+PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
+assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
 _SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
@@ -129,6 +133,8 @@ class Program:
     data: Optional[DataIR] = None
     # The tree as BehaviorTree.CPP shows it to Groot2: XML with _uid, tree instances (treexml.py).
     groot2: Optional[Groot2Tree] = None
+    # The BehaviorTree.CPP release followed (lang/versions.py): the header's Semantics flags.
+    btcpp: str = "4.6.2"
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -142,6 +148,14 @@ class Program:
     def user_nodes(self) -> tuple[LeafModel, ...]:
         """The mission's own Controls and Decorators."""
         return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
+
+    @property
+    def used_user_nodes(self) -> tuple[LeafModel, ...]:
+        """The mission's own Controls and Decorators that a node of the main tree is: the
+        engine dispatches to these only, so leaves without a tick() for a model no node
+        uses (a models file declaring every Control of a project) still compile."""
+        used = {n.model for n in self.nodes}
+        return tuple(m for m in self.user_nodes if m.index in used)
 
 
 # ------------------------------------------------------------------ traversal
@@ -210,7 +224,7 @@ class _Lowerer:
         if attr is not None:
             text, loc = attr.value, attr.value_loc
         else:
-            default = BUILTINS[node.id].port(port_name)
+            default = self.m.builtins[node.id].port(port_name)
             if default is None or default.default is None:
                 raise InternalError(f"{node.loc}: `{node.id}` has no `{port_name}` and no default")
             text, loc = default.default, node.loc
@@ -270,6 +284,15 @@ class _Lowerer:
             return self.int_literal(node, "msec", "unsigned")[0], 0, 0
         if nid == "Delay":
             return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
+        if nid == "TryCatch":
+            on_halt, loc = self.literal(node, "catch_on_halt", "bool")
+            if on_halt:
+                self.error(
+                    loc,
+                    f'`TryCatch` "{node.display_name}": catch_on_halt="true" (tick the catch child while '
+                    f"halting) is not supported by the C++ back end; the interpreter (btgen run) runs it",
+                )
+            return 0, 0, 0
         return 0, 0, 0
 
     def lower(self) -> Program:
@@ -300,6 +323,8 @@ class _Lowerer:
             elif node.id in SUPPORTED:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
+                if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
+                    nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)
@@ -367,6 +392,7 @@ class _Lowerer:
             _unrun_leaves(m),
             data,
             groot2_tree(m),
+            m.btcpp,
         )
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
@@ -390,6 +416,8 @@ class _Lowerer:
                 "ParallelAll",
             ):
                 skips[n.index] = all(kid)
+            elif k == "TryCatch":
+                skips[n.index] = all(kid[:-1])
             elif k in ("IfThenElse", "WhileDoElse"):
                 skips[n.index] = any(kid[1:])
             elif k == "Switch":
@@ -398,12 +426,12 @@ class _Lowerer:
                 skips[n.index] = n.params[0] == skipped or (k == "Precondition" and kid[0])
             elif k == "SkipUnlessUpdated":
                 skips[n.index] = True
+            elif k in ("Repeat", "RetryUntilSuccessful"):  # a count that never starts the loop skips
+                skips[n.index] = kid[0] or n.params[0] == 0 or n.params[0] < -1
             elif k in (
                 "Inverter",
                 "ForceSuccess",
                 "ForceFailure",
-                "Repeat",
-                "RetryUntilSuccessful",
                 "Timeout",
                 "Delay",
                 "SubTree",

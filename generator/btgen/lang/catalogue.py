@@ -31,6 +31,10 @@ class PortSpec:
     required: bool = False
     description: str = ""
     loc: Optional[Loc] = None  # where a TreeNodesModel declares it
+    # A model's default that does not convert to its type (documentation in a models file:
+    # Nav2's `numeric_limits<double>::infinity()`): why it does not. `default` is then None:
+    # a node leaving the port unset gets no default, as in BehaviorTree.CPP without one.
+    default_problem: str = field(default="", compare=False)
 
     @property
     def reads(self) -> bool:
@@ -111,7 +115,9 @@ def _condition(id_: str, ports: tuple[PortSpec, ...] = (), d: str = "") -> NodeS
 
 def _switch(n: int) -> NodeSpec:
     ports = (_in("variable", "string", required=True, description="value matched against the cases"),) + tuple(
-        _in(f"case_{i}", "string", required=True) for i in range(1, n + 1)
+        # 4.6.2 loads a Switch with a case_N missing; that case never matches (edges table, S1).
+        _in(f"case_{i}", "string")
+        for i in range(1, n + 1)
     )
     return NodeSpec(
         f"Switch{n}",
@@ -253,6 +259,9 @@ SPECIAL_ATTRIBUTES = ("name", "ID") + PRE_CONDITIONS + POST_CONDITIONS
 # `_fullpath` (WriteTreeToXML with metadata, as Groot2 receives a running tree) and Groot2
 # keeps `_description`; 4.6.2's loader ignores them, and so does btgen.
 METADATA_ATTRIBUTES = ("_uid", "_fullpath", "_description")
+# What editors (Groot2, MoveIt Pro) write on node elements for themselves; 4.6.2 reads no
+# attribute that does not start with a letter, and btgen ignores these without a word.
+EDITOR_ATTRIBUTES = ("_collapsed", "_external", "_favorite", "_hardcoded")
 # Names that a TreeNodesModel may not use for a port.
 RESERVED_PORT_NAMES = frozenset(SPECIAL_ATTRIBUTES + ("_autoremap",) + METADATA_ATTRIBUTES)
 
@@ -265,3 +274,42 @@ KEY_NAME_PORTS = ENTRY_PORTS | {("SetBlackboard", "output_key")}
 
 # Children allowed per kind for user-declared nodes.
 KIND_CHILDREN = {"Action": (0, 0), "Condition": (0, 0), "Control": (1, None), "Decorator": (1, 1), "SubTree": (0, 0)}
+
+
+# ---------------------------------------------------------------- other versions
+# What later releases register differently (lang/versions.py names each difference):
+# TryCatch (4.9.0), and the Loop nodes' `queue` port, untyped from 4.9.1 so that a vector or
+# a string may feed it.
+TRYCATCH = NodeSpec(
+    "TryCatch",
+    "Control",
+    (_in("catch_on_halt", "bool", "false", description="tick the catch child when halted in the try block"),),
+    True,
+    2,
+    None,
+    "children but the last run as a Sequence; on a failure the last (catch) child runs and the node fails",
+)
+
+
+def _untyped_queue(spec: NodeSpec) -> NodeSpec:
+    ports = tuple(
+        PortSpec(p.name, p.direction, "any", p.default, p.required, p.description) if p.name == "queue" else p
+        for p in spec.ports
+    )
+    return NodeSpec(spec.id, spec.kind, ports, True, spec.min_children, spec.max_children, spec.description)
+
+
+def _builtins_410() -> dict[str, NodeSpec]:
+    out = dict(BUILTINS)
+    for loop in ("LoopInt", "LoopBool", "LoopDouble", "LoopString"):
+        out[loop] = _untyped_queue(BUILTINS[loop])
+    out["TryCatch"] = TRYCATCH
+    return out
+
+
+_BUILTINS_BY_VERSION = {"4.6.2": BUILTINS, "4.10.0": _builtins_410()}
+
+
+def builtins_for(version: str) -> dict[str, NodeSpec]:
+    """The built-in nodes a version registers (BUILTINS is 4.6.2's)."""
+    return _BUILTINS_BY_VERSION[version]

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 from btgen.diagnostics import Diagnostic, Loc
-from btgen.lang.catalogue import BUILTINS, NodeSpec
+from btgen.lang.catalogue import NodeSpec, builtins_for
+from btgen.lang.versions import DEFAULT_VERSION, Semantics, semantics
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,7 @@ class Node:
     children: tuple[Node, ...]
     loc: Loc
     autoremap: bool = False  # SubTree only
+    tag: str = ""  # the element as written: the ID, or Action/Condition/... for the explicit form
 
     @property
     def display_name(self) -> str:
@@ -86,6 +88,22 @@ class TreeDef:
 
 
 @dataclass(frozen=True)
+class ProvidedEntry:
+    """A blackboard entry the application sets before the first tick (`--entry`)."""
+
+    tree: Optional[str]  # None: the root blackboard; else every instance of that BehaviorTree's
+    key: str
+    type: str  # canonical type name (values.normalize_type)
+
+    def applies_to(self, tree_id: str, root: bool) -> bool:
+        return self.tree == tree_id if self.tree is not None else root
+
+    @property
+    def option(self) -> str:
+        return f"--entry {self.tree + ':' if self.tree else ''}{self.key}={self.type}"
+
+
+@dataclass(frozen=True)
 class Mission:
     path: str  # as the user gave it
     trees: tuple[TreeDef, ...]  # in file order, includes after their includer's own trees
@@ -97,6 +115,19 @@ class Mission:
     enums: tuple[tuple[str, int], ...] = ()
     # User port types (usertypes.py: `--type NAME=CPP_TYPE@HEADER`): usertypes.UserType each.
     user_types: tuple[Any, ...] = ()
+    # The BehaviorTree.CPP release whose semantics the mission was loaded for (versions.py).
+    btcpp: str = DEFAULT_VERSION
+
+    @property
+    def semantics(self) -> Semantics:
+        return semantics(self.btcpp)
+
+    @property
+    def builtins(self) -> dict[str, NodeSpec]:
+        return builtins_for(self.btcpp)
+
+    # Entries the application provides (entries.py: `--entry [TREE:]NAME=TYPE`).
+    provided: tuple[ProvidedEntry, ...] = ()
 
     def tree(self, tree_id: str) -> TreeDef:
         for t in self.trees:
@@ -106,8 +137,9 @@ class Mission:
 
     def spec(self, node_id: str) -> NodeSpec:
         """The spec of a node ID: built in, or declared in TreeNodesModel."""
-        if node_id in BUILTINS:
-            return BUILTINS[node_id]
+        builtins = builtins_for(self.btcpp)
+        if node_id in builtins:
+            return builtins[node_id]
         for m in self.models:
             if m.id == node_id:
                 return m

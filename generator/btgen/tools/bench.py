@@ -21,12 +21,12 @@ from __future__ import annotations
 import argparse
 import subprocess
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Optional
 
 from btgen import resources
 from btgen.diagnostics import InternalError
+from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 from btgen.tools.cppengine import build_mission_executable
 
 BENCH_MAIN = resources.BENCH_DIR / "bench_main.cpp"
@@ -49,11 +49,9 @@ KEYS = (
 )
 
 
-def build_bench(
-    mission_path: str, warnings: Optional[list] = None, models: Sequence[str] = (), main_tree: Optional[str] = None
-) -> Path:
+def build_bench(mission_path: str, warnings: Optional[list] = None, opts: CompileOptions = DEFAULTS) -> Path:
     """The mission's benchmark executable (cached); errors as cppengine.build_cpp."""
-    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, models, main_tree)
+    return build_mission_executable(mission_path, (BENCH_MAIN, ALLOC_COUNTER), BENCH_FLAGS, warnings, opts)
 
 
 def parse_report(text: str) -> dict[str, str]:
@@ -86,9 +84,7 @@ def bench_command(args: argparse.Namespace) -> int:
         print(f"btgen: error: --ticks must be at least 1, not {args.ticks}", file=sys.stderr)
         return 2
     warnings: list = []
-    binary = build_bench(
-        args.mission, warnings, tuple(getattr(args, "models", None) or ()), getattr(args, "main_tree", None)
-    )
+    binary = build_bench(args.mission, warnings, options_from_args(args))
     for w in warnings:
         print(str(w), file=sys.stderr)
     report = run_report(binary, args.ticks)

@@ -26,16 +26,16 @@ import shutil
 import subprocess
 import sys
 import tempfile
-from collections.abc import Sequence
 from functools import cache
 from pathlib import Path
 from typing import Optional
 
-from btgen import resources
+from btgen import pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import render
 from btgen.compiler import mission_stem
 from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError
+from btgen.pipeline import DEFAULTS, CompileOptions
 
 ROOT = resources.ROOT
 RUNTIME_INCLUDE = resources.RUNTIME_INCLUDE
@@ -92,15 +92,14 @@ def _runtime_headers() -> list[Path]:
 def build_cpp(
     mission_path: str,
     warnings: Optional[list] = None,
-    models: Sequence[str] = (),
-    main_tree: Optional[str] = None,
-    enums: tuple = (),
+    opts: CompileOptions = DEFAULTS,
+    substitute: Optional[str] = None,
 ) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
-    The mission's warnings are appended to `warnings` when it is given. `models` and
-    `main_tree`: as load_mission's; `enums`: scripting enums (enums.from_args)."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, models, main_tree, enums)
+    The mission's warnings are appended to `warnings` when it is given; `opts`: the
+    mission options of every command (btgen.pipeline)."""
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, opts, substitute)
 
 
 def _check_no_user_nodes(mission) -> None:
@@ -120,23 +119,26 @@ def build_mission_executable(
     sources: tuple[Path, ...],
     flags: tuple[str, ...],
     warnings: Optional[list] = None,
-    models: Sequence[str] = (),
-    main_tree: Optional[str] = None,
-    enums: tuple = (),
+    opts: CompileOptions = DEFAULTS,
+    substitute: Optional[str] = None,
 ) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
-    from btgen.frontend import enums as enums_mod
-    from btgen.frontend.loader import load_mission
     from btgen.ir.lower import lower
 
-    mission = enums_mod.apply(load_mission(mission_path, models, main_tree), enums)
+    mission = pipeline.load(mission_path, opts)
     if warnings is not None:
         warnings.extend(mission.warnings)
     _check_no_user_nodes(mission)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
-    outputs = render(lower(mission), mission_stem(mission_path), None)
+    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
+    outputs = render(program, mission_stem(mission_path), None, opts.namespace)
     stem = mission_stem(mission_path)
     cxx = compiler()
     identity = _compiler_identity(cxx)
@@ -147,7 +149,7 @@ def build_mission_executable(
                 f"cannot build the C++ executor: no C++ compiler `{cxx}` on PATH (install g++ or clang++, or set CXX)",
             )
         )
-    template = f"{naming.namespace_name(stem)}::{naming.pascal_case(stem)}"
+    template = f"{naming.mission_namespace(stem, opts.namespace)}::{naming.pascal_case(stem)}"
     header = outputs[0].name
     defines = (f'-DBTGEN_MISSION_HEADER="{header}"', f"-DBTGEN_MISSION_TEMPLATE={template}")
 
@@ -230,16 +232,12 @@ def _inherited_fd(path: str) -> Optional[int]:
 
 
 def run_cpp(
-    mission_path: str,
-    scenario_path: str,
-    models: Sequence[str] = (),
-    main_tree: Optional[str] = None,
-    enums: tuple = (),
+    mission_path: str, scenario_path: str, opts: CompileOptions = DEFAULTS, substitute: Optional[str] = None
 ) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings, models, main_tree, enums)
+    binary = build_cpp(mission_path, warnings, opts, substitute)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()

@@ -30,6 +30,13 @@ Feature sets:
   generated code's own names), Move's typed ports first written with the other kind of
   number (``i0 := 2.0`` for an int port, ``d := 1`` for a double one).
 
+- ``edges``: all of ``full`` with the edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md):
+  Repeat/Retry counts 0, -0, -2, INT_MIN, INT_MAX and literals read as a prefix (``2.5``,
+  ``1abc``, ``0x3``); Parallel thresholds 0, -2, INT_MIN and below minus the children;
+  durations 0, ``-0``, ``0x9``, ``5x``; Loop items spelt oddly (``1.5``, `` 2.5``, empty
+  strings); Switch cases left out or empty; ``else``/``if_empty`` IDLE (an error in both
+  engines); ``_skipIf="true"`` on any node; empty strings written to entries.
+
 Every mission the generator writes passes ``btgen validate`` by construction
 (the differential driver counts and reports any that does not); whether the
 C++ back end compiles it is decided by ``btgen compile`` itself, so a feature
@@ -48,7 +55,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Optional
 
-FEATURE_SETS = ("control", "full", "dynamic", "hostile")
+FEATURE_SETS = ("control", "full", "dynamic", "hostile", "edges")
+
+# `edges`: the values at the edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md): counts
+# that never start a loop, INT_MIN/INT_MAX, literals read as a prefix, zero durations.
+INT_MIN_TEXT, INT_MAX_TEXT = "-2147483648", "2147483647"
+EDGE_COUNTS = ("0", "-0", "-2", INT_MIN_TEXT, INT_MAX_TEXT, "2.5", "1abc", "0x3", "-1", "1", "2")
+EDGE_DURATIONS = ("0", "-0", "0x9", "5x", "1.9")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
 
 CONTROLS = (
@@ -235,8 +248,11 @@ class _Gen:
     def __init__(self, seed: int, features: str) -> None:
         if features not in FEATURE_SETS:
             raise ValueError(f"unknown feature set `{features}` (use {', '.join(FEATURE_SETS)})")
-        self.rng = random.Random(seed * 7919 + {"control": 0, "full": 1, "dynamic": 2, "hostile": 3}[features])
-        self.data = features in ("full", "dynamic", "hostile")
+        self.rng = random.Random(
+            seed * 7919 + {"control": 0, "full": 1, "dynamic": 2, "hostile": 3, "edges": 4}[features]
+        )
+        self.data = features in ("full", "dynamic", "hostile", "edges")
+        self.edges = features == "edges"
         self.dyn = features in ("dynamic", "hostile")
         self.hostile = features == "hostile"
         self.counter = 0
@@ -375,7 +391,9 @@ class _Gen:
         return self.decorator(depth, tree, scope)
 
     def with_conditions(self, scope: _Scope) -> str:
-        """Random pre/post-condition attributes (data side only)."""
+        """Random pre/post-condition attributes (data side only); `edges`: skipped anywhere."""
+        if self.edges and self.rng.random() < 0.06:
+            return ' _skipIf="true"'
         if not self.data or self.rng.random() > 0.15:
             return ""
         out = []
@@ -395,13 +413,18 @@ class _Gen:
         kids = self.children(depth, tree, scope)
         n = len(kids)
         attrs = ""
+        # thresholds never above the children: that is a deliberate compile-time refusal
+        # (edges table P3), where 4.6.2 throws only when the node is ticked
+        edge: tuple = ()
+        if self.edges:
+            edge = (0, -2, -n - 1, -n - 5, INT_MIN_TEXT, f"{min(n, 1)}.5", "-0")
         if kind == "Parallel":
             if self.rng.random() < 0.7:
-                attrs += f' success_count="{self.rng.choice((-1, 1, n, -n, max(1, n - 1)))}"'
+                attrs += f' success_count="{self.rng.choice((-1, 1, n, -n, max(1, n - 1)) + edge)}"'
             if self.rng.random() < 0.7:
-                attrs += f' failure_count="{self.rng.choice((1, -1, n, -n, max(1, n - 1)))}"'
+                attrs += f' failure_count="{self.rng.choice((1, -1, n, -n, max(1, n - 1)) + edge)}"'
         elif kind == "ParallelAll" and self.rng.random() < 0.7:
-            attrs = f' max_failures="{self.rng.choice((1, -1, n, 0, max(1, n - 1)))}"'
+            attrs = f' max_failures="{self.rng.choice((1, -1, n, 0, max(1, n - 1)) + edge)}"'
         return f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>"
 
     def safe_condition(self, scope: _Scope) -> str:
@@ -419,8 +442,8 @@ class _Gen:
         n = self.rng.randint(2, 6)
         # `variable` is a string port: an entry it reads holds a string (btgen types every entry).
         var = "{" + scope.var("v" if self.dyn and self.rng.random() < 0.4 else "s") + "}"
-        cases = [self.rng.choice(("a", "b", "c", "x")) for _ in range(n)]
-        attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases))
+        cases = [self.rng.choice(("a", "b", "c", "x") + (("", None, None) if self.edges else ())) for _ in range(n)]
+        attrs = "".join(f" case_{i + 1}={_xml_attr(c)}" for i, c in enumerate(cases) if c is not None)
         kids = [self.node(depth + 1, tree, scope) for _ in range(n + 1)]
         return (
             f"<Switch{n}{self.name_attr()} variable={_xml_attr(var)}{attrs}{self.with_conditions(scope)}>"
@@ -432,17 +455,22 @@ class _Gen:
         pool = DECORATORS + (DATA_DECORATORS if self.data else ())
         kind = self.rng.choice(pool)
         rng = self.rng
+        if self.edges and rng.random() < 0.3:
+            kind = rng.choice(("Repeat", "RetryUntilSuccessful"))
+        counts: tuple = EDGE_COUNTS if self.edges else (-1, 0, 1, 2, 3)
+        durations: tuple = EDGE_DURATIONS if self.edges else ()
         attrs = {
-            "Repeat": f' num_cycles="{rng.choice((-1, 0, 1, 2, 3))}"',
-            "RetryUntilSuccessful": f' num_attempts="{rng.choice((-1, 0, 1, 2, 3))}"',
+            "Repeat": f' num_cycles="{rng.choice(counts)}"',
+            "RetryUntilSuccessful": f' num_attempts="{rng.choice(counts)}"',
             "RunOnce": rng.choice(("", ' then_skip="true"', ' then_skip="false"')),
-            "Timeout": f' msec="{rng.choice((0, 5, 15, 40))}"',
-            "Delay": f' delay_msec="{rng.choice((0, 10, 30))}"',
+            "Timeout": f' msec="{rng.choice((0, 5, 15, 40) + durations)}"',
+            "Delay": f' delay_msec="{rng.choice((0, 10, 30) + durations)}"',
         }.get(kind, "")
         if kind == "Precondition":
             attrs = f" if={_xml_attr(self.cond_expr(scope))}"
             if rng.random() < 0.7:
-                attrs += f' else="{rng.choice(("FAILURE", "SUCCESS", "SKIPPED", "RUNNING"))}"'
+                status = rng.choice(("FAILURE", "SUCCESS", "SKIPPED", "RUNNING"))
+                attrs += f' else="{"IDLE" if self.edges and rng.random() < 0.1 else status}"'
         elif kind.startswith("Loop"):
             attrs = self.loop_ports(kind, scope)
         elif kind in ("SkipUnlessUpdated", "WaitValueUpdate"):
@@ -453,10 +481,10 @@ class _Gen:
     def loop_ports(self, kind: str, scope: _Scope) -> str:
         rng = self.rng
         elem = {
-            "LoopInt": ("1", "2", "3", "-4"),
+            "LoopInt": ("1", "2", "3", "-4") + (("1.5", "2x", "-0", INT_MIN_TEXT) if self.edges else ()),
             "LoopBool": ("true", "false", "1", "0"),
-            "LoopDouble": ("0.5", "1.25", "2", "-3.5"),
-            "LoopString": ("a", "b", "kitchen"),
+            "LoopDouble": ("0.5", "1.25", "2", "-3.5") + ((" 2.5", "1e1x", "-0") if self.edges else ()),
+            "LoopString": ("a", "b", "kitchen") + (("", " ") if self.edges else ()),
         }[kind]
         # Each loop writes an entry of its own element type (LoopInt's `int` is not a script's integer).
         target = scope.var({"LoopInt": "li", "LoopBool": "lb", "LoopDouble": "ld", "LoopString": "ls"}[kind])
@@ -466,7 +494,8 @@ class _Gen:
             queue = "{q}"
         out = f" queue={_xml_attr(queue)} value={_xml_attr('{' + target + '}')}"
         if rng.random() < 0.5:
-            out += f' if_empty="{rng.choice(("SUCCESS", "FAILURE", "SKIPPED"))}"'
+            status = rng.choice(("SUCCESS", "FAILURE", "SKIPPED"))
+            out += f' if_empty="{"IDLE" if self.edges and rng.random() < 0.1 else status}"'
         return out
 
     def subtree(self, tree: int, scope: _Scope) -> str:
@@ -512,7 +541,8 @@ class _Gen:
         if r < 0.12:
             return f"<AlwaysFailure{self.name_attr()}{self.with_conditions(scope)}/>"
         if r < 0.17:
-            return f'<Sleep{self.name_attr()} msec="{rng.choice((0, 10, 25))}"{self.with_conditions(scope)}/>'
+            msec = rng.choice((0, 10, 25) + (EDGE_DURATIONS if self.edges else ()))
+            return f'<Sleep{self.name_attr()} msec="{msec}"{self.with_conditions(scope)}/>'
         if self.data and r < 0.40:
             d = rng.random()
             if d < 0.3:
@@ -538,7 +568,8 @@ class _Gen:
                         f'<SetBlackboard{self.name_attr()} value="{{{self.int_var(scope)}}}" '
                         f'output_key="{self.int_var(scope)}"/>'
                     )
-                return f'<SetBlackboard{self.name_attr()} value="{rng.choice("abcx")}" output_key="{scope.var("s")}"/>'
+                text = rng.choice(("a", "b", "c", "x") + (("",) if self.edges else ()))  # `edges`: an empty string
+                return f'<SetBlackboard{self.name_attr()} value="{text}" output_key="{scope.var("s")}"/>'
             if scope.main_like:
                 if d < 0.85:
                     key = "v" if self.dyn and rng.random() < 0.3 else "u"

@@ -1,14 +1,19 @@
 """`btgen graph`: a picture of a mission (Graphviz), optionally coloured by a run.
 
-    btgen graph MISSION.xml -o FILE.svg|FILE.dot [--trace FILE [--tick N] | --btlog FILE [--record N]]
+    btgen graph MISSION.xml -o FILE.svg|FILE.dot [--models FILE.xml] [--main-tree ID]
+                [--trace FILE [--tick N] | --btlog FILE [--record N]]
 
-The whole main tree with its SubTrees expanded: each SubTree instance is a
-cluster (labelled with its tree ID and the path BehaviorTree.CPP gives it),
-node kinds have their own shapes (Control: box, Decorator: hexagon, Action:
-rounded box, Condition: ellipse, SubTree: 3-D box), every node shows its name,
-its ID when the name differs, its UID and its ports as written.
+The whole main tree with its SubTrees expanded. Left to right is the order in
+which a parent ticks its children. Each tree instance is a frame of its own
+(labelled with its tree ID and the path BehaviorTree.CPP gives it), the main
+tree on top and every SubTree instance below the one before, in creation order,
+with a dashed arrow from its SubTree node: the picture is as wide as its widest
+tree, not as all of them side by side. Node kinds have their own shapes
+(Control: box, Decorator: hexagon, Action: rounded box, Condition: ellipse,
+SubTree: 3-D box), every node shows its name, its ID when the name differs, its
+UID and its ports as written.
 
-With a status trace (`btgen run` output, shared/conformance/FORMAT.md) the
+With a status trace (`btgen run` output, tests/conformance/FORMAT.md) the
 nodes are filled with their statuses at the end of tick N (default: the last
 tick in the file). A .btlog (Groot2's FileLogger2 format, written by
 btgen::btlog::FileLogger or BehaviorTree.CPP) has no tick boundaries, so it
@@ -234,17 +239,23 @@ def dot_text(
     status: Optional[dict[int, str]] = None,
     caption: str = "",
 ) -> str:
+    """The Graphviz text: children left to right in the order their parent ticks them.
+
+    Graphviz keeps each node's out-edge order (`ordering=out`) when the edges of a parent are
+    written in the order of its children and nothing else pulls nodes sideways; clusters
+    nested in the tree did (a cluster cannot overlap another, so instances were pushed
+    aside and their neighbours with them), so each instance is a block of its own."""
     out = [
         "digraph mission {",
         "  rankdir=TB;",
-        '  node [fontname="Helvetica", fontsize=10];',
+        "  ordering=out;",
+        "  nodesep=0.12;",
+        "  ranksep=0.35;",
+        '  node [fontname="Helvetica", fontsize=10, margin="0.06,0.03"];',
         "  edge [arrowsize=0.6];",
         f"  label={_q(caption or mission.path)};",
         "  labelloc=t;",
     ]
-    members: dict[int, list[GNode]] = {}
-    for n in nodes:
-        members.setdefault(n.cluster, []).append(n)
 
     def node_line(n: GNode) -> str:
         shape, style = SHAPES.get(n.kind, ("box", ""))
@@ -256,20 +267,36 @@ def dot_text(
             fill, label = FILL[st], _label(n)
         return f"n{n.uid} [label={_q(label)}, shape={shape}, style={_q(','.join(styles))}, fillcolor={_q(fill)}];"
 
+    # Each tree instance is a block of its own: the main tree first, then every SubTree
+    # instance in creation order, each below the one before, framed, with a dashed arrow from
+    # its SubTree node. Expanded in place, the instances added their widths side by side (the
+    # Lab Tour was 9,764 pt wide); stacked, the picture is as wide as its widest tree.
+    members: dict[int, list[GNode]] = {}
+    for n in nodes:
+        members.setdefault(n.cluster, []).append(n)
+    by_uid = {n.uid: n for n in nodes}
+    depth: dict[int, int] = {}
+    deepest: list[int] = []  # per block: a node on its lowest rank
     for c, (tree_id, path) in enumerate(clusters):
-        if c == 0:
-            for n in members.get(0, []):
-                out.append("  " + node_line(n))
-            continue
+        block = members.get(c, [])
+        for n in block:
+            depth[n.uid] = depth[n.parent] + 1 if n.parent and by_uid[n.parent].cluster == c else 0
+        deepest.append(max(block, key=lambda n: (depth[n.uid], -n.uid)).uid if block else 0)
+        title = f"{tree_id} (main tree)" if c == 0 else f"{tree_id} ({path})"
         out.append(f"  subgraph cluster_{c} {{")
-        out.append(f"    label={_q(f'{tree_id} ({path})')};")
-        out.append('    style="rounded,dashed";')
-        for n in members.get(c, []):
+        out.append(f"    label={_q(title)};")
+        out.append(f'    style="rounded,{"solid" if c == 0 else "dashed"}";')
+        for n in block:
             out.append("    " + node_line(n))
         out.append("  }")
-    for n in nodes:
-        if n.parent:
+    for n in nodes:  # UID order: each parent's edges in the order of its children
+        if n.parent and by_uid[n.parent].cluster == n.cluster:
             out.append(f"  n{n.parent} -> n{n.uid};")
+        elif n.parent:
+            out.append(f"  n{n.parent} -> n{n.uid} [style=dashed, constraint=false];")
+    for c in range(1, len(clusters)):
+        if deepest[c - 1] and members.get(c):
+            out.append(f"  n{deepest[c - 1]} -> n{members[c][0].uid} [style=invis, weight=0];")
     if status is not None:
         cells = "".join(
             f'<td bgcolor="{FILL[s]}">{s}</td>' for s in ("RUNNING", "SUCCESS", "FAILURE", "SKIPPED", "IDLE")
@@ -284,7 +311,8 @@ def dot_text(
 
 
 def graph_command(args) -> int:
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
+    from btgen.pipeline import options_from_args
 
     output: str = args.output
     ext = os.path.splitext(output)[1].lower()
@@ -300,7 +328,7 @@ def graph_command(args) -> int:
     if args.record is not None and args.btlog is None:
         print("btgen: error: --record needs --btlog", file=sys.stderr)
         return 2
-    mission = load_mission(args.mission)
+    mission = pipeline.load(args.mission, options_from_args(args))
     nodes, clusters = walk(mission)
     status = None
     caption = f"{mission.path} (main tree {mission.main_tree})"

@@ -37,6 +37,11 @@
 // worker and only touches what it captured and its token.
 #pragma once
 
+#ifdef BTGEN_BARE_METAL
+#error \
+    "btgen/async_call.hpp needs an operating system (threads): it is not built for bare-metal targets (mcu/README.md)"
+#endif
+
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>

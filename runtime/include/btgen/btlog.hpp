@@ -19,6 +19,11 @@
 // counted (dropped()), never waited for.
 #pragma once
 
+#ifdef BTGEN_BARE_METAL
+#error \
+    "btgen/btlog.hpp needs an operating system (a writer thread and files): it is not built for bare-metal targets (mcu/README.md)"
+#endif
+
 #include <array>
 #include <atomic>
 #include <cerrno>

@@ -63,26 +63,27 @@ inline Ref of(bool v) noexcept { return of_bool(v); }
 inline Ref of(Status v) noexcept { return of_status(v); }
 inline Ref of(std::string_view v) noexcept { return of_string(v); }
 
-// A message under construction (truncated, never overflowing).
 // A mission's scripting enums (registerScriptingEnum): value names and values.
 struct ScriptingEnum {
   std::string_view name;
   double value;
 };
 
+// A message under construction (truncated, never overflowing). The prefix is
+// copied in only when the message is written to or read: a compiled script
+// builds one before every fallible dynamic operation, and most never fail.
 class Msg {
  public:
-  explicit Msg(std::string_view prefix = {}) noexcept { add(prefix); }
+  explicit Msg(std::string_view prefix = {}) noexcept : prefix_(prefix) {}
   // With the scripting enums a string read as a number may name (StringToDouble).
   Msg(std::string_view prefix, const ScriptingEnum* enums, std::size_t enum_count) noexcept
-      : enums_(enums), enum_count_(enum_count) {
-    add(prefix);
-  }
+      : prefix_(prefix), enums_(enums), enum_count_(enum_count) {}
   Msg(const Msg&) = delete;
   Msg& operator=(const Msg&) = delete;
 
   Msg& add(std::string_view t) noexcept {
-    for (const char c : t) put(c);
+    flush();
+    for (const char c : t) push(c);
     return *this;
   }
   Msg& add_int(std::int64_t v) noexcept {
@@ -90,9 +91,13 @@ class Msg {
     return add(t.view());
   }
   void put(char c) noexcept {
-    if (size_ < sizeof buf_) buf_[size_++] = c;
+    flush();
+    push(c);
   }
-  [[nodiscard]] std::string_view view() const noexcept { return std::string_view(buf_, size_); }
+  [[nodiscard]] std::string_view view() const noexcept {
+    flush();
+    return std::string_view(buf_, size_);
+  }
   // The value of scripting enum `name`, if the mission registered it.
   [[nodiscard]] bool enum_value(std::string_view name, double& out) const noexcept {
     for (std::size_t i = 0; i < enum_count_; ++i) {
@@ -105,8 +110,19 @@ class Msg {
   }
 
  private:
-  char buf_[1024];
-  std::size_t size_ = 0;
+  void push(char c) const noexcept {
+    if (size_ < sizeof buf_) buf_[size_++] = c;
+  }
+  void flush() const noexcept {
+    if (prefix_.empty()) return;
+    const std::string_view p = prefix_;
+    prefix_ = {};
+    for (const char c : p) push(c);
+  }
+
+  mutable char buf_[1024];
+  mutable std::size_t size_ = 0;
+  mutable std::string_view prefix_;
   const ScriptingEnum* enums_ = nullptr;
   std::size_t enum_count_ = 0;
 };

@@ -39,6 +39,11 @@
 // that reads them and drops them).
 #pragma once
 
+#ifdef BTGEN_BARE_METAL
+#error \
+    "btgen/groot2.hpp needs an operating system (threads and ZeroMQ sockets): it is not built for bare-metal targets (mcu/README.md)"
+#endif
+
 #include <algorithm>
 #include <array>
 #include <atomic>

@@ -3,7 +3,7 @@
 // A mission takes its observer as a template parameter. The default,
 // NoObserver, has an empty inline hook, so an unobserved mission pays
 // nothing. TraceWriter prints every change in the conformance trace format
-// (shared/conformance/FORMAT.md):
+// (tests/conformance/FORMAT.md):
 //
 //     <uid> <ID> "<name>" <FROM> -> <TO>
 //

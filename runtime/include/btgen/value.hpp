@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <string_view>
 #include <system_error>
@@ -62,6 +63,102 @@ enum class Errc : std::uint8_t {
 inline constexpr std::size_t kIntTextMax = 20;
 inline constexpr std::size_t kDoubleTextMax = 317;
 
+#ifdef BTGEN_BARE_METAL
+namespace value_detail {
+
+// printf("%f", v) for a finite or infinite v, without printf: the exact binary value times
+// 10^6, rounded to nearest with ties to even (as glibc rounds), in decimal with six
+// decimals. Writes at most kDoubleTextMax bytes to `out` (capacity `cap` > that) and
+// returns how many. Fixed storage: a double is m * 2^e with m < 2^53 and e <= 971, so
+// m * 10^6 * 2^e needs fewer than 1,050 bits.
+inline std::size_t format_fixed6(double v, char* out, std::size_t cap) noexcept {
+  constexpr std::size_t kWords = 36;  // 1,152 bits
+  std::uint64_t bits = 0;
+  static_assert(sizeof bits == sizeof v, "IEEE-754 binary64 doubles");
+  std::memcpy(&bits, &v, sizeof bits);
+  std::size_t n = 0;
+  auto put = [&](char c) {
+    if (n + 1 < cap) out[n++] = c;
+  };
+  if ((bits >> 63) != 0) put('-');
+  const int biased = static_cast<int>((bits >> 52) & 0x7FFu);
+  std::uint64_t m = bits & ((std::uint64_t{1} << 52) - 1u);
+  if (biased == 0x7FF) {  // inf (nan is handled by the caller)
+    put('i');
+    put('n');
+    put('f');
+    return n;
+  }
+  int e = biased == 0 ? -1074 : biased - 1075;
+  if (biased != 0) m |= std::uint64_t{1} << 52;
+  // x = m * 10^6, as 32-bit words, least significant first.
+  std::uint32_t x[kWords] = {};
+  std::uint64_t lo = (m & 0xFFFFFFFFu) * 1000000u;
+  std::uint64_t hi = (m >> 32) * 1000000u + (lo >> 32);
+  x[0] = static_cast<std::uint32_t>(lo);
+  x[1] = static_cast<std::uint32_t>(hi);
+  x[2] = static_cast<std::uint32_t>(hi >> 32);
+  if (e > 0) {
+    // Exact: shift left by e.
+    const int words = e / 32, shift = e % 32;
+    for (int i = static_cast<int>(kWords) - 1; i >= 0; --i) {
+      const int from = i - words;
+      std::uint32_t w = 0;
+      if (from >= 0) {
+        w = x[from] << shift;
+        if (shift != 0 && from >= 1) w |= x[from - 1] >> (32 - shift);
+      }
+      x[i] = w;
+    }
+  } else if (e < 0) {
+    // q = x >> -e, rounded to nearest, ties to even, on the bits shifted out (x < 2^96 here).
+    constexpr int kBits = 96;
+    const int s = -e;
+    auto bit = [&x](int k) { return k >= 0 && k < kBits && ((x[k / 32] >> (k % 32)) & 1u) != 0; };
+    const bool half = bit(s - 1);
+    bool below = false;
+    for (int k = 0; k < s - 1 && k < kBits && !below; ++k) below = bit(k);
+    std::uint32_t q[3] = {};
+    for (int k = s; k < kBits; ++k) {
+      if (bit(k)) q[(k - s) / 32] |= 1u << ((k - s) % 32);
+    }
+    if (half && (below || (q[0] & 1u) != 0)) {
+      for (std::uint32_t& w : q) {
+        if (++w != 0) break;
+      }
+    }
+    x[0] = q[0];
+    x[1] = q[1];
+    x[2] = q[2];
+  }
+  // Decimal digits of x, least significant first, nine at a time.
+  char digits[kDoubleTextMax + 16];
+  std::size_t nd = 0;
+  for (;;) {
+    bool zero = true;
+    std::uint64_t rem = 0;
+    for (int i = static_cast<int>(kWords) - 1; i >= 0; --i) {
+      const std::uint64_t cur = (rem << 32) | x[i];
+      x[i] = static_cast<std::uint32_t>(cur / 1000000000u);
+      rem = cur % 1000000000u;
+      zero = zero && x[i] == 0;
+    }
+    for (int k = 0; k < 9 && nd < sizeof digits; ++k) {
+      digits[nd++] = static_cast<char>('0' + static_cast<int>(rem % 10u));
+      rem /= 10u;
+    }
+    if (zero) break;
+  }
+  while (nd > 7 && digits[nd - 1] == '0') --nd;  // leading zeros, keeping "0.dddddd"
+  for (std::size_t i = nd; i-- > 6;) put(digits[i]);
+  put('.');
+  for (std::size_t i = 6; i-- > 0;) put(digits[i]);
+  return n;
+}
+
+}  // namespace value_detail
+#endif
+
 // The text of a number, held in place (valid while the object lives):
 //     const btgen::NumberText text(2.5);   // text.view() == "2.500000"
 class NumberText {
@@ -100,8 +197,14 @@ class NumberText {
       buf_[size_] = '\0';
       return view();
     }
+#ifdef BTGEN_BARE_METAL
+    // newlib-nano's printf has no %f (and newlib's allocates for it): the exact digits, computed here.
+    size_ = value_detail::format_fixed6(v, buf_, sizeof buf_);
+    buf_[size_] = '\0';
+#else
     const int n = std::snprintf(buf_, sizeof buf_, "%f", v);
     size_ = n < 0 ? 0 : (static_cast<std::size_t>(n) < sizeof buf_ ? static_cast<std::size_t>(n) : sizeof buf_ - 1);
+#endif
     return view();
   }
 
@@ -267,7 +370,8 @@ inline Errc parse_integer(std::string_view text, std::int64_t lo, std::int64_t h
 // the text after the number is ignored. A value too large (inf) or too
 // small (zero from non-zero digits) is out of range; the latter only with
 // `check_underflow` (SwitchNode reads it as 0).
-inline Errc parse_double_from_chars(std::string_view text, double& out, bool check_underflow = true) noexcept {
+inline Errc parse_double_from_chars(std::string_view text, double& out, bool check_underflow = true,
+                                    std::size_t* consumed = nullptr) noexcept {
   using namespace value_detail;
   Scan s;
   std::size_t i = 0;
@@ -277,6 +381,7 @@ inline Errc parse_double_from_chars(std::string_view text, double& out, bool che
   }
   if (!scan_special(text, i, s) && !scan_decimal(text, i, s)) return Errc::kInvalid;
   s.start = 0;
+  if (consumed != nullptr) *consumed = s.end;
   if (s.is_nan) {
     out = std::copysign(std::numeric_limits<double>::quiet_NaN(), s.negative ? -1.0 : 1.0);
     return Errc::kOk;
@@ -401,21 +506,27 @@ inline Errc int_to_status(std::int64_t v, Status& out) noexcept {
 namespace btgen {
 
 // SwitchNode's CheckStringEquality: equal as text, or as integers (an
-// optional '-' and digits, in int range, the rest ignored), or as reals
-// (std::from_chars) within FLT_EPSILON.
-inline bool switch_equal(std::string_view a, std::string_view b) noexcept {
+// optional '-' and digits, in int range), or as reals (std::from_chars)
+// within FLT_EPSILON. 4.6.2 reads the number at the start of the text and
+// ignores the rest; from 4.10.0 (`whole`, Semantics::switch_whole_parse) the
+// number must be the whole text.
+inline bool switch_equal(std::string_view a, std::string_view b, bool whole = false) noexcept {
   if (a == b) return true;
+  const auto integer = [whole](std::string_view t, std::int64_t& v) noexcept {
+    if (parse_integer(t, INT32_MIN, INT32_MAX, v) != Errc::kOk) return false;
+    if (!whole) return true;
+    std::size_t i = (!t.empty() && t[0] == '-') ? 1 : 0;
+    while (i < t.size() && value_detail::is_digit(t[i])) ++i;
+    return i == t.size();
+  };
+  const auto real = [whole](std::string_view t, double& v) noexcept {
+    std::size_t end = 0;
+    return parse_double_from_chars(t, v, false, &end) == Errc::kOk && (!whole || end == t.size());
+  };
   std::int64_t ia = 0, ib = 0;
-  if (parse_integer(a, INT32_MIN, INT32_MAX, ia) == Errc::kOk &&
-      parse_integer(b, INT32_MIN, INT32_MAX, ib) == Errc::kOk && ia == ib) {
-    return true;
-  }
+  if (integer(a, ia) && integer(b, ib) && ia == ib) return true;
   double ra = 0.0, rb = 0.0;
-  if (parse_double_from_chars(a, ra, false) == Errc::kOk && parse_double_from_chars(b, rb, false) == Errc::kOk &&
-      std::fabs(ra - rb) <= 1.1920928955078125e-07) {
-    return true;
-  }
-  return false;
+  return real(a, ra) && real(b, rb) && std::fabs(ra - rb) <= 1.1920928955078125e-07;
 }
 
 }  // namespace btgen

@@ -4,7 +4,7 @@
 //
 // reads the scenario (errors and warnings on stderr as path:line:col, before
 // any trace; exit status 1 on errors), then sends up to `ticks` ticks to the
-// root as shared/conformance/FORMAT.md's Execution section says and prints
+// root as tests/conformance/FORMAT.md's Execution section says and prints
 // the status trace on stdout (a run-time error, printed on stderr, ends the
 // run after its tick with exit status 1):
 //

@@ -1,4 +1,4 @@
-// btgen runtime: scenario-driven leaves (shared/conformance/FORMAT.md).
+// btgen runtime: scenario-driven leaves (tests/conformance/FORMAT.md).
 //
 // A scenario file says what every user leaf returns, call by call:
 //

@@ -1,0 +1,213 @@
+"""`btgen models MISSION.xml`: a <TreeNodesModel> inferred from how the nodes are used.
+
+A program registers its leaves, controls and decorators in C++; its XML often declares none
+of them. This reads the mission, its includes, the tree libraries (`--trees`) and the models
+already declared (`--models`, TreeNodesModel of those files) the way the front end does
+(secure XML, positions), but without refusing unknown nodes, and writes one model per node
+ID that is neither built in nor declared:
+
+- its kind from the element and its children: `<Action ID=..>`, `<Condition ID=..>`,
+  `<Control ID=..>`, `<Decorator ID=..>` say it; a node written by its ID is an Action
+  without children, a Decorator with one, a Control with more (a Condition cannot be told
+  from an Action by its use: the file says so in a comment, for the team to review);
+- its ports from its attributes (those 4.6.2 reads as ports: starting with a letter, not
+  `name`), untyped; a port given a literal somewhere is an `input_port`, one only ever
+  given `{key}` an `inout_port` (it may be read or written).
+
+The output is deterministic (models and ports sorted by name). For exact port types the
+program itself can write the file: `BT::writeTreeNodesModelXML(factory)` (README).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+from lxml import etree
+
+from btgen import pipeline
+from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.frontend.xmlsource import Source, read_source
+from btgen.lang.catalogue import BUILTINS, KINDS
+
+_ELEMENT_KINDS = ("Action", "Condition", "Control", "Decorator")
+
+
+@dataclass
+class _Use:
+    kinds: set[str] = field(default_factory=set)  # kinds the elements say (explicit form)
+    children: set[int] = field(default_factory=set)  # child counts of the implicit form
+    literal: set[str] = field(default_factory=set)  # ports given a literal somewhere
+    ports: set[str] = field(default_factory=set)
+    first: Loc = field(default_factory=lambda: Loc("", 1, 1))
+
+
+class _Reader:
+    def __init__(self) -> None:
+        self.files: list[str] = []  # real paths read
+        self.shown: list[str] = []
+        self.declared: set[str] = set()
+        self.trees: set[str] = set()
+        self.uses: dict[str, _Use] = {}
+        self.sources: list[tuple[Source, list[etree._Element]]] = []
+
+    def read(self, path: str, shown: str) -> None:
+        real = os.path.realpath(path)
+        if real in self.files:
+            return
+        self.files.append(real)
+        self.shown.append(shown)
+        src = read_source(path, shown)
+        if src.root.tag != "root":
+            raise UserError.at(
+                src.loc(src.root), f'the root element is <{src.root.tag}>; expected <root BTCPP_format="4">'
+            )
+        trees: list[etree._Element] = []
+        for child in src.root:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "BehaviorTree":
+                trees.append(child)
+                if child.get("ID") is not None:
+                    self.trees.add(child.get("ID") or "")
+            elif child.tag == "TreeNodesModel":
+                self.declared.update(m.get("ID") or "" for m in child if isinstance(m.tag, str))
+            elif child.tag == "include" and child.get("path"):
+                target = os.path.join(os.path.dirname(path), child.get("path") or "")
+                if os.path.isfile(target):  # (a missing include is the front end's to report)
+                    self.read(target, os.path.normpath(os.path.join(os.path.dirname(shown), child.get("path") or "")))
+        self.sources.append((src, trees))
+
+    def collect(self) -> None:
+        for src, trees in self.sources:
+            for tree in trees:
+                stack = [c for c in tree if isinstance(c.tag, str)]
+                while stack:
+                    elem = stack.pop()
+                    kids = [c for c in elem if isinstance(c.tag, str)]
+                    stack.extend(kids)
+                    self._use(elem, len(kids), src)
+
+    def _use(self, elem: etree._Element, children: int, src: Source) -> None:
+        tag = elem.tag
+        if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
+            return
+        node_id = elem.get("ID") if tag in _ELEMENT_KINDS else tag
+        if not node_id or node_id in BUILTINS or node_id in self.declared or node_id in self.trees:
+            return
+        if node_id.startswith("{"):  # a namespaced element: the front end reports it
+            return
+        use = self.uses.get(node_id)
+        if use is None:
+            use = self.uses[node_id] = _Use(first=src.loc(elem))
+        if tag in _ELEMENT_KINDS:
+            use.kinds.add(tag)
+        else:
+            use.children.add(children)
+        for name, value in elem.attrib.items():
+            if not name[:1].isalpha() or name in ("name", "ID"):
+                continue
+            use.ports.add(name)
+            if not (len(value) >= 2 and value.startswith("{") and value.endswith("}")):
+                use.literal.add(name)
+
+
+def _kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
+    if use.kinds:
+        kind = sorted(use.kinds)[0]
+        if len(use.kinds) > 1:
+            warnings.append(
+                Diagnostic(
+                    use.first,
+                    f"`{node_id}` is written as "
+                    + " and ".join(f"<{k}>" for k in sorted(use.kinds))
+                    + f"; <{kind}> is written",
+                    "warning",
+                )
+            )
+        return kind
+    most = max(use.children)
+    kind = "Action" if most == 0 else "Decorator" if most == 1 else "Control"
+    if 0 in use.children and most > 0:
+        warnings.append(
+            Diagnostic(
+                use.first,
+                f"`{node_id}` is used with and without children; written as a {kind}",
+                "warning",
+            )
+        )
+    return kind
+
+
+def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str, list[Diagnostic], list[str]]:
+    """The models file text, the warnings, and the files read (shown paths)."""
+    reader = _Reader()
+    reader.read(mission_path, mission_path)
+    for trees in opts.trees:
+        if os.path.isdir(trees):
+            for f in sorted(os.listdir(trees)):
+                full = os.path.join(trees, f)
+                if f.endswith(".xml") and os.path.isfile(full):
+                    reader.read(full, full)
+        elif os.path.isfile(trees):
+            reader.read(trees, trees)
+        else:
+            raise UserError.at(Loc(trees, 1, 1), "--trees: no such file or folder")
+    for models in opts.models:
+        reader.read(models, models)
+    reader.collect()
+    warnings: list[Diagnostic] = []
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>\n',
+        f"<!-- Node models inferred by `btgen models` from how {os.path.basename(mission_path)} uses them.\n",
+        "     Review them: a <Condition> is written as <Action> (use cannot tell them apart), and\n",
+        '     ports are untyped (give each its type="..."). A port given a literal somewhere is an\n',
+        "     input_port; one only ever given {key} is an inout_port. -->\n",
+        '<root BTCPP_format="4">\n',
+        "  <TreeNodesModel>\n",
+    ]
+    for node_id in sorted(reader.uses):
+        use = reader.uses[node_id]
+        kind = _kind(node_id, use, warnings)
+        ports = sorted(use.ports)
+        if not ports:
+            lines.append(f"    <{kind} ID={quoteattr(node_id)}/>\n")
+            continue
+        lines.append(f"    <{kind} ID={quoteattr(node_id)}>\n")
+        for port in ports:
+            tag = "input_port" if port in use.literal else "inout_port"
+            lines.append(f"      <{tag} name={quoteattr(port)}/>\n")
+        lines.append(f"    </{kind}>\n")
+    lines += ["  </TreeNodesModel>\n", "</root>\n"]
+    return "".join(lines), warnings, reader.shown
+
+
+def models_command(args: argparse.Namespace) -> int:
+    from btgen.compiler import write_if_changed
+
+    opts = pipeline.options_from_args(args)
+    text, warnings, files = infer_models(args.mission, opts)
+    print_diagnostics(warnings)
+    if args.output is None:
+        sys.stdout.write(text)
+        return 0
+    target = Path(args.output)
+    for f in files:
+        if target.exists() and os.path.samefile(f, target):
+            raise UserError(
+                Diagnostic(
+                    Loc(f, 1, 1),
+                    f"`btgen models -o {args.output}` would overwrite this input file: choose another output file",
+                )
+            )
+    try:
+        write_if_changed(target, text)
+    except OSError as e:
+        raise UserError(
+            Diagnostic(Loc(args.output, 1, 1), f"cannot write the models file: {e.strerror or e}")
+        ) from None
+    return 0

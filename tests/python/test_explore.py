@@ -1,0 +1,154 @@
+"""`btgen explore`: the scenarios it writes reach the coverage it claims, on both engines; its
+most-per-tick matches `btgen analyze`'s bound; properties give counterexamples that replay."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from btgen.cli import main
+from btgen.frontend.loader import load_mission
+from btgen.interp.engine import trace_text
+from btgen.interp.scenario import parse_scenario
+
+ROOT = Path(__file__).resolve().parents[2]
+CASES = ROOT / "tests" / "analyze"
+PICK = ROOT / "missions" / "PickPlaceBall.xml"
+
+
+def _explore(capsys, *argv: str) -> tuple[int, dict, str]:
+    rc = main(["explore", "--json", *argv])
+    out, err = capsys.readouterr()
+    return rc, json.loads(out), err
+
+
+def _analyze(capsys, mission: Path) -> dict:
+    assert main(["analyze", "--json", str(mission)]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _trace_coverage(trace: str) -> set:
+    """Nodes and statuses a trace shows (SKIPPED is never stored, so it never shows)."""
+    seen: set = set()
+    for line in trace.splitlines():
+        parts = line.split()
+        if len(parts) >= 4 and parts[0].isdigit() and parts[-2] == "->" and parts[-1] != "IDLE":
+            seen.add(("node", int(parts[0])))
+            seen.add(("outcome", int(parts[0]), parts[-1]))
+    return seen
+
+
+@pytest.mark.parametrize("mission", ["cost.xml", "unreachable.xml", "data.xml"])
+def test_most_per_tick_reached_is_the_analyze_bound(capsys, mission):
+    path = CASES / mission
+    bound = _analyze(capsys, path)["worst_tick"]
+    rc, report, _ = _explore(capsys, "--no-merge", "--ticks", "4", str(path))
+    assert rc == 0
+    assert report["max_nodes_visited_per_tick"] == bound["nodes_visited"]
+    assert report["max_leaf_hooks_per_tick"] == bound["leaf_hooks"]
+    assert report["covered"] == report["goals"]
+
+
+def _check_scenarios(capsys, mission: Path, tmp_path: Path) -> tuple[dict, list[Path]]:
+    out = tmp_path / "scenarios"
+    rc, report, _ = _explore(capsys, "--ticks", "6", "-o", str(out), str(mission))
+    assert rc == 0 and report["covered"] == report["goals"] and not report["uncovered"]
+    files = sorted(out.glob("*.scenario"))
+    assert len(files) == report["scenarios"] >= 1
+    return report, files
+
+
+def test_scenarios_cover_every_node_on_the_interpreter(capsys, tmp_path):
+    for mission in (CASES / "cost.xml", CASES / "data.xml", CASES / "unreachable.xml"):
+        report, files = _check_scenarios(capsys, mission, tmp_path / mission.stem)
+        m = load_mission(str(mission), (), None)
+        covered: set = set()
+        for f in files:
+            covered |= _trace_coverage(trace_text(m, parse_scenario(str(f))))
+        ticked = {g[1] for g in covered if g[0] == "node"}
+        assert len(ticked) == report["nodes_covered"] == report["node_goals"]
+
+
+def test_scenarios_replay_identically_on_the_cpp_engine(capsys, tmp_path):
+    report, files = _check_scenarios(capsys, PICK, tmp_path)
+    m = load_mission(str(PICK), (), None)
+    covered: set = set()
+    for f in files:
+        expected = trace_text(m, parse_scenario(str(f)))
+        got = subprocess.run(
+            [sys.executable, "-m", "btgen", "run", str(PICK), "--scenario", str(f), "--engine", "cpp"],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert got.returncode == 0, got.stderr
+        assert got.stdout == expected
+        covered |= _trace_coverage(got.stdout)
+    assert len({g[1] for g in covered if g[0] == "node"}) == 7
+    # every status of every node (none of this mission's nodes can be SKIPPED)
+    assert len([g for g in covered if g[0] == "outcome"]) == report["goals"] - 7
+
+
+def test_property_counterexample_replays(capsys, tmp_path):
+    out = tmp_path / "cx"
+    rc, report, err = _explore(
+        capsys, "--assert", "never PlaceBall SUCCESS before FindBall FAILURE", "-o", str(out), str(PICK)
+    )
+    assert rc == 1
+    assert report["violations"] == ["never PlaceBall SUCCESS before FindBall FAILURE"]
+    cx = out / "counterexample-1.scenario"
+    trace = trace_text(load_mission(str(PICK), (), None), parse_scenario(str(cx)))
+    assert '7 PlaceBall "PlaceBall" IDLE -> SUCCESS' in trace
+    assert "FindBall IDLE -> FAILURE" not in trace.replace('"FindBall" ', "")
+    assert "trace:" in err and "PlaceBall" in err
+    # a property that holds
+    rc, report, _ = _explore(capsys, "--assert", "never PickBall SUCCESS before FindBall SUCCESS", str(PICK))
+    assert rc == 0 and report["violations"] == []
+    rc, report, _ = _explore(capsys, "--assert", "at most one child of PickMovePlace RUNNING", str(PICK))
+    assert rc == 0 and report["violations"] == []
+
+
+def test_output_folder(capsys, tmp_path):
+    out = tmp_path / "sc"
+    out.mkdir()
+    (out / "PickPlaceBall-099.scenario").write_text("ticks 1\n")  # from an earlier exploration
+    (out / "mine.scenario").write_text("ticks 1\n")
+    rc, report, _ = _explore(capsys, "-o", str(out), str(PICK))
+    assert rc == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(
+        [f"PickPlaceBall-{i:03d}.scenario" for i in range(1, report["scenarios"] + 1)] + ["mine.scenario"]
+    )
+    blocked = tmp_path / "file"
+    blocked.write_text("")
+    assert main(["explore", "-o", str(blocked / "sub"), str(PICK)]) == 1
+    assert capsys.readouterr().err.startswith(f"{blocked / 'sub'}:1:1: error: cannot create the output folder")
+
+
+def test_run_time_errors_are_findings(capsys, tmp_path):
+    mission = tmp_path / "err.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">\n'
+        '<Sequence><Script code="n := 0"/><Fallback><Act/>\n'
+        '<Script name="Oops" code="n := n + missing"/></Fallback></Sequence>\n'
+        '</BehaviorTree><TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n'
+    )
+    rc, report, err = _explore(capsys, "-o", str(tmp_path / "out"), str(mission))
+    assert rc == 1
+    assert report["run_time_errors"] == [
+        f'{mission}:3:36: error: script error in `code` of `Script` "Oops": unknown variable `missing` '
+        "(no blackboard entry of that name; create it with `missing := ...`)"
+    ]
+    text = (tmp_path / "out" / "error-1.scenario").read_text()
+    assert "leaf Act FAILURE" in text
+
+
+def test_bad_property_is_a_usage_error(capsys):
+    assert main(["explore", "--assert", "sometimes X", str(PICK)]) == 2
+    assert "unknown property" in capsys.readouterr().err
+    assert main(["explore", "--assert", "never Nobody SUCCESS", str(PICK)]) == 2
+    assert "no node is named `Nobody`" in capsys.readouterr().err

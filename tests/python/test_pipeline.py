@@ -1,0 +1,239 @@
+"""One pipeline: every command takes the same mission options and reads missions alike.
+
+A mission that needs an option (a scripting enum, a models file, a main tree, a user port
+type, a capacity) is accepted by `validate`, `compile` and `build-info --check` with that
+option and refused by all three without it; every other command that reads a mission takes
+the same options and builds the same CompileOptions from them.
+"""
+
+import subprocess
+import sys
+
+import pytest
+
+from btgen.cli import build_parser
+from btgen.cli import main as cli_main
+from btgen.compiler import main as build_info
+from btgen.pipeline import CompileOptions, options_from_args
+
+ENUM_MISSION = """<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence>
+      <Script code="c := GREEN"/>
+      <ScriptCondition code="c == 1"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+# No TreeNodesModel and no main_tree_to_execute: needs --models and --main-tree.
+BARE_MISSION = """<root BTCPP_format="4">
+  <BehaviorTree ID="Patrol"><Sequence><BatteryOk/><MoveBase goal="kitchen"/></Sequence></BehaviorTree>
+  <BehaviorTree ID="Dock"><MoveBase goal="dock"/></BehaviorTree>
+</root>
+"""
+MODELS = """<root BTCPP_format="4">
+  <TreeNodesModel>
+    <Action ID="MoveBase"><input_port name="goal" type="std::string"/></Action>
+    <Condition ID="BatteryOk"/>
+  </TreeNodesModel>
+</root>
+"""
+
+# A literal of 40 bytes: refused by --string-capacity 16, accepted by default.
+LONG_STRING = """<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><Script code="s := 'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa'"/></BehaviorTree>
+</root>
+"""
+
+# A port of a user type: --type Pose=... makes the generated code include its header.
+USER_TYPE = """<root BTCPP_format="4" main_tree_to_execute="M">
+  <TreeNodesModel><Action ID="Go"><input_port name="p" type="Pose"/></Action></TreeNodesModel>
+  <BehaviorTree ID="M"><Go p="1;2"/></BehaviorTree>
+</root>
+"""
+
+# A SubTree defined in no file of the mission: needs --trees with the library.
+USES_LIBRARY = """<root BTCPP_format="4">
+  <BehaviorTree ID="M"><SubTree ID="Lent"/></BehaviorTree>
+</root>
+"""
+LIBRARY = """<root BTCPP_format="4">
+  <BehaviorTree ID="Lent"><AlwaysSuccess/></BehaviorTree>
+</root>
+"""
+
+FULL_OPTIONS = [
+    "--models",
+    "{models}",
+    "--trees",
+    "lib",
+    "--entry",
+    "Sub:server_timeout=int",
+    "--main-tree",
+    "Patrol",
+    "--enum",
+    "Color=RED,GREEN",
+    "--type",
+    "Pose=geo::Pose@geo/pose.hpp",
+    "--namespace",
+    "robot::missions",
+    "--string-capacity",
+    "64",
+    "--queue-capacity",
+    "8",
+]
+
+
+def _write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def _exit(argv):
+    """The exit status of `btgen ARGV` (in process)."""
+    try:
+        return cli_main(argv)
+    except SystemExit as e:
+        return int(e.code or 0)
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["validate", "M.xml"],
+        ["compile", "M.xml"],
+        ["run", "M.xml", "--scenario", "S"],
+        ["bench", "M.xml"],
+        ["graph", "M.xml", "-o", "g.svg"],
+        ["xsd", "M.xml"],
+        ["analyze", "M.xml"],
+        ["explore", "M.xml"],
+        ["cover", "M.xml", "run.trace"],
+        ["scenario-from-log", "M.xml", "run.btlog"],
+    ],
+)
+def test_every_command_builds_the_same_options(command, tmp_path):
+    argv = command + [a.replace("{models}", "models.xml") for a in FULL_OPTIONS]
+    args = build_parser().parse_args(argv)
+    assert options_from_args(args) == CompileOptions(
+        models=("models.xml",),
+        main_tree="Patrol",
+        trees=("lib",),
+        entries=("Sub:server_timeout=int",),
+        enum_decls=("Color=RED,GREEN",),
+        types=("Pose=geo::Pose@geo/pose.hpp",),
+        namespace="robot::missions",
+        string_capacity=64,
+        queue_capacity=8,
+    )
+
+
+def test_build_info_takes_the_same_options(tmp_path, capsys):
+    mission, models = _write(tmp_path, "m.xml", BARE_MISSION), _write(tmp_path, "models.xml", MODELS)
+    argv = [a.replace("{models}", models) for a in FULL_OPTIONS]
+    assert build_info(["--template", mission, *argv]) == 0
+    assert capsys.readouterr().out == "robot::missions::M\n"
+
+
+CASES = [
+    # (mission text, options it needs, extra files)
+    ("enum", ENUM_MISSION, ["--enum", "Color=RED,GREEN"]),
+    ("models_main_tree", BARE_MISSION, ["--models", "{models}", "--main-tree", "Patrol"]),
+    ("trees", USES_LIBRARY, ["--trees", "{trees}"]),
+]
+
+
+@pytest.mark.parametrize("name,text,needed", CASES, ids=[c[0] for c in CASES])
+def test_validate_compile_and_check_agree(name, text, needed, tmp_path, capsys):
+    mission = _write(tmp_path, "m.xml", text)
+    models = _write(tmp_path, "models.xml", MODELS)
+    (tmp_path / "lib").mkdir()
+    _write(tmp_path / "lib", "library.xml", LIBRARY)
+    needed = [a.replace("{models}", models).replace("{trees}", str(tmp_path / "lib")) for a in needed]
+    out = str(tmp_path / "out")
+    with_option = (
+        _exit(["validate", "-q", mission, *needed]),
+        _exit(["compile", mission, "-o", out, *needed]),
+        build_info(["--check", mission, *needed]),
+    )
+    without = (
+        _exit(["validate", "-q", mission]),
+        _exit(["compile", mission, "-o", str(tmp_path / "out2")]),
+        build_info(["--check", mission]),
+    )
+    capsys.readouterr()
+    assert with_option == (0, 0, 0)
+    assert without == (1, 1, 1)
+
+
+def test_capacities_agree(tmp_path, capsys):
+    mission = _write(tmp_path, "m.xml", LONG_STRING)
+    small = ["--string-capacity", "16"]
+    got = (
+        _exit(["validate", "-q", mission, *small]),
+        _exit(["compile", mission, "-o", str(tmp_path / "o"), *small]),
+        build_info(["--check", mission, *small]),
+        _exit(["validate", "-q", mission]),
+        build_info(["--check", mission]),
+    )
+    capsys.readouterr()
+    assert got == (1, 1, 1, 0, 0)
+
+
+def test_types_reach_the_generated_header(tmp_path, capsys):
+    mission = _write(tmp_path, "m.xml", USER_TYPE)
+    out = tmp_path / "out"
+    assert _exit(["compile", mission, "-o", str(out), "--type", "Pose=geo::Pose@geo/pose.hpp"]) == 0
+    assert '#include "geo/pose.hpp"' in (out / "m.hpp").read_text(encoding="utf-8")
+    assert build_info(["--check", mission, "--type", "Pose=geo::Pose@geo/pose.hpp"]) == 0
+    assert _exit(["validate", "-q", mission, "--type", "Pose=not a type@x.hpp"]) == 1
+    assert build_info(["--check", mission, "--type", "Pose=not a type@x.hpp"]) == 1
+    capsys.readouterr()
+
+
+def test_run_takes_enums(tmp_path):
+    # The interpreter reads the same options: the enum makes the condition true.
+    mission = _write(tmp_path, "m.xml", ENUM_MISSION)
+    scenario = _write(tmp_path, "s.scenario", "")
+    proc = subprocess.run(
+        [sys.executable, "-m", "btgen", "run", mission, "--scenario", scenario, "--enum", "Color=RED,GREEN"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.rstrip().endswith("SUCCESS")
+
+
+def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
+    # btgen_mission_compiles() gives build-info --check the options btgen_add_mission() gives
+    # compile: a mission that needs a scripting enum compiles with ENUMS, not without.
+    import shutil
+
+    if shutil.which("cmake") is None:
+        pytest.skip("cmake is not installed")
+    _write(tmp_path, "m.xml", ENUM_MISSION)
+    _write(tmp_path, "uses.xml", USES_LIBRARY)
+    (tmp_path / "lib").mkdir()
+    _write(tmp_path / "lib", "library.xml", LIBRARY)
+    _write(
+        tmp_path,
+        "CMakeLists.txt",
+        "cmake_minimum_required(VERSION 3.16)\nproject(p CXX)\n"
+        f'include("{repo_root}/cmake/btgen.cmake")\n'
+        'btgen_mission_compiles(with_enum m.xml ENUMS "Color=RED,GREEN")\n'
+        "btgen_mission_compiles(without m.xml)\n"
+        "btgen_mission_compiles(with_trees uses.xml TREES lib)\n"
+        "btgen_mission_compiles(without_trees uses.xml)\n"
+        'message(STATUS "RESULT ${with_enum} ${without} ${with_trees} ${without_trees}")\n',
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-DPython3_EXECUTABLE={sys.executable}"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "RESULT TRUE FALSE TRUE FALSE" in proc.stdout
