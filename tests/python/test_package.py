@@ -387,6 +387,30 @@ def test_lab_tour_robot_builds_as_the_readme_tells_users(installed):
     assert run.stdout.splitlines()[-1].startswith("lab_tour_robot: mission SUCCESS at tick")
 
 
+def test_init_writes_a_project_that_builds_and_runs(installed):
+    """`btgen init` from the installed package: the project builds with find_package from the
+    active environment, and the robot prints what the scenario of the project predicts."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    _run([btgen, "init", "starter-bot"], tmp, active)
+    project = tmp / "starter-bot"
+    _run(["cmake", "-S", project, "-B", project / "build", *_generator()], tmp, active)
+    _run(["cmake", "--build", project / "build"], tmp, active)
+    run = _run([project / "build" / "starter_bot"], project, active)
+    assert run.stdout.splitlines() == [
+        "starter_bot: MoveTo: driving to kitchen",
+        "starter_bot: MoveTo: driving to kitchen",
+        'starter_bot: says "arrived at kitchen"',
+        "starter_bot: mission SUCCESS after 4 ticks",
+    ]
+    models = ["--models", "mission/models.xml"]
+    trace = _run(
+        [btgen, "run", "mission/mission.xml", *models, "--scenario", "mission/mission.scenario"], project, active
+    ).stdout
+    assert trace.endswith("result SUCCESS\n") and "tick 4\n" in trace and "tick 5\n" not in trace
+
+
 MONITORED = """cmake_minimum_required(VERSION 3.16)
 project(monitored_patrol LANGUAGES CXX)
 find_package(btgen CONFIG REQUIRED COMPONENTS btlog groot2)
