@@ -4518,7 +4518,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x36c20d1e6b85ab35ULL;
+inline constexpr unsigned long long kGeneration = 0x6b1bb5c7fca16e90ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -928,7 +928,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xf54f6f48f40a8f09ULL;
+inline constexpr unsigned long long kGeneration = 0x377aa30e606106bbULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

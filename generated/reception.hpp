@@ -3035,7 +3035,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xe7d35fadba5597ceULL;
+inline constexpr unsigned long long kGeneration = 0xbc34e55e928028c2ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

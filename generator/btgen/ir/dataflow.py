@@ -1658,7 +1658,7 @@ class _Compiler:
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
         declared: dict[str, dict[str, dict]] = {}
-        for spec in self.a.m.user_models():
+        for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
