@@ -9,6 +9,7 @@ mission are reported together.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
 import re
@@ -19,6 +20,7 @@ from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
 from btgen.frontend import version_rules
+from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
@@ -97,6 +99,9 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
+        self.siblings = SiblingIndex(self.files)
+        self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
@@ -105,6 +110,10 @@ class _Loader:
             return self._load()
         except UserError as e:
             raise UserError(self._sorted(e.diagnostics)) from None
+
+    def _position(self, i: int) -> tuple[int, int, int]:
+        d = self.sink.items[i]
+        return (self.files.index(d.loc.path) if d.loc.path in self.files else len(self.files), d.loc.line, d.loc.col)
 
     def _sorted(self, diags):
         order = {f: i for i, f in enumerate(self.files)}
@@ -121,12 +130,28 @@ class _Loader:
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
         tree_ids = self._check_tree_ids()
+        for spec in self.palette_subtrees:
+            if spec.id not in tree_ids:
+                self.sink.error(
+                    spec.loc or Loc(self.path),
+                    f"SubTree model `{spec.id}` names no BehaviorTree of the mission{suggestion(spec.id, tree_ids)}",
+                )
         trees = tuple(
             TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
             for tid, elem, src in self.tree_elems
             if tid in tree_ids
         )
         self._check_subtree_cycles(trees)
+        if self.undeclared:
+            # No model anywhere (none in the mission, no --models): most likely the models file
+            # was forgotten; the first unknown node says so, once.
+            first = min(self.undeclared, key=self._position)
+            d = self.sink.items[first]
+            self.sink.items[first] = dataclasses.replace(
+                d,
+                message=d.message + "; the mission declares no node models: if they are in a file of their "
+                "own, pass it with `--models FILE.xml`",
+            )
         self.sink.raise_if_errors()
         mission = Mission(
             self.path,
@@ -137,6 +162,7 @@ class _Loader:
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
             btcpp=self.btcpp,
         )
+        self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
         self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
@@ -145,9 +171,9 @@ class _Loader:
         return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
+        self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
         self.sources.append(src)
-        self.files.append(shown)
         root = src.root
         if root.tag != "root":
             if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
@@ -251,14 +277,17 @@ class _Loader:
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
         declarations count as the mission's own."""
+        if not path:  # (it was reported at `:1:1:`)
+            self.sink.error(Loc("--models", 1, 1), "the file name is empty")
+            return
         if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
             return  # given twice, or also the mission or one of its includes
+        self.files.append(path)
         try:
             src = read_source(path, path)
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
-        self.files.append(path)
         root = src.root
         if root.tag != "root":
             self.sink.error(
@@ -272,11 +301,26 @@ class _Loader:
         if errors:
             self.sink.items.extend(errors)
             return
+        # (both were taken silently: a models file is read as format 4 and runs nothing)
+        fmt = root.get("BTCPP_format")
+        if fmt is not None and fmt != "4":
+            self.sink.error(
+                src.value_loc(root, "BTCPP_format"),
+                f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
+            )
+        if root.get("main_tree_to_execute") is not None:
+            self.sink.error(
+                src.attr_loc(root, "main_tree_to_execute"),
+                "a models file does not choose the tree to run; main_tree_to_execute belongs to the mission "
+                "(or --main-tree)",
+            )
         for child in root:
             if not isinstance(child.tag, str):
                 continue
             if child.tag == "TreeNodesModel":
+                before = len(self.models)
                 self._read_models(child, src)
+                self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
             else:
                 self.sink.error(
                     src.loc(child),
@@ -590,10 +634,13 @@ class _Loader:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
             if node_id not in tree_ids:
-                self.sink.error(
-                    loc,
-                    f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
+                beside = self.siblings.defining_tree(src.path, node_id)
+                where = (
+                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    if beside is not None
+                    else suggestion(node_id, tree_ids)
                 )
+                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{where}")
             return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
         spec = self.builtins.get(node_id) or user.get(node_id)
@@ -618,22 +665,25 @@ class _Loader:
                     f"{self.btcpp} (select the version with --btcpp 4.10.0)",
                 )
                 return None
+            unknown = f"unknown node `{node_id}`: it is neither built in nor declared in TreeNodesModel"
+            beside = self.siblings.declaring_model(src.path, node_id)
+            if beside is not None:
+                load = (
+                    f"pass `--models {beside.path}`"
+                    if beside.models_only
+                    else f'add <include path="{beside.name}"/> to <root>'
+                )
+                self.sink.error(loc, f"{unknown}; `{beside.path}` beside it declares it: {load}")
+                return None
             hint = did_you_mean(node_id, list(self.builtins) + list(user))
-            where = "built in"
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f"TreeNodesModel; `{hint}` is {where} (did you mean it?)",
-                )
-            else:
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f'TreeNodesModel (declare it as <Action ID="{node_id}"/> or '
-                    f'<Condition ID="{node_id}"/>)',
-                )
+                self.sink.error(loc, f"{unknown}; `{hint}` is {where} (did you mean it?)")
+                return None
+            children = sum(1 for c in elem if isinstance(c.tag, str))
+            self.sink.error(loc, f"{unknown} ({model_advice(node_id, children)})")
+            if not user and not self.models_paths:
+                self.undeclared.append(len(self.sink.items) - 1)
             return None
         if tag in KINDS and tag != spec.kind:
             # 4.6.2 creates the registered node whatever the element says (<Action
@@ -904,6 +954,24 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
 
             return f"port `{name}` has {show(pa.default)} there, {show(pb.default)} here"
     return ""
+
+
+def files_read(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> list[str]:
+    """The files loading the mission reads: the mission, its includes, the models files and
+    the --trees files, also when it does not load (a build system then keeps depending on an
+    include that stopped loading, and the build reports its errors instead of keeping a
+    stale output)."""
+    loader = _Loader(path, models, main_tree, trees, btcpp)
+    with contextlib.suppress(UserError):
+        loader.load()
+    read = list(loader.files)
+    return read + [m for m in models if m not in read]
 
 
 def load_mission(
