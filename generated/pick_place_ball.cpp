@@ -8,5 +8,12 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0xd6707816521c8be2ULL,
+namespace pick_place_ball::detail {
+// Defined once per program: a second mission generated into this namespace and linked into
+// the same program is a link error here, not a program running one mission's code for both.
+extern const char btgen_one_mission_per_namespace;
+const char btgen_one_mission_per_namespace = 0;
+}  // namespace pick_place_ball::detail
+
+static_assert(pick_place_ball::detail::kGeneration == 0x377aa30e606106bbULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

@@ -364,6 +364,22 @@ case(
     ),
 )
 
+for stem, ref, what in (
+    ("b1_key_with_blanks", "{ n }", '"{ n }" names the key " n " (written by a Loop, read by a Switch)'),
+    ("b1_key_with_brace", "{n}}", '"{n}}" names the key "n}"'),
+):
+    case(
+        stem,
+        "B1",
+        what,
+        mission(
+            f'<LoopString queue="a;b" value="{ref}">\n'
+            f'      <Switch2 variable="{ref}" case_1="a" case_2="b">\n'
+            "        <A/>\n        <B/>\n        <C/>\n      </Switch2>\n    </LoopString>"
+        ),
+        "ticks 4\n",
+    )
+
 
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)

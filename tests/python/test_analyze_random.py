@@ -14,13 +14,15 @@ from btgen.tools.explore import BY_NAME, Explorer
 from btgen.tools.fuzzgen import random_mission
 
 
-@pytest.mark.parametrize("features", ["control", "full"])
-def test_analyze_is_sound_and_mostly_exact(tmp_path, features):
+@pytest.mark.parametrize(
+    ("features", "btcpp"), [("control", "4.6.2"), ("full", "4.6.2"), ("full", "4.10.0"), ("edges", "4.6.2")]
+)
+def test_analyze_is_sound_and_mostly_exact(tmp_path, features, btcpp):
     exact = total = 0
     for seed in range(25):
         path = tmp_path / f"{features}_{seed}.xml"
         path.write_text(random_mission(seed, features))
-        mission = load_mission(str(path))
+        mission = load_mission(str(path), btcpp=btcpp)
         program = lower(mission)
         result = analyze_program(mission, program, DataOptions())
         possible = {
@@ -39,5 +41,21 @@ def test_analyze_is_sound_and_mostly_exact(tmp_path, features):
         assert run.max_visits <= worst[0] and run.max_hooks <= worst[1], (seed, run.max_visits, worst)
         total += 1
         exact += run.max_visits == worst[0]
-    # the bound is reached on 23 (control) and 16 (full) of the 25 missions within these bounds
+    # the bound is reached on 23 (control), 16 (full) of the 25 missions within these bounds
     assert exact * 2 >= total, (exact, total)
+
+
+@pytest.mark.parametrize("features", ["control", "full"])
+def test_merging_states_loses_no_goal(tmp_path, features):
+    """The state hash of explore cuts runs that reach a state already explored: the goals reached
+    must be those of the exhaustive search without it."""
+    for seed in range(15):
+        path = tmp_path / f"{features}_{seed}.xml"
+        path.write_text(random_mission(seed, features))
+        mission = load_mission(str(path))
+        full = Explorer(mission, ticks=3, depth=30, clock_ms=100, max_states=5000, merge=False)
+        merged = Explorer(mission, ticks=3, depth=30, clock_ms=100, max_states=5000, merge=True)
+        a, b = full.explore(), merged.explore()
+        assert not a.truncated and not b.truncated
+        assert merged.reached == full.reached, seed
+        assert b.states <= a.states

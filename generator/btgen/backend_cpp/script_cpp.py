@@ -741,6 +741,25 @@ class ScriptCompiler(CodeWriter):
                 f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)",
             )
             return
+        exact = 2**53  # integers up to this convert to double and back without loss
+        if s.kind == "int" and op in ("+=", "-=") and isinstance(v.literal, int) and abs(v.literal) <= exact:
+            # `n += 1` on an integer: 4.6.2 computes in double and stores the whole result back;
+            # while n and the result stay within 2^53 that is the integer sum itself, one
+            # statement. Outside, the double arithmetic below (its errors included).
+            c = v.literal if op == "+=" else -v.literal
+            lo, hi = max(-exact, -exact - c), min(exact, exact - c)
+            m = f"{s.member}.value"
+            self.emit(f"if ({m} >= {cpp_int64(lo)} && {m} <= {cpp_int64(hi)}) {{")
+            self.emit(f"  {m} {op} {cpp_int64(v.literal)};")
+            self.emit("} else {")
+            self.indent += 1
+            self._compound_number(s, key, op, v, off)
+            self.indent -= 1
+            self.emit("}")
+            return
+        self._compound_number(s, key, op, v, off)
+
+    def _compound_number(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         cur = Val(s.kind, f"{s.member}.value", None)
         a = self.as_double(cur, off, f"`{key}`")
         b = self.as_double(v, off, f"right operand of `{op}`")

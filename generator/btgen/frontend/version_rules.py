@@ -56,10 +56,18 @@ def check_literal_queue(sink: DiagnosticSink, attr: Attr, node_id: str, sem: Sem
     """A Loop node's literal `queue`: converted when the node is created, so a bad
     element is a load error (4.9.0 converts doubles with std::from_chars)."""
     elem = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"}[node_id]
+    what = f"port `queue` of `{node_id}`"
+    try:
+        read = values.convert_from_string(f"queue<{elem}>", attr.value, double_from_chars=sem.double_from_chars)
+    except values.ConversionError as e:
+        sink.error(attr.value_loc, f"{what}: {e}")
+        return
     try:
         values.convert_from_string(f"queue<{elem}>", attr.value, strict=True, double_from_chars=sem.double_from_chars)
     except values.ConversionError as e:
-        sink.error(attr.value_loc, f"port `queue` of `{node_id}`: {e}")
+        # numbers are read as a prefix (`1.5` is 1 for an int): loads, with a warning
+        shown = str(list(read)) if isinstance(read, values.Queue) else values.describe(read)
+        sink.warning(attr.value_loc, f"{what}: {e}; BehaviorTree.CPP {sem.version} reads it as {shown}")
 
 
 @dataclass(frozen=True)

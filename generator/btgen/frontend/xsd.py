@@ -117,10 +117,10 @@ def _type_ref(port: PortSpec, node_id: str = "") -> str:
 
 
 _PRELUDE = """  <xs:simpleType name="bt_ref">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *"/></xs:restriction>
   </xs:simpleType>
   <xs:simpleType name="bt_key">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
   </xs:simpleType>
   <xs:simpleType name="bt_int_prefix">
     <xs:restriction base="xs:string"><xs:pattern value="-?[0-9]+[\\s\\S]*"/></xs:restriction>

@@ -91,16 +91,20 @@ SCRIPT_BIT = {
 }
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
+# Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
+# (every tick of Repeat, RetryUntilSuccessful, Timeout and Delay, the start of a Sleep).
+PARAM_PORTS = {
+    ("Repeat", "num_cycles"),
+    ("RetryUntilSuccessful", "num_attempts"),
+    ("Timeout", "msec"),
+    ("Delay", "delay_msec"),
+    ("Sleep", "msec"),
+}
 LITERAL_ONLY = {
     ("Parallel", "success_count"),
     ("Parallel", "failure_count"),
     ("ParallelAll", "max_failures"),
-    ("Repeat", "num_cycles"),
-    ("RetryUntilSuccessful", "num_attempts"),
     ("RunOnce", "then_skip"),
-    ("Timeout", "msec"),
-    ("Delay", "delay_msec"),
-    ("Sleep", "msec"),
     ("Precondition", "else"),
     ("LoopInt", "if_empty"),
     ("LoopBool", "if_empty"),
@@ -208,6 +212,7 @@ class DataIR:
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
     inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
+    param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
 
 
 # ================================================================ helpers
@@ -501,6 +506,12 @@ class _Analyzer:
         if not isinstance(node, SubTreeNode):
             builtin = inst.spec is not None and inst.spec.builtin
             for p in inst.ports.values():
+                key = bbmod.remapped_key(p.name, p.raw)
+                if builtin and (nid, p.name) in PARAM_PORTS and key is not None:
+                    loc = p.loc_or or node.loc
+                    slot = self.resolve(inst.bb, key, loc)
+                    if slot is not None:
+                        self.node_ops.append(("param", inst, {"slot": slot, "port": p.name, "key": key, "loc": loc}))
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
                     self.error(
                         p.loc_or or node.loc,
@@ -1372,7 +1383,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1402,7 +1413,32 @@ class _Compiler:
                 what + ": ",
                 missing,
                 self.where(loc),
-                bbmod.EMPTY_COPY_SUCCEEDS,
+                self._empty_copy_succeeds(),
+            ),
+        )
+
+    def _empty_copy_succeeds(self) -> bool:
+        """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
+        return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
+
+    def param_read(self, inst: _Inst, op: dict) -> Optional[DataOp]:
+        """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
+        s = self.a.slots[op["slot"]]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op["port"]}` reads blackboard entry `{op["key"]}`'
+        if s.kind != "int":
+            self.error(
+                op["loc"],
+                f"port `{op['port']}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                f"{s.origin_text}); the C++ back end reads it from an integer entry only",
+            )
+            return None
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {op["port"]}={{{op["key"]}}}',
+            ops.ParamRead(
+                op["slot"],
+                self.fail(op["loc"], f"{what}, which does not exist"),
+                self.fail(op["loc"], f"{what}, which has no value yet"),
             ),
         )
 
@@ -1622,7 +1658,7 @@ class _Compiler:
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
         declared: dict[str, dict[str, dict]] = {}
-        for spec in self.a.m.user_models():
+        for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
@@ -1663,6 +1699,7 @@ class _Compiler:
         entries: list[DataOp] = []
         switches: list[DataOp] = []
         loops: list[DataOp] = []
+        param_reads: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for kind, inst, op in self.a.node_ops:
@@ -1685,6 +1722,11 @@ class _Compiler:
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
+            elif kind == "param":
+                read = self.param_read(inst, op)
+                if read is not None:
+                    param_reads.append(read)
+                    params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
             elif kind == "params":
                 p0 = op["p0"]
                 if p0 is not None:
@@ -1742,6 +1784,7 @@ class _Compiler:
             tuple(self.a.m.enums),
             user_types,
             tuple(self.user_inits),
+            tuple(param_reads),
         )
 
 

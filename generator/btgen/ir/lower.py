@@ -72,6 +72,9 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
     "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
 }
+# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# and the node has one more counter slot, after those of SUPPORTED, holding the value read.
+PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
@@ -298,9 +301,13 @@ class _Lowerer:
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
-        models = m.user_models()
-        model_names = model_identifiers([s.id for s in models])
-        leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
+        # Only the models a node of the mission uses get a leaf class, dispatch branches and
+        # hooks: a palette of 600 unused Actions cost g++ minutes (names are given over the
+        # whole palette, so a model's class keeps its name whatever else is used).
+        all_models = m.user_models()
+        all_names = dict(zip([s.id for s in all_models], model_identifiers([s.id for s in all_models])))
+        models = m.used_user_models()
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
         raw: list[dict] = []
@@ -316,6 +323,8 @@ class _Lowerer:
             elif node.id in SUPPORTED:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
+                if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
+                    nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)

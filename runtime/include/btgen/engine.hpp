@@ -116,6 +116,7 @@ struct has_init<
 //   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
 //   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
 //   static std::int64_t entry_seq(const BB&, const NodeInfo&); // update counter; -1: no entry
+//   static int read_param(const BB&, const ErrorSink&, const NodeInfo&, std::int64_t&);  // {key} counts
 //   static int switch_case(const BB&, const NodeInfo&);        // child to tick (the last: default)
 //   static int loop_pop(BB&, const NodeInfo&, ES&, bool restart);  // 1 popped, 0 empty, -1 error
 // and, optionally (missions with literals of user port types),
@@ -318,6 +319,28 @@ class Engine {
     }
   }
   std::int32_t& counter(const NodeInfo& n, std::size_t k) noexcept { return counters_[n.slot + k]; }
+
+  // A Repeat's or RetryUntilSuccessful's count, a Timeout's, Delay's or Sleep's duration given
+  // as `{key}` (NodeInfo p1 is 1): Spec::read_param reads the entry when 4.6.2's node calls
+  // getInput, and the value in use lives in the counter after the node's own (lower.py
+  // PARAM_NODES); an unsigned duration keeps its bits there.
+  static constexpr std::size_t param_counter(NodeKind k) noexcept {
+    return k == NodeKind::Delay ? 1 : k == NodeKind::Sleep ? 0 : 2;
+  }
+  // Reads it (false after reporting the error); `keep`: the value becomes the one in use.
+  bool read_param(const NodeInfo& n, bool keep) noexcept {
+    if (n.p1 == 0) return true;
+    std::int64_t v = 0;
+    const ErrorSink es = sink();
+    if (Spec::read_param(bb_, es, n, v) < 0) return false;
+    if (keep) counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
+    return true;
+  }
+  std::int64_t max_cycles(const NodeInfo& n) noexcept { return n.p1 != 0 ? counter(n, 2) : param::max_cycles(n); }
+  std::int64_t duration_ms(const NodeInfo& n) noexcept {
+    return n.p1 != 0 ? static_cast<std::int64_t>(static_cast<std::uint32_t>(counter(n, param_counter(n.kind))))
+                     : param::duration_ms(n);
+  }
   std::uint64_t& timer(const NodeInfo& n) noexcept { return timers_[n.timer]; }
   std::uint64_t elapsed(const NodeInfo& n) noexcept { return clock_.now_ms() - timers_[n.timer]; }
   static constexpr bool reached(std::uint64_t elapsed_ms, std::int64_t limit) noexcept {
@@ -1094,11 +1117,13 @@ class Engine {
         // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
         // only from IDLE: a count of 0 or below -1 never ticks the child, so
         // the node answers SKIPPED and stays RUNNING (edges table, R1).
+        if (!read_param(n, true)) return done(Status::FAILURE);  // 4.6.2 throws: the node fails
         if (status_[f.node] == Status::IDLE) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
-        if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
+        if (counter(n, 0) < max_cycles(n) || max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
-        if (counter(n, 1) == 0) return done(Status::SKIPPED);
+        // From 4.7.0 (Sem::loop_end_never_skipped) the loop ends SUCCESS / FAILURE.
+        if (!Sem::loop_end_never_skipped && counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -1113,12 +1138,13 @@ class Engine {
         f.decorator = 1;
         std::int32_t& started = counter(n, 0);
         std::int32_t& armed = counter(n, 1);
+        if (!read_param(n, started == 0)) return done(Status::FAILURE);
         if (started == 0) {
           started = 1;
           set_status(f.node, Status::RUNNING);
-          armed = param::duration_ms(n) > 0 ? 1 : 0;
+          armed = duration_ms(n) > 0 ? 1 : 0;
           timer(n) = clock_.now_ms();
-        } else if (armed != 0 && reached(elapsed(n), param::duration_ms(n))) {
+        } else if (armed != 0 && reached(elapsed(n), duration_ms(n))) {
           // The timer fires: a RUNNING child is halted and the node fails.
           armed = 0;
           if (status_[child(n, 0)] == Status::RUNNING) {
@@ -1133,12 +1159,13 @@ class Engine {
       case NodeKind::Delay: {
         f.decorator = 1;
         std::int32_t& started = counter(n, 0);
+        if (!read_param(n, started == 0)) return done(Status::FAILURE);
         if (started == 0) {
           started = 1;
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
         }
-        if (reached(elapsed(n), param::duration_ms(n))) return descend(child(n, 0));
+        if (reached(elapsed(n), duration_ms(n))) return descend(child(n, 0));
         return done(Status::RUNNING);
       }
 
@@ -1216,13 +1243,13 @@ class Engine {
       case NodeKind::Sleep: {
         const Status st = status_[f.node];
         if (st == Status::IDLE) {
-          if (param::duration_ms(n) <= 0) return done(Status::SUCCESS);
+          if (!read_param(n, true)) return done(Status::FAILURE);
+          if (duration_ms(n) <= 0) return done(Status::SUCCESS);
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
           return done(Status::RUNNING);
         }
-        if (st == Status::RUNNING)
-          return done(reached(elapsed(n), param::duration_ms(n)) ? Status::SUCCESS : Status::RUNNING);
+        if (st == Status::RUNNING) return done(reached(elapsed(n), duration_ms(n)) ? Status::SUCCESS : Status::RUNNING);
         return done(st);
       }
 
@@ -1497,7 +1524,11 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
-        const bool again = count < param::max_cycles(n) || param::max_cycles(n) == -1;
+        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure.
+        if constexpr (Sem::retry_rereads_attempts) {
+          if (!repeat && !read_param(n, true)) return done(Status::FAILURE);
+        }
+        const bool again = count < max_cycles(n) || max_cycles(n) == -1;
         halt_child(n, 0);
         if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule
         if (again) return descend(child(n, 0));
