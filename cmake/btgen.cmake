@@ -13,6 +13,8 @@
 #                                                 # target needs HEADER's folder on its include path
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
+#                     [BTCPP_VERSION <4.6.2|4.10.0>]  # the BehaviorTree.CPP release to follow (btgen --btcpp);
+#                                                 # default 4.6.2; one program follows one release
 #                     [OUTPUT_DIR <dir>]          # default: <binary dir>/btgen/<target>
 #                     [RELATIVE_TO <dir>]         # banner paths relative to it; default: the top source dir
 #                     [SCENARIO_RUNNER <exe>])    # also build `exe SCENARIO_FILE` (the trace printer)
@@ -135,7 +137,7 @@ endfunction()
 # The keywords of btgen_add_mission that are mission options of every btgen command
 # (generator/btgen/pipeline.py), in a global property (a variable set here would not reach
 # a function called from another directory once the include guard skips this file).
-set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY")
+set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY;BTCPP_VERSION")
 set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
 
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
@@ -165,6 +167,9 @@ function(_btgen_collect_options caller)
   endforeach()
   if(DEFINED ARG_MAIN_TREE)
     list(APPEND read_options --main-tree "${ARG_MAIN_TREE}")
+  endif()
+  if(DEFINED ARG_BTCPP_VERSION)
+    list(APPEND read_options --btcpp "${ARG_BTCPP_VERSION}")
   endif()
   foreach(entry IN LISTS ARG_ENTRIES)
     list(APPEND read_options --entry "${entry}")
@@ -270,6 +275,17 @@ function(btgen_add_mission)
 
   _btgen_query(deps --deps "${mission}" ${read_options} ${write_options})
   _btgen_query(names --outputs "${mission}" ${ns_option})  # also rejects a bad NAMESPACE, at configure time
+  # Two missions in one namespace linked into one program share their engine and script code
+  # (the linker keeps one copy of each function): mission b would run mission a's code.
+  _btgen_query(template --template "${mission}" ${ns_option})
+  string(REGEX REPLACE "::[^:]*$" "" mission_ns "${template}")
+  get_property(ns_owner GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}")
+  if(ns_owner)
+    message(FATAL_ERROR "btgen_add_mission: ${target} (${mission}) would generate namespace ${mission_ns}, "
+      "which ${ns_owner} already uses; two missions in one namespace run each other's code when linked into "
+      "one program: give one of them NAMESPACE <another>")
+  endif()
+  set_property(GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}" "${target} (${mission})")
   _btgen_query(generator_inputs --inputs)
   if(BTGEN_EXECUTABLE)
     list(APPEND generator_inputs "${BTGEN_EXECUTABLE}")
@@ -304,7 +320,6 @@ function(btgen_add_mission)
     BTGEN_MISSION "${mission}")
 
   if(ARG_SCENARIO_RUNNER)
-    _btgen_query(template --template "${mission}" ${ns_option})
     add_executable(${ARG_SCENARIO_RUNNER} "${root}/runtime/src/main_driver.cpp")
     target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target} btgen::scenario)
     target_compile_definitions(${ARG_SCENARIO_RUNNER} PRIVATE

@@ -2,7 +2,7 @@
 # (tests/python/test_package.py checks they agree). Compatible with a
 # request for the same major version, no newer than this one (for 0.x, the
 # same minor version).
-set(PACKAGE_VERSION "0.2.0")
+set(PACKAGE_VERSION "0.3.0")
 
 if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
   set(PACKAGE_VERSION_COMPATIBLE FALSE)

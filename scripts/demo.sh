@@ -5,11 +5,26 @@
 #
 # Usage: scripts/demo.sh [--language English|isiZulu|Kinyarwanda] [--answer yes|no]
 #                        [--trace] [--tick-ms N] [--max-ticks N] [--kb-config FILE.ini]
-#                        [--scenario FILE.scenario]
+#                        [--scenario FILE.scenario] [--groot2 PORT] [--btlog FILE.btlog]
 # Every argument goes to lab_tour_robot (`scripts/demo.sh --help` lists them).
 # On a fresh Debian machine run it as root: scripts/setup.sh installs what is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# --help answers at once: the robot's own help when it is built, else this script's.
+for arg in "$@"; do
+  if [ "$arg" = "--help" ] || [ "$arg" = "-h" ]; then
+    if [ -x build/demo/examples/lab_tour_robot/lab_tour_robot ]; then
+      exec build/demo/examples/lab_tour_robot/lab_tour_robot --help
+    fi
+    sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'
+    echo
+    echo "The robot is not built yet: the first run of scripts/demo.sh builds it (build/demo),"
+    echo "then \`scripts/demo.sh --help\` prints every option of lab_tour_robot."
+    exit 0
+  fi
+done
+
 bash scripts/setup.sh >&2
 export PATH="$PWD/.venv/bin:$PATH"
 

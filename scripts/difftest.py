@@ -103,15 +103,18 @@ class Report:
 
 # ------------------------------------------------------------------ the interpreter
 _MISSIONS: dict[str, object] = {}
+# The BehaviorTree.CPP release both engines follow (`--btcpp`; lang/versions.py).
+BTCPP = ["4.6.2"]
 
 
 def _load(mission: str):
     """The checked mission (loaded once per path: the front end costs more than a run)."""
     from btgen.frontend.loader import load_mission
 
-    if mission not in _MISSIONS:
-        _MISSIONS[mission] = load_mission(mission)
-    return _MISSIONS[mission]
+    key = f"{BTCPP[0]}:{mission}"
+    if key not in _MISSIONS:
+        _MISSIONS[key] = load_mission(mission, btcpp=BTCPP[0])
+    return _MISSIONS[key]
 
 
 def run_interp(mission: str, scenario: str) -> Outcome:
@@ -140,7 +143,7 @@ def run_interp_cli(mission: str, scenario: str) -> Outcome:
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = cli.main(["run", mission, "--scenario", scenario])
+        rc = cli.main(["run", mission, "--scenario", scenario, "--btcpp", BTCPP[0]])
     return Outcome(rc, out.getvalue(), err.getvalue())
 
 
@@ -299,9 +302,12 @@ def difftest(
     keep: Optional[Path] = None,
     workdir: Optional[Path] = None,
     log=lambda s: None,
+    btcpp: str = "4.6.2",
 ) -> Report:
-    """Run the seeds; returns the report (never raises on a divergence)."""
+    """Run the seeds; returns the report (never raises on a divergence). `btcpp`: the
+    BehaviorTree.CPP release both engines follow."""
     start = time.monotonic()
+    BTCPP[0] = btcpp
     report = Report(features)
     keep = (keep or ROOT / "build" / "difftest-failures").resolve()
     own_dir = workdir is None
@@ -356,7 +362,8 @@ def difftest(
                         log(f"DIVERGENCE seed {seed} scenario {j}: kept as {where}")
     finally:
         for seed in report.seeds:
-            _MISSIONS.pop(cases[seed][0], None)
+            _MISSIONS.pop(f"{btcpp}:{cases[seed][0]}", None)
+        BTCPP[0] = "4.6.2"
         os.chdir(old_cwd)
         if own_dir:
             shutil.rmtree(work, ignore_errors=True)
@@ -380,6 +387,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 2, help="parallel compiler runs")
     p.add_argument("--sanitize", action="store_true", help="build with ASan+UBSan (BTGEN_SANITIZE=1)")
     p.add_argument("--keep", type=Path, default=None, help="where divergent cases go")
+    p.add_argument("--btcpp", choices=("4.6.2", "4.10.0"), default="4.6.2", help="BehaviorTree.CPP release")
     args = p.parse_args(argv)
     if args.sanitize:
         os.environ["BTGEN_SANITIZE"] = "1"
@@ -395,6 +403,7 @@ def main(argv: Optional[list[str]] = None) -> int:
             args.jobs,
             args.keep,
             log=lambda s: print(s, file=sys.stderr, flush=True),
+            btcpp=args.btcpp,
         )
         for name in ("seeds", "invalid", "unsupported", "rejected", "compiled", "divergences"):
             getattr(total, name).extend(getattr(r, name))

@@ -20,11 +20,14 @@ EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
 
 
 class _Parser(argparse.ArgumentParser):
+    command = ""  # the command of the arguments being parsed, when they name one (main)
+
     def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
         print(f"btgen: error: {message}", file=sys.stderr)
-        print(
-            f"btgen: try 'btgen {self.prog.split()[-1] if ' ' in self.prog else ''} --help'".rstrip(), file=sys.stderr
-        )
+        # A command's own parser, or the top one reporting what the command left over
+        # (`unrecognized arguments`): the help to read is the command's.
+        command = self.prog.split()[-1] if " " in self.prog else _Parser.command
+        print(f"btgen: try 'btgen {command} --help'" if command else "btgen: try 'btgen --help'", file=sys.stderr)
         raise SystemExit(EXIT_USAGE)
 
 
@@ -50,7 +53,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
             lower(mission, opts.data)
             if not args.quiet:
-                print(f"{path}: ok ({len(mission.trees)} trees, main `{mission.main_tree}`)")
+                trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
+                print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")
         except UserError as e:
             print_diagnostics(e.diagnostics)
             status = EXIT_INPUT
@@ -119,10 +123,22 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return bench_command(args)
 
 
+def _cmd_init(args: argparse.Namespace) -> int:
+    from btgen.tools.init import init_command
+
+    return init_command(args)
+
+
 def _cmd_graph(args: argparse.Namespace) -> int:
     from btgen.tools.graph import graph_command
 
     return graph_command(args)
+
+
+def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    from btgen.tools.upgrade import upgrade_command
+
+    return upgrade_command(args)
 
 
 def _cmd_models(args: argparse.Namespace) -> int:
@@ -296,6 +312,24 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
     add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
+
+    n = sub.add_parser("init", help="write a starter robot project (mission, models, leaves, CMakeLists.txt)")
+    n.add_argument("directory", metavar="DIR", help="the project's folder: new, or empty")
+    n.add_argument("--name", help="the CMake project, executable and C++ namespace (default: DIR's name)")
+    n.set_defaults(func=_cmd_init)
+    from btgen.lang.versions import SUPPORTED_VERSIONS
+
+    u = sub.add_parser(
+        "upgrade-check",
+        help="list where moving between BehaviorTree.CPP releases changes loading or behaviour (exit 1 if anything)",
+    )
+    u.add_argument("mission")
+    u.add_argument("--from", dest="from_version", choices=SUPPORTED_VERSIONS, default="4.6.2")
+    u.add_argument("--to", dest="to_version", choices=SUPPORTED_VERSIONS, default="4.10.0")
+    u.add_argument("--scenario", help="also run the mission on both versions and print where the traces part")
+    add_mission_options(u)
+    u.set_defaults(func=_cmd_upgrade_check)
+
     return p
 
 
@@ -305,7 +339,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         from btgen.compiler import main as build_info
 
         return build_info(argv[1:])
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    _Parser.command = next((a for a in argv if not a.startswith("-")), "")
+    if _Parser.command not in commands:
+        _Parser.command = ""
+    args = parser.parse_args(argv)
     func: Callable[[argparse.Namespace], int] = args.func
     try:
         return func(args)

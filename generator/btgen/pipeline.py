@@ -23,6 +23,8 @@ if TYPE_CHECKING:  # the stages are imported when used: `btgen --help` stays qui
     from btgen.ir.lower import Program
     from btgen.lang.model import Mission
 
+from btgen.lang.versions import SUPPORTED_VERSIONS
+
 CAPACITY_MAX = 1 << 20
 
 
@@ -41,6 +43,7 @@ class CompileOptions:
     namespace: Optional[str] = None  # --namespace a::b (C++ outputs only)
     string_capacity: Optional[int] = None  # --string-capacity N (None: the IR's default)
     queue_capacity: Optional[int] = None  # --queue-capacity N
+    btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
 
     @property
     def data(self) -> DataOptions:
@@ -141,6 +144,15 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         "from the file name; `main.xml` gives `main_`)",
     )
     g.add_argument(
+        "--btcpp",
+        choices=SUPPORTED_VERSIONS,
+        default=None,
+        metavar="VERSION",
+        help="the BehaviorTree.CPP release whose semantics to follow: "
+        + " or ".join(SUPPORTED_VERSIONS)
+        + " (default 4.6.2); it decides loading, the script grammar, both engines and the generated C++",
+    )
+    g.add_argument(
         "--string-capacity",
         type=_capacity,
         default=None,
@@ -176,6 +188,7 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
         namespace=get("namespace"),
         string_capacity=get("string_capacity"),
         queue_capacity=get("queue_capacity"),
+        btcpp=get("btcpp", "4.6.2"),
     )
 
 
@@ -185,7 +198,7 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     from btgen.frontend.loader import load_mission
 
     provided = entries.load(opts.entries)
-    mission = load_mission(path, opts.models, opts.main_tree, opts.trees)
+    mission = load_mission(path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp)
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, usertypes.load(opts.types))

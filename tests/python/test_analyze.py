@@ -81,6 +81,9 @@ def test_blackboard_and_reactive_findings(capsys):
     assert len(reactive) == 1 and reactive[0].startswith(f'{path}:15:9: warning: `Make` "Slow2" and `Make` "Slow1"')
     rc, _, _ = _run(capsys, "--werror", str(path))
     assert rc == 1
+    # an entry the application provides (--entry) has a value from the start
+    rc, _, err = _run(capsys, "--entry", "ext=int", str(path))
+    assert rc == 0 and "`ext`" not in err and "`goal` is read by" in err
 
 
 def test_user_control_makes_the_tick_unbounded(capsys, tmp_path):
@@ -101,6 +104,20 @@ def test_user_control_makes_the_tick_unbounded(capsys, tmp_path):
     rc, out, err = _run(capsys, "--tick-budget", "100", str(mission))
     assert 'Looper "MyLoop" may tick its children any number of times' in err
     assert "unbounded" in out
+
+
+def test_counts_read_from_the_blackboard_are_any_count(capsys, tmp_path):
+    mission = tmp_path / "key.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>\n'
+        '<Script code="n := 0"/><Repeat num_cycles="{n}"><Act name="A"/></Repeat>\n'
+        '<Repeat name="Never" num_cycles="0"><Act name="B"/></Repeat>\n'
+        '</Sequence></BehaviorTree><TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n'
+    )
+    rc, _, err = _run(capsys, str(mission))
+    assert rc == 0
+    # a literal 0 never ticks its child; a {key} may hold any count, so A can run
+    assert [line.split(": warning: ")[1][:22] for line in err.splitlines()] == ['`Act` "B" can never be']
 
 
 def test_bad_mission_is_an_error_not_a_traceback(capsys, tmp_path):

@@ -201,7 +201,9 @@ def test_skippable_if_condition_is_rejected(tmp_path):
     lower(load_mission(ok))
 
 
-def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
+def test_loop_counts_and_durations_read_from_the_blackboard(tmp_path):
+    # `{key}` for num_cycles, num_attempts, msec and delay_msec: read when 4.6.2 reads it
+    # (tests/regressions/key_loop_counts_and_durations runs it on both engines).
     path = _write(
         tmp_path,
         "m.xml",
@@ -211,13 +213,23 @@ def test_literal_needed_where_the_cpp_back_end_reads_a_port_once(tmp_path):
             extra='<BehaviorTree ID="Sub"><Sleep msec="{n}"/></BehaviorTree>',
         ),
     )
-    errs = _errors(path)
-    assert errs == [
-        f'{path}:3:21: error: port `num_cycles` of `Repeat` "Repeat" reads blackboard entry `{{n}}`; '
-        f"the C++ back end needs a literal value here",
-        f'{path}:4:101: error: port `msec` of `Sleep` "Sleep" reads blackboard entry `{{n}}`; the C++ '
-        f"back end needs a literal value here",
-    ]  # once, though the subtree is used twice
+    header, _ = generate(path)
+    assert header.text.count('// Repeat "Repeat" num_cycles={n}') == 1
+    assert header.text.count('// Sleep "Sleep" msec={n}') == 2  # one per instance of Sub
+
+
+def test_key_count_from_a_text_entry_is_refused_by_the_cpp_back_end(tmp_path):
+    path = _write(
+        tmp_path,
+        "m.xml",
+        _mission(
+            '<Sequence><Get out="{n}"/><Repeat num_cycles="{n}"><Act/></Repeat></Sequence>',
+            models='<Action ID="Act"/><Action ID="Get"><output_port name="out" type="std::string"/></Action>',
+        ),
+    )
+    [err] = _errors(path)
+    assert err.startswith(f'{path}:1:122: error: port `num_cycles` of `Repeat` "Repeat" reads `n` (a string, ')
+    assert err.endswith("the C++ back end reads it from an integer entry only")
 
 
 # ---------------------------------------------------------------------- emission
@@ -459,9 +471,10 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
         "bool set_retries(std::int32_t value) const",
         "bool set_error_code(std::int32_t value) const",
         "bool set_pose(const T& value) const",
-        "btgen::Input<double> threshold() const",
     ):
         assert accessor in header.text
+    # A model no node uses has no class (a palette of 600 cost g++ 45 s): `Unused`.
+    assert "threshold() const" not in header.text and "class Unused" not in header.text
     assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
@@ -621,3 +634,46 @@ def test_error_places_and_messages_are_sized_string_views(tmp_path):
         for pieces, size in found:
             text = "".join(re.findall(r'"((?:[^"\\]|\\[0-7]{3}|\\["\\])*)"', pieces))
             assert len(re.sub(r'\\[0-7]{3}|\\["\\]', "x", text)) == int(size), pieces
+
+
+def test_deps_keep_an_include_that_stopped_loading(tmp_path, capsys):
+    """When an include stopped loading, `build-info --deps` fell back to the mission alone:
+    the include left DEPENDS and CMAKE_CONFIGURE_DEPENDS and the build kept the old header."""
+    (tmp_path / "sub").mkdir()
+    lib = _write(tmp_path, "sub/lib.xml", '<root BTCPP_format="4"><BehaviorTree ID="Lib"><Act/></BehaviorTree>')
+    main_xml = _write(
+        tmp_path,
+        "Main.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="Main">'
+        '<include path="sub/lib.xml"/><BehaviorTree ID="Main">'
+        '<SubTree ID="Lib"/></BehaviorTree></root>\n',
+    )
+    models = _write(tmp_path, "models.xml", "<root><TreeNodesModel>")  # does not load either
+    assert mission_files(main_xml, [models]) == [os.path.abspath(main_xml), lib, models]
+    capsys.readouterr()
+    assert main(["--deps", main_xml, "--models", models, "--cmake"]) == 0
+    assert capsys.readouterr().out == f"{os.path.abspath(main_xml)};{lib};{models}"
+
+
+def test_deps_that_a_cmake_list_cannot_hold(tmp_path, capsys):
+    """An include under `x;y/` broke the generated build rules with a ninja error about a
+    file that does not exist; now build-info says why, at the file."""
+    (tmp_path / "x;y").mkdir()
+    lib = _write(
+        tmp_path,
+        "x;y/lib.xml",
+        '<root BTCPP_format="4"><BehaviorTree ID="Lib"><AlwaysSuccess/></BehaviorTree></root>',
+    )
+    main_xml = _write(
+        tmp_path,
+        "Main.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><include path="x;y/lib.xml"/>'
+        '<BehaviorTree ID="Main"><SubTree ID="Lib"/></BehaviorTree></root>\n',
+    )
+    capsys.readouterr()
+    assert main(["--deps", main_xml, "--cmake"]) == 1
+    assert capsys.readouterr().err == (
+        f"{lib}:1:1: error: the path holds `;`, which a CMake list cannot hold; "
+        "btgen_add_mission cannot depend on it (rename it)\n"
+    )
+    assert main(["--deps", main_xml]) == 0  # (one per line: any path)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import struct
 import subprocess
 import sys
@@ -99,3 +100,59 @@ def test_log_of_another_run_is_an_error(tmp_path, capsys):
     assert main(["scenario-from-log", str(PICK), str(log)]) == 1
     err = capsys.readouterr().err
     assert err.startswith(f"{log}:1:1: error: the log is not a run of this mission: record ")
+
+
+def test_a_log_written_by_the_compiled_file_logger_replays(tmp_path, capsys):
+    """Record with btgen::btlog::FileLogger (runtime/src/monitor_driver.cpp, as on the robot), then
+    scenario-from-log: the interpreter replays the same status changes."""
+    out = tmp_path / "build"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "generator")}
+    subprocess.run([sys.executable, "-m", "btgen", "compile", str(PICK), "-o", str(out)], check=True, env=env)
+    template = subprocess.run(
+        [sys.executable, "-m", "btgen.compiler", "--template", str(PICK)],
+        check=True,
+        stdout=subprocess.PIPE,
+        text=True,
+        env=env,
+    ).stdout.strip()
+    exe = out / "pick"
+    (header,) = out.glob("*.hpp")
+    subprocess.run(
+        [
+            os.environ.get("CXX", "c++"),
+            "-std=c++17",
+            "-O0",
+            f"-I{ROOT / 'runtime' / 'include'}",
+            f"-I{out}",
+            f'-DBTGEN_MISSION_HEADER="{header.name}"',
+            f"-DBTGEN_MISSION_TEMPLATE={template}",
+            str(ROOT / "runtime" / "src" / "monitor_driver.cpp"),
+            str(header.with_suffix(".cpp")),
+            "-lzmq",
+            "-pthread",
+            "-o",
+            str(exe),
+        ],
+        check=True,
+    )
+    recorded = tmp_path / "robot.scenario"
+    recorded.write_text(
+        "ticks 8\nleaf FindBall RUNNING FAILURE RUNNING SUCCESS\nleaf MoveBall RUNNING RUNNING SUCCESS\n"
+    )
+    log = tmp_path / "robot.btlog"
+    subprocess.run(
+        [str(exe), str(recorded), "--btlog", str(log)],
+        input="tick\n" * 8 + "quit\n",
+        text=True,
+        check=True,
+        capture_output=True,
+    )
+    back = tmp_path / "replay.scenario"
+    assert main(["scenario-from-log", str(PICK), str(log), "-o", str(back)]) == 0
+    # the driver ticked 8 times; the mission completed before, and the tree ran again after it
+    assert "are a new run of the tree, which this scenario does not replay" in capsys.readouterr().err
+    m = load_mission(str(PICK))
+    original = trace_text(
+        m, parse_scenario(str(recorded)).__class__(str(recorded), 8, "SUCCESS", parse_scenario(str(recorded)).leaves)
+    )
+    assert trace_transitions(trace_text(m, parse_scenario(str(back)))) == trace_transitions(original)

@@ -72,6 +72,28 @@ def test_interpreter_reports_what_462_refuses(stem):
         trace_text(mission, scenario)
 
 
+# Random missions of fuzzgen's `edges` set, recorded on 4.6.2 by scripts/record_random_edges.py
+# (those it runs without a timed node); the compiled executor is held to the interpreter on the
+# same generator by test_diff_random.py.
+RANDOM = os.path.join(EDGES, "random")
+RANDOM_STEMS = case_stems(RANDOM, ".trace")
+
+
+def test_random_sample_is_there():
+    assert len(RANDOM_STEMS) >= 100
+
+
+@pytest.mark.parametrize("stem", RANDOM_STEMS)
+def test_interpreter_matches_462_on_random_edges(stem):
+    base = os.path.join(RANDOM, stem)
+    mission = load_mission(base + ".xml")
+    scenario, _ = load_scenario(base + ".scenario", mission)
+    with open(base + ".trace", encoding="utf-8") as f:
+        expected = f.read()
+    got = trace_text(mission, scenario)
+    assert got == expected, _diff(expected, got, "interpreter")
+
+
 # ------------------------------------------------------------------ the compiled executor
 # One build per mission (about two seconds each, cached by btgen.tools.cppengine).
 @pytest.fixture(scope="module")
@@ -124,3 +146,15 @@ def test_cpp_reports_what_462_refuses(stem, cpp):
         mission = load_mission(_path(stem, ".xml"))
         trace_text(mission, load_scenario(_path(stem, ".scenario"), mission)[0])
     assert str(e.value).splitlines()[0] in err.splitlines()
+
+
+def test_what_4_6_2_reads_differently_loads_with_a_warning():
+    """I1, B1, M1: loaded as 4.6.2 loads them, each with a warning saying how it is read."""
+    warnings = {
+        stem: [str(w) for w in load_mission(_path(stem, ".xml")).warnings]
+        for stem in ("i1_repeat_3_5", "b1_key_with_blanks", "m1_subtree_undeclared_remap", "i1_loopint_1_5_2")
+    }
+    assert any("`3.5` is not a valid int" in w and "reads it as 3" in w for w in warnings["i1_repeat_3_5"])
+    assert any("names the blackboard key ` n `" in w for w in warnings["b1_key_with_blanks"])
+    assert any("declares no port `extra`" in w for w in warnings["m1_subtree_undeclared_remap"])
+    assert any("`1.5` is not a valid int" in w for w in warnings["i1_loopint_1_5_2"])

@@ -112,6 +112,41 @@ def test_property_counterexample_replays(capsys, tmp_path):
     assert rc == 0 and report["violations"] == []
 
 
+def test_output_folder(capsys, tmp_path):
+    out = tmp_path / "sc"
+    out.mkdir()
+    (out / "PickPlaceBall-099.scenario").write_text("ticks 1\n")  # from an earlier exploration
+    (out / "mine.scenario").write_text("ticks 1\n")
+    rc, report, _ = _explore(capsys, "-o", str(out), str(PICK))
+    assert rc == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(
+        [f"PickPlaceBall-{i:03d}.scenario" for i in range(1, report["scenarios"] + 1)] + ["mine.scenario"]
+    )
+    blocked = tmp_path / "file"
+    blocked.write_text("")
+    assert main(["explore", "-o", str(blocked / "sub"), str(PICK)]) == 1
+    assert capsys.readouterr().err.startswith(f"{blocked / 'sub'}:1:1: error: cannot create the output folder")
+
+
+def test_run_time_errors_are_findings(capsys, tmp_path):
+    mission = tmp_path / "err.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">\n'
+        '<Sequence><Script code="n := 0"/><Fallback><Act/>\n'
+        '<Script name="Oops" code="n := n + missing"/></Fallback></Sequence>\n'
+        '</BehaviorTree><TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n'
+    )
+    rc, report, err = _explore(capsys, "-o", str(tmp_path / "out"), str(mission))
+    assert rc == 1
+    assert report["run_time_errors"] == [
+        f'{mission}:3:36: error: script error in `code` of `Script` "Oops": unknown variable `missing` '
+        "(no blackboard entry of that name; create it with `missing := ...`)"
+    ]
+    text = (tmp_path / "out" / "error-1.scenario").read_text()
+    assert "leaf Act FAILURE" in text
+
+
 def test_bad_property_is_a_usage_error(capsys):
     assert main(["explore", "--assert", "sometimes X", str(PICK)]) == 2
     assert "unknown property" in capsys.readouterr().err

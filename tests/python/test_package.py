@@ -25,7 +25,16 @@ from btgen.version import __version__
 from conftest import ROOT
 
 USER_PROJECT = Path(ROOT) / "examples" / "user_project"
-PACKAGING = ("pyproject.toml", "setup.py", "MANIFEST.in", "requirements.txt", "generator")
+PACKAGING = (
+    "pyproject.toml",
+    "setup.py",
+    "MANIFEST.in",
+    "requirements.txt",
+    "README.md",
+    "LICENSE",
+    "CHANGELOG.md",
+    "generator",
+)
 
 
 def _run(cmd, cwd, env=None, check=True):
@@ -119,6 +128,23 @@ def test_wheel_holds_every_mapped_file(installed):
         for f in (Path(ROOT) / "generator" / "btgen").rglob("*.py")
     }
     assert "btgen/ir/lower.py" in sources and sources <= names
+
+
+def test_wheel_metadata_has_description_licence_and_urls(installed):
+    wheel = installed[3]
+    with zipfile.ZipFile(wheel) as z:
+        (meta,) = [n for n in z.namelist() if n.endswith(".dist-info/METADATA")]
+        text = z.read(meta).decode("utf-8")
+        names = z.namelist()
+    headers, _, body = text.partition("\n\n")
+    assert f"Version: {__version__}" in headers.splitlines()
+    assert "Summary: Compile BehaviorTree.CPP v4 missions to static, allocation-free C++17" in headers
+    assert "License: Apache-2.0" in headers
+    assert "Classifier: License :: OSI Approved :: Apache Software License" in headers
+    assert "Project-URL: BehaviorTree.CPP, https://www.behaviortree.dev/" in headers
+    assert "Description-Content-Type: text/markdown" in headers
+    assert body.startswith("# btgen")  # the README is the long description
+    assert any(n.endswith(".dist-info/LICENSE") for n in names)
 
 
 def test_cmake_package_version_is_the_generators():
@@ -316,6 +342,73 @@ def test_package_kb_component_requires_eigen(installed):
         check=False,
     )
     assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
+
+
+def test_find_package_from_the_environment_on_path(installed):
+    """The wheel installs <venv>/share/cmake/btgen/, where CMake looks for every PATH entry
+    ending in bin/: with the environment's bin/ on PATH (an activated venv) no -Dbtgen_DIR is
+    needed. Without it on PATH, nothing finds the package."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    assert (venv / "share" / "cmake" / "btgen" / "btgenConfig.cmake").is_file()
+    (tmp / "on_path").mkdir()
+    src = _runtime_only_project(tmp / "on_path", "find_package(btgen CONFIG REQUIRED)")
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    build = tmp / "on_path" / "build"
+    no_eigen = "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"  # what the project checks (RUNTIME_ONLY)
+    _run(["cmake", "-S", src, "-B", build, *_generator(), no_eigen], tmp, active)
+    cache = (build / "CMakeCache.txt").read_text()
+    assert f"btgen_DIR:PATH={venv / 'share' / 'cmake' / 'btgen'}" in cache
+    assert f"BTGEN_EXECUTABLE:FILEPATH={btgen}" in cache
+    _run(["cmake", "--build", build], tmp, active)
+    inactive = _run(
+        ["cmake", "-S", src, "-B", tmp / "on_path" / "build2", *_generator(), no_eigen], tmp, env, check=False
+    )
+    assert inactive.returncode != 0 and "btgenConfig.cmake" in inactive.stderr
+
+
+def test_lab_tour_robot_builds_as_the_readme_tells_users(installed):
+    """examples/lab_tour_robot on its own, the way a user's project is built: find_package of
+    the installed btgen (no btgen_DIR, no checkout on the module path, the environment's
+    Python for btgen), then the robot runs a scenario to its end."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    build = tmp / "robot_build"
+    source = Path(ROOT) / "examples" / "lab_tour_robot"
+    configure = _run(["cmake", "-S", source, "-B", build, *_generator(), "-DBTGEN_BUILD_TESTS=OFF"], tmp, active)
+    assert "does not compile" not in configure.stdout + configure.stderr
+    assert "btgen_DIR" not in configure.stderr  # no "manually-specified variable not used" warning
+    cache = (build / "CMakeCache.txt").read_text()
+    assert f"btgen_DIR:PATH={venv / 'share' / 'cmake' / 'btgen'}" in cache  # the installed package
+    assert f"BTGEN_EXECUTABLE:FILEPATH={btgen}" in cache  # and its command, not the checkout's
+    _run(["cmake", "--build", build, "--target", "lab_tour_robot", "-j", "2"], tmp, active)
+    run = _run([build / "lab_tour_robot", "--scenario", "missions/scenarios/LabTour.yes.scenario"], Path(ROOT), active)
+    assert run.stdout.splitlines()[-1].startswith("lab_tour_robot: mission SUCCESS at tick")
+
+
+def test_init_writes_a_project_that_builds_and_runs(installed):
+    """`btgen init` from the installed package: the project builds with find_package from the
+    active environment, and the robot prints what the scenario of the project predicts."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    _run([btgen, "init", "starter-bot"], tmp, active)
+    project = tmp / "starter-bot"
+    _run(["cmake", "-S", project, "-B", project / "build", *_generator()], tmp, active)
+    _run(["cmake", "--build", project / "build"], tmp, active)
+    run = _run([project / "build" / "starter_bot"], project, active)
+    assert run.stdout.splitlines() == [
+        "starter_bot: MoveTo: driving to kitchen",
+        "starter_bot: MoveTo: driving to kitchen",
+        'starter_bot: says "arrived at kitchen"',
+        "starter_bot: mission SUCCESS after 4 ticks",
+    ]
+    models = ["--models", "mission/models.xml"]
+    trace = _run(
+        [btgen, "run", "mission/mission.xml", *models, "--scenario", "mission/mission.scenario"], project, active
+    ).stdout
+    assert trace.endswith("result SUCCESS\n") and "tick 4\n" in trace and "tick 5\n" not in trace
 
 
 MONITORED = """cmake_minimum_required(VERSION 3.16)

@@ -21,6 +21,7 @@ from btgen.interp.controls import switch_equal
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
 from btgen.ir import kinds
+from btgen.ir.script_types import type_script
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.tools.cppengine import build_cpp
@@ -103,7 +104,7 @@ def _compile(code, slots, condition=False):
     views = [scpp.SlotView(f"bb.{k}", k, kd, "any", 16, missing) for k, (kd, missing) in slots.items()]
     names = {k: i for i, k in enumerate(slots)}
     ctx = scpp.ScriptContext(views, names, lambda off: f"W[{off}]", "P: ")
-    return scpp.compile_script(sc.parse_script(code), ctx, condition)
+    return scpp.compile_script(type_script(sc.parse_script(code), views, names, condition), ctx)
 
 
 def test_generated_code_for_an_assignment():
@@ -114,7 +115,8 @@ def test_generated_code_for_an_assignment():
         "  [[maybe_unused]] const std::int64_t t2 = bb.y.value;",
         '  if (!t1h) return err.fail(n, W[7], "P: the left operand of `+` has no value");',
         "  double t4 = 0.0;",
-        '  if (btgen::script::num(t2, t4) != btgen::Errc::kOk) return err.fail(n, W[7], "P: left operand of `+`: '
+        "  if (btgen::script::num_v<Semantics::int_to_double_53_bits>(t2, t4) != btgen::Errc::kOk) "
+        'return err.fail(n, W[7], "P: left operand of `+`: '
         'cannot convert the integer to double: precision would be lost");',
         "  const double t3 = t4 + 1.0;",
         "  bb.x.value = t3;",
@@ -486,14 +488,14 @@ def _random_expr(rng, names, depth):
     return f"({rng.choice(names)} {op} {_random_expr(rng, names, depth - 1)})"
 
 
-def test_the_typing_pass_rejects_exactly_what_the_cpp_writer_cannot_compile():
-    """ir/script_types.py reports a script's type errors before any C++ is written; the writer
-    (script_cpp.py) must then meet none. Over random scripts on entries of every kind and
-    declared type, both raise the same ScriptTypeError (message and place) or neither does."""
-    from btgen.ir.script_types import check_script
-
+def test_the_cpp_writer_prints_every_typed_script():
+    """Scripts are typed once (ir/script_types.py), which reports every type error; the writer
+    (script_cpp.py) only prints from the typed tree. Over random scripts on entries of every
+    kind and declared type, whatever the typing pass accepts is written without an error, and
+    an expression of each kind of decision is written both ways (static and dynamic)."""
     rng = random.Random(20261124)
     checked = rejected = 0
+    routes, dynamic = set(), set()
     for _ in range(3000):
         names = ["a", "b", "c"]
         views = []
@@ -511,17 +513,38 @@ def test_the_typing_pass_rejects_exactly_what_the_cpp_writer_cannot_compile():
         except sc.ScriptSyntaxError:
             continue
         condition = rng.random() < 0.5
-        typed = written = None
-        try:
-            check_script(script, views, index, condition)
-        except kinds.ScriptTypeError as e:
-            typed = (e.message, e.offset)
-        try:
-            ctx = scpp.ScriptContext(views, index, lambda off: f"W[{off}]", "P: ")
-            scpp.compile_script(script, ctx, condition)
-        except kinds.ScriptTypeError as e:
-            written = (e.message, e.offset)
-        assert typed == written, code
         checked += 1
-        rejected += typed is not None
+        try:
+            typed = type_script(script, views, index, condition)
+        except kinds.ScriptTypeError:
+            rejected += 1
+            continue
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                t = typed.of(node)
+                routes.add(t.route)
+                dynamic.add((type(node).__name__, t.dynamic or any(t.links)))
+        ctx = scpp.ScriptContext(views, index, lambda off: f"W[{off}]", "P: ")
+        body = scpp.compile_script(typed, ctx)
+        assert body and body[-1].lstrip().startswith("return"), code
+    assert {"none", "dynamic", "compound", "same", "converted", "number_text", "number"} <= routes
+    for kind_name in ("Unary", "Binary", "Compare", "Ternary"):
+        assert {(kind_name, False), (kind_name, True)} <= dynamic, kind_name
     assert checked > 2000 and 100 < rejected < checked - 100, (checked, rejected)
+
+
+def test_the_writer_applies_no_typing_rule():
+    """backend_cpp/script_cpp.py takes of ir/kinds.py only its vocabulary (the kind names,
+    bounds, descriptions), none of the rules: the typing pass applied them once."""
+    import ast
+    import inspect
+
+    tree = ast.parse(inspect.getsource(scpp))
+    taken = {
+        a.name
+        for n in ast.walk(tree)
+        if isinstance(n, ast.ImportFrom) and n.module == "btgen.ir.kinds"
+        for a in n.names
+    }
+    assert taken <= {"DYN", "INT32_MAX", "INT32_MIN", "TEXT_BOUND", "UINT32_MAX", "describe_kind", "is_queue"}, taken
+    assert "ScriptTypeError" not in inspect.getsource(scpp)

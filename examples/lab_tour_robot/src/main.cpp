@@ -5,10 +5,14 @@
 #include <sys/stat.h>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -160,10 +164,16 @@ int main(int argc, char** argv) {
     if (!options.btlog.empty()) btlog = std::make_unique<btgen::btlog::FileLogger>(g_mission, options.btlog);
     if (options.groot2_port != 0) {
 #ifdef LAB_TOUR_WITH_GROOT2
-      groot2 =
-          std::make_unique<btgen::groot2::Publisher<Mission>>(g_mission, static_cast<unsigned>(options.groot2_port));
+      groot2 = std::make_unique<btgen::groot2::Publisher<Mission>>(
+          g_mission, static_cast<unsigned>(options.groot2_port), options.groot2_address);
       std::printf("%s: Groot2 publisher on ports %ld and %ld\n", kProgram, options.groot2_port,
                   options.groot2_port + 1);
+      // The names Groot2's blackboard panel and `btview blackboard -p PORT NAME` ask for.
+      std::string names;
+      for (std::string_view name : Mission::Groot2::kBlackboards) {
+        names += (names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+      }
+      std::printf("%s: blackboards: %s\n", kProgram, names.c_str());
 #else
       return bad_input("--groot2: this lab_tour_robot was built without ZeroMQ (install libzmq3-dev and cppzmq-dev)");
 #endif
@@ -209,6 +219,36 @@ int main(int argc, char** argv) {
     if (btgen::is_completed(result)) break;
   }
 
+  int log_error = 0;
+  // After the end: the .btlog is complete once its logger is gone (its thread drains the
+  // ring), and the publisher stays up a little so that Groot2 and btview show the last
+  // statuses instead of a connection that vanished with the final tick.
+  const auto finish_monitors = [&]() {
+    if (btlog) {
+      // A full disk (or /dev/full) cuts the log short: the run then fails, saying so.
+      log_error = btlog->close();
+      btlog.reset();
+      if (log_error != 0) {
+        std::fprintf(stderr, "%s: error: %s: cannot write the log: %s\n", kProgram, options.btlog.c_str(),
+                     std::strerror(log_error));
+        return;
+      }
+      std::error_code ec;
+      const std::filesystem::path full = std::filesystem::absolute(options.btlog, ec);
+      std::printf("%s: wrote %s (replay it in Groot2; `btgen graph --btlog` draws it)\n", kProgram,
+                  ec ? options.btlog.c_str() : full.string().c_str());
+    }
+#ifdef LAB_TOUR_WITH_GROOT2
+    if (groot2 && options.linger_ms > 0) {
+      std::printf("%s: the Groot2 publisher stays up %ld ms more so monitors show the end (--linger-ms)\n", kProgram,
+                  options.linger_ms);
+      std::fflush(stdout);
+      std::this_thread::sleep_for(std::chrono::milliseconds(options.linger_ms));
+    }
+#endif
+    std::fflush(stdout);
+  };
+
   const btgen::KbLocation* where = kb.find(pepper.at());
   const std::string place =
       where != nullptr ? std::to_string(where->id) + " (" + where->description + ")" : std::string("between locations");
@@ -218,12 +258,13 @@ int main(int argc, char** argv) {
     g_mission.halt();
     std::printf("%s: mission still %s after %ld ticks (halted); Pepper is at %s\n", kProgram,
                 std::string(btgen::to_string(result)).c_str(), options.max_ticks, place.c_str());
-    std::fflush(stdout);
+    finish_monitors();
     return 1;
   }
   std::printf("%s: mission %s at tick %ld after %d navigations; Pepper is at %s%s: x %.2f, y %.2f, theta %.1f\n",
               kProgram, std::string(btgen::to_string(result)).c_str(), n, pepper.navigations(), place.c_str(),
               pepper.at() == plan.home ? ", home" : "", pepper.pose().x(), pepper.pose().y(), pepper.pose().z());
-  if (std::fflush(stdout) != 0) return 1;
+  finish_monitors();
+  if (std::fflush(stdout) != 0 || log_error != 0) return 1;
   return result == Status::SUCCESS ? 0 : 1;
 }

@@ -37,7 +37,10 @@ std::string usage_text(std::string_view program) {
          " [--answer yes|no] [--scenario FILE.scenario] [--trace]\n"
          "       " +
          std::string(p.size(), ' ') +
-         " [--tick-ms N] [--max-ticks N] [--groot2 PORT] [--btlog FILE.btlog]\n"
+         " [--tick-ms N] [--max-ticks N] [--groot2 PORT] [--groot2-address ADDR]\n"
+         "       " +
+         std::string(p.size(), ' ') +
+         " [--linger-ms N] [--btlog FILE.btlog]\n"
          "\n"
          "Runs the Lab Tour mission (missions/LabTour.xml, compiled by btgen) on a\n"
          "simulated Pepper that takes poses, gesture targets and messages from the\n"
@@ -61,8 +64,15 @@ std::string usage_text(std::string_view program) {
          "  --max-ticks N       give up (halt, exit 1) after N ticks (default 10000)\n"
          "  --groot2 PORT       publish the run to Groot2 (BehaviorTree.CPP's Groot2Publisher\n"
          "                      protocol on PORT and PORT+1, all interfaces); use with\n"
-         "                      --tick-ms to watch it live\n"
-         "  --btlog FILE        write a Groot2 log file (FileLogger2 .btlog) of the run\n"
+         "                      --tick-ms to watch it live; the blackboards' names are\n"
+         "                      listed at the start\n"
+         "  --groot2-address A  the interface the publisher binds (default *: all;\n"
+         "                      127.0.0.1: this machine only)\n"
+         "  --linger-ms N       with --groot2: keep publishing N ms after the mission\n"
+         "                      ends, so Groot2 and btview show its last statuses\n"
+         "                      (default 3000; 0: exit at once)\n"
+         "  --btlog FILE        write a Groot2 log file (FileLogger2 .btlog) of the run;\n"
+         "                      only Groot2 replays it (`btgen graph --btlog` draws it)\n"
          "\n"
          "Exit status: 0 the mission ended SUCCESS, 1 it ended FAILURE or ran out of\n"
          "ticks, 2 bad options, knowledge base or scenario.\n";
@@ -71,7 +81,7 @@ std::string usage_text(std::string_view program) {
 bool parse_options(int argc, const char* const* argv, Options& out, std::string& error) {
   out = Options{};
   bool seen_language = false, seen_tick_ms = false, seen_scenario = false, seen_trace = false;
-  bool seen_groot2 = false, seen_btlog = false;
+  bool seen_groot2 = false, seen_btlog = false, seen_address = false, seen_linger = false;
   for (int i = 1; i < argc; ++i) {
     std::string_view arg = argv[i];
     if (arg == "-h" || arg == "--help") {
@@ -94,7 +104,7 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
     const bool flag = name == "--trace";
     const bool known = flag || name == "--language" || name == "--kb-config" || name == "--answer" ||
                        name == "--scenario" || name == "--tick-ms" || name == "--max-ticks" || name == "--groot2" ||
-                       name == "--btlog";
+                       name == "--btlog" || name == "--groot2-address" || name == "--linger-ms";
     if (!known) {
       error = "unknown option `" + std::string(name) + "`";
       return false;
@@ -163,6 +173,19 @@ bool parse_options(int argc, const char* const* argv, Options& out, std::string&
       if (!parse_count(value, 1, 65534, out.groot2_port)) {
         error =
             "`--groot2` is a TCP port from 1 to 65534 (it also uses the next one), not `" + std::string(value) + "`";
+        return false;
+      }
+    } else if (name == "--groot2-address") {
+      if (twice(seen_address)) return false;
+      if (value.empty() || value.find_first_of(" /:") != std::string_view::npos) {
+        error = "`--groot2-address` is an interface address such as 127.0.0.1 or *, not `" + std::string(value) + "`";
+        return false;
+      }
+      out.groot2_address = std::string(value);
+    } else if (name == "--linger-ms") {
+      if (twice(seen_linger)) return false;
+      if (!parse_count(value, 0, 600000, out.linger_ms)) {
+        error = "`--linger-ms` is a whole number of milliseconds from 0 to 600000, not `" + std::string(value) + "`";
         return false;
       }
     } else if (name == "--btlog") {

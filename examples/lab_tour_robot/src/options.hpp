@@ -10,6 +10,7 @@ namespace lab_tour_robot {
 
 inline constexpr std::string_view kDefaultKbConfig = "data/environmentKnowledgeBaseConfiguration.ini";
 inline constexpr long kDefaultMaxTicks = 10000;
+inline constexpr long kDefaultLingerMs = 3000;
 
 struct Options {
   btgen::Language language = btgen::Language::kEnglish;
@@ -22,8 +23,10 @@ struct Options {
   long tick_ms = 0;
   long max_ticks = kDefaultMaxTicks;
   bool max_ticks_given = false;
-  long groot2_port = 0;  ///< 0: no Groot2 publisher
-  std::string btlog;     ///< empty: no .btlog
+  long groot2_port = 0;               ///< 0: no Groot2 publisher
+  std::string groot2_address = "*";   ///< the interface the publisher binds ("*": all)
+  long linger_ms = kDefaultLingerMs;  ///< with --groot2: how long the publisher stays up after the end
+  std::string btlog;                  ///< empty: no .btlog
   bool help = false;
 };
 

@@ -26,6 +26,8 @@ it (btgen.kb.lint), not from the robot's own C++ code:
                 robot exit 2 printing exactly the linter's errors; so do bad
                 configuration files.
   max_ticks     a mission cut short by --max-ticks is halted and exits 1.
+  btlog         --btlog writes the records of the trace and says where.
+  monitors      --groot2 lists the blackboards' names and lingers after the end.
 """
 
 from __future__ import annotations
@@ -299,6 +301,60 @@ def case_btlog(robot: str, repo: Path) -> None:
         if len(words) >= 4 and words[-2] == "->":
             want.append((int(words[0]), statuses[words[-1]]))
     run.check(got == want, f"{len(got)} records; the trace has {len(want)} changes, or they differ")
+    wrote = f"lab_tour_robot: wrote {path} (replay it in Groot2; `btgen graph --btlog` draws it)"
+    run.check(wrote in run.lines, f"no line `{wrote}`")
+
+
+def case_monitors(robot: str, repo: Path) -> None:
+    """--groot2 lists the blackboards by the names Groot2 asks for (the main tree's ID, else the
+    SubTree's path, as btgen's Python side names the instances), and the publisher stays up
+    --linger-ms after the last line, so monitors see the end: the process is still running
+    when it has said so."""
+    import socket
+
+    from btgen.frontend.loader import load_mission
+    from btgen.ir.treexml import groot2_tree
+
+    mission = load_mission(str(repo / "missions" / "LabTour.xml"))
+    names = [i.path or mission.main_tree for i in groot2_tree(mission).instances]
+    port = 0
+    for _ in range(50):
+        with socket.socket() as a, socket.socket() as b:
+            a.bind(("127.0.0.1", 0))
+            port = a.getsockname()[1]
+            try:
+                b.bind(("127.0.0.1", port + 1))
+            except OSError:
+                continue
+            break
+    args = ["--scenario", "missions/scenarios/LabTour.no.scenario", "--groot2", str(port)]
+    args += ["--groot2-address", "127.0.0.1", "--linger-ms", "4000"]
+    proc = subprocess.Popen([robot, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert proc.stdout is not None
+    lines = []
+    try:
+        for line in proc.stdout:
+            lines.append(line.rstrip("\n"))
+            if line.startswith("lab_tour_robot: the Groot2 publisher stays up"):
+                break
+        alive = proc.poll() is None
+        rest, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    lines += rest.splitlines()
+    out = "\n".join(lines)
+    if proc.returncode != 0:
+        fail(f"exit status {proc.returncode}: {err}", out)
+    listed = "lab_tour_robot: blackboards: " + ", ".join(f'"{n}"' for n in names)
+    if listed not in lines:
+        fail(f"no line `{listed}`", out)
+    said = "lab_tour_robot: the Groot2 publisher stays up 4000 ms more so monitors show the end (--linger-ms)"
+    if lines[-1] != said:
+        fail(f"the last line is not `{said}`", out)
+    if not alive:
+        fail("the robot had exited when it said the publisher stays up", out)
 
 
 CASES: dict[str, Callable[[str, Path], None]] = {
@@ -313,6 +369,7 @@ CASES: dict[str, Callable[[str, Path], None]] = {
     "bad_kb": case_bad_kb,
     "max_ticks": case_max_ticks,
     "btlog": case_btlog,
+    "monitors": case_monitors,
 }
 
 

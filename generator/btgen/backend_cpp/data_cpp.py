@@ -69,6 +69,16 @@ def slot_type(s: SlotIR) -> str:
 def slot_init(s: SlotIR) -> str:
     """The braced initializer of a slot: a SubTree constant's value, or an entry that exists from the start."""
     if s.initial is not None:
+        if s.kind in ("int", "double"):
+            # 4.9.1 stores a SubTree literal that is wholly a number as that number
+            from btgen.backend_cpp.script_cpp import cpp_value
+            from btgen.lang.blackboard import typed_literal
+
+            number = typed_literal(s.initial)
+            if not isinstance(number, (int, float)):
+                raise InternalError(f"the SubTree constant `{s.initial}` is no number")
+            value = cpp_value(float(number)) if s.kind == "double" else f"std::int64_t{{{int(number)}}}"
+            return f"{{{value}, 1, true, true}}"
         if s.kind != "string":
             raise InternalError(f"a SubTree constant of kind {s.kind}")
         return f"{{{slot_type(s)}({cpp_view(s.initial)}), 1, true, true}}"

@@ -22,6 +22,7 @@ from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
 from btgen.ir.dataflow import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
+from btgen.lang.versions import semantics, switch_names, version_number
 from btgen.version import RUNTIME_ABI, __version__
 
 TEMPLATE_DIR = resources.TEMPLATE_DIR
@@ -192,6 +193,9 @@ def render(
         scripts=tables,
         groot2=groot2_context(program),
         shapes=shapes(program, tables["node_fns"]),
+        btcpp=program.btcpp,
+        btcpp_number=version_number(program.btcpp),
+        switches=[(name, getattr(semantics(program.btcpp), name)) for name in switch_names()],
     )
     env = environment()
     return _stamped(

@@ -11,7 +11,10 @@ not exist yet or has no value, an integer that does not fit, a string that
 is not a number) becomes a check that reports through the mission's error
 hook and fails the node; what is certain to fail whenever the script runs
 (a string where a number is needed, `..` of two numbers used as a value)
-is a compile error.
+is a compile error, reported by the typing pass (ir/script_types.py). The
+script arrives typed (a TypedScript: every expression's kind and how it is
+computed, static or dynamic, the route of every store); this module only
+prints C++ from it and reports nothing.
 
 Kinds (the static types of values):
 
@@ -36,32 +39,10 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import cpp_string
-from btgen.diagnostics import InternalError, Loc
+from btgen.diagnostics import Loc
 from btgen.ir.dataflow import DataIR, script_loc
-from btgen.ir.kinds import (
-    DYN,
-    INT32_MAX,
-    INT32_MIN,
-    TEXT_BOUND,
-    UINT32_MAX,
-    ScriptTypeError,
-    binary_kind,
-    check_compound,
-    check_condition,
-    check_dynamic_update,
-    check_store_same,
-    check_ternary_condition,
-    compare_check,
-    converted_literal,
-    describe_kind,
-    is_queue,
-    need_number,
-    static_binary_ok,
-    static_update_ok,
-    store_route,
-    ternary_is_dynamic,
-    user_kinds,
-)
+from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, describe_kind, is_queue
+from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
 from btgen.lang import values
 
@@ -114,8 +95,9 @@ def cpp_double(value: float) -> str:
     A negative value is parenthesized: C++ has no negative literals, so `-1.0` is a unary
     minus, and glued after another `-` (a negated enumerator, `x - NEG`) it would read `--`.
     """
-    if math.isnan(value):
-        return "std::numeric_limits<double>::quiet_NaN()"
+    if math.isnan(value):  # with its sign: `-nan` and `nan` are different texts
+        nan = "std::numeric_limits<double>::quiet_NaN()"
+        return f"(-{nan})" if math.copysign(1.0, value) < 0 else nan
     if math.isinf(value):
         text = "std::numeric_limits<double>::infinity()"
     else:
@@ -274,12 +256,12 @@ class CodeWriter:
         self.emit(f"double {t} = 0.0;")
         if v.kind == "int":
             self.errc_check(
-                f"btgen::script::num({v.expr}, {t})",
+                f"btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t})",
                 offset,
                 f"{what}: cannot convert the integer to double: precision would be lost",
             )
         else:
-            self.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            self.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         return t
 
 
@@ -288,9 +270,10 @@ class ScriptCompiler(CodeWriter):
     const btgen::ErrorSink& err)`: -1 after an error was reported, else 1 (a statement
     script) or the truth of the last statement (a condition)."""
 
-    def __init__(self, ctx: ScriptContext) -> None:
+    def __init__(self, ctx: ScriptContext, typed: TypedScript) -> None:
         super().__init__(ctx.where, ctx.prefix)
         self.ctx = ctx
+        self.typed = typed
         self.errors = ctx.errors
         if ctx.enums:
             self.msg_args = ", detail::kScriptingEnums.data(), detail::kScriptingEnums.size()"
@@ -300,7 +283,11 @@ class ScriptCompiler(CodeWriter):
         return self.ctx.slots[self.ctx.names[name]]
 
     # ------------------------------------------------------------ entry points
-    def compile(self, script: sc.Script, condition: bool) -> list[str]:
+    def type_of(self, node: sc.Expr) -> ExprType:
+        return self.typed.of(node)
+
+    def compile(self) -> list[str]:
+        script, condition = self.typed.script, self.typed.condition
         last: Optional[Val] = None
         for stmt in script.statements:
             self.assigned = {}
@@ -325,7 +312,6 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"if ({t} < 0) return err.fail(n, {self.where_at(0)}, {t}m.view());")
             self.emit(f"return {t};")
             return
-        check_condition(v.kind)
         if v.has is not None:
             self.check(f"!{v.has}", 0, "the script gives no value, so it cannot be used as a condition")
         if v.kind in ("double", "bool"):
@@ -400,8 +386,6 @@ class ScriptCompiler(CodeWriter):
 
     def need_value(self, v: Val, offset: int, what: str) -> None:
         if v.has is not None:
-            if v.has == "false":
-                raise ScriptTypeError(f"{what} has no value", offset)
             self.check(f"!{v.has}", offset, f"{what} has no value")
 
     def as_int64(self, v: Val, offset: int, message: str) -> str:
@@ -428,14 +412,11 @@ class ScriptCompiler(CodeWriter):
 
     def unary(self, node: sc.Unary) -> Val:
         v = self.expr(node.operand)
-        # (a string, or no value: fails at run time as in 4.6.2; a double under `~` may be out of
-        # range, which the dynamic path words as the interpreter does, with the value)
-        if v.kind in (DYN, "string", "none") or (node.op == "~" and v.kind == "double"):
+        if self.type_of(node).dynamic:
             t = self.temp()
             self.emit(f"double {t} = 0.0;")
             self.dyn_call(f"btgen::dyn::unary('{node.op}', {self.to_ref(v)}, {t}, dm)", node.offset)
             return Val("double", t, None)
-        need_number(node.op, v.kind, node.offset, "operand")
         self.need_value(v, node.offset, f"the operand of `{node.op}`")
         d = self.as_double(v, node.offset, f"operand of `{node.op}`")
         t = self.temp()
@@ -452,14 +433,9 @@ class ScriptCompiler(CodeWriter):
         op, off = node.op, node.op_offset
         lv = self.expr(node.left)
         rv = self.expr(node.right)
-        kind = binary_kind(op, lv.kind, rv.kind, off)
-        if (
-            DYN in (lv.kind, rv.kind)
-            or not static_binary_ok(op, lv.kind, rv.kind)
-            or (op in sc.BIT_OPS and "double" in (lv.kind, rv.kind))
-        ):
-            # (a double operand of a bit operator may not be whole: the dynamic path names the
-            # value in the error, as the interpreter does)
+        typed = self.type_of(node)
+        kind = typed.kind
+        if typed.dynamic:
             return self.dyn_binary(op, off, lv, rv, kind)
         self.need_value(lv, off, f"the left operand of `{op}`")
         self.need_value(rv, off, f"the right operand of `{op}`")
@@ -543,10 +519,10 @@ class ScriptCompiler(CodeWriter):
         self.emit("do {")
         self.indent += 1
         lv = self.expr(node.operands[0])
-        for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
+        links = self.type_of(node).links
+        for op, off, operand, dynamic in zip(node.ops, node.op_offsets, node.operands[1:], links):
             rv = self.expr(operand)
-            compare_check(op, lv.kind, rv.kind, off)
-            if DYN in (lv.kind, rv.kind) or "none" in (lv.kind, rv.kind):
+            if dynamic:
                 c = self.temp()
                 self.emit(f"bool {c} = false;")
                 self.dyn_call(
@@ -580,7 +556,6 @@ class ScriptCompiler(CodeWriter):
 
     def ternary(self, node: sc.Ternary) -> Val:
         cv = self.expr(node.cond)
-        check_ternary_condition(cv.kind, node.op_offset)
         if cv.kind == DYN:
             c = self.temp()
             self.emit(f"double {c} = 0.0;")
@@ -618,7 +593,7 @@ class ScriptCompiler(CodeWriter):
         self.indent -= 1
         self.emit("}")
         pad = "  " * self.indent
-        dynamic = ternary_is_dynamic(tv.kind, ev.kind, node.op_offset)
+        dynamic = self.type_of(node).dynamic
         # The takes, inserted at the end of each branch (the else branch first: indexes stay valid).
         for at, v in ((else_at, ev), (then_at, tv)):
             saved, self.lines = self.lines, []
@@ -672,16 +647,15 @@ class ScriptCompiler(CodeWriter):
                 f"blackboard entry `{node.target}` does not exist yet; use `:=` to create it",
             )
         v = self.expr(node.value)
-        if v.kind == "none":  # `x := 1 .. 2`: 4.6.2 fails whenever this runs
+        typed = self.type_of(node)
+        if typed.route == "none":  # `x := 1 .. 2`: 4.6.2 fails whenever this runs
             self.emit(self.fail(off, f"the right operand of `{op}` has no value"))
             return Val("none", None, "false")
-        if op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind):
-            return self.dyn_assign(node, idx, s, v)
-        if DYN in (s.kind, v.kind):
+        if typed.route == "dynamic":
             return self.dyn_assign(node, idx, s, v)
         self.need_value(v, off, f"the right operand of `{op}`")
         if op in (":=", "="):
-            store_value(self, s, v, off, f"`{node.target} {op} ...`", op)
+            store_value(self, s, v, off, f"`{node.target} {op} ...`", op, typed)
         else:
             self.compound(s, node.target, op, v, off)
         self.emit(f"{s.member}.mark_written();")
@@ -727,7 +701,6 @@ class ScriptCompiler(CodeWriter):
             return Val(DYN, t, None, dyn_slot_bound(s))
         # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
         # keeps the entry's kind (or fails as 4.6.2 does).
-        check_dynamic_update(s, op, key, off)
         cur = Val(
             s.kind,
             f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value",
@@ -760,7 +733,6 @@ class ScriptCompiler(CodeWriter):
 
     def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""
-        check_compound(s, key, op, v.kind, off)
         self.check(f"!{s.member}.has_value", off, f"`{key}` has no value yet, so `{op}` cannot update it")
         if v.kind == "string":
             self.check(
@@ -769,6 +741,25 @@ class ScriptCompiler(CodeWriter):
                 f"the text of `{key}` would be longer than its capacity ({s.capacity} bytes)",
             )
             return
+        exact = 2**53  # integers up to this convert to double and back without loss
+        if s.kind == "int" and op in ("+=", "-=") and isinstance(v.literal, int) and abs(v.literal) <= exact:
+            # `n += 1` on an integer: 4.6.2 computes in double and stores the whole result back;
+            # while n and the result stay within 2^53 that is the integer sum itself, one
+            # statement. Outside, the double arithmetic below (its errors included).
+            c = v.literal if op == "+=" else -v.literal
+            lo, hi = max(-exact, -exact - c), min(exact, exact - c)
+            m = f"{s.member}.value"
+            self.emit(f"if ({m} >= {cpp_int64(lo)} && {m} <= {cpp_int64(hi)}) {{")
+            self.emit(f"  {m} {op} {cpp_int64(v.literal)};")
+            self.emit("} else {")
+            self.indent += 1
+            self._compound_number(s, key, op, v, off)
+            self.indent -= 1
+            self.emit("}")
+            return
+        self._compound_number(s, key, op, v, off)
+
+    def _compound_number(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         cur = Val(s.kind, f"{s.member}.value", None)
         a = self.as_double(cur, off, f"`{key}`")
         b = self.as_double(v, off, f"right operand of `{op}`")
@@ -781,18 +772,18 @@ class ScriptCompiler(CodeWriter):
 # ------------------------------------------------------------------ stores
 
 
-def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str) -> None:
+def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str, typed: ExprType) -> None:
     """4.6.2's script store (`_store`) of `v` into slot `s`, which then holds s.kind, by the
     route ir.kinds.store_route picks: a value of the slot's kind as it is; a string into a typed
     non-string entry through the entry's converter, into an untyped double one read as a
     number; numbers of another kind as Any::copyInto converts them, which 4.6.2 only does when
     the entry already holds a value (an empty entry would change its type: reported at run
     time)."""
-    route = store_route(s, v.kind, v.literal, off, what)
+    route = typed.route
     if route == "same":
         store_same(c, s, v, off)
     elif route == "converted":
-        store_converted(c, s, v, off, what)
+        store_converted(c, s, v, off, what, typed.converted)
     elif route == "number_text":
         guard_type_change(c, s, v.kind, off, what)
         t = c.text_number(v, off, ":=", "right")
@@ -811,7 +802,6 @@ def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
 
 
 def store_same(c, s: SlotView, v: Val, off: int) -> None:
-    check_store_same(s, v.literal, off)
     if s.kind == "string":
         c.check(
             f"!{s.member}.value.assign({v.expr})", off, f"the text does not fit `{s.key}` (capacity {s.capacity} bytes)"
@@ -820,10 +810,10 @@ def store_same(c, s: SlotView, v: Val, off: int) -> None:
         c.emit(f"{s.member}.value = {v.expr};")
 
 
-def store_converted(c, s: SlotView, v: Val, off: int, what: str) -> None:
-    """A string through the converter of the entry's declared type (convertFromString)."""
+def store_converted(c, s: SlotView, v: Val, off: int, what: str, value: object) -> None:
+    """A string through the converter of the entry's declared type (convertFromString);
+    `value`: a literal's converted value (the typing pass converted it)."""
     decl = s.declared
-    value = converted_literal(s, v.literal, off, what)
     if is_queue(s.kind):
         c.errc_check(
             f"btgen::port::parse_queue({v.expr}, {s.member}.value)",
@@ -866,7 +856,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
         c.emit(f"double {t} = 0.0;")
         if r == "int":
             # The conversion inline; the dynamic store only for its message when it fails.
-            c.emit(f"if (btgen::script::num({v.expr}, {t}) != btgen::Errc::kOk) {{")
+            c.emit(f"if (btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t}) != btgen::Errc::kOk) {{")
             c.indent += 1
             c.emit(f"btgen::dyn::Ref {t}r;")
             c.dyn_call(
@@ -878,7 +868,7 @@ def store_number(c, s: SlotView, v: Val, off: int, what: str, op: str, guard: bo
             c.indent -= 1
             c.emit("}")
         else:
-            c.emit(f"(void)btgen::script::num({v.expr}, {t});")
+            c.emit(f"(void)btgen::script::num_v<Semantics::int_to_double_53_bits>({v.expr}, {t});")
         c.emit(f"{s.member}.value = {t};")
         return
     n = c.temp()
@@ -934,9 +924,9 @@ def cpp_value(value: object) -> str:
     raise TypeError(value)
 
 
-def compile_script(script: sc.Script, ctx: ScriptContext, condition: bool) -> list[str]:
-    """The C++ body of one script (see ScriptCompiler); raises ScriptTypeError."""
-    return ScriptCompiler(ctx).compile(script, condition)
+def compile_script(typed: TypedScript, ctx: ScriptContext) -> list[str]:
+    """The C++ body of one typed script (see ScriptCompiler)."""
+    return ScriptCompiler(ctx, typed).compile()
 
 
 @dataclass(frozen=True)
@@ -970,20 +960,16 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
         for s in data.slots
     ]
     out = []
-    with user_kinds(data.user_types):
-        for c in data.scripts:
-            table = ErrorTable()
-            ctx = ScriptContext(
-                views,
-                dict(c.names),
-                lambda off, at=c.attr: place(script_loc(at, off)),
-                c.prefix,
-                dict(data.enums),
-                table,
-            )
-            try:
-                body = compile_script(c.script, ctx, c.condition)
-            except ScriptTypeError as e:  # ir/script_types.py lets no such script through
-                raise InternalError(f"{c.comment}: the C++ writer refused a typed script: {e.message}") from e
-            out.append(CompiledScript(c.node, c.which, c.comment, tuple(body), tuple(table.entries), c.prefix))
+    for c in data.scripts:
+        table = ErrorTable()
+        ctx = ScriptContext(
+            views,
+            dict(c.names),
+            lambda off, at=c.attr: place(script_loc(at, off)),
+            c.prefix,
+            dict(data.enums),
+            table,
+        )
+        body = compile_script(c.typed, ctx)
+        out.append(CompiledScript(c.node, c.which, c.comment, tuple(body), tuple(table.entries), c.prefix))
     return out, tuple(where)

@@ -9,6 +9,8 @@ mission are reported together.
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import os
 import re
 from collections.abc import Sequence
@@ -17,12 +19,13 @@ from typing import Optional
 from lxml import etree
 
 from btgen.diagnostics import DiagnosticSink, Loc, UserError, did_you_mean, suggestion
+from btgen.frontend import version_rules
+from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
-    BUILTINS,
     EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
     KIND_CHILDREN,
@@ -35,8 +38,10 @@ from btgen.lang.catalogue import (
     SPECIAL_ATTRIBUTES,
     NodeSpec,
     PortSpec,
+    builtins_for,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.lang.versions import DEFAULT_VERSION, semantics
 
 MAX_INCLUDE_DEPTH = 32
 MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance count check)
@@ -74,9 +79,17 @@ def remap_key(value: str, port_name: str) -> str:
 
 class _Loader:
     def __init__(
-        self, path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+        self,
+        path: str,
+        models: Sequence[str] = (),
+        main_tree: Optional[str] = None,
+        trees: Sequence[str] = (),
+        btcpp: str = DEFAULT_VERSION,
     ) -> None:
         self.path = path
+        self.btcpp = btcpp
+        self.sem = semantics(btcpp)
+        self.builtins = builtins_for(btcpp)
         self.models_paths = tuple(models)
         self.trees_paths = tuple(trees)
         self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
@@ -86,6 +99,9 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
+        self.siblings = SiblingIndex(self.files)
+        self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
     # ---------------------------------------------------------------- files
@@ -94,6 +110,10 @@ class _Loader:
             return self._load()
         except UserError as e:
             raise UserError(self._sorted(e.diagnostics)) from None
+
+    def _position(self, i: int) -> tuple[int, int, int]:
+        d = self.sink.items[i]
+        return (self.files.index(d.loc.path) if d.loc.path in self.files else len(self.files), d.loc.line, d.loc.col)
 
     def _sorted(self, diags):
         order = {f: i for i, f in enumerate(self.files)}
@@ -110,12 +130,28 @@ class _Loader:
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
         tree_ids = self._check_tree_ids()
+        for spec in self.palette_subtrees:
+            if spec.id not in tree_ids:
+                self.sink.error(
+                    spec.loc or Loc(self.path),
+                    f"SubTree model `{spec.id}` names no BehaviorTree of the mission{suggestion(spec.id, tree_ids)}",
+                )
         trees = tuple(
             TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
             for tid, elem, src in self.tree_elems
             if tid in tree_ids
         )
         self._check_subtree_cycles(trees)
+        if self.undeclared:
+            # No model anywhere (none in the mission, no --models): most likely the models file
+            # was forgotten; the first unknown node says so, once.
+            first = min(self.undeclared, key=self._position)
+            d = self.sink.items[first]
+            self.sink.items[first] = dataclasses.replace(
+                d,
+                message=d.message + "; the mission declares no node models: if they are in a file of their "
+                "own, pass it with `--models FILE.xml`",
+            )
         self.sink.raise_if_errors()
         mission = Mission(
             self.path,
@@ -124,16 +160,20 @@ class _Loader:
             tuple(self.models),
             tuple(self.files),
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
+            btcpp=self.btcpp,
         )
+        self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
+        self._check_version_rules(mission)
         self._validate_mission_xsd(mission)
         self.sink.raise_if_errors()
-        return mission
+        warnings = tuple(self._sorted(d for d in self.sink.items if d.severity == "warning"))
+        return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
+        self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
         self.sources.append(src)
-        self.files.append(shown)
         root = src.root
         if root.tag != "root":
             if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
@@ -237,14 +277,17 @@ class _Loader:
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
         declarations count as the mission's own."""
+        if not path:  # (it was reported at `:1:1:`)
+            self.sink.error(Loc("--models", 1, 1), "the file name is empty")
+            return
         if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
             return  # given twice, or also the mission or one of its includes
+        self.files.append(path)
         try:
             src = read_source(path, path)
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
-        self.files.append(path)
         root = src.root
         if root.tag != "root":
             self.sink.error(
@@ -258,11 +301,26 @@ class _Loader:
         if errors:
             self.sink.items.extend(errors)
             return
+        # (both were taken silently: a models file is read as format 4 and runs nothing)
+        fmt = root.get("BTCPP_format")
+        if fmt is not None and fmt != "4":
+            self.sink.error(
+                src.value_loc(root, "BTCPP_format"),
+                f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
+            )
+        if root.get("main_tree_to_execute") is not None:
+            self.sink.error(
+                src.attr_loc(root, "main_tree_to_execute"),
+                "a models file does not choose the tree to run; main_tree_to_execute belongs to the mission "
+                "(or --main-tree)",
+            )
         for child in root:
             if not isinstance(child.tag, str):
                 continue
             if child.tag == "TreeNodesModel":
+                before = len(self.models)
                 self._read_models(child, src)
+                self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
             else:
                 self.sink.error(
                     src.loc(child),
@@ -317,7 +375,7 @@ class _Loader:
             if not isinstance(m.tag, str):
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
-            if mid in BUILTINS:
+            if mid in self.builtins:
                 # 4.6.2 never reads leaf, control or decorator models from XML: the
                 # registered node, here the built-in, is what runs.
                 self.sink.warning(
@@ -525,6 +583,13 @@ class _Loader:
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
             elif not aname[:1].isalpha():
                 self._ignored_attribute(attr, tag, node_id)
+            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+                self.sink.warning(
+                    attr.loc,
+                    f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
+                    f"attributes that are not valid port names",
+                )
             elif tag == "SubTree":
                 ports.append(self._subtree_remap(attr, node_id))
             elif spec is not None:
@@ -539,7 +604,7 @@ class _Loader:
             return SubTreeNode(
                 node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, autoremap, target=node_id
             )
-        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc)
+        return Node(node_id, kind, name, tuple(ports), tuple(pre), tuple(post), children, loc, tag=tag)
 
     def _ignored_attribute(self, attr: Attr, tag: str, node_id: str) -> None:
         """An attribute not starting with a letter that means nothing to 4.6.2: it ignores it
@@ -569,17 +634,20 @@ class _Loader:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
             if node_id not in tree_ids:
-                self.sink.error(
-                    loc,
-                    f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{suggestion(node_id, tree_ids)}",
+                beside = self.siblings.defining_tree(src.path, node_id)
+                where = (
+                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    if beside is not None
+                    else suggestion(node_id, tree_ids)
                 )
-            return BUILTINS["SubTree"]
+                self.sink.error(loc, f"SubTree `{node_id}` does not exist: no BehaviorTree has that ID{where}")
+            return self.builtins["SubTree"]
         user = {m.id: m for m in self.models}
-        spec = BUILTINS.get(node_id) or user.get(node_id)
+        spec = self.builtins.get(node_id) or user.get(node_id)
         if spec is None and node_id.startswith("{"):  # lxml's `{uri}local` of a namespaced element
             local = etree.QName(node_id).localname
             shown = f"{elem.prefix}:{local}" if elem.prefix else local
-            known = local in BUILTINS or local in user
+            known = local in self.builtins or local in user
             self.sink.error(
                 loc,
                 f"unknown node `{shown}`: BehaviorTree.CPP node elements have no namespace "
@@ -590,22 +658,32 @@ class _Loader:
             if node_id in tree_ids:
                 self.sink.error(loc, f'`{node_id}` is a BehaviorTree, not a node: write <SubTree ID="{node_id}"/>')
                 return None
-            hint = did_you_mean(node_id, list(BUILTINS) + list(user))
-            where = "built in"
+            if node_id == "TryCatch" and not self.sem.trycatch:
+                self.sink.error(
+                    loc,
+                    f"unknown node `TryCatch`: it is built in from BehaviorTree.CPP 4.9.0, not in "
+                    f"{self.btcpp} (select the version with --btcpp 4.10.0)",
+                )
+                return None
+            unknown = f"unknown node `{node_id}`: it is neither built in nor declared in TreeNodesModel"
+            beside = self.siblings.declaring_model(src.path, node_id)
+            if beside is not None:
+                load = (
+                    f"pass `--models {beside.path}`"
+                    if beside.models_only
+                    else f'add <include path="{beside.name}"/> to <root>'
+                )
+                self.sink.error(loc, f"{unknown}; `{beside.path}` beside it declares it: {load}")
+                return None
+            hint = did_you_mean(node_id, list(self.builtins) + list(user))
             if hint:
                 where = "declared in TreeNodesModel" if hint in user else "built in"
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f"TreeNodesModel; `{hint}` is {where} (did you mean it?)",
-                )
-            else:
-                self.sink.error(
-                    loc,
-                    f"unknown node `{node_id}`: it is neither built in nor declared in "
-                    f'TreeNodesModel (declare it as <Action ID="{node_id}"/> or '
-                    f'<Condition ID="{node_id}"/>)',
-                )
+                self.sink.error(loc, f"{unknown}; `{hint}` is {where} (did you mean it?)")
+                return None
+            children = sum(1 for c in elem if isinstance(c.tag, str))
+            self.sink.error(loc, f"{unknown} ({model_advice(node_id, children)})")
+            if not user and not self.models_paths:
+                self.undeclared.append(len(self.sink.items) - 1)
             return None
         if tag in KINDS and tag != spec.kind:
             # 4.6.2 creates the registered node whatever the element says (<Action
@@ -626,7 +704,7 @@ class _Loader:
 
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
         try:
-            parsed = script_lang.parse_script(attr.value)
+            parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)
         except script_lang.ScriptSyntaxError as e:
             self.sink.error(
                 src.value_loc(elem, attr.name, e.offset), f"invalid script in `{attr.name}` of `{node_id}`: {e.message}"
@@ -634,7 +712,17 @@ class _Loader:
             return attr
         return Attr(attr.name, attr.value, attr.loc, attr.value_loc, parsed)
 
-    def _check_key(self, attr: Attr, key: str, what: str) -> bool:
+    def _check_key(self, attr: Attr, key: str, what: str, remap: bool = False) -> bool:
+        if remap and key and not _KEY_RE.match(key):
+            # 4.6.2 names the entry with whatever is between the braces (`{ n }` is the key
+            # ` n `; edges table B1): loaded, with a warning, since it is most likely a typo
+            self.sink.warning(
+                attr.value_loc,
+                f"`{attr.value}` in {what} names the blackboard key `{key}`, which scripts cannot "
+                f"name (keys are letters, digits, `_`, optionally `@` first); BehaviorTree.CPP 4.6.2 "
+                f"uses it as it is",
+            )
+            return True
         if not _KEY_RE.match(key):
             self.sink.error(
                 attr.value_loc,
@@ -657,7 +745,7 @@ class _Loader:
                 f"BehaviorTree.CPP 4.6.2 remaps it all the same",
             )
         if is_remap(attr.value):
-            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`")
+            self._check_key(attr, remap_key(attr.value, attr.name), f"port `{attr.name}`", remap=True)
         return attr
 
     def _port(self, attr: Attr, spec: NodeSpec, elem: etree._Element, src: Source) -> Optional[Attr]:
@@ -678,7 +766,7 @@ class _Loader:
                 # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
                 self._check_literal(attr.value_loc, what, port.type, value)
                 return attr
-            self._check_key(attr, remap_key(value, attr.name), what)
+            self._check_key(attr, remap_key(value, attr.name), what, remap=True)
             return attr
         if ("{" in value or "}" in value) and (value.startswith("{") or value.endswith("}")) and not typed:
             self.sink.warning(
@@ -691,6 +779,9 @@ class _Loader:
         if (spec.id, attr.name) in KEY_NAME_PORTS:
             # These nodes read the raw text as the name of an entry (`output_key="result"`).
             self._check_key(attr, value, what)
+            return attr
+        if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
+            version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
@@ -815,13 +906,29 @@ class _Loader:
                 f"{MAX_NODES} are allowed",
             )
 
+    def _check_version_rules(self, mission: Mission) -> None:
+        """What later releases refuse at load: errors when the selected version refuses it,
+        warnings under 4.6.2 so that a team learns before it upgrades."""
+        for finding in version_rules.loading_findings(mission):
+            if getattr(self.sem, finding.switch):
+                self.sink.error(finding.loc, f"{finding.message} (refused from BehaviorTree.CPP {finding.since})")
+            else:
+                self.sink.warning(finding.loc, f"refused from BehaviorTree.CPP {finding.since}: {finding.message}")
+
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
         from btgen.frontend.xsd import validate_against_mission_xsd
 
         for src in self.sources:
-            self.sink.items.extend(validate_against_mission_xsd(mission, src))
+            for d in validate_against_mission_xsd(mission, src):
+                # attributes the library ignores (not port names) were reported, if at all, above
+                m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
+                ignored = m is not None and (
+                    m.group(1).startswith("_") or not version_rules.is_port_name(m.group(1), self.sem)
+                )
+                if not ignored:
+                    self.sink.items.append(d)
 
 
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
@@ -849,13 +956,35 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     return ""
 
 
+def files_read(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> list[str]:
+    """The files loading the mission reads: the mission, its includes, the models files and
+    the --trees files, also when it does not load (a build system then keeps depending on an
+    include that stopped loading, and the build reports its errors instead of keeping a
+    stale output)."""
+    loader = _Loader(path, models, main_tree, trees, btcpp)
+    with contextlib.suppress(UserError):
+        loader.load()
+    read = list(loader.files)
+    return read + [m for m in models if m not in read]
+
+
 def load_mission(
-    path: str, models: Sequence[str] = (), main_tree: Optional[str] = None, trees: Sequence[str] = ()
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
-    BehaviorTrees the mission's SubTrees may use (`--trees`)."""
-    return _Loader(path, models, main_tree, trees).load()
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp).load()

@@ -25,7 +25,7 @@ from lxml import etree
 from btgen import resources
 from btgen.diagnostics import Diagnostic, Loc
 from btgen.frontend.xmlsource import Source
-from btgen.lang.catalogue import BUILTINS, METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from btgen.lang.catalogue import METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
 from btgen.lang.model import Mission
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
@@ -101,8 +101,10 @@ _SIMPLE = {
 }
 
 
-def _type_ref(port: PortSpec) -> str:
+def _type_ref(port: PortSpec, node_id: str = "") -> str:
     t = port.type
+    if node_id.startswith("Loop") and port.name == "queue":
+        return "xs:string"  # untyped from 4.9.1, a literal queue or a {key} all the same
     if port.direction == "output" or (port.direction == "inout" and not t.startswith("queue<")):
         return "bt_key"
     return {
@@ -115,10 +117,10 @@ def _type_ref(port: PortSpec) -> str:
 
 
 _PRELUDE = """  <xs:simpleType name="bt_ref">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *"/></xs:restriction>
   </xs:simpleType>
   <xs:simpleType name="bt_key">
-    <xs:restriction base="xs:string"><xs:pattern value="\\{=\\}|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
+    <xs:restriction base="xs:string"><xs:pattern value=" *\\{[\\s\\S]+\\} *|\\{?@?[A-Za-z_][A-Za-z0-9_.:\\-]*\\}?"/></xs:restriction>
   </xs:simpleType>
   <xs:simpleType name="bt_int_prefix">
     <xs:restriction base="xs:string"><xs:pattern value="-?[0-9]+[\\s\\S]*"/></xs:restriction>
@@ -168,7 +170,7 @@ def _node_type(spec: NodeSpec, lenient: bool) -> str:
         lines.append("    <xs:sequence>\n" + kids.replace("      ", "      ", 1) + "    </xs:sequence>\n")
     for p in spec.ports:
         use = ' use="required"' if p.required else ""
-        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p)}"{use}/>\n')
+        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p, spec.id)}"{use}/>\n')
     lines.append('    <xs:attributeGroup ref="bt_common"/>\n')
     if lenient:
         lines.append('    <xs:anyAttribute processContents="skip"/>\n')
@@ -182,7 +184,7 @@ def mission_xsd(mission: Mission, lenient: bool = False) -> str:
     `lenient`: also accept what BehaviorTree.CPP ignores and the loader has already
     warned about (text between elements, attributes starting with `_`); the loader's
     backstop uses it, editors get the strict schema of `btgen xsd`."""
-    specs: list[NodeSpec] = [s for s in BUILTINS.values() if s.id != "SubTree"]
+    specs: list[NodeSpec] = [s for s in mission.builtins.values() if s.id != "SubTree"]
     # An ID that is not an XML name (`IV. Act`) can only be written in the explicit
     # form <Action ID="IV. Act"/>, which the explicit.* types cover.
     specs += [m for m in mission.models if m.kind != "SubTree" and _XML_NAME.match(m.id)]

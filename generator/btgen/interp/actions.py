@@ -70,7 +70,10 @@ class SetBlackboardNode(TreeNode):
         if p is None:
             raise _run_error(self.model.loc, f'`SetBlackboard` "{self.name}" needs port `value`')
         try:
-            ok = bbmod.set_blackboard(self.bb, str(key), p.raw)
+            if self.rt.sem.setblackboard_converts_to_entry_type:
+                ok = bbmod.set_blackboard_410(self.bb, str(key), p.raw)
+            else:
+                ok = bbmod.set_blackboard(self.bb, str(key), p.raw)
         except (values.ConversionError, bbmod.BlackboardError) as e:
             raise _run_error(self.port_loc("value"), f'`SetBlackboard` "{self.name}": {e}') from None
         return SUCCESS if ok is not False else FAILURE

@@ -54,7 +54,7 @@ class _FirstDecidingChildNode(ControlNode):
     instead; the results differ when a child that was RUNNING is later skipped by ``_while``,
     and when a completed node is ticked again.)"""
 
-    __slots__ = ("idx", "all_skipped", "asynch")
+    __slots__ = ("idx", "all_skipped", "asynch", "by_count", "skipped")
     DECIDES = FAILURE
     GOES_ON = SUCCESS
 
@@ -63,9 +63,13 @@ class _FirstDecidingChildNode(ControlNode):
         self.idx = 0
         self.all_skipped = True
         self.asynch = asynch
+        # versions.py skipped_by_count: SKIPPED when every child was skipped in this run
+        self.by_count = rt.sem.skipped_by_count
+        self.skipped = 0
 
     def halt(self) -> None:
         self.idx = 0
+        self.skipped = 0
         ControlNode.halt(self)
 
     def tick(self) -> int:
@@ -75,6 +79,7 @@ class _FirstDecidingChildNode(ControlNode):
         st = self.status
         if st == IDLE:
             self.all_skipped = True
+            self.skipped = 0
         if st != RUNNING:  # setStatus(RUNNING)
             self.status = RUNNING
             self.emit((self.prefix, _TRANS[st][RUNNING]))
@@ -100,14 +105,17 @@ class _FirstDecidingChildNode(ControlNode):
                     return RUNNING
             elif cs == SKIPPED:
                 idx += 1
+                self.skipped += 1
             else:
                 self.idx = idx
                 raise self._child_idle_error()
         self.idx = idx
+        all_skipped = self.skipped == n if self.by_count else self.all_skipped
         if idx == n:
             self.reset_children()
             self.idx = 0
-        return SKIPPED if self.all_skipped else goes_on
+            self.skipped = 0
+        return SKIPPED if all_skipped else goes_on
 
 
 class SequenceNode(_FirstDecidingChildNode):
@@ -130,18 +138,21 @@ class SequenceWithMemoryNode(ControlNode):
     """4.6.2 ``SequenceWithMemory``: a FAILURE halts the children from the current one on but
     keeps the index; halt() keeps it too. SKIPPED as in SequenceNode (``all_skipped_``)."""
 
-    __slots__ = ("idx", "all_skipped")
+    __slots__ = ("idx", "all_skipped", "by_count", "skipped")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.idx = 0
         self.all_skipped = True
+        self.by_count = rt.sem.skipped_by_count
+        self.skipped = 0
 
     def tick(self) -> int:
         children = self.children
         n = len(children)
         if self.status == IDLE:
             self.all_skipped = True
+            self.skipped = 0
         self.set_status(RUNNING)
         while self.idx < n:
             child = children[self.idx]
@@ -161,12 +172,83 @@ class SequenceWithMemoryNode(ControlNode):
                     return RUNNING
             elif cs == SKIPPED:
                 self.idx += 1
+                self.skipped += 1
             else:
                 raise self._child_idle_error()
+        all_skipped = self.skipped == n if self.by_count else self.all_skipped
         if self.idx == n:
             self.reset_children()
             self.idx = 0
-        return SKIPPED if self.all_skipped else SUCCESS
+            self.skipped = 0
+        return SKIPPED if all_skipped else SUCCESS
+
+
+class TryCatchNode(ControlNode):
+    """4.9.0 ``TryCatchNode`` (versions.py trycatch): the children but the last run as a
+    Sequence; on a FAILURE they are reset and the last (catch) child runs until it completes,
+    then the node returns FAILURE. With ``catch_on_halt`` a halt in the try block ticks the
+    catch child once (halting it if RUNNING)."""
+
+    __slots__ = ("idx", "skipped", "in_catch")
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.idx = 0
+        self.skipped = 0
+        self.in_catch = False
+
+    def halt(self) -> None:
+        catch_on_halt = self.get_input("catch_on_halt", "bool")
+        n = len(self.children)
+        if catch_on_halt is True and not self.in_catch and self.status == RUNNING and n >= 2:
+            for i in range(n - 1):
+                self.halt_child(i)
+            if self.children[-1].execute_tick() == RUNNING:
+                self.halt_child(n - 1)
+        self.idx = 0
+        self.skipped = 0
+        self.in_catch = False
+        ControlNode.halt(self)
+
+    def tick(self) -> int:
+        children = self.children
+        n = len(children)
+        if self.status == IDLE:
+            self.skipped = 0
+            self.in_catch = False
+        self.set_status(RUNNING)
+        while True:
+            if self.in_catch:
+                cs = children[-1].execute_tick()
+                if cs == RUNNING:
+                    return RUNNING
+                self.reset_children()
+                self.idx = 0
+                self.in_catch = False
+                return FAILURE
+            tries = n - 1
+            while self.idx < tries:
+                cs = children[self.idx].execute_tick()
+                if cs == RUNNING:
+                    return RUNNING
+                if cs == FAILURE:
+                    self.reset_children()
+                    self.idx = 0
+                    self.in_catch = True
+                    break
+                if cs == SUCCESS:
+                    self.idx += 1
+                elif cs == SKIPPED:
+                    self.idx += 1
+                    self.skipped += 1
+                else:
+                    raise self._child_idle_error()
+            else:
+                all_skipped = self.skipped == tries
+                self.reset_children()
+                self.idx = 0
+                self.skipped = 0
+                return SKIPPED if all_skipped else SUCCESS
 
 
 class _ReactiveNode(ControlNode):
@@ -425,15 +507,16 @@ def _skipped_condition_error(node: TreeNode, cond: TreeNode) -> RunError:
     )
 
 
-def _to_int_prefix(text: str) -> Optional[int]:
-    """std::from_chars<int> as SwitchNode uses it: an optional '-', digits; the rest is ignored."""
+def _to_int_prefix(text: str, whole: bool = False) -> Optional[int]:
+    """std::from_chars<int> as SwitchNode uses it: an optional '-', digits; the rest is ignored
+    (``whole``: 4.10.0 needs the digits to be the whole text)."""
     i = 0
     if i < len(text) and text[i] == "-":
         i += 1
     j = i
     while j < len(text) and "0" <= text[j] <= "9":
         j += 1
-    if j == i:
+    if j == i or (whole and j != len(text)):
         return None
     value = int(text[:j])
     if value < -(2**31) or value > 2**31 - 1:
@@ -444,7 +527,7 @@ def _to_int_prefix(text: str) -> Optional[int]:
 _FLOAT_RE = None
 
 
-def _to_real_prefix(text: str) -> Optional[float]:
+def _to_real_prefix(text: str, whole: bool = False) -> Optional[float]:
     """std::from_chars<double> (general format): the longest prefix that is a number, inf or nan."""
     global _FLOAT_RE
     if _FLOAT_RE is None:
@@ -455,7 +538,7 @@ def _to_real_prefix(text: str) -> Optional[float]:
             re.IGNORECASE,
         )
     m = _FLOAT_RE.match(text)
-    if not m:
+    if not m or (whole and m.end() != len(text)):
         return None
     try:
         value = float(m.group(0))
@@ -466,14 +549,16 @@ def _to_real_prefix(text: str) -> Optional[float]:
     return value
 
 
-def switch_equal(v1: str, v2: str) -> bool:
-    """SwitchNode's CheckStringEquality (4.6.2): as text, then as integers, then as reals."""
+def switch_equal(v1: str, v2: str, whole: bool = False) -> bool:
+    """SwitchNode's CheckStringEquality: as text, then as integers, then as reals; 4.6.2 reads
+    a number from the start of the text, 4.10.0 (``whole``, versions.py switch_whole_parse)
+    only from the whole of it."""
     if v1 == v2:
         return True
-    i1, i2 = _to_int_prefix(v1), _to_int_prefix(v2)
+    i1, i2 = _to_int_prefix(v1, whole), _to_int_prefix(v2, whole)
     if i1 is not None and i2 is not None and i1 == i2:
         return True
-    r1, r2 = _to_real_prefix(v1), _to_real_prefix(v2)
+    r1, r2 = _to_real_prefix(v1, whole), _to_real_prefix(v2, whole)
     return bool(r1 is not None and r2 is not None and abs(r1 - r2) <= 1.1920928955078125e-07)
 
 
@@ -498,7 +583,7 @@ class SwitchNode(ControlNode):
         if variable is not MISSING:
             for index in range(self.cases):
                 value = self.get_input(f"case_{index + 1}", "string")
-                if value is not MISSING and switch_equal(variable, value):
+                if value is not MISSING and switch_equal(variable, value, self.rt.sem.switch_whole_parse):
                     match = index
                     break
         if self.running_child != -1 and self.running_child != match:

@@ -164,7 +164,8 @@ class RepeatNode(DecoratorNode):
 
     ``all_skipped`` is 4.6.2's flag: set when ticked from IDLE, cleared by any child result
     but SKIPPED. A count of 0 or below -1 never starts the loop, so the flag is still set and
-    the node answers SKIPPED while staying RUNNING (docs/btcpp-4.6.2-edges.md, R1)."""
+    the node answers SKIPPED while staying RUNNING (docs/btcpp-4.6.2-edges.md, R1).
+    From 4.7.0 the loop never ends SKIPPED (versions.py loop_end_never_skipped)."""
 
     __slots__ = ("count", "all_skipped")
 
@@ -206,11 +207,13 @@ class RepeatNode(DecoratorNode):
             else:
                 raise _run_error(self.model.loc, f'the child of `Repeat` "{self.name}" returned IDLE')
         self.count = 0
-        return SKIPPED if self.all_skipped else SUCCESS
+        return SKIPPED if self.all_skipped and not self.rt.sem.loop_end_never_skipped else SUCCESS
 
 
 class RetryNode(DecoratorNode):
-    """4.6.2 ``RetryNode`` (RetryUntilSuccessful); ``all_skipped`` as in :class:`RepeatNode`."""
+    """4.6.2 ``RetryNode`` (RetryUntilSuccessful). From 4.7.0 num_attempts is read again after
+    every failure (versions.py retry_rereads_attempts) and the loop never ends SKIPPED
+    (loop_end_never_skipped)."""
 
     __slots__ = ("tries", "all_skipped")
 
@@ -241,7 +244,11 @@ class RetryNode(DecoratorNode):
             if cs == FAILURE:
                 self.tries += 1
                 # 4.6.2 read num_attempts once, at the start of tick(); re-reading it after
-                # every failure (#905) came with 4.7.0
+                # every failure (#905) came with 4.7.0 (a failed read keeps the old value)
+                if self.rt.sem.retry_rereads_attempts:
+                    again = self.get_input("num_attempts", "int")
+                    if again is not MISSING:
+                        attempts = again
                 do_loop = self.tries < attempts or attempts == -1
                 self.reset_child()
                 if prev == IDLE and do_loop:
@@ -254,7 +261,7 @@ class RetryNode(DecoratorNode):
             else:
                 raise _run_error(self.model.loc, f'the child of `RetryUntilSuccessful` "{self.name}" returned IDLE')
         self.tries = 0
-        return SKIPPED if self.all_skipped else FAILURE
+        return SKIPPED if self.all_skipped and not self.rt.sem.loop_end_never_skipped else FAILURE
 
 
 class RunOnceNode(DecoratorNode):
@@ -287,15 +294,28 @@ class PreconditionNode(DecoratorNode):
     """4.6.2 ``PreconditionNode``: `if` is evaluated on every tick; when false the node returns
     `else` without ticking (or halting) its child. (Later releases evaluate it once per run.)"""
 
-    __slots__ = ("script",)
+    __slots__ = ("script", "children_running")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.script = _ScriptPort(self, "if")
+        self.children_running = False
 
     def tick(self) -> int:
         self.script.load()
         else_status = self.status_input("else")
+        if self.rt.sem.precondition_if_until_started:
+            # 4.7.0: `if` only until the child has started; the flag survives a halt (a quirk
+            # of the library: halt() does not clear it, docs/btcpp-versions.md)
+            if not self.children_running:
+                self.children_running = self.script.truth()
+            if not self.children_running:
+                return else_status
+            cs = self.child.execute_tick()
+            if cs in (SUCCESS, FAILURE):
+                self.reset_child()
+                self.children_running = False
+            return cs
         if self.script.truth():
             cs = self.child.execute_tick()
             if cs in (SUCCESS, FAILURE):
@@ -391,7 +411,9 @@ class LoopNode(DecoratorNode):
         p = self.ports.get("queue")
         if p is not None and not bbmod.is_blackboard_pointer(p.raw):
             try:
-                self.static_queue = values.convert_from_string(f"queue<{elem}>", p.raw)  # type: ignore
+                self.static_queue = values.convert_from_string(  # type: ignore[assignment]
+                    f"queue<{elem}>", p.raw, double_from_chars=rt.sem.double_from_chars
+                )
             except values.ConversionError as e:
                 raise _run_error(self.port_loc("queue"), f'port `queue` of `{reg_id}` "{self.name}": {e}') from None
 
@@ -399,10 +421,16 @@ class LoopNode(DecoratorNode):
         popped = False
         if self.status == IDLE:
             self.child_running = False
+            if self.rt.sem.loop_queue_untyped:
+                self.current = None
             if self.static_queue is not None:
                 self.current = values.Queue(self.elem, self.static_queue)
         if not self.child_running:
-            if self.static_queue is None:
+            if self.static_queue is None and self.rt.sem.loop_queue_untyped:
+                q = self._queue_from_blackboard_410()
+                if q is not None:
+                    self.current = q
+            elif self.static_queue is None:
                 q = self._queue_from_blackboard()
                 if q is not None:
                     self.current = q
@@ -424,6 +452,34 @@ class LoopNode(DecoratorNode):
         if cs == FAILURE:
             return FAILURE
         return RUNNING
+
+    def _queue_from_blackboard_410(self):
+        """4.9.1's getLockedPortContent("queue"): a queue of the element type is used (and
+        consumed) in place; a string is converted into a private queue once per start of the
+        loop (None: keep the one converted before); anything else, or no value, throws."""
+        p = self.ports.get("queue")
+        key = bbmod.remapped_key("queue", p.raw) if p is not None else None
+        if key is None:
+            return None
+        entry = self.bb.get_entry(key)
+        value = entry.value if entry is not None else None
+        if isinstance(value, values.Queue) and value.element_type == self.elem:
+            return value
+        if self.current is not None:
+            return None
+        if isinstance(value, str):
+            try:
+                return values.convert_from_string(f"queue<{self.elem}>", value, double_from_chars=True)
+            except values.ConversionError as e:
+                raise _run_error(
+                    self.port_loc("queue"), f'port `queue` of `{self.reg_id}` "{self.name}": {e}'
+                ) from None
+        what = "has no value" if value is None else f"holds {values.describe(value)}"
+        raise _run_error(
+            self.port_loc("queue"),
+            f'port `queue` of `{self.reg_id}` "{self.name}" reads blackboard entry `{key}`, which {what}: '
+            f"it must hold a queue<{self.elem}> or a string",
+        )
 
     def _queue_from_blackboard(self):
         """getLockedPortContent("queue"): the entry's own queue (popping changes the entry), or

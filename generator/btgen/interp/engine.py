@@ -55,6 +55,7 @@ from btgen.interp.controls import (
     SequenceNode,
     SequenceWithMemoryNode,
     SwitchNode,
+    TryCatchNode,
     WhileDoElseNode,
 )
 from btgen.interp.decorators import (
@@ -77,7 +78,6 @@ from btgen.interp.scenario import Scenario
 from btgen.interp.tree import _BY_VALUE, FAILURE, RUNNING, SKIPPED, SUCCESS, Runtime, TreeNode, _Port, _run_error
 from btgen.lang import blackboard as bbmod
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
 from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind, user_node_kind, user_node_message
 from btgen.lang.model import Mission, Node, SubTreeNode
@@ -125,6 +125,7 @@ _BUILTIN_FACTORIES = {
     "UnsetBlackboard": UnsetBlackboardNode,
     "Sleep": SleepNode,
     "WasEntryUpdated": WasEntryUpdatedNode,
+    "TryCatch": TryCatchNode,  # 4.9.0; only in the catalogue of versions that have it
 }
 
 
@@ -154,7 +155,7 @@ class _Builder:
             return subtree
         ports = self._ports_of(model)
         self._create_entries(model, ports, bb)
-        if model.id in _BUILTIN_FACTORIES and model.id in BUILTINS:
+        if model.id in _BUILTIN_FACTORIES and model.id in self.mission.builtins:
             factory = _BUILTIN_FACTORIES[model.id]
             node = factory(rt, model, bb, model.id, ports)
         elif is_scripted_leaf(self.mission, model):
@@ -194,7 +195,12 @@ class _Builder:
                 f"without a default, and this instance does not remap it",
             )
         try:
-            bb = bbmod.Blackboard.for_subtree(parent_bb, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent_bb,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.rt.sem.subtree_literals_typed,
+            )
             provide(self.mission, bb, model.target, False)
             return bb
         except (values.ConversionError, bbmod.BlackboardError) as e:

@@ -101,6 +101,8 @@ class Runtime:
             for s in scenario.leaves:
                 self.cursors[s.name] = _Cursor(tuple(_STATUS_OF_TEXT[t] for t in s.statuses))
         self.uid = 0
+        # The one place the interpreter learns the version: every node reads its switches here.
+        self.sem = mission.semantics
 
     def write_line(self, line: str) -> None:
         self.buf.append(line + "\n")
@@ -277,7 +279,7 @@ class TreeNode:
             code = self._parse_at_run_time(attr, attr.value)
             from_blackboard = True
         try:
-            return scriptmod.evaluate(code, self.bb, self.rt.enums)
+            return scriptmod.evaluate(code, self.bb, self.rt.enums, self.rt.sem.int_to_double_53_bits)
         except scriptmod.ScriptRuntimeError as e:
             raise self._script_error(attr, e.message, e.offset, from_blackboard) from None
         except (values.ConversionError, bbmod.BlackboardError) as e:
@@ -301,7 +303,7 @@ class TreeNode:
 
     def _parse_at_run_time(self, attr: Attr, text: str):
         try:
-            return scriptmod.parse_script(text)
+            return scriptmod.parse_script(text, self.rt.sem.script_grammar_49)
         except scriptmod.ScriptSyntaxError as e:
             raise _run_error(
                 attr.value_loc,

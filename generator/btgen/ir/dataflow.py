@@ -38,11 +38,11 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
-from btgen.ir.script_types import SlotType, check_script
+from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -91,16 +91,20 @@ SCRIPT_BIT = {
 }
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
+# Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
+# (every tick of Repeat, RetryUntilSuccessful, Timeout and Delay, the start of a Sleep).
+PARAM_PORTS = {
+    ("Repeat", "num_cycles"),
+    ("RetryUntilSuccessful", "num_attempts"),
+    ("Timeout", "msec"),
+    ("Delay", "delay_msec"),
+    ("Sleep", "msec"),
+}
 LITERAL_ONLY = {
     ("Parallel", "success_count"),
     ("Parallel", "failure_count"),
     ("ParallelAll", "max_failures"),
-    ("Repeat", "num_cycles"),
-    ("RetryUntilSuccessful", "num_attempts"),
     ("RunOnce", "then_skip"),
-    ("Timeout", "msec"),
-    ("Delay", "delay_msec"),
-    ("Sleep", "msec"),
     ("Precondition", "else"),
     ("LoopInt", "if_empty"),
     ("LoopBool", "if_empty"),
@@ -150,6 +154,7 @@ class ScriptIR:
     names: tuple[tuple[str, int], ...]  # name -> slot index
     condition: bool  # its last value is a condition's result
     prefix: str  # the prefix of its run-time error messages
+    typed: TypedScript  # every expression's kind and how it is computed (script_types.py)
 
 
 @dataclass(frozen=True)
@@ -207,6 +212,7 @@ class DataIR:
     enums: tuple[tuple[str, int], ...] = ()  # scripting enums: `detail::kScriptingEnums`
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
     inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
+    param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
 
 
 # ================================================================ helpers
@@ -425,7 +431,12 @@ class _Analyzer:
             )
         remap = [(n, v, a.value_loc if a is not None else model.loc) for n, v, a in remapping]
         try:
-            bb = bbmod.Blackboard.for_subtree(parent, [(n, v) for n, v, _ in remap], model.autoremap)
+            bb = bbmod.Blackboard.for_subtree(
+                parent,
+                [(n, v) for n, v, _ in remap],
+                model.autoremap,
+                typed_literals=self.m.semantics.subtree_literals_typed,
+            )
         except (values.ConversionError, bbmod.BlackboardError) as e:
             self.error(model.loc, f"SubTree `{model.target}`: {e}")
             bb = bbmod.Blackboard(parent, autoremap=model.autoremap)
@@ -436,17 +447,23 @@ class _Analyzer:
             assert entry is not None
             s = self._slot(entry, locs.get(key, model.loc))
             s.at_load = True
-            s.initial = str(entry.value)
+            # 4.9.1 stores a literal that is wholly a number as that number (subtree_literals_typed)
+            text = (
+                entry.value
+                if isinstance(entry.value, str)
+                else next((v for n, v, _ in remap if n == key), str(entry.value))
+            )
+            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
-            text = str(entry.value)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
                     self.next_order(),
                     locs.get(key, model.loc),
                     f'the constant port `{key}="{text}"` of SubTree "{model.display_name}"',
-                    lambda: "string",
+                    lambda k=constant_kind: k,
                     True,
                     lambda t=text: len(t.encode("utf-8")),
                     text,
@@ -489,6 +506,12 @@ class _Analyzer:
         if not isinstance(node, SubTreeNode):
             builtin = inst.spec is not None and inst.spec.builtin
             for p in inst.ports.values():
+                key = bbmod.remapped_key(p.name, p.raw)
+                if builtin and (nid, p.name) in PARAM_PORTS and key is not None:
+                    loc = p.loc_or or node.loc
+                    slot = self.resolve(inst.bb, key, loc)
+                    if slot is not None:
+                        self.node_ops.append(("param", inst, {"slot": slot, "port": p.name, "key": key, "loc": loc}))
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
                     self.error(
                         p.loc_or or node.loc,
@@ -1145,7 +1168,7 @@ class _Compiler:
             if not self.check_user_free(inst, attr, script, names):
                 continue
             try:
-                check_script(script, self.types, names, condition)
+                typed = type_script(script, self.types, names, condition)
             except ScriptTypeError as e:
                 self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
                 continue
@@ -1160,6 +1183,7 @@ class _Compiler:
                     tuple(sorted(names.items())),
                     condition,
                     f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
                 )
             )
             if enum != "kCode":
@@ -1195,14 +1219,45 @@ class _Compiler:
                 if isinstance(node, sc.Name):
                     s = self.a.slots[names[node.name]]
                     if not s.at_load and not s.writes:
+                        if node.name.startswith("@"):
+                            known = {"@" + k for k in self.created_keys(inst.bb.root)}
+                        else:
+                            known = self.created_keys(inst.bb)
+                        hint = did_you_mean(node.name, known - {node.name})
+                        advice = f"did you mean `{hint}`?" if hint else f"create it with `{node.name} := ...` first"
+                        bb = inst.bb
+                        if (
+                            bb.parent is not None
+                            and not bb.autoremap
+                            and not node.name.startswith("@")
+                            and node.name not in bb.remapping
+                            and node.name in self.created_keys(bb.parent)
+                        ):
+                            advice = (
+                                f"the calling tree's `{node.name}` is not seen here: the SubTree node does "
+                                f'not remap it; add {node.name}="{{{node.name}}}" or _autoremap="true"'
+                            )
                         self.error(
                             script_loc(attr, node.offset),
                             f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
-                            f"blackboard entry: no port, script or SetBlackboard writes it (create it with "
-                            f"`{node.name} := ...` first)",
+                            f"blackboard entry: no port, script or SetBlackboard writes it ({advice})",
                         )
                         ok = False
         return ok
+
+    def created_keys(self, bb: bbmod.Blackboard) -> set[str]:
+        """The keys a script on `bb` can name whose entries something creates: its own and
+        remapped keys, and through `_autoremap` its parent's (the candidates of a hint)."""
+        keys: set[str] = set(bb.local_keys()) | set(bb.remapping)
+        if bb.parent is not None and bb.autoremap:
+            keys |= {k for k in self.created_keys(bb.parent) if not k.startswith("_")}
+        out = set()
+        for key in keys:
+            entry = bb.get_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry)) if entry is not None else None
+            if idx is not None and (self.a.slots[idx].at_load or self.a.slots[idx].writes):
+                out.add(key)
+        return out
 
     # ------------------------------------------------------------ data nodes
     def unset(self, inst: _Inst, op: dict) -> DataOp:
@@ -1328,7 +1383,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1358,7 +1413,32 @@ class _Compiler:
                 what + ": ",
                 missing,
                 self.where(loc),
-                bbmod.EMPTY_COPY_SUCCEEDS,
+                self._empty_copy_succeeds(),
+            ),
+        )
+
+    def _empty_copy_succeeds(self) -> bool:
+        """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
+        return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
+
+    def param_read(self, inst: _Inst, op: dict) -> Optional[DataOp]:
+        """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
+        s = self.a.slots[op["slot"]]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op["port"]}` reads blackboard entry `{op["key"]}`'
+        if s.kind != "int":
+            self.error(
+                op["loc"],
+                f"port `{op['port']}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                f"{s.origin_text}); the C++ back end reads it from an integer entry only",
+            )
+            return None
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {op["port"]}={{{op["key"]}}}',
+            ops.ParamRead(
+                op["slot"],
+                self.fail(op["loc"], f"{what}, which does not exist"),
+                self.fail(op["loc"], f"{what}, which has no value yet"),
             ),
         )
 
@@ -1578,7 +1658,7 @@ class _Compiler:
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
         declared: dict[str, dict[str, dict]] = {}
-        for spec in self.a.m.user_models():
+        for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
@@ -1619,6 +1699,7 @@ class _Compiler:
         entries: list[DataOp] = []
         switches: list[DataOp] = []
         loops: list[DataOp] = []
+        param_reads: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for kind, inst, op in self.a.node_ops:
@@ -1641,6 +1722,11 @@ class _Compiler:
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
+            elif kind == "param":
+                read = self.param_read(inst, op)
+                if read is not None:
+                    param_reads.append(read)
+                    params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
             elif kind == "params":
                 p0 = op["p0"]
                 if p0 is not None:
@@ -1698,6 +1784,7 @@ class _Compiler:
             tuple(self.a.m.enums),
             user_types,
             tuple(self.user_inits),
+            tuple(param_reads),
         )
 
 

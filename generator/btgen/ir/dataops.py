@@ -131,6 +131,16 @@ class LoopPop:
 
 
 @dataclass(frozen=True)
+class ParamRead:
+    """Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec, Delay delay_msec
+    given as `{key}`: the integer entry, read whenever 4.6.2's node calls getInput."""
+
+    slot: int
+    missing: Fail  # the entry does not exist (UnsetBlackboard removed it)
+    no_value: Fail  # it exists without a value
+
+
+@dataclass(frozen=True)
 class UserInit:
     """A user-typed literal converted when the mission is constructed (Spec::init)."""
 

@@ -23,7 +23,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
+from btgen.lang.catalogue import builtins_for
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
@@ -55,7 +55,7 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "Switch4": ("Switch", 1, 0),
     "Switch5": ("Switch", 1, 0),
     "Switch6": ("Switch", 1, 0),
-    "Precondition": ("Precondition", 0, 0),
+    "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
     "LoopInt": ("Loop", 1, 0),  # child RUNNING
     "LoopBool": ("Loop", 1, 0),
     "LoopDouble": ("Loop", 1, 0),
@@ -70,8 +70,12 @@ SUPPORTED: dict[str, tuple[str, int, int]] = {
     "SetBlackboard": ("SetBlackboard", 0, 0),
     "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
     "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
+    "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
 }
-assert set(SUPPORTED) == set(BUILTINS), sorted(set(BUILTINS) ^ set(SUPPORTED))
+# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# and the node has one more counter slot, after those of SUPPORTED, holding the value read.
+PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
+assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
 _SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
@@ -129,6 +133,8 @@ class Program:
     data: Optional[DataIR] = None
     # The tree as BehaviorTree.CPP shows it to Groot2: XML with _uid, tree instances (treexml.py).
     groot2: Optional[Groot2Tree] = None
+    # The BehaviorTree.CPP release followed (lang/versions.py): the header's Semantics flags.
+    btcpp: str = "4.6.2"
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -218,7 +224,7 @@ class _Lowerer:
         if attr is not None:
             text, loc = attr.value, attr.value_loc
         else:
-            default = BUILTINS[node.id].port(port_name)
+            default = self.m.builtins[node.id].port(port_name)
             if default is None or default.default is None:
                 raise InternalError(f"{node.loc}: `{node.id}` has no `{port_name}` and no default")
             text, loc = default.default, node.loc
@@ -278,6 +284,15 @@ class _Lowerer:
             return self.int_literal(node, "msec", "unsigned")[0], 0, 0
         if nid == "Delay":
             return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
+        if nid == "TryCatch":
+            on_halt, loc = self.literal(node, "catch_on_halt", "bool")
+            if on_halt:
+                self.error(
+                    loc,
+                    f'`TryCatch` "{node.display_name}": catch_on_halt="true" (tick the catch child while '
+                    f"halting) is not supported by the C++ back end; the interpreter (btgen run) runs it",
+                )
+            return 0, 0, 0
         return 0, 0, 0
 
     def lower(self) -> Program:
@@ -286,9 +301,13 @@ class _Lowerer:
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
-        models = m.user_models()
-        model_names = model_identifiers([s.id for s in models])
-        leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
+        # Only the models a node of the mission uses get a leaf class, dispatch branches and
+        # hooks: a palette of 600 unused Actions cost g++ minutes (names are given over the
+        # whole palette, so a model's class keeps its name whatever else is used).
+        all_models = m.user_models()
+        all_names = dict(zip([s.id for s in all_models], model_identifiers([s.id for s in all_models])))
+        models = m.used_user_models()
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
         raw: list[dict] = []
@@ -304,6 +323,8 @@ class _Lowerer:
             elif node.id in SUPPORTED:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
+                if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
+                    nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)
@@ -371,6 +392,7 @@ class _Lowerer:
             _unrun_leaves(m),
             data,
             groot2_tree(m),
+            m.btcpp,
         )
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:
@@ -394,6 +416,8 @@ class _Lowerer:
                 "ParallelAll",
             ):
                 skips[n.index] = all(kid)
+            elif k == "TryCatch":
+                skips[n.index] = all(kid[:-1])
             elif k in ("IfThenElse", "WhileDoElse"):
                 skips[n.index] = any(kid[1:])
             elif k == "Switch":

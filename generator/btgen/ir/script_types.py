@@ -1,11 +1,12 @@
-"""The typing pass of scripts: every expression's static kind, and the scripts that fail
-whenever they run reported as compile errors (ScriptTypeError), before any C++ is written.
+"""The typing pass of scripts: every expression's static kind and how it is computed, and
+the scripts that fail whenever they run reported as compile errors (ScriptTypeError),
+before any C++ is written.
 
-It walks a script as backend_cpp/script_cpp.py compiles it, with the same rules
-(ir/kinds.py: what each operator gives, which stores are possible), keeping of
-each value only what the rules read: its kind, its value when it is a literal,
-and whether it is certain to have none. The C++ writer then meets no script it
-cannot compile.
+Scripts are typed here once, by the rules of ir/kinds.py (what each operator gives,
+which stores are possible). The result, a TypedScript, records for every expression
+its kind and the decisions the C++ writer needs (static or dynamic operation, the
+route of a store, a literal converted through the entry's type); the writer
+(backend_cpp/script_cpp.py) only prints from it and reports nothing.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from btgen.ir.kinds import (
     check_dynamic_update,
     check_ternary_condition,
     compare_check,
+    converted_literal,
     need_number,
     static_binary_ok,
     static_update_ok,
@@ -43,81 +45,137 @@ class SlotType:
 
 
 @dataclass(frozen=True)
-class Typed:
+class ExprType:
+    """What the typing pass decided about one expression of a script.
+
+    kind:      its static kind (ir/kinds.py)
+    literal:   its value, when it is a literal
+    dynamic:   `-`/`!`/`~`, a binary operator, `?:`: computed on btgen::dyn values at run
+               time (a dynamic operand, or a combination 4.6.2 only refuses when it runs)
+    links:     a comparison chain: for each operator, whether it compares dynamically
+    route:     an assignment: "none" (its value has none: fails whenever it runs),
+               "dynamic" (a dynamic value or entry, or an update decided at run time),
+               "compound" (`+= -= *= /=` of numbers, or `+=` of strings), else how the
+               value is stored (kinds.store_route: "same", "converted", "number_text",
+               "number")
+    converted: an assignment routed "converted": the string literal's converted value
+    """
+
     kind: str
-    literal: object = None  # the value of a literal
+    literal: object = None
+    dynamic: bool = False
+    links: tuple[bool, ...] = ()
+    route: str = ""
+    converted: object = None
 
 
-def _literal(node: sc.Literal) -> Typed:
+class TypedScript:
+    """A script and the ExprType of each of its expressions (by identity: equal
+    subexpressions at two places are two entries). The C++ writer prints from it."""
+
+    def __init__(self, script: sc.Script, condition: bool) -> None:
+        self.script = script
+        self.condition = condition
+        self._types: dict[int, ExprType] = {}
+
+    def of(self, node: sc.Expr) -> ExprType:
+        return self._types[id(node)]
+
+    def record(self, node: sc.Expr, t: ExprType) -> ExprType:
+        self._types[id(node)] = t
+        return t
+
+
+def _literal(node: sc.Literal) -> ExprType:
     v = node.value
     if isinstance(v, str):
-        return Typed("string", v)
+        return ExprType("string", v)
     if isinstance(v, float):
-        return Typed("double", v)
-    return Typed("int", v)
+        return ExprType("double", v)
+    return ExprType("int", v)
 
 
 class ScriptTyper:
     """`slots[names[key]]` is the slot a name refers to (key, kind, declared, capacity, origin)."""
 
-    def __init__(self, slots: Sequence[Any], names: Mapping[str, int]) -> None:
+    def __init__(self, slots: Sequence[Any], names: Mapping[str, int], typed: TypedScript) -> None:
         self.slots = slots
         self.names = names
+        self.typed = typed
 
     def check(self, script: sc.Script, condition: bool) -> None:
-        last: Optional[Typed] = None
+        last: Optional[ExprType] = None
         for stmt in script.statements:
             last = self.expr(stmt)
         if condition and last is not None and last.kind not in (DYN, "string", "none", "int"):
             check_condition(last.kind)
 
-    def expr(self, node: sc.Expr) -> Typed:
+    def expr(self, node: sc.Expr) -> ExprType:
+        return self.typed.record(node, self._expr(node))
+
+    def _expr(self, node: sc.Expr) -> ExprType:
         if isinstance(node, sc.Literal):
             return _literal(node)
         if isinstance(node, sc.Name):
-            return Typed(self.slots[self.names[node.name]].kind)
+            return ExprType(self.slots[self.names[node.name]].kind)
         if isinstance(node, sc.Unary):
             v = self.expr(node.operand)
-            if not (v.kind in (DYN, "string", "none") or (node.op == "~" and v.kind == "double")):
-                need_number(node.op, v.kind, node.offset, "operand")
-            return Typed("double")
+            # (a string, or no value: fails at run time as in 4.6.2; a double under `~` may be
+            # out of range, which the dynamic operation words as the interpreter does)
+            if v.kind in (DYN, "string", "none") or (node.op == "~" and v.kind == "double"):
+                return ExprType("double", dynamic=True)
+            need_number(node.op, v.kind, node.offset, "operand")
+            return ExprType("double")
         if isinstance(node, sc.Binary):
             lk, rk = self.expr(node.left).kind, self.expr(node.right).kind
             kind = binary_kind(node.op, lk, rk, node.op_offset)
-            if DYN in (lk, rk) or not static_binary_ok(node.op, lk, rk) or kind in ("none", "string"):
-                return Typed(kind)
-            return Typed("double")
+            # (a double operand of a bit operator may not be whole: the dynamic operation names
+            # the value in the error, as the interpreter does)
+            if (
+                DYN in (lk, rk)
+                or not static_binary_ok(node.op, lk, rk)
+                or (node.op in sc.BIT_OPS and "double" in (lk, rk))
+            ):
+                return ExprType(DYN if kind == DYN else "double", dynamic=True)
+            return ExprType(kind if kind in ("none", "string") else "double")
         if isinstance(node, sc.Compare):
             lk = self.expr(node.operands[0]).kind
+            links = []
             for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
                 rk = self.expr(operand).kind
                 compare_check(op, lk, rk, off)
+                links.append(DYN in (lk, rk) or "none" in (lk, rk))
                 lk = rk
-            return Typed("double")
+            return ExprType("double", links=tuple(links))
         if isinstance(node, sc.Ternary):
             ck = self.expr(node.cond).kind
             check_ternary_condition(ck, node.op_offset)
             tk, ek = self.expr(node.then).kind, self.expr(node.orelse).kind
-            return Typed(DYN if ternary_is_dynamic(tk, ek, node.op_offset) else tk)
+            dynamic = ternary_is_dynamic(tk, ek, node.op_offset)
+            return ExprType(DYN if dynamic else tk, dynamic=dynamic)
         return self.assign(node)
 
-    def assign(self, node: sc.Assign) -> Typed:
+    def assign(self, node: sc.Assign) -> ExprType:
         op, off = node.op, node.op_offset
         s = self.slots[self.names[node.target]]
         v = self.expr(node.value)
         if v.kind == "none":  # fails whenever it runs, as in 4.6.2: a run-time error
-            return Typed("none")
+            return ExprType("none", route="none")
         if (op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind)) or DYN in (s.kind, v.kind):
             if s.kind != DYN:
                 check_dynamic_update(s, op, node.target, off)
-            return Typed(s.kind)
+            return ExprType(s.kind, route="dynamic")
         if op in (":=", "="):
-            store_route(s, v.kind, v.literal, off, f"`{node.target} {op} ...`")
-        else:
-            check_compound(s, node.target, op, v.kind, off)
-        return Typed(s.kind)
+            what = f"`{node.target} {op} ...`"
+            route = store_route(s, v.kind, v.literal, off, what)
+            converted = converted_literal(s, v.literal, off, what) if route == "converted" else None
+            return ExprType(s.kind, route=route, converted=converted)
+        check_compound(s, node.target, op, v.kind, off)
+        return ExprType(s.kind, route="compound")
 
 
-def check_script(script: sc.Script, slots: Sequence[Any], names: Mapping[str, int], condition: bool) -> None:
-    """Raises ScriptTypeError for the first part of `script` that fails whenever it runs."""
-    ScriptTyper(slots, names).check(script, condition)
+def type_script(script: sc.Script, slots: Sequence[Any], names: Mapping[str, int], condition: bool) -> TypedScript:
+    """`script` typed; raises ScriptTypeError for the first part of it that fails whenever it runs."""
+    typed = TypedScript(script, condition)
+    ScriptTyper(slots, names, typed).check(script, condition)
+    return typed

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from btgen.lang.catalogue import BUILTINS, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec
+from btgen.lang.catalogue import POST_CONDITIONS, PRE_CONDITIONS, NodeSpec
 from btgen.lang.model import Mission, Node, SubTreeNode
 
 # 4.6.2's demangled type names for the canonical ones (values.normalize_type reads them back).
@@ -181,7 +181,7 @@ class _Builder:
     def _models(self) -> list[str]:
         """TreeNodesModel: every built-in node and every leaf, control or decorator the
         mission declares, sorted by ID (4.6.2 iterates a std::map)."""
-        specs: dict[str, NodeSpec] = dict(BUILTINS)
+        specs: dict[str, NodeSpec] = dict(self.m.builtins)
         for m in self.m.models:
             if m.kind != "SubTree":
                 specs[m.id] = m

@@ -30,6 +30,11 @@ from typing import Optional
 from btgen.lang import values
 from btgen.lang.values import ANY, STRING, ConversionError, Value
 
+# An entry typed BT::Any: what 4.7.0's SetBlackboard leaves when it writes a string into an
+# entry created untyped (versions.py setblackboard_converts_to_entry_type). Not strongly
+# typed; its "converter" always fails.
+ANY_TYPED = "BT::Any"
+
 
 class BlackboardError(Exception):
     """A blackboard or port operation that 4.6.2 rejects (it throws there)."""
@@ -51,7 +56,7 @@ class Entry:
 
     @property
     def strongly_typed(self) -> bool:
-        return values.is_strongly_typed(self.type_name)
+        return values.is_strongly_typed(self.type_name) and self.type_name != ANY_TYPED
 
     @property
     def has_converter(self) -> bool:
@@ -64,6 +69,10 @@ class Entry:
 
     def convert(self, text: str) -> Value:
         """The entry's string converter applied to ``text``; raises ConversionError."""
+        if self.type_name == ANY_TYPED:
+            raise ConversionError(
+                f"cannot convert {values.describe(text)} to BT::Any: the library has no convertFromString for BT::Any"
+            )
         return values.convert_from_string(self.type_name, text)
 
     def bump(self) -> None:
@@ -107,14 +116,19 @@ class Blackboard:
         return tuple(self._storage)
 
     @classmethod
-    def for_subtree(cls, parent: Blackboard, ports: Iterable[tuple[str, str]], autoremap: bool = False) -> Blackboard:
+    def for_subtree(
+        cls, parent: Blackboard, ports: Iterable[tuple[str, str]], autoremap: bool = False, typed_literals: bool = False
+    ) -> Blackboard:
         """The blackboard 4.6.2's XML loader makes for a SubTree instance.
 
         ``ports`` are the SubTree element's port attributes (name, value),
         with any TreeNodesModel defaults already added. ``{=}`` means
         ``{name}``; ``{key}`` remaps ``name`` to the parent's ``key``; any
         other value is a constant: a local ``name`` entry holding that string
-        (never autoremapped), as ``Blackboard::set<std::string>`` creates it.
+        (never autoremapped), as ``Blackboard::set<std::string>`` creates it;
+        with ``typed_literals`` (4.9.1, versions.py subtree_literals_typed) a
+        text that is wholly an integer is stored as an int, one that is wholly
+        a real (std::from_chars) as a double.
         """
         bb = cls(parent, autoremap=autoremap)
         for name, value in ports:
@@ -125,7 +139,11 @@ class Blackboard:
                 bb.add_remapping(name, key)
             else:
                 bb.autoremap = False
-                bb.set(name, value, STRING)
+                typed = typed_literal(value) if typed_literals else None
+                if typed is None:
+                    bb.set(name, value, STRING)
+                else:
+                    bb.set(name, typed, values.type_of(typed))
                 bb.autoremap = autoremap
         return bb
 
@@ -276,6 +294,21 @@ class Blackboard:
 # ------------------------------------------------------------ port helpers
 
 
+def typed_literal(text: str) -> Optional[Value]:
+    """4.9.1's reading of a SubTree literal port: an int when the whole text is an integer
+    (no `.`, `e`, `E`), a double when it is wholly a real for std::from_chars, else None."""
+    if not text:
+        return None
+    if not any(c in text for c in ".eE") and values.FROM_CHARS_INT_RE.fullmatch(text):
+        n = int(text)
+        if values.INT64_MIN <= n <= values.INT64_MAX:
+            return n
+    try:
+        return values.convert_from_string(values.DOUBLE, text, strict=True, double_from_chars=True)
+    except ConversionError:
+        return None
+
+
 def is_blackboard_pointer(text: str) -> bool:
     """4.6.2 ``isBlackboardPointer``: ``{key}`` with optional blanks around it."""
     return strip_blackboard_pointer(text) is not None
@@ -376,7 +409,8 @@ def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str, port
 # SetBlackboard value="{src}" when `src` exists but holds no value yet (a remapped port
 # created it): BehaviorTree.CPP 4.6.2 copies the empty value (the destination loses its
 # value, its update counter stays) and succeeds; 4.7.0 and later fail the node. The one
-# place this rule lives: both engines read it (dataflow.py passes it to the C++ template).
+# place this rule lives for 4.6.2: both engines read it (dataflow.py passes it to the C++
+# template); 4.10.0 is versions.py setblackboard_converts_to_entry_type.
 EMPTY_COPY_SUCCEEDS = True  # BehaviorTree.CPP 4.6.2
 
 
@@ -416,4 +450,63 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
         except ConversionError as e:
             raise BlackboardError(f"SetBlackboard: {e}") from None
     bb.set(output_key, out, ANY)
+    return True
+
+
+def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool:
+    """The SetBlackboard action of 4.7.0 and later (versions.py
+    setblackboard_converts_to_entry_type); returns False when the node fails.
+
+    The value (the literal, or a copy of the ``{key}`` entry's value) is
+    empty: FAILURE. A string written into an existing entry whose type is not
+    a string is converted by that entry's converter; an entry created untyped
+    has none, so it receives an empty value and becomes typed BT::Any, whose
+    converter then fails on the next string (the library throws). The write
+    is ``Blackboard::set<BT::Any>``: a new local entry takes the value's type;
+    an untyped local entry becomes BT::Any; a typed one must get its own type.
+    """
+    dst = bb.get_entry(output_key)
+    src_key = strip_blackboard_pointer(value_text)
+    out: Optional[Value]
+    if src_key is not None:
+        src = bb.get_entry(src_key)
+        if src is None:
+            raise BlackboardError(f"SetBlackboard: `value` reads blackboard entry `{src_key}`, which does not exist")
+        if dst is None:
+            dst = bb.create_entry(output_key, src.type_name)
+        out = src.value
+    else:
+        out = value_text
+    if out is None:
+        return False
+    if dst is not None and dst.type_name != STRING and isinstance(out, str):
+        if not dst.has_converter:
+            out = None  # TypeInfo::parseString without a converter: an empty value
+        else:
+            try:
+                out = dst.convert(out)
+            except ConversionError as e:
+                raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(value_text)}: {e}") from None
+    key = output_key
+    target = bb
+    if key.startswith("@"):
+        target, key = bb.root, key[1:]
+    local = target._storage.get(key)
+    if local is None:
+        entry = target._create_entry_impl(key, values.type_of(out) if out is not None else ANY)
+        entry.value = out
+        entry.bump()
+        return True
+    if not local.strongly_typed:
+        local.type_name = ANY_TYPED
+        local.value = out
+        local.bump()
+        return True
+    if out is not None and local.type_name != values.type_of(out) and not values.is_opaque_type(local.type_name):
+        raise BlackboardError(
+            f"SetBlackboard: blackboard entry `{output_key}` is declared as {local.type_name}; "
+            f"it cannot be written with a {values.type_of(out)}"
+        )
+    local.value = out
+    local.bump()
     return True

@@ -274,3 +274,42 @@ KEY_NAME_PORTS = ENTRY_PORTS | {("SetBlackboard", "output_key")}
 
 # Children allowed per kind for user-declared nodes.
 KIND_CHILDREN = {"Action": (0, 0), "Condition": (0, 0), "Control": (1, None), "Decorator": (1, 1), "SubTree": (0, 0)}
+
+
+# ---------------------------------------------------------------- other versions
+# What later releases register differently (lang/versions.py names each difference):
+# TryCatch (4.9.0), and the Loop nodes' `queue` port, untyped from 4.9.1 so that a vector or
+# a string may feed it.
+TRYCATCH = NodeSpec(
+    "TryCatch",
+    "Control",
+    (_in("catch_on_halt", "bool", "false", description="tick the catch child when halted in the try block"),),
+    True,
+    2,
+    None,
+    "children but the last run as a Sequence; on a failure the last (catch) child runs and the node fails",
+)
+
+
+def _untyped_queue(spec: NodeSpec) -> NodeSpec:
+    ports = tuple(
+        PortSpec(p.name, p.direction, "any", p.default, p.required, p.description) if p.name == "queue" else p
+        for p in spec.ports
+    )
+    return NodeSpec(spec.id, spec.kind, ports, True, spec.min_children, spec.max_children, spec.description)
+
+
+def _builtins_410() -> dict[str, NodeSpec]:
+    out = dict(BUILTINS)
+    for loop in ("LoopInt", "LoopBool", "LoopDouble", "LoopString"):
+        out[loop] = _untyped_queue(BUILTINS[loop])
+    out["TryCatch"] = TRYCATCH
+    return out
+
+
+_BUILTINS_BY_VERSION = {"4.6.2": BUILTINS, "4.10.0": _builtins_410()}
+
+
+def builtins_for(version: str) -> dict[str, NodeSpec]:
+    """The built-in nodes a version registers (BUILTINS is 4.6.2's)."""
+    return _BUILTINS_BY_VERSION[version]

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 from btgen.diagnostics import Diagnostic, Loc
-from btgen.lang.catalogue import BUILTINS, NodeSpec
+from btgen.lang.catalogue import NodeSpec, builtins_for
+from btgen.lang.versions import DEFAULT_VERSION, Semantics, semantics
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,7 @@ class Node:
     children: tuple[Node, ...]
     loc: Loc
     autoremap: bool = False  # SubTree only
+    tag: str = ""  # the element as written: the ID, or Action/Condition/... for the explicit form
 
     @property
     def display_name(self) -> str:
@@ -113,6 +115,17 @@ class Mission:
     enums: tuple[tuple[str, int], ...] = ()
     # User port types (usertypes.py: `--type NAME=CPP_TYPE@HEADER`): usertypes.UserType each.
     user_types: tuple[Any, ...] = ()
+    # The BehaviorTree.CPP release whose semantics the mission was loaded for (versions.py).
+    btcpp: str = DEFAULT_VERSION
+
+    @property
+    def semantics(self) -> Semantics:
+        return semantics(self.btcpp)
+
+    @property
+    def builtins(self) -> dict[str, NodeSpec]:
+        return builtins_for(self.btcpp)
+
     # Entries the application provides (entries.py: `--entry [TREE:]NAME=TYPE`).
     provided: tuple[ProvidedEntry, ...] = ()
 
@@ -124,8 +137,9 @@ class Mission:
 
     def spec(self, node_id: str) -> NodeSpec:
         """The spec of a node ID: built in, or declared in TreeNodesModel."""
-        if node_id in BUILTINS:
-            return BUILTINS[node_id]
+        builtins = builtins_for(self.btcpp)
+        if node_id in builtins:
+            return builtins[node_id]
         for m in self.models:
             if m.id == node_id:
                 return m
@@ -140,6 +154,23 @@ class Mission:
         return tuple(m for m in self.models if m.kind in ("Action", "Condition"))
 
     def user_models(self) -> tuple[NodeSpec, ...]:
-        """User Actions, Conditions, Controls and Decorators, in declaration order: the
-        models the generated code has a class and hooks for."""
+        """User Actions, Conditions, Controls and Decorators, in declaration order (a models
+        palette may declare many the mission does not use: see used_user_models)."""
         return tuple(m for m in self.models if m.kind in ("Action", "Condition", "Control", "Decorator"))
+
+    def used_user_models(self) -> tuple[NodeSpec, ...]:
+        """The user models a node of the main tree or of a SubTree it runs instantiates, in
+        declaration order: the models the generated code has a class and hooks for."""
+        ids: set[str] = set()
+        seen = {self.main_tree}
+        stack: list[Node] = [self.main.root]
+        while stack:
+            node = stack.pop()
+            if isinstance(node, SubTreeNode):
+                if node.target not in seen:
+                    seen.add(node.target)
+                    stack.append(self.tree(node.target).root)
+                continue
+            ids.add(node.id)
+            stack.extend(node.children)
+        return tuple(m for m in self.user_models() if m.id in ids)

@@ -279,7 +279,7 @@ def is_string(value: object) -> bool:
 # Two parsers, as in 4.6.2: std::from_chars (Any::cast from a string, and
 # convertFromString for integers) and std::stod (convertFromString<double>).
 
-_FROM_CHARS_INT_RE = re.compile(r"-?[0-9]+")
+_FROM_CHARS_INT_RE = FROM_CHARS_INT_RE = re.compile(r"-?[0-9]+")
 _FROM_CHARS_DOUBLE_RE = re.compile(
     r"-?(?:(?P<inf>inf(?:inity)?)|(?P<nan>nan(?:\([0-9A-Za-z_]*\))?)"
     r"|(?P<mant>[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)",
@@ -395,7 +395,7 @@ def _split_queue(text: str) -> list[str]:
     return parts
 
 
-def convert_from_string(type_name: str, text: str, *, strict: bool = False) -> Value:
+def convert_from_string(type_name: str, text: str, *, strict: bool = False, double_from_chars: bool = False) -> Value:
     """4.6.2 ``convertFromString<T>(text)`` for a canonical type name.
 
     - ``int``/``unsigned``: ``std::from_chars`` into a 64-bit integer (an
@@ -418,7 +418,8 @@ def convert_from_string(type_name: str, text: str, *, strict: bool = False) -> V
         # 4.6.2 parses as int64 then checks [0, UINT32_MAX].
         return _from_chars_int(text, UNSIGNED, 0, UNSIGNED_MAX, strict)
     if type_name == DOUBLE:
-        return _stod(text, strict)
+        # 4.9.0 and later: std::from_chars (no leading blank, no `+`, no hex)
+        return _from_chars_double(text, strict) if double_from_chars else _stod(text, strict)
     if type_name == BOOL:
         if text in _BOOL_TRUE:
             return True
@@ -434,7 +435,7 @@ def convert_from_string(type_name: str, text: str, *, strict: bool = False) -> V
         items = []
         for i, part in enumerate(_split_queue(text), start=1):
             try:
-                items.append(convert_from_string(elem, part, strict=strict))
+                items.append(convert_from_string(elem, part, strict=strict, double_from_chars=double_from_chars))
             except ConversionError as e:
                 raise ConversionError(f"`{text}` is not a valid {type_name}: element {i}: {e}") from None
         return Queue(elem, items)

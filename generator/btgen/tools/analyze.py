@@ -18,10 +18,17 @@ IDLE, so they tick their child at most twice per tick; nothing built in loops
 without bound within one tick. A user Control or Decorator may tick its
 children any number of times: the bound is then "unbounded" and names it.
 
-The bounds are per outcome and composed exactly along the tick's paths (a
-Sequence child that only fails stops the count), so they are reached when
-the leaves' results are independent of each other; `btgen explore` measures
-the most it reaches.
+Each node has two tables, for a tick that finds it IDLE and for one that finds
+it RUNNING (a resumed Sequence skips the children before the running one; a
+Repeat starts a second cycle in a tick only when it resumed the first). The
+bounds are per outcome and composed along the tick's paths (a Sequence child
+that only fails stops the count); they are reached when the leaves' results
+are independent of each other, except for Parallel, whose count is an upper
+bound. `btgen explore --no-merge` measures the most a tick does, and the tests
+check on random missions that analyze is never below it, never calls a ticked
+node unreachable and never calls a returned status impossible. With
+`--btcpp 4.10.0` the switches of lang/versions.py that change what a tick
+returns are followed; a node not modelled here (TryCatch) may return anything.
 
 Scripts whose names are all SubTree constants never written by any node (or
 no names at all) are evaluated once here: a constant `_skipIf`, `_while`,
@@ -128,6 +135,8 @@ class _Data:
         a = dataflow._Analyzer(mission, options)
         a.load()
         self.insts = a.insts
+        # entries the application sets before the first tick (--entry): written from the start
+        self.provided = {eid for eid, i in a.slot_of_entry.items() if getattr(a.slots[i], "provided", False)}
         self.enums = dict(mission.enums)
         # id(entry) -> [(node index, loc, type or None)]
         self.reads: dict[int, list[tuple[int, Loc, Optional[str]]]] = {}
@@ -259,6 +268,22 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_ANY_COUNT = -(2**62)  # a Repeat/Retry count read from the blackboard: any value
+_DECORATORS = {
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "KeepRunningUntilFailure",
+    "RunOnce",
+    "Precondition",
+    "Timeout",
+    "Delay",
+    "Loop",
+    "SkipUnlessUpdated",
+    "WaitValueUpdate",
+    "SubTree",
+}
+_PRE_ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
 
 class _Analyzer:
@@ -299,7 +324,7 @@ class _Analyzer:
         pre_scripts = 0
         pre_out: Outcomes = {}
         gate: Optional[tuple[str, str]] = None
-        for attr in model.pre:
+        for attr in sorted(model.pre, key=lambda a: _PRE_ORDER.index(a.name)):  # 4.6.2 checks them so
             const = self.data.constant(n.index, attr)
             if const is not None:
                 self.constants[(n.index, attr.name)] = const
@@ -386,32 +411,43 @@ class _Analyzer:
                 self.constants[(n.index, "code")] = const
                 return {S if const else F: (1, 0, 1)}, {}
             return {S: (1, 0, 1), F: (1, 0, 1)}, {}
+        if nid == "SetBlackboard" and self.m.semantics.setblackboard_converts_to_entry_type:
+            return {S: ONE, F: ONE}, {}  # 4.7.0 on: copying an empty entry fails
         if nid in ("SetBlackboard", "UnsetBlackboard"):
             return {S: ONE}, {}
         if nid == "WasEntryUpdated":
             return {S: ONE, F: ONE}, {}
         if nid == "Sleep":
-            return ({S: ONE}, {}) if n.params[0] == 0 else ({S: ONE, R: ONE}, {S: ONE, R: ONE})
+            if n.params[0] == 0 and not self.keyed(n, "msec"):
+                return {S: ONE}, {}
+            return {S: ONE, R: ONE}, {S: ONE, R: ONE}
         if kind in _CHAINS:
             decides, goes_on = _CHAINS[kind]
             asynch = kind.startswith("Async")
             reactive = kind.startswith("Reactive")
             fresh = self.chain(n, [(t, asynch) for t in fr], decides, goes_on, 0)
             resumed: Outcomes = {}
-            for k in range(len(fr)):
-                if R not in un[k] or not mark[k]:  # only a child that was ticked can be resumed
-                    continue
-                if reactive:  # the others were halted: they start from IDLE
-                    tables = [(rs[k] if j == k else fr[j], False) for j in range(len(fr))]
-                    resumed = _union(resumed, self.chain(n, tables, decides, goes_on, 0))
-                else:
-                    tables = [({}, False)] * k + [(rs[k], False)] + [(t, asynch) for t in fr[k + 1 :]]
-                    resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
-            if asynch:  # resumed after a yield: the next child starts from IDLE
-                for k in range(1, len(fr)):
-                    if goes_on in un[k - 1] and mark[k - 1]:
-                        tables = [({}, False)] * k + [(t, asynch) for t in fr[k:]]
+            done: set[tuple[str, int]] = set()
+            while True:  # until no new child is found ticked (a resumed tick may reach later ones)
+                before = list(mark)
+                for k in range(len(fr)):
+                    if R not in un[k] or not mark[k] or ("run", k) in done:  # only a ticked child resumes
+                        continue
+                    done.add(("run", k))
+                    if reactive:  # the others were halted: they start from IDLE
+                        tables = [(rs[k] if j == k else fr[j], False) for j in range(len(fr))]
+                        resumed = _union(resumed, self.chain(n, tables, decides, goes_on, 0))
+                    else:
+                        tables = [({}, False)] * k + [(rs[k], False)] + [(t, asynch) for t in fr[k + 1 :]]
                         resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if asynch:  # resumed after a yield: the next child starts from IDLE
+                    for k in range(1, len(fr)):
+                        if goes_on in un[k - 1] and mark[k - 1] and ("yield", k) not in done:
+                            done.add(("yield", k))
+                            tables = [({}, False)] * k + [(t, asynch) for t in fr[k:]]
+                            resumed = _union(resumed, self.chain(n, tables, decides, goes_on, k))
+                if mark == before:
+                    break
             return fresh, resumed
         if kind in ("Parallel", "ParallelAll"):
             return self.parallel(n, fr), self.parallel(n, un)
@@ -428,6 +464,15 @@ class _Analyzer:
             return _switch(fr), _switch(un)
         if kind in ("Repeat", "RetryUntilSuccessful"):
             return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        if kind not in _DECORATORS:  # a node this analysis does not model: anything, each child once
+            total: Cost = ONE
+            for w in un:
+                most: Cost = ZERO
+                for v in w.values():
+                    most = _max(most, v)
+                total = _add(total, most)
+            anything = {st: total for st in ORDER}
+            return anything, anything
         child_fr = fr[0] if fr else {}
         return self.decorator(n, child_fr, child_fr, False), self.decorator(n, un[0] if un else {}, {}, True)
 
@@ -435,7 +480,8 @@ class _Analyzer:
         """Sequence-like nodes: children in order from `start` while they return `goes_on` (or
         SKIPPED); each child's table, and whether it yields after `goes_on` (the async variants)."""
         out: Outcomes = {}
-        went: Optional[Cost] = None  # a path where some child went on
+        # a tick resumed at a later child: the ones before went on or were skipped in earlier ticks
+        went: Optional[Cost] = ONE if start > 0 else None  # a path where some child went on
         skipped: Optional[Cost] = ONE  # a path where all children so far skipped
         last = len(kids) - 1
         mark = self.mark[n.index]
@@ -483,20 +529,24 @@ class _Analyzer:
             total = _add(total, c)
         can = {st: sum(1 for w in kids if st in w) for st in ORDER}
         out: Outcomes = {}
-        if n.kind == "Parallel":
-            need_s, need_f = n.params[0], n.params[1]
-            if can[S] + can[K] >= need_s and can[S] > 0:
+        count = len(kids)
+        if n.kind == "Parallel":  # the thresholds are checked after every child (interp/controls.py)
+            need_s, need_f, negative = n.params
+            if (can[S] + can[K] if negative else can[S]) >= need_s:
                 out[S] = total
-            if can[F] >= need_f:
+            if can[F] >= min(need_f, count - need_s + 1):
                 out[F] = total
-        else:
+            if can[R] or can[K]:  # a child still RUNNING, or skipped ones that reach no threshold
+                out[R] = total
+        else:  # ParallelAll: decided when every child has completed or skipped
+            need = n.params[0]
             must_fail = sum(1 for w in kids if set(w) == {F})
-            if must_fail < n.params[0] or n.params[0] == 0:
+            if must_fail < need:
                 out[S] = total
-            if can[F] >= max(n.params[0], 1):
+            if can[F] >= need:
                 out[F] = total
-        if can[R]:
-            out[R] = total
+            if can[R]:
+                out[R] = total
         if kids and can[K] == len(kids):
             out[K] = total
         return out
@@ -542,26 +592,36 @@ class _Analyzer:
             through({S: S, F: S, R: R, K: K})
         elif kind == "ForceFailure":
             through({S: F, F: F, R: R, K: K})
-        elif kind == "KeepRunningUntilFailure":
-            through({S: R, F: F, R: R, K: K})
+        elif kind == "KeepRunningUntilFailure":  # a SKIPPED child leaves its own status: RUNNING
+            through({S: R, F: F, R: R, K: R})
         elif kind in ("Repeat", "RetryUntilSuccessful"):
             limit = n.params[0]
             again = S if kind == "Repeat" else F
-            if limit == 0:
-                self.never(n, f"{self.label(n.index)} has {'num_cycles' if kind == 'Repeat' else 'num_attempts'}=0")
-                return {again: ONE} if kind == "Repeat" else {F: ONE}
+            if self.keyed(n, "num_cycles" if kind == "Repeat" else "num_attempts"):
+                limit = _ANY_COUNT  # read from the blackboard at every tick: any count
+            # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+            if limit != _ANY_COUNT and (limit == 0 or limit < -1):
+                port = "num_cycles" if kind == "Repeat" else "num_attempts"
+                self.never(n, f"{self.label(n.index)} has {port}={limit}")
+                if self.m.semantics.loop_end_never_skipped:  # 4.7.0 on
+                    return {S if kind == "Repeat" else F: ONE}
+                return {K: ONE}
             final = S if kind == "Repeat" else F
 
             def single(st: str) -> list[str]:
                 if st != again:
                     return [st]
+                if limit == _ANY_COUNT:
+                    return [R, final]
                 return ([R] if limit == -1 or limit >= 2 else []) + ([final] if limit >= 1 else [])
 
             for st, c in w.items():
                 for t in single(st):
                     _put(out, t, _add(ONE, c))
+            if limit == _ANY_COUNT:  # a count of 0 never starts the loop
+                _put(out, final if self.m.semantics.loop_end_never_skipped else K, ONE)
             # a cycle resumed from RUNNING that ends with `again` starts the next one in the same tick
-            if resumed and again in w and (limit == -1 or limit >= 2):
+            if resumed and again in w and (limit in (-1, _ANY_COUNT) or limit >= 2):
                 first = _add(ONE, w[again])
                 for st, c in w_fresh.items():
                     for t in single(st):
@@ -581,7 +641,7 @@ class _Analyzer:
                 through(same, (1, 0, 1))
             else:
                 self.never(n, f"the `if` of {self.label(n.index)} is always false ({attr.value if attr else ''!r})")
-            if const is not True:
+            if const is not True and else_status != "IDLE":  # IDLE: a run-time error (edge L1)
                 _put(out, else_status, (1, 0, 1))
         elif kind == "Timeout":
             through(same)
@@ -592,7 +652,8 @@ class _Analyzer:
         elif kind == "Loop":
             through({S: R, F: F, R: R, K: R})
             else_status = ("IDLE", R, S, F, K)[n.params[0]] if 0 <= n.params[0] <= 4 else S
-            _put(out, else_status, ONE)
+            if else_status != "IDLE":  # IDLE: a run-time error (edge L1)
+                _put(out, else_status, ONE)
         elif kind == "SkipUnlessUpdated":
             through(same)
             _put(out, K, ONE)
@@ -602,6 +663,11 @@ class _Analyzer:
         else:  # SubTree
             through(same)
         return out
+
+    def keyed(self, n: IRNode, port: str) -> bool:
+        """Whether the node reads `port` from the blackboard (`{key}`), so its value is not known here."""
+        attr = self.model(n.index).port(port)
+        return attr is not None and bbmod.strip_blackboard_pointer(attr.value) is not None
 
     def never(self, n: IRNode, why: str) -> None:
         self.mark[n.index][:] = [False] * len(n.children)
@@ -728,7 +794,7 @@ def _blackboard_findings(a: _Analyzer, data: _Data, reach: list[bool], add) -> N
     for eid, reads in data.reads.items():
         entry = data.entries[eid]
         key = data.entry_key.get(eid, "?")
-        if entry.value is not None:  # a SubTree constant or default: it has a value from the start
+        if entry.value is not None or eid in data.provided:  # a value from the start (constant, --entry)
             continue
         reads = [r for r in reads if reach[r[0]]]
         if not reads:

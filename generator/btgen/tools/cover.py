@@ -16,8 +16,9 @@ result the log shows next for that node (a RUNNING leaf that the log does not sh
 answers RUNNING again), checking every status change against the log's records in order. The
 scenario then replays the same transitions on both engines (`btgen run`, `--engine cpp`).
 A .btlog has no tick boundaries: the scenario has as many ticks as the run needs to use up the
-log, and `clock_ms` is `--clock-ms` (default 0): missions whose Sleep, Delay or Timeout decide
-the course of the run replay only with the right clock step.
+log (or to complete: a scenario is one run of the tree, and records after the root completed
+are a new run, left out with a warning), and `clock_ms` is `--clock-ms` (default 0): missions
+whose Sleep, Delay or Timeout decide the course of the run replay only with the right clock step.
 """
 
 from __future__ import annotations
@@ -246,7 +247,14 @@ def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0, max_ticks: 
             status = r.interp.tick_once()
             r.sync()
             if status.name in ("SUCCESS", "FAILURE") and r.pos < len(records):
-                raise _Mismatch(f"record {r.pos + 1}: the mission has ended, the log goes on")
+                # a robot ticks the tree again after it completes; a scenario is one run
+                rest = len(records) - r.pos
+                print(
+                    f"{log}:1:1: warning: the mission completed at record {r.pos}; the {rest} records after "
+                    "it are a new run of the tree, which this scenario does not replay",
+                    file=sys.stderr,
+                )
+                break
             if r.pos == before and not r.picks:
                 raise _Mismatch(f"record {r.pos + 1}: a tick changes nothing the log shows")
     except _Mismatch as e:
@@ -254,7 +262,7 @@ def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0, max_ticks: 
     per: dict[str, list[str]] = {}
     for name, st in r.picks:
         per.setdefault(name, []).append(st)
-    lines = [f"# replays {os.path.basename(log)} ({len(records)} records)", f"ticks {max(ticks, 1)}"]
+    lines = [f"# replays {os.path.basename(log)} (records 1 to {r.pos})", f"ticks {max(ticks, 1)}"]
     if clock_ms:
         lines.append(f"clock_ms {clock_ms}")
     lines += [f"leaf {name} {' '.join(sts)}" for name, sts in per.items()]

@@ -19,11 +19,12 @@ reached at the same or an earlier tick is not explored again: what it leads to
 was explored from there.
 
 Coverage goals are each node ticked and each status each node can return (the
-statuses `btgen analyze` finds possible). The runs that end (root completed,
---ticks reached, --depth reached, state repeated) are kept when they add a goal;
-a greedy set cover of them gives the scenario files written with -o.
+statuses `btgen analyze` finds possible). Every run that ends (root completed,
+--ticks reached, --depth reached, state repeated) is a candidate, its goals kept
+as the bits of an int; a greedy set cover of them, without the runs the others
+make redundant, gives the scenario files written with -o.
 
-Properties (--assert), checked at every node return and at the end of every tick:
+Properties (--assert), checked at every node return (the root's is the end of a tick):
 
     never A STATUS                 A never returns STATUS
     never A STATUS before B STATUS A does not return STATUS while B has not yet
@@ -45,7 +46,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from btgen.diagnostics import UserError, print_diagnostics
+from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
 from btgen.interp.scenario import parse_scenario_text
@@ -159,6 +160,7 @@ class Result:
     violations: list[tuple[Property, Path]] = field(default_factory=list)
     max_visits: int = 0  # most nodes visited in one tick, over every run
     max_hooks: int = 0
+    errors: list = field(default_factory=list)  # (Diagnostic, Path): run-time errors some run meets
 
 
 # ====================================================================== one run
@@ -256,6 +258,7 @@ class Explorer:
                             names.append(s)
                 self._fields[cls] = tuple(names)
         self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
+        self.reached: set = set()
         self.by_name: dict[str, list[int]] = {}
         for i, n in enumerate(probe.nodes):
             self.by_name.setdefault(n.name, []).append(i)
@@ -365,7 +368,8 @@ class Explorer:
         except _Violation as v:
             run.violation = v.prop  # type: ignore[attr-defined]
             return "violation", run, None
-        except UserError:
+        except UserError as e:  # a run-time error (a script, a port): a finding of its own
+            run.error = e.diagnostics[0] if e.diagnostics else None  # type: ignore[attr-defined]
             return "error", run, None
         finally:
             self.current = None
@@ -377,6 +381,7 @@ class Explorer:
         candidates: dict[int, Path] = {}
         covered: set = set()
         violations: list[tuple[Property, Path]] = []
+        errors: list[tuple[object, Path]] = []
         runs = 0
         truncated = False
         stack: list[tuple[int, ...]] = [()]
@@ -399,6 +404,10 @@ class Explorer:
                         b = self.bit[goal] = len(self.bit)
                     mask |= 1 << b
                 path = Path(plan, tuple(run.picks), max(run.tick_no, 1), frozenset(run.goals), end, mask)
+                if end == "error" and len(errors) < 5:
+                    diag = run.error  # type: ignore[attr-defined]
+                    if diag is not None and all(str(diag) != str(d) for d, _ in errors):
+                        errors.append((diag, path))
                 if end == "violation":
                     prop = run.violation  # type: ignore[attr-defined]
                     if not any(p is prop for p, _ in violations):
@@ -414,6 +423,7 @@ class Explorer:
         finally:
             restore()
         seconds = time.perf_counter() - t0
+        self.reached = covered  # every goal a run reached, possible or not (tests check analyze with it)
         goals = self.goals()
         return Result(
             goals,
@@ -426,6 +436,7 @@ class Explorer:
             violations,
             self.max_visits,
             self.max_hooks,
+            errors,
         )
 
     def _cover(self, paths: list[Path], goals: set) -> list[Path]:
@@ -539,12 +550,24 @@ def explore_command(args) -> int:
     result = ex.explore()
     files: list[str] = []
     if args.output_dir:
-        os.makedirs(args.output_dir, exist_ok=True)
+        try:
+            os.makedirs(args.output_dir, exist_ok=True)
+        except OSError as e:
+            raise UserError(
+                Diagnostic(Loc(args.output_dir, 1, 1), f"cannot create the output folder: {e.strerror or e}")
+            ) from None
         stem = os.path.splitext(os.path.basename(args.mission))[0]
         for i, path in enumerate(result.paths, start=1):
             name = os.path.join(args.output_dir, f"{stem}-{i:03d}.scenario")
             _write_atomic(name, scenario_text(path, args.clock_ms, f"btgen explore: {len(path.goals)} goals"))
             files.append(name)
+        # scenarios of an earlier exploration of this mission beyond this one's are stale: a set of
+        # files that together cover the mission must not mix two explorations
+        ours = re.compile(re.escape(stem) + r"-[0-9]{3,}\.scenario")
+        for other in sorted(os.listdir(args.output_dir)):
+            full = os.path.join(args.output_dir, other)
+            if ours.fullmatch(other) and full not in files:
+                os.remove(full)
     status = 0
     for prop, path in result.violations:
         status = 1
@@ -564,6 +587,18 @@ def explore_command(args) -> int:
             trace = "".join(str(d) + "\n" for d in e.diagnostics)
         for line in trace.splitlines():
             print(f"    {line}", file=sys.stderr)
+    for k, (diag, path) in enumerate(result.errors, start=1):
+        status = 1
+        print(f"{diag}", file=sys.stderr)
+        text = scenario_text(path, args.clock_ms, f"reaches: {diag}")
+        if args.output_dir:
+            name = os.path.join(args.output_dir, f"error-{k}.scenario")
+            _write_atomic(name, text)
+            print(f"  a run that reaches it: {name}", file=sys.stderr)
+        else:
+            print("  a run that reaches it:", file=sys.stderr)
+            for line in text.splitlines():
+                print(f"    {line}", file=sys.stderr)
     uncovered = sorted(result.goals - result.covered, key=lambda g: (g[1], g[2] if len(g) > 2 else -1))
     names = {n.uid: n for n in ex.nodes}
     impossible = []
@@ -596,6 +631,7 @@ def explore_command(args) -> int:
         ],
         "never_ticked": impossible,
         "violations": [p.text for p, _ in result.violations],
+        "run_time_errors": [str(d) for d, _ in result.errors],
     }
     if args.json:
         json.dump(report, sys.stdout, indent=2)
@@ -620,7 +656,7 @@ def explore_command(args) -> int:
 
 
 def _write_atomic(path: str, text: str) -> None:
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(tmp, path)
+    """Whole or not at all (graph.py's writer: a temporary file renamed over it)."""
+    from btgen.tools.graph import _write
+
+    _write(path, text.encode("utf-8"))

@@ -277,7 +277,11 @@ int main(int argc, char** argv) {
     exit_status = 0;
   }
   mission.halt();
-  ROS_INFO("behaviorController: shutting down");
+  // roslaunch reports a `required` node that exits as "has died!", even after a clean end.
+  ROS_INFO(
+      "behaviorController: shutting down (exit status %d; roslaunch reports a required node that exits as "
+      "\"has died!\": the mission ended, nothing crashed)",
+      exit_status);
   // Unblocks a service call in progress, then joins the worker: nothing is called after this.
   ros::shutdown();
   leaves.stop();

@@ -116,6 +116,7 @@ struct has_init<
 //   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
 //   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
 //   static std::int64_t entry_seq(const BB&, const NodeInfo&); // update counter; -1: no entry
+//   static int read_param(const BB&, const ErrorSink&, const NodeInfo&, std::int64_t&);  // {key} counts
 //   static int switch_case(const BB&, const NodeInfo&);        // child to tick (the last: default)
 //   static int loop_pop(BB&, const NodeInfo&, ES&, bool restart);  // 1 popped, 0 empty, -1 error
 // and, optionally (missions with literals of user port types),
@@ -125,6 +126,11 @@ class Engine {
  public:
   using Blackboard = typename Spec::Blackboard;
   using MissionSpec = Spec;
+  // The BehaviorTree.CPP release the mission follows: one constexpr flag per difference
+  // (btgen's lang/versions.py names them; the generated header defines them).
+  using Sem = typename Spec::Semantics;
+  static_assert(Sem::kBtcppVersion == 40602 || Sem::kBtcppVersion == 41000,
+                "the mission header was generated for a BehaviorTree.CPP release this runtime does not know");
 
   static constexpr std::size_t kNodeCount = Spec::kNodeCount;
   static constexpr std::size_t kMaxDepth = Spec::kMaxDepth;
@@ -313,6 +319,28 @@ class Engine {
     }
   }
   std::int32_t& counter(const NodeInfo& n, std::size_t k) noexcept { return counters_[n.slot + k]; }
+
+  // A Repeat's or RetryUntilSuccessful's count, a Timeout's, Delay's or Sleep's duration given
+  // as `{key}` (NodeInfo p1 is 1): Spec::read_param reads the entry when 4.6.2's node calls
+  // getInput, and the value in use lives in the counter after the node's own (lower.py
+  // PARAM_NODES); an unsigned duration keeps its bits there.
+  static constexpr std::size_t param_counter(NodeKind k) noexcept {
+    return k == NodeKind::Delay ? 1 : k == NodeKind::Sleep ? 0 : 2;
+  }
+  // Reads it (false after reporting the error); `keep`: the value becomes the one in use.
+  bool read_param(const NodeInfo& n, bool keep) noexcept {
+    if (n.p1 == 0) return true;
+    std::int64_t v = 0;
+    const ErrorSink es = sink();
+    if (Spec::read_param(bb_, es, n, v) < 0) return false;
+    if (keep) counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
+    return true;
+  }
+  std::int64_t max_cycles(const NodeInfo& n) noexcept { return n.p1 != 0 ? counter(n, 2) : param::max_cycles(n); }
+  std::int64_t duration_ms(const NodeInfo& n) noexcept {
+    return n.p1 != 0 ? static_cast<std::int64_t>(static_cast<std::uint32_t>(counter(n, param_counter(n.kind))))
+                     : param::duration_ms(n);
+  }
   std::uint64_t& timer(const NodeInfo& n) noexcept { return timers_[n.timer]; }
   std::uint64_t elapsed(const NodeInfo& n) noexcept { return clock_.now_ms() - timers_[n.timer]; }
   static constexpr bool reached(std::uint64_t elapsed_ms, std::int64_t limit) noexcept {
@@ -387,6 +415,11 @@ class Engine {
       case NodeKind::Timeout:
         counter(n, 0) = 0;
         counter(n, 1) = 0;
+        break;
+      case NodeKind::TryCatch:
+        counter(n, 0) = 0;
+        counter(n, 1) = 0;
+        counter(n, 2) = 0;
         break;
       case NodeKind::Switch:             // no case RUNNING
       case NodeKind::SkipUnlessUpdated:  // child no longer executing (its update counter is kept)
@@ -815,14 +848,16 @@ class Engine {
   // then, by one copy of the resets, not one per child).
   template <std::uint16_t R, bool kSeq, std::size_t... I>
   [[gnu::always_inline]] Status tick_sequence(std::size_t id, std::index_sequence<I...>) noexcept {
-    std::int32_t* const c = &counters_[info(id).slot];  // c[0]: the index, c[1]: a child did not skip
+    // c[0]: the index; c[1]: a child did not skip (4.6.2), or the children skipped in this run
+    // (Sem::skipped_by_count)
+    std::int32_t* const c = &counters_[info(id).slot];
     if (!is_active(status_[id])) c[1] = 0;
     set_status(id, Status::RUNNING);
     Status s = Status::IDLE;
     if (!((c[0] == static_cast<std::int32_t>(I) &&
            sequence_step<kSeq>(tick_node<kChildShape<R, I>>(id + kChildOffset<R, I>), c, s)) ||
           ...)) {
-      s = c[1] == 0 ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
+      s = all_skipped(c[1], sizeof...(I)) ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
     if (s != Status::RUNNING) {
       (halt_child_id(id + kChildOffset<R, I>), ...);
@@ -834,7 +869,7 @@ class Engine {
   // After the child at the index returned `cs`: true when the node returns `s`.
   template <bool kSeq>
   [[gnu::always_inline]] static bool sequence_step(Status cs, std::int32_t* c, Status& s) noexcept {
-    if (cs != Status::SKIPPED) c[1] = 1;
+    note_skipped(c[1], cs);
     if (cs == Status::RUNNING) {
       s = Status::RUNNING;
       return true;
@@ -1020,7 +1055,7 @@ class Engine {
       case NodeKind::Fallback:
       case NodeKind::AsyncFallback:
         // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
-        // only when the node is ticked from IDLE.
+        // only when the node is ticked from IDLE; or 4.7.0's skipped count.
         if (!is_active(status_[f.node])) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
         return sequence_next(f, n, kind);
@@ -1031,6 +1066,20 @@ class Engine {
         f.pos = 0;
         f.aux = 1;  // all children skipped so far
         return descend(child(n, 0));
+
+      case NodeKind::TryCatch:
+        // TryCatchNode (4.9.0): counter 0 the try child, 1 the try children skipped, 2 in the
+        // catch child (the last one).
+        if (!is_active(status_[f.node])) {
+          counter(n, 1) = 0;
+          counter(n, 2) = 0;
+        }
+        set_status(f.node, Status::RUNNING);
+        if (counter(n, 2) != 0) {
+          f.pos = static_cast<std::uint16_t>(n.child_count - 1);
+          return descend(child(n, f.pos));
+        }
+        return try_next(f, n);
 
       case NodeKind::Parallel:
         set_status(f.node, Status::RUNNING);
@@ -1068,11 +1117,13 @@ class Engine {
         // 4.6.2's all_skipped_ flag (counter 1: a child did not skip), cleared
         // only from IDLE: a count of 0 or below -1 never ticks the child, so
         // the node answers SKIPPED and stays RUNNING (edges table, R1).
+        if (!read_param(n, true)) return done(Status::FAILURE);  // 4.6.2 throws: the node fails
         if (status_[f.node] == Status::IDLE) counter(n, 1) = 0;
         set_status(f.node, Status::RUNNING);
-        if (counter(n, 0) < param::max_cycles(n) || param::max_cycles(n) == -1) return descend(child(n, 0));
+        if (counter(n, 0) < max_cycles(n) || max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
-        if (counter(n, 1) == 0) return done(Status::SKIPPED);
+        // From 4.7.0 (Sem::loop_end_never_skipped) the loop ends SUCCESS / FAILURE.
+        if (!Sem::loop_end_never_skipped && counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -1087,12 +1138,13 @@ class Engine {
         f.decorator = 1;
         std::int32_t& started = counter(n, 0);
         std::int32_t& armed = counter(n, 1);
+        if (!read_param(n, started == 0)) return done(Status::FAILURE);
         if (started == 0) {
           started = 1;
           set_status(f.node, Status::RUNNING);
-          armed = param::duration_ms(n) > 0 ? 1 : 0;
+          armed = duration_ms(n) > 0 ? 1 : 0;
           timer(n) = clock_.now_ms();
-        } else if (armed != 0 && reached(elapsed(n), param::duration_ms(n))) {
+        } else if (armed != 0 && reached(elapsed(n), duration_ms(n))) {
           // The timer fires: a RUNNING child is halted and the node fails.
           armed = 0;
           if (status_[child(n, 0)] == Status::RUNNING) {
@@ -1107,12 +1159,13 @@ class Engine {
       case NodeKind::Delay: {
         f.decorator = 1;
         std::int32_t& started = counter(n, 0);
+        if (!read_param(n, started == 0)) return done(Status::FAILURE);
         if (started == 0) {
           started = 1;
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
         }
-        if (reached(elapsed(n), param::duration_ms(n))) return descend(child(n, 0));
+        if (reached(elapsed(n), duration_ms(n))) return descend(child(n, 0));
         return done(Status::RUNNING);
       }
 
@@ -1134,10 +1187,19 @@ class Engine {
       case NodeKind::Precondition: {
         f.decorator = 1;
         // 4.6.2 evaluates `if` on every tick; when false it answers `else`
-        // without ticking (or halting) its child.
+        // without ticking (or halting) its child. From 4.7.0
+        // (Sem::precondition_if_until_started) only until the child has
+        // started (counter 0), which then runs to completion; halt() does not
+        // clear that flag (a quirk of the library, followed).
+        if constexpr (Sem::precondition_if_until_started) {
+          if (counter(n, 0) != 0) return descend(child(n, 0));
+        }
         const int r = run_script(n, ScriptSlot::kCode);
         if (r < 0) return done(Status::FAILURE);
-        if (r == 1) return descend(child(n, 0));
+        if (r == 1) {
+          if constexpr (Sem::precondition_if_until_started) counter(n, 0) = 1;
+          return descend(child(n, 0));
+        }
         return done(not_idle(n, param::otherwise(n)));
       }
 
@@ -1181,13 +1243,13 @@ class Engine {
       case NodeKind::Sleep: {
         const Status st = status_[f.node];
         if (st == Status::IDLE) {
-          if (param::duration_ms(n) <= 0) return done(Status::SUCCESS);
+          if (!read_param(n, true)) return done(Status::FAILURE);
+          if (duration_ms(n) <= 0) return done(Status::SUCCESS);
           set_status(f.node, Status::RUNNING);
           timer(n) = clock_.now_ms();
           return done(Status::RUNNING);
         }
-        if (st == Status::RUNNING)
-          return done(reached(elapsed(n), param::duration_ms(n)) ? Status::SUCCESS : Status::RUNNING);
+        if (st == Status::RUNNING) return done(reached(elapsed(n), duration_ms(n)) ? Status::SUCCESS : Status::RUNNING);
         return done(st);
       }
 
@@ -1259,7 +1321,7 @@ class Engine {
       case NodeKind::AsyncSequence:
       case NodeKind::SequenceWithMemory: {
         std::int32_t& idx = counter(n, 0);
-        if (cs != Status::SKIPPED) counter(n, 1) = 1;
+        note_skipped(counter(n, 1), cs);
         switch (cs) {
           case Status::RUNNING: return done(Status::RUNNING);
           case Status::SUCCESS:
@@ -1285,7 +1347,7 @@ class Engine {
       case NodeKind::Fallback:
       case NodeKind::AsyncFallback: {
         std::int32_t& idx = counter(n, 0);
-        if (cs != Status::SKIPPED) counter(n, 1) = 1;
+        note_skipped(counter(n, 1), cs);
         switch (cs) {
           case Status::RUNNING: return done(Status::RUNNING);
           case Status::FAILURE:
@@ -1320,6 +1382,26 @@ class Engine {
         if (++f.pos < n.child_count) return descend(child(n, f.pos));
         reset_children(n);
         return done(f.aux != 0 ? Status::SKIPPED : (seq ? Status::SUCCESS : Status::FAILURE));
+      }
+
+      case NodeKind::TryCatch: {
+        if (cs == Status::RUNNING) return done(Status::RUNNING);
+        if (counter(n, 2) != 0) {  // the catch child finished: the node fails
+          reset_children(n);
+          counter(n, 0) = 0;
+          counter(n, 2) = 0;
+          return done(Status::FAILURE);
+        }
+        if (cs == Status::FAILURE) {  // into the catch child, in this tick
+          reset_children(n);
+          counter(n, 0) = 0;
+          counter(n, 2) = 1;
+          f.pos = static_cast<std::uint16_t>(n.child_count - 1);
+          return descend(child(n, f.pos));
+        }
+        if (cs == Status::SKIPPED) ++counter(n, 1);
+        ++counter(n, 0);
+        return try_next(f, n);
       }
 
       case NodeKind::Parallel: {
@@ -1442,7 +1524,11 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
-        const bool again = count < param::max_cycles(n) || param::max_cycles(n) == -1;
+        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure.
+        if constexpr (Sem::retry_rereads_attempts) {
+          if (!repeat && !read_param(n, true)) return done(Status::FAILURE);
+        }
+        const bool again = count < max_cycles(n) || max_cycles(n) == -1;
         halt_child(n, 0);
         if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule
         if (again) return descend(child(n, 0));
@@ -1493,7 +1579,10 @@ class Engine {
       }
 
       case NodeKind::Precondition:
-        if (is_completed(cs)) halt_child(n, 0);
+        if (is_completed(cs)) {
+          halt_child(n, 0);
+          if constexpr (Sem::precondition_if_until_started) counter(n, 0) = 0;
+        }
         return done(cs);
 
       case NodeKind::Loop:
@@ -1509,6 +1598,27 @@ class Engine {
     }
   }
 
+  // What the Sequence / Fallback family remembers of a child's result for SKIPPED: 4.6.2 a
+  // flag "a child did not skip" (cleared from IDLE only), 4.7.0 the children skipped in this
+  // run (Sem::skipped_by_count).
+  [[gnu::always_inline]] static void note_skipped(std::int32_t& c, Status cs) noexcept {
+    if constexpr (Sem::skipped_by_count) {
+      if (cs == Status::SKIPPED) ++c;
+    } else {
+      if (cs != Status::SKIPPED) c = 1;
+    }
+  }
+  // At the end of the loop: whether the node returns SKIPPED (4.7.0 clears its count then).
+  [[gnu::always_inline]] static bool all_skipped(std::int32_t& c, std::size_t children) noexcept {
+    if constexpr (Sem::skipped_by_count) {
+      const bool all = static_cast<std::size_t>(c) == children;
+      c = 0;
+      return all;
+    } else {
+      return c == 0;
+    }
+  }
+
   // Sequence / Fallback family: tick the child at the stored index, or end.
   // 4.6.2 returns SKIPPED when no child ticked since the node was last IDLE
   // answered anything but SKIPPED; the flag is not reset when the loop ends.
@@ -1518,11 +1628,26 @@ class Engine {
       f.pos = static_cast<std::uint16_t>(idx);
       return descend(child(n, f.pos));
     }
-    const bool all_skipped = counter(n, 1) == 0;
+    const bool skipped = all_skipped(counter(n, 1), n.child_count);
     reset_children(n);
     idx = 0;
-    if (all_skipped) return done(Status::SKIPPED);
+    if (skipped) return done(Status::SKIPPED);
     return done(is_sequence(kind) ? Status::SUCCESS : Status::FAILURE);
+  }
+
+  // TryCatch: the next try child, or the end of the try block (SKIPPED when all skipped).
+  Step try_next(Frame& f, const NodeInfo& n) noexcept {
+    std::int32_t& idx = counter(n, 0);
+    const std::size_t tries = n.child_count - 1;
+    if (static_cast<std::size_t>(idx) < tries) {
+      f.pos = static_cast<std::uint16_t>(idx);
+      return descend(child(n, f.pos));
+    }
+    const bool skipped = static_cast<std::size_t>(counter(n, 1)) == tries;
+    reset_children(n);
+    idx = 0;
+    counter(n, 1) = 0;
+    return done(skipped ? Status::SKIPPED : Status::SUCCESS);
   }
 
   Step parallel_next(Frame& f, const NodeInfo& n) noexcept {

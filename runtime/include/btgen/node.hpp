@@ -29,7 +29,8 @@ enum class NodeKind : std::uint8_t {
   ParallelAll,
   IfThenElse,
   WhileDoElse,
-  Switch,  // Switch2 .. Switch6
+  Switch,    // Switch2 .. Switch6
+  TryCatch,  // BehaviorTree.CPP 4.9.0 and later
   // decorators
   Inverter,
   ForceSuccess,

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 
 #include "btgen/status.hpp"
 #include "btgen/value.hpp"
@@ -34,6 +35,18 @@ inline Errc num(bool v, double& out) noexcept {
 inline Errc num(Status v, double& out) noexcept {
   out = static_cast<double>(static_cast<int>(v));
   return Errc::kOk;
+}
+
+// An operand as a double as the mission's release converts it: from 4.7.0
+// (Semantics::int_to_double_53_bits) an integer beyond 2^53-1 fails, exact or not.
+template <bool k53, class T>
+inline Errc num_v(T v, double& out) noexcept {
+  if constexpr (k53 && std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    constexpr std::int64_t kMaxExact = (std::int64_t{1} << 53) - 1;
+    const auto w = static_cast<std::int64_t>(v);
+    if (w > kMaxExact || w < -kMaxExact) return Errc::kPrecision;
+  }
+  return num(v, out);
 }
 
 // An operand as an int64 (bitwise operators, and storing into an integer).
@@ -68,11 +81,14 @@ inline bool gt(std::string_view a, std::string_view b) noexcept { return !(a <= 
 inline bool le(std::string_view a, std::string_view b) noexcept { return !(a > b); }
 inline bool ge(std::string_view a, std::string_view b) noexcept { return !(a < b); }
 
-// Division as 4.6.2's double arithmetic, with division by zero spelled out
-// (0/0 and nan/0 are a positive NaN, x/0 an infinity with the signs' product).
+// Division as 4.6.2's double arithmetic on x86-64, with division by zero
+// spelled out: 0/0 is the processor's default NaN, whose sign bit is set
+// (std::to_string writes `-nan`; edges table N1), nan/0 that NaN as it is,
+// x/0 an infinity with the signs' product.
 inline double div(double a, double b) noexcept {
   if (b == 0.0) {
-    if (a == 0.0 || std::isnan(a)) return std::numeric_limits<double>::quiet_NaN();
+    if (std::isnan(a)) return a;
+    if (a == 0.0) return -std::numeric_limits<double>::quiet_NaN();
     return std::copysign(std::numeric_limits<double>::infinity(), a) * std::copysign(1.0, b);
   }
   return a / b;

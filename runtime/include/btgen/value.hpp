@@ -370,7 +370,8 @@ inline Errc parse_integer(std::string_view text, std::int64_t lo, std::int64_t h
 // the text after the number is ignored. A value too large (inf) or too
 // small (zero from non-zero digits) is out of range; the latter only with
 // `check_underflow` (SwitchNode reads it as 0).
-inline Errc parse_double_from_chars(std::string_view text, double& out, bool check_underflow = true) noexcept {
+inline Errc parse_double_from_chars(std::string_view text, double& out, bool check_underflow = true,
+                                    std::size_t* consumed = nullptr) noexcept {
   using namespace value_detail;
   Scan s;
   std::size_t i = 0;
@@ -380,6 +381,7 @@ inline Errc parse_double_from_chars(std::string_view text, double& out, bool che
   }
   if (!scan_special(text, i, s) && !scan_decimal(text, i, s)) return Errc::kInvalid;
   s.start = 0;
+  if (consumed != nullptr) *consumed = s.end;
   if (s.is_nan) {
     out = std::copysign(std::numeric_limits<double>::quiet_NaN(), s.negative ? -1.0 : 1.0);
     return Errc::kOk;
@@ -504,21 +506,27 @@ inline Errc int_to_status(std::int64_t v, Status& out) noexcept {
 namespace btgen {
 
 // SwitchNode's CheckStringEquality: equal as text, or as integers (an
-// optional '-' and digits, in int range, the rest ignored), or as reals
-// (std::from_chars) within FLT_EPSILON.
-inline bool switch_equal(std::string_view a, std::string_view b) noexcept {
+// optional '-' and digits, in int range), or as reals (std::from_chars)
+// within FLT_EPSILON. 4.6.2 reads the number at the start of the text and
+// ignores the rest; from 4.10.0 (`whole`, Semantics::switch_whole_parse) the
+// number must be the whole text.
+inline bool switch_equal(std::string_view a, std::string_view b, bool whole = false) noexcept {
   if (a == b) return true;
+  const auto integer = [whole](std::string_view t, std::int64_t& v) noexcept {
+    if (parse_integer(t, INT32_MIN, INT32_MAX, v) != Errc::kOk) return false;
+    if (!whole) return true;
+    std::size_t i = (!t.empty() && t[0] == '-') ? 1 : 0;
+    while (i < t.size() && value_detail::is_digit(t[i])) ++i;
+    return i == t.size();
+  };
+  const auto real = [whole](std::string_view t, double& v) noexcept {
+    std::size_t end = 0;
+    return parse_double_from_chars(t, v, false, &end) == Errc::kOk && (!whole || end == t.size());
+  };
   std::int64_t ia = 0, ib = 0;
-  if (parse_integer(a, INT32_MIN, INT32_MAX, ia) == Errc::kOk &&
-      parse_integer(b, INT32_MIN, INT32_MAX, ib) == Errc::kOk && ia == ib) {
-    return true;
-  }
+  if (integer(a, ia) && integer(b, ib) && ia == ib) return true;
   double ra = 0.0, rb = 0.0;
-  if (parse_double_from_chars(a, ra, false) == Errc::kOk && parse_double_from_chars(b, rb, false) == Errc::kOk &&
-      std::fabs(ra - rb) <= 1.1920928955078125e-07) {
-    return true;
-  }
-  return false;
+  return real(a, ra) && real(b, rb) && std::fabs(ra - rb) <= 1.1920928955078125e-07;
 }
 
 }  // namespace btgen

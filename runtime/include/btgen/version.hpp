@@ -6,8 +6,8 @@ namespace btgen {
 // The runtime ABI generated code is written against. Every generated header
 // static_asserts that this number equals the one its generator targeted
 // (btgen.version.RUNTIME_ABI); a mismatch means: regenerate the mission.
-inline constexpr int kRuntimeAbi = 3;
+inline constexpr int kRuntimeAbi = 5;
 
-inline constexpr const char* kRuntimeVersion = "0.2.0";
+inline constexpr const char* kRuntimeVersion = "0.3.0";
 
 }  // namespace btgen
