@@ -17,6 +17,7 @@ minute and a half on two cores); later runs rebuild only what changed
 """
 
 import os
+import re
 import subprocess
 import sys
 
@@ -98,6 +99,29 @@ def test_trace_on_the_board_is_the_hosts(folder, stem, results, monkeypatch):
     scenario, _ = load_scenario(base + ".scenario", mission)
     if got.status == 0:
         assert got.stdout == trace_text(mission, scenario)
+
+
+# The smallest build (bench/mcu: the Lab Tour under 16 KB of flash): no node text, every node
+# on the table interpreter. A dozen cases whose missions cover controls, decorators, time and
+# scripts.
+SMALL_DEFINES = ("BTGEN_NODE_TEXT=0", "BTGEN_STRAIGHT_LINE_BUDGET=0")
+SMALL_STEMS = [s for s in CONFORMANCE_STEMS if s not in DOES_NOT_FIT][::4]
+_TRACE_LINE = re.compile(r'^(\d+) \S+ ".*" (\w+ -> \w+)$', re.M)
+
+
+def test_small_build_keeps_every_status(monkeypatch):
+    """-DBTGEN_NODE_TEXT=0 leaves IDs and names out of the image: the trace shows them empty,
+    and every uid and status change is the recording's."""
+    monkeypatch.chdir(ROOT)
+    cases = [
+        mcu.Case(os.path.join(CONFORMANCE, s + ".xml"), os.path.join(CONFORMANCE, s + ".scenario"), s)
+        for s in SMALL_STEMS
+    ]
+    results = mcu.run_cases(cases, batch=len(cases), defines=SMALL_DEFINES)
+    for r in results:
+        expected = _TRACE_LINE.sub(r'\1  "" \2', _read(os.path.join(ROOT, CONFORMANCE, r.case.name + ".trace")))
+        assert (r.status, r.stderr) == (0, "")
+        assert r.stdout == expected, r.case.name
 
 
 def test_an_allocation_stops_the_image(tmp_path):
