@@ -15,6 +15,7 @@ from btgen.compiler import committed_outputs, compile_command, generate, generat
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
+from btgen.pipeline import CompileOptions
 from btgen.version import RUNTIME_ABI, __version__
 from conftest import CASES, ROOT, case_file, conformance_stems
 
@@ -649,7 +650,7 @@ def test_deps_keep_an_include_that_stopped_loading(tmp_path, capsys):
         '<SubTree ID="Lib"/></BehaviorTree></root>\n',
     )
     models = _write(tmp_path, "models.xml", "<root><TreeNodesModel>")  # does not load either
-    assert mission_files(main_xml, [models]) == [os.path.abspath(main_xml), lib, models]
+    assert mission_files(main_xml, CompileOptions(models=(models,))) == [os.path.abspath(main_xml), lib, models]
     capsys.readouterr()
     assert main(["--deps", main_xml, "--models", models, "--cmake"]) == 0
     assert capsys.readouterr().out == f"{os.path.abspath(main_xml)};{lib};{models}"

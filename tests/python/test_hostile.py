@@ -443,3 +443,16 @@ def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
         check=False,
     )
     assert proc.returncode == 0, proc.stderr
+    # A NAMESPACE whose inner part would hide ::std: refused when configuring (it built C++
+    # that did not compile).
+    (tmp_path / "CMakeLists.txt").write_text(
+        (tmp_path / "CMakeLists.txt").read_text().replace("NAMESPACE patrol_b)", "NAMESPACE robot::std)")
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build3"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode != 0
+    assert "`std` inside the mission's namespace would hide `::std`" in " ".join(proc.stderr.split())

@@ -214,6 +214,7 @@ def parse(text: str) -> UserType:
             f"`{one_line(header)}` is not a header name: write path/to/header.hpp or <path/to/header.hpp> "
             "(letters, digits and `_ . + - /`)"
         )
+    cpp = re.sub(r"\s+", " ", cpp)  # (a line break would end the // comment that names the type)
     cpp = re.sub(r"\s*(::|<|>|,)\s*", lambda m: m.group(1) + (" " if m.group(1) == "," else ""), cpp)
     return UserType(canonical, cpp, header)
 
