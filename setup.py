@@ -41,4 +41,9 @@ class build_py_with_data(build_py):
         print(f"setup.py: copied {copied} data files to {os.path.relpath(target, self.build_lib)}")
 
 
-setup(cmdclass={"build_py": build_py_with_data})
+# <prefix>/share/cmake/btgen/: where find_package(btgen) looks without btgen_DIR (from PATH's
+# <prefix>/bin or CMAKE_PREFIX_PATH); it reads the package in site-packages through `btgen --cmake-dir`.
+setup(
+    cmdclass={"build_py": build_py_with_data},
+    data_files=[("share/cmake/btgen", ["cmake/share/btgenConfig.cmake", "cmake/btgenConfigVersion.cmake"])],
+)

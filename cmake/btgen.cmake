@@ -275,6 +275,17 @@ function(btgen_add_mission)
 
   _btgen_query(deps --deps "${mission}" ${read_options} ${write_options})
   _btgen_query(names --outputs "${mission}" ${ns_option})  # also rejects a bad NAMESPACE, at configure time
+  # Two missions in one namespace linked into one program share their engine and script code
+  # (the linker keeps one copy of each function): mission b would run mission a's code.
+  _btgen_query(template --template "${mission}" ${ns_option})
+  string(REGEX REPLACE "::[^:]*$" "" mission_ns "${template}")
+  get_property(ns_owner GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}")
+  if(ns_owner)
+    message(FATAL_ERROR "btgen_add_mission: ${target} (${mission}) would generate namespace ${mission_ns}, "
+      "which ${ns_owner} already uses; two missions in one namespace run each other's code when linked into "
+      "one program: give one of them NAMESPACE <another>")
+  endif()
+  set_property(GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}" "${target} (${mission})")
   _btgen_query(generator_inputs --inputs)
   if(BTGEN_EXECUTABLE)
     list(APPEND generator_inputs "${BTGEN_EXECUTABLE}")
@@ -309,7 +320,6 @@ function(btgen_add_mission)
     BTGEN_MISSION "${mission}")
 
   if(ARG_SCENARIO_RUNNER)
-    _btgen_query(template --template "${mission}" ${ns_option})
     add_executable(${ARG_SCENARIO_RUNNER} "${root}/runtime/src/main_driver.cpp")
     target_link_libraries(${ARG_SCENARIO_RUNNER} PRIVATE ${target} btgen::scenario)
     target_compile_definitions(${ARG_SCENARIO_RUNNER} PRIVATE

@@ -8,5 +8,12 @@
 template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(lab_tour::detail::kGeneration == 0x8fb1e39206b8d483ULL,
+namespace lab_tour::detail {
+// Defined once per program: a second mission generated into this namespace and linked into
+// the same program is a link error here, not a program running one mission's code for both.
+extern const char btgen_one_mission_per_namespace;
+const char btgen_one_mission_per_namespace = 0;
+}  // namespace lab_tour::detail
+
+static_assert(lab_tour::detail::kGeneration == 0xcb2a93932b57e655ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

@@ -3271,7 +3271,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x8fb1e39206b8d483ULL;
+inline constexpr unsigned long long kGeneration = 0xcb2a93932b57e655ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -8,5 +8,12 @@
 template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ball::PickPlaceBallLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(pick_place_ball::detail::kGeneration == 0x4fb6c9defe840ebeULL,
+namespace pick_place_ball::detail {
+// Defined once per program: a second mission generated into this namespace and linked into
+// the same program is a link error here, not a program running one mission's code for both.
+extern const char btgen_one_mission_per_namespace;
+const char btgen_one_mission_per_namespace = 0;
+}  // namespace pick_place_ball::detail
+
+static_assert(pick_place_ball::detail::kGeneration == 0xed42fb7d3411041fULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

@@ -758,7 +758,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x4fb6c9defe840ebeULL;
+inline constexpr unsigned long long kGeneration = 0xed42fb7d3411041fULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

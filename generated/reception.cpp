@@ -8,5 +8,12 @@
 template class btgen::Engine<reception::detail::Spec, reception::ReceptionLeaves,
                              btgen::SteadyClock, btgen::NoObserver>;
 
-static_assert(reception::detail::kGeneration == 0xba6275e0a9e2d97aULL,
+namespace reception::detail {
+// Defined once per program: a second mission generated into this namespace and linked into
+// the same program is a link error here, not a program running one mission's code for both.
+extern const char btgen_one_mission_per_namespace;
+const char btgen_one_mission_per_namespace = 0;
+}  // namespace reception::detail
+
+static_assert(reception::detail::kGeneration == 0x28f9d50c4110470dULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -2163,7 +2163,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xba6275e0a9e2d97aULL;
+inline constexpr unsigned long long kGeneration = 0x28f9d50c4110470dULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

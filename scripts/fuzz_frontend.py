@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Front-end fuzzing: mutated and random missions and knowledge bases (reliability).
 
-    scripts/fuzz_frontend.py [--iterations N] [--seed S] [--target mission|kb|all]
+    scripts/fuzz_frontend.py [--iterations N] [--seed S] [--target mission|kb|config|models|types|
+                             enums|enums_file|trace|btlog|all]
                              [--cli K] [--keep DIR] [--time-limit S]
 
 Inputs are mutations of a seed corpus (the conformance cases, missions/,
@@ -13,7 +14,9 @@ command line does with it:
 
 - missions: `btgen validate` (load_mission), and for a valid one `btgen xsd`,
   `btgen compile` (rendered in memory) and `btgen run` (a few ticks);
-- knowledge bases: `btgen lint-kb` with and without a configuration.
+- knowledge bases: `btgen lint-kb` with and without a configuration;
+- models files (`--models`), `--type` and `--enum` strings, `--enums` files;
+- the readers of `btgen graph`: status traces and .btlog files.
 
 The oracle: every input ends in success or in diagnostics of the form
 `path:line:col: error|warning: message` with the path as given — never
@@ -91,6 +94,112 @@ def kb_corpus() -> list[bytes]:
 def config_corpus() -> list[bytes]:
     files = sorted((ROOT / "data").glob("*.ini")) + sorted((ROOT / "tests" / "bad_kb").glob("*.ini"))
     return [f.read_bytes() for f in files]
+
+
+def models_corpus(missions: list[bytes]) -> list[bytes]:
+    """Models files (--models): each mission's TreeNodesModel alone under <root>."""
+    out = []
+    for m in missions:
+        found = re.search(rb"<TreeNodesModel>.*?</TreeNodesModel>", m, re.S)
+        if found:
+            out.append(b'<root BTCPP_format="4">\n' + found.group(0) + b"\n</root>\n")
+    return out
+
+
+TYPE_CORPUS = [
+    b"Pose2D=nav::Pose2D@nav/pose2d.hpp",
+    b"Ms=::std::chrono::duration<long long, std::milli>@<chrono>",
+    b"W=wchar_t@<cwchar>",
+    b"L=std::less<>@<functional>",
+    b"A=std::array<unsigned char, 3>@<array>",
+    b"U=unsigned long long int@<cstdint>",
+]
+ENUM_CORPUS = [b"Color=RED,GREEN,BLUE", b"Size = SMALL=5, MEDIUM ,LARGE", b"M=A=-1,B,C=0x10,D", b"E=X=0b101,Y=0o17"]
+# (tokens of C++ types, enum declarations and file names that once slipped through)
+STRING_TOKENS = [
+    b"::",
+    b"<",
+    b">",
+    b"<>",
+    b",",
+    b"*",
+    b"&",
+    b"@",
+    b"=",
+    b" ",
+    b"\t",
+    b"\n",
+    b"long",
+    b"unsigned",
+    b"signed",
+    b"double",
+    b"char",
+    b"wchar_t",
+    b"char32_t",
+    b"int",
+    b"NULL",
+    b"EOF",
+    b"NDEBUG",
+    b"BTGEN_X",
+    b"std",
+    b"btgen",
+    b"const",
+    b"struct",
+    b"_X",
+    b"__y",
+    b"??/",
+    b"//",
+    b'"',
+    b"\\",
+    b"\xd9\xa5",
+    b"\xef\xbc\x91",
+    b"1_000",
+    b"0x",
+    b"-",
+    b"+",
+    b"9" * 40,
+    b"9" * 4400,  # (past int()'s 4,300 digits)
+    b"\xc2\xb2",
+    b";",
+    b"#",
+    b"\xef\xbb\xbf",
+    b"\x00",
+    b"\xff",
+]
+
+
+def trace_corpus() -> tuple[list[bytes], list[bytes]]:
+    """A status trace and a .btlog of tests/groot2/monitored.xml, as `btgen graph` reads them."""
+    import struct
+
+    from btgen.frontend.loader import load_mission
+    from btgen.interp.engine import run_trace
+    from btgen.interp.scenario import parse_scenario
+    from btgen.ir.treexml import groot2_tree
+
+    mission = load_mission(str(GRAPH_MISSION))
+    lines: list[str] = []
+    run_trace(mission, parse_scenario(str(GRAPH_MISSION.with_suffix(".scenario"))), lines.append)
+    trace = ("\n".join(lines) + "\n").encode()
+    xml = groot2_tree(mission).xml.encode()
+    records = [(1, 1), (2, 1), (2, 2), (3, 1), (4, 3), (5, 1)]
+    body = b"".join(struct.pack("<Q", 10 * i)[:6] + struct.pack("<HB", uid, st) for i, (uid, st) in enumerate(records))
+    btlog = b"BTCPP4-FileLogger2\x01" + struct.pack("<i", len(xml)) + xml + struct.pack("<q", 0) + body
+    return [trace], [btlog]
+
+
+GRAPH_MISSION = ROOT / "tests" / "groot2" / "monitored.xml"
+HOSTILE_NUMBERS = [b"\xc2\xb2", b"\xd9\xa1", b"\xef\xbc\x91\xef\xbc\x92", b"9" * 4400, b"-1", b"1_000", b"0x10", b""]
+
+
+def mutate_numbers(data: bytes, rng: random.Random) -> bytes:
+    """A number of the input (a UID, a tick, a value) becomes one that str.isdigit or int()
+    takes differently from an ASCII reader: Unicode digits, 4,400 digits, signs, separators."""
+    spans = [m.span() for m in re.finditer(rb"[0-9]+", data)]
+    if not spans:
+        return data
+    a, b = rng.choice(spans)
+    return data[:a] + rng.choice(HOSTILE_NUMBERS) + data[b:]
 
 
 # ------------------------------------------------------------------ mutations
@@ -488,6 +597,66 @@ def check_cli(args: list[str], path: str, timeout: float) -> Optional[str]:
     return None
 
 
+def check_models(path: str) -> Optional[str]:
+    """A models file (--models) beside a mission that uses none of it: validate's diagnostics."""
+    from btgen.frontend.loader import load_mission
+
+    mission = str(ROOT / "tests" / "groot2" / "monitored.xml")
+    try:
+        load_mission(mission, models=[path])
+    except UserError as e:
+        for d in e.diagnostics:
+            if d.loc.path not in (path, mission, "--models"):
+                return f"--models: a diagnostic about another file: {d}"
+        return _check_diagnostics("\n".join(str(d) for d in e.diagnostics if d.loc.path == path), path, "--models")
+    return None
+
+
+def check_string_option(option: str, text: str) -> Optional[str]:
+    """One --type or --enum string: accepted, or diagnostics at `--type:1:C` / `--enum:1:C`."""
+    from btgen.frontend import enums, usertypes
+
+    try:
+        if option == "--type":
+            for t in usertypes.load([text]):
+                # (what is accepted is a plain C++ spelling: ASCII, one line, no macro start)
+                if not t.cpp_type.isascii() or "\n" in t.cpp_type or "??" in t.header or "//" in t.header:
+                    return f"--type accepted {text!r} as {t.cpp_type!r}@{t.header!r}"
+        else:
+            for name, value in enums.load([text]):
+                if not (-(2**31) <= value < 2**31) or not name.isascii():
+                    return f"--enum accepted {text!r} as {name}={value}"
+    except UserError as e:
+        return _check_diagnostics("\n".join(str(d) for d in e.diagnostics), option, option)
+    return None
+
+
+def check_enums_file(path: str) -> Optional[str]:
+    from btgen.frontend import enums
+
+    try:
+        enums.load(files=[path])
+    except UserError as e:
+        return _check_diagnostics("\n".join(str(d) for d in e.diagnostics), path, "--enums")
+    return None
+
+
+def check_graph_input(kind: str, path: str) -> Optional[str]:
+    """`btgen graph --trace/--btlog` over a mutated trace or log of tests/groot2/monitored.xml."""
+    from btgen.frontend.loader import load_mission
+    from btgen.tools.graph import btlog_statuses, trace_statuses, walk
+
+    nodes, _ = walk(load_mission(str(GRAPH_MISSION)))
+    try:
+        if kind == "trace":
+            trace_statuses(path, None, nodes)
+        else:
+            btlog_statuses(path, None, nodes)
+    except UserError as e:
+        return _check_diagnostics("\n".join(str(d) for d in e.diagnostics), path, f"graph --{kind}")
+    return None
+
+
 def _limit_memory() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
 
@@ -506,7 +675,36 @@ def fuzz(
     rng = random.Random(seed)
     keep = (keep or ROOT / "build" / "fuzz-frontend").resolve()
     missions, kbs, configs = mission_corpus(), kb_corpus(), config_corpus()
-    stats = {"missions": 0, "kbs": 0, "configs": 0, "cli": 0, "valid_missions": 0, "findings": []}
+    models = models_corpus(missions)
+    traces: list[bytes] = []
+    btlogs: list[bytes] = []
+    stats = {
+        "missions": 0,
+        "kbs": 0,
+        "configs": 0,
+        "models": 0,
+        "types": 0,
+        "enums": 0,
+        "enums_files": 0,
+        "traces": 0,
+        "btlogs": 0,
+        "cli": 0,
+        "valid_missions": 0,
+        "findings": [],
+    }
+    kinds = (
+        "mission",
+        "mission",
+        "mission",
+        "kb",
+        "config",
+        "models",
+        "types",
+        "enums",
+        "enums_file",
+        "trace",
+        "btlog",
+    )
     work = Path(tempfile.mkdtemp(prefix="fuzz-frontend."))
     old = signal.signal(signal.SIGALRM, _alarm)
     old_prof = signal.signal(signal.SIGPROF, _alarm)
@@ -515,8 +713,29 @@ def fuzz(
         # A neighbour file for `<include path="..."/>` mutations.
         (work / "missing.xml").write_bytes(missions[0])
         for it in range(iterations):
-            kind = target if target != "all" else rng.choice(("mission", "mission", "mission", "kb", "config"))
-            if kind == "mission":
+            kind = target if target != "all" else rng.choice(kinds)
+            text_option = None
+            if kind == "models":
+                data = mutate(rng.choice(models), rng, models, TOKENS + NODE_NAMES, mutate_mission_structure)
+                path = str(work / "palette.xml")
+            elif kind in ("types", "enums"):
+                corpus = TYPE_CORPUS if kind == "types" else ENUM_CORPUS
+                data = mutate(rng.choice(corpus), rng, corpus, STRING_TOKENS, mutate_numbers)
+                path = str(work / "unused")
+                text_option = data.decode("utf-8", "replace")
+            elif kind == "enums_file":
+                data = b"\n".join(
+                    mutate(rng.choice(ENUM_CORPUS), rng, ENUM_CORPUS, STRING_TOKENS, mutate_numbers)
+                    for _ in range(rng.randint(1, 4))
+                )
+                path = str(work / "e.enums")
+            elif kind in ("trace", "btlog"):
+                if not traces:  # (built on first use: it loads and runs a mission)
+                    traces, btlogs = trace_corpus()
+                corpus = traces if kind == "trace" else btlogs
+                data = mutate(rng.choice(corpus), rng, corpus, STRING_TOKENS + TOKENS, mutate_numbers)
+                path = str(work / ("t.trace" if kind == "trace" else "l.btlog"))
+            elif kind == "mission":
                 data = mutate(rng.choice(missions), rng, missions, TOKENS + NODE_NAMES, mutate_mission_structure)
                 path = str(work / f"m{it % 7}.xml")
             elif kind == "kb":
@@ -538,6 +757,18 @@ def fuzz(
                 elif kind == "kb":
                     stats["kbs"] += 1
                     problem = check_kb(path, None)
+                elif kind == "models":
+                    stats["models"] += 1
+                    problem = check_models(path)
+                elif kind in ("types", "enums"):
+                    stats[kind] += 1
+                    problem = check_string_option("--type" if kind == "types" else "--enum", text_option or "")
+                elif kind == "enums_file":
+                    stats["enums_files"] += 1
+                    problem = check_enums_file(path)
+                elif kind in ("trace", "btlog"):
+                    stats[kind + "s"] += 1
+                    problem = check_graph_input(kind, path)
                 else:
                     stats["configs"] += 1
                     problem = check_kb(str(work / "environmentKnowledgeBaseInput.dat"), path)
@@ -557,7 +788,7 @@ def fuzz(
                 signal.setitimer(signal.ITIMER_PROF, 0)
                 signal.setitimer(signal.ITIMER_REAL, 0)
                 sys.setrecursionlimit(old_limit)
-            if problem is None and cli_every and it % cli_every == 0:
+            if problem is None and cli_every and it % cli_every == 0 and kind in ("mission", "kb", "config"):
                 stats["cli"] += 1
                 args = {
                     "mission": ["validate", "-q", path],
@@ -567,7 +798,7 @@ def fuzz(
                 problem = check_cli(args, path, max(30.0, time_limit * 3))
             if problem is not None:
                 keep.mkdir(parents=True, exist_ok=True)
-                ext = {"mission": ".xml", "kb": ".dat", "config": ".ini"}[kind]
+                ext = {"mission": ".xml", "kb": ".dat", "config": ".ini", "models": ".models.xml"}.get(kind, f".{kind}")
                 saved = keep / f"finding_{seed}_{it}{ext}"
                 saved.write_bytes(data)
                 saved.with_suffix(ext + ".txt").write_text(problem, encoding="utf-8")
@@ -584,7 +815,11 @@ def main(argv: Optional[list[str]] = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--iterations", type=int, default=2000)
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--target", choices=("mission", "kb", "config", "all"), default="all")
+    p.add_argument(
+        "--target",
+        choices=("mission", "kb", "config", "models", "types", "enums", "enums_file", "trace", "btlog", "all"),
+        default="all",
+    )
     p.add_argument("--cli", type=int, default=0, metavar="K", help="also run every K-th input through `btgen`")
     p.add_argument("--keep", type=Path, default=None)
     p.add_argument("--time-limit", type=float, default=10.0, help="CPU seconds per input (default 10)")
@@ -602,7 +837,9 @@ def main(argv: Optional[list[str]] = None) -> int:
     )
     print(
         f"fuzz-frontend: seed {args.seed}: {stats['missions']} missions ({stats['valid_missions']} valid), "
-        f"{stats['kbs']} knowledge bases, {stats['configs']} configurations, {stats['cli']} through the CLI, "
+        f"{stats['kbs']} knowledge bases, {stats['configs']} configurations, {stats['models']} models files, "
+        f"{stats['types']} --type, {stats['enums']} --enum, {stats['enums_files']} --enums files, "
+        f"{stats['traces']} traces, {stats['btlogs']} .btlogs, {stats['cli']} through the CLI, "
         f"{len(stats['findings'])} findings, {time.monotonic() - start:.1f} s"
     )
     for saved, last in stats["findings"]:

@@ -28,7 +28,7 @@ echo "== the Cortex-M toolchain and QEMU (scripts/test_mcu.sh; tests/python/test
 bash scripts/test_mcu.sh --install-only
 
 echo "== Python tests"
-pytest -q -p no:cacheprovider
+pytest -q -p no:cacheprovider --durations=25
 
 echo "== C++ tests"
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPython3_EXECUTABLE="$PWD/.venv/bin/python" >/dev/null

@@ -7,7 +7,10 @@
 Missions: `missions/*.xml` that compile, then `bench/missions/balanced_100.xml` and
 `balanced_1000.xml`. Each is built with the toolchain file for the MPS2 AN386 board
 (mcu/README.md) together with bench/mcu/bench_mcu.cpp (leaves that answer at once with
-SUCCESS read from a volatile, a counter for a clock, no observer) at each optimisation;
+SUCCESS read from a volatile, a counter for a clock, no observer, the mission object built
+in .bss at start-up) at -Os, at -O2, and "small": -Os without node text
+(`-DBTGEN_NODE_TEXT=0`, btgen/node.hpp: no IDs, names or source positions in the image)
+and with every node on the table interpreter (`-DBTGEN_STRAIGHT_LINE_BUDGET=0`);
 the same main without a mission is the baseline (board support, start-up, this main).
 Each image runs in QEMU with `-icount shift=0`. Columns:
 
@@ -47,6 +50,10 @@ from btgen.ir.lower import lower
 from btgen.tools import mcu
 
 OPTS = ("-Os", "-O2")
+# The smallest build: -Os, no node text (btgen/node.hpp: BTGEN_NODE_TEXT=0: no IDs, names or
+# source positions in the image) and every node on the table interpreter (no straight-line code).
+SMALL = ("-Os", "-DBTGEN_NODE_TEXT=0", "-DBTGEN_STRAIGHT_LINE_BUDGET=0")
+SMALL_LABEL = "-Os, small"
 BENCH_MISSIONS = ("bench/missions/balanced_100.xml", "bench/missions/balanced_1000.xml")
 README_BEGIN = "<!-- mcu-bench:begin (bench/mcu/run_mcu_bench.py --update-readme) -->"
 README_END = "<!-- mcu-bench:end -->"
@@ -58,7 +65,11 @@ def default_missions() -> list[str]:
 
 
 def target_name(stem: str, opt: str) -> str:
-    return f"{naming.snake_case(stem)}_{opt.lstrip('-')}"
+    return f"{naming.snake_case(stem)}_{'small' if opt == SMALL_LABEL else opt.lstrip('-')}"
+
+
+def flags(opt: str) -> str:
+    return " ".join(SMALL) if opt == SMALL_LABEL else opt
 
 
 def write_if_changed(path: Path, text: str) -> None:
@@ -80,11 +91,11 @@ def generate(missions: list[str], opts: tuple[str, ...], src: Path) -> dict[str,
     ]
     bench = (HERE / "bench_mcu.cpp").as_posix()
     for opt in opts:
-        t = f"baseline_{opt.lstrip('-')}"
+        t = target_name("baseline", opt)
         lines += [
             f'add_executable({t} "{bench}")',
             f"target_compile_definitions({t} PRIVATE BTGEN_MCU_BASELINE)",
-            f"target_compile_options({t} PRIVATE {opt})",
+            f"target_compile_options({t} PRIVATE {flags(opt)})",
             f"target_link_libraries({t} PRIVATE btgen::bsp)",
         ]
     stems: dict[str, str] = {}
@@ -106,7 +117,7 @@ def generate(missions: list[str], opts: tuple[str, ...], src: Path) -> dict[str,
                 f"target_include_directories({t} PRIVATE gen)",
                 f'target_compile_definitions({t} PRIVATE "BTGEN_MISSION_HEADER=\\"{header.name}\\"" '
                 f"BTGEN_MISSION_TEMPLATE={template})",
-                f"target_compile_options({t} PRIVATE {opt})",
+                f"target_compile_options({t} PRIVATE {flags(opt)})",
                 f"target_link_libraries({t} PRIVATE btgen::runtime btgen::bsp)",
             ]
     write_if_changed(src / "CMakeLists.txt", "\n".join(lines) + "\n")
@@ -159,14 +170,16 @@ def table(rows: list[dict]) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("missions", nargs="*", help="missions (default: shipped and the 100/1,000-node ones)")
-    parser.add_argument("--opt", action="append", choices=OPTS, help="optimisation (default: both)")
+    parser.add_argument(
+        "--opt", action="append", choices=(*OPTS, "small"), help="optimisation (default: -Os, -O2 and small)"
+    )
     parser.add_argument("--build-dir", default=str(ROOT / "build" / "mcu-bench"))
     parser.add_argument("--update-readme", action="store_true", help="put the table into README.md")
     args = parser.parse_args(argv)
     missing = mcu.missing_tools()
     if missing:
         raise SystemExit(f"needs {', '.join(missing)} (bash scripts/test_mcu.sh --install-only installs them)")
-    opts = tuple(args.opt or OPTS)
+    opts = tuple(SMALL_LABEL if o == "small" else o for o in (args.opt or (*OPTS, "small")))
     missions = args.missions or default_missions()
     build = Path(args.build_dir)
     stems = generate(missions, opts, build / "src")
@@ -179,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
     subprocess.run(["cmake", "--build", str(bld), "-j", str(min(2, os.cpu_count() or 1))], check=True)
     base = {}
     for opt in opts:
-        elf = bld / f"baseline_{opt.lstrip('-')}.elf"
+        elf = bld / f"{target_name('baseline', opt)}.elf"
         base[opt] = (flash_ram(elf), run(elf))
     rows = []
     for path, stem in stems.items():

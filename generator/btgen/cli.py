@@ -123,6 +123,12 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return bench_command(args)
 
 
+def _cmd_init(args: argparse.Namespace) -> int:
+    from btgen.tools.init import init_command
+
+    return init_command(args)
+
+
 def _cmd_graph(args: argparse.Namespace) -> int:
     from btgen.tools.graph import graph_command
 
@@ -306,6 +312,11 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
     add_mission_options(g)
     g.set_defaults(func=_cmd_graph)
+
+    n = sub.add_parser("init", help="write a starter robot project (mission, models, leaves, CMakeLists.txt)")
+    n.add_argument("directory", metavar="DIR", help="the project's folder: new, or empty")
+    n.add_argument("--name", help="the CMake project, executable and C++ namespace (default: DIR's name)")
+    n.set_defaults(func=_cmd_init)
     from btgen.lang.versions import SUPPORTED_VERSIONS
 
     u = sub.add_parser(

@@ -204,17 +204,26 @@ def generator_inputs() -> list[str]:
 
 
 def mission_files(mission_path: str, opts: CompileOptions = DEFAULTS) -> list[str]:
-    """The mission, every file it includes, the models files and the enums files (absolute).
-    Falls back to the mission and the files named by options when it does not load: the
-    build then reports its errors."""
-    from btgen.frontend.loader import load_mission
+    """The mission, every file it includes, the models, --trees and enums files (absolute),
+    also when it does not load: every file the loader reached (an include that stopped
+    loading stays a dependency, so the build regenerates and reports its errors instead of
+    keeping the old header)."""
+    from btgen.frontend.loader import files_read
 
-    try:
-        files = list(load_mission(mission_path, opts.models, opts.main_tree, opts.trees).files)
-    except UserError:
-        files = [mission_path, *opts.models, *(t for t in opts.trees if os.path.isfile(t))]
+    files = files_read(mission_path, opts.models, opts.main_tree, opts.trees, opts.btcpp)
+    files += [t for t in opts.trees if os.path.isfile(t) and t not in files]
     files += [f for f in opts.enum_files if f not in files]
     return [os.path.abspath(f) for f in files]
+
+
+def cmake_path_problem(path: str) -> str:
+    """Why `path` cannot be an element of a CMake list ("" when it can): a `;` separates list
+    elements and a `\\` escapes, so DEPENDS would name files that do not exist."""
+    bad = sorted({c for c in path if c in ";\\"})
+    if not bad:
+        return ""
+    shown = " and ".join(f"`{c}`" for c in bad)
+    return f"the path holds {shown}, which a CMake list cannot hold; btgen_add_mission cannot depend on it (rename it)"
 
 
 def committed_outputs(root: Path) -> dict[str, str]:
@@ -279,6 +288,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return 0
     if args.deps:
         items = mission_files(args.deps, opts)
+        if args.cmake:
+            bad = [(f, cmake_path_problem(f)) for f in items if cmake_path_problem(f)]
+            if bad:
+                from btgen.diagnostics import Diagnostic, Loc, print_diagnostics
+
+                print_diagnostics([Diagnostic(Loc(f, 1, 1), why) for f, why in bad])
+                return 1
     elif args.template:
         stem = mission_stem(args.template)
         items = [f"{naming.mission_namespace(stem, args.namespace)}::{naming.pascal_case(stem)}"]

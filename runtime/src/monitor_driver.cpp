@@ -99,7 +99,15 @@ int main(int argc, char** argv) {
     }
     std::fflush(stdout);
   }
+  int status = 0;
+  if (logger) {
+    // (a full disk or /dev/full: the log is cut short; say so, as for any output)
+    if (const int e = logger->close()) {
+      std::fprintf(stderr, "%s: error: %s: cannot write the log: %s\n", argv[0], btlog.c_str(), std::strerror(e));
+      status = 1;
+    }
+  }
   logger.reset();
   publisher.reset();
-  return 0;
+  return status;
 }

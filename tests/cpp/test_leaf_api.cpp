@@ -82,12 +82,4 @@ TEST(LeafApi, UnwiredPortsFailAsInBehaviorTreeCpp) {
   EXPECT_EQ(mission.errors(), 0u);
 }
 
-TEST(LeafApi, ModelsNoNodeUsesStillHaveTheirAccessors) {
-  // `Unused` is declared but never instantiated: its class and getter exist.
-  static_assert(leaf_api_unwired::leaf::Unused::kKind == btgen::LeafKind::Condition);
-  using Getter = decltype(std::declval<const leaf_api_unwired::leaf::Unused&>().threshold());
-  static_assert(std::is_same_v<Getter, btgen::Input<double>>);
-  SUCCEED();
-}
-
 }  // namespace

@@ -106,6 +106,20 @@ def test_user_control_makes_the_tick_unbounded(capsys, tmp_path):
     assert "unbounded" in out
 
 
+def test_counts_read_from_the_blackboard_are_any_count(capsys, tmp_path):
+    mission = tmp_path / "key.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>\n'
+        '<Script code="n := 0"/><Repeat num_cycles="{n}"><Act name="A"/></Repeat>\n'
+        '<Repeat name="Never" num_cycles="0"><Act name="B"/></Repeat>\n'
+        '</Sequence></BehaviorTree><TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n'
+    )
+    rc, _, err = _run(capsys, str(mission))
+    assert rc == 0
+    # a literal 0 never ticks its child; a {key} may hold any count, so A can run
+    assert [line.split(": warning: ")[1][:22] for line in err.splitlines()] == ['`Act` "B" can never be']
+
+
 def test_bad_mission_is_an_error_not_a_traceback(capsys, tmp_path):
     mission = tmp_path / "bad.xml"
     mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="Main"><Nope/></BehaviorTree></root>\n')

@@ -15,6 +15,7 @@ from btgen.compiler import committed_outputs, compile_command, generate, generat
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import creation_order, lower
+from btgen.pipeline import CompileOptions
 from btgen.version import RUNTIME_ABI, __version__
 from conftest import CASES, ROOT, case_file, conformance_stems
 
@@ -471,9 +472,10 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
         "bool set_retries(std::int32_t value) const",
         "bool set_error_code(std::int32_t value) const",
         "bool set_pose(const T& value) const",
-        "btgen::Input<double> threshold() const",
     ):
         assert accessor in header.text
+    # A model no node uses has no class (a palette of 600 cost g++ 45 s): `Unused`.
+    assert "threshold() const" not in header.text and "class Unused" not in header.text
     assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
@@ -667,3 +669,46 @@ def test_long_literals_are_split_between_words():
     assert all(c.endswith(' "') for c in chunks[:-3]), chunks
     header = (Path(ROOT) / "generated" / "lab_tour.hpp").read_text(encoding="utf-8")
     assert not re.search(r'[A-Za-z]"\s*\n\s*"[A-Za-z]', header)
+
+
+def test_deps_keep_an_include_that_stopped_loading(tmp_path, capsys):
+    """When an include stopped loading, `build-info --deps` fell back to the mission alone:
+    the include left DEPENDS and CMAKE_CONFIGURE_DEPENDS and the build kept the old header."""
+    (tmp_path / "sub").mkdir()
+    lib = _write(tmp_path, "sub/lib.xml", '<root BTCPP_format="4"><BehaviorTree ID="Lib"><Act/></BehaviorTree>')
+    main_xml = _write(
+        tmp_path,
+        "Main.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="Main">'
+        '<include path="sub/lib.xml"/><BehaviorTree ID="Main">'
+        '<SubTree ID="Lib"/></BehaviorTree></root>\n',
+    )
+    models = _write(tmp_path, "models.xml", "<root><TreeNodesModel>")  # does not load either
+    assert mission_files(main_xml, CompileOptions(models=(models,))) == [os.path.abspath(main_xml), lib, models]
+    capsys.readouterr()
+    assert main(["--deps", main_xml, "--models", models, "--cmake"]) == 0
+    assert capsys.readouterr().out == f"{os.path.abspath(main_xml)};{lib};{models}"
+
+
+def test_deps_that_a_cmake_list_cannot_hold(tmp_path, capsys):
+    """An include under `x;y/` broke the generated build rules with a ninja error about a
+    file that does not exist; now build-info says why, at the file."""
+    (tmp_path / "x;y").mkdir()
+    lib = _write(
+        tmp_path,
+        "x;y/lib.xml",
+        '<root BTCPP_format="4"><BehaviorTree ID="Lib"><AlwaysSuccess/></BehaviorTree></root>',
+    )
+    main_xml = _write(
+        tmp_path,
+        "Main.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><include path="x;y/lib.xml"/>'
+        '<BehaviorTree ID="Main"><SubTree ID="Lib"/></BehaviorTree></root>\n',
+    )
+    capsys.readouterr()
+    assert main(["--deps", main_xml, "--cmake"]) == 1
+    assert capsys.readouterr().err == (
+        f"{lib}:1:1: error: the path holds `;`, which a CMake list cannot hold; "
+        "btgen_add_mission cannot depend on it (rename it)\n"
+    )
+    assert main(["--deps", main_xml]) == 0  # (one per line: any path)

@@ -188,3 +188,16 @@ def test_edge_missions_agree(tmp_path):
     print("\n" + report.summary())
     assert len(report.compiled) == len(EDGES_SEEDS), report.summary()
     assert report.ok, report.summary()
+
+
+# The same random missions under `--btcpp 4.10.0`: both engines follow 4.10.0's switches
+# (lang/versions.py) and must still agree. `scripts/difftest.py --btcpp 4.10.0` runs any number.
+SEEDS_410 = range(0, int(os.environ.get("BTGEN_DIFF_410_SEEDS", "40")))
+
+
+def test_full_missions_agree_under_410(tmp_path):
+    report = difftest.difftest(SEEDS_410, "full", 2, keep=tmp_path / "kept", btcpp="4.10.0")
+    print("\n" + report.summary())
+    assert not report.invalid, report.summary()
+    assert len(report.compiled) + len(report.unsupported) == len(SEEDS_410), report.summary()
+    assert report.ok, report.summary()

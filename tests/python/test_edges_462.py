@@ -146,3 +146,15 @@ def test_cpp_reports_what_462_refuses(stem, cpp):
         mission = load_mission(_path(stem, ".xml"))
         trace_text(mission, load_scenario(_path(stem, ".scenario"), mission)[0])
     assert str(e.value).splitlines()[0] in err.splitlines()
+
+
+def test_what_4_6_2_reads_differently_loads_with_a_warning():
+    """I1, B1, M1: loaded as 4.6.2 loads them, each with a warning saying how it is read."""
+    warnings = {
+        stem: [str(w) for w in load_mission(_path(stem, ".xml")).warnings]
+        for stem in ("i1_repeat_3_5", "b1_key_with_blanks", "m1_subtree_undeclared_remap", "i1_loopint_1_5_2")
+    }
+    assert any("`3.5` is not a valid int" in w and "reads it as 3" in w for w in warnings["i1_repeat_3_5"])
+    assert any("names the blackboard key ` n `" in w for w in warnings["b1_key_with_blanks"])
+    assert any("declares no port `extra`" in w for w in warnings["m1_subtree_undeclared_remap"])
+    assert any("`1.5` is not a valid int" in w for w in warnings["i1_loopint_1_5_2"])

@@ -54,6 +54,8 @@ def test_declarations_number_as_register_scripting_enum(text, table):
         ("Color=RED=4294967296", "does not fit an int"),
         # int() takes these; no C++ enum declaration spells them
         ("Color=RED=1_000", "the value of `RED` in enum `Color` is not an integer: `1_000`"),
+        # (found by scripts/fuzz_frontend.py: int -> str refuses past 4,300 digits)
+        ("Color=RED=0x" + "f" * 4400, "the value of `RED` \\(0xfff"),
         ("Color=RED=\u0665", "the value of `RED` in enum `Color` is not an integer: `\u0665`"),
         ("Color=RED=\uff11\uff12", "the value of `RED` in enum `Color` is not an integer: `\uff11\uff12`"),
     ],

@@ -432,6 +432,122 @@ def test_protocol_robustness_the_executor_keeps_ticking(executor, tmp_path):
         assert cpp.close() == 0
 
 
+def _rss_kib(pid: int, field: str = "VmHWM") -> int:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1])
+    raise AssertionError(field)
+
+
+def test_one_client_cannot_make_the_monitor_hold_much(executor, tmp_path):
+    """One unauthenticated client grew the robot from 7 MiB to ~400 MiB with a 400-frame
+    request (ZMQ_MAXMSGSIZE bounds a frame, not a message) and to ~300 MiB with 300
+    subscriptions of 1 MiB on the PUB port; 300 BLACKBOARD requests of clients that went
+    away held the server thread 60 s. Peak memory is the process's own (VmHWM). (libzmq's
+    I/O thread still queues the frames of a message of many small frames before the server
+    sees them: that peak is bounded by how fast the server drops the peer, not checked here.)"""
+    if executor.name != "monitored":
+        pytest.skip("one mission is enough")
+    port = free_port_pair()
+    cpp = Compiled(executor, port, tmp_path / "r.btlog")
+    try:
+        good = Client(port)
+        cpp.tick()
+        assert good.request("T")[1].startswith(b"<root")
+        before = _rss_kib(cpp.proc.pid)
+        # 400 frames of 1 MiB in one request: the peer is dropped after the bound.
+        ctx = zmq.Context()
+        big = ctx.socket(zmq.REQ)
+        big.setsockopt(zmq.LINGER, 0)
+        big.setsockopt(zmq.RCVTIMEO, 1000)
+        big.connect(f"tcp://127.0.0.1:{port}")
+        frame = b"x" * ((1 << 20) - 1)
+        big.send_multipart([struct.pack("<BBI", 2, ord("B"), 5)] + [frame] * 400)
+        with pytest.raises(zmq.Again):
+            big.recv_multipart()
+        big.close()
+        # Five frames (over the four a request may have), each small: dropped too.
+        five = Client(port)
+        five.sock.setsockopt(zmq.RCVTIMEO, 1000)
+        five.sock.send_multipart([struct.pack("<BBI", 2, ord("S"), 5)] + [b"a"] * 4)
+        with pytest.raises(zmq.Again):
+            five.sock.recv_multipart()
+        five.close()
+        # Four frames still get the protocol's error reply.
+        assert good.request("B", b"a", b"b", b"c") == [b"error", b"must be 2 parts message"]
+        # Subscriptions on the PUB port: 300 of 64 KiB, 20,000 small distinct ones.
+        subs = []
+        for topics in ([b"%06d" % i + b"x" * (64 << 10) for i in range(300)], [b"%06d" % i for i in range(20000)]):
+            sub = ctx.socket(zmq.SUB)
+            sub.setsockopt(zmq.LINGER, 0)
+            sub.connect(f"tcp://127.0.0.1:{port + 1}")
+            for t in topics:
+                sub.setsockopt(zmq.SUBSCRIBE, t)
+            subs.append(sub)
+        time.sleep(1.0)  # (let the subscriptions arrive)
+        assert good.request("S")[1]
+        grown = _rss_kib(cpp.proc.pid) - before
+        assert grown < 48 * 1024, f"the monitor grew by {grown} KiB"
+        for sub in subs:
+            sub.close()
+        # 300 BLACKBOARD requests of clients that left at once, the robot not ticking.
+        for _ in range(300):
+            gone = ctx.socket(zmq.REQ)
+            gone.setsockopt(zmq.LINGER, 0)
+            gone.connect(f"tcp://127.0.0.1:{port}")
+            gone.send_multipart([struct.pack("<BBI", 2, ord("B"), 1), b"MainTree"])
+            gone.close()
+        good.sock.setsockopt(zmq.RCVTIMEO, 10000)  # (liveness, not speed: they held it 60 s)
+        assert good.request("T")[1].startswith(b"<root")
+        good.close()
+        ctx.term()
+        assert cpp.alive()
+    finally:
+        assert cpp.close() == 0
+
+
+def test_btlog_write_errors_are_reported(executor, tmp_path):
+    """To /dev/full the log got 0 bytes, on a full file system it stopped inside its tree
+    XML; the robot exited 0 and said nothing."""
+    if executor.name != "monitored":
+        pytest.skip("one mission is enough")
+    full = tmp_path / "full.btlog"
+    full.symlink_to("/dev/full")
+    scenario = str(executor.with_suffix(".scenario"))
+    proc = subprocess.run(
+        [str(executor), scenario, "--btlog", str(full)], input="quit\n", capture_output=True, text=True, check=False
+    )
+    assert (proc.returncode, proc.stderr) == (
+        2,
+        f"{executor}: error: btlog: cannot write {full}: No space left on device\n",
+    )
+    # A file that can take the header and two records, then no more (as a disk filling up).
+    import resource
+    import signal
+
+    xml = groot2_tree(load_mission(str(CASES / "monitored.xml"))).xml.encode()
+    limit = 18 + 1 + 4 + len(xml) + 8 + 2 * 9
+
+    def small_disk():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # (a write past the limit fails with EFBIG)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    log = tmp_path / "cut.btlog"
+    proc = subprocess.run(
+        [str(executor), scenario, "--btlog", str(log)],
+        input="tick\ntick\nquit\n",
+        capture_output=True,
+        text=True,
+        check=False,
+        preexec_fn=small_disk,
+    )
+    assert (proc.returncode, proc.stderr) == (
+        1,
+        f"{executor}: error: {log}: cannot write the log: File too large\n",
+    )
+    assert proc.stdout.startswith("ready\nresult ")  # (the mission ran; only the log failed)
+
+
 def test_tree_xml_is_byte_identical_for_hostile_names():
     """Names with quotes, `&`, `<`, `>`, apostrophes, UTF-8, a tab and a newline, an empty
     name, a `/` in a SubTree path: the generator's tree XML (the FULLTREE text and the

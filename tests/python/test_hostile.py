@@ -54,6 +54,7 @@ def test_hostile_names_build(hostile_sources, compiler, opt):
         compiler,
         *FLAGS,
         opt,
+        *(["-DNDEBUG"] if opt == "-O2" else []),  # (as every CMake Release build defines it)
         "-I",
         RUNTIME,
         "-I",
@@ -97,6 +98,7 @@ def test_pool_covers_the_issue():
     } <= pool
     assert set("engine leaves observer clock main errno time exit random remove system abs printf".split()) <= pool
     assert pool >= ISSUE_STEMS
+    assert {"NDEBUG", "BTGEN_STRAIGHT_LINE_BUDGET", "BTGEN_MISSION_HEADER", "ZMQ_PUB"} <= pool
 
 
 def test_compilers_define_no_macro_btgen_does_not_know():
@@ -126,6 +128,10 @@ def test_compilers_define_no_macro_btgen_does_not_know():
         ("message", "port", "message"),
         ("x", "entry", "x"),
         ("class", "plain", "class_"),
+        ("NDEBUG", "model", "NDEBUG_"),
+        ("BTGEN_STRAIGHT_LINE_BUDGET", "port", "port_BTGEN_STRAIGHT_LINE_BUDGET"),
+        ("BTGEN_GENERATED_M_HPP", "entry", "e_BTGEN_GENERATED_M_HPP"),
+        ("ZMQ_PUB", "entry", "e_ZMQ_PUB"),
     ],
 )
 def test_cpp_identifier_by_kind(name, kind, expected):
@@ -377,3 +383,76 @@ def test_header_and_source_of_two_runs_do_not_build(tmp_path):
     )
     assert proc.returncode != 0
     assert "m.hpp and m.cpp come from different btgen runs: run btgen compile again" in proc.stderr
+
+
+def test_two_missions_in_one_namespace_do_not_link(tmp_path):
+    """a/patrol.xml and b/patrol.xml (default namespace `patrol`) linked into one program ran
+    each other's code: the linker kept one copy of the engine, and mission b (AlwaysFailure)
+    returned SUCCESS. A definition in the namespace makes that a link error."""
+    for name, text in (("a", TWO_EDGES), ("b", TWO_EDGES.replace("AlwaysSuccess", "AlwaysFailure"))):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "patrol.xml").write_text(text, encoding="utf-8")
+        assert _compile(f"{name}/patrol.xml", name, tmp_path).returncode == 0
+    (tmp_path / "main.cpp").write_text("int main() { return 0; }\n", encoding="utf-8")
+    cxx = os.environ.get("CXX", "c++")
+    objects = []
+    for name in ("a", "b"):
+        obj = tmp_path / f"{name}.o"
+        cmd = [cxx, "-std=c++17", "-c", "-I", RUNTIME, "-I", str(tmp_path / name), str(tmp_path / name / "patrol.cpp")]
+        subprocess.run(cmd + ["-o", str(obj)], check=True)
+        objects.append(str(obj))
+    proc = subprocess.run(
+        [cxx, str(tmp_path / "main.cpp"), *objects, "-o", str(tmp_path / "both")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode != 0
+    assert "btgen_one_mission_per_namespace" in proc.stderr
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="no cmake")
+def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
+    """The same through btgen_add_mission: refused when configuring, naming both."""
+    for name in ("a", "b"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "patrol.xml").write_text(TWO_EDGES, encoding="utf-8")
+    (tmp_path / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.16)\nproject(two LANGUAGES CXX)\nfind_package(btgen CONFIG REQUIRED)\n"
+        "btgen_add_mission(mission_a MISSION a/patrol.xml)\nbtgen_add_mission(mission_b MISSION b/patrol.xml)\n",
+        encoding="utf-8",
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode != 0
+    err = " ".join(proc.stderr.split())
+    assert "btgen_add_mission: mission_b" in err and "would generate namespace patrol" in err
+    assert "which mission_a" in err and "give one of them NAMESPACE <another>" in err
+    # One of them in another namespace: configures.
+    (tmp_path / "CMakeLists.txt").write_text(
+        (tmp_path / "CMakeLists.txt").read_text().replace("b/patrol.xml)", "b/patrol.xml NAMESPACE patrol_b)")
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build2"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    # A NAMESPACE whose inner part would hide ::std: refused when configuring (it built C++
+    # that did not compile).
+    (tmp_path / "CMakeLists.txt").write_text(
+        (tmp_path / "CMakeLists.txt").read_text().replace("NAMESPACE patrol_b)", "NAMESPACE robot::std)")
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build3"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode != 0
+    assert "`std` inside the mission's namespace would hide `::std`" in " ".join(proc.stderr.split())

@@ -17,6 +17,7 @@ minute and a half on two cores); later runs rebuild only what changed
 """
 
 import os
+import re
 import subprocess
 import sys
 
@@ -100,6 +101,40 @@ def test_trace_on_the_board_is_the_hosts(folder, stem, results, monkeypatch):
         assert got.stdout == trace_text(mission, scenario)
 
 
+def test_no_image_links_the_heap(results):
+    """Not one allocation function is linked into the case images (the runtime's number <->
+    text conversions included): nothing in them can allocate, whatever path a mission takes."""
+    elves = sorted((mcu.default_build_root() / "build").glob("batch*.elf"))
+    assert len(elves) >= len(results) // mcu.BATCH
+    for elf in elves:
+        symbols = subprocess.run(["arm-none-eabi-nm", str(elf)], capture_output=True, text=True, check=True).stdout
+        linked = {line.split()[-1] for line in symbols.splitlines() if line.strip()}
+        assert not linked & {"malloc", "_malloc_r", "calloc", "realloc", "_sbrk_r", "free", "_free_r"}, elf
+
+
+# The smallest build (bench/mcu: the Lab Tour under 16 KB of flash): no node text, every node
+# on the table interpreter. A dozen cases whose missions cover controls, decorators, time and
+# scripts.
+SMALL_DEFINES = ("BTGEN_NODE_TEXT=0", "BTGEN_STRAIGHT_LINE_BUDGET=0")
+SMALL_STEMS = [s for s in CONFORMANCE_STEMS if s not in DOES_NOT_FIT][::4]
+_TRACE_LINE = re.compile(r'^(\d+) \S+ ".*" (\w+ -> \w+)$', re.M)
+
+
+def test_small_build_keeps_every_status(monkeypatch):
+    """-DBTGEN_NODE_TEXT=0 leaves IDs and names out of the image: the trace shows them empty,
+    and every uid and status change is the recording's."""
+    monkeypatch.chdir(ROOT)
+    cases = [
+        mcu.Case(os.path.join(CONFORMANCE, s + ".xml"), os.path.join(CONFORMANCE, s + ".scenario"), s)
+        for s in SMALL_STEMS
+    ]
+    results = mcu.run_cases(cases, batch=len(cases), defines=SMALL_DEFINES)
+    for r in results:
+        expected = _TRACE_LINE.sub(r'\1  "" \2', _read(os.path.join(ROOT, CONFORMANCE, r.case.name + ".trace")))
+        assert (r.status, r.stderr) == (0, "")
+        assert r.stdout == expected, r.case.name
+
+
 def test_an_allocation_stops_the_image(tmp_path):
     """The board has no heap: malloc reaches _sbrk, which says so and exits with kHeapExit (86)."""
     src = tmp_path / "src"
@@ -150,11 +185,12 @@ def test_os_only_headers_refuse_the_bare_metal_build(tmp_path):
         assert f"btgen/{header}.hpp needs an operating system" in proc.stderr.decode()
 
 
-def test_lab_tour_example_runs_on_the_board(tmp_path):
+def test_lab_tour_example_runs_on_the_board():
     """examples/mcu: btgen_add_mission() and the toolchain file build the Lab Tour for the board,
     with simulated leaves on the SysTick clock; run.sh runs it in QEMU and the tour succeeds."""
     proc = subprocess.run(
-        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(tmp_path / "build")],
+        # Built in the cache (as the cases are), so that a second run rebuilds only what changed.
+        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(mcu.cache_dir() / "example")],
         capture_output=True,
         check=False,
         timeout=900,

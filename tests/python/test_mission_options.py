@@ -1,6 +1,10 @@
 """--models, --main-tree and --namespace; repeated TreeNodesModel declarations."""
 
 import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
 
 import pytest
 
@@ -11,6 +15,8 @@ from btgen.compiler import main as build_info
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.pipeline import CompileOptions
+
+ROOT = Path(__file__).resolve().parents[2]
 
 MODELS = (
     '<root BTCPP_format="4">\n'
@@ -168,6 +174,31 @@ def test_namespace_default_never_clashes():
         ("_robot", "`_robot` is reserved in C++ (a leading `_` or a double underscore)"),
         ("robot::", "`robot::` has an empty part"),
         ("", "the namespace is empty"),
+        # Each of these generated C++ that does not build
+        (
+            "robot::std",
+            "`std` inside the mission's namespace would hide `::std`, which the generated code names there; "
+            "choose another name",
+        ),
+        (
+            "robot::btgen",
+            "`btgen` inside the mission's namespace would hide `::btgen`, which the generated code names there; "
+            "choose another name",
+        ),
+        ("a\n::b", "`a\\n` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
+        ("a::b\n", "`b\\n` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"),
+        (
+            "r\u00e9sum\u00e9",
+            "`r\u00e9sum\u00e9` is not a C++ identifier (letters, digits and `_`, not starting with a digit)",
+        ),
+        ("nullptr_t", "`nullptr_t` names something of the C++ standard library at global scope; choose another name"),
+        ("NDEBUG", "`NDEBUG` is a macro of btgen's runtime or of a build (`NDEBUG`, `BTGEN_...`, `ZMQ_...`)"),
+        ("robot::NDEBUG", "`NDEBUG` is a macro of btgen's runtime or of a build (`NDEBUG`, `BTGEN_...`, `ZMQ_...`)"),
+        (
+            "BTGEN_STRAIGHT_LINE_BUDGET",
+            "`BTGEN_STRAIGHT_LINE_BUDGET` is a macro of btgen's runtime or of a build "
+            "(`NDEBUG`, `BTGEN_...`, `ZMQ_...`)",
+        ),
     ],
 )
 def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
@@ -178,6 +209,26 @@ def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
     assert e.value.code == 2
     assert f"btgen: error: argument --namespace: {problem}" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.skipif(shutil.which("g++") is None, reason="no g++")
+def test_accepted_namespaces_with_odd_parts_build(tmp_path):
+    # Inner parts that are names the generated code declares itself, or globals: they build.
+    mission, models = _write(tmp_path, "m.xml", BARE), _write(tmp_path, "models.xml", MODELS)
+    for ns in ("robot::detail", "robot::leaf", "robot::exit", "robot::main", "robot::errno_"):
+        out = tmp_path / ns.replace("::", "_")
+        assert (
+            main(["compile", mission, "--models", models, "--main-tree", "Patrol", "--namespace", ns, "-o", str(out)])
+            == 0
+        )
+        proc = subprocess.run(
+            ["g++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Werror", "-DNDEBUG"]
+            + [f"-I{ROOT / 'runtime' / 'include'}", str(out / "m.cpp")],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert proc.returncode == 0, (ns, proc.stderr[:3000])
 
 
 def test_compile_with_all_options(tmp_path, capsys):
@@ -223,3 +274,69 @@ def test_validate_run_and_xsd_take_the_options(tmp_path, capsys):
     assert capsys.readouterr().out == (
         'tick 1\n1 MoveBase "MoveBase" IDLE -> SUCCESS\n1 MoveBase "MoveBase" SUCCESS -> IDLE\nresult SUCCESS\n'
     )
+
+
+def test_models_no_node_uses_cost_nothing(tmp_path):
+    """A 2-node mission with a palette of 600 unused Actions took g++ 45 s (2,000: 7 minutes,
+    1.4 GB): every model got a leaf class, dispatch branches and virtual hooks, a pure virtual
+    check() per Condition. Only used models get them; Groot2 still sees the whole palette."""
+    palette = (
+        "\n".join(f'    <Action ID="Unused{i}"><input_port name="a" type="int"/></Action>' for i in range(600))
+        + '\n    <Condition ID="UnusedCheck"/>\n    <Condition ID="Used"/>'
+    )
+    models = _write(
+        tmp_path, "models.xml", f'<root BTCPP_format="4"><TreeNodesModel>\n{palette}\n</TreeNodesModel></root>'
+    )
+    mission = _write(
+        tmp_path,
+        "m.xml",
+        '<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M">'
+        "<Sequence><Used/><AlwaysSuccess/></Sequence></BehaviorTree></root>",
+    )
+    assert main(["compile", mission, "--models", models, "-o", str(tmp_path / "o")]) == 0
+    header = (tmp_path / "o" / "m.hpp").read_text()
+    assert re.search(r"\bUsed\b", header) and "check(" in header
+    assert not re.search(r"\b(class|struct) Unused", header)
+    assert all('ID=\\"Unused' in line for line in header.splitlines() if "Unused" in line)
+    assert header.count('<Action ID=\\"Unused') == 600  # (the tree XML of Groot2)
+
+
+@pytest.mark.parametrize(
+    "root, models, expected",
+    [
+        # (each was taken silently)
+        (
+            '<root BTCPP_format="3">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/>',
+            [
+                '1:21: error: BTCPP_format="3" is not supported; btgen reads BehaviorTree.CPP v4 files '
+                '(BTCPP_format="4")'
+            ],
+        ),
+        (
+            '<root BTCPP_format="4" main_tree_to_execute="Dock">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/>',
+            [
+                "1:24: error: a models file does not choose the tree to run; main_tree_to_execute belongs to the "
+                "mission (or --main-tree)"
+            ],
+        ),
+        (
+            '<root BTCPP_format="4">',
+            '<Action ID="MoveBase"><input_port name="goal"/></Action><Condition ID="BatteryOk"/><SubTree ID="Dok"/>',
+            ["2:100: error: SubTree model `Dok` names no BehaviorTree of the mission (did you mean `Dock`?)"],
+        ),
+    ],
+)
+def test_models_file_mistakes_are_reported(tmp_path, capsys, root, models, expected):
+    mission = _write(tmp_path, "m.xml", BARE)
+    path = _write(tmp_path, "models.xml", f"{root}\n<TreeNodesModel>{models}</TreeNodesModel></root>\n")
+    assert main(["validate", mission, "--models", path, "--main-tree", "Patrol"]) == 1
+    assert capsys.readouterr().err.splitlines() == [f"{path}:{e}" for e in expected]
+
+
+def test_an_empty_models_file_name(tmp_path, capsys):
+    # (it was reported at `:1:1:`)
+    mission = _write(tmp_path, "m.xml", BARE)
+    assert main(["validate", mission, "--models", "", "--main-tree", "Dock"]) == 1
+    assert capsys.readouterr().err == "--models:1:1: error: the file name is empty\n"

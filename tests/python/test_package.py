@@ -344,6 +344,73 @@ def test_package_kb_component_requires_eigen(installed):
     assert failed.returncode != 0 and "component kb needs Eigen 3.3" in failed.stderr
 
 
+def test_find_package_from_the_environment_on_path(installed):
+    """The wheel installs <venv>/share/cmake/btgen/, where CMake looks for every PATH entry
+    ending in bin/: with the environment's bin/ on PATH (an activated venv) no -Dbtgen_DIR is
+    needed. Without it on PATH, nothing finds the package."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    assert (venv / "share" / "cmake" / "btgen" / "btgenConfig.cmake").is_file()
+    (tmp / "on_path").mkdir()
+    src = _runtime_only_project(tmp / "on_path", "find_package(btgen CONFIG REQUIRED)")
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    build = tmp / "on_path" / "build"
+    no_eigen = "-DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON"  # what the project checks (RUNTIME_ONLY)
+    _run(["cmake", "-S", src, "-B", build, *_generator(), no_eigen], tmp, active)
+    cache = (build / "CMakeCache.txt").read_text()
+    assert f"btgen_DIR:PATH={venv / 'share' / 'cmake' / 'btgen'}" in cache
+    assert f"BTGEN_EXECUTABLE:FILEPATH={btgen}" in cache
+    _run(["cmake", "--build", build], tmp, active)
+    inactive = _run(
+        ["cmake", "-S", src, "-B", tmp / "on_path" / "build2", *_generator(), no_eigen], tmp, env, check=False
+    )
+    assert inactive.returncode != 0 and "btgenConfig.cmake" in inactive.stderr
+
+
+def test_lab_tour_robot_builds_as_the_readme_tells_users(installed):
+    """examples/lab_tour_robot on its own, the way a user's project is built: find_package of
+    the installed btgen (no btgen_DIR, no checkout on the module path, the environment's
+    Python for btgen), then the robot runs a scenario to its end."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    build = tmp / "robot_build"
+    source = Path(ROOT) / "examples" / "lab_tour_robot"
+    configure = _run(["cmake", "-S", source, "-B", build, *_generator(), "-DBTGEN_BUILD_TESTS=OFF"], tmp, active)
+    assert "does not compile" not in configure.stdout + configure.stderr
+    assert "btgen_DIR" not in configure.stderr  # no "manually-specified variable not used" warning
+    cache = (build / "CMakeCache.txt").read_text()
+    assert f"btgen_DIR:PATH={venv / 'share' / 'cmake' / 'btgen'}" in cache  # the installed package
+    assert f"BTGEN_EXECUTABLE:FILEPATH={btgen}" in cache  # and its command, not the checkout's
+    _run(["cmake", "--build", build, "--target", "lab_tour_robot", "-j", "2"], tmp, active)
+    run = _run([build / "lab_tour_robot", "--scenario", "missions/scenarios/LabTour.yes.scenario"], Path(ROOT), active)
+    assert run.stdout.splitlines()[-1].startswith("lab_tour_robot: mission SUCCESS at tick")
+
+
+def test_init_writes_a_project_that_builds_and_runs(installed):
+    """`btgen init` from the installed package: the project builds with find_package from the
+    active environment, and the robot prints what the scenario of the project predicts."""
+    btgen, env, tmp, _ = installed
+    venv = btgen.parent.parent
+    active = dict(env, PATH=f"{venv / 'bin'}{os.pathsep}{env['PATH']}")
+    _run([btgen, "init", "starter-bot"], tmp, active)
+    project = tmp / "starter-bot"
+    _run(["cmake", "-S", project, "-B", project / "build", *_generator()], tmp, active)
+    _run(["cmake", "--build", project / "build"], tmp, active)
+    run = _run([project / "build" / "starter_bot"], project, active)
+    assert run.stdout.splitlines() == [
+        "starter_bot: MoveTo: driving to kitchen",
+        "starter_bot: MoveTo: driving to kitchen",
+        'starter_bot: says "arrived at kitchen"',
+        "starter_bot: mission SUCCESS after 4 ticks",
+    ]
+    models = ["--models", "mission/models.xml"]
+    trace = _run(
+        [btgen, "run", "mission/mission.xml", *models, "--scenario", "mission/mission.scenario"], project, active
+    ).stdout
+    assert trace.endswith("result SUCCESS\n") and "tick 4\n" in trace and "tick 5\n" not in trace
+
+
 MONITORED = """cmake_minimum_required(VERSION 3.16)
 project(monitored_patrol LANGUAGES CXX)
 find_package(btgen CONFIG REQUIRED COMPONENTS btlog groot2)

@@ -220,6 +220,12 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
     _write(tmp_path / "lib", "library.xml", LIBRARY)
     _write(
         tmp_path,
+        "trycatch.xml",
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><TryCatch><AlwaysSuccess/><AlwaysFailure/>'
+        "</TryCatch></BehaviorTree></root>\n",
+    )
+    _write(
+        tmp_path,
         "CMakeLists.txt",
         "cmake_minimum_required(VERSION 3.16)\nproject(p CXX)\n"
         f'include("{repo_root}/cmake/btgen.cmake")\n'
@@ -227,7 +233,10 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
         "btgen_mission_compiles(without m.xml)\n"
         "btgen_mission_compiles(with_trees uses.xml TREES lib)\n"
         "btgen_mission_compiles(without_trees uses.xml)\n"
-        'message(STATUS "RESULT ${with_enum} ${without} ${with_trees} ${without_trees}")\n',
+        "btgen_mission_compiles(trycatch_410 trycatch.xml BTCPP_VERSION 4.10.0)\n"
+        "btgen_mission_compiles(trycatch_462 trycatch.xml)\n"
+        'message(STATUS "RESULT ${with_enum} ${without} ${with_trees} ${without_trees}")\n'
+        'message(STATUS "BTCPP ${trycatch_410} ${trycatch_462}")\n',
     )
     proc = subprocess.run(
         ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-DPython3_EXECUTABLE={sys.executable}"],
@@ -237,3 +246,4 @@ def test_cmake_mission_compiles_takes_the_options(tmp_path, repo_root):
     )
     assert proc.returncode == 0, proc.stderr
     assert "RESULT TRUE FALSE TRUE FALSE" in proc.stdout
+    assert "BTCPP TRUE FALSE" in proc.stdout  # TryCatch is built in from 4.9.0

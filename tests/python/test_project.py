@@ -83,3 +83,39 @@ def test_demo_help_answers_without_building():
     assert "== demo:" not in proc.stderr  # no step ran
     assert proc.stdout.startswith(("usage: lab_tour_robot", "The main job:")), proc.stdout[:200]
     assert "--language" in proc.stdout
+
+
+def test_init_writes_a_whole_project_or_nothing(tmp_path, capsys):
+    assert main(["init", str(tmp_path / "my-robot")]) == 0
+    project = tmp_path / "my-robot"
+    files = sorted(str(p.relative_to(project)) for p in project.rglob("*") if p.is_file())
+    assert files == [
+        ".gitignore",
+        "CMakeLists.txt",
+        "README.md",
+        "mission/mission.scenario",
+        "mission/mission.xml",
+        "mission/models.xml",
+        "src/main.cpp",
+    ]
+    assert "NAMESPACE my_robot" in (project / "CMakeLists.txt").read_text()
+    main_cpp = (project / "src" / "main.cpp").read_text()
+    for hook in ("Status check(leaf::BatteryOk&", "Status onStart(leaf::MoveTo&", "Status onRunning(leaf::MoveTo&"):
+        assert hook in main_cpp
+    mission, models = str(project / "mission" / "mission.xml"), str(project / "mission" / "models.xml")
+    capsys.readouterr()
+    assert main(["validate", mission, "--models", models]) == 0
+    assert main(["run", mission, "--models", models, "--scenario", str(project / "mission" / "mission.scenario")]) == 0
+    assert capsys.readouterr().out.endswith("result SUCCESS\n")
+
+    # Not over an existing project, nor over a file; nothing is left behind.
+    before = {p: p.read_bytes() for p in project.rglob("*") if p.is_file()}
+    assert main(["init", str(project)]) == 1
+    assert "is not empty" in capsys.readouterr().err
+    assert {p: p.read_bytes() for p in project.rglob("*") if p.is_file()} == before
+    (tmp_path / "file").write_text("x")
+    assert main(["init", str(tmp_path / "file")]) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "my-robot"]  # no temporary folder left
+    (tmp_path / "empty").mkdir()
+    assert main(["init", str(tmp_path / "empty"), "--name", "class"]) == 0  # an empty folder is fine
+    assert "NAMESPACE class_" in (tmp_path / "empty" / "CMakeLists.txt").read_text()  # a C++ keyword is not

@@ -59,6 +59,8 @@ def _both(tmp_path, name, *types):
             " std::vector< double > = std::array<double,3> @ <array>",
             ("std::vector< double >", "std::array<double, 3>", "<array>", "<array>"),
         ),
+        # (found by scripts/fuzz_frontend.py: a line break in the type ended a // comment)
+        ("U=unsigned long long\nint@<cstdint>", ("U", "unsigned long long int", "<cstdint>", "<cstdint>")),
         (
             "Ms=::std::chrono::duration<long long, std::milli>@<chrono>",
             ("Ms", "::std::chrono::duration<long long, std::milli>", "<chrono>", "<chrono>"),
@@ -68,6 +70,17 @@ def _both(tmp_path, name, *types):
 def test_declarations(text, expected):
     t = usertypes.parse(text)
     assert (t.name, t.cpp_type, t.header, t.include) == expected
+
+
+def _not_type(cpp, why):
+    return f"`{cpp}` is not a C++ type btgen can use for `P`: {why}"
+
+
+def _not_header(header):
+    return (
+        f"`{header}` is not a header name: write path/to/header.hpp or <path/to/header.hpp> "
+        "(letters, digits and `_ . + - /`)"
+    )
 
 
 @pytest.mark.parametrize(
@@ -101,8 +114,23 @@ def test_declarations(text, expected):
         ),
         (
             "Pose2D=nav::Pose2D@<p.hpp",
-            "`<p.hpp` is not a header name: write path/to/header.hpp or <path/to/header.hpp>",
+            "`<p.hpp` is not a header name: write path/to/header.hpp or <path/to/header.hpp> "
+            "(letters, digits and `_ . + - /`)",
         ),
+        # Spellings that are not types, and header names that break the build, were taken.
+        ("P=double double@p.hpp", _not_type("double double", "`double double` is not a C++ type")),
+        ("P=signed double@p.hpp", _not_type("signed double", "`signed double` is not a C++ type")),
+        ("P=NULL@p.hpp", _not_type("NULL", "`NULL` is a macro (the preprocessor replaces it)")),
+        ("P=std::EOF@p.hpp", _not_type("std::EOF", "`EOF` is a macro (the preprocessor replaces it)")),
+        ("P=nav::Pose2D long@p.hpp", _not_type("nav::Pose2D long", "`long` follows a complete type")),
+        ("P=a::NDEBUG@p.hpp", _not_type("a::NDEBUG", "`NDEBUG` is a macro (the preprocessor replaces it)")),
+        (
+            "P=__int128@p.hpp",
+            _not_type("__int128", "`__int128` is reserved in C++ (a double underscore, or `_` and a capital)"),
+        ),
+        ("P=nav::Pose2D@a??/pose.hpp", _not_header("a??/pose.hpp")),
+        ("P=nav::Pose2D@<nav>pose.hpp>", _not_header("<nav>pose.hpp>")),
+        ("P=nav::Pose2D@a//b.hpp", _not_header("a//b.hpp")),
     ],
 )
 def test_bad_declarations_are_clean_errors(tmp_path, spec, message):
@@ -226,6 +254,28 @@ def test_both_engines_agree_without_type(tmp_path):
         assert r.returncode == 0, r.stderr
     assert runs[0].stdout == runs[1].stdout
     assert 'MoveTo "again"' in runs[0].stdout
+
+
+def test_valid_types_that_were_refused_build(tmp_path):
+    # wchar_t, char16_t, char32_t and std::less<> are types; the grammar refused them.
+    models = "\n".join(
+        f'    <Action ID="Use{t}"><inout_port name="v" type="{t}"/></Action>' for t in ("W", "U16", "U32", "Less")
+    )
+    body = "    <Sequence>\n" + "\n".join(f'      <Use{t} v="{{{t.lower()}}}"/>' for t in ("W", "U16", "U32", "Less"))
+    name = _mission(tmp_path, "chars.xml", body + "\n    </Sequence>", models)
+    types = ["W=wchar_t@<cwchar>", "U16=char16_t@<cstddef>", "U32=char32_t@<cstddef>", "Less=std::less<>@<functional>"]
+    r = _btgen("compile", name, "-o", "out", *[a for t in types for a in ("--type", t)], cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    header = (tmp_path / "out" / "chars.hpp").read_text(encoding="utf-8")
+    assert "::std::less<>" in header and "wchar_t" in header and "char32_t" in header
+    proc = subprocess.run(
+        ["c++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-I", str(RUNTIME)]
+        + [str(tmp_path / "out" / "chars.cpp")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr[:4000]
 
 
 def _cxx(tmp_path, out, main, *extra, compiler="c++"):

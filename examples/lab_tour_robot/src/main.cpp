@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -218,12 +219,20 @@ int main(int argc, char** argv) {
     if (btgen::is_completed(result)) break;
   }
 
+  int log_error = 0;
   // After the end: the .btlog is complete once its logger is gone (its thread drains the
   // ring), and the publisher stays up a little so that Groot2 and btview show the last
   // statuses instead of a connection that vanished with the final tick.
   const auto finish_monitors = [&]() {
     if (btlog) {
+      // A full disk (or /dev/full) cuts the log short: the run then fails, saying so.
+      log_error = btlog->close();
       btlog.reset();
+      if (log_error != 0) {
+        std::fprintf(stderr, "%s: error: %s: cannot write the log: %s\n", kProgram, options.btlog.c_str(),
+                     std::strerror(log_error));
+        return;
+      }
       std::error_code ec;
       const std::filesystem::path full = std::filesystem::absolute(options.btlog, ec);
       std::printf("%s: wrote %s (replay it in Groot2; `btgen graph --btlog` draws it)\n", kProgram,
@@ -256,6 +265,6 @@ int main(int argc, char** argv) {
               kProgram, std::string(btgen::to_string(result)).c_str(), n, pepper.navigations(), place.c_str(),
               pepper.at() == plan.home ? ", home" : "", pepper.pose().x(), pepper.pose().y(), pepper.pose().z());
   finish_monitors();
-  if (std::fflush(stdout) != 0) return 1;
+  if (std::fflush(stdout) != 0 || log_error != 0) return 1;
   return result == Status::SUCCESS ? 0 : 1;
 }

@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from typing import Callable, Optional, Union
 
 from btgen.backend_cpp.cpp_reserved import GLOBALS, MACROS
+from btgen.diagnostics import one_line
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
 CPP_KEYWORDS = frozenset(
@@ -50,6 +51,20 @@ def pascal_case(stem: str) -> str:
     """`lab_tour` / `LabTour` -> `LabTour`: the mission's class name."""
     name = "".join(w[:1].upper() + w[1:] for w in _words(stem))
     return cpp_identifier(name or "Mission", kind="class")
+
+
+# Macros beyond the standard headers' (cpp_reserved.MACROS) that a translation unit holding
+# generated code may see: those a build defines (`NDEBUG` in every CMake Release build, the
+# drivers' `BTGEN_MISSION_HEADER`), the runtime's own (`BTGEN_STRAIGHT_LINE_BUDGET`, include
+# guards), and ZeroMQ's, which the Groot2 monitor includes beside the mission header. A
+# mission name equal to one would be replaced by the preprocessor wherever it is spelled.
+BUILD_MACROS = frozenset({"NDEBUG", "EFSM", "EMTHREAD", "ENOCOMPATPROTO", "ETERM"})
+MACRO_PREFIXES = ("BTGEN_", "ZMQ_", "CPPZMQ_")
+
+
+def is_macro(ident: str) -> bool:
+    """True when a translation unit of generated code may see a macro named `ident`."""
+    return ident in MACROS or ident in BUILD_MACROS or ident.startswith(MACRO_PREFIXES)
 
 
 # What a mission name may not become, by the scope the generated code declares it in. Every
@@ -123,7 +138,7 @@ Reserved = Union[Iterable[str], Callable[[str], bool]]
 
 def is_reserved(ident: str, kind: str = "plain", reserved: Optional[Reserved] = None) -> bool:
     """True when `ident` may not name a mission entity of `kind` (see KINDS)."""
-    if ident in CPP_KEYWORDS or ident in MACROS or ident in KINDS[kind][1]:
+    if ident in CPP_KEYWORDS or is_macro(ident) or ident in KINDS[kind][1]:
         return True
     pattern = _GENERATED.get(kind)
     if pattern is not None and pattern.fullmatch(ident):
@@ -152,6 +167,8 @@ def cpp_identifier(
     if ident[0].isdigit() or ident[0] == "_":
         ident = prefix + ("" if ident[0] == "_" else "_") + ident
     ident = re.sub(r"_+", "_", ident)
+    if ident.startswith(MACRO_PREFIXES):  # (a trailing `_` cannot free a reserved prefix)
+        ident = prefix + "_" + ident
     while is_reserved(ident, kind, reserved):
         # `NULL` -> `NULL_`; `x_` (reserved) -> `x_1`: never a double underscore.
         ident = ident + "1" if ident.endswith("_") else ident + "_"
@@ -232,7 +249,9 @@ def source_name(stem: str) -> str:
 # program's function (`namespace main` and `int main()` cannot coexist), `btgen`
 # the runtime's namespace, the others the standard library's.
 CLASHING_NAMESPACES = frozenset({"main", "btgen", "std", "posix"})
-_NAMESPACE_PART_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_NAMESPACE_PART_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
+# Types the C++ headers (not the C ones GLOBALS is read from) declare at global scope.
+GLOBAL_TYPES = frozenset({"nullptr_t", "max_align_t", "byte"})
 
 
 def namespace_name(stem: str) -> str:
@@ -247,26 +266,30 @@ namespace_for_stem = namespace_name
 def namespace_problem(ns: str) -> str:
     """Why `ns` cannot be a mission's namespace (`--namespace`), "" when it can.
 
-    `a::b` (nested) is allowed; each part must be a C++ identifier that is not a
-    keyword nor reserved (`_X...`, `__`), and the outermost part must not be one
-    of CLASHING_NAMESPACES."""
+    `a::b` (nested) is allowed; each part must be a C++ identifier (ASCII, no line break)
+    that is not a keyword, a macro (is_macro), reserved (`_X...`, `__`) nor a namespace the
+    generated code names unqualified inside it (QUALIFIERS: `robot::std` would hide `std`);
+    the outermost part must not be one of CLASHING_NAMESPACES nor name something at global
+    scope."""
     if not ns:
         return "the namespace is empty"
     parts = ns.split("::")
     for part in parts:
-        if not _NAMESPACE_PART_RE.match(part):
+        if not _NAMESPACE_PART_RE.fullmatch(part):
             return (
-                f"`{part}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
+                f"`{one_line(part)}` is not a C++ identifier (letters, digits and `_`, not starting with a digit)"
                 if part
-                else f"`{ns}` has an empty part"
+                else f"`{one_line(ns)}` has an empty part"
             )
         if part in CPP_KEYWORDS:
             return f"`{part}` is a C++ keyword"
         if part in MACROS:
             return f"`{part}` is a macro of the C++ standard library"
+        if is_macro(part):
+            return f"`{part}` is a macro of btgen's runtime or of a build (`NDEBUG`, `BTGEN_...`, `ZMQ_...`)"
         if "__" in part or part[0] == "_":
             return f"`{part}` is reserved in C++ (a leading `_` or a double underscore)"
-    if parts[0] in GLOBALS and parts[0] not in CLASHING_NAMESPACES:
+    if parts[0] in (GLOBALS | GLOBAL_TYPES) and parts[0] not in CLASHING_NAMESPACES:
         return f"`{parts[0]}` names something of the C++ standard library at global scope; choose another name"
     if parts[0] in CLASHING_NAMESPACES:
         what = (
@@ -275,6 +298,12 @@ def namespace_problem(ns: str) -> str:
             else ("btgen's runtime" if parts[0] == "btgen" else "the standard library")
         )
         return f"`{parts[0]}` clashes with {what}; choose another name"
+    for part in parts[1:]:
+        if part in ("std", "btgen"):
+            return (
+                f"`{part}` inside the mission's namespace would hide `::{part}`, which the generated "
+                "code names there; choose another name"
+            )
     return ""
 
 

@@ -76,7 +76,10 @@ def parse_declaration(text: str) -> list[tuple[str, int]]:
             value += 1
         if not _INT32[0] <= value <= _INT32[1]:
             raise EnumSyntaxError(
-                f"the value of `{name}` ({value}) does not fit an int (registerScriptingEnum takes an int)", column
+                # (as written: 4,400 hex digits parse, but int -> str refuses past 4,300)
+                f"the value of `{name}` ({number.strip() if eq else value}) does not fit an int "
+                "(registerScriptingEnum takes an int)",
+                column,
             )
         out.append((name, value))
         column += len(item) + 1

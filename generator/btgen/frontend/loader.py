@@ -9,6 +9,7 @@ mission are reported together.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
 import re
@@ -98,6 +99,7 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
         self.siblings = SiblingIndex(self.files)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
@@ -128,6 +130,12 @@ class _Loader:
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
         tree_ids = self._check_tree_ids()
+        for spec in self.palette_subtrees:
+            if spec.id not in tree_ids:
+                self.sink.error(
+                    spec.loc or Loc(self.path),
+                    f"SubTree model `{spec.id}` names no BehaviorTree of the mission{suggestion(spec.id, tree_ids)}",
+                )
         trees = tuple(
             TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
             for tid, elem, src in self.tree_elems
@@ -163,9 +171,9 @@ class _Loader:
         return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
+        self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
         self.sources.append(src)
-        self.files.append(shown)
         root = src.root
         if root.tag != "root":
             if root.tag.startswith("{"):  # lxml's `{uri}local`: a namespace BehaviorTree.CPP does not read
@@ -269,14 +277,17 @@ class _Loader:
     def _load_models_file(self, path: str) -> None:
         """A models file (`--models`): a <root> holding only <TreeNodesModel>, whose
         declarations count as the mission's own."""
+        if not path:  # (it was reported at `:1:1:`)
+            self.sink.error(Loc("--models", 1, 1), "the file name is empty")
+            return
         if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
             return  # given twice, or also the mission or one of its includes
+        self.files.append(path)
         try:
             src = read_source(path, path)
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
-        self.files.append(path)
         root = src.root
         if root.tag != "root":
             self.sink.error(
@@ -290,11 +301,26 @@ class _Loader:
         if errors:
             self.sink.items.extend(errors)
             return
+        # (both were taken silently: a models file is read as format 4 and runs nothing)
+        fmt = root.get("BTCPP_format")
+        if fmt is not None and fmt != "4":
+            self.sink.error(
+                src.value_loc(root, "BTCPP_format"),
+                f'BTCPP_format="{fmt}" is not supported; btgen reads BehaviorTree.CPP v4 files (BTCPP_format="4")',
+            )
+        if root.get("main_tree_to_execute") is not None:
+            self.sink.error(
+                src.attr_loc(root, "main_tree_to_execute"),
+                "a models file does not choose the tree to run; main_tree_to_execute belongs to the mission "
+                "(or --main-tree)",
+            )
         for child in root:
             if not isinstance(child.tag, str):
                 continue
             if child.tag == "TreeNodesModel":
+                before = len(self.models)
                 self._read_models(child, src)
+                self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
             else:
                 self.sink.error(
                     src.loc(child),
@@ -928,6 +954,24 @@ def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
 
             return f"port `{name}` has {show(pa.default)} there, {show(pb.default)} here"
     return ""
+
+
+def files_read(
+    path: str,
+    models: Sequence[str] = (),
+    main_tree: Optional[str] = None,
+    trees: Sequence[str] = (),
+    btcpp: str = DEFAULT_VERSION,
+) -> list[str]:
+    """The files loading the mission reads: the mission, its includes, the models files and
+    the --trees files, also when it does not load (a build system then keeps depending on an
+    include that stopped loading, and the build reports its errors instead of keeping a
+    stale output)."""
+    loader = _Loader(path, models, main_tree, trees, btcpp)
+    with contextlib.suppress(UserError):
+        loader.load()
+    read = list(loader.files)
+    return read + [m for m in models if m not in read]
 
 
 def load_mission(

@@ -25,13 +25,26 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.diagnostics import Diagnostic, Loc, UserError, one_line
 from btgen.lang import values
 from btgen.lang.model import Mission
 
 _IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
-_FUNDAMENTAL = ("int", "long", "short", "char", "double", "float", "bool", "signed", "unsigned")
-_TOKEN = re.compile(rf"\s*(::|{_IDENT}|[0-9]+|[<>,*&])")
+_FUNDAMENTAL = (
+    "int",
+    "long",
+    "short",
+    "char",
+    "double",
+    "float",
+    "bool",
+    "signed",
+    "unsigned",
+    "wchar_t",
+    "char16_t",
+    "char32_t",
+)
+_TOKEN = re.compile(rf"\s*(::|{_IDENT}|[0-9]+|[<>,*&])", re.ASCII)
 
 
 @dataclass(frozen=True)
@@ -64,68 +77,119 @@ def kind_of(name: str) -> str:
     return f"user:{values._compact(name)}"
 
 
+# The words of C++17's fundamental value types; a run of them is one type when it is one of
+# the standard's combinations (_fundamental_problem).
+_FUNDAMENTAL_WORDS = frozenset(
+    "bool char wchar_t char16_t char32_t short int long signed unsigned float double".split()
+)
+
+
+def _fundamental_problem(words: list[str]) -> str:
+    """Why this run of fundamental type words is not one C++ type ("" when it is): the
+    combinations of [dcl.type.simple], in any order (`long unsigned int` is `unsigned long`)."""
+    count = {w: words.count(w) for w in set(words)}
+    shown = " ".join(words)
+    bad = f"`{shown}` is not a C++ type"
+    if any(n > 1 for w, n in count.items() if w != "long") or count.get("long", 0) > 2:
+        return bad
+    sign = count.get("signed", 0) + count.get("unsigned", 0)
+    size = count.get("short", 0) + count.get("long", 0)
+    alone = {"bool", "wchar_t", "char16_t", "char32_t", "float"}
+    if len(words) == 1:
+        return ""
+    if set(words) & alone:
+        return bad
+    if "char" in count:
+        return "" if sign == 1 and len(words) == 2 else bad
+    if "double" in count:
+        return "" if set(words) == {"double", "long"} and count["long"] == 1 else bad
+    if sign > 1 or ("short" in count and "long" in count):
+        return bad
+    return "" if sign + size + count.get("int", 0) == len(words) else bad
+
+
 def _cpp_type_problem(text: str) -> str:
-    """Why `text` is not a C++ type spelling btgen accepts ("" when it is): a qualified name,
-    optionally with template arguments (types or integers), `*` and `&` excluded."""
+    """Why `text` is not a C++ type spelling btgen accepts ("" when it is): one fundamental
+    type (`unsigned long`, `char32_t`), or a qualified name (`::nav::Pose2D`), each part of
+    which may have template arguments (types or integers; `std::less<>`). Pointers and
+    references are excluded, and so are keywords, macros (`NULL`, `std::EOF`, `NDEBUG`) and
+    reserved names (`__x`, `_X`), which would not build."""
     tokens: list[str] = []
     pos = 0
     text = text.strip()
     while pos < len(text):
         m = _TOKEN.match(text, pos)
         if not m:
-            return f"`{text[pos:].strip()[:1]}` cannot appear in a C++ type name here"
+            return f"`{one_line(text[pos:].strip()[:1])}` cannot appear in a C++ type name here"
         tokens.append(m.group(1))
         pos = m.end()
     if any(t in ("*", "&") for t in tokens):
         return "pointers and references cannot live in the blackboard by value"
-    from btgen.backend_cpp.naming import CPP_KEYWORDS
+    from btgen.backend_cpp.naming import CPP_KEYWORDS, is_macro
 
-    depth = 0
-    expect_name = True  # after `::`, `<`, `,` or at the start
-    prev = ""
-    for _i, t in enumerate(tokens):
-        if t == "::":
-            if prev == "::" or prev[:1].isdigit():
-                return "`::` must separate names"
-            expect_name = True
-        elif t == "<":
-            if not re.fullmatch(_IDENT, prev):
-                return "`<` must follow a template name"
-            depth += 1
-            expect_name = True
-        elif t == ">":
-            if depth == 0 or expect_name:
-                return "unbalanced `<` and `>`"
-            depth -= 1
-            expect_name = False
-        elif t == ",":
-            if depth == 0 or expect_name:
-                return "`,` outside template arguments"
-            expect_name = True
-        elif t[0].isdigit():
-            if depth == 0 or not expect_name or prev == "::":
-                return f"`{t}` is not a type"
-            expect_name = False
-        else:
-            if not expect_name and t not in ("int", "long", "short", "char", "double", "signed", "unsigned"):
-                return f"`{t}` follows another name without `::`"
-            if t in CPP_KEYWORDS and t not in (
-                "int",
-                "long",
-                "short",
-                "char",
-                "double",
-                "float",
-                "bool",
-                "signed",
-                "unsigned",
-            ):
+    i = 0
+
+    def peek() -> str:
+        return tokens[i] if i < len(tokens) else ""
+
+    def a_type() -> str:
+        nonlocal i
+        if peek() in _FUNDAMENTAL_WORDS:
+            words = []
+            while peek() in _FUNDAMENTAL_WORDS:
+                words.append(peek())
+                i += 1
+            return _fundamental_problem(words)
+        if peek() == "::":
+            i += 1
+        while True:
+            t = peek()
+            if not t or not re.fullmatch(_IDENT, t):
+                return "it is incomplete" if not t else f"`{t}` is not a type"
+            if t in CPP_KEYWORDS:
                 return f"`{t}` is a C++ keyword"
-            expect_name = False
-        prev = t
-    if not tokens or depth != 0 or expect_name:
-        return "it is incomplete"
+            if is_macro(t):
+                return f"`{t}` is a macro (the preprocessor replaces it)"
+            if "__" in t or (t[0] == "_" and (len(t) == 1 or t[1].isupper())):
+                return f"`{t}` is reserved in C++ (a double underscore, or `_` and a capital)"
+            i += 1
+            if peek() == "<":
+                i += 1
+                if peek() == ">":
+                    i += 1
+                else:
+                    while True:
+                        if peek()[:1].isdigit():
+                            i += 1
+                        else:
+                            problem = a_type()
+                            if problem:
+                                return problem
+                        if peek() == ",":
+                            i += 1
+                        elif peek() == ">":
+                            i += 1
+                            break
+                        else:
+                            return "it is incomplete" if not peek() else "unbalanced `<` and `>`"
+            if peek() != "::":
+                return ""
+            i += 1
+
+    problem = a_type()
+    if problem:
+        return problem
+    if i < len(tokens):
+        t = tokens[i]
+        if t in (">", ","):
+            return "unbalanced `<` and `>`" if t == ">" else "`,` outside template arguments"
+        return f"`{t}` follows a complete type"
     return ""
+
+
+# A header name that builds alike everywhere: letters, digits and `_ . + - /`, no `//` (a
+# comment start inside a header name is undefined) and so no trigraph (`??/`) either.
+_HEADER_PATH = re.compile(r"(?!.*//)[A-Za-z0-9_.+\-/]+", re.ASCII)
 
 
 def parse(text: str) -> UserType:
@@ -144,12 +208,13 @@ def parse(text: str) -> UserType:
     problem = _cpp_type_problem(cpp)
     if problem:
         raise ValueError(f"`{cpp}` is not a C++ type btgen can use for `{name}`: {problem}")
-    if (
-        header.startswith("<") != header.endswith(">")
-        or any(c in '"\\' or ord(c) < 32 for c in header)
-        or (header.startswith("<") and len(header) < 3)
-    ):
-        raise ValueError(f"`{header}` is not a header name: write path/to/header.hpp or <path/to/header.hpp>")
+    path = header[1:-1] if header.startswith("<") and header.endswith(">") else header
+    if not _HEADER_PATH.fullmatch(path):
+        raise ValueError(
+            f"`{one_line(header)}` is not a header name: write path/to/header.hpp or <path/to/header.hpp> "
+            "(letters, digits and `_ . + - /`)"
+        )
+    cpp = re.sub(r"\s+", " ", cpp)  # (a line break would end the // comment that names the type)
     cpp = re.sub(r"\s*(::|<|>|,)\s*", lambda m: m.group(1) + (" " if m.group(1) == "," else ""), cpp)
     return UserType(canonical, cpp, header)
 

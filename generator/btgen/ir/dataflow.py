@@ -1383,7 +1383,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail, bbmod.EMPTY_COPY_SUCCEEDS),
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1413,9 +1413,13 @@ class _Compiler:
                 what + ": ",
                 missing,
                 self.where(loc),
-                bbmod.EMPTY_COPY_SUCCEEDS,
+                self._empty_copy_succeeds(),
             ),
         )
+
+    def _empty_copy_succeeds(self) -> bool:
+        """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
+        return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
 
     def param_read(self, inst: _Inst, op: dict) -> Optional[DataOp]:
         """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
@@ -1654,7 +1658,7 @@ class _Compiler:
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
         declared: dict[str, dict[str, dict]] = {}
-        for spec in self.a.m.user_models():
+        for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:

@@ -301,9 +301,13 @@ class _Lowerer:
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
-        models = m.user_models()
-        model_names = model_identifiers([s.id for s in models])
-        leaf_models = tuple(LeafModel(i, s.id, s.kind, model_names[i], s.loc) for i, s in enumerate(models))
+        # Only the models a node of the mission uses get a leaf class, dispatch branches and
+        # hooks: a palette of 600 unused Actions cost g++ minutes (names are given over the
+        # whole palette, so a model's class keeps its name whatever else is used).
+        all_models = m.user_models()
+        all_names = dict(zip([s.id for s in all_models], model_identifiers([s.id for s in all_models])))
+        models = m.used_user_models()
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
         raw: list[dict] = []

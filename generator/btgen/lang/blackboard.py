@@ -409,7 +409,8 @@ def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str, port
 # SetBlackboard value="{src}" when `src` exists but holds no value yet (a remapped port
 # created it): BehaviorTree.CPP 4.6.2 copies the empty value (the destination loses its
 # value, its update counter stays) and succeeds; 4.7.0 and later fail the node. The one
-# place this rule lives: both engines read it (dataflow.py passes it to the C++ template).
+# place this rule lives for 4.6.2: both engines read it (dataflow.py passes it to the C++
+# template); 4.10.0 is versions.py setblackboard_converts_to_entry_type.
 EMPTY_COPY_SUCCEEDS = True  # BehaviorTree.CPP 4.6.2
 
 

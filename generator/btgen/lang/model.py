@@ -154,6 +154,23 @@ class Mission:
         return tuple(m for m in self.models if m.kind in ("Action", "Condition"))
 
     def user_models(self) -> tuple[NodeSpec, ...]:
-        """User Actions, Conditions, Controls and Decorators, in declaration order: the
-        models the generated code has a class and hooks for."""
+        """User Actions, Conditions, Controls and Decorators, in declaration order (a models
+        palette may declare many the mission does not use: see used_user_models)."""
         return tuple(m for m in self.models if m.kind in ("Action", "Condition", "Control", "Decorator"))
+
+    def used_user_models(self) -> tuple[NodeSpec, ...]:
+        """The user models a node of the main tree or of a SubTree it runs instantiates, in
+        declaration order: the models the generated code has a class and hooks for."""
+        ids: set[str] = set()
+        seen = {self.main_tree}
+        stack: list[Node] = [self.main.root]
+        while stack:
+            node = stack.pop()
+            if isinstance(node, SubTreeNode):
+                if node.target not in seen:
+                    seen.add(node.target)
+                    stack.append(self.tree(node.target).root)
+                continue
+            ids.add(node.id)
+            stack.extend(node.children)
+        return tuple(m for m in self.user_models() if m.id in ids)

@@ -268,6 +268,7 @@ def _switch(kids: list[Outcomes]) -> Outcomes:
 
 
 _PRE_OUTCOME = {"_failureIf": F, "_successIf": S, "_skipIf": K}
+_ANY_COUNT = -(2**62)  # a Repeat/Retry count read from the blackboard: any value
 _DECORATORS = {
     "Inverter",
     "ForceSuccess",
@@ -417,7 +418,9 @@ class _Analyzer:
         if nid == "WasEntryUpdated":
             return {S: ONE, F: ONE}, {}
         if nid == "Sleep":
-            return ({S: ONE}, {}) if n.params[0] == 0 else ({S: ONE, R: ONE}, {S: ONE, R: ONE})
+            if n.params[0] == 0 and not self.keyed(n, "msec"):
+                return {S: ONE}, {}
+            return {S: ONE, R: ONE}, {S: ONE, R: ONE}
         if kind in _CHAINS:
             decides, goes_on = _CHAINS[kind]
             asynch = kind.startswith("Async")
@@ -477,7 +480,8 @@ class _Analyzer:
         """Sequence-like nodes: children in order from `start` while they return `goes_on` (or
         SKIPPED); each child's table, and whether it yields after `goes_on` (the async variants)."""
         out: Outcomes = {}
-        went: Optional[Cost] = None  # a path where some child went on
+        # a tick resumed at a later child: the ones before went on or were skipped in earlier ticks
+        went: Optional[Cost] = ONE if start > 0 else None  # a path where some child went on
         skipped: Optional[Cost] = ONE  # a path where all children so far skipped
         last = len(kids) - 1
         mark = self.mark[n.index]
@@ -593,7 +597,10 @@ class _Analyzer:
         elif kind in ("Repeat", "RetryUntilSuccessful"):
             limit = n.params[0]
             again = S if kind == "Repeat" else F
-            if limit == 0 or limit < -1:  # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+            if self.keyed(n, "num_cycles" if kind == "Repeat" else "num_attempts"):
+                limit = _ANY_COUNT  # read from the blackboard at every tick: any count
+            # the loop never starts: SKIPPED (docs/btcpp-4.6.2-edges.md, R1)
+            if limit != _ANY_COUNT and (limit == 0 or limit < -1):
                 port = "num_cycles" if kind == "Repeat" else "num_attempts"
                 self.never(n, f"{self.label(n.index)} has {port}={limit}")
                 if self.m.semantics.loop_end_never_skipped:  # 4.7.0 on
@@ -604,13 +611,17 @@ class _Analyzer:
             def single(st: str) -> list[str]:
                 if st != again:
                     return [st]
+                if limit == _ANY_COUNT:
+                    return [R, final]
                 return ([R] if limit == -1 or limit >= 2 else []) + ([final] if limit >= 1 else [])
 
             for st, c in w.items():
                 for t in single(st):
                     _put(out, t, _add(ONE, c))
+            if limit == _ANY_COUNT:  # a count of 0 never starts the loop
+                _put(out, final if self.m.semantics.loop_end_never_skipped else K, ONE)
             # a cycle resumed from RUNNING that ends with `again` starts the next one in the same tick
-            if resumed and again in w and (limit == -1 or limit >= 2):
+            if resumed and again in w and (limit in (-1, _ANY_COUNT) or limit >= 2):
                 first = _add(ONE, w[again])
                 for st, c in w_fresh.items():
                     for t in single(st):
@@ -630,7 +641,7 @@ class _Analyzer:
                 through(same, (1, 0, 1))
             else:
                 self.never(n, f"the `if` of {self.label(n.index)} is always false ({attr.value if attr else ''!r})")
-            if const is not True:
+            if const is not True and else_status != "IDLE":  # IDLE: a run-time error (edge L1)
                 _put(out, else_status, (1, 0, 1))
         elif kind == "Timeout":
             through(same)
@@ -641,7 +652,8 @@ class _Analyzer:
         elif kind == "Loop":
             through({S: R, F: F, R: R, K: R})
             else_status = ("IDLE", R, S, F, K)[n.params[0]] if 0 <= n.params[0] <= 4 else S
-            _put(out, else_status, ONE)
+            if else_status != "IDLE":  # IDLE: a run-time error (edge L1)
+                _put(out, else_status, ONE)
         elif kind == "SkipUnlessUpdated":
             through(same)
             _put(out, K, ONE)
@@ -651,6 +663,11 @@ class _Analyzer:
         else:  # SubTree
             through(same)
         return out
+
+    def keyed(self, n: IRNode, port: str) -> bool:
+        """Whether the node reads `port` from the blackboard (`{key}`), so its value is not known here."""
+        attr = self.model(n.index).port(port)
+        return attr is not None and bbmod.strip_blackboard_pointer(attr.value) is not None
 
     def never(self, n: IRNode, why: str) -> None:
         self.mark[n.index][:] = [False] * len(n.children)

@@ -175,6 +175,13 @@ HOSTILE_NAMES = (
     "assert",
     "linux",
     "unix",
+    # macros of a build and of btgen's runtime (NDEBUG: every Release build)
+    "NDEBUG",
+    "BTGEN_STRAIGHT_LINE_BUDGET",
+    "BTGEN_MISSION_HEADER",
+    "BTGEN_MISSION_TEMPLATE",
+    "ZMQ_PUB",
+    "EFSM",
     "set_x",
     "x",
     "int",

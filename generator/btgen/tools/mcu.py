@@ -124,8 +124,10 @@ def _status(s: str) -> str:
     return f"btgen::Status::{s}"
 
 
-def scenario_cpp(scenario, prefix: str) -> str:
-    """`scenario` (btgen.interp.scenario.Scenario) as a btgen::StaticScenario named `prefix`."""
+def scenario_cpp(scenario, prefix: str, program=None) -> str:
+    """`scenario` (btgen.interp.scenario.Scenario) as a btgen::StaticScenario named `prefix`;
+    with the lowered `program`, with the leaf line of every node matched here (by name, the
+    last line naming it), so that the board needs no node names."""
     lines = []
     for k, leaf in enumerate(scenario.leaves):
         statuses = ", ".join(_status(s) for s in leaf.statuses)
@@ -139,9 +141,17 @@ def scenario_cpp(scenario, prefix: str) -> str:
         leaves, count = f"{prefix}_leaves", len(scenario.leaves)
     else:
         leaves, count = "nullptr", 0
+    node_scripts = "nullptr"
+    if program is not None:
+        line_of = {leaf.name: k for k, leaf in enumerate(scenario.leaves)}
+        scripts = [
+            str(line_of.get(n.name, 0xFFFF)) if n.kind in ("Action", "Condition") else "0xFFFF" for n in program.nodes
+        ]
+        lines.append(f"constexpr std::uint16_t {prefix}_node_scripts[] = {{{', '.join(scripts)}}};")
+        node_scripts = f"{prefix}_node_scripts"
     lines.append(
         f"constexpr btgen::StaticScenario {prefix}{{{scenario.ticks}, {scenario.clock_ms}, "
-        f"{_status(scenario.default)}, {leaves}, {count}}};"
+        f"{_status(scenario.default)}, {leaves}, {count}, {node_scripts}}};"
     )
     return "\n".join(lines) + "\n"
 
@@ -168,14 +178,14 @@ struct CaseSink {
 """
 
 
-def case_cpp(index: int, header: str, template: str, scenario) -> str:
+def case_cpp(index: int, header: str, template: str, scenario, program) -> str:
     return (
         f"// Case {index}: {header}, its scenario compiled in.\n"
         f'#include "{header}"\n\n'
         '#include "btgen/harness/static_scenario.hpp"\n'
         '#include "case_sink.hpp"\n\n'
         "namespace {\n"
-        + scenario_cpp(scenario, "kScenario")
+        + scenario_cpp(scenario, "kScenario", program)
         + f"alignas(8) unsigned char storage[btgen::static_run_storage<{template}, CaseSink>()];\n"
         "}  // namespace\n\n"
         f"int btgen_mcu_case_{index}(CaseSink& sink) {{\n"
@@ -238,14 +248,14 @@ def images(cases: Sequence[Case], batch: int = BATCH) -> list[Image]:
             seen[header.name] = index
             image.sources[header.name] = header.text
             template = f"{ns}::{naming.pascal_case(stem + '_' + str(index))}"
-            image.sources[f"case_{index}.cpp"] = case_cpp(index, header.name, template, scenario)
+            image.sources[f"case_{index}.cpp"] = case_cpp(index, header.name, template, scenario, program)
             indices.append(index)
         image.sources["main.cpp"] = main_cpp(indices)
         out.append(image)
     return out
 
 
-def cmakelists(images_: Sequence[Image], opt: str = OPT) -> str:
+def cmakelists(images_: Sequence[Image], opt: str = OPT, defines: Sequence[str] = ()) -> str:
     root = ROOT.as_posix()
     lines = [
         "cmake_minimum_required(VERSION 3.16)",
@@ -264,6 +274,8 @@ def cmakelists(images_: Sequence[Image], opt: str = OPT) -> str:
             f"target_link_libraries({image.name} PRIVATE btgen::runtime btgen::bsp)",
             f"target_compile_options({image.name} PRIVATE {' '.join(WARNINGS)})",
         ]
+        if defines:
+            lines.append(f"target_compile_definitions({image.name} PRIVATE {' '.join(defines)})")
     return "\n".join(lines) + "\n"
 
 
@@ -284,20 +296,32 @@ def _run(cmd: Sequence[str], what: str, cwd: Optional[Path] = None) -> str:
     return out
 
 
-def build(images_: Sequence[Image], build_root: Optional[Path] = None, opt: str = OPT, jobs: int = 2) -> Path:
+def default_build_root(opt: str = OPT, defines: Sequence[str] = ()) -> Path:
+    """Where `build` puts the images of `opt` and `defines` unless told otherwise."""
+    key = hashlib.sha256("\0".join((ROOT.as_posix(), opt, *defines)).encode("utf-8")).hexdigest()[:16]
+    return cache_dir() / f"cases-{key}"
+
+
+def build(
+    images_: Sequence[Image],
+    build_root: Optional[Path] = None,
+    opt: str = OPT,
+    jobs: int = 2,
+    defines: Sequence[str] = (),
+) -> Path:
     """Writes the images' sources (only files whose text changed) and builds them with the
-    toolchain file; returns the build directory (the images are `<dir>/build/<name>.elf`)."""
+    toolchain file, `opt` and the preprocessor `defines` (NAME=VALUE); returns the build
+    directory (the images are `<dir>/build/<name>.elf`)."""
     missing = missing_tools()
     if missing:
         raise InternalError(f"cannot build for the microcontroller: {', '.join(missing)} not on PATH")
     if build_root is None:
-        key = hashlib.sha256(ROOT.as_posix().encode("utf-8") + opt.encode("utf-8")).hexdigest()[:16]
-        build_root = cache_dir() / f"cases-{key}"
+        build_root = default_build_root(opt, defines)
     src = build_root / "src"
     for image in images_:
         for name, text in image.sources.items():
             _write_if_changed(src / image.name / name, text)
-    _write_if_changed(src / "CMakeLists.txt", cmakelists(images_, opt))
+    _write_if_changed(src / "CMakeLists.txt", cmakelists(images_, opt, defines))
     bld = build_root / "build"
     generator = [] if (bld / "CMakeCache.txt").is_file() else ["-G", "Ninja"] if shutil.which("ninja") else []
     if True:
@@ -352,12 +376,17 @@ def split_output(image: Image, first_index: int, text: str) -> dict[int, Result]
 
 
 def run_cases(
-    cases: Sequence[Case], batch: int = BATCH, build_root: Optional[Path] = None, opt: str = OPT
+    cases: Sequence[Case],
+    batch: int = BATCH,
+    build_root: Optional[Path] = None,
+    opt: str = OPT,
+    defines: Sequence[str] = (),
 ) -> list[Result]:
-    """Every case run on the board in QEMU, in order. InternalError when an image does not
-    build, does not finish, or stops before its last case (its output is in the message)."""
+    """Every case run on the board in QEMU, in order (built as `build` says). InternalError
+    when an image does not build, does not finish, or stops before its last case (its output
+    is in the message)."""
     imgs = images(cases, batch)
-    bld = build(imgs, build_root, opt)
+    bld = build(imgs, build_root, opt, defines=defines)
     results: list[Result] = []
     first = 0
     for image in imgs:

@@ -26,6 +26,7 @@
 
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
@@ -137,28 +138,38 @@ class FileLogger final : public StatusSink {
     if (path.size() < 6 || path.compare(path.size() - 6, 6, ".btlog") != 0)
       throw std::runtime_error("btlog: the file extension must be .btlog: " + path);
     file_ = std::fopen(path.c_str(), "wb");
-    if (file_ == nullptr) throw std::runtime_error("btlog: cannot create " + path);
-    std::fwrite("BTCPP4-FileLogger2", 1, 18, file_);
-    std::fputc(1, file_);
+    if (file_ == nullptr) throw std::runtime_error("btlog: cannot create " + path + ": " + std::strerror(errno));
+    write("BTCPP4-FileLogger2", 18);
+    write("\x01", 1);
     const auto n = static_cast<std::uint32_t>(tree_xml.size());
     char len[4];
     for (int i = 0; i < 4; ++i) len[i] = static_cast<char>((n >> (8 * i)) & 0xFF);
-    std::fwrite(len, 1, 4, file_);
-    std::fwrite(tree_xml.data(), 1, tree_xml.size(), file_);
+    write(len, 4);
+    write(tree_xml.data(), tree_xml.size());
     first_usec_ = wall_clock_usec();
     const auto first = static_cast<std::uint64_t>(first_usec_);
     char ts[8];
     for (int i = 0; i < 8; ++i) ts[i] = static_cast<char>((first >> (8 * i)) & 0xFF);
-    std::fwrite(ts, 1, 8, file_);
-    std::fflush(file_);
+    write(ts, 8);
+    flush();
+    if (const int e = error_.load()) {
+      close_file();
+      throw std::runtime_error("btlog: cannot write " + path + ": " + std::strerror(e));
+    }
     writer_ = std::thread([this] { writer_loop(); });
   }
 
   FileLogger(const FileLogger&) = delete;
   FileLogger& operator=(const FileLogger&) = delete;
 
-  ~FileLogger() {
+  ~FileLogger() { static_cast<void>(close()); }
+
+  // Stops logging, writes what is pending and closes the file: 0 when every byte reached
+  // it, else the errno of the first write that failed (ENOSPC on a full file system: the
+  // file is cut short, and a robot should say so). Later calls return the same.
+  [[nodiscard]] int close() noexcept {
     if (mission_ != nullptr) detach_(mission_, this);
+    mission_ = nullptr;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stop_ = true;
@@ -166,7 +177,10 @@ class FileLogger final : public StatusSink {
     cv_.notify_one();
     if (writer_.joinable()) writer_.join();
     close_file();
+    return error_.load();
   }
+  // The errno of the first failed write so far (0: none).
+  [[nodiscard]] int error() const noexcept { return error_.load(); }
 
   void on_status(const NodeInfo& node, Status, Status to) noexcept override {
     const std::int64_t now = wall_clock_usec();
@@ -194,17 +208,35 @@ class FileLogger final : public StatusSink {
     char rec[9];
     const std::size_t n = ring_.drain([&](const Transition& t) {
       pack_transition(t, rec);
-      std::fwrite(rec, 1, 9, file_);
+      write(rec, 9);
     });
-    if (n != 0) std::fflush(file_);
+    if (n != 0) flush();
+  }
+  // After a failed write nothing more is written: the file stays a prefix of the log.
+  void write(const char* data, std::size_t size) noexcept {
+    if (error_.load() != 0 || file_ == nullptr) return;
+    errno = 0;
+    if (std::fwrite(data, 1, size, file_) != size) fail();
+  }
+  void flush() noexcept {
+    if (error_.load() != 0 || file_ == nullptr) return;
+    errno = 0;
+    if (std::fflush(file_) != 0) fail();
+  }
+  void fail() noexcept {
+    int expected = 0;
+    error_.compare_exchange_strong(expected, errno != 0 ? errno : EIO);
   }
   void close_file() noexcept {
-    if (file_ != nullptr) std::fclose(file_);
+    if (file_ == nullptr) return;
+    errno = 0;
+    if (std::fclose(file_) != 0) fail();
     file_ = nullptr;
   }
 
   TransitionRing ring_;
   std::FILE* file_ = nullptr;
+  std::atomic<int> error_{0};
   std::int64_t first_usec_ = 0;
   std::mutex mutex_;
   std::condition_variable cv_;

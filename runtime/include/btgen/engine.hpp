@@ -1122,7 +1122,8 @@ class Engine {
         set_status(f.node, Status::RUNNING);
         if (counter(n, 0) < max_cycles(n) || max_cycles(n) == -1) return descend(child(n, 0));
         counter(n, 0) = 0;
-        if (counter(n, 1) == 0) return done(Status::SKIPPED);
+        // From 4.7.0 (Sem::loop_end_never_skipped) the loop ends SUCCESS / FAILURE.
+        if (!Sem::loop_end_never_skipped && counter(n, 1) == 0) return done(Status::SKIPPED);
         return done(kind == NodeKind::Repeat ? Status::SUCCESS : Status::FAILURE);
 
       case NodeKind::RunOnce:
@@ -1523,6 +1524,10 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
+        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure.
+        if constexpr (Sem::retry_rereads_attempts) {
+          if (!repeat && !read_param(n, true)) return done(Status::FAILURE);
+        }
         const bool again = count < max_cycles(n) || max_cycles(n) == -1;
         halt_child(n, 0);
         if (again && f.child_prev == Status::IDLE) return done(Status::RUNNING);  // wake-up rule

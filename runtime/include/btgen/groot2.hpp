@@ -31,7 +31,12 @@
 // a status change while a BLACKBOARD request waits for it, under a mutex the
 // tick thread only try-locks: it never waits. Nothing on the tick path
 // allocates. A BLACKBOARD request waits up to 200 ms for a fresh copy, then
-// answers with the last one (the blackboard after the last sync()).
+// answers with the last one (the blackboard after the last sync()); all BLACKBOARD requests
+// together wait at most 200 ms a second.
+//
+// What one client may make it hold: a request of at most kMaxRequestFrames frames and
+// kMaxRequestBytes (a larger one drops its peer), no subscription (the PUB port is an XPUB
+// that reads them and drops them).
 #pragma once
 
 #ifdef BTGEN_BARE_METAL
@@ -70,6 +75,18 @@
 namespace btgen::groot2 {
 
 inline constexpr std::uint8_t kProtocolId = 2;
+
+// What one client may make the monitor hold. Groot2 sends at most two frames, a few bytes
+// and a list of blackboard names; ZMQ_MAXMSGSIZE bounds each frame, not a message, so a
+// request of more frames or bytes than these drops its peer as a larger frame does.
+inline constexpr std::size_t kMaxRequestFrames = 4;
+inline constexpr std::size_t kMaxRequestBytes = std::size_t{256} << 10;
+// A subscription on the PUB port (btgen publishes nothing: they are read and dropped).
+inline constexpr std::int64_t kMaxSubscriptionBytes = 256;
+// The most a BLACKBOARD request waits for a fresh copy, and the most all of them wait in
+// one second: requests left by clients that went away cannot hold the server for long.
+inline constexpr std::chrono::milliseconds kBlackboardWait{200};
+inline constexpr std::chrono::milliseconds kBlackboardWaitPerSecond{200};
 
 enum RequestType : std::uint8_t {
   kFullTree = 'T',
@@ -210,6 +227,66 @@ void write_value(MsgPack& mp, const Slot<T>& slot) {
   }
 }
 
+// What one request asks, decided from its frames alone (no socket, no mission): the
+// server answers it, and tests/fuzz/fuzz_groot2_request.cpp runs it on any bytes.
+struct Request {
+  enum class Kind : std::uint8_t {
+    kError,  // reply ("error", error)
+    kFullTree,
+    kStatus,
+    kBlackboard,  // argument: the `;`-separated names
+    kRecordStart,
+    kRecordStop,
+    kRecordOther,  // TOGGLE_RECORDING with neither word: the header alone, as 4.6.2
+    kTransitions,
+    kHooksDump,
+    kDone,  // the header alone
+  };
+  Kind kind = Kind::kError;
+  std::string_view error;
+  std::string_view argument;
+};
+
+inline Request parse_request(const std::string_view* parts, std::size_t n) noexcept {
+  using K = Request::Kind;
+  const auto fail = [](std::string_view message) { return Request{K::kError, message, {}}; };
+  if (n == 0 || parts[0].size() != 6) return fail("wrong request header");
+  const auto* h = reinterpret_cast<const unsigned char*>(parts[0].data());
+  if (h[0] != kProtocolId) return fail("wrong protocol: btgen speaks Groot2 protocol 2");
+  switch (h[1]) {
+    case kFullTree: return {K::kFullTree, {}, {}};
+    case kStatus: return {K::kStatus, {}, {}};
+    case kBlackboard:
+      if (n != 2) return fail("must be 2 parts message");
+      return {K::kBlackboard, {}, parts[1]};
+    case kToggleRecording:
+      if (n != 2) return fail("must be 2 parts message");
+      if (parts[1] == "start") return {K::kRecordStart, {}, {}};
+      if (parts[1] == "stop") return {K::kRecordStop, {}, {}};
+      return {K::kRecordOther, {}, {}};
+    case kGetTransitions: return {K::kTransitions, {}, {}};
+    case kHooksDump: return {K::kHooksDump, {}, {}};
+    case kRemoveAllHooks:
+    case kDisableAllHooks: return {K::kDone, {}, {}};
+    case kHookInsert: return fail("btgen: breakpoints and hooks are not supported by compiled missions");
+    case kHookRemove:
+    case kBreakpointUnlock: return fail("Node ID not found");
+    default: return fail("Request not recognized");
+  }
+}
+
+// Calls f(name) for each `;`-separated name of a BLACKBOARD request (empty ones too).
+template <class F>
+void for_each_name(std::string_view names, F&& f) {
+  std::size_t start = 0;
+  while (start <= names.size()) {
+    std::size_t end = names.find(';', start);
+    if (end == std::string_view::npos) end = names.size();
+    f(names.substr(start, end - start));
+    start = end + 1;
+  }
+}
+
 inline std::array<char, 16> random_uuid() {
   std::random_device rd;
   std::array<char, 16> out{};
@@ -241,13 +318,17 @@ class Publisher final : public StatusSink {
         recording_(recording_capacity),
         snapshot_(std::make_unique<Blackboard>()),
         server_(context_, zmq::socket_type::rep),
-        publisher_(context_, zmq::socket_type::pub),
+        publisher_(context_, zmq::socket_type::xpub),
         uuid_(detail::random_uuid()) {
     for (auto& s : status_) s.store(0, std::memory_order_relaxed);
     server_address_ = "tcp://" + address + ":" + std::to_string(port);
     configure(server_);
     server_.bind(server_address_);
     publisher_.set(zmq::sockopt::linger, 0);
+    // Subscriptions are handed to serve(), which drops them: a PUB socket would keep every
+    // distinct one (300 of 1 MiB each grew the process by 300 MiB).
+    publisher_.set(zmq::sockopt::xpub_manual, 1);
+    publisher_.set(zmq::sockopt::maxmsgsize, kMaxSubscriptionBytes);
     publisher_.bind("tcp://" + address + ":" + std::to_string(port + 1));
     if (!mission.observer().attach(this))
       throw std::runtime_error("groot2: the mission's observer has no room for another monitor");
@@ -301,14 +382,26 @@ class Publisher final : public StatusSink {
       }
       std::vector<zmq::message_t> parts;
       try {
+        zmq::pollitem_t items[] = {{server_.handle(), 0, ZMQ_POLLIN, 0}, {publisher_.handle(), 0, ZMQ_POLLIN, 0}};
+        zmq::poll(items, 2, std::chrono::milliseconds(100));  // then look at active_ again
+        if ((items[1].revents & ZMQ_POLLIN) != 0) drop_subscriptions();
+        if ((items[0].revents & ZMQ_POLLIN) == 0) continue;
         zmq::message_t first;
-        const auto got = server_.recv(first, zmq::recv_flags::none);
-        if (!got) continue;  // timeout: look at active_ again
+        if (!server_.recv(first, zmq::recv_flags::dontwait)) continue;
+        std::size_t bytes = first.size();
         parts.push_back(std::move(first));
-        while (parts.back().more()) {
+        bool over = false;
+        while (!over && parts.back().more()) {
           zmq::message_t next;
           if (!server_.recv(next, zmq::recv_flags::none)) break;
+          bytes += next.size();
           parts.push_back(std::move(next));
+          over = parts.size() > kMaxRequestFrames || bytes > kMaxRequestBytes;
+        }
+        if (over || parts.back().more()) {  // over a bound, or the rest never came: drop the peer
+          parts.clear();
+          reset_server();
+          continue;
         }
         answer(parts);
       } catch (const zmq::error_t& e) {
@@ -321,11 +414,18 @@ class Publisher final : public StatusSink {
     }
   }
 
+  void drop_subscriptions() {
+    for (int i = 0; i < 1000; ++i) {  // (then serve requests; the rest at the next poll)
+      zmq::message_t m;
+      if (!publisher_.recv(m, zmq::recv_flags::dontwait)) return;
+    }
+  }
+
   static void configure(zmq::socket_t& s) {
     s.set(zmq::sockopt::linger, 0);
     s.set(zmq::sockopt::rcvtimeo, 100);
     s.set(zmq::sockopt::sndtimeo, 1000);
-    s.set(zmq::sockopt::maxmsgsize, std::int64_t{1} << 20);  // a larger request drops its peer
+    s.set(zmq::sockopt::maxmsgsize, static_cast<std::int64_t>(kMaxRequestBytes));  // a larger frame drops its peer
   }
   void reset_server() {
     try {
@@ -362,20 +462,19 @@ class Publisher final : public StatusSink {
   }
 
   void answer(const std::vector<zmq::message_t>& parts) {
-    const zmq::message_t& head = parts[0];
-    if (head.size() != 6) return error("wrong request header");
-    const auto* h = static_cast<const unsigned char*>(head.data());
-    if (h[0] != kProtocolId) return error("wrong protocol: btgen speaks Groot2 protocol 2");
+    std::array<std::string_view, kMaxRequestFrames> views{};
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      views[i] = std::string_view(static_cast<const char*>(parts[i].data()), parts[i].size());
+    const detail::Request request = detail::parse_request(views.data(), parts.size());
+    using K = detail::Request::Kind;
+    if (request.kind == K::kError) return error(request.error);
     std::string header(22, '\0');
-    std::memcpy(header.data(), h, 6);
+    std::memcpy(header.data(), views[0].data(), 6);
     std::memcpy(header.data() + 6, uuid_.data(), 16);
     std::vector<std::string> reply{header};
-    const auto second = [&]() -> std::string {
-      return std::string(static_cast<const char*>(parts[1].data()), parts[1].size());
-    };
-    switch (h[1]) {
-      case kFullTree: reply.emplace_back(Groot2::kTreeXml); break;
-      case kStatus: {
+    switch (request.kind) {
+      case K::kFullTree: reply.emplace_back(Groot2::kTreeXml); break;
+      case K::kStatus: {
         std::string buf(3 * kNodes, '\0');
         for (std::size_t i = 0; i < kNodes; ++i) {
           const std::uint16_t index = Groot2::kStatusOrder[i];
@@ -387,24 +486,15 @@ class Publisher final : public StatusSink {
         reply.push_back(std::move(buf));
         break;
       }
-      case kBlackboard:
-        if (parts.size() != 2) return error("must be 2 parts message");
-        reply.push_back(blackboards(second()));
+      case K::kBlackboard: reply.push_back(blackboards(request.argument)); break;
+      case K::kRecordStart:
+        recording_.drain([](const Transition&) {});
+        record_origin_.store(btgen::wall_clock_usec());
+        recording_on_.store(true);
+        reply.push_back(std::to_string(btgen::wall_clock_usec()));
         break;
-      case kToggleRecording: {
-        if (parts.size() != 2) return error("must be 2 parts message");
-        const std::string cmd = second();
-        if (cmd == "start") {
-          recording_.drain([](const Transition&) {});
-          record_origin_.store(btgen::wall_clock_usec());
-          recording_on_.store(true);
-          reply.push_back(std::to_string(btgen::wall_clock_usec()));
-        } else if (cmd == "stop") {
-          recording_on_.store(false);
-        }
-        break;
-      }
-      case kGetTransitions: {
+      case K::kRecordStop: recording_on_.store(false); break;
+      case K::kTransitions: {
         std::string buf;
         char rec[9];
         recording_.drain([&](const Transition& t) {
@@ -414,30 +504,17 @@ class Publisher final : public StatusSink {
         reply.push_back(std::move(buf));
         break;
       }
-      case kHooksDump: reply.emplace_back("[]"); break;
-      case kRemoveAllHooks:
-      case kDisableAllHooks: break;
-      case kHookInsert: return error("btgen: breakpoints and hooks are not supported by compiled missions");
-      case kHookRemove:
-      case kBreakpointUnlock: return error("Node ID not found");
-      default: return error("Request not recognized");
+      case K::kHooksDump: reply.emplace_back("[]"); break;
+      default: break;
     }
     send(reply);
   }
 
   // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them.
-  std::string blackboards(const std::string& names) {
-    const std::uint64_t version = bb_version_.load(std::memory_order_acquire);
-    bb_wanted_.store(true, std::memory_order_release);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-    while (bb_version_.load(std::memory_order_acquire) == version && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::string blackboards(std::string_view names) {
+    wait_for_a_fresh_copy();
     std::vector<std::size_t> wanted;
-    std::size_t start = 0;
-    while (start <= names.size()) {
-      std::size_t end = names.find(';', start);
-      if (end == std::string::npos) end = names.size();
-      const std::string_view name(names.data() + start, end - start);
+    detail::for_each_name(names, [&](std::string_view name) {
       for (std::size_t b = 0; b < Groot2::kBlackboards.size(); ++b) {
         if (Groot2::kBlackboards[b] == name) {
           bool seen = false;
@@ -445,8 +522,7 @@ class Publisher final : public StatusSink {
           if (!seen) wanted.push_back(b);
         }
       }
-      start = end + 1;
-    }
+    });
     // nlohmann's object is a std::map: names in byte order.
     std::sort(wanted.begin(), wanted.end(),
               [](std::size_t a, std::size_t b) { return Groot2::kBlackboards[a] < Groot2::kBlackboards[b]; });
@@ -477,8 +553,30 @@ class Publisher final : public StatusSink {
     return mp.out;
   }
 
+  // Asks the tick thread for a copy at its next status change and waits for it, within
+  // kBlackboardWait and what is left of kBlackboardWaitPerSecond (the server thread cannot
+  // tell whether the client is still there: 300 requests of clients that left took 60 s).
+  void wait_for_a_fresh_copy() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - wait_window_ >= std::chrono::seconds(1)) {
+      wait_window_ = now;
+      waited_ = std::chrono::steady_clock::duration::zero();
+    }
+    const auto budget =
+        std::min<std::chrono::steady_clock::duration>(kBlackboardWait, kBlackboardWaitPerSecond - waited_);
+    if (budget <= std::chrono::steady_clock::duration::zero()) return;
+    const std::uint64_t version = bb_version_.load(std::memory_order_acquire);
+    bb_wanted_.store(true, std::memory_order_release);
+    const auto deadline = now + budget;
+    while (bb_version_.load(std::memory_order_acquire) == version && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    waited_ += std::chrono::steady_clock::now() - now;
+  }
+
   Mission* mission_;
   unsigned port_;
+  std::chrono::steady_clock::time_point wait_window_{};  // server thread only
+  std::chrono::steady_clock::duration waited_{};
   std::array<std::atomic<std::uint8_t>, kNodes> status_{};
   TransitionRing recording_;
   std::atomic<bool> recording_on_{false};

@@ -5,6 +5,7 @@
 // so a node's index is its BehaviorTree.CPP UID minus one.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -70,6 +71,30 @@ inline constexpr std::uint16_t kNoNode = 0xFFFF;
 inline constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
 inline constexpr std::uint16_t kNoModel = 0xFFFF;
 
+// The text of a node: its registration ID, name and source position, for
+// traces, run-time errors, scenario runners and Groot2. A build for a small
+// microcontroller that wants none of that can leave it out with
+// -DBTGEN_NODE_TEXT=0: NodeText is then an empty type that reads as "" (the
+// generated tables' strings are no longer referenced, so the linker drops
+// them, and each row is 16 bytes smaller on a 32-bit target). Traces then
+// print empty IDs and names and run-time errors no position; the statuses and
+// everything else are unchanged.
+#ifndef BTGEN_NODE_TEXT
+#define BTGEN_NODE_TEXT 1
+#endif
+#if BTGEN_NODE_TEXT
+using NodeText = std::string_view;
+#else
+struct NodeText {
+  constexpr NodeText() noexcept = default;
+  constexpr NodeText(std::string_view) noexcept {}  // NOLINT: implicit, as the generated rows give it
+  constexpr operator std::string_view() const noexcept { return {}; }  // NOLINT
+  [[nodiscard]] constexpr const char* data() const noexcept { return ""; }
+  [[nodiscard]] constexpr std::size_t size() const noexcept { return 0; }
+  [[nodiscard]] constexpr bool empty() const noexcept { return true; }
+};
+#endif
+
 // One node of a mission. Parameters are converted from the XML at generation
 // time; their meaning depends on the kind:
 //   Parallel              p0 successes needed, p1 failures that fail it,
@@ -100,9 +125,9 @@ struct NodeInfo {
   std::int64_t p0;
   std::int64_t p1;
   std::int64_t p2;
-  std::string_view id;      // registration ID: "Sequence", "SubTree", "FindBall", ...
-  std::string_view name;    // name attribute, else the ID
-  std::string_view source;  // "path:line:col" of the element
+  NodeText id;      // registration ID: "Sequence", "SubTree", "FindBall", ...
+  NodeText name;    // name attribute, else the ID
+  NodeText source;  // "path:line:col" of the element
 };
 
 [[nodiscard]] constexpr bool is_control(NodeKind k) noexcept {

@@ -44,13 +44,20 @@ struct LeafScript {
   std::size_t count;  // at least 1
 };
 
+inline constexpr std::uint16_t kNoLeafScript = 0xFFFF;
+
 // A scenario file's content (`ticks`, `clock_ms`, `default`, the `leaf` lines).
+// `node_scripts`, when given, says which leaf line drives each node (by node
+// index; kNoLeafScript: none, the default), as the host matched them by name;
+// without it the runner matches names itself, which a build without node
+// text (BTGEN_NODE_TEXT=0, btgen/node.hpp) cannot.
 struct StaticScenario {
   long ticks;
   long clock_ms;
   Status default_status;
   const LeafScript* leaves;
   std::size_t leaf_count;
+  const std::uint16_t* node_scripts = nullptr;
 };
 
 namespace static_scenario_detail {
@@ -79,9 +86,13 @@ class StaticScenarioLeaves {
       owner_[i] = static_cast<std::uint16_t>(i);
       cursor_[i] = 0;
       if (nodes[i].kind != NodeKind::Action && nodes[i].kind != NodeKind::Condition) continue;
-      // The last line naming it wins, as in ScenarioLeaves (names are unique in a valid scenario).
-      for (std::size_t k = 0; k < sc.leaf_count; ++k) {
-        if (sc.leaves[k].name == nodes[i].name) script_[i] = static_cast<std::uint16_t>(k);
+      if (sc.node_scripts != nullptr) {
+        script_[i] = sc.node_scripts[i];
+      } else {
+        // The last line naming it wins, as in ScenarioLeaves (names are unique in a valid scenario).
+        for (std::size_t k = 0; k < sc.leaf_count; ++k) {
+          if (sc.leaves[k].name == nodes[i].name) script_[i] = static_cast<std::uint16_t>(k);
+        }
       }
       if (script_[i] == kNone) continue;
       // The cursor of a list lives with the first node that uses it.
@@ -110,7 +121,7 @@ class StaticScenarioLeaves {
   }
 
  private:
-  static constexpr std::uint16_t kNone = 0xFFFF;
+  static constexpr std::uint16_t kNone = kNoLeafScript;
 
   Status next(const NodeInfo& node) noexcept {
     const std::uint16_t k = script_[node.index];
