@@ -181,6 +181,7 @@ def test_edges_reach_the_edge_values():
         'value=""',
     ):
         assert text in missions, text
+    assert 'num_cycles="{k}"' in missions or 'num_attempts="{k}"' in missions  # blackboard-fed
 
 
 def test_edge_missions_agree(tmp_path):

@@ -31,8 +31,9 @@ Feature sets:
   number (``i0 := 2.0`` for an int port, ``d := 1`` for a double one).
 
 - ``edges``: all of ``full`` with the edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md):
-  Repeat/Retry counts 0, -0, -2, INT_MIN, INT_MAX and literals read as a prefix (``2.5``,
-  ``1abc``, ``0x3``); Parallel thresholds 0, -2, INT_MIN and below minus the children;
+  Repeat/Retry counts 0, -0, -2, INT_MIN, INT_MAX, literals read as a prefix (``2.5``,
+  ``1abc``, ``0x3``) and an integer entry (``{k}``, which SetBlackboard sets to one of
+  them first); Parallel thresholds 0, -2, INT_MIN and below minus the children;
   durations 0, ``-0``, ``0x9``, ``5x``; Loop items spelt oddly (``1.5``, `` 2.5``, empty
   strings); Switch cases left out or empty; ``else``/``if_empty`` IDLE (an error in both
   engines); ``_skipIf="true"`` on any node; empty strings written to entries.
@@ -262,6 +263,7 @@ class _Gen:
         # "plain" (no data), "remap" (p0/p1 bound to the caller's ints), "auto" (_autoremap).
         self.modes = ["main"] + [self._subtree_mode() for _ in range(1, self.n_trees)]
         self.uses_queue_key = False
+        self.uses_count_key = False
         self.leaf_ports = self.data and self.rng.random() < 0.5
 
     def _subtree_mode(self) -> str:
@@ -459,9 +461,14 @@ class _Gen:
             kind = rng.choice(("Repeat", "RetryUntilSuccessful"))
         counts: tuple = EDGE_COUNTS if self.edges else (-1, 0, 1, 2, 3)
         durations: tuple = EDGE_DURATIONS if self.edges else ()
+        count = rng.choice(counts)
+        if self.edges and scope.has_root_vars and rng.random() < 0.25:
+            # blackboard-fed, read on every tick: `k`, an integer only the init script writes
+            count = "{" + scope.var("k") + "}"
+            self.uses_count_key = True
         attrs = {
-            "Repeat": f' num_cycles="{rng.choice(counts)}"',
-            "RetryUntilSuccessful": f' num_attempts="{rng.choice(counts)}"',
+            "Repeat": f' num_cycles="{count}"',
+            "RetryUntilSuccessful": f' num_attempts="{count}"',
             "RunOnce": rng.choice(("", ' then_skip="true"', ' then_skip="false"')),
             "Timeout": f' msec="{rng.choice((0, 5, 15, 40) + durations)}"',
             "Delay": f' delay_msec="{rng.choice((0, 10, 30) + durations)}"',
@@ -638,9 +645,12 @@ class _Gen:
             f"flag := {rng.choice(('true', 'false'))}; d := {d}; u := 'x'"
         )
         extra = ""
+        if self.uses_count_key:
+            # text into the `int` entry the count port declared (a script's `-2` is a double)
+            extra = f'<SetBlackboard value="{rng.choice(("0", "-2", "-1", "1", "2", INT_MIN_TEXT))}" output_key="k"/>'
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
-            extra = f'<SetBlackboard value="{q}" output_key="q"/>'
+            extra += f'<SetBlackboard value="{q}" output_key="q"/>'
         if self.dyn:
             init += f"; v := {self.dyn_value()}; w := {self.dyn_value()}"
             # Never ticked: its untyped ports create `v` and `w` at load (type AnyTypeAllowed), before any
@@ -669,6 +679,7 @@ _GENERATOR_NAMES = frozenset(
         "d",
         "u",
         "q",
+        "k",
         "flag",
         "lb",
         "li",
