@@ -21,18 +21,6 @@ EDGES = os.path.join(ROOT, "tests", "conformance", "edges-4.6.2")
 TRACED = case_stems(EDGES, ".trace")
 REFUSED = case_stems(EDGES, ".refused")
 
-# The compiled executor takes counts and durations as literals for now: a `{key}` count is
-# refused at compile time (counts read from the blackboard on every tick are the real-files
-# issue's work). Each stem here must be refused with that message, so the list cannot rot.
-CPP_KEY_COUNTS = {
-    "r1_repeat_0_from_blackboard",
-    "r1_repeat_0_subtree_port",
-    "r1_repeat_0_model_default",
-    "r1_retry_0_from_blackboard",
-    "r1_retry_0_subtree_port",
-    "r1_retry_0_model_default",
-}
-
 
 def _path(stem, ext):
     return os.path.join(EDGES, stem + ext)
@@ -122,11 +110,6 @@ def _run(binary, scenario):
 
 @pytest.mark.parametrize("stem", TRACED)
 def test_cpp_matches_462(stem, cpp):
-    if stem in CPP_KEY_COUNTS:
-        with pytest.raises(UserError) as e:
-            cpp(_path(stem, ".xml"))
-        assert "{" in str(e.value) or "blackboard" in str(e.value)
-        return
     rc, out, err = _run(cpp(_path(stem, ".xml")), _path(stem, ".scenario"))
     expected = _read(stem, ".trace")
     assert (rc, err) == (0, "")
