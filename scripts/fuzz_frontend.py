@@ -676,7 +676,8 @@ def fuzz(
     keep = (keep or ROOT / "build" / "fuzz-frontend").resolve()
     missions, kbs, configs = mission_corpus(), kb_corpus(), config_corpus()
     models = models_corpus(missions)
-    traces, btlogs = trace_corpus()
+    traces: list[bytes] = []
+    btlogs: list[bytes] = []
     stats = {
         "missions": 0,
         "kbs": 0,
@@ -729,6 +730,8 @@ def fuzz(
                 )
                 path = str(work / "e.enums")
             elif kind in ("trace", "btlog"):
+                if not traces:  # (built on first use: it loads and runs a mission)
+                    traces, btlogs = trace_corpus()
                 corpus = traces if kind == "trace" else btlogs
                 data = mutate(rng.choice(corpus), rng, corpus, STRING_TOKENS + TOKENS, mutate_numbers)
                 path = str(work / ("t.trace" if kind == "trace" else "l.btlog"))

@@ -1,10 +1,13 @@
-"""The bare-metal build's number text is the host's: `%f` without printf.
+"""The bare-metal build's number <-> text conversions are the host's, without the C library's.
 
 Under BTGEN_BARE_METAL (the Cortex-M build, mcu/) btgen/value.hpp formats doubles
-itself, because newlib-nano's printf has no `%f` (and newlib's allocates for it).
-tests/cpp/mcu/fixed_text_check.cpp compares that formatter with the host's printf on
-special values, ties, subnormals, extremes and random bit patterns; here it is built
-with the host compiler (warnings as errors) and run.
+itself, because newlib-nano's printf has no `%f` (and newlib's allocates for it), and
+reads them itself, because newlib's strtod allocates for long inputs.
+tests/cpp/mcu/fixed_text_check.cpp compares the formatter with the host's printf on
+special values, ties, subnormals, extremes and random bit patterns,
+tests/cpp/mcu/strtod_check.cpp the reader with the host's strtod on halfway cases,
+subnormals, overflow, long mantissas, hexadecimal and random literals; here each is
+built with the host compiler (warnings as errors) and run.
 """
 
 import shutil
@@ -16,8 +19,9 @@ from conftest import ROOT
 
 
 @pytest.mark.skipif(shutil.which("c++") is None, reason="no host C++ compiler")
-def test_bare_metal_fixed_text_is_printfs(tmp_path):
-    exe = tmp_path / "fixed_text_check"
+@pytest.mark.parametrize("check,rounds", [("fixed_text_check", "100000"), ("strtod_check", "30000")])
+def test_bare_metal_conversion_is_the_c_librarys(check, rounds, tmp_path):
+    exe = tmp_path / check
     subprocess.run(
         [
             "c++",
@@ -30,12 +34,12 @@ def test_bare_metal_fixed_text_is_printfs(tmp_path):
             "-Werror",
             "-I",
             f"{ROOT}/runtime/include",
-            f"{ROOT}/tests/cpp/mcu/fixed_text_check.cpp",
+            f"{ROOT}/tests/cpp/mcu/{check}.cpp",
             "-o",
             str(exe),
         ],
         check=True,
     )
-    proc = subprocess.run([str(exe), "100000"], capture_output=True, text=True, check=False)
+    proc = subprocess.run([str(exe), rounds], capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stdout
     assert proc.stdout.startswith("checked ") and proc.stdout.endswith(" bad 0\n")

@@ -101,6 +101,17 @@ def test_trace_on_the_board_is_the_hosts(folder, stem, results, monkeypatch):
         assert got.stdout == trace_text(mission, scenario)
 
 
+def test_no_image_links_the_heap(results):
+    """Not one allocation function is linked into the case images (the runtime's number <->
+    text conversions included): nothing in them can allocate, whatever path a mission takes."""
+    elves = sorted((mcu.default_build_root() / "build").glob("batch*.elf"))
+    assert len(elves) >= len(results) // mcu.BATCH
+    for elf in elves:
+        symbols = subprocess.run(["arm-none-eabi-nm", str(elf)], capture_output=True, text=True, check=True).stdout
+        linked = {line.split()[-1] for line in symbols.splitlines() if line.strip()}
+        assert not linked & {"malloc", "_malloc_r", "calloc", "realloc", "_sbrk_r", "free", "_free_r"}, elf
+
+
 # The smallest build (bench/mcu: the Lab Tour under 16 KB of flash): no node text, every node
 # on the table interpreter. A dozen cases whose missions cover controls, decorators, time and
 # scripts.
@@ -174,11 +185,12 @@ def test_os_only_headers_refuse_the_bare_metal_build(tmp_path):
         assert f"btgen/{header}.hpp needs an operating system" in proc.stderr.decode()
 
 
-def test_lab_tour_example_runs_on_the_board(tmp_path):
+def test_lab_tour_example_runs_on_the_board():
     """examples/mcu: btgen_add_mission() and the toolchain file build the Lab Tour for the board,
     with simulated leaves on the SysTick clock; run.sh runs it in QEMU and the tour succeeds."""
     proc = subprocess.run(
-        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(tmp_path / "build")],
+        # Built in the cache (as the cases are), so that a second run rebuilds only what changed.
+        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(mcu.cache_dir() / "example")],
         capture_output=True,
         check=False,
         timeout=900,

@@ -2,6 +2,7 @@
 script grammar, and the version a generated header carries (and refuses to mix)."""
 
 import dataclasses
+import os
 import re
 import shutil
 import subprocess
@@ -138,3 +139,43 @@ def test_the_option_takes_only_the_supported_versions():
     )
     assert p.returncode == 2
     assert "invalid choice: '4.9.0'" in p.stderr
+
+
+@pytest.mark.parametrize("compiler", ["g++", "clang++"])
+def test_410_code_compiles_warning_free(compiler, tmp_path):
+    """A mission of the 4.10.0 rows (TryCatch, Precondition, `_while` under a Sequence, typed
+    SubTree literals, a Switch) with the engine instantiated by the scenario runner: no warning
+    at -O2 with -Wall -Wextra -Wpedantic -Wshadow -Werror."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler}")
+    from btgen.backend_cpp import naming
+    from btgen.tools.cppengine import DRIVER
+
+    cases = os.path.join(ROOT, "tests", "conformance", "btcpp-4.10.0")
+    for stem in ("v410_r11_trycatch_failure", "v410_r4_if_turns_false", "v410_b1_literal_arithmetic"):
+        mission = load_mission(os.path.join(cases, stem + ".xml"), btcpp="4.10.0")
+        outputs = render(lower(mission), stem, ROOT)
+        for out in outputs:
+            (tmp_path / out.name).write_text(out.text, encoding="utf-8")
+        cmd = [
+            compiler,
+            "-std=c++17",
+            "-O2",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Wshadow",
+            "-Werror",
+            f'-DBTGEN_MISSION_HEADER="{outputs[0].name}"',
+            f"-DBTGEN_MISSION_TEMPLATE={naming.mission_namespace(stem, None)}::{naming.pascal_case(stem)}",
+            "-I",
+            str(RUNTIME_INCLUDE),
+            "-I",
+            str(tmp_path),
+            "-c",
+            str(DRIVER),
+            "-o",
+            str(tmp_path / f"{stem}.o"),
+        ]
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        assert proc.returncode == 0, proc.stderr[-4000:]

@@ -296,6 +296,12 @@ def _run(cmd: Sequence[str], what: str, cwd: Optional[Path] = None) -> str:
     return out
 
 
+def default_build_root(opt: str = OPT, defines: Sequence[str] = ()) -> Path:
+    """Where `build` puts the images of `opt` and `defines` unless told otherwise."""
+    key = hashlib.sha256("\0".join((ROOT.as_posix(), opt, *defines)).encode("utf-8")).hexdigest()[:16]
+    return cache_dir() / f"cases-{key}"
+
+
 def build(
     images_: Sequence[Image],
     build_root: Optional[Path] = None,
@@ -310,8 +316,7 @@ def build(
     if missing:
         raise InternalError(f"cannot build for the microcontroller: {', '.join(missing)} not on PATH")
     if build_root is None:
-        key = hashlib.sha256("\0".join((ROOT.as_posix(), opt, *defines)).encode("utf-8")).hexdigest()[:16]
-        build_root = cache_dir() / f"cases-{key}"
+        build_root = default_build_root(opt, defines)
     src = build_root / "src"
     for image in images_:
         for name, text in image.sources.items():

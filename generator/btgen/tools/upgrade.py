@@ -124,12 +124,13 @@ def static_findings(path: str, opts: pipeline.CompileOptions, old: str, new: str
                     continue  # refused by one of them: reported with the loading changes
                 since = SINCE["script_grammar_49"]
                 if _canonical(a) != _canonical(b):
-                    newer, older = (b, a) if upgrading else (a, b)
-                    f.add(
-                        attr.value_loc,
-                        f"{since} parses `{attr.value}` in `{attr.name}` of `{node.id}` as "
-                        f"`{_canonical(newer)}` (before: `{_canonical(older)}`)",
-                    )
+                    if upgrading:
+                        text = f"{since} parses `{attr.value}` in `{attr.name}` of `{node.id}` as `{_canonical(b)}`"
+                        text += f" (before: `{_canonical(a)}`)"
+                    else:
+                        text = f"{new} parses `{attr.value}` in `{attr.name}` of `{node.id}` as `{_canonical(b)}`"
+                        text += f" ({since} and later: `{_canonical(a)}`)"
+                    f.add(attr.value_loc, text)
                 for (text, ta, va), (_, tb, vb) in zip(_literal_kinds(a), _literal_kinds(b)):
                     if ta is not tb and isinstance(va, (int, float)) and isinstance(vb, (int, float)):
                         double = values.format_double(float(vb if upgrading else va))

@@ -336,6 +336,171 @@ constexpr bool scan_hex(std::string_view t, std::size_t i, Scan& s) noexcept {
   return true;
 }
 
+#ifdef BTGEN_BARE_METAL
+// A fixed-size unsigned integer (32-bit words, least significant first) for exact_strtod.
+struct BigNum {
+  static constexpr int kWords = 112;  // 3,584 bits: a 511-character literal scaled to 54 bits
+  std::uint32_t w[kWords] = {};
+  int n = 0;  // words in use
+
+  bool is_zero() const noexcept { return n == 0; }
+  void trim() noexcept {
+    while (n > 0 && w[n - 1] == 0) --n;
+  }
+  void mul_add(std::uint32_t m, std::uint32_t a) noexcept {
+    std::uint64_t carry = a;
+    for (int i = 0; i < n; ++i) {
+      const std::uint64_t v = static_cast<std::uint64_t>(w[i]) * m + carry;
+      w[i] = static_cast<std::uint32_t>(v);
+      carry = v >> 32;
+    }
+    if (carry != 0 && n < kWords) w[n++] = static_cast<std::uint32_t>(carry);
+  }
+  int bits() const noexcept {
+    if (n == 0) return 0;
+    int b = 32 * (n - 1);
+    for (std::uint32_t top = w[n - 1]; top != 0; top >>= 1) ++b;
+    return b;
+  }
+  void shl(int k) noexcept {
+    if (n == 0 || k <= 0) return;
+    const int words = k / 32, sh = k % 32;
+    int m = n + words + 1;
+    if (m > kWords) m = kWords;
+    for (int i = m - 1; i >= 0; --i) {
+      const int from = i - words;
+      std::uint32_t v = 0;
+      if (from >= 0 && from < n) v = w[from] << sh;
+      if (sh != 0 && from - 1 >= 0 && from - 1 < n) v |= w[from - 1] >> (32 - sh);
+      w[i] = v;
+    }
+    n = m;
+    trim();
+  }
+  void shr1() noexcept {
+    for (int i = 0; i < n; ++i) w[i] = (w[i] >> 1) | (i + 1 < n ? w[i + 1] << 31 : 0u);
+    trim();
+  }
+  int compare(const BigNum& o) const noexcept {
+    if (n != o.n) return n < o.n ? -1 : 1;
+    for (int i = n - 1; i >= 0; --i) {
+      if (w[i] != o.w[i]) return w[i] < o.w[i] ? -1 : 1;
+    }
+    return 0;
+  }
+  void sub(const BigNum& o) noexcept {  // *this >= o
+    std::int64_t borrow = 0;
+    for (int i = 0; i < n; ++i) {
+      std::int64_t v = static_cast<std::int64_t>(w[i]) - (i < o.n ? o.w[i] : 0u) - borrow;
+      borrow = v < 0 ? 1 : 0;
+      w[i] = static_cast<std::uint32_t>(v + (borrow << 32));
+    }
+    trim();
+  }
+};
+
+// strtod, correctly rounded (to nearest, ties to even), without allocating: the value of a
+// literal the scan accepted (decimal with an optional exponent, 0x hexadecimal with an optional
+// binary exponent, inf, infinity; an optional sign), at most 511 characters. The literal is an
+// integer times 10^e (or 2^e); that integer scaled by a power of two and divided by the
+// power of ten gives the 54 leading bits and whether anything is left.
+inline double exact_strtod(std::string_view t) noexcept {
+  std::size_t i = 0;
+  bool negative = false;
+  if (i < t.size() && (t[i] == '+' || t[i] == '-')) negative = t[i++] == '-';
+  const double sign = negative ? -1.0 : 1.0;
+  if (i < t.size() && (t[i] == 'i' || t[i] == 'I')) return sign * std::numeric_limits<double>::infinity();
+  const bool hex = i + 1 < t.size() && t[i] == '0' && (t[i + 1] == 'x' || t[i + 1] == 'X');
+  if (hex) i += 2;
+  const std::uint32_t base = hex ? 16u : 10u;
+  BigNum num;
+  long exp = 0;  // value = num * base^exp (decimal) or num * 2^exp (hex)
+  bool seen_point = false;
+  bool any = false;
+  for (; i < t.size(); ++i) {
+    const char c = t[i];
+    if (c == '.') {
+      seen_point = true;
+      continue;
+    }
+    std::uint32_t d = 0;
+    if (is_digit(c)) {
+      d = static_cast<std::uint32_t>(c - '0');
+    } else if (hex && is_hex(c)) {
+      d = static_cast<std::uint32_t>(lower(c) - 'a' + 10);
+    } else {
+      break;
+    }
+    if (d != 0) any = true;
+    if (any) num.mul_add(base, d);
+    if (seen_point) exp -= hex ? 4 : 1;
+  }
+  if (i < t.size() && (t[i] == 'e' || t[i] == 'E' || t[i] == 'p' || t[i] == 'P')) {
+    ++i;
+    bool eneg = false;
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) eneg = t[i++] == '-';
+    long e = 0;
+    for (; i < t.size() && is_digit(t[i]); ++i) e = e < 100000 ? e * 10 + (t[i] - '0') : e;
+    exp += eneg ? -e : e;
+  }
+  num.trim();
+  if (num.is_zero()) return sign * 0.0;
+  // Bounds, before any big arithmetic: log2 of the value lies in (lo, hi].
+  const double log2_base = hex ? 1.0 : 3.321928094887362;
+  const double hi = num.bits() + (hex ? static_cast<double>(exp) : exp * log2_base) + 1.0;
+  const double lo = num.bits() - 1.0 + (hex ? static_cast<double>(exp) : exp * log2_base) - 1.0;
+  if (lo > 1025.0) return sign * std::numeric_limits<double>::infinity();
+  if (hi < -1077.0) return sign * 0.0;
+  BigNum den;
+  den.w[0] = 1;
+  den.n = 1;
+  int bin = 0;  // value = num / den * 2^bin
+  if (hex) {
+    bin = static_cast<int>(exp);
+  } else if (exp > 0) {
+    for (long k = 0; k < exp; ++k) num.mul_add(10u, 0u);
+  } else {
+    for (long k = 0; k < -exp; ++k) den.mul_add(10u, 0u);
+  }
+  // q = floor(num * 2^k / den) with 54 bits (53 and a rounding bit); k at most 1075, where
+  // the rounding bit is 2^-1075 (subnormals keep fewer bits).
+  int k = 54 - (num.bits() - den.bits()) - bin;
+  if (k > 1075) k = 1075;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    BigNum a = num, b = den;
+    const int sh = k + bin;
+    if (sh >= 0) {
+      a.shl(sh);
+    } else {
+      b.shl(-sh);
+    }
+    // Long division, 55 quotient bits at most.
+    BigNum d = b;
+    d.shl(55);
+    std::uint64_t q = 0;
+    for (int bit = 55; bit >= 0; --bit) {
+      if (a.compare(d) >= 0) {
+        a.sub(d);
+        q |= std::uint64_t{1} << bit;
+      }
+      d.shr1();
+    }
+    if (q >= (std::uint64_t{1} << 54)) {  // one bit too many: scale down once
+      --k;
+      continue;
+    }
+    if (q < (std::uint64_t{1} << 53) && k < 1075) {  // one too few
+      ++k;
+      continue;
+    }
+    std::uint64_t mant = q >> 1;
+    if ((q & 1u) != 0 && (!a.is_zero() || (mant & 1u) != 0)) ++mant;
+    return sign * std::ldexp(static_cast<double>(mant), -(k - 1));
+  }
+  return sign * 0.0;  // not reached: the estimate of k is off by at most one
+}
+#endif
+
 // strtod of exactly the scanned literal (copied: strtod reads more forms
 // than the scan allows, and the text need not be NUL-terminated).
 inline Errc strtod_literal(std::string_view t, const Scan& s, double& out) noexcept {
@@ -344,7 +509,12 @@ inline Errc strtod_literal(std::string_view t, const Scan& s, double& out) noexc
   if (n >= sizeof buf) return Errc::kOutOfRange;  // more digits than any double needs
   for (std::size_t k = 0; k < n; ++k) buf[k] = t[s.start + k];
   buf[n] = '\0';
+#ifdef BTGEN_BARE_METAL
+  // newlib's strtod allocates for long inputs: the correctly rounded value, computed here.
+  out = exact_strtod(std::string_view(buf, n));
+#else
   out = std::strtod(buf, nullptr);
+#endif
   return Errc::kOk;
 }
 
