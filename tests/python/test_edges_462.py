@@ -21,17 +21,6 @@ EDGES = os.path.join(ROOT, "tests", "conformance", "edges-4.6.2")
 TRACED = case_stems(EDGES, ".trace")
 REFUSED = case_stems(EDGES, ".refused")
 
-# The compiled executor reads a `{key}` count from an integer entry only: a count passed
-# as a SubTree's constant port (or its model's default) is a string entry, which 4.6.2
-# converts on every tick and the C++ back end refuses at compile time, saying so. Each stem
-# here must be refused with that message, so the list cannot rot.
-CPP_KEY_COUNTS = {
-    "r1_repeat_0_subtree_port",
-    "r1_repeat_0_model_default",
-    "r1_retry_0_subtree_port",
-    "r1_retry_0_model_default",
-}
-
 
 def _path(stem, ext):
     return os.path.join(EDGES, stem + ext)
@@ -121,11 +110,6 @@ def _run(binary, scenario):
 
 @pytest.mark.parametrize("stem", TRACED)
 def test_cpp_matches_462(stem, cpp):
-    if stem in CPP_KEY_COUNTS:
-        with pytest.raises(UserError) as e:
-            cpp(_path(stem, ".xml"))
-        assert "the C++ back end reads it from an integer entry only" in str(e.value)
-        return
     rc, out, err = _run(cpp(_path(stem, ".xml")), _path(stem, ".scenario"))
     expected = _read(stem, ".trace")
     assert (rc, err) == (0, "")

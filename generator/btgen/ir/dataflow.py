@@ -1425,7 +1425,23 @@ class _Compiler:
         """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
         s = self.a.slots[op["slot"]]
         what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op["port"]}` reads blackboard entry `{op["key"]}`'
-        if s.kind != "int":
+        constant: Optional[int] = None
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            # A SubTree's constant port (`n="3"`): text that never changes, converted once here
+            # as 4.6.2's getInput converts it on every read.
+            port_type = values.UNSIGNED if op["port"] in ("msec", "delay_msec") else values.INT
+            try:
+                converted = values.convert_from_string(port_type, s.initial)
+            except values.ConversionError as e:
+                self.error(op["loc"], f"{what}: {e}")
+                return None
+            constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
+        elif s.kind != "int":
             self.error(
                 op["loc"],
                 f"port `{op['port']}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
@@ -1439,6 +1455,7 @@ class _Compiler:
                 op["slot"],
                 self.fail(op["loc"], f"{what}, which does not exist"),
                 self.fail(op["loc"], f"{what}, which has no value yet"),
+                constant,
             ),
         )
 

@@ -138,6 +138,7 @@ class ParamRead:
     slot: int
     missing: Fail  # the entry does not exist (UnsetBlackboard removed it)
     no_value: Fail  # it exists without a value
+    constant: Optional[int] = None  # a SubTree's constant port (text nothing else writes), converted
 
 
 @dataclass(frozen=True)
