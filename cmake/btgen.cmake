@@ -279,13 +279,21 @@ function(btgen_add_mission)
   # (the linker keeps one copy of each function): mission b would run mission a's code.
   _btgen_query(template --template "${mission}" ${ns_option})
   string(REGEX REPLACE "::[^:]*$" "" mission_ns "${template}")
+  # The same mission compiled for two programs (the same file, the same options: the same
+  # code) may share its namespace; the generated source also defines one symbol per
+  # namespace, so linking two of them into one program fails there.
   get_property(ns_owner GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}")
-  if(ns_owner)
+  get_property(ns_owner_key GLOBAL PROPERTY "BTGEN_NAMESPACE_KEY_${mission_ns}")
+  set(ns_key "${mission};${read_options};${write_options}")
+  if(ns_owner AND NOT ns_owner_key STREQUAL ns_key)
     message(FATAL_ERROR "btgen_add_mission: ${target} (${mission}) would generate namespace ${mission_ns}, "
       "which ${ns_owner} already uses; two missions in one namespace run each other's code when linked into "
       "one program: give one of them NAMESPACE <another>")
   endif()
-  set_property(GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}" "${target} (${mission})")
+  if(NOT ns_owner)
+    set_property(GLOBAL PROPERTY "BTGEN_NAMESPACE_OWNER_${mission_ns}" "${target} (${mission})")
+    set_property(GLOBAL PROPERTY "BTGEN_NAMESPACE_KEY_${mission_ns}" "${ns_key}")
+  endif()
   _btgen_query(generator_inputs --inputs)
   if(BTGEN_EXECUTABLE)
     list(APPEND generator_inputs "${BTGEN_EXECUTABLE}")

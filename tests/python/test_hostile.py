@@ -456,3 +456,39 @@ def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
     )
     assert proc.returncode != 0
     assert "`std` inside the mission's namespace would hide `::std`" in " ".join(proc.stderr.split())
+
+
+@pytest.mark.skipif(shutil.which("cmake") is None, reason="no cmake")
+def test_one_mission_for_two_programs_configures(tmp_path):
+    """The same mission file with the same options built for two programs is one mission, not a
+    collision (the top-level project and examples/lab_tour_robot both build missions/LabTour.xml:
+    `scripts/demo.sh` failed to configure when this was refused)."""
+    (tmp_path / "patrol.xml").write_text(TWO_EDGES, encoding="utf-8")
+    (tmp_path / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.16)\nproject(two LANGUAGES CXX)\nfind_package(btgen CONFIG REQUIRED)\n"
+        "btgen_add_mission(for_robot MISSION patrol.xml)\nbtgen_add_mission(for_tests MISSION patrol.xml)\n",
+        encoding="utf-8",
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    # The same file with other options generates other code: refused.
+    (tmp_path / "CMakeLists.txt").write_text(
+        (tmp_path / "CMakeLists.txt")
+        .read_text()
+        .replace("MISSION patrol.xml)\n", "MISSION patrol.xml STRING_CAPACITY 64)\n")
+        .replace("for_robot MISSION patrol.xml STRING_CAPACITY 64", "for_robot MISSION patrol.xml"),
+        encoding="utf-8",
+    )
+    proc = subprocess.run(
+        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build2"), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode != 0
+    assert "btgen_add_mission: for_tests" in " ".join(proc.stderr.split())
