@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import pytest
 
+from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
 from btgen.ir.dataflow import DataOptions
 from btgen.ir.lower import lower
@@ -18,12 +19,18 @@ from btgen.tools.fuzzgen import random_mission
     ("features", "btcpp"), [("control", "4.6.2"), ("full", "4.6.2"), ("full", "4.10.0"), ("edges", "4.6.2")]
 )
 def test_analyze_is_sound_and_mostly_exact(tmp_path, features, btcpp):
-    exact = total = 0
+    exact = total = refused = 0
     for seed in range(25):
         path = tmp_path / f"{features}_{seed}.xml"
         path.write_text(random_mission(seed, features))
         mission = load_mission(str(path), btcpp=btcpp)
-        program = lower(mission)
+        try:
+            program = lower(mission)
+        except UserError:
+            # analyze reads the lowered tables; under 4.10.0 the back end still refuses a Loop
+            # over an entry holding a string (docs/btcpp-versions.md, "not followed yet")
+            refused += 1
+            continue
         result = analyze_program(mission, program, DataOptions())
         possible = {
             i: ({BY_NAME[s] for s in result.outcomes[i]} if result.reachable[i] else set())
@@ -43,6 +50,7 @@ def test_analyze_is_sound_and_mostly_exact(tmp_path, features, btcpp):
         exact += run.max_visits == worst[0]
     # the bound is reached on 23 (control), 16 (full) of the 25 missions within these bounds
     assert exact * 2 >= total, (exact, total)
+    assert refused == 0 if btcpp == "4.6.2" else refused <= 3, refused
 
 
 @pytest.mark.parametrize("features", ["control", "full"])
