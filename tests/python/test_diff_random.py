@@ -196,30 +196,12 @@ def test_edge_missions_agree(tmp_path):
 SEEDS_410 = range(0, int(os.environ.get("BTGEN_DIFF_410_SEEDS", "40")))
 
 
-def _known_410_gap_rejection(message: str) -> bool:
-    """The C++ back end refuses a Loop over an entry that holds a string, which 4.10.0 converts
-    at each start (docs/btcpp-versions.md, "what the C++ back end does not follow yet")."""
-    return "holds a string" in message and "not a queue<" in message
-
-
-def _known_410_gap_divergence(where: str) -> bool:
-    """4.10.0 leaves a string written by SetBlackboard into an untyped entry empty, and the next
-    such write throws; the interpreter follows it, the generated C++ does not yet (the same
-    document). Such a run diverges only after the interpreter reported that error."""
-    err = os.path.join(os.path.dirname(where), os.path.basename(where)[: -len(".xml")] + ".interp.err")
-    with open(err, encoding="utf-8") as f:
-        return "to BT::Any" in f.read()
-
-
 def test_full_missions_agree_under_410(tmp_path):
     report = difftest.difftest(SEEDS_410, "full", 2, keep=tmp_path / "kept", btcpp="4.10.0")
     print("\n" + report.summary())
     assert not report.invalid, report.summary()
-    # Every rejection and divergence must be one of the two documented gaps, and rare: the
-    # rest of the missions must agree exactly.
-    other_rejections = [(seed, m) for seed, m in report.rejected if not _known_410_gap_rejection(m)]
-    other_divergences = [d for d in report.divergences if not _known_410_gap_divergence(d[2])]
-    assert other_rejections == [] and other_divergences == [], report.summary()
-    gap_seeds = {seed for seed, _ in report.rejected} | {seed for seed, _, _ in report.divergences}
-    assert len(gap_seeds) * 10 <= len(SEEDS_410), report.summary()
-    assert len(report.compiled) + len(report.unsupported) + len(report.rejected) == len(SEEDS_410)
+    assert len(report.compiled) + len(report.unsupported) == len(SEEDS_410), report.summary()
+    assert report.ok, report.summary()
+    # The two 4.10.0 data rules the C++ back end refuses as "not supported yet"
+    # (docs/btcpp-versions.md) stay rare: the rest must compile and agree exactly.
+    assert len(report.unsupported) * 8 <= len(SEEDS_410), report.summary()

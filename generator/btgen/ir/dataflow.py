@@ -1291,6 +1291,8 @@ class _Compiler:
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
+        if self._untyped_string_write_unsupported(s, loc, what):
+            return None
         if is_user(s.kind):
             # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
             # changes, so it is converted once, when the mission is constructed, and copied here.
@@ -1341,6 +1343,8 @@ class _Compiler:
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
+        if s.kind == "string" and self._untyped_string_write_unsupported(d, loc, what):
+            return None
         strong = values.is_strongly_typed(declared)
         convert = False
         if is_queue(s.kind):
@@ -1416,6 +1420,24 @@ class _Compiler:
                 self._empty_copy_succeeds(),
             ),
         )
+
+    def _untyped_string_write_unsupported(self, d: _Slot, loc: Loc, what: str) -> bool:
+        """From 4.7.0 SetBlackboard converts a string to the type of the entry it writes; an entry
+        that exists without a type (created at load by an untyped `{key}` port, or by a Script)
+        cannot take it: 4.10.0 leaves it empty and typed BT::Any, and the next string write
+        throws. The generated C++ does not model that yet, so it refuses the mission rather than
+        run it differently (docs/btcpp-versions.md). True when it reported that."""
+        if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
+            return False
+        if not (d.at_load or any(w.source == "script" for w in d.writes)):
+            return False
+        self.error(
+            loc,
+            f"{what} writes a string into `{d.key}`, an entry created without a type ({d.origin_text}); "
+            f"BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry empty and typed BT::Any "
+            f"(and throws on the next such write), which is not supported by the C++ back end yet",
+        )
+        return True
 
     def _empty_copy_succeeds(self) -> bool:
         """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
@@ -1502,10 +1524,18 @@ class _Compiler:
             s = self.a.slots[qslot]
             want = f"queue<{elem}>"
             if s.kind != want:
+                # From 4.9.1 a string entry is converted into a queue at each start: the
+                # generated C++ does not do that yet (docs/btcpp-versions.md).
+                later = (
+                    f"; BehaviorTree.CPP {self.a.m.semantics.version} converts a string at each start, "
+                    f"which is not supported by the C++ back end yet"
+                    if self.a.m.semantics.loop_queue_untyped and s.kind == "string"
+                    else ""
+                )
                 self.error(
                     loc,
                     f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
-                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
+                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}{later}",
                 )
                 return None
             no_value = self.fail(
