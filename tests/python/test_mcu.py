@@ -16,6 +16,7 @@ minute and a half on two cores); later runs rebuild only what changed
 (`<cache>/btgen/mcu/`).
 """
 
+import hashlib
 import os
 import re
 import subprocess
@@ -185,12 +186,17 @@ def test_os_only_headers_refuse_the_bare_metal_build(tmp_path):
         assert f"btgen/{header}.hpp needs an operating system" in proc.stderr.decode()
 
 
+def _checkout_key() -> str:
+    return hashlib.sha256(os.path.realpath(ROOT).encode("utf-8")).hexdigest()[:16]
+
+
 def test_lab_tour_example_runs_on_the_board():
     """examples/mcu: btgen_add_mission() and the toolchain file build the Lab Tour for the board,
     with simulated leaves on the SysTick clock; run.sh runs it in QEMU and the tour succeeds."""
     proc = subprocess.run(
-        # Built in the cache (as the cases are), so that a second run rebuilds only what changed.
-        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(mcu.cache_dir() / "example")],
+        # Built in the cache (as the cases are), so that a second run rebuilds only what changed;
+        # one build folder per checkout, since CMake refuses a folder made for other sources.
+        ["bash", os.path.join(ROOT, "examples", "mcu", "run.sh"), str(mcu.cache_dir() / f"example-{_checkout_key()}")],
         capture_output=True,
         check=False,
         timeout=900,
