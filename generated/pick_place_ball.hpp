@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
-#include <tuple>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
@@ -235,30 +234,103 @@ struct Spec {
   // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
   // (M: what the engine's straight-line code calls, the model a constant there) or by the
   // node's (what the table interpreter calls).
-  // The leaf models by number (leaf::X::kModel); btgen/hooks.hpp calls a model's hooks.
-  using Models = std::tuple<
-      leaf::FindBall,
-      leaf::PickBall,
-      leaf::MoveBall,
-      leaf::PlaceBall
-      >;
   template <class Leaves, std::uint16_t M>
   static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                  const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_on_start<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::FindBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action FindBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::PickBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PickBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::MoveBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action MoveBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::PlaceBall model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PlaceBall");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
   }
+
   template <class Leaves, std::uint16_t M>
   static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                    const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_on_running<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::FindBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::PickBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::MoveBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::PlaceBall model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
   }
+
   template <class Leaves, std::uint16_t M>
   static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                               const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_check<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    (void)leaves;
+    (void)bb;
+    (void)err;
+    return btgen::Status::FAILURE;
   }
 
   template <class Leaves>
@@ -758,7 +830,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xed42fb7d3411041fULL;
+inline constexpr unsigned long long kGeneration = 0x208a20811da84343ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
-#include <tuple>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
@@ -939,49 +938,372 @@ struct Spec {
   // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
   // (M: what the engine's straight-line code calls, the model a constant there) or by the
   // node's (what the table interpreter calls).
-  // The leaf models by number (leaf::X::kModel); btgen/hooks.hpp calls a model's hooks.
-  using Models = std::tuple<
-      leaf::DisableAnimateBehavior,
-      leaf::EnableAnimateBehavior,
-      leaf::GoodbyeGesture,
-      leaf::HandleFallBack,
-      leaf::IsASREnabled,
-      leaf::IsMutualGazeDiscovered,
-      leaf::IsVisitorDiscovered,
-      leaf::PerformDeicticGesture,
-      leaf::SayGoodByeSpeech,
-      leaf::ScanningOvertAttentionMode,
-      leaf::SocialOvertAttentionMode,
-      leaf::START_OF_TREE,
-      leaf::WelcomeGesture,
-      leaf::WelcomeSpeech,
-      leaf::QueryDestinationSpeech,
-      leaf::SayDestinationSpeech,
-      leaf::IsDestinationUttered,
-      leaf::PressDestinationSpeech,
-      leaf::PressDestinationDialogue,
-      leaf::LookUpDestination,
-      leaf::DescribeRouteSpeech_1,
-      leaf::DescribeRouteSpeech_2,
-      leaf::UnknownDestinationSpeech
-      >;
   template <class Leaves, std::uint16_t M>
   static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                  const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_on_start<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                                  [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DisableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action EnableAnimateBehavior");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action GoodbyeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action HandleFallBack");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PerformDeicticGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayGoodByeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action ScanningOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SocialOvertAttentionMode");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action START_OF_TREE");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeGesture");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action WelcomeSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action QueryDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action SayDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action PressDestinationDialogue");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action LookUpDestination");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_1");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action DescribeRouteSpeech_2");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
+                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
+                    "for Action UnknownDestinationSpeech");
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));
+      } else {
+        return leaves.onStart(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
   }
+
   template <class Leaves, std::uint16_t M>
   static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                    const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_on_running<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                                    [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 0) {
+      leaf::DisableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 1) {
+      leaf::EnableAnimateBehavior model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 2) {
+      leaf::GoodbyeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 3) {
+      leaf::HandleFallBack model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 7) {
+      leaf::PerformDeicticGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 8) {
+      leaf::SayGoodByeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 9) {
+      leaf::ScanningOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 10) {
+      leaf::SocialOvertAttentionMode model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 11) {
+      leaf::START_OF_TREE model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 12) {
+      leaf::WelcomeGesture model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 13) {
+      leaf::WelcomeSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 14) {
+      leaf::QueryDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 15) {
+      leaf::SayDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 17) {
+      leaf::PressDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 18) {
+      leaf::PressDestinationDialogue model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 19) {
+      leaf::LookUpDestination model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 20) {
+      leaf::DescribeRouteSpeech_1 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 21) {
+      leaf::DescribeRouteSpeech_2 model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else if constexpr (M == 22) {
+      leaf::UnknownDestinationSpeech model(bb, err, node);
+      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
+        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
+      } else {
+        return leaves.onRunning(model, node);
+      }
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
   }
+
   template <class Leaves, std::uint16_t M>
   static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                               const btgen::NodeInfo& node) {
-    static_assert(std::tuple_element_t<M, Models>::kModel == M);
-    return btgen::model_check<Leaves, std::tuple_element_t<M, Models>>(leaves, bb, err, node);
+                               [[maybe_unused]] const btgen::NodeInfo& node) {
+    if constexpr (M == 4) {
+      leaf::IsASREnabled model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 5) {
+      leaf::IsMutualGazeDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 6) {
+      leaf::IsVisitorDiscovered model(bb, err, node);
+      return leaves.check(model, node);
+    } else if constexpr (M == 16) {
+      leaf::IsDestinationUttered model(bb, err, node);
+      return leaves.check(model, node);
+    } else {
+      (void)leaves;
+      (void)bb;
+      (void)err;
+      return btgen::Status::FAILURE;
+    }
   }
 
   template <class Leaves>
@@ -2163,7 +2485,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x28f9d50c4110470dULL;
+inline constexpr unsigned long long kGeneration = 0x8492b9b80c7929e3ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -89,38 +89,4 @@ inline constexpr std::string_view kSyncActionRunning = "SyncActionNode MUST neve
   return s;
 }
 
-// The hooks of one leaf model, called with the model known when compiling (a
-// mission's Spec::on_start_m and the like pick the model by its number).
-template <class Leaves, class Model, class Blackboard>
-Status model_on_start(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
-  static_assert(Model::kKind == LeafKind::Action, "on_start of a model that is no Action");
-  static_assert(has_action_hooks<Leaves, Model>,
-                "Leaves implements neither tick() nor onStart/onRunning/onHalted for this Action "
-                "model (named in the instantiation below)");
-  Model model(bb, err, node);
-  if constexpr (is_sync_action<Leaves, Model>) {
-    return model.sync_result(leaves.tick(model, node));
-  } else {
-    return leaves.onStart(model, node);
-  }
-}
-
-template <class Leaves, class Model, class Blackboard>
-Status model_on_running(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
-  static_assert(Model::kKind == LeafKind::Action, "on_running of a model that is no Action");
-  Model model(bb, err, node);
-  if constexpr (is_sync_action<Leaves, Model>) {
-    return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-  } else {
-    return leaves.onRunning(model, node);
-  }
-}
-
-template <class Leaves, class Model, class Blackboard>
-Status model_check(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
-  static_assert(Model::kKind == LeafKind::Condition, "check of a model that is no Condition");
-  Model model(bb, err, node);
-  return leaves.check(model, node);
-}
-
 }  // namespace btgen
