@@ -60,6 +60,12 @@ struct has_on_error : std::false_type {};
 template <class O>
 struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::declval<const RuntimeError&>()))>>
     : std::true_type {};
+// An observer that may force a node's status (btgen::MonitorObserver: Groot2's REPLACE hooks).
+template <class O, class = void>
+struct has_forced_status : std::false_type {};
+template <class O>
+struct has_forced_status<O, std::void_t<decltype(std::declval<O&>().forced_status(std::declval<const NodeInfo&>()))>>
+    : std::true_type {};
 template <class S, class = void>
 struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT_LINE_BUDGET> {};
 template <class S>
@@ -354,6 +360,19 @@ class Engine {
     if (prev != s) observer_.on_status_change(info(n), prev, s);
   }
   void reset_status(std::size_t n) noexcept { set_status(n, Status::IDLE); }
+
+  // A status the observer forces on node `id` instead of its tick (Groot2's REPLACE hook,
+  // 4.6.2's pre-tick callback: asked after the pre-conditions, only when the node is not
+  // completed; SUCCESS or FAILURE replaces tick(), which is not called, and nothing is
+  // halted), or IDLE: tick it. Observers without forced_status() compile this away.
+  static constexpr bool kHooks = engine_detail::has_forced_status<Observer>::value;
+  [[gnu::always_inline]] Status forced(std::size_t id) noexcept {
+    if constexpr (kHooks) {
+      if (!is_completed(status_[id])) return observer_.forced_status(info(id));
+    }
+    (void)id;
+    return Status::IDLE;
+  }
 
   // Completed-child flags of Parallel / ParallelAll, one bit per node.
   bool is_done(std::uint16_t n) const noexcept {
@@ -658,6 +677,18 @@ class Engine {
       if constexpr (uses_of(S) == 1) id = R;
       constexpr NodeKind K = Spec::kNodes[R].kind;
       using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
+      if constexpr (kHooks && kForm != Form::kScripted && kForm != Form::kGeneric) {
+        // (these forms have no pre- or post-conditions: the hook comes first)
+        const Status h = forced(id);
+        if (h != Status::IDLE) {
+          set_status(id, h);
+          if constexpr (kForm == Form::kDecorator) {
+            const std::size_t c = id + kChildOffset<R, 0>;
+            if (is_completed(status_[c])) reset_status(c);  // DecoratorNode::executeTick
+          }
+          return h;
+        }
+      }
       if constexpr (kForm == Form::kSequence) {
         return tick_sequence<R, K == NodeKind::Sequence>(id, Children{});
       } else if constexpr (kForm == Form::kReactive) {
@@ -737,6 +768,9 @@ class Engine {
     constexpr std::uint16_t kBits = Spec::kNodes[R].scripts;
     Status s = Status::IDLE;
     if constexpr ((kBits & kPreBits) != 0) s = pre_conditions_c<R>(id);
+    if constexpr (kHooks) {
+      if (s == Status::IDLE) s = forced(id);
+    }
     if (s == Status::IDLE) {
       if constexpr (K == NodeKind::Script) {
         s = script_c<R, ScriptSlot::kCode>(id) < 0 ? Status::FAILURE : Status::SUCCESS;
@@ -999,6 +1033,13 @@ class Engine {
       if (decided != Status::IDLE) {
         f.decorator = is_decorator(kind) ? 1 : 0;
         return done(decided);
+      }
+    }
+    if constexpr (kHooks) {
+      const Status h = forced(f.node);
+      if (h != Status::IDLE) {
+        f.decorator = is_decorator(kind) ? 1 : 0;
+        return done(h);
       }
     }
     return enter(f, kind);
