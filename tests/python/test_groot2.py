@@ -169,6 +169,12 @@ def breakpoint_executor(tmp_path_factory) -> Path:
     return build_executor("monitored", tmp_path_factory.mktemp("groot2_bp"), "-DBTGEN_GROOT2_BREAKPOINTS")
 
 
+@pytest.fixture(scope="module")
+def hookless_executor(tmp_path_factory) -> Path:
+    """tests/groot2/monitored.xml's executor built with -DBTGEN_NO_GROOT2_HOOKS."""
+    return build_executor("monitored", tmp_path_factory.mktemp("groot2_nohooks"), "-DBTGEN_NO_GROOT2_HOOKS")
+
+
 def build_executor(stem: str, out: Path, *defines: str) -> Path:
     env = {**os.environ, "PYTHONPATH": str(ROOT / "generator")}
     mission = CASES / f"{stem}.xml"
@@ -826,5 +832,21 @@ def test_breakpoint_pauses_the_tick_until_unlocked(breakpoint_executor, tmp_path
     finally:
         sub.close()
         ctx.term()
+        c.close()
+        assert cpp.close() == 0
+
+
+def test_a_build_without_hooks_refuses_them(hookless_executor, tmp_path):
+    """-DBTGEN_NO_GROOT2_HOOKS (no test on the tick path): hook requests get an error reply."""
+    port = free_port_pair()
+    cpp = Compiled(hookless_executor, port, tmp_path / "n.btlog")
+    c = Client(port)
+    try:
+        cpp.tick()
+        refused = [b"error", b"btgen: this build has no hooks (BTGEN_NO_GROOT2_HOOKS)"]
+        assert c.request("I", json.dumps(hook(5)).encode()) == refused
+        assert c.request("D")[1] == b"[]"
+        assert cpp.tick() == "RUNNING"  # move: SUCCESS at its second tick, then the SubTree's Move RUNNING
+    finally:
         c.close()
         assert cpp.close() == 0

@@ -365,13 +365,27 @@ class Engine {
   // 4.6.2's pre-tick callback: asked after the pre-conditions, only when the node is not
   // completed; SUCCESS or FAILURE replaces tick(), which is not called, and nothing is
   // halted), or IDLE: tick it. Observers without forced_status() compile this away.
+  // Each visit tests observer_.hooked(id) inline (a null test and a relaxed load); the
+  // rest is out of line and cold, so that the straight-line code grows as little as it
+  // can (g++ inlines less in larger functions: docs/groot2.md has the measured cost).
   static constexpr bool kHooks = engine_detail::has_forced_status<Observer>::value;
-  [[gnu::always_inline]] Status forced(std::size_t id) noexcept {
+  [[gnu::noinline, gnu::cold]] Status forced_slow(std::size_t id) noexcept {
     if constexpr (kHooks) {
       if (!is_completed(status_[id])) return observer_.forced_status(info(id));
     }
     (void)id;
     return Status::IDLE;
+  }
+  // A node without pre- or post-conditions replaced by its hook: its status set, a
+  // decorator's completed child reset (DecoratorNode::executeTick), as finish() does.
+  [[gnu::noinline, gnu::cold]] Status replaced(std::size_t id) noexcept {
+    const Status h = forced_slow(id);
+    if (h != Status::IDLE) {
+      set_status(id, h);
+      const NodeInfo& n = info(id);
+      if (is_decorator(n.kind) && n.child_count == 1 && is_completed(status_[child(n, 0)])) reset_status(child(n, 0));
+    }
+    return h;
   }
 
   // Completed-child flags of Parallel / ParallelAll, one bit per node.
@@ -679,14 +693,9 @@ class Engine {
       using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
       if constexpr (kHooks && kForm != Form::kScripted && kForm != Form::kGeneric) {
         // (these forms have no pre- or post-conditions: the hook comes first)
-        const Status h = forced(id);
-        if (h != Status::IDLE) {
-          set_status(id, h);
-          if constexpr (kForm == Form::kDecorator) {
-            const std::size_t c = id + kChildOffset<R, 0>;
-            if (is_completed(status_[c])) reset_status(c);  // DecoratorNode::executeTick
-          }
-          return h;
+        if (__builtin_expect(observer_.hooked(id), 0)) {
+          const Status h = replaced(id);
+          if (h != Status::IDLE) return h;
         }
       }
       if constexpr (kForm == Form::kSequence) {
@@ -769,7 +778,7 @@ class Engine {
     Status s = Status::IDLE;
     if constexpr ((kBits & kPreBits) != 0) s = pre_conditions_c<R>(id);
     if constexpr (kHooks) {
-      if (s == Status::IDLE) s = forced(id);
+      if (s == Status::IDLE && __builtin_expect(observer_.hooked(id), 0)) s = forced_slow(id);
     }
     if (s == Status::IDLE) {
       if constexpr (K == NodeKind::Script) {
@@ -1036,7 +1045,7 @@ class Engine {
       }
     }
     if constexpr (kHooks) {
-      const Status h = forced(f.node);
+      const Status h = __builtin_expect(observer_.hooked(f.node), 0) ? forced_slow(f.node) : Status::IDLE;
       if (h != Status::IDLE) {
         f.decorator = is_decorator(kind) ? 1 : 0;
         return done(h);

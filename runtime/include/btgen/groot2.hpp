@@ -982,7 +982,9 @@ class Publisher final : public StatusSink, public HookSink {
   // HOOK_INSERT, HOOK_REMOVE, BREAKPOINT_UNLOCK: an error message, or empty when done.
   std::string_view hook_request(const detail::Request& request) {
     using K = detail::Request::Kind;
-    if (!hooks_attached_) return "btgen: another monitor of this mission forces statuses already";
+    if (!hooks_attached_)
+      return MonitorObserver<>::kHooks ? "btgen: another monitor of this mission forces statuses already"
+                                       : "btgen: this build has no hooks (BTGEN_NO_GROOT2_HOOKS)";
     collect_used_hooks();
     std::string_view failed;
     if (request.kind == K::kHookInsert) {

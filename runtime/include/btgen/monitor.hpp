@@ -113,8 +113,16 @@ class MonitorObserver {
   }
   [[nodiscard]] std::size_t attached() const noexcept { return count_; }
 
-  // The engine, on each visit of a node not completed, after its pre-conditions:
-  // SUCCESS or FAILURE when a hook forces it (the node is not ticked), else IDLE.
+  // The engine, on each visit of a node, after its pre-conditions: whether a hook is set
+  // there (the fast path: a null test, a relaxed load); then, for a node not completed,
+  // forced_status(): SUCCESS or FAILURE when the hook forces it (the node is not ticked),
+  // else IDLE.
+  // (Built with BTGEN_NO_GROOT2_HOOKS, the observer has neither: the engine compiles the
+  // test away, and attach_hooks() refuses.)
+#ifndef BTGEN_NO_GROOT2_HOOKS
+  [[nodiscard, gnu::always_inline]] bool hooked(std::size_t index) const noexcept {
+    return hooks_ != nullptr && hooks_[index].load(std::memory_order_relaxed) != 0;
+  }
   [[nodiscard]] Status forced_status(const NodeInfo& node) noexcept {
     if (hooks_ == nullptr) return Status::IDLE;
     const std::uint8_t b = hooks_[node.index].load(std::memory_order_relaxed);
@@ -122,10 +130,14 @@ class MonitorObserver {
     const Status s = hook_sink_->on_hook(node, b);
     return is_completed(s) ? s : Status::IDLE;
   }
+  static constexpr bool kHooks = true;
+#else
+  static constexpr bool kHooks = false;
+#endif
   // `table` holds one byte per node of the mission (indexed by NodeInfo::index) and
   // outlives the attachment. False when another monitor forces statuses already.
   bool attach_hooks(HookSink* sink, const std::atomic<std::uint8_t>* table) noexcept {
-    if (sink == nullptr || table == nullptr || hook_sink_ != nullptr) return false;
+    if (!kHooks || sink == nullptr || table == nullptr || hook_sink_ != nullptr) return false;
     hook_sink_ = sink;
     hooks_ = table;
     return true;
