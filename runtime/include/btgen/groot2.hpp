@@ -18,14 +18,31 @@
 //                    doubles, strings; other types null, as 4.6.2's JSON export)
 //   TOGGLE_RECORDING 'r' "start" (reply: now in microseconds) / "stop"
 //   GET_TRANSITIONS 't' the transitions since the last call, 9 bytes each
-//   HOOKS_DUMP 'D'   "[]"; REMOVE_ALL_HOOKS 'A', DISABLE_ALL_HOOKS 'X': done (none exist)
-//   HOOK_INSERT 'I', HOOK_REMOVE 'R', BREAKPOINT_UNLOCK 'U': error replies; btgen has no
-//                    breakpoints (a compiled tick cannot be paused), so Groot2 shows the
-//                    error and never waits for a breakpoint
+//   HOOK_INSERT 'I'  a hook's JSON or an array of them (uid, position, enabled, once, mode,
+//                    desired_status): live fault injection, below
+//   HOOK_REMOVE 'R', BREAKPOINT_UNLOCK 'U' (desired_status, remove_when_done), HOOKS_DUMP 'D'
+//                    (the hooks as 4.6.2's JSON), REMOVE_ALL_HOOKS 'A', DISABLE_ALL_HOOKS 'X'
 //   anything else, a header that is not 6 bytes, a protocol other than 2: an error
 //                    reply ("error", message), as 4.6.2 answers what it does not know.
 //
-// The tick path: each status change stores one byte in an array of atomics
+// Hooks (4.6.2's Groot2Publisher: one pre-tick hook per node). A REPLACE hook (mode 1) is
+// one atomic byte per node (hook_bytes_) that the engine reads on each visit of the node,
+// after its pre-conditions and only when the node is not completed: SUCCESS or FAILURE is
+// returned instead of ticking the node (its tick is not called, nothing is halted, the
+// post-conditions run); RUNNING, SKIPPED and IDLE tick it as usual; `once` hooks are taken
+// out of the table by the tick thread at their first use. A BREAKPOINT hook (mode 0) needs
+// a build with BTGEN_GROOT2_BREAKPOINTS (else an error reply): the tick thread waits at the
+// node, sleeping 1 ms at a time, until BREAKPOINT_UNLOCK (its desired_status: SUCCESS or
+// FAILURE is returned, any other word ticks the node), or until the hook is disabled,
+// removed or made REPLACE; BREAKPOINT_REACHED (header, UID) goes out on the PUB port. After
+// kMaxHeartbeatDelay without a request every hook is disabled (a paused tick goes on) and
+// the next request enables them again, as 4.6.2's heartbeat does. Differences from 4.6.2:
+// an unknown UID and malformed JSON get error replies (4.6.2 ignores the first and
+// terminates on the second); REPLACE hooks publish no BREAKPOINT_REACHED (4.6.2 sends one
+// at each visit, from the tick thread); HOOKS_DUMP lists the hooks by UID.
+//
+// The tick path: each visit of a node tests its hook byte (a relaxed load); each status
+// change stores one byte in an array of atomics
 // (and, while recording, one record in a fixed ring); the server thread reads
 // them. The blackboard is copied by sync() (call it after each tick), and at
 // a status change while a BLACKBOARD request waits for it, under a mutex the
