@@ -288,7 +288,11 @@ def run_trace(mission: Mission, scenario: Scenario, write: Callable[[str], objec
 
     Returns the last root status. A run-time error raises RunError after the
     lines of the failing tick so far have been written."""
-    interp = Interpreter(mission, scenario)
+    return run_ticks(Interpreter(mission, scenario), scenario, write)
+
+
+def run_ticks(interp: Interpreter, scenario: Scenario, write: Callable[[str], object]) -> NodeStatus:
+    """run_trace's ticks on a built interpreter (tools/substitute.py builds its own)."""
     last = NodeStatus.IDLE
     for n in range(1, scenario.ticks + 1):
         if n > 1 and scenario.clock_ms:

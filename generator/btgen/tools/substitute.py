@@ -331,21 +331,7 @@ def run_trace(
         import sys
 
         print(f"{r.loc}: warning: the rule `{r.filter}` matches no node of the mission", file=sys.stderr)
-    last = NodeStatus.IDLE
-    for n in range(1, scenario.ticks + 1):
-        if n > 1 and scenario.clock_ms:
-            interp.advance_clock(scenario.clock_ms)
-        interp.rt.write_line(f"tick {n}")
-        try:
-            last = interp.tick_once()
-        except UserError:
-            write(interp.take_text())
-            raise
-        interp.rt.write_line(f"result {last.name}")
-        write(interp.take_text())
-        if last is NodeStatus.SUCCESS or last is NodeStatus.FAILURE:
-            break
-    return last
+    return iengine.run_ticks(interp, scenario, write)
 
 
 # ====================================================================== compiled executor
