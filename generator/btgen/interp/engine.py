@@ -258,10 +258,14 @@ class Interpreter:
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
         provide(mission, self.root_bb, mission.main_tree, True)
-        builder = _Builder(self.rt, mission)
+        builder = self._builder()
         self.root = builder.build(self.root_bb)
         self.nodes = builder.nodes
         self.ticks_sent = 0
+
+    def _builder(self) -> _Builder:
+        """What builds the tree (tools/substitute.py gives its own)."""
+        return _Builder(self.rt, self.mission)
 
     def take_text(self) -> str:
         """The trace lines produced since the last call, as text."""

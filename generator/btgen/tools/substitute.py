@@ -307,19 +307,15 @@ class SubstitutingInterpreter(iengine.Interpreter):
     """The interpreter with substitution rules applied while the tree is built."""
 
     def __init__(self, mission: Mission, scenario: Optional[Scenario], rules: tuple[Rule, ...]) -> None:
-        from btgen.interp.tree import Runtime
-        from btgen.lang import blackboard as bbmod
+        self._rules = rules
+        self._used: set[int] = set()
+        super().__init__(mission, scenario)
+        self.unused = [r for i, r in enumerate(rules) if i not in self._used]
 
-        self.mission = mission
-        self.scenario = scenario
-        iengine._ensure_recursion_depth(iengine.expanded_depth(mission))
-        self.rt = Runtime(mission, scenario)
-        self.root_bb = bbmod.Blackboard()
-        builder = _SubstitutingBuilder(self.rt, mission, rules)
-        self.root = builder.build(self.root_bb)
-        self.nodes = builder.nodes
-        self.ticks_sent = 0
-        self.unused = [r for i, r in enumerate(rules) if i not in builder.used]
+    def _builder(self) -> iengine._Builder:
+        builder = _SubstitutingBuilder(self.rt, self.mission, self._rules)
+        self._used = builder.used  # filled as the tree is built
+        return builder
 
 
 def run_trace(
