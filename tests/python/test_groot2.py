@@ -617,17 +617,11 @@ def answer(reply: list[bytes]):
     return ("ok", sorted(hooks, key=lambda h: h["uid"]))
 
 
-def test_replace_hooks_do_what_groot2publisher_does(pair, executor):
-    """The same hook requests to behaviortreepy's Groot2Publisher (4.8.2: its hooks are
-    4.6.2's, unchanged) and to btgen's: the same replies, tick results, STATUS, transitions
-    and HOOKS_DUMP, step by step. UIDs of tests/groot2/monitored.xml: 4 ready, 5 move
-    (RUNNING at tick 1: forced FAILURE, it is not halted), 10 and 17 Move, 12 and 19
-    IsReady, 13 Parallel, 6 RetryUntilSuccessful."""
-    if executor.name != "monitored":
-        pytest.skip("one mission is enough")
-    ref, cpp, p_ref, p_cpp, _ = pair
-    a, b = Client(p_ref), Client(p_cpp)
-    steps: list = [
+# Hook requests and ticks, the same to both publishers (UIDs: "T" of each mission).
+HOOK_STEPS = {
+    # 4 ready, 5 move (RUNNING at tick 1: forced FAILURE, it is not halted), 10 and 17 Move,
+    # 12 and 19 IsReady, 13 Parallel, 6 RetryUntilSuccessful.
+    "monitored": [
         "tick",
         ("I", hook(5)),  # move is RUNNING: forced FAILURE, the Fallback and the root fail
         ("D",),
@@ -656,18 +650,64 @@ def test_replace_hooks_do_what_groot2publisher_does(pair, executor):
         "tick",
         "tick",
         "tick",
-    ]
+    ],
+    # 12 Work under RunOnce, 16 the Inner SubTree (forced FAILURE while its Work is RUNNING:
+    # that Work is not halted), 21 Check with _skipIf (its pre-condition decides first: the
+    # hook is never asked), 6 Script with _onSuccess (forced SUCCESS: its code does not run,
+    # _onSuccess does), 9 ForceSuccess (a decorator: its child is not ticked).
+    "builtins": [
+        ("I", hook(12, "SUCCESS", once=True)),
+        "tick",
+        ("D",),
+        ("I", [hook(16, "FAILURE"), hook(21, "SUCCESS")]),
+        "tick",
+        ("R", {"uid": 16, "position": 0}),
+        ("I", hook(6, "SUCCESS")),
+        "tick",  # n stays 0: the Precondition fails, so does the root
+        ("R", {"uid": 6, "position": 0}),
+        ("I", hook(9, "FAILURE")),
+        "tick",
+        ("D",),
+        ("R", {"uid": 9, "position": 0}),  # (21's hook stays: the ReactiveFallback is reached)
+        "tick",
+        "tick",
+        "tick",
+        "tick",
+        "tick",
+    ],
+}
+
+
+# Statuses only the hooks give (so the comparison is not vacuous): (UID, status).
+FORCED = {"monitored": {(5, 3), (5, 2), (10, 2), (19, 2)}, "builtins": {(6, 2), (9, 3), (16, 3), (12, 2)}}
+
+
+def test_replace_hooks_do_what_groot2publisher_does(pair, executor):
+    """The same hook requests to behaviortreepy's Groot2Publisher (4.8.2: its hooks are
+    4.6.2's, unchanged) and to btgen's: the same replies, tick results, STATUS, transitions,
+    blackboards and HOOKS_DUMP, step by step (HOOK_STEPS)."""
+    ref, cpp, p_ref, p_cpp, _ = pair
+    a, b = Client(p_ref), Client(p_cpp)
     try:
+        names = blackboard_names(b.request("T")[1])
         for c in (a, b):
             c.request("r", b"start")
-        for n, step in enumerate(steps):
+        seen: set[tuple[int, int]] = set()
+        for n, step in enumerate(HOOK_STEPS[executor.name]):
             if step == "tick":
                 assert ref.tick() == cpp.tick(), f"step {n}"
                 assert statuses(b.request("S")[1]) == statuses(a.request("S")[1]), f"STATUS, step {n}"
-                assert transitions(b) == transitions(a), f"transitions, step {n}"
+                got_t = transitions(b)
+                assert got_t == transitions(a), f"transitions, step {n}"
+                seen.update(got_t)
+                got, want = b.request("B", names), a.request("B", names)
+                assert msgpack.unpackb(got[1]) == msgpack.unpackb(want[1]), f"BLACKBOARD, step {n}"
             else:
                 extra = [json.dumps(step[1]).encode()] if len(step) > 1 else []
                 assert answer(b.request(step[0], *extra)) == answer(a.request(step[0], *extra)), f"step {n}: {step}"
+        assert FORCED[executor.name] <= seen
+        if executor.name == "builtins":  # 21 is visited with its hook, and its _skipIf decides first
+            assert (20, 1) in seen and (21, 2) not in seen
     finally:
         a.close()
         b.close()
@@ -798,7 +838,7 @@ def test_breakpoint_pauses_the_tick_until_unlocked(breakpoint_executor, tmp_path
     sub.setsockopt(zmq.SUBSCRIBE, b"")
     sub.connect(f"tcp://127.0.0.1:{port + 1}")
     try:
-        time.sleep(0.2)  # (the subscription reaches the publisher)
+        time.sleep(0.5)  # (the subscription reaches the publisher)
         assert len(c.request("I", json.dumps(hook(4, "SKIPPED", mode=0)).encode())) == 1
         c.request("r", b"start")
         cpp.start_tick()
