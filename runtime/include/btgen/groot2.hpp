@@ -964,9 +964,22 @@ class Publisher final : public StatusSink, public HookSink {
     return static_cast<std::uint8_t>(kHookSet | (h.spec.once ? kHookOnce : 0) | (h.spec.breakpoint ? kHookBreak : 0) |
                                      static_cast<std::uint8_t>(h.spec.desired));
   }
+  // A new hook (or none) replaces whatever the byte holds.
   void publish_hook(std::size_t i) noexcept {
     armed_[i] = byte_of(hooks_[i]);
     hook_bytes_[i].store(armed_[i], std::memory_order_release);
+  }
+  // A change to a hook the tick thread may be using up: unless it took it meanwhile (a
+  // `once` hook), which then stays gone.
+  void republish_hook(std::size_t i) noexcept {
+    std::uint8_t expected = armed_[i];
+    const std::uint8_t want = byte_of(hooks_[i]);
+    if (hook_bytes_[i].compare_exchange_strong(expected, want, std::memory_order_acq_rel)) {
+      armed_[i] = want;
+    } else {  // (only the tick thread writes it besides: it took the hook)
+      hooks_[i] = HookEntry{};
+      armed_[i] = 0;
+    }
   }
   // A `once` hook whose byte the tick thread took is gone (4.6.2 erases it after its use).
   void collect_used_hooks() noexcept {
@@ -986,7 +999,7 @@ class Publisher final : public StatusSink, public HookSink {
     for (std::size_t i = 0; i < kNodes; ++i) {
       if (!hooks_[i].present) continue;
       hooks_[i].spec.enabled = enable;
-      publish_hook(i);
+      republish_hook(i);
     }
   }
   // The node of a UID, or kNodes.
@@ -1031,8 +1044,10 @@ class Publisher final : public StatusSink, public HookSink {
     HookEntry& h = hooks_[i];
     h.spec.desired = ref.desired;
     h.spec.once = h.spec.once || ref.once;
-    publish_hook(i);
-    if (h.spec.breakpoint) release(i, ref.desired);
+    const bool breakpoint = h.spec.breakpoint;
+    republish_hook(i);
+    if (!hooks_[i].present) return "Node ID not found";  // used up meanwhile
+    if (breakpoint) release(i, ref.desired);
     return {};
   }
 
