@@ -1201,8 +1201,10 @@ class Publisher final : public StatusSink, public HookSink {
   std::atomic<bool> active_{true};
   std::array<std::atomic<std::uint8_t>, kNodes> hook_bytes_{};  // the tick thread reads them
   std::array<std::atomic<std::uint8_t>, kNodes> release_{};     // breakpoints released
-  std::array<HookEntry, kNodes> hooks_{};                       // server thread only
-  std::array<std::uint8_t, kNodes> armed_{};                    // server thread only
+  // Server thread only, on the heap (some 11 bytes a node: a large mission's publisher may
+  // live on a stack).
+  std::vector<HookEntry> hooks_ = std::vector<HookEntry>(kNodes);
+  std::vector<std::uint8_t> armed_ = std::vector<std::uint8_t>(kNodes);
   bool hooks_attached_ = false;
   std::atomic<std::int64_t> heartbeat_ms_{kMaxHeartbeatDelay.count()};
   std::chrono::steady_clock::time_point last_request_{};  // server thread only
