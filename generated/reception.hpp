@@ -480,6 +480,8 @@ struct Semantics {
   static constexpr bool attribute_names_484 = false;
   static constexpr bool unique_subtree_paths = false;
   static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
 };
 
 // The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
@@ -2485,7 +2487,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x8492b9b80c7929e3ULL;
+inline constexpr unsigned long long kGeneration = 0x11daca82b56d1d39ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -167,7 +167,9 @@ def run(exe: Path, stem: str) -> list[dict]:
         return sock.recv_multipart()
 
     def pairs(buf: bytes, width: int, at: int) -> list[list[int]]:
-        return [[int.from_bytes(buf[i + at : i + at + 2], "little"), buf[i + at + 2]] for i in range(0, len(buf), width)]
+        return [
+            [int.from_bytes(buf[i + at : i + at + 2], "little"), buf[i + at + 2]] for i in range(0, len(buf), width)
+        ]
 
     out = []
     request("r", b"start")
@@ -181,7 +183,8 @@ def run(exe: Path, stem: str) -> list[dict]:
             out.append({"tick": result, "status": status, "transitions": trans})
         else:
             data = payload(step)
-            out.append({"request": step[0], "data": data[0].decode() if data else None, "reply": answer(request(step[0], *data))})
+            reply = answer(request(step[0], *data))
+            out.append({"request": step[0], "data": data[0].decode() if data else None, "reply": reply})
     proc.stdin.write("quit\n")
     proc.stdin.flush()
     assert proc.wait(timeout=10) == 0
@@ -196,7 +199,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         t = Path(tmp)
         for name in ("src/loggers/groot2_publisher.cpp", "3rdparty/cppzmq/zmq_addon.hpp"):
-            blob = subprocess.run(["git", "--git-dir", mirror, "show", f"{tag}:{name}"], check=True, capture_output=True)
+            show = ["git", "--git-dir", mirror, "show", f"{tag}:{name}"]
+            blob = subprocess.run(show, check=True, capture_output=True)
             (t / Path(name).name).write_bytes(blob.stdout)
         exe = t / "recorder"
         subprocess.run(
