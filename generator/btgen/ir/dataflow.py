@@ -42,6 +42,7 @@ from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user, kind_of_type
+from btgen.ir.numbering import Numbering, number_nodes
 from btgen.ir.script_types import SlotType, TypedScript, type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
@@ -309,9 +310,10 @@ def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
 
 
 class _Analyzer:
-    def __init__(self, mission: Mission, options: DataOptions) -> None:
+    def __init__(self, mission: Mission, options: DataOptions, numbering: Optional[Numbering] = None) -> None:
         self.m = mission
         self.opt = options
+        self.numbering = numbering if numbering is not None else number_nodes(mission)
         self.sink = DiagnosticSink()
         self.reported: set[tuple[Loc, str]] = set()
         self.insts: list[_Inst] = []
@@ -346,17 +348,20 @@ class _Analyzer:
         root = bbmod.Blackboard()
         self._add_bb(root, "root")
         self._provide(root, self.m.main_tree, True, self.m.main.loc)
-        stack: list[tuple[Node, bbmod.Blackboard, str]] = [(self.m.main.root, root, "")]
-        while stack:
-            node, bb, path = stack.pop()
-            index = len(self.insts)
+        # per tree instance (the index of its SubTree node, -1: the main tree): its blackboard
+        # and its path of SubTree names (the owner of its slots in the header's comments)
+        bb_of: dict[int, bbmod.Blackboard] = {-1: root}
+        path_of: dict[int, str] = {-1: ""}
+        for n in self.numbering:
+            node, index = n.node, n.index
+            bb, path = bb_of[n.instance], path_of[n.instance]
             if isinstance(node, SubTreeNode):
                 inst = _Inst(index, node, "SubTree", BUILTINS["SubTree"], bb, {})
                 self.insts.append(inst)
                 sub_path = f"{path}/{node.display_name}" if path else node.display_name
                 child_bb = self._subtree_blackboard(node, bb, sub_path)
-                self.bb_uid[id(child_bb)] = index + 1
-                stack.append((self.m.tree(node.target).root, child_bb, sub_path))
+                self.bb_uid[id(child_bb)] = n.uid
+                bb_of[index], path_of[index] = child_bb, sub_path
                 continue
             ports = _ports_of(self.m, node)
             try:
@@ -384,8 +389,6 @@ class _Analyzer:
                     if before is None and not s.origin:
                         s.origin = f"created as {entry.type_name} by port `{p.name}` of {inst.what}"
                         s.origin_loc = p.attr.value_loc
-            for child in reversed(node.children):
-                stack.append((child, bb, path))
 
     def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
         """The entries the application sets in this blackboard before the first tick (--entry):
@@ -1835,10 +1838,13 @@ class _Compiler:
         )
 
 
-def analyze(mission: Mission, options: Optional[DataOptions] = None) -> tuple[DataIR, DiagnosticSink]:
-    """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable)."""
+def analyze(
+    mission: Mission, options: Optional[DataOptions] = None, numbering: Optional[Numbering] = None
+) -> tuple[DataIR, DiagnosticSink]:
+    """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable).
+    `numbering`: the mission's node numbering (ir/numbering.py), when the caller has it."""
     with kinds.user_kinds(mission.user_types):
-        a = _Analyzer(mission, options or DataOptions())
+        a = _Analyzer(mission, options or DataOptions(), numbering)
         a.load()
         a.collect()
         a.name_slots()

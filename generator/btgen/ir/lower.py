@@ -21,6 +21,7 @@ from typing import Optional
 from btgen.backend_cpp.naming import model_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
 from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
+from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
 from btgen.lang.catalogue import builtins_for
@@ -159,34 +160,11 @@ class Program:
 
 
 # ------------------------------------------------------------------ traversal
-def _expanded(mission: Mission):
-    """(node, parent index, depth, tree id) in creation order, SubTrees inlined.
-
-    Iterative, so deep trees do not hit Python's recursion limit.
-    """
-    stack: list[tuple[Node, int, int, str]] = [(mission.main.root, -1, 1, mission.main_tree)]
-    index = 0
-    while stack:
-        node, parent, depth, tree = stack.pop()
-        yield node, parent, depth, tree
-        me = index
-        index += 1
-        if isinstance(node, SubTreeNode):
-            target = mission.tree(node.target)
-            stack.append((target.root, me, depth + 1, target.id))
-        else:
-            for child in reversed(node.children):
-                stack.append((child, me, depth + 1, tree))
-
-
 def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
     """(UID, registration ID, name) of every node of the main tree, SubTrees inlined:
     the numbers BehaviorTree.CPP (and Groot2) give them. Works on any mission,
     including those the C++ back end cannot compile yet."""
-    return [
-        (i + 1, "SubTree" if isinstance(n, SubTreeNode) else n.id, n.display_name)
-        for i, (n, _, _, _) in enumerate(_expanded(mission))
-    ]
+    return [(n.uid, n.reg_id, n.node.display_name) for n in number_nodes(mission)]
 
 
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
@@ -297,7 +275,8 @@ class _Lowerer:
 
     def lower(self) -> Program:
         m = self.m
-        data, data_sink = analyze(m, self.options)
+        numbering = number_nodes(m)
+        data, data_sink = analyze(m, self.options, numbering)
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
@@ -310,14 +289,11 @@ class _Lowerer:
         leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
-        raw: list[dict] = []
-        children: dict[int, list[int]] = {}
+        nodes: list[IRNode] = []
+        child_table: list[int] = []
         counter = timer = 0
-        for node, parent, depth, tree in _expanded(m):
-            index = len(raw)
-            if parent >= 0:
-                children[parent].append(index)
-            children[index] = []
+        for n in numbering:
+            node, index = n.node, n.index
             if isinstance(node, SubTreeNode):
                 kind, nslots, ntimers, model = "SubTree", 0, 0, -1
             elif node.id in SUPPORTED:
@@ -331,51 +307,32 @@ class _Lowerer:
                 model = model_index[node.id]
             else:
                 raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")
-            raw.append(
-                dict(
-                    node=node,
-                    parent=parent,
-                    depth=depth,
-                    tree=tree,
-                    kind=kind,
-                    model=model,
-                    slot=counter if nslots else -1,
-                    timer=timer if ntimers else -1,
-                )
-            )
-            counter += nslots
-            timer += ntimers
             if index + 1 > 0xFFFF:  # UIDs are 16-bit; index 0xFFFF is kNoNode, so at most 65535 nodes
                 raise InternalError("more nodes than the front end allows")
-
-        child_table: list[int] = []
-        nodes: list[IRNode] = []
-        for index, r in enumerate(raw):
-            node = r["node"]
-            kids = tuple(children[index])
-            params = data.params.get(index) or self.params(node, len(kids))
-            reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id
+            params = data.params.get(index) or self.params(node, len(n.children))
             nodes.append(
                 IRNode(
                     index,
-                    index + 1,
-                    r["kind"],
-                    reg_id,
+                    n.uid,
+                    kind,
+                    n.reg_id,
                     node.display_name,
-                    r["parent"],
-                    kids,
+                    n.parent,
+                    n.children,
                     len(child_table),
-                    r["depth"],
+                    n.depth,
                     params,
-                    r["slot"],
-                    r["timer"],
-                    r["model"],
+                    counter if nslots else -1,
+                    timer if ntimers else -1,
+                    model,
                     node.loc,
-                    r["tree"],
+                    n.tree,
                     data.script_bits.get(index, 0),
                 )
             )
-            child_table.extend(kids)
+            child_table.extend(n.children)
+            counter += nslots
+            timer += ntimers
         self._check_conditions(nodes)
         self.sink.raise_if_errors()
         return Program(
@@ -391,7 +348,7 @@ class _Lowerer:
             any(n.kind in ("Parallel", "ParallelAll") for n in nodes),
             _unrun_leaves(m),
             data,
-            groot2_tree(m),
+            groot2_tree(m, numbering),
             m.btcpp,
         )
 
