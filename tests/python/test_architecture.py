@@ -88,3 +88,28 @@ def test_the_known_debt_is_still_real():
 def test_every_subpackage_is_in_the_table():
     subpackages = {p.parent.name for p in PACKAGE.glob("*/__init__.py")}
     assert subpackages <= set(ALLOWED), subpackages - set(ALLOWED)
+
+
+def _module_level_names(path: Path) -> set[str]:
+    names = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        targets = (
+            node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(node, ast.AnnAssign) else []
+        )
+        names |= {t.id for t in targets if isinstance(t, ast.Name)}
+    return names
+
+
+def test_the_ir_keeps_no_module_level_mutable_state():
+    """The IR passes what a compile needs as values: no table of a module changes during a
+    run, and its constant tables cannot be changed (frozenset, MappingProxyType, tuples)."""
+    import importlib
+
+    mutable = []
+    for path in sorted((PACKAGE / "ir").rglob("*.py")):
+        module = importlib.import_module(_module_name(path))
+        for name in sorted(_module_level_names(path)):
+            value = getattr(module, name)
+            if isinstance(value, (dict, list, set, bytearray)):
+                mutable.append(f"{module.__name__}.{name}: {type(value).__name__}")
+    assert mutable == []

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
@@ -67,52 +68,60 @@ class DataOptions:
 
 
 # ScriptSlot enumerators (runtime/include/btgen/blackboard.hpp), by attribute.
-SCRIPT_SLOTS = {
-    "_failureIf": "kFailureIf",
-    "_successIf": "kSuccessIf",
-    "_skipIf": "kSkipIf",
-    "_while": "kWhile",
-    "_onSuccess": "kOnSuccess",
-    "_onFailure": "kOnFailure",
-    "_post": "kPost",
-    "_onHalted": "kOnHalted",
-    "code": "kCode",
-    "if": "kCode",
-}
-SCRIPT_BIT = {
-    "kFailureIf": 0,
-    "kSuccessIf": 1,
-    "kSkipIf": 2,
-    "kWhile": 3,
-    "kOnSuccess": 4,
-    "kOnFailure": 5,
-    "kPost": 6,
-    "kOnHalted": 7,
-    "kCode": 8,
-}
+SCRIPT_SLOTS = MappingProxyType(
+    {
+        "_failureIf": "kFailureIf",
+        "_successIf": "kSuccessIf",
+        "_skipIf": "kSkipIf",
+        "_while": "kWhile",
+        "_onSuccess": "kOnSuccess",
+        "_onFailure": "kOnFailure",
+        "_post": "kPost",
+        "_onHalted": "kOnHalted",
+        "code": "kCode",
+        "if": "kCode",
+    }
+)
+SCRIPT_BIT = MappingProxyType(
+    {
+        "kFailureIf": 0,
+        "kSuccessIf": 1,
+        "kSkipIf": 2,
+        "kWhile": 3,
+        "kOnSuccess": 4,
+        "kOnFailure": 5,
+        "kPost": 6,
+        "kOnHalted": 7,
+        "kCode": 8,
+    }
+)
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 # Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
 # (every tick of Repeat, RetryUntilSuccessful, Timeout and Delay, the start of a Sleep).
-PARAM_PORTS = {
-    ("Repeat", "num_cycles"),
-    ("RetryUntilSuccessful", "num_attempts"),
-    ("Timeout", "msec"),
-    ("Delay", "delay_msec"),
-    ("Sleep", "msec"),
-}
-LITERAL_ONLY = {
-    ("Parallel", "success_count"),
-    ("Parallel", "failure_count"),
-    ("ParallelAll", "max_failures"),
-    ("RunOnce", "then_skip"),
-    ("Precondition", "else"),
-    ("LoopInt", "if_empty"),
-    ("LoopBool", "if_empty"),
-    ("LoopDouble", "if_empty"),
-    ("LoopString", "if_empty"),
-}
-LOOPS = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"}
+PARAM_PORTS = frozenset(
+    {
+        ("Repeat", "num_cycles"),
+        ("RetryUntilSuccessful", "num_attempts"),
+        ("Timeout", "msec"),
+        ("Delay", "delay_msec"),
+        ("Sleep", "msec"),
+    }
+)
+LITERAL_ONLY = frozenset(
+    {
+        ("Parallel", "success_count"),
+        ("Parallel", "failure_count"),
+        ("ParallelAll", "max_failures"),
+        ("RunOnce", "then_skip"),
+        ("Precondition", "else"),
+        ("LoopInt", "if_empty"),
+        ("LoopBool", "if_empty"),
+        ("LoopDouble", "if_empty"),
+        ("LoopString", "if_empty"),
+    }
+)
+LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
 ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
 
 
@@ -327,11 +336,16 @@ class _Analyzer:
         self.script_uses: list[tuple[_Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
         self.node_ops: list[tuple[str, _Inst, dict]] = []
         self.user = {t.kind: t for t in mission.user_types}  # kind -> usertypes.UserType
+        self.user_kinds = kinds.UserKinds.of(mission.user_types)
 
     def error(self, loc: Loc, message: str) -> None:
         if (loc, message) not in self.reported:
             self.reported.add((loc, message))
             self.sink.error(loc, message)
+
+    def kind_of_type(self, type_name: str) -> Optional[str]:
+        """The kind an entry of a declared type holds in this mission (its --type names too)."""
+        return kind_of_type(type_name, self.user_kinds)
 
     def _kind_of_slot(self, slot: int) -> Optional[str]:
         return self.slots[slot].kind
@@ -405,7 +419,7 @@ class _Analyzer:
             s.at_load = True
             s.provided = True
             s.origin = f"provided by the application ({p.option})"
-            kind = kind_of_type(p.type)
+            kind = self.kind_of_type(p.type)
             s.writes.append(
                 _Write(
                     self.slots.index(s),
@@ -702,7 +716,7 @@ class _Analyzer:
                 s = self.slots[d]
                 declared = s.entry.type_name
                 if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
-                    return kind_of_type(declared)
+                    return self.kind_of_type(declared)
                 return "string"
 
             self.slots[dst].writes.append(
@@ -789,7 +803,9 @@ class _Analyzer:
                 return self.slots[q].elem_capacity if q is not None else 0
 
             self.slots[vslot].writes.append(
-                _Write(vslot, self.next_order(), vloc, what, lambda e=elem: kind_of_type(e), True, bound, None, "loop")
+                _Write(
+                    vslot, self.next_order(), vloc, what, lambda e=elem: self.kind_of_type(e), True, bound, None, "loop"
+                )
             )
         self.node_ops.append(
             ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc})
@@ -813,7 +829,7 @@ class _Analyzer:
                 if ps.writes:
                     loc = p.loc_or or inst.node.loc
                     what = f"output port `{ps.name}` of {inst.what}"
-                    kind = kind_of_type(ps.type)
+                    kind = self.kind_of_type(ps.type)
                     if is_queue(kind):
                         self.slots[slot].queue_unbounded = True
                     self.slots[slot].writes.append(
@@ -837,7 +853,7 @@ class _Analyzer:
             # A `string` entry is no constraint in 4.6.2: a script may store a number in it, and
             # string ports read numbers as text. Its type comes from its writes, as for `any`.
             declared = s.entry.type_name
-            s.kind = kind_of_type(declared) if declared != values.STRING else None
+            s.kind = self.kind_of_type(declared) if declared != values.STRING else None
             if s.kind is not None and not s.origin:
                 s.origin = f"declared {declared}"
         # Entries nothing writes: reading them gives no value. Decided first, so an entry written
@@ -977,7 +993,7 @@ class _Analyzer:
             s.kind not in ("int", "double")
             or s.failed
             or s.initial is not None
-            or kind_of_type(s.entry.type_name) != s.kind
+            or self.kind_of_type(s.entry.type_name) != s.kind
         ):
             return
         kinds = [w.kind() for w in s.writes]
@@ -1061,7 +1077,9 @@ class _Analyzer:
     # ------------------------------------------------------------ 5. decide
     def slot_type(self, i: int) -> SlotType:
         s = self.slots[i]
-        return SlotType(s.key, s.kind or "none", s.entry.type_name, s.capacity, s.origin_text)
+        return SlotType(
+            s.key, s.kind or "none", s.entry.type_name, s.capacity, s.origin_text, self.kind_of_type(s.entry.type_name)
+        )
 
 
 def _end_offset(node: sc.Expr, code: str) -> int:
@@ -1089,13 +1107,15 @@ def _end_offset(node: sc.Expr, code: str) -> int:
 
 # ================================================================ compile
 
-TYPE_NAME_OF_KIND = {
-    "int": values.INT,
-    "double": values.DOUBLE,
-    "bool": values.BOOL,
-    "string": values.STRING,
-    "status": values.NODE_STATUS,
-}
+TYPE_NAME_OF_KIND = MappingProxyType(
+    {
+        "int": values.INT,
+        "double": values.DOUBLE,
+        "bool": values.BOOL,
+        "string": values.STRING,
+        "status": values.NODE_STATUS,
+    }
+)
 
 
 class _Compiler:
@@ -1131,7 +1151,7 @@ class _Compiler:
         fails (or would change the entry's type) whenever it runs."""
         s = self.a.slots[slot]
         declared = s.entry.type_name
-        k = kind_of_type(type_name)
+        k = self.a.kind_of_type(type_name)
         if s.kind == DYN:
             self.error(
                 loc,
@@ -1143,7 +1163,7 @@ class _Compiler:
         if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
             ok = k == s.kind
         elif type_name == values.STRING:
-            ok = declared != values.NODE_STATUS and kind_of_type(declared) == s.kind
+            ok = declared != values.NODE_STATUS and self.a.kind_of_type(declared) == s.kind
         else:
             ok = type_name in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) and declared in (
                 values.INT,
@@ -1560,13 +1580,13 @@ class _Compiler:
     # ------------------------------------------------------------ user port types
     def user_cpp(self, type_name: str) -> str:
         """A user port type's C++ spelling (--type); "" for the built-in types."""
-        k = kind_of_type(type_name)
+        k = self.a.kind_of_type(type_name)
         return self.a.user[k].cpp if is_user(k) else ""
 
     def user_read(self, inst: _Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[ops.PortRead]:
         """The getter statement of an input port where a user type (--type) is involved: a literal
         converted once when the mission is constructed, or the entry's value as it is."""
-        pk = kind_of_type(ps.type)
+        pk = self.a.kind_of_type(ps.type)
         if slot is None:  # a literal (or a TreeNodesModel default) of a user-typed port
             return self.user_literal(inst, ps, raw, loc, f"`{raw}`")
         s = self.a.slots[slot]
@@ -1606,7 +1626,7 @@ class _Compiler:
 
     def user_literal(self, inst: _Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> ops.PortRead:
         """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
-        t = self.a.user[kind_of_type(ps.type) or ""]
+        t = self.a.user[self.a.kind_of_type(ps.type) or ""]
         member = self.user_constant(
             inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}", f"port `{ps.name}` of {inst.what}"
         )
@@ -1630,7 +1650,7 @@ class _Compiler:
     def user_write(self, inst: _Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[ops.PortWrite]:
         """The setter of an output port where a user type (--type) is involved."""
         s = self.a.slots[slot]
-        pk = kind_of_type(ps.type)
+        pk = self.a.kind_of_type(ps.type)
         what = f"output port `{ps.name}` of {inst.what}"
         if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
             t = self.a.user[s.kind or ""]
@@ -1660,7 +1680,7 @@ class _Compiler:
                     f"nodes are not supported by the C++ back end yet",
                 )
                 continue
-            pk = kind_of_type(ps.type)
+            pk = self.a.kind_of_type(ps.type)
             # Ports read as text: string and opaque types, and untyped ports (whose T may be text).
             textual = ps.type in (values.ANY, values.STRING) or (values.is_opaque_type(ps.type) and not is_user(pk))
             if ps.reads and (is_user(pk) or (slot is not None and is_user(self.a.slots[slot].kind))):
@@ -1813,7 +1833,7 @@ class _Compiler:
             )
             for i, s in enumerate(self.a.slots)
         )
-        used = {kind_of_type(ps.type) for spec in self.a.m.user_models() for ps in spec.ports} | {
+        used = {self.a.kind_of_type(ps.type) for spec in self.a.m.user_models() for ps in spec.ports} | {
             s.kind for s in self.a.slots
         }
         user_types = tuple(t for t in self.a.m.user_types if t.kind in used)
@@ -1843,12 +1863,11 @@ def analyze(
 ) -> tuple[DataIR, DiagnosticSink]:
     """The data side of `mission`'s main tree, with the diagnostics found (errors make it unusable).
     `numbering`: the mission's node numbering (ir/numbering.py), when the caller has it."""
-    with kinds.user_kinds(mission.user_types):
-        a = _Analyzer(mission, options or DataOptions(), numbering)
-        a.load()
-        a.collect()
-        a.name_slots()
-        a.type_slots()
-        a.size_slots()
-        ir = _Compiler(a).run()
+    a = _Analyzer(mission, options or DataOptions(), numbering)
+    a.load()
+    a.collect()
+    a.name_slots()
+    a.type_slots()
+    a.size_slots()
+    ir = _Compiler(a).run()
     return ir, a.sink

@@ -15,7 +15,9 @@ resolved by dataflow.py; its DataIR travels in the Program.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Optional
 
 from btgen.backend_cpp.naming import model_identifiers
@@ -29,50 +31,52 @@ from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
-SUPPORTED: dict[str, tuple[str, int, int]] = {
-    "Sequence": ("Sequence", 2, 0),  # current child, "a child did not skip" (all_skipped_)
-    "AsyncSequence": ("AsyncSequence", 2, 0),
-    "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
-    "ReactiveSequence": ("ReactiveSequence", 0, 0),
-    "Fallback": ("Fallback", 2, 0),
-    "AsyncFallback": ("AsyncFallback", 2, 0),
-    "ReactiveFallback": ("ReactiveFallback", 0, 0),
-    "Parallel": ("Parallel", 2, 0),  # successes, failures
-    "ParallelAll": ("ParallelAll", 1, 0),  # failures
-    "IfThenElse": ("IfThenElse", 1, 0),  # branch being run
-    "WhileDoElse": ("WhileDoElse", 0, 0),
-    "Inverter": ("Inverter", 0, 0),
-    "ForceSuccess": ("ForceSuccess", 0, 0),
-    "ForceFailure": ("ForceFailure", 0, 0),
-    "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
-    "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
-    "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
-    "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
-    "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
-    "Delay": ("Delay", 1, 1),  # started; start time
-    "SubTree": ("SubTree", 0, 0),
-    "Switch2": ("Switch", 1, 0),  # the case RUNNING + 1 (0: none)
-    "Switch3": ("Switch", 1, 0),
-    "Switch4": ("Switch", 1, 0),
-    "Switch5": ("Switch", 1, 0),
-    "Switch6": ("Switch", 1, 0),
-    "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
-    "LoopInt": ("Loop", 1, 0),  # child RUNNING
-    "LoopBool": ("Loop", 1, 0),
-    "LoopDouble": ("Loop", 1, 0),
-    "LoopString": ("Loop", 1, 0),
-    "SkipUnlessUpdated": ("SkipUnlessUpdated", 1, 1),  # child RUNNING; update counter seen
-    "WaitValueUpdate": ("WaitValueUpdate", 1, 1),
-    "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
-    "AlwaysFailure": ("AlwaysFailure", 0, 0),
-    "Sleep": ("Sleep", 0, 1),  # start time
-    "Script": ("Script", 0, 0),
-    "ScriptCondition": ("ScriptCondition", 0, 0),
-    "SetBlackboard": ("SetBlackboard", 0, 0),
-    "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
-    "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
-    "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
-}
+SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
+    {
+        "Sequence": ("Sequence", 2, 0),  # current child, "a child did not skip" (all_skipped_)
+        "AsyncSequence": ("AsyncSequence", 2, 0),
+        "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
+        "ReactiveSequence": ("ReactiveSequence", 0, 0),
+        "Fallback": ("Fallback", 2, 0),
+        "AsyncFallback": ("AsyncFallback", 2, 0),
+        "ReactiveFallback": ("ReactiveFallback", 0, 0),
+        "Parallel": ("Parallel", 2, 0),  # successes, failures
+        "ParallelAll": ("ParallelAll", 1, 0),  # failures
+        "IfThenElse": ("IfThenElse", 1, 0),  # branch being run
+        "WhileDoElse": ("WhileDoElse", 0, 0),
+        "Inverter": ("Inverter", 0, 0),
+        "ForceSuccess": ("ForceSuccess", 0, 0),
+        "ForceFailure": ("ForceFailure", 0, 0),
+        "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
+        "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
+        "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
+        "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
+        "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
+        "Delay": ("Delay", 1, 1),  # started; start time
+        "SubTree": ("SubTree", 0, 0),
+        "Switch2": ("Switch", 1, 0),  # the case RUNNING + 1 (0: none)
+        "Switch3": ("Switch", 1, 0),
+        "Switch4": ("Switch", 1, 0),
+        "Switch5": ("Switch", 1, 0),
+        "Switch6": ("Switch", 1, 0),
+        "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
+        "LoopInt": ("Loop", 1, 0),  # child RUNNING
+        "LoopBool": ("Loop", 1, 0),
+        "LoopDouble": ("Loop", 1, 0),
+        "LoopString": ("Loop", 1, 0),
+        "SkipUnlessUpdated": ("SkipUnlessUpdated", 1, 1),  # child RUNNING; update counter seen
+        "WaitValueUpdate": ("WaitValueUpdate", 1, 1),
+        "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
+        "AlwaysFailure": ("AlwaysFailure", 0, 0),
+        "Sleep": ("Sleep", 0, 1),  # start time
+        "Script": ("Script", 0, 0),
+        "ScriptCondition": ("ScriptCondition", 0, 0),
+        "SetBlackboard": ("SetBlackboard", 0, 0),
+        "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
+        "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
+        "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
+    }
+)
 # Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")

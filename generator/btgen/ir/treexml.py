@@ -20,6 +20,7 @@ ports) is written here in a fixed order: the file's order, then defaults.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Optional
 
 from btgen.ir.numbering import Numbering, number_nodes, subtree_path
@@ -27,15 +28,17 @@ from btgen.lang.catalogue import POST_CONDITIONS, PRE_CONDITIONS, NodeSpec
 from btgen.lang.model import Mission, Node, SubTreeNode
 
 # 4.6.2's demangled type names for the canonical ones (values.normalize_type reads them back).
-_CPP_TYPES = {
-    "string": "std::string",
-    "int": "int",
-    "unsigned": "unsigned int",
-    "double": "double",
-    "bool": "bool",
-    "NodeStatus": "BT::NodeStatus",
-    "any": "BT::AnyTypeAllowed",
-}
+_CPP_TYPES = MappingProxyType(
+    {
+        "string": "std::string",
+        "int": "int",
+        "unsigned": "unsigned int",
+        "double": "double",
+        "bool": "bool",
+        "NodeStatus": "BT::NodeStatus",
+        "any": "BT::AnyTypeAllowed",
+    }
+)
 
 
 def _cpp_type(canonical: str) -> str:
