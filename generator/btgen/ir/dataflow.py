@@ -34,9 +34,10 @@ of that here, once:
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Callable, Optional
+from typing import Callable, Optional, Union
 
 from btgen.backend_cpp.naming import entry_identifiers, model_identifiers, port_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc, did_you_mean
@@ -51,6 +52,7 @@ from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS, NodeSpec, PortSpec
 from btgen.lang.instance import instance_ports, subtree_remapping
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.lang.status import NodeStatus
 
 DEFAULT_STRING_CAPACITY = 128
 DEFAULT_QUEUE_CAPACITY = 16
@@ -213,9 +215,9 @@ class DataIR:
     entries: tuple[DataOp, ...]  # WasEntryUpdated & co.: EntrySeq
     switches: tuple[DataOp, ...]  # SwitchN: SwitchCases
     loops: tuple[DataOp, ...]  # LoopX: LoopPop
-    ports: dict  # model id -> tuple[PortIR, ...]
-    script_bits: dict  # node index -> NodeInfo::scripts bits
-    params: dict  # node index -> (p0, p1, p2) for data nodes
+    ports: Mapping[str, tuple[PortIR, ...]]  # model id -> its ports' accessors
+    script_bits: Mapping[int, int]  # node index -> NodeInfo::scripts bits
+    params: Mapping[int, tuple[int, int, int]]  # node index -> (p0, p1, p2) for data nodes
     string_capacity: int
     queue_capacity: int
     where: tuple[Loc, ...]  # the places run-time errors name (Fail.where indexes them)
@@ -310,6 +312,96 @@ class _Slot:
         return f"{self.origin} at {self.origin_loc}" if self.origin_loc is not None else self.origin
 
 
+# ---------------------------------------------------------------- what each node does with data
+# Found by the resolve pass (one record per use, in creation order), compiled by _Compiler.
+
+
+@dataclass(frozen=True)
+class ParamUse:
+    """A count or duration of Repeat, RetryUntilSuccessful, Timeout, Delay, Sleep given as `{key}`."""
+
+    slot: int
+    port: str
+    key: str
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class StatusParam:
+    """p0 of the node's row: a converted literal (Precondition `else`, Loop `if_empty`) or a count."""
+
+    p0: Optional[Union[int, NodeStatus]]  # None: the literal did not convert (reported)
+
+
+@dataclass(frozen=True)
+class UnsetUse:
+    key: str
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class EntryUse:
+    """WasEntryUpdated, SkipUnlessUpdated, WaitValueUpdate: the entry they watch."""
+
+    slot: int
+    key: str
+
+
+@dataclass(frozen=True)
+class SetLiteralUse:
+    dst: int
+    text: str
+    loc: Loc
+    key: str
+
+
+@dataclass(frozen=True)
+class SetCopyUse:
+    dst: int
+    src: int
+    loc: Loc
+    key: str
+    src_key: str
+
+
+@dataclass(frozen=True)
+class SwitchUse:
+    reads: tuple[tuple[str, Optional[str], Optional[int]], ...]  # (port, text, slot): variable, then cases
+    cases: int
+
+
+@dataclass(frozen=True)
+class LoopUse:
+    elem: str
+    static: Optional[tuple]  # the queue's items, when the port is a literal
+    qslot: Optional[int]
+    vslot: Optional[int]
+    loc: Loc
+
+
+@dataclass(frozen=True)
+class PortUse:
+    """A port of a user leaf, Control or Decorator."""
+
+    port: PortSpec
+    slot: Optional[int]
+    raw: str
+    p: _Port
+
+
+@dataclass
+class _PortAccess:
+    """What the accessors of one port of a user model do, node by node (gathered into a PortIR)."""
+
+    spec: PortSpec
+    reads: list[tuple[int, ops.PortRead]] = field(default_factory=list)
+    writes: list[tuple[int, ops.PortWrite]] = field(default_factory=list)
+    scratch: bool = False  # a getter writes a number's text into a member
+
+
+NodeUse = Union[ParamUse, StatusParam, UnsetUse, EntryUse, SetLiteralUse, SetCopyUse, SwitchUse, LoopUse, PortUse]
+
+
 def _ports_of(mission: Mission, model: Node) -> dict[str, _Port]:
     """The ports of an instance as the interpreter builds them (lang/instance.py)."""
     return {p.name: _Port(p.name, p.raw, p.attr, p.spec) for p in instance_ports(mission, model)}
@@ -334,7 +426,7 @@ class _Analyzer:
         self.order = 0
         # per-node uses, filled by _collect
         self.script_uses: list[tuple[_Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
-        self.node_ops: list[tuple[str, _Inst, dict]] = []
+        self.node_ops: list[tuple[_Inst, NodeUse]] = []
         self.user = {t.kind: t for t in mission.user_types}  # kind -> usertypes.UserType
         self.user_kinds = kinds.UserKinds.of(mission.user_types)
 
@@ -528,7 +620,7 @@ class _Analyzer:
                     loc = p.loc_or or node.loc
                     slot = self.resolve(inst.bb, key, loc)
                     if slot is not None:
-                        self.node_ops.append(("param", inst, {"slot": slot, "port": p.name, "key": key, "loc": loc}))
+                        self.node_ops.append((inst, ParamUse(slot, p.name, key, loc)))
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
                     self.error(
                         p.loc_or or node.loc,
@@ -646,6 +738,11 @@ class _Analyzer:
             self.error(p.loc_or or inst.node.loc, f"port `{name}` of {inst.what}: {e}")
             return None
 
+    def _status_literal(self, inst: _Inst, name: str) -> Optional[NodeStatus]:
+        value = self._literal(inst, name, values.NODE_STATUS)
+        assert value is None or isinstance(value, NodeStatus), value
+        return value
+
     def _collect_builtin(self, inst: _Inst) -> None:
         nid = inst.reg_id
         node = inst.node
@@ -657,7 +754,7 @@ class _Analyzer:
             p = inst.ports["if"]
             if p.attr is not None:
                 self._script_use(inst, p.attr, "if", condition=True)
-            self.node_ops.append(("params", inst, {"p0": self._literal(inst, "else", values.NODE_STATUS)}))
+            self.node_ops.append((inst, StatusParam(self._status_literal(inst, "else"))))
         elif nid == "SetBlackboard":
             self._collect_set_blackboard(inst)
         elif nid == "UnsetBlackboard":
@@ -670,13 +767,13 @@ class _Analyzer:
                     f"`{key}`; the C++ back end needs the key written here",
                 )
                 return
-            self.node_ops.append(("unset", inst, {"key": key, "loc": p.loc_or or node.loc}))
+            self.node_ops.append((inst, UnsetUse(key, p.loc_or or node.loc)))
         elif nid in ENTRY_NODES:
             p = inst.ports["entry"]
             key = bbmod.strip_blackboard_pointer(p.raw) or p.raw
             slot = self.resolve(inst.bb, key, p.loc_or or node.loc)
             if slot is not None:
-                self.node_ops.append(("entry", inst, {"slot": slot, "key": key}))
+                self.node_ops.append((inst, EntryUse(slot, key)))
         elif nid.startswith("Switch"):
             self._collect_switch(inst)
         elif nid in LOOPS:
@@ -733,7 +830,7 @@ class _Analyzer:
                 )
             )
             self._queue_literal(dst, text)
-            self.node_ops.append(("set_literal", inst, {"dst": dst, "text": text, "loc": loc, "key": out.raw}))
+            self.node_ops.append((inst, SetLiteralUse(dst, text, loc, out.raw)))
             return
         src = self.resolve(inst.bb, src_key, loc)
         if src is None:
@@ -752,9 +849,7 @@ class _Analyzer:
                 "copy",
             )
         )
-        self.node_ops.append(
-            ("set_copy", inst, {"dst": dst, "src": src, "loc": loc, "key": out.raw, "src_key": src_key})
-        )
+        self.node_ops.append((inst, SetCopyUse(dst, src, loc, out.raw, src_key)))
 
     def _queue_literal(self, slot: int, text: str) -> None:
         s = self.slots[slot]
@@ -773,19 +868,21 @@ class _Analyzer:
             p = inst.ports.get(name)
             slot = self._port_slot(inst, name)
             reads.append((name, p.raw if p is not None else None, slot))
-        self.node_ops.append(("switch", inst, {"reads": reads, "cases": n_cases}))
-        self.node_ops.append(("params", inst, {"p0": n_cases}))
+        self.node_ops.append((inst, SwitchUse(tuple(reads), n_cases)))
+        self.node_ops.append((inst, StatusParam(n_cases)))
 
     def _collect_loop(self, inst: _Inst, elem: str) -> None:
         node = inst.node
         queue_port = inst.ports["queue"]
         qkey = bbmod.remapped_key("queue", queue_port.raw)
-        static = None
+        static: Optional[tuple] = None
         qslot = None
         loc = queue_port.loc_or or node.loc
         if qkey is None:
             try:
-                static = values.convert_from_string(f"queue<{elem}>", queue_port.raw)
+                queue = values.convert_from_string(f"queue<{elem}>", queue_port.raw)
+                assert isinstance(queue, values.Queue)
+                static = tuple(queue)
             except values.ConversionError as e:
                 self.error(loc, f"port `queue` of {inst.what}: {e}")
                 return
@@ -807,10 +904,8 @@ class _Analyzer:
                     vslot, self.next_order(), vloc, what, lambda e=elem: self.kind_of_type(e), True, bound, None, "loop"
                 )
             )
-        self.node_ops.append(
-            ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc})
-        )
-        self.node_ops.append(("params", inst, {"p0": self._literal(inst, "if_empty", values.NODE_STATUS)}))
+        self.node_ops.append((inst, LoopUse(elem, static, qslot, vslot, loc)))
+        self.node_ops.append((inst, StatusParam(self._status_literal(inst, "if_empty"))))
 
     # -- user leaves
     def _collect_leaf(self, inst: _Inst) -> None:
@@ -845,7 +940,7 @@ class _Analyzer:
                             "port",
                         )
                     )
-            self.node_ops.append(("port", inst, {"port": ps, "slot": slot, "raw": p.raw, "p": p}))
+            self.node_ops.append((inst, PortUse(ps, slot, p.raw, p)))
 
     # ------------------------------------------------------------ 3. kinds
     def type_slots(self) -> None:
@@ -1063,7 +1158,7 @@ class _Analyzer:
         owner_of: dict[int, tuple[str, str, int]] = {}
         for bb in self.bbs:
             for key in bb.local_keys():
-                entry = bb._storage[key]
+                entry = bb.local_entry(key)
                 owner_of[id(entry)] = (self.bb_labels[id(bb)], key, self.bb_uid.get(id(bb), 0))
         raw_names = []
         for s in self.slots:
@@ -1283,33 +1378,33 @@ class _Compiler:
         return out
 
     # ------------------------------------------------------------ data nodes
-    def unset(self, inst: _Inst, op: dict) -> DataOp:
-        key = op["key"]
-        entry = inst.bb._storage.get(key)
+    def unset(self, inst: _Inst, op: UnsetUse) -> DataOp:
+        key = op.key
+        entry = inst.bb.local_entry(key)
         slot = self.a.slot_of_entry[id(entry)] if entry is not None else None
         return DataOp(inst.index, f'UnsetBlackboard "{inst.node.display_name}" key={key}', ops.Unset(slot, key))
 
     def mark_unsets(self) -> None:
         """Entries UnsetBlackboard can remove may be missing when a script runs."""
-        for kind, inst, op in self.a.node_ops:
-            if kind != "unset":
+        for inst, op in self.a.node_ops:
+            if not isinstance(op, UnsetUse):
                 continue
-            entry = inst.bb._storage.get(op["key"])
+            entry = inst.bb.local_entry(op.key)
             if entry is None:
                 continue
             s = self.a.slots[self.a.slot_of_entry[id(entry)]]
-            key = op["key"]
+            key = op.key
             if s.initial is not None and (key in inst.bb.remapping or (inst.bb.autoremap and not key.startswith("_"))):
                 self.error(
-                    op["loc"],
+                    op.loc,
                     f"UnsetBlackboard of `{key}`, a constant port of its SubTree, would make "
                     f"`{key}` reach the parent's entry afterwards; the C++ back end resolves keys "
                     f"once, so it cannot follow that",
                 )
             s.unset = True
 
-    def set_literal(self, inst: _Inst, op: dict) -> Optional[DataOp]:
-        dst, text, loc = op["dst"], op["text"], op["loc"]
+    def set_literal(self, inst: _Inst, op: SetLiteralUse) -> Optional[DataOp]:
+        dst, text, loc = op.dst, op.text, op.loc
         s = self.a.slots[dst]
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
@@ -1329,7 +1424,7 @@ class _Compiler:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
                 return None
-            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op["key"], what + ": ", self.where(loc)))
+            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc)))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
                 self.error(
@@ -1361,8 +1456,8 @@ class _Compiler:
     def overflow_message(self, text: str, s: _Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
 
-    def set_copy(self, inst: _Inst, op: dict) -> Optional[DataOp]:
-        dst, src, loc = op["dst"], op["src"], op["loc"]
+    def set_copy(self, inst: _Inst, op: SetCopyUse) -> Optional[DataOp]:
+        dst, src, loc = op.dst, op.src, op.loc
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
@@ -1397,7 +1492,7 @@ class _Compiler:
                 f"refuses that copy or changes the entry's type",
             )
             return None
-        missing = self.fail(loc, f"{what}: `value` reads blackboard entry `{op['src_key']}`, which does not exist")
+        missing = self.fail(loc, f"{what}: `value` reads blackboard entry `{op.src_key}`, which does not exist")
         fail: Optional[ops.Fail] = None
         if convert:
             how = "convert"
@@ -1413,9 +1508,9 @@ class _Compiler:
             ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
         )
 
-    def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
+    def set_copy_dynamic(self, inst: _Inst, op: SetCopyUse, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
-        loc = op["loc"]
+        loc = op.loc
         src_decl = s.entry.type_name
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
             self.error(
@@ -1427,16 +1522,16 @@ class _Compiler:
             )
             return None
         missing = self.fail(
-            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op['src_key']}`, which does not exist"
+            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
         )
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
             ops.SetCopyDyn(
-                op["dst"],
-                op["src"],
+                op.dst,
+                op.src,
                 src_decl == values.STRING,
-                op["key"],
+                op.key,
                 what + ": ",
                 missing,
                 self.where(loc),
@@ -1466,10 +1561,10 @@ class _Compiler:
         """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
         return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
 
-    def param_read(self, inst: _Inst, op: dict) -> Optional[DataOp]:
+    def param_read(self, inst: _Inst, op: ParamUse) -> Optional[DataOp]:
         """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
-        s = self.a.slots[op["slot"]]
-        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op["port"]}` reads blackboard entry `{op["key"]}`'
+        s = self.a.slots[op.slot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
         constant: Optional[int] = None
         if (
             s.kind == "string"
@@ -1479,35 +1574,33 @@ class _Compiler:
         ):
             # A SubTree's constant port (`n="3"`): text that never changes, converted once here
             # as 4.6.2's getInput converts it on every read.
-            port_type = values.UNSIGNED if op["port"] in ("msec", "delay_msec") else values.INT
+            port_type = values.UNSIGNED if op.port in ("msec", "delay_msec") else values.INT
             try:
                 converted = values.convert_from_string(port_type, s.initial)
             except values.ConversionError as e:
-                self.error(op["loc"], f"{what}: {e}")
+                self.error(op.loc, f"{what}: {e}")
                 return None
             constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
         elif s.kind != "int":
             self.error(
-                op["loc"],
-                f"port `{op['port']}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                op.loc,
+                f"port `{op.port}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
                 f"{s.origin_text}); the C++ back end reads it from an integer entry only",
             )
             return None
         return DataOp(
             inst.index,
-            f'{inst.reg_id} "{inst.node.display_name}" {op["port"]}={{{op["key"]}}}',
+            f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
             ops.ParamRead(
-                op["slot"],
-                self.fail(op["loc"], f"{what}, which does not exist"),
-                self.fail(op["loc"], f"{what}, which has no value yet"),
+                op.slot,
+                self.fail(op.loc, f"{what}, which does not exist"),
+                self.fail(op.loc, f"{what}, which has no value yet"),
                 constant,
             ),
         )
 
-    def entry(self, inst: _Inst, op: dict) -> DataOp:
-        return DataOp(
-            inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op["key"]}', ops.EntrySeq(op["slot"])
-        )
+    def entry(self, inst: _Inst, op: EntryUse) -> DataOp:
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op.key}', ops.EntrySeq(op.slot))
 
     @staticmethod
     def operand(slot: Optional[int], raw: Optional[str]) -> ops.TextOperand:
@@ -1516,18 +1609,18 @@ class _Compiler:
             return ops.TextOperand()
         return ops.TextOperand(slot, raw if slot is None else None)
 
-    def switch(self, inst: _Inst, op: dict) -> DataOp:
-        reads = op["reads"]
+    def switch(self, inst: _Inst, op: SwitchUse) -> DataOp:
+        reads = op.reads
         _name, raw, slot = reads[0]
         labels = tuple(self.operand(cslot, craw) for _cname, craw, cslot in reads[1:])
         return DataOp(
             inst.index,
             f'{inst.reg_id} "{inst.node.display_name}"',
-            ops.SwitchCases(op["cases"], self.operand(slot, raw), labels),
+            ops.SwitchCases(op.cases, self.operand(slot, raw), labels),
         )
 
-    def loop(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[DataOp]:
-        elem, static, qslot, vslot, loc = op["elem"], op["static"], op["qslot"], op["vslot"], op["loc"]
+    def loop(self, inst: _Inst, op: LoopUse, locals_: list[LocalIR]) -> Optional[DataOp]:
+        elem, static, qslot, vslot, loc = op.elem, op.static, op.qslot, op.vslot, op.loc
         what = f'`{inst.reg_id}` "{inst.node.display_name}"'
         local, items, no_value = "", (), None
         if static is not None:
@@ -1663,15 +1756,15 @@ class _Compiler:
         return ops.WriteUser(slot)
 
     # ------------------------------------------------------------ user leaf ports
-    def ports(self) -> dict:
-        by_model: dict[str, dict[str, dict]] = {}
-        for kind, inst, op in self.a.node_ops:
-            if kind != "port":
+    def ports(self) -> dict[str, tuple[PortIR, ...]]:
+        by_model: dict[str, dict[str, _PortAccess]] = {}
+        for inst, op in self.a.node_ops:
+            if not isinstance(op, PortUse):
                 continue
-            ps: PortSpec = op["port"]
+            ps: PortSpec = op.port
             model = by_model.setdefault(inst.reg_id, {})
-            entry = model.setdefault(ps.name, {"spec": ps, "reads": [], "writes": [], "scratch": False})
-            slot, raw, p = op["slot"], op["raw"], op["p"]
+            entry = model.setdefault(ps.name, _PortAccess(ps))
+            slot, raw, p = op.slot, op.raw, op.p
             loc = p.loc_or or inst.node.loc
             if values.queue_element_type(ps.type) is not None:
                 self.error(
@@ -1687,7 +1780,7 @@ class _Compiler:
                 read = self.user_read(inst, ps, slot, raw, loc)
                 if read is None:
                     continue
-                entry["reads"].append((inst.index, read))
+                entry.reads.append((inst.index, read))
             elif ps.reads:
                 if slot is not None:
                     s = self.a.slots[slot]
@@ -1696,22 +1789,22 @@ class _Compiler:
                         continue
                     text = textual and (is_numeric(s.kind) or s.kind == DYN)
                     if text:
-                        entry["scratch"] = True
-                    entry["reads"].append((inst.index, ops.ReadEntry(slot, text)))
+                        entry.scratch = True
+                    entry.reads.append((inst.index, ops.ReadEntry(slot, text)))
                 elif ps.type != values.ANY:
                     try:
                         value = values.convert_from_string(
                             ps.type if not values.is_opaque_type(ps.type) else values.STRING, raw
                         )
-                        entry["reads"].append((inst.index, ops.ReadLiteral(ps.type, value)))
+                        entry.reads.append((inst.index, ops.ReadLiteral(ps.type, value)))
                     except values.ConversionError:
-                        entry["reads"].append((inst.index, ops.ReadLiteral(ps.type, None, ok=False)))
+                        entry.reads.append((inst.index, ops.ReadLiteral(ps.type, None, ok=False)))
                 else:
-                    entry["reads"].append((inst.index, ops.ParseLiteral(raw)))
+                    entry.reads.append((inst.index, ops.ParseLiteral(raw)))
             if ps.writes and slot is not None and (is_user(pk) or is_user(self.a.slots[slot].kind)):
                 write = self.user_write(inst, ps, slot, loc)
                 if write is not None:
-                    entry["writes"].append((inst.index, write))
+                    entry.writes.append((inst.index, write))
             elif ps.writes and slot is not None:
                 if ps.type != values.ANY and not self.typed_write_ok(
                     slot,
@@ -1722,12 +1815,12 @@ class _Compiler:
                     continue
                 s = self.a.slots[slot]
                 fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)
-                entry["writes"].append((inst.index, ops.WriteEntry(slot, s.entry.type_name, fail)))
+                entry.writes.append((inst.index, ops.WriteEntry(slot, s.entry.type_name, fail)))
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
         # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
-        declared: dict[str, dict[str, dict]] = {}
+        declared: dict[str, dict[str, _PortAccess]] = {}
         for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
@@ -1735,7 +1828,7 @@ class _Compiler:
                 if ps.name in used:
                     model[ps.name] = used[ps.name]
                 elif values.queue_element_type(ps.type) is None:
-                    model[ps.name] = {"spec": ps, "reads": [], "writes": [], "scratch": False}
+                    model[ps.name] = _PortAccess(ps)
         by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
         model_ids = [m.id for m in self.a.m.user_models()]
@@ -1744,7 +1837,7 @@ class _Compiler:
             names = port_identifiers(list(ports), classes.get(model_id, ""))
             irs = []
             for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
-                ps = e["spec"]
+                ps = e.spec
                 irs.append(
                     PortIR(
                         cname,
@@ -1752,9 +1845,9 @@ class _Compiler:
                         ps.direction,
                         ps.type,
                         ps.description,
-                        f"scratch{k}_" if e["scratch"] else "",
-                        tuple(e["reads"]),
-                        tuple(e["writes"]),
+                        f"scratch{k}_" if e.scratch else "",
+                        tuple(e.reads),
+                        tuple(e.writes),
                         self.user_cpp(ps.type),
                     )
                 )
@@ -1772,35 +1865,35 @@ class _Compiler:
         param_reads: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
-        for kind, inst, op in self.a.node_ops:
+        for inst, op in self.a.node_ops:
             code: Optional[DataOp] = None
-            if kind == "unset":
+            if isinstance(op, UnsetUse):
                 data_leaves.append(self.unset(inst, op))
-            elif kind == "set_literal":
+            elif isinstance(op, SetLiteralUse):
                 code = self.set_literal(inst, op)
                 if code is not None:
                     data_leaves.append(code)
-            elif kind == "set_copy":
+            elif isinstance(op, SetCopyUse):
                 code = self.set_copy(inst, op)
                 if code is not None:
                     data_leaves.append(code)
-            elif kind == "entry":
+            elif isinstance(op, EntryUse):
                 entries.append(self.entry(inst, op))
-            elif kind == "switch":
+            elif isinstance(op, SwitchUse):
                 switches.append(self.switch(inst, op))
-            elif kind == "loop":
+            elif isinstance(op, LoopUse):
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
-            elif kind == "param":
+            elif isinstance(op, ParamUse):
                 read = self.param_read(inst, op)
                 if read is not None:
                     param_reads.append(read)
                     params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
-            elif kind == "params":
-                p0 = op["p0"]
+            elif isinstance(op, StatusParam):
+                p0 = op.p0
                 if p0 is not None:
-                    params[inst.index] = (int(getattr(p0, "value", p0)), 0, 0)
+                    params[inst.index] = (p0.value if isinstance(p0, NodeStatus) else p0, 0, 0)
         ports = self.ports()
         for s in self.a.slots:
             for w in s.writes:
