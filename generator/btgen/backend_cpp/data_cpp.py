@@ -10,7 +10,7 @@ from __future__ import annotations
 from btgen.backend_cpp.naming import cpp_comment_lines, cpp_string, cpp_string_chunks
 from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
 from btgen.diagnostics import InternalError
-from btgen.ir.dataflow import LocalIR, PortIR, SlotIR
+from btgen.ir.data.records import LocalIR, PortIR, SlotIR
 from btgen.ir.dataops import TextOperand
 from btgen.ir.kinds import DYN, is_numeric, is_queue, is_user
 from btgen.lang import values

@@ -20,7 +20,7 @@ from btgen.backend_cpp import data_cpp, naming
 from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
-from btgen.ir.dataflow import SCRIPT_BIT
+from btgen.ir.data.records import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
 from btgen.lang.versions import semantics, switch_names, version_number
 from btgen.version import RUNTIME_ABI, __version__

@@ -40,7 +40,7 @@ from typing import Callable, Optional
 
 from btgen.backend_cpp.naming import cpp_string
 from btgen.diagnostics import Loc
-from btgen.ir.dataflow import DataIR, script_loc
+from btgen.ir.data.records import DataIR, script_loc
 from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, describe_kind, is_queue
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc

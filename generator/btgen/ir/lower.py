@@ -22,7 +22,8 @@ from typing import Optional
 
 from btgen.backend_cpp.naming import model_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
-from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
+from btgen.ir.data.records import SCRIPT_BIT, DataIR, DataOptions
+from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
@@ -77,7 +78,7 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
     }
 )
-# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+# Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
@@ -114,7 +115,7 @@ class IRNode:
     model: int  # leaf model index, -1 when not a user leaf
     loc: Loc
     tree: str  # the BehaviorTree the node is written in
-    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (dataflow.SCRIPT_BIT)
+    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (data/records.py SCRIPT_BIT)
 
 
 @dataclass(frozen=True)
