@@ -7,7 +7,7 @@ these filters give it the C++ types, enumerators and literals it needs.
 
 from __future__ import annotations
 
-from btgen.backend_cpp.naming import cpp_comment_lines, cpp_string, cpp_string_chunks
+from btgen.backend_cpp.naming import CppSlot, cpp_comment_lines, cpp_string, cpp_string_chunks
 from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
 from btgen.diagnostics import InternalError
 from btgen.ir.data.records import LocalIR, PortIR, SlotIR
@@ -124,7 +124,7 @@ def element_literal(value: object, elem: str, capacity: int) -> str:
     return cpp_value(value)
 
 
-def dyn_ref(s: SlotIR) -> str:
+def dyn_ref(s: CppSlot) -> str:
     """A slot's value as a btgen::dyn::Ref (the source of a copy into a dynamic entry)."""
     m = f"bb.{s.member}"
     if s.kind == DYN:

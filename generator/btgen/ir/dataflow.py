@@ -54,7 +54,7 @@ def analyze(
     a = Analysis(mission, options or DataOptions(), numbering)
     a.load()
     a.collect()
-    a.name_slots()
+    a.find_owners()
     type_slots(a)
     size_slots(a)
     ir = Compiler(a).run()

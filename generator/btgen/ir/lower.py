@@ -20,9 +20,8 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Optional
 
-from btgen.backend_cpp.naming import model_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
-from btgen.ir.data.records import SCRIPT_BIT, DataIR, DataOptions
+from btgen.ir.data.records import DataIR, DataOptions, ScriptSlot
 from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
@@ -84,7 +83,7 @@ PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
-_SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
+_SKIP_BITS = (1 << ScriptSlot.SKIP_IF) | (1 << ScriptSlot.WHILE)
 
 
 @dataclass(frozen=True)
@@ -94,7 +93,6 @@ class LeafModel:
     index: int
     id: str
     kind: str  # "Action" | "Condition" | "Control" | "Decorator"
-    cpp_name: str  # its struct in the generated `leaf` namespace
     loc: Optional[Loc]
 
 
@@ -115,7 +113,7 @@ class IRNode:
     model: int  # leaf model index, -1 when not a user leaf
     loc: Loc
     tree: str  # the BehaviorTree the node is written in
-    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (data/records.py SCRIPT_BIT)
+    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (the bits of data/records.py ScriptSlot)
 
 
 @dataclass(frozen=True)
@@ -141,6 +139,9 @@ class Program:
     groot2: Optional[Groot2Tree] = None
     # The BehaviorTree.CPP release followed (lang/versions.py): the header's Semantics flags.
     btcpp: str = "4.6.2"
+    # Every user model the mission declares (used or not), in declaration order: the back end
+    # names the leaf classes over all of them.
+    model_ids: tuple[str, ...] = ()
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -286,12 +287,11 @@ class _Lowerer:
             self.error(d.loc, d.message)
 
         # Only the models a node of the mission uses get a leaf class, dispatch branches and
-        # hooks: a palette of 600 unused Actions cost g++ minutes (names are given over the
-        # whole palette, so a model's class keeps its name whatever else is used).
-        all_models = m.user_models()
-        all_names = dict(zip([s.id for s in all_models], model_identifiers([s.id for s in all_models])))
+        # hooks: a palette of 600 unused Actions cost g++ minutes (the back end names classes
+        # over the whole palette, `model_ids`, so a model's class keeps its name whatever else
+        # is used).
         models = m.used_user_models()
-        leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
         nodes: list[IRNode] = []
@@ -355,6 +355,7 @@ class _Lowerer:
             data,
             groot2_tree(m, numbering),
             m.btcpp,
+            tuple(s.id for s in m.user_models()),
         )
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:

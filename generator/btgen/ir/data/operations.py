@@ -5,18 +5,17 @@ from __future__ import annotations
 from types import MappingProxyType
 from typing import Optional
 
-from btgen.backend_cpp.naming import model_identifiers, port_identifiers
 from btgen.diagnostics import Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.data.records import (
-    SCRIPT_BIT,
     SCRIPT_SLOTS,
     DataIR,
     DataOp,
     LocalIR,
     PortIR,
     ScriptIR,
+    ScriptSlot,
     SlotIR,
     script_loc,
 )
@@ -146,8 +145,8 @@ class Compiler:
                     typed,
                 )
             )
-            if enum != "kCode":
-                bits[inst.index] = bits.get(inst.index, 0) | (1 << SCRIPT_BIT[enum])
+            if enum != ScriptSlot.CODE:
+                bits[inst.index] = bits.get(inst.index, 0) | (1 << enum)
         return out, bits
 
     def check_user_free(self, inst: Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
@@ -673,21 +672,17 @@ class Compiler:
                     model[ps.name] = PortAccess(ps)
         by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
-        model_ids = [m.id for m in self.a.m.user_models()]
-        classes = dict(zip(model_ids, model_identifiers(model_ids)))
         for model_id, ports in by_model.items():
-            names = port_identifiers(list(ports), classes.get(model_id, ""))
             irs = []
-            for k, (cname, (pname, e)) in enumerate(zip(names, ports.items())):
+            for pname, e in ports.items():
                 ps = e.spec
                 irs.append(
                     PortIR(
-                        cname,
                         pname,
                         ps.direction,
                         ps.type,
                         ps.description,
-                        f"scratch{k}_" if e.scratch else "",
+                        e.scratch,
                         tuple(e.reads),
                         tuple(e.writes),
                         self.user_cpp(ps.type),
@@ -749,7 +744,6 @@ class Compiler:
         slots = tuple(
             SlotIR(
                 i,
-                s.member,
                 s.key,
                 s.owner,
                 s.entry.type_name,

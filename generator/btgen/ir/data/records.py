@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -28,32 +29,34 @@ class DataOptions:
     queue_capacity: int = DEFAULT_QUEUE_CAPACITY
 
 
-# ScriptSlot enumerators (runtime/include/btgen/blackboard.hpp), by attribute.
+class ScriptSlot(enum.IntEnum):
+    """The script places of a node (runtime/include/btgen/blackboard.hpp `ScriptSlot`): the
+    value is the bit of NodeInfo::scripts (CODE, the node's own script, has no bit there)."""
+
+    FAILURE_IF = 0
+    SUCCESS_IF = 1
+    SKIP_IF = 2
+    WHILE = 3
+    ON_SUCCESS = 4
+    ON_FAILURE = 5
+    POST = 6
+    ON_HALTED = 7
+    CODE = 8  # Script/ScriptCondition `code`, Precondition `if`
+
+
+# The script place of each attribute holding a script.
 SCRIPT_SLOTS = MappingProxyType(
     {
-        "_failureIf": "kFailureIf",
-        "_successIf": "kSuccessIf",
-        "_skipIf": "kSkipIf",
-        "_while": "kWhile",
-        "_onSuccess": "kOnSuccess",
-        "_onFailure": "kOnFailure",
-        "_post": "kPost",
-        "_onHalted": "kOnHalted",
-        "code": "kCode",
-        "if": "kCode",
-    }
-)
-SCRIPT_BIT = MappingProxyType(
-    {
-        "kFailureIf": 0,
-        "kSuccessIf": 1,
-        "kSkipIf": 2,
-        "kWhile": 3,
-        "kOnSuccess": 4,
-        "kOnFailure": 5,
-        "kPost": 6,
-        "kOnHalted": 7,
-        "kCode": 8,
+        "_failureIf": ScriptSlot.FAILURE_IF,
+        "_successIf": ScriptSlot.SUCCESS_IF,
+        "_skipIf": ScriptSlot.SKIP_IF,
+        "_while": ScriptSlot.WHILE,
+        "_onSuccess": ScriptSlot.ON_SUCCESS,
+        "_onFailure": ScriptSlot.ON_FAILURE,
+        "_post": ScriptSlot.POST,
+        "_onHalted": ScriptSlot.ON_HALTED,
+        "code": ScriptSlot.CODE,
+        "if": ScriptSlot.CODE,
     }
 )
 
@@ -91,10 +94,10 @@ ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
 
 @dataclass(frozen=True)
 class SlotIR:
-    """One blackboard entry of the mission: a member of the generated Blackboard struct."""
+    """One blackboard entry of the mission: a member of the generated Blackboard struct (the
+    back end names it from `owner` and `key`: backend_cpp/naming.py)."""
 
     index: int
-    member: str  # C++ member name
     key: str  # its key on its blackboard
     owner: str  # "root" or the SubTree instance path
     declared: str  # declared type (values.py canonical name; `any` when none)
@@ -119,7 +122,7 @@ class ScriptIR:
 
     node: int
     comment: str
-    which: str  # the ScriptSlot it fills (SCRIPT_SLOTS)
+    which: ScriptSlot  # the script place it fills (SCRIPT_SLOTS)
     attr: Attr  # the attribute holding it: the places of its run-time errors (script_loc)
     script: sc.Script
     names: tuple[tuple[str, int], ...]  # name -> slot index
@@ -152,14 +155,14 @@ class DataOp:
 
 @dataclass(frozen=True)
 class PortIR:
-    """A port of a user leaf model: a typed getter and/or setter of the generated model class."""
+    """A port of a user leaf model: a typed getter and/or setter of the generated model class
+    (the back end names them: backend_cpp/naming.py)."""
 
-    name: str  # C++ name of the getter (the setter is set_<name>)
     port: str  # the port's name
     direction: str
     type_name: str
     description: str
-    scratch: str  # the member the getter writes a number's text into ("" when it never needs one)
+    needs_scratch: bool  # a getter writes a number's text into a member of the model class
     reads: tuple[tuple[int, ops.PortRead], ...]  # (node index, what the getter returns there)
     writes: tuple[tuple[int, ops.PortWrite], ...]  # (node index, what the setter does there)
     user_cpp: str = ""  # a user port type (--type): its C++ spelling; the setter takes `const T&`

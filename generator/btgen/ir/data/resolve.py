@@ -6,7 +6,6 @@ from __future__ import annotations
 import functools
 from typing import Callable, Optional
 
-from btgen.backend_cpp.naming import entry_identifiers
 from btgen.diagnostics import DiagnosticSink, Loc
 from btgen.ir import kinds
 from btgen.ir.data.records import ENTRY_NODES, LITERAL_ONLY, LOOPS, PARAM_PORTS, DataOptions, script_loc
@@ -571,21 +570,17 @@ class Analysis:
                     )
             self.node_ops.append((inst, PortUse(ps, slot, p.raw, p)))
 
-    # ------------------------------------------------------------ naming
-    def name_slots(self) -> None:
+    # ------------------------------------------------------------ owners
+    def find_owners(self) -> None:
+        """Each slot's key and the blackboard holding it: "root" or its SubTree instance's path
+        (and the SubTree node's UID, which Groot2 names its blackboard by)."""
         owner_of: dict[int, tuple[str, str, int]] = {}
         for bb in self.bbs:
             for key in bb.local_keys():
                 entry = bb.local_entry(key)
                 owner_of[id(entry)] = (self.bb_labels[id(bb)], key, self.bb_uid.get(id(bb), 0))
-        raw_names = []
         for s in self.slots:
-            owner, key, s.owner_uid = owner_of.get(id(s.entry), ("root", "?", 0))
-            s.owner, s.key = owner, key
-            raw_names.append(key if owner == "root" else f"{owner}_{key}")
-        members = entry_identifiers(raw_names)
-        for s, mname in zip(self.slots, members):
-            s.member = mname
+            s.owner, s.key, s.owner_uid = owner_of.get(id(s.entry), ("root", "?", 0))
 
     # ------------------------------------------------------------ 5. decide
     def slot_type(self, i: int) -> SlotType:

@@ -86,7 +86,6 @@ class Slot:
     key: str = ""
     owner: str = ""
     owner_uid: int = 0
-    member: str = ""
 
     @property
     def origin_text(self) -> str:
