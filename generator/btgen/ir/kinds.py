@@ -48,6 +48,23 @@ def is_queue(kind: Optional[str]) -> bool:
     return kind is not None and kind.startswith("queue<")
 
 
+def queue_kind(elem: str) -> str:
+    """The kind of a queue of `elem` (int, bool, double, string) values."""
+    return f"queue<{elem}>"
+
+
+def queue_element(kind: str) -> str:
+    """The element of a queue kind: `queue<int>` -> `int`."""
+    assert is_queue(kind), kind
+    return kind[len("queue<") : -1]
+
+
+def user_type_name(kind: str) -> str:
+    """The user port type a `user:NAME` kind holds (blanks removed): NAME."""
+    assert is_user(kind), kind
+    return kind[len("user:") :]
+
+
 @dataclass(frozen=True)
 class UserKinds:
     """The user port types (usertypes.py) of one mission, as kinds: type name (blanks around
@@ -89,14 +106,15 @@ def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[st
         return "status"
     if type_name == values.ANY:
         return None
-    if values.queue_element_type(type_name) is not None:
-        return f"queue<{values.queue_element_type(type_name)}>"
+    elem = values.queue_element_type(type_name)
+    if elem is not None:
+        return queue_kind(elem)
     return user.get(type_name) or "string"  # string and opaque user types
 
 
 def describe_kind(kind: str) -> str:
     if is_user(kind):
-        return f"a {kind[len('user:') :]}"
+        return f"a {user_type_name(kind)}"
     return {
         "int": "an integer",
         "double": "a double",

@@ -5,7 +5,7 @@ from __future__ import annotations
 from btgen.diagnostics import InternalError
 from btgen.ir.data.records import WIDEN_AFTER
 from btgen.ir.data.resolve import Analysis
-from btgen.ir.kinds import DYN, is_numeric, is_queue
+from btgen.ir.kinds import DYN, is_numeric, is_queue, queue_kind
 
 
 # ------------------------------------------------------------ 4. sizes
@@ -22,7 +22,7 @@ def size_slots(a: Analysis) -> None:
             if s.queue_unbounded or not s.queue_literals:
                 s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
             s.capacity = max(s.capacity, 1)
-            if s.kind == "queue<string>":
+            if s.kind == queue_kind("string"):
                 s.elem_capacity = max(s.elem_literals, default=0)
                 if s.queue_unbounded:
                     s.elem_capacity = cap
