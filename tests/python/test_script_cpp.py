@@ -33,7 +33,7 @@ def _typing_views(views):
     return [SlotType(v.key, v.kind, v.declared, v.capacity, v.origin, kinds.kind_of_type(v.declared)) for v in views]
 
 
-KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": "queue<int>", "n": "none"}
+KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": kinds.queue_kind("int"), "n": "none"}
 
 
 def kind(code, **names):
@@ -468,7 +468,7 @@ _DECLARED = {
     "double": ("any", "double"),
     "string": ("any", "std::string", "Pose2D"),
     "status": ("NodeStatus",),
-    "queue<int>": ("std::deque<int>",),
+    kinds.queue_kind("int"): ("std::deque<int>",),
     "dyn": ("any",),
     "none": ("any",),
 }

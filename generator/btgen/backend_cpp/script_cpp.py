@@ -45,8 +45,17 @@ from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, de
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
 from btgen.lang import values
+from btgen.lang.kind import KindLike
 
-CPP_SCALAR = {"int": "std::int64_t", "double": "double", "bool": "bool", "status": "btgen::Status"}
+# The btgen::dyn constructor of a value of each static kind.
+DYN_OF: dict[KindLike, str] = {
+    "int": "of_int",
+    "double": "of_double",
+    "bool": "of_bool",
+    "status": "of_status",
+    "string": "of_string",
+}
+CPP_SCALAR: dict[KindLike, str] = {"int": "std::int64_t", "double": "double", "bool": "bool", "status": "btgen::Status"}
 
 
 # ================================================================ C++
@@ -58,7 +67,7 @@ class SlotView:
 
     member: str  # C++ lvalue of the btgen::Slot, e.g. `bb.visits`
     key: str  # the key, for messages
-    kind: str
+    kind: KindLike
     declared: str  # declared type (values.py canonical name; `any` when none)
     capacity: int  # strings: bytes
     may_be_missing: bool  # the entry may not exist when a script runs
@@ -67,7 +76,7 @@ class SlotView:
 
 @dataclass
 class Val:
-    kind: str
+    kind: KindLike
     expr: Optional[str]  # C++ expression of the value (string: a std::string_view); None for none/queues
     has: Optional[str]  # C++ bool expression "it has a value"; None: it always has
     bound: int = 0  # strings: most bytes
@@ -80,9 +89,7 @@ def to_ref(v: Val) -> str:
         return v.expr  # type: ignore[return-value]
     if v.kind == "none" or is_queue(v.kind) or v.has == "false":
         return "btgen::dyn::Ref{}"
-    fn = {"int": "of_int", "double": "of_double", "bool": "of_bool", "status": "of_status", "string": "of_string"}[
-        v.kind
-    ]
+    fn = DYN_OF[v.kind]
     r = f"btgen::dyn::{fn}({v.expr})"
     if v.has is not None:
         r = f"({v.has} ? {r} : btgen::dyn::Ref{{}})"
@@ -492,7 +499,7 @@ class ScriptCompiler(CodeWriter):
             return v.bound
         return TEXT_BOUND.get(v.kind, 0)
 
-    def dyn_binary(self, op: str, off: int, lv: Val, rv: Val, kind: str) -> Val:
+    def dyn_binary(self, op: str, off: int, lv: Val, rv: Val, kind: KindLike) -> Val:
         code = {"..": "c", "&&": "a", "||": "o"}.get(op, op)
         bound = self.dyn_bound(lv) + self.dyn_bound(rv) if kind == DYN else 1
         t = self.temp()
@@ -792,7 +799,7 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str
         store_number(c, s, v, off, what, op, guard=True)
 
 
-def guard_type_change(c, s: SlotView, r: str, off: int, what: str) -> None:
+def guard_type_change(c, s: SlotView, r: KindLike, off: int, what: str) -> None:
     c.check(
         f"!{s.member}.has_value",
         off,

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, one_line
 from btgen.lang import values
+from btgen.lang.kind import UserKind
 from btgen.lang.model import Mission
 
 _IDENT = r"[A-Za-z_][A-Za-z0-9_]*"
@@ -68,13 +69,13 @@ class UserType:
         return "::" + self.cpp_type
 
     @property
-    def kind(self) -> str:
+    def kind(self) -> UserKind:
         return kind_of(self.name)
 
 
-def kind_of(name: str) -> str:
+def kind_of(name: str) -> UserKind:
     """The data-side kind of the entries of a user type (blanks around `<>,:*&` do not matter)."""
-    return f"user:{values._compact(name)}"
+    return UserKind(values._compact(name))
 
 
 # The words of C++17's fundamental value types; a run of them is one type when it is one of

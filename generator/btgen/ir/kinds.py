@@ -28,41 +28,50 @@ from typing import Callable, Optional
 
 from btgen.lang import script as sc
 from btgen.lang import values
+from btgen.lang.kind import Kind, KindLike, QueueKind, Scalar, UserKind, render
 
-NUMERIC = ("int", "double", "bool", "status")
+INT, DOUBLE, BOOL, STATUS, STRING, NONE = (
+    Scalar.INT,
+    Scalar.DOUBLE,
+    Scalar.BOOL,
+    Scalar.STATUS,
+    Scalar.STRING,
+    Scalar.NONE,
+)
+NUMERIC = (INT, DOUBLE, BOOL, STATUS)
 # The kind of a dynamic slot (btgen::Dyn<N>: its type changes at run time) and of
 # expressions over one: btgen::dyn::Ref values, operated on by runtime/include/btgen/dynamic.hpp.
-DYN = "dyn"
+DYN = Scalar.DYN
 # Longest text of a value of each kind (std::to_string): bool and status print one digit.
-TEXT_BOUND = MappingProxyType({"int": 20, "double": 317, "bool": 1, "status": 1})
+TEXT_BOUND: Mapping[KindLike, int] = MappingProxyType({INT: 20, DOUBLE: 317, BOOL: 1, STATUS: 1})
 
 INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
 UINT32_MAX = 2**32 - 1
 
 
-def is_numeric(kind: Optional[str]) -> bool:
+def is_numeric(kind: Optional[KindLike]) -> bool:
     return kind in NUMERIC
 
 
-def is_queue(kind: Optional[str]) -> bool:
-    return kind is not None and kind.startswith("queue<")
+def is_queue(kind: object) -> bool:
+    return isinstance(kind, QueueKind)
 
 
-def queue_kind(elem: str) -> str:
+def queue_kind(elem: str) -> QueueKind:
     """The kind of a queue of `elem` (int, bool, double, string) values."""
-    return f"queue<{elem}>"
+    return QueueKind(Scalar(elem))
 
 
-def queue_element(kind: str) -> str:
+def queue_element(kind: KindLike) -> Scalar:
     """The element of a queue kind: `queue<int>` -> `int`."""
-    assert is_queue(kind), kind
-    return kind[len("queue<") : -1]
+    assert isinstance(kind, QueueKind), kind
+    return kind.element
 
 
-def user_type_name(kind: str) -> str:
+def user_type_name(kind: KindLike) -> str:
     """The user port type a `user:NAME` kind holds (blanks removed): NAME."""
-    assert is_user(kind), kind
-    return kind[len("user:") :]
+    assert isinstance(kind, UserKind), kind
+    return kind.name
 
 
 @dataclass(frozen=True)
@@ -71,26 +80,26 @@ class UserKinds:
     `<>,:*&` removed) -> kind (`user:NAME`). A value the data analysis builds once and
     passes along; nothing here changes while a mission is compiled."""
 
-    by_type: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+    by_type: Mapping[str, UserKind] = field(default_factory=lambda: MappingProxyType({}))
 
     @staticmethod
     def of(user_types: Iterable) -> UserKinds:
         """From the mission's `usertypes.UserType`s."""
         return UserKinds(MappingProxyType({values._compact(t.name): t.kind for t in user_types}))
 
-    def get(self, type_name: str) -> Optional[str]:
+    def get(self, type_name: str) -> Optional[UserKind]:
         return self.by_type.get(values._compact(type_name)) if self.by_type else None
 
 
 NO_USER_KINDS = UserKinds()
 
 
-def is_user(kind: Optional[str]) -> bool:
+def is_user(kind: object) -> bool:
     """A kind of a user port type (`--type`): the value is the user's C++ type, held as is."""
-    return kind is not None and kind.startswith("user:")
+    return isinstance(kind, UserKind)
 
 
-def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[str]:
+def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[Kind]:
     """The kind an entry of a declared type holds; None for `any` (inferred from writes).
     `user`: the mission's user port types (a `--type` name gives its `user:NAME` kind).
 
@@ -99,20 +108,20 @@ def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[st
     it, and every operation (arithmetic, `..`, conditions, casts to a port's
     type) treats both alike."""
     if type_name in (values.INT, values.UNSIGNED, values.BOOL):
-        return "int"
+        return INT
     if type_name == values.DOUBLE:
-        return "double"
+        return DOUBLE
     if type_name == values.NODE_STATUS:
-        return "status"
+        return STATUS
     if type_name == values.ANY:
         return None
     elem = values.queue_element_type(type_name)
     if elem is not None:
         return queue_kind(elem)
-    return user.get(type_name) or "string"  # string and opaque user types
+    return user.get(type_name) or STRING  # string and opaque user types
 
 
-def describe_kind(kind: str) -> str:
+def describe_kind(kind: KindLike) -> str:
     if is_user(kind):
         return f"a {user_type_name(kind)}"
     return {
@@ -123,13 +132,16 @@ def describe_kind(kind: str) -> str:
         "string": "a string",
         "none": "no value",
         DYN: "a value of changing type",
-    }.get(kind, f"a {kind}")
+    }.get(kind, f"a {render(kind)}")  # type: ignore[arg-type]
 
 
-def value_kind(value: object) -> str:
+def value_kind(value: object) -> Kind:
     """The kind of a Python value (values.py representation)."""
     t = values.type_of(value)  # type: ignore[arg-type]
-    return {"int": "int", "double": "double", "bool": "bool", "string": "string", "NodeStatus": "status"}.get(t, t)
+    elem = values.queue_element_type(t)
+    if elem is not None:
+        return queue_kind(elem)
+    return {"int": INT, "double": DOUBLE, "bool": BOOL, "string": STRING, "NodeStatus": STATUS}[t]
 
 
 class ScriptTypeError(Exception):
@@ -144,7 +156,7 @@ class ScriptTypeError(Exception):
 # ================================================================ kinds
 
 
-def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optional[str]:
+def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[KindLike]]) -> Optional[KindLike]:
     """The static kind of an expression's value; None while a name's kind is unknown.
 
     Raises ScriptTypeError when the kinds make the expression fail whenever it
@@ -196,7 +208,7 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[str]]) -> Optiona
     raise TypeError(node)
 
 
-def static_update_ok(op: str, k: str, r: str) -> bool:
+def static_update_ok(op: str, k: KindLike, r: KindLike) -> bool:
     """Whether `k op= r` compiles statically (else it fails whenever it runs, or is dynamic)."""
     if is_numeric(r):
         return is_numeric(k)
@@ -214,7 +226,7 @@ def overflow_message(text: str, key: str, capacity: int) -> str:
     )
 
 
-def ternary_message(a: str, b: str) -> str:
+def ternary_message(a: KindLike, b: KindLike) -> str:
     hint = " (e.g. `1.0` rather than `1` next to a double)" if is_numeric(a) and is_numeric(b) else ""
     return (
         f"the branches of `?:` give {describe_kind(a)} and {describe_kind(b)}; btgen gives every value one "
@@ -231,14 +243,14 @@ def none_message(op: str, value: sc.Expr) -> str:
     return f"the right operand of `{op}` has no value"
 
 
-def need_number(op: str, kind: str, offset: int, which: str) -> None:
+def need_number(op: str, kind: KindLike, offset: int, which: str) -> None:
     if kind == "none":
         raise ScriptTypeError(f"the {which} of `{op}` has no value", offset)
     if not is_numeric(kind):
         raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(kind)}", offset)
 
 
-def static_binary_ok(op: str, lk: str, rk: str) -> bool:
+def static_binary_ok(op: str, lk: KindLike, rk: KindLike) -> bool:
     if "none" in (lk, rk):
         return False
     if is_numeric(lk) and is_numeric(rk):
@@ -248,7 +260,7 @@ def static_binary_ok(op: str, lk: str, rk: str) -> bool:
     return op == ".." and {lk, rk} <= {"string", *NUMERIC}
 
 
-def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
+def binary_kind(op: str, lk: KindLike, rk: KindLike, offset: int) -> KindLike:
     if not is_queue(lk) and not is_queue(rk) and not static_binary_ok(op, lk, rk) and DYN not in (lk, rk):
         return DYN if op in ("+", "..") else "double"
     if lk == "none":
@@ -270,7 +282,7 @@ def binary_kind(op: str, lk: str, rk: str, offset: int) -> str:
     raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(lk)} and {describe_kind(rk)}", offset)
 
 
-def compare_check(op: str, a: str, b: str, offset: int) -> None:
+def compare_check(op: str, a: KindLike, b: KindLike, offset: int) -> None:
     if "none" in (a, b) and not is_queue(a) and not is_queue(b):
         return  # compiled as the dynamic comparison: no value fails at run time, as in 4.6.2
     if a == "none":
@@ -295,20 +307,20 @@ def origin_text(s) -> str:
     return f" (declared {s.declared})" if s.declared != values.ANY else ""
 
 
-def check_condition(kind: str) -> None:
+def check_condition(kind: KindLike) -> None:
     """The last statement's value of a condition script (ScriptCondition, `_skipIf` ...)."""
     if is_queue(kind):
         raise ScriptTypeError(f"the script gives {describe_kind(kind)}, which is not a condition", 0)
 
 
-def check_ternary_condition(kind: str, offset: int) -> None:
+def check_ternary_condition(kind: KindLike, offset: int) -> None:
     if kind == "none":
         raise ScriptTypeError("the condition of `?:` has no value", offset)
     if is_queue(kind):
         raise ScriptTypeError(f"the condition of `?:` is {describe_kind(kind)}", offset)
 
 
-def ternary_is_dynamic(then_kind: str, else_kind: str, offset: int) -> bool:
+def ternary_is_dynamic(then_kind: KindLike, else_kind: KindLike, offset: int) -> bool:
     """Whether `c ? a : b` gives a value of changing type; an error when its branches' kinds
     can never agree."""
     dynamic = DYN in (then_kind, else_kind) or (
@@ -332,7 +344,7 @@ def check_dynamic_update(s, op: str, key: str, offset: int) -> None:
         raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", offset)
 
 
-def check_compound(s, key: str, op: str, value_kind: str, offset: int) -> None:
+def check_compound(s, key: str, op: str, value_kind: KindLike, offset: int) -> None:
     """`+= -= *= /=` of a value of `value_kind` into `s`."""
     if is_numeric(value_kind):
         if not is_numeric(s.kind):
@@ -352,7 +364,7 @@ def check_compound(s, key: str, op: str, value_kind: str, offset: int) -> None:
         raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(value_kind)}", offset)
 
 
-def store_route(s, value_kind: str, literal: object, offset: int, what: str) -> str:
+def store_route(s, value_kind: KindLike, literal: object, offset: int, what: str) -> str:
     """How 4.6.2's script store (`_store`) puts a value of `value_kind` (`literal`: its value when
     it is a literal) into `s`, which then holds s.kind: "same" (as it is), "converted" (a string
     through the declared type's converter), "number_text" (a string read as a number into an

@@ -31,6 +31,7 @@ from btgen.ir.kinds import (
     ternary_is_dynamic,
 )
 from btgen.lang import script as sc
+from btgen.lang.kind import KindLike
 
 
 @dataclass(frozen=True)
@@ -38,11 +39,11 @@ class SlotType:
     """A slot as the typing pass sees it."""
 
     key: str
-    kind: str
+    kind: KindLike
     declared: str  # values.py type name
     capacity: int  # strings: bytes
     origin: str = ""  # why it has its kind (for messages)
-    declared_kind: Optional[str] = None  # the kind of the declared type (kinds.kind_of_type)
+    declared_kind: Optional[KindLike] = None  # the kind of the declared type (kinds.kind_of_type)
 
 
 @dataclass(frozen=True)
@@ -62,7 +63,7 @@ class ExprType:
     converted: an assignment routed "converted": the string literal's converted value
     """
 
-    kind: str
+    kind: KindLike
     literal: object = None
     dynamic: bool = False
     links: tuple[bool, ...] = ()

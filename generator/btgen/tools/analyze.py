@@ -46,6 +46,7 @@ from typing import Optional
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.ir.data import records
 from btgen.ir.data.resolve import Analysis as DataAnalysis
+from btgen.ir.kinds import is_queue
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
@@ -855,7 +856,7 @@ def memory(program: Program) -> dict:
         for s in program.data.slots:
             if s.kind == "string":
                 bb += s.capacity + 8
-            elif s.kind and s.kind.startswith("queue"):
+            elif is_queue(s.kind):
                 bb += s.capacity * max(s.elem_capacity + 8, 8) + 16
             elif s.kind == "bool":
                 bb += 2

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Optional
 
@@ -40,10 +41,11 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.catalogue import PortSpec
+from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 from btgen.lang.status import NodeStatus
 
-TYPE_NAME_OF_KIND = MappingProxyType(
+TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
     {
         "int": values.INT,
         "double": values.DOUBLE,
@@ -479,7 +481,7 @@ class Compiler:
         else:
             assert qslot is not None
             s = self.a.slots[qslot]
-            want = f"queue<{elem}>"
+            want = kinds.queue_kind(elem)
             if s.kind != want:
                 # From 4.9.1 a string entry is converted into a queue at each start: the
                 # generated C++ does not do that yet (docs/btcpp-versions.md).

@@ -12,6 +12,7 @@ from btgen.diagnostics import Loc
 from btgen.ir import dataops as ops
 from btgen.ir.script_types import TypedScript
 from btgen.lang import script as sc
+from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 
 DEFAULT_STRING_CAPACITY = 128
@@ -101,7 +102,7 @@ class SlotIR:
     key: str  # its key on its blackboard
     owner: str  # "root" or the SubTree instance path
     declared: str  # declared type (values.py canonical name; `any` when none)
-    kind: str  # ir.kinds kind
+    kind: KindLike  # ir.kinds kind
     origin: str  # why it has its type, for the header comment (without the place)
     origin_loc: Optional[Loc]  # where that is
     capacity: int  # strings: bytes; queues: elements

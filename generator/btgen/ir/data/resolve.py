@@ -34,6 +34,7 @@ from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.catalogue import BUILTINS
 from btgen.lang.instance import subtree_remapping
+from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr, Mission, SubTreeNode
 from btgen.lang.status import NodeStatus
 
@@ -63,11 +64,11 @@ class Analysis:
             self.reported.add((loc, message))
             self.sink.error(loc, message)
 
-    def kind_of_type(self, type_name: str) -> Optional[str]:
+    def kind_of_type(self, type_name: str) -> Optional[KindLike]:
         """The kind an entry of a declared type holds in this mission (its --type names too)."""
         return kind_of_type(type_name, self.user_kinds)
 
-    def _kind_of_slot(self, slot: int) -> Optional[str]:
+    def _kind_of_slot(self, slot: int) -> Optional[KindLike]:
         return self.slots[slot].kind
 
     def _capacity_of_slot(self, slot: int) -> Optional[int]:
@@ -297,7 +298,7 @@ class Analysis:
                 text = attr.value[n.offset : end_offset(n, attr.value)].strip() or attr.value
                 what = f"`{text}` in {prefix}"
                 if n.op in (":=", "="):
-                    kind_fn: Callable[..., Optional[str]] = functools.partial(self._expr_kind, value, names)
+                    kind_fn: Callable[..., Optional[KindLike]] = functools.partial(self._expr_kind, value, names)
                     bound_fn: Callable[..., Optional[int]] = functools.partial(self._expr_bound, value, names)
                 else:
                     kind_fn = functools.partial(self._kind_of_slot, target)
@@ -315,10 +316,10 @@ class Analysis:
             return max(s.capacity, kinds.TEXT_BOUND["double"])
         return s.capacity if s.kind == "string" else kinds.TEXT_BOUND.get(s.kind or "", 0)
 
-    def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[str]]:
+    def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[KindLike]]:
         return lambda name: self.slots[names[name]].kind
 
-    def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[str]:
+    def _expr_kind(self, expr: sc.Expr, names: dict[str, int]) -> Optional[KindLike]:
         """The kind of a script value; "error" when it fails whatever the kinds (compiling the script
         reports why), None while a name's kind is unknown."""
         if any(is_user(self.slots[names[n.name]].kind) for n in sc.walk(expr) if isinstance(n, sc.Name)):
@@ -437,7 +438,7 @@ class Analysis:
             text = value.raw
             what = f'`value="{text}"` of {inst.what}'
 
-            def lit_kind(d=dst) -> Optional[str]:
+            def lit_kind(d=dst) -> Optional[KindLike]:
                 s = self.slots[d]
                 declared = s.entry.type_name
                 if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):

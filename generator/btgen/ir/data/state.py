@@ -11,6 +11,7 @@ from btgen.ir import dataops as ops
 from btgen.lang import blackboard as bbmod
 from btgen.lang.catalogue import NodeSpec, PortSpec
 from btgen.lang.instance import instance_ports
+from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr, Mission, Node
 from btgen.lang.status import NodeStatus
 
@@ -57,7 +58,7 @@ class Write:
     order: int
     loc: Loc
     what: str  # e.g. "`x := 1` in `code` of `Script` \"Init\""
-    kind: Callable[..., Optional[str]]  # the kind it writes, given the kinds known so far
+    kind: Callable[..., Optional[KindLike]]  # the kind it writes, given the kinds known so far
     determining: bool  # may be the entry's first value (decides the type of an untyped entry)
     bound: Callable[..., Optional[int]]  # strings: most bytes written (None: no bound)
     literal: Optional[str] = None  # the text written, when it is a literal
@@ -74,7 +75,7 @@ class Slot:
     origin_loc: Optional[Loc] = None
     writes: list[Write] = field(default_factory=list)
     unset: bool = False
-    kind: Optional[str] = None
+    kind: Optional[KindLike] = None
     capacity: int = 0
     elem_capacity: int = 0
     queue_literals: list[int] = field(default_factory=list)  # element counts written as literals
