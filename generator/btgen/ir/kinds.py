@@ -121,18 +121,24 @@ def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[Ki
     return user.get(type_name) or STRING  # string and opaque user types
 
 
+_DESCRIPTION: Mapping[KindLike, str] = MappingProxyType(
+    {
+        INT: "an integer",
+        DOUBLE: "a double",
+        BOOL: "a bool",
+        STATUS: "a NodeStatus",
+        STRING: "a string",
+        NONE: "no value",
+        DYN: "a value of changing type",
+    }
+)
+
+
 def describe_kind(kind: KindLike) -> str:
+    """A kind in messages: `an integer`, `a queue<int>`, `a Pose2D`."""
     if is_user(kind):
         return f"a {user_type_name(kind)}"
-    return {
-        "int": "an integer",
-        "double": "a double",
-        "bool": "a bool",
-        "status": "a NodeStatus",
-        "string": "a string",
-        "none": "no value",
-        DYN: "a value of changing type",
-    }.get(kind, f"a {render(kind)}")  # type: ignore[arg-type]
+    return _DESCRIPTION.get(kind, f"a {render(kind)}")
 
 
 def value_kind(value: object) -> Kind:
@@ -171,7 +177,7 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[KindLike]]) -> Op
             return None
         if is_queue(k):
             need_number(node.op, k, node.offset, "operand")
-        return "double"
+        return DOUBLE
     if isinstance(node, sc.Binary):
         lk = expr_kind(node.left, kind_of)
         rk = expr_kind(node.right, kind_of)
@@ -184,14 +190,14 @@ def expr_kind(node: sc.Expr, kind_of: Callable[[str], Optional[KindLike]]) -> Op
             return None
         for op, off, a, b in zip(node.ops, node.op_offsets, kinds, kinds[1:]):
             compare_check(op, a, b, off)  # type: ignore[arg-type]
-        return "double"
+        return DOUBLE
     if isinstance(node, sc.Ternary):
         ck = expr_kind(node.cond, kind_of)
         tk = expr_kind(node.then, kind_of)
         ek = expr_kind(node.orelse, kind_of)
         if ck is None:
             return None
-        if ck == "none":
+        if ck == NONE:
             raise ScriptTypeError("the condition of `?:` has no value", node.op_offset)
         if is_queue(ck):
             raise ScriptTypeError(f"the condition of `?:` is {describe_kind(ck)}", node.op_offset)
@@ -212,8 +218,8 @@ def static_update_ok(op: str, k: KindLike, r: KindLike) -> bool:
     """Whether `k op= r` compiles statically (else it fails whenever it runs, or is dynamic)."""
     if is_numeric(r):
         return is_numeric(k)
-    if r == "string":
-        return op == "+=" and k == "string"
+    if r == STRING:
+        return op == "+=" and k == STRING
     return r == DYN and False
 
 
@@ -244,52 +250,52 @@ def none_message(op: str, value: sc.Expr) -> str:
 
 
 def need_number(op: str, kind: KindLike, offset: int, which: str) -> None:
-    if kind == "none":
+    if kind == NONE:
         raise ScriptTypeError(f"the {which} of `{op}` has no value", offset)
     if not is_numeric(kind):
         raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(kind)}", offset)
 
 
 def static_binary_ok(op: str, lk: KindLike, rk: KindLike) -> bool:
-    if "none" in (lk, rk):
+    if NONE in (lk, rk):
         return False
     if is_numeric(lk) and is_numeric(rk):
         return True
-    if lk == "string" and rk == "string" and op in ("+", ".."):
+    if lk == STRING and rk == STRING and op in ("+", ".."):
         return True
-    return op == ".." and {lk, rk} <= {"string", *NUMERIC}
+    return op == ".." and {lk, rk} <= {STRING, *NUMERIC}
 
 
 def binary_kind(op: str, lk: KindLike, rk: KindLike, offset: int) -> KindLike:
     if not is_queue(lk) and not is_queue(rk) and not static_binary_ok(op, lk, rk) and DYN not in (lk, rk):
-        return DYN if op in ("+", "..") else "double"
-    if lk == "none":
+        return DYN if op in ("+", "..") else DOUBLE
+    if lk == NONE:
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
-    if rk == "none":
+    if rk == NONE:
         raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
     if DYN in (lk, rk) and not is_queue(lk) and not is_queue(rk):
-        return DYN if op in ("+", "..") else "double"
+        return DYN if op in ("+", "..") else DOUBLE
     if not is_queue(lk) and not is_queue(rk) and not static_binary_ok(op, lk, rk):
         # Fails whenever it runs (a string where a number is needed): compiled as the dynamic
         # operation, which reports the interpreter's error at run time.
-        return DYN if op in ("+", "..") else "double"
+        return DYN if op in ("+", "..") else DOUBLE
     if is_numeric(lk) and is_numeric(rk):
-        return "none" if op == ".." else "double"
-    if lk == "string" and rk == "string" and op in ("+", ".."):
-        return "string"
-    if op == ".." and {lk, rk} <= {"string", *NUMERIC} and "string" in (lk, rk):
-        return "string"
+        return NONE if op == ".." else DOUBLE
+    if lk == STRING and rk == STRING and op in ("+", ".."):
+        return STRING
+    if op == ".." and {lk, rk} <= {STRING, *NUMERIC} and STRING in (lk, rk):
+        return STRING
     raise ScriptTypeError(f"`{op}` cannot be applied to {describe_kind(lk)} and {describe_kind(rk)}", offset)
 
 
 def compare_check(op: str, a: KindLike, b: KindLike, offset: int) -> None:
-    if "none" in (a, b) and not is_queue(a) and not is_queue(b):
+    if NONE in (a, b) and not is_queue(a) and not is_queue(b):
         return  # compiled as the dynamic comparison: no value fails at run time, as in 4.6.2
-    if a == "none":
+    if a == NONE:
         raise ScriptTypeError(f"the left operand of `{op}` has no value", offset)
-    if b == "none":
+    if b == NONE:
         raise ScriptTypeError(f"the right operand of `{op}` has no value", offset)
-    ok = {a, b} <= {"string", DYN, *NUMERIC}
+    ok = {a, b} <= {STRING, DYN, *NUMERIC}
     if not ok:
         raise ScriptTypeError(f"cannot compare {describe_kind(a)} with {describe_kind(b)} using `{op}`", offset)
 
@@ -314,7 +320,7 @@ def check_condition(kind: KindLike) -> None:
 
 
 def check_ternary_condition(kind: KindLike, offset: int) -> None:
-    if kind == "none":
+    if kind == NONE:
         raise ScriptTypeError("the condition of `?:` has no value", offset)
     if is_queue(kind):
         raise ScriptTypeError(f"the condition of `?:` is {describe_kind(kind)}", offset)
@@ -340,7 +346,7 @@ def check_dynamic_update(s, op: str, key: str, offset: int) -> None:
             f"yet",
             offset,
         )
-    if not (is_numeric(s.kind) or s.kind == "string"):
+    if not (is_numeric(s.kind) or s.kind == STRING):
         raise ScriptTypeError(f"`{op}` cannot update `{key}`, which holds {describe_kind(s.kind)}", offset)
 
 
@@ -352,10 +358,10 @@ def check_compound(s, key: str, op: str, value_kind: KindLike, offset: int) -> N
                 f"`{op}` with a number needs a numeric `{key}`, but it holds {describe_kind(s.kind)}{origin_text(s)}",
                 offset,
             )
-    elif value_kind == "string":
+    elif value_kind == STRING:
         if op != "+=":
             raise ScriptTypeError(f"`{op}` cannot be used with a string", offset)
-        if s.kind != "string":
+        if s.kind != STRING:
             raise ScriptTypeError(
                 f"`+=` of a string needs a string `{key}`, but it holds {describe_kind(s.kind)}{origin_text(s)}",
                 offset,
@@ -371,16 +377,16 @@ def store_route(s, value_kind: KindLike, literal: object, offset: int, what: str
     untyped double entry) or "number" (a number of another kind, as Any::copyInto converts it).
     What would fail or change the entry's type whenever it runs is an error."""
     k, r = s.kind, value_kind
-    if k == "none":
+    if k == NONE:
         raise ScriptTypeError(f"{what}: `{s.key}` cannot hold {describe_kind(r)}", offset)
     if r == k:
         check_store_same(s, literal, offset)
         return "same"
-    if r == "string":
+    if r == STRING:
         if s.declared not in (values.ANY, values.NODE_STATUS) and s.declared_kind == k:
             converted_literal(s, literal, offset, what)
             return "converted"
-        if k == "double" and s.declared == values.ANY:
+        if k == DOUBLE and s.declared == values.ANY:
             return "number_text"
     elif is_numeric(r) and is_numeric(k):
         return "number"
@@ -393,7 +399,7 @@ def store_route(s, value_kind: KindLike, literal: object, offset: int, what: str
 
 def check_store_same(s, literal: object, offset: int) -> None:
     """A value of the entry's own kind: a string literal must fit; queues are not copied."""
-    if s.kind == "string":
+    if s.kind == STRING:
         if literal is not None and len(str(literal).encode("utf-8")) > s.capacity:
             raise ScriptTypeError(overflow_message(str(literal), s.key, s.capacity), offset)
     elif is_queue(s.kind):
@@ -413,9 +419,9 @@ def converted_literal(s, literal: object, offset: int, what: str) -> object:
             value = values.convert_from_string(decl, literal)  # type: ignore[arg-type]
         except values.ConversionError as e:
             raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", offset) from None
-        if s.kind == "string":
+        if s.kind == STRING:
             check_store_same(s, value, offset)
         return value
-    if not is_queue(s.kind) and s.kind != "string" and decl not in CONVERTIBLE_FROM_TEXT:
+    if not is_queue(s.kind) and s.kind != STRING and decl not in CONVERTIBLE_FROM_TEXT:
         raise ScriptTypeError(f"{what}: cannot convert a string to {decl}", offset)
     return None
