@@ -12,8 +12,9 @@ from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, t
 from btgen.diagnostics import InternalError
 from btgen.ir.data.records import LocalIR, PortIR, SlotIR
 from btgen.ir.dataops import TextOperand
-from btgen.ir.kinds import DYN, is_numeric, is_queue, is_user, queue_element
+from btgen.ir.kinds import BOOL, DOUBLE, DYN, INT, NONE, STRING, is_numeric, is_queue, is_user, queue_element
 from btgen.lang import values
+from btgen.lang.kind import KindLike
 
 # btgen::Declared enumerators (runtime/include/btgen/port.hpp), by declared type.
 DECLARED_ENUM = {
@@ -36,7 +37,7 @@ CPP_PORT_TYPE = {
     values.STRING: "std::string_view",
 }
 
-ELEMENT_TYPE = {"int": "std::int64_t", "double": "double", "bool": "bool"}
+ELEMENT_TYPE: dict[KindLike, str] = {INT: "std::int64_t", DOUBLE: "double", BOOL: "bool"}
 
 
 def declared_enum(type_name: str) -> str:
@@ -53,9 +54,9 @@ def slot_type(s: SlotIR) -> str:
     k = s.kind
     if is_user(k):
         return s.user_cpp
-    if k == "string":
+    if k == STRING:
         return f"btgen::FixedString<{s.capacity}>"
-    if k == "none":
+    if k == NONE:
         return "btgen::NoValue"
     if k == DYN:
         return f"btgen::Dyn<{max(s.capacity, 1)}>"
@@ -69,7 +70,7 @@ def slot_type(s: SlotIR) -> str:
 def slot_init(s: SlotIR) -> str:
     """The braced initializer of a slot: a SubTree constant's value, or an entry that exists from the start."""
     if s.initial is not None:
-        if s.kind in ("int", "double"):
+        if s.kind in (INT, DOUBLE):
             # 4.9.1 stores a SubTree literal that is wholly a number as that number
             from btgen.backend_cpp.script_cpp import cpp_value
             from btgen.lang.blackboard import typed_literal
@@ -77,9 +78,9 @@ def slot_init(s: SlotIR) -> str:
             number = typed_literal(s.initial)
             if not isinstance(number, (int, float)):
                 raise InternalError(f"the SubTree constant `{s.initial}` is no number")
-            value = cpp_value(float(number)) if s.kind == "double" else f"std::int64_t{{{int(number)}}}"
+            value = cpp_value(float(number)) if s.kind == DOUBLE else f"std::int64_t{{{int(number)}}}"
             return f"{{{value}, 1, true, true}}"
-        if s.kind != "string":
+        if s.kind != STRING:
             raise InternalError(f"a SubTree constant of kind {s.kind}")
         return f"{{{slot_type(s)}({cpp_view(s.initial)}), 1, true, true}}"
     if s.at_load:
@@ -119,7 +120,7 @@ def port_literal(type_name: str, value: object) -> str:
 
 def element_literal(value: object, elem: str, capacity: int) -> str:
     """An element of a Loop's literal queue."""
-    if elem == "string":
+    if elem == STRING:
         return f"{element_type(elem, capacity)}({cpp_view(str(value))})"
     return cpp_value(value)
 
@@ -129,7 +130,7 @@ def dyn_ref(s: CppSlot) -> str:
     m = f"bb.{s.member}"
     if s.kind == DYN:
         return f"btgen::dyn::ref({m})"
-    expr = f"{m}.value.view()" if s.kind == "string" else f"{m}.value"
+    expr = f"{m}.value.view()" if s.kind == STRING else f"{m}.value"
     return to_ref(Val(s.kind, expr, f"{m}.has_value"))
 
 
@@ -137,7 +138,7 @@ def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
     """Whether a Switch operand read as text has a value: `var`_ok, or a constant."""
     if o.slot is not None:
         k = slots[o.slot].kind
-        return f"{var}_ok" if k in (DYN, "string") or is_numeric(k) else "false"
+        return f"{var}_ok" if k in (DYN, STRING) or is_numeric(k) else "false"
     return "true" if o.literal is not None else "false"
 
 

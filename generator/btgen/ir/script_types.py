@@ -16,7 +16,11 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 from btgen.ir.kinds import (
+    DOUBLE,
     DYN,
+    INT,
+    NONE,
+    STRING,
     binary_kind,
     check_compound,
     check_condition,
@@ -91,10 +95,10 @@ class TypedScript:
 def _literal(node: sc.Literal) -> ExprType:
     v = node.value
     if isinstance(v, str):
-        return ExprType("string", v)
+        return ExprType(STRING, v)
     if isinstance(v, float):
-        return ExprType("double", v)
-    return ExprType("int", v)
+        return ExprType(DOUBLE, v)
+    return ExprType(INT, v)
 
 
 class ScriptTyper:
@@ -109,7 +113,7 @@ class ScriptTyper:
         last: Optional[ExprType] = None
         for stmt in script.statements:
             last = self.expr(stmt)
-        if condition and last is not None and last.kind not in (DYN, "string", "none", "int"):
+        if condition and last is not None and last.kind not in (DYN, STRING, NONE, INT):
             check_condition(last.kind)
 
     def expr(self, node: sc.Expr) -> ExprType:
@@ -124,10 +128,10 @@ class ScriptTyper:
             v = self.expr(node.operand)
             # (a string, or no value: fails at run time as in 4.6.2; a double under `~` may be
             # out of range, which the dynamic operation words as the interpreter does)
-            if v.kind in (DYN, "string", "none") or (node.op == "~" and v.kind == "double"):
-                return ExprType("double", dynamic=True)
+            if v.kind in (DYN, STRING, NONE) or (node.op == "~" and v.kind == DOUBLE):
+                return ExprType(DOUBLE, dynamic=True)
             need_number(node.op, v.kind, node.offset, "operand")
-            return ExprType("double")
+            return ExprType(DOUBLE)
         if isinstance(node, sc.Binary):
             lk, rk = self.expr(node.left).kind, self.expr(node.right).kind
             kind = binary_kind(node.op, lk, rk, node.op_offset)
@@ -136,19 +140,19 @@ class ScriptTyper:
             if (
                 DYN in (lk, rk)
                 or not static_binary_ok(node.op, lk, rk)
-                or (node.op in sc.BIT_OPS and "double" in (lk, rk))
+                or (node.op in sc.BIT_OPS and DOUBLE in (lk, rk))
             ):
-                return ExprType(DYN if kind == DYN else "double", dynamic=True)
-            return ExprType(kind if kind in ("none", "string") else "double")
+                return ExprType(DYN if kind == DYN else DOUBLE, dynamic=True)
+            return ExprType(kind if kind in (NONE, STRING) else DOUBLE)
         if isinstance(node, sc.Compare):
             lk = self.expr(node.operands[0]).kind
             links = []
             for op, off, operand in zip(node.ops, node.op_offsets, node.operands[1:]):
                 rk = self.expr(operand).kind
                 compare_check(op, lk, rk, off)
-                links.append(DYN in (lk, rk) or "none" in (lk, rk))
+                links.append(DYN in (lk, rk) or NONE in (lk, rk))
                 lk = rk
-            return ExprType("double", links=tuple(links))
+            return ExprType(DOUBLE, links=tuple(links))
         if isinstance(node, sc.Ternary):
             ck = self.expr(node.cond).kind
             check_ternary_condition(ck, node.op_offset)
@@ -161,8 +165,8 @@ class ScriptTyper:
         op, off = node.op, node.op_offset
         s = self.slots[self.names[node.target]]
         v = self.expr(node.value)
-        if v.kind == "none":  # fails whenever it runs, as in 4.6.2: a run-time error
-            return ExprType("none", route="none")
+        if v.kind == NONE:  # fails whenever it runs, as in 4.6.2: a run-time error
+            return ExprType(NONE, route="none")
         if (op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind)) or DYN in (s.kind, v.kind):
             if s.kind != DYN:
                 check_dynamic_update(s, op, node.target, off)

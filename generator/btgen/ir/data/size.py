@@ -5,14 +5,14 @@ from __future__ import annotations
 from btgen.diagnostics import InternalError
 from btgen.ir.data.records import WIDEN_AFTER
 from btgen.ir.data.resolve import Analysis
-from btgen.ir.kinds import DYN, is_numeric, is_queue, queue_kind
+from btgen.ir.kinds import DYN, STRING, is_numeric, is_queue, queue_kind
 
 
 # ------------------------------------------------------------ 4. sizes
 def size_slots(a: Analysis) -> None:
     cap = a.opt.string_capacity
     for s in a.slots:
-        if s.kind in ("string", DYN):
+        if s.kind in (STRING, DYN):
             s.capacity = 0
     # Queues first: a Loop's `value` is as long as the longest element of its queue (edges L3).
     for s in a.slots:
@@ -22,7 +22,7 @@ def size_slots(a: Analysis) -> None:
             if s.queue_unbounded or not s.queue_literals:
                 s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
             s.capacity = max(s.capacity, 1)
-            if s.kind == queue_kind("string"):
+            if s.kind == queue_kind(STRING):
                 s.elem_capacity = max(s.elem_literals, default=0)
                 if s.queue_unbounded:
                     s.elem_capacity = cap
@@ -41,7 +41,7 @@ def size_slots(a: Analysis) -> None:
         changed = False
         rounds += 1
         for i, s in enumerate(a.slots):
-            if s.kind not in ("string", DYN) or growths[i] > WIDEN_AFTER:
+            if s.kind not in (STRING, DYN) or growths[i] > WIDEN_AFTER:
                 continue
             best = s.capacity
             for w in s.writes:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import Slot
-from btgen.ir.kinds import DYN, describe_kind, is_queue, is_user
+from btgen.ir.kinds import DOUBLE, DYN, INT, NONE, STATUS, STRING, describe_kind, is_queue, is_user
 from btgen.lang import values
 
 
@@ -21,7 +21,7 @@ def type_slots(a: Analysis) -> None:
     # from one (`x := @missing + 1`) gets a kind and only the real error is reported.
     for s in a.slots:
         if s.kind is None and not s.writes:
-            s.kind = "string" if s.entry.type_name == values.STRING else "none"
+            s.kind = STRING if s.entry.type_name == values.STRING else NONE
             s.origin = s.origin or "never written"
     undecided = [i for i, s in enumerate(a.slots) if s.kind is None]
     changed = True
@@ -35,7 +35,7 @@ def type_slots(a: Analysis) -> None:
             if not det:
                 continue
             k = det[0].kind()
-            if k is not None and k not in ("none", "error"):
+            if k is not None and k not in (NONE, "error"):
                 s.kind = k
                 s.origin = f"first written by {det[0].what}"
                 s.origin_loc = det[0].loc
@@ -50,7 +50,7 @@ def type_slots(a: Analysis) -> None:
                 continue
             for w in sorted((w for w in s.writes if w.determining), key=lambda w: w.order):
                 k = w.kind()
-                if k is not None and k not in ("none", "error"):
+                if k is not None and k not in (NONE, "error"):
                     s.kind = k
                     s.origin = f"first written by {w.what}"
                     s.origin_loc = w.loc
@@ -60,13 +60,13 @@ def type_slots(a: Analysis) -> None:
         if s.kind is not None:
             continue
         w = min(s.writes, key=lambda x: x.order)
-        if any(x.determining and x.kind() in ("none", "error") for x in s.writes):
-            s.kind = "none"  # a script that fails whatever runs: compiling it says why
+        if any(x.determining and x.kind() in (NONE, "error") for x in s.writes):
+            s.kind = NONE  # a script that fails whatever runs: compiling it says why
             continue
         if all(x.source == "port" for x in s.writes):
             # Robot code writes it through untyped ports only (as TreeNodesModel files
             # exported by Groot2 often have them): it holds text.
-            s.kind = "string"
+            s.kind = STRING
             s.origin = "no declared type, written by untyped ports only: it holds text"
             s.origin_loc = None
             s.untyped_text = True
@@ -91,7 +91,7 @@ def type_slots(a: Analysis) -> None:
                 f"the port has no type; give the port a type in TreeNodesModel (e.g. "
                 f'type="std::string")',
             )
-        s.kind = "string"
+        s.kind = STRING
     mark_dynamic(a)
 
 
@@ -119,7 +119,7 @@ def mark_dynamic(a: Analysis) -> None:
                 or s.untyped_text
                 or s.kind is None
                 or is_queue(s.kind)
-                or (s.kind == "none" and not s.writes)
+                or (s.kind == NONE and not s.writes)
                 or is_user(s.kind)
             ):  # (a user type's entry: other writes are errors, reported as such)
                 continue
@@ -127,14 +127,14 @@ def mark_dynamic(a: Analysis) -> None:
                 if w.source in ("port", "loop"):
                     continue
                 k = w.kind()
-                if k is None or k in ("none", "error") or is_queue(k):
+                if k is None or k in (NONE, "error") or is_queue(k):
                     continue
-                if s.kind == "none" and k != DYN:
+                if s.kind == NONE and k != DYN:
                     continue  # (a script that fails whatever runs: compiling it says why)
                 if (
                     k == DYN
-                    or (k == "string") != (s.kind == "string")
-                    or (k == "status") != (s.kind == "status")
+                    or (k == STRING) != (s.kind == STRING)
+                    or (k == STATUS) != (s.kind == STATUS)
                     or (w.source == "copy" and k != s.kind)
                 ):
                     # (a SetBlackboard copy is set<Any>: it replaces an untyped entry's value with the
@@ -152,18 +152,13 @@ def _mark_typed_number_dynamic(a: Analysis, s: Slot) -> None:
     Any::copyInto into the empty entry stores the value as it is, so the entry then holds
     an integer (and converts later writes to integers). Its slot is dynamic so the C++
     engine follows (it stopped with "would store an integer in the empty entry")."""
-    if (
-        s.kind not in ("int", "double")
-        or s.failed
-        or s.initial is not None
-        or a.kind_of_type(s.entry.type_name) != s.kind
-    ):
+    if s.kind not in (INT, DOUBLE) or s.failed or s.initial is not None or a.kind_of_type(s.entry.type_name) != s.kind:
         return
     kinds = [w.kind() for w in s.writes]
-    if any(k not in ("int", "double", None) for k in kinds):
+    if any(k not in (INT, DOUBLE, None) for k in kinds):
         return  # (strings go through the declared type's converter: a static slot does that)
     for w, k in zip(s.writes, kinds):
-        if w.source == "script" and w.determining and k in ("int", "double") and k != s.kind:
+        if w.source == "script" and w.determining and k in (INT, DOUBLE) and k != s.kind:
             s.kind = DYN
             s.origin = (
                 f"4.6.2 stores the other kind of number as it is in the empty entry ({w.what} writes "
