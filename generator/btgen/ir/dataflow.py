@@ -168,6 +168,7 @@ class LocalIR:
     length: int = 0
     elem_capacity: int = 0
     user_cpp: str = ""
+    text_capacity: int = 0  # a Loop's queue converted from a string entry (btgen::port::TextQueue)
 
 
 @dataclass(frozen=True)
@@ -736,7 +737,11 @@ class _Analyzer:
             )
         )
         self.node_ops.append(
-            ("set_copy", inst, {"dst": dst, "src": src, "loc": loc, "key": out.raw, "src_key": src_key})
+            (
+                "set_copy",
+                inst,
+                {"dst": dst, "src": src, "loc": loc, "key": out.raw, "src_key": src_key, "raw": value.raw},
+            )
         )
 
     def _queue_literal(self, slot: int, text: str) -> None:
@@ -783,13 +788,17 @@ class _Analyzer:
             def bound(q=qslot, st=static) -> Optional[int]:
                 if st is not None:
                     return max((len(str(x).encode("utf-8")) for x in st), default=0)
-                return self.slots[q].elem_capacity if q is not None else 0
+                if q is None:
+                    return 0
+                s = self.slots[q]
+                # (from 4.9.1 a string entry's elements are parts of its text)
+                return s.elem_capacity if is_queue(s.kind) else s.capacity if s.kind in ("string", DYN) else 0
 
             self.slots[vslot].writes.append(
                 _Write(vslot, self.next_order(), vloc, what, lambda e=elem: kind_of_type(e), True, bound, None, "loop")
             )
         self.node_ops.append(
-            ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc})
+            ("loop", inst, {"elem": elem, "static": static, "qslot": qslot, "vslot": vslot, "loc": loc, "qkey": qkey})
         )
         self.node_ops.append(("params", inst, {"p0": self._literal(inst, "if_empty", values.NODE_STATUS)}))
 
@@ -1291,8 +1300,10 @@ class _Compiler:
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
-        if self._untyped_string_write_unsupported(s, loc, what):
+        if self._untyped_dyn_write_unsupported(s, loc, what):
             return None
+        prefix = f"{what}: SetBlackboard: cannot convert {values.describe(text)}: "
+        untyped = self._untyped_dst(inst, op, s, what, prefix)
         if is_user(s.kind):
             # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
             # changes, so it is converted once, when the mission is constructed, and copied here.
@@ -1333,7 +1344,7 @@ class _Compiler:
             self.error(loc, self.overflow_message(text, s))
             return None
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
-        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail))
+        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
 
     def overflow_message(self, text: str, s: _Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
@@ -1343,8 +1354,13 @@ class _Compiler:
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
-        if s.kind == "string" and self._untyped_string_write_unsupported(d, loc, what):
+        if s.kind == "string" and self._untyped_dyn_write_unsupported(d, loc, what):
             return None
+        untyped = None
+        if s.kind == "string":
+            untyped = self._untyped_dst(
+                inst, op, d, what, f"{what}: SetBlackboard: cannot convert {values.describe(op['raw'])}: ", s
+            )
         strong = values.is_strongly_typed(declared)
         convert = False
         if is_queue(s.kind):
@@ -1387,7 +1403,7 @@ class _Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds(), untyped),
         )
 
     def set_copy_dynamic(self, inst: _Inst, op: dict, d: _Slot, s: _Slot, what: str) -> Optional[DataOp]:
@@ -1421,21 +1437,41 @@ class _Compiler:
             ),
         )
 
-    def _untyped_string_write_unsupported(self, d: _Slot, loc: Loc, what: str) -> bool:
-        """From 4.7.0 SetBlackboard converts a string to the type of the entry it writes; an entry
-        that exists without a type (created at load by an untyped `{key}` port, or by a Script)
-        cannot take it: 4.10.0 leaves it empty and typed BT::Any, and the next string write
-        throws. The generated C++ does not model that yet, so it refuses the mission rather than
+    def _untyped_dst(
+        self, inst: _Inst, op: dict, d: _Slot, what: str, prefix: str, src: Optional[_Slot] = None
+    ) -> Optional[ops.UntypedDst]:
+        """From 4.7.0 SetBlackboard converts a string with the converter of the entry it writes;
+        an entry that exists without a type (created at load by an untyped `{key}` port, by a
+        Script, or holding a SubTree literal) has none: the library leaves it empty and typed
+        BT::Any, and throws on the next such write. Whether an entry no port declared is typed
+        is known at run time only (Slot::entry_type): the record of what the write does then,
+        for a string slot declared `any` (None for any other)."""
+        if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
+            return None
+        if d.kind != "string":
+            return None
+        key = op["key"]
+        target = inst.bb.root if key.startswith("@") else inst.bb
+        local = target._storage.get(key[1:] if key.startswith("@") else key) is d.entry
+        src_type = "typed"
+        if src is not None and src.entry.type_name == values.ANY:
+            src_type = "dynamic"
+        return ops.UntypedDst(local, src_type, prefix, self.where(op["loc"]))
+
+    def _untyped_dyn_write_unsupported(self, d: _Slot, loc: Loc, what: str) -> bool:
+        """The rule of _untyped_dst for an entry whose type changes at run time (a dynamic
+        slot): the generated C++ does not model that yet, so it refuses the mission rather than
         run it differently (docs/btcpp-versions.md). True when it reported that."""
         if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
             return False
-        if not (d.at_load or any(w.source == "script" for w in d.writes)):
+        if d.kind != DYN or not (d.at_load or any(w.source == "script" for w in d.writes)):
             return False
         self.error(
             loc,
-            f"{what} writes a string into `{d.key}`, an entry created without a type ({d.origin_text}); "
-            f"BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry empty and typed BT::Any "
-            f"(and throws on the next such write), which is not supported by the C++ back end yet",
+            f"{what} writes a string into `{d.key}`, an entry created without a type whose type changes at "
+            f"run time ({d.origin_text}); BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry "
+            f"empty and typed BT::Any (and throws on the next such write), which is not supported by the C++ "
+            f"back end yet",
         )
         return True
 
@@ -1523,19 +1559,13 @@ class _Compiler:
             assert qslot is not None
             s = self.a.slots[qslot]
             want = f"queue<{elem}>"
+            if s.kind != want and self.a.m.semantics.loop_queue_untyped and not is_user(s.kind):
+                return self.loop_untyped(inst, op, locals_)
             if s.kind != want:
-                # From 4.9.1 a string entry is converted into a queue at each start: the
-                # generated C++ does not do that yet (docs/btcpp-versions.md).
-                later = (
-                    f"; BehaviorTree.CPP {self.a.m.semantics.version} converts a string at each start, "
-                    f"which is not supported by the C++ back end yet"
-                    if self.a.m.semantics.loop_queue_untyped and s.kind == "string"
-                    else ""
-                )
                 self.error(
                     loc,
                     f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
-                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}{later}",
+                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
                 )
                 return None
             no_value = self.fail(
@@ -1552,6 +1582,58 @@ class _Compiler:
             inst.index,
             f"{what} queue={inst.ports['queue'].raw}",
             ops.LoopPop(elem, local, items, qslot, no_value, vslot, declared, write_fail),
+        )
+
+    def loop_untyped(self, inst: _Inst, op: dict, locals_: list[LocalIR]) -> Optional[DataOp]:
+        """From 4.9.1 a Loop's `queue` port is untyped: an entry holding a string is converted
+        into a private queue each time the loop starts (the interpreter's
+        _queue_from_blackboard_410); one without a value, or holding anything but a string or
+        a queue of the element type, makes the node throw."""
+        elem, qslot, vslot, loc = op["elem"], op["qslot"], op["vslot"], op["loc"]
+        s = self.a.slots[qslot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
+        read = f"port `queue` of {what} reads blackboard entry `{op['qkey']}`, which"
+        must = f": it must hold a queue<{elem}> or a string"
+        source, text_local = "scalar", ""
+        if s.kind in ("string", DYN):
+            source, text_local = "text", f"loopq_{inst.index}"
+            locals_.append(
+                LocalIR(
+                    text_local,
+                    f"{what}: its queue, converted from the text of `{s.key}` when it starts (4.9.1)",
+                    text_capacity=max(s.capacity, 1),
+                )
+            )
+        elif s.kind == "none":
+            source = "none"
+        elif is_queue(s.kind):
+            self.error(loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, a {s.kind}, not a queue<{elem}>")
+            return None
+        declared, write_fail = "", None
+        if vslot is not None:
+            vloc = inst.ports["value"].loc_or or inst.node.loc
+            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+                return None
+            declared = self.a.slots[vslot].entry.type_name
+            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        return DataOp(
+            inst.index,
+            f"{what} queue={inst.ports['queue'].raw}",
+            ops.LoopPop(
+                elem,
+                "",
+                (),
+                qslot,
+                self.fail(loc, f"{read} has no value{must}"),
+                vslot,
+                declared,
+                write_fail,
+                source,
+                text_local,
+                f"{read} holds ",
+                f"port `queue` of {what}: ",
+                self.where(loc),
+            ),
         )
 
     # ------------------------------------------------------------ user port types
