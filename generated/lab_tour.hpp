@@ -725,6 +725,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
   static constexpr bool attribute_names_484 = false;
@@ -3725,7 +3726,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x4b95c0ee352da631ULL;
+inline constexpr unsigned long long kGeneration = 0xb32610e41873575dULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

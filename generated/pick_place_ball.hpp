@@ -133,6 +133,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
   static constexpr bool attribute_names_484 = false;
@@ -830,7 +831,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x1837594fb2daf005ULL;
+inline constexpr unsigned long long kGeneration = 0xec45428c86d5dd31ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

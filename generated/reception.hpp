@@ -475,6 +475,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
   static constexpr bool attribute_names_484 = false;
@@ -2485,7 +2486,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x2fa19b3683c9ecdbULL;
+inline constexpr unsigned long long kGeneration = 0x962c0aa4c20eedcbULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -65,6 +65,11 @@ class Semantics:
     # TryCatch is a built-in control node (4.9.0 b8f27152).
     trycatch: bool = False
 
+    # ---------------------------------------------------------------- monitoring
+    # A Groot2 BLACKBOARD reply that dumps a SubTree's blackboard also holds the root
+    # blackboard (the main tree's) under the key `ROOT` (4.10.0 ce95461e).
+    groot2_root_blackboard: bool = False
+
     # ---------------------------------------------------------------- scripts
     # The 4.9.0 script parser (d1983321): `&&` above `||`, `..` with `+`/`-`, true/false
     # doubles, optional `;`, no double quotes, no unary `+`, every operator group mixed by
@@ -104,6 +109,7 @@ SINCE = {
     "int_to_double_53_bits": "4.7.0",
     "double_from_chars": "4.9.0",
     "trycatch": "4.9.0",
+    "groot2_root_blackboard": "4.10.0",
     "script_grammar_49": "4.9.0",
     "name_validation_484": "4.8.4",
     "attribute_names_484": "4.8.4",
