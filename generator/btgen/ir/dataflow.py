@@ -139,6 +139,7 @@ class SlotIR:
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
     provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
+    may_be_bt_any: bool = False  # from 4.7.0 a SetBlackboard string may leave it empty and typed BT::Any
 
 
 @dataclass(frozen=True)
@@ -1116,6 +1117,7 @@ class _Compiler:
         self.where_index: dict[Loc, int] = {}
         self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
         self.user_inits: list[DataOp] = []
+        self.bt_any_slots: set[int] = set()  # slots a SetBlackboard string may leave typed BT::Any
 
     def where(self, loc: Loc) -> int:
         """The index of `loc` among the places run-time errors name (DataIR.where)."""
@@ -1456,6 +1458,8 @@ class _Compiler:
         src_type = "typed"
         if src is not None and src.entry.type_name == values.ANY:
             src_type = "dynamic"
+        if local:
+            self.bt_any_slots.add(self.a.slots.index(d))
         return ops.UntypedDst(local, src_type, prefix, self.where(op["loc"]))
 
     def _untyped_dyn_write_unsupported(self, d: _Slot, loc: Loc, what: str) -> bool:
@@ -1889,6 +1893,7 @@ class _Compiler:
                 not s.at_load or s.unset,
                 s.origin_text,
                 s.provided,
+                i in self.bt_any_slots,
             )
             for i, s in enumerate(self.a.slots)
         )
