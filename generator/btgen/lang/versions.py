@@ -46,8 +46,9 @@ class Semantics:
     # (4.7.0 5f3f6756).
     precondition_if_until_started: bool = False
     # SetBlackboard converts a string (literal or copied) with the destination entry's own
-    # converter; an entry without one (created untyped) is left empty and typed BT::Any, and
-    # copying an empty entry returns FAILURE (4.7.0 3651a242).
+    # converter; an entry without one (created untyped) is left empty and typed BT::Any (then
+    # a string stored there by SetBlackboard or a Script throws), and copying an empty entry
+    # returns FAILURE (4.7.0 3651a242).
     setblackboard_converts_to_entry_type: bool = False
     # Loop nodes: `queue` is an untyped port; a blackboard string is converted into a
     # private queue at each start, a vector is accepted (4.9.0 c36bd4d6, 4.9.1 f42cd38b).
