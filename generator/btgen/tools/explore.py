@@ -55,22 +55,9 @@ from btgen.lang.model import Mission
 
 NAMES = {IDLE: "IDLE", RUNNING: "RUNNING", SUCCESS: "SUCCESS", FAILURE: "FAILURE", SKIPPED: "SKIPPED"}
 BY_NAME = {v: k for k, v in NAMES.items()}
-_NOT_STATE = {
-    "uid",
-    "reg_id",
-    "name",
-    "prefix",
-    "emit",
-    "rt",
-    "model",
-    "bb",
-    "ports",
-    "conds",
-    "pre",
-    "on_halted",
-    "on_success",
-    "on_failure",
-    "post_always",
+# Node members that are not state: TreeNode's own (its status is hashed apart, the rest is
+# identity and configuration) and the structure and configuration of its subclasses.
+_NOT_STATE = frozenset(TreeNode.__slots__) | {
     "children",
     "child",
     "cursor",
@@ -254,7 +241,7 @@ class Explorer:
                 names: list[str] = []
                 for k in cls.__mro__:
                     for s in getattr(k, "__slots__", ()):
-                        if s not in _NOT_STATE and s != "status" and s not in names:
+                        if s not in _NOT_STATE and s not in names:
                             names.append(s)
                 self._fields[cls] = tuple(names)
         self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
