@@ -1458,7 +1458,7 @@ class _Compiler:
         src_type = "typed"
         if src is not None and src.entry.type_name == values.ANY:
             src_type = "dynamic"
-        if local:
+        if local or src_type == "dynamic":  # (a copy creates a missing entry with the source's type)
             self.bt_any_slots.add(self.a.slots.index(d))
         return ops.UntypedDst(local, src_type, prefix, self.where(op["loc"]))
 
