@@ -322,6 +322,55 @@ def test_fulltree_status_and_blackboard_agree_tick_by_tick(pair, executor):
         b.close()
 
 
+def test_410_blackboard_replies_add_the_root_blackboard(tmp_path):
+    """Under --btcpp 4.10.0 (switch groot2_root_blackboard; BehaviorTree.CPP 4.10.0's
+    generateBlackboardsDump, ce95461e) a BLACKBOARD reply that dumps a SubTree's blackboard
+    also holds the root blackboard, the main tree's, under `ROOT` (once); the main tree's
+    alone brings nothing more; a SubTree literally named ROOT would be refused."""
+    exe = build_executor("monitored", tmp_path, btcpp="4.10.0")
+    port = free_port_pair()
+    cpp = Compiled(exe, port, tmp_path / "cpp.btlog")
+    client = Client(port)
+    try:
+        for _ in range(TICKS["monitored"]):
+            cpp.tick()
+        main = {"count": 4, "label": "hi", "ratio": 0.25}
+
+        def dump(names: bytes):
+            return msgpack.unpackb(client.request("B", names)[1])
+
+        assert dump(b"Main") == {"Main": main}
+        assert dump(b"sub1") == {"sub1": {"steps": 7}, "ROOT": main}
+        assert dump(b"sub1;Sub::14;Main;nonexistent") == {
+            "Main": main,
+            "ROOT": main,
+            "sub1": {"steps": 7},
+            "Sub::14": {"steps": 7, "x": 4},
+        }
+        assert dump(b"ROOT") is None  # no blackboard has that name here
+        assert dump(b"") is None
+    finally:
+        client.close()
+        assert cpp.close() == 0
+
+
+def test_462_blackboard_replies_have_no_root_entry(executor, tmp_path):
+    """The same requests under 4.6.2: only the named blackboards."""
+    if executor.name != "monitored":
+        pytest.skip("the names are monitored.xml's")
+    port = free_port_pair()
+    cpp = Compiled(executor, port, tmp_path / "cpp.btlog")
+    client = Client(port)
+    try:
+        for _ in range(TICKS["monitored"]):
+            cpp.tick()
+        reply = msgpack.unpackb(client.request("B", b"sub1;Main")[1])
+        assert reply == {"Main": {"count": 4, "label": "hi", "ratio": 0.25}, "sub1": {"steps": 7}}
+    finally:
+        client.close()
+        assert cpp.close() == 0
+
+
 def test_recording_gives_the_same_transitions(pair, executor):
     """TOGGLE_RECORDING then GET_TRANSITIONS (Groot2's recording): same UIDs and statuses."""
     ref, cpp, p_ref, p_cpp, _ = pair

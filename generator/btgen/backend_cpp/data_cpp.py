@@ -91,6 +91,8 @@ def slot_init(s: SlotIR) -> str:
 def local_type(local: LocalIR) -> str:
     if local.user_cpp:
         return f"btgen::UserLiteral<{local.user_cpp}>"
+    if local.text_capacity:
+        return f"btgen::port::TextQueue<{local.text_capacity}>"
     return f"btgen::FixedQueue<{element_type(local.elem, local.elem_capacity)}, {local.length}>"
 
 
@@ -149,6 +151,7 @@ FILTERS = dict(
     slot_type=slot_type,
     slot_init=slot_init,
     local_type=local_type,
+    element_type_of=lambda elem: ELEMENT_TYPE[elem],
     port_type=port_type,
     port_literal=port_literal,
     element_literal=element_literal,

@@ -121,10 +121,11 @@ SLOT_MEMBERS = frozenset({"value", "seq", "exists", "has_value"})
 # The names the mission class template and its scope use: its base and template parameters.
 CLASS_NAMES = frozenset({"Engine", "Leaves", "Clock", "Observer", "Spec", "Blackboard"})
 # Members the generator adds beside mission names: a leaf class's `scratch<k>_` number texts,
-# the blackboard's `loop_<node>` literal queues and `ulit<k>_` literals of user port types.
+# the blackboard's `loop_<node>` literal queues, `loopq_<node>` queues converted from a string
+# entry (4.9.1) and `ulit<k>_` literals of user port types.
 _GENERATED = {
     "port": re.compile(r"scratch[0-9]+_"),
-    "entry": re.compile(r"loop_[0-9]+|ulit[0-9]+_"),
+    "entry": re.compile(r"loopq?_[0-9]+|ulit[0-9]+_"),
 }
 # `kind` -> (prefix for names that cannot start an identifier, names that scope reserves).
 KINDS: dict[str, tuple[str, frozenset]] = {

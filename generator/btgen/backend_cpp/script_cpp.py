@@ -72,6 +72,7 @@ class SlotView:
     capacity: int  # strings: bytes
     may_be_missing: bool  # the entry may not exist when a script runs
     origin: str = ""  # why it has its type (for messages)
+    may_be_bt_any: bool = False  # 4.10.0's SetBlackboard may leave it empty and typed BT::Any
 
 
 @dataclass
@@ -787,6 +788,9 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str
     the entry already holds a value (an empty entry would change its type: reported at run
     time)."""
     route = typed.route
+    if s.may_be_bt_any and v.kind == "string":
+        # An entry 4.10.0's SetBlackboard left empty and typed BT::Any: its converter throws.
+        c.dyn_call(f"btgen::dyn::store_text_410({s.member}, {v.expr}, {cpp_view(s.key)}, dm)", off)
     if route == "same":
         store_same(c, s, v, off)
     elif route == "converted":
@@ -963,7 +967,9 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
         return f"detail::kWhere[{i}]"
 
     views = [
-        SlotView(f"bb.{member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
+        SlotView(
+            f"bb.{member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text, s.may_be_bt_any
+        )
         for s, member in zip(data.slots, slot_members(data.slots))
     ]
     out = []

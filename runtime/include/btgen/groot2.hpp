@@ -15,7 +15,8 @@
 //                    reached from S is written 10 + S, as 4.6.2 does
 //   BLACKBOARD 'B'   second part "name;name;...": MessagePack of a JSON object with
 //                    each named blackboard's entries (integers, bools as integers,
-//                    doubles, strings; other types null, as 4.6.2's JSON export)
+//                    doubles, strings; other types null, as 4.6.2's JSON export);
+//                    from 4.10.0 a SubTree's also brings the root blackboard as `ROOT`
 //   TOGGLE_RECORDING 'r' "start" (reply: now in microseconds) / "stop"
 //   GET_TRANSITIONS 't' the transitions since the last call, 9 bytes each
 //   HOOK_INSERT 'I'  a hook's JSON or an array of them (uid, position, enabled, once, mode,
@@ -78,6 +79,7 @@
 #include <string_view>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <zmq.hpp>
@@ -926,7 +928,13 @@ class Publisher final : public StatusSink, public HookSink {
         reply.push_back(std::move(buf));
         break;
       }
-      case K::kBlackboard: reply.push_back(blackboards(request.argument)); break;
+      case K::kBlackboard: {
+        std::string dump;
+        std::string_view why;
+        if (!blackboards(request.argument, dump, why)) return error(why);
+        reply.push_back(std::move(dump));
+        break;
+      }
       case K::kRecordStart:
         recording_.drain([](const Transition&) {});
         record_origin_.store(btgen::wall_clock_usec());
@@ -1155,31 +1163,49 @@ class Publisher final : public StatusSink, public HookSink {
     }
   }
 
-  // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them.
-  std::string blackboards(std::string_view names) {
+  // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them;
+  // from 4.10.0 (Sem::groot2_root_blackboard) a SubTree's comes with the root blackboard
+  // (the main tree's, index 0) under the name `ROOT`. False: `err` says why there is no dump.
+  bool blackboards(std::string_view names, std::string& out, std::string_view& err) {
     wait_for_a_fresh_copy();
-    std::vector<std::size_t> wanted;
+    static constexpr std::string_view kRoot = "ROOT";
+    std::vector<std::pair<std::string_view, std::size_t>> wanted;  // name, blackboard index
+    bool root_exported = false;
+    err = {};
     detail::for_each_name(names, [&](std::string_view name) {
       for (std::size_t b = 0; b < Groot2::kBlackboards.size(); ++b) {
-        if (Groot2::kBlackboards[b] == name) {
-          bool seen = false;
-          for (std::size_t w : wanted) seen = seen || w == b;
-          if (!seen) wanted.push_back(b);
+        if (Groot2::kBlackboards[b] != name || !err.empty()) continue;
+        const auto has = [&](std::string_view n) {
+          return std::any_of(wanted.begin(), wanted.end(), [&](const auto& w) { return w.first == n; });
+        };
+        const bool needs_root = Mission::Sem::groot2_root_blackboard && b != 0;
+        if (Mission::Sem::groot2_root_blackboard && name == kRoot && (needs_root || root_exported)) {
+          err = "blackboard dump request uses reserved name [ROOT] together with an external root blackboard export";
+          return;
         }
+        if (!has(name)) wanted.emplace_back(name, b);
+        if (!needs_root || root_exported) continue;
+        if (has(kRoot)) {
+          err = "blackboard dump request would overwrite subtree [ROOT] with an external root blackboard export";
+          return;
+        }
+        wanted.emplace_back(kRoot, 0);
+        root_exported = true;
       }
     });
+    if (!err.empty()) return false;
     // nlohmann's object is a std::map: names in byte order.
-    std::sort(wanted.begin(), wanted.end(),
-              [](std::size_t a, std::size_t b) { return Groot2::kBlackboards[a] < Groot2::kBlackboards[b]; });
+    std::sort(wanted.begin(), wanted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     MsgPack mp;
     if (wanted.empty()) {
       mp.nil();
-      return mp.out;
+      out = std::move(mp.out);
+      return true;
     }
     std::lock_guard<std::mutex> lock(bb_mutex_);
     mp.map(wanted.size());
-    for (std::size_t b : wanted) {
-      mp.str(Groot2::kBlackboards[b]);
+    for (const auto& [bb_name, b] : wanted) {
+      mp.str(bb_name);
       std::size_t n = 0;
       Groot2::visit_blackboard(*snapshot_, [&](std::size_t bb, std::string_view, const auto& slot) {
         if (bb == b && slot.exists) ++n;
@@ -1195,7 +1221,8 @@ class Publisher final : public StatusSink, public HookSink {
         detail::write_value(mp, slot);
       });
     }
-    return mp.out;
+    out = std::move(mp.out);
+    return true;
   }
 
   // Asks the tick thread for a copy at its next status change and waits for it, within

@@ -68,6 +68,7 @@ class Compiler:
         self.where_index: dict[Loc, int] = {}
         self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
         self.user_inits: list[DataOp] = []
+        self.bt_any_slots: set[int] = set()  # slots a SetBlackboard string may leave typed BT::Any
 
     def where(self, loc: Loc) -> int:
         """The index of `loc` among the places run-time errors name (DataIR.where)."""
@@ -252,8 +253,10 @@ class Compiler:
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
-        if self._untyped_string_write_unsupported(s, loc, what):
+        if self._untyped_dyn_write_unsupported(s, loc, what):
             return None
+        prefix = f"{what}: SetBlackboard: cannot convert {values.describe(text)}: "
+        untyped = self._untyped_dst(inst, op.key, loc, s, prefix)
         if is_user(s.kind):
             # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
             # changes, so it is converted once, when the mission is constructed, and copied here.
@@ -294,7 +297,7 @@ class Compiler:
             self.error(loc, self.overflow_message(text, s))
             return None
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
-        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail))
+        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
 
     def overflow_message(self, text: str, s: Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
@@ -304,8 +307,12 @@ class Compiler:
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
-        if s.kind == "string" and self._untyped_string_write_unsupported(d, loc, what):
+        if s.kind == "string" and self._untyped_dyn_write_unsupported(d, loc, what):
             return None
+        untyped = None
+        if s.kind == "string":
+            prefix = f"{what}: SetBlackboard: cannot convert {values.describe(op.raw)}: "
+            untyped = self._untyped_dst(inst, op.key, loc, d, prefix, s)
         strong = values.is_strongly_typed(declared)
         convert = False
         if is_queue(s.kind):
@@ -348,7 +355,7 @@ class Compiler:
         return DataOp(
             inst.index,
             f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
-            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds(), untyped),
         )
 
     def set_copy_dynamic(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
@@ -382,21 +389,43 @@ class Compiler:
             ),
         )
 
-    def _untyped_string_write_unsupported(self, d: Slot, loc: Loc, what: str) -> bool:
-        """From 4.7.0 SetBlackboard converts a string to the type of the entry it writes; an entry
-        that exists without a type (created at load by an untyped `{key}` port, or by a Script)
-        cannot take it: 4.10.0 leaves it empty and typed BT::Any, and the next string write
-        throws. The generated C++ does not model that yet, so it refuses the mission rather than
+    def _untyped_dst(
+        self, inst: Inst, key: str, loc: Loc, d: Slot, prefix: str, src: Optional[Slot] = None
+    ) -> Optional[ops.UntypedDst]:
+        """From 4.7.0 SetBlackboard converts a string with the converter of the entry it writes;
+        an entry that exists without a type (created at load by an untyped `{key}` port, by a
+        Script, or holding a SubTree literal) has none: the library leaves it empty and typed
+        BT::Any, and throws on the next such write. Whether an entry no port declared is typed
+        is known at run time only (Slot::entry_type): the record of what the write does then,
+        for a string slot declared `any` (None for any other). `key`: the `output_key` as
+        written."""
+        if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
+            return None
+        if d.kind != "string":
+            return None
+        target = inst.bb.root if key.startswith("@") else inst.bb
+        local = target.local_entry(key[1:] if key.startswith("@") else key) is d.entry
+        src_type = "typed"
+        if src is not None and src.entry.type_name == values.ANY:
+            src_type = "dynamic"
+        if local or src_type == "dynamic":  # (a copy creates a missing entry with the source's type)
+            self.bt_any_slots.add(self.a.slots.index(d))
+        return ops.UntypedDst(local, src_type, prefix, self.where(loc))
+
+    def _untyped_dyn_write_unsupported(self, d: Slot, loc: Loc, what: str) -> bool:
+        """The rule of _untyped_dst for an entry whose type changes at run time (a dynamic
+        slot): the generated C++ does not model that yet, so it refuses the mission rather than
         run it differently (docs/btcpp-versions.md). True when it reported that."""
         if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
             return False
-        if not (d.at_load or any(w.source == "script" for w in d.writes)):
+        if d.kind != DYN or not (d.at_load or any(w.source == "script" for w in d.writes)):
             return False
         self.error(
             loc,
-            f"{what} writes a string into `{d.key}`, an entry created without a type ({d.origin_text}); "
-            f"BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry empty and typed BT::Any "
-            f"(and throws on the next such write), which is not supported by the C++ back end yet",
+            f"{what} writes a string into `{d.key}`, an entry created without a type whose type changes at "
+            f"run time ({d.origin_text}); BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry "
+            f"empty and typed BT::Any (and throws on the next such write), which is not supported by the C++ "
+            f"back end yet",
         )
         return True
 
@@ -482,19 +511,13 @@ class Compiler:
             assert qslot is not None
             s = self.a.slots[qslot]
             want = kinds.queue_kind(elem)
+            if s.kind != want and self.a.m.semantics.loop_queue_untyped and not is_user(s.kind):
+                return self.loop_untyped(inst, op, locals_)
             if s.kind != want:
-                # From 4.9.1 a string entry is converted into a queue at each start: the
-                # generated C++ does not do that yet (docs/btcpp-versions.md).
-                later = (
-                    f"; BehaviorTree.CPP {self.a.m.semantics.version} converts a string at each start, "
-                    f"which is not supported by the C++ back end yet"
-                    if self.a.m.semantics.loop_queue_untyped and s.kind == "string"
-                    else ""
-                )
                 self.error(
                     loc,
                     f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
-                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}{later}",
+                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
                 )
                 return None
             no_value = self.fail(
@@ -511,6 +534,59 @@ class Compiler:
             inst.index,
             f"{what} queue={inst.ports['queue'].raw}",
             ops.LoopPop(elem, local, items, qslot, no_value, vslot, declared, write_fail),
+        )
+
+    def loop_untyped(self, inst: Inst, op: LoopUse, locals_: list[LocalIR]) -> Optional[DataOp]:
+        """From 4.9.1 a Loop's `queue` port is untyped: an entry holding a string is converted
+        into a private queue each time the loop starts (the interpreter's
+        _queue_from_blackboard_410); one without a value, or holding anything but a string or
+        a queue of the element type, makes the node throw."""
+        elem, qslot, vslot, loc = op.elem, op.qslot, op.vslot, op.loc
+        assert qslot is not None
+        s = self.a.slots[qslot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
+        read = f"port `queue` of {what} reads blackboard entry `{op.qkey}`, which"
+        must = f": it must hold a queue<{elem}> or a string"
+        source, text_local = "scalar", ""
+        if s.kind in ("string", DYN):
+            source, text_local = "text", f"loopq_{inst.index}"
+            locals_.append(
+                LocalIR(
+                    text_local,
+                    f"{what}: its queue, converted from the text of `{s.key}` when it starts (4.9.1)",
+                    text_capacity=max(s.capacity, 1),
+                )
+            )
+        elif s.kind == "none":
+            source = "none"
+        elif is_queue(s.kind):
+            self.error(loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, a {s.kind}, not a queue<{elem}>")
+            return None
+        declared, write_fail = "", None
+        if vslot is not None:
+            vloc = inst.ports["value"].loc_or or inst.node.loc
+            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+                return None
+            declared = self.a.slots[vslot].entry.type_name
+            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        return DataOp(
+            inst.index,
+            f"{what} queue={inst.ports['queue'].raw}",
+            ops.LoopPop(
+                elem,
+                "",
+                (),
+                qslot,
+                self.fail(loc, f"{read} has no value{must}"),
+                vslot,
+                declared,
+                write_fail,
+                source,
+                text_local,
+                f"{read} holds ",
+                f"port `queue` of {what}: ",
+                self.where(loc),
+            ),
         )
 
     # ------------------------------------------------------------ user port types
@@ -761,6 +837,7 @@ class Compiler:
                 not s.at_load or s.unset,
                 s.origin_text,
                 s.provided,
+                i in self.bt_any_slots,
             )
             for i, s in enumerate(self.a.slots)
         )

@@ -114,6 +114,7 @@ class SlotIR:
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
     provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
+    may_be_bt_any: bool = False  # from 4.7.0 a SetBlackboard string may leave it empty and typed BT::Any
 
 
 @dataclass(frozen=True)
@@ -135,7 +136,8 @@ class ScriptIR:
 @dataclass(frozen=True)
 class LocalIR:
     """Node-local storage in the Blackboard struct: the copy of a Loop's literal queue
-    (`elem`, `length`, `elem_capacity`), or a user-typed literal (`user_cpp`)."""
+    (`elem`, `length`, `elem_capacity`), a Loop's queue converted from a string entry
+    (`text_capacity`), or a user-typed literal (`user_cpp`)."""
 
     member: str
     comment: str
@@ -143,6 +145,7 @@ class LocalIR:
     length: int = 0
     elem_capacity: int = 0
     user_cpp: str = ""
+    text_capacity: int = 0  # a Loop's queue converted from a string entry (from 4.9.1)
 
 
 @dataclass(frozen=True)

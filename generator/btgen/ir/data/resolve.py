@@ -478,7 +478,7 @@ class Analysis:
                 "copy",
             )
         )
-        self.node_ops.append((inst, SetCopyUse(dst, src, loc, out.raw, src_key)))
+        self.node_ops.append((inst, SetCopyUse(dst, src, loc, out.raw, src_key, value.raw)))
 
     def _queue_literal(self, slot: int, text: str) -> None:
         s = self.slots[slot]
@@ -526,14 +526,18 @@ class Analysis:
             def bound(q=qslot, st=static) -> Optional[int]:
                 if st is not None:
                     return max((len(str(x).encode("utf-8")) for x in st), default=0)
-                return self.slots[q].elem_capacity if q is not None else 0
+                if q is None:
+                    return 0
+                s = self.slots[q]
+                # (from 4.9.1 a string entry's elements are parts of its text)
+                return s.elem_capacity if is_queue(s.kind) else s.capacity if s.kind in ("string", DYN) else 0
 
             self.slots[vslot].writes.append(
                 Write(
                     vslot, self.next_order(), vloc, what, lambda e=elem: self.kind_of_type(e), True, bound, None, "loop"
                 )
             )
-        self.node_ops.append((inst, LoopUse(elem, static, qslot, vslot, loc)))
+        self.node_ops.append((inst, LoopUse(elem, static, qslot, vslot, loc, qkey)))
         self.node_ops.append((inst, StatusParam(self._status_literal(inst, "if_empty"))))
 
     # -- user leaves

@@ -143,6 +143,7 @@ class SetCopyUse:
     loc: Loc
     key: str
     src_key: str
+    raw: str  # the `value` attribute as written
 
 
 @dataclass(frozen=True)
@@ -158,6 +159,7 @@ class LoopUse:
     qslot: Optional[int]
     vslot: Optional[int]
     loc: Loc
+    qkey: Optional[str]  # the key `queue` names, when it is not a literal
 
 
 @dataclass(frozen=True)
