@@ -191,7 +191,7 @@ class Analysis:
                 if isinstance(entry.value, str)
                 else next((v for n, v, _ in remap if n == key), str(entry.value))
             )
-            constant_kind = {values.INT: "int", values.DOUBLE: "double"}.get(entry.type_name, "string")
+            constant_kind = {values.INT: kinds.INT, values.DOUBLE: kinds.DOUBLE}.get(entry.type_name, kinds.STRING)
             s.initial = text
             s.origin = f'the constant port `{key}` of SubTree "{model.display_name}"'
             s.origin_loc = locs.get(key, model.loc)
@@ -313,8 +313,8 @@ class Analysis:
     def _bound_of(self, slot: int) -> Optional[int]:
         s = self.slots[slot]
         if s.kind == DYN:  # its text, or the text of a number it holds
-            return max(s.capacity, kinds.TEXT_BOUND["double"])
-        return s.capacity if s.kind == "string" else kinds.TEXT_BOUND.get(s.kind or "", 0)
+            return max(s.capacity, kinds.TEXT_BOUND[kinds.DOUBLE])
+        return s.capacity if s.kind == kinds.STRING else kinds.TEXT_BOUND.get(s.kind or "", 0)
 
     def _kind_of(self, names: dict[str, int]) -> Callable[[str], Optional[KindLike]]:
         return lambda name: self.slots[names[name]].kind
@@ -340,8 +340,8 @@ class Analysis:
         if isinstance(expr, sc.Name):
             s = self.slots[names[expr.name]]
             if s.kind == DYN:
-                return max(s.capacity, kinds.TEXT_BOUND["double"])
-            if s.kind == "string":
+                return max(s.capacity, kinds.TEXT_BOUND[kinds.DOUBLE])
+            if s.kind == kinds.STRING:
                 return s.capacity
             return kinds.TEXT_BOUND.get(s.kind or "", 0)
         if isinstance(expr, sc.Binary):
@@ -353,9 +353,9 @@ class Analysis:
         if isinstance(expr, sc.Assign):
             s = self.slots[names[expr.target]]
             if s.kind == DYN:  # its text, or the text of a number it holds
-                return max(s.capacity, kinds.TEXT_BOUND["double"])
-            return s.capacity if s.kind == "string" else kinds.TEXT_BOUND.get(s.kind or "", 0)
-        return kinds.TEXT_BOUND["double"]  # unary, comparison: numbers
+                return max(s.capacity, kinds.TEXT_BOUND[kinds.DOUBLE])
+            return s.capacity if s.kind == kinds.STRING else kinds.TEXT_BOUND.get(s.kind or "", 0)
+        return kinds.TEXT_BOUND[kinds.DOUBLE]  # unary, comparison: numbers
 
     # -- built-in nodes
     def _literal(self, inst: Inst, name: str, type_name: str) -> object:
@@ -443,7 +443,7 @@ class Analysis:
                 declared = s.entry.type_name
                 if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
                     return self.kind_of_type(declared)
-                return "string"
+                return kinds.STRING
 
             self.slots[dst].writes.append(
                 Write(
@@ -530,7 +530,7 @@ class Analysis:
                     return 0
                 s = self.slots[q]
                 # (from 4.9.1 a string entry's elements are parts of its text)
-                return s.elem_capacity if is_queue(s.kind) else s.capacity if s.kind in ("string", DYN) else 0
+                return s.elem_capacity if is_queue(s.kind) else s.capacity if s.kind in (kinds.STRING, DYN) else 0
 
             self.slots[vslot].writes.append(
                 Write(
@@ -591,7 +591,12 @@ class Analysis:
     def slot_type(self, i: int) -> SlotType:
         s = self.slots[i]
         return SlotType(
-            s.key, s.kind or "none", s.entry.type_name, s.capacity, s.origin_text, self.kind_of_type(s.entry.type_name)
+            s.key,
+            s.kind or kinds.NONE,
+            s.entry.type_name,
+            s.capacity,
+            s.origin_text,
+            self.kind_of_type(s.entry.type_name),
         )
 
 
