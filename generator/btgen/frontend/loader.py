@@ -498,6 +498,8 @@ class _Loader:
                 continue
             if tid.strip() != tid or not tid:
                 self.sink.error(loc, f"BehaviorTree ID `{tid}` must not be empty or start or end with spaces")
+            elif tid in self._registered_ids():
+                self.sink.error(loc, self._registered_clash("BehaviorTree", tid))
             seen[tid] = src.loc(elem)
             ok.add(tid)
         # The first definition wins; a duplicate is dropped (and reported).
@@ -505,6 +507,19 @@ class _Loader:
             (t, e, s) for i, (t, e, s) in enumerate(self.tree_elems) if t not in [x[0] for x in self.tree_elems[:i]]
         ]
         return ok
+
+    def _registered_ids(self) -> set[str]:
+        """The IDs BehaviorTree.CPP has registered when it reads the trees: its built-ins and
+        the nodes the models declare (registered in C++); a SubTree model names a tree."""
+        return set(self.builtins) | {m.id for m in self.models if m.kind != "SubTree"}
+
+    def _registered_clash(self, tag: str, tid: str) -> str:
+        # Both 4.6.2 and 4.10.0 refuse it while loading the file (XMLParser::loadDocImpl).
+        what = "a built-in node" if tid in self.builtins else "a node declared in TreeNodesModel"
+        return (
+            f"the ID of <{tag}> is `{tid}`, {what}: BehaviorTree.CPP refuses a tree or SubTree ID "
+            f"that names a registered node (rename the tree)"
+        )
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
@@ -633,7 +648,9 @@ class _Loader:
     ) -> Optional[NodeSpec]:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
-            if node_id not in tree_ids:
+            if node_id in self._registered_ids():
+                self.sink.error(loc, self._registered_clash("SubTree", node_id))
+            elif node_id not in tree_ids:
                 beside = self.siblings.defining_tree(src.path, node_id)
                 where = (
                     f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'

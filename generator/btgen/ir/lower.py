@@ -243,6 +243,8 @@ class _Lowerer:
         return value, loc
 
     def params(self, node: Node, n_children: int) -> tuple[int, int, int]:
+        if isinstance(node, SubTreeNode):
+            return 0, 0, 0  # its ID names a tree, maybe one called like a 4.10.0 built-in (TryCatch)
         nid = node.id
         if nid == "Parallel":
             succ, sloc = self.int_literal(node, "success_count")
