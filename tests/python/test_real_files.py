@@ -180,3 +180,14 @@ def test_tree_ids_naming_registered_nodes_are_refused(version, tmp_path, capsys)
         "</root>\n"
     )
     assert main(["validate", "-q", str(mission), "--btcpp", version]) == (0 if version == "4.6.2" else 1)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_warnings_name_the_selected_version(version, tmp_path, capsys):
+    """transport.xml's `${arg2}` literals: recorded as text on 4.6.2 and on 4.10.0 (the same
+    trace); the warning named 4.6.2 under --btcpp 4.10.0 before."""
+    rel = "plansys2/transport.xml"
+    assert main(["validate", os.path.join(HERE, rel), *_options(rel, tmp_path), "--btcpp", version]) == 0
+    warnings = [w for w in capsys.readouterr().err.splitlines() if "${" in w]
+    assert len(warnings) == 2
+    assert all(w.endswith(f"BehaviorTree.CPP {version} reads it as this literal text") for w in warnings)

@@ -789,7 +789,7 @@ class _Loader:
             self.sink.warning(
                 attr.value_loc,
                 f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`); "
-                f"BehaviorTree.CPP 4.6.2 reads it as this literal text",
+                f"BehaviorTree.CPP {self.btcpp} reads it as this literal text",
             )
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)
