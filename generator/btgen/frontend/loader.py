@@ -436,6 +436,18 @@ class _Loader:
     def _read_model_port(self, p: etree._Element, src: Source, mid: str, ports: list[PortSpec]) -> Optional[PortSpec]:
         name = p.get("name")
         loc = src.value_loc(p, "name")
+        bad = not _PORT_NAME_RE.match(name) or name in RESERVED_PORT_NAMES
+        parent = p.getparent()
+        if bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484:
+            if p.get("default") is None:
+                # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4);
+                # no attribute can set this one, and without a default it writes nothing.
+                self.sink.warning(
+                    loc,
+                    f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                    f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
+                )
+                return None
         if not _PORT_NAME_RE.match(name):
             self.sink.error(
                 loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, not starting with a digit"
