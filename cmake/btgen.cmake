@@ -91,7 +91,11 @@ endfunction()
 # thread: needs Threads). btgen::groot2 is the Groot2 live publisher
 # (include/btgen/groot2.hpp) over ZeroMQ: defined only when the `cppzmq` target
 # exists (find_package(cppzmq), Debian's cppzmq-dev). A mission linking neither
-# needs no ZeroMQ and no threads.
+# needs no ZeroMQ and no threads. Groot2's REPLACE hooks (live fault injection)
+# work in every build; its breakpoints, which pause the tick thread, only with
+# BTGEN_GROOT2_BREAKPOINTS=ON (a debug build's option: without it a breakpoint
+# request gets an error reply).
+option(BTGEN_GROOT2_BREAKPOINTS "Groot2 breakpoints may pause the tick thread (debug builds)" OFF)
 function(_btgen_define_monitors)
   if(NOT TARGET btgen_btlog AND TARGET Threads::Threads)
     add_library(btgen_btlog INTERFACE)
@@ -102,6 +106,9 @@ function(_btgen_define_monitors)
     add_library(btgen_groot2 INTERFACE)
     add_library(btgen::groot2 ALIAS btgen_groot2)
     target_link_libraries(btgen_groot2 INTERFACE btgen::btlog cppzmq)
+    if(BTGEN_GROOT2_BREAKPOINTS)
+      target_compile_definitions(btgen_groot2 INTERFACE BTGEN_GROOT2_BREAKPOINTS)
+    endif()
   endif()
 endfunction()
 

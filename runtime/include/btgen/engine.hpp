@@ -60,6 +60,12 @@ struct has_on_error : std::false_type {};
 template <class O>
 struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::declval<const RuntimeError&>()))>>
     : std::true_type {};
+// An observer that may force a node's status (btgen::MonitorObserver: Groot2's REPLACE hooks).
+template <class O, class = void>
+struct has_forced_status : std::false_type {};
+template <class O>
+struct has_forced_status<O, std::void_t<decltype(std::declval<O&>().forced_status(std::declval<const NodeInfo&>()))>>
+    : std::true_type {};
 template <class S, class = void>
 struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT_LINE_BUDGET> {};
 template <class S>
@@ -354,6 +360,33 @@ class Engine {
     if (prev != s) observer_.on_status_change(info(n), prev, s);
   }
   void reset_status(std::size_t n) noexcept { set_status(n, Status::IDLE); }
+
+  // A status the observer forces on node `id` instead of its tick (Groot2's REPLACE hook,
+  // 4.6.2's pre-tick callback: asked after the pre-conditions, only when the node is not
+  // completed; SUCCESS or FAILURE replaces tick(), which is not called, and nothing is
+  // halted), or IDLE: tick it. Observers without forced_status() compile this away.
+  // Each visit tests observer_.hooked(id) inline (a null test and a relaxed load); the
+  // rest is out of line and cold, so that the straight-line code grows as little as it
+  // can (g++ inlines less in larger functions: docs/groot2.md has the measured cost).
+  static constexpr bool kHooks = engine_detail::has_forced_status<Observer>::value;
+  [[gnu::noinline, gnu::cold]] Status forced_slow(std::size_t id) noexcept {
+    if constexpr (kHooks) {
+      if (!is_completed(status_[id])) return observer_.forced_status(info(id));
+    }
+    (void)id;
+    return Status::IDLE;
+  }
+  // A node without pre- or post-conditions replaced by its hook: its status set, a
+  // decorator's completed child reset (DecoratorNode::executeTick), as finish() does.
+  [[gnu::noinline, gnu::cold]] Status replaced(std::size_t id) noexcept {
+    const Status h = forced_slow(id);
+    if (h != Status::IDLE) {
+      set_status(id, h);
+      const NodeInfo& n = info(id);
+      if (is_decorator(n.kind) && n.child_count == 1 && is_completed(status_[child(n, 0)])) reset_status(child(n, 0));
+    }
+    return h;
+  }
 
   // Completed-child flags of Parallel / ParallelAll, one bit per node.
   bool is_done(std::uint16_t n) const noexcept {
@@ -658,6 +691,13 @@ class Engine {
       if constexpr (uses_of(S) == 1) id = R;
       constexpr NodeKind K = Spec::kNodes[R].kind;
       using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
+      if constexpr (kHooks && kForm != Form::kScripted && kForm != Form::kGeneric) {
+        // (these forms have no pre- or post-conditions: the hook comes first)
+        if (__builtin_expect(observer_.hooked(id), 0)) {
+          const Status h = replaced(id);
+          if (h != Status::IDLE) return h;
+        }
+      }
       if constexpr (kForm == Form::kSequence) {
         return tick_sequence<R, K == NodeKind::Sequence>(id, Children{});
       } else if constexpr (kForm == Form::kReactive) {
@@ -737,6 +777,9 @@ class Engine {
     constexpr std::uint16_t kBits = Spec::kNodes[R].scripts;
     Status s = Status::IDLE;
     if constexpr ((kBits & kPreBits) != 0) s = pre_conditions_c<R>(id);
+    if constexpr (kHooks) {
+      if (s == Status::IDLE && __builtin_expect(observer_.hooked(id), 0)) s = forced_slow(id);
+    }
     if (s == Status::IDLE) {
       if constexpr (K == NodeKind::Script) {
         s = script_c<R, ScriptSlot::kCode>(id) < 0 ? Status::FAILURE : Status::SUCCESS;
@@ -999,6 +1042,13 @@ class Engine {
       if (decided != Status::IDLE) {
         f.decorator = is_decorator(kind) ? 1 : 0;
         return done(decided);
+      }
+    }
+    if constexpr (kHooks) {
+      const Status h = __builtin_expect(observer_.hooked(f.node), 0) ? forced_slow(f.node) : Status::IDLE;
+      if (h != Status::IDLE) {
+        f.decorator = is_decorator(kind) ? 1 : 0;
+        return done(h);
       }
     }
     return enter(f, kind);
