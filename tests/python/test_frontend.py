@@ -369,3 +369,19 @@ def test_xml_declaration_after_blank_lines_loads(tmp_path, lead):
     path = write(tmp_path, lead + body.replace("UTF-8", "latin-1") + "  </BehaviorTree>\n</root>\n")
     with pytest.raises(UserError, match="encoding `latin-1` is not supported"):
         load_mission(path)
+
+
+def test_an_empty_tree_id_says_so(tmp_path):
+    """BehaviorTree.CPP 4.10.0's gtest_factory.cpp tree with `<BehaviorTree ID="">` beside another
+    tree (both releases: "The tag <BehaviorTree> must have the attribute [ID]"); btgen said
+    "`` is not a valid value for this port" before."""
+    path = write(
+        tmp_path,
+        '<root BTCPP_format="4">\n  <BehaviorTree ID=""><AlwaysSuccess/></BehaviorTree>\n'
+        '  <BehaviorTree ID="Other"><AlwaysSuccess/></BehaviorTree>\n</root>\n',
+    )
+    with pytest.raises(UserError) as e:
+        load_mission(path)
+    assert [str(d) for d in e.value.diagnostics] == [
+        f"{path}:2:17: error: attribute `ID` is empty: it must name the tree or node"
+    ]
