@@ -85,3 +85,74 @@ TEST(Dynamic, OperatorsFollowTheKindsFoundAtRunTime) {
 }
 
 }  // namespace
+
+// BehaviorTree.CPP 4.10.0's SetBlackboard of a string into an entry no port declared
+// (btgen::set_string_410): the entry's run-time type decides, as blackboard.set_blackboard_410.
+namespace v410 {
+
+TEST(EntryType410, AnUntypedEntryIsLeftEmptyThenTypedBtAnyThenThrows) {
+  Slot<btgen::FixedString<8>> s;
+  s.exists = true;  // created untyped (a Script, an untyped port)
+  s.has_value = true;
+  (void)s.value.assign("old");
+  s.seq = 3;
+  EXPECT_EQ(btgen::set_string_410(s, btgen::EntryType::kTyped, true), 0);
+  EXPECT_FALSE(s.has_value);
+  EXPECT_EQ(s.seq, 4u);  // an update all the same
+  EXPECT_EQ(s.entry_type, btgen::EntryType::kBtAny);
+  EXPECT_EQ(btgen::set_string_410(s, btgen::EntryType::kTyped, true), -1);
+  dyn::Msg m("script error: ");
+  EXPECT_FALSE(dyn::store_text_410(s, "c", "mode", m));
+  EXPECT_EQ(text(m),
+            "script error: cannot assign 'c' to `mode` (BT::Any): cannot convert 'c' to BT::Any: the library has no "
+            "convertFromString for BT::Any");
+  s.unset();  // UnsetBlackboard: a new entry starts untyped
+  EXPECT_EQ(s.entry_type, btgen::EntryType::kUntyped);
+}
+
+TEST(EntryType410, ANewEntryIsTypedAndARemappedOneStaysUntyped) {
+  Slot<btgen::FixedString<8>> fresh;
+  EXPECT_EQ(btgen::set_string_410(fresh, btgen::EntryType::kTyped, true), 1);
+  EXPECT_TRUE(fresh.exists);
+  EXPECT_EQ(btgen::set_string_410(fresh, btgen::EntryType::kTyped, true), 1);
+  Slot<btgen::FixedString<8>> remapped;
+  remapped.exists = true;
+  EXPECT_EQ(btgen::set_string_410(remapped, btgen::EntryType::kTyped, false), 0);
+  EXPECT_EQ(btgen::set_string_410(remapped, btgen::EntryType::kTyped, false), 0);
+  EXPECT_EQ(remapped.entry_type, btgen::EntryType::kUntyped);
+}
+
+TEST(EntryType410, APortWriteTypesAnExistingUntypedEntryOnly) {
+  Slot<btgen::FixedString<8>> s;
+  ASSERT_EQ(btgen::port::write(s, btgen::Declared::kAny, std::string_view("a")), btgen::Errc::kOk);
+  EXPECT_EQ(s.entry_type, btgen::EntryType::kUntyped);  // Blackboard::set<std::string> creates it untyped
+  ASSERT_EQ(btgen::port::write(s, btgen::Declared::kAny, std::string_view("b")), btgen::Errc::kOk);
+  EXPECT_EQ(s.entry_type, btgen::EntryType::kTyped);
+  EXPECT_EQ(btgen::set_string_410(s, btgen::EntryType::kTyped, true), 1);
+}
+
+TEST(EntryType410, ALoopQueueIsTheTextConvertedWhenItStarts) {
+  btgen::port::TextQueue<16> q;
+  dyn::Msg m;
+  ASSERT_TRUE(btgen::port::load_queue<std::int64_t>(q, "3;4;", "int", m));
+  std::int64_t v = 0;
+  ASSERT_TRUE(btgen::port::queue_element(q.front(), v));
+  EXPECT_EQ(v, 3);
+  q.pop_front();
+  ASSERT_TRUE(btgen::port::queue_element(q.front(), v));
+  EXPECT_EQ(v, 4);
+  q.pop_front();
+  EXPECT_TRUE(q.empty());  // no element after a final `;`
+  ASSERT_TRUE(btgen::port::load_queue<std::int64_t>(q, "", "int", m));
+  EXPECT_TRUE(q.empty());
+  dyn::Msg bad("p: ");
+  EXPECT_FALSE(btgen::port::load_queue<double>(q, "0.5;+1.5", "double", bad));
+  EXPECT_EQ(text(bad), "p: `0.5;+1.5` is not a valid queue<double>: element 2: `+1.5` is not a valid double");
+  dyn::Msg range;
+  EXPECT_FALSE(btgen::port::load_queue<std::int64_t>(q, "1;3000000000", "int", range));
+  EXPECT_EQ(text(range),
+            "`1;3000000000` is not a valid queue<int>: element 2: `3000000000` is out of range for int (-2147483648 to "
+            "2147483647)");
+}
+
+}  // namespace v410

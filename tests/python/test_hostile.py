@@ -119,6 +119,7 @@ def test_compilers_define_no_macro_btgen_does_not_know():
         ("bb_", "port", "bb_1"),
         ("scratch0_", "port", "scratch0_1"),
         ("loop_3", "entry", "loop_3_"),
+        ("loopq_3", "entry", "loopq_3_"),
         ("exit", "namespace", "exit_"),
         ("main", "namespace", "main_"),
         ("lab_tour", "namespace", "lab_tour"),

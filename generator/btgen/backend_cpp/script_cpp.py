@@ -38,9 +38,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from btgen.backend_cpp.naming import cpp_string
+from btgen.backend_cpp.naming import cpp_string, slot_members
 from btgen.diagnostics import Loc
-from btgen.ir.dataflow import DataIR, script_loc
+from btgen.ir.data.records import DataIR, ScriptSlot, script_loc
 from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, describe_kind, is_queue
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
@@ -63,6 +63,7 @@ class SlotView:
     capacity: int  # strings: bytes
     may_be_missing: bool  # the entry may not exist when a script runs
     origin: str = ""  # why it has its type (for messages)
+    may_be_bt_any: bool = False  # 4.10.0's SetBlackboard may leave it empty and typed BT::Any
 
 
 @dataclass
@@ -780,6 +781,9 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str
     the entry already holds a value (an empty entry would change its type: reported at run
     time)."""
     route = typed.route
+    if s.may_be_bt_any and v.kind == "string":
+        # An entry 4.10.0's SetBlackboard left empty and typed BT::Any: its converter throws.
+        c.dyn_call(f"btgen::dyn::store_text_410({s.member}, {v.expr}, {cpp_view(s.key)}, dm)", off)
     if route == "same":
         store_same(c, s, v, off)
     elif route == "converted":
@@ -935,7 +939,7 @@ class CompiledScript:
     messages of its errors (ErrorTable) with the prefix, for its node's ScriptSite."""
 
     node: int
-    which: str
+    which: ScriptSlot
     comment: str
     body: tuple[str, ...]
     errors: tuple[tuple[str, str], ...]
@@ -956,8 +960,10 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
         return f"detail::kWhere[{i}]"
 
     views = [
-        SlotView(f"bb.{s.member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
-        for s in data.slots
+        SlotView(
+            f"bb.{member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text, s.may_be_bt_any
+        )
+        for s, member in zip(data.slots, slot_members(data.slots))
     ]
     out = []
     for c in data.scripts:

@@ -52,6 +52,18 @@ class SetDynLiteral:
 
 
 @dataclass(frozen=True)
+class UntypedDst:
+    """From 4.7.0, SetBlackboard of a string into an entry no port declared (a string slot
+    declared `any`): what its run-time type (Slot::entry_type) makes of the write
+    (btgen::set_string_410): stored (typed), left empty (untyped), or an error (BT::Any)."""
+
+    local: bool  # stored on the node's own blackboard: an untyped entry becomes BT::Any
+    src_type: str  # a copy's source: "dynamic" (its Slot::entry_type) or "typed" (declared)
+    prefix: str  # the message when the entry is typed BT::Any, up to the value's text
+    where: int  # the place that message names
+
+
+@dataclass(frozen=True)
 class SetText:
     """SetBlackboard of text into a typed (or string) entry: converted by its declared type."""
 
@@ -59,6 +71,7 @@ class SetText:
     declared: str  # values.py type name
     text: str
     fail: Fail
+    untyped: Optional[UntypedDst] = None  # an entry no port declared, from 4.7.0
 
 
 @dataclass(frozen=True)
@@ -72,6 +85,7 @@ class SetCopy:
     missing: Fail  # the source does not exist
     fail: Optional[Fail]  # the conversion fails, or the text does not fit
     empty_succeeds: bool = True  # a source without value empties `dst` (4.6.2) or fails the node
+    untyped: Optional[UntypedDst] = None  # a string into an entry no port declared, from 4.7.0
 
 
 @dataclass(frozen=True)
@@ -128,6 +142,14 @@ class LoopPop:
     value: Optional[int]  # the slot `value` writes, if wired
     value_declared: str
     write_fail: Optional[Fail]
+    # From 4.9.1 (loop_queue_untyped) an entry that holds no queue<elem>: "text" (a string or
+    # dynamic slot: converted into `text_local`, a btgen::port::TextQueue, when the loop
+    # starts), "none" (never a value), "scalar" (a number or status: an error whenever it runs)
+    source: str = "queue"
+    text_local: str = ""
+    holds: str = ""  # the message when the entry holds something else, up to its value
+    convert: str = ""  # the message prefix when the text does not convert
+    where: int = 0  # the place both name
 
 
 @dataclass(frozen=True)

@@ -1189,7 +1189,9 @@ class _Evaluator:
 
     def _store(self, entry: Entry, key: str, value: Value, off: int) -> Value:
         dst = entry.value
-        if dst is None and not entry.strongly_typed:
+        # The first value of an entry created untyped (AnyTypeAllowed) is taken as it is; an
+        # empty entry typed BT::Any (4.7.0's SetBlackboard, blackboard.ANY_TYPED) is not one.
+        if dst is None and entry.type_name == values.ANY:
             return value
         if isinstance(value, str) and not isinstance(dst, str):
             if entry.has_converter:

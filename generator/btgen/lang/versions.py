@@ -46,8 +46,9 @@ class Semantics:
     # (4.7.0 5f3f6756).
     precondition_if_until_started: bool = False
     # SetBlackboard converts a string (literal or copied) with the destination entry's own
-    # converter; an entry without one (created untyped) is left empty and typed BT::Any, and
-    # copying an empty entry returns FAILURE (4.7.0 3651a242).
+    # converter; an entry without one (created untyped) is left empty and typed BT::Any (then
+    # a string stored there by SetBlackboard or a Script throws), and copying an empty entry
+    # returns FAILURE (4.7.0 3651a242).
     setblackboard_converts_to_entry_type: bool = False
     # Loop nodes: `queue` is an untyped port; a blackboard string is converted into a
     # private queue at each start, a vector is accepted (4.9.0 c36bd4d6, 4.9.1 f42cd38b).
@@ -64,6 +65,11 @@ class Semantics:
     double_from_chars: bool = False
     # TryCatch is a built-in control node (4.9.0 b8f27152).
     trycatch: bool = False
+
+    # ---------------------------------------------------------------- monitoring
+    # A Groot2 BLACKBOARD reply that dumps a SubTree's blackboard also holds the root
+    # blackboard (the main tree's) under the key `ROOT` (4.10.0 ce95461e).
+    groot2_root_blackboard: bool = False
 
     # ---------------------------------------------------------------- scripts
     # The 4.9.0 script parser (d1983321): `&&` above `||`, `..` with `+`/`-`, true/false
@@ -85,6 +91,18 @@ class Semantics:
     # than one AsyncSequence child (4.7.0 b2fc82c8, d4d8ae13).
     reactive_sequence_child_checks: bool = False
 
+    # ---------------------------------------------------------------- Groot2 monitor
+    # Groot2 hooks with position 1 (POST) are kept apart from PRE ones and run after the
+    # node's tick (its post-conditions included), even when a pre-condition decided: a
+    # SUCCESS or FAILURE they give replaces the node's result. HOOK_REMOVE,
+    # BREAKPOINT_UNLOCK, HOOKS_DUMP (PRE hooks, then POST) and DISABLE_ALL_HOOKS see them.
+    # (4.6.2 files every hook as PRE.) (4.10.0 6fe6dcdf; runtime/include/btgen/groot2.hpp)
+    groot2_post_hooks: bool = False
+    # A HOOK_INSERT array with a bad hook in it keeps the hooks before it (4.10.0 answers
+    # the exception's message; 4.6.2's server thread terminates the process) (4.10.0
+    # 6fe6dcdf).
+    groot2_insert_until_error: bool = False
+
 
 _BY_VERSION = {
     "4.6.2": Semantics("4.6.2"),
@@ -104,11 +122,14 @@ SINCE = {
     "int_to_double_53_bits": "4.7.0",
     "double_from_chars": "4.9.0",
     "trycatch": "4.9.0",
+    "groot2_root_blackboard": "4.10.0",
     "script_grammar_49": "4.9.0",
     "name_validation_484": "4.8.4",
     "attribute_names_484": "4.8.4",
     "unique_subtree_paths": "4.8.4",
     "reactive_sequence_child_checks": "4.7.0",
+    "groot2_post_hooks": "4.10.0",
+    "groot2_insert_until_error": "4.10.0",
 }
 assert set(SINCE) == {f.name for f in fields(Semantics)} - {"version"}
 

@@ -265,7 +265,9 @@ class Explorer:
                 parts.append(v if isinstance(v, (int, str, bool, float, type(None))) else repr(v))
         bbs = {id(n.bb): n.bb for n in run.interp.nodes}
         for bb in bbs.values():
-            for k, e in sorted(bb._storage.items()):
+            for k in sorted(bb.local_keys()):
+                e = bb.local_entry(k)
+                assert e is not None
                 parts.append((k, repr(e.value), e.sequence_id if self.use_seq else 0))
         if self.use_clock:
             parts.append(run.interp.rt.now_ms)

@@ -333,19 +333,14 @@ _FOREVER_MS = 2**32 - 1
 
 
 def _instances(mission: Mission):
-    """(index, model node, path) of the expanded main tree in creation order (lower._expanded)."""
-    from btgen.ir.lower import _expanded
+    """(index, model node, path) of the expanded main tree in creation order (ir.numbering)."""
+    from btgen.ir.numbering import number_nodes
 
-    prefixes: dict[int, str] = {-1: ""}
-    for index, (node, parent, _, _) in enumerate(_expanded(mission)):
-        prefix = prefixes[parent] if parent in prefixes else prefixes.get(-1, "")
-        uid = index + 1
-        if isinstance(node, SubTreeNode):
-            name = node.name if node.name is not None else f"{node.target}::{uid}"
-            prefixes[index] = f"{prefix}{name}/"
-        else:
-            prefixes[index] = prefix
-        yield index, node, _path(prefix, node, uid)
+    numbering = number_nodes(mission)
+    paths = numbering.instance_paths()
+    for n in numbering:
+        path = paths[n.instance]
+        yield n.index, n.node, _path(path + "/" if path else "", n.node, n.uid)
 
 
 def _match_index(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[int]:

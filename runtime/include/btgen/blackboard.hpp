@@ -15,6 +15,8 @@
 //   exists     the entry exists (created when the tree was built, or by a
 //              write; UnsetBlackboard removes it)
 //   has_value  it holds a value (an entry created by a port has none yet)
+//   entry_type the entry's own type, where 4.10.0's SetBlackboard asks it
+//              (EntryType; 4.6.2 never reads it)
 //
 // Run-time problems that 4.6.2 reports by throwing (a script reading an
 // entry that does not exist, a conversion that fails, a string longer than
@@ -35,6 +37,16 @@ struct NoValue {
   friend constexpr bool operator==(NoValue, NoValue) noexcept { return true; }
 };
 
+// The type of an entry that no port declared, as BehaviorTree.CPP 4.7.0 and
+// later keep it at run time (Semantics::setblackboard_converts_to_entry_type):
+// SetBlackboard converts a string with the entry's own converter, which an
+// untyped entry lacks. Only SetBlackboard reads it; every writer keeps it.
+enum class EntryType : std::uint8_t {
+  kUntyped = 0,  // created without a type (a Script, an untyped port, a SubTree literal)
+  kTyped = 1,    // given a type: created by SetBlackboard, or written through a port
+  kBtAny = 2,    // typed BT::Any by a string SetBlackboard left empty: the next one throws
+};
+
 template <class T>
 struct Slot {
   using value_type = T;
@@ -42,6 +54,7 @@ struct Slot {
   std::uint64_t seq = 0;
   bool exists = false;
   bool has_value = false;
+  EntryType entry_type = EntryType::kUntyped;
 
   // A write: the entry exists, holds a value, and its counter moves on.
   constexpr void mark_written() noexcept {
@@ -55,8 +68,36 @@ struct Slot {
     seq = 0;
     exists = false;
     has_value = false;
+    entry_type = EntryType::kUntyped;
   }
 };
+
+// SetBlackboard of a string into an entry no port declared, from BehaviorTree.CPP
+// 4.7.0 (Semantics::setblackboard_converts_to_entry_type): the library converts the
+// text with the entry's own converter. A missing entry is created first, of type
+// `created`. Returns 1 when the entry takes the text (it is typed: std::string), 0
+// when it has no converter (untyped): it is left empty but updated, and becomes
+// typed BT::Any if it is stored on the node's own blackboard (`local`; one reached
+// through a SubTree remapping keeps its type); -1 when it is typed BT::Any, whose
+// converter throws.
+template <class T>
+[[nodiscard]] constexpr int set_string_410(Slot<T>& slot, EntryType created, bool local) noexcept {
+  if (!slot.exists) {
+    slot.exists = true;
+    slot.entry_type = created;
+  }
+  switch (slot.entry_type) {
+    case EntryType::kTyped: return 1;
+    case EntryType::kUntyped:
+      slot.value = T{};
+      slot.has_value = false;
+      ++slot.seq;
+      if (local) slot.entry_type = EntryType::kBtAny;
+      return 0;
+    case EntryType::kBtAny: return -1;
+  }
+  return -1;
+}
 
 struct RuntimeError {
   const NodeInfo* node;      // the node that failed because of it

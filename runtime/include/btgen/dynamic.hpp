@@ -563,6 +563,24 @@ inline int truth(const Ref& v, Msg& m) noexcept {
 
 }  // namespace dyn
 
+namespace dyn {
+
+// A script's `key := text` (and `=`) into a string entry, from BehaviorTree.CPP
+// 4.7.0: one that a SetBlackboard string left empty and typed BT::Any is no
+// longer `AnyTypeAllowed`, so the text goes through its converter, which throws.
+template <class T>
+bool store_text_410(const Slot<T>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
+  if (slot.has_value || slot.entry_type != EntryType::kBtAny) return true;
+  m.add("cannot assign ");
+  add_string_repr(m, text);
+  m.add(" to `").add(key).add("` (BT::Any): cannot convert ");
+  add_string_repr(m, text);
+  m.add(" to BT::Any: the library has no convertFromString for BT::Any");
+  return false;
+}
+
+}  // namespace dyn
+
 // The value of a dynamic slot: what the entry holds, and its 4.6.2 type (`any`,
 // or `string` once a SetBlackboard literal typed it).
 template <std::size_t N>

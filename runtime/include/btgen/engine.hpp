@@ -66,6 +66,13 @@ struct has_forced_status : std::false_type {};
 template <class O>
 struct has_forced_status<O, std::void_t<decltype(std::declval<O&>().forced_status(std::declval<const NodeInfo&>()))>>
     : std::true_type {};
+// An observer that may also force a node's result after its tick (4.10.0's POST hooks).
+template <class O, class = void>
+struct has_post_forced_status : std::false_type {};
+template <class O>
+struct has_post_forced_status<
+    O, std::void_t<decltype(std::declval<O&>().post_forced_status(std::declval<const NodeInfo&>()))>> : std::true_type {
+};
 template <class S, class = void>
 struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT_LINE_BUDGET> {};
 template <class S>
@@ -376,11 +383,34 @@ class Engine {
     (void)id;
     return Status::IDLE;
   }
-  // A node without pre- or post-conditions replaced by its hook: its status set, a
-  // decorator's completed child reset (DecoratorNode::executeTick), as finish() does.
+  // 4.10.0's post-tick callback (Sem::groot2_post_hooks; Groot2's POST hooks): asked on
+  // each visit after the node's tick and post-conditions, whatever it returned (a
+  // pre-condition's or a PRE hook's result too), before its status is set; SUCCESS or
+  // FAILURE replaces the result. The same inline test as hooked(), on a second table;
+  // 4.6.2 missions compile it away.
+  static constexpr bool kPostHooks = Sem::groot2_post_hooks && engine_detail::has_post_forced_status<Observer>::value;
+  [[gnu::always_inline]] Status post_hook(std::size_t id, Status s) noexcept {
+    if constexpr (kPostHooks) {
+      if (__builtin_expect(observer_.post_hooked(id), 0)) return post_slow(id, s);
+    }
+    (void)id;
+    return s;
+  }
+  [[gnu::noinline, gnu::cold]] Status post_slow(std::size_t id, Status s) noexcept {
+    if constexpr (kPostHooks) {
+      const Status h = observer_.post_forced_status(info(id));
+      if (h != Status::IDLE) return h;
+    }
+    (void)id;
+    return s;
+  }
+  // A node without pre- or post-conditions replaced by its hook: its status set (after its
+  // POST hook, 4.10.0), a decorator's completed child reset (DecoratorNode::executeTick), as
+  // finish() does.
   [[gnu::noinline, gnu::cold]] Status replaced(std::size_t id) noexcept {
-    const Status h = forced_slow(id);
+    Status h = forced_slow(id);
     if (h != Status::IDLE) {
+      h = post_hook(id, h);
       set_status(id, h);
       const NodeInfo& n = info(id);
       if (is_decorator(n.kind) && n.child_count == 1 && is_completed(status_[child(n, 0)])) reset_status(child(n, 0));
@@ -735,7 +765,7 @@ class Engine {
   // enter and folding it away.)
   template <NodeKind K, std::uint16_t kModel>
   [[gnu::always_inline]] Status tick_leaf(std::size_t id) noexcept {
-    const Status s = leaf_status<K, kModel>(id);
+    const Status s = post_hook(id, leaf_status<K, kModel>(id));
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -804,6 +834,7 @@ class Engine {
         if (!ok) s = Status::FAILURE;
       }
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -879,6 +910,7 @@ class Engine {
         s = Status::FAILURE;
       }
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     if (is_completed(status_[c])) reset_status(c);  // DecoratorNode::executeTick
     return s;
@@ -906,6 +938,7 @@ class Engine {
       (halt_child_id(id + kChildOffset<R, I>), ...);
       c[0] = 0;
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -945,6 +978,7 @@ class Engine {
       s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
     if (s != Status::RUNNING) (halt_child_id(id + kChildOffset<R, I>), ...);
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -1063,6 +1097,7 @@ class Engine {
     if ((kMissionScripts & kPostBits) != 0 && (n.scripts & kPostBits) != 0 && is_completed(s)) {
       s = post_conditions(n, s);
     }
+    s = post_hook(node, s);
     if (s != Status::SKIPPED) set_status(node, s);
     if (f.decorator != 0) {
       const std::uint16_t c = child(n, 0);

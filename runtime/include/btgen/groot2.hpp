@@ -15,7 +15,8 @@
 //                    reached from S is written 10 + S, as 4.6.2 does
 //   BLACKBOARD 'B'   second part "name;name;...": MessagePack of a JSON object with
 //                    each named blackboard's entries (integers, bools as integers,
-//                    doubles, strings; other types null, as 4.6.2's JSON export)
+//                    doubles, strings; other types null, as 4.6.2's JSON export);
+//                    from 4.10.0 a SubTree's also brings the root blackboard as `ROOT`
 //   TOGGLE_RECORDING 'r' "start" (reply: now in microseconds) / "stop"
 //   GET_TRANSITIONS 't' the transitions since the last call, 9 bytes each
 //   HOOK_INSERT 'I'  a hook's JSON or an array of them (uid, position, enabled, once, mode,
@@ -78,6 +79,7 @@
 #include <string_view>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <zmq.hpp>
@@ -583,8 +585,8 @@ class HookFields {
   const JsonValue& v_;
 };
 
-// HOOK_INSERT's argument: one hook object or an array of them (4.6.2 takes both). All of
-// them or none: false and `error` when one is not a hook.
+// HOOK_INSERT's argument: one hook object or an array of them (4.6.2 takes both). False
+// and `error` when one is not a hook; `out` then holds the hooks before it.
 inline bool parse_hooks(std::string_view text, std::vector<HookSpec>& out, std::string_view& error) {
   JsonValue root;
   JsonReader reader(text);
@@ -693,6 +695,13 @@ class Publisher final : public StatusSink, public HookSink {
   using Groot2 = typename Mission::Groot2;
   using Blackboard = typename Mission::Blackboard;
   static constexpr std::size_t kNodes = Mission::node_count();
+  // 4.10.0 (Sem::groot2_post_hooks): a POST hook per node besides the PRE one, in slots
+  // kNodes + index of the tables below; 4.6.2 files every hook as PRE (one slot a node).
+  static constexpr bool kPostHooks = Mission::Sem::groot2_post_hooks;
+  static constexpr std::size_t kSlots = kPostHooks ? 2 * kNodes : kNodes;
+  // 4.10.0 (Sem::groot2_insert_until_error): a HOOK_INSERT array keeps the hooks before a
+  // bad one; 4.6.2 (whose server thread terminates then) is modelled as all or none.
+  static constexpr bool kInsertUntilError = Mission::Sem::groot2_insert_until_error;
 
   Publisher(Mission& mission, unsigned port, const std::string& address = "*", std::size_t recording_capacity = 1000)
       : mission_(&mission),
@@ -716,7 +725,8 @@ class Publisher final : public StatusSink, public HookSink {
     for (auto& b : release_) b.store(0, std::memory_order_relaxed);
     if (!mission.observer().attach(this))
       throw std::runtime_error("groot2: the mission's observer has no room for another monitor");
-    hooks_attached_ = mission.observer().attach_hooks(this, hook_bytes_.data());
+    hooks_attached_ =
+        mission.observer().attach_hooks(this, hook_bytes_.data(), kPostHooks ? hook_bytes_.data() + kNodes : nullptr);
     *snapshot_ = mission.blackboard();
     thread_ = std::thread([this] { serve(); });
   }
@@ -749,22 +759,13 @@ class Publisher final : public StatusSink, public HookSink {
   // FAILURE); a `once` hook is taken out of the table first, so it is used once.
   // BREAKPOINT (BTGEN_GROOT2_BREAKPOINTS builds): waits for BREAKPOINT_UNLOCK, or for the
   // hook to be disabled, removed or made REPLACE. Nothing allocates or locks.
-  Status on_hook(const NodeInfo& node, std::uint8_t b) noexcept override {
-    auto& slot = hook_bytes_[node.index];
-    Status result = static_cast<Status>(b & kHookStatus);
-    if constexpr (kBreakpoints) {
-      if ((b & kHookBreak) != 0) {
-        result = wait_at_breakpoint(node);
-        b = slot.load(std::memory_order_acquire);
-      }
-    } else if ((b & kHookBreak) != 0) {
-      return Status::IDLE;  // (never stored without breakpoints)
-    }
-    while ((b & kHookOnce) != 0) {  // remove_when_done: the server sees the byte gone
-      if (slot.compare_exchange_weak(b, 0, std::memory_order_acq_rel, std::memory_order_acquire)) break;
-      if (b == 0) return Status::IDLE;  // removed meanwhile
-    }
-    return result;
+  Status on_hook(const NodeInfo& node, std::uint8_t b) noexcept override { return use_hook(node.index, b); }
+  // The same for a POST hook (4.10.0 missions), after the node's tick.
+  Status on_post_hook(const NodeInfo& node, std::uint8_t b) noexcept override {
+    if constexpr (kPostHooks) return use_hook(kNodes + node.index, b);
+    (void)node;
+    (void)b;
+    return Status::IDLE;
   }
 
   // The heartbeat: after this long without a request every hook is disabled, and enabled
@@ -786,6 +787,25 @@ class Publisher final : public StatusSink, public HookSink {
   [[nodiscard]] std::uint64_t requests() const noexcept { return requests_.load(); }
 
  private:
+  // Tick thread: the hook of slot `i` (node index, or kNodes + index for POST) with byte `b`.
+  Status use_hook(std::size_t i, std::uint8_t b) noexcept {
+    auto& slot = hook_bytes_[i];
+    Status result = static_cast<Status>(b & kHookStatus);
+    if constexpr (kBreakpoints) {
+      if ((b & kHookBreak) != 0) {
+        result = wait_at_breakpoint(i);
+        b = slot.load(std::memory_order_acquire);
+      }
+    } else if ((b & kHookBreak) != 0) {
+      return Status::IDLE;  // (never stored without breakpoints)
+    }
+    while ((b & kHookOnce) != 0) {  // remove_when_done: the server sees the byte gone
+      if (slot.compare_exchange_weak(b, 0, std::memory_order_acq_rel, std::memory_order_acquire)) break;
+      if (b == 0) return Status::IDLE;  // removed meanwhile
+    }
+    return result;
+  }
+
   void serve() {
     last_request_ = std::chrono::steady_clock::now();
     while (active_.load()) {
@@ -908,7 +928,13 @@ class Publisher final : public StatusSink, public HookSink {
         reply.push_back(std::move(buf));
         break;
       }
-      case K::kBlackboard: reply.push_back(blackboards(request.argument)); break;
+      case K::kBlackboard: {
+        std::string dump;
+        std::string_view why;
+        if (!blackboards(request.argument, dump, why)) return error(why);
+        reply.push_back(std::move(dump));
+        break;
+      }
       case K::kRecordStart:
         recording_.drain([](const Transition&) {});
         record_origin_.store(btgen::wall_clock_usec());
@@ -929,7 +955,7 @@ class Publisher final : public StatusSink, public HookSink {
       case K::kHooksDump: {
         collect_used_hooks();
         std::string json = "[";
-        for (std::size_t i = 0; i < kNodes; ++i)
+        for (std::size_t i = 0; i < kSlots; ++i)  // (4.10.0: the PRE hooks, then the POST ones)
           if (hooks_[i].present) detail::dump_hook(json, hooks_[i].spec);
         json += "]";
         reply.push_back(std::move(json));
@@ -943,7 +969,7 @@ class Publisher final : public StatusSink, public HookSink {
         break;
       }
       case K::kRemoveAllHooks:
-        for (std::size_t i = 0; i < kNodes; ++i) remove_hook(i);
+        for (std::size_t i = 0; i < kSlots; ++i) remove_hook(i);
         break;
       case K::kDisableAllHooks: enable_all_hooks(false); break;
       default: break;
@@ -983,7 +1009,7 @@ class Publisher final : public StatusSink, public HookSink {
   }
   // A `once` hook whose byte the tick thread took is gone (4.6.2 erases it after its use).
   void collect_used_hooks() noexcept {
-    for (std::size_t i = 0; i < kNodes; ++i) {
+    for (std::size_t i = 0; i < kSlots; ++i) {
       if ((armed_[i] & kHookOnce) != 0 && hook_bytes_[i].load(std::memory_order_acquire) == 0) {
         hooks_[i] = HookEntry{};
         armed_[i] = 0;
@@ -996,11 +1022,15 @@ class Publisher final : public StatusSink, public HookSink {
   }
   void enable_all_hooks(bool enable) noexcept {
     collect_used_hooks();
-    for (std::size_t i = 0; i < kNodes; ++i) {
+    for (std::size_t i = 0; i < kSlots; ++i) {
       if (!hooks_[i].present) continue;
       hooks_[i].spec.enabled = enable;
       republish_hook(i);
     }
+  }
+  // The slot of a hook on node `i` at `position` (0 PRE, 1 POST): 4.6.2 has PRE ones only.
+  static std::size_t slot_of(std::size_t i, std::uint8_t position) noexcept {
+    return kPostHooks && position == 1 ? kNodes + i : i;
   }
   // The node of a UID, or kNodes.
   static std::size_t node_of(std::uint16_t uid) noexcept {
@@ -1019,21 +1049,33 @@ class Publisher final : public StatusSink, public HookSink {
     std::string_view failed;
     if (request.kind == K::kHookInsert) {
       std::vector<detail::HookSpec> specs;
-      if (!detail::parse_hooks(request.argument, specs, failed)) return failed;
-      for (const detail::HookSpec& h : specs) {  // all of them, or none
-        if (h.breakpoint && !kBreakpoints)
-          return "btgen: breakpoints need a build with BTGEN_GROOT2_BREAKPOINTS (REPLACE hooks work in every "
-                 "build)";
-        if (node_of(h.uid) == kNodes) return "Node ID not found";
+      const bool parsed = detail::parse_hooks(request.argument, specs, failed);
+      if (!parsed && !kInsertUntilError) return failed;
+      std::size_t good = 0;  // all of them, or none (4.10.0: those before the first bad one)
+      for (const detail::HookSpec& h : specs) {
+        if (h.breakpoint && !kBreakpoints) {
+          failed =
+              "btgen: breakpoints need a build with BTGEN_GROOT2_BREAKPOINTS (REPLACE hooks work in every "
+              "build)";
+          break;
+        }
+        if (node_of(h.uid) == kNodes) {
+          failed = "Node ID not found";
+          break;
+        }
+        ++good;
       }
-      for (const detail::HookSpec& h : specs) insert_hook(node_of(h.uid), h);
-      return {};
+      if (good < specs.size() && !kInsertUntilError) return failed;
+      for (std::size_t k = 0; k < good; ++k) insert_hook(slot_of(node_of(specs[k].uid), specs[k].position), specs[k]);
+      return failed;
     }
     detail::HookSpec ref;
     if (!detail::parse_hook_ref(request.argument, request.kind == K::kBreakpointUnlock, ref, failed)) return failed;
-    const std::size_t i = node_of(ref.uid);
+    const std::size_t node = node_of(ref.uid);
     // (4.6.2 files every hook as a PRE hook and looks POST ones up in a table it never fills)
-    if (i == kNodes || !hooks_[i].present || ref.position != 0) return "Node ID not found";
+    if (node == kNodes || (!kPostHooks && ref.position != 0)) return "Node ID not found";
+    const std::size_t i = slot_of(node, ref.position);
+    if (!hooks_[i].present) return "Node ID not found";
     if (request.kind == K::kHookRemove) {
       remove_hook(i);
       return {};
@@ -1081,9 +1123,8 @@ class Publisher final : public StatusSink, public HookSink {
   // (BREAKPOINT_UNLOCK, or the breakpoint made REPLACE) or the hook is no longer a
   // breakpoint (disabled, removed: the node is ticked). Meanwhile the server answers
   // requests, and BLACKBOARD requests get fresh copies from here.
-  Status wait_at_breakpoint(const NodeInfo& node) noexcept {
-    const std::size_t i = node.index;
-    paused_.store(static_cast<std::uint32_t>(i + 1), std::memory_order_release);
+  Status wait_at_breakpoint(std::size_t i) noexcept {  // i: the hook's slot
+    paused_.store(static_cast<std::uint32_t>(i % kNodes + 1), std::memory_order_release);
     pauses_.fetch_add(1, std::memory_order_acq_rel);
     Status result = Status::IDLE;
     for (;;) {
@@ -1122,31 +1163,49 @@ class Publisher final : public StatusSink, public HookSink {
     }
   }
 
-  // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them.
-  std::string blackboards(std::string_view names) {
+  // The blackboards named in `names` (`;`-separated) that exist, as 4.6.2 dumps them;
+  // from 4.10.0 (Sem::groot2_root_blackboard) a SubTree's comes with the root blackboard
+  // (the main tree's, index 0) under the name `ROOT`. False: `err` says why there is no dump.
+  bool blackboards(std::string_view names, std::string& out, std::string_view& err) {
     wait_for_a_fresh_copy();
-    std::vector<std::size_t> wanted;
+    static constexpr std::string_view kRoot = "ROOT";
+    std::vector<std::pair<std::string_view, std::size_t>> wanted;  // name, blackboard index
+    bool root_exported = false;
+    err = {};
     detail::for_each_name(names, [&](std::string_view name) {
       for (std::size_t b = 0; b < Groot2::kBlackboards.size(); ++b) {
-        if (Groot2::kBlackboards[b] == name) {
-          bool seen = false;
-          for (std::size_t w : wanted) seen = seen || w == b;
-          if (!seen) wanted.push_back(b);
+        if (Groot2::kBlackboards[b] != name || !err.empty()) continue;
+        const auto has = [&](std::string_view n) {
+          return std::any_of(wanted.begin(), wanted.end(), [&](const auto& w) { return w.first == n; });
+        };
+        const bool needs_root = Mission::Sem::groot2_root_blackboard && b != 0;
+        if (Mission::Sem::groot2_root_blackboard && name == kRoot && (needs_root || root_exported)) {
+          err = "blackboard dump request uses reserved name [ROOT] together with an external root blackboard export";
+          return;
         }
+        if (!has(name)) wanted.emplace_back(name, b);
+        if (!needs_root || root_exported) continue;
+        if (has(kRoot)) {
+          err = "blackboard dump request would overwrite subtree [ROOT] with an external root blackboard export";
+          return;
+        }
+        wanted.emplace_back(kRoot, 0);
+        root_exported = true;
       }
     });
+    if (!err.empty()) return false;
     // nlohmann's object is a std::map: names in byte order.
-    std::sort(wanted.begin(), wanted.end(),
-              [](std::size_t a, std::size_t b) { return Groot2::kBlackboards[a] < Groot2::kBlackboards[b]; });
+    std::sort(wanted.begin(), wanted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     MsgPack mp;
     if (wanted.empty()) {
       mp.nil();
-      return mp.out;
+      out = std::move(mp.out);
+      return true;
     }
     std::lock_guard<std::mutex> lock(bb_mutex_);
     mp.map(wanted.size());
-    for (std::size_t b : wanted) {
-      mp.str(Groot2::kBlackboards[b]);
+    for (const auto& [bb_name, b] : wanted) {
+      mp.str(bb_name);
       std::size_t n = 0;
       Groot2::visit_blackboard(*snapshot_, [&](std::size_t bb, std::string_view, const auto& slot) {
         if (bb == b && slot.exists) ++n;
@@ -1162,7 +1221,8 @@ class Publisher final : public StatusSink, public HookSink {
         detail::write_value(mp, slot);
       });
     }
-    return mp.out;
+    out = std::move(mp.out);
+    return true;
   }
 
   // Asks the tick thread for a copy at its next status change and waits for it, within
@@ -1199,12 +1259,12 @@ class Publisher final : public StatusSink, public HookSink {
   std::atomic<std::uint64_t> bb_version_{0};
   std::atomic<std::uint64_t> requests_{0};
   std::atomic<bool> active_{true};
-  std::array<std::atomic<std::uint8_t>, kNodes> hook_bytes_{};  // the tick thread reads them
-  std::array<std::atomic<std::uint8_t>, kNodes> release_{};     // breakpoints released
+  std::array<std::atomic<std::uint8_t>, kSlots> hook_bytes_{};  // the tick thread reads them
+  std::array<std::atomic<std::uint8_t>, kSlots> release_{};     // breakpoints released
   // Server thread only, on the heap (some 11 bytes a node: a large mission's publisher may
   // live on a stack).
-  std::vector<HookEntry> hooks_ = std::vector<HookEntry>(kNodes);
-  std::vector<std::uint8_t> armed_ = std::vector<std::uint8_t>(kNodes);
+  std::vector<HookEntry> hooks_ = std::vector<HookEntry>(kSlots);
+  std::vector<std::uint8_t> armed_ = std::vector<std::uint8_t>(kSlots);
   bool hooks_attached_ = false;
   std::atomic<std::int64_t> heartbeat_ms_{kMaxHeartbeatDelay.count()};
   std::chrono::steady_clock::time_point last_request_{};  // server thread only

@@ -22,7 +22,9 @@
 // of a node, after its pre-conditions, as BehaviorTree.CPP 4.6.2 calls a
 // node's pre-tick callback: the cost is one relaxed load of that byte (and a
 // null test of the table without such a monitor); only a set byte calls the
-// monitor.
+// monitor. A mission that follows 4.10.0 (Sem::groot2_post_hooks) also asks
+// post_forced_status() after each tick of a node, as 4.10.0 calls a node's
+// post-tick callback: a second table of one byte per node, read the same way.
 #pragma once
 
 #include <atomic>
@@ -57,6 +59,13 @@ class StatusSink {
 class HookSink {
  public:
   virtual Status on_hook(const NodeInfo& node, std::uint8_t hook) noexcept = 0;
+  // The same after the node's tick (4.10.0's POST hooks, from the second table): called
+  // whatever the node returned. SUCCESS or FAILURE replaces its result.
+  virtual Status on_post_hook(const NodeInfo& node, std::uint8_t hook) noexcept {
+    (void)node;
+    (void)hook;
+    return Status::IDLE;
+  }
 
  protected:
   HookSink() = default;
@@ -130,22 +139,37 @@ class MonitorObserver {
     const Status s = hook_sink_->on_hook(node, b);
     return is_completed(s) ? s : Status::IDLE;
   }
+  // The same for the POST table (4.10.0 missions: the engine asks after the node's tick).
+  [[nodiscard, gnu::always_inline]] bool post_hooked(std::size_t index) const noexcept {
+    return post_hooks_ != nullptr && post_hooks_[index].load(std::memory_order_relaxed) != 0;
+  }
+  [[nodiscard]] Status post_forced_status(const NodeInfo& node) noexcept {
+    if (post_hooks_ == nullptr) return Status::IDLE;
+    const std::uint8_t b = post_hooks_[node.index].load(std::memory_order_relaxed);
+    if (b == 0) return Status::IDLE;
+    const Status s = hook_sink_->on_post_hook(node, b);
+    return is_completed(s) ? s : Status::IDLE;
+  }
   static constexpr bool kHooks = true;
 #else
   static constexpr bool kHooks = false;
 #endif
   // `table` holds one byte per node of the mission (indexed by NodeInfo::index) and
-  // outlives the attachment. False when another monitor forces statuses already.
-  bool attach_hooks(HookSink* sink, const std::atomic<std::uint8_t>* table) noexcept {
+  // outlives the attachment; `post_table` likewise, for POST hooks (or null). False when
+  // another monitor forces statuses already.
+  bool attach_hooks(HookSink* sink, const std::atomic<std::uint8_t>* table,
+                    const std::atomic<std::uint8_t>* post_table = nullptr) noexcept {
     if (!kHooks || sink == nullptr || table == nullptr || hook_sink_ != nullptr) return false;
     hook_sink_ = sink;
     hooks_ = table;
+    post_hooks_ = post_table;
     return true;
   }
   void detach_hooks(HookSink* sink) noexcept {
     if (hook_sink_ != sink) return;
     hook_sink_ = nullptr;
     hooks_ = nullptr;
+    post_hooks_ = nullptr;
   }
 
   [[nodiscard]] Next& next() noexcept { return next_; }
@@ -155,6 +179,7 @@ class MonitorObserver {
   std::size_t count_ = 0;
   HookSink* hook_sink_ = nullptr;
   const std::atomic<std::uint8_t>* hooks_ = nullptr;
+  const std::atomic<std::uint8_t>* post_hooks_ = nullptr;
   Next next_{};
 };
 

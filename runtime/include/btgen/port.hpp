@@ -398,6 +398,86 @@ Errc parse_queue(std::string_view text, FixedQueue<E, N>& out) noexcept {
   return Errc::kOk;
 }
 
+// A Loop's `queue` read from an entry holding a string, from BehaviorTree.CPP 4.9.1
+// (Semantics::loop_queue_untyped): the text is converted into a private queue
+// when the loop starts (every element checked then), and the loop pops from
+// that copy, whatever later happens to the entry. The copy is the text itself
+// and a position: no room for the elements (4.6.2's convertFromString splitting:
+// no element for an empty text or after a final `;`).
+template <std::size_t N>
+struct TextQueue {
+  FixedString<N> text{};
+  std::size_t pos = 0;
+  bool loaded = false;  // converted since the loop last started
+
+  [[nodiscard]] bool empty() const noexcept { return pos >= text.size(); }
+  [[nodiscard]] std::string_view front() const noexcept {
+    const std::string_view t = text.view();
+    const std::size_t end = t.find(';', pos);
+    return t.substr(pos, (end == std::string_view::npos ? t.size() : end) - pos);
+  }
+  void pop_front() noexcept { pos += front().size() + 1; }
+};
+
+// One element of a queue's text as convertFromString<E> reads it (4.9.0 and
+// later: doubles with std::from_chars); on failure `m`, if given, gets the
+// reference interpreter's reason ("`x` is not a valid int").
+template <class E>
+bool queue_element(std::string_view part, E& out, dyn::Msg* m = nullptr) noexcept {
+  Errc e = Errc::kOk;
+  std::string_view type;
+  if constexpr (std::is_same_v<E, std::int64_t>) {
+    type = "int";
+    e = parse_integer(part, INT32_MIN, INT32_MAX, out);
+  } else if constexpr (std::is_same_v<E, double>) {
+    type = "double";
+    e = parse_double_from_chars(part, out);
+  } else if constexpr (std::is_same_v<E, bool>) {
+    type = "bool";
+    e = parse_bool(part, out);
+  } else {
+    (void)type;
+    out = part;
+    return true;
+  }
+  if (e == Errc::kOk) return true;
+  if (m == nullptr) return false;
+  m->add("`").add(part).add("` is ");
+  if (e == Errc::kOutOfRange) {
+    m->add("out of range for ").add(type);
+    if constexpr (std::is_same_v<E, std::int64_t>) m->add(" (-2147483648 to 2147483647)");
+  } else {
+    m->add("not a valid ").add(type);
+    if constexpr (std::is_same_v<E, bool>) m->add(" (use true or false, 1 or 0)");
+  }
+  return false;
+}
+
+// Starts `q` over `text`, checking every element as E (false: `m` says why, as
+// "`1;x` is not a valid queue<int>: element 2: `x` is not a valid int").
+template <class E, std::size_t N>
+bool load_queue(TextQueue<N>& q, std::string_view text, std::string_view elem_type, dyn::Msg& m) noexcept {
+  std::size_t pos = 0;
+  std::int64_t index = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find(';', pos);
+    if (end == std::string_view::npos) end = text.size();
+    ++index;
+    E value{};
+    dyn::Msg why;
+    if (!queue_element(text.substr(pos, end - pos), value, &why)) {
+      m.add("`").add(text).add("` is not a valid queue<").add(elem_type).add(">: element ");
+      m.add_int(index).add(": ").add(why.view());
+      return false;
+    }
+    pos = end + 1;
+  }
+  (void)q.text.assign(text);  // (the text comes from an entry of the same capacity)
+  q.pos = 0;
+  q.loaded = true;
+  return true;
+}
+
 // A string through the converter of the slot's declared type.
 template <class S>
 Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
@@ -427,6 +507,7 @@ Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
 template <class S, class V>
 Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
   constexpr WriteType t = write_type<V>();
+  const bool existed = slot.exists;
   Errc e = Errc::kOk;
   if (!slot.exists || d == Declared::kAny || d == Declared::kOpaque) {
     // A new entry, or one without a declared type: the value as it is.
@@ -447,7 +528,11 @@ Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
       if constexpr (t != WriteType::kString) e = copy_number(slot, v);
     }
   }
-  if (e == Errc::kOk) slot.mark_written();
+  if (e == Errc::kOk) {
+    slot.mark_written();
+    // Blackboard::set<T> gives an existing untyped entry the type T (a new one stays untyped).
+    if (existed && d == Declared::kAny) slot.entry_type = EntryType::kTyped;
+  }
   return e;
 }
 
