@@ -190,6 +190,13 @@ def render(
         ],
         where=[show_loc(loc) for loc in where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
+        # the models Spec's visitors dispatch to: every Action and Condition, the Controls and
+        # Decorators a node uses (the others' hooks need not exist)
+        dispatched=[
+            ("visit_action", program.actions),
+            ("visit_condition", program.conditions),
+            ("visit_user_node", program.used_user_nodes),
+        ],
         scripts=tables,
         groot2=groot2_context(program),
         shapes=shapes(program, tables["node_fns"]),
