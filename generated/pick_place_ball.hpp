@@ -38,6 +38,10 @@ static_assert(btgen::kRuntimeAbi == 7,
 
 namespace pick_place_ball {
 
+// "..."sv: a std::string_view whose length the compiler gives (the tables' constant
+// evaluation then does no strlen).
+using std::string_view_literals::operator""sv;
+
 namespace detail {
 
 // The mission's blackboard: one typed slot per entry, with SubTree
@@ -163,54 +167,33 @@ struct Spec {
   using Blackboard = detail::Blackboard;
 
   // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
-  //   kind,
-  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
-  //   id, name,
-  //   source
+  //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //    id, name, source}
   // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
   // read by meaning through btgen::param there).
-  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("PickPlaceBall", 13),
-                      std::string_view("missions/PickPlaceBall.xml:17:5", 31)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("FindBallTwice", 13),
-                      std::string_view("missions/PickPlaceBall.xml:18:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("FindBall", 8), std::string_view("FindBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      3, 4, 0, 3u, 3, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13),
-                      std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PickBall", 8), std::string_view("PickBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:22:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("MoveBall", 8), std::string_view("MoveBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:23:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PlaceBall", 9), std::string_view("PlaceBall", 9),
-                      std::string_view("missions/PickPlaceBall.xml:24:9", 31)},
-  };
+  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {{
+      {btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "PickPlaceBall"sv, "missions/PickPlaceBall.xml:17:5"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0,
+       "RetryUntilSuccessful"sv, "FindBallTwice"sv, "missions/PickPlaceBall.xml:18:7"sv},
+      {btgen::NodeKind::Action, 2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "FindBall"sv, "FindBall"sv, "missions/PickPlaceBall.xml:19:9"sv},
+      {btgen::NodeKind::Sequence, 3, 4, 0, 3u, 3, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "PickMovePlace"sv, "missions/PickPlaceBall.xml:21:7"sv},
+      {btgen::NodeKind::Action, 4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PickBall"sv, "PickBall"sv, "missions/PickPlaceBall.xml:22:9"sv},
+      {btgen::NodeKind::Action, 5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "MoveBall"sv, "MoveBall"sv, "missions/PickPlaceBall.xml:23:9"sv},
+      {btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PlaceBall"sv, "PlaceBall"sv, "missions/PickPlaceBall.xml:24:9"sv},
+  }};
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
   static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
   };
 
   static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
-      1,
-      3,
-      2,
-      4,
-      5,
-      6,
+      1, 3, 2, 4, 5, 6,
   };
 
   // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
@@ -323,7 +306,7 @@ struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
   // text would take past the compilers' constexpr step limits.)
-  static constexpr std::string_view kTreeXml = std::string_view(
+  static constexpr std::string_view kTreeXml =
       "<root BTCPP_format=\"4\">\012"
       "    <BehaviorTree ID=\"PickPlaceBall\" _fullpath=\"\">\012"
       "        <Sequence name=\"PickPlaceBall\" _uid=\"1\">\012"
@@ -499,17 +482,11 @@ struct Groot2 {
       "        </Condition>\012"
       "        <Control ID=\"WhileDoElse\"/>\012"
       "    </TreeNodesModel>\012"
-      "</root>\012", 8338);
+      "</root>\012"sv;
   // Node indices in the order of Groot2Publisher's status buffer: tree instances in
   // creation order, each with its own nodes.
   static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
-      0,
-      1,
-      2,
-      3,
-      4,
-      5,
-      6,
+      0, 1, 2, 3, 4, 5, 6,
   };
   // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
   // the SubTree's path).
@@ -646,7 +623,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x9343bb17378e260bULL;
+inline constexpr unsigned long long kGeneration = 0x73e488fe32c672a9ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP
