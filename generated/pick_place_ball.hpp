@@ -36,6 +36,12 @@ static_assert(btgen::kRuntimeAbi == 7,
 #endif
 #define BTGEN_BTCPP_VERSION 40602
 
+// In this header, in order: the tables (namespace detail: the blackboard, the node and
+// child tables, the straight-line shapes, the Groot2 tree) with the mission's own code the
+// tick runs (its scripts and data operations; the tick itself is btgen::Engine, in
+// btgen/engine.hpp), then what you implement against: the leaf models with their typed
+// ports (namespace leaf), the mission class PickPlaceBall<Leaves> and the hooks Leaves has,
+// and the same hooks as a class of virtual functions, PickPlaceBallLeaves.
 namespace pick_place_ball {
 
 // "..."sv: a std::string_view whose length the compiler gives (the tables' constant
@@ -65,70 +71,9 @@ struct Blackboard {
 inline constexpr std::array<std::string_view, 0> kWhere = {
 };
 
-}  // namespace detail
-
-// The leaf models of the mission's TreeNodesModel. A model is the first
-// argument of its hooks, so one overload set serves each model, and its
-// typed port accessors read and write the blackboard for the node instance
-// being run (node() tells which): a getter returns btgen::Input<T> (a value,
-// or why there is none: btgen::PortError), a setter returns false when the
-// port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Every port the model
-// declares has its accessors, set on this mission's nodes or not (a port a
-// node does not set: kNotSet / false, as getInput / setOutput fail in
-// BehaviorTree.CPP), so one leaf implementation builds against every
-// mission using the model. Untyped ports have template
-// accessors: get them as any port type (std::int32_t, std::uint32_t,
-// double, bool, btgen::Status, std::string_view).
-namespace leaf {
-
-// Action `FindBall`
-class FindBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "FindBall";
-  static constexpr std::uint16_t kModel = 0;
-};
-
-// Action `PickBall`
-class PickBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PickBall";
-  static constexpr std::uint16_t kModel = 1;
-};
-
-// Action `MoveBall`
-class MoveBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "MoveBall";
-  static constexpr std::uint16_t kModel = 2;
-};
-
-// Action `PlaceBall`
-class PlaceBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PlaceBall";
-  static constexpr std::uint16_t kModel = 3;
-};
-
-}  // namespace leaf
-
-// The mission's own Controls and Decorators are in `leaf` too; `control::X`
-// names them as well.
-namespace control = leaf;
-
-namespace detail {
-
-// The leaf model classes by number (Spec::Model<M>).
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
 template <std::uint16_t M>
 struct ModelOf;
-template <> struct ModelOf<0> { using type = leaf::FindBall; };
-template <> struct ModelOf<1> { using type = leaf::PickBall; };
-template <> struct ModelOf<2> { using type = leaf::MoveBall; };
-template <> struct ModelOf<3> { using type = leaf::PlaceBall; };
 
 // The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
 // lang/versions.py (each one difference between 4.6.2 and later releases); the engine
@@ -225,34 +170,16 @@ struct Spec {
 
   // The leaf models by number (leaf::X::kModel), and one switch over the numbers of each
   // kind the engine dispatches to: Hook::call<the model class>, or call<void> for any
-  // other number. btgen::LeafHooks (btgen/leaf_dispatch.hpp) has the hooks.
+  // other number (defined below the model classes). btgen::LeafHooks
+  // (btgen/leaf_dispatch.hpp) has the hooks.
   template <std::uint16_t M>
   using Model = typename ModelOf<M>::type;
-
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args) {
-    switch (model) {
-      case 0: return Hook::template call<leaf::FindBall>(args...);
-      case 1: return Hook::template call<leaf::PickBall>(args...);
-      case 2: return Hook::template call<leaf::MoveBall>(args...);
-      case 3: return Hook::template call<leaf::PlaceBall>(args...);
-      default: return Hook::template call<void>(args...);
-    }
-  }
-
+  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args);
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args) {
-    switch (model) {
-      default: return Hook::template call<void>(args...);
-    }
-  }
-
+  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args);
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args) {
-    switch (model) {
-      default: return Hook::template call<void>(args...);
-    }
-  }
+  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args);
 
   // The compiled script of node `n` for `which`: 1 or 0 (a condition's
   // truth; 1 for other scripts), -1 after an error was reported.
@@ -503,6 +430,94 @@ struct Groot2 {
 
 }  // namespace detail
 
+// The leaf models of the mission's TreeNodesModel. A model is the first
+// argument of its hooks, so one overload set serves each model, and its
+// typed port accessors read and write the blackboard for the node instance
+// being run (node() tells which): a getter returns btgen::Input<T> (a value,
+// or why there is none: btgen::PortError), a setter returns false when the
+// port is not connected to an entry or the write failed (reported as a
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
+// accessors: get them as any port type (std::int32_t, std::uint32_t,
+// double, bool, btgen::Status, std::string_view).
+namespace leaf {
+
+// Action `FindBall`
+class FindBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "FindBall";
+  static constexpr std::uint16_t kModel = 0;
+};
+
+// Action `PickBall`
+class PickBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PickBall";
+  static constexpr std::uint16_t kModel = 1;
+};
+
+// Action `MoveBall`
+class MoveBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "MoveBall";
+  static constexpr std::uint16_t kModel = 2;
+};
+
+// Action `PlaceBall`
+class PlaceBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PlaceBall";
+  static constexpr std::uint16_t kModel = 3;
+};
+
+}  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
+
+namespace detail {
+
+// The leaf model classes by number, and the switches of Spec.
+template <> struct ModelOf<0> { using type = leaf::FindBall; };
+template <> struct ModelOf<1> { using type = leaf::PickBall; };
+template <> struct ModelOf<2> { using type = leaf::MoveBall; };
+template <> struct ModelOf<3> { using type = leaf::PlaceBall; };
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 0: return Hook::template call<leaf::FindBall>(args...);
+    case 1: return Hook::template call<leaf::PickBall>(args...);
+    case 2: return Hook::template call<leaf::MoveBall>(args...);
+    case 3: return Hook::template call<leaf::PlaceBall>(args...);
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_condition(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_user_node(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+}  // namespace detail
+
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
 // storage. `Leaves` implements, for every Action model M, either
@@ -543,69 +558,25 @@ class PickPlaceBallLeaves {
  public:
   virtual ~PickPlaceBallLeaves() = default;
 
-  virtual btgen::Status tick(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action FindBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::FindBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::FindBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::FindBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::FindBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PickBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::PickBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::PickBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::PickBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::PickBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action MoveBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::MoveBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::MoveBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::MoveBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::MoveBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PlaceBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::PlaceBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::PlaceBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::PlaceBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::PlaceBall&, const btgen::NodeInfo&) {}
 
  protected:
   PickPlaceBallLeaves() = default;
@@ -623,7 +594,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x73e488fe32c672a9ULL;
+inline constexpr unsigned long long kGeneration = 0x400534064df4ad29ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

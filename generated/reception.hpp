@@ -36,6 +36,12 @@ static_assert(btgen::kRuntimeAbi == 7,
 #endif
 #define BTGEN_BTCPP_VERSION 40602
 
+// In this header, in order: the tables (namespace detail: the blackboard, the node and
+// child tables, the straight-line shapes, the Groot2 tree) with the mission's own code the
+// tick runs (its scripts and data operations; the tick itself is btgen::Engine, in
+// btgen/engine.hpp), then what you implement against: the leaf models with their typed
+// ports (namespace leaf), the mission class Reception<Leaves> and the hooks Leaves has,
+// and the same hooks as a class of virtual functions, ReceptionLeaves.
 namespace reception {
 
 // "..."sv: a std::string_view whose length the compiler gives (the tables' constant
@@ -74,422 +80,9 @@ inline constexpr std::array<std::string_view, 3> kWhere = {
     "missions/Reception.xml:126:67"sv,
 };
 
-}  // namespace detail
-
-// The leaf models of the mission's TreeNodesModel. A model is the first
-// argument of its hooks, so one overload set serves each model, and its
-// typed port accessors read and write the blackboard for the node instance
-// being run (node() tells which): a getter returns btgen::Input<T> (a value,
-// or why there is none: btgen::PortError), a setter returns false when the
-// port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Every port the model
-// declares has its accessors, set on this mission's nodes or not (a port a
-// node does not set: kNotSet / false, as getInput / setOutput fail in
-// BehaviorTree.CPP), so one leaf implementation builds against every
-// mission using the model. Untyped ports have template
-// accessors: get them as any port type (std::int32_t, std::uint32_t,
-// double, bool, btgen::Status, std::string_view).
-namespace leaf {
-
-// Action `DisableAnimateBehavior`
-class DisableAnimateBehavior : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "DisableAnimateBehavior";
-  static constexpr std::uint16_t kModel = 0;
-};
-
-// Action `EnableAnimateBehavior`
-class EnableAnimateBehavior : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "EnableAnimateBehavior";
-  static constexpr std::uint16_t kModel = 1;
-};
-
-// Action `GoodbyeGesture`
-class GoodbyeGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "GoodbyeGesture";
-  static constexpr std::uint16_t kModel = 2;
-};
-
-// Action `HandleFallBack`
-class HandleFallBack : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "HandleFallBack";
-  static constexpr std::uint16_t kModel = 3;
-};
-
-// Condition `IsASREnabled`
-class IsASREnabled : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "IsASREnabled";
-  static constexpr std::uint16_t kModel = 4;
-};
-
-// Condition `IsMutualGazeDiscovered`
-class IsMutualGazeDiscovered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "IsMutualGazeDiscovered";
-  static constexpr std::uint16_t kModel = 5;
-};
-
-// Condition `IsVisitorDiscovered`
-class IsVisitorDiscovered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "IsVisitorDiscovered";
-  static constexpr std::uint16_t kModel = 6;
-};
-
-// Action `PerformDeicticGesture`
-class PerformDeicticGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PerformDeicticGesture";
-  static constexpr std::uint16_t kModel = 7;
-
-  // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
-  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 58:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `SayGoodByeSpeech`
-class SayGoodByeSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "SayGoodByeSpeech";
-  static constexpr std::uint16_t kModel = 8;
-
-  // input port `message` (string): phrase to say
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 73:
-        return std::string_view("goodbye", 7);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `ScanningOvertAttentionMode`
-class ScanningOvertAttentionMode : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "ScanningOvertAttentionMode";
-  static constexpr std::uint16_t kModel = 9;
-};
-
-// Action `SocialOvertAttentionMode`
-class SocialOvertAttentionMode : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "SocialOvertAttentionMode";
-  static constexpr std::uint16_t kModel = 10;
-};
-
-// Action `START_OF_TREE`
-class START_OF_TREE : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "START_OF_TREE";
-  static constexpr std::uint16_t kModel = 11;
-};
-
-// Action `WelcomeGesture`
-class WelcomeGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "WelcomeGesture";
-  static constexpr std::uint16_t kModel = 12;
-};
-
-// Action `WelcomeSpeech`
-class WelcomeSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "WelcomeSpeech";
-  static constexpr std::uint16_t kModel = 13;
-
-  // input port `message` (string): phrase to say
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 21:
-        return std::string_view("reception_welcome", 17);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `QueryDestinationSpeech`
-class QueryDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "QueryDestinationSpeech";
-  static constexpr std::uint16_t kModel = 14;
-
-  // input port `message` (string): phrase to say: asks which place the visitor is looking for
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 33:
-        return std::string_view("query_destination", 17);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `SayDestinationSpeech`
-class SayDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "SayDestinationSpeech";
-  static constexpr std::uint16_t kModel = 15;
-
-  // input port `message` (string): phrase to say: asks the visitor to say the name of the place
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 41:
-        return std::string_view("say_destination", 15);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Condition `IsDestinationUttered`
-class IsDestinationUttered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "IsDestinationUttered";
-  static constexpr std::uint16_t kModel = 16;
-
-  // output port `destination` (string): the place named, when one was heard clearly
-  bool set_destination(std::string_view value) const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
-    [[maybe_unused]] const btgen::ErrorSink& err = err_;
-    switch (node_->index) {
-      case 43: {
-        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
-        if (e != btgen::Errc::kOk) {
-          (void)err.fail(n, detail::kWhere[0],
-                         "output port `destination` of `IsDestinationUttered` \"IsDestinationUttered\" cannot "
-                         "write `destination`",
-                         btgen::describe(e));
-          return false;
-        }
-        return true;
-      }
-      default:
-        (void)value;
-        return false;
-    }
-  }
-};
-
-// Action `PressDestinationSpeech`
-class PressDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PressDestinationSpeech";
-  static constexpr std::uint16_t kModel = 17;
-
-  // input port `message` (string): phrase to say: asks the visitor to choose the place on the tablet
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 47:
-        return std::string_view("press_destination", 17);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `PressDestinationDialogue`
-class PressDestinationDialogue : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PressDestinationDialogue";
-  static constexpr std::uint16_t kModel = 18;
-
-  // output port `destination` (string): the place chosen on the tablet (from the knowledge base's
-  // location descriptions)
-  bool set_destination(std::string_view value) const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
-    [[maybe_unused]] const btgen::ErrorSink& err = err_;
-    switch (node_->index) {
-      case 49: {
-        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
-        if (e != btgen::Errc::kOk) {
-          (void)err.fail(n, detail::kWhere[1],
-                         "output port `destination` of `PressDestinationDialogue` \"PressDestinationDialogue\" "
-                         "cannot write `destination`",
-                         btgen::describe(e));
-          return false;
-        }
-        return true;
-      }
-      default:
-        (void)value;
-        return false;
-    }
-  }
-};
-
-// Action `LookUpDestination`
-class LookUpDestination : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "LookUpDestination";
-  static constexpr std::uint16_t kModel = 19;
-
-  // input port `destination` (string): the place the visitor named
-  [[nodiscard]] btgen::Input<std::string_view> destination() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 52:
-        return btgen::port::read<std::string_view>(bb.destination);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-
-  // output port `location_id` (int): its knowledge-base id; the node fails when no
-  // robotLocationDescription matches
-  bool set_location_id(std::int32_t value) const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
-    [[maybe_unused]] const btgen::ErrorSink& err = err_;
-    switch (node_->index) {
-      case 52: {
-        const btgen::Errc e = btgen::port::write(bb.IV_GiveDirections_location_id, btgen::Declared::kInt, value);
-        if (e != btgen::Errc::kOk) {
-          (void)err.fail(n, detail::kWhere[2],
-                         "output port `location_id` of `LookUpDestination` \"LookUpDestination\" cannot write "
-                         "`location_id`",
-                         btgen::describe(e));
-          return false;
-        }
-        return true;
-      }
-      default:
-        (void)value;
-        return false;
-    }
-  }
-};
-
-// Action `DescribeRouteSpeech_1`
-class DescribeRouteSpeech_1 : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "DescribeRouteSpeech_1";
-  static constexpr std::uint16_t kModel = 20;
-
-  // input port `location_id` (int): place whose pre-gesture message is said (where it is)
-  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 55:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `DescribeRouteSpeech_2`
-class DescribeRouteSpeech_2 : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "DescribeRouteSpeech_2";
-  static constexpr std::uint16_t kModel = 21;
-
-  // input port `location_id` (int): place whose post-gesture message is said (the way there)
-  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 61:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-// Action `UnknownDestinationSpeech`
-class UnknownDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "UnknownDestinationSpeech";
-  static constexpr std::uint16_t kModel = 22;
-
-  // input port `message` (string): phrase to say: apologises that the place is not known
-  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
-    [[maybe_unused]] detail::Blackboard& bb = *bb_;
-    switch (node_->index) {
-      case 65:
-        return std::string_view("unknown_destination", 19);
-      default:
-        return btgen::PortError::kNotSet;
-    }
-  }
-};
-
-}  // namespace leaf
-
-// The mission's own Controls and Decorators are in `leaf` too; `control::X`
-// names them as well.
-namespace control = leaf;
-
-namespace detail {
-
-// The leaf model classes by number (Spec::Model<M>).
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
 template <std::uint16_t M>
 struct ModelOf;
-template <> struct ModelOf<0> { using type = leaf::DisableAnimateBehavior; };
-template <> struct ModelOf<1> { using type = leaf::EnableAnimateBehavior; };
-template <> struct ModelOf<2> { using type = leaf::GoodbyeGesture; };
-template <> struct ModelOf<3> { using type = leaf::HandleFallBack; };
-template <> struct ModelOf<4> { using type = leaf::IsASREnabled; };
-template <> struct ModelOf<5> { using type = leaf::IsMutualGazeDiscovered; };
-template <> struct ModelOf<6> { using type = leaf::IsVisitorDiscovered; };
-template <> struct ModelOf<7> { using type = leaf::PerformDeicticGesture; };
-template <> struct ModelOf<8> { using type = leaf::SayGoodByeSpeech; };
-template <> struct ModelOf<9> { using type = leaf::ScanningOvertAttentionMode; };
-template <> struct ModelOf<10> { using type = leaf::SocialOvertAttentionMode; };
-template <> struct ModelOf<11> { using type = leaf::START_OF_TREE; };
-template <> struct ModelOf<12> { using type = leaf::WelcomeGesture; };
-template <> struct ModelOf<13> { using type = leaf::WelcomeSpeech; };
-template <> struct ModelOf<14> { using type = leaf::QueryDestinationSpeech; };
-template <> struct ModelOf<15> { using type = leaf::SayDestinationSpeech; };
-template <> struct ModelOf<16> { using type = leaf::IsDestinationUttered; };
-template <> struct ModelOf<17> { using type = leaf::PressDestinationSpeech; };
-template <> struct ModelOf<18> { using type = leaf::PressDestinationDialogue; };
-template <> struct ModelOf<19> { using type = leaf::LookUpDestination; };
-template <> struct ModelOf<20> { using type = leaf::DescribeRouteSpeech_1; };
-template <> struct ModelOf<21> { using type = leaf::DescribeRouteSpeech_2; };
-template <> struct ModelOf<22> { using type = leaf::UnknownDestinationSpeech; };
 
 // The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
 // lang/versions.py (each one difference between 4.6.2 and later releases); the engine
@@ -743,53 +336,16 @@ struct Spec {
 
   // The leaf models by number (leaf::X::kModel), and one switch over the numbers of each
   // kind the engine dispatches to: Hook::call<the model class>, or call<void> for any
-  // other number. btgen::LeafHooks (btgen/leaf_dispatch.hpp) has the hooks.
+  // other number (defined below the model classes). btgen::LeafHooks
+  // (btgen/leaf_dispatch.hpp) has the hooks.
   template <std::uint16_t M>
   using Model = typename ModelOf<M>::type;
-
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args) {
-    switch (model) {
-      case 0: return Hook::template call<leaf::DisableAnimateBehavior>(args...);
-      case 1: return Hook::template call<leaf::EnableAnimateBehavior>(args...);
-      case 2: return Hook::template call<leaf::GoodbyeGesture>(args...);
-      case 3: return Hook::template call<leaf::HandleFallBack>(args...);
-      case 7: return Hook::template call<leaf::PerformDeicticGesture>(args...);
-      case 8: return Hook::template call<leaf::SayGoodByeSpeech>(args...);
-      case 9: return Hook::template call<leaf::ScanningOvertAttentionMode>(args...);
-      case 10: return Hook::template call<leaf::SocialOvertAttentionMode>(args...);
-      case 11: return Hook::template call<leaf::START_OF_TREE>(args...);
-      case 12: return Hook::template call<leaf::WelcomeGesture>(args...);
-      case 13: return Hook::template call<leaf::WelcomeSpeech>(args...);
-      case 14: return Hook::template call<leaf::QueryDestinationSpeech>(args...);
-      case 15: return Hook::template call<leaf::SayDestinationSpeech>(args...);
-      case 17: return Hook::template call<leaf::PressDestinationSpeech>(args...);
-      case 18: return Hook::template call<leaf::PressDestinationDialogue>(args...);
-      case 19: return Hook::template call<leaf::LookUpDestination>(args...);
-      case 20: return Hook::template call<leaf::DescribeRouteSpeech_1>(args...);
-      case 21: return Hook::template call<leaf::DescribeRouteSpeech_2>(args...);
-      case 22: return Hook::template call<leaf::UnknownDestinationSpeech>(args...);
-      default: return Hook::template call<void>(args...);
-    }
-  }
-
+  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args);
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args) {
-    switch (model) {
-      case 4: return Hook::template call<leaf::IsASREnabled>(args...);
-      case 5: return Hook::template call<leaf::IsMutualGazeDiscovered>(args...);
-      case 6: return Hook::template call<leaf::IsVisitorDiscovered>(args...);
-      case 16: return Hook::template call<leaf::IsDestinationUttered>(args...);
-      default: return Hook::template call<void>(args...);
-    }
-  }
-
+  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args);
   template <class Hook, class... Args>
-  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args) {
-    switch (model) {
-      default: return Hook::template call<void>(args...);
-    }
-  }
+  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args);
 
   // The compiled script of node `n` for `which`: 1 or 0 (a condition's
   // truth; 1 for other scripts), -1 after an error was reported.
@@ -1233,6 +789,465 @@ struct Groot2 {
 
 }  // namespace detail
 
+// The leaf models of the mission's TreeNodesModel. A model is the first
+// argument of its hooks, so one overload set serves each model, and its
+// typed port accessors read and write the blackboard for the node instance
+// being run (node() tells which): a getter returns btgen::Input<T> (a value,
+// or why there is none: btgen::PortError), a setter returns false when the
+// port is not connected to an entry or the write failed (reported as a
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
+// accessors: get them as any port type (std::int32_t, std::uint32_t,
+// double, bool, btgen::Status, std::string_view).
+namespace leaf {
+
+// Action `DisableAnimateBehavior`
+class DisableAnimateBehavior : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "DisableAnimateBehavior";
+  static constexpr std::uint16_t kModel = 0;
+};
+
+// Action `EnableAnimateBehavior`
+class EnableAnimateBehavior : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "EnableAnimateBehavior";
+  static constexpr std::uint16_t kModel = 1;
+};
+
+// Action `GoodbyeGesture`
+class GoodbyeGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "GoodbyeGesture";
+  static constexpr std::uint16_t kModel = 2;
+};
+
+// Action `HandleFallBack`
+class HandleFallBack : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "HandleFallBack";
+  static constexpr std::uint16_t kModel = 3;
+};
+
+// Condition `IsASREnabled`
+class IsASREnabled : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "IsASREnabled";
+  static constexpr std::uint16_t kModel = 4;
+};
+
+// Condition `IsMutualGazeDiscovered`
+class IsMutualGazeDiscovered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "IsMutualGazeDiscovered";
+  static constexpr std::uint16_t kModel = 5;
+};
+
+// Condition `IsVisitorDiscovered`
+class IsVisitorDiscovered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "IsVisitorDiscovered";
+  static constexpr std::uint16_t kModel = 6;
+};
+
+// Action `PerformDeicticGesture`
+class PerformDeicticGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PerformDeicticGesture";
+  static constexpr std::uint16_t kModel = 7;
+
+  // input port `location_id` (int): knowledge-base id of what to point at (its gestureTarget)
+  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 58:
+        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `SayGoodByeSpeech`
+class SayGoodByeSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "SayGoodByeSpeech";
+  static constexpr std::uint16_t kModel = 8;
+
+  // input port `message` (string): phrase to say
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 73:
+        return std::string_view("goodbye", 7);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `ScanningOvertAttentionMode`
+class ScanningOvertAttentionMode : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "ScanningOvertAttentionMode";
+  static constexpr std::uint16_t kModel = 9;
+};
+
+// Action `SocialOvertAttentionMode`
+class SocialOvertAttentionMode : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "SocialOvertAttentionMode";
+  static constexpr std::uint16_t kModel = 10;
+};
+
+// Action `START_OF_TREE`
+class START_OF_TREE : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "START_OF_TREE";
+  static constexpr std::uint16_t kModel = 11;
+};
+
+// Action `WelcomeGesture`
+class WelcomeGesture : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "WelcomeGesture";
+  static constexpr std::uint16_t kModel = 12;
+};
+
+// Action `WelcomeSpeech`
+class WelcomeSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "WelcomeSpeech";
+  static constexpr std::uint16_t kModel = 13;
+
+  // input port `message` (string): phrase to say
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 21:
+        return std::string_view("reception_welcome", 17);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `QueryDestinationSpeech`
+class QueryDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "QueryDestinationSpeech";
+  static constexpr std::uint16_t kModel = 14;
+
+  // input port `message` (string): phrase to say: asks which place the visitor is looking for
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 33:
+        return std::string_view("query_destination", 17);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `SayDestinationSpeech`
+class SayDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "SayDestinationSpeech";
+  static constexpr std::uint16_t kModel = 15;
+
+  // input port `message` (string): phrase to say: asks the visitor to say the name of the place
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 41:
+        return std::string_view("say_destination", 15);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Condition `IsDestinationUttered`
+class IsDestinationUttered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Condition> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "IsDestinationUttered";
+  static constexpr std::uint16_t kModel = 16;
+
+  // output port `destination` (string): the place named, when one was heard clearly
+  bool set_destination(std::string_view value) const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
+    [[maybe_unused]] const btgen::ErrorSink& err = err_;
+    switch (node_->index) {
+      case 43: {
+        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[0],
+                         "output port `destination` of `IsDestinationUttered` \"IsDestinationUttered\" cannot "
+                         "write `destination`",
+                         btgen::describe(e));
+          return false;
+        }
+        return true;
+      }
+      default:
+        (void)value;
+        return false;
+    }
+  }
+};
+
+// Action `PressDestinationSpeech`
+class PressDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PressDestinationSpeech";
+  static constexpr std::uint16_t kModel = 17;
+
+  // input port `message` (string): phrase to say: asks the visitor to choose the place on the tablet
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 47:
+        return std::string_view("press_destination", 17);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `PressDestinationDialogue`
+class PressDestinationDialogue : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PressDestinationDialogue";
+  static constexpr std::uint16_t kModel = 18;
+
+  // output port `destination` (string): the place chosen on the tablet (from the knowledge base's
+  // location descriptions)
+  bool set_destination(std::string_view value) const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
+    [[maybe_unused]] const btgen::ErrorSink& err = err_;
+    switch (node_->index) {
+      case 49: {
+        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[1],
+                         "output port `destination` of `PressDestinationDialogue` \"PressDestinationDialogue\" "
+                         "cannot write `destination`",
+                         btgen::describe(e));
+          return false;
+        }
+        return true;
+      }
+      default:
+        (void)value;
+        return false;
+    }
+  }
+};
+
+// Action `LookUpDestination`
+class LookUpDestination : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "LookUpDestination";
+  static constexpr std::uint16_t kModel = 19;
+
+  // input port `destination` (string): the place the visitor named
+  [[nodiscard]] btgen::Input<std::string_view> destination() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 52:
+        return btgen::port::read<std::string_view>(bb.destination);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+
+  // output port `location_id` (int): its knowledge-base id; the node fails when no
+  // robotLocationDescription matches
+  bool set_location_id(std::int32_t value) const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    [[maybe_unused]] const btgen::NodeInfo& n = *node_;
+    [[maybe_unused]] const btgen::ErrorSink& err = err_;
+    switch (node_->index) {
+      case 52: {
+        const btgen::Errc e = btgen::port::write(bb.IV_GiveDirections_location_id, btgen::Declared::kInt, value);
+        if (e != btgen::Errc::kOk) {
+          (void)err.fail(n, detail::kWhere[2],
+                         "output port `location_id` of `LookUpDestination` \"LookUpDestination\" cannot write "
+                         "`location_id`",
+                         btgen::describe(e));
+          return false;
+        }
+        return true;
+      }
+      default:
+        (void)value;
+        return false;
+    }
+  }
+};
+
+// Action `DescribeRouteSpeech_1`
+class DescribeRouteSpeech_1 : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "DescribeRouteSpeech_1";
+  static constexpr std::uint16_t kModel = 20;
+
+  // input port `location_id` (int): place whose pre-gesture message is said (where it is)
+  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 55:
+        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `DescribeRouteSpeech_2`
+class DescribeRouteSpeech_2 : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "DescribeRouteSpeech_2";
+  static constexpr std::uint16_t kModel = 21;
+
+  // input port `location_id` (int): place whose post-gesture message is said (the way there)
+  [[nodiscard]] btgen::Input<std::int32_t> location_id() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 61:
+        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+// Action `UnknownDestinationSpeech`
+class UnknownDestinationSpeech : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "UnknownDestinationSpeech";
+  static constexpr std::uint16_t kModel = 22;
+
+  // input port `message` (string): phrase to say: apologises that the place is not known
+  [[nodiscard]] btgen::Input<std::string_view> message() const noexcept {
+    [[maybe_unused]] detail::Blackboard& bb = *bb_;
+    switch (node_->index) {
+      case 65:
+        return std::string_view("unknown_destination", 19);
+      default:
+        return btgen::PortError::kNotSet;
+    }
+  }
+};
+
+}  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
+
+namespace detail {
+
+// The leaf model classes by number, and the switches of Spec.
+template <> struct ModelOf<0> { using type = leaf::DisableAnimateBehavior; };
+template <> struct ModelOf<1> { using type = leaf::EnableAnimateBehavior; };
+template <> struct ModelOf<2> { using type = leaf::GoodbyeGesture; };
+template <> struct ModelOf<3> { using type = leaf::HandleFallBack; };
+template <> struct ModelOf<4> { using type = leaf::IsASREnabled; };
+template <> struct ModelOf<5> { using type = leaf::IsMutualGazeDiscovered; };
+template <> struct ModelOf<6> { using type = leaf::IsVisitorDiscovered; };
+template <> struct ModelOf<7> { using type = leaf::PerformDeicticGesture; };
+template <> struct ModelOf<8> { using type = leaf::SayGoodByeSpeech; };
+template <> struct ModelOf<9> { using type = leaf::ScanningOvertAttentionMode; };
+template <> struct ModelOf<10> { using type = leaf::SocialOvertAttentionMode; };
+template <> struct ModelOf<11> { using type = leaf::START_OF_TREE; };
+template <> struct ModelOf<12> { using type = leaf::WelcomeGesture; };
+template <> struct ModelOf<13> { using type = leaf::WelcomeSpeech; };
+template <> struct ModelOf<14> { using type = leaf::QueryDestinationSpeech; };
+template <> struct ModelOf<15> { using type = leaf::SayDestinationSpeech; };
+template <> struct ModelOf<16> { using type = leaf::IsDestinationUttered; };
+template <> struct ModelOf<17> { using type = leaf::PressDestinationSpeech; };
+template <> struct ModelOf<18> { using type = leaf::PressDestinationDialogue; };
+template <> struct ModelOf<19> { using type = leaf::LookUpDestination; };
+template <> struct ModelOf<20> { using type = leaf::DescribeRouteSpeech_1; };
+template <> struct ModelOf<21> { using type = leaf::DescribeRouteSpeech_2; };
+template <> struct ModelOf<22> { using type = leaf::UnknownDestinationSpeech; };
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 0: return Hook::template call<leaf::DisableAnimateBehavior>(args...);
+    case 1: return Hook::template call<leaf::EnableAnimateBehavior>(args...);
+    case 2: return Hook::template call<leaf::GoodbyeGesture>(args...);
+    case 3: return Hook::template call<leaf::HandleFallBack>(args...);
+    case 7: return Hook::template call<leaf::PerformDeicticGesture>(args...);
+    case 8: return Hook::template call<leaf::SayGoodByeSpeech>(args...);
+    case 9: return Hook::template call<leaf::ScanningOvertAttentionMode>(args...);
+    case 10: return Hook::template call<leaf::SocialOvertAttentionMode>(args...);
+    case 11: return Hook::template call<leaf::START_OF_TREE>(args...);
+    case 12: return Hook::template call<leaf::WelcomeGesture>(args...);
+    case 13: return Hook::template call<leaf::WelcomeSpeech>(args...);
+    case 14: return Hook::template call<leaf::QueryDestinationSpeech>(args...);
+    case 15: return Hook::template call<leaf::SayDestinationSpeech>(args...);
+    case 17: return Hook::template call<leaf::PressDestinationSpeech>(args...);
+    case 18: return Hook::template call<leaf::PressDestinationDialogue>(args...);
+    case 19: return Hook::template call<leaf::LookUpDestination>(args...);
+    case 20: return Hook::template call<leaf::DescribeRouteSpeech_1>(args...);
+    case 21: return Hook::template call<leaf::DescribeRouteSpeech_2>(args...);
+    case 22: return Hook::template call<leaf::UnknownDestinationSpeech>(args...);
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_condition(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 4: return Hook::template call<leaf::IsASREnabled>(args...);
+    case 5: return Hook::template call<leaf::IsMutualGazeDiscovered>(args...);
+    case 6: return Hook::template call<leaf::IsVisitorDiscovered>(args...);
+    case 16: return Hook::template call<leaf::IsDestinationUttered>(args...);
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_user_node(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+}  // namespace detail
+
 // The mission: one object of fixed size holding all its state (blackboard
 // included: blackboard() gives its typed slots); it can live in static
 // storage. `Leaves` implements, for every Action model M, either
@@ -1273,316 +1288,194 @@ class ReceptionLeaves {
  public:
   virtual ~ReceptionLeaves() = default;
 
-  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DisableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DisableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action EnableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::EnableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action GoodbyeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::GoodbyeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::GoodbyeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action HandleFallBack has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::HandleFallBack& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::HandleFallBack& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::HandleFallBack&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PerformDeicticGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PerformDeicticGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayGoodByeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayGoodByeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action ScanningOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SocialOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action START_OF_TREE has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::START_OF_TREE& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::START_OF_TREE&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action QueryDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::QueryDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::SayDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PressDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressDestinationDialogue has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressDestinationDialogue& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PressDestinationDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressDestinationDialogue&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action LookUpDestination has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::LookUpDestination& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::LookUpDestination& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::LookUpDestination& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::LookUpDestination&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeRouteSpeech_1 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_1&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeRouteSpeech_2 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_2&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action UnknownDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::UnknownDestinationSpeech&, const btgen::NodeInfo&) {}
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsMutualGazeDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsVisitorDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsDestinationUttered& model, const btgen::NodeInfo& node) = 0;
 
  protected:
@@ -1601,7 +1494,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xd3a829c9b88ee9b6ULL;
+inline constexpr unsigned long long kGeneration = 0xdf261e50865718a8ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -266,10 +266,11 @@ def test_banner_abi_and_shape_of_the_header():
         "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
     )
     for hook in (
-        "onStart(leaf::Move& model",
-        "onRunning(leaf::Move& model",
-        "onHalted(leaf::Move& model",
-        "check(leaf::IsDone& model",
+        "tick(leaf::Move& m, const btgen::NodeInfo&)",
+        "onStart(leaf::Move& m, const btgen::NodeInfo& n)",
+        "onRunning(leaf::Move& m, const btgen::NodeInfo& n)",
+        "onHalted(leaf::Move&, const btgen::NodeInfo&)",
+        "check(leaf::IsDone& model, const btgen::NodeInfo& node)",
     ):
         assert f"virtual {'void' if 'Halted' in hook else 'btgen::Status'} {hook}" in header.text
     assert "/work/" not in header.text and "/tmp/" not in header.text  # no absolute paths
