@@ -91,7 +91,11 @@ endfunction()
 # thread: needs Threads). btgen::groot2 is the Groot2 live publisher
 # (include/btgen/groot2.hpp) over ZeroMQ: defined only when the `cppzmq` target
 # exists (find_package(cppzmq), Debian's cppzmq-dev). A mission linking neither
-# needs no ZeroMQ and no threads.
+# needs no ZeroMQ and no threads. Groot2's REPLACE hooks (live fault injection)
+# work in every build; its breakpoints, which pause the tick thread, only with
+# BTGEN_GROOT2_BREAKPOINTS=ON (a debug build's option: without it a breakpoint
+# request gets an error reply).
+option(BTGEN_GROOT2_BREAKPOINTS "Groot2 breakpoints may pause the tick thread (debug builds)" OFF)
 function(_btgen_define_monitors)
   if(NOT TARGET btgen_btlog AND TARGET Threads::Threads)
     add_library(btgen_btlog INTERFACE)
@@ -102,6 +106,9 @@ function(_btgen_define_monitors)
     add_library(btgen_groot2 INTERFACE)
     add_library(btgen::groot2 ALIAS btgen_groot2)
     target_link_libraries(btgen_groot2 INTERFACE btgen::btlog cppzmq)
+    if(BTGEN_GROOT2_BREAKPOINTS)
+      target_compile_definitions(btgen_groot2 INTERFACE BTGEN_GROOT2_BREAKPOINTS)
+    endif()
   endif()
 endfunction()
 
@@ -140,27 +147,44 @@ endfunction()
 set_property(GLOBAL PROPERTY BTGEN_ONE_VALUE_OPTIONS "NAMESPACE;MAIN_TREE;STRING_CAPACITY;QUEUE_CAPACITY;BTCPP_VERSION")
 set_property(GLOBAL PROPERTY BTGEN_MULTI_VALUE_OPTIONS "MODELS;TREES;ENTRIES;ENUMS;ENUM_FILES;TYPES")
 
+# `<flag> <value>` appended to the list <options_var> (in the caller's scope) for each value
+# of the list <values>.
+function(_btgen_flag_each options_var flag values)
+  set(options "${${options_var}}")
+  foreach(value IN LISTS values)
+    list(APPEND options ${flag} "${value}")
+  endforeach()
+  set(${options_var} "${options}" PARENT_SCOPE)
+endfunction()
+
+# The files of the list <files>, absolute (a relative one is taken from
+# CMAKE_CURRENT_SOURCE_DIR), in <out_var>; a missing one stops the configure step with
+# `<caller>: <what> <file> does not exist`.
+function(_btgen_existing_files out_var caller what files)
+  set(found "")
+  foreach(file IN LISTS files)
+    get_filename_component(file "${file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${file}")
+      message(FATAL_ERROR "${caller}: ${what} ${file} does not exist")
+    endif()
+    list(APPEND found "${file}")
+  endforeach()
+  set(${out_var} "${found}" PARENT_SCOPE)
+endfunction()
+
 # From the caller's parsed ARG_<keyword> variables: `read_options` (what changes what is
 # read: --models, --main-tree), `write_options` (the rest: --namespace, capacities, enums,
 # types), `ns_option` and `option_files` (files named by options, for dependencies), set in
 # the caller's scope. Relative files are taken from CMAKE_CURRENT_SOURCE_DIR.
 function(_btgen_collect_options caller)
   set(read_options "")
-  foreach(models_file IN LISTS ARG_MODELS)
-    get_filename_component(models_file "${models_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
-    if(NOT EXISTS "${models_file}")
-      message(FATAL_ERROR "${caller}: models file ${models_file} does not exist")
-    endif()
-    list(APPEND read_options --models "${models_file}")
-  endforeach()
+  _btgen_existing_files(models_files ${caller} "models file" "${ARG_MODELS}")
+  _btgen_flag_each(read_options --models "${models_files}")
   # Tree libraries: a file, or a folder whose *.xml files are read (the folder itself is a
   # configure dependency, so a file added to it is seen).
-  foreach(trees IN LISTS ARG_TREES)
-    get_filename_component(trees "${trees}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
-    if(NOT EXISTS "${trees}")
-      message(FATAL_ERROR "${caller}: trees file or folder ${trees} does not exist")
-    endif()
-    list(APPEND read_options --trees "${trees}")
+  _btgen_existing_files(trees_files ${caller} "trees file or folder" "${ARG_TREES}")
+  _btgen_flag_each(read_options --trees "${trees_files}")
+  foreach(trees IN LISTS trees_files)
     if(IS_DIRECTORY "${trees}")
       set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${trees}")
     endif()
@@ -171,9 +195,7 @@ function(_btgen_collect_options caller)
   if(DEFINED ARG_BTCPP_VERSION)
     list(APPEND read_options --btcpp "${ARG_BTCPP_VERSION}")
   endif()
-  foreach(entry IN LISTS ARG_ENTRIES)
-    list(APPEND read_options --entry "${entry}")
-  endforeach()
+  _btgen_flag_each(read_options --entry "${ARG_ENTRIES}")
   set(ns_option "")
   if(DEFINED ARG_NAMESPACE)
     set(ns_option --namespace "${ARG_NAMESPACE}")
@@ -186,22 +208,11 @@ function(_btgen_collect_options caller)
     list(APPEND write_options --queue-capacity ${ARG_QUEUE_CAPACITY})
   endif()
   # Scripting enums (registerScriptingEnum): `Color=RED,GREEN,BLUE` each, and files of them.
-  foreach(enum IN LISTS ARG_ENUMS)
-    list(APPEND write_options --enum "${enum}")
-  endforeach()
+  _btgen_flag_each(write_options --enum "${ARG_ENUMS}")
   # User port types: `Pose2D=nav::Pose2D@nav/pose2d.hpp` each.
-  foreach(type IN LISTS ARG_TYPES)
-    list(APPEND write_options --type "${type}")
-  endforeach()
-  set(option_files "")
-  foreach(enum_file IN LISTS ARG_ENUM_FILES)
-    get_filename_component(enum_file "${enum_file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
-    if(NOT EXISTS "${enum_file}")
-      message(FATAL_ERROR "${caller}: enums file ${enum_file} does not exist")
-    endif()
-    list(APPEND write_options --enums "${enum_file}")
-    list(APPEND option_files "${enum_file}")
-  endforeach()
+  _btgen_flag_each(write_options --type "${ARG_TYPES}")
+  _btgen_existing_files(option_files ${caller} "enums file" "${ARG_ENUM_FILES}")
+  _btgen_flag_each(write_options --enums "${option_files}")
   set(read_options "${read_options}" PARENT_SCOPE)
   set(write_options "${write_options}" PARENT_SCOPE)
   set(ns_option "${ns_option}" PARENT_SCOPE)

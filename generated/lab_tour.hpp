@@ -118,6 +118,8 @@ struct Semantics {
   static constexpr bool attribute_names_484 = false;
   static constexpr bool unique_subtree_paths = false;
   static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
 };
 
 // The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
@@ -2154,7 +2156,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x46bcfc59e32de7c5ULL;
+inline constexpr unsigned long long kGeneration = 0x76b755cce1bfb634ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

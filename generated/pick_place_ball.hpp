@@ -96,6 +96,8 @@ struct Semantics {
   static constexpr bool attribute_names_484 = false;
   static constexpr bool unique_subtree_paths = false;
   static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
 };
 
 // The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
@@ -594,7 +596,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x400534064df4ad29ULL;
+inline constexpr unsigned long long kGeneration = 0xc74defe085851a13ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

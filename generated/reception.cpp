@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace reception::detail
 
-static_assert(reception::detail::kGeneration == 0xdf261e50865718a8ULL,
+static_assert(reception::detail::kGeneration == 0x4e662a0c5e7f5b69ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

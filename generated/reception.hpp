@@ -105,6 +105,8 @@ struct Semantics {
   static constexpr bool attribute_names_484 = false;
   static constexpr bool unique_subtree_paths = false;
   static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
 };
 
 // The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
@@ -1494,7 +1496,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xdf261e50865718a8ULL;
+inline constexpr unsigned long long kGeneration = 0x4e662a0c5e7f5b69ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

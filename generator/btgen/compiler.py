@@ -41,7 +41,7 @@ from btgen import pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
-from btgen.ir.dataflow import DataOptions
+from btgen.ir.data.records import DataOptions
 from btgen.ir.lower import lower
 from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 

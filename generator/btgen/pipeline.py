@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Optional
 
 if TYPE_CHECKING:  # the stages are imported when used: `btgen --help` stays quick
-    from btgen.ir.dataflow import DataOptions
+    from btgen.ir.data.records import DataOptions
     from btgen.ir.lower import Program
     from btgen.lang.model import Mission
 
@@ -47,7 +47,7 @@ class CompileOptions:
 
     @property
     def data(self) -> DataOptions:
-        from btgen.ir.dataflow import DataOptions
+        from btgen.ir.data.records import DataOptions
 
         options = DataOptions()
         if self.string_capacity is not None:

@@ -1,12 +1,15 @@
 // A scenario-driven mission under Groot2 monitors, stepped from stdin (tests and demos).
 //
 //     prog SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog]
+//          [--heartbeat-ms MS]
 //
 // Leaves follow the scenario (tests/conformance/FORMAT.md). The program
 // prints `ready` once its monitors run, then reads commands, one a line:
 // `tick` sends one tick and prints `result STATUS`; `sync` copies the
 // blackboard for the publisher; `quit` (or end of input) stops the monitors
-// (the .btlog is complete then) and exits 0. Compile with
+// (the .btlog is complete then) and exits 0. `--heartbeat-ms`: the publisher's
+// heartbeat delay (its hooks are disabled after that long without a request).
+// Compile with
 //   -DBTGEN_MISSION_HEADER='"m.hpp"' -DBTGEN_MISSION_TEMPLATE=m::M
 // and link btgen::groot2.
 #ifndef BTGEN_MISSION_HEADER
@@ -18,6 +21,7 @@
 
 #include BTGEN_MISSION_HEADER
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -39,6 +43,7 @@ int main(int argc, char** argv) {
   long port = -1;
   std::string address = "*";
   std::string btlog;
+  long heartbeat_ms = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--groot2" && i + 1 < argc)
@@ -47,15 +52,21 @@ int main(int argc, char** argv) {
       address = argv[++i];
     else if (a == "--btlog" && i + 1 < argc)
       btlog = argv[++i];
+    else if (a == "--heartbeat-ms" && i + 1 < argc)
+      heartbeat_ms = std::strtol(argv[++i], nullptr, 10);
     else if (scenario_path == nullptr && a.rfind("--", 0) != 0)
       scenario_path = argv[i];
     else {
-      std::fprintf(stderr, "usage: %s SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog]\n", argv[0]);
+      std::fprintf(
+          stderr, "usage: %s SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog] [--heartbeat-ms MS]\n",
+          argv[0]);
       return 2;
     }
   }
   if (scenario_path == nullptr || (port != -1 && (port < 1 || port > 65534))) {
-    std::fprintf(stderr, "usage: %s SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s SCENARIO_FILE [--groot2 PORT] [--address ADDR] [--btlog FILE.btlog] [--heartbeat-ms MS]\n",
+                 argv[0]);
     return 2;
   }
   std::vector<btgen::Diagnostic> diags;
@@ -76,6 +87,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<btgen::btlog::FileLogger> logger;
   try {
     if (port != -1) publisher = std::make_unique<btgen::groot2::Publisher<Runner>>(*mission, unsigned(port), address);
+    if (publisher && heartbeat_ms > 0) publisher->set_max_heartbeat_delay(std::chrono::milliseconds(heartbeat_ms));
     if (!btlog.empty()) logger = std::make_unique<btgen::btlog::FileLogger>(*mission, btlog);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: error: %s\n", argv[0], e.what());

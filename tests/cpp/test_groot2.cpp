@@ -3,12 +3,14 @@
 // answers STATUS with what the tick published, the .btlog holds every change.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -140,6 +142,121 @@ TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
   EXPECT_EQ(records, counter.changes);
   (void)changes_before;
   std::remove(log_path.c_str());
+}
+
+// Records the statuses each node takes.
+struct Seen final : btgen::StatusSink {
+  std::array<std::array<std::uint64_t, 5>, Mission::node_count()> to{};
+  void on_status(const btgen::NodeInfo& n, btgen::Status, btgen::Status s) noexcept override {
+    ++to[n.index][static_cast<std::size_t>(s)];
+  }
+};
+
+std::string hook_json(unsigned uid, const char* status, bool once = false) {
+  return std::string("{\"enabled\":true,\"uid\":") + std::to_string(uid) +
+         ",\"mode\":1,\"once\":" + (once ? "true" : "false") + ",\"desired_status\":\"" + status + "\",\"position\":0}";
+}
+
+// Groot2's REPLACE hooks (live fault injection): a forced node takes only the forced
+// status, its leaf hooks are not called, and the tick still allocates nothing.
+TEST(Groot2, ReplaceHooksForceStatusesAndTicksAllocateNothing) {
+  RandomLeaves leaves(0x4007);
+  const unsigned port = free_port_pair();
+  ASSERT_NE(port, 0u);
+  auto mission = std::make_unique<Mission>(leaves);
+  // FetchA's GiveUp (an Action), the root's IsBatteryOk, the Sequence "Cycle".
+  std::size_t action = 0, condition = 1, control = 0;
+  for (std::size_t i = 0; i < Mission::node_count(); ++i) {
+    const std::string_view name = Mission::node(i).name;
+    if (name == "GiveUp" && action == 0) action = i;
+    if (name == "Cycle") control = i;
+  }
+  ASSERT_TRUE(action != 0 && control != 0);
+  ASSERT_EQ(Mission::node(condition).kind, btgen::NodeKind::Condition);
+  Seen seen;
+  {
+    btgen::groot2::Publisher publisher(*mission, port, "127.0.0.1");
+    ASSERT_TRUE(mission->observer().attach(&seen));
+    zmq::context_t ctx;
+    zmq::socket_t client(ctx, zmq::socket_type::req);
+    client.set(zmq::sockopt::rcvtimeo, 3000);
+    client.set(zmq::sockopt::linger, 0);
+    client.connect("tcp://127.0.0.1:" + std::to_string(port));
+    const auto uid = [](std::size_t i) { return static_cast<unsigned>(Mission::node(i).uid); };
+    const std::string hooks = "[" + hook_json(uid(action), "FAILURE") + "," + hook_json(uid(condition), "SUCCESS") +
+                              "," + hook_json(uid(control), "RUNNING") + "]";
+    ASSERT_EQ(request(client, 'I', hooks).size(), 1u);
+    for (int i = 0; i < 10; ++i) (void)mission->tick();
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // (other threads' first allocations)
+    seen.to = {};
+    {
+      btgen_test::AllocationScope scope;
+      for (int i = 0; i < 20000; ++i) {
+        mission->clock().advance(7);
+        (void)mission->tick();
+        publisher.sync();
+        if (i % 1009 == 1008) mission->halt();
+      }
+      EXPECT_EQ(scope.count(), 0u);
+    }
+    using S = btgen::Status;
+    const auto n = [&](std::size_t node, S s) { return seen.to[node][static_cast<std::size_t>(s)]; };
+    EXPECT_GT(n(action, S::FAILURE), 100u);
+    EXPECT_EQ(n(action, S::SUCCESS) + n(action, S::RUNNING), 0u);
+    EXPECT_GT(n(condition, S::SUCCESS), 100u);
+    EXPECT_EQ(n(condition, S::FAILURE), 0u);
+    EXPECT_GT(n(control, S::RUNNING) + n(control, S::SUCCESS) + n(control, S::FAILURE), 0u);  // ticked as usual
+    // A `once` hook: used at the first visit, then gone from HOOKS_DUMP.
+    ASSERT_EQ(request(client, 'I', hook_json(uid(action), "SUCCESS", true)).size(), 1u);
+    EXPECT_NE(request(client, 'D')[1].find("\"once\":true"), std::string::npos);
+    seen.to = {};
+    for (int i = 0; i < 200; ++i) (void)mission->tick();
+    EXPECT_GE(n(action, S::SUCCESS), 1u);
+    EXPECT_EQ(request(client, 'D')[1].find("\"uid\":" + std::to_string(uid(action)) + "}"), std::string::npos);
+    // Removed, the leaves answer again.
+    ASSERT_EQ(request(client, 'A').size(), 1u);
+    EXPECT_EQ(request(client, 'D')[1], "[]");
+    seen.to = {};
+    const auto checks = leaves.checks;
+    for (int i = 0; i < 2000; ++i) (void)mission->tick();
+    EXPECT_GT(n(condition, S::FAILURE), 0u);
+    EXPECT_GT(leaves.checks, checks);
+    mission->observer().detach(&seen);
+  }
+  // The publisher took its table with it: the next one may force statuses.
+  EXPECT_EQ(mission->observer().forced_status(Mission::node(action)), btgen::Status::IDLE);
+  const unsigned port2 = free_port_pair();
+  ASSERT_NE(port2, 0u);
+  btgen::groot2::Publisher again(*mission, port2, "127.0.0.1");
+  (void)mission->tick();
+}
+
+TEST(Groot2, HookRequestsParse) {
+  namespace d = btgen::groot2::detail;
+  std::vector<d::HookSpec> specs;
+  std::string_view error;
+  ASSERT_TRUE(d::parse_hooks(" [ " + hook_json(3, "SKIPPED", true) + " ] ", specs, error)) << error;
+  ASSERT_EQ(specs.size(), 1u);
+  EXPECT_EQ(specs[0].uid, 3u);
+  EXPECT_TRUE(specs[0].once);
+  EXPECT_FALSE(specs[0].breakpoint);
+  EXPECT_EQ(specs[0].desired, btgen::Status::SKIPPED);
+  std::string dump = "[";
+  d::dump_hook(dump, specs[0]);
+  EXPECT_EQ(dump,
+            "[{\"desired_status\":\"SKIPPED\",\"enabled\":true,\"mode\":1,\"once\":true,\"position\":0,"
+            "\"uid\":3}");
+  specs.clear();
+  EXPECT_FALSE(d::parse_hooks("[1, 2]", specs, error));
+  EXPECT_EQ(error, "hook JSON: a hook must be an object");
+  EXPECT_FALSE(d::parse_hooks(std::string(20, '{'), specs, error));
+  EXPECT_FALSE(d::parse_hooks("{\"a\": \"\\q\"}", specs, error));
+  EXPECT_EQ(error, "hook JSON: a bad escape");
+  d::HookSpec ref;
+  ASSERT_TRUE(d::parse_hook_ref(R"({"uid":7,"position":0,"desired_status":"RUNNING","remove_when_done":true})", true,
+                                ref, error));
+  EXPECT_EQ(ref.desired, btgen::Status::SKIPPED);  // 4.6.2: neither SUCCESS nor FAILURE
+  EXPECT_TRUE(ref.once);
 }
 
 TEST(Groot2, RingDropsInsteadOfWaitingWhenFull) {

@@ -4,10 +4,15 @@
 // them (the server drops a peer that sends more). The oracle: every request is
 // either understood or answered with a non-empty error, a BLACKBOARD request's names
 // are its second frame cut at `;`, and nothing reads outside the frames (ASan).
+// Hook requests (HOOK_INSERT, HOOK_REMOVE, BREAKPOINT_UNLOCK) go on to the hook JSON
+// reader: a failure says why; what it accepts is in range, and HOOKS_DUMP's JSON of it
+// reads back as the same hooks.
 #include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "btgen/groot2.hpp"
 
@@ -42,6 +47,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       ++names;
     });
     if (total + (names - 1) != r.argument.size()) std::abort();  // names and their separators
+  }
+  if (r.kind == K::kHookInsert) {
+    std::vector<g::detail::HookSpec> specs;
+    std::string_view error;
+    if (!g::detail::parse_hooks(r.argument, specs, error)) {
+      if (error.empty()) std::abort();
+      return 0;
+    }
+    std::string dump = "[";
+    for (const auto& h : specs) {
+      if (h.position > 1 || static_cast<int>(h.desired) > 4) std::abort();
+      g::detail::dump_hook(dump, h);
+    }
+    dump += "]";
+    std::vector<g::detail::HookSpec> again;
+    if (!g::detail::parse_hooks(dump, again, error) || again.size() != specs.size()) std::abort();
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      const auto &a = specs[i], &b = again[i];
+      if (a.uid != b.uid || a.position != b.position || a.enabled != b.enabled || a.once != b.once ||
+          a.breakpoint != b.breakpoint || a.desired != b.desired)
+        std::abort();
+    }
+  }
+  if (r.kind == K::kHookRemove || r.kind == K::kBreakpointUnlock) {
+    g::detail::HookSpec ref;
+    std::string_view error;
+    if (!g::detail::parse_hook_ref(r.argument, r.kind == K::kBreakpointUnlock, ref, error) && error.empty())
+      std::abort();
   }
   return 0;
 }

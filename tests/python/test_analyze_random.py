@@ -8,7 +8,7 @@ import pytest
 
 from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
-from btgen.ir.dataflow import DataOptions
+from btgen.ir.data.records import DataOptions
 from btgen.ir.lower import lower
 from btgen.tools.analyze import analyze_program
 from btgen.tools.explore import BY_NAME, Explorer

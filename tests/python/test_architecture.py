@@ -22,8 +22,6 @@ ALLOWED = {
 }
 # Edges ARCHITECTURE.md names as debt: (importing module, imported module).
 KNOWN_DEBT = {
-    ("btgen.ir.dataflow", "btgen.backend_cpp.naming"),
-    ("btgen.ir.lower", "btgen.backend_cpp.naming"),
     # --type names a C++ type: checking its spelling needs C++'s keywords
     ("btgen.frontend.usertypes", "btgen.backend_cpp.naming"),
 }
@@ -88,3 +86,55 @@ def test_the_known_debt_is_still_real():
 def test_every_subpackage_is_in_the_table():
     subpackages = {p.parent.name for p in PACKAGE.glob("*/__init__.py")}
     assert subpackages <= set(ALLOWED), subpackages - set(ALLOWED)
+
+
+def _module_level_names(path: Path) -> set[str]:
+    names = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        targets = (
+            node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(node, ast.AnnAssign) else []
+        )
+        names |= {t.id for t in targets if isinstance(t, ast.Name)}
+    return names
+
+
+def test_the_ir_keeps_no_module_level_mutable_state():
+    """The IR passes what a compile needs as values: no table of a module changes during a
+    run, and its constant tables cannot be changed (frozenset, MappingProxyType, tuples)."""
+    import importlib
+
+    mutable = []
+    for path in sorted((PACKAGE / "ir").rglob("*.py")):
+        module = importlib.import_module(_module_name(path))
+        for name in sorted(_module_level_names(path)):
+            value = getattr(module, name)
+            if isinstance(value, (dict, list, set, bytearray)):
+                mutable.append(f"{module.__name__}.{name}: {type(value).__name__}")
+    assert mutable == []
+
+
+def test_the_ir_carries_no_cpp_names():
+    """The IR names slots, ports and models by key and ID; backend_cpp/naming.py gives the
+    C++ names (CppSlot.member, CppPort.name and scratch, CppLeafModel.cpp_name)."""
+    from dataclasses import fields
+
+    from btgen.ir.data.records import PortIR, SlotIR
+    from btgen.ir.lower import LeafModel
+
+    names = {(cls.__name__, f.name) for cls in (SlotIR, PortIR, LeafModel) for f in fields(cls)}
+    assert not names & {("SlotIR", "member"), ("PortIR", "name"), ("PortIR", "scratch"), ("LeafModel", "cpp_name")}
+
+
+def test_script_slots_are_the_runtimes():
+    """The IR's script places (ScriptSlot, their NodeInfo::scripts bits) and the back end's
+    enumerators for them are runtime/include/btgen/blackboard.hpp's `enum class ScriptSlot`."""
+    import re
+
+    from btgen.backend_cpp.naming import SCRIPT_SLOT_ENUMERATORS
+    from btgen.ir.data.records import ScriptSlot
+
+    header = (Path(ROOT) / "runtime" / "include" / "btgen" / "blackboard.hpp").read_text(encoding="utf-8")
+    body = re.search(r"enum class ScriptSlot : std::uint8_t \{(.*?)\};", header, re.S)
+    assert body is not None
+    runtime = {name: int(value) for name, value in re.findall(r"(k\w+) = (\d+)", body.group(1))}
+    assert {SCRIPT_SLOT_ENUMERATORS[s]: int(s) for s in ScriptSlot} == runtime

@@ -13,7 +13,8 @@ from btgen.backend_cpp.data_cpp import port_type, slot_init, slot_type
 from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.frontend.loader import load_mission
 from btgen.ir import dataops as ops
-from btgen.ir.dataflow import DataOptions, analyze
+from btgen.ir.data.records import DataOptions
+from btgen.ir.dataflow import analyze
 from conftest import CASES, ROOT, case_file, conformance_stems
 
 BAD = os.path.join(ROOT, "tests", "bad_data")

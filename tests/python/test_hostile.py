@@ -411,6 +411,19 @@ def test_two_missions_in_one_namespace_do_not_link(tmp_path):
     assert "btgen_one_mission_per_namespace" in proc.stderr
 
 
+_PROJECT = "cmake_minimum_required(VERSION 3.16)\nproject(two LANGUAGES CXX)\nfind_package(btgen CONFIG REQUIRED)\n"
+
+
+def _configure(src, build: str) -> subprocess.CompletedProcess:
+    """CMake's configure step of the project in `src` (build folder `src`/`build`), btgen found by its package."""
+    return subprocess.run(
+        ["cmake", "-S", str(src), "-B", str(src / build), f"-Dbtgen_DIR={ROOT}/cmake"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+
+
 @pytest.mark.skipif(shutil.which("cmake") is None, reason="no cmake")
 def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
     """The same through btgen_add_mission: refused when configuring, naming both."""
@@ -418,16 +431,11 @@ def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
         (tmp_path / name).mkdir()
         (tmp_path / name / "patrol.xml").write_text(TWO_EDGES, encoding="utf-8")
     (tmp_path / "CMakeLists.txt").write_text(
-        "cmake_minimum_required(VERSION 3.16)\nproject(two LANGUAGES CXX)\nfind_package(btgen CONFIG REQUIRED)\n"
-        "btgen_add_mission(mission_a MISSION a/patrol.xml)\nbtgen_add_mission(mission_b MISSION b/patrol.xml)\n",
+        _PROJECT
+        + "btgen_add_mission(mission_a MISSION a/patrol.xml)\nbtgen_add_mission(mission_b MISSION b/patrol.xml)\n",
         encoding="utf-8",
     )
-    proc = subprocess.run(
-        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-Dbtgen_DIR={ROOT}/cmake"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = _configure(tmp_path, "build")
     assert proc.returncode != 0
     err = " ".join(proc.stderr.split())
     assert "btgen_add_mission: mission_b" in err and "would generate namespace patrol" in err
@@ -436,24 +444,14 @@ def test_two_missions_in_one_namespace_are_refused_at_configure(tmp_path):
     (tmp_path / "CMakeLists.txt").write_text(
         (tmp_path / "CMakeLists.txt").read_text().replace("b/patrol.xml)", "b/patrol.xml NAMESPACE patrol_b)")
     )
-    proc = subprocess.run(
-        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build2"), f"-Dbtgen_DIR={ROOT}/cmake"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = _configure(tmp_path, "build2")
     assert proc.returncode == 0, proc.stderr
     # A NAMESPACE whose inner part would hide ::std: refused when configuring (it built C++
     # that did not compile).
     (tmp_path / "CMakeLists.txt").write_text(
         (tmp_path / "CMakeLists.txt").read_text().replace("NAMESPACE patrol_b)", "NAMESPACE robot::std)")
     )
-    proc = subprocess.run(
-        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build3"), f"-Dbtgen_DIR={ROOT}/cmake"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = _configure(tmp_path, "build3")
     assert proc.returncode != 0
     assert "`std` inside the mission's namespace would hide `::std`" in " ".join(proc.stderr.split())
 
@@ -465,16 +463,10 @@ def test_one_mission_for_two_programs_configures(tmp_path):
     `scripts/demo.sh` failed to configure when this was refused)."""
     (tmp_path / "patrol.xml").write_text(TWO_EDGES, encoding="utf-8")
     (tmp_path / "CMakeLists.txt").write_text(
-        "cmake_minimum_required(VERSION 3.16)\nproject(two LANGUAGES CXX)\nfind_package(btgen CONFIG REQUIRED)\n"
-        "btgen_add_mission(for_robot MISSION patrol.xml)\nbtgen_add_mission(for_tests MISSION patrol.xml)\n",
+        _PROJECT + "btgen_add_mission(for_robot MISSION patrol.xml)\nbtgen_add_mission(for_tests MISSION patrol.xml)\n",
         encoding="utf-8",
     )
-    proc = subprocess.run(
-        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build"), f"-Dbtgen_DIR={ROOT}/cmake"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = _configure(tmp_path, "build")
     assert proc.returncode == 0, proc.stderr
     # The same file with other options generates other code: refused.
     (tmp_path / "CMakeLists.txt").write_text(
@@ -484,11 +476,6 @@ def test_one_mission_for_two_programs_configures(tmp_path):
         .replace("for_robot MISSION patrol.xml STRING_CAPACITY 64", "for_robot MISSION patrol.xml"),
         encoding="utf-8",
     )
-    proc = subprocess.run(
-        ["cmake", "-S", str(tmp_path), "-B", str(tmp_path / "build2"), f"-Dbtgen_DIR={ROOT}/cmake"],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = _configure(tmp_path, "build2")
     assert proc.returncode != 0
     assert "btgen_add_mission: for_tests" in " ".join(proc.stderr.split())

@@ -50,7 +50,7 @@ def test_the_limits_are_the_documented_ones():
         readme = f.read()
     assert "## Limits" in readme
     limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0]
-    from btgen.ir.dataflow import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
+    from btgen.ir.data.records import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
 
     for number in (
         "65,535",

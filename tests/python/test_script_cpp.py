@@ -21,11 +21,17 @@ from btgen.interp.controls import switch_equal
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
 from btgen.ir import kinds
-from btgen.ir.script_types import type_script
+from btgen.ir.script_types import SlotType, type_script
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.tools.cppengine import build_cpp
 from conftest import ROOT
+
+
+def _typing_views(views):
+    """The slots as the typing pass sees them (no user port types here)."""
+    return [SlotType(v.key, v.kind, v.declared, v.capacity, v.origin, kinds.kind_of_type(v.declared)) for v in views]
+
 
 KINDS = {"i": "int", "d": "double", "s": "string", "b": "bool", "q": "queue<int>", "n": "none"}
 
@@ -104,7 +110,7 @@ def _compile(code, slots, condition=False):
     views = [scpp.SlotView(f"bb.{k}", k, kd, "any", 16, missing) for k, (kd, missing) in slots.items()]
     names = {k: i for i, k in enumerate(slots)}
     ctx = scpp.ScriptContext(views, names, lambda off: f"W[{off}]", "P: ")
-    return scpp.compile_script(type_script(sc.parse_script(code), views, names, condition), ctx)
+    return scpp.compile_script(type_script(sc.parse_script(code), _typing_views(views), names, condition), ctx)
 
 
 def test_generated_code_for_an_assignment():
@@ -515,7 +521,7 @@ def test_the_cpp_writer_prints_every_typed_script():
         condition = rng.random() < 0.5
         checked += 1
         try:
-            typed = type_script(script, views, index, condition)
+            typed = type_script(script, _typing_views(views), index, condition)
         except kinds.ScriptTypeError:
             rejected += 1
             continue

@@ -168,3 +168,20 @@ def test_compile_refuses_what_it_cannot_build(capsys, tmp_path):
         == 1
     )
     assert "is substituted in some SubTree instances and not in others" in capsys.readouterr().err
+
+
+def test_provided_entries_exist_under_substitution(capsys, tmp_path):
+    """The main tree's --entry entries are created (empty) with or without rules, as in a plain run."""
+    (tmp_path / "m.xml").write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">'
+        '<Sequence><Find/><Script code="twice := timeout * 2"/></Sequence>'
+        '</BehaviorTree><TreeNodesModel><Action ID="Find"/></TreeNodesModel></root>'
+    )
+    (tmp_path / "s.scenario").write_text("ticks 1\n")
+    (tmp_path / "r.json").write_text('{"TestNodeConfigs": {}, "SubstitutionRules": {"Find": "AlwaysSuccess"}}')
+    argv = ["run", str(tmp_path / "m.xml"), "--scenario", str(tmp_path / "s.scenario"), "--entry", "timeout=int"]
+    assert main(argv) == 1
+    plain = capsys.readouterr()
+    assert "the left operand of `*` has no value" in plain.err
+    assert main([*argv, "--substitute", str(tmp_path / "r.json")]) == 1
+    assert capsys.readouterr() == plain

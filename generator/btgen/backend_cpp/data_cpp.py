@@ -7,12 +7,12 @@ these filters give it the C++ types, enumerators and literals it needs.
 
 from __future__ import annotations
 
-from btgen.backend_cpp.naming import cpp_comment_lines, cpp_string, cpp_string_chunks
+from btgen.backend_cpp.naming import CppSlot, cpp_comment_lines, cpp_string, cpp_string_chunks
 from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
 from btgen.diagnostics import InternalError
-from btgen.ir.dataflow import LocalIR, PortIR, SlotIR
+from btgen.ir.data.records import LocalIR, PortIR, SlotIR
 from btgen.ir.dataops import TextOperand
-from btgen.ir.kinds import DYN, is_numeric, is_queue, is_user
+from btgen.ir.kinds import DYN, is_numeric, is_queue, is_user, queue_element
 from btgen.lang import values
 
 # btgen::Declared enumerators (runtime/include/btgen/port.hpp), by declared type.
@@ -60,7 +60,7 @@ def slot_type(s: SlotIR) -> str:
     if k == DYN:
         return f"btgen::Dyn<{max(s.capacity, 1)}>"
     if is_queue(k):
-        elem = k[len("queue<") : -1]
+        elem = queue_element(k)
         etype = ELEMENT_TYPE.get(elem, f"btgen::FixedString<{s.elem_capacity}>")
         return f"btgen::FixedQueue<{etype}, {s.capacity}>"
     return CPP_SCALAR[k]
@@ -124,7 +124,7 @@ def element_literal(value: object, elem: str, capacity: int) -> str:
     return cpp_value(value)
 
 
-def dyn_ref(s: SlotIR) -> str:
+def dyn_ref(s: CppSlot) -> str:
     """A slot's value as a btgen::dyn::Ref (the source of a copy into a dynamic entry)."""
     m = f"bb.{s.member}"
     if s.kind == DYN:

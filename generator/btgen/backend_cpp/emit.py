@@ -20,7 +20,6 @@ from btgen.backend_cpp import data_cpp, naming
 from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
-from btgen.ir.dataflow import SCRIPT_BIT
 from btgen.ir.lower import SUPPORTED, IRNode, Program
 from btgen.lang.versions import semantics, switch_names, version_number
 from btgen.version import RUNTIME_ABI, __version__
@@ -86,11 +85,11 @@ def groot2_context(program: Program) -> dict:
     for i, inst in enumerate(tree.instances[1:], start=1):
         index_of_uid[inst.nodes[0]] = i  # the SubTree node's UID is its tree root's index
     entries: list[dict[str, Any]] = []
-    for sl in data.slots:
+    for sl, member in zip(data.slots, naming.slot_members(data.slots)):
         bb = index_of_uid.get(sl.owner_uid)
         if bb is None:
             raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
-        entries.append(dict(bb=bb, key=sl.key, member=sl.member))
+        entries.append(dict(bb=bb, key=sl.key, member=member))
     entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
     return dict(
         xml_lines=tree.xml.splitlines(keepends=True),
@@ -157,6 +156,7 @@ def render(
     the C++ namespace (`--namespace`, checked by the command line), else derived
     from `stem`."""
     show: Callable[[str], str] = lambda p: display_path(p, relative_to)  # noqa: E731
+    program = naming.name_program(program)  # the C++ names of slots, ports and models
     data = program.data
     if data is None:
         raise InternalError("the program has no data side (lower() makes one)")
@@ -222,7 +222,7 @@ def script_tables(scripts, node_count: int) -> dict:
     by_body: dict[tuple[str, ...], dict] = {}
     sites: list[dict] = []
     errors: list[tuple[str, str]] = []
-    for c in sorted(scripts, key=lambda c: (c.node, SCRIPT_BIT[c.which])):
+    for c in sorted(scripts, key=lambda c: (c.node, c.which)):
         fn = by_body.get(c.body)
         if fn is None:
             fn = by_body[c.body] = dict(name=f"script{len(functions)}", comment=c.comment, body=c.body, uses=0)
@@ -231,7 +231,7 @@ def script_tables(scripts, node_count: int) -> dict:
         sites.append(
             dict(
                 node=c.node,
-                which=c.which,
+                which=naming.SCRIPT_SLOT_ENUMERATORS[c.which],
                 fn=fn["name"],
                 at=len(errors) if c.errors else None,
                 prefix=c.prefix,

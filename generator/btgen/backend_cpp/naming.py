@@ -9,10 +9,14 @@ from __future__ import annotations
 import re
 import textwrap
 from collections.abc import Iterable
+from dataclasses import dataclass, fields, replace
+from types import MappingProxyType
 from typing import Callable, Optional, Union
 
 from btgen.backend_cpp.cpp_reserved import GLOBALS, MACROS
 from btgen.diagnostics import one_line
+from btgen.ir.data.records import DataIR, PortIR, ScriptSlot, SlotIR
+from btgen.ir.lower import LeafModel, Program
 
 # C++17 keywords and alternative tokens, plus names the generated code uses.
 CPP_KEYWORDS = frozenset(
@@ -235,6 +239,74 @@ def port_identifiers(ports: Iterable[str], model_class: str) -> tuple[str, ...]:
 def entry_identifiers(names: Iterable[str]) -> tuple[str, ...]:
     """The members of the generated blackboard struct, one per entry."""
     return unique_identifiers(names, kind="entry")
+
+
+# ---------------------------------------------------------------- the program's C++ names
+# The IR names slots, ports and models by key and ID; these records add the C++ names the
+# generated code gives them, and `name_program` gives them all at once.
+
+
+@dataclass(frozen=True)
+class CppSlot(SlotIR):
+    member: str = ""  # its member of the generated Blackboard struct
+
+
+@dataclass(frozen=True)
+class CppPort(PortIR):
+    name: str = ""  # the getter of the model class (the setter is set_<name>)
+    scratch: str = ""  # the member its getter writes a number's text into ("" when it never does)
+
+
+@dataclass(frozen=True)
+class CppLeafModel(LeafModel):
+    cpp_name: str = ""  # its class in the generated `leaf` namespace
+
+
+# The `btgen::ScriptSlot` enumerators (runtime/include/btgen/blackboard.hpp).
+SCRIPT_SLOT_ENUMERATORS = MappingProxyType(
+    {
+        ScriptSlot.FAILURE_IF: "kFailureIf",
+        ScriptSlot.SUCCESS_IF: "kSuccessIf",
+        ScriptSlot.SKIP_IF: "kSkipIf",
+        ScriptSlot.WHILE: "kWhile",
+        ScriptSlot.ON_SUCCESS: "kOnSuccess",
+        ScriptSlot.ON_FAILURE: "kOnFailure",
+        ScriptSlot.POST: "kPost",
+        ScriptSlot.ON_HALTED: "kOnHalted",
+        ScriptSlot.CODE: "kCode",
+    }
+)
+
+
+def _with(record, cls, **names):
+    return cls(**{f.name: getattr(record, f.name) for f in fields(record)}, **names)
+
+
+def slot_members(slots: Iterable[SlotIR]) -> tuple[str, ...]:
+    """The Blackboard struct's members, one per slot: the key, prefixed by the SubTree
+    instance path outside the root blackboard."""
+    return entry_identifiers(s.key if s.owner == "root" else f"{s.owner}_{s.key}" for s in slots)
+
+
+def name_program(program: Program) -> Program:
+    """`program` with every slot, port and leaf model carrying its C++ name (CppSlot,
+    CppPort, CppLeafModel). Classes are named over every model the mission declares, so a
+    model's class keeps its name whatever else is used."""
+    classes = dict(zip(program.model_ids, model_identifiers(program.model_ids)))
+    models = tuple(_with(m, CppLeafModel, cpp_name=classes[m.id]) for m in program.leaf_models)
+    data = program.data
+    if data is None:
+        return replace(program, leaf_models=models)
+    slots = tuple(_with(s, CppSlot, member=m) for s, m in zip(data.slots, slot_members(data.slots)))
+    ports: dict[str, tuple[PortIR, ...]] = {}
+    for model_id, model_ports in data.ports.items():
+        getters = port_identifiers([p.port for p in model_ports], classes.get(model_id, ""))
+        ports[model_id] = tuple(
+            _with(p, CppPort, name=g, scratch=f"scratch{k}_" if p.needs_scratch else "")
+            for k, (p, g) in enumerate(zip(model_ports, getters))
+        )
+    named: DataIR = replace(data, slots=slots, ports=ports)
+    return replace(program, leaf_models=models, data=named)
 
 
 def header_name(stem: str) -> str:

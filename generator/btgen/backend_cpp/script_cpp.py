@@ -38,9 +38,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from btgen.backend_cpp.naming import cpp_string
+from btgen.backend_cpp.naming import cpp_string, slot_members
 from btgen.diagnostics import Loc
-from btgen.ir.dataflow import DataIR, script_loc
+from btgen.ir.data.records import DataIR, ScriptSlot, script_loc
 from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, describe_kind, is_queue
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
@@ -935,7 +935,7 @@ class CompiledScript:
     messages of its errors (ErrorTable) with the prefix, for its node's ScriptSite."""
 
     node: int
-    which: str
+    which: ScriptSlot
     comment: str
     body: tuple[str, ...]
     errors: tuple[tuple[str, str], ...]
@@ -956,8 +956,8 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
         return f"detail::kWhere[{i}]"
 
     views = [
-        SlotView(f"bb.{s.member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
-        for s in data.slots
+        SlotView(f"bb.{member}", s.key, s.kind, s.declared, s.capacity, s.may_be_missing, s.origin_text)
+        for s, member in zip(data.slots, slot_members(data.slots))
     ]
     out = []
     for c in data.scripts:

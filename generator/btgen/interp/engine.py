@@ -258,10 +258,14 @@ class Interpreter:
         self.rt = Runtime(mission, scenario)
         self.root_bb = bbmod.Blackboard()
         provide(mission, self.root_bb, mission.main_tree, True)
-        builder = _Builder(self.rt, mission)
+        builder = self._builder()
         self.root = builder.build(self.root_bb)
         self.nodes = builder.nodes
         self.ticks_sent = 0
+
+    def _builder(self) -> _Builder:
+        """What builds the tree (tools/substitute.py gives its own)."""
+        return _Builder(self.rt, self.mission)
 
     def take_text(self) -> str:
         """The trace lines produced since the last call, as text."""
@@ -288,7 +292,11 @@ def run_trace(mission: Mission, scenario: Scenario, write: Callable[[str], objec
 
     Returns the last root status. A run-time error raises RunError after the
     lines of the failing tick so far have been written."""
-    interp = Interpreter(mission, scenario)
+    return run_ticks(Interpreter(mission, scenario), scenario, write)
+
+
+def run_ticks(interp: Interpreter, scenario: Scenario, write: Callable[[str], object]) -> NodeStatus:
+    """run_trace's ticks on a built interpreter (tools/substitute.py builds its own)."""
     last = NodeStatus.IDLE
     for n in range(1, scenario.ticks + 1):
         if n > 1 and scenario.clock_ms:

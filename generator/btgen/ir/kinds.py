@@ -21,8 +21,9 @@ Kinds:
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Callable, Optional
 
 from btgen.lang import script as sc
@@ -33,7 +34,7 @@ NUMERIC = ("int", "double", "bool", "status")
 # expressions over one: btgen::dyn::Ref values, operated on by runtime/include/btgen/dynamic.hpp.
 DYN = "dyn"
 # Longest text of a value of each kind (std::to_string): bool and status print one digit.
-TEXT_BOUND = {"int": 20, "double": 317, "bool": 1, "status": 1}
+TEXT_BOUND = MappingProxyType({"int": 20, "double": 317, "bool": 1, "status": 1})
 
 INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
 UINT32_MAX = 2**32 - 1
@@ -47,22 +48,41 @@ def is_queue(kind: Optional[str]) -> bool:
     return kind is not None and kind.startswith("queue<")
 
 
-# The user port types (usertypes.py) of the mission being compiled: type name (blanks
-# around `<>,:*&` removed) -> kind (`user:NAME`). Set by dataflow.analyze for its duration (`user_types`).
-USER_KINDS: dict[str, str] = {}
+def queue_kind(elem: str) -> str:
+    """The kind of a queue of `elem` (int, bool, double, string) values."""
+    return f"queue<{elem}>"
 
 
-@contextlib.contextmanager
-def user_kinds(user_types) -> Iterator[None]:
-    """USER_KINDS set to `user_types` (usertypes.UserType) while the block runs."""
-    saved = dict(USER_KINDS)
-    USER_KINDS.clear()
-    USER_KINDS.update({values._compact(t.name): t.kind for t in user_types})
-    try:
-        yield
-    finally:
-        USER_KINDS.clear()
-        USER_KINDS.update(saved)
+def queue_element(kind: str) -> str:
+    """The element of a queue kind: `queue<int>` -> `int`."""
+    assert is_queue(kind), kind
+    return kind[len("queue<") : -1]
+
+
+def user_type_name(kind: str) -> str:
+    """The user port type a `user:NAME` kind holds (blanks removed): NAME."""
+    assert is_user(kind), kind
+    return kind[len("user:") :]
+
+
+@dataclass(frozen=True)
+class UserKinds:
+    """The user port types (usertypes.py) of one mission, as kinds: type name (blanks around
+    `<>,:*&` removed) -> kind (`user:NAME`). A value the data analysis builds once and
+    passes along; nothing here changes while a mission is compiled."""
+
+    by_type: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+
+    @staticmethod
+    def of(user_types: Iterable) -> UserKinds:
+        """From the mission's `usertypes.UserType`s."""
+        return UserKinds(MappingProxyType({values._compact(t.name): t.kind for t in user_types}))
+
+    def get(self, type_name: str) -> Optional[str]:
+        return self.by_type.get(values._compact(type_name)) if self.by_type else None
+
+
+NO_USER_KINDS = UserKinds()
 
 
 def is_user(kind: Optional[str]) -> bool:
@@ -70,8 +90,9 @@ def is_user(kind: Optional[str]) -> bool:
     return kind is not None and kind.startswith("user:")
 
 
-def kind_of_type(type_name: str) -> Optional[str]:
+def kind_of_type(type_name: str, user: UserKinds = NO_USER_KINDS) -> Optional[str]:
     """The kind an entry of a declared type holds; None for `any` (inferred from writes).
+    `user`: the mission's user port types (a `--type` name gives its `user:NAME` kind).
 
     A bool entry holds an integer: 4.6.2 keeps bools as the integers 0 and 1
     (its Any holds an int64), a script writes `true` as the integer 1 into
@@ -85,16 +106,15 @@ def kind_of_type(type_name: str) -> Optional[str]:
         return "status"
     if type_name == values.ANY:
         return None
-    if values.queue_element_type(type_name) is not None:
-        return f"queue<{values.queue_element_type(type_name)}>"
-    if USER_KINDS and values._compact(type_name) in USER_KINDS:
-        return USER_KINDS[values._compact(type_name)]
-    return "string"  # string and opaque user types
+    elem = values.queue_element_type(type_name)
+    if elem is not None:
+        return queue_kind(elem)
+    return user.get(type_name) or "string"  # string and opaque user types
 
 
 def describe_kind(kind: str) -> str:
     if is_user(kind):
-        return f"a {kind[len('user:') :]}"
+        return f"a {user_type_name(kind)}"
     return {
         "int": "an integer",
         "double": "a double",
@@ -265,7 +285,8 @@ def compare_check(op: str, a: str, b: str, offset: int) -> None:
 # ================================================================ checks of a script's statements
 # Shared by the typing pass (script_types.py), which reports them, and the C++ writer
 # (backend_cpp/script_cpp.py), which relies on them. `s` is a slot as scripts see it: its
-# `key`, `kind`, `declared` type, `capacity` and `origin` (why it has its kind).
+# `key`, `kind`, `declared` type and the kind of that type (`declared_kind`), `capacity` and
+# `origin` (why it has its kind).
 
 
 def origin_text(s) -> str:
@@ -344,7 +365,7 @@ def store_route(s, value_kind: str, literal: object, offset: int, what: str) -> 
         check_store_same(s, literal, offset)
         return "same"
     if r == "string":
-        if s.declared not in (values.ANY, values.NODE_STATUS) and kind_of_type(s.declared) == k:
+        if s.declared not in (values.ANY, values.NODE_STATUS) and s.declared_kind == k:
             converted_literal(s, literal, offset, what)
             return "converted"
         if k == "double" and s.declared == values.ANY:

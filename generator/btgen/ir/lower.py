@@ -15,12 +15,15 @@ resolved by dataflow.py; its DataIR travels in the Program.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Optional
 
-from btgen.backend_cpp.naming import model_identifiers
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
-from btgen.ir.dataflow import SCRIPT_BIT, DataIR, DataOptions, analyze
+from btgen.ir.data.records import DataIR, DataOptions, ScriptSlot
+from btgen.ir.dataflow import analyze
+from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
 from btgen.lang.catalogue import builtins_for
@@ -28,57 +31,59 @@ from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
-SUPPORTED: dict[str, tuple[str, int, int]] = {
-    "Sequence": ("Sequence", 2, 0),  # current child, "a child did not skip" (all_skipped_)
-    "AsyncSequence": ("AsyncSequence", 2, 0),
-    "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
-    "ReactiveSequence": ("ReactiveSequence", 0, 0),
-    "Fallback": ("Fallback", 2, 0),
-    "AsyncFallback": ("AsyncFallback", 2, 0),
-    "ReactiveFallback": ("ReactiveFallback", 0, 0),
-    "Parallel": ("Parallel", 2, 0),  # successes, failures
-    "ParallelAll": ("ParallelAll", 1, 0),  # failures
-    "IfThenElse": ("IfThenElse", 1, 0),  # branch being run
-    "WhileDoElse": ("WhileDoElse", 0, 0),
-    "Inverter": ("Inverter", 0, 0),
-    "ForceSuccess": ("ForceSuccess", 0, 0),
-    "ForceFailure": ("ForceFailure", 0, 0),
-    "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
-    "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
-    "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
-    "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
-    "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
-    "Delay": ("Delay", 1, 1),  # started; start time
-    "SubTree": ("SubTree", 0, 0),
-    "Switch2": ("Switch", 1, 0),  # the case RUNNING + 1 (0: none)
-    "Switch3": ("Switch", 1, 0),
-    "Switch4": ("Switch", 1, 0),
-    "Switch5": ("Switch", 1, 0),
-    "Switch6": ("Switch", 1, 0),
-    "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
-    "LoopInt": ("Loop", 1, 0),  # child RUNNING
-    "LoopBool": ("Loop", 1, 0),
-    "LoopDouble": ("Loop", 1, 0),
-    "LoopString": ("Loop", 1, 0),
-    "SkipUnlessUpdated": ("SkipUnlessUpdated", 1, 1),  # child RUNNING; update counter seen
-    "WaitValueUpdate": ("WaitValueUpdate", 1, 1),
-    "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
-    "AlwaysFailure": ("AlwaysFailure", 0, 0),
-    "Sleep": ("Sleep", 0, 1),  # start time
-    "Script": ("Script", 0, 0),
-    "ScriptCondition": ("ScriptCondition", 0, 0),
-    "SetBlackboard": ("SetBlackboard", 0, 0),
-    "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
-    "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
-    "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
-}
-# Nodes whose count or duration may be a `{key}` (dataflow.PARAM_PORTS): NodeInfo p1 is 1 then,
+SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
+    {
+        "Sequence": ("Sequence", 2, 0),  # current child, "a child did not skip" (all_skipped_)
+        "AsyncSequence": ("AsyncSequence", 2, 0),
+        "SequenceWithMemory": ("SequenceWithMemory", 2, 0),
+        "ReactiveSequence": ("ReactiveSequence", 0, 0),
+        "Fallback": ("Fallback", 2, 0),
+        "AsyncFallback": ("AsyncFallback", 2, 0),
+        "ReactiveFallback": ("ReactiveFallback", 0, 0),
+        "Parallel": ("Parallel", 2, 0),  # successes, failures
+        "ParallelAll": ("ParallelAll", 1, 0),  # failures
+        "IfThenElse": ("IfThenElse", 1, 0),  # branch being run
+        "WhileDoElse": ("WhileDoElse", 0, 0),
+        "Inverter": ("Inverter", 0, 0),
+        "ForceSuccess": ("ForceSuccess", 0, 0),
+        "ForceFailure": ("ForceFailure", 0, 0),
+        "Repeat": ("Repeat", 2, 0),  # cycles done, "a child did not skip" (all_skipped_)
+        "RetryUntilSuccessful": ("RetryUntilSuccessful", 2, 0),  # attempts done, as Repeat
+        "KeepRunningUntilFailure": ("KeepRunningUntilFailure", 0, 0),
+        "RunOnce": ("RunOnce", 2, 0),  # already ran, stored status
+        "Timeout": ("Timeout", 2, 1),  # started, timer armed; start time
+        "Delay": ("Delay", 1, 1),  # started; start time
+        "SubTree": ("SubTree", 0, 0),
+        "Switch2": ("Switch", 1, 0),  # the case RUNNING + 1 (0: none)
+        "Switch3": ("Switch", 1, 0),
+        "Switch4": ("Switch", 1, 0),
+        "Switch5": ("Switch", 1, 0),
+        "Switch6": ("Switch", 1, 0),
+        "Precondition": ("Precondition", 1, 0),  # child started (4.7.0, versions.py precondition_if_until_started)
+        "LoopInt": ("Loop", 1, 0),  # child RUNNING
+        "LoopBool": ("Loop", 1, 0),
+        "LoopDouble": ("Loop", 1, 0),
+        "LoopString": ("Loop", 1, 0),
+        "SkipUnlessUpdated": ("SkipUnlessUpdated", 1, 1),  # child RUNNING; update counter seen
+        "WaitValueUpdate": ("WaitValueUpdate", 1, 1),
+        "AlwaysSuccess": ("AlwaysSuccess", 0, 0),
+        "AlwaysFailure": ("AlwaysFailure", 0, 0),
+        "Sleep": ("Sleep", 0, 1),  # start time
+        "Script": ("Script", 0, 0),
+        "ScriptCondition": ("ScriptCondition", 0, 0),
+        "SetBlackboard": ("SetBlackboard", 0, 0),
+        "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
+        "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
+        "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
+    }
+)
+# Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
-_SKIP_BITS = (1 << SCRIPT_BIT["kSkipIf"]) | (1 << SCRIPT_BIT["kWhile"])
+_SKIP_BITS = (1 << ScriptSlot.SKIP_IF) | (1 << ScriptSlot.WHILE)
 
 
 @dataclass(frozen=True)
@@ -88,7 +93,6 @@ class LeafModel:
     index: int
     id: str
     kind: str  # "Action" | "Condition" | "Control" | "Decorator"
-    cpp_name: str  # its struct in the generated `leaf` namespace
     loc: Optional[Loc]
 
 
@@ -109,7 +113,7 @@ class IRNode:
     model: int  # leaf model index, -1 when not a user leaf
     loc: Loc
     tree: str  # the BehaviorTree the node is written in
-    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (dataflow.SCRIPT_BIT)
+    scripts: int = 0  # NodeInfo::scripts: pre/post conditions present (the bits of data/records.py ScriptSlot)
 
 
 @dataclass(frozen=True)
@@ -135,6 +139,9 @@ class Program:
     groot2: Optional[Groot2Tree] = None
     # The BehaviorTree.CPP release followed (lang/versions.py): the header's Semantics flags.
     btcpp: str = "4.6.2"
+    # Every user model the mission declares (used or not), in declaration order: the back end
+    # names the leaf classes over all of them.
+    model_ids: tuple[str, ...] = ()
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -159,34 +166,11 @@ class Program:
 
 
 # ------------------------------------------------------------------ traversal
-def _expanded(mission: Mission):
-    """(node, parent index, depth, tree id) in creation order, SubTrees inlined.
-
-    Iterative, so deep trees do not hit Python's recursion limit.
-    """
-    stack: list[tuple[Node, int, int, str]] = [(mission.main.root, -1, 1, mission.main_tree)]
-    index = 0
-    while stack:
-        node, parent, depth, tree = stack.pop()
-        yield node, parent, depth, tree
-        me = index
-        index += 1
-        if isinstance(node, SubTreeNode):
-            target = mission.tree(node.target)
-            stack.append((target.root, me, depth + 1, target.id))
-        else:
-            for child in reversed(node.children):
-                stack.append((child, me, depth + 1, tree))
-
-
 def creation_order(mission: Mission) -> list[tuple[int, str, str]]:
     """(UID, registration ID, name) of every node of the main tree, SubTrees inlined:
     the numbers BehaviorTree.CPP (and Groot2) give them. Works on any mission,
     including those the C++ back end cannot compile yet."""
-    return [
-        (i + 1, "SubTree" if isinstance(n, SubTreeNode) else n.id, n.display_name)
-        for i, (n, _, _, _) in enumerate(_expanded(mission))
-    ]
+    return [(n.uid, n.reg_id, n.node.display_name) for n in number_nodes(mission)]
 
 
 def _unrun_leaves(mission: Mission) -> tuple[tuple[str, str], ...]:
@@ -297,27 +281,24 @@ class _Lowerer:
 
     def lower(self) -> Program:
         m = self.m
-        data, data_sink = analyze(m, self.options)
+        numbering = number_nodes(m)
+        data, data_sink = analyze(m, self.options, numbering)
         for d in data_sink.items:
             self.error(d.loc, d.message)
 
         # Only the models a node of the mission uses get a leaf class, dispatch branches and
-        # hooks: a palette of 600 unused Actions cost g++ minutes (names are given over the
-        # whole palette, so a model's class keeps its name whatever else is used).
-        all_models = m.user_models()
-        all_names = dict(zip([s.id for s in all_models], model_identifiers([s.id for s in all_models])))
+        # hooks: a palette of 600 unused Actions cost g++ minutes (the back end names classes
+        # over the whole palette, `model_ids`, so a model's class keeps its name whatever else
+        # is used).
         models = m.used_user_models()
-        leaf_models = tuple(LeafModel(i, s.id, s.kind, all_names[s.id], s.loc) for i, s in enumerate(models))
+        leaf_models = tuple(LeafModel(i, s.id, s.kind, s.loc) for i, s in enumerate(models))
         model_index = {s.id: i for i, s in enumerate(models)}
 
-        raw: list[dict] = []
-        children: dict[int, list[int]] = {}
+        nodes: list[IRNode] = []
+        child_table: list[int] = []
         counter = timer = 0
-        for node, parent, depth, tree in _expanded(m):
-            index = len(raw)
-            if parent >= 0:
-                children[parent].append(index)
-            children[index] = []
+        for n in numbering:
+            node, index = n.node, n.index
             if isinstance(node, SubTreeNode):
                 kind, nslots, ntimers, model = "SubTree", 0, 0, -1
             elif node.id in SUPPORTED:
@@ -331,51 +312,32 @@ class _Lowerer:
                 model = model_index[node.id]
             else:
                 raise InternalError(f"{node.loc}: no lowering for node `{node.id}`")
-            raw.append(
-                dict(
-                    node=node,
-                    parent=parent,
-                    depth=depth,
-                    tree=tree,
-                    kind=kind,
-                    model=model,
-                    slot=counter if nslots else -1,
-                    timer=timer if ntimers else -1,
-                )
-            )
-            counter += nslots
-            timer += ntimers
             if index + 1 > 0xFFFF:  # UIDs are 16-bit; index 0xFFFF is kNoNode, so at most 65535 nodes
                 raise InternalError("more nodes than the front end allows")
-
-        child_table: list[int] = []
-        nodes: list[IRNode] = []
-        for index, r in enumerate(raw):
-            node = r["node"]
-            kids = tuple(children[index])
-            params = data.params.get(index) or self.params(node, len(kids))
-            reg_id = "SubTree" if isinstance(node, SubTreeNode) else node.id
+            params = data.params.get(index) or self.params(node, len(n.children))
             nodes.append(
                 IRNode(
                     index,
-                    index + 1,
-                    r["kind"],
-                    reg_id,
+                    n.uid,
+                    kind,
+                    n.reg_id,
                     node.display_name,
-                    r["parent"],
-                    kids,
+                    n.parent,
+                    n.children,
                     len(child_table),
-                    r["depth"],
+                    n.depth,
                     params,
-                    r["slot"],
-                    r["timer"],
-                    r["model"],
+                    counter if nslots else -1,
+                    timer if ntimers else -1,
+                    model,
                     node.loc,
-                    r["tree"],
+                    n.tree,
                     data.script_bits.get(index, 0),
                 )
             )
-            child_table.extend(kids)
+            child_table.extend(n.children)
+            counter += nslots
+            timer += ntimers
         self._check_conditions(nodes)
         self.sink.raise_if_errors()
         return Program(
@@ -391,8 +353,9 @@ class _Lowerer:
             any(n.kind in ("Parallel", "ParallelAll") for n in nodes),
             _unrun_leaves(m),
             data,
-            groot2_tree(m),
+            groot2_tree(m, numbering),
             m.btcpp,
+            tuple(s.id for s in m.user_models()),
         )
 
     def _check_conditions(self, nodes: list[IRNode]) -> None:

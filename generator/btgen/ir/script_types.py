@@ -42,6 +42,7 @@ class SlotType:
     declared: str  # values.py type name
     capacity: int  # strings: bytes
     origin: str = ""  # why it has its kind (for messages)
+    declared_kind: Optional[str] = None  # the kind of the declared type (kinds.kind_of_type)
 
 
 @dataclass(frozen=True)

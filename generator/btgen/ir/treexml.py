@@ -20,20 +20,25 @@ ports) is written here in a fixed order: the file's order, then defaults.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Optional
 
+from btgen.ir.numbering import Numbering, number_nodes, subtree_path
 from btgen.lang.catalogue import POST_CONDITIONS, PRE_CONDITIONS, NodeSpec
 from btgen.lang.model import Mission, Node, SubTreeNode
 
 # 4.6.2's demangled type names for the canonical ones (values.normalize_type reads them back).
-_CPP_TYPES = {
-    "string": "std::string",
-    "int": "int",
-    "unsigned": "unsigned int",
-    "double": "double",
-    "bool": "bool",
-    "NodeStatus": "BT::NodeStatus",
-    "any": "BT::AnyTypeAllowed",
-}
+_CPP_TYPES = MappingProxyType(
+    {
+        "string": "std::string",
+        "int": "int",
+        "unsigned": "unsigned int",
+        "double": "double",
+        "bool": "bool",
+        "NodeStatus": "BT::NodeStatus",
+        "any": "BT::AnyTypeAllowed",
+    }
+)
 
 
 def _cpp_type(canonical: str) -> str:
@@ -81,65 +86,50 @@ class Groot2Tree:
         return tuple(i for inst in self.instances for i in inst.nodes)
 
 
-def subtree_path(prefix: str, node: SubTreeNode, uid: int) -> str:
-    """4.6.2's instance name of a SubTree: the parent's path, `/`, then its name, else ID::UID."""
-    return prefix + (node.name if node.name is not None else f"{node.target}::{uid}")
-
-
 class _Builder:
-    def __init__(self, mission: Mission) -> None:
+    def __init__(self, mission: Mission, numbering: Numbering) -> None:
         self.m = mission
-        self.uid = 0
-        self.instances: list[tuple[str, str, list[int]]] = []
-        self.elements: list[tuple[int, list[str]]] = []  # per instance: lines
+        self.numbering = numbering
 
     def build(self) -> Groot2Tree:
-        self._instance(self.m.main_tree, "")
+        paths = self.numbering.instance_paths()
+        members: dict[int, list[int]] = {i: [] for i in self.numbering.instances()}
+        for n in self.numbering:
+            members[n.instance].append(n.index)
         lines = ['<root BTCPP_format="4">']
-        for _, body in sorted(self.elements, key=lambda e: e[0]):
-            lines.extend(body)
+        instances = []
+        for inst, nodes in members.items():
+            tree_id = self.m.main_tree if inst < 0 else self.numbering[inst].node.target  # type: ignore[attr-defined]
+            path = paths[inst]
+            instances.append(TreeInstance(tree_id, path, tuple(nodes)))
+            lines.append(f'    <BehaviorTree ID="{escape(tree_id)}" _fullpath="{escape(path)}">')
+            self._body(nodes[0], path + "/" if path else "", lines)
+            lines.append("    </BehaviorTree>")
         lines.extend(self._models())
         lines.append("</root>")
-        instances = tuple(TreeInstance(t, p, tuple(n)) for t, p, n in self.instances)
-        return Groot2Tree("\n".join(lines) + "\n", instances)
+        return Groot2Tree("\n".join(lines) + "\n", tuple(instances))
 
-    def _instance(self, tree_id: str, path: str) -> None:
-        """Walks the instance of `tree_id` at `path` and, depth first, every SubTree
-        instance under it, with an explicit stack (SubTree chains may be 60,000 deep)."""
-        stack: list[tuple] = [("enter", tree_id, path)]
+    def _body(self, root: int, prefix: str, lines: list[str]) -> None:
+        """The elements of one tree instance, its SubTree nodes without children, with an
+        explicit stack (a tree may be deep)."""
+        stack: list[tuple[int, int] | str] = [(root, 2)]
         while stack:
             item = stack.pop()
-            if item[0] == "enter":
-                _, tid, ipath = item
-                nodes: list[int] = []
-                body = [f'    <BehaviorTree ID="{escape(tid)}" _fullpath="{escape(ipath)}">']
-                self.instances.append((tid, ipath, nodes))
-                self.elements.append((len(self.elements), body))
-                body_close = "    </BehaviorTree>"
-                prefix = ipath + "/" if ipath else ""
-                stack.append(("text", body, body_close))
-                stack.append(("node", self.m.tree(tid).root, 2, body, nodes, prefix))
+            if isinstance(item, str):
+                lines.append(item)
                 continue
-            if item[0] == "text":
-                item[1].append(item[2])
-                continue
-            _, node, depth, body, nodes, prefix = item
-            self.uid += 1
-            uid = self.uid
-            nodes.append(uid - 1)
+            index, depth = item
+            n = self.numbering[index]
             indent = "    " * depth
-            attrs = self._attributes(node, uid, prefix)
-            tag = "SubTree" if isinstance(node, SubTreeNode) else node.id
-            children = () if isinstance(node, SubTreeNode) else node.children
+            attrs = self._attributes(n.node, n.uid, prefix)
+            children = () if isinstance(n.node, SubTreeNode) else n.children
             if children:
-                body.append(f"{indent}<{tag}{attrs}>")
-                stack.append(("text", body, f"{indent}</{tag}>"))
+                lines.append(f"{indent}<{n.reg_id}{attrs}>")
+                stack.append(f"{indent}</{n.reg_id}>")
                 for child in reversed(children):
-                    stack.append(("node", child, depth + 1, body, nodes, prefix))
+                    stack.append((child, depth + 1))
             else:
-                body.append(f"{indent}<{tag}{attrs}/>")
-            if isinstance(node, SubTreeNode):
-                stack.append(("enter", node.target, subtree_path(prefix, node, uid)))
+                lines.append(f"{indent}<{n.reg_id}{attrs}/>")
 
     def _attributes(self, node: Node, uid: int, prefix: str) -> str:
         out: list[tuple[str, str]] = []
@@ -209,6 +199,7 @@ class _Builder:
         return lines
 
 
-def groot2_tree(mission: Mission) -> Groot2Tree:
-    """The tree XML Groot2 receives for `mission`, and its instances."""
-    return _Builder(mission).build()
+def groot2_tree(mission: Mission, numbering: Optional[Numbering] = None) -> Groot2Tree:
+    """The tree XML Groot2 receives for `mission`, and its instances (`numbering`: the
+    mission's, when the caller has it)."""
+    return _Builder(mission, numbering or number_nodes(mission)).build()

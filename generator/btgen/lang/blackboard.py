@@ -115,6 +115,10 @@ class Blackboard:
         """Keys stored on this blackboard itself (not reached through remapping)."""
         return tuple(self._storage)
 
+    def local_entry(self, key: str) -> Optional[Entry]:
+        """The entry stored on this blackboard itself under `key` (no remapping, no `@`)."""
+        return self._storage.get(key)
+
     @classmethod
     def for_subtree(
         cls, parent: Blackboard, ports: Iterable[tuple[str, str]], autoremap: bool = False, typed_literals: bool = False

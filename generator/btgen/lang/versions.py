@@ -85,6 +85,18 @@ class Semantics:
     # than one AsyncSequence child (4.7.0 b2fc82c8, d4d8ae13).
     reactive_sequence_child_checks: bool = False
 
+    # ---------------------------------------------------------------- Groot2 monitor
+    # Groot2 hooks with position 1 (POST) are kept apart from PRE ones and run after the
+    # node's tick (its post-conditions included), even when a pre-condition decided: a
+    # SUCCESS or FAILURE they give replaces the node's result. HOOK_REMOVE,
+    # BREAKPOINT_UNLOCK, HOOKS_DUMP (PRE hooks, then POST) and DISABLE_ALL_HOOKS see them.
+    # (4.6.2 files every hook as PRE.) (4.10.0 6fe6dcdf; runtime/include/btgen/groot2.hpp)
+    groot2_post_hooks: bool = False
+    # A HOOK_INSERT array with a bad hook in it keeps the hooks before it (4.10.0 answers
+    # the exception's message; 4.6.2's server thread terminates the process) (4.10.0
+    # 6fe6dcdf).
+    groot2_insert_until_error: bool = False
+
 
 _BY_VERSION = {
     "4.6.2": Semantics("4.6.2"),
@@ -109,6 +121,8 @@ SINCE = {
     "attribute_names_484": "4.8.4",
     "unique_subtree_paths": "4.8.4",
     "reactive_sequence_child_checks": "4.7.0",
+    "groot2_post_hooks": "4.10.0",
+    "groot2_insert_until_error": "4.10.0",
 }
 assert set(SINCE) == {f.name for f in fields(Semantics)} - {"version"}
 

@@ -44,7 +44,8 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
-from btgen.ir import dataflow
+from btgen.ir.data import records
+from btgen.ir.data.resolve import Analysis as DataAnalysis
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
@@ -131,8 +132,8 @@ def _owner_key(bb: bbmod.Blackboard, key: str) -> str:
 class _Data:
     """The node instances of the data side, with the blackboard entries each reads and writes."""
 
-    def __init__(self, mission: Mission, options: dataflow.DataOptions) -> None:
-        a = dataflow._Analyzer(mission, options)
+    def __init__(self, mission: Mission, options: records.DataOptions) -> None:
+        a = DataAnalysis(mission, options)
         a.load()
         self.insts = a.insts
         # entries the application sets before the first tick (--entry): written from the start
@@ -214,7 +215,7 @@ class _Data:
             if key is None:
                 continue
             loc = p.loc_or or node.loc
-            if nid in dataflow.ENTRY_NODES:  # they read the update counter, not the value
+            if nid in records.ENTRY_NODES:  # they read the update counter, not the value
                 self._read(inst, key, loc, None)
                 continue
             if ps.reads:
@@ -698,7 +699,7 @@ class _Analyzer:
 
 
 # ====================================================================== the checks
-def analyze_program(mission: Mission, program: Program, options: dataflow.DataOptions) -> Analysis:
+def analyze_program(mission: Mission, program: Program, options: records.DataOptions) -> Analysis:
     data = _Data(mission, options)
     a = _Analyzer(mission, program, data)
     a.run()

@@ -105,10 +105,11 @@ def build_cpp(
 def _check_no_user_nodes(mission) -> None:
     """The scenario runner scripts leaves only: a Control or Decorator of the mission's own
     TreeNodesModel needs robot code (the interpreter says the same)."""
-    from btgen.ir.lower import _expanded
+    from btgen.ir.numbering import number_nodes
     from btgen.lang.leaves import user_node_kind, user_node_message
 
-    for node, _, _, _ in _expanded(mission):
+    for n in number_nodes(mission):
+        node = n.node
         kind = user_node_kind(mission, node)
         if kind is not None:
             raise UserError(Diagnostic(node.loc, user_node_message(node.id, kind)))

@@ -55,22 +55,9 @@ from btgen.lang.model import Mission
 
 NAMES = {IDLE: "IDLE", RUNNING: "RUNNING", SUCCESS: "SUCCESS", FAILURE: "FAILURE", SKIPPED: "SKIPPED"}
 BY_NAME = {v: k for k, v in NAMES.items()}
-_NOT_STATE = {
-    "uid",
-    "reg_id",
-    "name",
-    "prefix",
-    "emit",
-    "rt",
-    "model",
-    "bb",
-    "ports",
-    "conds",
-    "pre",
-    "on_halted",
-    "on_success",
-    "on_failure",
-    "post_always",
+# Node members that are not state: TreeNode's own (its status is hashed apart, the rest is
+# identity and configuration) and the structure and configuration of its subclasses.
+_NOT_STATE = frozenset(TreeNode.__slots__) | {
     "children",
     "child",
     "cursor",
@@ -254,7 +241,7 @@ class Explorer:
                 names: list[str] = []
                 for k in cls.__mro__:
                     for s in getattr(k, "__slots__", ()):
-                        if s not in _NOT_STATE and s != "status" and s not in names:
+                        if s not in _NOT_STATE and s not in names:
                             names.append(s)
                 self._fields[cls] = tuple(names)
         self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
@@ -278,7 +265,9 @@ class Explorer:
                 parts.append(v if isinstance(v, (int, str, bool, float, type(None))) else repr(v))
         bbs = {id(n.bb): n.bb for n in run.interp.nodes}
         for bb in bbs.values():
-            for k, e in sorted(bb._storage.items()):
+            for k in sorted(bb.local_keys()):
+                e = bb.local_entry(k)
+                assert e is not None
                 parts.append((k, repr(e.value), e.sequence_id if self.use_seq else 0))
         if self.use_clock:
             parts.append(run.interp.rt.now_ms)

@@ -35,8 +35,8 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
-from btgen.ir.treexml import subtree_path
-from btgen.lang.model import Mission, Node, SubTreeNode
+from btgen.ir.numbering import number_nodes
+from btgen.lang.model import Mission, SubTreeNode
 
 STATUS_NAMES = ("IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED")
 FILL = {"RUNNING": "#f5a623", "SUCCESS": "#7ed321", "FAILURE": "#e74c3c", "SKIPPED": "#9ecae1", "IDLE": "#ffffff"}
@@ -80,12 +80,16 @@ class GNode:
 
 def walk(mission: Mission) -> tuple[list[GNode], list[tuple[str, str]]]:
     """Nodes in creation order (UID order) and the tree instances (tree ID, path)."""
+    numbering = number_nodes(mission)
+    paths = numbering.instance_paths()
+    cluster_of = {inst: i for i, inst in enumerate(numbering.instances())}
+    clusters = [
+        (mission.main_tree if inst < 0 else numbering[inst].node.target, paths[inst])  # type: ignore[attr-defined]
+        for inst in numbering.instances()
+    ]
     nodes: list[GNode] = []
-    clusters: list[tuple[str, str]] = [(mission.main_tree, "")]
-    stack: list[tuple[Node, int, int, str]] = [(mission.main.root, 0, 0, "")]
-    while stack:
-        node, parent, cluster, prefix = stack.pop()
-        uid = len(nodes) + 1
+    for n in numbering:
+        node = n.node
         if isinstance(node, SubTreeNode):
             kind = "SubTree"
         else:
@@ -94,24 +98,8 @@ def walk(mission: Mission) -> tuple[list[GNode], list[tuple[str, str]]]:
             except KeyError:
                 kind = "Action"
         ports = tuple((p.name, p.value) for p in node.ports) + tuple((a.name, a.value) for a in node.pre + node.post)
-        nodes.append(
-            GNode(
-                uid,
-                kind,
-                "SubTree" if isinstance(node, SubTreeNode) else node.id,
-                node.display_name,
-                ports,
-                parent,
-                cluster,
-            )
-        )
-        if isinstance(node, SubTreeNode):
-            path = subtree_path(prefix, node, uid)
-            clusters.append((node.target, path))
-            stack.append((mission.tree(node.target).root, uid, len(clusters) - 1, path + "/"))
-        else:
-            for child in reversed(node.children):
-                stack.append((child, uid, cluster, prefix))
+        parent = n.parent + 1  # UID, 0 for the root
+        nodes.append(GNode(n.uid, kind, n.reg_id, node.display_name, ports, parent, cluster_of[n.instance]))
     return nodes, clusters
 
 

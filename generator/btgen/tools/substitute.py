@@ -241,26 +241,17 @@ class _SubstitutingBuilder(iengine._Builder):
         self.used: set[int] = set()
 
     def _rule(self, model: Node, uid: int) -> Optional[Rule]:
-        reg = "SubTree" if isinstance(model, SubTreeNode) else model.id
-        path = _path(self.prefix[-1], model, uid)
-        for i, r in enumerate(self.rules):
-            if r.filter in (model.display_name, reg) or wildcard_match(path, r.filter):
-                self.used.add(i)
-                return r
-        return None
+        i = _match_index(self.rules, model, _path(self.prefix[-1], model, uid))
+        if i is None:
+            return None
+        self.used.add(i)
+        return self.rules[i]
 
     def _node(self, model: Node, bb) -> TreeNode:
         uid = self.rt.uid + 1
         rule = self._rule(model, uid)
-        kind = "SubTree" if isinstance(model, SubTreeNode) else self.mission.spec(model.id).kind
-        if rule is not None and kind not in ("Action", "Condition"):
-            raise UserError(
-                Diagnostic(
-                    rule.loc,
-                    f'the rule `{rule.filter}` matches `{model.id}` "{model.display_name}" ({model.loc}), a '
-                    f"{kind}: only leaves can be substituted",
-                )
-            )
+        if rule is not None:
+            _check_leaf(rule, model, self.mission)
         if isinstance(model, SubTreeNode):
             name = model.name if model.name is not None else f"{model.target}::{uid}"
             self.prefix.append(f"{self.prefix[-1]}{name}/")
@@ -307,19 +298,15 @@ class SubstitutingInterpreter(iengine.Interpreter):
     """The interpreter with substitution rules applied while the tree is built."""
 
     def __init__(self, mission: Mission, scenario: Optional[Scenario], rules: tuple[Rule, ...]) -> None:
-        from btgen.interp.tree import Runtime
-        from btgen.lang import blackboard as bbmod
+        self._rules = rules
+        self._used: set[int] = set()
+        super().__init__(mission, scenario)
+        self.unused = [r for i, r in enumerate(rules) if i not in self._used]
 
-        self.mission = mission
-        self.scenario = scenario
-        iengine._ensure_recursion_depth(iengine.expanded_depth(mission))
-        self.rt = Runtime(mission, scenario)
-        self.root_bb = bbmod.Blackboard()
-        builder = _SubstitutingBuilder(self.rt, mission, rules)
-        self.root = builder.build(self.root_bb)
-        self.nodes = builder.nodes
-        self.ticks_sent = 0
-        self.unused = [r for i, r in enumerate(rules) if i not in builder.used]
+    def _builder(self) -> iengine._Builder:
+        builder = _SubstitutingBuilder(self.rt, self.mission, self._rules)
+        self._used = builder.used  # filled as the tree is built
+        return builder
 
 
 def run_trace(
@@ -331,21 +318,7 @@ def run_trace(
         import sys
 
         print(f"{r.loc}: warning: the rule `{r.filter}` matches no node of the mission", file=sys.stderr)
-    last = NodeStatus.IDLE
-    for n in range(1, scenario.ticks + 1):
-        if n > 1 and scenario.clock_ms:
-            interp.advance_clock(scenario.clock_ms)
-        interp.rt.write_line(f"tick {n}")
-        try:
-            last = interp.tick_once()
-        except UserError:
-            write(interp.take_text())
-            raise
-        interp.rt.write_line(f"result {last.name}")
-        write(interp.take_text())
-        if last is NodeStatus.SUCCESS or last is NodeStatus.FAILURE:
-            break
-    return last
+    return iengine.run_ticks(interp, scenario, write)
 
 
 # ====================================================================== compiled executor
@@ -360,27 +333,42 @@ _FOREVER_MS = 2**32 - 1
 
 
 def _instances(mission: Mission):
-    """(index, model node, path) of the expanded main tree in creation order (lower._expanded)."""
-    from btgen.ir.lower import _expanded
+    """(index, model node, path) of the expanded main tree in creation order (ir.numbering)."""
+    from btgen.ir.numbering import number_nodes
 
-    prefixes: dict[int, str] = {-1: ""}
-    for index, (node, parent, _, _) in enumerate(_expanded(mission)):
-        prefix = prefixes[parent] if parent in prefixes else prefixes.get(-1, "")
-        uid = index + 1
-        if isinstance(node, SubTreeNode):
-            name = node.name if node.name is not None else f"{node.target}::{uid}"
-            prefixes[index] = f"{prefix}{name}/"
-        else:
-            prefixes[index] = prefix
-        yield index, node, _path(prefix, node, uid)
+    numbering = number_nodes(mission)
+    paths = numbering.instance_paths()
+    for n in numbering:
+        path = paths[n.instance]
+        yield n.index, n.node, _path(path + "/" if path else "", n.node, n.uid)
+
+
+def _match_index(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[int]:
+    """The index of the first rule that matches `node` at `path` (its name, its registration ID,
+    or its path as a wildcard pattern), or None."""
+    reg = "SubTree" if isinstance(node, SubTreeNode) else node.id
+    for i, r in enumerate(rules):
+        if r.filter in (node.display_name, reg) or wildcard_match(path, r.filter):
+            return i
+    return None
 
 
 def _match(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[Rule]:
-    reg = "SubTree" if isinstance(node, SubTreeNode) else node.id
-    for r in rules:
-        if r.filter in (node.display_name, reg) or wildcard_match(path, r.filter):
-            return r
-    return None
+    i = _match_index(rules, node, path)
+    return None if i is None else rules[i]
+
+
+def _check_leaf(rule: Rule, node: Node, mission: Mission) -> None:
+    """Only leaves can be substituted (a TestNode cannot hold children): UserError otherwise."""
+    kind = "SubTree" if isinstance(node, SubTreeNode) else mission.spec(node.id).kind
+    if kind not in ("Action", "Condition"):
+        raise UserError(
+            Diagnostic(
+                rule.loc,
+                f'the rule `{rule.filter}` matches `{node.id}` "{node.display_name}" ({node.loc}), a '
+                f"{kind}: only leaves can be substituted",
+            )
+        )
 
 
 def _merged(node: Node, config: TestConfig) -> Node:
@@ -414,15 +402,8 @@ def lower_substituted(mission: Mission, options, rules: tuple[Rule, ...]):
     models: dict[int, Node] = {}
     for index, node, path in _instances(mission):
         rule = _match(rules, node, path)
-        kind = "SubTree" if isinstance(node, SubTreeNode) else mission.spec(node.id).kind
-        if rule is not None and kind not in ("Action", "Condition"):
-            raise UserError(
-                Diagnostic(
-                    rule.loc,
-                    f'the rule `{rule.filter}` matches `{node.id}` "{node.display_name}" ({node.loc}), a '
-                    f"{kind}: only leaves can be substituted",
-                )
-            )
+        if rule is not None:
+            _check_leaf(rule, node, mission)
         if id(node) in decided and decided[id(node)] is not rule:
             raise UserError(
                 Diagnostic(

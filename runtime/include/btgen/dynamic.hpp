@@ -469,6 +469,19 @@ bool binary(char op, const Ref& l, const Ref& r, Ref& out, FixedString<B>& buf, 
   return false;
 }
 
+// `a op b` for op one of "==" "!=" "<" ">" "<=" ">=", given `equal`, the operands' equality
+// (within FLT_EPSILON for numbers): 4.6.2's ExprComparison::SwitchImpl (lang/script.py's
+// _compare), whose orderings are negations (`<` is !(a >= b)).
+template <class T>
+bool compared(std::string_view op, bool equal, const T& a, const T& b) noexcept {
+  if (op == "==") return equal;
+  if (op == "!=") return !equal;
+  if (op == "<") return !(a >= b);
+  if (op == ">") return !(a <= b);
+  if (op == "<=") return !(a > b);
+  return !(a < b);
+}
+
 // Comparisons: op one of "==" "!=" "<" ">" "<=" ">=".
 inline bool compare(std::string_view op, const Ref& l, const Ref& r, bool& res, Msg& m) noexcept {
   if (l.none()) {
@@ -484,18 +497,7 @@ inline bool compare(std::string_view op, const Ref& l, const Ref& r, bool& res, 
   rw.add("right operand of `").add(op).add("`");
   if (l.is_string() && r.is_string()) {
     const std::string_view a = l.s, b = r.s;
-    if (op == "==")
-      res = a == b;
-    else if (op == "!=")
-      res = a != b;
-    else if (op == "<")
-      res = !(a >= b);
-    else if (op == ">")
-      res = !(a <= b);
-    else if (op == "<=")
-      res = !(a > b);
-    else
-      res = !(a < b);
+    res = compared(op, a == b, a, b);
     return true;
   }
   double a = 0.0, b = 0.0;
@@ -506,19 +508,7 @@ inline bool compare(std::string_view op, const Ref& l, const Ref& r, bool& res, 
   } else {
     if (!number_to_double(l, a, m, lw.view()) || !number_to_double(r, b, m, rw.view())) return false;
   }
-  const bool same = std::fabs(a - b) <= 1.1920928955078125e-07;
-  if (op == "==")
-    res = same;
-  else if (op == "!=")
-    res = !same;
-  else if (op == "<")
-    res = !(a >= b);
-  else if (op == ">")
-    res = !(a <= b);
-  else if (op == "<=")
-    res = !(a > b);
-  else
-    res = !(a < b);
+  res = compared(op, std::fabs(a - b) <= 1.1920928955078125e-07, a, b);
   return true;
 }
 

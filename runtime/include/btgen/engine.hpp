@@ -61,6 +61,19 @@ struct has_on_error : std::false_type {};
 template <class O>
 struct has_on_error<O, std::void_t<decltype(std::declval<O&>().on_error(std::declval<const RuntimeError&>()))>>
     : std::true_type {};
+// An observer that may force a node's status (btgen::MonitorObserver: Groot2's REPLACE hooks).
+template <class O, class = void>
+struct has_forced_status : std::false_type {};
+template <class O>
+struct has_forced_status<O, std::void_t<decltype(std::declval<O&>().forced_status(std::declval<const NodeInfo&>()))>>
+    : std::true_type {};
+// An observer that may also force a node's result after its tick (4.10.0's POST hooks).
+template <class O, class = void>
+struct has_post_forced_status : std::false_type {};
+template <class O>
+struct has_post_forced_status<
+    O, std::void_t<decltype(std::declval<O&>().post_forced_status(std::declval<const NodeInfo&>()))>> : std::true_type {
+};
 template <class S, class = void>
 struct straight_line_budget : std::integral_constant<std::size_t, BTGEN_STRAIGHT_LINE_BUDGET> {};
 template <class S>
@@ -350,6 +363,56 @@ class Engine {
     if (prev != s) observer_.on_status_change(info(n), prev, s);
   }
   void reset_status(std::size_t n) noexcept { set_status(n, Status::IDLE); }
+
+  // A status the observer forces on node `id` instead of its tick (Groot2's REPLACE hook,
+  // 4.6.2's pre-tick callback: asked after the pre-conditions, only when the node is not
+  // completed; SUCCESS or FAILURE replaces tick(), which is not called, and nothing is
+  // halted), or IDLE: tick it. Observers without forced_status() compile this away.
+  // Each visit tests observer_.hooked(id) inline (a null test and a relaxed load); the
+  // rest is out of line and cold, so that the straight-line code grows as little as it
+  // can (g++ inlines less in larger functions: docs/groot2.md has the measured cost).
+  static constexpr bool kHooks = engine_detail::has_forced_status<Observer>::value;
+  [[gnu::noinline, gnu::cold]] Status forced_slow(std::size_t id) noexcept {
+    if constexpr (kHooks) {
+      if (!is_completed(status_[id])) return observer_.forced_status(info(id));
+    }
+    (void)id;
+    return Status::IDLE;
+  }
+  // 4.10.0's post-tick callback (Sem::groot2_post_hooks; Groot2's POST hooks): asked on
+  // each visit after the node's tick and post-conditions, whatever it returned (a
+  // pre-condition's or a PRE hook's result too), before its status is set; SUCCESS or
+  // FAILURE replaces the result. The same inline test as hooked(), on a second table;
+  // 4.6.2 missions compile it away.
+  static constexpr bool kPostHooks = Sem::groot2_post_hooks && engine_detail::has_post_forced_status<Observer>::value;
+  [[gnu::always_inline]] Status post_hook(std::size_t id, Status s) noexcept {
+    if constexpr (kPostHooks) {
+      if (__builtin_expect(observer_.post_hooked(id), 0)) return post_slow(id, s);
+    }
+    (void)id;
+    return s;
+  }
+  [[gnu::noinline, gnu::cold]] Status post_slow(std::size_t id, Status s) noexcept {
+    if constexpr (kPostHooks) {
+      const Status h = observer_.post_forced_status(info(id));
+      if (h != Status::IDLE) return h;
+    }
+    (void)id;
+    return s;
+  }
+  // A node without pre- or post-conditions replaced by its hook: its status set (after its
+  // POST hook, 4.10.0), a decorator's completed child reset (DecoratorNode::executeTick), as
+  // finish() does.
+  [[gnu::noinline, gnu::cold]] Status replaced(std::size_t id) noexcept {
+    Status h = forced_slow(id);
+    if (h != Status::IDLE) {
+      h = post_hook(id, h);
+      set_status(id, h);
+      const NodeInfo& n = info(id);
+      if (is_decorator(n.kind) && n.child_count == 1 && is_completed(status_[child(n, 0)])) reset_status(child(n, 0));
+    }
+    return h;
+  }
 
   // Completed-child flags of Parallel / ParallelAll, one bit per node.
   bool is_done(std::uint16_t n) const noexcept {
@@ -654,6 +717,13 @@ class Engine {
       if constexpr (uses_of(S) == 1) id = R;
       constexpr NodeKind K = Spec::kNodes[R].kind;
       using Children = std::make_index_sequence<Spec::kNodes[R].child_count>;
+      if constexpr (kHooks && kForm != Form::kScripted && kForm != Form::kGeneric) {
+        // (these forms have no pre- or post-conditions: the hook comes first)
+        if (__builtin_expect(observer_.hooked(id), 0)) {
+          const Status h = replaced(id);
+          if (h != Status::IDLE) return h;
+        }
+      }
       if constexpr (kForm == Form::kSequence) {
         return tick_sequence<R, K == NodeKind::Sequence>(id, Children{});
       } else if constexpr (kForm == Form::kReactive) {
@@ -691,7 +761,7 @@ class Engine {
   // enter and folding it away.)
   template <NodeKind K, std::uint16_t kModel>
   [[gnu::always_inline]] Status tick_leaf(std::size_t id) noexcept {
-    const Status s = leaf_status<K, kModel>(id);
+    const Status s = post_hook(id, leaf_status<K, kModel>(id));
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -732,6 +802,9 @@ class Engine {
     constexpr std::uint16_t kBits = Spec::kNodes[R].scripts;
     Status s = Status::IDLE;
     if constexpr ((kBits & kPreBits) != 0) s = pre_conditions_c<R>(id);
+    if constexpr (kHooks) {
+      if (s == Status::IDLE && __builtin_expect(observer_.hooked(id), 0)) s = forced_slow(id);
+    }
     if (s == Status::IDLE) {
       if constexpr (K == NodeKind::Script) {
         s = script_c<R, ScriptSlot::kCode>(id) < 0 ? Status::FAILURE : Status::SUCCESS;
@@ -756,6 +829,7 @@ class Engine {
         if (!ok) s = Status::FAILURE;
       }
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -831,6 +905,7 @@ class Engine {
         s = Status::FAILURE;
       }
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     if (is_completed(status_[c])) reset_status(c);  // DecoratorNode::executeTick
     return s;
@@ -858,6 +933,7 @@ class Engine {
       (halt_child_id(id + kChildOffset<R, I>), ...);
       c[0] = 0;
     }
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -897,6 +973,7 @@ class Engine {
       s = all_skipped ? Status::SKIPPED : (kSeq ? Status::SUCCESS : Status::FAILURE);
     }
     if (s != Status::RUNNING) (halt_child_id(id + kChildOffset<R, I>), ...);
+    s = post_hook(id, s);
     if (s != Status::SKIPPED) set_status(id, s);
     return s;
   }
@@ -996,6 +1073,13 @@ class Engine {
         return done(decided);
       }
     }
+    if constexpr (kHooks) {
+      const Status h = __builtin_expect(observer_.hooked(f.node), 0) ? forced_slow(f.node) : Status::IDLE;
+      if (h != Status::IDLE) {
+        f.decorator = is_decorator(kind) ? 1 : 0;
+        return done(h);
+      }
+    }
     return enter(f, kind);
   }
 
@@ -1008,6 +1092,7 @@ class Engine {
     if ((kMissionScripts & kPostBits) != 0 && (n.scripts & kPostBits) != 0 && is_completed(s)) {
       s = post_conditions(n, s);
     }
+    s = post_hook(node, s);
     if (s != Status::SKIPPED) set_status(node, s);
     if (f.decorator != 0) {
       const std::uint16_t c = child(n, 0);

@@ -275,63 +275,56 @@ constexpr bool scan_special(std::string_view t, std::size_t i, Scan& s) noexcept
   return false;
 }
 
-// Decimal mantissa and optional exponent at `i`: ([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?
-constexpr bool scan_decimal(std::string_view t, std::size_t i, Scan& s) noexcept {
-  std::size_t k = i;
-  if (k < t.size() && is_digit(t[k])) {
-    while (k < t.size() && is_digit(t[k])) ++k;
+// A mantissa at `k`, digits by `digit`: [d]+\.?[d]*|\.[d]+. Its end, or `k` when there is none.
+constexpr std::size_t scan_mantissa(std::string_view t, std::size_t k, bool (*digit)(char) noexcept) noexcept {
+  if (k < t.size() && digit(t[k])) {
+    while (k < t.size() && digit(t[k])) ++k;
     if (k < t.size() && t[k] == '.') {
       ++k;
-      while (k < t.size() && is_digit(t[k])) ++k;
+      while (k < t.size() && digit(t[k])) ++k;
     }
-  } else if (k + 1 < t.size() && t[k] == '.' && is_digit(t[k + 1])) {
-    k += 1;
-    while (k < t.size() && is_digit(t[k])) ++k;
-  } else {
-    return false;
+    return k;
   }
-  s.mant_begin = i;
-  s.mant_end = k;
-  if (k < t.size() && (t[k] == 'e' || t[k] == 'E')) {
+  if (k + 1 < t.size() && t[k] == '.' && digit(t[k + 1])) {
+    k += 1;
+    while (k < t.size() && digit(t[k])) ++k;
+  }
+  return k;
+}
+
+// An exponent at `k`, marked by `lower` or `upper`: [mM][+-]?[0-9]+. Its end, or `k` when
+// there is none.
+constexpr std::size_t scan_exponent(std::string_view t, std::size_t k, char lower, char upper) noexcept {
+  if (k < t.size() && (t[k] == lower || t[k] == upper)) {
     std::size_t e = k + 1;
     if (e < t.size() && (t[e] == '+' || t[e] == '-')) ++e;
     if (e < t.size() && is_digit(t[e])) {
       while (e < t.size() && is_digit(t[e])) ++e;
-      k = e;
+      return e;
     }
   }
-  s.end = k;
+  return k;
+}
+
+// Decimal mantissa and optional exponent at `i`: ([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?
+constexpr bool scan_decimal(std::string_view t, std::size_t i, Scan& s) noexcept {
+  const std::size_t k = scan_mantissa(t, i, is_digit);
+  if (k == i) return false;
+  s.mant_begin = i;
+  s.mant_end = k;
+  s.end = scan_exponent(t, k, 'e', 'E');
   return true;
 }
 
 // Hexadecimal: 0[xX]([0-9a-f]+\.?[0-9a-f]*|\.[0-9a-f]+)([pP][+-]?[0-9]+)?
 constexpr bool scan_hex(std::string_view t, std::size_t i, Scan& s) noexcept {
   if (!(i + 1 < t.size() && t[i] == '0' && (t[i + 1] == 'x' || t[i + 1] == 'X'))) return false;
-  std::size_t k = i + 2;
-  const std::size_t mb = k;
-  if (k < t.size() && is_hex(t[k])) {
-    while (k < t.size() && is_hex(t[k])) ++k;
-    if (k < t.size() && t[k] == '.') {
-      ++k;
-      while (k < t.size() && is_hex(t[k])) ++k;
-    }
-  } else if (k + 1 < t.size() && t[k] == '.' && is_hex(t[k + 1])) {
-    k += 1;
-    while (k < t.size() && is_hex(t[k])) ++k;
-  } else {
-    return false;
-  }
+  const std::size_t mb = i + 2;
+  const std::size_t k = scan_mantissa(t, mb, is_hex);
+  if (k == mb) return false;
   s.mant_begin = mb;
   s.mant_end = k;
-  if (k < t.size() && (t[k] == 'p' || t[k] == 'P')) {
-    std::size_t e = k + 1;
-    if (e < t.size() && (t[e] == '+' || t[e] == '-')) ++e;
-    if (e < t.size() && is_digit(t[e])) {
-      while (e < t.size() && is_digit(t[e])) ++e;
-      k = e;
-    }
-  }
-  s.end = k;
+  s.end = scan_exponent(t, k, 'p', 'P');
   s.hex = true;
   return true;
 }

@@ -23,6 +23,7 @@
 
 #include "btgen/clock.hpp"
 #include "btgen/harness/scenario.hpp"
+#include "btgen/harness/scenario_run.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
 
@@ -71,20 +72,13 @@ int run_scenario_main(int argc, char** argv) {
 
   ScenarioLeaves leaves(scenario, nodes.data(), nodes.size());
   auto mission = std::make_unique<Runner>(leaves, ManualClock{}, TraceUntilError{stdout});
-  for (long n = 1; n <= scenario.ticks; ++n) {
-    if (n > 1) mission->clock().advance(static_cast<std::uint64_t>(scenario.clock_ms));
-    std::printf("tick %ld\n", n);
-    const Status s = mission->tick();
-    if (mission->errors() != 0) {
-      // A run-time error (TraceWriter printed it on stderr) ends the run
-      // after its tick, without a result line, as the interpreter stops.
-      std::fflush(stdout);
-      return 1;
-    }
-    std::printf("result %s\n", std::string(to_string(s)).c_str());
-    if (is_completed(s)) break;
-  }
-  return std::fflush(stdout) == 0 ? 0 : 1;
+  const bool ran = run_scenario_ticks(
+      *mission, scenario.ticks, scenario.clock_ms, [](long n) { std::printf("tick %ld\n", n); },
+      [](Status s) { std::printf("result %s\n", std::string(to_string(s)).c_str()); });
+  // !ran: a run-time error (TraceWriter printed it on stderr) ended the run
+  // after its tick, without a result line, as the interpreter stops.
+  const bool flushed = std::fflush(stdout) == 0;
+  return ran && flushed ? 0 : 1;
 }
 
 }  // namespace btgen

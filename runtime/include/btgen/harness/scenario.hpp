@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "btgen/harness/scenario_run.hpp"
 #include "btgen/node.hpp"
 #include "btgen/one_line.hpp"
 #include "btgen/status.hpp"
@@ -511,9 +512,9 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
 }
 
 // Leaves whose results come from a scenario. All instances with one name
-// share one list; a used-up list repeats its last status. Generic hooks, so
-// one object serves every leaf model of any mission.
-class ScenarioLeaves {
+// share one list; a used-up list repeats its last status. Generic hooks
+// (ScenarioHooks), so one object serves every leaf model of any mission.
+class ScenarioLeaves : public ScenarioHooks<ScenarioLeaves> {
  public:
   ScenarioLeaves(const Scenario& sc, const NodeInfo* nodes, std::size_t count)
       : list_of_node_(count, kNone), default_(sc.default_status) {
@@ -526,22 +527,9 @@ class ScenarioLeaves {
     }
   }
 
-  template <class Leaf>
-  Status onStart(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-  template <class Leaf>
-  Status onRunning(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-  template <class Leaf>
-  void onHalted(Leaf&, const NodeInfo&) noexcept {}
-  template <class Leaf>
-  Status check(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-
  private:
+  friend class ScenarioHooks<ScenarioLeaves>;
+
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
   struct List {
     std::vector<Status> statuses;

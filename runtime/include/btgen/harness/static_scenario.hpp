@@ -30,6 +30,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/harness/scenario_run.hpp"
 #include "btgen/node.hpp"
 #include "btgen/one_line.hpp"
 #include "btgen/status.hpp"
@@ -78,7 +79,7 @@ inline std::size_t unsigned_text(unsigned long long v, char* out) noexcept {
 // ScenarioLeaves (btgen/harness/scenario.hpp) in fixed storage: every
 // instance of a name shares one list; a used-up list repeats its last status.
 template <std::size_t NodeCount>
-class StaticScenarioLeaves {
+class StaticScenarioLeaves : public ScenarioHooks<StaticScenarioLeaves<NodeCount>> {
  public:
   StaticScenarioLeaves(const StaticScenario& sc, const NodeInfo* nodes) noexcept : sc_(&sc) {
     for (std::size_t i = 0; i < NodeCount; ++i) {
@@ -105,22 +106,9 @@ class StaticScenarioLeaves {
     }
   }
 
-  template <class Leaf>
-  Status onStart(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-  template <class Leaf>
-  Status onRunning(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-  template <class Leaf>
-  void onHalted(Leaf&, const NodeInfo&) noexcept {}
-  template <class Leaf>
-  Status check(Leaf&, const NodeInfo& node) noexcept {
-    return next(node);
-  }
-
  private:
+  friend class ScenarioHooks<StaticScenarioLeaves>;
+
   static constexpr std::uint16_t kNone = kNoLeafScript;
 
   Status next(const NodeInfo& node) noexcept {
@@ -219,27 +207,23 @@ int run_static_scenario(const StaticScenario& sc, Sink& sink, void* storage) noe
   auto* leaves = ::new (static_cast<void*>(bytes)) Leaves(sc, Runner::nodes().data());
   auto* mission =
       ::new (static_cast<void*>(bytes + kRunnerOffset)) Runner(*leaves, ManualClock{}, SinkTrace<Sink>(sink));
-  char num[20];
-  int status = 0;
-  for (long n = 1; n <= sc.ticks; ++n) {
-    if (n > 1) mission->clock().advance(static_cast<std::uint64_t>(sc.clock_ms));
-    sink.write("tick ", 5);
-    sink.write(num, static_scenario_detail::unsigned_text(static_cast<unsigned long long>(n), num));
-    sink.write("\n", 1);
-    const Status s = mission->tick();
-    if (mission->errors() != 0) {
-      status = 1;
-      break;
-    }
-    const std::string_view text = to_string(s);
-    sink.write("result ", 7);
-    sink.write(text.data(), text.size());
-    sink.write("\n", 1);
-    if (is_completed(s)) break;
-  }
+  const bool ok = run_scenario_ticks(
+      *mission, sc.ticks, sc.clock_ms,
+      [&sink](long n) noexcept {
+        char num[20];
+        sink.write("tick ", 5);
+        sink.write(num, static_scenario_detail::unsigned_text(static_cast<unsigned long long>(n), num));
+        sink.write("\n", 1);
+      },
+      [&sink](Status s) noexcept {
+        const std::string_view text = to_string(s);
+        sink.write("result ", 7);
+        sink.write(text.data(), text.size());
+        sink.write("\n", 1);
+      });
   mission->~Runner();
   leaves->~Leaves();
-  return status;
+  return ok ? 0 : 1;
 }
 
 }  // namespace btgen

@@ -1,0 +1,787 @@
+"""Step 5 of the data analysis: every data operation decided over the typed, sized slots."""
+
+from __future__ import annotations
+
+from types import MappingProxyType
+from typing import Optional
+
+from btgen.diagnostics import Loc, did_you_mean
+from btgen.ir import dataops as ops
+from btgen.ir import kinds
+from btgen.ir.data.records import (
+    SCRIPT_SLOTS,
+    DataIR,
+    DataOp,
+    LocalIR,
+    PortIR,
+    ScriptIR,
+    ScriptSlot,
+    SlotIR,
+    script_loc,
+)
+from btgen.ir.data.resolve import Analysis
+from btgen.ir.data.state import (
+    EntryUse,
+    Inst,
+    LoopUse,
+    ParamUse,
+    PortAccess,
+    PortUse,
+    SetCopyUse,
+    SetLiteralUse,
+    Slot,
+    StatusParam,
+    SwitchUse,
+    UnsetUse,
+)
+from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user
+from btgen.ir.script_types import type_script
+from btgen.lang import blackboard as bbmod
+from btgen.lang import script as sc
+from btgen.lang import values
+from btgen.lang.catalogue import PortSpec
+from btgen.lang.model import Attr
+from btgen.lang.status import NodeStatus
+
+TYPE_NAME_OF_KIND = MappingProxyType(
+    {
+        "int": values.INT,
+        "double": values.DOUBLE,
+        "bool": values.BOOL,
+        "string": values.STRING,
+        "status": values.NODE_STATUS,
+    }
+)
+
+
+class Compiler:
+    """Step 5: every data operation decided over the typed and sized slots (ir/dataops.py
+    records; scripts: compiled by backend_cpp/script_cpp.py), and the errors that would
+    happen whenever one runs reported."""
+
+    def __init__(self, a: Analysis) -> None:
+        self.a = a
+        self.types = [a.slot_type(i) for i in range(len(a.slots))]
+        self.where_locs: list[Loc] = []
+        self.where_index: dict[Loc, int] = {}
+        self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
+        self.user_inits: list[DataOp] = []
+
+    def where(self, loc: Loc) -> int:
+        """The index of `loc` among the places run-time errors name (DataIR.where)."""
+        idx = self.where_index.get(loc)
+        if idx is None:
+            idx = self.where_index[loc] = len(self.where_locs)
+            self.where_locs.append(loc)
+        return idx
+
+    def error(self, loc: Loc, message: str) -> None:
+        self.a.error(loc, message)
+
+    def fail(self, where: Loc, message: str, errc: bool = False) -> ops.Fail:
+        return ops.Fail(self.where(where), message, errc)
+
+    # ------------------------------------------------------------ typed writes
+    def typed_write_ok(self, slot: int, type_name: str, loc: Loc, what: str) -> bool:
+        """Blackboard::set<T> of a T into the slot: what btgen::port::write does, checked where it
+        fails (or would change the entry's type) whenever it runs."""
+        s = self.a.slots[slot]
+        declared = s.entry.type_name
+        k = self.a.kind_of_type(type_name)
+        if s.kind == DYN:
+            self.error(
+                loc,
+                f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                f"`{s.key}`, whose type changes at run time ({s.origin_text}); typed writes into "
+                f"such entries are not supported by the C++ back end yet",
+            )
+            return False
+        if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
+            ok = k == s.kind
+        elif type_name == values.STRING:
+            ok = declared != values.NODE_STATUS and self.a.kind_of_type(declared) == s.kind
+        else:
+            ok = type_name in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL) and declared in (
+                values.INT,
+                values.UNSIGNED,
+                values.DOUBLE,
+            )
+        if not ok:
+            self.error(
+                loc,
+                f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
+                f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); btgen "
+                f"gives every entry one type",
+            )
+        return ok
+
+    # ------------------------------------------------------------ scripts
+    def scripts(self) -> tuple[list[ScriptIR], dict[int, int]]:
+        out: list[ScriptIR] = []
+        bits: dict[int, int] = {}
+        for inst, attr, which, script, names, condition in self.a.script_uses:
+            if not self.check_reads(inst, attr, script, names):
+                continue
+            if any(self.a.slots[i].failed for i in names.values()):
+                continue  # its entry's type is already reported as unknown
+            if not self.check_user_free(inst, attr, script, names):
+                continue
+            try:
+                typed = type_script(script, self.types, names, condition)
+            except ScriptTypeError as e:
+                self.error(script_loc(attr, e.offset), f"`{attr.name}` of {inst.what}: {e.message}")
+                continue
+            enum = SCRIPT_SLOTS[which]
+            out.append(
+                ScriptIR(
+                    inst.index,
+                    f'{inst.reg_id} "{inst.node.display_name}" {attr.name}: {attr.value}',
+                    enum,
+                    attr,
+                    script,
+                    tuple(sorted(names.items())),
+                    condition,
+                    f"script error in `{attr.name}` of {inst.what}: ",
+                    typed,
+                )
+            )
+            if enum != ScriptSlot.CODE:
+                bits[inst.index] = bits.get(inst.index, 0) | (1 << enum)
+        return out, bits
+
+    def check_user_free(self, inst: Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
+        """Scripts neither read nor write entries of user port types (`--type`): the script
+        language knows numbers, strings and statuses only. False: reported."""
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                key = node.name if isinstance(node, sc.Name) else node.target if isinstance(node, sc.Assign) else None
+                if key is None:
+                    continue
+                s = self.a.slots[names[key]]
+                if is_user(s.kind):
+                    t = self.a.user[s.kind]
+                    verb = "reads" if isinstance(node, sc.Name) else "writes"
+                    self.error(
+                        script_loc(attr, node.offset),
+                        f"`{attr.name}` of {inst.what} {verb} `{key}`, an entry of user type {t.name} "
+                        f"({t.cpp_type}, --type {t.name}); scripts cannot use user-typed entries (read and "
+                        f"write them from your nodes through their typed ports)",
+                    )
+                    return False
+        return True
+
+    def check_reads(self, inst: Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
+        """A name read that can never find its entry: nothing anywhere creates it. False: reported."""
+        ok = True
+        for stmt in script.statements:
+            for node in sc.walk(stmt):
+                if isinstance(node, sc.Name):
+                    s = self.a.slots[names[node.name]]
+                    if not s.at_load and not s.writes:
+                        if node.name.startswith("@"):
+                            known = {"@" + k for k in self.created_keys(inst.bb.root)}
+                        else:
+                            known = self.created_keys(inst.bb)
+                        hint = did_you_mean(node.name, known - {node.name})
+                        advice = f"did you mean `{hint}`?" if hint else f"create it with `{node.name} := ...` first"
+                        bb = inst.bb
+                        if (
+                            bb.parent is not None
+                            and not bb.autoremap
+                            and not node.name.startswith("@")
+                            and node.name not in bb.remapping
+                            and node.name in self.created_keys(bb.parent)
+                        ):
+                            advice = (
+                                f"the calling tree's `{node.name}` is not seen here: the SubTree node does "
+                                f'not remap it; add {node.name}="{{{node.name}}}" or _autoremap="true"'
+                            )
+                        self.error(
+                            script_loc(attr, node.offset),
+                            f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
+                            f"blackboard entry: no port, script or SetBlackboard writes it ({advice})",
+                        )
+                        ok = False
+        return ok
+
+    def created_keys(self, bb: bbmod.Blackboard) -> set[str]:
+        """The keys a script on `bb` can name whose entries something creates: its own and
+        remapped keys, and through `_autoremap` its parent's (the candidates of a hint)."""
+        keys: set[str] = set(bb.local_keys()) | set(bb.remapping)
+        if bb.parent is not None and bb.autoremap:
+            keys |= {k for k in self.created_keys(bb.parent) if not k.startswith("_")}
+        out = set()
+        for key in keys:
+            entry = bb.get_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry)) if entry is not None else None
+            if idx is not None and (self.a.slots[idx].at_load or self.a.slots[idx].writes):
+                out.add(key)
+        return out
+
+    # ------------------------------------------------------------ data nodes
+    def unset(self, inst: Inst, op: UnsetUse) -> DataOp:
+        key = op.key
+        entry = inst.bb.local_entry(key)
+        slot = self.a.slot_of_entry[id(entry)] if entry is not None else None
+        return DataOp(inst.index, f'UnsetBlackboard "{inst.node.display_name}" key={key}', ops.Unset(slot, key))
+
+    def mark_unsets(self) -> None:
+        """Entries UnsetBlackboard can remove may be missing when a script runs."""
+        for inst, op in self.a.node_ops:
+            if not isinstance(op, UnsetUse):
+                continue
+            entry = inst.bb.local_entry(op.key)
+            if entry is None:
+                continue
+            s = self.a.slots[self.a.slot_of_entry[id(entry)]]
+            key = op.key
+            if s.initial is not None and (key in inst.bb.remapping or (inst.bb.autoremap and not key.startswith("_"))):
+                self.error(
+                    op.loc,
+                    f"UnsetBlackboard of `{key}`, a constant port of its SubTree, would make "
+                    f"`{key}` reach the parent's entry afterwards; the C++ back end resolves keys "
+                    f"once, so it cannot follow that",
+                )
+            s.unset = True
+
+    def set_literal(self, inst: Inst, op: SetLiteralUse) -> Optional[DataOp]:
+        dst, text, loc = op.dst, op.text, op.loc
+        s = self.a.slots[dst]
+        declared = s.entry.type_name
+        what = f'`SetBlackboard` "{inst.node.display_name}"'
+        comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
+        if self._untyped_string_write_unsupported(s, loc, what):
+            return None
+        if is_user(s.kind):
+            # 4.6.2 converts the text with the entry's convertFromString on every tick; it never
+            # changes, so it is converted once, when the mission is constructed, and copied here.
+            t = self.a.user[s.kind]
+            member = self.user_constant(
+                inst.index, t, text, loc, f"`value` of {what} (`{text}`, for `{s.key}`)", f"`value` of {what}"
+            )
+            fail = self.fail(loc, f"{what}: `{text}` does not convert to {t.name} ({t.cpp_type}) for `{s.key}`")
+            return DataOp(inst.index, comment, ops.SetUserLiteral(dst, member, fail))
+        if s.kind == DYN:
+            if len(text.encode("utf-8")) > s.capacity:
+                self.error(loc, self.overflow_message(text, s))
+                return None
+            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc)))
+        if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
+            if declared == values.NODE_STATUS:
+                self.error(
+                    loc,
+                    f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
+                    f"BehaviorTree.CPP cannot convert text into",
+                )
+                return None
+            try:
+                values.convert_from_string(declared, text)
+            except values.ConversionError as e:
+                self.error(loc, f"{what} writes `{text}` to `{s.key}`, which is declared {declared}: {e}")
+                return None
+        elif s.kind != "string":
+            self.error(
+                loc,
+                f"{what} writes the text `{text}` to blackboard entry `{s.key}`, which holds "
+                f"{describe_kind(s.kind or 'none')} ({s.origin_text}); BehaviorTree.CPP would "
+                f'replace the value with the string "{text}", and btgen gives every entry one type '
+                f"(to write a number, use a Script: `{s.key} := {text}`)",
+            )
+            return None
+        if s.kind == "string" and len(text.encode("utf-8")) > s.capacity:
+            self.error(loc, self.overflow_message(text, s))
+            return None
+        fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
+        return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail))
+
+    def overflow_message(self, text: str, s: Slot) -> str:
+        return kinds.overflow_message(text, s.key, s.capacity)
+
+    def set_copy(self, inst: Inst, op: SetCopyUse) -> Optional[DataOp]:
+        dst, src, loc = op.dst, op.src, op.loc
+        d, s = self.a.slots[dst], self.a.slots[src]
+        what = f'`SetBlackboard` "{inst.node.display_name}"'
+        declared = d.entry.type_name if d.at_load else s.entry.type_name
+        if s.kind == "string" and self._untyped_string_write_unsupported(d, loc, what):
+            return None
+        strong = values.is_strongly_typed(declared)
+        convert = False
+        if is_queue(s.kind):
+            self.error(
+                loc,
+                f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
+                f"both entries, which the C++ back end does not do",
+            )
+            return None
+        if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
+            return self.set_copy_dynamic(inst, op, d, s, what)
+        if is_user(d.kind) or is_user(s.kind):
+            ok = d.kind == s.kind
+        elif not strong:
+            ok = s.kind == d.kind
+        elif s.kind == "string" and declared != values.STRING:
+            ok = declared != values.NODE_STATUS and not values.is_opaque_type(declared)
+            convert = True
+        else:
+            ok = TYPE_NAME_OF_KIND.get(s.kind or "") == declared
+        if not ok:
+            dst_what = f"declared {declared}" if strong else d.origin_text
+            self.error(
+                loc,
+                f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                f"`{d.key}` ({describe_kind(d.kind or 'none')}, {dst_what}); BehaviorTree.CPP "
+                f"refuses that copy or changes the entry's type",
+            )
+            return None
+        missing = self.fail(loc, f"{what}: `value` reads blackboard entry `{op.src_key}`, which does not exist")
+        fail: Optional[ops.Fail] = None
+        if convert:
+            how = "convert"
+            fail = self.fail(loc, f"{what} cannot convert `{s.key}` for `{d.key}`", errc=True)
+        elif d.kind == "string":
+            how = "string"
+            fail = self.fail(loc, f"{what}: the text of `{s.key}` does not fit `{d.key}` (capacity {d.capacity} bytes)")
+        else:
+            how = "none" if d.kind == "none" else "value"
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopy(dst, src, how, declared, missing, fail, self._empty_copy_succeeds()),
+        )
+
+    def set_copy_dynamic(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
+        """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
+        loc = op.loc
+        src_decl = s.entry.type_name
+        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
+            self.error(
+                loc,
+                f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                f"`{d.key}` ({describe_kind(d.kind or 'none')}, {d.origin_text}); copies between "
+                f"typed entries and entries whose type changes at run time are not supported by the "
+                f"C++ back end yet",
+            )
+            return None
+        missing = self.fail(
+            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
+        )
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopyDyn(
+                op.dst,
+                op.src,
+                src_decl == values.STRING,
+                op.key,
+                what + ": ",
+                missing,
+                self.where(loc),
+                self._empty_copy_succeeds(),
+            ),
+        )
+
+    def _untyped_string_write_unsupported(self, d: Slot, loc: Loc, what: str) -> bool:
+        """From 4.7.0 SetBlackboard converts a string to the type of the entry it writes; an entry
+        that exists without a type (created at load by an untyped `{key}` port, or by a Script)
+        cannot take it: 4.10.0 leaves it empty and typed BT::Any, and the next string write
+        throws. The generated C++ does not model that yet, so it refuses the mission rather than
+        run it differently (docs/btcpp-versions.md). True when it reported that."""
+        if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
+            return False
+        if not (d.at_load or any(w.source == "script" for w in d.writes)):
+            return False
+        self.error(
+            loc,
+            f"{what} writes a string into `{d.key}`, an entry created without a type ({d.origin_text}); "
+            f"BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry empty and typed BT::Any "
+            f"(and throws on the next such write), which is not supported by the C++ back end yet",
+        )
+        return True
+
+    def _empty_copy_succeeds(self) -> bool:
+        """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
+        return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
+
+    def param_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
+        """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
+        s = self.a.slots[op.slot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
+        constant: Optional[int] = None
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            # A SubTree's constant port (`n="3"`): text that never changes, converted once here
+            # as 4.6.2's getInput converts it on every read.
+            port_type = values.UNSIGNED if op.port in ("msec", "delay_msec") else values.INT
+            try:
+                converted = values.convert_from_string(port_type, s.initial)
+            except values.ConversionError as e:
+                self.error(op.loc, f"{what}: {e}")
+                return None
+            constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
+        elif s.kind != "int":
+            self.error(
+                op.loc,
+                f"port `{op.port}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                f"{s.origin_text}); the C++ back end reads it from an integer entry only",
+            )
+            return None
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
+            ops.ParamRead(
+                op.slot,
+                self.fail(op.loc, f"{what}, which does not exist"),
+                self.fail(op.loc, f"{what}, which has no value yet"),
+                constant,
+            ),
+        )
+
+    def entry(self, inst: Inst, op: EntryUse) -> DataOp:
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op.key}', ops.EntrySeq(op.slot))
+
+    @staticmethod
+    def operand(slot: Optional[int], raw: Optional[str]) -> ops.TextOperand:
+        """getInput<std::string> of a Switch's variable or case label."""
+        if raw is None:
+            return ops.TextOperand()
+        return ops.TextOperand(slot, raw if slot is None else None)
+
+    def switch(self, inst: Inst, op: SwitchUse) -> DataOp:
+        reads = op.reads
+        _name, raw, slot = reads[0]
+        labels = tuple(self.operand(cslot, craw) for _cname, craw, cslot in reads[1:])
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}"',
+            ops.SwitchCases(op.cases, self.operand(slot, raw), labels),
+        )
+
+    def loop(self, inst: Inst, op: LoopUse, locals_: list[LocalIR]) -> Optional[DataOp]:
+        elem, static, qslot, vslot, loc = op.elem, op.static, op.qslot, op.vslot, op.loc
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
+        local, items, no_value = "", (), None
+        if static is not None:
+            local, items = f"loop_{inst.index}", tuple(static)
+            cap = max((len(x.encode("utf-8")) for x in static), default=0) if elem == "string" else 0
+            locals_.append(
+                LocalIR(
+                    local,
+                    f"{what}: its literal queue, copied afresh each time it starts (4.7.0)",
+                    elem,
+                    max(len(static), 1),
+                    cap,
+                )
+            )
+        else:
+            assert qslot is not None
+            s = self.a.slots[qslot]
+            want = f"queue<{elem}>"
+            if s.kind != want:
+                # From 4.9.1 a string entry is converted into a queue at each start: the
+                # generated C++ does not do that yet (docs/btcpp-versions.md).
+                later = (
+                    f"; BehaviorTree.CPP {self.a.m.semantics.version} converts a string at each start, "
+                    f"which is not supported by the C++ back end yet"
+                    if self.a.m.semantics.loop_queue_untyped and s.kind == "string"
+                    else ""
+                )
+                self.error(
+                    loc,
+                    f"port `queue` of {what} reads blackboard entry `{s.key}`, which holds "
+                    f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}{later}",
+                )
+                return None
+            no_value = self.fail(
+                loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet"
+            )
+        declared, write_fail = "", None
+        if vslot is not None:
+            vloc = inst.ports["value"].loc_or or inst.node.loc
+            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+                return None
+            declared = self.a.slots[vslot].entry.type_name
+            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        return DataOp(
+            inst.index,
+            f"{what} queue={inst.ports['queue'].raw}",
+            ops.LoopPop(elem, local, items, qslot, no_value, vslot, declared, write_fail),
+        )
+
+    # ------------------------------------------------------------ user port types
+    def user_cpp(self, type_name: str) -> str:
+        """A user port type's C++ spelling (--type); "" for the built-in types."""
+        k = self.a.kind_of_type(type_name)
+        return self.a.user[k].cpp if is_user(k) else ""
+
+    def user_read(self, inst: Inst, ps: PortSpec, slot: Optional[int], raw: str, loc: Loc) -> Optional[ops.PortRead]:
+        """The getter statement of an input port where a user type (--type) is involved: a literal
+        converted once when the mission is constructed, or the entry's value as it is."""
+        pk = self.a.kind_of_type(ps.type)
+        if slot is None:  # a literal (or a TreeNodesModel default) of a user-typed port
+            return self.user_literal(inst, ps, raw, loc, f"`{raw}`")
+        s = self.a.slots[slot]
+        if is_user(pk) and s.initial is not None and not s.unset and all(w.source == "constant" for w in s.writes):
+            # A SubTree's constant port that nothing else writes: a literal too (4.6.2 converts its
+            # text on every read; it never changes).
+            return self.user_literal(
+                inst,
+                ps,
+                s.initial,
+                s.writes[0].loc if s.writes else loc,
+                f"`{s.initial}` (the constant port `{s.key}` of its SubTree)",
+            )
+        if is_user(pk) and s.kind == pk:
+            return ops.ReadUser(slot)
+        if pk is None and is_user(s.kind):  # an untyped port: get<T>() with T the entry's type
+            return ops.ReadUser(slot, as_t=True)
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
+        if is_user(pk):
+            t = self.a.user[pk]
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} ({t.name}) reads blackboard entry `{s.key}`, which holds "
+                f"{describe_kind(s.kind or 'none')} ({s.origin_text}); a {t.name} port reads only "
+                f"{t.name} entries in the C++ back end (BehaviorTree.CPP would convert a string with "
+                f"convertFromString<{t.name}> on every read)",
+            )
+        else:
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} ({ps.type}) reads blackboard entry `{s.key}`, which "
+                f"holds {describe_kind(s.kind or 'none')} ({s.origin_text}); it does not convert to "
+                f"{ps.type}",
+            )
+        return None
+
+    def user_literal(self, inst: Inst, ps: PortSpec, raw: str, loc: Loc, what: str) -> ops.PortRead:
+        """A user-typed port's literal: converted once, when the mission is constructed (Spec::init)."""
+        t = self.a.user[self.a.kind_of_type(ps.type) or ""]
+        member = self.user_constant(
+            inst.index, t, raw, loc, f"port `{ps.name}` of {inst.what}: {what}", f"port `{ps.name}` of {inst.what}"
+        )
+        return ops.ReadUserLiteral(member)
+
+    def user_constant(self, node: int, t, raw: str, loc: Loc, what: str, comment: str) -> str:
+        """A `btgen::UserLiteral` member of the blackboard holding `raw` converted to the user type `t` when
+        the mission is constructed (Spec::init; a failure is reported there, naming `what`); its name."""
+        member = f"ulit{len(self.user_locals)}_"
+        self.user_locals.append(
+            LocalIR(
+                member,
+                f"{comment}: {values.describe(raw)} as a {t.name}, converted when the mission is constructed",
+                user_cpp=t.cpp,
+            )
+        )
+        message = f"{what} does not convert to {t.name} ({t.cpp_type}): its convertFromString returned false"
+        self.user_inits.append(DataOp(node, comment, ops.UserInit(member, raw, self.fail(loc, message))))
+        return member
+
+    def user_write(self, inst: Inst, ps: PortSpec, slot: int, loc: Loc) -> Optional[ops.PortWrite]:
+        """The setter of an output port where a user type (--type) is involved."""
+        s = self.a.slots[slot]
+        pk = self.a.kind_of_type(ps.type)
+        what = f"output port `{ps.name}` of {inst.what}"
+        if pk is None and is_user(s.kind):  # an untyped port: set<T>() with T the entry's type
+            t = self.a.user[s.kind or ""]
+            fail = self.fail(loc, f"{what} writes a value of another type than {t.name} ({t.cpp_type}) to `{s.key}`")
+            return ops.WriteUser(slot, t.cpp, fail)
+        if any(at == loc for at, _ in self.a.reported):
+            return None  # (its entry's type clash is reported here already, as 4.6.2's loader reports it)
+        if not self.typed_write_ok(slot, ps.type, loc, what):
+            return None
+        return ops.WriteUser(slot)
+
+    # ------------------------------------------------------------ user leaf ports
+    def ports(self) -> dict[str, tuple[PortIR, ...]]:
+        by_model: dict[str, dict[str, PortAccess]] = {}
+        for inst, op in self.a.node_ops:
+            if not isinstance(op, PortUse):
+                continue
+            ps: PortSpec = op.port
+            model = by_model.setdefault(inst.reg_id, {})
+            entry = model.setdefault(ps.name, PortAccess(ps))
+            slot, raw, p = op.slot, op.raw, op.p
+            loc = p.loc_or or inst.node.loc
+            if values.queue_element_type(ps.type) is not None:
+                self.error(
+                    loc,
+                    f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
+                    f"nodes are not supported by the C++ back end yet",
+                )
+                continue
+            pk = self.a.kind_of_type(ps.type)
+            # Ports read as text: string and opaque types, and untyped ports (whose T may be text).
+            textual = ps.type in (values.ANY, values.STRING) or (values.is_opaque_type(ps.type) and not is_user(pk))
+            if ps.reads and (is_user(pk) or (slot is not None and is_user(self.a.slots[slot].kind))):
+                read = self.user_read(inst, ps, slot, raw, loc)
+                if read is None:
+                    continue
+                entry.reads.append((inst.index, read))
+            elif ps.reads:
+                if slot is not None:
+                    s = self.a.slots[slot]
+                    if is_queue(s.kind):
+                        self.error(loc, f"port `{ps.name}` of {inst.what} reads blackboard entry `{s.key}`, a {s.kind}")
+                        continue
+                    text = textual and (is_numeric(s.kind) or s.kind == DYN)
+                    if text:
+                        entry.scratch = True
+                    entry.reads.append((inst.index, ops.ReadEntry(slot, text)))
+                elif ps.type != values.ANY:
+                    try:
+                        value = values.convert_from_string(
+                            ps.type if not values.is_opaque_type(ps.type) else values.STRING, raw
+                        )
+                        entry.reads.append((inst.index, ops.ReadLiteral(ps.type, value)))
+                    except values.ConversionError:
+                        entry.reads.append((inst.index, ops.ReadLiteral(ps.type, None, ok=False)))
+                else:
+                    entry.reads.append((inst.index, ops.ParseLiteral(raw)))
+            if ps.writes and slot is not None and (is_user(pk) or is_user(self.a.slots[slot].kind)):
+                write = self.user_write(inst, ps, slot, loc)
+                if write is not None:
+                    entry.writes.append((inst.index, write))
+            elif ps.writes and slot is not None:
+                if ps.type != values.ANY and not self.typed_write_ok(
+                    slot,
+                    ps.type if not values.is_opaque_type(ps.type) else values.STRING,
+                    loc,
+                    f"output port `{ps.name}` of {inst.what}",
+                ):
+                    continue
+                s = self.a.slots[slot]
+                fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)
+                entry.writes.append((inst.index, ops.WriteEntry(slot, s.entry.type_name, fail)))
+        # Every port a leaf model declares gets its accessors, wired here or not (one leaf
+        # implementation builds against every mission using the model): in declaration order,
+        # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
+        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        declared: dict[str, dict[str, PortAccess]] = {}
+        for spec in self.a.m.used_user_models():
+            used = by_model.get(spec.id, {})
+            model = declared.setdefault(spec.id, {})
+            for ps in spec.ports:
+                if ps.name in used:
+                    model[ps.name] = used[ps.name]
+                elif values.queue_element_type(ps.type) is None:
+                    model[ps.name] = PortAccess(ps)
+        by_model = declared
+        out: dict[str, tuple[PortIR, ...]] = {}
+        for model_id, ports in by_model.items():
+            irs = []
+            for pname, e in ports.items():
+                ps = e.spec
+                irs.append(
+                    PortIR(
+                        pname,
+                        ps.direction,
+                        ps.type,
+                        ps.description,
+                        e.scratch,
+                        tuple(e.reads),
+                        tuple(e.writes),
+                        self.user_cpp(ps.type),
+                    )
+                )
+            out[model_id] = tuple(irs)
+        return out
+
+    # ------------------------------------------------------------ all
+    def run(self) -> DataIR:
+        self.mark_unsets()
+        scripts, bits = self.scripts()
+        data_leaves: list[DataOp] = []
+        entries: list[DataOp] = []
+        switches: list[DataOp] = []
+        loops: list[DataOp] = []
+        param_reads: list[DataOp] = []
+        locals_: list[LocalIR] = []
+        params: dict[int, tuple[int, int, int]] = {}
+        for inst, op in self.a.node_ops:
+            code: Optional[DataOp] = None
+            if isinstance(op, UnsetUse):
+                data_leaves.append(self.unset(inst, op))
+            elif isinstance(op, SetLiteralUse):
+                code = self.set_literal(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif isinstance(op, SetCopyUse):
+                code = self.set_copy(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif isinstance(op, EntryUse):
+                entries.append(self.entry(inst, op))
+            elif isinstance(op, SwitchUse):
+                switches.append(self.switch(inst, op))
+            elif isinstance(op, LoopUse):
+                code = self.loop(inst, op, locals_)
+                if code is not None:
+                    loops.append(code)
+            elif isinstance(op, ParamUse):
+                read = self.param_read(inst, op)
+                if read is not None:
+                    param_reads.append(read)
+                    params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
+            elif isinstance(op, StatusParam):
+                p0 = op.p0
+                if p0 is not None:
+                    params[inst.index] = (p0.value if isinstance(p0, NodeStatus) else p0, 0, 0)
+        ports = self.ports()
+        for s in self.a.slots:
+            for w in s.writes:
+                if (
+                    w.literal is not None
+                    and w.source != "script"
+                    and s.kind == "string"
+                    and len(w.literal.encode("utf-8")) > s.capacity
+                ):  # (scripts: reported as they compile)
+                    self.error(w.loc, self.overflow_message(w.literal, s))
+        slots = tuple(
+            SlotIR(
+                i,
+                s.key,
+                s.owner,
+                s.entry.type_name,
+                s.kind or "none",
+                s.origin,
+                s.origin_loc,
+                s.capacity,
+                s.owner_uid,
+                s.elem_capacity,
+                s.initial,
+                s.at_load,
+                self.a.user[s.kind].cpp if is_user(s.kind) else "",
+                not s.at_load or s.unset,
+                s.origin_text,
+                s.provided,
+            )
+            for i, s in enumerate(self.a.slots)
+        )
+        used = {self.a.kind_of_type(ps.type) for spec in self.a.m.user_models() for ps in spec.ports} | {
+            s.kind for s in self.a.slots
+        }
+        user_types = tuple(t for t in self.a.m.user_types if t.kind in used)
+        return DataIR(
+            slots,
+            tuple(locals_ + self.user_locals),
+            tuple(scripts),
+            tuple(data_leaves),
+            tuple(entries),
+            tuple(switches),
+            tuple(loops),
+            ports,
+            bits,
+            params,
+            self.a.opt.string_capacity,
+            self.a.opt.queue_capacity,
+            tuple(self.where_locs),
+            tuple(self.a.m.enums),
+            user_types,
+            tuple(self.user_inits),
+            tuple(param_reads),
+        )
