@@ -666,8 +666,20 @@ def test_long_literals_are_split_between_words():
     assert "".join(c[1:-1] for c in chunks) == cpp_string(text)[1:-1]
     assert all(len(c) <= 40 for c in chunks)
     assert all(c.endswith(' "') for c in chunks[:-3]), chunks
-    header = (Path(ROOT) / "generated" / "lab_tour.hpp").read_text(encoding="utf-8")
-    assert not re.search(r'[A-Za-z]"\s*\n\s*"[A-Za-z]', header)
+    for path in sorted((Path(ROOT) / "generated").glob("*.hpp")):
+        header = path.read_text(encoding="utf-8")
+        assert not re.search(r'[A-Za-z0-9_]"\s*\n\s*"[A-Za-z0-9_]', header), path.name
+
+
+def test_no_message_of_a_big_mission_is_split_inside_a_word(tmp_path):
+    """The same over the literals of a mission with many script and port error messages."""
+    from btgen.tools import synth
+
+    path = tmp_path / "scripts_40.xml"
+    path.write_text(synth.script_mission(40))
+    header = render(lower(load_mission(str(path))), "scripts_40")[0].text
+    assert header.count('"\n') > 40  # (messages spread over several lines are there)
+    assert not re.search(r'[A-Za-z0-9_]"\s*\n\s*"[A-Za-z0-9_]', header)
 
 
 def test_deps_keep_an_include_that_stopped_loading(tmp_path, capsys):
