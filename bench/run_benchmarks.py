@@ -485,7 +485,7 @@ ISSUE20_STEPS = [
     "-> 16.5 (all of them straight-line now); `balanced_1000` 7.6 -> 15.4, `balanced5_1043` 14,804 -> "
     "18,207 per tick (shared); `museum_93` 2,245 -> 1,729 per tick, `missions/LabTour.xml` 41.9 -> "
     "18.3 (a function per node, leaves and one-child decorators in forms of their own, leaf hooks "
-    "called by model number, `Spec::on_start_m<L, M>`, not through a switch on the node's model). "
+    "called by model number, `LeafHooks::on_start_m<M>`, not through a switch on the node's model). "
     "g++ -O2 of the benchmark: `balanced_1000` 4.7 s -> 1.3 s, `balanced_10000` 6.7 s -> 3.0 s; on "
     "a random 10,000-node tree of 2,037 shapes (not in the table) 3.8 s (7.2 s before). A reactive "
     "node halts its other children in one out-of-line loop, and a control's children are reset by "

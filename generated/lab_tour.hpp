@@ -15,6 +15,7 @@
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
+#include "btgen/leaf_dispatch.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
@@ -35,7 +36,17 @@ static_assert(btgen::kRuntimeAbi == 7,
 #endif
 #define BTGEN_BTCPP_VERSION 40602
 
+// In this header, in order: the tables (namespace detail: the blackboard, the node and
+// child tables, the straight-line shapes, the Groot2 tree) with the mission's own code the
+// tick runs (its scripts and data operations; the tick itself is btgen::Engine, in
+// btgen/engine.hpp), then what you implement against: the leaf models with their typed
+// ports (namespace leaf), the mission class LabTour<Leaves> and the hooks Leaves has,
+// and the same hooks as a class of virtual functions, LabTourLeaves.
 namespace lab_tour {
+
+// "..."sv: a std::string_view whose length the compiler gives (the tables' constant
+// evaluation then does no strlen).
+using std::string_view_literals::operator""sv;
 
 namespace detail {
 
@@ -73,13 +84,1057 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 7> kWhere = {
-    std::string_view("missions/LabTour.xml:150:41", 27),
-    std::string_view("missions/LabTour.xml:171:43", 27),
-    std::string_view("missions/LabTour.xml:184:43", 27),
-    std::string_view("missions/LabTour.xml:193:42", 27),
-    std::string_view("missions/LabTour.xml:193:67", 27),
-    std::string_view("missions/LabTour.xml:232:38", 27),
-    std::string_view("missions/LabTour.xml:302:34", 27),
+    "missions/LabTour.xml:150:41"sv,
+    "missions/LabTour.xml:171:43"sv,
+    "missions/LabTour.xml:184:43"sv,
+    "missions/LabTour.xml:193:42"sv,
+    "missions/LabTour.xml:193:67"sv,
+    "missions/LabTour.xml:232:38"sv,
+    "missions/LabTour.xml:302:34"sv,
+};
+
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
+template <std::uint16_t M>
+struct ModelOf;
+
+// The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
+// lang/versions.py (each one difference between 4.6.2 and later releases); the engine
+// (btgen/engine.hpp) and the data operations read them here.
+struct Semantics {
+  static constexpr std::uint32_t kBtcppVersion = 40602;
+  static constexpr bool skipped_by_count = false;
+  static constexpr bool loop_end_never_skipped = false;
+  static constexpr bool retry_rereads_attempts = false;
+  static constexpr bool precondition_if_until_started = false;
+  static constexpr bool setblackboard_converts_to_entry_type = false;
+  static constexpr bool loop_queue_untyped = false;
+  static constexpr bool switch_whole_parse = false;
+  static constexpr bool subtree_literals_typed = false;
+  static constexpr bool int_to_double_53_bits = false;
+  static constexpr bool double_from_chars = false;
+  static constexpr bool trycatch = false;
+  static constexpr bool groot2_root_blackboard = false;
+  static constexpr bool script_grammar_49 = false;
+  static constexpr bool name_validation_484 = false;
+  static constexpr bool attribute_names_484 = false;
+  static constexpr bool unique_subtree_paths = false;
+  static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
+};
+
+// The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
+struct Spec {
+  using Semantics = detail::Semantics;
+  static constexpr std::string_view kSource = "missions/LabTour.xml";
+  static constexpr std::string_view kMainTree = "TourGuide";
+  static constexpr std::size_t kNodeCount = 149;
+  static constexpr std::size_t kChildCount = 148;
+  static constexpr std::size_t kCounterCount = 114;
+  static constexpr std::size_t kTimerCount = 0;
+  static constexpr std::size_t kMaxDepth = 13;
+  static constexpr bool kHasParallel = true;
+  using Blackboard = detail::Blackboard;
+
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
+  //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //    id, name, source}
+  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
+  // read by meaning through btgen::param there).
+  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {{
+      {btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 5, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "LabTour"sv, "missions/LabTour.xml:24:5"sv},
+      {btgen::NodeKind::Action, 1, 2, 0, 5u, 0, 30, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "START_OF_TREE"sv, "START_OF_TREE"sv, "missions/LabTour.xml:28:7"sv},
+      {btgen::NodeKind::SubTree, 2, 3, 0, 5u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "I. DetectVisitor"sv, "missions/LabTour.xml:29:7"sv},
+      {btgen::NodeKind::Sequence, 3, 4, 2, 6u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:75:5"sv},
+      {btgen::NodeKind::Fallback, 4, 5, 3, 9u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:76:7"sv},
+      {btgen::NodeKind::Action, 5, 6, 4, 11u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/LabTour.xml:77:9"sv},
+      {btgen::NodeKind::Action, 6, 7, 4, 11u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:78:9"sv},
+      {btgen::NodeKind::Fallback, 7, 8, 3, 11u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:80:7"sv},
+      {btgen::NodeKind::Action, 8, 9, 7, 13u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:81:9"sv},
+      {btgen::NodeKind::Action, 9, 10, 7, 13u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:82:9"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 10, 11, 3, 13u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
+       "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/LabTour.xml:84:7"sv},
+      {btgen::NodeKind::Condition, 11, 12, 10, 14u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/LabTour.xml:85:9"sv},
+      {btgen::NodeKind::SubTree, 12, 13, 0, 14u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "II. EngageVisitor"sv, "missions/LabTour.xml:30:7"sv},
+      {btgen::NodeKind::Sequence, 13, 14, 12, 15u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:91:5"sv},
+      {btgen::NodeKind::Fallback, 14, 15, 13, 20u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:92:7"sv},
+      {btgen::NodeKind::Sequence, 15, 16, 14, 22u, 3, btgen::kNoModel, 14u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/LabTour.xml:93:9"sv},
+      {btgen::NodeKind::Action, 16, 17, 15, 25u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:94:11"sv},
+      {btgen::NodeKind::Action, 17, 18, 15, 25u, 0, 31, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "WelcomeGesture"sv, "WelcomeGesture"sv, "missions/LabTour.xml:95:11"sv},
+      {btgen::NodeKind::Action, 18, 19, 15, 25u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/LabTour.xml:96:11"sv},
+      {btgen::NodeKind::Action, 19, 20, 14, 25u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:99:9"sv},
+      {btgen::NodeKind::Fallback, 20, 21, 13, 25u, 2, btgen::kNoModel, 16u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:101:7"sv},
+      {btgen::NodeKind::Action, 21, 22, 20, 27u, 0, 32, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "WelcomeSpeech"sv, "WelcomeSpeech"sv, "missions/LabTour.xml:102:9"sv},
+      {btgen::NodeKind::Action, 22, 23, 20, 27u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:103:9"sv},
+      {btgen::NodeKind::Fallback, 23, 24, 13, 27u, 2, btgen::kNoModel, 18u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:110:7"sv},
+      {btgen::NodeKind::Action, 24, 25, 23, 29u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:111:9"sv},
+      {btgen::NodeKind::Action, 25, 26, 23, 29u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:112:9"sv},
+      {btgen::NodeKind::Condition, 26, 27, 13, 29u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:114:7"sv},
+      {btgen::NodeKind::Fallback, 27, 28, 13, 29u, 2, btgen::kNoModel, 20u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:120:7"sv},
+      {btgen::NodeKind::Action, 28, 29, 27, 31u, 0, 29, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/LabTour.xml:121:9"sv},
+      {btgen::NodeKind::Action, 29, 30, 27, 31u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:122:9"sv},
+      {btgen::NodeKind::SubTree, 30, 31, 0, 31u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "III. QueryVisitorResponse"sv, "missions/LabTour.xml:34:7"sv},
+      {btgen::NodeKind::Sequence, 31, 32, 30, 32u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:128:5"sv},
+      {btgen::NodeKind::Fallback, 32, 33, 31, 34u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:134:7"sv},
+      {btgen::NodeKind::Action, 33, 34, 32, 36u, 0, 23, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "QueryTourSpeech"sv, "QueryTourSpeech"sv, "missions/LabTour.xml:135:9"sv},
+      {btgen::NodeKind::Action, 34, 35, 32, 36u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:136:9"sv},
+      {btgen::NodeKind::Fallback, 35, 36, 31, 36u, 2, btgen::kNoModel, 26u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "SpeechOrTablet"sv, "missions/LabTour.xml:138:7"sv},
+      {btgen::NodeKind::Sequence, 36, 37, 35, 38u, 2, btgen::kNoModel, 28u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "SpokenAnswer"sv, "missions/LabTour.xml:139:9"sv},
+      {btgen::NodeKind::Condition, 37, 38, 36, 40u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsASREnabled"sv, "IsASREnabled"sv, "missions/LabTour.xml:140:11"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 38, 39, 36, 40u, 1, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 3, 0, 0,
+       "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/LabTour.xml:144:11"sv},
+      {btgen::NodeKind::Sequence, 39, 40, 38, 41u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:145:13"sv},
+      {btgen::NodeKind::Fallback, 40, 41, 39, 43u, 2, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:146:15"sv},
+      {btgen::NodeKind::Action, 41, 42, 40, 45u, 0, 26, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SayYesNoSpeech"sv, "SayYesNoSpeech"sv, "missions/LabTour.xml:147:17"sv},
+      {btgen::NodeKind::Action, 42, 43, 40, 45u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:148:17"sv},
+      {btgen::NodeKind::Condition, 43, 44, 39, 45u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsYesNoUttered"sv, "IsYesNoUttered"sv, "missions/LabTour.xml:150:15"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 44, 45, 35, 45u, 1, btgen::kNoModel, 36u, btgen::kNoSlot, 0, 3, 0, 0,
+       "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/LabTour.xml:160:9"sv},
+      {btgen::NodeKind::Sequence, 45, 46, 44, 46u, 2, btgen::kNoModel, 38u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:161:11"sv},
+      {btgen::NodeKind::Fallback, 46, 47, 45, 48u, 2, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:162:13"sv},
+      {btgen::NodeKind::Action, 47, 48, 46, 50u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PressYesNoSpeech"sv, "PressYesNoSpeech"sv, "missions/LabTour.xml:163:15"sv},
+      {btgen::NodeKind::Action, 48, 49, 46, 50u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:164:15"sv},
+      {btgen::NodeKind::Action, 49, 50, 45, 50u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PressYesNoDialogue"sv, "PressYesNoDialogue"sv, "missions/LabTour.xml:171:13"sv},
+      {btgen::NodeKind::Fallback, 50, 51, 0, 50u, 2, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "DeclineOrTour"sv, "missions/LabTour.xml:35:7"sv},
+      {btgen::NodeKind::Sequence, 51, 52, 50, 52u, 2, btgen::kNoModel, 44u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Declined"sv, "missions/LabTour.xml:36:9"sv},
+      {btgen::NodeKind::Inverter, 52, 53, 51, 54u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "Inverter"sv, "Inverter"sv, "missions/LabTour.xml:40:11"sv},
+      {btgen::NodeKind::Condition, 53, 54, 52, 55u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsVisitorResponseYes"sv, "IsVisitorResponseYes"sv, "missions/LabTour.xml:41:13"sv},
+      {btgen::NodeKind::ForceSuccess, 54, 55, 51, 55u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ForceSuccess"sv, "ForceSuccess"sv, "missions/LabTour.xml:47:11"sv},
+      {btgen::NodeKind::Fallback, 55, 56, 54, 56u, 2, btgen::kNoModel, 46u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:48:13"sv},
+      {btgen::NodeKind::Action, 56, 57, 55, 58u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "MaybeAnotherTimeSpeech"sv, "MaybeAnotherTimeSpeech"sv, "missions/LabTour.xml:49:15"sv},
+      {btgen::NodeKind::Action, 57, 58, 55, 58u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:50:15"sv},
+      {btgen::NodeKind::Sequence, 58, 59, 50, 58u, 2, btgen::kNoModel, 48u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Tour"sv, "missions/LabTour.xml:54:9"sv},
+      {btgen::NodeKind::SubTree, 59, 60, 58, 60u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "IV. VisitExhibit"sv, "missions/LabTour.xml:58:11"sv},
+      {btgen::NodeKind::Sequence, 60, 61, 59, 61u, 2, btgen::kNoModel, 50u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:182:5"sv},
+      {btgen::NodeKind::Fallback, 61, 62, 60, 63u, 2, btgen::kNoModel, 52u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:183:7"sv},
+      {btgen::NodeKind::Action, 62, 63, 61, 65u, 0, 24, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "RetrieveListOfExhibits"sv, "RetrieveListOfExhibits"sv, "missions/LabTour.xml:184:9"sv},
+      {btgen::NodeKind::Action, 63, 64, 61, 65u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:185:9"sv},
+      {btgen::NodeKind::Inverter, 64, 65, 60, 65u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "Inverter"sv, "UntilNoExhibitLeft"sv, "missions/LabTour.xml:187:7"sv},
+      {btgen::NodeKind::KeepRunningUntilFailure,
+       65, 66, 64, 66u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "KeepRunningUntilFailure"sv, "ExhibitLoop"sv, "missions/LabTour.xml:188:9"sv},
+      {btgen::NodeKind::Sequence, 66, 67, 65, 67u, 2, btgen::kNoModel, 54u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:189:11"sv},
+      {btgen::NodeKind::Condition, 67, 68, 66, 69u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsListWithExhibit"sv, "IsListWithExhibit"sv, "missions/LabTour.xml:190:13"sv},
+      {btgen::NodeKind::Sequence, 68, 69, 66, 69u, 6, btgen::kNoModel, 56u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "VisitOneExhibit"sv, "missions/LabTour.xml:191:13"sv},
+      {btgen::NodeKind::Fallback, 69, 70, 68, 75u, 2, btgen::kNoModel, 58u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:192:15"sv},
+      {btgen::NodeKind::Action, 70, 71, 69, 77u, 0, 28, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SelectExhibit"sv, "SelectExhibit"sv, "missions/LabTour.xml:193:17"sv},
+      {btgen::NodeKind::Action, 71, 72, 69, 77u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:194:17"sv},
+      {btgen::NodeKind::Fallback, 72, 73, 68, 77u, 2, btgen::kNoModel, 60u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:196:15"sv},
+      {btgen::NodeKind::Action, 73, 74, 72, 79u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "FollowMeSpeech"sv, "FollowMeSpeech"sv, "missions/LabTour.xml:197:17"sv},
+      {btgen::NodeKind::Action, 74, 75, 72, 79u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:198:17"sv},
+      {btgen::NodeKind::SubTree, 75, 76, 68, 79u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "_NavigateToLocation"sv, "missions/LabTour.xml:202:15"sv},
+      {btgen::NodeKind::Sequence, 76, 77, 75, 80u, 5, btgen::kNoModel, 62u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:269:5"sv},
+      {btgen::NodeKind::Fallback, 77, 78, 76, 85u, 2, btgen::kNoModel, 64u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:274:7"sv},
+      {btgen::NodeKind::Action, 78, 79, 77, 87u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
+      {btgen::NodeKind::Action, 79, 80, 77, 87u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:276:9"sv},
+      {btgen::NodeKind::Fallback, 80, 81, 76, 87u, 2, btgen::kNoModel, 66u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:278:7"sv},
+      {btgen::NodeKind::Action, 81, 82, 80, 89u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
+      {btgen::NodeKind::Action, 82, 83, 80, 89u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:280:9"sv},
+      {btgen::NodeKind::Fallback, 83, 84, 76, 89u, 2, btgen::kNoModel, 68u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:282:7"sv},
+      {btgen::NodeKind::Action, 84, 85, 83, 91u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "Navigate"sv, "Navigate"sv, "missions/LabTour.xml:283:9"sv},
+      {btgen::NodeKind::Action, 85, 86, 83, 91u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:284:9"sv},
+      {btgen::NodeKind::Fallback, 86, 87, 76, 91u, 2, btgen::kNoModel, 70u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:288:7"sv},
+      {btgen::NodeKind::Action, 87, 88, 86, 93u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
+      {btgen::NodeKind::Action, 88, 89, 86, 93u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:290:9"sv},
+      {btgen::NodeKind::Condition, 89, 90, 76, 93u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
+      {btgen::NodeKind::Fallback, 90, 91, 68, 93u, 2, btgen::kNoModel, 72u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:203:15"sv},
+      {btgen::NodeKind::Action, 91, 92, 90, 95u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DescribeExhibitSpeech_1"sv, "DescribeExhibitSpeech_1"sv, "missions/LabTour.xml:204:17"sv},
+      {btgen::NodeKind::Action, 92, 93, 90, 95u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:205:17"sv},
+      {btgen::NodeKind::Fallback, 93, 94, 68, 95u, 2, btgen::kNoModel, 74u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:210:15"sv},
+      {btgen::NodeKind::Action, 94, 95, 93, 97u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PerformDeicticGesture"sv, "PointToExhibit"sv, "missions/LabTour.xml:211:17"sv},
+      {btgen::NodeKind::Action, 95, 96, 93, 97u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:212:17"sv},
+      {btgen::NodeKind::Fallback, 96, 97, 68, 97u, 2, btgen::kNoModel, 76u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:214:15"sv},
+      {btgen::NodeKind::Action, 97, 98, 96, 99u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DescribeExhibitSpeech_2"sv, "DescribeExhibitSpeech_2"sv, "missions/LabTour.xml:215:17"sv},
+      {btgen::NodeKind::Action, 98, 99, 96, 99u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:216:17"sv},
+      {btgen::NodeKind::SubTree, 99, 100, 58, 99u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "V. EndTour"sv, "missions/LabTour.xml:59:11"sv},
+      {btgen::NodeKind::Sequence, 100, 101, 99, 100u, 7, btgen::kNoModel, 78u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:226:5"sv},
+      {btgen::NodeKind::Fallback, 101, 102, 100, 107u, 2, btgen::kNoModel, 80u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:227:7"sv},
+      {btgen::NodeKind::Action, 102, 103, 101, 109u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "EndTourSpeech"sv, "EndTourSpeech"sv, "missions/LabTour.xml:228:9"sv},
+      {btgen::NodeKind::Action, 103, 104, 101, 109u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:229:9"sv},
+      {btgen::NodeKind::Fallback, 104, 105, 100, 109u, 2, btgen::kNoModel, 82u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:231:7"sv},
+      {btgen::NodeKind::Action, 105, 106, 104, 111u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "LookUpEntrance"sv, "LookUpEntrance"sv, "missions/LabTour.xml:232:9"sv},
+      {btgen::NodeKind::Action, 106, 107, 104, 111u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:233:9"sv},
+      {btgen::NodeKind::SubTree, 107, 108, 100, 111u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "_NavigateToLocation"sv, "missions/LabTour.xml:237:7"sv},
+      {btgen::NodeKind::Sequence, 108, 109, 107, 112u, 5, btgen::kNoModel, 84u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:269:5"sv},
+      {btgen::NodeKind::Fallback, 109, 110, 108, 117u, 2, btgen::kNoModel, 86u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:274:7"sv},
+      {btgen::NodeKind::Action, 110, 111, 109, 119u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
+      {btgen::NodeKind::Action, 111, 112, 109, 119u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:276:9"sv},
+      {btgen::NodeKind::Fallback, 112, 113, 108, 119u, 2, btgen::kNoModel, 88u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:278:7"sv},
+      {btgen::NodeKind::Action, 113, 114, 112, 121u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
+      {btgen::NodeKind::Action, 114, 115, 112, 121u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:280:9"sv},
+      {btgen::NodeKind::Fallback, 115, 116, 108, 121u, 2, btgen::kNoModel, 90u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:282:7"sv},
+      {btgen::NodeKind::Action, 116, 117, 115, 123u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "Navigate"sv, "Navigate"sv, "missions/LabTour.xml:283:9"sv},
+      {btgen::NodeKind::Action, 117, 118, 115, 123u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:284:9"sv},
+      {btgen::NodeKind::Fallback, 118, 119, 108, 123u, 2, btgen::kNoModel, 92u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:288:7"sv},
+      {btgen::NodeKind::Action, 119, 120, 118, 125u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
+      {btgen::NodeKind::Action, 120, 121, 118, 125u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:290:9"sv},
+      {btgen::NodeKind::Condition, 121, 122, 108, 125u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
+      {btgen::NodeKind::Fallback, 122, 123, 100, 125u, 2, btgen::kNoModel, 94u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:238:7"sv},
+      {btgen::NodeKind::Action, 123, 124, 122, 127u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HereIsTheDoorSpeech"sv, "HereIsTheDoorSpeech"sv, "missions/LabTour.xml:239:9"sv},
+      {btgen::NodeKind::Action, 124, 125, 122, 127u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:240:9"sv},
+      {btgen::NodeKind::Fallback, 125, 126, 100, 127u, 2, btgen::kNoModel, 96u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:244:7"sv},
+      {btgen::NodeKind::Action, 126, 127, 125, 129u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PerformDeicticGesture"sv, "PointToExit"sv, "missions/LabTour.xml:245:9"sv},
+      {btgen::NodeKind::Action, 127, 128, 125, 129u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:246:9"sv},
+      {btgen::NodeKind::Parallel, 128, 129, 100, 129u, 2, btgen::kNoModel, 98u, btgen::kNoSlot, 0, 2, 1, 0,
+       "Parallel"sv, "WaveAndSayGoodbye"sv, "missions/LabTour.xml:248:7"sv},
+      {btgen::NodeKind::Fallback, 129, 130, 128, 131u, 2, btgen::kNoModel, 100u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:249:9"sv},
+      {btgen::NodeKind::Action, 130, 131, 129, 133u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "GoodbyeGesture"sv, "GoodbyeGesture"sv, "missions/LabTour.xml:250:11"sv},
+      {btgen::NodeKind::Action, 131, 132, 129, 133u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:251:11"sv},
+      {btgen::NodeKind::Fallback, 132, 133, 128, 133u, 2, btgen::kNoModel, 102u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:255:9"sv},
+      {btgen::NodeKind::Action, 133, 134, 132, 135u, 0, 25, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SayGoodByeSpeech"sv, "SayGoodByeSpeech"sv, "missions/LabTour.xml:256:11"sv},
+      {btgen::NodeKind::Action, 134, 135, 132, 135u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:257:11"sv},
+      {btgen::NodeKind::SubTree, 135, 136, 100, 135u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "_GoHome"sv, "missions/LabTour.xml:260:7"sv},
+      {btgen::NodeKind::Sequence, 136, 137, 135, 136u, 4, btgen::kNoModel, 104u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:300:5"sv},
+      {btgen::NodeKind::Fallback, 137, 138, 136, 140u, 2, btgen::kNoModel, 106u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:301:7"sv},
+      {btgen::NodeKind::Action, 138, 139, 137, 142u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "LookUpHome"sv, "LookUpHome"sv, "missions/LabTour.xml:302:9"sv},
+      {btgen::NodeKind::Action, 139, 140, 137, 142u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:303:9"sv},
+      {btgen::NodeKind::Fallback, 140, 141, 136, 142u, 2, btgen::kNoModel, 108u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:305:7"sv},
+      {btgen::NodeKind::Action, 141, 142, 140, 144u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:306:9"sv},
+      {btgen::NodeKind::Action, 142, 143, 140, 144u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:307:9"sv},
+      {btgen::NodeKind::Fallback, 143, 144, 136, 144u, 2, btgen::kNoModel, 110u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:309:7"sv},
+      {btgen::NodeKind::Action, 144, 145, 143, 146u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:310:9"sv},
+      {btgen::NodeKind::Action, 145, 146, 143, 146u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:311:9"sv},
+      {btgen::NodeKind::Fallback, 146, 147, 136, 146u, 2, btgen::kNoModel, 112u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:313:7"sv},
+      {btgen::NodeKind::Action, 147, 148, 146, 148u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "Navigate"sv, "Navigate"sv, "missions/LabTour.xml:314:9"sv},
+      {btgen::NodeKind::Action, 148, 149, 146, 148u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:315:9"sv},
+  }};
+
+  // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
+  static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
+  };
+
+  static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
+      1, 2, 12, 30, 50, 3, 4, 7, 10, 5, 6, 8, 9, 11, 13, 14,
+      20, 23, 26, 27, 15, 19, 16, 17, 18, 21, 22, 24, 25, 28, 29, 31,
+      32, 35, 33, 34, 36, 44, 37, 38, 39, 40, 43, 41, 42, 45, 46, 49,
+      47, 48, 51, 58, 52, 54, 53, 55, 56, 57, 59, 99, 60, 61, 64, 62,
+      63, 65, 66, 67, 68, 69, 72, 75, 90, 93, 96, 70, 71, 73, 74, 76,
+      77, 80, 83, 86, 89, 78, 79, 81, 82, 84, 85, 87, 88, 91, 92, 94,
+      95, 97, 98, 100, 101, 104, 107, 122, 125, 128, 135, 102, 103, 105, 106, 108,
+      109, 112, 115, 118, 121, 110, 111, 113, 114, 116, 117, 119, 120, 123, 124, 126,
+      127, 129, 132, 130, 131, 133, 134, 136, 137, 140, 143, 146, 138, 139, 141, 142,
+      144, 145, 147, 148,
+  };
+
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 90;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 45, 6, 46, 47, 48, 49, 50, 6,
+      51, 52, 53, 54, 55, 56, 57, 6, 58, 59, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 67, 68, 6, 69, 70, 6,
+      71, 72, 6, 73, 74, 75, 76, 6, 77, 78, 6, 60, 61, 62, 63, 6,
+      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 79, 80, 6, 69, 70, 6,
+      81, 82, 83, 6, 84, 85, 6, 86, 87, 88, 89, 6, 62, 63, 6, 64,
+      15, 6, 65, 66, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
+      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
+      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
+      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 34, 4, 4, 1, 1, 1, 1, 1, 1, 4,
+      1, 1, 1, 3, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 3,
+      3, 3, 3, 1, 1, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
+  // plus its children), the first node of every compiled shape in creation order and the
+  // weight of those before it; whether a shape is too deep, and whether the mission has
+  // Controls or Decorators of its own (both run on the interpreter).
+  static constexpr std::size_t kTotalWeight = 297;
+  static constexpr std::array<std::uint16_t, 90> kRepNode = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
+      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
+      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
+      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
+  };
+  static constexpr std::array<std::uint32_t, 90> kRepWeightBefore = {
+      0, 6, 7, 9, 13, 16, 17, 18, 21, 22, 24, 25,
+      27, 33, 36, 40, 41, 42, 45, 46, 47, 50, 51, 53,
+      56, 59, 60, 63, 66, 67, 69, 72, 75, 76, 77, 79,
+      82, 85, 86, 87, 90, 93, 95, 96, 98, 101, 102, 105,
+      107, 110, 113, 114, 116, 118, 121, 122, 129, 132, 133, 136,
+      137, 139, 145, 148, 149, 152, 155, 156, 159, 160, 163, 164,
+      167, 168, 170, 178, 181, 182, 185, 186, 189, 190, 193, 196,
+      197, 200, 201, 203, 208, 211,
+  };
+  static constexpr bool kHasDeepShape = false;
+  static constexpr bool kHasUserControlFlow = false;
+
+  // The leaf models by number (leaf::X::kModel), and one switch over the numbers of each
+  // kind the engine dispatches to: Hook::call<the model class>, or call<void> for any
+  // other number (defined below the model classes). btgen::LeafHooks
+  // (btgen/leaf_dispatch.hpp) has the hooks.
+  template <std::uint16_t M>
+  using Model = typename ModelOf<M>::type;
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args);
+
+  // The compiled script of node `n` for `which`: 1 or 0 (a condition's
+  // truth; 1 for other scripts), -1 after an error was reported.
+  static int script(Blackboard& bb, const btgen::NodeInfo& n, const btgen::ErrorSink& err,
+                    btgen::ScriptSlot which) noexcept {
+    (void)bb;
+    (void)n;
+    (void)err;
+    (void)which;
+    return 1;
+  }
+
+  // SetBlackboard and UnsetBlackboard.
+  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
+                                 [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
+    return btgen::Status::FAILURE;
+  }
+
+  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
+  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
+  // 4.6.2 reads it; 1, or -1 after reporting the error.
+  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
+    return -1;
+  }
+
+  // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
+  // WaitValueUpdate watches; -1 when the entry does not exist.
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
+                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+    return -1;
+  }
+
+  // SwitchN: the child to tick (the last one is the default).
+  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+    return static_cast<int>(n.child_count) - 1;
+  }
+
+  // LoopInt/LoopBool/LoopDouble/LoopString: pop the next element into
+  // `value`: 1, or 0 when the queue is empty, -1 after an error was reported.
+  // `restart` (the loop starts from IDLE) refills a literal queue.
+  static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
+                      [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
+    return 0;
+  }
+};
+
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml =
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"TourGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"LabTour\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
+      "_uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\" "
+      "_uid=\"31\" response=\"{response}\"/>\012"
+      "            <Fallback name=\"DeclineOrTour\" _uid=\"51\">\012"
+      "                <Sequence name=\"Declined\" _uid=\"52\">\012"
+      "                    <Inverter name=\"Inverter\" _uid=\"53\">\012"
+      "                        <IsVisitorResponseYes name=\"IsVisitorResponseYes\" _uid=\"54\" "
+      "response=\"{response}\"/>\012"
+      "                    </Inverter>\012"
+      "                    <ForceSuccess name=\"ForceSuccess\" _uid=\"55\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"56\">\012"
+      "                            <MaybeAnotherTimeSpeech name=\"MaybeAnotherTimeSpeech\" _uid=\"57\" "
+      "message=\"maybe_another_time\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"58\"/>\012"
+      "                        </Fallback>\012"
+      "                    </ForceSuccess>\012"
+      "                </Sequence>\012"
+      "                <Sequence name=\"Tour\" _uid=\"59\">\012"
+      "                    <SubTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\" "
+      "_uid=\"60\"/>\012"
+      "                    <SubTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\" _uid=\"100\"/>\012"
+      "                </Sequence>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. "
+      "QueryVisitorResponse::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryTourSpeech name=\"QueryTourSpeech\" _uid=\"34\" message=\"query_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" "
+      "num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayYesNoSpeech name=\"SayYesNoSpeech\" _uid=\"42\" "
+      "message=\"say_yes_no\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsYesNoUttered name=\"IsYesNoUttered\" _uid=\"44\" "
+      "response=\"{response}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressYesNoSpeech name=\"PressYesNoSpeech\" _uid=\"48\" "
+      "message=\"press_yes_no\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressYesNoDialogue name=\"PressYesNoDialogue\" _uid=\"50\" "
+      "response=\"{response}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"61\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"62\">\012"
+      "                <RetrieveListOfExhibits name=\"RetrieveListOfExhibits\" _uid=\"63\" "
+      "exhibits=\"{exhibits}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"64\"/>\012"
+      "            </Fallback>\012"
+      "            <Inverter name=\"UntilNoExhibitLeft\" _uid=\"65\">\012"
+      "                <KeepRunningUntilFailure name=\"ExhibitLoop\" _uid=\"66\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"67\">\012"
+      "                        <IsListWithExhibit name=\"IsListWithExhibit\" _uid=\"68\" "
+      "exhibits=\"{exhibits}\"/>\012"
+      "                        <Sequence name=\"VisitOneExhibit\" _uid=\"69\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                                <SelectExhibit name=\"SelectExhibit\" _uid=\"71\" "
+      "exhibits=\"{exhibits}\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                                <FollowMeSpeech name=\"FollowMeSpeech\" _uid=\"74\" "
+      "message=\"follow_me\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "                            </Fallback>\012"
+      "                            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
+      "VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" location_id=\"{location_id}\"/>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"91\">\012"
+      "                                <DescribeExhibitSpeech_1 name=\"DescribeExhibitSpeech_1\" "
+      "_uid=\"92\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"93\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"94\">\012"
+      "                                <PerformDeicticGesture name=\"PointToExhibit\" _uid=\"95\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"96\"/>\012"
+      "                            </Fallback>\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"97\">\012"
+      "                                <DescribeExhibitSpeech_2 name=\"DescribeExhibitSpeech_2\" "
+      "_uid=\"98\" location_id=\"{location_id}\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"99\"/>\012"
+      "                            </Fallback>\012"
+      "                        </Sequence>\012"
+      "                    </Sequence>\012"
+      "                </KeepRunningUntilFailure>\012"
+      "            </Inverter>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
+      "VisitExhibit::60/_NavigateToLocation::76\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"77\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"78\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"79\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"80\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"81\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"82\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"83\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"84\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"85\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"86\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"87\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"88\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"89\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"90\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"101\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"102\">\012"
+      "                <EndTourSpeech name=\"EndTourSpeech\" _uid=\"103\" message=\"end_of_tour\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"104\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"105\">\012"
+      "                <LookUpEntrance name=\"LookUpEntrance\" _uid=\"106\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"107\"/>\012"
+      "            </Fallback>\012"
+      "            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
+      "EndTour::100/_NavigateToLocation::108\" _uid=\"108\" location_id=\"{location_id}\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"123\">\012"
+      "                <HereIsTheDoorSpeech name=\"HereIsTheDoorSpeech\" _uid=\"124\" "
+      "message=\"here_is_the_door\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"125\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"126\">\012"
+      "                <PerformDeicticGesture name=\"PointToExit\" _uid=\"127\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"128\"/>\012"
+      "            </Fallback>\012"
+      "            <Parallel name=\"WaveAndSayGoodbye\" _uid=\"129\" success_count=\"2\" "
+      "failure_count=\"1\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"130\">\012"
+      "                    <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"131\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"132\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"133\">\012"
+      "                    <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"134\" "
+      "message=\"goodbye\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"135\"/>\012"
+      "                </Fallback>\012"
+      "            </Parallel>\012"
+      "            <SubTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
+      "EndTour::100/_NavigateToLocation::108\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"109\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"110\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"111\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"112\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"113\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"114\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"115\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"116\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"117\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"118\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"119\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"120\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"121\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"122\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"137\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"138\">\012"
+      "                <LookUpHome name=\"LookUpHome\" _uid=\"139\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"140\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"141\">\012"
+      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"142\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"143\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"144\">\012"
+      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"145\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"146\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"147\">\012"
+      "                <Navigate name=\"Navigate\" _uid=\"148\" location_id=\"{location_id}\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"149\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before "
+      "the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose pre-gesture message is "
+      "said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeExhibitSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">exhibit whose post-gesture message is "
+      "said</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"DisabledOvertAttentionMode\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EndTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"end_of_tour\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Action ID=\"FollowMeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"follow_me\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Action ID=\"HereIsTheDoorSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"here_is_the_door\">phrase "
+      "to say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsListWithExhibit\">\012"
+      "            <input_port name=\"exhibits\" type=\"std::string\">exhibits still to visit: location "
+      "ids separated by &quot;;&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorResponseYes\">\012"
+      "            <input_port name=\"response\" type=\"std::string\">the visitor&apos;s answer: "
+      "&quot;yes&quot; or &quot;no&quot;</input_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsYesNoUttered\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or "
+      "&quot;no&quot;, when one was heard</output_port>\012"
+      "        </Condition>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpEntrance\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the "
+      "entrance</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"LookUpHome\">\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the home "
+      "location</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, "
+      "std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, "
+      "std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, "
+      "std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, "
+      "std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of "
+      "the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"MaybeAnotherTimeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" "
+      "default=\"maybe_another_time\">phrase to say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"Navigate\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of the destination "
+      "(its robotLocationPose)</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; "
+      "negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the "
+      "node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated "
+      "before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at "
+      "(its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
+      "when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressYesNoDialogue\">\012"
+      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or "
+      "&quot;no&quot;, as pressed on the tablet</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"press_yes_no\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryTourSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"query_tour\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"RetrieveListOfExhibits\">\012"
+      "            <output_port name=\"exhibits\" type=\"std::string\">the tour&apos;s location ids "
+      "separated by &quot;;&quot;, in visiting order</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
+      "run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayYesNoSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_yes_no\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the "
+      "condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"SelectExhibit\">\012"
+      "            <inout_port name=\"exhibits\" type=\"std::string\">exhibits still to visit; the first "
+      "is taken off</inout_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the exhibit "
+      "taken</output_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or "
+      "{key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to "
+      "write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
+      "{key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in "
+      "milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in "
+      "milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
+      "{key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as "
+      "{key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012"sv;
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0, 1, 2, 12, 30, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 99,
+      3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 14, 15, 16, 17, 18, 19,
+      20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 31, 32, 33, 34, 35, 36,
+      37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49, 60, 61, 62,
+      63, 64, 65, 66, 67, 68, 69, 70, 71, 72, 73, 74, 75, 90, 91, 92,
+      93, 94, 95, 96, 97, 98, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85,
+      86, 87, 88, 89, 100, 101, 102, 103, 104, 105, 106, 107, 122, 123, 124, 125,
+      126, 127, 128, 129, 130, 131, 132, 133, 134, 135, 108, 109, 110, 111, 112, 113,
+      114, 115, 116, 117, 118, 119, 120, 121, 136, 137, 138, 139, 140, 141, 142, 143,
+      144, 145, 146, 147, 148,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 9> kBlackboards = {
+      "TourGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryVisitorResponse::31",
+      "IV. VisitExhibit::60",
+      "IV. VisitExhibit::60/_NavigateToLocation::76",
+      "V. EndTour::100",
+      "V. EndTour::100/_NavigateToLocation::108",
+      "V. EndTour::100/_GoHome::136",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("response"), bb.response);
+    visit(std::size_t{4}, std::string_view("exhibits"), bb.IV_VisitExhibit_exhibits);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_VisitExhibit_location_id);
+    visit(std::size_t{6}, std::string_view("location_id"), bb.V_EndTour_location_id);
+    visit(std::size_t{8}, std::string_view("location_id"), bb.V_EndTour_GoHome_location_id);
+  }
 };
 
 }  // namespace detail
@@ -709,2522 +1764,94 @@ namespace control = leaf;
 
 namespace detail {
 
-// The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
-// lang/versions.py (each one difference between 4.6.2 and later releases); the engine
-// (btgen/engine.hpp) and the data operations read them here.
-struct Semantics {
-  static constexpr std::uint32_t kBtcppVersion = 40602;
-  static constexpr bool skipped_by_count = false;
-  static constexpr bool loop_end_never_skipped = false;
-  static constexpr bool retry_rereads_attempts = false;
-  static constexpr bool precondition_if_until_started = false;
-  static constexpr bool setblackboard_converts_to_entry_type = false;
-  static constexpr bool loop_queue_untyped = false;
-  static constexpr bool switch_whole_parse = false;
-  static constexpr bool subtree_literals_typed = false;
-  static constexpr bool int_to_double_53_bits = false;
-  static constexpr bool double_from_chars = false;
-  static constexpr bool trycatch = false;
-  static constexpr bool groot2_root_blackboard = false;
-  static constexpr bool script_grammar_49 = false;
-  static constexpr bool name_validation_484 = false;
-  static constexpr bool attribute_names_484 = false;
-  static constexpr bool unique_subtree_paths = false;
-  static constexpr bool reactive_sequence_child_checks = false;
-  static constexpr bool groot2_post_hooks = false;
-  static constexpr bool groot2_insert_until_error = false;
-};
+// The leaf model classes by number, and the switches of Spec.
+template <> struct ModelOf<0> { using type = leaf::DescribeExhibitSpeech_1; };
+template <> struct ModelOf<1> { using type = leaf::DescribeExhibitSpeech_2; };
+template <> struct ModelOf<2> { using type = leaf::DisableAnimateBehavior; };
+template <> struct ModelOf<3> { using type = leaf::DisabledOvertAttentionMode; };
+template <> struct ModelOf<4> { using type = leaf::EnableAnimateBehavior; };
+template <> struct ModelOf<5> { using type = leaf::EndTourSpeech; };
+template <> struct ModelOf<6> { using type = leaf::FollowMeSpeech; };
+template <> struct ModelOf<7> { using type = leaf::GoodbyeGesture; };
+template <> struct ModelOf<8> { using type = leaf::HandleFallBack; };
+template <> struct ModelOf<9> { using type = leaf::HereIsTheDoorSpeech; };
+template <> struct ModelOf<10> { using type = leaf::IsASREnabled; };
+template <> struct ModelOf<11> { using type = leaf::IsListWithExhibit; };
+template <> struct ModelOf<12> { using type = leaf::IsMutualGazeDiscovered; };
+template <> struct ModelOf<13> { using type = leaf::IsVisitorDiscovered; };
+template <> struct ModelOf<14> { using type = leaf::IsVisitorResponseYes; };
+template <> struct ModelOf<15> { using type = leaf::IsYesNoUttered; };
+template <> struct ModelOf<16> { using type = leaf::LookUpEntrance; };
+template <> struct ModelOf<17> { using type = leaf::LookUpHome; };
+template <> struct ModelOf<18> { using type = leaf::MaybeAnotherTimeSpeech; };
+template <> struct ModelOf<19> { using type = leaf::Navigate; };
+template <> struct ModelOf<20> { using type = leaf::PerformDeicticGesture; };
+template <> struct ModelOf<21> { using type = leaf::PressYesNoDialogue; };
+template <> struct ModelOf<22> { using type = leaf::PressYesNoSpeech; };
+template <> struct ModelOf<23> { using type = leaf::QueryTourSpeech; };
+template <> struct ModelOf<24> { using type = leaf::RetrieveListOfExhibits; };
+template <> struct ModelOf<25> { using type = leaf::SayGoodByeSpeech; };
+template <> struct ModelOf<26> { using type = leaf::SayYesNoSpeech; };
+template <> struct ModelOf<27> { using type = leaf::ScanningOvertAttentionMode; };
+template <> struct ModelOf<28> { using type = leaf::SelectExhibit; };
+template <> struct ModelOf<29> { using type = leaf::SocialOvertAttentionMode; };
+template <> struct ModelOf<30> { using type = leaf::START_OF_TREE; };
+template <> struct ModelOf<31> { using type = leaf::WelcomeGesture; };
+template <> struct ModelOf<32> { using type = leaf::WelcomeSpeech; };
 
-// The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
-struct Spec {
-  using Semantics = detail::Semantics;
-  static constexpr std::string_view kSource = "missions/LabTour.xml";
-  static constexpr std::string_view kMainTree = "TourGuide";
-  static constexpr std::size_t kNodeCount = 149;
-  static constexpr std::size_t kChildCount = 148;
-  static constexpr std::size_t kCounterCount = 114;
-  static constexpr std::size_t kTimerCount = 0;
-  static constexpr std::size_t kMaxDepth = 13;
-  static constexpr bool kHasParallel = true;
-  using Blackboard = detail::Blackboard;
-
-  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
-  //   kind,
-  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
-  //   id, name,
-  //   source
-  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
-  // read by meaning through btgen::param there).
-  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      0, 1, btgen::kNoNode, 0u, 5, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("LabTour", 7),
-                      std::string_view("missions/LabTour.xml:24:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      1, 2, 0, 5u, 0, 30, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13),
-                      std::string_view("missions/LabTour.xml:28:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      2, 3, 0, 5u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16),
-                      std::string_view("missions/LabTour.xml:29:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      3, 4, 2, 6u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:75:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      4, 5, 3, 9u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:76:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      5, 6, 4, 11u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
-                      std::string_view("missions/LabTour.xml:77:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      6, 7, 4, 11u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:78:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      7, 8, 3, 11u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:80:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      8, 9, 7, 13u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:81:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      9, 10, 7, 13u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:82:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      10, 11, 3, 13u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14),
-                      std::string_view("missions/LabTour.xml:84:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      11, 12, 10, 14u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19),
-                      std::string_view("missions/LabTour.xml:85:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      12, 13, 0, 14u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17),
-                      std::string_view("missions/LabTour.xml:30:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      13, 14, 12, 15u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:91:5", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      14, 15, 13, 20u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:92:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      15, 16, 14, 22u, 3, btgen::kNoModel, 14u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30),
-                      std::string_view("missions/LabTour.xml:93:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      16, 17, 15, 25u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
-                      std::string_view("missions/LabTour.xml:94:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      17, 18, 15, 25u, 0, 31, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14),
-                      std::string_view("missions/LabTour.xml:95:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      18, 19, 15, 25u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
-                      std::string_view("missions/LabTour.xml:96:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      19, 20, 14, 25u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:99:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      20, 21, 13, 25u, 2, btgen::kNoModel, 16u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:101:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      21, 22, 20, 27u, 0, 32, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13),
-                      std::string_view("missions/LabTour.xml:102:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      22, 23, 20, 27u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:103:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      23, 24, 13, 27u, 2, btgen::kNoModel, 18u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:110:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      24, 25, 23, 29u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:111:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      25, 26, 23, 29u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:112:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      26, 27, 13, 29u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
-                      std::string_view("missions/LabTour.xml:114:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      27, 28, 13, 29u, 2, btgen::kNoModel, 20u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:120:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      28, 29, 27, 31u, 0, 29, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SocialOvertAttentionMode", 24),
-                      std::string_view("SocialOvertAttentionMode", 24),
-                      std::string_view("missions/LabTour.xml:121:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      29, 30, 27, 31u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:122:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      30, 31, 0, 31u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("III. QueryVisitorResponse", 25),
-                      std::string_view("missions/LabTour.xml:34:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      31, 32, 30, 32u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:128:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      32, 33, 31, 34u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:134:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      33, 34, 32, 36u, 0, 23, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("QueryTourSpeech", 15), std::string_view("QueryTourSpeech", 15),
-                      std::string_view("missions/LabTour.xml:135:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      34, 35, 32, 36u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:136:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      35, 36, 31, 36u, 2, btgen::kNoModel, 26u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14),
-                      std::string_view("missions/LabTour.xml:138:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      36, 37, 35, 38u, 2, btgen::kNoModel, 28u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12),
-                      std::string_view("missions/LabTour.xml:139:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      37, 38, 36, 40u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12),
-                      std::string_view("missions/LabTour.xml:140:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      38, 39, 36, 40u, 1, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 3, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17),
-                      std::string_view("missions/LabTour.xml:144:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      39, 40, 38, 41u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:145:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      40, 41, 39, 43u, 2, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:146:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      41, 42, 40, 45u, 0, 26, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SayYesNoSpeech", 14), std::string_view("SayYesNoSpeech", 14),
-                      std::string_view("missions/LabTour.xml:147:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      42, 43, 40, 45u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:148:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      43, 44, 39, 45u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsYesNoUttered", 14), std::string_view("IsYesNoUttered", 14),
-                      std::string_view("missions/LabTour.xml:150:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      44, 45, 35, 45u, 1, btgen::kNoModel, 36u, btgen::kNoSlot, 0, 3, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12),
-                      std::string_view("missions/LabTour.xml:160:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      45, 46, 44, 46u, 2, btgen::kNoModel, 38u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:161:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      46, 47, 45, 48u, 2, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:162:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      47, 48, 46, 50u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PressYesNoSpeech", 16), std::string_view("PressYesNoSpeech", 16),
-                      std::string_view("missions/LabTour.xml:163:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      48, 49, 46, 50u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:164:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      49, 50, 45, 50u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PressYesNoDialogue", 18), std::string_view("PressYesNoDialogue", 18),
-                      std::string_view("missions/LabTour.xml:171:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      50, 51, 0, 50u, 2, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("DeclineOrTour", 13),
-                      std::string_view("missions/LabTour.xml:35:7", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      51, 52, 50, 52u, 2, btgen::kNoModel, 44u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Declined", 8),
-                      std::string_view("missions/LabTour.xml:36:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::Inverter,
-                      52, 53, 51, 54u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Inverter", 8), std::string_view("Inverter", 8),
-                      std::string_view("missions/LabTour.xml:40:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      53, 54, 52, 55u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsVisitorResponseYes", 20), std::string_view("IsVisitorResponseYes", 20),
-                      std::string_view("missions/LabTour.xml:41:13", 26)},
-      btgen::NodeInfo{btgen::NodeKind::ForceSuccess,
-                      54, 55, 51, 55u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ForceSuccess", 12), std::string_view("ForceSuccess", 12),
-                      std::string_view("missions/LabTour.xml:47:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      55, 56, 54, 56u, 2, btgen::kNoModel, 46u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:48:13", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      56, 57, 55, 58u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("MaybeAnotherTimeSpeech", 22), std::string_view("MaybeAnotherTimeSpeech", 22),
-                      std::string_view("missions/LabTour.xml:49:15", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      57, 58, 55, 58u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:50:15", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      58, 59, 50, 58u, 2, btgen::kNoModel, 48u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Tour", 4),
-                      std::string_view("missions/LabTour.xml:54:9", 25)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      59, 60, 58, 60u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("IV. VisitExhibit", 16),
-                      std::string_view("missions/LabTour.xml:58:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      60, 61, 59, 61u, 2, btgen::kNoModel, 50u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:182:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      61, 62, 60, 63u, 2, btgen::kNoModel, 52u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:183:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      62, 63, 61, 65u, 0, 24, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("RetrieveListOfExhibits", 22), std::string_view("RetrieveListOfExhibits", 22),
-                      std::string_view("missions/LabTour.xml:184:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      63, 64, 61, 65u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:185:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Inverter,
-                      64, 65, 60, 65u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Inverter", 8), std::string_view("UntilNoExhibitLeft", 18),
-                      std::string_view("missions/LabTour.xml:187:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::KeepRunningUntilFailure,
-                      65, 66, 64, 66u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("KeepRunningUntilFailure", 23), std::string_view("ExhibitLoop", 11),
-                      std::string_view("missions/LabTour.xml:188:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      66, 67, 65, 67u, 2, btgen::kNoModel, 54u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:189:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      67, 68, 66, 69u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsListWithExhibit", 17), std::string_view("IsListWithExhibit", 17),
-                      std::string_view("missions/LabTour.xml:190:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      68, 69, 66, 69u, 6, btgen::kNoModel, 56u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("VisitOneExhibit", 15),
-                      std::string_view("missions/LabTour.xml:191:13", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      69, 70, 68, 75u, 2, btgen::kNoModel, 58u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:192:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      70, 71, 69, 77u, 0, 28, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SelectExhibit", 13), std::string_view("SelectExhibit", 13),
-                      std::string_view("missions/LabTour.xml:193:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      71, 72, 69, 77u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:194:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      72, 73, 68, 77u, 2, btgen::kNoModel, 60u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:196:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      73, 74, 72, 79u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("FollowMeSpeech", 14), std::string_view("FollowMeSpeech", 14),
-                      std::string_view("missions/LabTour.xml:197:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      74, 75, 72, 79u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:198:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      75, 76, 68, 79u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19),
-                      std::string_view("missions/LabTour.xml:202:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      76, 77, 75, 80u, 5, btgen::kNoModel, 62u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:269:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      77, 78, 76, 85u, 2, btgen::kNoModel, 64u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:274:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      78, 79, 77, 87u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:275:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      79, 80, 77, 87u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:276:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      80, 81, 76, 87u, 2, btgen::kNoModel, 66u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:278:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      81, 82, 80, 89u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
-                      std::string_view("missions/LabTour.xml:279:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      82, 83, 80, 89u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:280:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      83, 84, 76, 89u, 2, btgen::kNoModel, 68u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:282:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      84, 85, 83, 91u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
-                      std::string_view("missions/LabTour.xml:283:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      85, 86, 83, 91u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:284:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      86, 87, 76, 91u, 2, btgen::kNoModel, 70u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:288:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      87, 88, 86, 93u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:289:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      88, 89, 86, 93u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:290:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      89, 90, 76, 93u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
-                      std::string_view("missions/LabTour.xml:292:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      90, 91, 68, 93u, 2, btgen::kNoModel, 72u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:203:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      91, 92, 90, 95u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DescribeExhibitSpeech_1", 23),
-                      std::string_view("DescribeExhibitSpeech_1", 23),
-                      std::string_view("missions/LabTour.xml:204:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      92, 93, 90, 95u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:205:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      93, 94, 68, 95u, 2, btgen::kNoModel, 74u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:210:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      94, 95, 93, 97u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExhibit", 14),
-                      std::string_view("missions/LabTour.xml:211:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      95, 96, 93, 97u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:212:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      96, 97, 68, 97u, 2, btgen::kNoModel, 76u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:214:15", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      97, 98, 96, 99u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DescribeExhibitSpeech_2", 23),
-                      std::string_view("DescribeExhibitSpeech_2", 23),
-                      std::string_view("missions/LabTour.xml:215:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      98, 99, 96, 99u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:216:17", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      99, 100, 58, 99u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("V. EndTour", 10),
-                      std::string_view("missions/LabTour.xml:59:11", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      100, 101, 99, 100u, 7, btgen::kNoModel, 78u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:226:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      101, 102, 100, 107u, 2, btgen::kNoModel, 80u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:227:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      102, 103, 101, 109u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("EndTourSpeech", 13), std::string_view("EndTourSpeech", 13),
-                      std::string_view("missions/LabTour.xml:228:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      103, 104, 101, 109u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:229:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      104, 105, 100, 109u, 2, btgen::kNoModel, 82u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:231:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      105, 106, 104, 111u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("LookUpEntrance", 14), std::string_view("LookUpEntrance", 14),
-                      std::string_view("missions/LabTour.xml:232:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      106, 107, 104, 111u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:233:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      107, 108, 100, 111u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("_NavigateToLocation", 19),
-                      std::string_view("missions/LabTour.xml:237:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      108, 109, 107, 112u, 5, btgen::kNoModel, 84u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:269:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      109, 110, 108, 117u, 2, btgen::kNoModel, 86u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:274:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      110, 111, 109, 119u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:275:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      111, 112, 109, 119u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:276:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      112, 113, 108, 119u, 2, btgen::kNoModel, 88u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:278:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      113, 114, 112, 121u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
-                      std::string_view("missions/LabTour.xml:279:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      114, 115, 112, 121u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:280:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      115, 116, 108, 121u, 2, btgen::kNoModel, 90u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:282:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      116, 117, 115, 123u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
-                      std::string_view("missions/LabTour.xml:283:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      117, 118, 115, 123u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:284:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      118, 119, 108, 123u, 2, btgen::kNoModel, 92u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:288:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      119, 120, 118, 125u, 0, 27, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:289:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      120, 121, 118, 125u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:290:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      121, 122, 108, 125u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
-                      std::string_view("missions/LabTour.xml:292:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      122, 123, 100, 125u, 2, btgen::kNoModel, 94u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:238:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      123, 124, 122, 127u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HereIsTheDoorSpeech", 19), std::string_view("HereIsTheDoorSpeech", 19),
-                      std::string_view("missions/LabTour.xml:239:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      124, 125, 122, 127u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:240:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      125, 126, 100, 127u, 2, btgen::kNoModel, 96u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:244:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      126, 127, 125, 129u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToExit", 11),
-                      std::string_view("missions/LabTour.xml:245:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      127, 128, 125, 129u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:246:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Parallel,
-                      128, 129, 100, 129u, 2, btgen::kNoModel, 98u, btgen::kNoSlot, 0, 2, 1, 0,
-                      std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17),
-                      std::string_view("missions/LabTour.xml:248:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      129, 130, 128, 131u, 2, btgen::kNoModel, 100u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:249:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      130, 131, 129, 133u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14),
-                      std::string_view("missions/LabTour.xml:250:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      131, 132, 129, 133u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:251:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      132, 133, 128, 133u, 2, btgen::kNoModel, 102u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:255:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      133, 134, 132, 135u, 0, 25, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16),
-                      std::string_view("missions/LabTour.xml:256:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      134, 135, 132, 135u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:257:11", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      135, 136, 100, 135u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("_GoHome", 7),
-                      std::string_view("missions/LabTour.xml:260:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      136, 137, 135, 136u, 4, btgen::kNoModel, 104u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/LabTour.xml:300:5", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      137, 138, 136, 140u, 2, btgen::kNoModel, 106u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:301:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      138, 139, 137, 142u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("LookUpHome", 10), std::string_view("LookUpHome", 10),
-                      std::string_view("missions/LabTour.xml:302:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      139, 140, 137, 142u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:303:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      140, 141, 136, 142u, 2, btgen::kNoModel, 108u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:305:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      141, 142, 140, 144u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("DisabledOvertAttentionMode", 26),
-                      std::string_view("missions/LabTour.xml:306:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      142, 143, 140, 144u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:307:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      143, 144, 136, 144u, 2, btgen::kNoModel, 110u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:309:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      144, 145, 143, 146u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
-                      std::string_view("missions/LabTour.xml:310:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      145, 146, 143, 146u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:311:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      146, 147, 136, 146u, 2, btgen::kNoModel, 112u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/LabTour.xml:313:7", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      147, 148, 146, 148u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Navigate", 8), std::string_view("Navigate", 8),
-                      std::string_view("missions/LabTour.xml:314:9", 26)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      148, 149, 146, 148u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/LabTour.xml:315:9", 26)},
-  };
-
-  // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
-  static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
-  };
-
-  static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
-      1,
-      2,
-      12,
-      30,
-      50,
-      3,
-      4,
-      7,
-      10,
-      5,
-      6,
-      8,
-      9,
-      11,
-      13,
-      14,
-      20,
-      23,
-      26,
-      27,
-      15,
-      19,
-      16,
-      17,
-      18,
-      21,
-      22,
-      24,
-      25,
-      28,
-      29,
-      31,
-      32,
-      35,
-      33,
-      34,
-      36,
-      44,
-      37,
-      38,
-      39,
-      40,
-      43,
-      41,
-      42,
-      45,
-      46,
-      49,
-      47,
-      48,
-      51,
-      58,
-      52,
-      54,
-      53,
-      55,
-      56,
-      57,
-      59,
-      99,
-      60,
-      61,
-      64,
-      62,
-      63,
-      65,
-      66,
-      67,
-      68,
-      69,
-      72,
-      75,
-      90,
-      93,
-      96,
-      70,
-      71,
-      73,
-      74,
-      76,
-      77,
-      80,
-      83,
-      86,
-      89,
-      78,
-      79,
-      81,
-      82,
-      84,
-      85,
-      87,
-      88,
-      91,
-      92,
-      94,
-      95,
-      97,
-      98,
-      100,
-      101,
-      104,
-      107,
-      122,
-      125,
-      128,
-      135,
-      102,
-      103,
-      105,
-      106,
-      108,
-      109,
-      112,
-      115,
-      118,
-      121,
-      110,
-      111,
-      113,
-      114,
-      116,
-      117,
-      119,
-      120,
-      123,
-      124,
-      126,
-      127,
-      129,
-      132,
-      130,
-      131,
-      133,
-      134,
-      136,
-      137,
-      140,
-      143,
-      146,
-      138,
-      139,
-      141,
-      142,
-      144,
-      145,
-      147,
-      148,
-  };
-
-  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
-  // the shape of every node, the first node of every shape (65535: too deep for straight-line
-  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
-  static constexpr std::size_t kShapeCount = 90;
-  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
-      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
-      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
-      6, 38, 39, 40, 41, 42, 43, 44, 45, 6, 46, 47, 48, 49, 50, 6,
-      51, 52, 53, 54, 55, 56, 57, 6, 58, 59, 6, 60, 61, 62, 63, 6,
-      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 67, 68, 6, 69, 70, 6,
-      71, 72, 6, 73, 74, 75, 76, 6, 77, 78, 6, 60, 61, 62, 63, 6,
-      64, 15, 6, 65, 66, 6, 7, 8, 6, 19, 79, 80, 6, 69, 70, 6,
-      81, 82, 83, 6, 84, 85, 6, 86, 87, 88, 89, 6, 62, 63, 6, 64,
-      15, 6, 65, 66, 6,
-  };
-  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
-      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
-      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
-      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
-      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
-      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
-  };
-  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
-      1, 1, 1, 1, 1, 2, 34, 4, 4, 1, 1, 1, 1, 1, 1, 4,
-      1, 1, 1, 3, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 3,
-      3, 3, 3, 1, 1, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-  };
-  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
-  // plus its children), the first node of every compiled shape in creation order and the
-  // weight of those before it; whether a shape is too deep, and whether the mission has
-  // Controls or Decorators of its own (both run on the interpreter).
-  static constexpr std::size_t kTotalWeight = 297;
-  static constexpr std::array<std::uint16_t, 90> kRepNode = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
-      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
-      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 56, 58, 59,
-      60, 61, 62, 64, 65, 66, 67, 68, 69, 70, 72, 73, 75, 76, 77, 78,
-      80, 83, 84, 90, 91, 93, 94, 96, 97, 99, 100, 101, 102, 104, 105, 122,
-      123, 128, 129, 130, 132, 133, 135, 136, 137, 138,
-  };
-  static constexpr std::array<std::uint32_t, 90> kRepWeightBefore = {
-      0, 6, 7, 9, 13, 16, 17, 18, 21, 22, 24, 25,
-      27, 33, 36, 40, 41, 42, 45, 46, 47, 50, 51, 53,
-      56, 59, 60, 63, 66, 67, 69, 72, 75, 76, 77, 79,
-      82, 85, 86, 87, 90, 93, 95, 96, 98, 101, 102, 105,
-      107, 110, 113, 114, 116, 118, 121, 122, 129, 132, 133, 136,
-      137, 139, 145, 148, 149, 152, 155, 156, 159, 160, 163, 164,
-      167, 168, 170, 178, 181, 182, 185, 186, 189, 190, 193, 196,
-      197, 200, 201, 203, 208, 211,
-  };
-  static constexpr bool kHasDeepShape = false;
-  static constexpr bool kHasUserControlFlow = false;
-
-  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
-  // (M: what the engine's straight-line code calls, the model a constant there) or by the
-  // node's (what the table interpreter calls).
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                  [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_1>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DescribeExhibitSpeech_1");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeExhibitSpeech_2>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DescribeExhibitSpeech_2");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::DisableAnimateBehavior model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DisableAnimateBehavior");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::DisabledOvertAttentionMode model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DisabledOvertAttentionMode>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DisabledOvertAttentionMode");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 4) {
-      leaf::EnableAnimateBehavior model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action EnableAnimateBehavior");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 5) {
-      leaf::EndTourSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::EndTourSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action EndTourSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 6) {
-      leaf::FollowMeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::FollowMeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action FollowMeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 7) {
-      leaf::GoodbyeGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action GoodbyeGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 8) {
-      leaf::HandleFallBack model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action HandleFallBack");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 9) {
-      leaf::HereIsTheDoorSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::HereIsTheDoorSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action HereIsTheDoorSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 16) {
-      leaf::LookUpEntrance model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpEntrance>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action LookUpEntrance");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 17) {
-      leaf::LookUpHome model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpHome>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action LookUpHome");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 18) {
-      leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::MaybeAnotherTimeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action MaybeAnotherTimeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 19) {
-      leaf::Navigate model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::Navigate>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action Navigate");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 20) {
-      leaf::PerformDeicticGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PerformDeicticGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 21) {
-      leaf::PressYesNoDialogue model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoDialogue>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PressYesNoDialogue");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 22) {
-      leaf::PressYesNoSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PressYesNoSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PressYesNoSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 23) {
-      leaf::QueryTourSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryTourSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action QueryTourSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 24) {
-      leaf::RetrieveListOfExhibits model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::RetrieveListOfExhibits>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action RetrieveListOfExhibits");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 25) {
-      leaf::SayGoodByeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SayGoodByeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 26) {
-      leaf::SayYesNoSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SayYesNoSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SayYesNoSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 27) {
-      leaf::ScanningOvertAttentionMode model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action ScanningOvertAttentionMode");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 28) {
-      leaf::SelectExhibit model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SelectExhibit>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SelectExhibit");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 29) {
-      leaf::SocialOvertAttentionMode model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SocialOvertAttentionMode");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 30) {
-      leaf::START_OF_TREE model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action START_OF_TREE");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 31) {
-      leaf::WelcomeGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action WelcomeGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 32) {
-      leaf::WelcomeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action WelcomeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 0: return Hook::template call<leaf::DescribeExhibitSpeech_1>(args...);
+    case 1: return Hook::template call<leaf::DescribeExhibitSpeech_2>(args...);
+    case 2: return Hook::template call<leaf::DisableAnimateBehavior>(args...);
+    case 3: return Hook::template call<leaf::DisabledOvertAttentionMode>(args...);
+    case 4: return Hook::template call<leaf::EnableAnimateBehavior>(args...);
+    case 5: return Hook::template call<leaf::EndTourSpeech>(args...);
+    case 6: return Hook::template call<leaf::FollowMeSpeech>(args...);
+    case 7: return Hook::template call<leaf::GoodbyeGesture>(args...);
+    case 8: return Hook::template call<leaf::HandleFallBack>(args...);
+    case 9: return Hook::template call<leaf::HereIsTheDoorSpeech>(args...);
+    case 16: return Hook::template call<leaf::LookUpEntrance>(args...);
+    case 17: return Hook::template call<leaf::LookUpHome>(args...);
+    case 18: return Hook::template call<leaf::MaybeAnotherTimeSpeech>(args...);
+    case 19: return Hook::template call<leaf::Navigate>(args...);
+    case 20: return Hook::template call<leaf::PerformDeicticGesture>(args...);
+    case 21: return Hook::template call<leaf::PressYesNoDialogue>(args...);
+    case 22: return Hook::template call<leaf::PressYesNoSpeech>(args...);
+    case 23: return Hook::template call<leaf::QueryTourSpeech>(args...);
+    case 24: return Hook::template call<leaf::RetrieveListOfExhibits>(args...);
+    case 25: return Hook::template call<leaf::SayGoodByeSpeech>(args...);
+    case 26: return Hook::template call<leaf::SayYesNoSpeech>(args...);
+    case 27: return Hook::template call<leaf::ScanningOvertAttentionMode>(args...);
+    case 28: return Hook::template call<leaf::SelectExhibit>(args...);
+    case 29: return Hook::template call<leaf::SocialOvertAttentionMode>(args...);
+    case 30: return Hook::template call<leaf::START_OF_TREE>(args...);
+    case 31: return Hook::template call<leaf::WelcomeGesture>(args...);
+    case 32: return Hook::template call<leaf::WelcomeSpeech>(args...);
+    default: return Hook::template call<void>(args...);
   }
+}
 
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                    [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::DisableAnimateBehavior model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::DisabledOvertAttentionMode model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 4) {
-      leaf::EnableAnimateBehavior model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 5) {
-      leaf::EndTourSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 6) {
-      leaf::FollowMeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 7) {
-      leaf::GoodbyeGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 8) {
-      leaf::HandleFallBack model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 9) {
-      leaf::HereIsTheDoorSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 16) {
-      leaf::LookUpEntrance model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 17) {
-      leaf::LookUpHome model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpHome>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 18) {
-      leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 19) {
-      leaf::Navigate model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::Navigate>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 20) {
-      leaf::PerformDeicticGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 21) {
-      leaf::PressYesNoDialogue model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 22) {
-      leaf::PressYesNoSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 23) {
-      leaf::QueryTourSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 24) {
-      leaf::RetrieveListOfExhibits model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 25) {
-      leaf::SayGoodByeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 26) {
-      leaf::SayYesNoSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 27) {
-      leaf::ScanningOvertAttentionMode model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 28) {
-      leaf::SelectExhibit model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SelectExhibit>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 29) {
-      leaf::SocialOvertAttentionMode model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 30) {
-      leaf::START_OF_TREE model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 31) {
-      leaf::WelcomeGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 32) {
-      leaf::WelcomeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_condition(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 10: return Hook::template call<leaf::IsASREnabled>(args...);
+    case 11: return Hook::template call<leaf::IsListWithExhibit>(args...);
+    case 12: return Hook::template call<leaf::IsMutualGazeDiscovered>(args...);
+    case 13: return Hook::template call<leaf::IsVisitorDiscovered>(args...);
+    case 14: return Hook::template call<leaf::IsVisitorResponseYes>(args...);
+    case 15: return Hook::template call<leaf::IsYesNoUttered>(args...);
+    default: return Hook::template call<void>(args...);
   }
+}
 
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                               [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 10) {
-      leaf::IsASREnabled model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 11) {
-      leaf::IsListWithExhibit model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 12) {
-      leaf::IsMutualGazeDiscovered model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 13) {
-      leaf::IsVisitorDiscovered model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 14) {
-      leaf::IsVisitorResponseYes model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 15) {
-      leaf::IsYesNoUttered model(bb, err, node);
-      return leaves.check(model, node);
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_user_node(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
   }
-
-  template <class Leaves>
-  static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_start_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_start_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_start_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_start_m<Leaves, 3>(leaves, bb, err, node);
-      case 4:
-        return on_start_m<Leaves, 4>(leaves, bb, err, node);
-      case 5:
-        return on_start_m<Leaves, 5>(leaves, bb, err, node);
-      case 6:
-        return on_start_m<Leaves, 6>(leaves, bb, err, node);
-      case 7:
-        return on_start_m<Leaves, 7>(leaves, bb, err, node);
-      case 8:
-        return on_start_m<Leaves, 8>(leaves, bb, err, node);
-      case 9:
-        return on_start_m<Leaves, 9>(leaves, bb, err, node);
-      case 16:
-        return on_start_m<Leaves, 16>(leaves, bb, err, node);
-      case 17:
-        return on_start_m<Leaves, 17>(leaves, bb, err, node);
-      case 18:
-        return on_start_m<Leaves, 18>(leaves, bb, err, node);
-      case 19:
-        return on_start_m<Leaves, 19>(leaves, bb, err, node);
-      case 20:
-        return on_start_m<Leaves, 20>(leaves, bb, err, node);
-      case 21:
-        return on_start_m<Leaves, 21>(leaves, bb, err, node);
-      case 22:
-        return on_start_m<Leaves, 22>(leaves, bb, err, node);
-      case 23:
-        return on_start_m<Leaves, 23>(leaves, bb, err, node);
-      case 24:
-        return on_start_m<Leaves, 24>(leaves, bb, err, node);
-      case 25:
-        return on_start_m<Leaves, 25>(leaves, bb, err, node);
-      case 26:
-        return on_start_m<Leaves, 26>(leaves, bb, err, node);
-      case 27:
-        return on_start_m<Leaves, 27>(leaves, bb, err, node);
-      case 28:
-        return on_start_m<Leaves, 28>(leaves, bb, err, node);
-      case 29:
-        return on_start_m<Leaves, 29>(leaves, bb, err, node);
-      case 30:
-        return on_start_m<Leaves, 30>(leaves, bb, err, node);
-      case 31:
-        return on_start_m<Leaves, 31>(leaves, bb, err, node);
-      case 32:
-        return on_start_m<Leaves, 32>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_running_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_running_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_running_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_running_m<Leaves, 3>(leaves, bb, err, node);
-      case 4:
-        return on_running_m<Leaves, 4>(leaves, bb, err, node);
-      case 5:
-        return on_running_m<Leaves, 5>(leaves, bb, err, node);
-      case 6:
-        return on_running_m<Leaves, 6>(leaves, bb, err, node);
-      case 7:
-        return on_running_m<Leaves, 7>(leaves, bb, err, node);
-      case 8:
-        return on_running_m<Leaves, 8>(leaves, bb, err, node);
-      case 9:
-        return on_running_m<Leaves, 9>(leaves, bb, err, node);
-      case 16:
-        return on_running_m<Leaves, 16>(leaves, bb, err, node);
-      case 17:
-        return on_running_m<Leaves, 17>(leaves, bb, err, node);
-      case 18:
-        return on_running_m<Leaves, 18>(leaves, bb, err, node);
-      case 19:
-        return on_running_m<Leaves, 19>(leaves, bb, err, node);
-      case 20:
-        return on_running_m<Leaves, 20>(leaves, bb, err, node);
-      case 21:
-        return on_running_m<Leaves, 21>(leaves, bb, err, node);
-      case 22:
-        return on_running_m<Leaves, 22>(leaves, bb, err, node);
-      case 23:
-        return on_running_m<Leaves, 23>(leaves, bb, err, node);
-      case 24:
-        return on_running_m<Leaves, 24>(leaves, bb, err, node);
-      case 25:
-        return on_running_m<Leaves, 25>(leaves, bb, err, node);
-      case 26:
-        return on_running_m<Leaves, 26>(leaves, bb, err, node);
-      case 27:
-        return on_running_m<Leaves, 27>(leaves, bb, err, node);
-      case 28:
-        return on_running_m<Leaves, 28>(leaves, bb, err, node);
-      case 29:
-        return on_running_m<Leaves, 29>(leaves, bb, err, node);
-      case 30:
-        return on_running_m<Leaves, 30>(leaves, bb, err, node);
-      case 31:
-        return on_running_m<Leaves, 31>(leaves, bb, err, node);
-      case 32:
-        return on_running_m<Leaves, 32>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0: {
-        leaf::DescribeExhibitSpeech_1 model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>) leaves.onHalted(model, node);
-        return;
-      }
-      case 1: {
-        leaf::DescribeExhibitSpeech_2 model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>) leaves.onHalted(model, node);
-        return;
-      }
-      case 2: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) leaves.onHalted(model, node);
-        return;
-      }
-      case 3: {
-        leaf::DisabledOvertAttentionMode model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>) leaves.onHalted(model, node);
-        return;
-      }
-      case 4: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) leaves.onHalted(model, node);
-        return;
-      }
-      case 5: {
-        leaf::EndTourSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::EndTourSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 6: {
-        leaf::FollowMeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 7: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 8: {
-        leaf::HandleFallBack model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::HandleFallBack>) leaves.onHalted(model, node);
-        return;
-      }
-      case 9: {
-        leaf::HereIsTheDoorSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 16: {
-        leaf::LookUpEntrance model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpEntrance>) leaves.onHalted(model, node);
-        return;
-      }
-      case 17: {
-        leaf::LookUpHome model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpHome>) leaves.onHalted(model, node);
-        return;
-      }
-      case 18: {
-        leaf::MaybeAnotherTimeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 19: {
-        leaf::Navigate model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::Navigate>) leaves.onHalted(model, node);
-        return;
-      }
-      case 20: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 21: {
-        leaf::PressYesNoDialogue model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>) leaves.onHalted(model, node);
-        return;
-      }
-      case 22: {
-        leaf::PressYesNoSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 23: {
-        leaf::QueryTourSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 24: {
-        leaf::RetrieveListOfExhibits model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>) leaves.onHalted(model, node);
-        return;
-      }
-      case 25: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 26: {
-        leaf::SayYesNoSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 27: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) leaves.onHalted(model, node);
-        return;
-      }
-      case 28: {
-        leaf::SelectExhibit model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SelectExhibit>) leaves.onHalted(model, node);
-        return;
-      }
-      case 29: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) leaves.onHalted(model, node);
-        return;
-      }
-      case 30: {
-        leaf::START_OF_TREE model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) leaves.onHalted(model, node);
-        return;
-      }
-      case 31: {
-        leaf::WelcomeGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 32: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-  }
-
-  // Whether the node is an Action that Leaves implements as a SyncActionNode
-  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
-  template <class Leaves>
-  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
-    switch (node.model) {
-      case 0:
-        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_1>;
-      case 1:
-        return btgen::is_sync_action<Leaves, leaf::DescribeExhibitSpeech_2>;
-      case 2:
-        return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
-      case 3:
-        return btgen::is_sync_action<Leaves, leaf::DisabledOvertAttentionMode>;
-      case 4:
-        return btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>;
-      case 5:
-        return btgen::is_sync_action<Leaves, leaf::EndTourSpeech>;
-      case 6:
-        return btgen::is_sync_action<Leaves, leaf::FollowMeSpeech>;
-      case 7:
-        return btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>;
-      case 8:
-        return btgen::is_sync_action<Leaves, leaf::HandleFallBack>;
-      case 9:
-        return btgen::is_sync_action<Leaves, leaf::HereIsTheDoorSpeech>;
-      case 16:
-        return btgen::is_sync_action<Leaves, leaf::LookUpEntrance>;
-      case 17:
-        return btgen::is_sync_action<Leaves, leaf::LookUpHome>;
-      case 18:
-        return btgen::is_sync_action<Leaves, leaf::MaybeAnotherTimeSpeech>;
-      case 19:
-        return btgen::is_sync_action<Leaves, leaf::Navigate>;
-      case 20:
-        return btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>;
-      case 21:
-        return btgen::is_sync_action<Leaves, leaf::PressYesNoDialogue>;
-      case 22:
-        return btgen::is_sync_action<Leaves, leaf::PressYesNoSpeech>;
-      case 23:
-        return btgen::is_sync_action<Leaves, leaf::QueryTourSpeech>;
-      case 24:
-        return btgen::is_sync_action<Leaves, leaf::RetrieveListOfExhibits>;
-      case 25:
-        return btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>;
-      case 26:
-        return btgen::is_sync_action<Leaves, leaf::SayYesNoSpeech>;
-      case 27:
-        return btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>;
-      case 28:
-        return btgen::is_sync_action<Leaves, leaf::SelectExhibit>;
-      case 29:
-        return btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>;
-      case 30:
-        return btgen::is_sync_action<Leaves, leaf::START_OF_TREE>;
-      case 31:
-        return btgen::is_sync_action<Leaves, leaf::WelcomeGesture>;
-      case 32:
-        return btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>;
-      default:
-        break;
-    }
-    return false;
-  }
-
-  // The mission's own Controls and Decorators: tick() and the optional halt().
-  template <class Leaves>
-  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-  }
-
-  template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                             [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 10:
-        return check_m<Leaves, 10>(leaves, bb, err, node);
-      case 11:
-        return check_m<Leaves, 11>(leaves, bb, err, node);
-      case 12:
-        return check_m<Leaves, 12>(leaves, bb, err, node);
-      case 13:
-        return check_m<Leaves, 13>(leaves, bb, err, node);
-      case 14:
-        return check_m<Leaves, 14>(leaves, bb, err, node);
-      case 15:
-        return check_m<Leaves, 15>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  // The compiled script of node `n` for `which`: 1 or 0 (a condition's
-  // truth; 1 for other scripts), -1 after an error was reported.
-  static int script(Blackboard& bb, const btgen::NodeInfo& n, const btgen::ErrorSink& err,
-                    btgen::ScriptSlot which) noexcept {
-    (void)bb;
-    (void)n;
-    (void)err;
-    (void)which;
-    return 1;
-  }
-
-  // SetBlackboard and UnsetBlackboard.
-  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
-                                 [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
-    return btgen::Status::FAILURE;
-  }
-
-  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
-  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
-  // 4.6.2 reads it; 1, or -1 after reporting the error.
-  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
-    return -1;
-  }
-
-  // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
-  // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
-                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
-    return -1;
-  }
-
-  // SwitchN: the child to tick (the last one is the default).
-  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
-    return static_cast<int>(n.child_count) - 1;
-  }
-
-  // LoopInt/LoopBool/LoopDouble/LoopString: pop the next element into
-  // `value`: 1, or 0 when the queue is empty, -1 after an error was reported.
-  // `restart` (the loop starts from IDLE) refills a literal queue.
-  static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
-                      [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
-    return 0;
-  }
-};
-
-// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
-struct Groot2 {
-  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
-  // (Its length is given: constant evaluation then does no strlen, which a large tree's
-  // text would take past the compilers' constexpr step limits.)
-  static constexpr std::string_view kTreeXml = std::string_view(
-      "<root BTCPP_format=\"4\">\012"
-      "    <BehaviorTree ID=\"TourGuide\" _fullpath=\"\">\012"
-      "        <Sequence name=\"LabTour\" _uid=\"1\">\012"
-      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
-      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
-      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
-      "_uid=\"13\"/>\012"
-      "            <SubTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\" "
-      "_uid=\"31\" response=\"{response}\"/>\012"
-      "            <Fallback name=\"DeclineOrTour\" _uid=\"51\">\012"
-      "                <Sequence name=\"Declined\" _uid=\"52\">\012"
-      "                    <Inverter name=\"Inverter\" _uid=\"53\">\012"
-      "                        <IsVisitorResponseYes name=\"IsVisitorResponseYes\" _uid=\"54\" "
-      "response=\"{response}\"/>\012"
-      "                    </Inverter>\012"
-      "                    <ForceSuccess name=\"ForceSuccess\" _uid=\"55\">\012"
-      "                        <Fallback name=\"Fallback\" _uid=\"56\">\012"
-      "                            <MaybeAnotherTimeSpeech name=\"MaybeAnotherTimeSpeech\" _uid=\"57\" "
-      "message=\"maybe_another_time\"/>\012"
-      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"58\"/>\012"
-      "                        </Fallback>\012"
-      "                    </ForceSuccess>\012"
-      "                </Sequence>\012"
-      "                <Sequence name=\"Tour\" _uid=\"59\">\012"
-      "                    <SubTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\" "
-      "_uid=\"60\"/>\012"
-      "                    <SubTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\" _uid=\"100\"/>\012"
-      "                </Sequence>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
-      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
-      "            </Fallback>\012"
-      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
-      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
-      "            </RetryUntilSuccessful>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
-      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
-      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
-      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
-      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
-      "                </Sequence>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
-      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" message=\"welcome\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
-      "            </Fallback>\012"
-      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
-      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. "
-      "QueryVisitorResponse::31\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
-      "                <QueryTourSpeech name=\"QueryTourSpeech\" _uid=\"34\" message=\"query_tour\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
-      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
-      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
-      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" "
-      "num_attempts=\"3\">\012"
-      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
-      "                                <SayYesNoSpeech name=\"SayYesNoSpeech\" _uid=\"42\" "
-      "message=\"say_yes_no\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
-      "                            </Fallback>\012"
-      "                            <IsYesNoUttered name=\"IsYesNoUttered\" _uid=\"44\" "
-      "response=\"{response}\"/>\012"
-      "                        </Sequence>\012"
-      "                    </RetryUntilSuccessful>\012"
-      "                </Sequence>\012"
-      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
-      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
-      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
-      "                            <PressYesNoSpeech name=\"PressYesNoSpeech\" _uid=\"48\" "
-      "message=\"press_yes_no\"/>\012"
-      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
-      "                        </Fallback>\012"
-      "                        <PressYesNoDialogue name=\"PressYesNoDialogue\" _uid=\"50\" "
-      "response=\"{response}\"/>\012"
-      "                    </Sequence>\012"
-      "                </RetryUntilSuccessful>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"61\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"62\">\012"
-      "                <RetrieveListOfExhibits name=\"RetrieveListOfExhibits\" _uid=\"63\" "
-      "exhibits=\"{exhibits}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"64\"/>\012"
-      "            </Fallback>\012"
-      "            <Inverter name=\"UntilNoExhibitLeft\" _uid=\"65\">\012"
-      "                <KeepRunningUntilFailure name=\"ExhibitLoop\" _uid=\"66\">\012"
-      "                    <Sequence name=\"Sequence\" _uid=\"67\">\012"
-      "                        <IsListWithExhibit name=\"IsListWithExhibit\" _uid=\"68\" "
-      "exhibits=\"{exhibits}\"/>\012"
-      "                        <Sequence name=\"VisitOneExhibit\" _uid=\"69\">\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"70\">\012"
-      "                                <SelectExhibit name=\"SelectExhibit\" _uid=\"71\" "
-      "exhibits=\"{exhibits}\" location_id=\"{location_id}\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
-      "                            </Fallback>\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"73\">\012"
-      "                                <FollowMeSpeech name=\"FollowMeSpeech\" _uid=\"74\" "
-      "message=\"follow_me\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
-      "                            </Fallback>\012"
-      "                            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
-      "VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" location_id=\"{location_id}\"/>\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"91\">\012"
-      "                                <DescribeExhibitSpeech_1 name=\"DescribeExhibitSpeech_1\" "
-      "_uid=\"92\" location_id=\"{location_id}\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"93\"/>\012"
-      "                            </Fallback>\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"94\">\012"
-      "                                <PerformDeicticGesture name=\"PointToExhibit\" _uid=\"95\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"96\"/>\012"
-      "                            </Fallback>\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"97\">\012"
-      "                                <DescribeExhibitSpeech_2 name=\"DescribeExhibitSpeech_2\" "
-      "_uid=\"98\" location_id=\"{location_id}\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"99\"/>\012"
-      "                            </Fallback>\012"
-      "                        </Sequence>\012"
-      "                    </Sequence>\012"
-      "                </KeepRunningUntilFailure>\012"
-      "            </Inverter>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
-      "VisitExhibit::60/_NavigateToLocation::76\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"77\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"78\">\012"
-      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"79\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"80\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"81\">\012"
-      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"82\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"83\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"84\">\012"
-      "                <Navigate name=\"Navigate\" _uid=\"85\" location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"86\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"87\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"88\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"89\"/>\012"
-      "            </Fallback>\012"
-      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"90\"/>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"101\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"102\">\012"
-      "                <EndTourSpeech name=\"EndTourSpeech\" _uid=\"103\" message=\"end_of_tour\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"104\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"105\">\012"
-      "                <LookUpEntrance name=\"LookUpEntrance\" _uid=\"106\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"107\"/>\012"
-      "            </Fallback>\012"
-      "            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
-      "EndTour::100/_NavigateToLocation::108\" _uid=\"108\" location_id=\"{location_id}\"/>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"123\">\012"
-      "                <HereIsTheDoorSpeech name=\"HereIsTheDoorSpeech\" _uid=\"124\" "
-      "message=\"here_is_the_door\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"125\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"126\">\012"
-      "                <PerformDeicticGesture name=\"PointToExit\" _uid=\"127\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"128\"/>\012"
-      "            </Fallback>\012"
-      "            <Parallel name=\"WaveAndSayGoodbye\" _uid=\"129\" success_count=\"2\" "
-      "failure_count=\"1\">\012"
-      "                <Fallback name=\"Fallback\" _uid=\"130\">\012"
-      "                    <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"131\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"132\"/>\012"
-      "                </Fallback>\012"
-      "                <Fallback name=\"Fallback\" _uid=\"133\">\012"
-      "                    <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"134\" "
-      "message=\"goodbye\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"135\"/>\012"
-      "                </Fallback>\012"
-      "            </Parallel>\012"
-      "            <SubTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
-      "EndTour::100/_NavigateToLocation::108\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"109\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"110\">\012"
-      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"111\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"112\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"113\">\012"
-      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"114\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"115\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"116\">\012"
-      "                <Navigate name=\"Navigate\" _uid=\"117\" location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"118\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"119\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"120\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"121\"/>\012"
-      "            </Fallback>\012"
-      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"122\"/>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"137\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"138\">\012"
-      "                <LookUpHome name=\"LookUpHome\" _uid=\"139\" location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"140\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"141\">\012"
-      "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"142\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"143\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"144\">\012"
-      "                <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"145\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"146\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"147\">\012"
-      "                <Navigate name=\"Navigate\" _uid=\"148\" location_id=\"{location_id}\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"149\"/>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <TreeNodesModel>\012"
-      "        <Action ID=\"AlwaysFailure\"/>\012"
-      "        <Action ID=\"AlwaysSuccess\"/>\012"
-      "        <Control ID=\"AsyncFallback\"/>\012"
-      "        <Control ID=\"AsyncSequence\"/>\012"
-      "        <Decorator ID=\"Delay\">\012"
-      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before "
-      "the child is ticked</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"DescribeExhibitSpeech_1\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">exhibit whose pre-gesture message is "
-      "said</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"DescribeExhibitSpeech_2\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">exhibit whose post-gesture message is "
-      "said</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
-      "        <Action ID=\"DisabledOvertAttentionMode\"/>\012"
-      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
-      "        <Action ID=\"EndTourSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"end_of_tour\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"Fallback\"/>\012"
-      "        <Action ID=\"FollowMeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"follow_me\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"ForceFailure\"/>\012"
-      "        <Decorator ID=\"ForceSuccess\"/>\012"
-      "        <Action ID=\"GoodbyeGesture\"/>\012"
-      "        <Action ID=\"HandleFallBack\"/>\012"
-      "        <Action ID=\"HereIsTheDoorSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"here_is_the_door\">phrase "
-      "to say</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"IfThenElse\"/>\012"
-      "        <Decorator ID=\"Inverter\"/>\012"
-      "        <Condition ID=\"IsASREnabled\"/>\012"
-      "        <Condition ID=\"IsListWithExhibit\">\012"
-      "            <input_port name=\"exhibits\" type=\"std::string\">exhibits still to visit: location "
-      "ids separated by &quot;;&quot;</input_port>\012"
-      "        </Condition>\012"
-      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
-      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
-      "        <Condition ID=\"IsVisitorResponseYes\">\012"
-      "            <input_port name=\"response\" type=\"std::string\">the visitor&apos;s answer: "
-      "&quot;yes&quot; or &quot;no&quot;</input_port>\012"
-      "        </Condition>\012"
-      "        <Condition ID=\"IsYesNoUttered\">\012"
-      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or "
-      "&quot;no&quot;, when one was heard</output_port>\012"
-      "        </Condition>\012"
-      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
-      "        <Action ID=\"LookUpEntrance\">\012"
-      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the "
-      "entrance</output_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"LookUpHome\">\012"
-      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the home "
-      "location</output_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"LoopBool\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, "
-      "std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopDouble\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, "
-      "std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopInt\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, "
-      "std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopString\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, "
-      "std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of "
-      "the child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"MaybeAnotherTimeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" "
-      "default=\"maybe_another_time\">phrase to say</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"Navigate\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of the destination "
-      "(its robotLocationPose)</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"Parallel\">\012"
-      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; "
-      "negative counts from the number of children</input_port>\012"
-      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the "
-      "node; negative counts from the number of children</input_port>\012"
-      "        </Control>\012"
-      "        <Control ID=\"ParallelAll\">\012"
-      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated "
-      "before failing; negative counts from the number of children</input_port>\012"
-      "        </Control>\012"
-      "        <Action ID=\"PerformDeicticGesture\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at "
-      "(its gestureTarget)</input_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"Precondition\">\012"
-      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
-      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
-      "when the condition is false</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"PressYesNoDialogue\">\012"
-      "            <output_port name=\"response\" type=\"std::string\">&quot;yes&quot; or "
-      "&quot;no&quot;, as pressed on the tablet</output_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"PressYesNoSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"press_yes_no\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"QueryTourSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"query_tour\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"ReactiveFallback\"/>\012"
-      "        <Control ID=\"ReactiveSequence\"/>\012"
-      "        <Decorator ID=\"Repeat\">\012"
-      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"RetrieveListOfExhibits\">\012"
-      "            <output_port name=\"exhibits\" type=\"std::string\">the tour&apos;s location ids "
-      "separated by &quot;;&quot;, in visiting order</output_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
-      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"RunOnce\">\012"
-      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
-      "run instead of the stored status</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"START_OF_TREE\"/>\012"
-      "        <Action ID=\"SayGoodByeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"SayYesNoSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"say_yes_no\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
-      "        <Action ID=\"Script\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
-      "        </Action>\012"
-      "        <Condition ID=\"ScriptCondition\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script whose result is the "
-      "condition</input_port>\012"
-      "        </Condition>\012"
-      "        <Action ID=\"SelectExhibit\">\012"
-      "            <inout_port name=\"exhibits\" type=\"std::string\">exhibits still to visit; the first "
-      "is taken off</inout_port>\012"
-      "            <output_port name=\"location_id\" type=\"int\">knowledge-base id of the exhibit "
-      "taken</output_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"Sequence\"/>\012"
-      "        <Control ID=\"SequenceWithMemory\"/>\012"
-      "        <Action ID=\"SetBlackboard\">\012"
-      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or "
-      "{key}</input_port>\012"
-      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to "
-      "write</inout_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
-      "{key}</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"Sleep\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in "
-      "milliseconds</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
-      "        <SubTree ID=\"SubTree\"/>\012"
-      "        <Control ID=\"Switch2\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch3\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch4\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch5\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch6\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Decorator ID=\"Timeout\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in "
-      "milliseconds</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"UnsetBlackboard\">\012"
-      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"WaitValueUpdate\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
-      "{key}</input_port>\012"
-      "        </Decorator>\012"
-      "        <Condition ID=\"WasEntryUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as "
-      "{key}</input_port>\012"
-      "        </Condition>\012"
-      "        <Action ID=\"WelcomeGesture\"/>\012"
-      "        <Action ID=\"WelcomeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"WhileDoElse\"/>\012"
-      "    </TreeNodesModel>\012"
-      "</root>\012", 25437);
-  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
-  // creation order, each with its own nodes.
-  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
-      0,
-      1,
-      2,
-      12,
-      30,
-      50,
-      51,
-      52,
-      53,
-      54,
-      55,
-      56,
-      57,
-      58,
-      59,
-      99,
-      3,
-      4,
-      5,
-      6,
-      7,
-      8,
-      9,
-      10,
-      11,
-      13,
-      14,
-      15,
-      16,
-      17,
-      18,
-      19,
-      20,
-      21,
-      22,
-      23,
-      24,
-      25,
-      26,
-      27,
-      28,
-      29,
-      31,
-      32,
-      33,
-      34,
-      35,
-      36,
-      37,
-      38,
-      39,
-      40,
-      41,
-      42,
-      43,
-      44,
-      45,
-      46,
-      47,
-      48,
-      49,
-      60,
-      61,
-      62,
-      63,
-      64,
-      65,
-      66,
-      67,
-      68,
-      69,
-      70,
-      71,
-      72,
-      73,
-      74,
-      75,
-      90,
-      91,
-      92,
-      93,
-      94,
-      95,
-      96,
-      97,
-      98,
-      76,
-      77,
-      78,
-      79,
-      80,
-      81,
-      82,
-      83,
-      84,
-      85,
-      86,
-      87,
-      88,
-      89,
-      100,
-      101,
-      102,
-      103,
-      104,
-      105,
-      106,
-      107,
-      122,
-      123,
-      124,
-      125,
-      126,
-      127,
-      128,
-      129,
-      130,
-      131,
-      132,
-      133,
-      134,
-      135,
-      108,
-      109,
-      110,
-      111,
-      112,
-      113,
-      114,
-      115,
-      116,
-      117,
-      118,
-      119,
-      120,
-      121,
-      136,
-      137,
-      138,
-      139,
-      140,
-      141,
-      142,
-      143,
-      144,
-      145,
-      146,
-      147,
-      148,
-  };
-  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
-  // the SubTree's path).
-  static constexpr std::array<std::string_view, 9> kBlackboards = {
-      "TourGuide",
-      "I. DetectVisitor::3",
-      "II. EngageVisitor::13",
-      "III. QueryVisitorResponse::31",
-      "IV. VisitExhibit::60",
-      "IV. VisitExhibit::60/_NavigateToLocation::76",
-      "V. EndTour::100",
-      "V. EndTour::100/_NavigateToLocation::108",
-      "V. EndTour::100/_GoHome::136",
-  };
-  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
-  template <class Visitor>
-  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
-    (void)bb;
-    (void)visit;
-    visit(std::size_t{0}, std::string_view("response"), bb.response);
-    visit(std::size_t{4}, std::string_view("exhibits"), bb.IV_VisitExhibit_exhibits);
-    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_VisitExhibit_location_id);
-    visit(std::size_t{6}, std::string_view("location_id"), bb.V_EndTour_location_id);
-    visit(std::size_t{8}, std::string_view("location_id"), bb.V_EndTour_GoHome_location_id);
-  }
-};
+}
 
 }  // namespace detail
 
@@ -3268,448 +1895,250 @@ class LabTourLeaves {
  public:
   virtual ~LabTourLeaves() = default;
 
-  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeExhibitSpeech_1 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_1& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeExhibitSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_1&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeExhibitSpeech_2 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeExhibitSpeech_2& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeExhibitSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeExhibitSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeExhibitSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeExhibitSpeech_2&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DisableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DisableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DisabledOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DisabledOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DisabledOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DisabledOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DisabledOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DisabledOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action EnableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::EnableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action EndTourSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::EndTourSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::EndTourSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::EndTourSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::EndTourSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::EndTourSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action FollowMeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::FollowMeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::FollowMeSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::FollowMeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::FollowMeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::FollowMeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action GoodbyeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::GoodbyeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::GoodbyeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action HandleFallBack has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::HandleFallBack& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::HandleFallBack& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::HandleFallBack&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action HereIsTheDoorSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::HereIsTheDoorSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::HereIsTheDoorSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::HereIsTheDoorSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::HereIsTheDoorSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::HereIsTheDoorSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action LookUpEntrance has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::LookUpEntrance& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::LookUpEntrance& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::LookUpEntrance& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::LookUpEntrance& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::LookUpEntrance&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action LookUpHome has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::LookUpHome& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::LookUpHome& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::LookUpHome& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::LookUpHome& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::LookUpHome&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action MaybeAnotherTimeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::MaybeAnotherTimeSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::MaybeAnotherTimeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::MaybeAnotherTimeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::MaybeAnotherTimeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::MaybeAnotherTimeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::Navigate& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action Navigate has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::Navigate& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::Navigate& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::Navigate& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::Navigate& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::Navigate& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::Navigate& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::Navigate&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PerformDeicticGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PerformDeicticGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressYesNoDialogue has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressYesNoDialogue& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PressYesNoDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressYesNoDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PressYesNoDialogue& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressYesNoDialogue&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressYesNoSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressYesNoSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::PressYesNoSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::PressYesNoSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressYesNoSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action QueryTourSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::QueryTourSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::QueryTourSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::QueryTourSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::QueryTourSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::QueryTourSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action RetrieveListOfExhibits has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::RetrieveListOfExhibits& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::RetrieveListOfExhibits& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::RetrieveListOfExhibits& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::RetrieveListOfExhibits& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::RetrieveListOfExhibits&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayGoodByeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayGoodByeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayYesNoSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayYesNoSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::SayYesNoSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::SayYesNoSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayYesNoSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action ScanningOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SelectExhibit has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SelectExhibit& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::SelectExhibit& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::SelectExhibit& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::SelectExhibit& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SelectExhibit&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SocialOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action START_OF_TREE has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::START_OF_TREE& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::START_OF_TREE&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeSpeech&, const btgen::NodeInfo&) {}
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsListWithExhibit& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsMutualGazeDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsVisitorDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsVisitorResponseYes& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsYesNoUttered& model, const btgen::NodeInfo& node) = 0;
 
  protected:
@@ -3728,7 +2157,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xfde92220f5506599ULL;
+inline constexpr unsigned long long kGeneration = 0x3de17453cb58590cULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -15,6 +15,7 @@
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
+#include "btgen/leaf_dispatch.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
@@ -35,7 +36,17 @@ static_assert(btgen::kRuntimeAbi == 7,
 #endif
 #define BTGEN_BTCPP_VERSION 40602
 
+// In this header, in order: the tables (namespace detail: the blackboard, the node and
+// child tables, the straight-line shapes, the Groot2 tree) with the mission's own code the
+// tick runs (its scripts and data operations; the tick itself is btgen::Engine, in
+// btgen/engine.hpp), then what you implement against: the leaf models with their typed
+// ports (namespace leaf), the mission class PickPlaceBall<Leaves> and the hooks Leaves has,
+// and the same hooks as a class of virtual functions, PickPlaceBallLeaves.
 namespace pick_place_ball {
+
+// "..."sv: a std::string_view whose length the compiler gives (the tables' constant
+// evaluation then does no strlen).
+using std::string_view_literals::operator""sv;
 
 namespace detail {
 
@@ -60,62 +71,9 @@ struct Blackboard {
 inline constexpr std::array<std::string_view, 0> kWhere = {
 };
 
-}  // namespace detail
-
-// The leaf models of the mission's TreeNodesModel. A model is the first
-// argument of its hooks, so one overload set serves each model, and its
-// typed port accessors read and write the blackboard for the node instance
-// being run (node() tells which): a getter returns btgen::Input<T> (a value,
-// or why there is none: btgen::PortError), a setter returns false when the
-// port is not connected to an entry or the write failed (reported as a
-// btgen::RuntimeError, and the node then fails). Every port the model
-// declares has its accessors, set on this mission's nodes or not (a port a
-// node does not set: kNotSet / false, as getInput / setOutput fail in
-// BehaviorTree.CPP), so one leaf implementation builds against every
-// mission using the model. Untyped ports have template
-// accessors: get them as any port type (std::int32_t, std::uint32_t,
-// double, bool, btgen::Status, std::string_view).
-namespace leaf {
-
-// Action `FindBall`
-class FindBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "FindBall";
-  static constexpr std::uint16_t kModel = 0;
-};
-
-// Action `PickBall`
-class PickBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PickBall";
-  static constexpr std::uint16_t kModel = 1;
-};
-
-// Action `MoveBall`
-class MoveBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "MoveBall";
-  static constexpr std::uint16_t kModel = 2;
-};
-
-// Action `PlaceBall`
-class PlaceBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
- public:
-  using ModelBase::ModelBase;
-  static constexpr std::string_view kId = "PlaceBall";
-  static constexpr std::uint16_t kModel = 3;
-};
-
-}  // namespace leaf
-
-// The mission's own Controls and Decorators are in `leaf` too; `control::X`
-// names them as well.
-namespace control = leaf;
-
-namespace detail {
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
+template <std::uint16_t M>
+struct ModelOf;
 
 // The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
 // lang/versions.py (each one difference between 4.6.2 and later releases); the engine
@@ -157,54 +115,33 @@ struct Spec {
   using Blackboard = detail::Blackboard;
 
   // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
-  //   kind,
-  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
-  //   id, name,
-  //   source
+  //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //    id, name, source}
   // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
   // read by meaning through btgen::param there).
-  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("PickPlaceBall", 13),
-                      std::string_view("missions/PickPlaceBall.xml:17:5", 31)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("FindBallTwice", 13),
-                      std::string_view("missions/PickPlaceBall.xml:18:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("FindBall", 8), std::string_view("FindBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:19:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      3, 4, 0, 3u, 3, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("PickMovePlace", 13),
-                      std::string_view("missions/PickPlaceBall.xml:21:7", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PickBall", 8), std::string_view("PickBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:22:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("MoveBall", 8), std::string_view("MoveBall", 8),
-                      std::string_view("missions/PickPlaceBall.xml:23:9", 31)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PlaceBall", 9), std::string_view("PlaceBall", 9),
-                      std::string_view("missions/PickPlaceBall.xml:24:9", 31)},
-  };
+  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {{
+      {btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 2, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "PickPlaceBall"sv, "missions/PickPlaceBall.xml:17:5"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 2, 0, 0,
+       "RetryUntilSuccessful"sv, "FindBallTwice"sv, "missions/PickPlaceBall.xml:18:7"sv},
+      {btgen::NodeKind::Action, 2, 3, 1, 3u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "FindBall"sv, "FindBall"sv, "missions/PickPlaceBall.xml:19:9"sv},
+      {btgen::NodeKind::Sequence, 3, 4, 0, 3u, 3, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "PickMovePlace"sv, "missions/PickPlaceBall.xml:21:7"sv},
+      {btgen::NodeKind::Action, 4, 5, 3, 6u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PickBall"sv, "PickBall"sv, "missions/PickPlaceBall.xml:22:9"sv},
+      {btgen::NodeKind::Action, 5, 6, 3, 6u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "MoveBall"sv, "MoveBall"sv, "missions/PickPlaceBall.xml:23:9"sv},
+      {btgen::NodeKind::Action, 6, 7, 3, 6u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PlaceBall"sv, "PlaceBall"sv, "missions/PickPlaceBall.xml:24:9"sv},
+  }};
 
   // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
   static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
   };
 
   static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
-      1,
-      3,
-      2,
-      4,
-      5,
-      6,
+      1, 3, 2, 4, 5, 6,
   };
 
   // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
@@ -234,229 +171,18 @@ struct Spec {
   static constexpr bool kHasDeepShape = false;
   static constexpr bool kHasUserControlFlow = false;
 
-  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
-  // (M: what the engine's straight-line code calls, the model a constant there) or by the
-  // node's (what the table interpreter calls).
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                  [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::FindBall model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::FindBall>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action FindBall");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::PickBall model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PickBall>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PickBall");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::MoveBall model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::MoveBall>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action MoveBall");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::PlaceBall model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PlaceBall>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PlaceBall");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
-  }
-
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                    [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::FindBall model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::FindBall>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::PickBall model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PickBall>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::MoveBall model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::MoveBall>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::PlaceBall model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PlaceBall>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
-  }
-
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                               [[maybe_unused]] const btgen::NodeInfo& node) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_start_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_start_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_start_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_start_m<Leaves, 3>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_running_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_running_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_running_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_running_m<Leaves, 3>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0: {
-        leaf::FindBall model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::FindBall>) leaves.onHalted(model, node);
-        return;
-      }
-      case 1: {
-        leaf::PickBall model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PickBall>) leaves.onHalted(model, node);
-        return;
-      }
-      case 2: {
-        leaf::MoveBall model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::MoveBall>) leaves.onHalted(model, node);
-        return;
-      }
-      case 3: {
-        leaf::PlaceBall model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PlaceBall>) leaves.onHalted(model, node);
-        return;
-      }
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-  }
-
-  // Whether the node is an Action that Leaves implements as a SyncActionNode
-  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
-  template <class Leaves>
-  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
-    switch (node.model) {
-      case 0:
-        return btgen::is_sync_action<Leaves, leaf::FindBall>;
-      case 1:
-        return btgen::is_sync_action<Leaves, leaf::PickBall>;
-      case 2:
-        return btgen::is_sync_action<Leaves, leaf::MoveBall>;
-      case 3:
-        return btgen::is_sync_action<Leaves, leaf::PlaceBall>;
-      default:
-        break;
-    }
-    return false;
-  }
-
-  // The mission's own Controls and Decorators: tick() and the optional halt().
-  template <class Leaves>
-  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-  }
-
-  template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                             [[maybe_unused]] const btgen::NodeInfo& node) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
+  // The leaf models by number (leaf::X::kModel), and one switch over the numbers of each
+  // kind the engine dispatches to: Hook::call<the model class>, or call<void> for any
+  // other number (defined below the model classes). btgen::LeafHooks
+  // (btgen/leaf_dispatch.hpp) has the hooks.
+  template <std::uint16_t M>
+  using Model = typename ModelOf<M>::type;
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args);
 
   // The compiled script of node `n` for `which`: 1 or 0 (a condition's
   // truth; 1 for other scripts), -1 after an error was reported.
@@ -510,7 +236,7 @@ struct Groot2 {
   // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
   // (Its length is given: constant evaluation then does no strlen, which a large tree's
   // text would take past the compilers' constexpr step limits.)
-  static constexpr std::string_view kTreeXml = std::string_view(
+  static constexpr std::string_view kTreeXml =
       "<root BTCPP_format=\"4\">\012"
       "    <BehaviorTree ID=\"PickPlaceBall\" _fullpath=\"\">\012"
       "        <Sequence name=\"PickPlaceBall\" _uid=\"1\">\012"
@@ -686,17 +412,11 @@ struct Groot2 {
       "        </Condition>\012"
       "        <Control ID=\"WhileDoElse\"/>\012"
       "    </TreeNodesModel>\012"
-      "</root>\012", 8338);
+      "</root>\012"sv;
   // Node indices in the order of Groot2Publisher's status buffer: tree instances in
   // creation order, each with its own nodes.
   static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
-      0,
-      1,
-      2,
-      3,
-      4,
-      5,
-      6,
+      0, 1, 2, 3, 4, 5, 6,
   };
   // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
   // the SubTree's path).
@@ -710,6 +430,94 @@ struct Groot2 {
     (void)visit;
   }
 };
+
+}  // namespace detail
+
+// The leaf models of the mission's TreeNodesModel. A model is the first
+// argument of its hooks, so one overload set serves each model, and its
+// typed port accessors read and write the blackboard for the node instance
+// being run (node() tells which): a getter returns btgen::Input<T> (a value,
+// or why there is none: btgen::PortError), a setter returns false when the
+// port is not connected to an entry or the write failed (reported as a
+// btgen::RuntimeError, and the node then fails). Every port the model
+// declares has its accessors, set on this mission's nodes or not (a port a
+// node does not set: kNotSet / false, as getInput / setOutput fail in
+// BehaviorTree.CPP), so one leaf implementation builds against every
+// mission using the model. Untyped ports have template
+// accessors: get them as any port type (std::int32_t, std::uint32_t,
+// double, bool, btgen::Status, std::string_view).
+namespace leaf {
+
+// Action `FindBall`
+class FindBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "FindBall";
+  static constexpr std::uint16_t kModel = 0;
+};
+
+// Action `PickBall`
+class PickBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PickBall";
+  static constexpr std::uint16_t kModel = 1;
+};
+
+// Action `MoveBall`
+class MoveBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "MoveBall";
+  static constexpr std::uint16_t kModel = 2;
+};
+
+// Action `PlaceBall`
+class PlaceBall : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Action> {
+ public:
+  using ModelBase::ModelBase;
+  static constexpr std::string_view kId = "PlaceBall";
+  static constexpr std::uint16_t kModel = 3;
+};
+
+}  // namespace leaf
+
+// The mission's own Controls and Decorators are in `leaf` too; `control::X`
+// names them as well.
+namespace control = leaf;
+
+namespace detail {
+
+// The leaf model classes by number, and the switches of Spec.
+template <> struct ModelOf<0> { using type = leaf::FindBall; };
+template <> struct ModelOf<1> { using type = leaf::PickBall; };
+template <> struct ModelOf<2> { using type = leaf::MoveBall; };
+template <> struct ModelOf<3> { using type = leaf::PlaceBall; };
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 0: return Hook::template call<leaf::FindBall>(args...);
+    case 1: return Hook::template call<leaf::PickBall>(args...);
+    case 2: return Hook::template call<leaf::MoveBall>(args...);
+    case 3: return Hook::template call<leaf::PlaceBall>(args...);
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_condition(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
+  }
+}
+
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_user_node(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
+  }
+}
 
 }  // namespace detail
 
@@ -753,69 +561,25 @@ class PickPlaceBallLeaves {
  public:
   virtual ~PickPlaceBallLeaves() = default;
 
-  virtual btgen::Status tick(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action FindBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::FindBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::FindBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::FindBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::FindBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::FindBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PickBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::PickBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::PickBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::PickBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::PickBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::PickBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action MoveBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::MoveBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::MoveBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::MoveBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::MoveBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::MoveBall&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PlaceBall has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
-  }
-  virtual btgen::Status onStart(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::PlaceBall& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual btgen::Status tick(leaf::PlaceBall& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::PlaceBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::PlaceBall& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual void onHalted(leaf::PlaceBall&, const btgen::NodeInfo&) {}
 
  protected:
   PickPlaceBallLeaves() = default;
@@ -833,7 +597,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0xb048a7136b8b3306ULL;
+inline constexpr unsigned long long kGeneration = 0x2f8566c8ed5a6203ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -15,6 +15,7 @@
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
+#include "btgen/leaf_dispatch.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
 #include "btgen/script.hpp"
@@ -35,7 +36,17 @@ static_assert(btgen::kRuntimeAbi == 7,
 #endif
 #define BTGEN_BTCPP_VERSION 40602
 
+// In this header, in order: the tables (namespace detail: the blackboard, the node and
+// child tables, the straight-line shapes, the Groot2 tree) with the mission's own code the
+// tick runs (its scripts and data operations; the tick itself is btgen::Engine, in
+// btgen/engine.hpp), then what you implement against: the leaf models with their typed
+// ports (namespace leaf), the mission class Reception<Leaves> and the hooks Leaves has,
+// and the same hooks as a class of virtual functions, ReceptionLeaves.
 namespace reception {
+
+// "..."sv: a std::string_view whose length the compiler gives (the tables' constant
+// evaluation then does no strlen).
+using std::string_view_literals::operator""sv;
 
 namespace detail {
 
@@ -64,9 +75,719 @@ struct Blackboard {
 
 // The places run-time errors name (btgen::RuntimeError::where).
 inline constexpr std::array<std::string_view, 3> kWhere = {
-    std::string_view("missions/Reception.xml:103:50", 29),
-    std::string_view("missions/Reception.xml:113:52", 29),
-    std::string_view("missions/Reception.xml:126:67", 29),
+    "missions/Reception.xml:103:50"sv,
+    "missions/Reception.xml:113:52"sv,
+    "missions/Reception.xml:126:67"sv,
+};
+
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
+template <std::uint16_t M>
+struct ModelOf;
+
+// The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
+// lang/versions.py (each one difference between 4.6.2 and later releases); the engine
+// (btgen/engine.hpp) and the data operations read them here.
+struct Semantics {
+  static constexpr std::uint32_t kBtcppVersion = 40602;
+  static constexpr bool skipped_by_count = false;
+  static constexpr bool loop_end_never_skipped = false;
+  static constexpr bool retry_rereads_attempts = false;
+  static constexpr bool precondition_if_until_started = false;
+  static constexpr bool setblackboard_converts_to_entry_type = false;
+  static constexpr bool loop_queue_untyped = false;
+  static constexpr bool switch_whole_parse = false;
+  static constexpr bool subtree_literals_typed = false;
+  static constexpr bool int_to_double_53_bits = false;
+  static constexpr bool double_from_chars = false;
+  static constexpr bool trycatch = false;
+  static constexpr bool groot2_root_blackboard = false;
+  static constexpr bool script_grammar_49 = false;
+  static constexpr bool name_validation_484 = false;
+  static constexpr bool attribute_names_484 = false;
+  static constexpr bool unique_subtree_paths = false;
+  static constexpr bool reactive_sequence_child_checks = false;
+  static constexpr bool groot2_post_hooks = false;
+  static constexpr bool groot2_insert_until_error = false;
+};
+
+// The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
+struct Spec {
+  using Semantics = detail::Semantics;
+  static constexpr std::string_view kSource = "missions/Reception.xml";
+  static constexpr std::string_view kMainTree = "ReceptionGuide";
+  static constexpr std::size_t kNodeCount = 75;
+  static constexpr std::size_t kChildCount = 74;
+  static constexpr std::size_t kCounterCount = 59;
+  static constexpr std::size_t kTimerCount = 0;
+  static constexpr std::size_t kMaxDepth = 9;
+  static constexpr bool kHasParallel = true;
+  using Blackboard = detail::Blackboard;
+
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
+  //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
+  //    id, name, source}
+  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
+  // read by meaning through btgen::param there).
+  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {{
+      {btgen::NodeKind::Sequence, 0, 1, btgen::kNoNode, 0u, 6, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Reception"sv, "missions/Reception.xml:29:5"sv},
+      {btgen::NodeKind::Action, 1, 2, 0, 6u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "START_OF_TREE"sv, "START_OF_TREE"sv, "missions/Reception.xml:30:7"sv},
+      {btgen::NodeKind::SubTree, 2, 3, 0, 6u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "I. DetectVisitor"sv, "missions/Reception.xml:31:7"sv},
+      {btgen::NodeKind::Sequence, 3, 4, 2, 7u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/Reception.xml:42:5"sv},
+      {btgen::NodeKind::Fallback, 4, 5, 3, 10u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:43:7"sv},
+      {btgen::NodeKind::Action, 5, 6, 4, 12u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:44:9"sv},
+      {btgen::NodeKind::Action, 6, 7, 4, 12u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:45:9"sv},
+      {btgen::NodeKind::Fallback, 7, 8, 3, 12u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:47:7"sv},
+      {btgen::NodeKind::Action, 8, 9, 7, 14u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:48:9"sv},
+      {btgen::NodeKind::Action, 9, 10, 7, 14u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:49:9"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 10, 11, 3, 14u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
+       "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/Reception.xml:51:7"sv},
+      {btgen::NodeKind::Condition, 11, 12, 10, 15u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/Reception.xml:52:9"sv},
+      {btgen::NodeKind::SubTree, 12, 13, 0, 15u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "II. EngageVisitor"sv, "missions/Reception.xml:32:7"sv},
+      {btgen::NodeKind::Sequence, 13, 14, 12, 16u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/Reception.xml:58:5"sv},
+      {btgen::NodeKind::Fallback, 14, 15, 13, 21u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:59:7"sv},
+      {btgen::NodeKind::Sequence, 15, 16, 14, 23u, 3, btgen::kNoModel, 14u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/Reception.xml:60:9"sv},
+      {btgen::NodeKind::Action, 16, 17, 15, 26u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/Reception.xml:61:11"sv},
+      {btgen::NodeKind::Action, 17, 18, 15, 26u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "WelcomeGesture"sv, "WelcomeGesture"sv, "missions/Reception.xml:62:11"sv},
+      {btgen::NodeKind::Action, 18, 19, 15, 26u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:63:11"sv},
+      {btgen::NodeKind::Action, 19, 20, 14, 26u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:65:9"sv},
+      {btgen::NodeKind::Fallback, 20, 21, 13, 26u, 2, btgen::kNoModel, 16u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:68:7"sv},
+      {btgen::NodeKind::Action, 21, 22, 20, 28u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "WelcomeSpeech"sv, "WelcomeSpeech"sv, "missions/Reception.xml:69:9"sv},
+      {btgen::NodeKind::Action, 22, 23, 20, 28u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:70:9"sv},
+      {btgen::NodeKind::Fallback, 23, 24, 13, 28u, 2, btgen::kNoModel, 18u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:72:7"sv},
+      {btgen::NodeKind::Action, 24, 25, 23, 30u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:73:9"sv},
+      {btgen::NodeKind::Action, 25, 26, 23, 30u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:74:9"sv},
+      {btgen::NodeKind::Condition, 26, 27, 13, 30u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/Reception.xml:76:7"sv},
+      {btgen::NodeKind::Fallback, 27, 28, 13, 30u, 2, btgen::kNoModel, 20u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:77:7"sv},
+      {btgen::NodeKind::Action, 28, 29, 27, 32u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/Reception.xml:78:9"sv},
+      {btgen::NodeKind::Action, 29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:79:9"sv},
+      {btgen::NodeKind::SubTree, 30, 31, 0, 32u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "III. QueryDestination"sv, "missions/Reception.xml:33:7"sv},
+      {btgen::NodeKind::Sequence, 31, 32, 30, 33u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/Reception.xml:89:5"sv},
+      {btgen::NodeKind::Fallback, 32, 33, 31, 35u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:90:7"sv},
+      {btgen::NodeKind::Action, 33, 34, 32, 37u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "QueryDestinationSpeech"sv, "QueryDestinationSpeech"sv, "missions/Reception.xml:91:9"sv},
+      {btgen::NodeKind::Action, 34, 35, 32, 37u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:92:9"sv},
+      {btgen::NodeKind::Fallback, 35, 36, 31, 37u, 2, btgen::kNoModel, 26u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "SpeechOrTablet"sv, "missions/Reception.xml:94:7"sv},
+      {btgen::NodeKind::Sequence, 36, 37, 35, 39u, 2, btgen::kNoModel, 28u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "SpokenAnswer"sv, "missions/Reception.xml:95:9"sv},
+      {btgen::NodeKind::Condition, 37, 38, 36, 41u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsASREnabled"sv, "IsASREnabled"sv, "missions/Reception.xml:96:11"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 38, 39, 36, 41u, 1, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 3, 0, 0,
+       "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/Reception.xml:97:11"sv},
+      {btgen::NodeKind::Sequence, 39, 40, 38, 42u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/Reception.xml:98:13"sv},
+      {btgen::NodeKind::Fallback, 40, 41, 39, 44u, 2, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:99:15"sv},
+      {btgen::NodeKind::Action, 41, 42, 40, 46u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SayDestinationSpeech"sv, "SayDestinationSpeech"sv, "missions/Reception.xml:100:17"sv},
+      {btgen::NodeKind::Action, 42, 43, 40, 46u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:101:17"sv},
+      {btgen::NodeKind::Condition, 43, 44, 39, 46u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "IsDestinationUttered"sv, "IsDestinationUttered"sv, "missions/Reception.xml:103:15"sv},
+      {btgen::NodeKind::RetryUntilSuccessful, 44, 45, 35, 46u, 1, btgen::kNoModel, 36u, btgen::kNoSlot, 0, 3, 0, 0,
+       "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/Reception.xml:107:9"sv},
+      {btgen::NodeKind::Sequence, 45, 46, 44, 47u, 2, btgen::kNoModel, 38u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Sequence"sv, "missions/Reception.xml:108:11"sv},
+      {btgen::NodeKind::Fallback, 46, 47, 45, 49u, 2, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:109:13"sv},
+      {btgen::NodeKind::Action, 47, 48, 46, 51u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PressDestinationSpeech"sv, "PressDestinationSpeech"sv, "missions/Reception.xml:110:15"sv},
+      {btgen::NodeKind::Action, 48, 49, 46, 51u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:111:15"sv},
+      {btgen::NodeKind::Action, 49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PressDestinationDialogue"sv, "PressDestinationDialogue"sv, "missions/Reception.xml:113:13"sv},
+      {btgen::NodeKind::SubTree, 50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "IV. GiveDirections"sv, "missions/Reception.xml:34:7"sv},
+      {btgen::NodeKind::IfThenElse, 51, 52, 50, 52u, 3, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
+       "IfThenElse"sv, "KnownPlace"sv, "missions/Reception.xml:125:5"sv},
+      {btgen::NodeKind::Action, 52, 53, 51, 55u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "LookUpDestination"sv, "LookUpDestination"sv, "missions/Reception.xml:126:7"sv},
+      {btgen::NodeKind::Sequence, 53, 54, 51, 55u, 3, btgen::kNoModel, 43u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Sequence"sv, "Directions"sv, "missions/Reception.xml:127:7"sv},
+      {btgen::NodeKind::Fallback, 54, 55, 53, 58u, 2, btgen::kNoModel, 45u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:128:9"sv},
+      {btgen::NodeKind::Action, 55, 56, 54, 60u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DescribeRouteSpeech_1"sv, "DescribeRouteSpeech_1"sv, "missions/Reception.xml:129:11"sv},
+      {btgen::NodeKind::Action, 56, 57, 54, 60u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:130:11"sv},
+      {btgen::NodeKind::Fallback, 57, 58, 53, 60u, 2, btgen::kNoModel, 47u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:132:9"sv},
+      {btgen::NodeKind::Action, 58, 59, 57, 62u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "PerformDeicticGesture"sv, "PointToDestination"sv, "missions/Reception.xml:133:11"sv},
+      {btgen::NodeKind::Action, 59, 60, 57, 62u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:134:11"sv},
+      {btgen::NodeKind::Fallback, 60, 61, 53, 62u, 2, btgen::kNoModel, 49u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:136:9"sv},
+      {btgen::NodeKind::Action, 61, 62, 60, 64u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "DescribeRouteSpeech_2"sv, "DescribeRouteSpeech_2"sv, "missions/Reception.xml:137:11"sv},
+      {btgen::NodeKind::Action, 62, 63, 60, 64u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:138:11"sv},
+      {btgen::NodeKind::ForceSuccess, 63, 64, 51, 64u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "ForceSuccess"sv, "Apology"sv, "missions/Reception.xml:141:7"sv},
+      {btgen::NodeKind::Fallback, 64, 65, 63, 65u, 2, btgen::kNoModel, 51u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:142:9"sv},
+      {btgen::NodeKind::Action, 65, 66, 64, 67u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "UnknownDestinationSpeech"sv, "UnknownDestinationSpeech"sv, "missions/Reception.xml:143:11"sv},
+      {btgen::NodeKind::Action, 66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:144:11"sv},
+      {btgen::NodeKind::SubTree, 67, 68, 0, 67u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SubTree"sv, "V. Farewell"sv, "missions/Reception.xml:35:7"sv},
+      {btgen::NodeKind::Parallel, 68, 69, 67, 68u, 2, btgen::kNoModel, 53u, btgen::kNoSlot, 0, 2, 1, 0,
+       "Parallel"sv, "WaveAndSayGoodbye"sv, "missions/Reception.xml:153:5"sv},
+      {btgen::NodeKind::Fallback, 69, 70, 68, 70u, 2, btgen::kNoModel, 55u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:154:7"sv},
+      {btgen::NodeKind::Action, 70, 71, 69, 72u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "GoodbyeGesture"sv, "GoodbyeGesture"sv, "missions/Reception.xml:155:9"sv},
+      {btgen::NodeKind::Action, 71, 72, 69, 72u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:156:9"sv},
+      {btgen::NodeKind::Fallback, 72, 73, 68, 72u, 2, btgen::kNoModel, 57u, btgen::kNoSlot, 0, 0, 0, 0,
+       "Fallback"sv, "Fallback"sv, "missions/Reception.xml:158:7"sv},
+      {btgen::NodeKind::Action, 73, 74, 72, 74u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "SayGoodByeSpeech"sv, "SayGoodByeSpeech"sv, "missions/Reception.xml:159:9"sv},
+      {btgen::NodeKind::Action, 74, 75, 72, 74u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
+       "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:160:9"sv},
+  }};
+
+  // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
+  static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
+  };
+
+  static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
+      1, 2, 12, 30, 50, 67, 3, 4, 7, 10, 5, 6, 8, 9, 11, 13,
+      14, 20, 23, 26, 27, 15, 19, 16, 17, 18, 21, 22, 24, 25, 28, 29,
+      31, 32, 35, 33, 34, 36, 44, 37, 38, 39, 40, 43, 41, 42, 45, 46,
+      49, 47, 48, 51, 52, 53, 63, 54, 57, 60, 55, 56, 58, 59, 61, 62,
+      64, 65, 66, 68, 69, 72, 70, 71, 73, 74,
+  };
+
+  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
+  // the shape of every node, the first node of every shape (65535: too deep for straight-line
+  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
+  static constexpr std::size_t kShapeCount = 58;
+  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
+      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
+      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
+      6, 38, 39, 40, 41, 42, 43, 44, 6, 45, 46, 6, 47, 48, 6, 49,
+      50, 51, 6, 52, 53, 54, 55, 6, 56, 57, 6,
+  };
+  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
+      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
+  };
+  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
+      1, 1, 1, 1, 1, 2, 15, 2, 2, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+  };
+  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
+  // plus its children), the first node of every compiled shape in creation order and the
+  // weight of those before it; whether a shape is too deep, and whether the mission has
+  // Controls or Decorators of its own (both run on the interpreter).
+  static constexpr std::size_t kTotalWeight = 149;
+  static constexpr std::array<std::uint16_t, 58> kRepNode = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
+      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
+      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
+      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
+  };
+  static constexpr std::array<std::uint32_t, 58> kRepWeightBefore = {
+      0, 7, 8, 10, 14, 17, 18, 19, 22, 23, 25, 26,
+      28, 34, 37, 41, 42, 43, 46, 47, 48, 51, 52, 54,
+      57, 60, 61, 64, 67, 68, 70, 73, 76, 77, 78, 80,
+      83, 86, 87, 88, 90, 94, 95, 99, 102, 103, 106, 107,
+      110, 111, 113, 116, 117, 119, 122, 125, 126, 129,
+  };
+  static constexpr bool kHasDeepShape = false;
+  static constexpr bool kHasUserControlFlow = false;
+
+  // The leaf models by number (leaf::X::kModel), and one switch over the numbers of each
+  // kind the engine dispatches to: Hook::call<the model class>, or call<void> for any
+  // other number (defined below the model classes). btgen::LeafHooks
+  // (btgen/leaf_dispatch.hpp) has the hooks.
+  template <std::uint16_t M>
+  using Model = typename ModelOf<M>::type;
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_action(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_condition(std::uint16_t model, Args&... args);
+  template <class Hook, class... Args>
+  static constexpr decltype(auto) visit_user_node(std::uint16_t model, Args&... args);
+
+  // The compiled script of node `n` for `which`: 1 or 0 (a condition's
+  // truth; 1 for other scripts), -1 after an error was reported.
+  static int script(Blackboard& bb, const btgen::NodeInfo& n, const btgen::ErrorSink& err,
+                    btgen::ScriptSlot which) noexcept {
+    (void)bb;
+    (void)n;
+    (void)err;
+    (void)which;
+    return 1;
+  }
+
+  // SetBlackboard and UnsetBlackboard.
+  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
+                                 [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
+    return btgen::Status::FAILURE;
+  }
+
+  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
+  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
+  // 4.6.2 reads it; 1, or -1 after reporting the error.
+  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
+                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
+    return -1;
+  }
+
+  // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
+  // WaitValueUpdate watches; -1 when the entry does not exist.
+  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
+                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+    return -1;
+  }
+
+  // SwitchN: the child to tick (the last one is the default).
+  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
+    return static_cast<int>(n.child_count) - 1;
+  }
+
+  // LoopInt/LoopBool/LoopDouble/LoopString: pop the next element into
+  // `value`: 1, or 0 when the queue is empty, -1 after an error was reported.
+  // `restart` (the loop starts from IDLE) refills a literal queue.
+  static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
+                      [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
+    return 0;
+  }
+};
+
+// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
+// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
+struct Groot2 {
+  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
+  // (Its length is given: constant evaluation then does no strlen, which a large tree's
+  // text would take past the compilers' constexpr step limits.)
+  static constexpr std::string_view kTreeXml =
+      "<root BTCPP_format=\"4\">\012"
+      "    <BehaviorTree ID=\"ReceptionGuide\" _fullpath=\"\">\012"
+      "        <Sequence name=\"Reception\" _uid=\"1\">\012"
+      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
+      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
+      "_uid=\"13\"/>\012"
+      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" "
+      "_uid=\"31\" destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" "
+      "destination=\"{destination}\"/>\012"
+      "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
+      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
+      "            </Fallback>\012"
+      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
+      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
+      "            </RetryUntilSuccessful>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
+      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
+      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
+      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
+      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
+      "                </Sequence>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
+      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" "
+      "message=\"reception_welcome\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
+      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
+      "            </Fallback>\012"
+      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
+      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
+      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
+      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" "
+      "message=\"query_destination\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
+      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
+      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
+      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" "
+      "num_attempts=\"3\">\012"
+      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
+      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
+      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" "
+      "message=\"say_destination\"/>\012"
+      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
+      "                            </Fallback>\012"
+      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" "
+      "destination=\"{destination}\"/>\012"
+      "                        </Sequence>\012"
+      "                    </RetryUntilSuccessful>\012"
+      "                </Sequence>\012"
+      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
+      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
+      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
+      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" "
+      "message=\"press_destination\"/>\012"
+      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
+      "                        </Fallback>\012"
+      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" "
+      "destination=\"{destination}\"/>\012"
+      "                    </Sequence>\012"
+      "                </RetryUntilSuccessful>\012"
+      "            </Fallback>\012"
+      "        </Sequence>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
+      "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
+      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" "
+      "destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
+      "            <Sequence name=\"Directions\" _uid=\"54\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"55\">\012"
+      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"57\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"58\">\012"
+      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"60\"/>\012"
+      "                </Fallback>\012"
+      "                <Fallback name=\"Fallback\" _uid=\"61\">\012"
+      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" "
+      "location_id=\"{location_id}\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"63\"/>\012"
+      "                </Fallback>\012"
+      "            </Sequence>\012"
+      "            <ForceSuccess name=\"Apology\" _uid=\"64\">\012"
+      "                <Fallback name=\"Fallback\" _uid=\"65\">\012"
+      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" "
+      "message=\"unknown_destination\"/>\012"
+      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"67\"/>\012"
+      "                </Fallback>\012"
+      "            </ForceSuccess>\012"
+      "        </IfThenElse>\012"
+      "    </BehaviorTree>\012"
+      "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
+      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" "
+      "failure_count=\"1\">\012"
+      "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
+      "                <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"71\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
+      "            </Fallback>\012"
+      "            <Fallback name=\"Fallback\" _uid=\"73\">\012"
+      "                <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"74\" message=\"goodbye\"/>\012"
+      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
+      "            </Fallback>\012"
+      "        </Parallel>\012"
+      "    </BehaviorTree>\012"
+      "    <TreeNodesModel>\012"
+      "        <Action ID=\"AlwaysFailure\"/>\012"
+      "        <Action ID=\"AlwaysSuccess\"/>\012"
+      "        <Control ID=\"AsyncFallback\"/>\012"
+      "        <Control ID=\"AsyncSequence\"/>\012"
+      "        <Decorator ID=\"Delay\">\012"
+      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before "
+      "the child is ticked</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"DescribeRouteSpeech_1\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said "
+      "(where it is)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DescribeRouteSpeech_2\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is "
+      "said (the way there)</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
+      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
+      "        <Control ID=\"Fallback\"/>\012"
+      "        <Decorator ID=\"ForceFailure\"/>\012"
+      "        <Decorator ID=\"ForceSuccess\"/>\012"
+      "        <Action ID=\"GoodbyeGesture\"/>\012"
+      "        <Action ID=\"HandleFallBack\"/>\012"
+      "        <Control ID=\"IfThenElse\"/>\012"
+      "        <Decorator ID=\"Inverter\"/>\012"
+      "        <Condition ID=\"IsASREnabled\"/>\012"
+      "        <Condition ID=\"IsDestinationUttered\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was "
+      "heard clearly</output_port>\012"
+      "        </Condition>\012"
+      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
+      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
+      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
+      "        <Action ID=\"LookUpDestination\">\012"
+      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor "
+      "named</input_port>\012"
+      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails "
+      "when no robotLocationDescription matches</output_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"LoopBool\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, "
+      "std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopDouble\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, "
+      "std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopInt\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, "
+      "std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the "
+      "child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"LoopString\">\012"
+      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, "
+      "std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
+      "queue</inout_port>\012"
+      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
+      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
+      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of "
+      "the child</output_port>\012"
+      "        </Decorator>\012"
+      "        <Control ID=\"Parallel\">\012"
+      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; "
+      "negative counts from the number of children</input_port>\012"
+      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the "
+      "node; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Control ID=\"ParallelAll\">\012"
+      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated "
+      "before failing; negative counts from the number of children</input_port>\012"
+      "        </Control>\012"
+      "        <Action ID=\"PerformDeicticGesture\">\012"
+      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at "
+      "(its gestureTarget)</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"Precondition\">\012"
+      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
+      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
+      "when the condition is false</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"PressDestinationDialogue\">\012"
+      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet "
+      "(from the knowledge base&apos;s location descriptions)</output_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"PressDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" "
+      "default=\"press_destination\">phrase to say: asks the visitor to choose the place on the "
+      "tablet</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"QueryDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" "
+      "default=\"query_destination\">phrase to say: asks which place the visitor is looking "
+      "for</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"ReactiveFallback\"/>\012"
+      "        <Control ID=\"ReactiveSequence\"/>\012"
+      "        <Decorator ID=\"Repeat\">\012"
+      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
+      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
+      "        </Decorator>\012"
+      "        <Decorator ID=\"RunOnce\">\012"
+      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
+      "run instead of the stored status</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"START_OF_TREE\"/>\012"
+      "        <Action ID=\"SayDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase "
+      "to say: asks the visitor to say the name of the place</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SayGoodByeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
+      "        <Action ID=\"Script\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
+      "        </Action>\012"
+      "        <Condition ID=\"ScriptCondition\">\012"
+      "            <input_port name=\"code\" type=\"std::string\">script whose result is the "
+      "condition</input_port>\012"
+      "        </Condition>\012"
+      "        <Control ID=\"Sequence\"/>\012"
+      "        <Control ID=\"SequenceWithMemory\"/>\012"
+      "        <Action ID=\"SetBlackboard\">\012"
+      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or "
+      "{key}</input_port>\012"
+      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to "
+      "write</inout_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
+      "{key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"Sleep\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in "
+      "milliseconds</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
+      "        <SubTree ID=\"SubTree\"/>\012"
+      "        <Control ID=\"Switch2\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch3\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch4\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch5\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Control ID=\"Switch6\">\012"
+      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
+      "cases</input_port>\012"
+      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
+      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
+      "        </Control>\012"
+      "        <Decorator ID=\"Timeout\">\012"
+      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in "
+      "milliseconds</input_port>\012"
+      "        </Decorator>\012"
+      "        <Action ID=\"UnknownDestinationSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" "
+      "default=\"unknown_destination\">phrase to say: apologises that the place is not "
+      "known</input_port>\012"
+      "        </Action>\012"
+      "        <Action ID=\"UnsetBlackboard\">\012"
+      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
+      "        </Action>\012"
+      "        <Decorator ID=\"WaitValueUpdate\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
+      "{key}</input_port>\012"
+      "        </Decorator>\012"
+      "        <Condition ID=\"WasEntryUpdated\">\012"
+      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as "
+      "{key}</input_port>\012"
+      "        </Condition>\012"
+      "        <Action ID=\"WelcomeGesture\"/>\012"
+      "        <Action ID=\"WelcomeSpeech\">\012"
+      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to "
+      "say</input_port>\012"
+      "        </Action>\012"
+      "        <Control ID=\"WhileDoElse\"/>\012"
+      "    </TreeNodesModel>\012"
+      "</root>\012"sv;
+  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
+  // creation order, each with its own nodes.
+  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
+      0, 1, 2, 12, 30, 50, 67, 3, 4, 5, 6, 7, 8, 9, 10, 11,
+      13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28,
+      29, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45,
+      46, 47, 48, 49, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62,
+      63, 64, 65, 66, 68, 69, 70, 71, 72, 73, 74,
+  };
+  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
+  // the SubTree's path).
+  static constexpr std::array<std::string_view, 6> kBlackboards = {
+      "ReceptionGuide",
+      "I. DetectVisitor::3",
+      "II. EngageVisitor::13",
+      "III. QueryDestination::31",
+      "IV. GiveDirections::51",
+      "V. Farewell::68",
+  };
+  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
+  template <class Visitor>
+  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
+    (void)bb;
+    (void)visit;
+    visit(std::size_t{0}, std::string_view("destination"), bb.destination);
+    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_GiveDirections_location_id);
+  }
 };
 
 }  // namespace detail
@@ -459,1664 +1180,74 @@ namespace control = leaf;
 
 namespace detail {
 
-// The BehaviorTree.CPP release this mission follows, as the named switches of btgen's
-// lang/versions.py (each one difference between 4.6.2 and later releases); the engine
-// (btgen/engine.hpp) and the data operations read them here.
-struct Semantics {
-  static constexpr std::uint32_t kBtcppVersion = 40602;
-  static constexpr bool skipped_by_count = false;
-  static constexpr bool loop_end_never_skipped = false;
-  static constexpr bool retry_rereads_attempts = false;
-  static constexpr bool precondition_if_until_started = false;
-  static constexpr bool setblackboard_converts_to_entry_type = false;
-  static constexpr bool loop_queue_untyped = false;
-  static constexpr bool switch_whole_parse = false;
-  static constexpr bool subtree_literals_typed = false;
-  static constexpr bool int_to_double_53_bits = false;
-  static constexpr bool double_from_chars = false;
-  static constexpr bool trycatch = false;
-  static constexpr bool groot2_root_blackboard = false;
-  static constexpr bool script_grammar_49 = false;
-  static constexpr bool name_validation_484 = false;
-  static constexpr bool attribute_names_484 = false;
-  static constexpr bool unique_subtree_paths = false;
-  static constexpr bool reactive_sequence_child_checks = false;
-  static constexpr bool groot2_post_hooks = false;
-  static constexpr bool groot2_insert_until_error = false;
-};
+// The leaf model classes by number, and the switches of Spec.
+template <> struct ModelOf<0> { using type = leaf::DisableAnimateBehavior; };
+template <> struct ModelOf<1> { using type = leaf::EnableAnimateBehavior; };
+template <> struct ModelOf<2> { using type = leaf::GoodbyeGesture; };
+template <> struct ModelOf<3> { using type = leaf::HandleFallBack; };
+template <> struct ModelOf<4> { using type = leaf::IsASREnabled; };
+template <> struct ModelOf<5> { using type = leaf::IsMutualGazeDiscovered; };
+template <> struct ModelOf<6> { using type = leaf::IsVisitorDiscovered; };
+template <> struct ModelOf<7> { using type = leaf::PerformDeicticGesture; };
+template <> struct ModelOf<8> { using type = leaf::SayGoodByeSpeech; };
+template <> struct ModelOf<9> { using type = leaf::ScanningOvertAttentionMode; };
+template <> struct ModelOf<10> { using type = leaf::SocialOvertAttentionMode; };
+template <> struct ModelOf<11> { using type = leaf::START_OF_TREE; };
+template <> struct ModelOf<12> { using type = leaf::WelcomeGesture; };
+template <> struct ModelOf<13> { using type = leaf::WelcomeSpeech; };
+template <> struct ModelOf<14> { using type = leaf::QueryDestinationSpeech; };
+template <> struct ModelOf<15> { using type = leaf::SayDestinationSpeech; };
+template <> struct ModelOf<16> { using type = leaf::IsDestinationUttered; };
+template <> struct ModelOf<17> { using type = leaf::PressDestinationSpeech; };
+template <> struct ModelOf<18> { using type = leaf::PressDestinationDialogue; };
+template <> struct ModelOf<19> { using type = leaf::LookUpDestination; };
+template <> struct ModelOf<20> { using type = leaf::DescribeRouteSpeech_1; };
+template <> struct ModelOf<21> { using type = leaf::DescribeRouteSpeech_2; };
+template <> struct ModelOf<22> { using type = leaf::UnknownDestinationSpeech; };
 
-// The mission as tables, in BehaviorTree.CPP creation order (index = UID - 1).
-struct Spec {
-  using Semantics = detail::Semantics;
-  static constexpr std::string_view kSource = "missions/Reception.xml";
-  static constexpr std::string_view kMainTree = "ReceptionGuide";
-  static constexpr std::size_t kNodeCount = 75;
-  static constexpr std::size_t kChildCount = 74;
-  static constexpr std::size_t kCounterCount = 59;
-  static constexpr std::size_t kTimerCount = 0;
-  static constexpr std::size_t kMaxDepth = 9;
-  static constexpr bool kHasParallel = true;
-  using Blackboard = detail::Blackboard;
-
-  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1). Each row:
-  //   kind,
-  //   index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
-  //   id, name,
-  //   source
-  // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
-  // read by meaning through btgen::param there).
-  static constexpr std::array<btgen::NodeInfo, kNodeCount> kNodes = {
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      0, 1, btgen::kNoNode, 0u, 6, btgen::kNoModel, 0u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Reception", 9),
-                      std::string_view("missions/Reception.xml:29:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      1, 2, 0, 6u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("START_OF_TREE", 13), std::string_view("START_OF_TREE", 13),
-                      std::string_view("missions/Reception.xml:30:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      2, 3, 0, 6u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("I. DetectVisitor", 16),
-                      std::string_view("missions/Reception.xml:31:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      3, 4, 2, 7u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/Reception.xml:42:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      4, 5, 3, 10u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:43:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      5, 6, 4, 12u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
-                      std::string_view("missions/Reception.xml:44:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      6, 7, 4, 12u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:45:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      7, 8, 3, 12u, 2, btgen::kNoModel, 6u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:47:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      8, 9, 7, 14u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/Reception.xml:48:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      9, 10, 7, 14u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:49:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      10, 11, 3, 14u, 1, btgen::kNoModel, 8u, btgen::kNoSlot, 0, -1, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("WaitForVisitor", 14),
-                      std::string_view("missions/Reception.xml:51:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      11, 12, 10, 15u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsVisitorDiscovered", 19), std::string_view("IsVisitorDiscovered", 19),
-                      std::string_view("missions/Reception.xml:52:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      12, 13, 0, 15u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("II. EngageVisitor", 17),
-                      std::string_view("missions/Reception.xml:32:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      13, 14, 12, 16u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/Reception.xml:58:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      14, 15, 13, 21u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:59:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      15, 16, 14, 23u, 3, btgen::kNoModel, 14u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("WelcomeGestureWithoutAnimation", 30),
-                      std::string_view("missions/Reception.xml:60:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      16, 17, 15, 26u, 0, 0, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DisableAnimateBehavior", 22), std::string_view("DisableAnimateBehavior", 22),
-                      std::string_view("missions/Reception.xml:61:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      17, 18, 15, 26u, 0, 12, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("WelcomeGesture", 14), std::string_view("WelcomeGesture", 14),
-                      std::string_view("missions/Reception.xml:62:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      18, 19, 15, 26u, 0, 1, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("EnableAnimateBehavior", 21), std::string_view("EnableAnimateBehavior", 21),
-                      std::string_view("missions/Reception.xml:63:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      19, 20, 14, 26u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:65:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      20, 21, 13, 26u, 2, btgen::kNoModel, 16u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:68:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      21, 22, 20, 28u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("WelcomeSpeech", 13), std::string_view("WelcomeSpeech", 13),
-                      std::string_view("missions/Reception.xml:69:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      22, 23, 20, 28u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:70:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      23, 24, 13, 28u, 2, btgen::kNoModel, 18u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:72:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      24, 25, 23, 30u, 0, 9, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("ScanningOvertAttentionMode", 26),
-                      std::string_view("missions/Reception.xml:73:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      25, 26, 23, 30u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:74:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      26, 27, 13, 30u, 0, 5, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsMutualGazeDiscovered", 22), std::string_view("IsMutualGazeDiscovered", 22),
-                      std::string_view("missions/Reception.xml:76:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      27, 28, 13, 30u, 2, btgen::kNoModel, 20u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:77:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      28, 29, 27, 32u, 0, 10, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SocialOvertAttentionMode", 24),
-                      std::string_view("SocialOvertAttentionMode", 24),
-                      std::string_view("missions/Reception.xml:78:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:79:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      30, 31, 0, 32u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("III. QueryDestination", 21),
-                      std::string_view("missions/Reception.xml:33:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      31, 32, 30, 33u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/Reception.xml:89:5", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      32, 33, 31, 35u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:90:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      33, 34, 32, 37u, 0, 14, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("QueryDestinationSpeech", 22), std::string_view("QueryDestinationSpeech", 22),
-                      std::string_view("missions/Reception.xml:91:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      34, 35, 32, 37u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:92:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      35, 36, 31, 37u, 2, btgen::kNoModel, 26u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("SpeechOrTablet", 14),
-                      std::string_view("missions/Reception.xml:94:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      36, 37, 35, 39u, 2, btgen::kNoModel, 28u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("SpokenAnswer", 12),
-                      std::string_view("missions/Reception.xml:95:9", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      37, 38, 36, 41u, 0, 4, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsASREnabled", 12), std::string_view("IsASREnabled", 12),
-                      std::string_view("missions/Reception.xml:96:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      38, 39, 36, 41u, 1, btgen::kNoModel, 30u, btgen::kNoSlot, 0, 3, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("AskUpToThreeTimes", 17),
-                      std::string_view("missions/Reception.xml:97:11", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      39, 40, 38, 42u, 2, btgen::kNoModel, 32u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/Reception.xml:98:13", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      40, 41, 39, 44u, 2, btgen::kNoModel, 34u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:99:15", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      41, 42, 40, 46u, 0, 15, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SayDestinationSpeech", 20), std::string_view("SayDestinationSpeech", 20),
-                      std::string_view("missions/Reception.xml:100:17", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      42, 43, 40, 46u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:101:17", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Condition,
-                      43, 44, 39, 46u, 0, 16, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IsDestinationUttered", 20), std::string_view("IsDestinationUttered", 20),
-                      std::string_view("missions/Reception.xml:103:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::RetryUntilSuccessful,
-                      44, 45, 35, 46u, 1, btgen::kNoModel, 36u, btgen::kNoSlot, 0, 3, 0, 0,
-                      std::string_view("RetryUntilSuccessful", 20), std::string_view("TabletAnswer", 12),
-                      std::string_view("missions/Reception.xml:107:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      45, 46, 44, 47u, 2, btgen::kNoModel, 38u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Sequence", 8),
-                      std::string_view("missions/Reception.xml:108:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      46, 47, 45, 49u, 2, btgen::kNoModel, 40u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:109:13", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      47, 48, 46, 51u, 0, 17, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PressDestinationSpeech", 22), std::string_view("PressDestinationSpeech", 22),
-                      std::string_view("missions/Reception.xml:110:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      48, 49, 46, 51u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:111:15", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PressDestinationDialogue", 24),
-                      std::string_view("PressDestinationDialogue", 24),
-                      std::string_view("missions/Reception.xml:113:13", 29)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("IV. GiveDirections", 18),
-                      std::string_view("missions/Reception.xml:34:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::IfThenElse,
-                      51, 52, 50, 52u, 3, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("IfThenElse", 10), std::string_view("KnownPlace", 10),
-                      std::string_view("missions/Reception.xml:125:5", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      52, 53, 51, 55u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("LookUpDestination", 17), std::string_view("LookUpDestination", 17),
-                      std::string_view("missions/Reception.xml:126:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Sequence,
-                      53, 54, 51, 55u, 3, btgen::kNoModel, 43u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Sequence", 8), std::string_view("Directions", 10),
-                      std::string_view("missions/Reception.xml:127:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      54, 55, 53, 58u, 2, btgen::kNoModel, 45u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:128:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      55, 56, 54, 60u, 0, 20, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DescribeRouteSpeech_1", 21), std::string_view("DescribeRouteSpeech_1", 21),
-                      std::string_view("missions/Reception.xml:129:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      56, 57, 54, 60u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:130:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      57, 58, 53, 60u, 2, btgen::kNoModel, 47u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:132:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      58, 59, 57, 62u, 0, 7, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("PerformDeicticGesture", 21), std::string_view("PointToDestination", 18),
-                      std::string_view("missions/Reception.xml:133:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      59, 60, 57, 62u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:134:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      60, 61, 53, 62u, 2, btgen::kNoModel, 49u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:136:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      61, 62, 60, 64u, 0, 21, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("DescribeRouteSpeech_2", 21), std::string_view("DescribeRouteSpeech_2", 21),
-                      std::string_view("missions/Reception.xml:137:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      62, 63, 60, 64u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:138:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::ForceSuccess,
-                      63, 64, 51, 64u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("ForceSuccess", 12), std::string_view("Apology", 7),
-                      std::string_view("missions/Reception.xml:141:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      64, 65, 63, 65u, 2, btgen::kNoModel, 51u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:142:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      65, 66, 64, 67u, 0, 22, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("UnknownDestinationSpeech", 24),
-                      std::string_view("UnknownDestinationSpeech", 24),
-                      std::string_view("missions/Reception.xml:143:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:144:11", 29)},
-      btgen::NodeInfo{btgen::NodeKind::SubTree,
-                      67, 68, 0, 67u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SubTree", 7), std::string_view("V. Farewell", 11),
-                      std::string_view("missions/Reception.xml:35:7", 27)},
-      btgen::NodeInfo{btgen::NodeKind::Parallel,
-                      68, 69, 67, 68u, 2, btgen::kNoModel, 53u, btgen::kNoSlot, 0, 2, 1, 0,
-                      std::string_view("Parallel", 8), std::string_view("WaveAndSayGoodbye", 17),
-                      std::string_view("missions/Reception.xml:153:5", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      69, 70, 68, 70u, 2, btgen::kNoModel, 55u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:154:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      70, 71, 69, 72u, 0, 2, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("GoodbyeGesture", 14), std::string_view("GoodbyeGesture", 14),
-                      std::string_view("missions/Reception.xml:155:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      71, 72, 69, 72u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:156:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Fallback,
-                      72, 73, 68, 72u, 2, btgen::kNoModel, 57u, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("Fallback", 8), std::string_view("Fallback", 8),
-                      std::string_view("missions/Reception.xml:158:7", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      73, 74, 72, 74u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("SayGoodByeSpeech", 16), std::string_view("SayGoodByeSpeech", 16),
-                      std::string_view("missions/Reception.xml:159:9", 28)},
-      btgen::NodeInfo{btgen::NodeKind::Action,
-                      74, 75, 72, 74u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-                      std::string_view("HandleFallBack", 14), std::string_view("HandleFallBack", 14),
-                      std::string_view("missions/Reception.xml:160:9", 28)},
-  };
-
-  // Leaves only in trees the main tree does not run: name, tree (for the scenario check).
-  static constexpr std::array<std::array<std::string_view, 2>, 0> kUnrunLeaves = {
-  };
-
-  static constexpr std::array<std::uint16_t, kChildCount> kChildren = {
-      1,
-      2,
-      12,
-      30,
-      50,
-      67,
-      3,
-      4,
-      7,
-      10,
-      5,
-      6,
-      8,
-      9,
-      11,
-      13,
-      14,
-      20,
-      23,
-      26,
-      27,
-      15,
-      19,
-      16,
-      17,
-      18,
-      21,
-      22,
-      24,
-      25,
-      28,
-      29,
-      31,
-      32,
-      35,
-      33,
-      34,
-      36,
-      44,
-      37,
-      38,
-      39,
-      40,
-      43,
-      41,
-      42,
-      45,
-      46,
-      49,
-      47,
-      48,
-      51,
-      52,
-      53,
-      63,
-      54,
-      57,
-      60,
-      55,
-      56,
-      58,
-      59,
-      61,
-      62,
-      64,
-      65,
-      66,
-      68,
-      69,
-      72,
-      70,
-      71,
-      73,
-      74,
-  };
-
-  // Straight-line code shared between identical subtrees (generator/btgen/backend_cpp/shapes.py):
-  // the shape of every node, the first node of every shape (65535: too deep for straight-line
-  // code) and how many nodes have it. btgen::Engine compiles one tick per shape.
-  static constexpr std::size_t kShapeCount = 58;
-  static constexpr std::array<std::uint16_t, kNodeCount> kShape = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 6, 9, 10, 11, 12, 13, 14,
-      15, 16, 5, 6, 17, 18, 6, 7, 8, 6, 19, 20, 21, 6, 22, 23,
-      24, 25, 6, 26, 27, 28, 29, 30, 31, 32, 6, 33, 34, 35, 36, 37,
-      6, 38, 39, 40, 41, 42, 43, 44, 6, 45, 46, 6, 47, 48, 6, 49,
-      50, 51, 6, 52, 53, 54, 55, 6, 56, 57, 6,
-  };
-  static constexpr std::array<std::uint16_t, kShapeCount> kShapeRep = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
-      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
-      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
-      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
-  };
-  static constexpr std::array<std::uint32_t, kShapeCount> kShapeUses = {
-      1, 1, 1, 1, 1, 2, 15, 2, 2, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-      1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
-  };
-  // For BTGEN_STRAIGHT_LINE_BUDGET: the weight of all nodes (1, 6 when a node runs scripts,
-  // plus its children), the first node of every compiled shape in creation order and the
-  // weight of those before it; whether a shape is too deep, and whether the mission has
-  // Controls or Decorators of its own (both run on the interpreter).
-  static constexpr std::size_t kTotalWeight = 149;
-  static constexpr std::array<std::uint16_t, 58> kRepNode = {
-      0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 13, 14, 15, 16,
-      17, 20, 21, 26, 27, 28, 30, 31, 32, 33, 35, 36, 37, 38, 39, 40,
-      41, 43, 44, 45, 46, 47, 49, 50, 51, 52, 53, 54, 55, 57, 58, 60,
-      61, 63, 64, 65, 67, 68, 69, 70, 72, 73,
-  };
-  static constexpr std::array<std::uint32_t, 58> kRepWeightBefore = {
-      0, 7, 8, 10, 14, 17, 18, 19, 22, 23, 25, 26,
-      28, 34, 37, 41, 42, 43, 46, 47, 48, 51, 52, 54,
-      57, 60, 61, 64, 67, 68, 70, 73, 76, 77, 78, 80,
-      83, 86, 87, 88, 90, 94, 95, 99, 102, 103, 106, 107,
-      110, 111, 113, 116, 117, 119, 122, 125, 126, 129,
-  };
-  static constexpr bool kHasDeepShape = false;
-  static constexpr bool kHasUserControlFlow = false;
-
-  // Leaf dispatch: a direct call of the hook of the node's model, by the model's number
-  // (M: what the engine's straight-line code calls, the model a constant there) or by the
-  // node's (what the table interpreter calls).
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_start_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                  [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::DisableAnimateBehavior model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DisableAnimateBehavior>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DisableAnimateBehavior");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::EnableAnimateBehavior model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::EnableAnimateBehavior>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action EnableAnimateBehavior");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::GoodbyeGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::GoodbyeGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action GoodbyeGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::HandleFallBack model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::HandleFallBack>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action HandleFallBack");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 7) {
-      leaf::PerformDeicticGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PerformDeicticGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PerformDeicticGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 8) {
-      leaf::SayGoodByeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SayGoodByeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SayGoodByeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 9) {
-      leaf::ScanningOvertAttentionMode model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::ScanningOvertAttentionMode>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action ScanningOvertAttentionMode");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 10) {
-      leaf::SocialOvertAttentionMode model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SocialOvertAttentionMode>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SocialOvertAttentionMode");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 11) {
-      leaf::START_OF_TREE model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::START_OF_TREE>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action START_OF_TREE");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 12) {
-      leaf::WelcomeGesture model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeGesture>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action WelcomeGesture");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 13) {
-      leaf::WelcomeSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::WelcomeSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action WelcomeSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 14) {
-      leaf::QueryDestinationSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::QueryDestinationSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action QueryDestinationSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 15) {
-      leaf::SayDestinationSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::SayDestinationSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action SayDestinationSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 17) {
-      leaf::PressDestinationSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PressDestinationSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 18) {
-      leaf::PressDestinationDialogue model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::PressDestinationDialogue>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action PressDestinationDialogue");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 19) {
-      leaf::LookUpDestination model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::LookUpDestination>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action LookUpDestination");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 20) {
-      leaf::DescribeRouteSpeech_1 model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_1>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DescribeRouteSpeech_1");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 21) {
-      leaf::DescribeRouteSpeech_2 model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::DescribeRouteSpeech_2>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action DescribeRouteSpeech_2");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else if constexpr (M == 22) {
-      leaf::UnknownDestinationSpeech model(bb, err, node);
-      static_assert(btgen::has_action_hooks<Leaves, leaf::UnknownDestinationSpeech>,
-                    "Leaves implements neither tick() nor onStart/onRunning/onHalted "
-                    "for Action UnknownDestinationSpeech");
-      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));
-      } else {
-        return leaves.onStart(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 0: return Hook::template call<leaf::DisableAnimateBehavior>(args...);
+    case 1: return Hook::template call<leaf::EnableAnimateBehavior>(args...);
+    case 2: return Hook::template call<leaf::GoodbyeGesture>(args...);
+    case 3: return Hook::template call<leaf::HandleFallBack>(args...);
+    case 7: return Hook::template call<leaf::PerformDeicticGesture>(args...);
+    case 8: return Hook::template call<leaf::SayGoodByeSpeech>(args...);
+    case 9: return Hook::template call<leaf::ScanningOvertAttentionMode>(args...);
+    case 10: return Hook::template call<leaf::SocialOvertAttentionMode>(args...);
+    case 11: return Hook::template call<leaf::START_OF_TREE>(args...);
+    case 12: return Hook::template call<leaf::WelcomeGesture>(args...);
+    case 13: return Hook::template call<leaf::WelcomeSpeech>(args...);
+    case 14: return Hook::template call<leaf::QueryDestinationSpeech>(args...);
+    case 15: return Hook::template call<leaf::SayDestinationSpeech>(args...);
+    case 17: return Hook::template call<leaf::PressDestinationSpeech>(args...);
+    case 18: return Hook::template call<leaf::PressDestinationDialogue>(args...);
+    case 19: return Hook::template call<leaf::LookUpDestination>(args...);
+    case 20: return Hook::template call<leaf::DescribeRouteSpeech_1>(args...);
+    case 21: return Hook::template call<leaf::DescribeRouteSpeech_2>(args...);
+    case 22: return Hook::template call<leaf::UnknownDestinationSpeech>(args...);
+    default: return Hook::template call<void>(args...);
   }
+}
 
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status on_running_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                    [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 0) {
-      leaf::DisableAnimateBehavior model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 1) {
-      leaf::EnableAnimateBehavior model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 2) {
-      leaf::GoodbyeGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 3) {
-      leaf::HandleFallBack model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::HandleFallBack>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 7) {
-      leaf::PerformDeicticGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 8) {
-      leaf::SayGoodByeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 9) {
-      leaf::ScanningOvertAttentionMode model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 10) {
-      leaf::SocialOvertAttentionMode model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 11) {
-      leaf::START_OF_TREE model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 12) {
-      leaf::WelcomeGesture model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 13) {
-      leaf::WelcomeSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 14) {
-      leaf::QueryDestinationSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 15) {
-      leaf::SayDestinationSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 17) {
-      leaf::PressDestinationSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 18) {
-      leaf::PressDestinationDialogue model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 19) {
-      leaf::LookUpDestination model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::LookUpDestination>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 20) {
-      leaf::DescribeRouteSpeech_1 model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 21) {
-      leaf::DescribeRouteSpeech_2 model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else if constexpr (M == 22) {
-      leaf::UnknownDestinationSpeech model(bb, err, node);
-      if constexpr (btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) {
-        return model.sync_result(leaves.tick(model, node));  // ticked again before its parent reset it
-      } else {
-        return leaves.onRunning(model, node);
-      }
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_condition(std::uint16_t model, Args&... args) {
+  switch (model) {
+    case 4: return Hook::template call<leaf::IsASREnabled>(args...);
+    case 5: return Hook::template call<leaf::IsMutualGazeDiscovered>(args...);
+    case 6: return Hook::template call<leaf::IsVisitorDiscovered>(args...);
+    case 16: return Hook::template call<leaf::IsDestinationUttered>(args...);
+    default: return Hook::template call<void>(args...);
   }
+}
 
-  template <class Leaves, std::uint16_t M>
-  static btgen::Status check_m(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                               [[maybe_unused]] const btgen::NodeInfo& node) {
-    if constexpr (M == 4) {
-      leaf::IsASREnabled model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 5) {
-      leaf::IsMutualGazeDiscovered model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 6) {
-      leaf::IsVisitorDiscovered model(bb, err, node);
-      return leaves.check(model, node);
-    } else if constexpr (M == 16) {
-      leaf::IsDestinationUttered model(bb, err, node);
-      return leaves.check(model, node);
-    } else {
-      (void)leaves;
-      (void)bb;
-      (void)err;
-      return btgen::Status::FAILURE;
-    }
+template <class Hook, class... Args>
+constexpr decltype(auto) Spec::visit_user_node(std::uint16_t model, Args&... args) {
+  switch (model) {
+    default: return Hook::template call<void>(args...);
   }
-
-  template <class Leaves>
-  static btgen::Status on_start(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_start_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_start_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_start_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_start_m<Leaves, 3>(leaves, bb, err, node);
-      case 7:
-        return on_start_m<Leaves, 7>(leaves, bb, err, node);
-      case 8:
-        return on_start_m<Leaves, 8>(leaves, bb, err, node);
-      case 9:
-        return on_start_m<Leaves, 9>(leaves, bb, err, node);
-      case 10:
-        return on_start_m<Leaves, 10>(leaves, bb, err, node);
-      case 11:
-        return on_start_m<Leaves, 11>(leaves, bb, err, node);
-      case 12:
-        return on_start_m<Leaves, 12>(leaves, bb, err, node);
-      case 13:
-        return on_start_m<Leaves, 13>(leaves, bb, err, node);
-      case 14:
-        return on_start_m<Leaves, 14>(leaves, bb, err, node);
-      case 15:
-        return on_start_m<Leaves, 15>(leaves, bb, err, node);
-      case 17:
-        return on_start_m<Leaves, 17>(leaves, bb, err, node);
-      case 18:
-        return on_start_m<Leaves, 18>(leaves, bb, err, node);
-      case 19:
-        return on_start_m<Leaves, 19>(leaves, bb, err, node);
-      case 20:
-        return on_start_m<Leaves, 20>(leaves, bb, err, node);
-      case 21:
-        return on_start_m<Leaves, 21>(leaves, bb, err, node);
-      case 22:
-        return on_start_m<Leaves, 22>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static btgen::Status on_running(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0:
-        return on_running_m<Leaves, 0>(leaves, bb, err, node);
-      case 1:
-        return on_running_m<Leaves, 1>(leaves, bb, err, node);
-      case 2:
-        return on_running_m<Leaves, 2>(leaves, bb, err, node);
-      case 3:
-        return on_running_m<Leaves, 3>(leaves, bb, err, node);
-      case 7:
-        return on_running_m<Leaves, 7>(leaves, bb, err, node);
-      case 8:
-        return on_running_m<Leaves, 8>(leaves, bb, err, node);
-      case 9:
-        return on_running_m<Leaves, 9>(leaves, bb, err, node);
-      case 10:
-        return on_running_m<Leaves, 10>(leaves, bb, err, node);
-      case 11:
-        return on_running_m<Leaves, 11>(leaves, bb, err, node);
-      case 12:
-        return on_running_m<Leaves, 12>(leaves, bb, err, node);
-      case 13:
-        return on_running_m<Leaves, 13>(leaves, bb, err, node);
-      case 14:
-        return on_running_m<Leaves, 14>(leaves, bb, err, node);
-      case 15:
-        return on_running_m<Leaves, 15>(leaves, bb, err, node);
-      case 17:
-        return on_running_m<Leaves, 17>(leaves, bb, err, node);
-      case 18:
-        return on_running_m<Leaves, 18>(leaves, bb, err, node);
-      case 19:
-        return on_running_m<Leaves, 19>(leaves, bb, err, node);
-      case 20:
-        return on_running_m<Leaves, 20>(leaves, bb, err, node);
-      case 21:
-        return on_running_m<Leaves, 21>(leaves, bb, err, node);
-      case 22:
-        return on_running_m<Leaves, 22>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void on_halted(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 0: {
-        leaf::DisableAnimateBehavior model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>) leaves.onHalted(model, node);
-        return;
-      }
-      case 1: {
-        leaf::EnableAnimateBehavior model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>) leaves.onHalted(model, node);
-        return;
-      }
-      case 2: {
-        leaf::GoodbyeGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 3: {
-        leaf::HandleFallBack model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::HandleFallBack>) leaves.onHalted(model, node);
-        return;
-      }
-      case 7: {
-        leaf::PerformDeicticGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 8: {
-        leaf::SayGoodByeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 9: {
-        leaf::ScanningOvertAttentionMode model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>) leaves.onHalted(model, node);
-        return;
-      }
-      case 10: {
-        leaf::SocialOvertAttentionMode model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>) leaves.onHalted(model, node);
-        return;
-      }
-      case 11: {
-        leaf::START_OF_TREE model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::START_OF_TREE>) leaves.onHalted(model, node);
-        return;
-      }
-      case 12: {
-        leaf::WelcomeGesture model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeGesture>) leaves.onHalted(model, node);
-        return;
-      }
-      case 13: {
-        leaf::WelcomeSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 14: {
-        leaf::QueryDestinationSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 15: {
-        leaf::SayDestinationSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 17: {
-        leaf::PressDestinationSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      case 18: {
-        leaf::PressDestinationDialogue model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>) leaves.onHalted(model, node);
-        return;
-      }
-      case 19: {
-        leaf::LookUpDestination model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::LookUpDestination>) leaves.onHalted(model, node);
-        return;
-      }
-      case 20: {
-        leaf::DescribeRouteSpeech_1 model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>) leaves.onHalted(model, node);
-        return;
-      }
-      case 21: {
-        leaf::DescribeRouteSpeech_2 model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>) leaves.onHalted(model, node);
-        return;
-      }
-      case 22: {
-        leaf::UnknownDestinationSpeech model(bb, err, node);
-        if constexpr (!btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>) leaves.onHalted(model, node);
-        return;
-      }
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-  }
-
-  // Whether the node is an Action that Leaves implements as a SyncActionNode
-  // (tick() alone): it ticks again whatever its status, as 4.6.2's does.
-  template <class Leaves>
-  static constexpr bool sync_action([[maybe_unused]] const btgen::NodeInfo& node) noexcept {
-    switch (node.model) {
-      case 0:
-        return btgen::is_sync_action<Leaves, leaf::DisableAnimateBehavior>;
-      case 1:
-        return btgen::is_sync_action<Leaves, leaf::EnableAnimateBehavior>;
-      case 2:
-        return btgen::is_sync_action<Leaves, leaf::GoodbyeGesture>;
-      case 3:
-        return btgen::is_sync_action<Leaves, leaf::HandleFallBack>;
-      case 7:
-        return btgen::is_sync_action<Leaves, leaf::PerformDeicticGesture>;
-      case 8:
-        return btgen::is_sync_action<Leaves, leaf::SayGoodByeSpeech>;
-      case 9:
-        return btgen::is_sync_action<Leaves, leaf::ScanningOvertAttentionMode>;
-      case 10:
-        return btgen::is_sync_action<Leaves, leaf::SocialOvertAttentionMode>;
-      case 11:
-        return btgen::is_sync_action<Leaves, leaf::START_OF_TREE>;
-      case 12:
-        return btgen::is_sync_action<Leaves, leaf::WelcomeGesture>;
-      case 13:
-        return btgen::is_sync_action<Leaves, leaf::WelcomeSpeech>;
-      case 14:
-        return btgen::is_sync_action<Leaves, leaf::QueryDestinationSpeech>;
-      case 15:
-        return btgen::is_sync_action<Leaves, leaf::SayDestinationSpeech>;
-      case 17:
-        return btgen::is_sync_action<Leaves, leaf::PressDestinationSpeech>;
-      case 18:
-        return btgen::is_sync_action<Leaves, leaf::PressDestinationDialogue>;
-      case 19:
-        return btgen::is_sync_action<Leaves, leaf::LookUpDestination>;
-      case 20:
-        return btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_1>;
-      case 21:
-        return btgen::is_sync_action<Leaves, leaf::DescribeRouteSpeech_2>;
-      case 22:
-        return btgen::is_sync_action<Leaves, leaf::UnknownDestinationSpeech>;
-      default:
-        break;
-    }
-    return false;
-  }
-
-  // The mission's own Controls and Decorators: tick() and the optional halt().
-  template <class Leaves>
-  static btgen::Status user_tick(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                                 [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-    return btgen::Status::FAILURE;
-  }
-
-  template <class Leaves>
-  static void user_halt(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& node, const btgen::ChildOps& ops) {
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    (void)ops;
-  }
-
-  template <class Leaves>
-  static btgen::Status check(Leaves& leaves, Blackboard& bb, const btgen::ErrorSink& err,
-                             [[maybe_unused]] const btgen::NodeInfo& node) {
-    switch (node.model) {
-      case 4:
-        return check_m<Leaves, 4>(leaves, bb, err, node);
-      case 5:
-        return check_m<Leaves, 5>(leaves, bb, err, node);
-      case 6:
-        return check_m<Leaves, 6>(leaves, bb, err, node);
-      case 16:
-        return check_m<Leaves, 16>(leaves, bb, err, node);
-      default:
-        break;
-    }
-    (void)leaves;
-    (void)bb;
-    (void)err;
-    return btgen::Status::FAILURE;
-  }
-
-  // The compiled script of node `n` for `which`: 1 or 0 (a condition's
-  // truth; 1 for other scripts), -1 after an error was reported.
-  static int script(Blackboard& bb, const btgen::NodeInfo& n, const btgen::ErrorSink& err,
-                    btgen::ScriptSlot which) noexcept {
-    (void)bb;
-    (void)n;
-    (void)err;
-    (void)which;
-    return 1;
-  }
-
-  // SetBlackboard and UnsetBlackboard.
-  static btgen::Status data_leaf([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
-                                 [[maybe_unused]] const btgen::ErrorSink& err) noexcept {
-    return btgen::Status::FAILURE;
-  }
-
-  // Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec and Delay
-  // delay_msec given as `{key}` (NodeInfo p1 is 1): the entry's value into `out` when
-  // 4.6.2 reads it; 1, or -1 after reporting the error.
-  static int read_param([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::ErrorSink& err,
-                        [[maybe_unused]] const btgen::NodeInfo& n, [[maybe_unused]] std::int64_t& out) noexcept {
-    return -1;
-  }
-
-  // The update counter of the entry WasEntryUpdated, SkipUnlessUpdated or
-  // WaitValueUpdate watches; -1 when the entry does not exist.
-  static std::int64_t entry_seq([[maybe_unused]] const Blackboard& bb,
-                                [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
-    return -1;
-  }
-
-  // SwitchN: the child to tick (the last one is the default).
-  static int switch_case([[maybe_unused]] const Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n) noexcept {
-    return static_cast<int>(n.child_count) - 1;
-  }
-
-  // LoopInt/LoopBool/LoopDouble/LoopString: pop the next element into
-  // `value`: 1, or 0 when the queue is empty, -1 after an error was reported.
-  // `restart` (the loop starts from IDLE) refills a literal queue.
-  static int loop_pop([[maybe_unused]] Blackboard& bb, [[maybe_unused]] const btgen::NodeInfo& n,
-                      [[maybe_unused]] const btgen::ErrorSink& err, [[maybe_unused]] bool restart) noexcept {
-    return 0;
-  }
-};
-
-// The mission as BehaviorTree.CPP 4.6.2 shows a running tree to Groot2
-// (generator/btgen/ir/treexml.py; read by btgen/groot2.hpp and btgen/btlog.hpp).
-struct Groot2 {
-  // WriteTreeToXML(tree, true, true): every tree instance, nodes with `_uid`, the models.
-  // (Its length is given: constant evaluation then does no strlen, which a large tree's
-  // text would take past the compilers' constexpr step limits.)
-  static constexpr std::string_view kTreeXml = std::string_view(
-      "<root BTCPP_format=\"4\">\012"
-      "    <BehaviorTree ID=\"ReceptionGuide\" _fullpath=\"\">\012"
-      "        <Sequence name=\"Reception\" _uid=\"1\">\012"
-      "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
-      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
-      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
-      "_uid=\"13\"/>\012"
-      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" "
-      "_uid=\"31\" destination=\"{destination}\"/>\012"
-      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" "
-      "destination=\"{destination}\"/>\012"
-      "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
-      "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"7\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"8\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"9\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"10\"/>\012"
-      "            </Fallback>\012"
-      "            <RetryUntilSuccessful name=\"WaitForVisitor\" _uid=\"11\" num_attempts=\"-1\">\012"
-      "                <IsVisitorDiscovered name=\"IsVisitorDiscovered\" _uid=\"12\"/>\012"
-      "            </RetryUntilSuccessful>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
-      "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
-      "                    <DisableAnimateBehavior name=\"DisableAnimateBehavior\" _uid=\"17\"/>\012"
-      "                    <WelcomeGesture name=\"WelcomeGesture\" _uid=\"18\"/>\012"
-      "                    <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"19\"/>\012"
-      "                </Sequence>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"20\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"21\">\012"
-      "                <WelcomeSpeech name=\"WelcomeSpeech\" _uid=\"22\" "
-      "message=\"reception_welcome\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"23\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"24\">\012"
-      "                <ScanningOvertAttentionMode name=\"ScanningOvertAttentionMode\" _uid=\"25\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"26\"/>\012"
-      "            </Fallback>\012"
-      "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"27\"/>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"28\">\012"
-      "                <SocialOvertAttentionMode name=\"SocialOvertAttentionMode\" _uid=\"29\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"30\"/>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
-      "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
-      "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" "
-      "message=\"query_destination\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"35\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"SpeechOrTablet\" _uid=\"36\">\012"
-      "                <Sequence name=\"SpokenAnswer\" _uid=\"37\">\012"
-      "                    <IsASREnabled name=\"IsASREnabled\" _uid=\"38\"/>\012"
-      "                    <RetryUntilSuccessful name=\"AskUpToThreeTimes\" _uid=\"39\" "
-      "num_attempts=\"3\">\012"
-      "                        <Sequence name=\"Sequence\" _uid=\"40\">\012"
-      "                            <Fallback name=\"Fallback\" _uid=\"41\">\012"
-      "                                <SayDestinationSpeech name=\"SayDestinationSpeech\" _uid=\"42\" "
-      "message=\"say_destination\"/>\012"
-      "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"43\"/>\012"
-      "                            </Fallback>\012"
-      "                            <IsDestinationUttered name=\"IsDestinationUttered\" _uid=\"44\" "
-      "destination=\"{destination}\"/>\012"
-      "                        </Sequence>\012"
-      "                    </RetryUntilSuccessful>\012"
-      "                </Sequence>\012"
-      "                <RetryUntilSuccessful name=\"TabletAnswer\" _uid=\"45\" num_attempts=\"3\">\012"
-      "                    <Sequence name=\"Sequence\" _uid=\"46\">\012"
-      "                        <Fallback name=\"Fallback\" _uid=\"47\">\012"
-      "                            <PressDestinationSpeech name=\"PressDestinationSpeech\" _uid=\"48\" "
-      "message=\"press_destination\"/>\012"
-      "                            <HandleFallBack name=\"HandleFallBack\" _uid=\"49\"/>\012"
-      "                        </Fallback>\012"
-      "                        <PressDestinationDialogue name=\"PressDestinationDialogue\" _uid=\"50\" "
-      "destination=\"{destination}\"/>\012"
-      "                    </Sequence>\012"
-      "                </RetryUntilSuccessful>\012"
-      "            </Fallback>\012"
-      "        </Sequence>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
-      "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
-      "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" "
-      "destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
-      "            <Sequence name=\"Directions\" _uid=\"54\">\012"
-      "                <Fallback name=\"Fallback\" _uid=\"55\">\012"
-      "                    <DescribeRouteSpeech_1 name=\"DescribeRouteSpeech_1\" _uid=\"56\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"57\"/>\012"
-      "                </Fallback>\012"
-      "                <Fallback name=\"Fallback\" _uid=\"58\">\012"
-      "                    <PerformDeicticGesture name=\"PointToDestination\" _uid=\"59\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"60\"/>\012"
-      "                </Fallback>\012"
-      "                <Fallback name=\"Fallback\" _uid=\"61\">\012"
-      "                    <DescribeRouteSpeech_2 name=\"DescribeRouteSpeech_2\" _uid=\"62\" "
-      "location_id=\"{location_id}\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"63\"/>\012"
-      "                </Fallback>\012"
-      "            </Sequence>\012"
-      "            <ForceSuccess name=\"Apology\" _uid=\"64\">\012"
-      "                <Fallback name=\"Fallback\" _uid=\"65\">\012"
-      "                    <UnknownDestinationSpeech name=\"UnknownDestinationSpeech\" _uid=\"66\" "
-      "message=\"unknown_destination\"/>\012"
-      "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"67\"/>\012"
-      "                </Fallback>\012"
-      "            </ForceSuccess>\012"
-      "        </IfThenElse>\012"
-      "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
-      "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" "
-      "failure_count=\"1\">\012"
-      "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
-      "                <GoodbyeGesture name=\"GoodbyeGesture\" _uid=\"71\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"72\"/>\012"
-      "            </Fallback>\012"
-      "            <Fallback name=\"Fallback\" _uid=\"73\">\012"
-      "                <SayGoodByeSpeech name=\"SayGoodByeSpeech\" _uid=\"74\" message=\"goodbye\"/>\012"
-      "                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
-      "            </Fallback>\012"
-      "        </Parallel>\012"
-      "    </BehaviorTree>\012"
-      "    <TreeNodesModel>\012"
-      "        <Action ID=\"AlwaysFailure\"/>\012"
-      "        <Action ID=\"AlwaysSuccess\"/>\012"
-      "        <Control ID=\"AsyncFallback\"/>\012"
-      "        <Control ID=\"AsyncSequence\"/>\012"
-      "        <Decorator ID=\"Delay\">\012"
-      "            <input_port name=\"delay_msec\" type=\"unsigned int\">delay in milliseconds before "
-      "the child is ticked</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"DescribeRouteSpeech_1\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">place whose pre-gesture message is said "
-      "(where it is)</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"DescribeRouteSpeech_2\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">place whose post-gesture message is "
-      "said (the way there)</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"DisableAnimateBehavior\"/>\012"
-      "        <Action ID=\"EnableAnimateBehavior\"/>\012"
-      "        <Control ID=\"Fallback\"/>\012"
-      "        <Decorator ID=\"ForceFailure\"/>\012"
-      "        <Decorator ID=\"ForceSuccess\"/>\012"
-      "        <Action ID=\"GoodbyeGesture\"/>\012"
-      "        <Action ID=\"HandleFallBack\"/>\012"
-      "        <Control ID=\"IfThenElse\"/>\012"
-      "        <Decorator ID=\"Inverter\"/>\012"
-      "        <Condition ID=\"IsASREnabled\"/>\012"
-      "        <Condition ID=\"IsDestinationUttered\">\012"
-      "            <output_port name=\"destination\" type=\"std::string\">the place named, when one was "
-      "heard clearly</output_port>\012"
-      "        </Condition>\012"
-      "        <Condition ID=\"IsMutualGazeDiscovered\"/>\012"
-      "        <Condition ID=\"IsVisitorDiscovered\"/>\012"
-      "        <Decorator ID=\"KeepRunningUntilFailure\"/>\012"
-      "        <Action ID=\"LookUpDestination\">\012"
-      "            <input_port name=\"destination\" type=\"std::string\">the place the visitor "
-      "named</input_port>\012"
-      "            <output_port name=\"location_id\" type=\"int\">its knowledge-base id; the node fails "
-      "when no robotLocationDescription matches</output_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"LoopBool\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;bool, "
-      "std::allocator&lt;bool&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"bool\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopDouble\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;double, "
-      "std::allocator&lt;double&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"double\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopInt\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;int, "
-      "std::allocator&lt;int&gt; &gt; &gt;\">`;`-separated literal or a blackboard queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"int\">the element popped for this run of the "
-      "child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"LoopString\">\012"
-      "            <inout_port name=\"queue\" type=\"std::shared_ptr&lt;std::deque&lt;std::string, "
-      "std::allocator&lt;std::string&gt; &gt; &gt;\">`;`-separated literal or a blackboard "
-      "queue</inout_port>\012"
-      "            <input_port name=\"if_empty\" type=\"BT::NodeStatus\" default=\"SUCCESS\">status when "
-      "the queue is empty: SUCCESS, FAILURE or SKIPPED</input_port>\012"
-      "            <output_port name=\"value\" type=\"std::string\">the element popped for this run of "
-      "the child</output_port>\012"
-      "        </Decorator>\012"
-      "        <Control ID=\"Parallel\">\012"
-      "            <input_port name=\"success_count\" type=\"int\" default=\"-1\">successes needed; "
-      "negative counts from the number of children</input_port>\012"
-      "            <input_port name=\"failure_count\" type=\"int\" default=\"1\">failures that fail the "
-      "node; negative counts from the number of children</input_port>\012"
-      "        </Control>\012"
-      "        <Control ID=\"ParallelAll\">\012"
-      "            <input_port name=\"max_failures\" type=\"int\" default=\"1\">failures tolerated "
-      "before failing; negative counts from the number of children</input_port>\012"
-      "        </Control>\012"
-      "        <Action ID=\"PerformDeicticGesture\">\012"
-      "            <input_port name=\"location_id\" type=\"int\">knowledge-base id of what to point at "
-      "(its gestureTarget)</input_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"Precondition\">\012"
-      "            <input_port name=\"if\" type=\"std::string\">script condition</input_port>\012"
-      "            <input_port name=\"else\" type=\"BT::NodeStatus\" default=\"FAILURE\">status returned "
-      "when the condition is false</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"PressDestinationDialogue\">\012"
-      "            <output_port name=\"destination\" type=\"std::string\">the place chosen on the tablet "
-      "(from the knowledge base&apos;s location descriptions)</output_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"PressDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" "
-      "default=\"press_destination\">phrase to say: asks the visitor to choose the place on the "
-      "tablet</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"QueryDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" "
-      "default=\"query_destination\">phrase to say: asks which place the visitor is looking "
-      "for</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"ReactiveFallback\"/>\012"
-      "        <Control ID=\"ReactiveSequence\"/>\012"
-      "        <Decorator ID=\"Repeat\">\012"
-      "            <input_port name=\"num_cycles\" type=\"int\">repetitions, -1 for ever</input_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"RetryUntilSuccessful\">\012"
-      "            <input_port name=\"num_attempts\" type=\"int\">attempts, -1 for ever</input_port>\012"
-      "        </Decorator>\012"
-      "        <Decorator ID=\"RunOnce\">\012"
-      "            <input_port name=\"then_skip\" type=\"bool\" default=\"true\">SKIPPED after the first "
-      "run instead of the stored status</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"START_OF_TREE\"/>\012"
-      "        <Action ID=\"SayDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"say_destination\">phrase "
-      "to say: asks the visitor to say the name of the place</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"SayGoodByeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"goodbye\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"ScanningOvertAttentionMode\"/>\012"
-      "        <Action ID=\"Script\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script to execute</input_port>\012"
-      "        </Action>\012"
-      "        <Condition ID=\"ScriptCondition\">\012"
-      "            <input_port name=\"code\" type=\"std::string\">script whose result is the "
-      "condition</input_port>\012"
-      "        </Condition>\012"
-      "        <Control ID=\"Sequence\"/>\012"
-      "        <Control ID=\"SequenceWithMemory\"/>\012"
-      "        <Action ID=\"SetBlackboard\">\012"
-      "            <input_port name=\"value\" type=\"BT::AnyTypeAllowed\">value to write: a literal or "
-      "{key}</input_port>\012"
-      "            <inout_port name=\"output_key\" type=\"BT::AnyTypeAllowed\">entry to "
-      "write</inout_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"SkipUnlessUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
-      "{key}</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"Sleep\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time to sleep in "
-      "milliseconds</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"SocialOvertAttentionMode\"/>\012"
-      "        <SubTree ID=\"SubTree\"/>\012"
-      "        <Control ID=\"Switch2\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch3\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch4\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch5\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Control ID=\"Switch6\">\012"
-      "            <input_port name=\"variable\" type=\"std::string\">value matched against the "
-      "cases</input_port>\012"
-      "            <input_port name=\"case_1\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_2\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_3\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_4\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_5\" type=\"std::string\"/>\012"
-      "            <input_port name=\"case_6\" type=\"std::string\"/>\012"
-      "        </Control>\012"
-      "        <Decorator ID=\"Timeout\">\012"
-      "            <input_port name=\"msec\" type=\"unsigned int\">time limit in "
-      "milliseconds</input_port>\012"
-      "        </Decorator>\012"
-      "        <Action ID=\"UnknownDestinationSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" "
-      "default=\"unknown_destination\">phrase to say: apologises that the place is not "
-      "known</input_port>\012"
-      "        </Action>\012"
-      "        <Action ID=\"UnsetBlackboard\">\012"
-      "            <input_port name=\"key\" type=\"std::string\">entry to remove</input_port>\012"
-      "        </Action>\012"
-      "        <Decorator ID=\"WaitValueUpdate\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to watch, as "
-      "{key}</input_port>\012"
-      "        </Decorator>\012"
-      "        <Condition ID=\"WasEntryUpdated\">\012"
-      "            <input_port name=\"entry\" type=\"BT::AnyTypeAllowed\">blackboard entry to check, as "
-      "{key}</input_port>\012"
-      "        </Condition>\012"
-      "        <Action ID=\"WelcomeGesture\"/>\012"
-      "        <Action ID=\"WelcomeSpeech\">\012"
-      "            <input_port name=\"message\" type=\"std::string\" default=\"welcome\">phrase to "
-      "say</input_port>\012"
-      "        </Action>\012"
-      "        <Control ID=\"WhileDoElse\"/>\012"
-      "    </TreeNodesModel>\012"
-      "</root>\012", 17593);
-  // Node indices in the order of Groot2Publisher's status buffer: tree instances in
-  // creation order, each with its own nodes.
-  static constexpr std::array<std::uint16_t, Spec::kNodeCount> kStatusOrder = {
-      0,
-      1,
-      2,
-      12,
-      30,
-      50,
-      67,
-      3,
-      4,
-      5,
-      6,
-      7,
-      8,
-      9,
-      10,
-      11,
-      13,
-      14,
-      15,
-      16,
-      17,
-      18,
-      19,
-      20,
-      21,
-      22,
-      23,
-      24,
-      25,
-      26,
-      27,
-      28,
-      29,
-      31,
-      32,
-      33,
-      34,
-      35,
-      36,
-      37,
-      38,
-      39,
-      40,
-      41,
-      42,
-      43,
-      44,
-      45,
-      46,
-      47,
-      48,
-      49,
-      51,
-      52,
-      53,
-      54,
-      55,
-      56,
-      57,
-      58,
-      59,
-      60,
-      61,
-      62,
-      63,
-      64,
-      65,
-      66,
-      68,
-      69,
-      70,
-      71,
-      72,
-      73,
-      74,
-  };
-  // The name Groot2 asks for each instance's blackboard by (the main tree's ID, else
-  // the SubTree's path).
-  static constexpr std::array<std::string_view, 6> kBlackboards = {
-      "ReceptionGuide",
-      "I. DetectVisitor::3",
-      "II. EngageVisitor::13",
-      "III. QueryDestination::31",
-      "IV. GiveDirections::51",
-      "V. Farewell::68",
-  };
-  // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
-  template <class Visitor>
-  static void visit_blackboard(const Blackboard& bb, Visitor&& visit) {
-    (void)bb;
-    (void)visit;
-    visit(std::size_t{0}, std::string_view("destination"), bb.destination);
-    visit(std::size_t{4}, std::string_view("location_id"), bb.IV_GiveDirections_location_id);
-  }
-};
+}
 
 }  // namespace detail
 
@@ -2160,316 +1291,194 @@ class ReceptionLeaves {
  public:
   virtual ~ReceptionLeaves() = default;
 
-  virtual btgen::Status tick(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DisableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DisableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DisableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DisableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action EnableAnimateBehavior has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::EnableAnimateBehavior& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::EnableAnimateBehavior& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::EnableAnimateBehavior&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action GoodbyeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::GoodbyeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::GoodbyeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::GoodbyeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::GoodbyeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action HandleFallBack has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::HandleFallBack& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::HandleFallBack& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::HandleFallBack& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::HandleFallBack& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::HandleFallBack&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PerformDeicticGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PerformDeicticGesture& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PerformDeicticGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PerformDeicticGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PerformDeicticGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayGoodByeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::SayGoodByeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayGoodByeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action ScanningOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::ScanningOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::ScanningOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::ScanningOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SocialOvertAttentionMode has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SocialOvertAttentionMode& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::SocialOvertAttentionMode& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SocialOvertAttentionMode&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action START_OF_TREE has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::START_OF_TREE& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::START_OF_TREE& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::START_OF_TREE& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::START_OF_TREE&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeGesture has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeGesture& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeGesture& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeGesture& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeGesture&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action WelcomeSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::WelcomeSpeech& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) { return m.sync_result(tick(m, n)); }
+  virtual btgen::Status onRunning(leaf::WelcomeSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual btgen::Status onRunning(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::WelcomeSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::WelcomeSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action QueryDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::QueryDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::QueryDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::QueryDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action SayDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::SayDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::SayDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::SayDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::SayDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::SayDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PressDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PressDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressDestinationSpeech&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action PressDestinationDialogue has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::PressDestinationDialogue& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::PressDestinationDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::PressDestinationDialogue& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::PressDestinationDialogue& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::PressDestinationDialogue&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action LookUpDestination has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::LookUpDestination& m, const btgen::NodeInfo&) { return btgen::no_implementation(m); }
+  virtual btgen::Status onStart(leaf::LookUpDestination& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onStart(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::LookUpDestination& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
-  }
-  virtual void onHalted(leaf::LookUpDestination& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::LookUpDestination&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeRouteSpeech_1 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_1& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeRouteSpeech_1& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_1&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action DescribeRouteSpeech_2 has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::DescribeRouteSpeech_2& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::DescribeRouteSpeech_2& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::DescribeRouteSpeech_2&, const btgen::NodeInfo&) {}
 
-  virtual btgen::Status tick(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)node;
-    return model.fail("Action UnknownDestinationSpeech has no implementation: "
-                      "override tick() or onStart/onRunning/onHalted");
+  virtual btgen::Status tick(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo&) {
+    return btgen::no_implementation(m);
   }
-  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onStart(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    return model.sync_result(tick(model, node));
+  virtual btgen::Status onRunning(leaf::UnknownDestinationSpeech& m, const btgen::NodeInfo& n) {
+    return m.sync_result(tick(m, n));
   }
-  virtual void onHalted(leaf::UnknownDestinationSpeech& model, const btgen::NodeInfo& node) {
-    (void)model;
-    (void)node;
-  }
+  virtual void onHalted(leaf::UnknownDestinationSpeech&, const btgen::NodeInfo&) {}
 
   virtual btgen::Status check(leaf::IsASREnabled& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsMutualGazeDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsVisitorDiscovered& model, const btgen::NodeInfo& node) = 0;
-
   virtual btgen::Status check(leaf::IsDestinationUttered& model, const btgen::NodeInfo& node) = 0;
 
  protected:
@@ -2488,7 +1497,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x13923f8f7051b3d8ULL;
+inline constexpr unsigned long long kGeneration = 0x91fdf7aa1de04b29ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -163,12 +163,23 @@ TEST(SimpleLeaves, VirtualAdapterTakesTickAlone) {
 }
 
 TEST(SimpleLeaves, VirtualAdapterReportsAModelWithNoImplementation) {
+  struct Observer {
+    std::string message;
+    void on_status_change(const btgen::NodeInfo&, Status, Status) noexcept {}
+    void on_error(const btgen::RuntimeError& e) noexcept {
+      message = std::string(e.where) + ": " + std::string(e.message);
+    }
+  };
   struct Partial : simple_leaves::SimpleLeavesLeaves {
     Status check(leaf::Ready&, const btgen::NodeInfo&) override { return Status::SUCCESS; }
   } leaves;
-  simple_leaves::SimpleLeavesVirtual mission(leaves);
+  simple_leaves::SimpleLeaves<simple_leaves::SimpleLeavesLeaves, btgen::ManualClock, Observer> mission(leaves);
   EXPECT_EQ(mission.tick(), Status::FAILURE);  // Count: no tick(), no onStart
   EXPECT_EQ(mission.errors(), 1u);
+  // (btgen::no_implementation: the message put together from the model's ID when compiling)
+  EXPECT_EQ(mission.observer().message,
+            "tests/cpp/missions/simple_leaves.xml:9:7: Action Count has no implementation: override tick() or "
+            "onStart/onRunning/onHalted");
 }
 
 }  // namespace

@@ -350,3 +350,38 @@ def test_unknown_underscore_attribute_is_ignored_with_a_warning(tmp_path):
         "warning: attribute `_descripton` on `IsReady` is ignored, as BehaviorTree.CPP ignores every "
         "attribute not starting with a letter (did you mean `_description`?)"
     ), w
+
+
+@pytest.mark.parametrize("lead", ["\n", "\n  \n\t "])
+def test_xml_declaration_after_blank_lines_loads(tmp_path, lead):
+    """tinyxml2 reads a declaration after white space (BehaviorTree.CPP 4.10.0's own test trees
+    are raw strings starting with a line break: gtest_blackboard.cpp); recorded on the real
+    4.6.2 and 4.10.0: `result SUCCESS`. lxml refused it ("XML declaration allowed only at the
+    start"). Positions after it are unchanged; its encoding is still checked."""
+    body = '<?xml version="1.0" encoding="UTF-8"?>\n<root BTCPP_format="4">\n  <BehaviorTree ID="Main">\n'
+    path = write(tmp_path, lead + body + "    <Nope/>\n  </BehaviorTree>\n</root>\n")
+    with pytest.raises(UserError) as e:
+        load_mission(path)
+    line = lead.count("\n") + 4
+    assert str(e.value.diagnostics[0]).startswith(f"{path}:{line}:5: error: unknown node `Nope`")
+    path = write(tmp_path, lead + body + "    <AlwaysSuccess/>\n  </BehaviorTree>\n</root>\n")
+    assert load_mission(path).main_tree == "Main"
+    path = write(tmp_path, lead + body.replace("UTF-8", "latin-1") + "  </BehaviorTree>\n</root>\n")
+    with pytest.raises(UserError, match="encoding `latin-1` is not supported"):
+        load_mission(path)
+
+
+def test_an_empty_tree_id_says_so(tmp_path):
+    """BehaviorTree.CPP 4.10.0's gtest_factory.cpp tree with `<BehaviorTree ID="">` beside another
+    tree (both releases: "The tag <BehaviorTree> must have the attribute [ID]"); btgen said
+    "`` is not a valid value for this port" before."""
+    path = write(
+        tmp_path,
+        '<root BTCPP_format="4">\n  <BehaviorTree ID=""><AlwaysSuccess/></BehaviorTree>\n'
+        '  <BehaviorTree ID="Other"><AlwaysSuccess/></BehaviorTree>\n</root>\n',
+    )
+    with pytest.raises(UserError) as e:
+        load_mission(path)
+    assert [str(d) for d in e.value.diagnostics] == [
+        f"{path}:2:17: error: attribute `ID` is empty: it must name the tree or node"
+    ]

@@ -66,10 +66,10 @@ def cpp_bool(value: bool) -> str:
 
 
 def cpp_string_view(text: str) -> str:
-    """`std::string_view("...", N)`: the length is given, so constant evaluation does no
-    strlen. The node table of a large mission would otherwise exceed the compilers'
+    """`"..."sv`: a std::string_view whose length the compiler gives, so constant evaluation
+    does no strlen. The node table of a large mission would otherwise exceed the compilers'
     constexpr budgets (clang's 1M steps at about 10,000 nodes, g++'s 33M ops later)."""
-    return f"std::string_view({naming.cpp_string(text)}, {len(text.encode('utf-8'))})"
+    return f"{naming.cpp_string(text)}sv"
 
 
 def groot2_context(program: Program) -> dict:
@@ -190,6 +190,13 @@ def render(
         ],
         where=[show_loc(loc) for loc in where],
         leaves=[dict(m=m, ports=data.ports.get(m.id, ())) for m in program.leaf_models],
+        # the models Spec's visitors dispatch to: every Action and Condition, the Controls and
+        # Decorators a node uses (the others' hooks need not exist)
+        dispatched=[
+            ("visit_action", program.actions),
+            ("visit_condition", program.conditions),
+            ("visit_user_node", program.used_user_nodes),
+        ],
         scripts=tables,
         groot2=groot2_context(program),
         shapes=shapes(program, tables["node_fns"]),

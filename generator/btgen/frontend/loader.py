@@ -436,6 +436,18 @@ class _Loader:
     def _read_model_port(self, p: etree._Element, src: Source, mid: str, ports: list[PortSpec]) -> Optional[PortSpec]:
         name = p.get("name")
         loc = src.value_loc(p, "name")
+        bad = not _PORT_NAME_RE.match(name) or name in RESERVED_PORT_NAMES
+        parent = p.getparent()
+        if bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484:
+            if p.get("default") is None:
+                # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4);
+                # no attribute can set this one, and without a default it writes nothing.
+                self.sink.warning(
+                    loc,
+                    f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                    f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
+                )
+                return None
         if not _PORT_NAME_RE.match(name):
             self.sink.error(
                 loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, not starting with a digit"
@@ -498,6 +510,8 @@ class _Loader:
                 continue
             if tid.strip() != tid or not tid:
                 self.sink.error(loc, f"BehaviorTree ID `{tid}` must not be empty or start or end with spaces")
+            elif tid in self._registered_ids():
+                self.sink.error(loc, self._registered_clash("BehaviorTree", tid))
             seen[tid] = src.loc(elem)
             ok.add(tid)
         # The first definition wins; a duplicate is dropped (and reported).
@@ -505,6 +519,19 @@ class _Loader:
             (t, e, s) for i, (t, e, s) in enumerate(self.tree_elems) if t not in [x[0] for x in self.tree_elems[:i]]
         ]
         return ok
+
+    def _registered_ids(self) -> set[str]:
+        """The IDs BehaviorTree.CPP has registered when it reads the trees: its built-ins and
+        the nodes the models declare (registered in C++); a SubTree model names a tree."""
+        return set(self.builtins) | {m.id for m in self.models if m.kind != "SubTree"}
+
+    def _registered_clash(self, tag: str, tid: str) -> str:
+        # Both 4.6.2 and 4.10.0 refuse it while loading the file (XMLParser::loadDocImpl).
+        what = "a built-in node" if tid in self.builtins else "a node declared in TreeNodesModel"
+        return (
+            f"the ID of <{tag}> is `{tid}`, {what}: BehaviorTree.CPP refuses a tree or SubTree ID "
+            f"that names a registered node (rename the tree)"
+        )
 
     def _main_tree(self, src: Source) -> str:
         root = src.root
@@ -633,7 +660,9 @@ class _Loader:
     ) -> Optional[NodeSpec]:
         loc = src.value_loc(elem, "ID") if tag in KINDS else src.loc(elem)
         if tag == "SubTree":
-            if node_id not in tree_ids:
+            if node_id in self._registered_ids():
+                self.sink.error(loc, self._registered_clash("SubTree", node_id))
+            elif node_id not in tree_ids:
                 beside = self.siblings.defining_tree(src.path, node_id)
                 where = (
                     f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
@@ -772,7 +801,7 @@ class _Loader:
             self.sink.warning(
                 attr.value_loc,
                 f"`{value}` in {what} is not a blackboard reference (that is `{{key}}`); "
-                f"BehaviorTree.CPP 4.6.2 reads it as this literal text",
+                f"BehaviorTree.CPP {self.btcpp} reads it as this literal text",
             )
         if (spec.id, attr.name) in SCRIPT_PORTS:
             return self._with_script(attr, elem, src, spec.id)

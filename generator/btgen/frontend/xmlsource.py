@@ -310,13 +310,19 @@ def parse_bytes(data: bytes, path: str) -> Source:
             if utf16
             else "a NUL byte (0x00), which XML does not allow; missions must be UTF-8 text",
         )
-    decl = re.match(r"<\?xml[^>]*encoding\s*=\s*[\"']([^\"']+)", text)
+    lines = _LineIndex(text)
+    decl = re.match(r"\s*<\?xml[^>]*encoding\s*=\s*[\"']([^\"']+)", text)
     if decl and decl.group(1).replace("-", "").lower() != "utf8":
         raise UserError.at(
-            Loc(path, 1, decl.start(1) + 1), f"encoding `{decl.group(1)}` is not supported; missions must be UTF-8"
+            Loc(path, *lines.pos(decl.start(1))),
+            f"encoding `{decl.group(1)}` is not supported; missions must be UTF-8",
         )
-    lines = _LineIndex(text)
     tags = _scan(path, text, lines)
+    # tinyxml2 (both BehaviorTree.CPP versions) reads an XML declaration after blank lines or
+    # spaces (a C++ raw string `R"(\n<?xml ...` of the library's own tests); XML wants it first,
+    # so lxml is given spaces in its place, which keeps every line and column.
+    late = re.match(r"\s+(<\?xml\s[^>]*\?>)", text)
+    parsed = text if late is None else text[: late.start(1)] + " " * len(late.group(1)) + text[late.end(1) :]
     parser = etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -327,7 +333,7 @@ def parse_bytes(data: bytes, path: str) -> Source:
         remove_pis=True,
     )
     try:
-        root = etree.fromstring(text.encode("utf-8"), parser)
+        root = etree.fromstring(parsed.encode("utf-8"), parser)
     except etree.XMLSyntaxError as e:
         raise _syntax_error(path, text, e) from None
     return Source(path, text, root, tags)

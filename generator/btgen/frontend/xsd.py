@@ -55,7 +55,10 @@ def _reason(err: xmlschema.XMLSchemaValidationError) -> str:
         return f"unexpected element <{m.group(1)}>{exp}"
     m = re.match(r"attribute (\S+)='([^']*)':", reason)
     if m:
-        return f"attribute `{m.group(1)}`: `{m.group(2)}` is not a valid value for this port"
+        if m.group(2) == "" and m.group(1) == "ID":
+            # <BehaviorTree ID="">: BehaviorTree.CPP "must have the attribute [ID]"
+            return "attribute `ID` is empty: it must name the tree or node"
+        return f"attribute `{m.group(1)}`: `{m.group(2)}` is not a valid value here"
     m = re.match(r"missing required attribute '([^']+)'", reason)
     if m:
         return f"missing required attribute `{m.group(1)}`"

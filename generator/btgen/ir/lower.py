@@ -227,6 +227,10 @@ class _Lowerer:
         return value, loc
 
     def params(self, node: Node, n_children: int) -> tuple[int, int, int]:
+        if isinstance(node, SubTreeNode) or node.id not in self.m.builtins:
+            # A tree, or a node the program registers, named like a built-in of another
+            # version (`TryCatch` under 4.6.2): no built-in's parameters.
+            return 0, 0, 0
         nid = node.id
         if nid == "Parallel":
             succ, sloc = self.int_literal(node, "success_count")
@@ -301,7 +305,7 @@ class _Lowerer:
             node, index = n.node, n.index
             if isinstance(node, SubTreeNode):
                 kind, nslots, ntimers, model = "SubTree", 0, 0, -1
-            elif node.id in SUPPORTED:
+            elif node.id in SUPPORTED and node.id in m.builtins:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
                 if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:

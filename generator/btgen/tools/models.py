@@ -32,7 +32,7 @@ from lxml import etree
 from btgen import pipeline
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.frontend.xmlsource import Source, read_source
-from btgen.lang.catalogue import BUILTINS, KINDS
+from btgen.lang.catalogue import KINDS, builtins_for
 
 _ELEMENT_KINDS = ("Action", "Condition", "Control", "Decorator")
 
@@ -47,7 +47,8 @@ class _Use:
 
 
 class _Reader:
-    def __init__(self) -> None:
+    def __init__(self, btcpp: str = "4.6.2") -> None:
+        self.builtins = builtins_for(btcpp)  # TryCatch is built in from 4.9.0 (--btcpp 4.10.0)
         self.files: list[str] = []  # real paths read
         self.shown: list[str] = []
         self.declared: set[str] = set()
@@ -97,7 +98,7 @@ class _Reader:
         if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
             return
         node_id = elem.get("ID") if tag in _ELEMENT_KINDS else tag
-        if not node_id or node_id in BUILTINS or node_id in self.declared or node_id in self.trees:
+        if not node_id or node_id in self.builtins or node_id in self.declared or node_id in self.trees:
             return
         if node_id.startswith("{"):  # a namespaced element: the front end reports it
             return
@@ -145,7 +146,7 @@ def _kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
 
 def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str, list[Diagnostic], list[str]]:
     """The models file text, the warnings, and the files read (shown paths)."""
-    reader = _Reader()
+    reader = _Reader(opts.btcpp)
     reader.read(mission_path, mission_path)
     for trees in opts.trees:
         if os.path.isdir(trees):

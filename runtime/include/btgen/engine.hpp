@@ -33,6 +33,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/leaf_dispatch.hpp"
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
@@ -116,16 +117,10 @@ struct has_init<
 //     (without the shape tables every node runs on the interpreter)
 //   struct Blackboard;  (default-constructible: the entries as the tree is built)
 //   using BB = Blackboard; using ES = const ErrorSink;
-//   template <class L> static Status on_start(L&, BB&, ES&, const NodeInfo&);
-//   template <class L, std::uint16_t M> static Status on_start_m(L&, BB&, ES&, const NodeInfo&);
-//     (on_start, on_running, check: by the node's model; the _m forms by the model M)
-//   template <class L, std::uint16_t M> static Status on_running_m(...), check_m(...);
-//   template <class L> static Status on_running(L&, BB&, ES&, const NodeInfo&);
-//   template <class L> static void on_halted(L&, BB&, ES&, const NodeInfo&);
-//   template <class L> static constexpr bool sync_action(const NodeInfo&);
-//   template <class L> static Status user_tick(L&, BB&, ES&, const NodeInfo&, const ChildOps&);
-//   template <class L> static void user_halt(L&, BB&, ES&, const NodeInfo&, const ChildOps&);
-//   template <class L> static Status check(L&, BB&, ES&, const NodeInfo&);
+//   template <std::uint16_t M> using Model;   // the leaf model class numbered M
+//   template <class H, class... A> static constexpr decltype(auto) visit_action(std::uint16_t, A&...);
+//     (and visit_condition, visit_user_node: H::call<the model class of that number>(A...);
+//     btgen/leaf_dispatch.hpp's LeafHooks calls the hooks through these)
 //   static int script(BB&, const NodeInfo&, ES&, ScriptSlot);   // 1/0 (truth), -1 error
 //   static Status data_leaf(BB&, const NodeInfo&, ES&);        // SetBlackboard, UnsetBlackboard
 //   static std::int64_t entry_seq(const BB&, const NodeInfo&); // update counter; -1: no entry
@@ -138,6 +133,7 @@ template <class Spec, class Leaves, class Clock = SteadyClock, class Observer = 
 class Engine {
  public:
   using Blackboard = typename Spec::Blackboard;
+  using Hooks = LeafHooks<Spec, Leaves>;
   using MissionSpec = Spec;
   // The BehaviorTree.CPP release the mission follows: one constexpr flag per difference
   // (btgen's lang/versions.py names them; the generated header defines them).
@@ -513,12 +509,12 @@ class Engine {
       }
       if (n.kind == NodeKind::Action && status_[h.node] == Status::RUNNING) {
         const ErrorSink es = sink();
-        Spec::on_halted(*leaves_, bb_, es, n);
+        Hooks::on_halted(*leaves_, bb_, es, n);
       } else if (n.kind == NodeKind::UserControl || n.kind == NodeKind::UserDecorator) {
         // ControlNode::halt() / DecoratorNode::halt(): the children were halted above; the
         // user's halt() hook resets the node's own state.
         const ErrorSink es = sink();
-        Spec::user_halt(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, 0));
+        Hooks::user_halt(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, 0));
       }
       reset_status(h.node);
       // TreeNode::haltNode runs _onHalted after halt().
@@ -779,17 +775,16 @@ class Engine {
     } else if constexpr (K == NodeKind::Action || K == NodeKind::Condition) {
       const NodeInfo& n = info(id);
       const Status st = status_[id];
-      if (K == NodeKind::Action && st != Status::IDLE && st != Status::RUNNING &&
-          !Spec::template sync_action<Leaves>(n)) {
+      if (K == NodeKind::Action && st != Status::IDLE && st != Status::RUNNING && !Hooks::sync_action(n)) {
         s = st;
       } else {
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         if constexpr (K == NodeKind::Condition) {
-          s = guarded(Spec::template check_m<Leaves, kModel>(*leaves_, bb_, es, n), before);
+          s = guarded(Hooks::template check_m<kModel>(*leaves_, bb_, es, n), before);
         } else {
-          s = guarded(st == Status::IDLE ? Spec::template on_start_m<Leaves, kModel>(*leaves_, bb_, es, n)
-                                         : Spec::template on_running_m<Leaves, kModel>(*leaves_, bb_, es, n),
+          s = guarded(st == Status::IDLE ? Hooks::template on_start_m<kModel>(*leaves_, bb_, es, n)
+                                         : Hooks::template on_running_m<kModel>(*leaves_, bb_, es, n),
                       before);
         }
       }
@@ -1360,20 +1355,20 @@ class Engine {
       case NodeKind::Action: {
         // StatefulActionNode: onStart from IDLE, onRunning while RUNNING; a
         // node not yet reset by its parent answers its status again (a
-        // SyncActionNode, tick() alone, ticks again: Spec::on_start calls it).
+        // SyncActionNode, tick() alone, ticks again: LeafHooks::on_start calls it).
         const Status st = status_[f.node];
-        if (st != Status::IDLE && st != Status::RUNNING && !Spec::template sync_action<Leaves>(n)) return done(st);
+        if (st != Status::IDLE && st != Status::RUNNING && !Hooks::sync_action(n)) return done(st);
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
         const Status s =
-            st == Status::IDLE ? Spec::on_start(*leaves_, bb_, es, n) : Spec::on_running(*leaves_, bb_, es, n);
+            st == Status::IDLE ? Hooks::on_start(*leaves_, bb_, es, n) : Hooks::on_running(*leaves_, bb_, es, n);
         return done(guarded(s, before));
       }
 
       case NodeKind::Condition: {
         const std::uint64_t before = errors_;
         const ErrorSink es = sink();
-        return done(guarded(Spec::check(*leaves_, bb_, es, n), before));
+        return done(guarded(Hooks::check(*leaves_, bb_, es, n), before));
       }
 
       case NodeKind::UserControl:
@@ -1386,7 +1381,7 @@ class Engine {
         const ErrorSink es = sink();
         const std::size_t base = static_cast<std::size_t>(&f - stack_.data()) + 1;
         f.aux = 0;
-        const Status s = Spec::user_tick(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, base));
+        const Status s = Hooks::user_tick(*leaves_, bb_, es, n, ChildOps(&kChildOps, this, &n, base));
         if (errors_ - before > f.aux) return done(Status::FAILURE);
         if (s == Status::IDLE) {
           // TreeNode::setStatus(IDLE) throws in 4.6.2.

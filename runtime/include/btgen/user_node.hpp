@@ -17,6 +17,7 @@
 // beyond the tree's depth.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -107,6 +108,31 @@ class ModelBase {
   ErrorSink err_;
   const NodeInfo* node_;
 };
+
+// The message of an Action the virtual Leaves class of a mission (<Mission>Leaves)
+// runs without an override: "Action <ID> has no implementation: override tick() or
+// onStart/onRunning/onHalted", put together when compiling.
+template <class Model>
+struct NoImplementation {
+  static constexpr std::string_view kHead = "Action ";
+  static constexpr std::string_view kTail = " has no implementation: override tick() or onStart/onRunning/onHalted";
+  static constexpr std::size_t kSize = kHead.size() + Model::kId.size() + kTail.size();
+  static constexpr std::array<char, kSize> kText = [] {
+    std::array<char, kSize> text{};
+    std::size_t i = 0;
+    for (const std::string_view part : {kHead, Model::kId, kTail}) {
+      for (const char c : part) text[i++] = c;
+    }
+    return text;
+  }();
+};
+
+// What the virtual Leaves class's tick() does for an Action nothing overrides: the
+// node fails with that message.
+template <class Model>
+Status no_implementation(const Model& model) noexcept {
+  return model.fail(std::string_view(NoImplementation<Model>::kText.data(), NoImplementation<Model>::kSize));
+}
 
 // A model class of the mission's own Controls and Decorators: what
 // BT::ControlNode and BT::DecoratorNode give their subclasses, through ChildOps.
