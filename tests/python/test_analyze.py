@@ -132,3 +132,19 @@ def test_shipped_missions_have_no_findings(capsys):
     for name in ("LabTour.xml", "PickPlaceBall.xml", "Reception.xml"):
         rc, _, err = _run(capsys, "--werror", str(ROOT / "missions" / name))
         assert rc == 0, err
+
+
+def test_memory_of_a_queue_entry(capsys, tmp_path):
+    # a queue slot is sized from its capacity and element capacity; kinds are values (a
+    # QueueKind, not the text "queue<int>"), and the estimate once called str methods on them
+    mission = tmp_path / "queue.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>\n'
+        '<SetBlackboard value="1;2;3" output_key="q"/>\n'
+        '<LoopInt queue="{q}" value="{v}"><Act name="A"/></LoopInt>\n'
+        '</Sequence></BehaviorTree><TreeNodesModel><Action ID="Act"/></TreeNodesModel></root>\n'
+    )
+    memory = _json(capsys, mission)["memory"]
+    assert memory["blackboard_slots"] == 2
+    # {v}: one int (16 bytes); {q}: a queue of ints, more than a scalar
+    assert memory["blackboard_bytes_estimate"] > 2 * 16
