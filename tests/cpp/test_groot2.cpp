@@ -14,6 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include <zmq.hpp>
 
 #include "btgen/btlog.hpp"
@@ -73,7 +75,9 @@ TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
   RandomLeaves leaves(0x6e007);
   const unsigned port = free_port_pair();
   ASSERT_NE(port, 0u);
-  const std::string log_path = ::testing::TempDir() + "btgen_groot2_test.btlog";
+  // One file per process: this source is built twice (with and without breakpoints) and
+  // ctest runs the two binaries at once.
+  const std::string log_path = ::testing::TempDir() + "btgen_groot2_test_" + std::to_string(::getpid()) + ".btlog";
   auto mission = std::make_unique<Mission>(leaves);
   Counter counter;
   long changes_before = 0;
