@@ -1204,8 +1204,10 @@ class Publisher final : public StatusSink, public HookSink {
     }
     std::lock_guard<std::mutex> lock(bb_mutex_);
     mp.map(wanted.size());
-    for (const auto& [bb_name, b] : wanted) {
-      mp.str(bb_name);
+    for (const auto& entry : wanted) {
+      // (a structured binding cannot be captured by a lambda in C++17: clang refuses it)
+      const std::size_t b = entry.second;
+      mp.str(entry.first);
       std::size_t n = 0;
       Groot2::visit_blackboard(*snapshot_, [&](std::size_t bb, std::string_view, const auto& slot) {
         if (bb == b && slot.exists) ++n;
