@@ -24,6 +24,7 @@
 #include "btgen/monitor.hpp"
 #include "btgen/testing/alloc_counter.hpp"
 #include "control_flow.hpp"
+#include "groot2_client.hpp"
 #include "test_leaves.hpp"
 
 namespace {
@@ -37,39 +38,8 @@ struct Counter final : btgen::StatusSink {
   void on_status(const btgen::NodeInfo&, btgen::Status, btgen::Status) noexcept override { ++changes; }
 };
 
-unsigned free_port_pair() {
-  // Bind a publisher-like pair on ephemeral ports until two consecutive ones are free.
-  for (int attempt = 0; attempt < 50; ++attempt) {
-    zmq::context_t ctx;
-    zmq::socket_t a(ctx, zmq::socket_type::rep);
-    a.bind("tcp://127.0.0.1:*");
-    const std::string ep = a.get(zmq::sockopt::last_endpoint);
-    const unsigned port = static_cast<unsigned>(std::stoul(ep.substr(ep.rfind(':') + 1)));
-    a.close();
-    if (port >= 65534) continue;
-    zmq::socket_t b(ctx, zmq::socket_type::rep);
-    try {
-      b.bind("tcp://127.0.0.1:" + std::to_string(port + 1));
-      return port;
-    } catch (const zmq::error_t&) {
-    }
-  }
-  return 0;
-}
-
-std::vector<std::string> request(zmq::socket_t& s, char type, const std::string& extra = {}) {
-  const char head[6] = {2, type, 1, 2, 3, 4};
-  s.send(zmq::buffer(head, 6), extra.empty() ? zmq::send_flags::none : zmq::send_flags::sndmore);
-  if (!extra.empty()) s.send(zmq::buffer(extra), zmq::send_flags::none);
-  std::vector<std::string> parts;
-  for (;;) {
-    zmq::message_t m;
-    if (!s.recv(m)) break;
-    parts.push_back(m.to_string());
-    if (!m.more()) break;
-  }
-  return parts;
-}
+using btgen_test::free_port_pair;
+using btgen_test::request;
 
 TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
   RandomLeaves leaves(0x6e007);
@@ -80,27 +50,13 @@ TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
   const std::string log_path = ::testing::TempDir() + "btgen_groot2_test_" + std::to_string(::getpid()) + ".btlog";
   auto mission = std::make_unique<Mission>(leaves);
   Counter counter;
-  long changes_before = 0;
   {
     btgen::groot2::Publisher publisher(*mission, port, "127.0.0.1");
     btgen::btlog::FileLogger logger(*mission, log_path, 1 << 20);
     ASSERT_TRUE(mission->observer().attach(&counter));
     EXPECT_EQ(mission->observer().attached(), 3u);
-    for (int i = 0; i < 10; ++i) (void)mission->tick();
-    // The counter counts every thread: let the server, writer and ZeroMQ threads
-    // finish starting (their first allocations) before the ticks are measured.
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    changes_before = static_cast<long>(counter.changes);
-    {
-      btgen_test::AllocationScope scope;
-      for (int i = 0; i < 20000; ++i) {
-        mission->clock().advance(7);
-        (void)mission->tick();
-        publisher.sync();
-        if (i % 1009 == 1008) mission->halt();
-      }
-      EXPECT_EQ(scope.count(), 0u);
-    }
+    btgen_test::settle(*mission);
+    EXPECT_EQ(btgen_test::allocations_of_20000_ticks(*mission, publisher), 0u);
     EXPECT_GT(counter.changes, 20000u);
 
     // STATUS is what the tick published: every node, 4.6.2's codes.
@@ -144,7 +100,6 @@ TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
   const std::size_t records = (data.size() - 31 - n) / 9;
   EXPECT_EQ((data.size() - 31 - n) % 9, 0u);
   EXPECT_EQ(records, counter.changes);
-  (void)changes_before;
   std::remove(log_path.c_str());
 }
 
@@ -190,19 +145,9 @@ TEST(Groot2, ReplaceHooksForceStatusesAndTicksAllocateNothing) {
     const std::string hooks = "[" + hook_json(uid(action), "FAILURE") + "," + hook_json(uid(condition), "SUCCESS") +
                               "," + hook_json(uid(control), "RUNNING") + "]";
     ASSERT_EQ(request(client, 'I', hooks).size(), 1u);
-    for (int i = 0; i < 10; ++i) (void)mission->tick();
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // (other threads' first allocations)
+    btgen_test::settle(*mission);
     seen.to = {};
-    {
-      btgen_test::AllocationScope scope;
-      for (int i = 0; i < 20000; ++i) {
-        mission->clock().advance(7);
-        (void)mission->tick();
-        publisher.sync();
-        if (i % 1009 == 1008) mission->halt();
-      }
-      EXPECT_EQ(scope.count(), 0u);
-    }
+    EXPECT_EQ(btgen_test::allocations_of_20000_ticks(*mission, publisher), 0u);
     using S = btgen::Status;
     const auto n = [&](std::size_t node, S s) { return seen.to[node][static_cast<std::size_t>(s)]; };
     EXPECT_GT(n(action, S::FAILURE), 100u);

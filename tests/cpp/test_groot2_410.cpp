@@ -21,6 +21,7 @@
 #include "btgen/monitor.hpp"
 #include "btgen/testing/alloc_counter.hpp"
 #include "control_flow.hpp"
+#include "groot2_client.hpp"
 #include "test_leaves.hpp"
 
 namespace {
@@ -29,38 +30,8 @@ using btgen_test::RandomLeaves;
 using Mission = control_flow_410::ControlFlow<RandomLeaves, btgen::ManualClock, btgen::MonitorObserver<>>;
 static_assert(Mission::Sem::groot2_post_hooks, "this test is built from a --btcpp 4.10.0 mission");
 
-unsigned free_port_pair() {
-  for (int attempt = 0; attempt < 50; ++attempt) {
-    zmq::context_t ctx;
-    zmq::socket_t a(ctx, zmq::socket_type::rep);
-    a.bind("tcp://127.0.0.1:*");
-    const std::string ep = a.get(zmq::sockopt::last_endpoint);
-    const unsigned port = static_cast<unsigned>(std::stoul(ep.substr(ep.rfind(':') + 1)));
-    a.close();
-    if (port >= 65534) continue;
-    zmq::socket_t b(ctx, zmq::socket_type::rep);
-    try {
-      b.bind("tcp://127.0.0.1:" + std::to_string(port + 1));
-      return port;
-    } catch (const zmq::error_t&) {
-    }
-  }
-  return 0;
-}
-
-std::vector<std::string> request(zmq::socket_t& s, char type, const std::string& extra = {}) {
-  const char head[6] = {2, type, 1, 2, 3, 4};
-  s.send(zmq::buffer(head, 6), extra.empty() ? zmq::send_flags::none : zmq::send_flags::sndmore);
-  if (!extra.empty()) s.send(zmq::buffer(extra), zmq::send_flags::none);
-  std::vector<std::string> parts;
-  for (;;) {
-    zmq::message_t m;
-    if (!s.recv(m)) break;
-    parts.push_back(m.to_string());
-    if (!m.more()) break;
-  }
-  return parts;
-}
+using btgen_test::free_port_pair;
+using btgen_test::request;
 
 std::string hook_json(unsigned uid, const char* status, int position) {
   return std::string("{\"enabled\":true,\"uid\":") + std::to_string(uid) + ",\"mode\":1,\"once\":false," +
@@ -101,19 +72,9 @@ TEST(Groot2PostHooks, ReplaceTheTickResultAndTicksAllocateNothing) {
   const std::string dump = request(client, 'D').at(1);
   EXPECT_NE(dump.find("\"position\":0"), std::string::npos) << dump;
   EXPECT_NE(dump.find("\"position\":1"), std::string::npos) << dump;
-  for (int i = 0; i < 10; ++i) (void)mission->tick();
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));  // (other threads' first allocations)
+  btgen_test::settle(*mission);
   seen.to = {};
-  {
-    btgen_test::AllocationScope scope;
-    for (int i = 0; i < 20000; ++i) {
-      mission->clock().advance(7);
-      (void)mission->tick();
-      publisher.sync();
-      if (i % 1009 == 1008) mission->halt();
-    }
-    EXPECT_EQ(scope.count(), 0u);
-  }
+  EXPECT_EQ(btgen_test::allocations_of_20000_ticks(*mission, publisher), 0u);
   using S = btgen::Status;
   const auto n = [&](std::size_t node, S s) { return seen.to[node][static_cast<std::size_t>(s)]; };
   EXPECT_GT(n(condition, S::SUCCESS), 100u);
