@@ -1,4 +1,5 @@
 import os
+import socket
 import sys
 
 import pytest
@@ -45,3 +46,20 @@ def case_file(stem: str, ext: str) -> str:
 @pytest.fixture
 def repo_root():
     return ROOT
+
+
+def free_port_pair() -> int:
+    """A port P with P and P + 1 free on 127.0.0.1 (Groot2 uses both)."""
+    for _ in range(50):
+        with socket.socket() as a:
+            a.bind(("127.0.0.1", 0))
+            port = a.getsockname()[1]
+            if port >= 65534:
+                continue
+            with socket.socket() as b:
+                try:
+                    b.bind(("127.0.0.1", port + 1))
+                except OSError:
+                    continue
+            return port
+    raise RuntimeError("no two consecutive free ports on 127.0.0.1")

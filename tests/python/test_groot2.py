@@ -30,7 +30,6 @@ import json
 import os
 import select
 import shutil
-import socket
 import struct
 import subprocess
 import sys
@@ -42,6 +41,7 @@ import pytest
 
 from btgen.frontend.loader import load_mission
 from btgen.ir.treexml import groot2_tree
+from conftest import free_port_pair
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "tests" / "groot2"
@@ -51,23 +51,6 @@ TICKS = {"monitored": 5, "builtins": 6}
 bt = pytest.importorskip("behaviortreepy") if not os.environ.get("CI") else __import__("behaviortreepy")
 zmq = pytest.importorskip("zmq") if not os.environ.get("CI") else __import__("zmq")
 msgpack = pytest.importorskip("msgpack") if not os.environ.get("CI") else __import__("msgpack")
-
-
-def free_port_pair() -> int:
-    """A port P with P and P + 1 free on 127.0.0.1 (Groot2 uses both)."""
-    for _ in range(50):
-        with socket.socket() as a:
-            a.bind(("127.0.0.1", 0))
-            port = a.getsockname()[1]
-            if port >= 65534:
-                continue
-            with socket.socket() as b:
-                try:
-                    b.bind(("127.0.0.1", port + 1))
-                except OSError:
-                    continue
-            return port
-    raise RuntimeError("no two consecutive free ports")
 
 
 def scenario_lists(scenario: Path) -> dict[str, list[str]]:

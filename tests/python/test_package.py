@@ -22,7 +22,7 @@ import pytest
 
 from btgen import resources
 from btgen.version import __version__
-from conftest import ROOT
+from conftest import ROOT, free_port_pair
 
 USER_PROJECT = Path(ROOT) / "examples" / "user_project"
 PACKAGING = (
@@ -461,24 +461,6 @@ int main(int argc, char** argv) {
 """
 
 
-def _free_port_pair() -> int:
-    import socket
-
-    for _ in range(50):
-        with socket.socket() as a:
-            a.bind(("127.0.0.1", 0))
-            port = a.getsockname()[1]
-            if port >= 65535:
-                continue
-            with socket.socket() as b:
-                try:
-                    b.bind(("127.0.0.1", port + 1))
-                except OSError:
-                    continue
-            return port
-    raise AssertionError("no two consecutive free ports on 127.0.0.1")
-
-
 def test_package_gives_the_groot2_monitors(installed):
     """find_package(btgen COMPONENTS btlog groot2): a user project attaches the Groot2
     publisher and the .btlog logger from the installed package."""
@@ -490,7 +472,7 @@ def test_package_gives_the_groot2_monitors(installed):
     build = tmp / "monitored_build"
     _cmake_build(src, build, btgen, env)
     log = tmp / "patrol.btlog"
-    run = _run([build / "monitored", log, _free_port_pair()], tmp, env)
+    run = _run([build / "monitored", log, free_port_pair()], tmp, env)
     assert run.stdout == "SUCCESS\n"
     data = log.read_bytes()
     assert data.startswith(b"BTCPP4-FileLogger2")
