@@ -523,18 +523,27 @@ class Compiler:
             no_value = self.fail(
                 loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet"
             )
-        declared, write_fail = "", None
-        if vslot is not None:
-            vloc = inst.ports["value"].loc_or or inst.node.loc
-            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
-                return None
-            declared = self.a.slots[vslot].entry.type_name
-            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        value = self.loop_value(inst, vslot, elem, what)
+        if value is None:
+            return None
+        declared, write_fail = value
         return DataOp(
             inst.index,
             f"{what} queue={inst.ports['queue'].raw}",
             ops.LoopPop(elem, local, items, qslot, no_value, vslot, declared, write_fail),
         )
+
+    def loop_value(
+        self, inst: Inst, vslot: Optional[int], elem: str, what: str
+    ) -> Optional[tuple[str, Optional[ops.Fail]]]:
+        """A Loop's `value` port: the declared type of its entry and the failure of a write into
+        it ("" and None without the port); None when the write is refused (reported)."""
+        if vslot is None:
+            return "", None
+        vloc = inst.ports["value"].loc_or or inst.node.loc
+        if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+            return None
+        return self.a.slots[vslot].entry.type_name, self.fail(vloc, f"{what} cannot write its `value`", errc=True)
 
     def loop_untyped(self, inst: Inst, op: LoopUse, locals_: list[LocalIR]) -> Optional[DataOp]:
         """From 4.9.1 a Loop's `queue` port is untyped: an entry holding a string is converted
@@ -562,13 +571,10 @@ class Compiler:
         elif is_queue(s.kind):
             self.error(loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, a {s.kind}, not a queue<{elem}>")
             return None
-        declared, write_fail = "", None
-        if vslot is not None:
-            vloc = inst.ports["value"].loc_or or inst.node.loc
-            if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
-                return None
-            declared = self.a.slots[vslot].entry.type_name
-            write_fail = self.fail(vloc, f"{what} cannot write its `value`", errc=True)
+        value = self.loop_value(inst, vslot, elem, what)
+        if value is None:
+            return None
+        declared, write_fail = value
         return DataOp(
             inst.index,
             f"{what} queue={inst.ports['queue'].raw}",
