@@ -34,6 +34,15 @@ inline unsigned free_port_pair() {
   return 0;
 }
 
+// A REQ socket connected to the publisher's request port on 127.0.0.1, waiting 3 s at most.
+inline zmq::socket_t connect_client(zmq::context_t& ctx, unsigned port) {
+  zmq::socket_t client(ctx, zmq::socket_type::req);
+  client.set(zmq::sockopt::rcvtimeo, 3000);
+  client.set(zmq::sockopt::linger, 0);
+  client.connect("tcp://127.0.0.1:" + std::to_string(port));
+  return client;
+}
+
 // One Groot2 request (protocol 2, header then an optional body) and every frame of its reply.
 inline std::vector<std::string> request(zmq::socket_t& s, char type, const std::string& extra = {}) {
   const char head[6] = {2, type, 1, 2, 3, 4};

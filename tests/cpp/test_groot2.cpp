@@ -61,10 +61,7 @@ TEST(Groot2, TicksAllocateNothingWithAPublisherAndALoggerAttached) {
 
     // STATUS is what the tick published: every node, 4.6.2's codes.
     zmq::context_t ctx;
-    zmq::socket_t client(ctx, zmq::socket_type::req);
-    client.set(zmq::sockopt::rcvtimeo, 3000);
-    client.set(zmq::sockopt::linger, 0);
-    client.connect("tcp://127.0.0.1:" + std::to_string(port));
+    zmq::socket_t client = btgen_test::connect_client(ctx, port);
     const auto status = request(client, 'S');
     ASSERT_EQ(status.size(), 2u);
     ASSERT_EQ(status[1].size(), 3 * Mission::node_count());
@@ -137,10 +134,7 @@ TEST(Groot2, ReplaceHooksForceStatusesAndTicksAllocateNothing) {
     btgen::groot2::Publisher publisher(*mission, port, "127.0.0.1");
     ASSERT_TRUE(mission->observer().attach(&seen));
     zmq::context_t ctx;
-    zmq::socket_t client(ctx, zmq::socket_type::req);
-    client.set(zmq::sockopt::rcvtimeo, 3000);
-    client.set(zmq::sockopt::linger, 0);
-    client.connect("tcp://127.0.0.1:" + std::to_string(port));
+    zmq::socket_t client = btgen_test::connect_client(ctx, port);
     const auto uid = [](std::size_t i) { return static_cast<unsigned>(Mission::node(i).uid); };
     const std::string hooks = "[" + hook_json(uid(action), "FAILURE") + "," + hook_json(uid(condition), "SUCCESS") +
                               "," + hook_json(uid(control), "RUNNING") + "]";

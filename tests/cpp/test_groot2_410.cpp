@@ -59,10 +59,7 @@ TEST(Groot2PostHooks, ReplaceTheTickResultAndTicksAllocateNothing) {
   btgen::groot2::Publisher publisher(*mission, port, "127.0.0.1");
   ASSERT_TRUE(mission->observer().attach(&seen));
   zmq::context_t ctx;
-  zmq::socket_t client(ctx, zmq::socket_type::req);
-  client.set(zmq::sockopt::rcvtimeo, 3000);
-  client.set(zmq::sockopt::linger, 0);
-  client.connect("tcp://127.0.0.1:" + std::to_string(port));
+  zmq::socket_t client = btgen_test::connect_client(ctx, port);
   const auto uid = [](std::size_t i) { return static_cast<unsigned>(Mission::node(i).uid); };
   // The condition: PRE forces FAILURE, POST then SUCCESS (4.10.0 runs both); the Sequence:
   // POST FAILURE after its children ran.
