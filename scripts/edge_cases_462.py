@@ -381,6 +381,72 @@ for stem, ref, what in (
     )
 
 
+# ---------------------------------------------------------------- O1: RunOnce then_skip from an entry
+for stem, script, what in (
+    (
+        "o1_runonce_then_skip_int_1",
+        "flag := 1",
+        'RunOnce then_skip="{flag}" with the int 1, in a Repeat: SKIPPED after the first run',
+    ),
+    (
+        "o1_runonce_then_skip_int_0",
+        "flag := 0",
+        'RunOnce then_skip="{flag}" with the int 0, in a Repeat: the first run\'s status again',
+    ),
+    (
+        "o1_runonce_then_skip_int_2",
+        "flag := 2",
+        'RunOnce then_skip="{flag}" with the int 2, in a Repeat: getInput<bool> fails, no error, the default true',
+    ),
+):
+    case(
+        stem,
+        "O1",
+        what,
+        mission(
+            f'<Repeat num_cycles="2">\n      <Sequence>\n        <Script code="{script}"/>\n'
+            '        <RunOnce then_skip="{flag}">\n          <Step/>\n        </RunOnce>\n        <Done/>\n'
+            "      </Sequence>\n    </Repeat>"
+        ),
+    )
+case(
+    "o1_runonce_then_skip_text_false",
+    "O1",
+    'RunOnce then_skip="{flag}" where SetBlackboard wrote "false" into the entry the port declared bool: the first run\'s status again',
+    mission(
+        '<Repeat num_cycles="2">\n      <Sequence>\n        <SetBlackboard value="false" output_key="flag"/>\n'
+        '        <RunOnce then_skip="{flag}">\n          <Step/>\n        </RunOnce>\n        <Done/>\n'
+        "      </Sequence>\n    </Repeat>"
+    ),
+)
+case(
+    "o1_runonce_then_skip_kinds",
+    "O1",
+    "RunOnce then_skip from a script's false, 0.0 and 0.5, SetBlackboard's \"False\", an entry that holds 0 then 0.0: replays, replays, skips, replays, replays",
+    mission(
+        '<Repeat num_cycles="2">\n      <Sequence>\n        <RunOnce name="Init">\n          <Sequence>\n'
+        '            <Script code="b := false; d := 0.0; dn := 0.5; y := 0"/>\n'
+        '            <SetBlackboard value="False" output_key="s"/>\n          </Sequence>\n        </RunOnce>\n'
+        '        <RunOnce name="B" then_skip="{b}">\n          <Step name="SB"/>\n        </RunOnce>\n'
+        '        <RunOnce name="D" then_skip="{d}">\n          <Step name="SD"/>\n        </RunOnce>\n'
+        '        <RunOnce name="DN" then_skip="{dn}">\n          <Step name="SDN"/>\n        </RunOnce>\n'
+        '        <RunOnce name="S" then_skip="{s}">\n          <Step name="SS"/>\n        </RunOnce>\n'
+        '        <RunOnce name="Y" then_skip="{y}">\n          <Step name="SY"/>\n        </RunOnce>\n'
+        '        <Script code="y := 0.0"/>\n        <Done/>\n      </Sequence>\n    </Repeat>'
+    ),
+)
+case(
+    "o1_runonce_then_skip_unset",
+    "O1",
+    'RunOnce then_skip="{flag}" with the int 0, in a Repeat, the entry removed after the first run: getInput<bool> fails, no error, the default true',
+    mission(
+        '<Repeat num_cycles="2">\n      <Sequence>\n        <RunOnce name="Init">\n          <Script code="flag := 0"/>\n'
+        '        </RunOnce>\n        <RunOnce then_skip="{flag}">\n          <Step/>\n        </RunOnce>\n'
+        '        <UnsetBlackboard key="flag"/>\n        <Done/>\n      </Sequence>\n    </Repeat>'
+    ),
+)
+
+
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)
     lines = [

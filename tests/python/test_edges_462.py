@@ -141,3 +141,25 @@ def test_what_4_6_2_reads_differently_loads_with_a_warning():
     assert any("names the blackboard key ` n `" in w for w in warnings["b1_key_with_blanks"])
     assert any("declares no port `extra`" in w for w in warnings["m1_subtree_undeclared_remap"])
     assert any("`1.5` is not a valid int" in w for w in warnings["i1_loopint_1_5_2"])
+
+
+# Row O1 (RunOnce then_skip from an entry): 4.10.0 runs these missions exactly as 4.6.2 (each
+# recorded on the 4.10.0 harness too, byte-identical), so both engines under `--btcpp 4.10.0`
+# must print the 4.6.2 trace as well.
+O1 = [s for s in TRACED if s.startswith("o1_")]
+
+
+@pytest.mark.parametrize("stem", O1)
+def test_o1_under_4_10_0_in_both_engines(stem):
+    from dataclasses import replace
+
+    from btgen.pipeline import DEFAULTS
+    from btgen.tools.cppengine import build_cpp
+
+    expected = _read(stem, ".trace")
+    mission = load_mission(_path(stem, ".xml"), btcpp="4.10.0")
+    assert trace_text(mission, load_scenario(_path(stem, ".scenario"), mission)[0]) == expected
+    binary = build_cpp(_path(stem, ".xml"), opts=replace(DEFAULTS, btcpp="4.10.0"))
+    rc, out, err = _run(binary, _path(stem, ".scenario"))
+    assert (rc, err) == (0, "")
+    assert out == expected, _diff(expected, out, "C++ executor, 4.10.0")

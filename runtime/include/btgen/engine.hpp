@@ -1209,7 +1209,11 @@ class Engine {
       case NodeKind::RunOnce:
         f.decorator = 1;
         if (counter(n, 0) != 0) {
-          return done(param::then_skip(n) ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
+          // then_skip given as `{key}` (p1 is 1): getInput<bool> never throws here, so reading
+          // it only once the child has completed is what 4.6.2's read on every tick gives.
+          std::int64_t skip = (n.p1 != 0 || param::then_skip(n)) ? 1 : 0;
+          if (n.p1 != 0) (void)Spec::read_param(bb_, sink(), n, skip);
+          return done(skip != 0 ? Status::SKIPPED : static_cast<Status>(counter(n, 1)));
         }
         set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));

@@ -102,7 +102,7 @@ struct NodeText {
 //   ParallelAll           p0 failure threshold (from max_failures)
 //   Repeat                p0 num_cycles (-1: for ever)
 //   RetryUntilSuccessful  p0 num_attempts (-1: for ever)
-//   RunOnce               p0 then_skip (0 or 1)
+//   RunOnce               p0 then_skip (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
 //   Timeout, Sleep        p0 msec
 //   Delay                 p0 delay_msec
 //   Switch                p0 number of cases (the last child is the default)

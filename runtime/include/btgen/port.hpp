@@ -484,6 +484,12 @@ Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
   if constexpr (std::is_same_v<S, std::int64_t>) {
     if (d == Declared::kInt) return parse_integer(text, INT32_MIN, INT32_MAX, slot.value);
     if (d == Declared::kUnsigned) return parse_integer(text, 0, UINT32_MAX, slot.value);
+    if (d == Declared::kBool) {  // a bool entry holds the integer 0 or 1 (ir/kinds.py kind_of_type)
+      bool b = false;
+      const Errc e = parse_bool(text, b);
+      if (e == Errc::kOk) slot.value = b ? 1 : 0;
+      return e;
+    }
     return Errc::kInvalid;
   } else if constexpr (std::is_same_v<S, double>) {
     return d == Declared::kDouble ? parse_double_stod(text, slot.value) : Errc::kInvalid;

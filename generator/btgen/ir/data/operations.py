@@ -437,6 +437,8 @@ class Compiler:
         """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
         s = self.a.slots[op.slot]
         what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
+        if op.port == "then_skip":
+            return self.then_skip_read(inst, op)
         constant: Optional[int] = None
         if (
             s.kind == "string"
@@ -468,6 +470,48 @@ class Compiler:
                 self.fail(op.loc, f"{what}, which does not exist"),
                 self.fail(op.loc, f"{what}, which has no value yet"),
                 constant,
+            ),
+        )
+
+    def then_skip_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
+        """RunOnce then_skip given as `{key}`: getInput<bool> on every tick (both versions). When it
+        fails (no entry, no value, a value that does not convert) RunOnce keeps the default, true,
+        without an error."""
+        s = self.a.slots[op.slot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
+        constant: Optional[int] = None
+        kind = ""
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            # A SubTree's constant port: text that never changes, converted once here as
+            # getInput<bool> converts it on every read (a text that does not convert: true).
+            try:
+                constant = 1 if values.convert_from_string(values.BOOL, s.initial) else 0
+            except values.ConversionError:
+                constant = 1
+        elif s.kind in ("int", "bool", "double", "string", "dyn"):
+            kind = str(s.kind)
+        else:
+            self.error(
+                op.loc,
+                f"port `{op.port}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
+                f"{s.origin_text}); the C++ back end reads it from an int, bool, double or string entry, "
+                f"or one whose type changes",
+            )
+            return None
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
+            ops.ParamRead(
+                op.slot,
+                self.fail(op.loc, f"{what}, which does not exist"),
+                self.fail(op.loc, f"{what}, which has no value yet"),
+                constant,
+                kind,
             ),
         )
 

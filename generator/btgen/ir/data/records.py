@@ -63,7 +63,7 @@ SCRIPT_SLOTS = MappingProxyType(
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 # Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
-# (every tick of Repeat, RetryUntilSuccessful, Timeout and Delay, the start of a Sleep).
+# (every tick of Repeat, RetryUntilSuccessful, Timeout, Delay and RunOnce, the start of a Sleep).
 PARAM_PORTS = frozenset(
     {
         ("Repeat", "num_cycles"),
@@ -71,6 +71,7 @@ PARAM_PORTS = frozenset(
         ("Timeout", "msec"),
         ("Delay", "delay_msec"),
         ("Sleep", "msec"),
+        ("RunOnce", "then_skip"),
     }
 )
 LITERAL_ONLY = frozenset(
@@ -78,7 +79,6 @@ LITERAL_ONLY = frozenset(
         ("Parallel", "success_count"),
         ("Parallel", "failure_count"),
         ("ParallelAll", "max_failures"),
-        ("RunOnce", "then_skip"),
         ("Precondition", "else"),
         ("LoopInt", "if_empty"),
         ("LoopBool", "if_empty"),
