@@ -447,6 +447,72 @@ case(
 )
 
 
+# ---------------------------------------------------------------- O2: counts and durations from an entry
+case(
+    "o2_count_casts",
+    "O2",
+    "Repeat / RetryUntilSuccessful counts read from a script's 3.0 and true, a script's text '2' "
+    'into an entry the port declared int, SetBlackboard\'s text "2": whole doubles, bools and text convert',
+    mission(
+        "<Sequence>\n      <Script code=\"whole := 3.0; yes := true; txt := '2'\"/>\n"
+        '      <SetBlackboard output_key="label" value="2"/>\n'
+        '      <RetryUntilSuccessful name="FromDouble" num_attempts="{whole}">\n        <A/>\n      </RetryUntilSuccessful>\n'
+        '      <Repeat name="FromBool" num_cycles="{yes}">\n        <B/>\n      </Repeat>\n'
+        '      <Repeat name="FromScriptText" num_cycles="{txt}">\n        <C/>\n      </Repeat>\n'
+        '      <RetryUntilSuccessful name="FromSetText" num_attempts="{label}">\n        <D/>\n      </RetryUntilSuccessful>\n'
+        "    </Sequence>"
+    ),
+    "ticks 10\nleaf A FAILURE RUNNING FAILURE SUCCESS\nleaf C SUCCESS RUNNING SUCCESS\nleaf D FAILURE SUCCESS\n",
+)
+for stem, script, node, port, what in (
+    (
+        "o2_count_fraction",
+        "n := 2.5",
+        "RetryUntilSuccessful",
+        "num_attempts",
+        "num_attempts from a script's 2.5: not a whole number, the node throws on its first tick",
+    ),
+    (
+        "o2_count_out_of_range",
+        "n := 4294967296",
+        "Repeat",
+        "num_cycles",
+        "num_cycles from a script's 2^32: out of range for int, the node throws on its first tick",
+    ),
+    (
+        "o2_duration_negative",
+        "n := -5",
+        "Delay",
+        "delay_msec",
+        "delay_msec from a script's -5: negative for unsigned, the node throws on its first tick",
+    ),
+):
+    case(
+        stem,
+        "O2",
+        what,
+        mission(
+            f'<Sequence>\n      <Script code="{script}"/>\n      <{node} {port}="{{n}}">\n        <A/>\n      </{node}>\n    </Sequence>'
+        ),
+        "ticks 2\n",
+    )
+case(
+    "o2_copy_into_unsigned",
+    "O2",
+    "SetBlackboard text into an entry a Timeout port declared, copied into one a Delay port declared "
+    "(both unsigned; the timed nodes are skipped): no type error, the copy reads 15",
+    mission(
+        '<Sequence>\n      <SetBlackboard output_key="t" value="15"/>\n'
+        '      <SetBlackboard output_key="u" value="{t}"/>\n'
+        '      <SetBlackboard output_key="w" value="{u}"/>\n'
+        '      <ScriptCondition code="u == 15 &amp;&amp; w == 15"/>\n'
+        '      <Sequence _skipIf="true">\n        <Timeout msec="{t}">\n          <A/>\n        </Timeout>\n'
+        '        <Delay delay_msec="{u}">\n          <B/>\n        </Delay>\n      </Sequence>\n'
+        "      <Done/>\n    </Sequence>"
+    ),
+)
+
+
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)
     lines = [

@@ -155,15 +155,20 @@ class LoopPop:
 @dataclass(frozen=True)
 class ParamRead:
     """Repeat num_cycles, RetryUntilSuccessful num_attempts, Timeout/Sleep msec, Delay delay_msec
-    given as `{key}`: the integer entry, read whenever 4.6.2's node calls getInput. RunOnce
-    then_skip (`as_bool`): an int, bool, double, string or dynamic entry as getInput<bool>; when
-    that fails (no entry, no value, no conversion) RunOnce keeps its default, true, silently."""
+    given as `{key}`: getInput<int> (durations: getInput<unsigned>) of an int, bool, double,
+    string or dynamic entry (`kind`), read whenever the library's node calls getInput; a value
+    that does not convert fails with `convert` (the message's start) and the reason. RunOnce
+    then_skip (`as_bool`): the same entries as getInput<bool>; when that fails (no entry, no
+    value, no conversion) RunOnce keeps its default, true, silently."""
 
     slot: int
     missing: Fail  # the entry does not exist (UnsetBlackboard removed it)
     no_value: Fail  # it exists without a value
     constant: Optional[int] = None  # a SubTree's constant port (text nothing else writes), converted
     as_bool: str = ""  # RunOnce then_skip: the entry's kind (int, bool, double, string, dyn)
+    kind: str = ""  # a count or duration: the entry's kind (int, bool, double, string, dyn)
+    unsigned: bool = False  # a duration (getInput<unsigned>)
+    convert: Optional[Fail] = None  # "... reads blackboard entry `k`: " before the reason
 
 
 @dataclass(frozen=True)

@@ -446,6 +446,9 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
         dst.value = None
         return True
     out = src.value
+    # set<BT::Any>; this module's values do not tell unsigned from int, the entry that holds one
+    # does: a value converted for the destination, or copied from an unsigned entry, has that type
+    written = values.UNSIGNED if src.type_name == values.UNSIGNED else ANY
     if dst.strongly_typed and dst.type_name != STRING and isinstance(out, str):
         if not dst.has_converter:
             raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(out)} to {dst.type_name}")
@@ -453,7 +456,8 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
             out = dst.convert(out)
         except ConversionError as e:
             raise BlackboardError(f"SetBlackboard: {e}") from None
-    bb.set(output_key, out, ANY)
+        written = dst.type_name
+    bb.set(output_key, out, written)
     return True
 
 
@@ -472,6 +476,9 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
     dst = bb.get_entry(output_key)
     src_key = strip_blackboard_pointer(value_text)
     out: Optional[Value]
+    # The type BT::Any keeps with the value (its original type), where the value alone does not
+    # tell it: this module's values do not tell unsigned from int, the entry that holds one does.
+    out_type: Optional[str] = None
     if src_key is not None:
         src = bb.get_entry(src_key)
         if src is None:
@@ -479,6 +486,8 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
         if dst is None:
             dst = bb.create_entry(output_key, src.type_name)
         out = src.value
+        if src.type_name == values.UNSIGNED:
+            out_type = values.UNSIGNED
     else:
         out = value_text
     if out is None:
@@ -491,13 +500,15 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
                 out = dst.convert(out)
             except ConversionError as e:
                 raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(value_text)}: {e}") from None
+            out_type = dst.type_name  # TypeInfo::parseString gives an Any of the entry's type
     key = output_key
     target = bb
     if key.startswith("@"):
         target, key = bb.root, key[1:]
+    written = out_type if out_type is not None else values.type_of(out) if out is not None else ANY
     local = target._storage.get(key)
     if local is None:
-        entry = target._create_entry_impl(key, values.type_of(out) if out is not None else ANY)
+        entry = target._create_entry_impl(key, written)
         entry.value = out
         entry.bump()
         return True
@@ -506,10 +517,10 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
         local.value = out
         local.bump()
         return True
-    if out is not None and local.type_name != values.type_of(out) and not values.is_opaque_type(local.type_name):
+    if out is not None and local.type_name != written and not values.is_opaque_type(local.type_name):
         raise BlackboardError(
             f"SetBlackboard: blackboard entry `{output_key}` is declared as {local.type_name}; "
-            f"it cannot be written with a {values.type_of(out)}"
+            f"it cannot be written with a {written}"
         )
     local.value = out
     local.bump()

@@ -299,6 +299,53 @@ inline bool number_to_int64(const Ref& v, std::int64_t& out, Msg& m) noexcept {
   return true;
 }
 
+// getInput<int> (`is_unsigned`: getInput<unsigned>) of a loop count or duration given as
+// `{key}`: a string is parsed (convertFromString), a number cast (values._to_integer);
+// false with the reference interpreter's reason in `m`.
+inline bool read_count(const Ref& v, bool is_unsigned, std::int64_t& out, Msg& m) noexcept {
+  const std::string_view type = is_unsigned ? "unsigned" : "int";
+  const std::int64_t lo = is_unsigned ? 0 : INT32_MIN;
+  const std::int64_t hi = is_unsigned ? std::int64_t{UINT32_MAX} : INT32_MAX;
+  if (v.tag == DynTag::kString) {
+    const Errc e = parse_integer(v.s, lo, hi, out);
+    if (e == Errc::kOk) return true;
+    m.add("`").add(v.s).add("` is ");
+    if (e == Errc::kOutOfRange) {
+      m.add("out of range for ").add(type).add(is_unsigned ? " (0 to 4294967295)" : " (-2147483648 to 2147483647)");
+    } else {
+      m.add("not a valid ").add(type);
+    }
+    return false;
+  }
+  if (v.tag == DynTag::kDouble) {
+    const double x = v.d;
+    if (is_unsigned && x < 0.0) {
+      add_cast_error(m, v, type, "the value is negative");
+      return false;
+    }
+    if (std::isnan(x) || std::isinf(x) || x != std::floor(x)) {
+      add_cast_error(m, v, type, "the value is not a whole number");
+      return false;
+    }
+    if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi))) {
+      add_cast_error(m, v, type, "the value is out of range");
+      return false;
+    }
+    out = static_cast<std::int64_t>(x);
+    return true;
+  }
+  if (is_unsigned && v.i < 0) {
+    add_cast_error(m, v, type, "the value is negative");
+    return false;
+  }
+  if (v.i < lo || v.i > hi) {
+    add_cast_error(m, v, type, "the value is out of range");
+    return false;
+  }
+  out = v.i;
+  return true;
+}
+
 // values.cast(v, bool) of a number.
 inline bool number_to_bool(const Ref& v, bool& out, Msg& m) noexcept {
   if (v.tag == DynTag::kDouble) {

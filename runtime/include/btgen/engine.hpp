@@ -345,6 +345,15 @@ class Engine {
     if (keep) counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
     return true;
   }
+  // Reads it where the library ignores getInput's error (RetryUntilSuccessful's re-read after a
+  // failure, 4.7.0 and later): a value that reads becomes the one in use, else nothing changes.
+  void reread_param(const NodeInfo& n) noexcept {
+    if (n.p1 == 0) return;
+    std::int64_t v = 0;
+    const ErrorSink quiet([](void*, const RuntimeError&) noexcept {}, nullptr);
+    if (Spec::read_param(bb_, quiet, n, v) < 0) return;
+    counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
+  }
   std::int64_t max_cycles(const NodeInfo& n) noexcept { return n.p1 != 0 ? counter(n, 2) : param::max_cycles(n); }
   std::int64_t duration_ms(const NodeInfo& n) noexcept {
     return n.p1 != 0 ? static_cast<std::int64_t>(static_cast<std::uint32_t>(counter(n, param_counter(n.kind))))
@@ -1608,9 +1617,10 @@ class Engine {
         }
         // Another cycle (Repeat after SUCCESS, Retry after FAILURE).
         if (count < INT32_MAX) ++count;
-        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure.
+        // From 4.7.0 (Sem::retry_rereads_attempts) num_attempts is read again after a failure;
+        // a read that fails keeps the count in use.
         if constexpr (Sem::retry_rereads_attempts) {
-          if (!repeat && !read_param(n, true)) return done(Status::FAILURE);
+          if (!repeat) reread_param(n);
         }
         const bool again = count < max_cycles(n) || max_cycles(n) == -1;
         halt_child(n, 0);

@@ -434,7 +434,7 @@ class Compiler:
         return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
 
     def param_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
-        """A loop count or duration given as `{key}`: getInput<int|unsigned> of an integer entry."""
+        """A loop count or duration given as `{key}`: getInput<int|unsigned> of the entry."""
         s = self.a.slots[op.slot]
         what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
         if op.port == "then_skip":
@@ -455,11 +455,12 @@ class Compiler:
                 self.error(op.loc, f"{what}: {e}")
                 return None
             constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
-        elif s.kind != "int":
+        elif s.kind not in ("int", "bool", "double", "string", "dyn"):
             self.error(
                 op.loc,
                 f"port `{op.port}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
-                f"{s.origin_text}); the C++ back end reads it from an integer entry only",
+                f"{s.origin_text}); the C++ back end reads it from an int, bool, double or string entry, "
+                f"or one whose type changes",
             )
             return None
         return DataOp(
@@ -470,6 +471,9 @@ class Compiler:
                 self.fail(op.loc, f"{what}, which does not exist"),
                 self.fail(op.loc, f"{what}, which has no value yet"),
                 constant,
+                kind="" if constant is not None else str(s.kind),
+                unsigned=op.port in ("msec", "delay_msec"),
+                convert=self.fail(op.loc, f"{what}: "),
             ),
         )
 
