@@ -10,25 +10,14 @@ import argparse
 import sys
 import traceback
 from collections.abc import Sequence
-from typing import Callable, NoReturn
+from typing import Callable
 
+from btgen.cmdline import Parser
 from btgen.diagnostics import InternalError, UserError, print_diagnostics
 from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
-EXIT_OK, EXIT_INPUT, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3
-
-
-class _Parser(argparse.ArgumentParser):
-    command = ""  # the command of the arguments being parsed, when they name one (main)
-
-    def error(self, message: str) -> NoReturn:  # exit 2, as argparse does, but no usage spam
-        print(f"btgen: error: {message}", file=sys.stderr)
-        # A command's own parser, or the top one reporting what the command left over
-        # (`unrecognized arguments`): the help to read is the command's.
-        command = self.prog.split()[-1] if " " in self.prog else _Parser.command
-        print(f"btgen: try 'btgen {command} --help'" if command else "btgen: try 'btgen --help'", file=sys.stderr)
-        raise SystemExit(EXIT_USAGE)
+EXIT_OK, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 3
 
 
 class _PrintCMakeDir(argparse.Action):
@@ -158,7 +147,7 @@ def _count(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
+    p = Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
     p.add_argument(
         "--cmake-dir",
@@ -166,7 +155,7 @@ def build_parser() -> argparse.ArgumentParser:
         nargs=0,
         help="print the folder of btgen's CMake package (for -Dbtgen_DIR=...) and exit",
     )
-    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     sub.required = True
 
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
@@ -341,9 +330,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return build_info(argv[1:])
     parser = build_parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
-    _Parser.command = next((a for a in argv if not a.startswith("-")), "")
-    if _Parser.command not in commands:
-        _Parser.command = ""
+    Parser.command = next((a for a in argv if not a.startswith("-")), "")
+    if Parser.command not in commands:
+        Parser.command = ""
     args = parser.parse_args(argv)
     func: Callable[[argparse.Namespace], int] = args.func
     try:

@@ -37,7 +37,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional
 
-from btgen import pipeline, resources
+from btgen import cmdline, pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
@@ -253,7 +253,7 @@ def update_generated(root: Path) -> list[str]:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="btgen build-info", description=__doc__.split("\n")[0])
+    p = cmdline.Parser(prog="btgen build-info", description=__doc__.split("\n")[0])
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--deps", metavar="MISSION.xml", help="print the mission and its included files, one per line")
     g.add_argument("--outputs", metavar="MISSION.xml", help="print the names of the files `btgen compile` writes")
@@ -269,11 +269,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     opts = options_from_args(args)
     if args.update_generated:
         if resources.installed():
+            loc = cmdline.loc_of(args.argv, "--update-generated")
             print(
-                "btgen: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
+                f"{loc}: error: --update-generated refreshes a checkout's generated/; this btgen is installed",
                 file=sys.stderr,
             )
-            return 2
+            return 1
         for name in update_generated(resources.ROOT):
             print(f"generated/{name}")
         return 0

@@ -122,7 +122,7 @@ def test_shipped_mission_allocates_nothing(capsys, cache):
 
 def test_ticks_must_be_positive(capsys, balanced_20):
     rc, report, err = _bench(capsys, balanced_20, "--ticks", "0")
-    assert rc == 2 and report == {}
+    assert rc == 1 and report == {}
     assert "--ticks must be at least 1" in err
 
 

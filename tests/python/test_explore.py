@@ -148,7 +148,7 @@ def test_run_time_errors_are_findings(capsys, tmp_path):
 
 
 def test_bad_property_is_a_usage_error(capsys):
-    assert main(["explore", "--assert", "sometimes X", str(PICK)]) == 2
+    assert main(["explore", "--assert", "sometimes X", str(PICK)]) == 1
     assert "unknown property" in capsys.readouterr().err
-    assert main(["explore", "--assert", "never Nobody SUCCESS", str(PICK)]) == 2
+    assert main(["explore", "--assert", "never Nobody SUCCESS", str(PICK)]) == 1
     assert "no node is named `Nobody`" in capsys.readouterr().err

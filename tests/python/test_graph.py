@@ -273,10 +273,10 @@ def test_bad_btlog_and_bad_options(tmp_path, capsys):
     log.write_bytes(b"not a log at all")
     rc, err = cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--btlog", str(log))
     assert rc == 1 and err == f"{log}:1:1: error: not a Groot2 log: no `BTCPP4-FileLogger2` header\n"
-    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.png"))[0] == 2
-    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--tick", "2")[0] == 2
-    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "a", "--btlog", "b")[0] == 2
-    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "t", "--tick", "0")[0] == 2
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.png"))[0] == 1
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--tick", "2")[0] == 1
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "a", "--btlog", "b")[0] == 1
+    assert cli(capsys, "graph", str(MISSION), "-o", str(tmp_path / "x.dot"), "--trace", "t", "--tick", "0")[0] == 1
     bad_mission = tmp_path / "bad.xml"
     bad_mission.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Nope/></BehaviorTree></root>')
     rc, err = cli(capsys, "graph", str(bad_mission), "-o", str(tmp_path / "x.dot"))

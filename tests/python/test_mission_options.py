@@ -206,8 +206,8 @@ def test_bad_namespace_is_rejected_clearly(tmp_path, capsys, ns, problem):
     mission = _write(tmp_path, "m.xml", BARE)
     with pytest.raises(SystemExit) as e:
         main(["compile", mission, "--namespace", ns, "-o", str(tmp_path / "o")])
-    assert e.value.code == 2
-    assert f"btgen: error: argument --namespace: {problem}" in capsys.readouterr().err
+    assert e.value.code == 1
+    assert f": error: argument --namespace: {problem}" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

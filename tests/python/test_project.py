@@ -64,7 +64,7 @@ def test_misuse_names_the_help_to_read(argv, hint, capsys):
     command pointed to the top-level help."""
     with pytest.raises(SystemExit) as e:
         main(argv)
-    assert e.value.code == 2
+    assert e.value.code == 1
     assert capsys.readouterr().err.splitlines()[-1] == hint
 
 

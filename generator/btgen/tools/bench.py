@@ -24,7 +24,7 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from btgen import resources
+from btgen import cmdline, resources
 from btgen.diagnostics import InternalError
 from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 from btgen.tools.cppengine import build_mission_executable
@@ -79,10 +79,9 @@ def run_report(binary: Path, ticks: int) -> dict[str, str]:
 
 
 def bench_command(args: argparse.Namespace) -> int:
-    """The `bench` subcommand: 0 on success, 2 for a bad --ticks; UserError propagates to the CLI."""
+    """The `bench` subcommand: 0 on success; UserError (a bad --ticks too) propagates to the CLI."""
     if args.ticks < 1:
-        print(f"btgen: error: --ticks must be at least 1, not {args.ticks}", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, "--ticks", f"--ticks must be at least 1, not {args.ticks}")
     warnings: list = []
     binary = build_bench(args.mission, warnings, options_from_args(args))
     for w in warnings:

@@ -46,6 +46,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from btgen import cmdline
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
@@ -523,19 +524,16 @@ def explore_command(args) -> int:
     try:
         props = tuple(parse_property(t) for t in args.asserts)
     except ValueError as e:
-        print(f"btgen: error: --assert: {e}", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, "--assert", f"--assert: {e}") from None
     if args.clock_ms < 0:
-        print("btgen: error: --clock-ms cannot be negative", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
     possible = _possible(mission, args)
     try:
         ex = Explorer(
             mission, args.ticks, args.depth, args.clock_ms, args.max_states, props, possible, not args.no_merge
         )
     except ValueError as e:
-        print(f"btgen: error: --assert: {e}", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, "--assert", f"--assert: {e}") from None
     result = ex.explore()
     files: list[str] = []
     if args.output_dir:

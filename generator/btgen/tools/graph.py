@@ -34,6 +34,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from typing import Optional
 
+from btgen import cmdline
 from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
 from btgen.ir.numbering import number_nodes
 from btgen.lang.model import Mission, SubTreeNode
@@ -305,17 +306,13 @@ def graph_command(args) -> int:
     output: str = args.output
     ext = os.path.splitext(output)[1].lower()
     if ext not in (".svg", ".dot"):
-        print(f"btgen: error: -o {output}: the output is a .svg or a .dot file", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, output, f"-o {output}: the output is a .svg or a .dot file")
     if args.tick is not None and args.trace is None:
-        print(
-            "btgen: error: --tick needs --trace (a .btlog has no tick boundaries: use --btlog FILE --record N)",
-            file=sys.stderr,
+        raise cmdline.error(
+            args, "--tick", "--tick needs --trace (a .btlog has no tick boundaries: use --btlog FILE --record N)"
         )
-        return 2
     if args.record is not None and args.btlog is None:
-        print("btgen: error: --record needs --btlog", file=sys.stderr)
-        return 2
+        raise cmdline.error(args, "--record", "--record needs --btlog")
     mission = pipeline.load(args.mission, options_from_args(args))
     nodes, clusters = walk(mission)
     status = None

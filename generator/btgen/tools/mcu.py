@@ -24,7 +24,6 @@ host runner's stderr) is sent as `@@stderr <line>`.
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import os
 import shutil
@@ -35,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
-from btgen import resources
+from btgen import cmdline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import render
 from btgen.compiler import mission_stem
@@ -407,7 +406,7 @@ def run_cases(
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m btgen.tools.mcu", description=__doc__.split("\n\n")[0])
+    parser = cmdline.Parser(prog="python -m btgen.tools.mcu", description=__doc__.split("\n\n")[0])
     parser.add_argument("pairs", nargs="+", metavar="MISSION SCENARIO")
     args = parser.parse_args(argv)
     if len(args.pairs) % 2:

@@ -13,11 +13,11 @@ import contextlib
 import os
 import sys
 
-from btgen import pipeline
+from btgen import cmdline, pipeline
 from btgen.diagnostics import print_diagnostics
 from btgen.pipeline import options_from_args
 
-EXIT_OK, EXIT_INPUT, EXIT_USAGE = 0, 1, 2
+EXIT_OK, EXIT_INPUT = 0, 1
 
 
 def run_command(args) -> int:
@@ -29,8 +29,7 @@ def run_command(args) -> int:
 
         return run_cpp(args.mission, args.scenario, options_from_args(args), substitute)
     if engine != "interp":
-        print(f"btgen: error: unknown engine `{engine}` (use interp or cpp)", file=sys.stderr)
-        return EXIT_USAGE
+        raise cmdline.error(args, engine, f"unknown engine `{engine}` (use interp or cpp)")
 
     from btgen.interp.engine import run_trace
     from btgen.interp.scenario import load_scenario

@@ -32,10 +32,11 @@ Run as a script to print a mission: ``python -m btgen.tools.synth 10000 > big.xm
 
 from __future__ import annotations
 
-import argparse
 import sys
 from collections.abc import Sequence
 from typing import Optional
+
+from btgen import cmdline
 
 SUCCESS_LEAVES = ("Work", "Ready")  # an Action and a Condition, both default SUCCESS
 KINDS = ("balanced", "reactive", "subtrees", "scripts")
@@ -225,7 +226,7 @@ def count_nodes(xml_text: str) -> int:
 
 
 def main(argv: Optional[list[str]] = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m btgen.tools.synth", description=__doc__.splitlines()[0])
+    p = cmdline.Parser(prog="python -m btgen.tools.synth", description=__doc__.splitlines()[0])
     p.add_argument("nodes", type=int)
     p.add_argument("branching", type=int, nargs="?", default=4)
     p.add_argument("--kind", choices=KINDS, default="balanced")
@@ -233,8 +234,8 @@ def main(argv: Optional[list[str]] = None) -> int:
     try:
         sys.stdout.write(mission(args.kind, args.nodes, args.branching))
     except ValueError as e:
-        print(f"python -m btgen.tools.synth: error: {e}", file=sys.stderr)
-        return 2
+        print(f"{cmdline.loc_of(args.argv, None)}: error: {e}", file=sys.stderr)
+        return 1
     return 0
 
 
