@@ -159,13 +159,15 @@ class ParamRead:
     string or dynamic entry (`kind`), read whenever the library's node calls getInput; a value
     that does not convert fails with `convert` (the message's start) and the reason. RunOnce
     then_skip (`as_bool`): the same entries as getInput<bool>; when that fails (no entry, no
-    value, no conversion) RunOnce keeps its default, true, silently."""
+    value, no conversion) RunOnce keeps its default, true, silently; TryCatch catch_on_halt
+    alike, read when the node is halted, with its default, false (`bool_default`)."""
 
     slot: int
     missing: Fail  # the entry does not exist (UnsetBlackboard removed it)
     no_value: Fail  # it exists without a value
     constant: Optional[int] = None  # a SubTree's constant port (text nothing else writes), converted
-    as_bool: str = ""  # RunOnce then_skip: the entry's kind (int, bool, double, string, dyn)
+    as_bool: str = ""  # RunOnce then_skip, TryCatch catch_on_halt: the entry's kind (int, bool, double, string, dyn)
+    bool_default: int = 1  # as_bool: the value when getInput<bool> fails (the port's default)
     kind: str = ""  # a count or duration: the entry's kind (int, bool, double, string, dyn)
     unsigned: bool = False  # a duration (getInput<unsigned>)
     convert: Optional[Fail] = None  # "... reads blackboard entry `k`: " before the reason

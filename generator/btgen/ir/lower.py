@@ -273,14 +273,9 @@ class _Lowerer:
         if nid == "Delay":
             return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
         if nid == "TryCatch":
-            on_halt, loc = self.literal(node, "catch_on_halt", "bool")
-            if on_halt:
-                self.error(
-                    loc,
-                    f'`TryCatch` "{node.display_name}": catch_on_halt="true" (tick the catch child while '
-                    f"halting) is not supported by the C++ back end; the interpreter (btgen run) runs it",
-                )
-            return 0, 0, 0
+            # catch_on_halt: p0 the literal (read when the node is halted); p1 1 when it is a
+            # `{key}` (data.params), read then through Spec::read_param.
+            return (1 if self.literal(node, "catch_on_halt", "bool")[0] else 0), 0, 0
         return 0, 0, 0
 
     def lower(self) -> Program:

@@ -235,6 +235,15 @@ class Engine {
     return false;
   }
   static constexpr bool kWakeUp = mission_wakes_up();
+  // Whether a TryCatch may tick its catch child inside its halt (catch_on_halt="true" or
+  // `{key}`: NodeInfo p0 or p1): else halts never tick and that code is compiled away.
+  static constexpr bool mission_catches_on_halt() noexcept {
+    for (const NodeInfo& n : Spec::kNodes) {
+      if (n.kind == NodeKind::TryCatch && (n.p0 != 0 || n.p1 != 0)) return true;
+    }
+    return false;
+  }
+  static constexpr bool kCatchOnHalt = mission_catches_on_halt();
   static constexpr std::uint16_t kPreBits =
       static_cast<std::uint16_t>(script_bit(ScriptSlot::kFailureIf) | script_bit(ScriptSlot::kSuccessIf) |
                                  script_bit(ScriptSlot::kSkipIf) | script_bit(ScriptSlot::kWhile));
@@ -485,6 +494,7 @@ class Engine {
         counter(n, 1) = 0;
         break;
       case NodeKind::TryCatch:
+        // (halt_begin decides first whether the halt ticks the catch child)
         counter(n, 0) = 0;
         counter(n, 1) = 0;
         counter(n, 2) = 0;
@@ -497,19 +507,67 @@ class Engine {
     }
   }
 
+  // TryCatch's counter 2 while its halt has still to tick the catch child (1: in the catch child).
+  static constexpr std::int32_t kCatchPending = 2;
+
+  // The start of a node's halt(): forget, and for a TryCatch (4.9.0) whether this halt ticks
+  // its catch child: catch_on_halt true when halt() reads it, the node active and not in its
+  // catch child already. TryCatchNode::halt() resets its try children, ticks the catch child
+  // (halting it when it answers RUNNING), then resets it as ControlNode::halt() does.
+  void halt_begin(const NodeInfo& n) noexcept {
+    if constexpr (kCatchOnHalt) {
+      if (n.kind == NodeKind::TryCatch) {
+        const bool catches = catch_on_halt(n) && counter(n, 2) == 0 && is_active(status_[n.index]);
+        forget(n);
+        if (catches) counter(n, 2) = kCatchPending;
+        return;
+      }
+    }
+    forget(n);
+  }
+  // catch_on_halt as TryCatchNode::halt() reads it: a literal, or getInput<bool> of the entry
+  // (false when that fails: the generated read_param keeps the port's default).
+  bool catch_on_halt(const NodeInfo& n) noexcept {
+    if (n.p1 == 0) return param::catch_on_halt(n);
+    std::int64_t v = 0;
+    const ErrorSink es = sink();
+    return Spec::read_param(bb_, es, n, v) > 0 && v != 0;
+  }
+  // A node's depth (the root's is 0). While a catch child ticks inside a halt, the ticks and
+  // halts it causes keep their frames at the depths of their nodes (execute_at's frame of a
+  // node is at its depth or above, halt_node's at its depth): the frames of the ticks and
+  // halts in progress, all of them the catch child's ancestors', stay untouched.
+  static std::size_t depth(std::uint16_t node) noexcept {
+    std::size_t d = 0;
+    for (std::uint16_t p = info(node).parent; p != kNoNode; p = info(p).parent) ++d;
+    return d;
+  }
+
   // TreeNode::haltNode, depth first over the RUNNING part of the subtree:
   // children in order (RUNNING ones halted first), then the node itself.
   void halt_node(std::uint16_t root) noexcept {
-    std::size_t hp = 0;
-    forget(info(root));
+    std::size_t base = 0;
+    if constexpr (kCatchOnHalt) base = depth(root);
+    std::size_t hp = base;
+    halt_begin(info(root));
     halt_stack_[hp++] = HaltFrame{root, 0};
-    while (hp > 0) {
+    while (hp > base) {
       HaltFrame& h = halt_stack_[hp - 1];
       const NodeInfo& n = info(h.node);
       if (h.pos < n.child_count) {
+        if constexpr (kCatchOnHalt) {
+          if (n.kind == NodeKind::TryCatch && h.pos + 1u == n.child_count && counter(n, 2) == kCatchPending) {
+            // The try children are reset: the catch child's tick, then the catch child
+            // (halted when RUNNING, else reset) as any child below.
+            counter(n, 2) = 0;
+            const std::uint16_t c = child(n, h.pos);
+            (void)execute_at(c, depth(c));
+            continue;
+          }
+        }
         const std::uint16_t c = child(n, h.pos++);
         if (status_[c] == Status::RUNNING) {
-          forget(info(c));
+          halt_begin(info(c));
           halt_stack_[hp++] = HaltFrame{c, 0};
         } else {
           reset_status(c);
@@ -635,7 +693,8 @@ class Engine {
     if constexpr (!kShaped) {
       return true;
     } else {
-      return kStraightLine < kNodeCount || Spec::kHasDeepShape || Spec::kHasUserControlFlow;
+      // (a catch child ticked inside a halt runs there too)
+      return kStraightLine < kNodeCount || Spec::kHasDeepShape || Spec::kHasUserControlFlow || kCatchOnHalt;
     }
   }
   static constexpr bool kUsesInterpreter = uses_interpreter();

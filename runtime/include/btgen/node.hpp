@@ -108,6 +108,7 @@ struct NodeText {
 //   Switch                p0 number of cases (the last child is the default)
 //   Precondition          p0 the `else` status
 //   Loop                  p0 the `if_empty` status
+//   TryCatch              p0 catch_on_halt (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
 // `scripts` has a bit per pre/post condition the node has (btgen::ScriptSlot:
 // _failureIf, _successIf, _skipIf, _while, _onSuccess, _onFailure, _post,
 // _onHalted); the generated Spec::script() runs them.
@@ -151,6 +152,9 @@ namespace param {
 
 // RunOnce `then_skip`: SKIPPED after the first run, else the first run's status again.
 [[nodiscard]] constexpr bool then_skip(const NodeInfo& n) noexcept { return n.p0 != 0; }
+
+// TryCatch `catch_on_halt` (a literal): a halt in the try block ticks the catch child.
+[[nodiscard]] constexpr bool catch_on_halt(const NodeInfo& n) noexcept { return n.p0 != 0; }
 
 // Timeout and Sleep `msec`, Delay `delay_msec`.
 [[nodiscard]] constexpr std::int64_t duration_ms(const NodeInfo& n) noexcept { return n.p0; }

@@ -10,6 +10,7 @@ from btgen.diagnostics import Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
 from btgen.ir.data.records import (
+    BOOL_PARAM_DEFAULTS,
     SCRIPT_SLOTS,
     DataIR,
     DataOp,
@@ -437,8 +438,8 @@ class Compiler:
         """A loop count or duration given as `{key}`: getInput<int|unsigned> of the entry."""
         s = self.a.slots[op.slot]
         what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
-        if op.port == "then_skip":
-            return self.then_skip_read(inst, op)
+        if op.port in BOOL_PARAM_DEFAULTS:
+            return self.bool_param_read(inst, op)
         constant: Optional[int] = None
         if (
             s.kind == "string"
@@ -477,12 +478,13 @@ class Compiler:
             ),
         )
 
-    def then_skip_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
-        """RunOnce then_skip given as `{key}`: getInput<bool> on every tick (both versions). When it
-        fails (no entry, no value, a value that does not convert) RunOnce keeps the default, true,
-        without an error."""
+    def bool_param_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
+        """RunOnce then_skip or TryCatch catch_on_halt given as `{key}`: getInput<bool> (RunOnce
+        on every tick, TryCatch when it is halted). When it fails (no entry, no value, a value
+        that does not convert) the node keeps the port's default (then_skip true, catch_on_halt
+        false) without an error."""
         s = self.a.slots[op.slot]
-        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
+        default = BOOL_PARAM_DEFAULTS[op.port]
         constant: Optional[int] = None
         kind = ""
         if (
@@ -492,11 +494,11 @@ class Compiler:
             and all(w.source == "constant" for w in s.writes)
         ):
             # A SubTree's constant port: text that never changes, converted once here as
-            # getInput<bool> converts it on every read (a text that does not convert: true).
+            # getInput<bool> converts it on every read (a text that does not convert: the default).
             try:
                 constant = 1 if values.convert_from_string(values.BOOL, s.initial) else 0
             except values.ConversionError:
-                constant = 1
+                constant = default
         elif s.kind in ("int", "bool", "double", "string", "dyn"):
             kind = str(s.kind)
         else:
@@ -507,6 +509,7 @@ class Compiler:
                 f"or one whose type changes",
             )
             return None
+        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
         return DataOp(
             inst.index,
             f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
@@ -515,7 +518,8 @@ class Compiler:
                 self.fail(op.loc, f"{what}, which does not exist"),
                 self.fail(op.loc, f"{what}, which has no value yet"),
                 constant,
-                kind,
+                as_bool=kind,
+                bool_default=default,
             ),
         )
 

@@ -63,7 +63,8 @@ SCRIPT_SLOTS = MappingProxyType(
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 # Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
-# (every tick of Repeat, RetryUntilSuccessful, Timeout, Delay and RunOnce, the start of a Sleep).
+# (every tick of Repeat, RetryUntilSuccessful, Timeout, Delay and RunOnce, the start of a Sleep,
+# the halt of a TryCatch).
 PARAM_PORTS = frozenset(
     {
         ("Repeat", "num_cycles"),
@@ -72,8 +73,11 @@ PARAM_PORTS = frozenset(
         ("Delay", "delay_msec"),
         ("Sleep", "msec"),
         ("RunOnce", "then_skip"),
+        ("TryCatch", "catch_on_halt"),
     }
 )
+# The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
+BOOL_PARAM_DEFAULTS = MappingProxyType({"then_skip": 1, "catch_on_halt": 0})
 LITERAL_ONLY = frozenset(
     {
         ("Parallel", "success_count"),
