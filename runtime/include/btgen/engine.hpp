@@ -8,6 +8,10 @@
 // (Tree::haltTree). No heap, no exceptions, no RTTI; recursion only in the
 // straight-line ticks, at most kCompiledDepth (48) calls deep: the
 // interpreter and halts walk explicit stacks whose depth is the tree's depth.
+// The interpreter is entered again (one C++ call level each, on the same
+// explicit stacks) for the children of a mission's own Control or Decorator,
+// and for the catch child a TryCatch (4.9.0, catch_on_halt) ticks inside its
+// halt: those nest no deeper than the tree.
 //
 // Each built-in node is written as a small state machine: `enter` starts its
 // tick, `resume` continues it with the status its child just returned; both
