@@ -659,7 +659,8 @@ class _Gen:
         if self.uses_count_key:
             if rng.random() < 0.6:
                 # text into the `int` entry the count port declared (a script's `-2` is a double)
-                extra = f'<SetBlackboard value="{rng.choice(("0", "-2", "-1", "1", "2", INT_MIN_TEXT))}" output_key="k"/>'
+                text = rng.choice(("0", "-2", "-1", "1", "2", INT_MIN_TEXT))
+                extra = f'<SetBlackboard value="{text}" output_key="k"/>'
             else:
                 # a script's number, bool or text into it: getInput<int> casts or parses what it holds
                 # (a fraction, 2^32: the node throws)
