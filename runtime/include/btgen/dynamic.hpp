@@ -610,24 +610,6 @@ inline int truth(const Ref& v, Msg& m) noexcept {
 
 }  // namespace dyn
 
-namespace dyn {
-
-// A script's `key := text` (and `=`) into a string entry, from BehaviorTree.CPP
-// 4.7.0: one that a SetBlackboard string left empty and typed BT::Any is no
-// longer `AnyTypeAllowed`, so the text goes through its converter, which throws.
-template <class T>
-bool store_text_410(const Slot<T>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
-  if (slot.has_value || slot.entry_type != EntryType::kBtAny) return true;
-  m.add("cannot assign ");
-  add_string_repr(m, text);
-  m.add(" to `").add(key).add("` (BT::Any): cannot convert ");
-  add_string_repr(m, text);
-  m.add(" to BT::Any: the library has no convertFromString for BT::Any");
-  return false;
-}
-
-}  // namespace dyn
-
 // The value of a dynamic slot: what the entry holds, and its 4.6.2 type (`any`,
 // or `string` once a SetBlackboard literal typed it).
 template <std::size_t N>
@@ -657,6 +639,35 @@ template <std::size_t N>
 Ref ref(const Slot<Dyn<N>>& slot) noexcept {
   if (!slot.exists || !slot.has_value) return Ref{};
   return slot.value.ref();
+}
+
+// Whether the entry holds a string now (a script's text then replaces it as it is).
+template <class T>
+constexpr bool holds_text(const Slot<T>&) noexcept {
+  return false;  // a number, a bool, a status, a queue
+}
+template <std::size_t N>
+constexpr bool holds_text(const Slot<FixedString<N>>& slot) noexcept {
+  return slot.has_value;
+}
+template <std::size_t N>
+constexpr bool holds_text(const Slot<Dyn<N>>& slot) noexcept {
+  return slot.has_value && slot.value.tag == DynTag::kString;
+}
+
+// A script's `key := text` (and `=`) into an entry typed BT::Any: one an `entry` port
+// (WasEntryUpdated & co., InputPort<BT::Any>) created at load, or one 4.7.0's
+// SetBlackboard string left empty. Unless it holds a string, the text goes through
+// the entry's converter, convertFromString<BT::Any>, which throws.
+template <class T>
+bool store_text_bt_any(const Slot<T>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
+  if (slot.entry_type != EntryType::kBtAny || holds_text(slot)) return true;
+  m.add("cannot assign ");
+  add_string_repr(m, text);
+  m.add(" to `").add(key).add("` (BT::Any): cannot convert ");
+  add_string_repr(m, text);
+  m.add(" to BT::Any: the library has no convertFromString for BT::Any");
+  return false;
 }
 
 // values.copy_into(value, destination): the value an entry holding `dst` gets.
@@ -817,7 +828,8 @@ bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key
   if (!slot.exists) {
     slot.value.typed_string = false;  // a new entry of type `any`
   } else if (!slot.value.typed_string) {
-    slot.value.typed_string = true;  // an `any` entry takes the type std::string
+    slot.value.typed_string = true;  // an `any` (or BT::Any) entry takes the type std::string
+    if (slot.entry_type == EntryType::kBtAny) slot.entry_type = EntryType::kTyped;
   } else {
     Ref out;
     Msg why;

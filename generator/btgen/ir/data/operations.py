@@ -891,7 +891,8 @@ class Compiler:
                 not s.at_load or s.unset,
                 s.origin_text,
                 s.provided,
-                i in self.bt_any_slots,
+                i in self.bt_any_slots or s.bt_any_at_load,
+                s.at_load and s.bt_any_at_load,
             )
             for i, s in enumerate(self.a.slots)
         )
