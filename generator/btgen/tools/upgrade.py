@@ -115,11 +115,10 @@ def static_findings(path: str, opts: pipeline.CompileOptions, old: str, new: str
                 f.add(d.loc, msg)
 
     for node in _nodes(mission):
-        for port_name in ("entry",):
-            a = node.port(port_name)
-            key = bbmod.strip_blackboard_pointer(a.value) if a is not None else None
-            if (node.id, port_name) in ENTRY_PORTS and key is not None:
-                f.bt_any_keys.setdefault(key, node)
+        entry_attr = node.port("entry")
+        key = bbmod.strip_blackboard_pointer(entry_attr.value) if entry_attr is not None else None
+        if (node.id, "entry") in ENTRY_PORTS and key is not None:
+            f.bt_any_keys.setdefault(key, node)
     new_grammar = semantics(new).script_grammar_49
     old_grammar = semantics(old).script_grammar_49
     for node in _nodes(mission):
@@ -206,7 +205,7 @@ def _node_findings(f: _Findings, mission: Mission, node: Node) -> None:
         a = node.port("value")
         out = node.port("output_key")
         watcher = f.bt_any_keys.get(out.value) if out is not None else None
-        if a is not None and watcher is not None:
+        if a is not None and out is not None and watcher is not None:
             f.add(
                 a.value_loc,
                 f"{SINCE['setblackboard_converts_to_entry_type']} SetBlackboard converts a string with the "
