@@ -513,6 +513,53 @@ case(
 )
 
 
+# ---------------------------------------------------------------- E1: the `entry` port's BT::Any entry
+E1_CASES = (
+    (
+        "e1_script_string",
+        "a script's first string into the entry WasEntryUpdated's port created (typed BT::Any): "
+        "convertFromString<BT::Any> throws",
+        '<Fallback>\n        <WasEntryUpdated name="Seen" entry="{state}"/>\n'
+        '        <Script name="Write" code="state := \'done\'"/>\n      </Fallback>\n      <A/>',
+    ),
+    (
+        "e1_script_string_after_number",
+        "a script's number is stored in that entry, a later string throws",
+        '<Fallback>\n        <WasEntryUpdated name="Seen" entry="{state}"/>\n'
+        '        <Sequence>\n          <Script name="Num" code="state := 3"/>\n'
+        '          <WasEntryUpdated name="Again" entry="{state}"/>\n'
+        '          <Script name="Text" code="state := \'x\'"/>\n        </Sequence>\n      </Fallback>',
+    ),
+    (
+        "e1_set_blackboard_first",
+        "SetBlackboard's text types the entry std::string (set<std::string> on an entry not strongly "
+        "typed); a script's string then succeeds",
+        '<SetBlackboard name="Text" output_key="state" value="idle"/>\n'
+        '      <WasEntryUpdated name="Seen" entry="{state}"/>\n'
+        '      <Script name="After" code="state := \'busy\'"/>\n      <A/>',
+    ),
+    (
+        "e1_copy_keeps_bt_any",
+        "SetBlackboard copies a string into it (dst->value = src->value, the type stays BT::Any): a "
+        "script's string then replaces the string; SkipUnlessUpdated sees the writes",
+        '<Fallback>\n        <WasEntryUpdated name="Seen" entry="{state}"/>\n'
+        '        <Sequence>\n          <Script name="Src" code="src := \'a\'"/>\n'
+        '          <SetBlackboard name="Copy" output_key="state" value="{src}"/>\n'
+        '          <Script name="Text" code="state := \'b\'"/>\n'
+        '          <SkipUnlessUpdated entry="{state}">\n            <B/>\n          </SkipUnlessUpdated>\n'
+        "        </Sequence>\n      </Fallback>",
+    ),
+    (
+        "e1_unbraced_key",
+        'entry="state" without braces creates no entry at load: the script\'s string creates an untyped one',
+        '<Fallback>\n        <WasEntryUpdated name="Seen" entry="state"/>\n'
+        '        <Script name="Write" code="state := \'done\'"/>\n      </Fallback>\n      <A/>',
+    ),
+)
+for stem, what, body in E1_CASES:
+    case(stem, "E1", what, mission(f"<Sequence>\n      {body}\n    </Sequence>"), "ticks 2\n")
+
+
 def main() -> None:
     os.makedirs(OUT, exist_ok=True)
     lines = [

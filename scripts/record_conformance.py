@@ -33,6 +33,8 @@ def record(harness: str, folder: str, stems: list[str]) -> int:
             print(f"trace   {stem}")
         else:
             message = proc.stderr.decode("utf-8", "replace").strip().splitlines()
+            # the library may print a warning before the error (convertFromString<BT::Any>)
+            message = [m for m in message if m.startswith("error:")] or message
             with open(base + ".refused", "w", encoding="utf-8") as f:
                 f.write((message[0] if message else f"exit {proc.returncode}") + "\n")
             print(f"refused {stem}: {message[0] if message else proc.returncode}")

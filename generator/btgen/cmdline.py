@@ -59,7 +59,7 @@ def error(args: argparse.Namespace, token: Optional[str], message: str) -> UserE
 
 
 class Parser(argparse.ArgumentParser):
-    """An ArgumentParser whose mistakes are located errors with exit status 1, then a hint
+    """An ArgumentParser whose mistakes are located errors with exit status 1, then a note
     naming the help to read."""
 
     command = ""  # btgen's command being parsed, when the arguments name one (cli.main)
@@ -78,7 +78,8 @@ class Parser(argparse.ArgumentParser):
             # A command's own parser, or the top one reporting what the command left over
             # (`unrecognized arguments`): the help to read is the command's.
             command = self.prog.split()[-1] if " " in self.prog else Parser.command
-            print(f"btgen: try 'btgen {command} --help'" if command else "btgen: try 'btgen --help'", file=sys.stderr)
+            hint = f"btgen {command} --help" if command else "btgen --help"
         else:
-            print(f"{self.prog}: try '{self.prog} --help'", file=sys.stderr)
+            hint = f"{self.prog} --help"
+        print(f"{loc}: note: try '{hint}'", file=sys.stderr)  # a diagnostic too: every line is one
         raise SystemExit(EXIT_INPUT)

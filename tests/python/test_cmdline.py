@@ -49,6 +49,7 @@ def test_bad_option_is_a_located_error(argv, at, message, capsys, tmp_path, monk
     assert rc == 1, err
     assert first.startswith(f"<command-line>:1:{_col(argv, at)}: error: {message}"), first
     assert "Traceback" not in err
+    assert all(line.startswith(f"<command-line>:1:{_col(argv, at)}: ") for line in err.splitlines()), err
     assert os.listdir(tmp_path) == []
 
 

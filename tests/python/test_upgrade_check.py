@@ -79,3 +79,19 @@ def test_a_mission_that_does_not_load_is_an_input_error(tmp_path):
     assert p.returncode == 1
     assert p.stderr.startswith(f"{bad}:1:")
     assert "Traceback" not in p.stderr
+
+
+def test_setblackboard_into_an_entry_port_key_is_named():
+    """4.10.0 throws where SetBlackboard writes a string into WasEntryUpdated's BT::Any entry
+    (recorded: v410_e1_set_blackboard_first, v410_e1_copy_keeps_bt_any); the finding names the
+    watcher, and --scenario shows the run parting at that node."""
+    for stem, line in (("v410_e1_set_blackboard_first", 4), ("v410_e1_copy_keeps_bt_any", 8)):
+        p = check(stem)
+        assert p.returncode == 1
+        named = [x for x in p.stderr.splitlines() if 'is also the `entry` of `WasEntryUpdated` "Seen"' in x]
+        assert len(named) == 1 and named[0].startswith(f"{case(stem, '.xml')}:{line}:"), p.stderr
+        assert "convertFromString<BT::Any> throws" in named[0]
+    p = check("v410_e1_set_blackboard_first", "--scenario", case("v410_e1_set_blackboard_first", ".scenario"))
+    assert '4.10.0: error: `SetBlackboard` "Text"' in p.stdout + p.stderr
+    # without the watcher, no such finding
+    assert "is also the `entry`" not in check("v410_b2_copy_into_unsigned").stderr

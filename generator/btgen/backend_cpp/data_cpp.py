@@ -84,7 +84,8 @@ def slot_init(s: SlotIR) -> str:
             raise InternalError(f"a SubTree constant of kind {s.kind}")
         return f"{{{slot_type(s)}({cpp_view(s.initial)}), 1, true, true}}"
     if s.at_load:
-        return "{{}, 0, true, false}"
+        # an `entry` port's entry is typed BT::Any from the start (a script's string throws)
+        return "{{}, 0, true, false, btgen::EntryType::kBtAny}" if s.bt_any_at_load else "{{}, 0, true, false}"
     return "{}"
 
 

@@ -687,6 +687,16 @@ class ScriptCompiler(CodeWriter):
         if v.kind == DYN or v.has is not None:
             self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
         if s.kind == DYN:
+            if op in (":=", "=") and s.may_be_bt_any and v.kind in (DYN, "string"):
+                # an entry typed BT::Any: a string goes through its converter (store_value)
+                ref_t = self.temp()
+                self.emit(f"const btgen::dyn::Ref {ref_t} = {ref};")
+                self.dyn_call(
+                    f"!{ref_t}.is_string() || btgen::dyn::store_text_bt_any({s.member}, {ref_t}.s, "
+                    f"{cpp_view(key)}, dm)",
+                    off,
+                )
+                ref = ref_t
             if op in (":=", "="):
                 self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
@@ -789,8 +799,9 @@ def store_value(c: CodeWriter, s: SlotView, v: Val, off: int, what: str, op: str
     time)."""
     route = typed.route
     if s.may_be_bt_any and v.kind == "string":
-        # An entry 4.10.0's SetBlackboard left empty and typed BT::Any: its converter throws.
-        c.dyn_call(f"btgen::dyn::store_text_410({s.member}, {v.expr}, {cpp_view(s.key)}, dm)", off)
+        # An entry typed BT::Any (an `entry` port's, or one 4.10.0's SetBlackboard left empty):
+        # unless it holds a string, its converter throws.
+        c.dyn_call(f"btgen::dyn::store_text_bt_any({s.member}, {v.expr}, {cpp_view(s.key)}, dm)", off)
     if route == "same":
         store_same(c, s, v, off)
     elif route == "converted":

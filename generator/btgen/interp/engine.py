@@ -181,7 +181,7 @@ class _Builder:
             if p.attr is None:
                 continue
             try:
-                bbmod.create_port_entry(bb, p.raw, p.spec.type if p.spec is not None else "any", p.name)
+                bbmod.create_port_entry(bb, p.raw, p.spec.type if p.spec is not None else "any", p.name, model.id)
             except (values.ConversionError, bbmod.BlackboardError) as e:
                 raise _run_error(p.attr.value_loc, f"port `{p.name}` of `{model.id}`: {e}") from None
 

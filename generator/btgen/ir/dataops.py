@@ -41,6 +41,20 @@ class SetUserLiteral:
 
 
 @dataclass(frozen=True)
+class DynSet410:
+    """From 4.7.0, SetBlackboard into an entry whose type changes at run time and that no port
+    declared (btgen::dyn::set_text_410 / set_copy_410): its run-time type (Slot::entry_type)
+    decides whether a string is stored, left empty (untyped) or refused (BT::Any)."""
+
+    local: bool  # stored on the node's own blackboard: an untyped entry becomes BT::Any
+    raw: str  # the `value` port as written (the conversion message names it)
+    entry_key: str  # the entry's key on the blackboard that holds it
+    # a copy's source type, which a missing destination takes: "entry" (the source's
+    # Slot::entry_type), "typed" (std::string) or "untyped"
+    src_type: str = ""
+
+
+@dataclass(frozen=True)
 class SetDynLiteral:
     """SetBlackboard of text into an entry whose type changes at run time."""
 
@@ -49,6 +63,7 @@ class SetDynLiteral:
     key: str
     prefix: str  # the message prefix of the run-time errors
     where: int
+    v410: Optional[DynSet410] = None  # an entry no port declared, from 4.7.0
 
 
 @dataclass(frozen=True)
@@ -100,6 +115,7 @@ class SetCopyDyn:
     missing: Fail
     where: int
     empty_succeeds: bool = True  # as SetCopy's
+    v410: Optional[DynSet410] = None  # into an entry no port declared, from 4.7.0
 
 
 DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn]

@@ -28,6 +28,7 @@ from collections.abc import Iterable
 from typing import Optional
 
 from btgen.lang import values
+from btgen.lang.catalogue import ENTRY_PORTS
 from btgen.lang.values import ANY, STRING, ConversionError, Value
 
 # An entry typed BT::Any: what 4.7.0's SetBlackboard leaves when it writes a string into an
@@ -382,22 +383,30 @@ def set_output(bb: Blackboard, port_value_text: str, value: Value, port_type: st
     return bb.set(key, value, t)
 
 
-def create_port_entry(bb: Blackboard, port_value_text: str, port_type: str, port_name: str = "") -> Optional[Entry]:
+def create_port_entry(
+    bb: Blackboard, port_value_text: str, port_type: str, port_name: str = "", node_id: str = ""
+) -> Optional[Entry]:
     """What 4.6.2's XML loader does for one port of a node it creates.
 
     A port naming an entry (``{key}``, ``{=}``) creates that entry with the
     port's type when it does not exist yet (no value, ``sequence_id`` 0). If
     it exists, two different strong types are an error unless the existing
     entry is a ``string`` (4.6.2 converts strings on reading). Literal ports
-    create nothing (None).
+    create nothing (None). The `entry` port of WasEntryUpdated, SkipUnlessUpdated and
+    WaitValueUpdate (node `node_id`) is declared ``InputPort<BT::Any>``: its entry is typed
+    BT::Any (:data:`ANY_TYPED`: not strongly typed, and its string converter throws, so a
+    script storing a string there throws).
     """
     key = remapped_key(port_name, port_value_text)
     if key is None:
         return None
+    if (node_id, port_name) in ENTRY_PORTS:
+        port_type = ANY_TYPED
     entry = bb.get_entry(key)
     if entry is not None:
         if (
             entry.strongly_typed
+            and port_type != ANY_TYPED
             and values.is_strongly_typed(port_type)
             and entry.type_name != port_type
             and entry.type_name != STRING
@@ -457,7 +466,10 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
         except ConversionError as e:
             raise BlackboardError(f"SetBlackboard: {e}") from None
         written = dst.type_name
-    bb.set(output_key, out, written)
+    bt_any = dst.type_name == ANY_TYPED
+    entry = bb.set(output_key, out, written)
+    if bt_any and entry is dst:
+        entry.type_name = ANY_TYPED  # a raw copy (dst->value = src->value) keeps the entry's type
     return True
 
 

@@ -657,8 +657,15 @@ class _Gen:
         )
         extra = ""
         if self.uses_count_key:
-            # text into the `int` entry the count port declared (a script's `-2` is a double)
-            extra = f'<SetBlackboard value="{rng.choice(("0", "-2", "-1", "1", "2", INT_MIN_TEXT))}" output_key="k"/>'
+            if rng.random() < 0.6:
+                # text into the `int` entry the count port declared (a script's `-2` is a double)
+                text = rng.choice(("0", "-2", "-1", "1", "2", INT_MIN_TEXT))
+                extra = f'<SetBlackboard value="{text}" output_key="k"/>'
+            else:
+                # a script's number, bool or text into it: getInput<int> casts or parses what it holds
+                # (a fraction, 2^32: the node throws)
+                k = rng.choice(("2.0", "-1.0", "0.0", "1.5", "'2'", "true", "false", "4294967296"))
+                extra = f'<Script code="k := {k}"/>'
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
             extra += f'<SetBlackboard value="{q}" output_key="q"/>'

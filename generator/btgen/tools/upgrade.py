@@ -23,6 +23,7 @@ from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as scriptmod
 from btgen.lang import values
+from btgen.lang.catalogue import ENTRY_PORTS
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
 from btgen.lang.versions import SINCE, semantics
 
@@ -51,6 +52,8 @@ class _Findings:
         self.old, self.new = semantics(old), semantics(new)
         self.items: list[Diagnostic] = []
         self.seen: set[tuple[Loc, str]] = set()
+        # key -> the first node whose `entry` port (InputPort<BT::Any>) names it as `{key}`
+        self.bt_any_keys: dict[str, Node] = {}
 
     def changed(self, switch: str) -> bool:
         return getattr(self.old, switch) != getattr(self.new, switch)
@@ -111,6 +114,11 @@ def static_findings(path: str, opts: pipeline.CompileOptions, old: str, new: str
                     msg = f"refused from BehaviorTree.CPP {since.rstrip(')')}: {head}"
                 f.add(d.loc, msg)
 
+    for node in _nodes(mission):
+        entry_attr = node.port("entry")
+        key = bbmod.strip_blackboard_pointer(entry_attr.value) if entry_attr is not None else None
+        if (node.id, "entry") in ENTRY_PORTS and key is not None:
+            f.bt_any_keys.setdefault(key, node)
     new_grammar = semantics(new).script_grammar_49
     old_grammar = semantics(old).script_grammar_49
     for node in _nodes(mission):
@@ -195,6 +203,16 @@ def _node_findings(f: _Findings, mission: Mission, node: Node) -> None:
         )
     if nid == "SetBlackboard" and f.changed("setblackboard_converts_to_entry_type"):
         a = node.port("value")
+        out = node.port("output_key")
+        watcher = f.bt_any_keys.get(out.value) if out is not None else None
+        if a is not None and out is not None and watcher is not None:
+            f.add(
+                a.value_loc,
+                f"{SINCE['setblackboard_converts_to_entry_type']} SetBlackboard converts a string with the "
+                f"destination's converter: `{out.value}` is also the `entry` of `{watcher.id}` "
+                f'"{watcher.display_name}" ({watcher.loc}), which creates it typed BT::Any when it loads first, '
+                f"and convertFromString<BT::Any> throws (4.6.2: the entry becomes a string, or a copy is stored)",
+            )
         if a is not None:
             if bbmod.is_blackboard_pointer(a.value):
                 what = "copying an entry that has no value yet returns FAILURE"

@@ -612,18 +612,13 @@ inline int truth(const Ref& v, Msg& m) noexcept {
 
 namespace dyn {
 
-// A script's `key := text` (and `=`) into a string entry, from BehaviorTree.CPP
-// 4.7.0: one that a SetBlackboard string left empty and typed BT::Any is no
-// longer `AnyTypeAllowed`, so the text goes through its converter, which throws.
-template <class T>
-bool store_text_410(const Slot<T>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
-  if (slot.has_value || slot.entry_type != EntryType::kBtAny) return true;
+// The message of a script's `key := text` into an entry typed BT::Any (store_text_bt_any).
+inline void add_bt_any_assign(Msg& m, std::string_view text, std::string_view key) noexcept {
   m.add("cannot assign ");
   add_string_repr(m, text);
   m.add(" to `").add(key).add("` (BT::Any): cannot convert ");
   add_string_repr(m, text);
   m.add(" to BT::Any: the library has no convertFromString for BT::Any");
-  return false;
 }
 
 }  // namespace dyn
@@ -657,6 +652,31 @@ template <std::size_t N>
 Ref ref(const Slot<Dyn<N>>& slot) noexcept {
   if (!slot.exists || !slot.has_value) return Ref{};
   return slot.value.ref();
+}
+
+// Whether the entry holds a string now (a script's text then replaces it as it is).
+template <class T>
+constexpr bool holds_text(const Slot<T>&) noexcept {
+  return false;  // a number, a bool, a status, a queue
+}
+template <std::size_t N>
+constexpr bool holds_text(const Slot<FixedString<N>>& slot) noexcept {
+  return slot.has_value;
+}
+template <std::size_t N>
+constexpr bool holds_text(const Slot<Dyn<N>>& slot) noexcept {
+  return slot.has_value && slot.value.tag == DynTag::kString;
+}
+
+// A script's `key := text` (and `=`) into an entry typed BT::Any: one an `entry` port
+// (WasEntryUpdated & co., InputPort<BT::Any>) created at load, or one 4.7.0's
+// SetBlackboard string left empty. Unless it holds a string, the text goes through
+// the entry's converter, convertFromString<BT::Any>, which throws.
+template <class T>
+bool store_text_bt_any(const Slot<T>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
+  if (slot.entry_type != EntryType::kBtAny || holds_text(slot)) return true;
+  add_bt_any_assign(m, text, key);
+  return false;
 }
 
 // values.copy_into(value, destination): the value an entry holding `dst` gets.
@@ -737,6 +757,12 @@ bool put(Slot<Dyn<N>>& slot, const Ref& v, std::string_view key, Msg& m) noexcep
 // A script's `key := value` (and `=`): the entry exists (`:=` created it).
 template <std::size_t N>
 bool store(Slot<Dyn<N>>& slot, const Ref& value, std::string_view key, Msg& m) noexcept {
+  if (value.is_string() && slot.entry_type == EntryType::kBtAny) {
+    // Typed BT::Any by a 4.7.0+ SetBlackboard string (set_text_410): whatever it holds, a
+    // string goes through BT::Any's converter, which throws. (Never under 4.6.2.)
+    add_bt_any_assign(m, value.s, key);
+    return false;
+  }
   const Ref dst = ref(slot);
   Ref out = value;
   if (dst.none() && !slot.value.typed_string) {
@@ -817,7 +843,8 @@ bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key
   if (!slot.exists) {
     slot.value.typed_string = false;  // a new entry of type `any`
   } else if (!slot.value.typed_string) {
-    slot.value.typed_string = true;  // an `any` entry takes the type std::string
+    slot.value.typed_string = true;  // an `any` (or BT::Any) entry takes the type std::string
+    if (slot.entry_type == EntryType::kBtAny) slot.entry_type = EntryType::kTyped;
   } else {
     Ref out;
     Msg why;
@@ -857,6 +884,95 @@ int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_
     }
   }
   return put(slot, value, key, m) ? 1 : -1;
+}
+
+// ------------------------------------------------------------ SetBlackboard, 4.7.0 and later
+//
+// SetBlackboard into a dynamic entry no port declared, from BehaviorTree.CPP 4.7.0
+// (Semantics::setblackboard_converts_to_entry_type; lang/blackboard.py set_blackboard_410
+// is the reference). The entry's own type is Slot::entry_type: kUntyped (created by a
+// Script, an untyped port, a SubTree text literal), kTyped (std::string: created by a
+// SetBlackboard literal, or copied from such an entry; Dyn::typed_string says the same),
+// kBtAny (left so by a string below). A string is converted with the entry's converter:
+// an untyped entry has none and receives an empty value; BT::Any's throws. The write is
+// Blackboard::set<BT::Any>: an entry on the node's own blackboard (`local`) that is not
+// strongly typed becomes BT::Any; a std::string one refuses another type; one reached
+// through a SubTree remapping keeps its type. Each returns 1 (SUCCESS), 0 (FAILURE: the
+// value to copy is empty) or -1 (m says why, after the node's prefix).
+
+// `raw`: the `value` port as written, for the conversion message; `key`: the output_key
+// as written; `entry_key`: the entry's key on the blackboard that holds it.
+struct SetNames410 {
+  std::string_view raw;
+  std::string_view key;
+  std::string_view entry_key;
+};
+
+template <std::size_t N>
+int set_value_410(Slot<Dyn<N>>& slot, Ref out, bool local, const SetNames410& names, Msg& m) noexcept {
+  const bool typed_string = slot.entry_type == EntryType::kTyped;
+  if (!typed_string && out.is_string()) {
+    if (slot.entry_type == EntryType::kBtAny) {
+      m.add("SetBlackboard: cannot convert ");
+      add_string_repr(m, names.raw);
+      m.add(": cannot convert ");
+      add_string_repr(m, out.s);
+      m.add(" to BT::Any: the library has no convertFromString for BT::Any");
+      return -1;
+    }
+    out = Ref{};  // TypeInfo::parseString without a converter: an empty value
+  }
+  if (typed_string && !out.none() && !out.is_string()) {
+    if (local) {
+      m.add("SetBlackboard: blackboard entry `")
+          .add(names.key)
+          .add("` is declared as string; it cannot be written with a ");
+    } else {
+      m.add("blackboard entry `").add(names.entry_key).add("` is declared as string; it cannot be used as ");
+    }
+    m.add(type_name(out));
+    return -1;
+  }
+  if (local && !typed_string) {
+    slot.entry_type = EntryType::kBtAny;
+    slot.value.typed_string = false;
+  }
+  if (out.none()) {
+    slot.value.tag = DynTag::kNone;
+    slot.exists = true;
+    slot.has_value = false;
+    ++slot.seq;
+    return 1;
+  }
+  return put(slot, out, names.key, m) ? 1 : -1;
+}
+
+// SetBlackboard value="text".
+template <std::size_t N>
+int set_text_410(Slot<Dyn<N>>& slot, std::string_view text, bool local, const SetNames410& names, Msg& m) noexcept {
+  if (!slot.exists) {  // a new entry takes the value's type, std::string
+    slot.exists = true;
+    slot.has_value = false;
+    slot.entry_type = EntryType::kTyped;
+    slot.value.typed_string = true;
+  }
+  return set_value_410(slot, of_string(text), local, names, m);
+}
+
+// SetBlackboard value="{src}" once the source exists: `value` is what it holds, `src_type`
+// its own type (a missing destination is created with it).
+template <std::size_t N>
+int set_copy_410(Slot<Dyn<N>>& slot, const Ref& value, EntryType src_type, bool local, const SetNames410& names,
+                 Msg& m) noexcept {
+  if (!slot.exists) {
+    slot.exists = true;
+    slot.has_value = false;
+    slot.value.tag = DynTag::kNone;
+    slot.entry_type = src_type;
+    slot.value.typed_string = src_type == EntryType::kTyped;
+  }
+  if (value.none()) return 0;
+  return set_value_410(slot, value, local, names, m);
 }
 
 }  // namespace dyn

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Optional
@@ -254,8 +255,6 @@ class Compiler:
         declared = s.entry.type_name
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         comment = f'SetBlackboard "{inst.node.display_name}" {s.key} = {text!r}'
-        if self._untyped_dyn_write_unsupported(s, loc, what):
-            return None
         prefix = f"{what}: SetBlackboard: cannot convert {values.describe(text)}: "
         untyped = self._untyped_dst(inst, op.key, loc, s, prefix)
         if is_user(s.kind):
@@ -271,7 +270,8 @@ class Compiler:
             if len(text.encode("utf-8")) > s.capacity:
                 self.error(loc, self.overflow_message(text, s))
                 return None
-            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc)))
+            v410 = self._dyn_410(inst, op.key, s, text)
+            return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc), v410))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
                 self.error(
@@ -308,8 +308,6 @@ class Compiler:
         d, s = self.a.slots[dst], self.a.slots[src]
         what = f'`SetBlackboard` "{inst.node.display_name}"'
         declared = d.entry.type_name if d.at_load else s.entry.type_name
-        if s.kind == "string" and self._untyped_dyn_write_unsupported(d, loc, what):
-            return None
         untyped = None
         if s.kind == "string":
             prefix = f"{what}: SetBlackboard: cannot convert {values.describe(op.raw)}: "
@@ -372,6 +370,20 @@ class Compiler:
                 f"C++ back end yet",
             )
             return None
+        v410 = self._dyn_410(inst, op.key, d, op.raw)
+        if v410 is not None:
+            src_type = self._dyn_410_src_type(s)
+            if src_type is None:
+                self.error(
+                    loc,
+                    f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
+                    f"`{d.key}`, an entry created without a type whose type changes at run time "
+                    f"({d.origin_text}); BehaviorTree.CPP {self.a.m.semantics.version} creates a missing "
+                    f"destination with the source's own type, which the C++ back end does not follow for "
+                    f"this source: not supported by the C++ back end yet",
+                )
+                return None
+            v410 = dataclasses.replace(v410, src_type=src_type)
         missing = self.fail(
             loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
         )
@@ -387,6 +399,7 @@ class Compiler:
                 missing,
                 self.where(loc),
                 self._empty_copy_succeeds(),
+                v410,
             ),
         )
 
@@ -413,22 +426,34 @@ class Compiler:
             self.bt_any_slots.add(self.a.slots.index(d))
         return ops.UntypedDst(local, src_type, prefix, self.where(loc))
 
-    def _untyped_dyn_write_unsupported(self, d: Slot, loc: Loc, what: str) -> bool:
-        """The rule of _untyped_dst for an entry whose type changes at run time (a dynamic
-        slot): the generated C++ does not model that yet, so it refuses the mission rather than
-        run it differently (docs/btcpp-versions.md). True when it reported that."""
+    def _dyn_410(self, inst: Inst, key: str, d: Slot, raw: str) -> Optional[ops.DynSet410]:
+        """The rule of _untyped_dst for an entry whose type changes at run time (a dynamic slot)
+        that no port declared: its run-time type is Slot::entry_type, kept by
+        btgen::dyn::set_text_410 / set_copy_410 (None before 4.7.0, or for a declared entry).
+        `key`: the `output_key` as written; `raw`: the `value` port as written."""
         if not self.a.m.semantics.setblackboard_converts_to_entry_type or d.entry.type_name != values.ANY:
-            return False
-        if d.kind != DYN or not (d.at_load or any(w.source == "script" for w in d.writes)):
-            return False
-        self.error(
-            loc,
-            f"{what} writes a string into `{d.key}`, an entry created without a type whose type changes at "
-            f"run time ({d.origin_text}); BehaviorTree.CPP {self.a.m.semantics.version} leaves such an entry "
-            f"empty and typed BT::Any (and throws on the next such write), which is not supported by the C++ "
-            f"back end yet",
-        )
-        return True
+            return None
+        if d.kind != DYN:
+            return None
+        target = inst.bb.root if key.startswith("@") else inst.bb
+        local = target.local_entry(key[1:] if key.startswith("@") else key) is d.entry
+        return ops.DynSet410(local, raw, d.key)
+
+    def _dyn_410_src_type(self, s: Slot) -> Optional[str]:
+        """The type a copy's source has at run time, which a missing dynamic destination takes
+        (ops.DynSet410.src_type), or None where the generated C++ does not know it: a static
+        entry of another kind than string that something other than Scripts writes (a port, a
+        copy or a SubTree literal may give it its own type)."""
+        decl = s.entry.type_name
+        if decl == values.STRING:
+            return "typed"
+        if decl != values.ANY:
+            return None
+        if s.kind in (DYN, "string"):
+            return "entry"  # kept by set_text_410 / set_copy_410, and by set_string_410 and SetCopy
+        if all(w.source == "script" for w in s.writes):
+            return "untyped"
+        return None
 
     def _empty_copy_succeeds(self) -> bool:
         """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
@@ -895,7 +920,8 @@ class Compiler:
                 not s.at_load or s.unset,
                 s.origin_text,
                 s.provided,
-                i in self.bt_any_slots,
+                i in self.bt_any_slots or s.bt_any_at_load,
+                s.at_load and s.bt_any_at_load,
             )
             for i, s in enumerate(self.a.slots)
         )

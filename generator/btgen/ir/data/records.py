@@ -118,7 +118,8 @@ class SlotIR:
     may_be_missing: bool = False  # the entry may not exist when a script runs
     origin_text: str = ""  # why it has its type, for messages
     provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
-    may_be_bt_any: bool = False  # from 4.7.0 a SetBlackboard string may leave it empty and typed BT::Any
+    may_be_bt_any: bool = False  # typed BT::Any at load (bt_any_at_load), or by 4.7.0's SetBlackboard string
+    bt_any_at_load: bool = False  # an `entry` port (InputPort<BT::Any>) created it at load: typed BT::Any
 
 
 @dataclass(frozen=True)

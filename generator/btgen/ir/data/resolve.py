@@ -32,7 +32,7 @@ from btgen.ir.script_types import SlotType
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
-from btgen.lang.catalogue import BUILTINS
+from btgen.lang.catalogue import BUILTINS, ENTRY_PORTS
 from btgen.lang.instance import subtree_remapping
 from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr, Mission, SubTreeNode
@@ -124,6 +124,10 @@ class Analysis:
                     if before is None and not s.origin:
                         s.origin = f"created as {entry.type_name} by port `{p.name}` of {inst.what}"
                         s.origin_loc = p.attr.value_loc
+                    if before is None and (node.id, p.name) in ENTRY_PORTS:
+                        # InputPort<BT::Any>: the entry is typed BT::Any, whose string converter
+                        # throws (lang/blackboard.create_port_entry); the analysis types it as any
+                        s.bt_any_at_load = True
 
     def _provide(self, bb: bbmod.Blackboard, tree_id: str, root: bool, loc: Loc) -> None:
         """The entries the application sets in this blackboard before the first tick (--entry):

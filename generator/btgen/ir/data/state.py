@@ -70,6 +70,7 @@ class Slot:
     entry: bbmod.Entry
     first_loc: Loc
     at_load: bool = False
+    bt_any_at_load: bool = False  # created at load by an `entry` port (InputPort<BT::Any>): typed BT::Any
     initial: Optional[str] = None  # SubTree constant
     origin: str = ""  # why it has its type (without the place)
     origin_loc: Optional[Loc] = None
