@@ -41,7 +41,15 @@ from typing import Callable, Optional
 from btgen.backend_cpp.naming import cpp_string, slot_members
 from btgen.diagnostics import Loc
 from btgen.ir.data.records import DataIR, ScriptSlot, script_loc
-from btgen.ir.kinds import DYN, INT32_MAX, INT32_MIN, TEXT_BOUND, UINT32_MAX, describe_kind, is_queue
+from btgen.ir.kinds import (
+    DYN,
+    INT32_MAX,
+    INT32_MIN,
+    TEXT_BOUND,
+    UINT32_MAX,
+    describe_kind,
+    is_queue,
+)
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
 from btgen.lang import values
@@ -82,6 +90,23 @@ class Val:
     has: Optional[str]  # C++ bool expression "it has a value"; None: it always has
     bound: int = 0  # strings: most bytes
     literal: object = None  # the Python value when the expression is a literal
+
+
+# A dynamic value's tag for each kind it may hold, and its value as that kind (`{}`: the Ref).
+DYN_TAG: dict[KindLike, str] = {
+    "int": "kInt",
+    "double": "kDouble",
+    "bool": "kBool",
+    "status": "kStatus",
+    "string": "kString",
+}
+DYN_FIELD: dict[KindLike, str] = {
+    "int": "{}.i",
+    "double": "{}.d",
+    "bool": "({}.i != 0)",
+    "status": "static_cast<btgen::Status>({}.i)",
+    "string": "{}.s",
+}
 
 
 def to_ref(v: Val) -> str:
@@ -667,6 +692,10 @@ class ScriptCompiler(CodeWriter):
         else:
             self.compound(s, node.target, op, v, off)
         self.emit(f"{s.member}.mark_written();")
+        return self.stored(idx, s)
+
+    def stored(self, idx: int, s: SlotView) -> Val:
+        """The value of an assignment to the statically typed slot `s` (index `idx`)."""
         if s.kind == "none" or is_queue(s.kind):
             return Val(s.kind, None, None)
         if self.assigned.get(idx, 0) <= 1:  # nothing later in the statement changes it
@@ -717,7 +746,9 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"const auto {t}c = {s.member};")
             self.emit(f"const btgen::dyn::Ref {t} = btgen::dyn::ref({t}c);")
             return Val(DYN, t, None, dyn_slot_bound(s))
-        # A dynamic value into a statically typed entry: only updates (`+=` ...), whose result
+        if op in (":=", "="):
+            return self.dyn_store(node, idx, s, v, ref)
+        # A dynamic value into a statically typed entry: an update (`+=` ...), whose result
         # keeps the entry's kind (or fails as 4.6.2 does).
         cur = Val(
             s.kind,
@@ -748,6 +779,36 @@ class ScriptCompiler(CodeWriter):
             self.emit(f"{s.member}.value = {t}.i;")
         self.emit(f"{s.member}.mark_written();")
         return Val(s.kind, f"{s.member}.value.view()" if s.kind == "string" else f"{s.member}.value", None, s.capacity)
+
+    def dyn_store(self, node: sc.Assign, idx: int, s: SlotView, v: Val, ref: str) -> Val:
+        """`key := value` (and `=`) of a value of changing type into the statically typed
+        entry `s`: at run time, the store a value of the kind it holds would get (store_value,
+        by the route the typing pass chose for each kind it may hold: ExprType.routes)."""
+        op, off, key = node.op, node.op_offset, node.target
+        what = f"`{key} {op} ...`"
+        t = self.temp()
+        self.emit(f"const btgen::dyn::Ref {t} = {ref};")
+        bound = self.dyn_bound(v)
+        for n, (r, route) in enumerate(self.type_of(node).routes):
+            self.emit(f"{'} else if' if n else 'if'} ({t}.tag == btgen::DynTag::{DYN_TAG[r]}) {{")
+            self.indent += 1
+            rv = Val(r, DYN_FIELD[r].format(t), None, bound if r == "string" else 0)
+            if route == "refused":
+                # Any::copyInto refuses a number where a string is (an empty entry would change
+                # its type, which a static store reports too)
+                guard_type_change(self, s, r, off, what)
+                self.emit(f"btgen::dyn::Ref {t}r;")
+                self.dyn_call(
+                    f"btgen::dyn::store_into({t}, btgen::dyn::of_string({{}}), {cpp_view(op)}, "
+                    f"{cpp_view(key)}, {t}r, dm)",
+                    off,
+                )
+            else:
+                store_value(self, s, rv, off, what, op, ExprType(s.kind, route=route))
+            self.indent -= 1
+        self.emit("}")
+        self.emit(f"{s.member}.mark_written();")
+        return self.stored(idx, s)
 
     def compound(self, s: SlotView, key: str, op: str, v: Val, off: int) -> None:
         """`+= -= *= /=`: 4.6.2's ExprAssignment for an entry that has a value."""

@@ -337,9 +337,51 @@ def ternary_is_dynamic(then_kind: KindLike, else_kind: KindLike, offset: int) ->
     return dynamic
 
 
-def check_dynamic_update(s, op: str, key: str, offset: int) -> None:
-    """A value of changing type into the statically typed entry `s` (not itself dynamic)."""
+def dynamic_value_kinds(node: sc.Expr, kind_of: Callable[[sc.Expr], KindLike]) -> tuple[KindLike, ...]:
+    """The kinds a value of changing type may have when it runs (`kind_of`: an expression's
+    static kind): those of a `?:`'s branches, every scalar kind for a dynamic entry or
+    operation. (No value at all is checked at run time before any store.)"""
+    if isinstance(node, sc.Ternary):
+        out: list[KindLike] = []
+        for branch in (node.then, node.orelse):
+            out.extend(k for k in dynamic_value_kinds(branch, kind_of) if k not in out)
+        return tuple(out)
+    k = kind_of(node)
+    if k == DYN:
+        return (INT, DOUBLE, BOOL, STATUS, STRING)
+    return () if k == NONE else (k,)
+
+
+def dynamic_store_route(s, value_kind: KindLike) -> Optional[str]:
+    """How the C++ back end stores a value of changing type that holds `value_kind` at run
+    time into the statically typed entry `s`, as the interpreter's `_store` does: a value of
+    the entry's kind or a string by the route a static one takes (store_route), a number into
+    a numeric entry as Any::copyInto converts it ("number"), into a string one "refused" (it
+    fails as copyInto does; an empty entry would change its type, which is reported as a
+    static store reports it). None: not covered (the store would change the entry's type)."""
+    k = s.kind
+    if is_queue(k) or is_user(k) or k in (NONE, DYN):
+        return None
+    if value_kind in (STRING, k):
+        try:
+            return store_route(s, value_kind, None, 0, "")
+        except ScriptTypeError:
+            return None
+    if is_numeric(value_kind):
+        if is_numeric(k):
+            return "number"
+        if k == STRING:
+            return "refused"
+    return None
+
+
+def check_dynamic_update(s, op: str, key: str, offset: int, value_kinds: Iterable[KindLike] = ()) -> None:
+    """A value of changing type into the statically typed entry `s` (not itself dynamic);
+    `value_kinds`: the kinds that value may have (dynamic_value_kinds)."""
     if op in (":=", "="):
+        kinds = tuple(value_kinds)
+        if kinds and all(dynamic_store_route(s, k) for k in kinds):
+            return
         raise ScriptTypeError(
             f"`{key} {op} ...` stores a value of changing type in `{key}`, which holds "
             f"{describe_kind(s.kind)}{origin_text(s)}; not supported by the C++ back end "

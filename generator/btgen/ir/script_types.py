@@ -28,6 +28,8 @@ from btgen.ir.kinds import (
     check_ternary_condition,
     compare_check,
     converted_literal,
+    dynamic_store_route,
+    dynamic_value_kinds,
     need_number,
     static_binary_ok,
     static_update_ok,
@@ -65,6 +67,8 @@ class ExprType:
                value is stored (kinds.store_route: "same", "converted", "number_text",
                "number")
     converted: an assignment routed "converted": the string literal's converted value
+    routes:    `:=`/`=` of a value of changing type into a statically typed entry: for each kind
+               the value may hold, the store it gets (kinds.dynamic_store_route)
     """
 
     kind: KindLike
@@ -73,6 +77,7 @@ class ExprType:
     links: tuple[bool, ...] = ()
     route: str = ""
     converted: object = None
+    routes: tuple[tuple[KindLike, str], ...] = ()
 
 
 class TypedScript:
@@ -169,7 +174,11 @@ class ScriptTyper:
             return ExprType(NONE, route="none")
         if (op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind)) or DYN in (s.kind, v.kind):
             if s.kind != DYN:
-                check_dynamic_update(s, op, node.target, off)
+                kinds = dynamic_value_kinds(node.value, lambda n: self.typed.of(n).kind) if v.kind == DYN else ()
+                check_dynamic_update(s, op, node.target, off, kinds)
+                if op in (":=", "="):
+                    routes = tuple((k, dynamic_store_route(s, k) or "") for k in kinds)
+                    return ExprType(s.kind, route="dynamic", routes=routes)
             return ExprType(s.kind, route="dynamic")
         if op in (":=", "="):
             what = f"`{node.target} {op} ...`"
