@@ -196,6 +196,10 @@ STORE_PROBES = {
     '<Script code="k := c ? 2.5 : \'3\'"/><ScriptCondition code="k == 3"/>'
     '<Script code="c := 1; k := c ? 4.0 : 5"/><ScriptCondition code="k == 4"/>'
     '<Script code="k = y"/><ScriptCondition code="k == 7"/><B n="{k}"/>',
+    "store_typed_int_bad_text": '<Script code="c := 0; k := 0"/><B n="{k}"/><Script code="k := c ? 2.5 : \'z\'"/>',
+    # (the static store of a string through the entry's converter gives the same message)
+    "static_text_out_of_range_for_int": '<Script code="k := 0; t := \'3000000000\'"/><B n="{k}"/>'
+    '<Script code="k := t"/>',
     "store_fraction_into_int": '<Script code="c := 1; k := 1"/><B n="{k}"/><Script code="k := c ? 2.5 : 3"/>',
     "store_typed_double": '<Script code="c := 1; d := 0.5"/><C x="{d}"/><Script code="d := c ? 3 : \'a\'"/>'
     '<ScriptCondition code="d == 3.0"/><Script code="c := 0; d := c ? 3 : \'4.5\'"/>'

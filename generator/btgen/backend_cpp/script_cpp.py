@@ -911,17 +911,18 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str, value: object) 
             c.emit(f"{s.member}.value = {cpp_value(value)};")
         return
     t = c.temp()
-    msg = f"{what}: the string is not a valid {decl}"
     if decl in (values.INT, values.UNSIGNED):
         lo, hi = (INT32_MIN, INT32_MAX) if decl == values.INT else (0, UINT32_MAX)
         c.emit(f"std::int64_t {t} = 0;")
-        c.errc_check(f"btgen::parse_integer({v.expr}, {cpp_int64(lo)}, {cpp_int64(hi)}, {t})", off, msg)
+        parse = f"btgen::parse_integer({v.expr}, {cpp_int64(lo)}, {cpp_int64(hi)}, {t})"
     elif decl == values.DOUBLE:
         c.emit(f"double {t} = 0.0;")
-        c.errc_check(f"btgen::parse_double_stod({v.expr}, {t})", off, msg)
+        parse = f"btgen::parse_double_stod({v.expr}, {t})"
     else:  # bool (converted_literal refused the others)
         c.emit(f"bool {t} = false;")
-        c.errc_check(f"btgen::parse_bool({v.expr}, {t})", off, msg)
+        parse = f"btgen::parse_bool({v.expr}, {t})"
+    # the interpreter's message, which names the text and why it does not convert
+    c.dyn_call(f"btgen::dyn::converted_text({parse}, {v.expr}, {cpp_view(s.key)}, {cpp_view(decl)}, dm)", off)
     c.emit(f"{s.member}.value = {t};")
 
 

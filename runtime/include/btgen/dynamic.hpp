@@ -734,6 +734,27 @@ inline void add_store_failure(Msg& m, std::string_view op, const Ref& v, std::st
   m.add(why.view());
 }
 
+// A script's string stored through the converter of the entry's declared type `type`
+// (int, unsigned, double, bool), which gave `e` (parse_integer & co.): false, with the
+// interpreter's message (script.py `_store`, values.convert_from_string), when it failed:
+// "cannot assign 'x' to `k` (int): `x` is not a valid int".
+inline bool converted_text(Errc e, std::string_view text, std::string_view key, std::string_view type,
+                           Msg& m) noexcept {
+  if (e == Errc::kOk) return true;
+  m.add("cannot assign ");
+  add_string_repr(m, text);
+  m.add(" to `").add(key).add("` (").add(type).add("): `").add(text).add("` is ");
+  if (e == Errc::kOutOfRange) {
+    m.add("out of range for ").add(type);
+    if (type == "int") m.add(" (-2147483648 to 2147483647)");
+    if (type == "unsigned") m.add(" (0 to 4294967295)");
+  } else {
+    m.add("not a valid ").add(type);
+    if (type == "bool") m.add(" (use true or false, 1 or 0)");
+  }
+  return false;
+}
+
 // A script store (`op`) of `value` into a statically typed entry whose kind `dst`
 // stands for: copy_into, with the interpreter's message on failure.
 inline bool store_into(const Ref& value, const Ref& dst, std::string_view op, std::string_view key, Ref& out,
