@@ -102,12 +102,38 @@ TEST(EntryType410, AnUntypedEntryIsLeftEmptyThenTypedBtAnyThenThrows) {
   EXPECT_EQ(s.entry_type, btgen::EntryType::kBtAny);
   EXPECT_EQ(btgen::set_string_410(s, btgen::EntryType::kTyped, true), -1);
   dyn::Msg m("script error: ");
-  EXPECT_FALSE(dyn::store_text_410(s, "c", "mode", m));
+  EXPECT_FALSE(dyn::store_text_bt_any(s, "c", "mode", m));
   EXPECT_EQ(text(m),
             "script error: cannot assign 'c' to `mode` (BT::Any): cannot convert 'c' to BT::Any: the library has no "
             "convertFromString for BT::Any");
+  // Holding a string, a BT::Any entry takes a script's text as it is (Any::copyInto).
+  s.has_value = true;
+  dyn::Msg ok;
+  EXPECT_TRUE(dyn::store_text_bt_any(s, "d", "mode", ok));
   s.unset();  // UnsetBlackboard: a new entry starts untyped
   EXPECT_EQ(s.entry_type, btgen::EntryType::kUntyped);
+}
+
+TEST(EntryTypeBtAny, AnEntryPortsEntryRefusesTextUnlessItHoldsText) {
+  // WasEntryUpdated's `entry` port creates its entry typed BT::Any (row E1): a number stored
+  // there keeps that type, and a script's text then goes through convertFromString<BT::Any>.
+  Slot<std::int64_t> n{{}, 0, true, false, btgen::EntryType::kBtAny};
+  dyn::Msg m;
+  EXPECT_FALSE(dyn::store_text_bt_any(n, "x", "state", m));
+  n.value = 3;
+  n.mark_written();
+  dyn::Msg m2;
+  EXPECT_FALSE(dyn::store_text_bt_any(n, "x", "state", m2));
+  Slot<btgen::Dyn<8>> d{{}, 0, true, false, btgen::EntryType::kBtAny};
+  ASSERT_TRUE(d.value.set(dyn::of_string("a")));
+  d.mark_written();
+  dyn::Msg m3;
+  EXPECT_TRUE(dyn::store_text_bt_any(d, "b", "state", m3));  // it holds a string
+  ASSERT_TRUE(d.value.set(dyn::of_int(1)));
+  EXPECT_FALSE(dyn::store_text_bt_any(d, "b", "state", m3));
+  n.entry_type = btgen::EntryType::kUntyped;
+  dyn::Msg m4;
+  EXPECT_TRUE(dyn::store_text_bt_any(n, "x", "state", m4));  // not BT::Any: other rules apply
 }
 
 TEST(EntryType410, ANewEntryIsTypedAndARemappedOneStaysUntyped) {
