@@ -299,6 +299,20 @@ inline bool number_to_int64(const Ref& v, std::int64_t& out, Msg& m) noexcept {
   return true;
 }
 
+// values.convert_from_string's reason for a text that does not convert to `type` (int,
+// unsigned, double, bool): "`x` is not a valid int", "`9e9` is out of range for int (...)".
+inline void add_conversion_error(Msg& m, std::string_view text, std::string_view type, Errc e) noexcept {
+  m.add("`").add(text).add("` is ");
+  if (e == Errc::kOutOfRange) {
+    m.add("out of range for ").add(type);
+    if (type == "int") m.add(" (-2147483648 to 2147483647)");
+    if (type == "unsigned") m.add(" (0 to 4294967295)");
+  } else {
+    m.add("not a valid ").add(type);
+    if (type == "bool") m.add(" (use true or false, 1 or 0)");
+  }
+}
+
 // getInput<int> (`is_unsigned`: getInput<unsigned>) of a loop count or duration given as
 // `{key}`: a string is parsed (convertFromString), a number cast (values._to_integer);
 // false with the reference interpreter's reason in `m`.
@@ -309,12 +323,7 @@ inline bool read_count(const Ref& v, bool is_unsigned, std::int64_t& out, Msg& m
   if (v.tag == DynTag::kString) {
     const Errc e = parse_integer(v.s, lo, hi, out);
     if (e == Errc::kOk) return true;
-    m.add("`").add(v.s).add("` is ");
-    if (e == Errc::kOutOfRange) {
-      m.add("out of range for ").add(type).add(is_unsigned ? " (0 to 4294967295)" : " (-2147483648 to 2147483647)");
-    } else {
-      m.add("not a valid ").add(type);
-    }
+    add_conversion_error(m, v.s, type, e);
     return false;
   }
   if (v.tag == DynTag::kDouble) {
@@ -743,15 +752,8 @@ inline bool converted_text(Errc e, std::string_view text, std::string_view key, 
   if (e == Errc::kOk) return true;
   m.add("cannot assign ");
   add_string_repr(m, text);
-  m.add(" to `").add(key).add("` (").add(type).add("): `").add(text).add("` is ");
-  if (e == Errc::kOutOfRange) {
-    m.add("out of range for ").add(type);
-    if (type == "int") m.add(" (-2147483648 to 2147483647)");
-    if (type == "unsigned") m.add(" (0 to 4294967295)");
-  } else {
-    m.add("not a valid ").add(type);
-    if (type == "bool") m.add(" (use true or false, 1 or 0)");
-  }
+  m.add(" to `").add(key).add("` (").add(type).add("): ");
+  add_conversion_error(m, text, type, e);
   return false;
 }
 

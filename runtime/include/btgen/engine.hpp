@@ -349,23 +349,19 @@ class Engine {
   static constexpr std::size_t param_counter(NodeKind k) noexcept {
     return k == NodeKind::Delay ? 1 : k == NodeKind::Sleep ? 0 : 2;
   }
-  // Reads it (false after reporting the error); `keep`: the value becomes the one in use.
-  bool read_param(const NodeInfo& n, bool keep) noexcept {
+  // Reads it (false after reporting the error to `es`); `keep`: the value becomes the one in use.
+  bool read_param(const NodeInfo& n, bool keep, const ErrorSink& es) noexcept {
     if (n.p1 == 0) return true;
     std::int64_t v = 0;
-    const ErrorSink es = sink();
     if (Spec::read_param(bb_, es, n, v) < 0) return false;
     if (keep) counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
     return true;
   }
+  bool read_param(const NodeInfo& n, bool keep) noexcept { return read_param(n, keep, sink()); }
   // Reads it where the library ignores getInput's error (RetryUntilSuccessful's re-read after a
   // failure, 4.7.0 and later): a value that reads becomes the one in use, else nothing changes.
   void reread_param(const NodeInfo& n) noexcept {
-    if (n.p1 == 0) return;
-    std::int64_t v = 0;
-    const ErrorSink quiet([](void*, const RuntimeError&) noexcept {}, nullptr);
-    if (Spec::read_param(bb_, quiet, n, v) < 0) return;
-    counter(n, param_counter(n.kind)) = static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
+    (void)read_param(n, true, ErrorSink([](void*, const RuntimeError&) noexcept {}, nullptr));
   }
   std::int64_t max_cycles(const NodeInfo& n) noexcept { return n.p1 != 0 ? counter(n, 2) : param::max_cycles(n); }
   std::int64_t duration_ms(const NodeInfo& n) noexcept {

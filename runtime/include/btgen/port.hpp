@@ -441,15 +441,7 @@ bool queue_element(std::string_view part, E& out, dyn::Msg* m = nullptr) noexcep
     return true;
   }
   if (e == Errc::kOk) return true;
-  if (m == nullptr) return false;
-  m->add("`").add(part).add("` is ");
-  if (e == Errc::kOutOfRange) {
-    m->add("out of range for ").add(type);
-    if constexpr (std::is_same_v<E, std::int64_t>) m->add(" (-2147483648 to 2147483647)");
-  } else {
-    m->add("not a valid ").add(type);
-    if constexpr (std::is_same_v<E, bool>) m->add(" (use true or false, 1 or 0)");
-  }
+  if (m != nullptr) dyn::add_conversion_error(*m, part, type, e);
   return false;
 }
 

@@ -460,11 +460,15 @@ class Compiler:
         return bbmod.EMPTY_COPY_SUCCEEDS and not self.a.m.semantics.setblackboard_converts_to_entry_type
 
     def param_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
-        """A loop count or duration given as `{key}`: getInput<int|unsigned> of the entry."""
+        """A port given as `{key}` that the node reads with getInput whenever the library does:
+        a loop count or duration (getInput<int|unsigned>; a failed read is an error), or RunOnce
+        then_skip / TryCatch catch_on_halt (getInput<bool>, RunOnce on every tick, TryCatch when
+        it is halted; a failed read, no entry, no value or a value that does not convert, keeps
+        the port's default, then_skip true, catch_on_halt false, without an error)."""
         s = self.a.slots[op.slot]
         what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
-        if op.port in BOOL_PARAM_DEFAULTS:
-            return self.bool_param_read(inst, op)
+        default = BOOL_PARAM_DEFAULTS.get(op.port)
+        unsigned = op.port in ("msec", "delay_msec")
         constant: Optional[int] = None
         if (
             s.kind == "string"
@@ -473,14 +477,19 @@ class Compiler:
             and all(w.source == "constant" for w in s.writes)
         ):
             # A SubTree's constant port (`n="3"`): text that never changes, converted once here
-            # as 4.6.2's getInput converts it on every read.
-            port_type = values.UNSIGNED if op.port in ("msec", "delay_msec") else values.INT
-            try:
-                converted = values.convert_from_string(port_type, s.initial)
-            except values.ConversionError as e:
-                self.error(op.loc, f"{what}: {e}")
-                return None
-            constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
+            # as getInput converts it on every read.
+            if default is not None:
+                try:
+                    constant = 1 if values.convert_from_string(values.BOOL, s.initial) else 0
+                except values.ConversionError:
+                    constant = default
+            else:
+                try:
+                    converted = values.convert_from_string(values.UNSIGNED if unsigned else values.INT, s.initial)
+                except values.ConversionError as e:
+                    self.error(op.loc, f"{what}: {e}")
+                    return None
+                constant = converted if isinstance(converted, int) else 0  # (int and unsigned convert to int)
         elif s.kind not in ("int", "bool", "double", "string", "dyn"):
             self.error(
                 op.loc,
@@ -489,64 +498,15 @@ class Compiler:
                 f"or one whose type changes",
             )
             return None
-        return DataOp(
-            inst.index,
-            f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
-            ops.ParamRead(
-                op.slot,
-                self.fail(op.loc, f"{what}, which does not exist"),
-                self.fail(op.loc, f"{what}, which has no value yet"),
-                constant,
-                kind="" if constant is not None else str(s.kind),
-                unsigned=op.port in ("msec", "delay_msec"),
-                convert=self.fail(op.loc, f"{what}: "),
-            ),
-        )
-
-    def bool_param_read(self, inst: Inst, op: ParamUse) -> Optional[DataOp]:
-        """RunOnce then_skip or TryCatch catch_on_halt given as `{key}`: getInput<bool> (RunOnce
-        on every tick, TryCatch when it is halted). When it fails (no entry, no value, a value
-        that does not convert) the node keeps the port's default (then_skip true, catch_on_halt
-        false) without an error."""
-        s = self.a.slots[op.slot]
-        default = BOOL_PARAM_DEFAULTS[op.port]
-        constant: Optional[int] = None
-        kind = ""
-        if (
-            s.kind == "string"
-            and s.initial is not None
-            and not s.unset
-            and all(w.source == "constant" for w in s.writes)
-        ):
-            # A SubTree's constant port: text that never changes, converted once here as
-            # getInput<bool> converts it on every read (a text that does not convert: the default).
-            try:
-                constant = 1 if values.convert_from_string(values.BOOL, s.initial) else 0
-            except values.ConversionError:
-                constant = default
-        elif s.kind in ("int", "bool", "double", "string", "dyn"):
-            kind = str(s.kind)
+        kind = "" if constant is not None else str(s.kind)
+        missing = self.fail(op.loc, f"{what}, which does not exist")
+        no_value = self.fail(op.loc, f"{what}, which has no value yet")
+        if default is not None:
+            read = ops.ParamRead(op.slot, missing, no_value, constant, as_bool=kind, bool_default=default)
         else:
-            self.error(
-                op.loc,
-                f"port `{op.port}` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, "
-                f"{s.origin_text}); the C++ back end reads it from an int, bool, double or string entry, "
-                f"or one whose type changes",
-            )
-            return None
-        what = f'`{inst.reg_id}` "{inst.node.display_name}": port `{op.port}` reads blackboard entry `{op.key}`'
-        return DataOp(
-            inst.index,
-            f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}',
-            ops.ParamRead(
-                op.slot,
-                self.fail(op.loc, f"{what}, which does not exist"),
-                self.fail(op.loc, f"{what}, which has no value yet"),
-                constant,
-                as_bool=kind,
-                bool_default=default,
-            ),
-        )
+            convert = self.fail(op.loc, f"{what}: ")
+            read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
 
     def entry(self, inst: Inst, op: EntryUse) -> DataOp:
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op.key}', ops.EntrySeq(op.slot))
