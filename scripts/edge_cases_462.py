@@ -550,6 +550,17 @@ E1_CASES = (
         "        </Sequence>\n      </Fallback>",
     ),
     (
+        "e1_copy_keeps_bt_any_dynamic",
+        "the same where a script elsewhere writes a number into the entry (its type changes at run time): "
+        "the script's string replaces the copied string",
+        '<Fallback>\n        <WasEntryUpdated name="Seen" entry="{state}"/>\n'
+        '        <Sequence>\n          <Script name="Src" code="src := \'a\'"/>\n'
+        '          <SetBlackboard name="Copy" output_key="state" value="{src}"/>\n'
+        '          <Script name="Text" code="state := \'b\'"/>\n'
+        '          <Fallback>\n            <AlwaysSuccess/>\n            <Script name="Never" code="state := 5"/>\n'
+        "          </Fallback>\n        </Sequence>\n      </Fallback>\n      <A/>",
+    ),
+    (
         "e1_unbraced_key",
         'entry="state" without braces creates no entry at load: the script\'s string creates an untyped one',
         '<Fallback>\n        <WasEntryUpdated name="Seen" entry="state"/>\n'

@@ -716,17 +716,7 @@ class ScriptCompiler(CodeWriter):
         if v.kind == DYN or v.has is not None:
             self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
         if s.kind == DYN:
-            if op in (":=", "=") and s.may_be_bt_any and v.kind in (DYN, "string"):
-                # an entry typed BT::Any: a string goes through its converter (store_value)
-                ref_t = self.temp()
-                self.emit(f"const btgen::dyn::Ref {ref_t} = {ref};")
-                self.dyn_call(
-                    f"!{ref_t}.is_string() || btgen::dyn::store_text_bt_any({s.member}, {ref_t}.s, "
-                    f"{cpp_view(key)}, dm)",
-                    off,
-                )
-                ref = ref_t
-            if op in (":=", "="):
+            if op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
                 self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
                 t = self.temp()

@@ -780,12 +780,9 @@ bool put(Slot<Dyn<N>>& slot, const Ref& v, std::string_view key, Msg& m) noexcep
 // A script's `key := value` (and `=`): the entry exists (`:=` created it).
 template <std::size_t N>
 bool store(Slot<Dyn<N>>& slot, const Ref& value, std::string_view key, Msg& m) noexcept {
-  if (value.is_string() && slot.entry_type == EntryType::kBtAny) {
-    // Typed BT::Any by a 4.7.0+ SetBlackboard string (set_text_410): whatever it holds, a
-    // string goes through BT::Any's converter, which throws. (Never under 4.6.2.)
-    add_bt_any_assign(m, value.s, key);
-    return false;
-  }
+  // Typed BT::Any (an `entry` port's entry, or one a 4.7.0+ SetBlackboard string left so):
+  // unless it holds a string, a string goes through BT::Any's converter, which throws.
+  if (value.is_string() && !store_text_bt_any(slot, value.s, key, m)) return false;
   const Ref dst = ref(slot);
   Ref out = value;
   if (dst.none() && !slot.value.typed_string) {
