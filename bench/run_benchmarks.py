@@ -1,12 +1,12 @@
 """Measure the compiled executor on the shipped and the synthetic missions; print a Markdown table.
 
     .venv/bin/python bench/run_benchmarks.py                   # print the Performance section
-    .venv/bin/python bench/run_benchmarks.py --update-readme   # ... and put it into README.md
+    .venv/bin/python bench/run_benchmarks.py --update          # ... and put it into docs/performance.md
     .venv/bin/python bench/run_benchmarks.py bench/missions/balanced_100.xml   # only these missions
 
 To measure a commit while the work tree changes, run it from a worktree of
 that commit (`git worktree add --detach /tmp/wt HEAD`) with
-`--update-readme --readme README.md` pointing back at this tree.
+`--update --page docs/performance.md` pointing back at this tree.
 
 For every mission (`missions/*.xml`, then `bench/missions/*.xml` as
 bench/make_missions.py writes them):
@@ -74,8 +74,8 @@ from btgen.tools import (
 )
 
 BTGEN = [sys.executable, "-m", "btgen"]
-README = ROOT / "README.md"
-SECTION = "## Performance"
+PAGE = ROOT / "docs" / "performance.md"
+SECTION = "## Measured"
 
 
 @dataclass
@@ -450,74 +450,6 @@ def targets(rows: list[Row]) -> list[str]:
     return out
 
 
-# What the changes to runtime/include/btgen/engine.hpp bought, measured with callgrind as
-# above (instructions per tick; before: the merge of the custom-node and Groot2 branches, 812a102).
-ISSUE20_STEPS = [
-    "- the table interpreter, instructions per tick on `bench/missions/balanced_1000.xml` (per visited node): "
-    "108,096 (108.1) before; 84,415 (84.4) once the child table is read without a bounds clamp "
-    "(kept only for child tables of at most 16 entries, the -Warray-bounds case) and the pre-/post-"
-    "condition checks compile away in missions without such scripts; 77,969 (78.0) once the frame "
-    "carries a decorator flag set by `enter` (no kind test per node in `finish`) and the wake-up "
-    "rule's read of the child's previous status compiles away in missions without Async*, "
-    "SequenceWithMemory, Repeat or RetryUntilSuccessful. Tried and dropped: ticking leaves without "
-    "a frame on the stack (80.4: the second inlined copy of `enter` cost more than it saved). "
-    "`bench/missions/museum_93.xml`: 11,230 before.",
-    "- straight-line ticks (`Engine::tick_node` in `runtime/include/btgen/engine.hpp`): a node's tick "
-    "as a function template, its kind, children and table entry constants; Sequence, Fallback and the "
-    "reactive pair tick their children in a row, leaves and the one-child decorators have forms of "
-    "their own, every other kind (and every node with pre- or post-conditions) runs the interpreter's "
-    "begin/enter/resume/finish with its kind folded. The state stays in the interpreter's arrays, "
-    "which halts and user Controls use. Per visited node, table interpreter -> one function per node: "
-    "`balanced_1000` 78.0 -> 7.6, `reactive_1000` 76.7 -> 5.6; `museum_93` 9,268 -> 2,245 per tick. "
-    "That cost g++ 4 to 6 ms per node, so only the first 1,000 nodes were compiled so and the "
-    "10,000-node missions kept about 70 instructions per node on the interpreter.",
-    "- shapes (`generator/btgen/backend_cpp/shapes.py`): nodes whose subtrees agree on kinds, models, "
-    "scripts, parameters and children share one tick function, called with the node's index (a "
-    "subtree is a contiguous run of the table, so its children sit at the same offsets); a shape "
-    "used once keeps its index constant. SubTree instances of one BehaviorTree are the common "
-    "case: the 10,000-node benchmark missions have 33 to 64 shapes. `BTGEN_STRAIGHT_LINE_BUDGET` "
-    "(default 1,000; a project sets another with `-DBTGEN_STRAIGHT_LINE_BUDGET=N`) now counts the "
-    "shapes first met in creation order, each weighing 1 (6 when it runs scripts) plus its children; "
-    "nodes of shapes beyond it, and below depth 48, run on the interpreter. A mission whose nodes "
-    "all fit in the budget keeps a function per node (shared code finds a node's counters through "
-    "its table row at run time, which costs instructions). Per visited node, one function per node "
-    "-> shapes: `balanced_10000` 75.3 -> 16.4, `reactive_10000` 68.7 -> 11.6, `subtrees_10000` 75.3 "
-    "-> 16.5 (all of them straight-line now); `balanced_1000` 7.6 -> 15.4, `balanced5_1043` 14,804 -> "
-    "18,207 per tick (shared); `museum_93` 2,245 -> 1,729 per tick, `missions/LabTour.xml` 41.9 -> "
-    "18.3 (a function per node, leaves and one-child decorators in forms of their own, leaf hooks "
-    "called by model number, `LeafHooks::on_start_m<M>`, not through a switch on the node's model). "
-    "g++ -O2 of the benchmark: `balanced_1000` 4.7 s -> 1.3 s, `balanced_10000` 6.7 s -> 3.0 s; on "
-    "a random 10,000-node tree of 2,037 shapes (not in the table) 3.8 s (7.2 s before). A reactive "
-    "node halts its other children in one out-of-line loop, and a control's children are reset by "
-    "one copy of the resets, not one per child. The benchmark counts visits on a second, "
-    "interpreted instance (the same statuses), so the straight-line code is compiled once.",
-    "- state: `node B/node` is `Engine::node_state_bytes()` (statuses, counters, timers, Parallel "
-    "flags, the interpreter's and halts' stacks) per node, `bb B` is `Engine::blackboard_bytes()`; "
-    "the rest of `state B` is a few words (leaves, clock, error count). A mission none of whose "
-    "nodes runs on the interpreter keeps no interpreter stack: `missions/PickPlaceBall.xml` 65 -> 42 "
-    "B of node state (9.3 -> 6.0 B/node), `missions/LabTour.xml` 770 -> 667 (5.2 -> 4.5). The old "
-    "`state B/node` column divided all of `state B`, blackboard included, by the nodes (LabTour 8.05).",
-    "- scripts: one C++ function per distinct script body, shared by every node whose script "
-    "compiles to the same code (places and messages of its errors come from the node's ScriptSite), "
-    "and found through a table instead of a switch into which g++ inlined every script: g++ -O2 on "
-    "`scripts_10000` 62.7 s -> 5.3 s before the straight-line ticks.",
-    "- scripts at the speed of the other missions, instructions per tick on `scripts_1000` "
-    "(`scripts_10000`): 62,202 (1,092,058) before, 24.7x fewer than BehaviorTree.CPP; 43,402 once a "
-    "number stored back into an integer entry (`n += 1` computes in double) is converted inline, the "
-    "dynamic store and its message only on failure (it cost 574 instructions, most of them copying "
-    "the message prefix before every call); 27,196 (311,516) once Script, ScriptCondition and leaves "
-    "with pre- or post-conditions tick in a straight-line form whose scripts are direct calls (the "
-    "shape key includes the script functions a node calls), no search of the node's script sites and "
-    "no call through a pointer.",
-    "- build time, btgen + g++ -O2 (CPU): 2.3 to 2.6 s at 1,000 nodes before the straight-line ticks, 5.2 "
-    "to 5.4 s with one function per node, 1.9 to 2.5 s with shapes; 4.1 to 4.5 s at 10,000 before, 7.8 "
-    "to 8.4 s with one function per node, 3.9 to 7.3 s with shapes (`scripts_10000` the largest). "
-    "Growth is linear in the node count (the tables) plus a bounded part for the straight-line "
-    "shapes; the fixed-plus-slope line among the targets is a fit through the 100- and 10,000-node "
-    "balanced trees only.",
-]
-
-
 def section(rows: list[Row], command: str) -> str:
     parts = [
         SECTION,
@@ -534,8 +466,7 @@ def section(rows: list[Row], command: str) -> str:
     goals = targets(rows)
     if goals:
         parts += ["Targets:", "", *goals, ""]
-    notes = list(ISSUE20_STEPS)
-    notes += [
+    notes = [
         f"- `{os.path.relpath(r.name, ROOT) if os.path.isabs(r.name) else r.name}`: {n}" for r in rows for n in r.notes
     ]
     notes += [f"- `{r.name}`: interpreter {r.interp_note}" for r in rows if r.interp_note]
@@ -545,7 +476,7 @@ def section(rows: list[Row], command: str) -> str:
 
 
 def replace_section(readme: str, text: str) -> str:
-    """`readme` with its Performance section (up to the next `## ` heading) replaced by `text`,
+    """`readme` (docs/performance.md) with its Measured section (up to the next `## ` heading) replaced by `text`,
     or `text` appended when it has none."""
     lines = readme.splitlines(keepends=True)
     start = next((i for i, line in enumerate(lines) if line.rstrip("\n") == SECTION), None)
@@ -568,13 +499,16 @@ def main(argv: Optional[list[str]] = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("missions", nargs="*", metavar="MISSION.xml", help="default: missions/*.xml and bench/missions")
     p.add_argument("--quick", action="store_true", help="fewer ticks (for a smoke test; numbers less steady)")
-    p.add_argument("--update-readme", action="store_true", help="replace README.md's Performance section")
     p.add_argument(
+        "--update", "--update-readme", action="store_true", help="replace the Measured section of docs/performance.md"
+    )
+    p.add_argument(
+        "--page",
         "--readme",
         type=Path,
-        default=README,
+        default=PAGE,
         metavar="PATH",
-        help="the README --update-readme edits (default: this tree's README.md)",
+        help="the page --update edits (default: this tree's docs/performance.md)",
     )
     args = p.parse_args(argv)
     os.chdir(ROOT)
@@ -588,9 +522,9 @@ def main(argv: Optional[list[str]] = None) -> int:
     command = "python bench/run_benchmarks.py" + (" --quick" if args.quick else "")
     text = section(rows, command)
     sys.stdout.write(text)
-    if args.update_readme:
-        args.readme.write_text(replace_section(args.readme.read_text(encoding="utf-8"), text), encoding="utf-8")
-        print(f"{args.readme}: Performance section updated", file=sys.stderr)
+    if args.update:
+        args.page.write_text(replace_section(args.page.read_text(encoding="utf-8"), text), encoding="utf-8")
+        print(f"{args.page}: {SECTION[3:]} section updated", file=sys.stderr)
     return 0
 
 

@@ -1,7 +1,7 @@
 """What a mission costs on a Cortex-M4: flash, RAM, stack and instructions per tick; prints a table.
 
     .venv/bin/python bench/mcu/run_mcu_bench.py                  # every mission, -Os and -O2
-    .venv/bin/python bench/mcu/run_mcu_bench.py --update-readme  # ... and put the table into README.md
+    .venv/bin/python bench/mcu/run_mcu_bench.py --update         # ... and put the table into docs/microcontroller.md
     .venv/bin/python bench/mcu/run_mcu_bench.py missions/LabTour.xml --opt=-Os
 
 Missions: `missions/*.xml` that compile, then `bench/missions/balanced_100.xml` and
@@ -55,7 +55,7 @@ OPTS = ("-Os", "-O2")
 SMALL = ("-Os", "-DBTGEN_NODE_TEXT=0", "-DBTGEN_STRAIGHT_LINE_BUDGET=0")
 SMALL_LABEL = "-Os, small"
 BENCH_MISSIONS = ("bench/missions/balanced_100.xml", "bench/missions/balanced_1000.xml")
-README_BEGIN = "<!-- mcu-bench:begin (bench/mcu/run_mcu_bench.py --update-readme) -->"
+README_BEGIN = "<!-- mcu-bench:begin (bench/mcu/run_mcu_bench.py --update) -->"
 README_END = "<!-- mcu-bench:end -->"
 
 
@@ -174,7 +174,9 @@ def main(argv: list[str] | None = None) -> int:
         "--opt", action="append", choices=(*OPTS, "small"), help="optimisation (default: -Os, -O2 and small)"
     )
     parser.add_argument("--build-dir", default=str(ROOT / "build" / "mcu-bench"))
-    parser.add_argument("--update-readme", action="store_true", help="put the table into README.md")
+    parser.add_argument(
+        "--update", "--update-readme", action="store_true", help="put the table into docs/microcontroller.md"
+    )
     args = parser.parse_args(argv)
     missing = mcu.missing_tools()
     if missing:
@@ -226,11 +228,11 @@ def main(argv: list[str] | None = None) -> int:
         f"{bflash:,} B of flash, {bram:,} B of static RAM, {bgot['stack_bytes']:,} B of stack.\n"
     )
     print(text)
-    if args.update_readme:
-        readme = ROOT / "README.md"
+    if args.update:
+        readme = ROOT / "docs" / "microcontroller.md"
         old = readme.read_text(encoding="utf-8")
         if README_BEGIN not in old or README_END not in old:
-            raise SystemExit(f"README.md has no {README_BEGIN} ... {README_END} block")
+            raise SystemExit(f"{readme} has no {README_BEGIN} ... {README_END} block")
         start = old.index(README_BEGIN) + len(README_BEGIN)
         readme.write_text(old[:start] + "\n" + text + old[old.index(README_END) :], encoding="utf-8")
     return 0

@@ -196,7 +196,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="PROPERTY",
-        help="a property to check on every run (see README: `never A SUCCESS before B SUCCESS`, "
+        help="a property to check on every run (docs/analysis.md: `never A SUCCESS before B SUCCESS`, "
         "`at most one child of N RUNNING`, `never A RUNNING`)",
     )
     e.add_argument(

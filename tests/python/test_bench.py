@@ -172,10 +172,11 @@ def _run_benchmarks_module():
     return run_benchmarks
 
 
-def test_readme_section_is_appended_when_absent_and_replaced_alone_when_present():
+def test_measured_section_is_appended_when_absent_and_replaced_alone_when_present():
     rb = _run_benchmarks_module()
-    new = "## Performance\n\nnew numbers\n"
+    assert rb.SECTION == "## Measured" and rb.PAGE.name == "performance.md" and rb.PAGE.exists()
+    new = "## Measured\n\nnew numbers\n"
     assert rb.replace_section("# btgen\n\ntext\n", new) == "# btgen\n\ntext\n\n" + new
-    before = "# btgen\n\n## Performance\n\nold\n| a |\n\n## Layout\n\nkept\n"
+    before = "# btgen\n\n## Measured\n\nold\n| a |\n\n## Layout\n\nkept\n"
     assert rb.replace_section(before, new) == "# btgen\n\n" + new + "\n## Layout\n\nkept\n"
-    assert rb.replace_section("# btgen\n\n## Performance\n\nold\n", new) == "# btgen\n\n" + new
+    assert rb.replace_section("# btgen\n\n## Measured\n\nold\n", new) == "# btgen\n\n" + new

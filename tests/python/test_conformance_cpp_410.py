@@ -26,7 +26,7 @@ import difftest
 
 BATCH = 20
 
-# Refused by the C++ back end at compile time, as documented (README: deliberate differences):
+# Refused by the C++ back end at compile time, as documented (docs/data-side.md: what the C++ back end rejects):
 # stem -> the part of the diagnostic that says why. None today.
 CPP_REFUSES: dict[str, str] = {}
 # 4.10.0 rows the generated C++ does not follow yet (docs/btcpp-versions.md): none today.

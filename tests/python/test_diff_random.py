@@ -159,7 +159,7 @@ def test_hostile_missions_agree(tmp_path):
 
 
 # The edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md); the long run is
-# `scripts/difftest.py --features edges --seeds 0:2000` (README, "Edges of 4.6.2").
+# `scripts/difftest.py --features edges --seeds 0:2000` (docs/testing.md, "Edges of 4.6.2").
 EDGES_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_EDGES_SEEDS", "40")))
 
 

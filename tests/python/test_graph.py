@@ -185,7 +185,7 @@ def test_lab_tour_is_as_wide_as_its_widest_tree(tmp_path):
 
 
 def test_models_and_main_tree_are_accepted(tmp_path, capsys):
-    """The layout the README recommends for one's own project: models in a file of their own."""
+    """The layout docs/getting-started.md recommends for one's own project: models in a file of their own."""
     project = ROOT / "examples" / "user_project" / "mission"
     out = tmp_path / "p.dot"
     rc, err = cli(capsys, "graph", str(project / "patrol.xml"), "-o", str(out))

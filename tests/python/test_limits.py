@@ -1,4 +1,4 @@
-"""Every limit of btgen (README.md, "Limits"): at the limit it works, past it a clear error.
+"""Every limit of btgen (docs/limits.md): at the limit it works, past it a clear error.
 
 Limits exist so that no input can crash btgen, exhaust its memory or exceed
 what BehaviorTree.CPP itself can represent (16-bit node UIDs).
@@ -46,10 +46,9 @@ def test_the_limits_are_the_documented_ones():
     assert script.MAX_NESTING == 32
     assert script.MAX_DEPTH == 100
     assert KB_MAX_FILE_BYTES == 128 * 1024
-    with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
-        readme = f.read()
-    assert "## Limits" in readme
-    limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0]
+    with open(os.path.join(ROOT, "docs", "limits.md"), encoding="utf-8") as f:
+        limits = f.read()
+    assert limits.startswith("# Limits\n")
     from btgen.ir.data.records import DEFAULT_QUEUE_CAPACITY, DEFAULT_STRING_CAPACITY
 
     for number in (

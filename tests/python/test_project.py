@@ -42,11 +42,11 @@ def test_licence_is_stated_once_and_the_same_everywhere():
 
 
 def test_wheels_never_land_in_the_checkout():
-    """`pip wheel .` writes the dependencies' wheels beside btgen's: the README says
+    """`pip wheel .` writes the dependencies' wheels beside btgen's: docs/getting-started.md says
     `--no-deps -w dist`, and git ignores wheels and dist/ should one be made anyway."""
     for path in ("lxml-5.0-cp311.whl", "dist/btgen-0.3.0-py3-none-any.whl"):
         assert subprocess.run(["git", "check-ignore", "-q", path], cwd=ROOT, check=False).returncode == 0, path
-    assert "pip wheel --no-deps -w dist ." in (REPO / "README.md").read_text()
+    assert "pip wheel --no-deps -w dist ." in (REPO / "docs" / "getting-started.md").read_text()
 
 
 @pytest.mark.parametrize(

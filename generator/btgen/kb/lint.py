@@ -39,9 +39,7 @@ from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_yo
 
 # ----- Limits: keep equal to runtime/include/btgen/kb_limits.hpp ----------------
 
-KB_MAX_FILE_BYTES = (
-    131072  # .dat and .ini files; the Lab Tour base is 4 kB (lint time grows with size: README "Limits")
-)
+KB_MAX_FILE_BYTES = 131072  # .dat and .ini files; the Lab Tour base is 4 kB (lint time grows with size: docs/limits.md)
 KB_MAX_TEXT_BYTES = 255  # description or message, UTF-8 bytes, without terminator
 KB_MAX_CULTURAL_KEYS = 10  # per location (D5.4.2 MAX_CULTURAL_KEYS)
 KB_MAX_CULTURAL_KEY_BYTES = 63  # one cultural knowledge key

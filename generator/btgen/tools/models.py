@@ -15,7 +15,7 @@ ID that is neither built in nor declared:
   given `{key}` an `inout_port` (it may be read or written).
 
 The output is deterministic (models and ports sorted by name). For exact port types the
-program itself can write the file: `BT::writeTreeNodesModelXML(factory)` (README).
+program itself can write the file: `BT::writeTreeNodesModelXML(factory)` (docs/real-files.md).
 """
 
 from __future__ import annotations

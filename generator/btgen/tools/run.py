@@ -37,7 +37,7 @@ def run_command(args) -> int:
     # UserError (mission or scenario) propagates to the command line, which
     # prints it and exits 1: nothing has been printed on stdout yet.
     # The front end only: the interpreter runs what BehaviorTree.CPP would load, including
-    # what the C++ back end refuses at compile time (README: deliberate differences).
+    # what the C++ back end refuses at compile time (docs/data-side.md: what the C++ back end rejects).
     mission = pipeline.load(args.mission, options_from_args(args))
     print_diagnostics(mission.warnings)
     scenario, warnings = load_scenario(args.scenario, mission)
