@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.lang import blackboard as bbmod
 from btgen.lang import script as script_lang
 from btgen.lang.catalogue import KEY_NAME_PORTS
 from btgen.lang.model import Mission, Node, SubTreeNode
@@ -105,10 +106,14 @@ class _Keys:
     used: set[str]  # every key the tree names
 
 
+def _remapped(value: str, port_name: str) -> Optional[str]:
+    """The entry a `{key}` or `{=}` port value names, None for a literal: the loader's
+    `is_remap` and `remap_key`, read from lang.blackboard (hints is imported by the loader)."""
+    return bbmod.remapped_key(port_name, value) if bbmod.is_blackboard_pointer(value) else None
+
+
 def _tree_keys(mission: Mission, root: Node) -> _Keys:
     """The blackboard keys the nodes of one tree (not the trees of its SubTrees) name."""
-    from btgen.frontend.loader import is_remap, remap_key
-
     keys = _Keys({}, set(), set())
     stack = [root]
     while stack:
@@ -127,8 +132,8 @@ def _tree_keys(mission: Mission, root: Node) -> _Keys:
             if attr in node.pre or attr in node.post:
                 continue
             if isinstance(node, SubTreeNode):
-                if is_remap(attr.value):  # the SubTree may read or write it
-                    key = remap_key(attr.value, attr.name)
+                key = _remapped(attr.value, attr.name)
+                if key is not None:  # the SubTree may read or write it
                     keys.used.add(key)
                     keys.writes.add(key)
                 continue
@@ -139,8 +144,7 @@ def _tree_keys(mission: Mission, root: Node) -> _Keys:
             if (node.id, attr.name) in KEY_NAME_PORTS:
                 keys.used.add(attr.value)
                 keys.writes.add(attr.value)
-            elif is_remap(attr.value):
-                key = remap_key(attr.value, attr.name)
+            elif (key := _remapped(attr.value, attr.name)) is not None:
                 keys.used.add(key)
                 if port is not None and port.direction == "input":
                     keys.reads.setdefault(key, (f"the `{attr.name}` port of `{node.id}`", attr.value_loc))
