@@ -15,6 +15,7 @@ import subprocess
 
 import pytest
 
+import cppbuild
 from conftest import ROOT
 
 
@@ -22,24 +23,7 @@ from conftest import ROOT
 @pytest.mark.parametrize("check,rounds", [("fixed_text_check", "100000"), ("strtod_check", "30000")])
 def test_bare_metal_conversion_is_the_c_librarys(check, rounds, tmp_path):
     exe = tmp_path / check
-    subprocess.run(
-        [
-            "c++",
-            "-std=c++17",
-            "-O2",
-            "-DBTGEN_BARE_METAL=1",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Werror",
-            "-I",
-            f"{ROOT}/runtime/include",
-            f"{ROOT}/tests/cpp/mcu/{check}.cpp",
-            "-o",
-            str(exe),
-        ],
-        check=True,
-    )
+    cppbuild.build([f"{ROOT}/tests/cpp/mcu/{check}.cpp"], exe, cxx="c++", opt="-O2", defines=["BTGEN_BARE_METAL=1"])
     proc = subprocess.run([str(exe), rounds], capture_output=True, text=True, check=False)
     assert proc.returncode == 0, proc.stdout
     assert proc.stdout.startswith("checked ") and proc.stdout.endswith(" bad 0\n")

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+import cppbuild
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import render
 from btgen.compiler import committed_outputs, compile_command, generate, generator_inputs, main, mission_files
@@ -393,23 +394,7 @@ def test_committed_generated_compiles_warning_free(tmp_path):
     if not sources:
         pytest.skip("no shipped mission compiles on the C++ back end yet")
     for src in sources:
-        subprocess.run(
-            [
-                "c++",
-                "-std=c++17",
-                "-Wall",
-                "-Wextra",
-                "-Wpedantic",
-                "-Werror",
-                "-fsyntax-only",
-                "-I",
-                str(root / "runtime" / "include"),
-                "-I",
-                str(root / "generated"),
-                str(src),
-            ],
-            check=True,
-        )
+        cppbuild.syntax_check([src], cxx="c++", includes=[root / "generated"])
 
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
@@ -432,23 +417,8 @@ def test_data_side_code_compiles_warning_free(stem, compiler, tmp_path):
         pytest.skip(f"no {compiler}")
     for out in generate(os.path.join(CASES, stem + ".xml"), relative_to=ROOT):
         (tmp_path / out.name).write_text(out.text, encoding="utf-8")
-    subprocess.run(
-        [
-            compiler,
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Wshadow",
-            "-Werror",
-            "-fsyntax-only",
-            "-I",
-            os.path.join(ROOT, "runtime", "include"),
-            "-I",
-            str(tmp_path),
-            str(tmp_path / (naming.snake_case(stem) + ".cpp")),
-        ],
-        check=True,
+    cppbuild.syntax_check(
+        [tmp_path / (naming.snake_case(stem) + ".cpp")], cxx=compiler, flags=["-Wshadow"], includes=[tmp_path]
     )
 
 
@@ -459,8 +429,10 @@ def test_generated_code_refuses_a_runtime_of_another_abi(tmp_path):
     (tmp_path / source.name).write_text(source.text)
     runtime = tmp_path / "runtime"
     shutil.copytree(Path(ROOT) / "runtime" / "include", runtime)
-    cmd = ["c++", "-std=c++17", "-fsyntax-only", "-I", str(runtime), "-I", str(tmp_path), str(tmp_path / source.name)]
-    subprocess.run(cmd, check=True)  # the matching runtime compiles
+    cmd = cppbuild.command(
+        [tmp_path / source.name], cxx="c++", mode="syntax", warnings=False, runtime=False, includes=[runtime, tmp_path]
+    )
+    cppbuild.check(cmd)  # the matching runtime compiles
     version = runtime / "btgen" / "version.hpp"
     version.write_text(
         version.read_text().replace(f"kRuntimeAbi = {RUNTIME_ABI};", f"kRuntimeAbi = {RUNTIME_ABI + 1};")
@@ -490,24 +462,7 @@ def test_every_declared_leaf_port_has_accessors(compiler, tmp_path):
     assert "error_code() const" not in header.text  # an output port has no getter, as in 4.6.2
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
-    subprocess.run(
-        [
-            compiler,
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Wshadow",
-            "-Werror",
-            "-fsyntax-only",
-            "-I",
-            os.path.join(ROOT, "runtime", "include"),
-            "-I",
-            str(tmp_path),
-            str(tmp_path / source.name),
-        ],
-        check=True,
-    )
+    cppbuild.syntax_check([tmp_path / source.name], cxx=compiler, flags=["-Wshadow"], includes=[tmp_path])
 
 
 @pytest.mark.parametrize("compiler", ["g++", "clang++"])
@@ -531,24 +486,7 @@ def test_user_controls_and_decorators_compile(compiler, tmp_path):
         assert text in header.text, text
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
-    subprocess.run(
-        [
-            compiler,
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Wshadow",
-            "-Werror",
-            "-fsyntax-only",
-            "-I",
-            os.path.join(ROOT, "runtime", "include"),
-            "-I",
-            str(tmp_path),
-            str(tmp_path / source.name),
-        ],
-        check=True,
-    )
+    cppbuild.syntax_check([tmp_path / source.name], cxx=compiler, flags=["-Wshadow"], includes=[tmp_path])
 
 
 @pytest.mark.parametrize("engine", ["interp", "cpp"])
@@ -596,25 +534,7 @@ def test_a_groot2_tree_text_over_64_kib_builds_with_clang_pedantic(tmp_path):
 
     assert btgen_main(["compile", str(mission), "-o", str(tmp_path)]) == 0
     (tmp_path / "t.cpp").write_text('#include "scripts_1000.hpp"\nint main() { return 0; }\n')
-    proc = subprocess.run(
-        [
-            "clang++",
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Werror",
-            "-fsyntax-only",
-            f"-I{ROOT}/runtime/include",
-            f"-I{tmp_path}",
-            str(tmp_path / "t.cpp"),
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        check=False,
-    )
-    assert proc.returncode == 0, proc.stdout
+    cppbuild.syntax_check([tmp_path / "t.cpp"], cxx="clang++", includes=[tmp_path])
 
 
 def test_error_places_and_messages_are_sized_string_views(tmp_path):
@@ -659,10 +579,7 @@ def test_models_and_ports_named_like_the_leaf_base_classes_compile(tmp_path):
     header, source = generate(path, relative_to=str(tmp_path))
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
     (tmp_path / source.name).write_text(source.text, encoding="utf-8")
-    cmd = ["g++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow", "-Werror", "-fsyntax-only"]
-    cmd += ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), str(tmp_path / source.name)]
-    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    assert proc.returncode == 0, proc.stderr[:3000]
+    cppbuild.syntax_check([tmp_path / source.name], cxx="g++", flags=["-Wshadow"], includes=[tmp_path])
 
 
 def test_long_literals_are_split_between_words():

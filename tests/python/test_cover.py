@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import cppbuild
 from btgen.cli import main
 from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
@@ -117,23 +118,14 @@ def test_a_log_written_by_the_compiled_file_logger_replays(tmp_path, capsys):
     ).stdout.strip()
     exe = out / "pick"
     (header,) = out.glob("*.hpp")
-    subprocess.run(
-        [
-            os.environ.get("CXX", "c++"),
-            "-std=c++17",
-            "-O0",
-            f"-I{ROOT / 'runtime' / 'include'}",
-            f"-I{out}",
-            f'-DBTGEN_MISSION_HEADER="{header.name}"',
-            f"-DBTGEN_MISSION_TEMPLATE={template}",
-            str(ROOT / "runtime" / "src" / "monitor_driver.cpp"),
-            str(header.with_suffix(".cpp")),
-            "-lzmq",
-            "-pthread",
-            "-o",
-            str(exe),
-        ],
-        check=True,
+    cppbuild.build(
+        [ROOT / "runtime" / "src" / "monitor_driver.cpp", header.with_suffix(".cpp")],
+        exe,
+        opt="-O0",
+        warnings=False,
+        includes=[out],
+        defines=[f'BTGEN_MISSION_HEADER="{header.name}"', f"BTGEN_MISSION_TEMPLATE={template}"],
+        libs=["-lzmq", "-pthread"],
     )
     recorded = tmp_path / "robot.scenario"
     recorded.write_text(

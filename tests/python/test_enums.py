@@ -1,12 +1,12 @@
 """Scripting enums (`--enum`, `--enums FILE`; BehaviorTree.CPP's registerScriptingEnum):
 the same values on both engines, undeclared names still errors in validate and compile."""
 
-import os
 import subprocess
 import sys
 
 import pytest
 
+import cppbuild
 from btgen.diagnostics import UserError
 from btgen.frontend import enums
 
@@ -127,23 +127,7 @@ def test_compiled_to_constants(tmp_path):
     assert r.returncode == 0, r.stderr
     header = (tmp_path / "out" / "m.hpp").read_text(encoding="utf-8")
     assert 'btgen::dyn::ScriptingEnum{"LARGE", 7.0}' in header
-    subprocess.run(
-        [
-            "c++",
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Werror",
-            "-fsyntax-only",
-            "-I",
-            os.path.join(os.path.dirname(__file__), "..", "..", "runtime", "include"),
-            "-I",
-            str(tmp_path / "out"),
-            str(tmp_path / "out" / "m.cpp"),
-        ],
-        check=True,
-    )
+    cppbuild.syntax_check([tmp_path / "out" / "m.cpp"], cxx="c++", includes=[tmp_path / "out"])
 
 
 def test_a_negated_negative_enum_builds_and_agrees(tmp_path):

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import pytest
 
+import cppbuild
 from btgen.frontend.loader import load_mission
 from btgen.ir.treexml import groot2_tree
 from conftest import free_port_pair
@@ -176,31 +177,15 @@ def build_executor(stem: str, out: Path, *defines: str, btcpp: str = "4.6.2") ->
     ).stdout.strip()
     exe = out / stem
     shutil.copy(CASES / f"{stem}.scenario", exe.with_suffix(".scenario"))
-    cxx = os.environ.get("CXX", "c++")
-    subprocess.run(
-        [
-            cxx,
-            "-std=c++17",
-            "-O1",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Werror",
-            *defines,
-            f"-I{ROOT / 'runtime' / 'include'}",
-            f"-I{out}",
-            f'-DBTGEN_MISSION_HEADER="{stem}.hpp"',
-            f"-DBTGEN_MISSION_TEMPLATE={template}",
-            str(ROOT / "runtime" / "src" / "monitor_driver.cpp"),
-            str(out / f"{stem}.cpp"),
-            "-lzmq",
-            "-pthread",
-            "-o",
-            str(exe),
-        ],
-        check=True,
+    return cppbuild.build(
+        [ROOT / "runtime" / "src" / "monitor_driver.cpp", out / f"{stem}.cpp"],
+        exe,
+        opt="-O1",
+        flags=defines,
+        includes=[out],
+        defines=[f'BTGEN_MISSION_HEADER="{stem}.hpp"', f"BTGEN_MISSION_TEMPLATE={template}"],
+        libs=["-lzmq", "-pthread"],
     )
-    return exe
 
 
 class Client:

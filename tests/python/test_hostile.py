@@ -9,13 +9,12 @@ import time
 
 import pytest
 
+import cppbuild
 import hostile_names
 from btgen.backend_cpp import naming
 from conftest import ROOT
 
-RUNTIME = os.path.join(ROOT, "runtime", "include")
 DRIVER = os.path.join(ROOT, "runtime", "src", "main_driver.cpp")
-FLAGS = ["-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 # Stems whose engine is also instantiated (the rest only have their headers compiled): the
 # issue's reproducers and the names the mission class template uses.
 ISSUE_STEMS = frozenset("engine leaves observer clock main errno exit std btgen detail".split())
@@ -50,28 +49,19 @@ def test_hostile_names_build(hostile_sources, compiler, opt):
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler}")
     tmp = hostile_sources
-    cmd = [
-        compiler,
-        *FLAGS,
-        opt,
-        *(["-DNDEBUG"] if opt == "-O2" else []),  # (as every CMake Release build defines it)
-        "-I",
-        RUNTIME,
-        "-I",
-        str(tmp),
-        "-I",
-        str(tmp / "stems"),
-        '-DBTGEN_MISSION_HEADER="hostile.hpp"',
-        "-DBTGEN_MISSION_TEMPLATE=hostile::Hostile",
-        DRIVER,
-        str(tmp / "hostile.cpp"),
-        str(tmp / "stems" / "all_stems.cpp"),
-        "-o",
-        str(tmp / f"run{opt}"),
-    ]
+    cmd = cppbuild.command(
+        [DRIVER, tmp / "hostile.cpp", tmp / "stems" / "all_stems.cpp"],
+        tmp / f"run{opt}",
+        cxx=compiler,
+        opt=opt,
+        includes=[tmp, tmp / "stems"],
+        # NDEBUG at -O2, as every CMake Release build defines it
+        defines=[*(["NDEBUG"] if opt == "-O2" else []), 'BTGEN_MISSION_HEADER="hostile.hpp"']
+        + ["BTGEN_MISSION_TEMPLATE=hostile::Hostile"],
+    )
     start = time.monotonic()
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
-    assert proc.returncode == 0, proc.stdout[:6000]
+    proc = cppbuild.run(cmd)
+    assert proc.returncode == 0, (proc.stdout + proc.stderr)[:6000]
     print(f"{compiler} {opt}: {time.monotonic() - start:.1f} s", file=sys.stderr)
 
 
@@ -188,22 +178,13 @@ def test_long_concatenation_chain_has_a_linear_stack_frame(tmp_path):
     header = (out / "chain.hpp").read_text(encoding="utf-8")
     assert header.count("btgen::FixedString<5242880>") == 1 and "FixedString<3145728>" not in header
     exe = tmp_path / "chain"
-    subprocess.run(
-        [
-            os.environ.get("CXX", "c++"),
-            "-std=c++17",
-            "-O0",
-            "-I",
-            RUNTIME,
-            "-I",
-            str(out),
-            '-DBTGEN_MISSION_HEADER="chain.hpp"',
-            "-DBTGEN_MISSION_TEMPLATE=chain::Chain",
-            DRIVER,
-            "-o",
-            str(exe),
-        ],
-        check=True,
+    cppbuild.build(
+        [DRIVER],
+        exe,
+        opt="-O0",
+        warnings=False,
+        includes=[out],
+        defines=['BTGEN_MISSION_HEADER="chain.hpp"', "BTGEN_MISSION_TEMPLATE=chain::Chain"],
     )
     proc = subprocess.run([str(exe), str(tmp_path / "one.scenario")], capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stdout.splitlines()[-1]) == (0, "result SUCCESS"), proc.stderr
@@ -376,12 +357,10 @@ def test_header_and_source_of_two_runs_do_not_build(tmp_path):
         (tmp_path / name).mkdir()
         (tmp_path / name / "m.xml").write_text(text, encoding="utf-8")
         assert _compile(f"{name}/m.xml", name, tmp_path).returncode == 0
-    cmd = [os.environ.get("CXX", "c++"), "-std=c++17", "-fsyntax-only", "-I", RUNTIME]
-    subprocess.run(cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], check=True)
+    cmd = cppbuild.command([tmp_path / "a" / "m.cpp"], mode="syntax", warnings=False, includes=[tmp_path / "a"])
+    cppbuild.check(cmd)
     (tmp_path / "a" / "m.hpp").write_bytes((tmp_path / "b" / "m.hpp").read_bytes())  # the mix
-    proc = subprocess.run(
-        cmd + ["-I", str(tmp_path / "a"), str(tmp_path / "a" / "m.cpp")], capture_output=True, text=True, check=False
-    )
+    proc = cppbuild.run(cmd)
     assert proc.returncode != 0
     assert "m.hpp and m.cpp come from different btgen runs: run btgen compile again" in proc.stderr
 
@@ -395,18 +374,18 @@ def test_two_missions_in_one_namespace_do_not_link(tmp_path):
         (tmp_path / name / "patrol.xml").write_text(text, encoding="utf-8")
         assert _compile(f"{name}/patrol.xml", name, tmp_path).returncode == 0
     (tmp_path / "main.cpp").write_text("int main() { return 0; }\n", encoding="utf-8")
-    cxx = os.environ.get("CXX", "c++")
-    objects = []
-    for name in ("a", "b"):
-        obj = tmp_path / f"{name}.o"
-        cmd = [cxx, "-std=c++17", "-c", "-I", RUNTIME, "-I", str(tmp_path / name), str(tmp_path / name / "patrol.cpp")]
-        subprocess.run(cmd + ["-o", str(obj)], check=True)
-        objects.append(str(obj))
-    proc = subprocess.run(
-        [cxx, str(tmp_path / "main.cpp"), *objects, "-o", str(tmp_path / "both")],
-        capture_output=True,
-        text=True,
-        check=False,
+    objects = [
+        cppbuild.build(
+            [tmp_path / name / "patrol.cpp"],
+            tmp_path / f"{name}.o",
+            mode="object",
+            warnings=False,
+            includes=[tmp_path / name],
+        )
+        for name in ("a", "b")
+    ]
+    proc = cppbuild.run(
+        cppbuild.command([tmp_path / "main.cpp", *objects], tmp_path / "both", warnings=False, runtime=False)
     )
     assert proc.returncode != 0
     assert "btgen_one_mission_per_namespace" in proc.stderr

@@ -24,6 +24,7 @@ import sys
 
 import pytest
 
+import cppbuild
 from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import load_scenario
@@ -169,21 +170,13 @@ def test_os_only_headers_refuse_the_bare_metal_build(tmp_path):
     for header in ("groot2", "btlog", "async_call"):
         src = tmp_path / f"{header}.cpp"
         src.write_text(f'#include "btgen/{header}.hpp"\n')
-        proc = subprocess.run(
-            [
-                "arm-none-eabi-g++",
-                "-std=c++17",
-                "-DBTGEN_BARE_METAL=1",
-                "-fsyntax-only",
-                "-I",
-                str(mcu.ROOT / "runtime" / "include"),
-                str(src),
-            ],
-            capture_output=True,
-            check=False,
+        proc = cppbuild.run(
+            cppbuild.command(
+                [src], cxx="arm-none-eabi-g++", defines=["BTGEN_BARE_METAL=1"], mode="syntax", warnings=False
+            )
         )
         assert proc.returncode != 0
-        assert f"btgen/{header}.hpp needs an operating system" in proc.stderr.decode()
+        assert f"btgen/{header}.hpp needs an operating system" in proc.stderr
 
 
 def _checkout_key() -> str:

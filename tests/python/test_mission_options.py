@@ -3,11 +3,11 @@
 import os
 import re
 import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
 
+import cppbuild
 from btgen.backend_cpp import naming
 from btgen.cli import main
 from btgen.compiler import generate, mission_files
@@ -221,12 +221,11 @@ def test_accepted_namespaces_with_odd_parts_build(tmp_path):
             main(["compile", mission, "--models", models, "--main-tree", "Patrol", "--namespace", ns, "-o", str(out)])
             == 0
         )
-        proc = subprocess.run(
-            ["g++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Werror", "-DNDEBUG"]
-            + [f"-I{ROOT / 'runtime' / 'include'}", str(out / "m.cpp")],
-            capture_output=True,
-            text=True,
-            check=False,
+        proc = cppbuild.run(
+            cppbuild.command(
+                [out / "m.cpp"], cxx="g++", mode="syntax", warnings=False, flags=["-Wall", "-Wextra", "-Werror"]
+            )
+            + ["-DNDEBUG"]
         )
         assert proc.returncode == 0, (ns, proc.stderr[:3000])
 

@@ -10,6 +10,7 @@ import sys
 
 import pytest
 
+import cppbuild
 from btgen.cli import main
 from conftest import ROOT
 
@@ -74,11 +75,12 @@ def test_generated_setters(compiler, tmp_path):
     assert "void provide_server_timeout(const std::int64_t& value) noexcept" in header
     assert "[[nodiscard]] bool provide_node(std::string_view value) noexcept" in header
     exe = tmp_path / "a.out"
-    subprocess.run(
-        [compiler, "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O0"]
-        + ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path)]
-        + [os.path.join(HERE, "main.cpp"), str(tmp_path / "nav_entries.cpp"), "-o", str(exe)],
-        check=True,
+    cppbuild.build(
+        [os.path.join(HERE, "main.cpp"), tmp_path / "nav_entries.cpp"],
+        exe,
+        cxx=compiler,
+        opt="-O0",
+        includes=[tmp_path],
     )
 
     def run(*args):

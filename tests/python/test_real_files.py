@@ -13,6 +13,7 @@ import sys
 
 import pytest
 
+import cppbuild
 from btgen.cli import main
 from conftest import ROOT
 
@@ -117,11 +118,7 @@ def test_validates_compiles_and_builds(rel, version, tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["compile", path, "-o", str(out), *opts]) == 0, capsys.readouterr().err
     [source] = glob.glob(str(out / "*.cpp"))
-    subprocess.run(
-        ["g++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O0", "-c"]
-        + ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(out), source, "-o", str(tmp_path / "m.o")],
-        check=True,
-    )
+    cppbuild.build([source], tmp_path / "m.o", cxx="g++", opt="-O0", mode="object", includes=[out])
 
 
 def _runs() -> list[tuple[str, str, str]]:

@@ -15,6 +15,7 @@ import subprocess
 
 import pytest
 
+import cppbuild
 from btgen.backend_cpp import script_cpp as scpp
 from btgen.frontend.loader import load_mission
 from btgen.interp.controls import switch_equal
@@ -25,7 +26,6 @@ from btgen.ir.script_types import SlotType, type_script
 from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.tools.cppengine import build_cpp
-from conftest import ROOT
 
 
 def _typing_views(views):
@@ -202,23 +202,7 @@ def conversions_exe(tmp_path_factory):
     src = d / "conv.cpp"
     src.write_text(CONVERSIONS_CPP)
     exe = d / "conv"
-    subprocess.run(
-        [
-            os.environ.get("CXX", "c++"),
-            "-std=c++17",
-            "-O1",
-            "-Wall",
-            "-Wextra",
-            "-Werror",
-            "-I",
-            os.path.join(ROOT, "runtime", "include"),
-            str(src),
-            "-o",
-            str(exe),
-        ],
-        check=True,
-    )
-    return exe
+    return cppbuild.build([src], exe, opt="-O1", warnings=False, flags=["-Wall", "-Wextra", "-Werror"])
 
 
 def _bits(x):

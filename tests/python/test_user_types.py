@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+import cppbuild
 from btgen.frontend import usertypes
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -268,41 +269,15 @@ def test_valid_types_that_were_refused_build(tmp_path):
     assert r.returncode == 0, r.stderr
     header = (tmp_path / "out" / "chars.hpp").read_text(encoding="utf-8")
     assert "::std::less<>" in header and "wchar_t" in header and "char32_t" in header
-    proc = subprocess.run(
-        ["c++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-I", str(RUNTIME)]
-        + [str(tmp_path / "out" / "chars.cpp")],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    proc = cppbuild.run(cppbuild.command([tmp_path / "out" / "chars.cpp"], cxx="c++", mode="syntax"))
     assert proc.returncode == 0, proc.stderr[:4000]
 
 
 def _cxx(tmp_path, out, main, *extra, compiler="c++"):
     (tmp_path / "main.cpp").write_text(main, encoding="utf-8")
-    return subprocess.run(
-        [
-            compiler,
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Werror",
-            "-I",
-            str(RUNTIME),
-            "-I",
-            str(NAV),
-            "-I",
-            str(tmp_path),
-            "-I",
-            str(out),
-            str(out / "user_types.cpp"),
-            str(tmp_path / "main.cpp"),
-            *extra,
-        ],
-        capture_output=True,
-        text=True,
-        check=False,
+    return cppbuild.run(
+        cppbuild.command([out / "user_types.cpp", tmp_path / "main.cpp"], cxx=compiler, includes=[NAV, tmp_path, out])
+        + list(extra)
     )
 
 

@@ -10,12 +10,12 @@ import sys
 
 import pytest
 
+import cppbuild
 from btgen.backend_cpp.emit import render
 from btgen.frontend.loader import load_mission
 from btgen.ir.lower import lower
 from btgen.lang import script as sc
 from btgen.lang import versions
-from btgen.tools.cppengine import RUNTIME_INCLUDE
 from conftest import ROOT
 
 MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -119,13 +119,12 @@ def test_headers_of_two_versions_refuse_to_share_a_translation_unit(tmp_path):
     both.write_text('#include "m462.hpp"\n#include "m410.hpp"\nint main() { return 0; }\n')
     one = tmp_path / "one.cpp"
     one.write_text('#include "m410.hpp"\nint main() { return 0; }\n')
-    cmd = ["c++", "-std=c++17", "-fsyntax-only", "-I", str(RUNTIME_INCLUDE), "-I", str(tmp_path)]
-    bad = subprocess.run([*cmd, str(both)], capture_output=True, text=True, check=False)
+    bad = cppbuild.run(cppbuild.command([both], cxx="c++", mode="syntax", warnings=False, includes=[tmp_path]))
     assert bad.returncode != 0
     assert "m410.hpp follows BehaviorTree.CPP 4.10.0, but a mission header generated for another release" in (
         bad.stderr
     )
-    good = subprocess.run([*cmd, str(one)], capture_output=True, text=True, check=False)
+    good = cppbuild.run(cppbuild.command([one], cxx="c++", mode="syntax", warnings=False, includes=[tmp_path]))
     assert good.returncode == 0, good.stderr
 
 
@@ -157,25 +156,16 @@ def test_410_code_compiles_warning_free(compiler, tmp_path):
         outputs = render(lower(mission), stem, ROOT)
         for out in outputs:
             (tmp_path / out.name).write_text(out.text, encoding="utf-8")
-        cmd = [
-            compiler,
-            "-std=c++17",
-            "-O2",
-            "-Wall",
-            "-Wextra",
-            "-Wpedantic",
-            "-Wshadow",
-            "-Werror",
-            f'-DBTGEN_MISSION_HEADER="{outputs[0].name}"',
-            f"-DBTGEN_MISSION_TEMPLATE={naming.mission_namespace(stem, None)}::{naming.pascal_case(stem)}",
-            "-I",
-            str(RUNTIME_INCLUDE),
-            "-I",
-            str(tmp_path),
-            "-c",
-            str(DRIVER),
-            "-o",
-            str(tmp_path / f"{stem}.o"),
-        ]
-        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        template = f"{naming.mission_namespace(stem, None)}::{naming.pascal_case(stem)}"
+        cmd = cppbuild.command(
+            [DRIVER],
+            tmp_path / f"{stem}.o",
+            cxx=compiler,
+            opt="-O2",
+            flags=["-Wshadow"],
+            defines=[f'BTGEN_MISSION_HEADER="{outputs[0].name}"', f"BTGEN_MISSION_TEMPLATE={template}"],
+            includes=[tmp_path],
+            mode="object",
+        )
+        proc = cppbuild.run(cmd)
         assert proc.returncode == 0, proc.stderr[-4000:]
