@@ -52,7 +52,9 @@ def _imports(path: Path):
                 for alias in node.names:
                     full = f"{node.module}.{alias.name}"
                     # `from btgen.lang import values` imports the module btgen.lang.values
-                    yield full if (PACKAGE.parent / (full.replace(".", "/") + ".py")).exists() else node.module
+                    path = PACKAGE.parent / full.replace(".", "/")
+                    is_module = path.with_suffix(".py").exists() or (path / "__init__.py").exists()
+                    yield full if is_module else node.module
         elif isinstance(node, ast.Import):
             for alias in node.names:
                 if alias.name.startswith("btgen"):

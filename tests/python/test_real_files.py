@@ -66,7 +66,7 @@ CPP_410 = {
 # file, btgen loads it.
 DELIBERATE = {
     # 4.6.2's parser refuses a unary operator after a comparison (`A!=-1`): a parser bug that
-    # 4.9.0 fixed; btgen parses it under 4.6.2 as well (lang/script.py, FORMAT.md).
+    # 4.9.0 fixed; btgen parses it under 4.6.2 as well (lang/script/grammar462.py, FORMAT.md).
     ("btcpp/tests-4.10.0/script_parser_test_L497.xml", "4.6.2"),
 }
 

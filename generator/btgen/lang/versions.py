@@ -4,7 +4,7 @@ btgen follows one release of the library exactly: 4.6.2 (the default) or 4.10.0
 (``--btcpp 4.10.0``). Every way in which the two behave differently is one named
 switch of :class:`Semantics`, listed here with the release that made it; the
 interpreter (``interp/``), the loader (``frontend/``), the script parser
-(``lang/script.py``) and the generated C++ (one ``constexpr bool`` per switch in
+(``lang/script/``) and the generated C++ (one ``constexpr bool`` per switch in
 the header, read by ``runtime/include/btgen/engine.hpp``) read these switches and
 nothing else. A reader can list every difference from this file; the prose, with
 the library quirks btgen follows, is ``docs/btcpp-versions.md``.

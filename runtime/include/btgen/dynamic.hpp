@@ -526,7 +526,7 @@ bool binary(char op, const Ref& l, const Ref& r, Ref& out, FixedString<B>& buf, 
 }
 
 // `a op b` for op one of "==" "!=" "<" ">" "<=" ">=", given `equal`, the operands' equality
-// (within FLT_EPSILON for numbers): 4.6.2's ExprComparison::SwitchImpl (lang/script.py's
+// (within FLT_EPSILON for numbers): 4.6.2's ExprComparison::SwitchImpl (lang/script/evaluate.py's
 // _compare), whose orderings are negations (`<` is !(a >= b)).
 template <class T>
 bool compared(std::string_view op, bool equal, const T& a, const T& b) noexcept {
