@@ -109,3 +109,67 @@ def test_cmake_entries(tmp_path, repo_root):
     )
     assert proc.returncode == 0, proc.stderr
     assert "RESULT TRUE FALSE" in proc.stdout
+
+
+# Issue 37: `goal` is the first entry a Nav2 port sets, and its type is the user's. The compiler
+# crashed (exit 3, "'btgen.lang.kind.UserKind object' has no attribute 'startswith'") while
+# validate said ok.
+USER_TYPED_ENTRY = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><Go goal="{goal}"/></BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Go"><input_port name="goal" type="Pose2D"/></Action>
+  </TreeNodesModel>
+</root>
+"""
+POSE2D_HEADER = """#pragma once
+#include <string_view>
+namespace nav {
+struct Pose2D { double x = 0, y = 0, theta = 0; };
+inline bool convertFromString(std::string_view, Pose2D&) { return false; }
+}  // namespace nav
+"""
+USER_TYPED_MAIN = r"""#include <cstdio>
+#include "m.hpp"
+struct Leaves {
+  btgen::Status tick(m::leaf::Go& go, const btgen::NodeInfo&) {
+    const auto goal = go.goal();
+    if (!goal) {
+      std::printf("no goal: %s\n", std::string(btgen::describe(goal.error())).c_str());
+      return btgen::Status::FAILURE;
+    }
+    std::printf("goal %g %g %g\n", goal->x, goal->y, goal->theta);
+    return btgen::Status::SUCCESS;
+  }
+};
+int main(int argc, char**) {
+  Leaves leaves;
+  m::M<Leaves> mission(leaves);
+  if (argc > 1) mission.provide_goal(nav::Pose2D{1.5, -2, 0.25});
+  return mission.tick() == btgen::Status::SUCCESS ? 0 : 1;
+}
+"""
+
+
+def test_an_entry_of_a_user_type(tmp_path, capsys):
+    mission = tmp_path / "m.xml"
+    mission.write_text(USER_TYPED_ENTRY, encoding="utf-8")
+    (tmp_path / "nav").mkdir()
+    (tmp_path / "nav" / "types.hpp").write_text(POSE2D_HEADER, encoding="utf-8")
+    opts = ["--type", "Pose2D=nav::Pose2D@nav/types.hpp", "--entry", "goal=Pose2D"]
+    assert main(["validate", "-q", str(mission), *opts]) == 0
+    assert main(["compile", str(mission), "-o", str(tmp_path / "out"), *opts]) == 0
+    assert capsys.readouterr().err == ""
+    header = (tmp_path / "out" / "m.hpp").read_text(encoding="utf-8")
+    assert "void provide_goal(const ::nav::Pose2D& value) noexcept" in header
+    (tmp_path / "main.cpp").write_text(USER_TYPED_MAIN, encoding="utf-8")
+    exe = tmp_path / "a.out"
+    subprocess.run(
+        ["c++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O0"]
+        + ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path), "-I", str(tmp_path / "out")]
+        + [str(tmp_path / "main.cpp"), str(tmp_path / "out" / "m.cpp"), "-o", str(exe)],
+        check=True,
+    )
+    provided = subprocess.run([str(exe), "provide"], capture_output=True, text=True, check=False)
+    assert (provided.returncode, provided.stdout) == (0, "goal 1.5 -2 0.25\n")
+    unset = subprocess.run([str(exe)], capture_output=True, text=True, check=False)
+    assert (unset.returncode, unset.stdout) == (1, "no goal: the blackboard entry has no value yet\n")
