@@ -10,8 +10,10 @@ NAME=CPP_TYPE@HEADER`` maps it to a C++ type instead:
 - HEADER declares it and its conversion; the generated header has ``#include "HEADER"``
   (``@<HEADER>`` gives ``#include <HEADER>``).
 
-Entries of that type hold the value itself in the static blackboard (the generated code
-static_asserts that the type is trivially copyable), leaves get typed accessors
+Entries of that type hold the value itself, in place in the mission object (constructed once,
+assigned on writes; the type may own memory, as a ROS message does: then its own copy may
+allocate, btgen's code never does; the generated code static_asserts that it is default
+constructible and copyable), leaves get typed accessors
 (``btgen::Input<T> goal()``, ``bool set_goal(const T&)``), and literals of such ports are
 converted once, when the mission object is constructed, by the user's
 ``bool convertFromString(std::string_view, T&)`` (found by argument-dependent lookup) or a

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/dynamic.hpp"
@@ -54,8 +55,8 @@ enum class PortError : std::uint8_t {
 template <class T>
 class Input {
  public:
-  constexpr Input(T value) noexcept : value_(value), error_(PortError::kNone) {}  // NOLINT: implicit on purpose
-  constexpr Input(PortError error) noexcept : value_{}, error_(error) {}          // NOLINT
+  constexpr Input(T value) noexcept : value_(std::move(value)), error_(PortError::kNone) {}  // NOLINT: implicit
+  constexpr Input(PortError error) noexcept : value_{}, error_(error) {}                     // NOLINT
 
   [[nodiscard]] constexpr bool has_value() const noexcept { return error_ == PortError::kNone; }
   constexpr explicit operator bool() const noexcept { return has_value(); }
