@@ -197,11 +197,12 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     from btgen.frontend import entries, enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    provided = entries.load(opts.entries)
+    types = usertypes.load(opts.types)
+    provided = entries.load(opts.entries, {t.name for t in types})
     mission = load_mission(path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp)
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
-    mission = usertypes.apply(mission, usertypes.load(opts.types))
+    mission = usertypes.apply(mission, types)
     return mission
 
 
