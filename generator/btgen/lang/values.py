@@ -198,6 +198,34 @@ def _queue_element(compact: str) -> Optional[str]:
     return None
 
 
+# Integer types of every width (BehaviorTree.CPP converts each with its own convertFromString):
+# <cstdint>'s names, with or without `std::` and `_t` (ROS writes `uint16`), and the words of
+# C++'s integer types in any order the language allows (`long unsigned int`).
+_FIXED_WIDTH = re.compile(r"(?:std::)?(u?)int(?:_least|_fast)?(8|16|32|64)(?:_t)?|(?:std::)?(u?)int(max|ptr)_t")
+_INTEGER_WORDS = frozenset(("signed", "unsigned", "short", "long", "int", "char"))
+
+
+def _integer_type(compact: str) -> Optional[str]:
+    """INT or UNSIGNED for a spelling of an integer type that the name sets do not list, or None."""
+    m = _FIXED_WIDTH.fullmatch(compact)
+    if m:
+        return UNSIGNED if (m.group(1) or m.group(3)) else INT
+    if compact in ("ptrdiff_t", "std::ptrdiff_t", "ssize_t"):
+        return INT
+    words = compact.split(" ")
+    if not words or any(w not in _INTEGER_WORDS for w in words):
+        return None
+    n = {w: words.count(w) for w in _INTEGER_WORDS}
+    sign = n["signed"] + n["unsigned"]
+    if sign > 1 or n["short"] > 1 or n["int"] > 1 or n["char"] > 1 or n["long"] > 2:
+        return None
+    if n["short"] and n["long"]:
+        return None
+    if n["char"] and len(words) != 1 + sign:  # char, signed char, unsigned char
+        return None
+    return UNSIGNED if n["unsigned"] else INT
+
+
 def normalize_type(text: Optional[str]) -> str:
     """The canonical type name for a type as a TreeNodesModel writes it.
 
@@ -223,6 +251,9 @@ def normalize_type(text: Optional[str]) -> str:
     ):
         if compact in names:
             return canonical
+    integer = _integer_type(compact)
+    if integer is not None:
+        return integer
     elem = _queue_element(compact)
     if elem is not None:
         canonical_elem = normalize_type(elem)
