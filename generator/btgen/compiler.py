@@ -41,6 +41,7 @@ from btgen import cmdline, pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.frontend import usertypes
 from btgen.ir.data.records import DataOptions
 from btgen.ir.lower import lower
 from btgen.lang.model import Mission
@@ -87,6 +88,9 @@ def generate_checked(
     mission once the front end has read it (its warnings come before the IR's errors);
     `substitute`: a file of substitution rules (a test build, tools/substitute.py)."""
     mission = pipeline.load(mission_path, opts)
+    # Ports of types btgen does not know hold text: loaded as BehaviorTree.CPP loads them,
+    # but the C++ interface they get deserves a word (the commands that compile say it).
+    mission = replace(mission, warnings=mission.warnings + usertypes.unknown_type_warnings(mission))
     if loaded is not None:
         loaded(mission)
     if substitute is not None:

@@ -742,3 +742,28 @@ def test_types_that_own_memory_work_end_to_end(tmp_path, compiler, flags):
     run = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=False)
     assert (run.returncode, run.stderr) == (0, "")
     assert run.stdout == OWNING_OUTPUT
+
+
+def test_a_port_type_btgen_does_not_know_is_loaded_with_a_warning(tmp_path, capsys):
+    """Without --type, a port of a type btgen does not know is loaded (as BehaviorTree.CPP loads
+    it) and holds text; validate and compile say so once per type, at the port that declares it,
+    and what to do; `run` (scripted leaves, for which text is all there is) does not."""
+    from btgen.cli import main
+
+    name = _untyped_mission(tmp_path)
+    path = str(tmp_path / name)
+    warning = (
+        f"{MISSION}:19:7: warning: port type `Pose2D` (port `goal` of `MoveTo`) is not built in and no --type "
+        "declares it: its values are text here (robot code reads and writes std::string_view), a Pose2D in "
+        "BehaviorTree.CPP; to compile it as that C++ type, declare it: --type Pose2D=CPP_TYPE@HEADER\n"
+    ).replace(str(MISSION), path)
+    assert main(["validate", "-q", path]) == 0
+    assert capsys.readouterr().err == warning
+    assert main(["compile", path, "-o", str(tmp_path / "out")]) == 0
+    assert capsys.readouterr().err == warning
+    assert main(["validate", "-q", path, *POSE]) == 0
+    assert main(["compile", path, "-o", str(tmp_path / "typed"), *POSE]) == 0
+    assert capsys.readouterr().err == ""
+    (tmp_path / "m.scenario").write_text("ticks 1\n", encoding="utf-8")
+    assert main(["run", path, "--scenario", str(tmp_path / "m.scenario")]) == 0
+    assert capsys.readouterr().err == ""

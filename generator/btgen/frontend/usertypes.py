@@ -254,3 +254,28 @@ def apply(mission: Mission, types: Sequence[UserType]) -> Mission:
     if not types:
         return mission
     return dataclasses.replace(mission, user_types=tuple(types))
+
+
+def unknown_type_warnings(mission: Mission) -> tuple[Diagnostic, ...]:
+    """One warning per port type of the mission's leaves that is neither built in nor declared
+    with `--type`, at the first port declaring it (models in declaration order): every command
+    loads such ports, as BehaviorTree.CPP does, and holds their values as text (what the
+    interpreter's scripted leaves need); in compiled code robot code then reads and writes
+    text where BehaviorTree.CPP would hold the C++ type, so `validate` and `compile` say so and
+    what to do (docs/types.md)."""
+    declared = {t.name for t in mission.user_types}
+    out: dict[str, Diagnostic] = {}
+    for model in mission.used_user_models():
+        for port in model.ports:
+            name = port.type
+            if not values.is_opaque_type(name) or name in declared or name in out:
+                continue
+            loc = port.loc or model.loc or Loc(mission.path, 1, 1)
+            out[name] = Diagnostic(
+                loc,
+                f"port type `{name}` (port `{port.name}` of `{model.id}`) is not built in and no --type declares "
+                f"it: its values are text here (robot code reads and writes std::string_view), a {name} in "
+                f"BehaviorTree.CPP; to compile it as that C++ type, declare it: --type {name}=CPP_TYPE@HEADER",
+                "warning",
+            )
+    return tuple(out.values())
