@@ -3,9 +3,10 @@
 tests/int_widths/convert-4.6.2.txt is what BehaviorTree.CPP 4.6.2's convertFromString<T> gave for
 each integer width (recorded with tests/int_widths/record_convert.cpp against the real library):
 every width parses alike (std::from_chars: an optional `-`, digits, the rest ignored; no `+`, no
-blank before) and differs only in its range. btgen reads every spelling of an integer type as an
-integer (signed: `int`, unsigned: `unsigned`, whose accessors are std::int32_t / std::uint32_t);
-docs/types.md says where a port of another width differs (its range)."""
+blank before) and differs only in its range, which 4.6.2 checks when it loads the tree. btgen reads
+every spelling of an integer type as an integer (signed: `int`, unsigned: `unsigned`, whose
+accessors are std::int32_t / std::uint32_t) and checks literals against the declared width's
+range; docs/types.md says where the 32-bit accessors still differ."""
 
 import os
 import re
@@ -90,10 +91,11 @@ def _range(width: str) -> range:
 
 @pytest.mark.parametrize("width", sorted(SPELLINGS))
 def test_literals_convert_as_the_library_converts_them(width):
-    """int32_t and uint32_t: btgen's conversion is the library's, input for input. The other
-    widths parse alike and differ in range only: btgen's result differs from the library's exactly
-    for the numbers inside one of the two ranges (the width's, btgen's 32 bits) and outside the
-    other (docs/types.md)."""
+    """values.convert_from_string of `int`/`unsigned` (the 32-bit conversion the IR and the
+    accessors use): for int32_t and uint32_t it is the library's, input for input. The other
+    widths parse alike and differ in range only: the result differs from the library's exactly
+    for the numbers inside one of the two ranges (the width's, 32 bits) and outside the other
+    (the loader checks the width's own range: test_literals_load_as_the_library_loads_them)."""
     unsigned = width.startswith("u")
     kind, ours_range = (values.UNSIGNED, _range("uint32_t")) if unsigned else (values.INT, _range("int32_t"))
     differ = []
@@ -135,3 +137,32 @@ def test_a_nav2_error_code_is_an_integer(tmp_path, capsys):
     assert "bool set_error_code_id(std::uint32_t value) const noexcept" in header
     assert "btgen::Input<std::uint32_t> code() const noexcept" in header
     assert "btgen::Input<std::uint32_t> limit() const noexcept" in header
+
+
+@pytest.mark.parametrize("width", sorted(SPELLINGS))
+def test_literals_load_as_the_library_loads_them(width, tmp_path, capsys):
+    """4.6.2 converts a typed port's literal when it loads the tree, with the width's own range
+    (`uint16` and 70000: the load fails; `int64_t` and 5000000000: it loads). btgen refuses
+    exactly the literals the library refused, for every width and spelling."""
+    spelling = SPELLINGS[width][2]  # the ROS spelling: `uint16`, `int64`
+    rows = RECORDED[width]
+    nodes = "\n".join(f'      <Take v="{text}"/>' for text, _ in rows)
+    mission = tmp_path / "m.xml"
+    mission.write_text(
+        f"""<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+{nodes}
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Take"><input_port name="v" type="{spelling}"/></Action></TreeNodesModel>
+</root>
+""",
+        encoding="utf-8",
+    )
+    status = main(["validate", "-q", str(mission)])
+    err = capsys.readouterr().err
+    refused = [line.split(":")[1] for line in err.splitlines() if ": error: " in line]
+    expected = [str(4 + i) for i, (_, recorded) in enumerate(rows) if recorded == "error"]
+    assert refused == expected, err
+    assert status == 1

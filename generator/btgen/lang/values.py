@@ -226,6 +226,51 @@ def _integer_type(compact: str) -> Optional[str]:
     return UNSIGNED if n["unsigned"] else INT
 
 
+def _integer_bits(compact: str) -> Optional[int]:
+    """The width in bits of a spelling of an integer type (LP64: `long` is 64 bits), or None."""
+    m = _FIXED_WIDTH.fullmatch(compact)
+    if m:
+        return int(m.group(2)) if m.group(2) else 64
+    base = compact[len("std::") :] if compact.startswith("std::") else compact
+    if base in ("size_t", "ptrdiff_t", "ssize_t"):
+        return 64
+    words = compact.split(" ")
+    if any(w not in _INTEGER_WORDS for w in words):
+        return None
+    if "char" in words:
+        return 8
+    if "short" in words:
+        return 16
+    return 64 if "long" in words else 32
+
+
+def integer_range(text: Optional[str]) -> Optional[tuple[int, int]]:
+    """The range of the integer type a TreeNodesModel `type=` names (`uint16` -> 0..65535), or
+    None when it is no integer type. 4.6.2's convertFromString<T> checks a literal against the
+    range of T itself (tests/int_widths/convert-4.6.2.txt)."""
+    if text is None:
+        return None
+    kind = normalize_type(text)
+    if kind not in (INT, UNSIGNED):
+        return None
+    bits = _integer_bits(_compact(text))
+    if bits is None:
+        return None
+    return (0, 2**bits - 1) if kind == UNSIGNED else (-(2 ** (bits - 1)), 2 ** (bits - 1) - 1)
+
+
+def convert_integer(text: str, name: str, lo: int, hi: int, *, strict: bool = False) -> int:
+    """4.6.2's convertFromString<T> for an integer type T of range lo..hi, named `name` in messages."""
+    m = _FROM_CHARS_INT_RE.match(text)
+    if not m:
+        raise ConversionError(f"`{text}` is not a valid {name}")
+    _strict_check(text, m.end(), name, strict)
+    value = int(m.group(0))
+    if not lo <= value <= hi:
+        raise ConversionError(f"`{text}` is out of range for {name} ({lo} to {hi})")
+    return value
+
+
 def normalize_type(text: Optional[str]) -> str:
     """The canonical type name for a type as a TreeNodesModel writes it.
 
