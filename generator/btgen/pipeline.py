@@ -132,7 +132,8 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="NAME=CPP_TYPE@HEADER",
-        help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
+        help="map the port type NAME of TreeNodesModel to a C++ type held by value (default constructible "
+        "and copyable; it may own memory, as a ROS message does), declared with its "
         '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
         "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
     )
