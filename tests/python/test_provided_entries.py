@@ -150,6 +150,21 @@ int main(int argc, char**) {
 """
 
 
+def test_an_entry_of_a_queue_type_compiles(tmp_path, capsys):
+    # The same template line crashed on a queue kind ('QueueKind object' has no attribute 'startswith').
+    mission = tmp_path / "q.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main">\n'
+        '  <BehaviorTree ID="Main"><LoopInt queue="{q}" value="{v}"><AlwaysSuccess/></LoopInt></BehaviorTree>\n'
+        "</root>\n",
+        encoding="utf-8",
+    )
+    entry = ["--entry", "q=std::shared_ptr<std::deque<int>>"]
+    assert main(["validate", "-q", str(mission), *entry]) == 0
+    assert main(["compile", str(mission), "-o", str(tmp_path / "out"), *entry]) == 0
+    assert capsys.readouterr().err == ""
+
+
 def test_an_entry_of_a_user_type(tmp_path, capsys):
     mission = tmp_path / "m.xml"
     mission.write_text(USER_TYPED_ENTRY, encoding="utf-8")
