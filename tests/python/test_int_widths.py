@@ -10,6 +10,8 @@ range; docs/types.md says where the 32-bit accessors still differ."""
 
 import os
 import re
+import shutil
+import subprocess
 
 import pytest
 
@@ -17,7 +19,8 @@ from btgen.cli import main
 from btgen.lang import values
 from conftest import ROOT
 
-RECORDING = os.path.join(ROOT, "tests", "int_widths", "convert-4.6.2.txt")
+HERE = os.path.join(ROOT, "tests", "int_widths")
+RECORDING = os.path.join(HERE, "convert-4.6.2.txt")
 
 # Spellings of each width: <cstdint>'s, ROS's (Nav2's models file writes `uint16`), 4.6.2's
 # demangled names on Linux x86-64 (what Groot2 and writeTreeNodesModelXML write), and C++'s words
@@ -166,3 +169,62 @@ def test_literals_load_as_the_library_loads_them(width, tmp_path, capsys):
     expected = [str(4 + i) for i, (_, recorded) in enumerate(rows) if recorded == "error"]
     assert refused == expected, err
     assert status == 1
+
+
+def test_4_10_0_converts_and_reads_as_4_6_2():
+    """The recordings of both releases are the same: one rule serves both."""
+    for name in ("convert", "entry_reads"):
+        with (
+            open(os.path.join(HERE, f"{name}-4.6.2.txt"), encoding="utf-8") as a,
+            open(os.path.join(HERE, f"{name}-4.10.0.txt"), encoding="utf-8") as b,
+        ):
+            assert a.read() == b.read(), name
+
+
+ENTRY_READS_MAIN = r"""#include <cstdio>
+
+#include "entry_reads.hpp"
+
+struct Leaves {
+  template <class M>
+  btgen::Status report(M& m, const btgen::NodeInfo& node) {
+    const auto v = m.v();
+    if (v) {
+      std::printf("%.*s value %lld\n", static_cast<int>(node.name.size()), node.name.data(),
+                  static_cast<long long>(*v));
+    } else {
+      std::printf("%.*s error\n", static_cast<int>(node.name.size()), node.name.data());
+    }
+    return btgen::Status::SUCCESS;
+  }
+  btgen::Status tick(entry_reads::leaf::U16& m, const btgen::NodeInfo& n) { return report(m, n); }
+  btgen::Status tick(entry_reads::leaf::I8& m, const btgen::NodeInfo& n) { return report(m, n); }
+  btgen::Status tick(entry_reads::leaf::U32& m, const btgen::NodeInfo& n) { return report(m, n); }
+};
+
+int main() {
+  Leaves leaves;
+  entry_reads::EntryReads<Leaves> mission(leaves);
+  return mission.tick() == btgen::Status::SUCCESS ? 0 : 1;
+}
+"""
+
+
+def test_narrow_ports_read_entries_as_the_library_reads_them(tmp_path, capsys):
+    """A `uint16` or `int8_t` port reading an entry that holds a number outside its width fails
+    (btgen::PortError::kConversion), as 4.6.2's getInput<T> does (entry_reads-4.6.2.txt)."""
+    if shutil.which("g++") is None:
+        pytest.skip("no g++")
+    mission = os.path.join(HERE, "entry_reads.xml")
+    assert main(["compile", mission, "-o", str(tmp_path / "out")]) == 0
+    assert capsys.readouterr().err == ""
+    (tmp_path / "main.cpp").write_text(ENTRY_READS_MAIN, encoding="utf-8")
+    subprocess.run(
+        ["g++", "-std=c++17", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O0"]
+        + ["-I", os.path.join(ROOT, "runtime", "include"), "-I", str(tmp_path / "out")]
+        + [str(tmp_path / "main.cpp"), str(tmp_path / "out" / "entry_reads.cpp"), "-o", str(tmp_path / "run")],
+        check=True,
+    )
+    run = subprocess.run([str(tmp_path / "run")], capture_output=True, text=True, check=False)
+    with open(os.path.join(HERE, "entry_reads-4.6.2.txt"), encoding="utf-8") as f:
+        assert (run.returncode, run.stdout) == (0, f.read())

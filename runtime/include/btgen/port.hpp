@@ -219,6 +219,18 @@ Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
   }
 }
 
+// getInput<T> of an entry for an integer port narrower than its accessor (`uint16`,
+// `int8_t`; the accessor is std::uint32_t or std::int32_t): 4.6.2 fails the read when
+// the value does not fit the port's own type.
+template <class T>
+constexpr Input<T> within(Input<T> in, std::int64_t lo, std::int64_t hi) noexcept {
+  static_assert(std::is_same_v<T, std::int32_t> || std::is_same_v<T, std::uint32_t>, "an integer port");
+  if (in.has_value() && (static_cast<std::int64_t>(in.value()) < lo || static_cast<std::int64_t>(in.value()) > hi)) {
+    return PortError::kConversion;
+  }
+  return in;
+}
+
 // ---------------------------------------------------------------- writes
 
 // The 4.6.2 type name of what a port writes (the T of setOutput<T>).
