@@ -10,7 +10,9 @@
 #                     [ENUMS <Type=A,B,C>...]     # scripting enums (btgen compile --enum)
 #                     [ENUM_FILES <file>...]      # files of scripting enums (btgen compile --enums)
 #                     [TYPES <NAME=CPP_TYPE@HEADER>...]  # user port types (btgen compile --type); the
-#                                                 # target needs HEADER's folder on its include path
+#                                                 # target needs HEADER's folder on its include path;
+#                                                 # a type may own memory (ROS messages, std::vector:
+#                                                 # its own copies allocate; docs/types.md)
 #                     [STRING_CAPACITY <n>]       # most bytes of a blackboard string (btgen compile --string-capacity)
 #                     [QUEUE_CAPACITY <n>]        # most elements of a queue written by robot code
 #                     [BTCPP_VERSION <4.6.2|4.10.0>]  # the BehaviorTree.CPP release to follow (btgen --btcpp);

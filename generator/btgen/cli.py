@@ -30,17 +30,16 @@ class _PrintCMakeDir(argparse.Action):
 
 def _cmd_validate(args: argparse.Namespace) -> int:
     from btgen import pipeline
-    from btgen.ir.lower import lower
+    from btgen.compiler import generate_checked
 
     opts = pipeline.options_from_args(args)
     status = EXIT_OK
     for path in args.missions:
         try:
-            mission = pipeline.load(path, opts)
-            print_diagnostics(mission.warnings)
-            # What `btgen compile` checks besides (the data side: blackboard entries, port and
-            # entry types, scripts, capacities; lowering): validate rejects all it rejects.
-            lower(mission, opts.data)
+            # Every step of `btgen compile` but writing (the data side: blackboard entries, port
+            # and entry types, scripts, capacities; lowering; rendering): validate rejects all
+            # it rejects.
+            mission, _ = generate_checked(path, opts, loaded=lambda m: print_diagnostics(m.warnings))
             if not args.quiet:
                 trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
                 print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")

@@ -32,7 +32,7 @@ import contextlib
 import os
 import sys
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Optional
@@ -41,8 +41,10 @@ from btgen import cmdline, pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.frontend import usertypes
 from btgen.ir.data.records import DataOptions
 from btgen.ir.lower import lower
+from btgen.lang.model import Mission
 from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 
 PACKAGE_DIR = resources.PACKAGE_DIR
@@ -70,8 +72,35 @@ def generate(
         opts = CompileOptions(models=tuple(models), main_tree=main_tree, namespace=namespace)
         if options is not None:
             opts = replace(opts, string_capacity=options.string_capacity, queue_capacity=options.queue_capacity)
-    _, program = pipeline.build(mission_path, opts)
-    return render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
+    return generate_checked(mission_path, opts, relative_to)[1]
+
+
+def generate_checked(
+    mission_path: str,
+    opts: CompileOptions = DEFAULTS,
+    relative_to: Optional[str] = None,
+    substitute: Optional[str] = None,
+    loaded: Optional[Callable[[Mission], None]] = None,
+) -> tuple[Mission, tuple[Output, ...]]:
+    """The checked mission and its outputs rendered in memory: every step of `btgen compile` but
+    the writing, so that `validate` and `build-info --check` run every check it runs (a
+    problem found only while rendering is found by all three). `loaded` is called with the
+    mission once the front end has read it (its warnings come before the IR's errors);
+    `substitute`: a file of substitution rules (a test build, tools/substitute.py)."""
+    mission = pipeline.load(mission_path, opts)
+    # Ports of types btgen does not know hold text: loaded as BehaviorTree.CPP loads them,
+    # but the C++ interface they get deserves a word (the commands that compile say it).
+    mission = replace(mission, warnings=mission.warnings + usertypes.unknown_type_warnings(mission))
+    if loaded is not None:
+        loaded(mission)
+    if substitute is not None:
+        from btgen.tools.substitute import load_rules, lower_substituted
+
+        program = lower_substituted(mission, opts.data, load_rules(substitute))
+    else:
+        program = lower(mission, opts.data)
+    outputs = render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
+    return mission, outputs
 
 
 def _file_mode() -> int:
@@ -159,16 +188,13 @@ def compile_command(args: argparse.Namespace) -> int:
     from btgen.diagnostics import print_diagnostics
 
     opts = options_from_args(args)
-    mission = pipeline.load(args.mission, opts)
-    print_diagnostics(mission.warnings)
-    substitute = getattr(args, "substitute", None)
-    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
-        from btgen.tools.substitute import load_rules, lower_substituted
-
-        program = lower_substituted(mission, opts.data, load_rules(substitute))
-    else:
-        program = lower(mission, opts.data)
-    outputs = render(program, mission_stem(args.mission), args.relative_to or os.getcwd(), opts.namespace)
+    mission, outputs = generate_checked(
+        args.mission,
+        opts,
+        args.relative_to,
+        getattr(args, "substitute", None),  # a test build: substitution rules (tools/substitute.py)
+        lambda m: print_diagnostics(m.warnings),
+    )
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
         target = out_dir / out.name

@@ -132,7 +132,8 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="NAME=CPP_TYPE@HEADER",
-        help="map the port type NAME of TreeNodesModel to a C++ type held by value, declared with its "
+        help="map the port type NAME of TreeNodesModel to a C++ type held by value (default constructible "
+        "and copyable; it may own memory, as a ROS message does), declared with its "
         '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
         "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
     )
@@ -197,11 +198,12 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     from btgen.frontend import entries, enums, usertypes
     from btgen.frontend.loader import load_mission
 
-    provided = entries.load(opts.entries)
+    types = usertypes.load(opts.types)
+    provided = entries.load(opts.entries, {t.name for t in types})
     mission = load_mission(path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp)
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
-    mission = usertypes.apply(mission, usertypes.load(opts.types))
+    mission = usertypes.apply(mission, types)
     return mission
 
 

@@ -6,6 +6,8 @@ option and refused by all three without it; every other command that reads a mis
 the same options and builds the same CompileOptions from them.
 """
 
+import itertools
+import os
 import subprocess
 import sys
 
@@ -166,6 +168,66 @@ def test_validate_compile_and_check_agree(name, text, needed, tmp_path, capsys):
     capsys.readouterr()
     assert with_option == (0, 0, 0)
     assert without == (1, 1, 1)
+
+
+# The 6-line mission of issue 37: an entry of a user type the application provides. compile
+# crashed (exit 3, in the template) while validate said ok.
+USER_TYPED_ENTRY = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><Go goal="{goal}"/></BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Go"><input_port name="goal" type="Pose2D"/></Action>
+  </TreeNodesModel>
+</root>
+"""
+
+MISSIONS = {
+    "enum": ENUM_MISSION,
+    "bare": BARE_MISSION,
+    "long_string": LONG_STRING,
+    "user_type": USER_TYPE,
+    "library": USES_LIBRARY,
+    "user_typed_entry": USER_TYPED_ENTRY,
+}
+# The options these missions need or are refused with, in groups; every subset of the groups is
+# one combination. BTGEN_FULL_OPTION_MATRIX=1 adds --namespace and --btcpp 4.10.0 (four times
+# the combinations: 256 per mission).
+OPTION_GROUPS = {
+    "enum": ["--enum", "Color=RED,GREEN"],
+    "models": ["--models", "{models}", "--main-tree", "Patrol"],
+    "trees": ["--trees", "{trees}"],
+    "entry": ["--entry", "goal=Pose2D"],
+    "types": ["--type", "Pose=geo::Pose@geo/pose.hpp", "--type", "Pose2D=nav::Pose2D@nav/types.hpp"],
+    "capacities": ["--string-capacity", "16", "--queue-capacity", "8"],
+}
+if os.environ.get("BTGEN_FULL_OPTION_MATRIX"):
+    OPTION_GROUPS.update(namespace=["--namespace", "robot::missions"], btcpp=["--btcpp", "4.10.0"])
+
+
+@pytest.mark.parametrize("name", list(MISSIONS))
+def test_validate_runs_every_check_compile_runs(name, tmp_path, capsys):
+    """Over every combination of the option groups: validate and compile give the same exit
+    status and the same stderr (and neither ever exits 3)."""
+    mission = _write(tmp_path, "m.xml", MISSIONS[name])
+    models = _write(tmp_path, "models.xml", MODELS)
+    (tmp_path / "lib").mkdir()
+    _write(tmp_path / "lib", "library.xml", LIBRARY)
+    groups = list(OPTION_GROUPS)
+    verdicts = set()
+    for n in range(len(groups) + 1):
+        for chosen in itertools.combinations(groups, n):
+            options = [
+                a.replace("{models}", models).replace("{trees}", str(tmp_path / "lib"))
+                for g in chosen
+                for a in OPTION_GROUPS[g]
+            ]
+            validate = _exit(["validate", "-q", mission, *options])
+            validate_err = capsys.readouterr().err
+            compiled = _exit(["compile", mission, "-o", str(tmp_path / "out"), *options])
+            compile_err = capsys.readouterr().err
+            assert (validate, validate_err) == (compiled, compile_err), chosen
+            assert validate in (0, 1), (chosen, validate_err)
+            verdicts.add(validate)
+    assert verdicts == {0, 1}  # each mission is accepted with some options and refused with others
 
 
 def test_capacities_agree(tmp_path, capsys):

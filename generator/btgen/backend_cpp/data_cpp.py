@@ -163,4 +163,4 @@ FILTERS = dict(
     cpp_string_chunks=cpp_string_chunks,
     cpp_comment_lines=cpp_comment_lines,
 )
-TESTS = dict(numeric_kind=is_numeric)
+TESTS = dict(numeric_kind=is_numeric, queue_kind=is_queue)

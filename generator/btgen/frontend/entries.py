@@ -8,14 +8,15 @@ TREE:NAME=TYPE`` on the blackboard of every instance of BehaviorTree TREE. Both 
 create the entry, with that type and no value, when they create that blackboard; the
 generated mission has a setter for each (``provide_<member>()``), and the application sets
 it before the first tick. TYPE is a TreeNodesModel type (``int``, ``double``, ``bool``,
-``std::string``, a ``--type`` user type, ...).
+``std::string``, a ``--type`` user type, ...); a type that is neither built in nor declared with
+``--type`` (``rclcpp::Node::SharedPtr``) is an error: btgen would have to hold it as text.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import re
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, suggestion
 from btgen.lang import values
@@ -24,9 +25,11 @@ from btgen.lang.model import Mission, ProvidedEntry
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*\Z")
 
 
-def load(declarations: Sequence[str]) -> tuple[ProvidedEntry, ...]:
-    """The `--entry` declarations; UserError (at `--entry:1:column`) when one does not parse
-    or one entry is declared twice with different types."""
+def load(declarations: Sequence[str], user_types: Collection[str] = ()) -> tuple[ProvidedEntry, ...]:
+    """The `--entry` declarations; UserError (at `--entry:1:column`) when one does not parse,
+    one entry is declared twice with different types, or one has a type btgen cannot hold:
+    not built in, and not among `user_types` (the names `--type` declares, as
+    values.normalize_type gives them)."""
     out: dict[tuple[str, str], ProvidedEntry] = {}
     problems: list[Diagnostic] = []
     for text in declarations:
@@ -53,6 +56,9 @@ def load(declarations: Sequence[str]) -> tuple[ProvidedEntry, ...]:
             problems.append(Diagnostic(Loc("--entry", 1, 1), f"`{text}`: the tree before `:` is empty"))
             continue
         entry = ProvidedEntry(tree or None, key, values.normalize_type(type_text.strip()))
+        if values.is_opaque_type(entry.type) and entry.type not in user_types:
+            problems.append(Diagnostic(Loc("--entry", 1, len(head) + 2), unheld_message(key, type_text.strip())))
+            continue
         before = out.get((tree, key))
         if before is not None and before.type != entry.type:
             problems.append(
@@ -66,6 +72,17 @@ def load(declarations: Sequence[str]) -> tuple[ProvidedEntry, ...]:
     if problems:
         raise UserError(problems)
     return tuple(out.values())
+
+
+def unheld_message(key: str, type_text: str) -> str:
+    """Why an entry of a type that is neither built in nor declared cannot be provided, and what to do."""
+    name = values.normalize_type(type_text)
+    return (
+        f"btgen cannot hold entry `{key}` of type `{type_text}`: it is not built in (int, unsigned, double, "
+        f"bool, std::string, BT::NodeStatus, a queue) and no --type declares it; declare the C++ type with "
+        f"--type {name}=CPP_TYPE@HEADER (any default-constructible, copyable type: a struct, a ROS message, "
+        f"a std::shared_ptr), or give the entry a built-in type"
+    )
 
 
 def apply(mission: Mission, provided: tuple[ProvidedEntry, ...]) -> Mission:

@@ -77,6 +77,14 @@ def remap_key(value: str, port_name: str) -> str:
     return key
 
 
+def _int_width(type_text: Optional[str]) -> Optional[tuple[str, int, int]]:
+    """An integer type of another width than 32 bits: its spelling and range (PortSpec.int_width)."""
+    r = values.integer_range(type_text)
+    if r is None or r in ((values.INT_MIN, values.INT_MAX), (0, values.UNSIGNED_MAX)):
+        return None
+    return (" ".join((type_text or "").split()), r[0], r[1])
+
+
 class _Loader:
     def __init__(
         self,
@@ -461,6 +469,7 @@ class _Loader:
             return None
         type_text = p.get("type")
         type_name = values.normalize_type(type_text) if type_text is not None else "any"
+        int_width = _int_width(type_text)
         default = p.get("default")
         if p.tag == "bidirectional_port":
             self.sink.warning(
@@ -486,7 +495,7 @@ class _Loader:
                 )
             else:  # read as 4.6.2 reads it (a number's prefix), with a warning where lenient
                 self._check_literal(
-                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default
+                    src.value_loc(p, "default"), f"default of port `{name}` of `{mid}`", type_name, default, int_width
                 )
         return PortSpec(
             name,
@@ -497,6 +506,7 @@ class _Loader:
             (p.text or "").strip(),
             src.loc(p),
             default_problem=default_problem,
+            int_width=int_width,
         )
 
     # ---------------------------------------------------------------- trees
@@ -793,7 +803,7 @@ class _Loader:
             if typed and value != value.strip(" "):
                 # 4.6.2's load-time check sees braces only at both ends of the unstripped text
                 # and converts anything else (xml_parsing.cpp): ` {n}` is no int.
-                self._check_literal(attr.value_loc, what, port.type, value)
+                self._check_literal(attr.value_loc, what, port.type, value, port.int_width)
                 return attr
             self._check_key(attr, remap_key(value, attr.name), what, remap=True)
             return attr
@@ -820,22 +830,31 @@ class _Loader:
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
             return attr
-        self._check_literal(attr.value_loc, what, port.type, value)
+        self._check_literal(attr.value_loc, what, port.type, value, port.int_width)
         return attr
 
-    def _check_literal(self, loc: Loc, what: str, type_name: str, value: str) -> None:
+    def _check_literal(
+        self, loc: Loc, what: str, type_name: str, value: str, int_width: Optional[tuple[str, int, int]] = None
+    ) -> None:
         """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
         are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
-        convert at all is an error."""
+        convert at all is an error. An integer port of another width than 32 bits
+        (`int_width`) is checked against its own range, as 4.6.2's convertFromString<T> does."""
+
+        def convert(strict: bool = False) -> values.Value:
+            if int_width is not None:
+                return values.convert_integer(value, *int_width, strict=strict)
+            return values.convert_from_string(type_name, value, strict=strict)
+
         try:
-            values.convert_from_string(type_name, value)
+            convert()
         except values.ConversionError as e:
             self.sink.error(loc, f"{what}: {e}")
             return
         try:
-            values.convert_from_string(type_name, value, strict=True)
+            convert(strict=True)
         except values.ConversionError as e:
-            read = values.convert_from_string(type_name, value)
+            read = convert()
             shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
             self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
 

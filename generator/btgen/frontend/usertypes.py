@@ -10,8 +10,10 @@ NAME=CPP_TYPE@HEADER`` maps it to a C++ type instead:
 - HEADER declares it and its conversion; the generated header has ``#include "HEADER"``
   (``@<HEADER>`` gives ``#include <HEADER>``).
 
-Entries of that type hold the value itself in the static blackboard (the generated code
-static_asserts that the type is trivially copyable), leaves get typed accessors
+Entries of that type hold the value itself, in place in the mission object (constructed once,
+assigned on writes; the type may own memory, as a ROS message does: then its own copy may
+allocate, btgen's code never does; the generated code static_asserts that it is default
+constructible and copyable), leaves get typed accessors
 (``btgen::Input<T> goal()``, ``bool set_goal(const T&)``), and literals of such ports are
 converted once, when the mission object is constructed, by the user's
 ``bool convertFromString(std::string_view, T&)`` (found by argument-dependent lookup) or a
@@ -252,3 +254,28 @@ def apply(mission: Mission, types: Sequence[UserType]) -> Mission:
     if not types:
         return mission
     return dataclasses.replace(mission, user_types=tuple(types))
+
+
+def unknown_type_warnings(mission: Mission) -> tuple[Diagnostic, ...]:
+    """One warning per port type of the mission's leaves that is neither built in nor declared
+    with `--type`, at the first port declaring it (models in declaration order): every command
+    loads such ports, as BehaviorTree.CPP does, and holds their values as text (what the
+    interpreter's scripted leaves need); in compiled code robot code then reads and writes
+    text where BehaviorTree.CPP would hold the C++ type, so `validate` and `compile` say so and
+    what to do (docs/types.md)."""
+    declared = {t.name for t in mission.user_types}
+    out: dict[str, Diagnostic] = {}
+    for model in mission.used_user_models():
+        for port in model.ports:
+            name = port.type
+            if not values.is_opaque_type(name) or name in declared or name in out:
+                continue
+            loc = port.loc or model.loc or Loc(mission.path, 1, 1)
+            out[name] = Diagnostic(
+                loc,
+                f"port type `{name}` (port `{port.name}` of `{model.id}`) is not built in and no --type declares "
+                f"it: its values are text here (robot code reads and writes std::string_view), a {name} in "
+                f"BehaviorTree.CPP; to compile it as that C++ type, declare it: --type {name}=CPP_TYPE@HEADER",
+                "warning",
+            )
+    return tuple(out.values())

@@ -35,6 +35,9 @@ class PortSpec:
     # Nav2's `numeric_limits<double>::infinity()`): why it does not. `default` is then None:
     # a node leaving the port unset gets no default, as in BehaviorTree.CPP without one.
     default_problem: str = field(default="", compare=False)
+    # An integer port declared with a width other than 32 bits (`uint16`, `int64_t`): its
+    # spelling and range, which 4.6.2 checks the port's literals against (values.integer_range).
+    int_width: Optional[tuple[str, int, int]] = field(default=None, compare=False)
 
     @property
     def reads(self) -> bool:

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/dynamic.hpp"
@@ -54,8 +55,8 @@ enum class PortError : std::uint8_t {
 template <class T>
 class Input {
  public:
-  constexpr Input(T value) noexcept : value_(value), error_(PortError::kNone) {}  // NOLINT: implicit on purpose
-  constexpr Input(PortError error) noexcept : value_{}, error_(error) {}          // NOLINT
+  constexpr Input(T value) noexcept : value_(std::move(value)), error_(PortError::kNone) {}  // NOLINT: implicit
+  constexpr Input(PortError error) noexcept : value_{}, error_(error) {}                     // NOLINT
 
   [[nodiscard]] constexpr bool has_value() const noexcept { return error_ == PortError::kNone; }
   constexpr explicit operator bool() const noexcept { return has_value(); }
@@ -216,6 +217,18 @@ Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
     static_assert(is_fixed_queue<S>::value, "unknown slot type");
     return PortError::kConversion;  // a queue is no scalar
   }
+}
+
+// getInput<T> of an entry for an integer port narrower than its accessor (`uint16`,
+// `int8_t`; the accessor is std::uint32_t or std::int32_t): 4.6.2 fails the read when
+// the value does not fit the port's own type.
+template <class T>
+constexpr Input<T> within(Input<T> in, std::int64_t lo, std::int64_t hi) noexcept {
+  static_assert(std::is_same_v<T, std::int32_t> || std::is_same_v<T, std::uint32_t>, "an integer port");
+  if (in.has_value() && (static_cast<std::int64_t>(in.value()) < lo || static_cast<std::int64_t>(in.value()) > hi)) {
+    return PortError::kConversion;
+  }
+  return in;
 }
 
 // ---------------------------------------------------------------- writes

@@ -2,10 +2,17 @@
 //
 // A port type of TreeNodesModel that btgen does not know (Pose2D, ...) may be
 // mapped to a C++ type T. An entry of that type is a btgen::Slot<T>: the
-// value itself, in the mission's static blackboard, so T must be trivially
-// copyable and default constructible (the generated header checks both).
-// Leaves read it with btgen::Input<T> getters and write it with
+// value itself, held in place in the mission object (constructed once, with
+// the mission, and assigned on writes), so T must be default constructible
+// and copyable (the generated header checks both). Leaves read it with
+// btgen::Input<T> getters (a copy, as getInput<T>) and write it with
 // `bool set_x(const T&)` setters; nothing converts it on the tick path.
+//
+// btgen's own code allocates nothing for such an entry. T may own memory
+// (std::string, std::vector, a ROS message): its copy constructor and copy
+// assignment then may allocate, on writes and reads, and an exception they
+// throw ends the program (the accessors are noexcept). A trivially copyable
+// T (fixed-size members) keeps the mission free of heap allocation.
 //
 // Literals of such ports (and TreeNodesModel defaults) are converted once,
 // when the mission object is constructed, by the user's conversion, which
@@ -76,7 +83,11 @@ template <class T>
 bool convert_literal(UserLiteral<T>& lit, std::string_view text) {
   T out{};
   lit.ok = StringConverter<T>::from_string(text, out);
-  lit.value = lit.ok ? out : T{};
+  if (lit.ok) {
+    lit.value = std::move(out);
+  } else {
+    lit.value = T{};
+  }
   return lit.ok;
 }
 

@@ -807,6 +807,7 @@ class Compiler:
                         tuple(e.reads),
                         tuple(e.writes),
                         self.user_cpp(ps.type),
+                        _narrow_range(ps.int_width),
                     )
                 )
             out[model_id] = tuple(irs)
@@ -908,3 +909,12 @@ class Compiler:
             tuple(self.user_inits),
             tuple(param_reads),
         )
+
+
+def _narrow_range(int_width: Optional[tuple[str, int, int]]) -> Optional[tuple[int, int]]:
+    """The range of an integer port narrower than 32 bits (PortSpec.int_width), else None."""
+    if int_width is None:
+        return None
+    _, lo, hi = int_width
+    narrower = values.INT_MIN < lo < 0 if lo < 0 else hi < values.UNSIGNED_MAX
+    return (lo, hi) if narrower else None

@@ -175,6 +175,9 @@ class PortIR:
     reads: tuple[tuple[int, ops.PortRead], ...]  # (node index, what the getter returns there)
     writes: tuple[tuple[int, ops.PortWrite], ...]  # (node index, what the setter does there)
     user_cpp: str = ""  # a user port type (--type): its C++ spelling; the setter takes `const T&`
+    # An integer port narrower than its 32-bit accessor (`uint16`, `int8_t`): the range a value
+    # read from an entry must fit (4.6.2's getInput<T> fails outside it).
+    int_range: Optional[tuple[int, int]] = None
 
 
 @dataclass(frozen=True)
