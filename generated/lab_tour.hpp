@@ -68,16 +68,16 @@ struct Blackboard {
   // `response` on the root blackboard: first written by output port `response` of `IsYesNoUttered`
   // "IsYesNoUttered" at missions/LabTour.xml:150:41
   btgen::Slot<btgen::FixedString<128>> response{{}, 0, true, false};
-  // `exhibits` on the blackboard of SubTree IV. VisitExhibit: first written by output port `exhibits` of
+  // `exhibits` on the blackboard of SubTree IV_VisitExhibit: first written by output port `exhibits` of
   // `RetrieveListOfExhibits` "RetrieveListOfExhibits" at missions/LabTour.xml:184:43
   btgen::Slot<btgen::FixedString<128>> IV_VisitExhibit_exhibits{{}, 0, true, false};
-  // `location_id` on the blackboard of SubTree IV. VisitExhibit: created as int by port `location_id` of
+  // `location_id` on the blackboard of SubTree IV_VisitExhibit: created as int by port `location_id` of
   // `SelectExhibit` "SelectExhibit" at missions/LabTour.xml:193:67
   btgen::Slot<std::int64_t> IV_VisitExhibit_location_id{{}, 0, true, false};
-  // `location_id` on the blackboard of SubTree V. EndTour: created as int by port `location_id` of
+  // `location_id` on the blackboard of SubTree V_EndTour: created as int by port `location_id` of
   // `LookUpEntrance` "LookUpEntrance" at missions/LabTour.xml:232:38
   btgen::Slot<std::int64_t> V_EndTour_location_id{{}, 0, true, false};
-  // `location_id` on the blackboard of SubTree V. EndTour/_GoHome: created as int by port `location_id`
+  // `location_id` on the blackboard of SubTree V_EndTour/_GoHome: created as int by port `location_id`
   // of `LookUpHome` "LookUpHome" at missions/LabTour.xml:302:34
   btgen::Slot<std::int64_t> V_EndTour_GoHome_location_id{{}, 0, true, false};
 };
@@ -147,7 +147,7 @@ struct Spec {
       {btgen::NodeKind::Action, 1, 2, 0, 5u, 0, 30, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "START_OF_TREE"sv, "START_OF_TREE"sv, "missions/LabTour.xml:28:7"sv},
       {btgen::NodeKind::SubTree, 2, 3, 0, 5u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "I. DetectVisitor"sv, "missions/LabTour.xml:29:7"sv},
+       "SubTree"sv, "I_DetectVisitor"sv, "missions/LabTour.xml:29:7"sv},
       {btgen::NodeKind::Sequence, 3, 4, 2, 6u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:75:5"sv},
       {btgen::NodeKind::Fallback, 4, 5, 3, 9u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -167,7 +167,7 @@ struct Spec {
       {btgen::NodeKind::Condition, 11, 12, 10, 14u, 0, 13, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/LabTour.xml:85:9"sv},
       {btgen::NodeKind::SubTree, 12, 13, 0, 14u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "II. EngageVisitor"sv, "missions/LabTour.xml:30:7"sv},
+       "SubTree"sv, "II_EngageVisitor"sv, "missions/LabTour.xml:30:7"sv},
       {btgen::NodeKind::Sequence, 13, 14, 12, 15u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:91:5"sv},
       {btgen::NodeKind::Fallback, 14, 15, 13, 20u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -203,7 +203,7 @@ struct Spec {
       {btgen::NodeKind::Action, 29, 30, 27, 31u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:122:9"sv},
       {btgen::NodeKind::SubTree, 30, 31, 0, 31u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "III. QueryVisitorResponse"sv, "missions/LabTour.xml:34:7"sv},
+       "SubTree"sv, "III_QueryVisitorResponse"sv, "missions/LabTour.xml:34:7"sv},
       {btgen::NodeKind::Sequence, 31, 32, 30, 32u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:128:5"sv},
       {btgen::NodeKind::Fallback, 32, 33, 31, 34u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -261,7 +261,7 @@ struct Spec {
       {btgen::NodeKind::Sequence, 58, 59, 50, 58u, 2, btgen::kNoModel, 48u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Tour"sv, "missions/LabTour.xml:54:9"sv},
       {btgen::NodeKind::SubTree, 59, 60, 58, 60u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "IV. VisitExhibit"sv, "missions/LabTour.xml:58:11"sv},
+       "SubTree"sv, "IV_VisitExhibit"sv, "missions/LabTour.xml:58:11"sv},
       {btgen::NodeKind::Sequence, 60, 61, 59, 61u, 2, btgen::kNoModel, 50u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:182:5"sv},
       {btgen::NodeKind::Fallback, 61, 62, 60, 63u, 2, btgen::kNoModel, 52u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -342,7 +342,7 @@ struct Spec {
       {btgen::NodeKind::Action, 98, 99, 96, 99u, 0, 8, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:216:17"sv},
       {btgen::NodeKind::SubTree, 99, 100, 58, 99u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "V. EndTour"sv, "missions/LabTour.xml:59:11"sv},
+       "SubTree"sv, "V_EndTour"sv, "missions/LabTour.xml:59:11"sv},
       {btgen::NodeKind::Sequence, 100, 101, 99, 100u, 7, btgen::kNoModel, 78u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:226:5"sv},
       {btgen::NodeKind::Fallback, 101, 102, 100, 107u, 2, btgen::kNoModel, 80u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -588,10 +588,9 @@ struct Groot2 {
       "    <BehaviorTree ID=\"TourGuide\" _fullpath=\"\">\012"
       "        <Sequence name=\"LabTour\" _uid=\"1\">\012"
       "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
-      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
-      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
-      "_uid=\"13\"/>\012"
-      "            <SubTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. QueryVisitorResponse::31\" "
+      "            <SubTree ID=\"I_DetectVisitor\" _fullpath=\"I_DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II_EngageVisitor\" _fullpath=\"II_EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III_QueryVisitorResponse\" _fullpath=\"III_QueryVisitorResponse::31\" "
       "_uid=\"31\" response=\"{response}\"/>\012"
       "            <Fallback name=\"DeclineOrTour\" _uid=\"51\">\012"
       "                <Sequence name=\"Declined\" _uid=\"52\">\012"
@@ -608,14 +607,14 @@ struct Groot2 {
       "                    </ForceSuccess>\012"
       "                </Sequence>\012"
       "                <Sequence name=\"Tour\" _uid=\"59\">\012"
-      "                    <SubTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\" "
+      "                    <SubTree ID=\"IV_VisitExhibit\" _fullpath=\"IV_VisitExhibit::60\" "
       "_uid=\"60\"/>\012"
-      "                    <SubTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\" _uid=\"100\"/>\012"
+      "                    <SubTree ID=\"V_EndTour\" _fullpath=\"V_EndTour::100\" _uid=\"100\"/>\012"
       "                </Sequence>\012"
       "            </Fallback>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "    <BehaviorTree ID=\"I_DetectVisitor\" _fullpath=\"I_DetectVisitor::3\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
       "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
@@ -630,7 +629,7 @@ struct Groot2 {
       "            </RetryUntilSuccessful>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "    <BehaviorTree ID=\"II_EngageVisitor\" _fullpath=\"II_EngageVisitor::13\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
       "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
@@ -655,8 +654,7 @@ struct Groot2 {
       "            </Fallback>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"III. QueryVisitorResponse\" _fullpath=\"III. "
-      "QueryVisitorResponse::31\">\012"
+      "    <BehaviorTree ID=\"III_QueryVisitorResponse\" _fullpath=\"III_QueryVisitorResponse::31\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
       "                <QueryTourSpeech name=\"QueryTourSpeech\" _uid=\"34\" message=\"query_tour\"/>\012"
@@ -692,7 +690,7 @@ struct Groot2 {
       "            </Fallback>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"IV. VisitExhibit\" _fullpath=\"IV. VisitExhibit::60\">\012"
+      "    <BehaviorTree ID=\"IV_VisitExhibit\" _fullpath=\"IV_VisitExhibit::60\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"61\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"62\">\012"
       "                <RetrieveListOfExhibits name=\"RetrieveListOfExhibits\" _uid=\"63\" "
@@ -715,8 +713,9 @@ struct Groot2 {
       "message=\"follow_me\"/>\012"
       "                                <HandleFallBack name=\"HandleFallBack\" _uid=\"75\"/>\012"
       "                            </Fallback>\012"
-      "                            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
-      "VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" location_id=\"{location_id}\"/>\012"
+      "                            <SubTree ID=\"_NavigateToLocation\" "
+      "_fullpath=\"IV_VisitExhibit::60/_NavigateToLocation::76\" _uid=\"76\" "
+      "location_id=\"{location_id}\"/>\012"
       "                            <Fallback name=\"Fallback\" _uid=\"91\">\012"
       "                                <DescribeExhibitSpeech_1 name=\"DescribeExhibitSpeech_1\" "
       "_uid=\"92\" location_id=\"{location_id}\"/>\012"
@@ -738,8 +737,8 @@ struct Groot2 {
       "            </Inverter>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"IV. "
-      "VisitExhibit::60/_NavigateToLocation::76\">\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" "
+      "_fullpath=\"IV_VisitExhibit::60/_NavigateToLocation::76\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"77\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"78\">\012"
       "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"79\"/>\012"
@@ -760,7 +759,7 @@ struct Groot2 {
       "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"90\"/>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"V. EndTour\" _fullpath=\"V. EndTour::100\">\012"
+      "    <BehaviorTree ID=\"V_EndTour\" _fullpath=\"V_EndTour::100\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"101\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"102\">\012"
       "                <EndTourSpeech name=\"EndTourSpeech\" _uid=\"103\" message=\"end_of_tour\"/>\012"
@@ -771,8 +770,9 @@ struct Groot2 {
       "location_id=\"{location_id}\"/>\012"
       "                <HandleFallBack name=\"HandleFallBack\" _uid=\"107\"/>\012"
       "            </Fallback>\012"
-      "            <SubTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
-      "EndTour::100/_NavigateToLocation::108\" _uid=\"108\" location_id=\"{location_id}\"/>\012"
+      "            <SubTree ID=\"_NavigateToLocation\" "
+      "_fullpath=\"V_EndTour::100/_NavigateToLocation::108\" _uid=\"108\" "
+      "location_id=\"{location_id}\"/>\012"
       "            <Fallback name=\"Fallback\" _uid=\"123\">\012"
       "                <HereIsTheDoorSpeech name=\"HereIsTheDoorSpeech\" _uid=\"124\" "
       "message=\"here_is_the_door\"/>\012"
@@ -795,11 +795,11 @@ struct Groot2 {
       "                    <HandleFallBack name=\"HandleFallBack\" _uid=\"135\"/>\012"
       "                </Fallback>\012"
       "            </Parallel>\012"
-      "            <SubTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
+      "            <SubTree ID=\"_GoHome\" _fullpath=\"V_EndTour::100/_GoHome::136\" _uid=\"136\"/>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_NavigateToLocation\" _fullpath=\"V. "
-      "EndTour::100/_NavigateToLocation::108\">\012"
+      "    <BehaviorTree ID=\"_NavigateToLocation\" "
+      "_fullpath=\"V_EndTour::100/_NavigateToLocation::108\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"109\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"110\">\012"
       "                <DisabledOvertAttentionMode name=\"DisabledOvertAttentionMode\" _uid=\"111\"/>\012"
@@ -820,7 +820,7 @@ struct Groot2 {
       "            <IsMutualGazeDiscovered name=\"IsMutualGazeDiscovered\" _uid=\"122\"/>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V. EndTour::100/_GoHome::136\">\012"
+      "    <BehaviorTree ID=\"_GoHome\" _fullpath=\"V_EndTour::100/_GoHome::136\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"137\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"138\">\012"
       "                <LookUpHome name=\"LookUpHome\" _uid=\"139\" location_id=\"{location_id}\"/>\012"
@@ -1115,14 +1115,14 @@ struct Groot2 {
   // the SubTree's path).
   static constexpr std::array<std::string_view, 9> kBlackboards = {
       "TourGuide",
-      "I. DetectVisitor::3",
-      "II. EngageVisitor::13",
-      "III. QueryVisitorResponse::31",
-      "IV. VisitExhibit::60",
-      "IV. VisitExhibit::60/_NavigateToLocation::76",
-      "V. EndTour::100",
-      "V. EndTour::100/_NavigateToLocation::108",
-      "V. EndTour::100/_GoHome::136",
+      "I_DetectVisitor::3",
+      "II_EngageVisitor::13",
+      "III_QueryVisitorResponse::31",
+      "IV_VisitExhibit::60",
+      "IV_VisitExhibit::60/_NavigateToLocation::76",
+      "V_EndTour::100",
+      "V_EndTour::100/_NavigateToLocation::108",
+      "V_EndTour::100/_GoHome::136",
   };
   // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
   template <class Visitor>
@@ -2157,7 +2157,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x3de17453cb58590cULL;
+inline constexpr unsigned long long kGeneration = 0x2661d697ee423c5aULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -68,7 +68,7 @@ struct Blackboard {
   // `destination` on the root blackboard: first written by output port `destination` of
   // `IsDestinationUttered` "IsDestinationUttered" at missions/Reception.xml:103:50
   btgen::Slot<btgen::FixedString<128>> destination{{}, 0, true, false};
-  // `location_id` on the blackboard of SubTree IV. GiveDirections: created as int by port `location_id`
+  // `location_id` on the blackboard of SubTree IV_GiveDirections: created as int by port `location_id`
   // of `LookUpDestination` "LookUpDestination" at missions/Reception.xml:126:67
   btgen::Slot<std::int64_t> IV_GiveDirections_location_id{{}, 0, true, false};
 };
@@ -134,7 +134,7 @@ struct Spec {
       {btgen::NodeKind::Action, 1, 2, 0, 6u, 0, 11, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "START_OF_TREE"sv, "START_OF_TREE"sv, "missions/Reception.xml:30:7"sv},
       {btgen::NodeKind::SubTree, 2, 3, 0, 6u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "I. DetectVisitor"sv, "missions/Reception.xml:31:7"sv},
+       "SubTree"sv, "I_DetectVisitor"sv, "missions/Reception.xml:31:7"sv},
       {btgen::NodeKind::Sequence, 3, 4, 2, 7u, 3, btgen::kNoModel, 2u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/Reception.xml:42:5"sv},
       {btgen::NodeKind::Fallback, 4, 5, 3, 10u, 2, btgen::kNoModel, 4u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -154,7 +154,7 @@ struct Spec {
       {btgen::NodeKind::Condition, 11, 12, 10, 15u, 0, 6, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/Reception.xml:52:9"sv},
       {btgen::NodeKind::SubTree, 12, 13, 0, 15u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "II. EngageVisitor"sv, "missions/Reception.xml:32:7"sv},
+       "SubTree"sv, "II_EngageVisitor"sv, "missions/Reception.xml:32:7"sv},
       {btgen::NodeKind::Sequence, 13, 14, 12, 16u, 5, btgen::kNoModel, 10u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/Reception.xml:58:5"sv},
       {btgen::NodeKind::Fallback, 14, 15, 13, 21u, 2, btgen::kNoModel, 12u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -190,7 +190,7 @@ struct Spec {
       {btgen::NodeKind::Action, 29, 30, 27, 32u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:79:9"sv},
       {btgen::NodeKind::SubTree, 30, 31, 0, 32u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "III. QueryDestination"sv, "missions/Reception.xml:33:7"sv},
+       "SubTree"sv, "III_QueryDestination"sv, "missions/Reception.xml:33:7"sv},
       {btgen::NodeKind::Sequence, 31, 32, 30, 33u, 2, btgen::kNoModel, 22u, btgen::kNoSlot, 0, 0, 0, 0,
        "Sequence"sv, "Sequence"sv, "missions/Reception.xml:89:5"sv},
       {btgen::NodeKind::Fallback, 32, 33, 31, 35u, 2, btgen::kNoModel, 24u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -230,7 +230,7 @@ struct Spec {
       {btgen::NodeKind::Action, 49, 50, 45, 51u, 0, 18, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "PressDestinationDialogue"sv, "PressDestinationDialogue"sv, "missions/Reception.xml:113:13"sv},
       {btgen::NodeKind::SubTree, 50, 51, 0, 51u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "IV. GiveDirections"sv, "missions/Reception.xml:34:7"sv},
+       "SubTree"sv, "IV_GiveDirections"sv, "missions/Reception.xml:34:7"sv},
       {btgen::NodeKind::IfThenElse, 51, 52, 50, 52u, 3, btgen::kNoModel, 42u, btgen::kNoSlot, 0, 0, 0, 0,
        "IfThenElse"sv, "KnownPlace"sv, "missions/Reception.xml:125:5"sv},
       {btgen::NodeKind::Action, 52, 53, 51, 55u, 0, 19, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
@@ -264,7 +264,7 @@ struct Spec {
       {btgen::NodeKind::Action, 66, 67, 64, 67u, 0, 3, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
        "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:144:11"sv},
       {btgen::NodeKind::SubTree, 67, 68, 0, 67u, 1, btgen::kNoModel, btgen::kNoSlot, btgen::kNoSlot, 0, 0, 0, 0,
-       "SubTree"sv, "V. Farewell"sv, "missions/Reception.xml:35:7"sv},
+       "SubTree"sv, "V_Farewell"sv, "missions/Reception.xml:35:7"sv},
       {btgen::NodeKind::Parallel, 68, 69, 67, 68u, 2, btgen::kNoModel, 53u, btgen::kNoSlot, 0, 2, 1, 0,
        "Parallel"sv, "WaveAndSayGoodbye"sv, "missions/Reception.xml:153:5"sv},
       {btgen::NodeKind::Fallback, 69, 70, 68, 70u, 2, btgen::kNoModel, 55u, btgen::kNoSlot, 0, 0, 0, 0,
@@ -407,17 +407,16 @@ struct Groot2 {
       "    <BehaviorTree ID=\"ReceptionGuide\" _fullpath=\"\">\012"
       "        <Sequence name=\"Reception\" _uid=\"1\">\012"
       "            <START_OF_TREE name=\"START_OF_TREE\" _uid=\"2\"/>\012"
-      "            <SubTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\" _uid=\"3\"/>\012"
-      "            <SubTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\" "
-      "_uid=\"13\"/>\012"
-      "            <SubTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\" "
+      "            <SubTree ID=\"I_DetectVisitor\" _fullpath=\"I_DetectVisitor::3\" _uid=\"3\"/>\012"
+      "            <SubTree ID=\"II_EngageVisitor\" _fullpath=\"II_EngageVisitor::13\" _uid=\"13\"/>\012"
+      "            <SubTree ID=\"III_QueryDestination\" _fullpath=\"III_QueryDestination::31\" "
       "_uid=\"31\" destination=\"{destination}\"/>\012"
-      "            <SubTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\" _uid=\"51\" "
+      "            <SubTree ID=\"IV_GiveDirections\" _fullpath=\"IV_GiveDirections::51\" _uid=\"51\" "
       "destination=\"{destination}\"/>\012"
-      "            <SubTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\" _uid=\"68\"/>\012"
+      "            <SubTree ID=\"V_Farewell\" _fullpath=\"V_Farewell::68\" _uid=\"68\"/>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"I. DetectVisitor\" _fullpath=\"I. DetectVisitor::3\">\012"
+      "    <BehaviorTree ID=\"I_DetectVisitor\" _fullpath=\"I_DetectVisitor::3\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"4\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"5\">\012"
       "                <EnableAnimateBehavior name=\"EnableAnimateBehavior\" _uid=\"6\"/>\012"
@@ -432,7 +431,7 @@ struct Groot2 {
       "            </RetryUntilSuccessful>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"II. EngageVisitor\" _fullpath=\"II. EngageVisitor::13\">\012"
+      "    <BehaviorTree ID=\"II_EngageVisitor\" _fullpath=\"II_EngageVisitor::13\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"14\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"15\">\012"
       "                <Sequence name=\"WelcomeGestureWithoutAnimation\" _uid=\"16\">\012"
@@ -458,7 +457,7 @@ struct Groot2 {
       "            </Fallback>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"III. QueryDestination\" _fullpath=\"III. QueryDestination::31\">\012"
+      "    <BehaviorTree ID=\"III_QueryDestination\" _fullpath=\"III_QueryDestination::31\">\012"
       "        <Sequence name=\"Sequence\" _uid=\"32\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"33\">\012"
       "                <QueryDestinationSpeech name=\"QueryDestinationSpeech\" _uid=\"34\" "
@@ -495,7 +494,7 @@ struct Groot2 {
       "            </Fallback>\012"
       "        </Sequence>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"IV. GiveDirections\" _fullpath=\"IV. GiveDirections::51\">\012"
+      "    <BehaviorTree ID=\"IV_GiveDirections\" _fullpath=\"IV_GiveDirections::51\">\012"
       "        <IfThenElse name=\"KnownPlace\" _uid=\"52\">\012"
       "            <LookUpDestination name=\"LookUpDestination\" _uid=\"53\" "
       "destination=\"{destination}\" location_id=\"{location_id}\"/>\012"
@@ -525,7 +524,7 @@ struct Groot2 {
       "            </ForceSuccess>\012"
       "        </IfThenElse>\012"
       "    </BehaviorTree>\012"
-      "    <BehaviorTree ID=\"V. Farewell\" _fullpath=\"V. Farewell::68\">\012"
+      "    <BehaviorTree ID=\"V_Farewell\" _fullpath=\"V_Farewell::68\">\012"
       "        <Parallel name=\"WaveAndSayGoodbye\" _uid=\"69\" success_count=\"2\" "
       "failure_count=\"1\">\012"
       "            <Fallback name=\"Fallback\" _uid=\"70\">\012"
@@ -774,11 +773,11 @@ struct Groot2 {
   // the SubTree's path).
   static constexpr std::array<std::string_view, 6> kBlackboards = {
       "ReceptionGuide",
-      "I. DetectVisitor::3",
-      "II. EngageVisitor::13",
-      "III. QueryDestination::31",
-      "IV. GiveDirections::51",
-      "V. Farewell::68",
+      "I_DetectVisitor::3",
+      "II_EngageVisitor::13",
+      "III_QueryDestination::31",
+      "IV_GiveDirections::51",
+      "V_Farewell::68",
   };
   // Calls `visit(blackboard index, key, slot)` for every entry, by blackboard, keys sorted.
   template <class Visitor>
@@ -1497,7 +1496,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x91fdf7aa1de04b29ULL;
+inline constexpr unsigned long long kGeneration = 0x0a866bcee01c903cULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

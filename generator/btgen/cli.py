@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from typing import Callable
 
 from btgen.cmdline import Parser
-from btgen.diagnostics import InternalError, UserError, print_diagnostics
+from btgen.diagnostics import InternalError, UserError, new_run, print_diagnostics
 from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
@@ -37,7 +37,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     for path in args.missions:
         try:
             mission = pipeline.load(path, opts)
-            print_diagnostics(mission.warnings)
+            if not args.quiet:
+                print_diagnostics(mission.warnings)
             # What `btgen compile` checks besides (the data side: blackboard entries, port and
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
             lower(mission, opts.data)
@@ -160,7 +161,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
     v.add_argument("missions", nargs="+", metavar="MISSION.xml")
-    v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
+    v.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="print errors only: nothing for a valid mission, not even its warnings",
+    )
     add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
 
@@ -324,6 +330,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    new_run()
     if argv[:1] == ["build-info"]:  # argparse's REMAINDER would not pass on `--deps ...`
         from btgen.compiler import main as build_info
 
