@@ -17,9 +17,9 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-import sys
 import tempfile
 
+from btgen import cmdline
 from btgen.backend_cpp.naming import namespace_name
 
 MISSION = """<?xml version="1.0" encoding="UTF-8"?>
@@ -148,10 +148,10 @@ int main() {{
 }}
 """
 
-README = """# {name}
+README = """# {title}
 
 A robot project made by `btgen init`: the mission in `mission/` (edit it in Groot2), the
-robot's code in `src/main.cpp`.
+robot's code in `src/main.cpp`. Its CMake project, executable and C++ namespace are `{name}`.
 
     btgen validate mission/mission.xml --models mission/models.xml
     btgen run mission/mission.xml --models mission/models.xml --scenario mission/mission.scenario
@@ -166,10 +166,10 @@ CMake finds btgen from the active virtual environment (its `bin/` on `PATH`); ot
 GITIGNORE = "/build/\n"
 
 
-def project_files(name: str) -> dict[str, str]:
+def project_files(name: str, title: str = "") -> dict[str, str]:
     return {
         "CMakeLists.txt": CMAKE.format(name=name),
-        "README.md": README.format(name=name),
+        "README.md": README.format(name=name, title=title or name),
         ".gitignore": GITIGNORE,
         "mission/mission.xml": MISSION.format(),
         "mission/models.xml": MODELS,
@@ -182,18 +182,19 @@ def init_command(args) -> int:
     target = os.path.normpath(args.directory)
     if os.path.exists(target) and (not os.path.isdir(target) or os.listdir(target)):
         what = "is not a folder" if not os.path.isdir(target) else "is not empty"
-        print(f"btgen: error: {args.directory} {what}: `btgen init` writes a new project", file=sys.stderr)
-        return 1
-    name = namespace_name(args.name or os.path.basename(os.path.abspath(target)))
+        raise cmdline.error(args, args.directory, f"{args.directory} {what}: `btgen init` writes a new project")
+    title = args.name or os.path.basename(os.path.abspath(target))
+    name = namespace_name(title)
     parent = os.path.dirname(os.path.abspath(target))
     try:
         os.makedirs(parent, exist_ok=True)
         work = tempfile.mkdtemp(prefix=".btgen-init-", dir=parent)
     except OSError as e:
-        print(f"btgen: error: {args.directory}: cannot create the project: {e.strerror or e}", file=sys.stderr)
-        return 1
+        raise cmdline.error(
+            args, args.directory, f"{args.directory}: cannot create the project: {e.strerror or e}"
+        ) from None
     try:
-        for rel, text in project_files(name).items():
+        for rel, text in project_files(name, title).items():
             path = os.path.join(work, rel)
             os.makedirs(os.path.dirname(path), exist_ok=True)
             with open(path, "w", encoding="utf-8") as f:
@@ -205,7 +206,9 @@ def init_command(args) -> int:
     except OSError as e:
         with contextlib.suppress(OSError):
             shutil.rmtree(work)
-        print(f"btgen: error: {args.directory}: cannot create the project: {e.strerror or e}", file=sys.stderr)
-        return 1
-    print(f"{args.directory}: a btgen project `{name}` (see {os.path.join(args.directory, 'README.md')})")
+        raise cmdline.error(
+            args, args.directory, f"{args.directory}: cannot create the project: {e.strerror or e}"
+        ) from None
+    readme = os.path.join(args.directory, "README.md")
+    print(f"btgen init: wrote the project `{name}` into {args.directory} (next: read {readme})")
     return 0
