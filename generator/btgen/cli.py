@@ -137,6 +137,12 @@ def _cmd_models(args: argparse.Namespace) -> int:
     return models_command(args)
 
 
+SYNC_HELP = (
+    "an Action whose leaves implement it synchronously (a `tick()` hook, BehaviorTree.CPP's "
+    "SyncActionNode): it never returns RUNNING, so RUNNING is no goal for it (repeatable)"
+)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -211,6 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
     )
     e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     e.set_defaults(func=_cmd_explore)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
@@ -220,7 +227,10 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--table", action="store_true", help="one line per node: ticked, statuses seen, missing")
     cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
     cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
-    cv.add_argument("--min", type=float, metavar="PCT", help="exit 1 when node coverage is below PCT percent")
+    cv.add_argument(
+        "--min", type=float, metavar="PCT", help="exit 1, saying so, when node coverage is below PCT percent"
+    )
+    cv.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     cv.set_defaults(func=_cmd_cover)
 
     sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")

@@ -199,7 +199,8 @@ class _Cursor:
     def __init__(self, run: _Run, node: TreeNode) -> None:
         self.run = run
         self.node = node
-        self.condition = isinstance(node, iactions.ScriptedCondition)
+        # a Condition, or an Action implemented synchronously (--sync): SUCCESS or FAILURE only
+        self.condition = isinstance(node, iactions.ScriptedCondition) or node.reg_id in run.ex.sync
 
     def next(self) -> int:
         return self.run.pick(self.node, self.condition)
@@ -217,8 +218,10 @@ class Explorer:
         properties: tuple[Property, ...] = (),
         possible: Optional[dict[int, set[int]]] = None,
         merge: bool = True,
+        sync: frozenset[str] = frozenset(),
     ) -> None:
         self.merge = merge
+        self.sync = sync
         self.max_visits = 0
         self.max_hooks = 0
         self.mission = mission
@@ -497,6 +500,21 @@ def scenario_text(path: Path, clock_ms: int, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
+def sync_actions(mission: Mission, args) -> frozenset[str]:
+    """The IDs of `--sync`: user Actions implemented synchronously (a `tick()` hook, like
+    BehaviorTree.CPP's SyncActionNode), which never return RUNNING; each must be one."""
+    from btgen.diagnostics import did_you_mean
+
+    wanted = tuple(getattr(args, "sync", None) or ())
+    actions = {m.id for m in mission.models if m.kind == "Action"}
+    for name in wanted:
+        if name not in actions:
+            guess = did_you_mean(name, actions)
+            hint = f" (did you mean `{guess}`?)" if guess else ""
+            raise cmdline.error(args, name, f"--sync {name}: the mission declares no Action `{name}`{hint}")
+    return frozenset(wanted)
+
+
 def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     """The statuses `btgen analyze` finds possible per node (None when the mission does not lower)."""
     from btgen import pipeline
@@ -509,8 +527,13 @@ def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     except UserError:
         return None
     result = analyze_program(mission, program, options)
+    sync = sync_actions(mission, args)
     return {
-        i: ({BY_NAME[s] for s in result.outcomes[i]} if result.reachable[i] else set())
+        i: (
+            {BY_NAME[s] for s in result.outcomes[i] if not (s == "RUNNING" and program.nodes[i].id in sync)}
+            if result.reachable[i]
+            else set()
+        )
         for i in range(len(program.nodes))
     }
 
@@ -530,7 +553,15 @@ def explore_command(args) -> int:
     possible = _possible(mission, args)
     try:
         ex = Explorer(
-            mission, args.ticks, args.depth, args.clock_ms, args.max_states, props, possible, not args.no_merge
+            mission,
+            args.ticks,
+            args.depth,
+            args.clock_ms,
+            args.max_states,
+            props,
+            possible,
+            not args.no_merge,
+            sync_actions(mission, args),
         )
     except ValueError as e:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
@@ -608,6 +639,8 @@ def explore_command(args) -> int:
         "covered": len(result.covered),
         "node_goals": sum(1 for g in result.goals if g[0] == "node"),
         "nodes_covered": sum(1 for g in result.covered if g[0] == "node"),
+        "outcome_goals": sum(1 for g in result.goals if g[0] == "outcome"),
+        "outcomes_covered": sum(1 for g in result.covered if g[0] == "outcome"),
         "scenarios": len(result.paths),
         "files": files,
         "max_nodes_visited_per_tick": result.max_visits,
@@ -624,15 +657,16 @@ def explore_command(args) -> int:
         json.dump(report, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return status
-    pct = 100.0 * len(result.covered) / len(result.goals) if result.goals else 100.0
+    from btgen.tools.cover import coverage_lines
+
     print(f"{args.mission}:")
     print(
         f"  runs {result.runs}, states {result.states}, {result.seconds:.2f} s ({report['states_per_second']} states/s)"
     )
-    print(
-        f"  coverage: {report['nodes_covered']}/{report['node_goals']} nodes, "
-        f"{len(result.covered)}/{len(result.goals)} goals (nodes and outcomes) = {pct:.1f}%"
-    )
+    for line in coverage_lines(
+        report["nodes_covered"], report["node_goals"], report["outcomes_covered"], report["outcome_goals"]
+    ):
+        print(f"  {line}")
     print(f"  scenarios: {len(result.paths)}" + (f" written to {args.output_dir}" if args.output_dir else ""))
     print(f"  most per tick seen: {result.max_visits} nodes visited, {result.max_hooks} leaf hooks")
     for line in impossible:
