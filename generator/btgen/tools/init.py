@@ -5,7 +5,8 @@
 DIR/ gets a mission (mission/mission.xml, as Groot2 saves one, without models), its node
 models in a file of their own (mission/models.xml), a scenario for `btgen run`, the leaves in
 C++ with every hook the generated code calls (src/main.cpp: `check` for a Condition,
-`onStart`/`onRunning`/`onHalted` for an Action, the port accessors), a CMakeLists.txt that finds
+`onStart`/`onRunning`/`onHalted` for an Action that takes time, `tick` for one that finishes in
+the call, the port accessors), a CMakeLists.txt that finds
 the installed btgen (find_package, btgen_add_mission) and a README that says what to run. DIR
 must not exist, or be empty; the files appear all at once (written in a sibling folder, then
 renamed), never half a project. NAME (default: DIR's name) becomes the CMake project, the
@@ -103,9 +104,10 @@ struct Leaves {{
   // A Condition answers in one call: SUCCESS or FAILURE, never RUNNING.
   Status check(leaf::BatteryOk&, const NodeInfo&) {{ return Status::SUCCESS; }}
 
-  // An Action: onStart when it is ticked while idle, onRunning while it is RUNNING, onHalted
-  // when its parent stops it. Ports are typed accessors: node.goal() gives the input (empty
-  // when it cannot be read), node.set_arrived_at(value) writes the output.
+  // An Action that takes time (BehaviorTree.CPP's StatefulActionNode): onStart when it is
+  // ticked while idle, onRunning while it is RUNNING, onHalted when its parent stops it.
+  // Ports are typed accessors: node.goal() gives the input (empty when it cannot be read),
+  // node.set_arrived_at(value) writes the output.
   Status onStart(leaf::MoveTo& node, const NodeInfo& info) {{
     const auto goal = node.goal();
     if (!goal) return Status::FAILURE;
@@ -122,14 +124,14 @@ struct Leaves {{
   }}
   void onHalted(leaf::MoveTo&, const NodeInfo&) {{ std::printf("{name}: stopped driving\\n"); }}
 
-  Status onStart(leaf::Say& node, const NodeInfo&) {{
+  // An Action that finishes in the call (BehaviorTree.CPP's SyncActionNode): tick() alone,
+  // SUCCESS or FAILURE, called each time the node is ticked.
+  Status tick(leaf::Say& node, const NodeInfo&) {{
     const auto message = node.message();
     if (!message) return Status::FAILURE;
     std::printf("{name}: says \\"arrived at %s\\"\\n", std::string(*message).c_str());
     return Status::SUCCESS;
   }}
-  Status onRunning(leaf::Say&, const NodeInfo&) {{ return Status::SUCCESS; }}
-  void onHalted(leaf::Say&, const NodeInfo&) {{}}
 }};
 
 }}  // namespace
