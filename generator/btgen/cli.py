@@ -43,6 +43,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             # entry types, scripts, capacities; lowering): validate rejects all it rejects.
             lower(mission, opts.data)
             if not args.quiet:
+                from btgen.tools.analyze import unwritten_script_reads
+
+                print_diagnostics(unwritten_script_reads(mission, opts.data))
                 trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
                 print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")
         except UserError as e:

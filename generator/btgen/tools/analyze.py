@@ -144,6 +144,7 @@ class _Data:
         self.reads: dict[int, list[tuple[int, Loc, Optional[str]]]] = {}
         self.writes: dict[int, list[tuple[int, Loc]]] = {}
         self.unsets: set[int] = set()
+        self.script_reads: dict[int, list[tuple[int, Loc]]] = {}  # the reads of scripts alone
         self.entry_key: dict[int, str] = {}
         self.entries: dict[int, bbmod.Entry] = {}
         for inst in self.insts:
@@ -177,6 +178,9 @@ class _Data:
         for name in sc.variables_read(script):
             if name not in self.enums:
                 self._read(inst, name, attr.value_loc, None)
+                e = self.entry(inst.bb, name)
+                if e is not None:
+                    self.script_reads.setdefault(id(e), []).append((inst.index, attr.value_loc))
         for name in sc.variables_written(script):
             self._write(inst, name, attr.value_loc)
 
@@ -697,6 +701,34 @@ class _Analyzer:
                 names.append(self.p.nodes[j].name)
             j = self.p.nodes[j].parent
         return "/".join(reversed(names))
+
+
+# ====================================================================== validate's data check
+def unwritten_script_reads(mission: Mission, options: records.DataOptions) -> list[Diagnostic]:
+    """A warning for each blackboard entry a script reads that nothing writes: no node, no
+    literal, not the application (--entry). The script fails when it runs (the entry does not
+    exist), so `validate` says so; most often an `--entry` / CMake ENTRIES is missing."""
+    data = _Data(mission, options)
+    out = []
+    for eid, reads in data.script_reads.items():
+        entry = data.entries[eid]
+        if entry.value is not None or eid in data.provided or data.writes.get(eid):
+            continue
+        index, loc = min(reads, key=lambda r: (r[1].line, r[1].col, r[0]))
+        key = data.entry_key.get(eid, "?")
+        node = data.insts[index].node
+        label = f"`{node.id}`" + (f' "{node.name}"' if node.name and node.name != node.id else "")
+        name = key.rsplit("/", 1)[-1].lstrip("@")
+        out.append(
+            Diagnostic(
+                loc,
+                f"the script of {label} reads the blackboard entry `{key}`, which nothing writes: it fails "
+                f"when it runs unless the application sets the entry (`--entry {name}=TYPE`, CMake "
+                f"`ENTRIES {name}=TYPE`)",
+                "warning",
+            )
+        )
+    return out
 
 
 # ====================================================================== the checks
