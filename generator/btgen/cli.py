@@ -220,6 +220,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
     )
     e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.add_argument(
+        "--keep-going",
+        action="store_true",
+        help="go on after a property's first violation (default: stop there; its counterexample is printed)",
+    )
     e.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     e.set_defaults(func=_cmd_explore)
 
