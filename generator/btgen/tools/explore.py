@@ -11,9 +11,9 @@ node's members, the blackboards, the clock) is saved at each tick start, and a
 plan is played on from the last tick start it shares with the plan before it
 (depth first, that is most of it), restored there; building an interpreter per
 run, or replaying from tick 1, gives the same search six times slower
-(`test_explore.py` compares them; `bench/explore_speed.py` measures). Scripted leaves share the results of their name, as
-scenario files do, so every plan is a scenario file: the statuses each leaf name
-returned, in order.
+(`test_explore.py` compares them; `bench/explore_speed.py` measures).
+Scripted leaves share the results of their name, as scenario files do, so
+every plan is a scenario file: the statuses each leaf name returned, in order.
 
 Repeats are cut by a state hash taken at every branch point: each node's status
 and members (counters, indices, flags), the blackboard values (update counters
