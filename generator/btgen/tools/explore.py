@@ -232,16 +232,20 @@ class _Cursor:
 _IMMUTABLE = frozenset({int, str, bool, float, type(None), tuple, frozenset})
 
 
-def _copied(v):
+def _copied(v, memo: dict):
     """A value of the interpreter's state, copied when it is mutated in place (a Parallel's set
-    of completed children, a Loop's queue)."""
+    of completed children, a Loop's queue). One object held in two places (a queue a Loop pops
+    that is also an entry's value, an entry copied into another) is copied once (`memo`), so
+    the copies are shared as the originals were."""
     if type(v) in _IMMUTABLE:
         return v
-    if isinstance(v, values.Queue):
-        return values.Queue(v.element_type, v)
-    if isinstance(v, (set, list, dict)):
-        return type(v)(v)
-    return v
+    if not isinstance(v, (values.Queue, set, list, dict)):
+        return v
+    c = memo.get(id(v))
+    if c is None:
+        c = values.Queue(v.element_type, v) if isinstance(v, values.Queue) else type(v)(v)
+        memo[id(v)] = c
+    return c
 
 
 _UNSET = object()
@@ -345,19 +349,21 @@ class Explorer:
         """(per node: its state slots' values, and whether any needs copying or is unset),
         the blackboards' entries, the clock. Most values are ints and strings: restoring
         them is one setattr each, done by map() (_restore)."""
+        memo: dict = {}
         nodes = []
         for n, names in self._state_slots:
             saved = tuple(getattr(n, s, _UNSET) for s in names)
             plain = all(type(v) in _IMMUTABLE for v in saved)
-            nodes.append((n, names, saved if plain else tuple(_copied(v) for v in saved), plain))
+            nodes.append((n, names, saved if plain else tuple(_copied(v, memo) for v in saved), plain))
         bbs = tuple(
-            tuple((k, e, e.type_name, _copied(e.value), e.sequence_id) for k, e in bb._storage.items())
+            tuple((k, e, e.type_name, _copied(e.value, memo), e.sequence_id) for k, e in bb._storage.items())
             for bb in self._bbs
         )
         return tuple(nodes), bbs, self.interp.rt.now_ms
 
     def _restore(self, state: tuple) -> None:
         nodes, bbs, now = state
+        memo: dict = {}
         for node, names, saved, plain in nodes:
             if plain:
                 deque(map(setattr, repeat(node, len(names)), names, saved), 0)
@@ -367,12 +373,12 @@ class Explorer:
                     if hasattr(node, name):
                         delattr(node, name)
                 else:
-                    setattr(node, name, _copied(v))
+                    setattr(node, name, _copied(v, memo))
         for bb, entries in zip(self._bbs, bbs):
             storage = bb._storage
             storage.clear()
             for k, e, type_name, value, seq in entries:
-                e.type_name, e.value, e.sequence_id = type_name, _copied(value), seq
+                e.type_name, e.value, e.sequence_id = type_name, _copied(value, memo), seq
                 storage[k] = e
         self.interp.rt.now_ms = now
         self.interp.rt.buf.clear()
