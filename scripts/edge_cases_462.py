@@ -4,7 +4,7 @@
 docs/btcpp-4.6.2-edges.md), with their scenarios and INDEX.md.
 
     python scripts/edge_cases_462.py            # (re)writes the .xml, .scenario and INDEX.md
-    python scripts/record_conformance.py /work/oracle462/bin/harness tests/conformance/edges-4.6.2
+    python scripts/record_conformance.py ORACLE_462_PREFIX/bin/harness tests/conformance/edges-4.6.2
 
 The traces (or the library's refusals) are recorded on the real BehaviorTree.CPP 4.6.2
 by the second command and committed; this script never writes them.

@@ -5,8 +5,9 @@
 
 For every DIR/<stem>.xml with a <stem>.scenario: <stem>.trace when the library
 runs it, else <stem>.refused holding the library's message (it refuses the
-file, or throws while ticking). The harness is ../shared/oracle's; see
-/work/shared/oracle/README.md for how it is built.
+file, or throws while ticking). HARNESS is the `harness` program of an oracle
+build of BehaviorTree.CPP (`<prefix>/bin/harness`): the project's shared oracle
+folder beside the checkout (`../shared/oracle/README.md`) says how it is built.
 """
 
 from __future__ import annotations

@@ -3,12 +3,48 @@
 # the latter also under AddressSanitizer + UBSan, and the libFuzzer targets
 # for a bounded time (clang: BTGEN_WITH_CLANG=1, on by default here; set it
 # to 0 to skip them on a machine without clang). Installs what it needs.
+# This is what CI runs.
+#
+#   bash scripts/test.sh --quick
+#
+# is a contributor's check in minutes: code style, the shipped missions, and pytest without
+# the tests marked slow (random differential runs, whole corpora built as C++, the package),
+# sanitize (ASan/UBSan builds) and qemu (the Cortex-M images); no ctest, no ROS 1, no
+# libFuzzer, and nothing installed but the Python environment (markers: tests/python/conftest.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-export BTGEN_WITH_CLANG=${BTGEN_WITH_CLANG:-1}
+quick=0
+if [ "${1:-}" = "--quick" ]; then
+  quick=1
+  shift
+fi
+if [ $# -gt 0 ]; then
+  echo "usage: bash scripts/test.sh [--quick]" >&2
+  exit 2
+fi
+if [ "$quick" = 1 ]; then
+  export BTGEN_WITH_CLANG=${BTGEN_WITH_CLANG:-0}
+else
+  export BTGEN_WITH_CLANG=${BTGEN_WITH_CLANG:-1}
+fi
 bash scripts/setup.sh
 export PATH="$PWD/.venv/bin:$PATH"
 jobs=$(nproc 2>/dev/null || echo 2)
+
+if [ "$quick" = 1 ]; then
+  start=$(date +%s)
+  echo "== code style: ruff, mypy, clang-format"
+  ruff check .
+  ruff format --check .
+  mypy
+  bash scripts/format_cpp.sh --check
+  echo "== validate shipped missions"
+  btgen validate -q missions/*.xml
+  echo "== Python tests, quick: -m \"not slow and not sanitize and not qemu\""
+  pytest -q -p no:cacheprovider --durations=15 -m "not slow and not sanitize and not qemu"
+  echo "== quick path done in $(($(date +%s) - start)) s (CI runs bash scripts/test.sh: everything)"
+  exit 0
+fi
 
 echo "== code style: ruff, mypy, clang-format (configuration: pyproject.toml, .clang-format)"
 ruff check .

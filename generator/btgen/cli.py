@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from typing import Callable
 
 from btgen.cmdline import Parser
-from btgen.diagnostics import InternalError, UserError, print_diagnostics
+from btgen.diagnostics import InternalError, UserError, new_run, print_diagnostics
 from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
@@ -39,8 +39,13 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             # Every step of `btgen compile` but writing (the data side: blackboard entries, port
             # and entry types, scripts, capacities; lowering; rendering): validate rejects all
             # it rejects.
-            mission, _ = generate_checked(path, opts, loaded=lambda m: print_diagnostics(m.warnings))
+            mission, _ = generate_checked(
+                path, opts, loaded=lambda m: None if args.quiet else print_diagnostics(m.warnings)
+            )
             if not args.quiet:
+                from btgen.tools.analyze import unwritten_script_reads
+
+                print_diagnostics(unwritten_script_reads(mission, opts.data))
                 trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
                 print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")
         except UserError as e:
@@ -135,6 +140,12 @@ def _cmd_models(args: argparse.Namespace) -> int:
     return models_command(args)
 
 
+SYNC_HELP = (
+    "an Action whose leaves implement it synchronously (a `tick()` hook, BehaviorTree.CPP's "
+    "SyncActionNode): it never returns RUNNING, so RUNNING is no goal for it (repeatable)"
+)
+
+
 def _count(text: str) -> int:
     try:
         value = int(text)
@@ -158,8 +169,13 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
 
     v = sub.add_parser("validate", help="check missions; print every problem as path:line:col")
-    v.add_argument("missions", nargs="+", metavar="MISSION.xml")
-    v.add_argument("-q", "--quiet", action="store_true", help="print nothing for valid missions")
+    v.add_argument("missions", nargs="+", metavar="MISSION.xml", help="the missions to check")
+    v.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="print errors only: nothing for a valid mission, not even its warnings",
+    )
     add_mission_options(v)
     v.set_defaults(func=_cmd_validate)
 
@@ -167,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
         "analyze",
         help="what a mission can never do, the worst case of a tick, blackboard and reactive checks",
     )
-    a.add_argument("missions", nargs="+", metavar="MISSION.xml")
+    a.add_argument("missions", nargs="+", metavar="MISSION.xml", help="the missions to analyze")
     add_mission_options(a)
     a.add_argument("--json", action="store_true", help="print the findings and bounds as JSON")
     a.add_argument("--werror", action="store_true", help="exit 1 when there is any finding")
@@ -180,7 +196,7 @@ def build_parser() -> argparse.ArgumentParser:
         "explore",
         help="explore every leaf outcome up to a bound; write scenarios reaching full coverage; check properties",
     )
-    e.add_argument("mission", metavar="MISSION.xml")
+    e.add_argument("mission", metavar="MISSION.xml", help="the mission to explore")
     add_mission_options(e)
     e.add_argument("--ticks", type=_count, default=8, metavar="N", help="most root ticks of a run (default 8)")
     e.add_argument("--depth", type=_count, default=200, metavar="N", help="most leaf results in a run (default 200)")
@@ -204,35 +220,55 @@ def build_parser() -> argparse.ArgumentParser:
         help="do not cut repeated states: every path (slower; the most per tick seen is then exact)",
     )
     e.add_argument("--json", action="store_true", help="print the report as JSON")
+    e.add_argument(
+        "--keep-going",
+        action="store_true",
+        help="go on after a property's first violation (default: stop there; its counterexample is printed)",
+    )
+    e.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     e.set_defaults(func=_cmd_explore)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
-    cv.add_argument("mission", metavar="MISSION.xml")
+    cv.add_argument("mission", metavar="MISSION.xml", help="the mission the runs ran")
     cv.add_argument("runs", nargs="+", metavar="RUN", help="FILE.scenario, a trace (`btgen run` output) or FILE.btlog")
     add_mission_options(cv)
     cv.add_argument("--table", action="store_true", help="one line per node: ticked, statuses seen, missing")
     cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
     cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
-    cv.add_argument("--min", type=float, metavar="PCT", help="exit 1 when node coverage is below PCT percent")
+    cv.add_argument(
+        "--min", type=float, metavar="PCT", help="exit 1, saying so, when node coverage is below PCT percent"
+    )
+    cv.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     cv.set_defaults(func=_cmd_cover)
 
     sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")
-    sl.add_argument("mission", metavar="MISSION.xml")
-    sl.add_argument("log", metavar="RUN.btlog")
+    sl.add_argument("mission", metavar="MISSION.xml", help="the mission the log recorded")
+    sl.add_argument("log", metavar="RUN.btlog", help="a Groot2 log (FileLogger2) of a run of the mission")
     sl.add_argument("-o", "--output", metavar="FILE.scenario", help="write it there (default: stdout)")
     sl.add_argument("--clock-ms", type=int, default=0, metavar="MS", help="clock_ms of the scenario (default 0)")
-    add_mission_options(sl)
+    add_mission_options(sl, capacities=False)
     sl.set_defaults(func=_cmd_scenario_from_log)
 
     x = sub.add_parser("xsd", help="print the XSD of a mission (its nodes and ports) for editors")
-    x.add_argument("mission", metavar="MISSION.xml")
-    add_mission_options(x)
+    x.add_argument("mission", metavar="MISSION.xml", help="the mission whose nodes and ports the XSD lists")
+    add_mission_options(x, capacities=False)
     x.set_defaults(func=_cmd_xsd)
 
     r = sub.add_parser("run", help="run a mission with scripted leaves and print its status trace")
-    r.add_argument("mission", metavar="MISSION.xml")
-    r.add_argument("--scenario", required=True, metavar="FILE.scenario")
-    r.add_argument("--engine", choices=("interp", "cpp"), default="interp")
+    r.add_argument("mission", metavar="MISSION.xml", help="the mission to run")
+    r.add_argument(
+        "--scenario",
+        required=True,
+        metavar="FILE.scenario",
+        help="what each leaf returns, tick by tick (format: tests/conformance/FORMAT.md)",
+    )
+    r.add_argument(
+        "--engine",
+        choices=("interp", "cpp"),
+        default="interp",
+        metavar="ENGINE",
+        help="interp: the reference interpreter (default); cpp: build the generated C++ and run it",
+    )
     r.add_argument(
         "--substitute",
         metavar="FILE.json",
@@ -242,8 +278,14 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(func=_cmd_run)
 
     c = sub.add_parser("compile", help="generate C++17 for a mission")
-    c.add_argument("mission", metavar="MISSION.xml")
-    c.add_argument("-o", "--output-dir", default=".", metavar="DIR")
+    c.add_argument("mission", metavar="MISSION.xml", help="the mission to compile")
+    c.add_argument(
+        "-o",
+        "--output-dir",
+        default=".",
+        metavar="DIR",
+        help="the folder to write STEM.hpp and STEM.cpp into (default: the current folder)",
+    )
     c.add_argument(
         "--substitute",
         metavar="FILE.json",
@@ -256,27 +298,29 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="DIR",
         help="directory the banner's input path is relative to (default: the current one)",
     )
-    add_mission_options(c)
+    add_mission_options(c, namespace=True)
     c.set_defaults(func=_cmd_compile)
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")
-    k.add_argument("kb", metavar="FILE.dat")
-    k.add_argument("--config", metavar="FILE.ini")
-    k.add_argument("--mission", metavar="MISSION.xml")
+    k.add_argument("kb", metavar="FILE.dat", help="the knowledge base to check")
+    k.add_argument("--config", metavar="FILE.ini", help="the lint configuration (which checks run, their severities)")
+    k.add_argument(
+        "--mission", metavar="MISSION.xml", help="also check the knowledge base against what this mission uses"
+    )
     k.set_defaults(func=_cmd_lint_kb)
 
     mo = sub.add_parser(
         "models",
         help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
     )
-    mo.add_argument("mission", metavar="MISSION.xml")
+    mo.add_argument("mission", metavar="MISSION.xml", help="the mission whose undeclared nodes to model")
     mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
-    add_mission_options(mo)
+    add_mission_options(mo, capacities=False)
     mo.set_defaults(func=_cmd_models)
 
     b = sub.add_parser("bench", help="build a mission with instant leaves and measure ticks")
-    b.add_argument("mission", metavar="MISSION.xml")
-    b.add_argument("--ticks", type=int, default=100000)
+    b.add_argument("mission", metavar="MISSION.xml", help="the mission to measure")
+    b.add_argument("--ticks", type=int, default=100000, metavar="N", help="root ticks to measure (default 100000)")
     add_mission_options(b)
     b.set_defaults(func=_cmd_bench)
 
@@ -289,8 +333,14 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("args", nargs=argparse.REMAINDER)  # main() hands them to btgen.compiler.main
 
     g = sub.add_parser("graph", help="draw a mission (Graphviz), optionally with the statuses of a run")
-    g.add_argument("mission", metavar="MISSION.xml")
-    g.add_argument("-o", "--output", required=True, metavar="FILE.svg|FILE.dot")
+    g.add_argument("mission", metavar="MISSION.xml", help="the mission to draw")
+    g.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="FILE.svg|FILE.dot",
+        help="the drawing to write: SVG (needs Graphviz's dot) or the dot text",
+    )
     src = g.add_mutually_exclusive_group()
     src.add_argument("--trace", metavar="FILE", help="status trace (`btgen run` output): colour by status")
     src.add_argument("--btlog", metavar="FILE", help="Groot2 log (.btlog): colour by status")
@@ -298,12 +348,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--tick", type=_count, metavar="N", help="with --trace: statuses at the end of tick N (default: last)"
     )
     g.add_argument("--record", type=_count, metavar="N", help="with --btlog: statuses after N records (default: all)")
-    add_mission_options(g)
+    add_mission_options(g, capacities=False)
     g.set_defaults(func=_cmd_graph)
 
     n = sub.add_parser("init", help="write a starter robot project (mission, models, leaves, CMakeLists.txt)")
     n.add_argument("directory", metavar="DIR", help="the project's folder: new, or empty")
-    n.add_argument("--name", help="the CMake project, executable and C++ namespace (default: DIR's name)")
+    n.add_argument(
+        "--name", metavar="NAME", help="the CMake project, executable and C++ namespace (default: DIR's name)"
+    )
     n.set_defaults(func=_cmd_init)
     from btgen.lang.versions import SUPPORTED_VERSIONS
 
@@ -311,11 +363,29 @@ def build_parser() -> argparse.ArgumentParser:
         "upgrade-check",
         help="list where moving between BehaviorTree.CPP releases changes loading or behaviour (exit 1 if anything)",
     )
-    u.add_argument("mission")
-    u.add_argument("--from", dest="from_version", choices=SUPPORTED_VERSIONS, default="4.6.2")
-    u.add_argument("--to", dest="to_version", choices=SUPPORTED_VERSIONS, default="4.10.0")
-    u.add_argument("--scenario", help="also run the mission on both versions and print where the traces part")
-    add_mission_options(u)
+    u.add_argument("mission", metavar="MISSION.xml", help="the mission to check")
+    u.add_argument(
+        "--from",
+        dest="from_version",
+        choices=SUPPORTED_VERSIONS,
+        default="4.6.2",
+        metavar="VERSION",
+        help="the release the mission runs on now: " + " or ".join(SUPPORTED_VERSIONS) + " (default 4.6.2)",
+    )
+    u.add_argument(
+        "--to",
+        dest="to_version",
+        choices=SUPPORTED_VERSIONS,
+        default="4.10.0",
+        metavar="VERSION",
+        help="the release to move to (default 4.10.0)",
+    )
+    u.add_argument(
+        "--scenario",
+        metavar="FILE.scenario",
+        help="also run the mission on both versions and print where the traces part",
+    )
+    add_mission_options(u, capacities=False)
     u.set_defaults(func=_cmd_upgrade_check)
 
     return p
@@ -323,6 +393,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    new_run()
     if argv[:1] == ["build-info"]:  # argparse's REMAINDER would not pass on `--deps ...`
         from btgen.compiler import main as build_info
 

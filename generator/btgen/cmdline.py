@@ -14,7 +14,7 @@ import sys
 from collections.abc import Sequence
 from typing import NoReturn, Optional, Union
 
-from btgen.diagnostics import Loc, UserError
+from btgen.diagnostics import Loc, UserError, did_you_mean
 
 COMMAND_LINE = "<command-line>"
 EXIT_INPUT = 1
@@ -71,7 +71,42 @@ class Parser(argparse.ArgumentParser):
         ns.argv = Parser.argv
         return ns
 
+    def _commands(self) -> dict[str, argparse.ArgumentParser]:
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                return dict(action.choices)
+        return {}
+
+    def _options_of_command(self) -> list[str]:
+        """The option names the command being parsed takes (this parser's, or, for the top
+        parser reporting what a command left over, the command's)."""
+        parser = self._commands().get(Parser.command, self)
+        return [o for o in parser._option_string_actions if o.startswith("--")]
+
+    def _explained(self, message: str) -> str:
+        """The message with a did-you-mean for a misspelt command, choice or option (in place
+        of argparse's list of every choice, which `--help` shows), or naming the commands that
+        take an option this one does not."""
+        m = re.search(r"invalid choice: '([^']*)' (\(choose from (.*)\))$", message)
+        if m:
+            guess = did_you_mean(m.group(1), re.findall(r"'([^']*)'", m.group(3)))
+            return message[: m.start(2)] + f"(did you mean `{guess}`?)" if guess else message
+        m = _UNRECOGNIZED.search(message)
+        if m and m.group(1).startswith("--"):
+            word = m.group(1).split("=", 1)[0]
+            guess = did_you_mean(word, self._options_of_command())
+            if guess:
+                return f"{message} (did you mean `{guess}`?)"
+            takers = [name for name, p in self._commands().items() if word in p._option_string_actions]
+            if takers and Parser.command:
+                if word == "--namespace":
+                    takers.append("build-info")
+                shown = ", ".join(f"`btgen {t}`" for t in takers)
+                return f"{message} (`btgen {Parser.command}` does not take {word}, which only {shown} take)"
+        return message
+
     def error(self, message: str) -> NoReturn:
+        message = self._explained(message)
         loc = loc_of(Parser.argv, token_of(message))
         print(f"{loc}: error: {message}", file=sys.stderr)
         if self.prog.startswith("btgen"):

@@ -278,8 +278,13 @@ def update_generated(root: Path) -> list[str]:
     return changed
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    p = cmdline.Parser(prog="btgen build-info", description=__doc__.split("\n")[0])
+def build_info_parser() -> cmdline.Parser:
+    """The options of `btgen build-info` (what CMake's btgen_add_mission asks)."""
+    p = cmdline.Parser(
+        prog="btgen build-info",
+        description="What build systems (CMake's btgen_add_mission) ask of a mission: its files, "
+        "outputs, class template, whether it compiles.",
+    )
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--deps", metavar="MISSION.xml", help="print the mission and its included files, one per line")
     g.add_argument("--outputs", metavar="MISSION.xml", help="print the names of the files `btgen compile` writes")
@@ -290,8 +295,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         "--update-generated", action="store_true", help="regenerate the committed generated/ from missions/*.xml"
     )
     p.add_argument("--cmake", action="store_true", help="print a CMake list (`;`-separated) instead of lines")
-    pipeline.add_mission_options(p)
-    args = p.parse_args(argv)
+    pipeline.add_mission_options(p, namespace=True)
+    return p
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = build_info_parser().parse_args(argv)
     opts = options_from_args(args)
     if args.update_generated:
         if resources.installed():

@@ -185,7 +185,22 @@ def suggestion(word: str, candidates: Iterable[str]) -> str:
     return f" (did you mean `{m}`?)" if m else ""
 
 
+_printed_warnings: set[str] = set()  # the warnings this run has printed (new_run() forgets them)
+
+
+def new_run() -> None:
+    """A command starts: no warning has been printed yet (an entry point calls it first)."""
+    _printed_warnings.clear()
+
+
 def print_diagnostics(diags: Sequence[Diagnostic]) -> None:
-    """Write each diagnostic on its own line of stderr (the `path:line:col: error: ...` form)."""
+    """Write each diagnostic on its own line of stderr (the `path:line:col: error: ...` form).
+    A warning is printed once a run: a models file shared by two missions, or a file both
+    loaded and analysed, warns once."""
     for diag in diags:
-        print(str(diag), file=sys.stderr)
+        text = str(diag)
+        if diag.severity == "warning":
+            if text in _printed_warnings:
+                continue
+            _printed_warnings.add(text)
+        print(text, file=sys.stderr)

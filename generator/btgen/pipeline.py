@@ -79,9 +79,12 @@ def _namespace(text: str) -> str:
     return text
 
 
-def add_mission_options(p: argparse.ArgumentParser) -> None:
-    """The options of every command that reads a mission (one place, one spelling)."""
-    g = p.add_argument_group("mission options (the same for every command)")
+def add_mission_options(p: argparse.ArgumentParser, *, capacities: bool = True, namespace: bool = False) -> None:
+    """The options of every command that reads a mission (one place, one spelling).
+    `capacities`: the command lowers the mission (its strings and queues are sized);
+    `namespace`: it writes C++ a user includes (`compile`, `build-info`). A command is
+    offered only the options that change what it does."""
+    g = p.add_argument_group("mission options (the same wherever a command takes them)")
     g.add_argument(
         "--models",
         action="append",
@@ -137,13 +140,14 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         '`bool convertFromString(std::string_view, T&)` in HEADER (#include "HEADER"; '
         "@<HEADER> for #include <HEADER>), e.g. Pose2D=nav::Pose2D@nav/pose2d.hpp (repeatable)",
     )
-    g.add_argument(
-        "--namespace",
-        type=_namespace,
-        metavar="NS",
-        help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
-        "from the file name; `main.xml` gives `main_`)",
-    )
+    if namespace:
+        g.add_argument(
+            "--namespace",
+            type=_namespace,
+            metavar="NS",
+            help="C++ namespace of the generated code, e.g. `robot` or `robot::missions` (default: "
+            "from the file name; `main.xml` gives `main_`)",
+        )
     g.add_argument(
         "--btcpp",
         choices=SUPPORTED_VERSIONS,
@@ -153,22 +157,23 @@ def add_mission_options(p: argparse.ArgumentParser) -> None:
         + " or ".join(SUPPORTED_VERSIONS)
         + " (default 4.6.2); it decides loading, the script grammar, both engines and the generated C++",
     )
-    g.add_argument(
-        "--string-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most bytes of a blackboard string (default 128): strings written by robot code or "
-        "growing without bound get N, literals at most N, computed strings the longest value "
-        "they can take; a longer value fails the node that writes it",
-    )
-    g.add_argument(
-        "--queue-capacity",
-        type=_capacity,
-        default=None,
-        metavar="N",
-        help="most elements of a blackboard queue written by robot code (default 16)",
-    )
+    if capacities:
+        g.add_argument(
+            "--string-capacity",
+            type=_capacity,
+            default=None,
+            metavar="N",
+            help="most bytes of a blackboard string (default 128): strings written by robot code or "
+            "growing without bound get N, literals at most N, computed strings the longest value "
+            "they can take; a longer value fails the node that writes it",
+        )
+        g.add_argument(
+            "--queue-capacity",
+            type=_capacity,
+            default=None,
+            metavar="N",
+            help="most elements of a blackboard queue written by robot code (default 16)",
+        )
 
 
 def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:

@@ -9,8 +9,8 @@ text, the bare header, or HOOKS_DUMP's JSON sorted by (uid, position)), for a ti
 result, then STATUS and GET_TRANSITIONS (UID, status) pairs.
 
     python scripts/groot2_oracle/record.py ORACLE_PREFIX MIRROR_GIT_DIR [TAG]
-    e.g. python scripts/groot2_oracle/record.py /work/oracle410 \\
-             /work/.mirror/BehaviorTree+BehaviorTree.CPP/repo 4.10.0
+    e.g. python scripts/groot2_oracle/record.py ORACLE_410_PREFIX \\
+             BehaviorTree.CPP/.git 4.10.0
 
 tests/python/test_groot2.py replays the same steps on the executor compiled with
 `--btcpp 4.10.0` and compares (it needs neither the oracle nor this script).

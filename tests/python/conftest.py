@@ -134,3 +134,51 @@ def pytest_terminal_summary(terminalreporter):
     skipped = terminalreporter.stats.get("skipped", [])
     if skipped:
         terminalreporter.write_line(f"{len(skipped)} skipped here" + (", all on the list" if in_ci() else ""))
+
+# ---------------------------------------------------------------- markers (pyproject.toml)
+# `scripts/test.sh --quick` runs `pytest -m "not slow and not sanitize and not qemu"`: what a
+# contributor runs in minutes. The marks are given here, by file, test and parameter, so that
+# the one list says what the quick path leaves out (CI, `scripts/test.sh`, runs everything).
+_FILE_MARKS = {
+    # random missions, whole corpora built as C++, packages and copies of the checkout
+    "test_diff_random.py": ("slow", "cpp"),
+    "test_analyze_random.py": ("slow",),
+    "test_fuzz_frontend.py": ("slow",),
+    "test_package.py": ("slow", "cpp"),
+    "test_hostile.py": ("slow", "cpp"),
+    "test_real_files.py": ("slow", "cpp"),
+    "test_conformance_cpp.py": ("slow", "cpp"),
+    "test_conformance_cpp_410.py": ("slow", "cpp"),
+    "test_diff_sanitize.py": ("sanitize", "cpp"),
+    "test_mcu.py": ("qemu", "cpp"),
+    # C++ builds of a few missions each: in the quick path
+    "test_compiler.py": ("cpp",),
+    "test_groot2.py": ("cpp",),
+    "test_migration.py": ("cpp",),
+    "test_leaf_hooks.py": ("cpp",),
+    "test_bare_metal_text.py": ("cpp",),
+}
+# (file, test name prefix): marks of single tests
+_TEST_MARKS = (
+    ("test_plain_clone.py", "test_a_copy_of_the_tracked_files", ("slow",)),
+    ("test_plain_clone.py", "test_a_shared_folder_adds_stems", ("slow",)),
+    ("test_catch_on_halt.py", "test_random_missions", ("slow", "cpp")),
+    ("test_edges_462.py", "test_cpp_", ("slow", "cpp")),
+    ("test_edges_462.py", "test_interpreter_matches_462_on_random_edges", ("slow",)),
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        name = os.path.basename(str(item.fspath))
+        marks = list(_FILE_MARKS.get(name, ()))
+        for file, prefix, more in _TEST_MARKS:
+            if name == file and item.name.startswith(prefix):
+                marks.extend(more)
+        params = getattr(getattr(item, "callspec", None), "params", {})
+        if str(params.get("sanitize", "")) == "1":
+            marks.append("sanitize")
+        if params.get("engine") == "cpp" or "compiler" in params:
+            marks.append("cpp")
+        for mark in dict.fromkeys(marks):
+            item.add_marker(getattr(pytest.mark, mark))

@@ -119,6 +119,7 @@ def test_462_warns_about_what_484_refuses():
     assert any("refused from BehaviorTree.CPP 4.8.4" in str(w) for w in mission.warnings)
     mission = load_mission(_case("v410_x1_tree_id_with_space", ".xml"))
     assert any(
-        "refused from BehaviorTree.CPP 4.8.4: BehaviorTree ID `Go There` contains the forbidden character ` `" in str(w)
+        "refused from BehaviorTree.CPP 4.8.4: BehaviorTree ID `Go There` contains the forbidden character ` `: "
+        "rename it `Go_There`" in str(w)
         for w in mission.warnings
     )

@@ -148,3 +148,62 @@ def test_a_log_written_by_the_compiled_file_logger_replays(tmp_path, capsys):
         m, parse_scenario(str(recorded)).__class__(str(recorded), 8, "SUCCESS", parse_scenario(str(recorded)).leaves)
     )
     assert trace_transitions(trace_text(m, parse_scenario(str(back)))) == trace_transitions(original)
+
+
+def test_min_failing_says_why(tmp_path, capsys):
+    one = tmp_path / "one.scenario"
+    one.write_text("leaf FindBall FAILURE FAILURE\n")
+    argv = ["cover", str(PICK), str(one), "--min", "90"]
+    assert main(argv) == 1
+    captured = capsys.readouterr()
+    assert captured.out.startswith(f"{PICK}: 1 run\n")  # not "1 runs"
+    col = 1 + sum(len(a) + 1 for a in argv[:3])
+    assert captured.err == (
+        f"<command-line>:1:{col}: error: node coverage 42.9% is below --min 90%: 4 of 7 nodes never ticked "
+        "by the 1 run (`--uncovered` lists them)\n"
+    )
+
+
+def test_explore_and_cover_say_the_same_lines(tmp_path, capsys):
+    out = tmp_path / "sc"
+    assert main(["explore", str(PICK), "-o", str(out)]) == 0
+    explored = [line for line in capsys.readouterr().out.splitlines() if line.startswith(("  nodes:", "  outcomes:"))]
+    assert main(["cover", str(PICK), *sorted(str(p) for p in out.glob("*.scenario"))]) == 0
+    covered = [line for line in capsys.readouterr().out.splitlines() if line.startswith(("  nodes:", "  outcomes:"))]
+    assert (
+        explored
+        == covered
+        == [
+            "  nodes:    7/7 = 100.0% ticked",
+            "  outcomes: 21/21 = 100.0% (each SUCCESS, FAILURE, RUNNING a node can return, seen)",
+        ]
+    )
+
+
+def test_a_synchronous_action_is_not_missing_running(tmp_path, capsys):
+    one = tmp_path / "one.scenario"
+    one.write_text("ticks 5\nleaf FindBall FAILURE SUCCESS\n")
+    assert main(["cover", str(PICK), str(one), "--table"]) == 0
+    table = capsys.readouterr().out
+    assert "outcomes: 11/21" in table
+    pick_row = next(line for line in table.splitlines() if " PickBall " in line or line.rstrip().endswith("PickBall"))
+    assert pick_row.rstrip().endswith("FAILURE,RUNNING")
+    sync = ["--sync", "PickBall", "--sync", "PlaceBall", "--sync", "FindBall"]
+    assert main(["cover", str(PICK), str(one), "--table", *sync]) == 0
+    table = capsys.readouterr().out
+    assert "outcomes: 11/18" in table  # RUNNING of the three is no goal
+    pick_row = next(line for line in table.splitlines() if " PickBall " in line or line.rstrip().endswith("PickBall"))
+    assert pick_row.rstrip().endswith("FAILURE")
+    # explore never makes them RUNNING either, and covers the rest
+    assert main(["explore", str(PICK), "--json", *sync]) == 0
+    import json
+
+    report = json.loads(capsys.readouterr().out)
+    assert report["outcome_goals"] == 18 and report["outcomes_covered"] == 18
+
+
+def test_sync_names_an_action_of_the_mission(capsys):
+    assert main(["cover", str(PICK), "x.scenario", "--sync", "PickBal"]) == 1
+    assert (
+        "--sync PickBal: the mission declares no Action `PickBal` (did you mean `PickBall`?)" in capsys.readouterr().err
+    )

@@ -170,10 +170,10 @@ def test_lab_tour_slots():
     slots, ir = _slots(os.path.join(ROOT, "missions", "LabTour.xml"))
     assert {k: slot_type(s) for k, s in slots.items()} == {
         ("root", "response"): "btgen::FixedString<128>",
-        ("IV. VisitExhibit", "exhibits"): "btgen::FixedString<128>",
-        ("IV. VisitExhibit", "location_id"): "std::int64_t",
-        ("V. EndTour", "location_id"): "std::int64_t",
-        ("V. EndTour/_GoHome", "location_id"): "std::int64_t",
+        ("IV_VisitExhibit", "exhibits"): "btgen::FixedString<128>",
+        ("IV_VisitExhibit", "location_id"): "std::int64_t",
+        ("V_EndTour", "location_id"): "std::int64_t",
+        ("V_EndTour/_GoHome", "location_id"): "std::int64_t",
     }
     ports = {p.port: p for p in ir.ports["SelectExhibit"]}
     assert ports["exhibits"].direction == "inout" and port_type(ports["exhibits"]) == "std::string_view"

@@ -101,23 +101,35 @@ def _exit(argv):
         return int(e.code or 0)
 
 
+# Each command is offered the options that change what it does: the C++ namespace where C++ is
+# written for the user, the capacities where the mission is lowered (sized).
 @pytest.mark.parametrize(
-    "command",
+    "command,namespace,capacities",
     [
-        ["validate", "M.xml"],
-        ["compile", "M.xml"],
-        ["run", "M.xml", "--scenario", "S"],
-        ["bench", "M.xml"],
-        ["graph", "M.xml", "-o", "g.svg"],
-        ["xsd", "M.xml"],
-        ["analyze", "M.xml"],
-        ["explore", "M.xml"],
-        ["cover", "M.xml", "run.trace"],
-        ["scenario-from-log", "M.xml", "run.btlog"],
+        (["validate", "M.xml"], False, True),
+        (["compile", "M.xml"], True, True),
+        (["run", "M.xml", "--scenario", "S"], False, True),
+        (["bench", "M.xml"], False, True),
+        (["graph", "M.xml", "-o", "g.svg"], False, False),
+        (["xsd", "M.xml"], False, False),
+        (["analyze", "M.xml"], False, True),
+        (["explore", "M.xml"], False, True),
+        (["cover", "M.xml", "run.trace"], False, True),
+        (["scenario-from-log", "M.xml", "run.btlog"], False, False),
+        (["models", "M.xml"], False, False),
+        (["upgrade-check", "M.xml"], False, False),
     ],
 )
-def test_every_command_builds_the_same_options(command, tmp_path):
-    argv = command + [a.replace("{models}", "models.xml") for a in FULL_OPTIONS]
+def test_every_command_builds_the_same_options(command, namespace, capacities, tmp_path):
+    left_out = set()
+    if not namespace:
+        left_out.add("--namespace")
+    if not capacities:
+        left_out |= {"--string-capacity", "--queue-capacity"}
+    argv = list(command)
+    for name, value in zip(FULL_OPTIONS[::2], FULL_OPTIONS[1::2]):
+        if name not in left_out:
+            argv += [name, value.replace("{models}", "models.xml")]
     args = build_parser().parse_args(argv)
     assert options_from_args(args) == CompileOptions(
         models=("models.xml",),
@@ -126,10 +138,13 @@ def test_every_command_builds_the_same_options(command, tmp_path):
         entries=("Sub:server_timeout=int",),
         enum_decls=("Color=RED,GREEN",),
         types=("Pose=geo::Pose@geo/pose.hpp",),
-        namespace="robot::missions",
-        string_capacity=64,
-        queue_capacity=8,
+        namespace="robot::missions" if namespace else None,
+        string_capacity=64 if capacities else None,
+        queue_capacity=8 if capacities else None,
     )
+    for name in sorted(left_out):  # and refused where they would change nothing
+        with pytest.raises(SystemExit):
+            build_parser().parse_args([*command, name, "8"])
 
 
 def test_build_info_takes_the_same_options(tmp_path, capsys):

@@ -98,3 +98,20 @@ def test_a_shared_folder_adds_stems_and_never_replaces_the_repository_s(tmp_path
     assert "test_trace_matches_recording[zz_added_seq_basic] PASSED" in proc.stdout
     assert "test_trace_matches_recording[fallback_halted] PASSED" in proc.stdout
     assert _counts(proc.stdout)["passed"] == 3
+
+
+def test_no_tracked_file_names_a_folder_of_one_machine():
+    """Scripts, tests, docs and build files speak of paths relative to the checkout (or with a
+    placeholder such as ORACLE_462_PREFIX), never of the folders of the machine they were
+    written on (`scripts/record_conformance.py` named /work/shared/oracle/README.md)."""
+    machine = re.compile(r"(?<![\w.])/(?:work|home/\w+|Users/\w+)/")
+    kinds = (".py", ".sh", ".md", ".cmake", ".txt", ".cpp", ".hpp", ".toml", ".cfg")
+    found = []
+    for rel in _tracked_files():
+        if not rel.endswith(kinds) or rel == "tests/python/test_plain_clone.py":
+            continue
+        with open(os.path.join(ROOT, rel), encoding="utf-8", errors="replace") as f:
+            for number, line in enumerate(f, 1):
+                if machine.search(line) and "no absolute paths" not in line:
+                    found.append(f"{rel}:{number}: {line.strip()}")
+    assert found == []

@@ -41,8 +41,8 @@ def test_refusals_of_484_are_listed():
     p = check("v410_x1_tree_id_with_space")
     assert p.returncode == 1
     assert (
-        "warning: refused from BehaviorTree.CPP 4.8.4: BehaviorTree ID `Go There` contains the forbidden character ` `"
-        in p.stderr
+        "warning: refused from BehaviorTree.CPP 4.8.4: BehaviorTree ID `Go There` contains the forbidden character "
+        "` `: rename it `Go_There`" in p.stderr
     )
 
 

@@ -7,7 +7,7 @@
 // between are the exhibits. So, for the Lab Tour:
 //
 //   home      the tour's first stop (LookUpHome; _GoHome goes back there)
-//   exit      the tour's last stop  (LookUpEntrance: where V. EndTour leads the
+//   exit      the tour's last stop  (LookUpEntrance: where V_EndTour leads the
 //             visitor and points to the door)
 //   exhibits  the stops strictly between them, in order (RetrieveListOfExhibits)
 //

@@ -392,7 +392,7 @@ class _Loader:
                     f"and the built-in `{mid}` is used",
                 )
                 continue
-            # A SubTree model names a tree (`IV. VisitExhibit`); the trace prints `SubTree` for it.
+            # A SubTree model names a tree (`IV_VisitExhibit`); the trace prints `SubTree` for it.
             bad = _ID_FORBIDDEN.search(mid or "") if kind != "SubTree" else None
             if bad:
                 what = {

@@ -35,6 +35,22 @@ def forbidden_char(name: str) -> str:
     return ""
 
 
+def allowed_name(name: str) -> str:
+    """`name` with each run of characters 4.8.4 forbids made one `_` (the rename an
+    upgrade warning proposes): `I. DetectVisitor` -> `I_DetectVisitor`."""
+    out: list[str] = []
+    for c in name:
+        if forbidden_char(c):
+            if out and out[-1] != "_":
+                out.append("_")
+        else:
+            out.append(c)
+    fixed = "".join(out).strip("_")
+    if not fixed or fixed in ("Root", "root"):
+        fixed = f"Tree_{fixed}" if fixed else "Tree"
+    return fixed
+
+
 def _shown(c: str) -> str:
     if ord(c) < 32 or ord(c) == 127:
         return f"the control character {ord(c)}"
@@ -124,10 +140,22 @@ def loading_findings(mission: Mission) -> list[Finding]:
 
 def _name_findings(name: str, loc: Loc, what: str) -> list[Finding]:
     if name in ("Root", "root"):
-        return [Finding("name_validation_484", loc, f"{what} `{name}`: `Root` is a reserved name")]
+        return [
+            Finding(
+                "name_validation_484",
+                loc,
+                f"{what} `{name}`: `Root` is a reserved name: rename it `{allowed_name(name)}`",
+            )
+        ]
     c = forbidden_char(name)
     if c:
-        return [Finding("name_validation_484", loc, f"{what} `{name}` contains the forbidden character {_shown(c)}")]
+        return [
+            Finding(
+                "name_validation_484",
+                loc,
+                f"{what} `{name}` contains the forbidden character {_shown(c)}: rename it `{allowed_name(name)}`",
+            )
+        ]
     return []
 
 

@@ -71,11 +71,16 @@ def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bo
     from btgen import pipeline
     from btgen.ir.lower import lower
     from btgen.tools.analyze import analyze_program
+    from btgen.tools.explore import sync_actions
 
     options = pipeline.options_from_args(args).data
     program = lower(mission, options)
     result = analyze_program(mission, program, options)
-    possible = {n.uid: {s for s in result.outcomes[n.index] if s != "SKIPPED"} for n in program.nodes}
+    sync = sync_actions(mission, args)  # their RUNNING is no goal: they never return it
+    possible = {
+        n.uid: {s for s in result.outcomes[n.index] if s != "SKIPPED" and not (s == "RUNNING" and n.id in sync)}
+        for n in program.nodes
+    }
     reach = {n.uid: result.reachable[n.index] for n in program.nodes}
     return possible, reach
 
@@ -120,9 +125,10 @@ def cover_command(args) -> int:
         rows.append((n, "yes" if n.uid in ticked else "NO", ",".join(sorted(got)), ",".join(missing)))
     pct_n = 100.0 * node_hits / node_goals if node_goals else 100.0
     pct_o = 100.0 * out_hits / out_goals if out_goals else 100.0
-    print(f"{args.mission}: {len(args.runs)} runs")
-    print(f"  nodes:    {node_hits}/{node_goals} = {pct_n:.1f}%")
-    print(f"  outcomes: {out_hits}/{out_goals} = {pct_o:.1f}% (SUCCESS, FAILURE, RUNNING where possible)")
+    runs = f"{len(args.runs)} run{'' if len(args.runs) == 1 else 's'}"
+    print(f"{args.mission}: {runs}")
+    for line in coverage_lines(node_hits, node_goals, out_hits, out_goals):
+        print(f"  {line}")
     if args.table or args.uncovered:
         print(f"  {'uid':>5}  {'node':40}  {'ticked':8}  {'seen':30}  missing")
         for n, tick, got_s, miss in rows:
@@ -133,7 +139,7 @@ def cover_command(args) -> int:
     if args.graph:
         fill = {"full": "SUCCESS", "part": "RUNNING", "none": "FAILURE"}
         status = {uid: fill[s] for uid, s in state.items()}
-        caption = f"{mission.path}: coverage of {len(args.runs)} runs: {pct_n:.1f}% of nodes, {pct_o:.1f}% of outcomes"
+        caption = f"{mission.path}: coverage of {runs}: {pct_n:.1f}% of nodes, {pct_o:.1f}% of outcomes"
         text = g.dot_text(mission, nodes, clusters, status, caption)
         legend = (
             '  legend [shape=plaintext, label=<<table border="0" cellborder="1" cellspacing="0"><tr>'
@@ -146,8 +152,30 @@ def cover_command(args) -> int:
         if _write_graph(args.graph, text) != 0:
             return 1
     if args.min is not None and pct_n < args.min:
+        from btgen import cmdline
+
+        loc = cmdline.loc_of(args.argv if getattr(args, "argv", None) is not None else sys.argv[1:], "--min")
+        print(
+            f"{loc}: error: node coverage {pct_n:.1f}% is below --min {args.min:g}%: {node_goals - node_hits} of "
+            f"{node_goals} nodes never ticked by the {runs} (`--uncovered` lists them)",
+            file=sys.stderr,
+        )
         return 1
     return 0
+
+
+def coverage_lines(node_hits: int, node_goals: int, out_hits: int, out_goals: int) -> list[str]:
+    """The two coverage lines `cover` and `explore` print, in one vocabulary: nodes ticked, and
+    outcomes (each status a node can return, as `btgen analyze` finds, seen at least once)."""
+
+    def pct(hit: int, goal: int) -> str:
+        return f"{100.0 * hit / goal if goal else 100.0:.1f}%"
+
+    return [
+        f"nodes:    {node_hits}/{node_goals} = {pct(node_hits, node_goals)} ticked",
+        f"outcomes: {out_hits}/{out_goals} = {pct(out_hits, out_goals)} (each SUCCESS, FAILURE, RUNNING a node "
+        "can return, seen)",
+    ]
 
 
 def _write_graph(output: str, text: str) -> int:

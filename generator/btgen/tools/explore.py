@@ -2,13 +2,18 @@
 
 Each run is a *plan*: the results chosen so far for the user leaves' calls, in
 call order (Actions SUCCESS/FAILURE/RUNNING at each onStart/onRunning,
-Conditions SUCCESS/FAILURE at each tick). A run replays its plan on a fresh
+Conditions SUCCESS/FAILURE at each tick). A run plays its plan on the
 interpreter (interp/engine.py, the executable semantics: scripts, timers and
 the blackboard run as they do) and stops at the first call the plan does not
 cover: that is a branch point, and the search goes on depth first with each
-possible result appended. Scripted leaves share the results of their name, as
-scenario files do, so every plan is a scenario file: the statuses each leaf name
-returned, in order.
+possible result appended. One interpreter serves every run: its state (each
+node's members, the blackboards, the clock) is saved at each tick start, and a
+plan is played on from the last tick start it shares with the plan before it
+(depth first, that is most of it), restored there; building an interpreter per
+run, or replaying from tick 1, gives the same search six times slower
+(`test_explore.py` compares them; `bench/explore_speed.py` measures).
+Scripted leaves share the results of their name, as scenario files do, so
+every plan is a scenario file: the statuses each leaf name returned, in order.
 
 Repeats are cut by a state hash taken at every branch point: each node's status
 and members (counters, indices, flags), the blackboard values (update counters
@@ -32,8 +37,14 @@ Properties (--assert), checked at every node return (the root's is the end of a 
 
 A, B and N are node names (the name attribute, else the ID) or `#UID`; a name
 used by several nodes means any of them. STATUS is SUCCESS, FAILURE, RUNNING or
-SKIPPED. A violation stops that run; its plan is written as a scenario file and
-its trace printed.
+SKIPPED. The first violation stops the search (the other properties are then
+undecided); its plan is the counterexample, printed with its trace in the report
+and written as a scenario file with -o. With --keep-going the search goes on, each
+property keeping its first violation. Each property's line says `holds (N states,
+exhaustive)` when no run was cut by a bound, else which bound cut the search.
+
+On a terminal, stderr shows a progress line while the search runs (goals covered,
+states, states per second, elapsed); nothing when stderr is not a terminal.
 """
 
 from __future__ import annotations
@@ -43,7 +54,10 @@ import os
 import re
 import sys
 import time
+from collections import deque
 from dataclasses import dataclass, field
+from itertools import repeat
+from operator import attrgetter
 from typing import Callable, Optional
 
 from btgen import cmdline
@@ -52,7 +66,13 @@ from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
 from btgen.interp.scenario import parse_scenario_text
 from btgen.interp.tree import FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS, TreeNode
+from btgen.lang import values
 from btgen.lang.model import Mission
+
+
+def _discard(_piece: tuple[str, str]) -> None:
+    pass
+
 
 NAMES = {IDLE: "IDLE", RUNNING: "RUNNING", SUCCESS: "SUCCESS", FAILURE: "FAILURE", SKIPPED: "SKIPPED"}
 BY_NAME = {v: k for k, v in NAMES.items()}
@@ -149,11 +169,14 @@ class Result:
     max_visits: int = 0  # most nodes visited in one tick, over every run
     max_hooks: int = 0
     errors: list = field(default_factory=list)  # (Diagnostic, Path): run-time errors some run meets
+    bounded_by: tuple[str, ...] = ()  # "ticks", "depth": some run was cut there (else exhaustive)
+    stopped_at_violation: bool = False  # the search ended at the first violation (no --keep-going)
 
 
 # ====================================================================== one run
 class _Run:
-    """A fresh interpreter replaying a plan, with the hooks the search needs."""
+    """One plan played on the explorer's interpreter (restored to where the plan starts to
+    differ from the last one played: Explorer.run), with the record the search needs."""
 
     def __init__(self, ex: Explorer, plan: tuple[int, ...]) -> None:
         self.ex = ex
@@ -166,11 +189,7 @@ class _Run:
         self.seen_return: set[tuple[int, int]] = set()
         self.visits = 0
         self.hooks = 0
-        self.interp = Interpreter(ex.mission, None)
-        self.interp.rt.now_ms = 0
-        for node in self.interp.nodes:
-            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
-                node.cursor = _Cursor(self, node)
+        self.interp = ex.interp
 
     def pick(self, node: TreeNode, condition: bool) -> int:
         self.hooks += 1
@@ -194,15 +213,57 @@ class _Run:
 
 
 class _Cursor:
-    __slots__ = ("run", "node", "condition")
+    """A scripted leaf's results: the plan of the run being played."""
 
-    def __init__(self, run: _Run, node: TreeNode) -> None:
-        self.run = run
+    __slots__ = ("ex", "node", "condition")
+
+    def __init__(self, ex: Explorer, node: TreeNode) -> None:
+        self.ex = ex
         self.node = node
-        self.condition = isinstance(node, iactions.ScriptedCondition)
+        # a Condition, or an Action implemented synchronously (--sync): SUCCESS or FAILURE only
+        self.condition = isinstance(node, iactions.ScriptedCondition) or node.reg_id in ex.sync
 
     def next(self) -> int:
-        return self.run.pick(self.node, self.condition)
+        run = self.ex.current
+        assert run is not None
+        return run.pick(self.node, self.condition)
+
+
+_IMMUTABLE = frozenset({int, str, bool, float, type(None), tuple, frozenset})
+
+
+def _copied(v, memo: dict):
+    """A value of the interpreter's state, copied when it is mutated in place (a Parallel's set
+    of completed children, a Loop's queue). One object held in two places (a queue a Loop pops
+    that is also an entry's value, an entry copied into another) is copied once (`memo`), so
+    the copies are shared as the originals were."""
+    if type(v) in _IMMUTABLE:
+        return v
+    if not isinstance(v, (values.Queue, set, list, dict)):
+        return v
+    c = memo.get(id(v))
+    if c is None:
+        c = values.Queue(v.element_type, v) if isinstance(v, values.Queue) else type(v)(v)
+        memo[id(v)] = c
+    return c
+
+
+_UNSET = object()
+_KEY_SCALAR = frozenset({int, str, bool, float})
+_KEY_PLAIN = frozenset({int, str, bool, float, type(None)})
+
+
+@dataclass
+class _Mark:
+    """The interpreter and the run's record at the start of a tick, after `pos` picks: every
+    plan that begins with those picks passes here, so it is played on from here."""
+
+    tick: int
+    pos: int
+    state: tuple
+    picks: tuple
+    goals: frozenset
+    seen_return: frozenset
 
 
 # ====================================================================== the search
@@ -217,8 +278,15 @@ class Explorer:
         properties: tuple[Property, ...] = (),
         possible: Optional[dict[int, set[int]]] = None,
         merge: bool = True,
+        sync: frozenset[str] = frozenset(),
     ) -> None:
         self.merge = merge
+        self.sync = sync
+        self.keep_going = False  # go on after a property's first violation
+        self.kept: list[tuple[Property, Path]] = []  # with keep_going: each property's first violation
+        self.resume = True  # play a plan on from the last tick start it shares (False: from tick 1)
+        # called about ten times a second while exploring: (states, goals covered, goals)
+        self.on_progress: Optional[Callable[[int, int, int], None]] = None
         self.max_visits = 0
         self.max_hooks = 0
         self.mission = mission
@@ -229,7 +297,17 @@ class Explorer:
         self.properties = properties
         self.seen: dict[tuple, int] = {}
         self.current: Optional[_Run] = None
-        probe = Interpreter(mission, None)
+        # One interpreter for every run: building one costs more than most runs (a name
+        # quoted, ports resolved, entries created per node), so each run restores the state
+        # it starts from instead (_Mark; `_initial` before the first tick).
+        self.interp = probe = Interpreter(mission, None)
+        probe.rt.now_ms = 0
+        for node in probe.nodes:
+            node.emit = _discard  # the search reads no trace; a counterexample is re-run for one
+            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+                node.cursor = _Cursor(self, node)
+        self.marks: list[_Mark] = []
+        self.last_plan: tuple[int, ...] = ()
         self.nodes = probe.nodes
         ids = {n.reg_id for n in probe.nodes}
         self.use_clock = bool(ids & _TIMERS)
@@ -245,6 +323,16 @@ class Explorer:
                         if s not in _NOT_STATE and s not in names:
                             names.append(s)
                 self._fields[cls] = tuple(names)
+        self._state_slots = [(node, ("status", *self._fields[type(node)])) for node in probe.nodes]
+        # state_key's reading of each node: status and fields at once; `check` when a field
+        # may hold something other than a number or a string (a set, a queue, None for now)
+        self._key_getters: list[tuple[TreeNode, Callable, bool]] = []
+        for node, slots in self._state_slots:
+            get = attrgetter(*slots) if len(slots) > 1 else (lambda n: (n.status,))
+            initial = tuple(getattr(node, s, None) for s in slots)
+            self._key_getters.append((node, get, any(type(v) not in _KEY_SCALAR for v in initial)))
+        self._bbs = list({id(n.bb): n.bb for n in probe.nodes}.values())
+        self._initial = self._save()
         self.bit: dict[tuple, int] = {}  # goal -> its bit in Path.mask
         self.reached: set = set()
         self.by_name: dict[str, list[int]] = {}
@@ -256,20 +344,60 @@ class Explorer:
                 if name and name not in self.by_name:
                     raise ValueError(f"property `{p.text}`: no node is named `{name}`")
 
+    # -- the interpreter's whole state, saved and restored
+    def _save(self) -> tuple:
+        """(per node: its state slots' values, and whether any needs copying or is unset),
+        the blackboards' entries, the clock. Most values are ints and strings: restoring
+        them is one setattr each, done by map() (_restore)."""
+        memo: dict = {}
+        nodes = []
+        for n, names in self._state_slots:
+            saved = tuple(getattr(n, s, _UNSET) for s in names)
+            plain = all(type(v) in _IMMUTABLE for v in saved)
+            nodes.append((n, names, saved if plain else tuple(_copied(v, memo) for v in saved), plain))
+        bbs = tuple(
+            tuple((k, e, e.type_name, _copied(e.value, memo), e.sequence_id) for k, e in bb._storage.items())
+            for bb in self._bbs
+        )
+        return tuple(nodes), bbs, self.interp.rt.now_ms
+
+    def _restore(self, state: tuple) -> None:
+        nodes, bbs, now = state
+        memo: dict = {}
+        for node, names, saved, plain in nodes:
+            if plain:
+                deque(map(setattr, repeat(node, len(names)), names, saved), 0)
+                continue
+            for name, v in zip(names, saved):
+                if v is _UNSET:
+                    if hasattr(node, name):
+                        delattr(node, name)
+                else:
+                    setattr(node, name, _copied(v, memo))
+        for bb, entries in zip(self._bbs, bbs):
+            storage = bb._storage
+            storage.clear()
+            for k, e, type_name, value, seq in entries:
+                e.type_name, e.value, e.sequence_id = type_name, _copied(value, memo), seq
+                storage[k] = e
+        self.interp.rt.now_ms = now
+        self.interp.rt.buf.clear()
+
     # -- state
     def state_key(self, run: _Run) -> tuple:
+        """What decides the rest of a run from a branch point (see the module's docstring)."""
         parts: list = []
-        for node in run.interp.nodes:
-            parts.append(node.status)
-            for f in self._fields[type(node)]:
-                v = getattr(node, f, None)
-                parts.append(v if isinstance(v, (int, str, bool, float, type(None))) else repr(v))
-        bbs = {id(n.bb): n.bb for n in run.interp.nodes}
-        for bb in bbs.values():
-            for k in sorted(bb.local_keys()):
-                e = bb.local_entry(k)
-                assert e is not None
-                parts.append((k, repr(e.value), e.sequence_id if self.use_seq else 0))
+        for node, getter, check in self._key_getters:
+            t = getter(node)
+            if check:
+                t = tuple(v if type(v) in _KEY_PLAIN else repr(v) for v in t)
+            parts.append(t)
+        use_seq = self.use_seq
+        for bb in self._bbs:
+            for k, e in sorted(bb._storage.items()):
+                v = e.value
+                # the type is part of the value: 1, 1.0, True and "1" are different entries
+                parts.append((k, type(v), v if type(v) in _KEY_PLAIN else repr(v), e.sequence_id if use_seq else 0))
         if self.use_clock:
             parts.append(run.interp.rt.now_ms)
         parts.append(tuple((n.uid, st) for n, st in run.chain))
@@ -315,7 +443,7 @@ class Explorer:
     def check(self, run: _Run, node: TreeNode, result: int) -> None:
         for p in self.properties:
             if p.kind == "never" and result == p.a_status and node in self._nodes_of(run, p.a):
-                raise _Violation(p)
+                self._violated(run, p)
             if p.kind == "before":
                 if result == p.b_status and node in self._nodes_of(run, p.b):
                     run.seen_return.add((p.b_status, id(p)))
@@ -324,30 +452,75 @@ class Explorer:
                     and node in self._nodes_of(run, p.a)
                     and (p.b_status, id(p)) not in run.seen_return
                 ):
-                    raise _Violation(p)
+                    self._violated(run, p)
             if p.kind == "one-running":
                 for parent in self._nodes_of(run, p.a):
                     kids = getattr(parent, "children", None) or []
                     if sum(1 for c in kids if c.status == RUNNING) > 1:
-                        raise _Violation(p)
+                        self._violated(run, p)
+
+    def _violated(self, run: _Run, prop: Property) -> None:
+        """A property fails here: the run stops (its plan is the counterexample), or, with
+        --keep-going, the first violation of each property is kept and the run goes on (what
+        only a violating run reaches is reached)."""
+        if not self.keep_going:
+            raise _Violation(prop)
+        if all(p is not prop for p, _ in self.kept):
+            picks = tuple(run.picks)
+            self.kept.append((prop, Path(run.plan[: run.pos], picks, max(run.tick_no, 1), frozenset(), "violation")))
 
     def _nodes_of(self, run: _Run, name: str) -> list[TreeNode]:
         return [run.interp.nodes[i] for i in self.by_name.get(name, ())]
 
     def run(self, plan: tuple[int, ...]) -> tuple[str, _Run, Optional[tuple[int, ...]]]:
+        """Play `plan`: from the latest tick start the last plan played passed with a prefix
+        of this one's picks (the search is depth first, so that is most of the plan)."""
         run = _Run(self, plan)
+        last = self.last_plan
+        same = 0
+        for a, b in zip(plan, last):
+            if a != b:
+                break
+            same += 1
+        marks = self.marks
+        if not self.resume:
+            marks.clear()
+        while marks and marks[-1].pos > same:
+            marks.pop()
+        if marks:
+            mark = marks[-1]
+            self._restore(mark.state)
+            run.pos = mark.pos
+            run.picks = list(mark.picks)
+            run.goals = set(mark.goals)
+            run.seen_return = set(mark.seen_return)
+            first = mark.tick
+        else:
+            self._restore(self._initial)
+            first = 1
+        self.last_plan = plan
         self.current = run
         interp = run.interp
         try:
-            for n in range(1, self.ticks + 1):
+            for n in range(first, self.ticks + 1):
                 run.tick_no = n
+                if not marks or marks[-1].tick < n:
+                    marks.append(
+                        _Mark(
+                            n,
+                            run.pos,
+                            self._save(),
+                            tuple(run.picks),
+                            frozenset(run.goals),
+                            frozenset(run.seen_return),
+                        )
+                    )
                 if n > 1 and self.clock_ms:
                     interp.advance_clock(self.clock_ms)
                 visits, hooks = run.visits, run.hooks
                 status = interp.tick_once()
                 self.max_visits = max(self.max_visits, run.visits - visits)
                 self.max_hooks = max(self.max_hooks, run.hooks - hooks)
-                interp.take_text()
                 if status.name in ("SUCCESS", "FAILURE"):
                     return "done", run, None
             return "ticks", run, None
@@ -372,8 +545,12 @@ class Explorer:
         covered: set = set()
         violations: list[tuple[Property, Path]] = []
         errors: list[tuple[object, Path]] = []
+        self.kept = violations  # with keep_going, _violated adds to it
         runs = 0
-        truncated = False
+        truncated = stopped = False
+        cut: set[str] = set()
+        goal_set = self.goals() if self.on_progress is not None else set()
+        next_report = t0 + 0.1
         stack: list[tuple[int, ...]] = [()]
         try:
             while stack:
@@ -383,6 +560,13 @@ class Explorer:
                 plan = stack.pop()
                 end, run, options = self.run(plan)
                 runs += 1
+                if self.on_progress is not None and runs % 16 == 0:
+                    now = time.perf_counter()
+                    if now >= next_report:
+                        next_report = now + 0.1
+                        self.on_progress(len(self.seen), len(covered & goal_set), len(goal_set))
+                if end in ("ticks", "depth"):
+                    cut.add(end)
                 if options is not None:
                     for o in reversed(options):
                         stack.append(plan + (o,))
@@ -402,9 +586,12 @@ class Explorer:
                     prop = run.violation  # type: ignore[attr-defined]
                     if not any(p is prop for p, _ in violations):
                         violations.append((prop, path))
-                    continue
-                # every finished run is a candidate for the cover (one per set of goals, the
-                # shortest): kept as bits, 37,000 runs of the Lab Tour take a few megabytes
+                    if not self.keep_going:
+                        stopped = bool(stack)
+                        stack.clear()
+                # every finished run (a violating one too: what it reached, it reached) is a
+                # candidate for the cover (one per set of goals, the shortest): kept as bits,
+                # 37,000 runs of the Lab Tour take a few megabytes
                 if not path.goals <= covered:
                     covered |= path.goals
                 old = candidates.get(mask)
@@ -427,6 +614,8 @@ class Explorer:
             self.max_visits,
             self.max_hooks,
             errors,
+            tuple(sorted(cut)),
+            stopped,
         )
 
     def _cover(self, paths: list[Path], goals: set) -> list[Path]:
@@ -497,6 +686,21 @@ def scenario_text(path: Path, clock_ms: int, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
+def sync_actions(mission: Mission, args) -> frozenset[str]:
+    """The IDs of `--sync`: user Actions implemented synchronously (a `tick()` hook, like
+    BehaviorTree.CPP's SyncActionNode), which never return RUNNING; each must be one."""
+    from btgen.diagnostics import did_you_mean
+
+    wanted = tuple(getattr(args, "sync", None) or ())
+    actions = {m.id for m in mission.models if m.kind == "Action"}
+    for name in wanted:
+        if name not in actions:
+            guess = did_you_mean(name, actions)
+            hint = f" (did you mean `{guess}`?)" if guess else ""
+            raise cmdline.error(args, name, f"--sync {name}: the mission declares no Action `{name}`{hint}")
+    return frozenset(wanted)
+
+
 def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     """The statuses `btgen analyze` finds possible per node (None when the mission does not lower)."""
     from btgen import pipeline
@@ -509,8 +713,13 @@ def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     except UserError:
         return None
     result = analyze_program(mission, program, options)
+    sync = sync_actions(mission, args)
     return {
-        i: ({BY_NAME[s] for s in result.outcomes[i]} if result.reachable[i] else set())
+        i: (
+            {BY_NAME[s] for s in result.outcomes[i] if not (s == "RUNNING" and program.nodes[i].id in sync)}
+            if result.reachable[i]
+            else set()
+        )
         for i in range(len(program.nodes))
     }
 
@@ -530,11 +739,27 @@ def explore_command(args) -> int:
     possible = _possible(mission, args)
     try:
         ex = Explorer(
-            mission, args.ticks, args.depth, args.clock_ms, args.max_states, props, possible, not args.no_merge
+            mission,
+            args.ticks,
+            args.depth,
+            args.clock_ms,
+            args.max_states,
+            props,
+            possible,
+            not args.no_merge,
+            sync_actions(mission, args),
         )
     except ValueError as e:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
-    result = ex.explore()
+    ex.keep_going = args.keep_going
+    progress = _Progress(sys.stderr) if sys.stderr.isatty() else None
+    if progress is not None:
+        ex.on_progress = progress.update
+    try:
+        result = ex.explore()
+    finally:
+        if progress is not None:
+            progress.clear()
     files: list[str] = []
     if args.output_dir:
         try:
@@ -556,24 +781,40 @@ def explore_command(args) -> int:
             if ours.fullmatch(other) and full not in files:
                 os.remove(full)
     status = 0
-    for prop, path in result.violations:
-        status = 1
-        text = scenario_text(path, args.clock_ms, f"counterexample of: {prop.text}")
-        print(f"{args.mission}: property violated: {prop.text}", file=sys.stderr)
-        if args.output_dir:
-            cx = os.path.join(args.output_dir, f"counterexample-{result.violations.index((prop, path)) + 1}.scenario")
-            _write_atomic(cx, text)
-            print(f"  counterexample: {cx}", file=sys.stderr)
-        print("  scenario:", file=sys.stderr)
-        for line in text.splitlines():
-            print(f"    {line}", file=sys.stderr)
-        print("  trace:", file=sys.stderr)
-        try:
-            trace = trace_text(mission, parse_scenario_text(text, "<counterexample>"))
-        except UserError as e:
-            trace = "".join(str(d) + "\n" for d in e.diagnostics)
-        for line in trace.splitlines():
-            print(f"    {line}", file=sys.stderr)
+    # each property: holds (how far the search went), violated (its counterexample), or undecided
+    if result.stopped_at_violation:
+        bound = "not decided: the search stopped at the first violation (--keep-going goes on)"
+    elif result.truncated:
+        bound = f"bounded by --max-states {args.max_states}"
+    elif result.bounded_by:
+        bound = "bounded by " + " and ".join(
+            f"--ticks {args.ticks}" if b == "ticks" else f"--depth {args.depth}" for b in result.bounded_by
+        )
+    else:
+        bound = "exhaustive"
+    properties = []
+    counterexamples = 0
+    for prop in props:
+        found = next((path for p, path in result.violations if p is prop), None)
+        entry: dict = {"property": prop.text}
+        if found is None:
+            decided = not result.stopped_at_violation
+            entry["result"] = "holds" if decided else "undecided"
+            entry["line"] = f"holds ({result.states} states, {bound})" if decided else bound
+        else:
+            status = 1
+            text = scenario_text(found, args.clock_ms, f"counterexample of: {prop.text}")
+            try:
+                trace = trace_text(mission, parse_scenario_text(text, "<counterexample>"))
+            except UserError as e:
+                trace = "".join(str(d) + "\n" for d in e.diagnostics)
+            entry.update(result="violated", line="violated (counterexample below)", scenario=text, trace=trace)
+            counterexamples += 1
+            if args.output_dir:
+                cx = os.path.join(args.output_dir, f"counterexample-{counterexamples}.scenario")
+                _write_atomic(cx, text)
+                entry["file"] = cx
+        properties.append(entry)
     for k, (diag, path) in enumerate(result.errors, start=1):
         status = 1
         print(f"{diag}", file=sys.stderr)
@@ -593,21 +834,27 @@ def explore_command(args) -> int:
         for i, n in enumerate(ex.nodes):
             if not possible.get(i):
                 impossible.append(f'{n.uid} {n.reg_id} "{n.name}": never ticked (see `btgen analyze`)')
-    why = "not reached within the bounds"
-    if result.truncated:
-        why += f" (stopped at --max-states {args.max_states})"
+    if result.stopped_at_violation:
+        why = "not explored: the search stopped at the first violation (--keep-going explores on)"
+    elif result.truncated:
+        why = f"not reached within the bounds (stopped at --max-states {args.max_states})"
+    elif result.bounded_by:
+        why = f"not reached within the bounds (--ticks {args.ticks}, --depth {args.depth})"
     else:
-        why += f" (--ticks {args.ticks}, --depth {args.depth})"
+        why = "never reached, and the search was exhaustive: no run of the leaves gets there"
     report = {
         "mission": args.mission,
         "runs": result.runs,
         "states": result.states,
         "seconds": round(result.seconds, 3),
         "states_per_second": round(result.states / result.seconds) if result.seconds > 0 else None,
+        "search": "stopped at the first violation" if result.stopped_at_violation else bound,
         "goals": len(result.goals),
         "covered": len(result.covered),
         "node_goals": sum(1 for g in result.goals if g[0] == "node"),
         "nodes_covered": sum(1 for g in result.covered if g[0] == "node"),
+        "outcome_goals": sum(1 for g in result.goals if g[0] == "outcome"),
+        "outcomes_covered": sum(1 for g in result.covered if g[0] == "outcome"),
         "scenarios": len(result.paths),
         "files": files,
         "max_nodes_visited_per_tick": result.max_visits,
@@ -617,6 +864,7 @@ def explore_command(args) -> int:
             for g in uncovered
         ],
         "never_ticked": impossible,
+        "properties": [{k: v for k, v in p.items() if k != "line"} for p in properties],
         "violations": [p.text for p, _ in result.violations],
         "run_time_errors": [str(d) for d, _ in result.errors],
     }
@@ -624,22 +872,63 @@ def explore_command(args) -> int:
         json.dump(report, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return status
-    pct = 100.0 * len(result.covered) / len(result.goals) if result.goals else 100.0
+    from btgen.tools.cover import coverage_lines
+
     print(f"{args.mission}:")
-    print(
-        f"  runs {result.runs}, states {result.states}, {result.seconds:.2f} s ({report['states_per_second']} states/s)"
-    )
-    print(
-        f"  coverage: {report['nodes_covered']}/{report['node_goals']} nodes, "
-        f"{len(result.covered)}/{len(result.goals)} goals (nodes and outcomes) = {pct:.1f}%"
-    )
+    rate = report["states_per_second"]
+    print(f"  runs {result.runs}, states {result.states}, {result.seconds:.2f} s ({rate} states/s)")
+    for line in coverage_lines(
+        report["nodes_covered"], report["node_goals"], report["outcomes_covered"], report["outcome_goals"]
+    ):
+        print(f"  {line}")
+    for entry in properties:
+        print(f"  assert `{entry['property']}`: {entry['line']}")
     print(f"  scenarios: {len(result.paths)}" + (f" written to {args.output_dir}" if args.output_dir else ""))
     print(f"  most per tick seen: {result.max_visits} nodes visited, {result.max_hooks} leaf hooks")
     for line in impossible:
         print(f"  impossible: {line}")
-    for line in report["uncovered"]:
-        print(f"  uncovered: {line}: {why}")
+    if result.stopped_at_violation and uncovered:
+        print(f"  uncovered: {len(uncovered)} goals: {why}")
+    else:
+        for line in report["uncovered"]:
+            print(f"  uncovered: {line}: {why}")
+    for entry in properties:
+        if entry["result"] != "violated":
+            continue
+        print(f"  counterexample of `{entry['property']}`" + (f": {entry['file']}" if "file" in entry else ""))
+        print("    scenario:")
+        for line in entry["scenario"].splitlines():
+            print(f"      {line}")
+        print("    trace:")
+        for line in entry["trace"].splitlines():
+            print(f"      {line}")
     return status
+
+
+class _Progress:
+    """One line on a terminal, redrawn: a bar of the goals covered, states, rate, elapsed."""
+
+    WIDTH = 24
+
+    def __init__(self, stream) -> None:
+        self.stream = stream
+        self.t0 = time.perf_counter()
+
+    def update(self, states: int, covered: int, goals: int) -> None:
+        elapsed = time.perf_counter() - self.t0
+        filled = self.WIDTH * covered // goals if goals else self.WIDTH
+        bar = "#" * filled + "-" * (self.WIDTH - filled)
+        rate = states / elapsed if elapsed > 0 else 0.0
+        minutes, seconds = divmod(int(elapsed), 60)
+        self.stream.write(
+            f"\rexplore [{bar}] {covered}/{goals} goals, {states} states, {rate:.0f} states/s, "
+            f"{minutes}:{seconds:02d}\033[K"
+        )
+        self.stream.flush()
+
+    def clear(self) -> None:
+        self.stream.write("\r\033[K")
+        self.stream.flush()
 
 
 def _write_atomic(path: str, text: str) -> None:

@@ -5,7 +5,8 @@
 DIR/ gets a mission (mission/mission.xml, as Groot2 saves one, without models), its node
 models in a file of their own (mission/models.xml), a scenario for `btgen run`, the leaves in
 C++ with every hook the generated code calls (src/main.cpp: `check` for a Condition,
-`onStart`/`onRunning`/`onHalted` for an Action, the port accessors), a CMakeLists.txt that finds
+`onStart`/`onRunning`/`onHalted` for an Action that takes time, `tick` for one that finishes in
+the call, the port accessors), a CMakeLists.txt that finds
 the installed btgen (find_package, btgen_add_mission) and a README that says what to run. DIR
 must not exist, or be empty; the files appear all at once (written in a sibling folder, then
 renamed), never half a project. NAME (default: DIR's name) becomes the CMake project, the
@@ -17,9 +18,9 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-import sys
 import tempfile
 
+from btgen import cmdline
 from btgen.backend_cpp.naming import namespace_name
 
 MISSION = """<?xml version="1.0" encoding="UTF-8"?>
@@ -103,9 +104,10 @@ struct Leaves {{
   // A Condition answers in one call: SUCCESS or FAILURE, never RUNNING.
   Status check(leaf::BatteryOk&, const NodeInfo&) {{ return Status::SUCCESS; }}
 
-  // An Action: onStart when it is ticked while idle, onRunning while it is RUNNING, onHalted
-  // when its parent stops it. Ports are typed accessors: node.goal() gives the input (empty
-  // when it cannot be read), node.set_arrived_at(value) writes the output.
+  // An Action that takes time (BehaviorTree.CPP's StatefulActionNode): onStart when it is
+  // ticked while idle, onRunning while it is RUNNING, onHalted when its parent stops it.
+  // Ports are typed accessors: node.goal() gives the input (empty when it cannot be read),
+  // node.set_arrived_at(value) writes the output.
   Status onStart(leaf::MoveTo& node, const NodeInfo& info) {{
     const auto goal = node.goal();
     if (!goal) return Status::FAILURE;
@@ -122,14 +124,14 @@ struct Leaves {{
   }}
   void onHalted(leaf::MoveTo&, const NodeInfo&) {{ std::printf("{name}: stopped driving\\n"); }}
 
-  Status onStart(leaf::Say& node, const NodeInfo&) {{
+  // An Action that finishes in the call (BehaviorTree.CPP's SyncActionNode): tick() alone,
+  // SUCCESS or FAILURE, called each time the node is ticked.
+  Status tick(leaf::Say& node, const NodeInfo&) {{
     const auto message = node.message();
     if (!message) return Status::FAILURE;
     std::printf("{name}: says \\"arrived at %s\\"\\n", std::string(*message).c_str());
     return Status::SUCCESS;
   }}
-  Status onRunning(leaf::Say&, const NodeInfo&) {{ return Status::SUCCESS; }}
-  void onHalted(leaf::Say&, const NodeInfo&) {{}}
 }};
 
 }}  // namespace
@@ -148,10 +150,10 @@ int main() {{
 }}
 """
 
-README = """# {name}
+README = """# {title}
 
 A robot project made by `btgen init`: the mission in `mission/` (edit it in Groot2), the
-robot's code in `src/main.cpp`.
+robot's code in `src/main.cpp`. Its CMake project, executable and C++ namespace are `{name}`.
 
     btgen validate mission/mission.xml --models mission/models.xml
     btgen run mission/mission.xml --models mission/models.xml --scenario mission/mission.scenario
@@ -166,10 +168,10 @@ CMake finds btgen from the active virtual environment (its `bin/` on `PATH`); ot
 GITIGNORE = "/build/\n"
 
 
-def project_files(name: str) -> dict[str, str]:
+def project_files(name: str, title: str = "") -> dict[str, str]:
     return {
         "CMakeLists.txt": CMAKE.format(name=name),
-        "README.md": README.format(name=name),
+        "README.md": README.format(name=name, title=title or name),
         ".gitignore": GITIGNORE,
         "mission/mission.xml": MISSION.format(),
         "mission/models.xml": MODELS,
@@ -182,18 +184,19 @@ def init_command(args) -> int:
     target = os.path.normpath(args.directory)
     if os.path.exists(target) and (not os.path.isdir(target) or os.listdir(target)):
         what = "is not a folder" if not os.path.isdir(target) else "is not empty"
-        print(f"btgen: error: {args.directory} {what}: `btgen init` writes a new project", file=sys.stderr)
-        return 1
-    name = namespace_name(args.name or os.path.basename(os.path.abspath(target)))
+        raise cmdline.error(args, args.directory, f"{args.directory} {what}: `btgen init` writes a new project")
+    title = args.name or os.path.basename(os.path.abspath(target))
+    name = namespace_name(title)
     parent = os.path.dirname(os.path.abspath(target))
     try:
         os.makedirs(parent, exist_ok=True)
         work = tempfile.mkdtemp(prefix=".btgen-init-", dir=parent)
     except OSError as e:
-        print(f"btgen: error: {args.directory}: cannot create the project: {e.strerror or e}", file=sys.stderr)
-        return 1
+        raise cmdline.error(
+            args, args.directory, f"{args.directory}: cannot create the project: {e.strerror or e}"
+        ) from None
     try:
-        for rel, text in project_files(name).items():
+        for rel, text in project_files(name, title).items():
             path = os.path.join(work, rel)
             os.makedirs(os.path.dirname(path), exist_ok=True)
             with open(path, "w", encoding="utf-8") as f:
@@ -205,7 +208,9 @@ def init_command(args) -> int:
     except OSError as e:
         with contextlib.suppress(OSError):
             shutil.rmtree(work)
-        print(f"btgen: error: {args.directory}: cannot create the project: {e.strerror or e}", file=sys.stderr)
-        return 1
-    print(f"{args.directory}: a btgen project `{name}` (see {os.path.join(args.directory, 'README.md')})")
+        raise cmdline.error(
+            args, args.directory, f"{args.directory}: cannot create the project: {e.strerror or e}"
+        ) from None
+    readme = os.path.join(args.directory, "README.md")
+    print(f"btgen init: wrote the project `{name}` into {args.directory} (next: read {readme})")
     return 0

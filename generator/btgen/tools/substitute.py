@@ -8,7 +8,7 @@
       },
       "SubstitutionRules": {
         "Navigate": "SlowOk",           // by node name or registration ID
-        "IV. VisitExhibit/*": "AlwaysFailure",  // by path, with * and ? wildcards
+        "IV_VisitExhibit/*": "AlwaysFailure",  // by path, with * and ? wildcards
         "talk": "MyOtherAction"
       }
     }

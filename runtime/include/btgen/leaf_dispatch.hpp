@@ -48,7 +48,10 @@ struct LeafHooks {
 
   // ---- each hook for one model class (void, or a model of another kind: FAILURE, or
   // nothing done). Model is a template parameter, so what a Leaves lacks for a model
-  // of another kind is never looked up.
+  // of another kind is never looked up. A hook Leaves lacks is never called here either:
+  // the mission class has already said which one (BTGEN_ACTION_HOOKS, btgen/hooks.hpp);
+  // the static_asserts below are a second line for a Spec without those checks, and no
+  // call of a missing hook adds template errors after that sentence.
 
   // A StatefulActionNode's onStart, or a SyncActionNode's tick().
   struct OnStart {
@@ -58,11 +61,16 @@ struct LeafHooks {
         static_assert(has_action_hooks<Leaves, M>,
                       "Leaves implements neither tick() nor onStart/onRunning/onHalted for an Action model "
                       "(the model class is named in the instantiation above this line)");
-        M model(bb, err, node);
-        if constexpr (is_sync_action<Leaves, M>) {
-          return model.sync_result(leaves.tick(model, node));
+        if constexpr (!has_action_hooks<Leaves, M>) {
+          (void)leaves, (void)bb, (void)err, (void)node;
+          return Status::FAILURE;
         } else {
-          return leaves.onStart(model, node);
+          M model(bb, err, node);
+          if constexpr (is_sync_action<Leaves, M>) {
+            return model.sync_result(leaves.tick(model, node));
+          } else {
+            return leaves.onStart(model, node);
+          }
         }
       } else {
         (void)leaves, (void)bb, (void)err, (void)node;
@@ -75,12 +83,16 @@ struct LeafHooks {
   struct OnRunning {
     template <class M>
     static Status call(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
-      if constexpr (model_is<M, LeafKind::Action>()) {
+      if constexpr (model_is<M, LeafKind::Action>() && has_action_hooks<Leaves, M>) {
+        static_assert(is_sync_action<Leaves, M> || has_on_running_hook<Leaves, M>,
+                      "Leaves has onStart but no onRunning for an Action model (named in the instantiation above)");
         M model(bb, err, node);
         if constexpr (is_sync_action<Leaves, M>) {
           return model.sync_result(leaves.tick(model, node));
-        } else {
+        } else if constexpr (has_on_running_hook<Leaves, M>) {
           return leaves.onRunning(model, node);
+        } else {
+          return Status::FAILURE;
         }
       } else {
         (void)leaves, (void)bb, (void)err, (void)node;
@@ -105,9 +117,15 @@ struct LeafHooks {
   struct OnHalted {
     template <class M>
     static void call(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
-      if constexpr (model_is<M, LeafKind::Action>() && !IsSync::template call<M>()) {
-        M model(bb, err, node);
-        leaves.onHalted(model, node);
+      if constexpr (model_is<M, LeafKind::Action>() && !IsSync::template call<M>() && has_action_hooks<Leaves, M>) {
+        static_assert(has_on_halted_hook<Leaves, M>,
+                      "Leaves has onStart but no onHalted for an Action model (named in the instantiation above)");
+        if constexpr (has_on_halted_hook<Leaves, M>) {
+          M model(bb, err, node);
+          leaves.onHalted(model, node);
+        } else {
+          (void)leaves, (void)bb, (void)err, (void)node;
+        }
       } else {
         (void)leaves, (void)bb, (void)err, (void)node;
       }
@@ -118,8 +136,15 @@ struct LeafHooks {
     template <class M>
     static Status call(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node) {
       if constexpr (model_is<M, LeafKind::Condition>()) {
-        M model(bb, err, node);
-        return leaves.check(model, node);
+        static_assert(has_check_hook<Leaves, M>,
+                      "Leaves has no check() for a Condition model (named in the instantiation above)");
+        if constexpr (has_check_hook<Leaves, M>) {
+          M model(bb, err, node);
+          return leaves.check(model, node);
+        } else {
+          (void)leaves, (void)bb, (void)err, (void)node;
+          return Status::FAILURE;
+        }
       } else {
         (void)leaves, (void)bb, (void)err, (void)node;
         return Status::FAILURE;
@@ -138,8 +163,15 @@ struct LeafHooks {
     static Status call(Leaves& leaves, Blackboard& bb, const ErrorSink& err, const NodeInfo& node,
                        const ChildOps& ops) {
       if constexpr (user_node<M>()) {
-        M model(bb, err, node, ops);
-        return leaves.tick(model, node);
+        static_assert(has_tick_hook<Leaves, M>,
+                      "Leaves has no tick() for a Control or Decorator model (named in the instantiation above)");
+        if constexpr (has_tick_hook<Leaves, M>) {
+          M model(bb, err, node, ops);
+          return leaves.tick(model, node);
+        } else {
+          (void)leaves, (void)bb, (void)err, (void)node, (void)ops;
+          return Status::FAILURE;
+        }
       } else {
         (void)leaves, (void)bb, (void)err, (void)node, (void)ops;
         return Status::FAILURE;

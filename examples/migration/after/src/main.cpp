@@ -3,7 +3,7 @@
 //   BehaviorTree.CPP                         btgen
 //   class X : ConditionNode { tick() }       Status check(leaf::X&, const NodeInfo&)
 //   class X : StatefulActionNode             onStart / onRunning / onHalted(leaf::X&, ...)
-//   class X : SyncActionNode { tick() }      onStart returning SUCCESS or FAILURE
+//   class X : SyncActionNode { tick() }      Status tick(leaf::X&, const NodeInfo&) alone
 //   constructor argument Robot&              a member of Leaves (any state the leaves need)
 //   getInput<T>("goal")                      node.goal()            (typed by the models file)
 //   setOutput("arrived_at", v)               node.set_arrived_at(v)
@@ -49,15 +49,13 @@ struct Leaves {
   }
   void onHalted(leaf::MoveTo&, const NodeInfo&) { robot.stop(); }
 
-  // A SyncActionNode: it finishes in onStart, so onRunning is never called.
-  Status onStart(leaf::Say& node, const NodeInfo&) {
+  // A SyncActionNode: tick() alone, SUCCESS or FAILURE, called each time the node is ticked.
+  Status tick(leaf::Say& node, const NodeInfo&) {
     const auto message = node.message();
     if (!message) return Status::FAILURE;
     robot.say("docked at " + std::string(*message));
     return Status::SUCCESS;
   }
-  Status onRunning(leaf::Say&, const NodeInfo&) { return Status::FAILURE; }
-  void onHalted(leaf::Say&, const NodeInfo&) {}
 };
 
 }  // namespace

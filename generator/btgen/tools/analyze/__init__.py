@@ -40,7 +40,7 @@ loaded blackboards), ``ticks`` (the per-node tables, reachability), ``checks``
 (``analyze_program``: the findings) and ``command`` (``btgen analyze``, the executor's sizes).
 """
 
-from btgen.tools.analyze.checks import analyze_program
+from btgen.tools.analyze.checks import analyze_program, unwritten_script_reads
 from btgen.tools.analyze.command import analyze_command, memory, stop_quietly_on_broken_pipe
 from btgen.tools.analyze.results import ORDER, UNBOUNDED, Analysis, Cost, F, Finding, K, Outcomes, R, S
 
@@ -57,6 +57,7 @@ __all__ = [
     "S",
     "analyze_command",
     "analyze_program",
+    "unwritten_script_reads",
     "memory",
     "stop_quietly_on_broken_pipe",
 ]

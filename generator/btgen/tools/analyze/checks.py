@@ -3,13 +3,40 @@ before any write or never read, reactive nodes with two RUNNING children."""
 
 from __future__ import annotations
 
-from btgen.diagnostics import Loc
+from btgen.diagnostics import Diagnostic, Loc
 from btgen.ir.data import records
 from btgen.ir.lower import Program
 from btgen.lang.model import Mission
 from btgen.tools.analyze.constants import _Data
 from btgen.tools.analyze.results import Analysis, Finding, R
 from btgen.tools.analyze.ticks import _Analyzer
+
+
+def unwritten_script_reads(mission: Mission, options: records.DataOptions) -> list[Diagnostic]:
+    """A warning for each blackboard entry a script reads that nothing writes: no node, no
+    literal, not the application (--entry). The script fails when it runs (the entry does not
+    exist), so `validate` says so; most often an `--entry` / CMake ENTRIES is missing."""
+    data = _Data(mission, options)
+    out = []
+    for eid, reads in data.script_reads.items():
+        entry = data.entries[eid]
+        if entry.value is not None or eid in data.provided or data.writes.get(eid):
+            continue
+        index, loc = min(reads, key=lambda r: (r[1].line, r[1].col, r[0]))
+        key = data.entry_key.get(eid, "?")
+        node = data.insts[index].node
+        label = f"`{node.id}`" + (f' "{node.name}"' if node.name and node.name != node.id else "")
+        name = key.rsplit("/", 1)[-1].lstrip("@")
+        out.append(
+            Diagnostic(
+                loc,
+                f"the script of {label} reads the blackboard entry `{key}`, which nothing writes: it fails "
+                f"when it runs unless the application sets the entry (`--entry {name}=TYPE`, CMake "
+                f"`ENTRIES {name}=TYPE`)",
+                "warning",
+            )
+        )
+    return out
 
 
 def analyze_program(mission: Mission, program: Program, options: records.DataOptions) -> Analysis:

@@ -47,6 +47,7 @@ class _Data:
         self.reads: dict[int, list[tuple[int, Loc, Optional[str]]]] = {}
         self.writes: dict[int, list[tuple[int, Loc]]] = {}
         self.unsets: set[int] = set()
+        self.script_reads: dict[int, list[tuple[int, Loc]]] = {}  # the reads of scripts alone
         self.entry_key: dict[int, str] = {}
         self.entries: dict[int, bbmod.Entry] = {}
         for inst in self.insts:
@@ -80,6 +81,9 @@ class _Data:
         for name in sc.variables_read(script):
             if name not in self.enums:
                 self._read(inst, name, attr.value_loc, None)
+                e = self.entry(inst.bb, name)
+                if e is not None:
+                    self.script_reads.setdefault(id(e), []).append((inst.index, attr.value_loc))
         for name in sc.variables_written(script):
             self._write(inst, name, attr.value_loc)
 

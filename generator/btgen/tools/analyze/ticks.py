@@ -473,7 +473,7 @@ class _Analyzer:
         return reach
 
     def instance(self, i: int) -> str:
-        """The SubTree instances a node is in: `Tour/IV. VisitExhibit` ('' in the main tree)."""
+        """The SubTree instances a node is in: `Tour/IV_VisitExhibit` ('' in the main tree)."""
         names = []
         j = self.p.nodes[i].parent
         while j >= 0:
