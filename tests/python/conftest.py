@@ -135,6 +135,7 @@ def pytest_terminal_summary(terminalreporter):
     if skipped:
         terminalreporter.write_line(f"{len(skipped)} skipped here" + (", all on the list" if in_ci() else ""))
 
+
 # ---------------------------------------------------------------- markers (pyproject.toml)
 # `scripts/test.sh --quick` runs `pytest -m "not slow and not sanitize and not qemu"`: what a
 # contributor runs in minutes. The marks are given here, by file, test and parameter, so that
