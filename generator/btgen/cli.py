@@ -266,6 +266,10 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--mission", metavar="MISSION.xml")
     k.set_defaults(func=_cmd_lint_kb)
 
+    from btgen.tools.check.command import add_parser as add_check_parser
+
+    add_check_parser(sub)
+
     mo = sub.add_parser(
         "models",
         help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",

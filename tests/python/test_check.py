@@ -1,0 +1,236 @@
+"""`btgen check`: a whole repository found by content, each file loaded as its project loads it,
+findings with stable codes, selection and suppression, exit status and quiet output."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from btgen.cli import main
+from btgen.tools.check import discovery, runner
+from btgen.tools.check.codes import BY_CODE, classify, selected
+from btgen.tools.check.config import Settings
+
+ROOT = Path(__file__).resolve().parents[2]
+REAL = ROOT / "tests" / "real_files"
+
+MODELS = """<root BTCPP_format="4">
+  <TreeNodesModel>
+    <Action ID="Say"><input_port name="text"/></Action>
+  </TreeNodesModel>
+</root>
+"""
+MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Say text="hello"/>
+      <SubTree ID="Dock"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+LIBRARY = """<root BTCPP_format="4">
+  <BehaviorTree ID="Dock">
+    <Say text="docking"/>
+  </BehaviorTree>
+  <BehaviorTree ID="Undock">
+    <Say text="undocking"/>
+  </BehaviorTree>
+</root>
+"""
+
+
+def write(folder: Path, files: dict) -> Path:
+    for name, text in files.items():
+        p = folder / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(text)
+    return folder
+
+
+def run_check(args, capsys, cwd=None):
+    old = os.getcwd()
+    if cwd is not None:
+        os.chdir(cwd)
+    try:
+        status = main(["check", *args])
+    finally:
+        os.chdir(old)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_roles_found_by_content(tmp_path):
+    write(
+        tmp_path,
+        {
+            "nodes.xml": MODELS,
+            "mission.xml": MISSION,
+            "library.xml": LIBRARY,
+            "patrol.tree": MISSION.replace("Main", "Patrol"),  # no .xml: found by content
+            "launch.xml": "<launch><node pkg='x'/></launch>\n",  # XML, not BehaviorTree.CPP
+            "notes.txt": "root BTCPP_format",
+        },
+    )
+    project = discovery.survey([str(tmp_path)])
+    kinds = {os.path.basename(f.path): f.kind for f in project.files.values()}
+    assert kinds == {
+        "nodes.xml": "models file",
+        "mission.xml": "mission",
+        "library.xml": "tree library",
+        "patrol.tree": "mission",
+    }
+    units = {(os.path.basename(u.path), u.main_tree): u for u in discovery.plan(project)}
+    mission = units[("mission.xml", None)]
+    assert [os.path.basename(m) for m in mission.models] == ["nodes.xml"]
+    assert [os.path.basename(t) for t in mission.trees] == ["library.xml"]
+    # the library names no main tree: checked tree by tree, as the program may pick any
+    assert ("library.xml", "Dock") in units and ("library.xml", "Undock") in units
+    assert units[("library.xml", "Dock")].library
+
+
+def test_project_checks_clean_and_quiet(tmp_path, capsys):
+    write(tmp_path, {"nodes.xml": MODELS, "mission.xml": MISSION, "library.xml": LIBRARY})
+    status, out, err = run_check([str(tmp_path)], capsys)
+    assert (status, out, err) == (0, "", "")
+
+
+def test_error_exit_and_line_shape(tmp_path, capsys):
+    write(tmp_path, {"nodes.xml": MODELS, "mission.xml": MISSION.replace("<Say ", "<Sya ")})
+    status, out, err = run_check([str(tmp_path)], capsys)
+    assert status == 1 and out == ""
+    first = err.splitlines()[0]
+    assert first.startswith(f"{tmp_path}/mission.xml:4:7: error: unknown node `Sya`")
+    assert first.endswith("[E301]")
+    assert err.splitlines()[-1].startswith("btgen check: ")
+
+
+def test_cpp_only_nodes_say_how_to_declare_them(tmp_path, capsys):
+    write(tmp_path, {"mission.xml": MISSION.replace('      <SubTree ID="Dock"/>\n', "")})
+    status, _, err = run_check([str(tmp_path)], capsys)
+    assert status == 1
+    assert "[C101]" in err and "`btgen models DIR`" in err and "`models` in [tool.btgen]" in err
+    assert "--models FILE.xml" not in err
+
+
+def test_includes_are_checked_through_their_includer(tmp_path, capsys):
+    write(
+        tmp_path,
+        {
+            "nodes.xml": MODELS,
+            "main.xml": MISSION.replace("</root>", '  <include path="sub/dock.xml"/>\n</root>'),
+            "sub/dock.xml": LIBRARY.replace("undocking", "undocking").replace('<Say text="docking"/>', "<Sya/>"),
+        },
+    )
+    project = discovery.survey([str(tmp_path)])
+    dock = next(f for f in project.files.values() if f.path.endswith("dock.xml"))
+    assert dock.kind == "included file"
+    assert [u.path for u in discovery.plan(project)] == [str(tmp_path / "main.xml")]
+    # sub/dock.xml has no models file beside it, but its includer has: one finding, from the includer
+    status, _, err = run_check([str(tmp_path)], capsys)
+    assert status == 1 and err.count("unknown node `Sya`") == 1 and "sub/dock.xml:3:5:" in err
+
+
+def test_groot2_project_models_count(tmp_path, capsys):
+    proj = """<?xml version="1.0" encoding="UTF-8"?>
+<root BTCPP_format="4" project_name="Demo">
+    <include path="trees/mission.xml"/>
+    <include path="trees/library.xml"/>
+    <TreeNodesModel>
+        <Action ID="Say"><input_port name="text"/></Action>
+    </TreeNodesModel>
+</root>
+"""
+    write(tmp_path, {"demo.btproj": proj, "trees/mission.xml": MISSION, "trees/library.xml": LIBRARY})
+    project = discovery.survey([str(tmp_path)])
+    assert {os.path.basename(f.path): f.kind for f in project.files.values()}["demo.btproj"] == "Groot2 project"
+    status, out, err = run_check([str(tmp_path)], capsys)
+    assert (status, err) == (0, "")
+    # an error in the project's models is reported at the .btproj's own line
+    write(tmp_path, {"demo.btproj": proj.replace('name="text"/>', 'name="text"/><input_port name="text"/>')})
+    status, _, err = run_check([str(tmp_path)], capsys)
+    assert status == 1 and f"{tmp_path}/demo.btproj:6:" in err and "[E304]" in err
+
+
+def test_findings_do_not_depend_on_walk_order(tmp_path, capsys):
+    write(
+        tmp_path,
+        {
+            "a/nodes.xml": MODELS,
+            "a/m1.xml": MISSION.replace("<Say ", "<Sya "),
+            "a/library.xml": LIBRARY,
+            "b/m2.xml": MISSION,
+        },
+    )
+    s = Settings()
+    one = runner.check([str(tmp_path / "a"), str(tmp_path / "b")], s).findings
+    two = runner.check([str(tmp_path / "b"), str(tmp_path / "a")], s).findings
+    assert one == two and one
+
+
+def test_select_ignore_and_inline_suppression(tmp_path, capsys):
+    bad = MISSION.replace('<Say text="hello"/>', '<Sya text="hello"/>')
+    write(tmp_path, {"nodes.xml": MODELS, "library.xml": LIBRARY, "mission.xml": bad})
+    assert run_check([str(tmp_path), "--ignore", "E3"], capsys)[0] == 0
+    assert run_check([str(tmp_path), "--select", "A"], capsys)[0] == 0
+    assert run_check([str(tmp_path), "--select", "E", "--ignore", "E30"], capsys)[0] == 0
+    assert run_check([str(tmp_path), "--select", "E301"], capsys)[0] == 1
+    write(tmp_path, {"mission.xml": bad.replace('"hello"/>', '"hello"/> <!-- btgen: ignore[E301] -->')})
+    assert run_check([str(tmp_path)], capsys)[:3] == (0, "", "")
+    write(tmp_path, {"mission.xml": bad.replace('"hello"/>', '"hello"/> <!-- btgen: ignore[A101] -->')})
+    assert run_check([str(tmp_path)], capsys)[0] == 1
+
+
+def test_bad_selector_is_a_command_line_error(tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["check", str(tmp_path), "--select", "Q9"])
+    assert e.value.code == 1
+    assert "<command-line>:1:" in capsys.readouterr().err
+
+
+def test_selection_rules():
+    assert selected("E301", (), ())
+    assert not selected("A105", (), ())  # not a default rule
+    assert selected("A105", ("ALL", "A105"), ())
+    assert not selected("A105", ("A",), ())
+    assert selected("E301", ("E",), ("E30", "E301")) is False
+    assert selected("E301", ("E301",), ("E",))
+
+
+def test_every_known_message_has_its_own_code():
+    """Every diagnostic the bad-input corpora record gets a code of the table, not the fallback."""
+    fallback = []
+    for folder in ("bad_missions", "bad_data", "tree_libraries", "provided_entries"):
+        for f in sorted((ROOT / "tests" / folder).rglob("*.stderr")):
+            for line in f.read_text().splitlines():
+                parts = line.split(": ", 2)
+                if len(parts) == 3 and parts[1] in ("error", "warning"):
+                    if classify(parts[2], parts[1]) in ("E999", "W999"):
+                        fallback.append(f"{f.name}: {parts[2]}")
+    assert fallback == []
+
+
+@pytest.mark.parametrize("folder", ["nav2", "btcpp/trees"])
+def test_real_project_folders_load_with_no_flags(folder, capsys):
+    """Nav2's trees with its models file beside them, the library's own test trees with their
+    includes: all load with no flag (the findings left are warnings)."""
+    status, out, err = run_check([str(REAL / folder)], capsys)
+    assert status == 0, err
+    assert " error: " not in err
+
+
+def test_subprocess_is_quiet_without_a_terminal(tmp_path):
+    write(tmp_path, {"nodes.xml": MODELS, "mission.xml": MISSION, "library.xml": LIBRARY})
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "generator"))
+    r = subprocess.run(
+        [sys.executable, "-m", "btgen", "check", str(tmp_path)], check=False, capture_output=True, text=True, env=env
+    )
+    assert (r.returncode, r.stdout, r.stderr) == (0, "", "")
+
+
+def test_codes_are_unique_and_documented():
+    assert len(BY_CODE) == len({r.name for r in BY_CODE.values()})
+    for r in BY_CODE.values():
+        assert r.severity in ("error", "warning") and r.summary
