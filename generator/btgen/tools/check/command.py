@@ -114,10 +114,11 @@ def _show_settings(args: argparse.Namespace, s: config.Settings) -> int:
         raise UserError.at(Loc(target, 1, 1), 'not a BehaviorTree.CPP file (no <root BTCPP_format="..."> at its start)')
     top = os.path.dirname(target) or "."
     report_paths = [top] + [p for p in args.paths if p != "."]
-    project = discovery.survey(report_paths)
+    skip, main_for = runner.filters(s)
+    project = discovery.survey(report_paths, skip)
     real = os.path.realpath(target)
     f = project.files.get(real) or discovery.read(target)
-    units = [u for u in discovery.plan(project, s.models, s.trees) if os.path.realpath(u.path) == real]
+    units = [u for u in discovery.plan(project, s.models, s.trees, main_for) if os.path.realpath(u.path) == real]
     lines = []
     for u in units:
         lines.append(f"[[load]]  # {'a tree library on its own' if u.library else 'as a mission'}")
@@ -140,7 +141,7 @@ def check_command(args: argparse.Namespace) -> int:
 
             raise error(args, p, f"no such file or folder `{p}`")
     if args.show_files:
-        project = discovery.survey(args.paths)
+        project = discovery.survey(args.paths, runner.filters(s)[0])
         for _real, f in sorted(project.files.items(), key=lambda kv: kv[1].path):
             print(f"{f.path}: {f.kind}")
         return EXIT_OK

@@ -34,6 +34,7 @@ SNIFF_BYTES = 64 * 1024
 MAX_BYTES = 4 * 1024 * 1024
 SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".venv", "venv", ".tox", ".mypy_cache"}
 _ROOT = re.compile(rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
+_ROOT_V3 = re.compile(rb"<root\b[^>]*>\s*(<!--.*?-->\s*)*<(BehaviorTree|TreeNodesModel|include)\b", re.S)
 _PROJECT = re.compile(rb"<root\b[^>]*\bproject_name\s*=", re.S)
 
 
@@ -104,7 +105,8 @@ def sniff(path: str) -> bool:
             head = f.read(SNIFF_BYTES)
     except OSError:
         return False
-    return b"\x00" not in head[:512] and _ROOT.search(head) is not None
+    # (a <root> without BTCPP_format whose first element is a tree, models or include: read as format 4)
+    return b"\x00" not in head[:512] and (_ROOT.search(head) is not None or _ROOT_V3.search(head) is not None)
 
 
 def walk(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir: False) -> list[str]:

@@ -183,8 +183,9 @@ def suppressed(f: Finding, lines: _Lines) -> bool:
     return False
 
 
-def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, str], None]] = None) -> Report:
-    """Find, load and check every BehaviorTree.CPP file under `paths`."""
+def filters(s: Settings) -> tuple[Callable[[str, bool], bool], Callable[[str], Optional[str]]]:
+    """What the configuration leaves out of the walk (`exclude`, `include`), and the main tree it
+    chooses for a file (`main-tree`), its globs relative to the configuration's folder."""
 
     def skip(path: str, is_dir: bool) -> bool:
         rel = s.rel(path)
@@ -196,6 +197,12 @@ def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, 
         rel = s.rel(path)
         return next((t for g, t in s.main_tree.items() if discovery.matches(rel, (g,))), None)
 
+    return skip, main_for
+
+
+def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, str], None]] = None) -> Report:
+    """Find, load and check every BehaviorTree.CPP file under `paths`."""
+    skip, main_for = filters(s)
     project = discovery.survey(paths, skip)
     units = discovery.plan(project, s.models, s.trees, main_for)
     report = Report(sorted(f.path for f in project.files.values()), {f.path: f.kind for f in project.files.values()})
