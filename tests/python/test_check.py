@@ -72,6 +72,9 @@ def test_roles_found_by_content(tmp_path):
             "patrol.tree": MISSION.replace("Main", "Patrol"),  # no .xml: found by content
             "launch.xml": "<launch><node pkg='x'/></launch>\n",  # XML, not BehaviorTree.CPP
             "notes.txt": "root BTCPP_format",
+            "make.py": 'XML = """<root BTCPP_format="4"><BehaviorTree/></root>"""\n',  # XML in a string
+            "old.xml": '<?xml version="1.0"?>\n<!-- v3 -->\n<root>\n  <BehaviorTree ID="Old">\n'
+            "    <AlwaysSuccess/>\n  </BehaviorTree>\n</root>\n",
         },
     )
     project = discovery.survey([str(tmp_path)])
@@ -81,6 +84,7 @@ def test_roles_found_by_content(tmp_path):
         "mission.xml": "mission",
         "library.xml": "tree library",
         "patrol.tree": "mission",
+        "old.xml": "mission",
     }
     units = {(os.path.basename(u.path), u.main_tree): u for u in discovery.plan(project)}
     mission = units[("mission.xml", None)]
@@ -234,3 +238,24 @@ def test_codes_are_unique_and_documented():
     assert len(BY_CODE) == len({r.name for r in BY_CODE.values()})
     for r in BY_CODE.values():
         assert r.severity in ("error", "warning") and r.summary
+
+
+def test_a_file_given_by_name_is_loaded_as_in_its_folder(tmp_path, capsys):
+    """What pre-commit does: it passes the changed files. Their models files, libraries and
+    includers beside them count; only the given files' findings are reported."""
+    write(
+        tmp_path,
+        {
+            "nodes.xml": MODELS,
+            "library.xml": LIBRARY,
+            "mission.xml": MISSION,
+            "other.xml": MISSION.replace("Main", "Other").replace("<Say ", "<Sya "),
+            "main.xml": '<root BTCPP_format="4" main_tree_to_execute="M">\n  <include path="part.xml"/>\n'
+            '  <BehaviorTree ID="M">\n    <SubTree ID="Part"/>\n  </BehaviorTree>\n</root>\n',
+            "part.xml": '<root BTCPP_format="4">\n  <BehaviorTree ID="Part">\n    <Sya/>\n  </BehaviorTree>\n</root>\n',
+        },
+    )
+    assert run_check([str(tmp_path / "mission.xml")], capsys)[:3] == (0, "", "")
+    status, _, err = run_check([str(tmp_path / "part.xml")], capsys)
+    assert status == 1 and err.startswith(f"{tmp_path}/part.xml:3:5: error: unknown node `Sya`")
+    assert "other.xml" not in err

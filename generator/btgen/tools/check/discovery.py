@@ -1,7 +1,9 @@
 """Which files of a repository are BehaviorTree.CPP files, what each one is, and how each is loaded.
 
-A file is found by its content, not its name: a `<root ... BTCPP_format=...>` start tag near its
-beginning (so `nav.tree` or a file without extension counts, a `.xml` of ROS launch does not).
+A file is found by its content, not its name: its first element is a `<root ... BTCPP_format=...>`
+(or a `<root>` whose first element is a tree, models or an include), after an XML declaration and
+comments; so `nav.tree` or a file without extension counts, a `.xml` of ROS launch or a Python
+file that holds such XML in a string does not.
 Each is then one of:
 
 - a Groot2 project (`.btproj`, or a `<root project_name=...>`): its `<include>`s name the project's
@@ -33,8 +35,10 @@ from lxml import etree
 SNIFF_BYTES = 64 * 1024
 MAX_BYTES = 4 * 1024 * 1024
 SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".venv", "venv", ".tox", ".mypy_cache"}
-_ROOT = re.compile(rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
-_ROOT_V3 = re.compile(rb"<root\b[^>]*>\s*(<!--.*?-->\s*)*<(BehaviorTree|TreeNodesModel|include)\b", re.S)
+# the first element of the file, after an XML declaration, comments and blank space
+_LEAD = rb"\A(?:\xef\xbb\xbf)?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*"
+_ROOT = re.compile(_LEAD + rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
+_ROOT_V3 = re.compile(_LEAD + rb"<root\b[^>]*>\s*(?:<!--.*?-->\s*)*<(?:BehaviorTree|TreeNodesModel|include)\b", re.S)
 _PROJECT = re.compile(rb"<root\b[^>]*\bproject_name\s*=", re.S)
 
 
@@ -51,6 +55,7 @@ class BTFile:
     included_by: list[str] = field(default_factory=list)  # shown paths of includers
     library_of: list[str] = field(default_factory=list)  # shown paths of files using its trees as SubTrees
     projects: list[str] = field(default_factory=list)  # shown paths of .btproj files listing it
+    context: bool = False  # beside a file given by name: read for its models and trees, not checked
 
     @property
     def real(self) -> str:
@@ -106,10 +111,12 @@ def sniff(path: str) -> bool:
     except OSError:
         return False
     # (a <root> without BTCPP_format whose first element is a tree, models or include: read as format 4)
-    return b"\x00" not in head[:512] and (_ROOT.search(head) is not None or _ROOT_V3.search(head) is not None)
+    return b"\x00" not in head[:512] and (_ROOT.match(head) is not None or _ROOT_V3.match(head) is not None)
 
 
-def walk(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir: False) -> list[str]:
+def walk(
+    paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir: False, recurse: bool = True
+) -> list[str]:
     """The BehaviorTree.CPP files under `paths` (a file given by name is taken when it sniffs as one),
     sorted, each once; `skip(path, is_dir)` leaves out what the configuration excludes."""
     found: dict[str, str] = {}
@@ -122,7 +129,7 @@ def walk(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir:
             dirs[:] = sorted(
                 d
                 for d in dirs
-                if d not in SKIP_DIRS and not d.startswith(".") and not skip(os.path.join(folder, d), True)
+                if recurse and d not in SKIP_DIRS and not d.startswith(".") and not skip(os.path.join(folder, d), True)
             )
             for name in sorted(files):
                 full = os.path.normpath(os.path.join(folder, name))
@@ -192,6 +199,15 @@ def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_di
     project = Project({})
     for p in walk(paths, skip):
         project.files[os.path.realpath(p)] = read(p)
+    # A file given by name (pre-commit passes the changed files) is loaded as in its folder: the
+    # models files, tree libraries and Groot2 projects beside it count, without being checked.
+    for top in paths:
+        if os.path.isfile(top):
+            for p in walk([os.path.dirname(top) or "."], skip, recurse=False):
+                if os.path.realpath(p) not in project.files:
+                    f = read(p)
+                    f.context = True
+                    project.files[os.path.realpath(p)] = f
     for _real, f in sorted(project.files.items()):
         for target in f.includes:
             t = project.files.get(target)
@@ -247,7 +263,21 @@ def plan(
 ) -> list[Unit]:
     """The loads that check the project: one per mission, one per tree of a file that picks none."""
     units: list[Unit] = []
+    # a file given by name that only others include is checked through them (their own findings are
+    # left out by the runner: they were not given)
+    through: set[str] = set()
+    stack = [f for f in project.files.values() if not f.context and f.included_by and f.main is None]
+    while stack:
+        g = stack.pop()
+        for p in g.included_by:
+            includer = project.files[os.path.realpath(p)]
+            if includer.context and includer.real not in through:
+                through.add(includer.real)
+                if includer.included_by and includer.main is None:
+                    stack.append(includer)
     for _real, f in sorted(project.files.items()):
+        if f.context and f.real not in through:
+            continue
         if f.role == "broken":
             units.append(Unit(f.path, None, (), (), False))
             continue

@@ -205,7 +205,8 @@ def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, 
     skip, main_for = filters(s)
     project = discovery.survey(paths, skip)
     units = discovery.plan(project, s.models, s.trees, main_for)
-    report = Report(sorted(f.path for f in project.files.values()), {f.path: f.kind for f in project.files.values()})
+    checked = [f for f in project.files.values() if not f.context]
+    report = Report(sorted(f.path for f in checked), {f.path: f.kind for f in checked})
     report.units = len(units)
     seen: set[Finding] = set()
     projects = _ProjectModels()
@@ -217,7 +218,8 @@ def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, 
                 seen.add(to_finding(d, source, unit, projects))
     finally:
         projects.close()
-    report.findings = _filter(sorted(_merge(seen)), s)
+    context = {f.path for f in project.files.values() if f.context}
+    report.findings = _filter(sorted(f for f in _merge(seen) if f.path not in context), s)
     return report
 
 
