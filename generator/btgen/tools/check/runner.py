@@ -147,7 +147,7 @@ def run_unit(unit: discovery.Unit, s: Settings, projects: _ProjectModels) -> lis
 def to_finding(d: Diagnostic, source: str, unit: discovery.Unit, projects: _ProjectModels) -> Finding:
     code = classify(d.message, d.severity, source)
     message, severity = d.message, d.severity
-    if code == "C101":
+    if code == "C101" or (code == "E301" and "neither built in nor declared" in message):
         message = message.replace(_NO_MODELS, "") + CPP_HINT
     if unit.library and code == "E503":
         # a tree library checked on its own: the entry may come from its caller or the program, and the
