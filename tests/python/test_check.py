@@ -259,3 +259,19 @@ def test_a_file_given_by_name_is_loaded_as_in_its_folder(tmp_path, capsys):
     status, _, err = run_check([str(tmp_path / "part.xml")], capsys)
     assert status == 1 and err.startswith(f"{tmp_path}/part.xml:3:5: error: unknown node `Sya`")
     assert "other.xml" not in err
+
+
+def test_jobs_give_the_same_findings(tmp_path):
+    write(
+        tmp_path,
+        {
+            "nodes.xml": MODELS,
+            "library.xml": LIBRARY,
+            "m1.xml": MISSION.replace("<Say ", "<Sya "),
+            "m2.xml": MISSION.replace("Main", "Two"),
+            "m3.xml": MISSION.replace("Main", "Three").replace("Dock", "Undock"),
+        },
+    )
+    one = runner.check([str(tmp_path)], Settings())
+    two = runner.check([str(tmp_path)], Settings(), jobs=2)
+    assert one.findings == two.findings and one.findings

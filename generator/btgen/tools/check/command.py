@@ -29,6 +29,16 @@ def _selectors(text: str) -> list[str]:
     return out
 
 
+def _jobs(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a whole number") from None
+    if not 0 <= n <= 64:
+        raise argparse.ArgumentTypeError(f"{n} is out of range (0 to 64)")
+    return n or (os.cpu_count() or 1)
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
     c = sub.add_parser(
         "check",
@@ -76,6 +86,14 @@ def add_parser(sub) -> argparse.ArgumentParser:
         default=None,
         metavar="VERSION",
         help="the BehaviorTree.CPP release to follow (over the configuration's `btcpp`)",
+    )
+    c.add_argument(
+        "-j",
+        "--jobs",
+        type=_jobs,
+        default=1,
+        metavar="N",
+        help="check with N processes (0: one per core; default 1); the findings are the same",
     )
     c.add_argument("--show-settings", metavar="FILE", help="print what applies to FILE and how it is loaded, then exit")
     c.add_argument("--show-files", action="store_true", help="print the files found and what each is, then exit")
@@ -145,7 +163,7 @@ def check_command(args: argparse.Namespace) -> int:
         for _real, f in sorted(project.files.items(), key=lambda kv: kv[1].path):
             print(f"{f.path}: {f.kind}")
         return EXIT_OK
-    report = runner.check(args.paths, s, runner.progress_printer())
+    report = runner.check(args.paths, s, runner.progress_printer(), jobs=args.jobs)
     rendered = formats.RENDER[args.format](report)
     if args.output_file:
         from pathlib import Path

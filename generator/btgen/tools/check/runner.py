@@ -10,6 +10,7 @@ and code, so they never depend on the order of the walk.
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import sys
@@ -200,8 +201,17 @@ def filters(s: Settings) -> tuple[Callable[[str, bool], bool], Callable[[str], O
     return skip, main_for
 
 
-def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, str], None]] = None) -> Report:
-    """Find, load and check every BehaviorTree.CPP file under `paths`."""
+def _work(unit: discovery.Unit, s: Settings, made: dict[str, str]) -> list[tuple[Diagnostic, str]]:
+    """One unit in a worker process (--jobs): the project models files were made by the parent."""
+    projects = _ProjectModels()
+    projects.made = made
+    return run_unit(unit, s, projects)
+
+
+def check(
+    paths: list[str], s: Settings, progress: Optional[Callable[[int, int, str], None]] = None, jobs: int = 1
+) -> Report:
+    """Find, load and check every BehaviorTree.CPP file under `paths` (`jobs` processes)."""
     skip, main_for = filters(s)
     project = discovery.survey(paths, skip)
     units = discovery.plan(project, s.models, s.trees, main_for)
@@ -211,11 +221,24 @@ def check(paths: list[str], s: Settings, progress: Optional[Callable[[int, int, 
     seen: set[Finding] = set()
     projects = _ProjectModels()
     try:
-        for i, unit in enumerate(units):
-            if progress is not None:
-                progress(i, len(units), unit.path)
-            for d, source in run_unit(unit, s, projects):
-                seen.add(to_finding(d, source, unit, projects))
+        for unit in units:  # (made before any worker starts: the workers only look them up)
+            for proj in unit.projects:
+                projects.models_for(proj)
+        if jobs > 1 and len(units) > 1:
+            import multiprocessing
+
+            with multiprocessing.get_context().Pool(min(jobs, len(units))) as pool:
+                results = pool.imap(functools.partial(_work, s=s, made=dict(projects.made)), units, chunksize=4)
+                for i, (unit, diags) in enumerate(zip(units, results)):
+                    if progress is not None:
+                        progress(i, len(units), unit.path)
+                    seen.update(to_finding(d, source, unit, projects) for d, source in diags)
+        else:
+            for i, unit in enumerate(units):
+                if progress is not None:
+                    progress(i, len(units), unit.path)
+                for d, source in run_unit(unit, s, projects):
+                    seen.add(to_finding(d, source, unit, projects))
     finally:
         projects.close()
     context = {f.path for f in project.files.values() if f.context}
