@@ -275,3 +275,36 @@ def test_jobs_give_the_same_findings(tmp_path):
     one = runner.check([str(tmp_path)], Settings())
     two = runner.check([str(tmp_path)], Settings(), jobs=2)
     assert one.findings == two.findings and one.findings
+
+
+def test_nothing_found_is_said(tmp_path, capsys):
+    (tmp_path / "launch.xml").write_text("<launch/>\n")
+    status, out, err = run_check([str(tmp_path)], capsys)
+    assert status == 0 and out == ""
+    assert err == f"btgen check: warning: no BehaviorTree.CPP file (<root BTCPP_format=...>) found under {tmp_path}\n"
+
+
+def test_include_ros_pkg_through_config_or_environment(tmp_path, capsys, monkeypatch):
+    """<include ros_pkg=...>: the library built without ROS refuses it (recorded on 4.6.2 and 4.10.0);
+    with ROS it opens the package's share folder, which the configuration or AMENT_PREFIX_PATH give."""
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    write(
+        tmp_path,
+        {
+            "ws/install/share/robot_trees/trees/dock.xml": LIBRARY.replace("Say", "AlwaysSuccess")
+            .replace(' text="docking"', "")
+            .replace(' text="undocking"', ""),
+            "app/mission.xml": MISSION.replace('<Say text="hello"/>', "<AlwaysSuccess/>").replace(
+                "</root>", '  <include ros_pkg="robot_trees" path="trees/dock.xml"/>\n</root>'
+            ),
+        },
+    )
+    status, _, err = run_check([str(tmp_path / "app")], capsys)
+    assert status == 1
+    assert "mission.xml:8:12: error: <include ros_pkg=...>: package `robot_trees` not found" in err and "[E202]" in err
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(tmp_path / "ws" / "install"))
+    assert run_check([str(tmp_path / "app")], capsys)[:3] == (0, "", "")
+    monkeypatch.delenv("AMENT_PREFIX_PATH")
+    (tmp_path / "app" / "btgen.toml").write_text('[ros-packages]\nrobot_trees = "../ws/install/share/robot_trees"\n')
+    assert run_check([str(tmp_path / "app")], capsys)[:3] == (0, "", "")

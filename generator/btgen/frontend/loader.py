@@ -85,8 +85,10 @@ class _Loader:
         main_tree: Optional[str] = None,
         trees: Sequence[str] = (),
         btcpp: str = DEFAULT_VERSION,
+        ros_packages: Sequence[tuple[str, str]] = (),
     ) -> None:
         self.path = path
+        self.ros_packages = dict(ros_packages)  # package -> folder, for <include ros_pkg=...>
         self.btcpp = btcpp
         self.sem = semantics(btcpp)
         self.builtins = builtins_for(btcpp)
@@ -331,15 +333,18 @@ class _Loader:
 
     def _include(self, elem: etree._Element, src: Source, stack: tuple[str, ...]) -> None:
         loc = src.loc(elem)
-        if elem.get("ros_pkg") is not None:
-            self.sink.error(
-                src.attr_loc(elem, "ros_pkg"),
-                "<include ros_pkg=...> needs ROS; give a path relative to this file instead",
-            )
-            return
         rel = elem.get("path")
         base_real = os.path.dirname(stack[-1])
         base_shown = os.path.dirname(src.path)
+        if elem.get("ros_pkg") is not None:  # the package's folder, where ROS would find it
+            from btgen.frontend import ros_packages
+
+            pkg = elem.get("ros_pkg") or ""
+            folder = ros_packages.find(pkg, self.ros_packages)
+            if folder is None:
+                self.sink.error(src.attr_loc(elem, "ros_pkg"), ros_packages.not_found(pkg, self.ros_packages))
+                return
+            base_real = base_shown = folder
         target_real = os.path.realpath(os.path.join(base_real, rel))
         target_shown = os.path.normpath(os.path.join(base_shown, rel))
         if target_real in stack:
@@ -1009,11 +1014,13 @@ def load_mission(
     main_tree: Optional[str] = None,
     trees: Sequence[str] = (),
     btcpp: str = DEFAULT_VERSION,
+    ros_packages: Sequence[tuple[str, str]] = (),
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
-    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
-    return _Loader(path, models, main_tree, trees, btcpp).load()
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py).
+    `ros_packages`: folders of ROS packages for <include ros_pkg=...> (frontend/ros_packages.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp, ros_packages).load()

@@ -133,7 +133,7 @@ RULES: tuple[Rule, ...] = (
         "error",
         "an <include ros_pkg=...> whose package cannot be found here",
         (r"^<include ros_pkg=",),
-        bad=_m("    <AlwaysSuccess/>\n", '  <include ros_pkg="nav2_bt_navigator" path="trees/x.xml"/>\n'),
+        bad=_m("    <AlwaysSuccess/>\n", '  <include ros_pkg="no_such_btgen_pkg" path="trees/x.xml"/>\n'),
         good=_m("    <AlwaysSuccess/>\n"),
         why="Give the package's folder in `ros-packages` of [tool.btgen], or a path relative to the file.",
     ),

@@ -164,6 +164,11 @@ def check_command(args: argparse.Namespace) -> int:
             print(f"{f.path}: {f.kind}")
         return EXIT_OK
     report = runner.check(args.paths, s, runner.progress_printer(), jobs=args.jobs)
+    if not report.files:  # (likely a wrong path or an `exclude` too wide: say so, exit 0 as ruff does)
+        sys.stderr.write(
+            f"btgen check: warning: no BehaviorTree.CPP file (<root BTCPP_format=...>) found under "
+            f"{', '.join(args.paths)}\n"
+        )
     rendered = formats.RENDER[args.format](report)
     if args.output_file:
         from pathlib import Path

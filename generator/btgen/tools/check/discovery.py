@@ -36,7 +36,11 @@ SNIFF_BYTES = 64 * 1024
 MAX_BYTES = 4 * 1024 * 1024
 SKIP_DIRS = {".git", ".hg", ".svn", "__pycache__", "node_modules", ".venv", "venv", ".tox", ".mypy_cache"}
 # the first element of the file, after an XML declaration, comments and blank space
-_LEAD = rb"\A(?:\xef\xbb\xbf)?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*"
+# (and a DOCTYPE, which the loader then refuses: E103)
+_LEAD = (
+    rb"\A(?:\xef\xbb\xbf)?\s*(?:<\?xml[^>]*\?>\s*)?(?:<!--.*?-->\s*)*"
+    rb"(?:<!DOCTYPE[^\[>]*(?:\[.*?\])?\s*>\s*)?(?:<!--.*?-->\s*)*"
+)
 _ROOT = re.compile(_LEAD + rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
 _ROOT_V3 = re.compile(_LEAD + rb"<root\b[^>]*>\s*(?:<!--.*?-->\s*)*<(?:BehaviorTree|TreeNodesModel|include)\b", re.S)
 _PROJECT = re.compile(rb"<root\b[^>]*\bproject_name\s*=", re.S)

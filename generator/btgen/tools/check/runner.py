@@ -110,6 +110,7 @@ def _options(s: Settings, unit: discovery.Unit, models: tuple[str, ...]) -> pipe
         string_capacity=s.string_capacity,
         queue_capacity=s.queue_capacity,
         btcpp=s.btcpp,
+        ros_packages=tuple(sorted(s.ros_packages.items())),
     )
 
 
