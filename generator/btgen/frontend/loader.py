@@ -48,6 +48,7 @@ MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance cou
 
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_SUBTREE_REMAP_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)*$")
 # FORMAT.md: node IDs contain no white space, `"` or `\` (the trace prints them unquoted).
 _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 # Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
@@ -615,8 +616,9 @@ class _Loader:
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
             elif not aname[:1].isalpha():
                 self._ignored_attribute(attr, tag, node_id)
-            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
-                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+            elif not version_rules.is_port_name(aname, self.sem) and (tag != "SubTree" or self.sem.attribute_names_484):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`), a
+                # SubTree's remaps too (`target.room="{room}"`: recorded on 4.10.0)
                 self.sink.warning(
                     attr.loc,
                     f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
@@ -670,7 +672,7 @@ class _Loader:
             elif node_id not in tree_ids:
                 beside = self.siblings.defining_tree(src.path, node_id)
                 where = (
-                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    "; " + beside.include_advice(node_id, tree_ids)
                     if beside is not None
                     else suggestion(node_id, tree_ids)
                 )
@@ -768,7 +770,8 @@ class _Loader:
         return True
 
     def _subtree_remap(self, attr: Attr, tree_id: str) -> Attr:
-        if not _PORT_NAME_RE.match(attr.name):
+        # 4.6.2 and 4.10.0 both remap a dotted name (`target.room="{room}"`: recorded on the library)
+        if not _SUBTREE_REMAP_RE.match(attr.name):
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
