@@ -8,7 +8,7 @@ import pytest
 
 from btgen.tools.check import rules_doc, runner
 from btgen.tools.check.codes import BY_CODE, RULES
-from btgen.tools.check.config import Settings
+from btgen.tools.check.config import load_settings
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs" / "rules"
@@ -29,10 +29,11 @@ def test_most_codes_have_examples():
 
 
 def _codes(folder: Path, code: str) -> set:
-    settings = Settings(select=("ALL", code))
     old = os.getcwd()
     os.chdir(folder)
     try:
+        found = os.path.join(".", "btgen.toml") if (folder / "btgen.toml").exists() else None  # as check finds it
+        settings = runner.with_cli(load_settings(found), [], [], [code])
         report = runner.check(["."], settings)
     finally:
         os.chdir(old)

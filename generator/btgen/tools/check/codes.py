@@ -347,6 +347,13 @@ RULES: tuple[Rule, ...] = (
         "error",
         "a string or queue longer than the capacity btgen gives it",
         (r"does not fit blackboard entry", r"capacity"),
+        bad=_m("    <Script code=\"msg := '" + "x" * 140 + "'\"/>\n"),
+        good={
+            "mission.xml": tree("    <Script code=\"msg := '" + "x" * 140 + "'\"/>\n"),
+            "btgen.toml": "string-capacity = 256\n",
+        },
+        why="btgen's strings have a fixed capacity (128 bytes by default); `string-capacity` and `queue-capacity` "
+        "in [tool.btgen] raise it.",
     ),
     # ------------------------------------------------------------------ E6: releases, back end
     Rule(

@@ -151,6 +151,10 @@ def to_finding(d: Diagnostic, source: str, unit: discovery.Unit, projects: _Proj
     message, severity = d.message, d.severity
     if code == "C101" or (code == "E301" and "neither built in nor declared" in message):
         message = message.replace(_NO_MODELS, "") + CPP_HINT
+    if code == "E505" and "--string-capacity" in message:  # check's way to say it
+        message += "; for btgen check: `string-capacity = N` in [tool.btgen]"
+    elif code == "E505" and "--queue-capacity" in message:
+        message += "; for btgen check: `queue-capacity = N` in [tool.btgen]"
     if unit.library and code == "E503":
         # a tree library checked on its own: the entry may come from its caller or the program, and the
         # library loads it all the same; the call site decides
