@@ -71,3 +71,23 @@ def test_include_ros_pkg_in_validate(tmp_path, capsys, monkeypatch):
     assert "package `trees_pkg` not found (looked in AMENT_PREFIX_PATH" in capsys.readouterr().err
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "install" / "share"))
     assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 0
+
+
+def test_a_node_declared_differently_in_two_files_loads(tmp_path, capsys):
+    """Recorded on 4.6.2 and 4.10.0: a mission and its include declaring `Say` with different ports
+    load (the library never reads a registered node's model); btgen warns and takes both."""
+    (tmp_path / "inc.xml").write_text(
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="Other">\n    <AlwaysSuccess/>\n  </BehaviorTree>\n'
+        '  <TreeNodesModel>\n    <Action ID="Say"><input_port name="text" type="int"/><output_port name="done"/>'
+        "</Action>\n  </TreeNodesModel>\n</root>\n"
+    )
+    (tmp_path / "m.xml").write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <include path="inc.xml"/>\n'
+        '  <BehaviorTree ID="Main">\n    <Say text="hi" done="{d}"/>\n  </BehaviorTree>\n'
+        '  <TreeNodesModel>\n    <Action ID="Say"><input_port name="text"/></Action>\n  </TreeNodesModel>\n</root>\n'
+    )
+    assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 0
+    err = capsys.readouterr().err
+    assert "m.xml:7:17: warning: `Say` is declared twice in TreeNodesModel and the declarations differ" in err
+    assert main(["check", str(tmp_path)]) == 0
+    assert "[W105]" in capsys.readouterr().err

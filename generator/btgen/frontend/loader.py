@@ -428,13 +428,26 @@ class _Loader:
                 # models file beside a mission that declares it too) is the same model;
                 # only a declaration that differs is an error.
                 conflict = model_conflict(known[mid], spec)
-                if conflict:
+                if conflict and "SubTree" in (kind, known[mid].kind):
                     self.sink.error(
                         src.value_loc(m, "ID"),
                         f"`{mid}` is declared twice in TreeNodesModel and "
                         f"the declarations differ: {conflict} (first at "
                         f"{known[mid].loc})",
                     )
+                elif conflict:
+                    # The library never reads the model of a node it has registered (recorded on
+                    # 4.6.2 and 4.10.0: a mission and its include declaring `Say` differently load).
+                    self.sink.warning(
+                        src.value_loc(m, "ID"),
+                        f"`{mid}` is declared twice in TreeNodesModel and "
+                        f"the declarations differ: {conflict} (first at "
+                        f"{known[mid].loc}); BehaviorTree.CPP never reads the models of the nodes "
+                        f"it registers: btgen takes the ports of both (untyped where the types differ)",
+                    )
+                    merged = merged_model(known[mid], spec)
+                    self.models[self.models.index(known[mid])] = merged
+                    known[mid] = merged
                 continue
             known[mid] = spec
             self.models.append(spec)
@@ -966,6 +979,25 @@ class _Loader:
                 )
                 if not ignored:
                     self.sink.items.append(d)
+
+
+def merged_model(first: NodeSpec, second: NodeSpec) -> NodeSpec:
+    """One model of two declarations of a registered node that differ: the first's kind, place and
+    port directions, every port of either; a port declared with two types is untyped (`any`), with
+    two defaults without one."""
+    ports = []
+    for a in first.ports:
+        b = second.port(a.name)
+        if b is not None and b != a:
+            a = dataclasses.replace(
+                a,
+                type=a.type if a.type == b.type else "any",
+                default=a.default if a.default == b.default else None,
+                required=a.required and b.required,
+            )
+        ports.append(a)
+    ports += [b for b in second.ports if first.port(b.name) is None]
+    return dataclasses.replace(first, ports=tuple(ports))
 
 
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
