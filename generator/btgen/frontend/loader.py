@@ -176,6 +176,7 @@ class _Loader:
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
         self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
+        self.sink.items.extend(src.warnings)  # XML that tinyxml2 reads (xmlsource.tolerated)
         self.sources.append(src)
         root = src.root
         if root.tag != "root":
@@ -291,6 +292,7 @@ class _Loader:
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
+        self.sink.items.extend(src.warnings)
         root = src.root
         if root.tag != "root":
             self.sink.error(

@@ -431,7 +431,7 @@ RULES: tuple[Rule, ...] = (
         "literal-text",
         "warning",
         "a value that looks like a blackboard reference but is read as literal text",
-        (r"is not a blackboard reference", r"reads it as "),
+        (r"is not a blackboard reference", r"reads it as this literal text"),
         bad=_m(
             '    <Sequence>\n      <Script code="n := 1"/>\n      <SetBlackboard output_key="m" value="{n"/>\n'
             "    </Sequence>\n"
@@ -462,6 +462,24 @@ RULES: tuple[Rule, ...] = (
         "something the selected release loads and a later release of BehaviorTree.CPP refuses",
         (r"refused from (BehaviorTree\.CPP )?\d",),
         source="loader",
+    ),
+    Rule(
+        "W110",
+        "tinyxml2-only",
+        "warning",
+        "XML that tinyxml2 (BehaviorTree.CPP's parser) reads and other XML tools refuse: a raw `&` or `<` in "
+        "an attribute value, `--` inside a comment, two attributes without a space",
+        (r"tinyxml2 \(BehaviorTree\.CPP\) reads it",),
+        bad=_m(
+            '    <Sequence>\n      <Script code="a := true"/>\n      <ScriptCondition code="a && a"/>\n'
+            "    </Sequence>\n"
+        ),
+        good=_m(
+            '    <Sequence>\n      <Script code="a := true"/>\n      <ScriptCondition code="a &amp;&amp; a"/>\n'
+            "    </Sequence>\n"
+        ),
+        why="The library loads such a file (recorded on 4.6.2 and 4.10.0), and so does btgen, reading it as "
+        "tinyxml2 does; Groot2, editors and XML Schema validators refuse it. The message says what to write.",
     ),
     # ------------------------------------------------------------------ A1: analysis findings
     Rule(
