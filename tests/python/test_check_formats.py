@@ -75,6 +75,7 @@ def test_sarif_validates_and_lists_every_file(project, capsys):
     assert loc["region"] == {"startLine": 5, "startColumn": 7}
     rules = run_["tool"]["driver"]["rules"]
     assert rules[error["ruleIndex"]]["id"] == "E301"
+    assert {r["id"]: r["defaultConfiguration"]["enabled"] for r in rules}["A105"] is False
 
 
 def test_sarif_schema_catches_a_broken_report(project, capsys):

@@ -91,8 +91,14 @@ def sarif(report: Report) -> str:
                                 "name": r.name,
                                 "shortDescription": {"text": r.summary},
                                 "fullDescription": {"text": (r.summary + ". " + r.why).strip()},
-                                "defaultConfiguration": {"level": r.severity},
-                                "helpUri": f"docs/rules/{r.code}.md",
+                                "defaultConfiguration": {"level": r.severity, "enabled": r.default},
+                                "help": {
+                                    "text": " ".join(
+                                        x
+                                        for x in (r.summary + ".", r.why, f"Examples: btgen's docs/rules/{r.code}.md.")
+                                        if x
+                                    )
+                                },
                             }
                             for r in rules
                         ],
