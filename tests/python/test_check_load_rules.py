@@ -91,3 +91,35 @@ def test_a_node_declared_differently_in_two_files_loads(tmp_path, capsys):
     assert "m.xml:7:17: warning: `Say` is declared twice in TreeNodesModel and the declarations differ" in err
     assert main(["check", str(tmp_path)]) == 0
     assert "[W105]" in capsys.readouterr().err
+
+
+SUB_MODEL = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <SubTree ID="Sub"AUTO/>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub">
+    <AlwaysSuccess/>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <SubTree ID="Sub">
+      <input_port name="1st"DEFAULT/>
+    </SubTree>
+  </TreeNodesModel>
+</root>
+"""
+
+
+def test_subtree_model_port_starting_with_a_digit(tmp_path, capsys):
+    """Recorded on 4.6.2: such a port is kept; without a default it is a mandatory port no attribute
+    can give (refused, unless `_autoremap`), with one the mission loads. 4.10.0 refuses the name."""
+    m = tmp_path / "m.xml"
+    m.write_text(SUB_MODEL.replace("AUTO", "").replace("DEFAULT", ""))
+    assert main(["validate", "-q", str(m)]) == 1
+    assert "m.xml:3:5: error: SubTree `Sub` declares port `1st` without a default" in capsys.readouterr().err
+    m.write_text(SUB_MODEL.replace("AUTO", ' _autoremap="true"').replace("DEFAULT", ""))
+    assert main(["validate", "-q", str(m)]) == 0
+    m.write_text(SUB_MODEL.replace("AUTO", "").replace("DEFAULT", ' default="a"'))
+    assert main(["validate", "-q", str(m)]) == 0
+    assert "keeps it all the same (refused from 4.8.4)" in capsys.readouterr().err
+    assert main(["validate", "-q", "--btcpp", "4.10.0", str(m)]) == 1
+    assert "invalid port name `1st` in `Sub`" in capsys.readouterr().err

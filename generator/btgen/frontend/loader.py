@@ -459,22 +459,29 @@ class _Loader:
         loc = src.value_loc(p, "name")
         bad = not _PORT_NAME_RE.match(name) or name in RESERVED_PORT_NAMES
         parent = p.getparent()
-        if bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484:
-            if p.get("default") is None:
-                # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4);
-                # no attribute can set this one, and without a default it writes nothing.
-                self.sink.warning(
-                    loc,
-                    f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
-                    f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
-                )
-                return None
-        if not _PORT_NAME_RE.match(name):
+        unchecked = bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484
+        if unchecked and name in RESERVED_PORT_NAMES:  # (`ID`, `name`: the SubTree element's own)
+            self.sink.warning(
+                loc,
+                f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
+            )
+            return None
+        if unchecked:
+            # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4), and no
+            # attribute can give this one: recorded on 4.6.2, without a default it is a mandatory
+            # port no instance remaps (refused unless `_autoremap`), with one the SubTree loads.
+            self.sink.warning(
+                loc,
+                f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                f"name): BehaviorTree.CPP {self.btcpp} keeps it all the same (refused from 4.8.4)",
+            )
+        elif not _PORT_NAME_RE.match(name):
             self.sink.error(
                 loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, not starting with a digit"
             )
             return None
-        if name in RESERVED_PORT_NAMES:
+        elif name in RESERVED_PORT_NAMES:
             self.sink.error(loc, f"`{name}` is reserved and cannot be a port name (in `{mid}`)")
             return None
         if any(q.name == name for q in ports):
