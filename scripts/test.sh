@@ -27,6 +27,8 @@ if [ "$quick" = 1 ]; then
 else
   export BTGEN_WITH_CLANG=${BTGEN_WITH_CLANG:-1}
 fi
+# the pre-commit hook in a fresh repository (tests/python/test_check_precommit.py: about a minute)
+export BTGEN_TEST_PRECOMMIT=${BTGEN_TEST_PRECOMMIT:-$((1 - quick))}
 bash scripts/setup.sh
 export PATH="$PWD/.venv/bin:$PATH"
 jobs=$(nproc 2>/dev/null || echo 2)

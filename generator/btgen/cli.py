@@ -309,11 +309,22 @@ def build_parser() -> argparse.ArgumentParser:
     )
     k.set_defaults(func=_cmd_lint_kb)
 
+    from btgen.tools.check.command import add_parser as add_check_parser
+
+    add_check_parser(sub)
+
     mo = sub.add_parser(
         "models",
-        help="write a <TreeNodesModel> of the nodes a mission uses but nowhere declares, inferred from their use",
+        help="write a <TreeNodesModel> of the nodes a mission (or every file of a folder) uses but nowhere "
+        "declares, inferred from their use",
     )
-    mo.add_argument("mission", metavar="MISSION.xml", help="the mission whose undeclared nodes to model")
+    mo.add_argument(
+        "paths",
+        nargs="+",
+        metavar="PATH",
+        help="a mission (with its includes), or folders and files: then one models file for all the "
+        "BehaviorTree.CPP files found under them (btgen check then finds it beside them)",
+    )
     mo.add_argument("-o", "--output", metavar="FILE.xml", help="write it there (default: standard output)")
     add_mission_options(mo, capacities=False)
     mo.set_defaults(func=_cmd_models)

@@ -44,6 +44,7 @@ class CompileOptions:
     string_capacity: Optional[int] = None  # --string-capacity N (None: the IR's default)
     queue_capacity: Optional[int] = None  # --queue-capacity N
     btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
+    ros_packages: tuple[tuple[str, str], ...] = ()  # package -> folder (btgen check's `ros-packages`)
 
     @property
     def data(self) -> DataOptions:
@@ -205,7 +206,9 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
 
     types = usertypes.load(opts.types)
     provided = entries.load(opts.entries, {t.name for t in types})
-    mission = load_mission(path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp)
+    mission = load_mission(
+        path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp, ros_packages=opts.ros_packages
+    )
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))
     mission = usertypes.apply(mission, types)

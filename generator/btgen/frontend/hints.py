@@ -32,6 +32,19 @@ class Sibling:
     models: frozenset[str]  # IDs its <TreeNodesModel> declares
     trees: frozenset[str]  # IDs of its <BehaviorTree>s
     models_only: bool  # <root> holds only <TreeNodesModel>: a file for --models
+    mission: bool = False  # its <root> names a main_tree_to_execute: a mission of its own
+
+    def include_advice(self, tree_id: str, loaded: set[str]) -> str:
+        """How to load what this file defines: `<include>` it, unless it is a mission of its own or
+        defines a tree the mission has (including it would define a BehaviorTree twice)."""
+        twice = sorted(self.trees & loaded)
+        if self.mission or twice:
+            why = f"it defines `{twice[0]}` too" if twice else "it is a mission of its own (main_tree_to_execute)"
+            return (
+                f"`{self.path}` beside it defines `{tree_id}`, but {why}: move `{tree_id}` to a file of its own "
+                f"and include that"
+            )
+        return f'`{self.path}` beside it defines it: add <include path="{self.name}"/> to <root>'
 
 
 class SiblingIndex:
@@ -73,7 +86,8 @@ class SiblingIndex:
             )
             trees = frozenset(c.get("ID", "") for c in elements if c.tag == "BehaviorTree")
             only = bool(elements) and all(c.tag == "TreeNodesModel" for c in elements)
-            out.append(Sibling(os.path.join(folder, name), name, models, trees, only))
+            mission = root.get("main_tree_to_execute") is not None
+            out.append(Sibling(os.path.join(folder, name), name, models, trees, only, mission))
         return out
 
     def beside(self, file_shown: str) -> list[Sibling]:
@@ -86,7 +100,9 @@ class SiblingIndex:
         return next((s for s in self.beside(file_shown) if node_id in s.models), None)
 
     def defining_tree(self, file_shown: str, tree_id: str) -> Optional[Sibling]:
-        return next((s for s in self.beside(file_shown) if tree_id in s.trees), None)
+        # a file that can be included first, then a mission of its own
+        found = [s for s in self.beside(file_shown) if tree_id in s.trees]
+        return min(found, key=lambda s: s.mission, default=None)
 
 
 def model_advice(node_id: str, children: int) -> str:

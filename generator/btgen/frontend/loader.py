@@ -48,6 +48,7 @@ MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance cou
 
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_SUBTREE_REMAP_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)*$")
 # FORMAT.md: node IDs contain no white space, `"` or `\` (the trace prints them unquoted).
 _ID_FORBIDDEN = re.compile(r'[\s"\\]')
 # Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
@@ -93,8 +94,10 @@ class _Loader:
         main_tree: Optional[str] = None,
         trees: Sequence[str] = (),
         btcpp: str = DEFAULT_VERSION,
+        ros_packages: Sequence[tuple[str, str]] = (),
     ) -> None:
         self.path = path
+        self.ros_packages = dict(ros_packages)  # package -> folder, for <include ros_pkg=...>
         self.btcpp = btcpp
         self.sem = semantics(btcpp)
         self.builtins = builtins_for(btcpp)
@@ -181,6 +184,7 @@ class _Loader:
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
         self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
+        self.sink.items.extend(src.warnings)  # XML that tinyxml2 reads (xmlsource.tolerated)
         self.sources.append(src)
         root = src.root
         if root.tag != "root":
@@ -296,6 +300,7 @@ class _Loader:
         except UserError as e:
             self.sink.items.extend(e.diagnostics)
             return
+        self.sink.items.extend(src.warnings)
         root = src.root
         if root.tag != "root":
             self.sink.error(
@@ -339,15 +344,18 @@ class _Loader:
 
     def _include(self, elem: etree._Element, src: Source, stack: tuple[str, ...]) -> None:
         loc = src.loc(elem)
-        if elem.get("ros_pkg") is not None:
-            self.sink.error(
-                src.attr_loc(elem, "ros_pkg"),
-                "<include ros_pkg=...> needs ROS; give a path relative to this file instead",
-            )
-            return
         rel = elem.get("path")
         base_real = os.path.dirname(stack[-1])
         base_shown = os.path.dirname(src.path)
+        if elem.get("ros_pkg") is not None:  # the package's folder, where ROS would find it
+            from btgen.frontend import ros_packages
+
+            pkg = elem.get("ros_pkg") or ""
+            folder = ros_packages.find(pkg, self.ros_packages)
+            if folder is None:
+                self.sink.error(src.attr_loc(elem, "ros_pkg"), ros_packages.not_found(pkg, self.ros_packages))
+                return
+            base_real = base_shown = folder
         target_real = os.path.realpath(os.path.join(base_real, rel))
         target_shown = os.path.normpath(os.path.join(base_shown, rel))
         if target_real in stack:
@@ -430,13 +438,26 @@ class _Loader:
                 # models file beside a mission that declares it too) is the same model;
                 # only a declaration that differs is an error.
                 conflict = model_conflict(known[mid], spec)
-                if conflict:
+                if conflict and "SubTree" in (kind, known[mid].kind):
                     self.sink.error(
                         src.value_loc(m, "ID"),
                         f"`{mid}` is declared twice in TreeNodesModel and "
                         f"the declarations differ: {conflict} (first at "
                         f"{known[mid].loc})",
                     )
+                elif conflict:
+                    # The library never reads the model of a node it has registered (recorded on
+                    # 4.6.2 and 4.10.0: a mission and its include declaring `Say` differently load).
+                    self.sink.warning(
+                        src.value_loc(m, "ID"),
+                        f"`{mid}` is declared twice in TreeNodesModel and "
+                        f"the declarations differ: {conflict} (first at "
+                        f"{known[mid].loc}); BehaviorTree.CPP never reads the models of the nodes "
+                        f"it registers: btgen takes the ports of both (untyped where the types differ)",
+                    )
+                    merged = merged_model(known[mid], spec)
+                    self.models[self.models.index(known[mid])] = merged
+                    known[mid] = merged
                 continue
             known[mid] = spec
             self.models.append(spec)
@@ -446,22 +467,29 @@ class _Loader:
         loc = src.value_loc(p, "name")
         bad = not _PORT_NAME_RE.match(name) or name in RESERVED_PORT_NAMES
         parent = p.getparent()
-        if bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484:
-            if p.get("default") is None:
-                # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4);
-                # no attribute can set this one, and without a default it writes nothing.
-                self.sink.warning(
-                    loc,
-                    f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
-                    f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
-                )
-                return None
-        if not _PORT_NAME_RE.match(name):
+        unchecked = bad and parent is not None and parent.tag == "SubTree" and not self.sem.name_validation_484
+        if unchecked and name in RESERVED_PORT_NAMES:  # (`ID`, `name`: the SubTree element's own)
+            self.sink.warning(
+                loc,
+                f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                f"name): BehaviorTree.CPP {self.btcpp} ignores it, btgen too (refused from 4.8.4)",
+            )
+            return None
+        if unchecked:
+            # 4.6.2 stores a SubTree model's ports unchecked (validatePortName is 4.8.4), and no
+            # attribute can give this one: recorded on 4.6.2, without a default it is a mandatory
+            # port no instance remaps (refused unless `_autoremap`), with one the SubTree loads.
+            self.sink.warning(
+                loc,
+                f"port `{name}` of SubTree model `{mid}` can never be given (not a valid port "
+                f"name): BehaviorTree.CPP {self.btcpp} keeps it all the same (refused from 4.8.4)",
+            )
+        elif not _PORT_NAME_RE.match(name):
             self.sink.error(
                 loc, f"invalid port name `{name}` in `{mid}`: use letters, digits and `_`, not starting with a digit"
             )
             return None
-        if name in RESERVED_PORT_NAMES:
+        elif name in RESERVED_PORT_NAMES:
             self.sink.error(loc, f"`{name}` is reserved and cannot be a port name (in `{mid}`)")
             return None
         if any(q.name == name for q in ports):
@@ -620,8 +648,9 @@ class _Loader:
                 self.sink.error(attr.loc, f"unknown attribute `{aname}` on `{node_id}`")
             elif not aname[:1].isalpha():
                 self._ignored_attribute(attr, tag, node_id)
-            elif tag != "SubTree" and not version_rules.is_port_name(aname, self.sem):
-                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`)
+            elif not version_rules.is_port_name(aname, self.sem) and (tag != "SubTree" or self.sem.attribute_names_484):
+                # 4.8.4 and later ignore attributes that cannot be port names (`doc.owner`), a
+                # SubTree's remaps too (`target.room="{room}"`: recorded on 4.10.0)
                 self.sink.warning(
                     attr.loc,
                     f"attribute `{aname}` on `{node_id}` is ignored: BehaviorTree.CPP {self.btcpp} ignores "
@@ -675,7 +704,7 @@ class _Loader:
             elif node_id not in tree_ids:
                 beside = self.siblings.defining_tree(src.path, node_id)
                 where = (
-                    f'; `{beside.path}` beside it defines it: add <include path="{beside.name}"/> to <root>'
+                    "; " + beside.include_advice(node_id, tree_ids)
                     if beside is not None
                     else suggestion(node_id, tree_ids)
                 )
@@ -773,7 +802,8 @@ class _Loader:
         return True
 
     def _subtree_remap(self, attr: Attr, tree_id: str) -> Attr:
-        if not _PORT_NAME_RE.match(attr.name):
+        # 4.6.2 and 4.10.0 both remap a dotted name (`target.room="{room}"`: recorded on the library)
+        if not _SUBTREE_REMAP_RE.match(attr.name):
             self.sink.error(attr.loc, f"invalid port name `{attr.name}` on SubTree `{tree_id}`")
         model = next((m for m in self.models if m.id == tree_id and m.kind == "SubTree"), None)
         if model is not None and model.port(attr.name) is None:
@@ -979,6 +1009,25 @@ class _Loader:
                     self.sink.items.append(d)
 
 
+def merged_model(first: NodeSpec, second: NodeSpec) -> NodeSpec:
+    """One model of two declarations of a registered node that differ: the first's kind, place and
+    port directions, every port of either; a port declared with two types is untyped (`any`), with
+    two defaults without one."""
+    ports = []
+    for a in first.ports:
+        b = second.port(a.name)
+        if b is not None and b != a:
+            a = dataclasses.replace(
+                a,
+                type=a.type if a.type == b.type else "any",
+                default=a.default if a.default == b.default else None,
+                required=a.required and b.required,
+            )
+        ports.append(a)
+    ports += [b for b in second.ports if first.port(b.name) is None]
+    return dataclasses.replace(first, ports=tuple(ports))
+
+
 def model_conflict(first: NodeSpec, second: NodeSpec) -> str:
     """How two TreeNodesModel declarations of one ID differ ("" when they declare the
     same model: same kind, same ports with the same directions, types and defaults)."""
@@ -1028,11 +1077,13 @@ def load_mission(
     main_tree: Optional[str] = None,
     trees: Sequence[str] = (),
     btcpp: str = DEFAULT_VERSION,
+    ros_packages: Sequence[tuple[str, str]] = (),
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
     `models`: files whose root holds only <TreeNodesModel> (`--models`); their
     declarations count as the mission's. `main_tree`: the tree to run
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
-    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py)."""
-    return _Loader(path, models, main_tree, trees, btcpp).load()
+    BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py).
+    `ros_packages`: folders of ROS packages for <include ros_pkg=...> (frontend/ros_packages.py)."""
+    return _Loader(path, models, main_tree, trees, btcpp, ros_packages).load()

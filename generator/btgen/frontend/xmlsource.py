@@ -20,7 +20,7 @@ from typing import Optional
 
 from lxml import etree
 
-from btgen.diagnostics import Loc, UserError, read_bounded
+from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
 
 MAX_FILE_BYTES = 16 * 1024 * 1024  # a 10,000-node mission is about 1 MB
 MAX_DEPTH = 256  # BehaviorTree.CPP refuses deeper trees too
@@ -65,6 +65,8 @@ class Source:
     def __init__(self, path: str, text: str, root: etree._Element, tags: list[StartTag]) -> None:
         self.path = path
         self.text = text
+        # what tinyxml2 reads and XML does not, read as tinyxml2 does (`tolerated`): one warning each
+        self.warnings: list[Diagnostic] = []
         self.root = root
         self._lines = _LineIndex(text)
         self._tags: dict[etree._Element, StartTag] = {}
@@ -318,11 +320,12 @@ def parse_bytes(data: bytes, path: str) -> Source:
             f"encoding `{decl.group(1)}` is not supported; missions must be UTF-8",
         )
     tags = _scan(path, text, lines)
+    fixed, warnings = tolerated(path, text, lines)
     # tinyxml2 (both BehaviorTree.CPP versions) reads an XML declaration after blank lines or
     # spaces (a C++ raw string `R"(\n<?xml ...` of the library's own tests); XML wants it first,
     # so lxml is given spaces in its place, which keeps every line and column.
-    late = re.match(r"\s+(<\?xml\s[^>]*\?>)", text)
-    parsed = text if late is None else text[: late.start(1)] + " " * len(late.group(1)) + text[late.end(1) :]
+    late = re.match(r"\s+(<\?xml\s[^>]*\?>)", fixed)
+    parsed = fixed if late is None else fixed[: late.start(1)] + " " * len(late.group(1)) + fixed[late.end(1) :]
     parser = etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -336,4 +339,99 @@ def parse_bytes(data: bytes, path: str) -> Source:
         root = etree.fromstring(parsed.encode("utf-8"), parser)
     except etree.XMLSyntaxError as e:
         raise _syntax_error(path, text, e) from None
-    return Source(path, text, root, tags)
+    src = Source(path, text, root, tags)
+    src.warnings = warnings
+    return src
+
+
+_TOLERATED_ATTR = (
+    "a raw `&` in an attribute value is not XML: write `&amp;` (`&&` is `&amp;&amp;`); tinyxml2 "
+    "(BehaviorTree.CPP) reads it as `&`, other tools do not"
+)
+_TOLERATED_LT = (
+    "a raw `<` in an attribute value is not XML: write `&lt;`; tinyxml2 (BehaviorTree.CPP) reads it "
+    "as `<`, other tools do not"
+)
+
+
+def tolerated(path: str, text: str, lines: _LineIndex) -> tuple[str, list[Diagnostic]]:
+    """The text lxml is given for what tinyxml2 reads and XML does not, and a warning for each:
+    a raw `&` or `<` in an attribute value (given to lxml as `&amp;`, `&lt;`), `--` inside a
+    comment (as `- `), two attributes without a space between them (a space is added). Lines are
+    never added or removed, and every position btgen reports comes from the scan of the text as
+    written, so positions are unchanged; the parser's settings (no DTD, no entities, no network)
+    are untouched. Anything else that is not XML stays an error."""
+    edits: list[tuple[int, int, str]] = []
+    warnings: list[Diagnostic] = []
+
+    def warn(offset: int, message: str) -> None:
+        warnings.append(Diagnostic(Loc(path, *lines.pos(offset)), message, "warning"))
+
+    i, n = 0, len(text)
+    while True:
+        j = text.find("<", i)
+        if j < 0 or j + 1 >= n:
+            break
+        if text.startswith("<!--", j):
+            k = text.find("-->", j + 4)
+            end = n if k < 0 else k
+            inner = text[j + 4 : end]
+            if k >= 0 and ("--" in inner or inner.endswith("-")):
+                bad = inner.find("--") if "--" in inner else len(inner) - 1
+                warn(
+                    j + 4 + bad,
+                    "`--` inside a comment is not XML (a comment ends at `-->` only); tinyxml2 "
+                    "(BehaviorTree.CPP) reads it, other tools do not: write it another way",
+                )
+                fixed = inner.replace("--", "- ").replace("--", "- ")
+                if fixed.endswith("-"):
+                    fixed = fixed[:-1] + " "
+                edits.append((j + 4, end, fixed))
+            i = n if k < 0 else k + 3
+            continue
+        if text.startswith("<![CDATA[", j) or text[j + 1] in "?!/":
+            k = text.find(">", j)
+            i = n if k < 0 else k + 1
+            continue
+        m = _TAG_RE.match(text, j)
+        if not m:
+            i = j + 1
+            continue
+        k = m.end()
+        previous_quoted = False
+        while True:
+            am = _ATTR_RE.match(text, k)
+            if not am:
+                break
+            if previous_quoted and am.start(1) == am.start():
+                warn(
+                    am.start(1),
+                    f"no space before attribute `{am.group(1)}`: XML needs one between two attributes; "
+                    f"tinyxml2 (BehaviorTree.CPP) reads it, other tools do not",
+                )
+                edits.append((am.start(1), am.start(1), " "))
+            vstart = am.start(3) if am.group(3) is not None else am.start(4)
+            raw = am.group(3) if am.group(3) is not None else am.group(4)
+            said = False
+            for x, ch in enumerate(raw):
+                if ch == "<":
+                    edits.append((vstart + x, vstart + x + 1, "&lt;"))
+                elif ch == "&" and not _ENTITY_RE.match(raw, x):
+                    edits.append((vstart + x, vstart + x + 1, "&amp;"))
+                else:
+                    continue
+                if not said:
+                    warn(vstart + x, _TOLERATED_LT if ch == "<" else _TOLERATED_ATTR)
+                    said = True
+            previous_quoted = True
+            k = am.end()
+        i = k
+    if not edits:
+        return text, warnings
+    out, at = [], 0
+    for start, end, repl in sorted(edits):
+        out.append(text[at:start])
+        out.append(repl)
+        at = end
+    out.append(text[at:])
+    return "".join(out), warnings

@@ -1,4 +1,9 @@
-"""`btgen models MISSION.xml`: a <TreeNodesModel> inferred from how the nodes are used.
+"""`btgen models PATH...`: a <TreeNodesModel> inferred from how the nodes are used.
+
+Given one mission, the nodes it (its includes, `--trees`, `--models`) uses; given folders (or
+several files), the nodes every BehaviorTree.CPP file found under them uses, merged into one file
+that the project commits beside its trees, where `btgen check` finds it (a kind told apart in two
+places is reported at the second with the first's position).
 
 A program registers its leaves, controls and decorators in C++; its XML often declares none
 of them. This reads the mission, its includes, the tree libraries (`--trees`) and the models
@@ -25,6 +30,7 @@ import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Optional
 from xml.sax.saxutils import quoteattr
 
 from lxml import etree
@@ -44,6 +50,8 @@ class _Use:
     literal: set[str] = field(default_factory=set)  # ports given a literal somewhere
     ports: set[str] = field(default_factory=set)
     first: Loc = field(default_factory=lambda: Loc("", 1, 1))
+    kind_at: dict[str, Loc] = field(default_factory=dict)  # the first use of each kind the elements say
+    children_at: dict[int, Loc] = field(default_factory=dict)  # the first use of each child count
 
 
 class _Reader:
@@ -107,8 +115,10 @@ class _Reader:
             use = self.uses[node_id] = _Use(first=src.loc(elem))
         if tag in _ELEMENT_KINDS:
             use.kinds.add(tag)
+            use.kind_at.setdefault(tag, src.loc(elem))
         else:
             use.children.add(children)
+            use.children_at.setdefault(children, src.loc(elem))
         for name, value in elem.attrib.items():
             if not name[:1].isalpha() or name in ("name", "ID"):
                 continue
@@ -117,7 +127,9 @@ class _Reader:
                 use.literal.add(name)
 
 
-def _kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
+def _kind(node_id: str, use: _Use, warnings: list[Diagnostic], project: bool = False) -> str:
+    if project:  # over several files: the conflict is told at both of its places
+        return _project_kind(node_id, use, warnings)
     if use.kinds:
         kind = sorted(use.kinds)[0]
         if len(use.kinds) > 1:
@@ -144,6 +156,86 @@ def _kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
     return kind
 
 
+def _project_kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
+    if use.kinds:
+        kinds = sorted(use.kinds, key=lambda k: (use.kind_at[k].path, use.kind_at[k].line, use.kind_at[k].col))
+        kind = sorted(use.kinds)[0]
+        if len(kinds) > 1:
+            first, second = kinds[0], kinds[1]
+            warnings.append(
+                Diagnostic(
+                    use.kind_at[second],
+                    f"`{node_id}` is written <{second}> here and <{first}> at {use.kind_at[first]}; "
+                    f"<{kind}> is written",
+                    "warning",
+                )
+            )
+        return kind
+    most = max(use.children)
+    kind = "Action" if most == 0 else "Decorator" if most == 1 else "Control"
+    if 0 in use.children and most > 0:
+        leaf, parent = use.children_at[0], use.children_at[most]
+        warnings.append(
+            Diagnostic(
+                parent,
+                f"`{node_id}` has {most} {'child' if most == 1 else 'children'} here and none at {leaf}; "
+                f"written as a {kind}",
+                "warning",
+            )
+        )
+    return kind
+
+
+def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnostic]]:
+    warnings: list[Diagnostic] = []
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>\n',
+        f"<!-- Node models inferred by `btgen models` from how {about} uses them.\n",
+        "     Review them: a <Condition> is written as <Action> (use cannot tell them apart), and\n",
+        '     ports are untyped (give each its type="..."). A port given a literal somewhere is an\n',
+        "     input_port; one only ever given {key} is an inout_port. -->\n",
+        '<root BTCPP_format="4">\n',
+        "  <TreeNodesModel>\n",
+    ]
+    for node_id in sorted(reader.uses):
+        use = reader.uses[node_id]
+        kind = _kind(node_id, use, warnings, project)
+        ports = sorted(use.ports)
+        if not ports:
+            lines.append(f"    <{kind} ID={quoteattr(node_id)}/>\n")
+            continue
+        lines.append(f"    <{kind} ID={quoteattr(node_id)}>\n")
+        for port in ports:
+            tag = "input_port" if port in use.literal else "inout_port"
+            lines.append(f"      <{tag} name={quoteattr(port)}/>\n")
+        lines.append(f"    </{kind}>\n")
+    lines += ["  </TreeNodesModel>\n", "</root>\n"]
+    return "".join(lines), warnings
+
+
+def infer_project_models(
+    paths: list[str], opts: pipeline.CompileOptions, output: Optional[str] = None
+) -> tuple[str, list[Diagnostic], list[str]]:
+    """One models file for every node the BehaviorTree.CPP files under `paths` (found by content, as
+    `btgen check` finds them) use and none of them declares, merged across the files; a file that does
+    not parse is passed over (`btgen check` reports it). `output`, the file to be written, is not read."""
+    from btgen.tools.check.discovery import walk
+
+    reader = _Reader(opts.btcpp)
+    skip = {os.path.realpath(output)} if output else set()
+    for path in walk(paths) + list(opts.models) + list(opts.trees):
+        if os.path.realpath(path) in skip or not os.path.isfile(path):
+            continue
+        try:
+            reader.read(path, path)
+        except UserError:
+            continue
+    reader.collect()
+    about = "the files under " + ", ".join(paths) if len(paths) > 1 else f"the files under {paths[0]}"
+    text, warnings = _text(reader, about, True)
+    return text, warnings, reader.shown
+
+
 def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str, list[Diagnostic], list[str]]:
     """The models file text, the warnings, and the files read (shown paths)."""
     reader = _Reader(opts.btcpp)
@@ -161,37 +253,24 @@ def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str,
     for models in opts.models:
         reader.read(models, models)
     reader.collect()
-    warnings: list[Diagnostic] = []
-    lines = [
-        '<?xml version="1.0" encoding="UTF-8"?>\n',
-        f"<!-- Node models inferred by `btgen models` from how {os.path.basename(mission_path)} uses them.\n",
-        "     Review them: a <Condition> is written as <Action> (use cannot tell them apart), and\n",
-        '     ports are untyped (give each its type="..."). A port given a literal somewhere is an\n',
-        "     input_port; one only ever given {key} is an inout_port. -->\n",
-        '<root BTCPP_format="4">\n',
-        "  <TreeNodesModel>\n",
-    ]
-    for node_id in sorted(reader.uses):
-        use = reader.uses[node_id]
-        kind = _kind(node_id, use, warnings)
-        ports = sorted(use.ports)
-        if not ports:
-            lines.append(f"    <{kind} ID={quoteattr(node_id)}/>\n")
-            continue
-        lines.append(f"    <{kind} ID={quoteattr(node_id)}>\n")
-        for port in ports:
-            tag = "input_port" if port in use.literal else "inout_port"
-            lines.append(f"      <{tag} name={quoteattr(port)}/>\n")
-        lines.append(f"    </{kind}>\n")
-    lines += ["  </TreeNodesModel>\n", "</root>\n"]
-    return "".join(lines), warnings, reader.shown
+    text, warnings = _text(reader, os.path.basename(mission_path), False)
+    return text, warnings, reader.shown
 
 
 def models_command(args: argparse.Namespace) -> int:
     from btgen.compiler import write_if_changed
 
     opts = pipeline.options_from_args(args)
-    text, warnings, files = infer_models(args.mission, opts)
+    paths = list(args.paths)
+    for p in paths:
+        if not os.path.exists(p):
+            from btgen.cmdline import error
+
+            raise error(args, p, f"no such file or folder `{p}`")
+    if len(paths) == 1 and os.path.isfile(paths[0]):
+        text, warnings, files = infer_models(paths[0], opts)
+    else:
+        text, warnings, files = infer_project_models(paths, opts, args.output)
     print_diagnostics(warnings)
     if args.output is None:
         sys.stdout.write(text)
