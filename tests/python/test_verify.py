@@ -264,6 +264,13 @@ def test_tick_states_agree_with_explore_on_random_missions(tmp_path, seed):
     assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
 
 
+@pytest.mark.parametrize("mission, ticks", [("PickPlaceBall.xml", 4), ("Reception.xml", 2)])
+def test_tick_states_agree_with_explore_on_shipped_missions(tmp_path, mission, ticks):
+    m, program = pipeline.build(str(ROOT / "missions" / mission))
+    a = agreement(m, program, ticks, 100, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 5
+
+
 def test_a_long_random_agreement_run_behind_an_env_var(tmp_path):
     count = int(os.environ.get("BTGEN_VERIFY_AGREE", "0"))
     if not count:
