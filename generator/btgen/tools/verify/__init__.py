@@ -195,7 +195,10 @@ def verify_command(args) -> int:
     with tempfile.TemporaryDirectory(prefix="btgen-verify-") as work:
         try:
             if not properties:
-                res = spin.reachable(text, work)
+                try:
+                    res = spin.reachable(text, work)
+                except spin.Incomplete as e:
+                    raise UserError(Diagnostic(Loc(args.mission, 1, 1), f"no state count: {e}")) from None
                 print(
                     f"{args.mission}: {res.states} states, {res.transitions} transitions, depth {res.depth}, "
                     f"{res.memory_mb:.1f} MB, {res.seconds:.2f} s search + {res.compile_seconds:.2f} s to build pan"

@@ -25,6 +25,10 @@ MEMLIM_MB = 4096
 DEPTHS = (100_000, 1_000_000, 10_000_000)
 
 
+class Incomplete(Exception):
+    """A search that hit a limit: no answer."""
+
+
 class SpinMissing(Exception):
     """spin or gcc is not installed (scripts/setup.sh installs both)."""
 
@@ -131,7 +135,7 @@ def reachable(text: str, workdir: str, print_states: bool = False) -> SpinResult
     res = run_pan(workdir, ["-n"])
     res.compile_seconds = c
     if res.holds is None:
-        raise RuntimeError(f"SPIN's search of {workdir}/model.pml is incomplete: {res.incomplete}")
+        raise Incomplete(f"SPIN's search is incomplete: {res.incomplete}")
     return res
 
 
