@@ -260,6 +260,17 @@ def test_tick_states_agree_with_explore_on_random_missions(tmp_path, seed):
     assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
 
 
+def test_tick_states_agree_under_btcpp_4_10(tmp_path):
+    """4.10.0's switches (SKIPPED counted, loops never ending SKIPPED) on both sides."""
+    from btgen.tools.fuzzgen import random_case
+
+    path = _mission(tmp_path, random_case(21, "control", 1).mission)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(btcpp="4.10.0"))
+    assert mission.semantics.skipped_by_count
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
+
+
 @pytest.mark.parametrize("mission, ticks", [("PickPlaceBall.xml", 4), ("Reception.xml", 2)])
 def test_tick_states_agree_with_explore_on_shipped_missions(tmp_path, mission, ticks):
     m, program = pipeline.build(str(ROOT / "missions" / mission))
