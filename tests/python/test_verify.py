@@ -217,6 +217,22 @@ def test_refused_nodes_are_located_errors(tmp_path, capsys):
     assert rc == 1 and f'{path}:6:25: error: `Script` "Script": btgen verify does not translate' in err
 
 
+def test_leaf_names_a_scenario_cannot_carry_are_refused(tmp_path, capsys):
+    shared = GRASP.replace('<Check name="Ready"/>', '<Check name="Grasp"/>')
+    path = _mission(tmp_path, shared)
+    assert main(["verify", path, "--property", "[] !running(#4)"]) == 1
+    err = capsys.readouterr().err
+    assert f'{path}:4:7: error: Condition "Grasp" shares its name with an Action' in err
+    # with a contract that keeps the Action from RUNNING, the scenario is valid: verified
+    c = tmp_path / "c.json"
+    c.write_text('{"Grasp": ["SUCCESS", "FAILURE"]}', encoding="utf-8")
+    assert main(["verify", path, "--property", "[] !running(#4)", "--contract", str(c)]) == 0
+    capsys.readouterr()
+    path = _mission(tmp_path, GRASP.replace('<Check name="Ready"/>', '<Check name="Ready now"/>'), "b.xml")
+    assert main(["verify", path, "--property", "[] !running(Grasp)"]) == 1
+    assert "a counterexample is a scenario, which names a leaf by one word" in capsys.readouterr().err
+
+
 def test_contract_errors(tmp_path):
     path = _mission(tmp_path, GRASP)
     _, program = pipeline.build(path)

@@ -161,6 +161,9 @@ def parse_properties(args, program: Program) -> list[P.Property]:
 
 
 def build_model(mission, program: Program, options: ModelOptions, properties: list[P.Property]) -> str:
+    from btgen.tools.verify.promela import Emitter
+
+    Emitter(mission, program, options).check_scenario_names()
     obs = Observe()
     ltl = []
     for p in properties:

@@ -210,6 +210,32 @@ class Emitter:
                         f"btgen verify counts at most {MAX_TIMER_TICKS} (raise --clock-ms)",
                     )
 
+    def check_scenario_names(self) -> None:
+        """A counterexample is a scenario: leaf names must be scenario words, and a name an Action
+        and a Condition share must not be given RUNNING (FORMAT.md rejects that scenario)."""
+        kinds: dict[str, set[str]] = {}
+        for n in self.nodes:
+            if n.kind in ("Action", "Condition"):
+                kinds.setdefault(n.name, set()).add(n.kind)
+                if not n.name or any(c.isspace() or c == "#" for c in n.name):
+                    raise _refuse(
+                        n.loc,
+                        f'`{n.id}` "{n.name}": a counterexample is a scenario, which names a leaf by one word '
+                        "(no blank, no `#`): give the leaf such a name",
+                    )
+        for n in self.nodes:
+            if n.kind == "Condition" and len(kinds[n.name]) > 1 and RUNNING in self.allowed_action(n.name):
+                raise _refuse(
+                    n.loc,
+                    f'Condition "{n.name}" shares its name with an Action: a scenario (a counterexample) gives '
+                    "both the same answers, and a Condition cannot answer RUNNING; rename one, or give the name a "
+                    "contract without RUNNING",
+                )
+
+    def allowed_action(self, name: str) -> tuple[int, ...]:
+        base = (SUCCESS, FAILURE, RUNNING)
+        return tuple(s for s in base if s in self.contract[name]) if name in self.contract else base
+
     def running_bounded(self, n: IRNode) -> bool:
         """The RUNNING answers of an Action in a row are counted (never when it has no other answer)."""
         a = self.allowed(n)
