@@ -8,7 +8,8 @@ made free: every other leaf a user Condition (`Ready`), the others a user Action
 For each: the Promela model's size, the seconds to build pan (spin -a and gcc), and two
 searches: the whole reachable state space (the property `[] true`) and the liveness property
 `<> (root(SUCCESS) || root(FAILURE))` with `--running-bound 1` (every Action finishes after
-at most one RUNNING answer). A search that does not finish within --timeout seconds is
+at most one RUNNING answer), on runs of at most --ticks ticks (default 3; 0: unbounded).
+A search that does not finish within --timeout seconds is
 reported as such; then a bitstate search (pan -DBITSTATE: a partial search, NOT a proof) is
 run and labelled so. Prints numbers; it passes or fails nothing.
 """
@@ -58,12 +59,12 @@ def run_pan_timed(work: str, args: list[str], timeout: float) -> tuple[spin.Spin
         return spin.SpinResult(holds=None, incomplete=f"not finished within {timeout:.0f} s"), False
 
 
-def measure(label: str, path: str, timeout: float, storm: bool) -> None:
+def measure(label: str, path: str, timeout: float, storm: bool, ticks: int | None = None) -> None:
     mission, program = pipeline.build(path)
     names = P.Names(program)
     whole = P.parse_property("[] true", Loc("<bench>", 1, 1), names, 0)  # holds: the whole state space
     ends = P.parse_property("<> (root(SUCCESS) || root(FAILURE))", Loc("<bench>", 1, 1), names, 1)
-    options = ModelOptions(running_bound=1, print_states=False)
+    options = ModelOptions(running_bound=1, ticks=ticks, print_states=False)
     text = build_model(mission, program, options, [whole, ends])
     with tempfile.TemporaryDirectory(prefix="btgen-bench-") as work:
         t0 = time.perf_counter()
@@ -72,7 +73,7 @@ def measure(label: str, path: str, timeout: float, storm: bool) -> None:
         live, live_done = run_pan_timed(work, ["-n", "-a", "-N", "p1"], timeout) if done else (reach, False)
         line = (
             f"{label:<22} {len(program.nodes):>5} nodes  model {len(text.splitlines()):>6} lines  "
-            f"pan built in {build:6.1f} s"
+            f"pan built in {build:6.1f} s" + (f"  (runs of at most {ticks} ticks)" if ticks else "")
         )
         print(line)
         if done:
@@ -118,17 +119,18 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="100,1000")
     ap.add_argument("--timeout", type=float, default=120.0)
+    ap.add_argument("--ticks", type=int, default=3, help="bound the runs (0: unbounded); default 3")
     ap.add_argument("--storm", action="store_true", help="also build the Markov chain and ask Storm")
     ap.add_argument("--shipped", default="LabTour.xml,Reception.xml")
     args = ap.parse_args()
     for name in filter(None, args.shipped.split(",")):
-        measure(name, os.path.join(ROOT, "missions", name), args.timeout, args.storm)
+        measure(name, os.path.join(ROOT, "missions", name), args.timeout, args.storm, args.ticks or None)
     with tempfile.TemporaryDirectory(prefix="btgen-bench-m-") as d:
         for n in (int(x) for x in args.sizes.split(",") if x):
             path = os.path.join(d, f"balanced{n}.xml")
             with open(path, "w", encoding="utf-8") as f:
                 f.write(free_leaves(balanced_mission(n)))
-            measure(f"balanced {n}", path, args.timeout, args.storm)
+            measure(f"balanced {n}", path, args.timeout, args.storm, args.ticks or None)
     return 0
 
 
