@@ -67,6 +67,13 @@ def _cmd_explore(args: argparse.Namespace) -> int:
     return stop_quietly_on_broken_pipe(explore_command, args)
 
 
+def _cmd_verify(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.verify import verify_command
+
+    return stop_quietly_on_broken_pipe(verify_command, args)
+
+
 def _cmd_cover(args: argparse.Namespace) -> int:
     from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import cover_command
@@ -227,6 +234,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     e.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     e.set_defaults(func=_cmd_explore)
+
+    vf = sub.add_parser(
+        "verify", help="prove LTL properties of a mission with SPIN; probabilities with Storm (--probabilities)"
+    )
+    vf.add_argument("mission", metavar="MISSION.xml")
+    add_mission_options(vf)
+    from btgen.tools.verify import add_arguments as _verify_arguments
+
+    _verify_arguments(vf)
+    vf.set_defaults(func=_cmd_verify)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
     cv.add_argument("mission", metavar="MISSION.xml", help="the mission the runs ran")

@@ -1,0 +1,138 @@
+"""How `btgen verify` scales: states, memory and seconds of SPIN (and Storm) per mission.
+
+    .venv/bin/python bench/verify_scale.py [--sizes 100,1000] [--storm] [--timeout S]
+
+Missions: the shipped Lab Tour and Reception, and generated missions of N nodes
+(`tools/synth.balanced_mission`: Sequence, Fallback and Inverter levels) whose leaves are
+made free: every other leaf a user Condition (`Ready`), the others a user Action (`Work`).
+For each: the Promela model's size, the seconds to build pan (spin -a and gcc), and two
+searches: the whole reachable state space (the property `[] true`) and the liveness property
+`<> (root(SUCCESS) || root(FAILURE))` with `--running-bound 1` (every Action finishes after
+at most one RUNNING answer), on runs of at most --ticks ticks (default 3; 0: unbounded).
+A search that does not finish within --timeout seconds is
+reported as such; then a bitstate search (pan -DBITSTATE: a partial search, NOT a proof) is
+run and labelled so. Prints numbers; it passes or fails nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "generator"))
+
+from btgen import pipeline
+from btgen.diagnostics import Loc
+from btgen.tools.synth import balanced_mission
+from btgen.tools.verify import (
+    build_model,
+    spin,
+)
+from btgen.tools.verify import props as P
+from btgen.tools.verify.promela import ModelOptions
+
+ROOT = os.path.dirname(HERE)
+
+
+def free_leaves(xml: str) -> str:
+    """Every AlwaysFailure of a balanced mission becomes a free Condition or Action, in turn."""
+    count = [0]
+
+    def swap(_m: re.Match) -> str:
+        count[0] += 1
+        return "<Ready/>" if count[0] % 2 else "<Work/>"
+
+    return re.sub(r"<AlwaysFailure/>", swap, xml)
+
+
+def run_pan_timed(work: str, args: list[str], timeout: float) -> tuple[spin.SpinResult, bool]:
+    try:
+        return spin.run_pan(work, args, wall=timeout), True
+    except Exception as e:  # subprocess.TimeoutExpired
+        if type(e).__name__ != "TimeoutExpired":
+            raise
+        return spin.SpinResult(holds=None, incomplete=f"not finished within {timeout:.0f} s"), False
+
+
+def measure(label: str, path: str, timeout: float, storm: bool, ticks: int | None = None) -> None:
+    mission, program = pipeline.build(path)
+    names = P.Names(program)
+    whole = P.parse_property("[] true", Loc("<bench>", 1, 1), names, 0)  # holds: the whole state space
+    ends = P.parse_property("<> (root(SUCCESS) || root(FAILURE))", Loc("<bench>", 1, 1), names, 1)
+    options = ModelOptions(running_bound=1, ticks=ticks, print_states=False)
+    text = build_model(mission, program, options, [whole, ends])
+    with tempfile.TemporaryDirectory(prefix="btgen-bench-") as work:
+        t0 = time.perf_counter()
+        build = spin.compile_model(text, work)
+        reach, done = run_pan_timed(work, ["-n", "-a", "-N", "p0"], timeout)
+        live, live_done = run_pan_timed(work, ["-n", "-a", "-N", "p1"], timeout) if done else (reach, False)
+        line = (
+            f"{label:<22} {len(program.nodes):>5} nodes  model {len(text.splitlines()):>6} lines  "
+            f"pan built in {build:6.1f} s" + (f"  (runs of at most {ticks} ticks)" if ticks else "")
+        )
+        print(line)
+        if done:
+            print(
+                f"{'':22}   whole state space: {reach.states} states, {reach.memory_mb:.0f} MB, "
+                f"{reach.seconds:.2f} s search"
+            )
+            verdict = {True: "holds", False: "VIOLATED", None: "incomplete"}[live.holds] if live_done else "stopped"
+            print(
+                f"{'':22}   <> root done (--running-bound 1): {verdict}; {live.states} states, "
+                f"{live.memory_mb:.0f} MB, {live.seconds:.2f} s search"
+            )
+        else:
+            print(f"{'':22}   exhaustive search: {reach.incomplete}")
+            spin.compile_model(text, work, ("-DBITSTATE",))
+            bit, ok = run_pan_timed(work, ["-n", "-a", "-N", "p0", "-w28"], timeout)
+            print(
+                f"{'':22}   bitstate search (partial, no proof): {bit.states} states, {bit.memory_mb:.0f} MB, "
+                f"{bit.seconds:.2f} s" + ("" if ok else " (stopped)")
+            )
+        print(f"{'':22}   total {time.perf_counter() - t0:.1f} s")
+    if storm:
+        from btgen.tools.verify.markov import build_chain, storm_queries
+
+        probs = {
+            n.name: ([(2, 0.9), (3, 0.1)] if n.kind == "Condition" else [(2, 0.7), (3, 0.1), (1, 0.2)])
+            for n in program.nodes
+            if n.kind in ("Action", "Condition")
+        }
+        t1 = time.perf_counter()
+        try:
+            chain = build_chain(mission, program, probs)
+            (p_s,) = storm_queries(chain, ['P=? [F "success"]'])
+            print(
+                f"{'':22}   Storm: {len(chain.transitions)} states, P(root SUCCESS) = {p_s:.6g}, "
+                f"{time.perf_counter() - t1:.1f} s"
+            )
+        except Exception as e:  # a chain too big is a number to report, not a crash
+            print(f"{'':22}   Storm: {type(e).__name__}: {e}")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="100,1000")
+    ap.add_argument("--timeout", type=float, default=120.0)
+    ap.add_argument("--ticks", type=int, default=3, help="bound the runs (0: unbounded); default 3")
+    ap.add_argument("--storm", action="store_true", help="also build the Markov chain and ask Storm")
+    ap.add_argument("--shipped", default="LabTour.xml,Reception.xml")
+    args = ap.parse_args()
+    for name in filter(None, args.shipped.split(",")):
+        measure(name, os.path.join(ROOT, "missions", name), args.timeout, args.storm, args.ticks or None)
+    with tempfile.TemporaryDirectory(prefix="btgen-bench-m-") as d:
+        for n in (int(x) for x in args.sizes.split(",") if x):
+            path = os.path.join(d, f"balanced{n}.xml")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(free_leaves(balanced_mission(n)))
+            measure(f"balanced {n}", path, args.timeout, args.storm, args.ticks or None)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,198 @@
+"""Running SPIN: `spin -a` writes the verifier pan.c, the system gcc compiles it, pan searches.
+
+Every property of one model is an `ltl NAME { ... }` block; pan checks one at a time
+(`-a -N NAME`, acceptance cycles: safety and liveness alike). A violation leaves a trail,
+which `spin -t` replays in simulation: its `@C node status` lines are the leaf choices in
+call order, `@T` the tick ends, and `<<<<<START OF CYCLE>>>>>` where the lasso's loop begins.
+
+The search is exhaustive or it is no proof: pan's depth limit is raised until the search
+fits, and a search that still hits a limit (depth, memory) is reported as incomplete, never
+as "holds".
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass, field
+from typing import Optional
+
+VECTORSZ = 1 << 16
+MEMLIM_MB = 4096
+DEPTHS = (100_000, 1_000_000, 10_000_000)
+
+
+class Incomplete(Exception):
+    """A search that hit a limit: no answer."""
+
+
+class SpinMissing(Exception):
+    """spin or gcc is not installed (scripts/setup.sh installs both)."""
+
+
+@dataclass
+class SpinResult:
+    holds: Optional[bool]  # None: the search was incomplete
+    states: int = 0
+    transitions: int = 0
+    depth: int = 0
+    memory_mb: float = 0.0
+    seconds: float = 0.0
+    compile_seconds: float = 0.0
+    vector_bytes: int = 0
+    lines: list[str] = field(default_factory=list)  # pan's output (with -DPRINTF, the model's printfs)
+    incomplete: str = ""
+    trail: Optional[str] = None  # the trail replayed by `spin -t`, when violated
+
+
+def tools() -> tuple[str, str]:
+    s, cc = shutil.which("spin"), shutil.which(os.environ.get("CC", "gcc"))
+    if s is None or cc is None:
+        raise SpinMissing("spin" if s is None else "gcc")
+    return s, cc
+
+
+def compile_model(text: str, workdir: str, extra: tuple[str, ...] = ()) -> float:
+    """Write model.pml in workdir, generate and compile pan; returns the seconds it took."""
+    spin_bin, cc = tools()
+    t0 = time.perf_counter()
+    os.makedirs(workdir, exist_ok=True)
+    with open(os.path.join(workdir, "model.pml"), "w", encoding="utf-8") as f:
+        f.write(text)
+    p = subprocess.run([spin_bin, "-a", "model.pml"], cwd=workdir, capture_output=True, text=True, check=False)
+    if p.returncode != 0 or not os.path.exists(os.path.join(workdir, "pan.c")):
+        raise RuntimeError("spin -a failed on the generated model:\n" + p.stdout + p.stderr)
+    flags = [
+        *os.environ.get("BTGEN_PAN_CFLAGS", "-O0").split(),
+        "-w",
+        f"-DVECTORSZ={VECTORSZ}",
+        f"-DMEMLIM={MEMLIM_MB}",
+        "-DNOREDUCE",
+        *extra,
+    ]
+    p = subprocess.run([cc, *flags, "-o", "pan", "pan.c"], cwd=workdir, capture_output=True, text=True, check=False)
+    if p.returncode != 0:
+        raise RuntimeError("gcc failed on SPIN's pan.c:\n" + p.stdout[-4000:] + p.stderr[-4000:])
+    return time.perf_counter() - t0
+
+
+_NUM = {
+    "states": re.compile(r"^\s*([0-9.e+]+) states, stored", re.M),
+    "transitions": re.compile(r"^\s*([0-9.e+]+) transitions", re.M),
+    "depth": re.compile(r"depth reached ([0-9]+)"),
+    "errors": re.compile(r"errors: ([0-9]+)"),
+    "memory": re.compile(r"^\s*([0-9.]+)\s+total actual memory usage", re.M),
+    "seconds": re.compile(r"pan: elapsed time ([0-9.e+-]+) seconds"),
+    "vector": re.compile(r"State-vector ([0-9]+) byte"),
+}
+
+
+def _num(name: str, text: str) -> float:
+    m = _NUM[name].search(text)
+    return float(m.group(1)) if m else 0.0
+
+
+def run_pan(workdir: str, args: list[str], wall: Optional[float] = None) -> SpinResult:
+    """Run pan with rising depth limits until the search fits; parse its report."""
+    out = ""
+    t0 = time.perf_counter()
+    for depth in DEPTHS:
+        p = subprocess.run(
+            ["./pan", *args, f"-m{depth}"], cwd=workdir, capture_output=True, text=True, check=False, timeout=wall
+        )
+        out = p.stdout + p.stderr
+        if "max search depth too small" not in out:
+            break
+    res = SpinResult(holds=None)
+    res.seconds = time.perf_counter() - t0
+    res.states = int(_num("states", out))
+    res.transitions = int(_num("transitions", out))
+    res.depth = int(_num("depth", out))
+    res.memory_mb = _num("memory", out)
+    res.vector_bytes = int(_num("vector", out))
+    res.lines = out.splitlines()
+    errors = int(_num("errors", out))
+    if "max search depth too small" in out:
+        res.incomplete = f"the search needs more than {DEPTHS[-1]} steps of depth"
+    elif "pan: out of memory" in out or "memory limit" in out.lower() and "exceeded" in out.lower():
+        res.incomplete = f"the search ran out of memory ({MEMLIM_MB} MB)"
+    elif "State-vector" not in out:
+        res.incomplete = "pan stopped without a report:\n" + out[-2000:]
+    if errors:
+        res.holds = False
+    elif not res.incomplete:
+        res.holds = True
+    return res
+
+
+def reachable(text: str, workdir: str, print_states: bool = False) -> SpinResult:
+    """Exhaustive reachability of a model without properties (the state count)."""
+    extra = ("-DSAFETY", "-DPRINTF") if print_states else ("-DSAFETY",)
+    c = compile_model(text, workdir, extra)
+    res = run_pan(workdir, ["-n"])
+    res.compile_seconds = c
+    if res.holds is None:
+        raise Incomplete(f"SPIN's search is incomplete: {res.incomplete}")
+    return res
+
+
+def check(workdir: str, name: str) -> SpinResult:
+    """One ltl property of the compiled model: acceptance cycles (-a), its trail replayed."""
+    trail = os.path.join(workdir, "model.pml.trail")
+    if os.path.exists(trail):
+        os.remove(trail)
+    res = run_pan(workdir, ["-a", "-n", "-N", name])
+    if res.holds is False and os.path.exists(trail):
+        # The system alone replays the trail (its claim steps are skipped): `spin -t` follows
+        # the first ltl block of a model, not the one pan was asked about.
+        spin_bin, _ = tools()
+        with open(os.path.join(workdir, "model.pml"), encoding="utf-8") as f:
+            system = "".join(line for line in f if not line.startswith("ltl "))
+        with open(os.path.join(workdir, "replay.pml"), "w", encoding="utf-8") as f:
+            f.write(system)
+        kept = os.path.join(workdir, f"{name}.trail")
+        os.replace(trail, kept)
+        shutil.copyfile(kept, os.path.join(workdir, "replay.pml.trail"))
+        p = subprocess.run(
+            [spin_bin, "-t", "-T", "replay.pml"], cwd=workdir, capture_output=True, text=True, check=False
+        )
+        res.trail = p.stdout
+    return res
+
+
+@dataclass
+class Trail:
+    """A counterexample: leaf choices (node index, status) in call order, and the ticks."""
+
+    prefix: list[tuple[int, int]]
+    cycle: list[tuple[int, int]]
+    prefix_ticks: int  # tick ends before the loop starts
+    cycle_ticks: int  # tick ends inside the loop (0: the run ended and stays)
+    lasso: bool  # the trail has a loop (else: a finite bad prefix)
+
+
+_CHOICE = re.compile(r"@C ([0-9]+) ([0-9]+)")
+
+
+def parse_trail(text: str) -> Trail:
+    prefix: list[tuple[int, int]] = []
+    cycle: list[tuple[int, int]] = []
+    pt = ct = 0
+    in_cycle = False
+    lasso = False
+    for line in text.splitlines():
+        if "START OF CYCLE" in line:
+            in_cycle = lasso = True
+            continue
+        m = _CHOICE.search(line)
+        if m:
+            (cycle if in_cycle else prefix).append((int(m.group(1)), int(m.group(2))))
+        elif "@T" in line:
+            if in_cycle:
+                ct += 1
+            else:
+                pt += 1
+    return Trail(prefix, cycle, pt, ct, lasso)

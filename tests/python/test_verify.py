@@ -1,0 +1,339 @@
+"""`btgen verify`: SPIN's verdicts on missions with a known answer, counterexamples that replay on
+both engines and show the violation, located errors, and agreement with `btgen explore`."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from btgen import pipeline
+from btgen.cli import main
+from btgen.diagnostics import Loc, UserError
+from btgen.tools.verify import load_contract, run_properties
+from btgen.tools.verify import props as P
+from btgen.tools.verify import replay as R
+from btgen.tools.verify.agree import agreement
+from btgen.tools.verify.promela import ModelOptions, Refusal, emit_model
+
+ROOT = Path(__file__).resolve().parents[2]
+
+GRASP = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Check name="Ready"/>
+      <RetryUntilSuccessful num_attempts="2"><Grasp/></RetryUntilSuccessful>
+      <Fallback><Place/><AlwaysFailure/></Fallback>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Condition ID="Check"/>
+    <Action ID="Grasp"/>
+    <Action ID="Place"/>
+  </TreeNodesModel>
+</root>
+"""
+
+# Two branches of a ReactiveFallback: the second is halted whenever the first runs.
+GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveFallback>
+      <Sequence><Battery name="Low"/><Dock/></Sequence>
+      <Repeat num_cycles="2"><Patrol/></Repeat>
+    </ReactiveFallback>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Condition ID="Battery"/>
+    <Action ID="Dock"/>
+    <Action ID="Patrol"/>
+  </TreeNodesModel>
+</root>
+"""
+
+# Counterexamples every test of this module produced: the last test replays them all on the C++.
+PRODUCED: list[tuple[str, R.Counterexample]] = []
+
+
+def _mission(tmp_path: Path, text: str, name: str = "m.xml") -> str:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+def _props(program, *texts: str) -> list[P.Property]:
+    names = P.Names(program)
+    return [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
+
+
+def _verdicts(tmp_path, path, texts, **options):
+    mission, program = pipeline.build(path)
+    results = run_properties(
+        mission, program, _props(program, *texts), ModelOptions(print_states=True, **options), str(tmp_path / "w")
+    )
+    for _prop, _res, cx in results:
+        if cx is not None:
+            PRODUCED.append((path, cx))
+    return {prop.text: (res.holds, cx) for prop, res, cx in results}
+
+
+def test_known_verdicts_and_counterexamples_that_show_the_violation(tmp_path):
+    path = _mission(tmp_path, GRASP)
+    v = _verdicts(
+        tmp_path,
+        path,
+        [
+            "absence(returned(Place, FAILURE))",  # Place may fail: violated in one tick
+            "[] !running(Grasp)",  # Grasp may run
+            "response(returned(Ready, FAILURE), root(FAILURE))",  # the Sequence fails with its first child
+            "[] !(running(Grasp) && running(Place))",  # a Sequence runs one child at a time
+            "mutex(Grasp, Place)",  # never ticked in the same tick? Grasp can succeed, then Place runs
+            "<> root(SUCCESS)",  # Ready may fail for ever
+            "[] (returned(Grasp, FAILURE) -> !returned(Place, SUCCESS))",
+        ],
+    )
+    assert v["response(returned(Ready, FAILURE), root(FAILURE))"][0] is True
+    assert v["[] !(running(Grasp) && running(Place))"][0] is True
+    for text in ("absence(returned(Place, FAILURE))", "[] !running(Grasp)", "mutex(Grasp, Place)", "<> root(SUCCESS)"):
+        holds, cx = v[text]
+        assert holds is False and cx is not None, text
+        assert cx.problems == [] and cx.shown_interp, (text, cx.problems)
+    # Grasp fails once (the retry runs it again from IDLE on the next tick), then succeeds and
+    # Place succeeds in the same tick: the property is violated
+    holds, cx = v["[] (returned(Grasp, FAILURE) -> !returned(Place, SUCCESS))"]
+    assert holds is False and cx.shown_interp
+    # the counterexample of mutex: Grasp and Place both ticked in one tick, as the trace shows
+    cx = v["mutex(Grasp, Place)"][1]
+    last = cx.trace.split("tick ")[-1]
+    assert '"Grasp"' in last and '"Place"' in last
+
+
+def test_bounds_contracts_and_fairness_decide_liveness(tmp_path):
+    path = _mission(tmp_path, GUARD)
+    mission, program = pipeline.build(path)
+    contract = tmp_path / "c.json"
+    contract.write_text('{"Low": ["FAILURE"]}', encoding="utf-8")
+    never_low = load_contract(str(contract), program)
+    ends = "<> (root(SUCCESS) || root(FAILURE))"
+    free = _verdicts(tmp_path, path, [ends, "[] (running(Dock) -> !running(Patrol))"])
+    assert free[ends][0] is False  # Patrol may answer RUNNING for ever
+    assert free["[] (running(Dock) -> !running(Patrol))"][0] is True  # the reactive node halts the other
+    assert free[ends][1].shown_interp and free[ends][1].problems == []
+    # RUNNING bounded is not enough: Low may flip every tick, restarting Dock and Patrol in turn
+    flip = _verdicts(tmp_path, path, [ends], running_bound=2)
+    assert flip[ends][0] is False and flip[ends][1].shown_interp
+    # ... with Low never holding (a contract), the run ends
+    assert _verdicts(tmp_path, path, [ends], running_bound=2, contract=never_low)[ends][0] is True
+    assert _verdicts(tmp_path, path, ["absence(ticked(Dock))"], contract=never_low)["absence(ticked(Dock))"][0]
+
+
+def test_failure_bound_and_fairness_template(tmp_path):
+    path = _mission(tmp_path, GRASP)
+    mission, program = pipeline.build(path)
+    contract = tmp_path / "c.json"
+    contract.write_text('{"Ready": ["SUCCESS"], "Place": ["SUCCESS", "RUNNING"]}', encoding="utf-8")
+    c = load_contract(str(contract), program)
+    goal = "<> root(SUCCESS)"
+    # Grasp may fail twice: the retry gives up
+    assert _verdicts(tmp_path, path, [goal], running_bound=1, contract=c)[goal][0] is False
+    # failing at most once in a row, Grasp succeeds within the two attempts
+    assert _verdicts(tmp_path, path, [goal], running_bound=1, failure_bound=1, contract=c)[goal][0] is True
+    # the same under fairness of Grasp and Place (LTL): no, a fair Grasp may still fail twice in a row
+    fair = "eventually_success(Grasp, Place)"
+    assert _verdicts(tmp_path, path, [fair], contract=c)[fair][0] is False
+
+
+def test_lasso_counterexample_loops_on_both_views(tmp_path):
+    """`[]<> ticked(X)` is false when X can be starved for ever: a lasso, unrolled twice."""
+    path = _mission(tmp_path, GUARD)
+    mission, program = pipeline.build(path)
+    contract = tmp_path / "c.json"
+    contract.write_text('{"Patrol": ["RUNNING"], "Dock": ["RUNNING"]}', encoding="utf-8")  # the run never ends
+    v = _verdicts(tmp_path, path, ["[] <> ticked(Dock)"], contract=load_contract(str(contract), program))
+    holds, cx = v["[] <> ticked(Dock)"]
+    assert holds is False and cx.shown_interp and cx.problems == []
+    assert cx.loop < cx.ticks
+
+
+def test_command_line_output_files_and_exit_status(tmp_path, capsys):
+    path = _mission(tmp_path, GRASP)
+    out_dir = tmp_path / "cx"
+    rc = main(["verify", path, "--property", "[] !running(Grasp)", "--counterexample", str(out_dir)])
+    out, err = capsys.readouterr()
+    assert rc == 1
+    assert "VIOLATED  [] !running(Grasp)" in out and "states " in out and "depth " in out
+    assert "replayed on the interpreter: the violation shows" in out
+    stem = out_dir / "m-p0"
+    scenario = (out_dir / "m-p0.scenario").read_text()
+    assert "leaf Grasp" in scenario
+    log = (out_dir / "m-p0.btlog").read_bytes()
+    assert log.startswith(b"BTCPP4-FileLogger2\x01")
+    # the .btlog gives back the scenario's run (btgen scenario-from-log checks every record)
+    rc = main(["scenario-from-log", path, str(stem) + ".btlog", "-o", str(tmp_path / "back.scenario")])
+    assert rc == 0, capsys.readouterr().err
+    capsys.readouterr()
+    assert main(["run", path, "--scenario", str(tmp_path / "back.scenario")]) == 0
+    assert capsys.readouterr().out == (out_dir / "m-p0.trace").read_text()
+    rc = main(["verify", path, "--property", "[] !(running(Grasp) && running(Place))"])
+    out, _ = capsys.readouterr()
+    assert rc == 0 and "holds     [] !(running(Grasp) && running(Place))" in out
+
+
+@pytest.mark.parametrize(
+    "prop, col, message",
+    [
+        ("[] running(Nope)", 12, "no node is named `Nope`"),
+        ("X ticked(Ready)", 1, "`X` (next) is not supported"),
+        ("[] (ticked(Ready)", 18, "expected `)`"),
+        ("[] level > 3", 4, "unknown atom `level`"),
+        ("returned(Ready, DONE)", 17, "expected a status"),
+    ],
+)
+def test_property_errors_are_located(tmp_path, capsys, prop, col, message):
+    path = _mission(tmp_path, GRASP)
+    rc = main(["verify", path, "--property", prop])
+    err = capsys.readouterr().err
+    start = len(path) + len("verify --property ") + 2
+    assert rc == 1 and f"<command-line>:1:{start + col - 1}: error: {message}" in err, err
+
+
+def test_ambiguous_name_lists_the_candidates(tmp_path, capsys):
+    path = _mission(tmp_path, GRASP.replace("<Place/>", '<Grasp name="Place"/>'))
+    props = tmp_path / "p.ltl"
+    props.write_text("# a comment\nsafe: [] !running(Grasp)\n", encoding="utf-8")
+    rc = main(["verify", path, "--properties", str(props)])
+    err = capsys.readouterr().err
+    assert rc == 1
+    assert f'{props}:2:19: error: `Grasp` names 2 nodes: #4 (Grasp "Grasp"), #6 (Grasp "Place")' in err
+    props.write_text("[] !running(#4)\n", encoding="utf-8")
+    assert main(["verify", path, "--properties", str(props)]) == 1  # #4 may run
+
+
+def test_refused_nodes_are_located_errors(tmp_path, capsys):
+    text = GRASP.replace("<AlwaysFailure/>", '<Script code="x := 1"/>')
+    path = _mission(tmp_path, text)
+    rc = main(["verify", path, "--property", "[] !running(Grasp)"])
+    err = capsys.readouterr().err
+    assert rc == 1 and f'{path}:6:25: error: `Script` "Script": btgen verify does not translate' in err
+
+
+def test_leaf_names_a_scenario_cannot_carry_are_refused(tmp_path, capsys):
+    shared = GRASP.replace('<Check name="Ready"/>', '<Check name="Grasp"/>')
+    path = _mission(tmp_path, shared)
+    assert main(["verify", path, "--property", "[] !running(#4)"]) == 1
+    err = capsys.readouterr().err
+    assert f'{path}:4:7: error: Condition "Grasp" shares its name with an Action' in err
+    # with a contract that keeps the Action from RUNNING, the scenario is valid: verified
+    c = tmp_path / "c.json"
+    c.write_text('{"Grasp": ["SUCCESS", "FAILURE"]}', encoding="utf-8")
+    assert main(["verify", path, "--property", "[] !running(#4)", "--contract", str(c)]) == 0
+    capsys.readouterr()
+    path = _mission(tmp_path, GRASP.replace('<Check name="Ready"/>', '<Check name="Ready now"/>'), "b.xml")
+    assert main(["verify", path, "--property", "[] !running(Grasp)"]) == 1
+    assert "a counterexample is a scenario, which names a leaf by one word" in capsys.readouterr().err
+
+
+def test_contract_errors(tmp_path):
+    path = _mission(tmp_path, GRASP)
+    _, program = pipeline.build(path)
+    c = tmp_path / "c.json"
+    for text, message in (
+        ('{"Ready": ["RUNNING"]}', "1:2: error: `Ready` (Condition) cannot return `RUNNING`"),
+        (
+            '{"Redy": ["SUCCESS"]}',
+            "1:2: error: the contract names `Redy`, which is no leaf of the mission (did you mean `Ready`?)",
+        ),
+        ('{"Ready": [}', "1:12: error: not JSON"),
+    ):
+        c.write_text(text, encoding="utf-8")
+        with pytest.raises(UserError) as e:
+            load_contract(str(c), program)
+        assert str(e.value.diagnostics[0]).startswith(f"{c}:{message}"), str(e.value.diagnostics[0])
+
+
+def test_lasso_evaluation_by_hand():
+    a, b = ("atom", ("ticked", 0)), ("atom", ("ticked", 1))
+    frames = [{("ticked", 0): True}, {("ticked", 1): True}, {}]
+    assert P.holds_on_lasso(("F", b), frames, 2)
+    assert not P.holds_on_lasso(("G", ("F", b)), frames, 2)  # the loop is the last frame: b never again
+    assert P.holds_on_lasso(("G", ("F", b)), frames, 1)  # the loop is frames 1, 2: b forever often
+    assert P.holds_on_lasso(("U", a, b), frames, 2)
+    assert not P.holds_on_lasso(("U", b, a), frames[1:], 0)
+    assert P.holds_on_lasso(("W", ("const", True), ("const", False)), frames, 0)
+    assert P.start_insensitive(("G", ("not", a))) and not P.start_insensitive(("G", a))
+
+
+AGREE_SEEDS = (3, 18, 21)
+
+
+@pytest.mark.parametrize("seed", AGREE_SEEDS)
+def test_tick_states_agree_with_explore_on_random_missions(tmp_path, seed):
+    from btgen.tools.fuzzgen import random_case
+
+    path = _mission(tmp_path, random_case(seed, "control", 1).mission)
+    mission, program = pipeline.build(path)
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
+
+
+def test_tick_states_agree_under_btcpp_4_10(tmp_path):
+    """4.10.0's switches (SKIPPED counted, loops never ending SKIPPED) on both sides."""
+    from btgen.tools.fuzzgen import random_case
+
+    path = _mission(tmp_path, random_case(21, "control", 1).mission)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(btcpp="4.10.0"))
+    assert mission.semantics.skipped_by_count
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
+
+
+@pytest.mark.parametrize("mission, ticks", [("PickPlaceBall.xml", 4), ("Reception.xml", 2)])
+def test_tick_states_agree_with_explore_on_shipped_missions(tmp_path, mission, ticks):
+    m, program = pipeline.build(str(ROOT / "missions" / mission))
+    a = agreement(m, program, ticks, 100, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 5
+
+
+def test_a_long_random_agreement_run_behind_an_env_var(tmp_path):
+    count = int(os.environ.get("BTGEN_VERIFY_AGREE", "0"))
+    if not count:
+        pytest.skip("set BTGEN_VERIFY_AGREE=N to compare N random missions with explore")
+    from btgen.tools.fuzzgen import random_case
+
+    compared = 0
+    for seed in range(count):
+        path = _mission(tmp_path, random_case(seed, "control", 1).mission, f"r{seed}.xml")
+        mission, program = pipeline.build(path)
+        try:
+            a = agreement(mission, program, 3, 20, str(tmp_path / f"w{seed}"), max_states=50000)
+        except Refusal:
+            continue
+        if a.explore_truncated:
+            continue
+        assert a.explore_states == a.spin_states, seed
+        compared += 1
+    assert compared > count // 2
+
+
+def test_refusal_is_raised_before_any_model(tmp_path):
+    path = _mission(tmp_path, GRASP.replace("<AlwaysFailure/>", '<SetBlackboard output_key="k" value="1"/>'))
+    mission, program = pipeline.build(path)
+    with pytest.raises(Refusal):
+        emit_model(mission, program, ModelOptions())
+
+
+def test_every_counterexample_replays_on_the_generated_cpp(tmp_path):
+    """Runs last in this module: each counterexample the tests above produced, on the C++."""
+    if not PRODUCED:  # run alone: make some
+        path = _mission(tmp_path, GRASP)
+        _verdicts(tmp_path, path, ["absence(returned(Place, FAILURE))", "[] <> ticked(Place)"])
+    assert PRODUCED
+    opts = pipeline.DEFAULTS
+    for k, (path, cx) in enumerate(PRODUCED):
+        if not os.path.exists(path):  # its tmp_path is gone: write the mission again
+            continue
+        mission, program = pipeline.build(path)
+        scen = tmp_path / f"cx{k}.scenario"
+        scen.write_text(cx.scenario, encoding="utf-8")
+        R.replay_cpp(cx, path, opts, str(scen), len(program.nodes))
+        assert cx.shown_cpp and cx.problems == [], (path, cx.prop.text, cx.problems)

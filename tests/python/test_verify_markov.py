@@ -1,0 +1,99 @@
+"""`btgen verify --probabilities`: Storm's answers equal hand-computed values and lie within the
+confidence interval of Monte Carlo runs of the interpreter."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from btgen import pipeline
+from btgen.cli import main
+from btgen.diagnostics import UserError
+from btgen.tools.verify.markov import build_chain, load_probabilities, monte_carlo, storm_queries
+
+pytest.importorskip("stormpy")
+
+GRASP = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Check name="Ready"/>
+      <RetryUntilSuccessful num_attempts="2"><Grasp/></RetryUntilSuccessful>
+      <Fallback><Place/><AlwaysFailure/></Fallback>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Condition ID="Check"/>
+    <Action ID="Grasp"/>
+    <Action ID="Place"/>
+  </TreeNodesModel>
+</root>
+"""
+PROBS = """{"Ready": {"SUCCESS": 0.9, "FAILURE": 0.1},
+ "Grasp": {"SUCCESS": 0.5, "FAILURE": 0.3, "RUNNING": 0.2},
+ "Place": {"SUCCESS": 0.8, "FAILURE": 0.2}}
+"""
+
+
+def _files(tmp_path: Path, mission: str = GRASP, probs: str = PROBS) -> tuple[str, str]:
+    m, p = tmp_path / "m.xml", tmp_path / "p.json"
+    m.write_text(mission, encoding="utf-8")
+    p.write_text(probs, encoding="utf-8")
+    return str(m), str(p)
+
+
+def test_hand_computed_probabilities(tmp_path, capsys):
+    m, p = _files(tmp_path)
+    assert main(["verify", m, "--probabilities", p, "--within", "1", "--ever", "Place"]) == 0
+    out = capsys.readouterr().out
+    values = {line[:42].strip(): float(line[42:]) for line in out.splitlines()[1:]}
+    # a run of Grasp ends SUCCESS with 0.5 / 0.8, FAILURE with 0.3 / 0.8 (RUNNING only delays it);
+    # the retry fails when two runs fail; Place then succeeds with 0.8
+    grasp_fails = (0.3 / 0.8) ** 2
+    assert values["P(root SUCCESS)"] == pytest.approx(0.9 * (1 - grasp_fails) * 0.8, abs=1e-9)
+    assert values["P(root FAILURE)"] == pytest.approx(1 - 0.9 * (1 - grasp_fails) * 0.8, abs=1e-9)
+    assert values["P(Place ever ticked)"] == pytest.approx(0.9 * (1 - grasp_fails), abs=1e-9)
+    # within one tick: Ready, Grasp at once and Place at once (a failed attempt takes a tick more)
+    assert values["P(root SUCCESS within 1 ticks)"] == pytest.approx(0.9 * 0.5 * 0.8, abs=1e-9)
+
+
+def test_storm_within_the_confidence_interval_of_monte_carlo(tmp_path):
+    m, p = _files(tmp_path)
+    mission, program = pipeline.build(m)
+    probs = load_probabilities(p, program)
+    p_success, expected = storm_queries(build_chain(mission, program, probs), ['P=? [F "success"]', 'R=? [F "done"]'])
+    runs = 4000
+    succ, fail, mean_ticks = monte_carlo(mission, probs, runs, seed=7)
+    assert succ + fail == runs
+    sigma = math.sqrt(p_success * (1 - p_success) / runs)
+    assert abs(succ / runs - p_success) < 4 * sigma
+    assert abs(mean_ticks - expected) < 0.1 * expected
+
+
+def test_reactive_mission_against_monte_carlo(tmp_path):
+    mission_text = GRASP.replace("<Sequence>", "<ReactiveSequence>").replace("</Sequence>", "</ReactiveSequence>")
+    m, p = _files(tmp_path, mission_text)
+    mission, program = pipeline.build(m)
+    probs = load_probabilities(p, program)
+    (p_success,) = storm_queries(build_chain(mission, program, probs), ['P=? [F "success"]'])
+    runs = 4000
+    succ, _, _ = monte_carlo(mission, probs, runs, seed=11)
+    assert abs(succ / runs - p_success) < 4 * math.sqrt(p_success * (1 - p_success) / runs)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ('{"Ready": {"SUCCESS": 0.5}}', "the probabilities add up to 0.5, not 1"),
+        ('{"Ready": {"RUNNING": 1}}', "`Ready` (Condition) cannot return `RUNNING`"),
+        ('{"Nope": {"SUCCESS": 1}}', "`Nope` is no leaf of the mission"),
+        ('{"Ready": {"SUCCESS": 1}}', "no probabilities for the leaves Grasp, Place"),
+    ],
+)
+def test_bad_probability_files(tmp_path, text, message):
+    m, p = _files(tmp_path, probs=text)
+    _, program = pipeline.build(m)
+    with pytest.raises(UserError) as e:
+        load_probabilities(p, program)
+    assert message in str(e.value.diagnostics[0])
