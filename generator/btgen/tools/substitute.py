@@ -33,10 +33,12 @@ from __future__ import annotations
 
 import json
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable, Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.fileio import read_json
 from btgen.interp import actions as iactions
 from btgen.interp import engine as iengine
 from btgen.interp.scenario import Scenario
@@ -58,6 +60,54 @@ class TestConfig:
     success_script: Optional[Attr]
     failure_script: Optional[Attr]
     post_script: Optional[Attr]
+    grammar_49: bool = False
+
+
+class Wildcard:
+    """A filter as a wildcard pattern, compiled once: `*` any run of characters, `?` one,
+    `\\` escapes the next (the library's wildcards::match). Matching takes time linear in the
+    text for a given pattern (no backtracking): the pattern is cut at its stars into pieces of
+    fixed length; the first must start the text, the last end it, and each other is found
+    leftmost after the one before (a fixed-length piece found earlier never spoils a match)."""
+
+    __slots__ = ("pieces", "first", "last", "literal")
+
+    def __init__(self, pattern: str) -> None:
+        pieces: list[list[Optional[str]]] = [[]]
+        i = 0
+        while i < len(pattern):
+            c = pattern[i]
+            if c == "\\" and i + 1 < len(pattern):
+                pieces[-1].append(pattern[i + 1])
+                i += 2
+                continue
+            if c == "*":
+                pieces.append([])
+            else:
+                pieces[-1].append(None if c == "?" else c)
+            i += 1
+        self.literal = not any(c in pattern for c in "*?\\")  # matches the text equal to it only
+        self.pieces = [
+            (len(p), re.compile("".join("." if c is None else re.escape(c) for c in p), re.DOTALL)) for p in pieces
+        ]
+
+    def match(self, text: str) -> bool:
+        pieces = self.pieces
+        n0, first = pieces[0]
+        if len(pieces) == 1:
+            return len(text) == n0 and first.match(text) is not None
+        nl, last = pieces[-1]
+        if len(text) < n0 + nl or first.match(text) is None or last.match(text, len(text) - nl) is None:
+            return False
+        pos, end = n0, len(text) - nl
+        for n, rx in pieces[1:-1]:
+            if n == 0:
+                continue
+            m = rx.search(text, pos, end)
+            if m is None:
+                return False
+            pos = m.end()
+        return True
 
 
 @dataclass(frozen=True)
@@ -66,6 +116,34 @@ class Rule:
     target: str  # a TestNodeConfig's name or a node ID
     loc: Loc
     config: Optional[TestConfig]
+    pattern: Wildcard = field(init=False, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "pattern", Wildcard(self.filter))
+
+
+class Rules(tuple):
+    """The rules of a file, in its order, with their index (built once: a node is matched
+    against a dict of the exact filters and the list of the wildcard ones)."""
+
+    @cached_property
+    def exact(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for i, r in enumerate(self):
+            out.setdefault(r.filter, i)
+        return out
+
+    @cached_property
+    def literal(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for i, r in enumerate(self):
+            if r.pattern.literal:
+                out.setdefault(r.filter, i)
+        return out
+
+    @cached_property
+    def wild(self) -> list[int]:
+        return [i for i, r in enumerate(self) if not r.pattern.literal]
 
 
 class _Obj(list):
@@ -81,17 +159,24 @@ def _loc_of(text: str, path: str, needle: str, start: int = 0) -> tuple[Loc, int
     return Loc(path, line, col), at
 
 
-def load_rules(path: str) -> tuple[Rule, ...]:
-    """Read a substitution file; UserError with `path:line:col` for every problem found."""
-    data = read_bounded(path, MAX_RULES_BYTES, "substitution file", cannot="cannot read the substitution file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise UserError(Diagnostic(Loc(path, 1, 1), f"invalid UTF-8 (byte 0x{data[e.start]:02x})")) from None
-    try:
-        doc = json.loads(text, object_pairs_hook=_Obj)
-    except json.JSONDecodeError as e:
-        raise UserError(Diagnostic(Loc(path, e.lineno, e.colno), f"invalid JSON: {e.msg}")) from None
+def _plain(value):
+    """A JSON value as Python's reader gives it without the pairs hook (objects as dicts)."""
+    if isinstance(value, _Obj):
+        return {k: _plain(v) for k, v in value}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _dumps(value) -> str:
+    return json.dumps(_plain(value), ensure_ascii=False)
+
+
+def load_rules(path: str, grammar_49: bool = False) -> Rules:
+    """Read a substitution file; UserError with `path:line:col` for every problem found.
+    Its scripts are parsed with the grammar of the selected release (`grammar_49`: the
+    mission's `semantics.script_grammar_49`), as the same text in the mission would be."""
+    doc, text = read_json(path, MAX_RULES_BYTES, "substitution", object_pairs_hook=_Obj)
     errors: list[Diagnostic] = []
 
     def err(loc: Loc, message: str) -> None:
@@ -107,7 +192,7 @@ def load_rules(path: str) -> tuple[Rule, ...]:
         err(_loc_of(text, path, '"TestNodeConfigs"')[0], "`TestNodeConfigs` must be an object")
         raw_configs = []
     for name, body in raw_configs:
-        loc, pos = _loc_of(text, path, json.dumps(name), pos)
+        loc, pos = _loc_of(text, path, _dumps(name), pos)
         if not isinstance(body, _Obj):
             err(loc, f"test node config `{name}` must be an object")
             continue
@@ -115,7 +200,7 @@ def load_rules(path: str) -> tuple[Rule, ...]:
         for key in fields:
             if key not in ("return_status", "async_delay", "success_script", "failure_script", "post_script"):
                 err(
-                    _loc_of(text, path, json.dumps(key), pos)[0],
+                    _loc_of(text, path, _dumps(key), pos)[0],
                     f"unknown field `{key}` of `{name}`: use return_status, async_delay, success_script, "
                     "failure_script or post_script",
                 )
@@ -123,10 +208,10 @@ def load_rules(path: str) -> tuple[Rule, ...]:
         if status is None:
             err(loc, f"test node config `{name}` has no `return_status` (BehaviorTree.CPP requires it)")
             continue
-        if status not in _STATUS:
+        if not isinstance(status, str) or status not in _STATUS:
             err(
-                _loc_of(text, path, json.dumps(status), pos)[0],
-                f"`return_status` of `{name}` is {json.dumps(status)}: use SUCCESS, FAILURE or RUNNING",
+                _loc_of(text, path, _dumps(status), pos)[0],
+                f"`return_status` of `{name}` is {_dumps(status)}: use SUCCESS, FAILURE or RUNNING",
             )
             continue
         delay = fields.get("async_delay", 0)
@@ -139,13 +224,13 @@ def load_rules(path: str) -> tuple[Rule, ...]:
             if code is None or code == "":
                 scripts[key] = None
                 continue
-            kloc = _loc_of(text, path, json.dumps(key), pos)[0]
+            kloc = _loc_of(text, path, _dumps(key), pos)[0]
             if not isinstance(code, str):
                 err(kloc, f"`{key}` of `{name}` must be a string")
                 continue
-            vloc = _loc_of(text, path, json.dumps(code), pos)[0]
+            vloc = _loc_of(text, path, _dumps(code), pos)[0]
             try:
-                parsed = sc.parse_script(code)
+                parsed = sc.parse_script(code, grammar_49)
             except sc.ScriptSyntaxError as e:
                 err(vloc, f"`{key}` of `{name}`: {e.message}")
                 continue
@@ -157,6 +242,7 @@ def load_rules(path: str) -> tuple[Rule, ...]:
             scripts.get("success_script"),
             scripts.get("failure_script"),
             scripts.get("post_script"),
+            grammar_49,
         )
     rules: list[Rule] = []
     raw_rules = top.get("SubstitutionRules", [])
@@ -166,29 +252,19 @@ def load_rules(path: str) -> tuple[Rule, ...]:
     rules_at = _loc_of(text, path, '"SubstitutionRules"')[1]
     pos = rules_at
     for filt, target in raw_rules:
-        loc, pos = _loc_of(text, path, json.dumps(filt), pos)
+        loc, pos = _loc_of(text, path, _dumps(filt), pos)
         if not isinstance(target, str):
             err(loc, f"the rule `{filt}` must name a test node config or a node ID")
             continue
         rules.append(Rule(filt, target, loc, configs.get(target)))
     if errors:
         raise UserError(errors)
-    return tuple(rules)
+    return Rules(rules)
 
 
 def wildcard_match(text: str, pattern: str) -> bool:
     """`*` any run of characters, `?` one, `\\` escapes the next (the library's wildcards::match)."""
-    rx = []
-    i = 0
-    while i < len(pattern):
-        c = pattern[i]
-        if c == "\\" and i + 1 < len(pattern):
-            rx.append(re.escape(pattern[i + 1]))
-            i += 2
-            continue
-        rx.append(".*" if c == "*" else "." if c == "?" else re.escape(c))
-        i += 1
-    return re.fullmatch("".join(rx), text, re.DOTALL) is not None
+    return Wildcard(pattern).match(text)
 
 
 class TestNode(iactions.StatefulActionNode):
@@ -236,7 +312,7 @@ def _path(prefix: str, node: Node, uid: int) -> str:
 class _SubstitutingBuilder(iengine._Builder):
     def __init__(self, rt, mission: Mission, rules: tuple[Rule, ...]) -> None:
         super().__init__(rt, mission)
-        self.rules = rules
+        self.rules = rules if isinstance(rules, Rules) else Rules(rules)
         self.prefix = [""]
         self.used: set[int] = set()
 
@@ -346,11 +422,19 @@ def _instances(mission: Mission):
 def _match_index(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[int]:
     """The index of the first rule that matches `node` at `path` (its name, its registration ID,
     or its path as a wildcard pattern), or None."""
+    if not isinstance(rules, Rules):
+        rules = Rules(rules)
     reg = "SubTree" if isinstance(node, SubTreeNode) else node.id
-    for i, r in enumerate(rules):
-        if r.filter in (node.display_name, reg) or wildcard_match(path, r.filter):
+    best: Optional[int] = None
+    for i in (rules.exact.get(node.display_name), rules.exact.get(reg), rules.literal.get(path)):
+        if i is not None and (best is None or i < best):
+            best = i
+    for i in rules.wild:
+        if best is not None and i > best:
+            break
+        if rules[i].pattern.match(path):
             return i
-    return None
+    return best
 
 
 def _match(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[Rule]:
@@ -369,6 +453,23 @@ def _check_leaf(rule: Rule, node: Node, mission: Mission) -> None:
                 f"{kind}: only leaves can be substituted",
             )
         )
+    if rule.config is not None or rule.target in BUILTINS:
+        return
+    try:
+        target = mission.spec(rule.target)
+    except KeyError:
+        return  # (reported where the node is built)
+    if target.kind in ("Action", "Condition") and target.kind != kind:
+        # A scripted Action and a scripted Condition answer differently (RUNNING, what is taken
+        # from the scenario when): both engines refuse the change rather than differ.
+        raise UserError(
+            Diagnostic(
+                rule.loc,
+                f'the rule `{rule.filter}` builds `{node.id}` "{node.display_name}" ({node.loc}), '
+                f"{'an' if kind == 'Action' else 'a'} {kind}, as `{rule.target}`, a {target.kind}: a mission's "
+                "own leaf can stand only for a leaf of its kind",
+            )
+        )
 
 
 def _merged(node: Node, config: TestConfig) -> Node:
@@ -381,7 +482,7 @@ def _merged(node: Node, config: TestConfig) -> Node:
             return None
         code = "; ".join(a.value for a in parts)
         where = parts[0]
-        return Attr(name, code, where.loc, where.value_loc, sc.parse_script(code))
+        return Attr(name, code, where.loc, where.value_loc, sc.parse_script(code, config.grammar_49))
 
     on_success = join("_onSuccess", [config.success_script, config.post_script])
     on_failure = join("_onFailure", [config.failure_script, config.post_script])
@@ -397,6 +498,7 @@ def lower_substituted(mission: Mission, options, rules: tuple[Rule, ...]):
 
     from btgen.ir.lower import lower
 
+    rules = rules if isinstance(rules, Rules) else Rules(rules)
     decided: dict[int, Optional[Rule]] = {}
     per_index: dict[int, Rule] = {}
     models: dict[int, Node] = {}
