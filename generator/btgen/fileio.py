@@ -164,20 +164,25 @@ class Manifest:
             return []
         return [n for n in files if isinstance(n, str) and n and n == os.path.basename(n) and n not in (".", "..")]
 
-    def replace(self, written: Sequence[str]) -> list[str]:
+    def check(self, inputs: Iterable[str] = ()) -> None:
+        """UserError when the manifest itself cannot be written (call before writing the files)."""
+        check_output(self.path, inputs)
+
+    def replace(self, written: Sequence[str], inputs: Iterable[str] = ()) -> list[str]:
         """Record `written` (paths in the folder) as this run's files; remove the files of
-        the earlier run that this one did not write again (regular files only). Returns
-        the removed paths."""
+        the earlier run that this one did not write again (regular files only, never one of
+        `inputs`, whatever the manifest says). Returns the removed paths."""
         names = [os.path.basename(p) for p in written]
+        keep = {i for i in (_identity(f) for f in inputs) if i is not None}
         removed = []
         for old in self.previous():
             if old in names:
                 continue
             full = os.path.join(self.folder, old)
             with contextlib.suppress(OSError):
-                if stat.S_ISREG(os.lstat(full).st_mode):
+                if stat.S_ISREG(os.lstat(full).st_mode) and _identity(full) not in keep:
                     os.unlink(full)
                     removed.append(full)
         doc = {"written by": f"btgen {self.command}", "files": names}
-        write_output(self.path, (json.dumps(doc, indent=1) + "\n").encode("utf-8"))
+        write_output(self.path, (json.dumps(doc, indent=1) + "\n").encode("utf-8"), inputs)
         return removed

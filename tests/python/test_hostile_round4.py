@@ -319,6 +319,34 @@ def test_explore_cleans_exactly_what_it_wrote(tmp_path, capsys):
     assert sorted(p.name for p in out.iterdir()) == ["m-001.scenario"]
 
 
+def test_a_manifest_never_removes_an_input_nor_blocks_half_way(tmp_path, capsys):
+    """A manifest is read as a record, not trusted: one that lists the mission (forged, or a
+    mission written into the output folder) never gets it removed; a manifest that cannot be
+    written stops the run before any scenario is written."""
+    out = tmp_path / "out"
+    out.mkdir()
+    m, _ = _files(out)
+    (out / ".m.btgen-explore").write_text('{"written by": "btgen explore", "files": ["m.xml", "s.scenario"]}')
+    assert main(["explore", m, "-o", str(out)]) == 0
+    assert (out / "m.xml").read_text() == MISSION
+    assert not (out / "s.scenario").exists()  # what the record lists, and this run did not write, goes
+    shutil.rmtree(out)
+    out.mkdir()
+    (out / ".m.btgen-explore").mkdir()
+    m, _ = _files(tmp_path)
+    assert main(["explore", m, "-o", str(out)]) == 1
+    assert "is a folder, not a file" in capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == [".m.btgen-explore"]
+
+
+def test_missing_rules_sections_are_named(tmp_path, capsys):
+    assert _run_rules(tmp_path, '{"SubstitutionRules": {}}') == 1
+    assert capsys.readouterr().err == (
+        f"{tmp_path / 'r.json'}:1:1: error: the file has no `TestNodeConfigs` (BehaviorTree.CPP requires it: "
+        "`{}` when empty)\n"
+    )
+
+
 # ====================================================================== one scenario writer
 HOSTILE_LEAVES = MISSION.replace("<Find/>", '<Find name="door open"/>').replace("<Act/>", '<Act name="go#home"/>')
 
@@ -346,6 +374,8 @@ def test_clock_ms_that_no_scenario_holds_is_refused(tmp_path, capsys):
     m, _ = _files(tmp_path)
     assert main(["explore", m, "-o", str(tmp_path / "o"), "--clock-ms", "3000000000"]) == 1
     assert re.match(r"<command-line>:1:\d+: error: --clock-ms 3000000000 is larger", capsys.readouterr().err)
+    assert main(["explore", m, "-o", str(tmp_path / "o"), "--ticks", "3000000000"]) == 1
+    assert re.match(r"<command-line>:1:\d+: error: --ticks 3000000000 is larger", capsys.readouterr().err)
     assert not (tmp_path / "o").exists()
 
 

@@ -509,6 +509,14 @@ def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     }
 
 
+def check_ticks(args) -> None:
+    """`--ticks` of a command that writes scenarios: what a scenario's `ticks` can hold."""
+    if args.ticks > MAX_VALUE:
+        raise cmdline.error(
+            args, "--ticks", f"--ticks {args.ticks} is larger than a scenario's ticks can be ({MAX_VALUE})"
+        )
+
+
 def check_clock_ms(args) -> None:
     """`--clock-ms` of a command that writes scenarios: what a scenario's clock_ms can hold."""
     if args.clock_ms < 0:
@@ -530,6 +538,7 @@ def explore_command(args) -> int:
     except ValueError as e:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
     check_clock_ms(args)
+    check_ticks(args)
     possible = _possible(mission, args)
     try:
         ex = Explorer(
@@ -565,13 +574,15 @@ def explore_command(args) -> int:
         ]
         error_files = [os.path.join(args.output_dir, f"error-{k}.scenario") for k in range(1, len(reaching) + 1)]
         outputs = list(zip(files + cx_files + error_files, covering + counterexamples + reaching))
+        manifest = Manifest(args.output_dir, stem, "explore")
+        manifest.check(mission.files)
         for name, _ in outputs:
             check_output(name, mission.files)
         for name, text in outputs:
             write_output(name, text.encode("utf-8"), mission.files)
         # what an earlier exploration of this mission wrote and this one did not is stale: a
         # set of files that together cover the mission must not mix two explorations
-        Manifest(args.output_dir, stem, "explore").replace([name for name, _ in outputs])
+        manifest.replace([name for name, _ in outputs], mission.files)
     status = 0
     for k, (prop, _) in enumerate(result.violations):
         status = 1

@@ -188,8 +188,11 @@ def load_rules(path: str, grammar_49: bool = False) -> Rules:
     configs: dict[str, TestConfig] = {}
     pos = 0
     raw_configs = top.get("TestNodeConfigs", [])
+    if key_missing := "TestNodeConfigs" not in top:
+        err(Loc(path, 1, 1), "the file has no `TestNodeConfigs` (BehaviorTree.CPP requires it: `{}` when empty)")
     if not isinstance(raw_configs, _Obj):
-        err(_loc_of(text, path, '"TestNodeConfigs"')[0], "`TestNodeConfigs` must be an object")
+        if not key_missing:
+            err(_loc_of(text, path, '"TestNodeConfigs"')[0], "`TestNodeConfigs` must be an object")
         raw_configs = []
     for name, body in raw_configs:
         loc, pos = _loc_of(text, path, _dumps(name), pos)
@@ -246,8 +249,11 @@ def load_rules(path: str, grammar_49: bool = False) -> Rules:
         )
     rules: list[Rule] = []
     raw_rules = top.get("SubstitutionRules", [])
+    if key_missing := "SubstitutionRules" not in top:
+        err(Loc(path, 1, 1), "the file has no `SubstitutionRules` (BehaviorTree.CPP requires it: `{}` when empty)")
     if not isinstance(raw_rules, _Obj):
-        err(_loc_of(text, path, '"SubstitutionRules"')[0], "`SubstitutionRules` must be an object")
+        if not key_missing:
+            err(_loc_of(text, path, '"SubstitutionRules"')[0], "`SubstitutionRules` must be an object")
         raw_rules = []
     rules_at = _loc_of(text, path, '"SubstitutionRules"')[1]
     pos = rules_at
