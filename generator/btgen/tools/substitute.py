@@ -31,6 +31,9 @@ error (a TestNode cannot hold their children).
 
 from __future__ import annotations
 
+import bisect
+import functools
+import itertools
 import json
 import re
 from dataclasses import dataclass, field
@@ -70,7 +73,7 @@ class Wildcard:
     fixed length; the first must start the text, the last end it, and each other is found
     leftmost after the one before (a fixed-length piece found earlier never spoils a match)."""
 
-    __slots__ = ("pieces", "first", "last", "literal")
+    __slots__ = ("pieces", "literal", "prefix")
 
     def __init__(self, pattern: str) -> None:
         pieces: list[list[Optional[str]]] = [[]]
@@ -87,23 +90,43 @@ class Wildcard:
                 pieces[-1].append(None if c == "?" else c)
             i += 1
         self.literal = not any(c in pattern for c in "*?\\")  # matches the text equal to it only
-        self.pieces = [
-            (len(p), re.compile("".join("." if c is None else re.escape(c) for c in p), re.DOTALL)) for p in pieces
+        # the characters every text it matches starts with (to index many patterns)
+        self.prefix = "".join(c for c in itertools.takewhile(lambda c: c is not None, pieces[0]) if c is not None)
+        # each piece: (length, its text when it has no `?`, else a regex of it); literal
+        # pieces are found with str methods, and only pieces with `?` compile a regex
+        self.pieces: list[tuple[int, Optional[str], Optional[re.Pattern[str]]]] = [
+            (len(p), "".join(c for c in p if c is not None), None)
+            if None not in p
+            else (len(p), None, re.compile("".join("." if c is None else re.escape(c) for c in p), re.DOTALL))
+            for p in pieces
         ]
+
+    @staticmethod
+    def _at(text: str, piece: tuple[int, Optional[str], Optional[re.Pattern[str]]], pos: int) -> bool:
+        n, lit, rx = piece
+        if lit is not None:
+            return text.startswith(lit, pos)
+        return rx is not None and rx.match(text, pos) is not None
 
     def match(self, text: str) -> bool:
         pieces = self.pieces
-        n0, first = pieces[0]
+        n0 = pieces[0][0]
         if len(pieces) == 1:
-            return len(text) == n0 and first.match(text) is not None
-        nl, last = pieces[-1]
-        if len(text) < n0 + nl or first.match(text) is None or last.match(text, len(text) - nl) is None:
+            return len(text) == n0 and self._at(text, pieces[0], 0)
+        nl = pieces[-1][0]
+        if len(text) < n0 + nl or not self._at(text, pieces[0], 0) or not self._at(text, pieces[-1], len(text) - nl):
             return False
         pos, end = n0, len(text) - nl
-        for n, rx in pieces[1:-1]:
+        for n, lit, rx in pieces[1:-1]:
             if n == 0:
                 continue
-            m = rx.search(text, pos, end)
+            if lit is not None:
+                at = text.find(lit, pos, end)
+                if at < 0:
+                    return False
+                pos = at + n
+                continue
+            m = rx.search(text, pos, end) if rx is not None else None
             if m is None:
                 return False
             pos = m.end()
@@ -145,18 +168,50 @@ class Rules(tuple):
     def wild(self) -> list[int]:
         return [i for i, r in enumerate(self) if not r.pattern.literal]
 
+    @cached_property
+    def _trie(self) -> dict:
+        """The wildcard rules by the literal prefix of their pattern (key None: the indexes
+        of the rules whose prefix ends there)."""
+        root: dict = {}
+        for i in self.wild:
+            node = root
+            for c in self[i].pattern.prefix:
+                node = node.setdefault(c, {})
+            node.setdefault(None, []).append(i)
+        return root
+
+    def wild_candidates(self, path: str) -> list[int]:
+        """The wildcard rules whose literal prefix starts `path`, in file order: the only ones
+        that may match it (one walk down the path, not one try per rule)."""
+        node = self._trie
+        out = list(node.get(None, ()))
+        for c in path:
+            node = node.get(c)
+            if node is None:
+                break
+            out.extend(node.get(None, ()))
+        out.sort()
+        return out
+
 
 class _Obj(list):
     """A JSON object as its (key, value) pairs in file order (arrays stay plain lists)."""
 
 
+@functools.lru_cache(maxsize=2)
+def _line_starts(text: str) -> list[int]:
+    return [0] + [m.end() for m in re.finditer("\n", text)]
+
+
 def _loc_of(text: str, path: str, needle: str, start: int = 0) -> tuple[Loc, int]:
+    """Where `needle` first is in `text` from `start` (a table of line starts: 20,000 rules
+    cost 20,000 lookups, not 20,000 counts of the lines before each)."""
     at = text.find(needle, start)
     if at < 0:
         return Loc(path, 1, 1), start
-    line = text.count("\n", 0, at) + 1
-    col = at - (text.rfind("\n", 0, at) + 1) + 1
-    return Loc(path, line, col), at
+    starts = _line_starts(text)
+    line = bisect.bisect_right(starts, at)
+    return Loc(path, line, at - starts[line - 1] + 1), at
 
 
 def _plain(value):
@@ -435,7 +490,7 @@ def _match_index(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[int
     for i in (rules.exact.get(node.display_name), rules.exact.get(reg), rules.literal.get(path)):
         if i is not None and (best is None or i < best):
             best = i
-    for i in rules.wild:
+    for i in rules.wild_candidates(path):
         if best is not None and i > best:
             break
         if rules[i].pattern.match(path):
