@@ -183,10 +183,11 @@ class Rules(tuple):
     def wild_candidates(self, path: str) -> list[int]:
         """The wildcard rules whose literal prefix starts `path`, in file order: the only ones
         that may match it (one walk down the path, not one try per rule)."""
-        node = self._trie
-        out = list(node.get(None, ()))
-        for c in path:
-            node = node.get(c)
+        node: Optional[dict] = self._trie
+        out: list[int] = []
+        for c in itertools.chain((None,), path):
+            if c is not None:
+                node = node.get(c) if node is not None else None
             if node is None:
                 break
             out.extend(node.get(None, ()))
