@@ -197,6 +197,16 @@ def test_run_checks_entries_as_validate_does(tmp_path, capsys):
     assert validate.startswith(f"{m}:2:3: error: --entry timeout=string: blackboard entry `timeout` is declared as int")
 
 
+def test_models_checks_options_as_validate_does(tmp_path, capsys):
+    """`models` read the mission without loading it, and took any --entry, --enum, --type."""
+    m, _ = _files(tmp_path)
+    for option in (["--entry", "bad"], ["--enum", "X"], ["--type", "Q"]):
+        assert main(["validate", m, *option]) == 1
+        validate = capsys.readouterr().err
+        assert main(["models", m, *option]) == 1
+        assert capsys.readouterr().err == validate
+
+
 def test_upgrade_check_of_a_missing_scenario_is_an_error(tmp_path, capsys):
     """Both versions failed to read the scenario, and the report said the traces were the
     same and nothing changes, exit 0."""

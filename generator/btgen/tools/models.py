@@ -215,6 +215,7 @@ def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str,
 
 def models_command(args: argparse.Namespace) -> int:
     opts = pipeline.options_from_args(args)
+    pipeline.check_options(opts)  # as validate checks them
     text, warnings, files = infer_models(args.mission, opts)
     print_diagnostics(warnings)
     if args.output is None:
