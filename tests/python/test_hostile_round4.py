@@ -411,6 +411,47 @@ def test_scenario_writer_round_trips_random_names_and_values():
         assert [(s.name, list(s.statuses)) for s in back.leaves] == leaves, text
 
 
+def test_every_writer_round_trips_random_leaf_names(tmp_path, capsys):
+    """Property, through the commands: for missions whose leaves have random names (blanks,
+    `#`, quotes, non-ASCII), `explore -o` and `scenario-from-log` either write scenarios that
+    read back to the mission's own names and replay, or both refuse, at the node, with the
+    same words."""
+    from xml.sax.saxutils import quoteattr
+
+    rng = random.Random(4344)
+    alphabet = "ab_Z9 #\"'.:-é€\t"
+    seen = set()
+    for k in range(10):
+        names = ["".join(rng.choice(alphabet) for _ in range(rng.randint(1, 5))).strip() or "x" for _ in range(2)]
+        if names[0] == names[1]:
+            names[1] += "2"
+        xml = MISSION.replace("<Find/>", f"<Find name={quoteattr(names[0])}/>").replace(
+            "<Act/>", f"<Act name={quoteattr(names[1])}/>"
+        )
+        case = tmp_path / f"c{k}"
+        case.mkdir()
+        m, s = _files(case, xml)
+        out = case / "out"
+        rc = main(["explore", m, "-o", str(out)])
+        explore_err = capsys.readouterr().err
+        mission = load_mission(m)
+        log = _btlog(m, trace_transitions(trace_text(mission, parse_scenario(s))), case / "r.btlog")
+        rc_log = main(["scenario-from-log", m, str(log), "-o", str(case / "back.scenario")])
+        log_err = capsys.readouterr().err
+        writable = all(re.fullmatch(r"[^ \t\f\v\r\n#]+", n) for n in names)
+        seen.add(writable)
+        assert (rc, rc_log) == ((0, 0) if writable else (1, 1)), (names, explore_err, log_err)
+        if not writable:
+            assert explore_err.splitlines()[0] == log_err.splitlines()[0]
+            assert "cannot be written in a scenario file" in explore_err
+            continue
+        for written in [*out.glob("*.scenario"), case / "back.scenario"]:
+            back = parse_scenario(str(written))
+            assert {leaf.name for leaf in back.leaves} <= {*names, "Check"}, written.read_text()
+            trace_text(mission, back)  # replays
+    assert seen == {True, False}  # both outcomes were tried
+
+
 # ====================================================================== scenario-from-log
 STUCK = """<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
