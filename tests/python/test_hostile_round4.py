@@ -295,6 +295,8 @@ def test_graph_and_compile_do_not_overwrite_their_inputs(tmp_path, capsys):
     before = trace.read_text()
     assert main(["graph", m, "--trace", str(trace), "-o", str(trace)]) == 1
     assert "would overwrite this input file" in capsys.readouterr().err and trace.read_text() == before
+    assert main(["cover", m, str(trace), "--graph", str(trace)]) == 1
+    assert "would overwrite this input file" in capsys.readouterr().err and trace.read_text() == before
     (tmp_path / "r.json").write_text('{"TestNodeConfigs": {}, "SubstitutionRules": {}}')
     rules = tmp_path / "m.hpp"  # rules named like the generated header
     (tmp_path / "r.json").rename(rules)
