@@ -319,6 +319,21 @@ function(btgen_add_mission)
     list(APPEND outputs "${out_dir}/${name}")
   endforeach()
   list(GET names 0 header_name)
+  # A dependency that goes away (a tree library's file deleted: the folder re-runs configure)
+  # leaves the outputs newer than every dependency left, and the command line unchanged, so
+  # no generator would run btgen again and the program would keep the deleted tree. When the
+  # list of dependencies differs from the last configure's, the outputs are removed: the next
+  # build runs `btgen compile`, which says what is missing (path:line:col) or regenerates.
+  set(deps_record "${CMAKE_CURRENT_BINARY_DIR}/CMakeFiles/btgen/${target}.deps")
+  if(EXISTS "${deps_record}")
+    file(READ "${deps_record}" old_deps)
+    if(NOT old_deps STREQUAL "${deps}")
+      file(REMOVE ${outputs})
+    endif()
+  endif()
+  if(NOT EXISTS "${deps_record}" OR NOT old_deps STREQUAL "${deps}")
+    file(WRITE "${deps_record}" "${deps}")
+  endif()
 
   add_custom_command(
     OUTPUT ${outputs}

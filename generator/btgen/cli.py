@@ -163,6 +163,18 @@ def _count(text: str) -> int:
     return value
 
 
+def _percent(text: str) -> float:
+    """A percentage for a CI gate: a finite number from 0 to 100 (never nan, which no
+    coverage is below, nor 150, which every coverage is below)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a number") from None
+    if not 0.0 <= value <= 100.0:  # (false for nan)
+        raise argparse.ArgumentTypeError(f"`{text}` is not a percentage from 0 to 100")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = Parser(prog="btgen", description="Compile BehaviorTree.CPP v4 missions to static C++17.")
     p.add_argument("--version", action="version", version=f"btgen {__version__}")
@@ -253,7 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--uncovered", action="store_true", help="the table's lines of nodes not fully covered")
     cv.add_argument("--graph", metavar="FILE.svg|FILE.dot", help="draw the mission coloured by coverage")
     cv.add_argument(
-        "--min", type=float, metavar="PCT", help="exit 1, saying so, when node coverage is below PCT percent"
+        "--min", type=_percent, metavar="PCT", help="exit 1, saying so, when node coverage is below PCT percent"
     )
     cv.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
     cv.set_defaults(func=_cmd_cover)

@@ -41,6 +41,7 @@ from btgen import cmdline, pipeline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import TEMPLATE_DIR, Output, output_names, render
 from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.fileio import check_output
 from btgen.frontend import usertypes
 from btgen.ir.data.records import DataOptions
 from btgen.ir.lower import lower
@@ -96,7 +97,7 @@ def generate_checked(
     if substitute is not None:
         from btgen.tools.substitute import load_rules, lower_substituted
 
-        program = lower_substituted(mission, opts.data, load_rules(substitute))
+        program = lower_substituted(mission, opts.data, load_rules(substitute, mission.semantics.script_grammar_49))
     else:
         program = lower(mission, opts.data)
     outputs = render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
@@ -188,26 +189,23 @@ def compile_command(args: argparse.Namespace) -> int:
     from btgen.diagnostics import print_diagnostics
 
     opts = options_from_args(args)
+    substitute = getattr(args, "substitute", None)  # a test build: substitution rules (tools/substitute.py)
     mission, outputs = generate_checked(
         args.mission,
         opts,
         args.relative_to,
-        getattr(args, "substitute", None),  # a test build: substitution rules (tools/substitute.py)
+        substitute,
         lambda m: print_diagnostics(m.warnings),
     )
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output
-        target = out_dir / out.name
-        for f in mission.files:
-            if target.exists() and os.path.samefile(f, target):
-                raise UserError(
-                    Diagnostic(
-                        Loc(f, 1, 1),
-                        f"`btgen compile -o {args.output_dir}` would overwrite "
-                        f"this input file with the generated {out.name}: "
-                        f"choose another output directory",
-                    )
-                )
+        check_output(
+            str(out_dir / out.name),
+            (*mission.files, *([substitute] if substitute else [])),
+            message=f"`btgen compile -o {args.output_dir}` would overwrite this input file with the generated "
+            f"{out.name}: choose another output directory",
+            folders=False,  # (write_all_if_changed says so, naming the generated file)
+        )
     try:  # rendered completely before anything is written; then all outputs or none
         write_all_if_changed([(out_dir / out.name, out.text) for out in outputs])
     except OSError as e:

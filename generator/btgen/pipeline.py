@@ -199,6 +199,17 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
     )
 
 
+def check_options(opts: CompileOptions) -> None:
+    """The option values parsed as `load` parses them (UserError as `load` gives it), for a
+    command that reads the mission's files without loading it (`models`, which must not
+    refuse the unknown nodes it is there to describe)."""
+    from btgen.frontend import entries, enums, usertypes
+
+    entries.load(opts.entries)
+    enums.load(opts.enum_decls, opts.enum_files)
+    usertypes.load(opts.types)
+
+
 def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     """The checked mission (front end only); UserError with every problem found."""
     from btgen.frontend import entries, enums, usertypes

@@ -118,13 +118,20 @@ def test_property_counterexample_replays(capsys, tmp_path):
 def test_output_folder(capsys, tmp_path):
     out = tmp_path / "sc"
     out.mkdir()
-    (out / "PickPlaceBall-099.scenario").write_text("ticks 1\n")  # from an earlier exploration
+    # a file named as explore names its own, which no exploration wrote: the user's, kept
+    (out / "PickPlaceBall-099.scenario").write_text("ticks 1\n")
     (out / "mine.scenario").write_text("ticks 1\n")
+    rc, _, _ = _explore(
+        capsys, "-o", str(out), "--assert", "never PlaceBall SUCCESS before FindBall FAILURE", str(PICK)
+    )
+    assert rc == 1 and (out / "counterexample-1.scenario").is_file()
+    # a later exploration removes exactly what the earlier one wrote and it does not (its manifest)
     rc, report, _ = _explore(capsys, "-o", str(out), str(PICK))
     assert rc == 0
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(
-        [f"PickPlaceBall-{i:03d}.scenario" for i in range(1, report["scenarios"] + 1)] + ["mine.scenario"]
+        [f"PickPlaceBall-{i:03d}.scenario" for i in range(1, report["scenarios"] + 1)]
+        + ["mine.scenario", "PickPlaceBall-099.scenario", ".PickPlaceBall.btgen-explore"]
     )
     blocked = tmp_path / "file"
     blocked.write_text("")

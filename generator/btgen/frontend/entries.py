@@ -19,7 +19,7 @@ import re
 from collections.abc import Collection, Sequence
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, suggestion
-from btgen.lang import values
+from btgen.lang import blackboard, values
 from btgen.lang.model import Mission, ProvidedEntry
 
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*\Z")
@@ -101,4 +101,18 @@ def apply(mission: Mission, provided: tuple[ProvidedEntry, ...]) -> Mission:
     ]
     if problems:
         raise UserError(problems)
-    return dataclasses.replace(mission, provided=provided)
+    mission = dataclasses.replace(mission, provided=provided)
+    # The root blackboard gets the main tree's entries and the root ones (`--entry
+    # Patrol:timeout=int --entry timeout=string` with Patrol the main tree): two types of one
+    # entry there are refused here, where every command loads the mission, with the words and
+    # place of the data analysis (ir/data/resolve.py), which only some commands run.
+    root = blackboard.Blackboard()
+    for p in provided:
+        if p.applies_to(mission.main_tree, True):
+            try:
+                root.create_entry(p.key, p.type)
+            except blackboard.BlackboardError as e:
+                problems.append(Diagnostic(mission.main.loc, f"{p.option}: {e}"))
+    if problems:
+        raise UserError(problems)
+    return mission

@@ -110,6 +110,11 @@ class _Loader:
         self.tree_elems: list[tuple[str, etree._Element, Source]] = []
         self.models: list[NodeSpec] = []
         self.files: list[str] = []
+        # the real paths and shown paths of self.files, each computed once: `--trees DIR` of
+        # thousands of files deep in folders asks "read already?" once per file
+        self._real_files: set[str] = set()
+        self._shown_files: dict[str, int] = {}
+        self._tree_ids: set[str] = set()
         self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
         self.siblings = SiblingIndex(self.files)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
@@ -124,7 +129,7 @@ class _Loader:
 
     def _position(self, i: int) -> tuple[int, int, int]:
         d = self.sink.items[i]
-        return (self.files.index(d.loc.path) if d.loc.path in self.files else len(self.files), d.loc.line, d.loc.col)
+        return (self._shown_files.get(d.loc.path, len(self.files)), d.loc.line, d.loc.col)
 
     def _sorted(self, diags):
         order = {f: i for i, f in enumerate(self.files)}
@@ -181,8 +186,13 @@ class _Loader:
         warnings = tuple(self._sorted(d for d in self.sink.items if d.severity == "warning"))
         return dataclasses.replace(mission, warnings=warnings) if warnings != mission.warnings else mission
 
+    def _add_file(self, shown: str) -> None:
+        self._shown_files.setdefault(shown, len(self.files))
+        self.files.append(shown)
+        self._real_files.add(os.path.realpath(shown))
+
     def _load_file(self, path: str, shown: str, stack: tuple[str, ...], include_loc: Optional[Loc] = None) -> Source:
-        self.files.append(shown)  # (before reading: a file that does not load is still a dependency)
+        self._add_file(shown)  # (before reading: a file that does not load is still a dependency)
         src = read_source(path, shown)
         self.sink.items.extend(src.warnings)  # XML that tinyxml2 reads (xmlsource.tolerated)
         self.sources.append(src)
@@ -243,7 +253,7 @@ class _Loader:
             self.sink.error(Loc(path, 1, 1), "--trees: no such file or folder")
             return
         for f in files:
-            if os.path.realpath(f) in (os.path.realpath(g) for g in self.files):
+            if os.path.realpath(f) in self._real_files:
                 continue  # the mission, one of its includes, or a file given twice
             try:
                 self._load_file(f, f, ())
@@ -292,9 +302,9 @@ class _Loader:
         if not path:  # (it was reported at `:1:1:`)
             self.sink.error(Loc("--models", 1, 1), "the file name is empty")
             return
-        if os.path.realpath(path) in (os.path.realpath(f) for f in self.files):
+        if os.path.realpath(path) in self._real_files:
             return  # given twice, or also the mission or one of its includes
-        self.files.append(path)
+        self._add_file(path)
         try:
             src = read_source(path, path)
         except UserError as e:
@@ -377,7 +387,7 @@ class _Loader:
             )
             self.sink.error(src.value_loc(elem, "path"), f"included file `{rel}` {why}")
             return
-        if target_shown in self.files:
+        if target_shown in self._shown_files:
             return  # included twice along different paths: its trees are already known
         try:
             self._load_file(target_real, target_shown, stack, loc)
@@ -616,7 +626,9 @@ class _Loader:
 
     def _node(self, elem: etree._Element, src: Source) -> Node:
         tag, loc = elem.tag, src.loc(elem)
-        tree_ids = {t for t, _, _ in self.tree_elems}
+        if len(self._tree_ids) != len(self.tree_elems):  # (one set for all the nodes, not one each)
+            self._tree_ids = {t for t, _, _ in self.tree_elems}
+        tree_ids = self._tree_ids
         explicit = tag in KINDS
         node_id = elem.get("ID") if explicit else tag
         children = tuple(self._node(c, src) for c in elem if isinstance(c.tag, str))
@@ -996,10 +1008,11 @@ class _Loader:
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
-        from btgen.frontend.xsd import validate_against_mission_xsd
+        from btgen.frontend.xsd import mission_schema, validate_against_mission_xsd
 
+        schema = mission_schema(mission)
         for src in self.sources:
-            for d in validate_against_mission_xsd(mission, src):
+            for d in validate_against_mission_xsd(mission, src, schema):
                 # attributes the library ignores (not port names) were reported, if at all, above
                 m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
                 ignored = m is not None and (

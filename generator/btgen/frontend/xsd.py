@@ -17,6 +17,7 @@ import functools
 import os
 import re
 from collections.abc import Iterable
+from typing import Optional
 from xml.sax.saxutils import quoteattr
 
 import xmlschema
@@ -264,5 +265,12 @@ def _compiled(xsd_text: str) -> xmlschema.XMLSchema:
     return xmlschema.XMLSchema(xsd_text)
 
 
-def validate_against_mission_xsd(mission: Mission, src: Source) -> Iterable[Diagnostic]:
-    return _iter_diags(_compiled(mission_xsd(mission, lenient=True)), src, src.root)
+def mission_schema(mission: Mission) -> xmlschema.XMLSchema:
+    """The compiled per-mission XSD (the same for every file of the mission: build it once)."""
+    return _compiled(mission_xsd(mission, lenient=True))
+
+
+def validate_against_mission_xsd(
+    mission: Mission, src: Source, schema: Optional[xmlschema.XMLSchema] = None
+) -> Iterable[Diagnostic]:
+    return _iter_diags(schema if schema is not None else mission_schema(mission), src, src.root)

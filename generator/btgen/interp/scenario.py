@@ -16,10 +16,20 @@ does the checks that need the mission: no Condition may return RUNNING, and a
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, DiagnosticSink, Loc, UserError, did_you_mean, read_bounded, suggestion
+from btgen.diagnostics import (
+    Diagnostic,
+    DiagnosticSink,
+    Loc,
+    UserError,
+    did_you_mean,
+    one_line,
+    read_bounded,
+    suggestion,
+)
 from btgen.lang.leaves import LeafUse, _tree_with_leaf, mission_leaves
 from btgen.lang.model import Mission
 
@@ -191,6 +201,71 @@ def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
         clock if clock is not None else 0,
         default_loc,
     )
+
+
+# ====================================================================== writing
+MAX_VALUE = 2**31 - 1  # the largest `ticks` and `clock_ms` either reader takes
+_WORD_RE = re.compile(r"[^ \t\f\v\r\n#]+")
+
+
+def name_problem(name: str) -> Optional[str]:
+    """Why a leaf name cannot be written in a scenario file (None when it can): the readers
+    (this module and harness/scenario.hpp) split a line at blanks and cut it at `#`."""
+    if _WORD_RE.fullmatch(name):
+        return None
+    return (
+        f"the leaf name `{name}` cannot be written in a scenario file, whose names are one word "
+        "(no blank and no `#`): rename the node (e.g. `"
+        + (re.sub(r"[ \t\f\v\r\n#]+", "_", name).strip("_") or "leaf")
+        + "`) to script it"
+    )
+
+
+def leaf_locs(mission: Mission) -> dict[str, Loc]:
+    """Where each leaf name of the mission is first used (the place a writer's refusal names)."""
+    out: dict[str, Loc] = {}
+    for use in mission_leaves(mission, set()):
+        out.setdefault(use.name, use.node.loc)
+    return out
+
+
+def format_scenario(
+    ticks: int,
+    leaves: Sequence[tuple[str, Sequence[str]]],
+    clock_ms: int = 0,
+    comment: str = "",
+    where: Optional[Mapping[str, Loc]] = None,
+) -> str:
+    """The one writer of scenario files (`btgen explore`, `btgen scenario-from-log`): what it
+    writes, parse_scenario reads back to the same ticks, clock and leaf lines, or it refuses
+    (UserError at the leaf's node, `where[name]`, for a name the format cannot hold; at
+    `<scenario>` for a value no reader takes)."""
+    problems = []
+    for what, value, low in (("ticks", ticks, 1), ("clock_ms", clock_ms, 0)):
+        if not low <= value <= MAX_VALUE:
+            problems.append(
+                Diagnostic(
+                    Loc("<scenario>", 1, 1), f"{what} {value} cannot be written: it is from {low} to {MAX_VALUE}"
+                )
+            )
+    seen: set[str] = set()
+    for name, statuses in leaves:
+        problem = name_problem(name)
+        if problem is None and name in seen:
+            problem = f"the leaf name `{name}` is given twice"
+        if problem is not None:
+            problems.append(Diagnostic((where or {}).get(name, Loc("<scenario>", 1, 1)), problem))
+        seen.add(name)
+        if not statuses or any(st not in STATUSES for st in statuses):
+            raise ValueError(f"statuses of {name!r}: {statuses!r}")  # (a bug of the caller)
+    if problems:
+        raise UserError(problems)
+    lines = [f"# {one_line(line)}" for line in comment.split("\n")] if comment else []
+    lines.append(f"ticks {ticks}")
+    if clock_ms:
+        lines.append(f"clock_ms {clock_ms}")
+    lines += [f"leaf {name} {' '.join(sts)}" for name, sts in leaves]
+    return "\n".join(lines) + "\n"
 
 
 def _one_int(sink: DiagnosticSink, kw: Token, args: list[Token], what: str, meaning: str) -> Optional[int]:

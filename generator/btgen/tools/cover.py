@@ -26,33 +26,33 @@ from __future__ import annotations
 import os
 import re
 import sys
+from typing import Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
+from btgen.fileio import check_output, write_output
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter, trace_text
-from btgen.interp.scenario import parse_scenario
+from btgen.interp.scenario import format_scenario, leaf_locs, parse_scenario
 from btgen.interp.tree import FAILURE, RUNNING, SUCCESS
 from btgen.lang.model import Mission
 from btgen.tools import graph as g
 
 STATUS_NAMES = g.STATUS_NAMES
-_LINE = re.compile(
-    r"([0-9]{1,9}) (\S+) .* (IDLE|RUNNING|SUCCESS|FAILURE|SKIPPED) -> (IDLE|RUNNING|SUCCESS|FAILURE|SKIPPED)\Z"
-)
 
 
 def trace_transitions(text: str) -> list[tuple[int, str, str]]:
-    """(uid, from, to) of every status line of a trace."""
+    """(uid, from, to) of every status line of a trace (the lines graph.read_trace takes)."""
     out = []
     for line in text.splitlines():
-        m = _LINE.match(line)
-        if m:
-            out.append((int(m.group(1)), m.group(3), m.group(4)))
+        words = line.split()
+        if g.is_transition(words):
+            out.append((int(words[0]), words[-3], words[-1]))
     return out
 
 
-def btlog_transitions(path: str, nodes: list[g.GNode]) -> list[tuple[int, str, str]]:
-    """(uid, from, to) of every record of a .btlog (checked against the mission by graph.py)."""
+def btlog_records(path: str, nodes: list[g.GNode]) -> list[tuple[int, int, str, str]]:
+    """(microseconds, uid, from, to) of every record of a .btlog (checked against the mission
+    by graph.py)."""
     g.btlog_statuses(path, None, nodes)  # the checks and their path:line:col errors
     data = read_bounded(path, g.MAX_LOG_BYTES, "log", cannot="cannot read the log")
     size = int.from_bytes(data[19:23], "little", signed=True)
@@ -60,11 +60,17 @@ def btlog_transitions(path: str, nodes: list[g.GNode]) -> list[tuple[int, str, s
     status: dict[int, str] = {}
     out = []
     for k in range(len(body) // 9):
+        usec = int.from_bytes(body[9 * k : 9 * k + 6], "little")
         uid = int.from_bytes(body[9 * k + 6 : 9 * k + 8], "little")
         to = STATUS_NAMES[body[9 * k + 8]]
-        out.append((uid, status.get(uid, "IDLE"), to))
+        out.append((usec, uid, status.get(uid, "IDLE"), to))
         status[uid] = to
     return out
+
+
+def btlog_transitions(path: str, nodes: list[g.GNode]) -> list[tuple[int, str, str]]:
+    """(uid, from, to) of every record of a .btlog (checked against the mission by graph.py)."""
+    return [(uid, before, to) for _, uid, before, to in btlog_records(path, nodes)]
 
 
 def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bool]]:
@@ -100,8 +106,7 @@ def cover_command(args) -> int:
         elif ext == ".scenario":
             moves = trace_transitions(trace_text(mission, parse_scenario(run)))
         else:
-            g.trace_statuses(run, None, nodes)  # the checks and their errors
-            moves = trace_transitions(read_bounded(run, g.MAX_LOG_BYTES, "trace", cannot="cannot read").decode())
+            moves = [(uid, before, to) for _, uid, before, to in g.read_trace(run, nodes).moves]
         for uid, _, to in moves:
             if to != "IDLE":
                 ticked.add(uid)
@@ -149,7 +154,7 @@ def cover_command(args) -> int:
             f'<td bgcolor="{g.FILL["IDLE"]}">cannot be ticked</td></tr></table>>];'
         )
         text = re.sub(r"  legend \[.*\];", lambda _: legend, text)
-        if _write_graph(args.graph, text) != 0:
+        if _write_graph(args.graph, text, (*mission.files, *args.runs)) != 0:
             return 1
     if args.min is not None and pct_n < args.min:
         from btgen import cmdline
@@ -178,13 +183,13 @@ def coverage_lines(node_hits: int, node_goals: int, out_hits: int, out_goals: in
     ]
 
 
-def _write_graph(output: str, text: str) -> int:
+def _write_graph(output: str, text: str, inputs: tuple[str, ...]) -> int:
     import shutil
     import subprocess
 
     ext = os.path.splitext(output)[1].lower()
     if ext == ".dot":
-        g._write(output, text.encode("utf-8"))
+        g._write(output, text.encode("utf-8"), inputs)
         return 0
     if ext != ".svg":
         print(f"btgen: error: --graph {output}: the output is a .svg or a .dot file", file=sys.stderr)
@@ -197,7 +202,7 @@ def _write_graph(output: str, text: str) -> int:
     if proc.returncode != 0:
         print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}", file=sys.stderr)
         return 1
-    g._write(output, proc.stdout)
+    g._write(output, proc.stdout, inputs)
     return 0
 
 
@@ -259,21 +264,53 @@ class _LogCursor:
         return self.replay.pick(self.node)
 
 
-def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0, max_ticks: int = 1_000_000) -> str:
+MAX_ANSWERS = 1_000_000  # leaf answers in a replayed scenario (about 8 MB of scenario text)
+MAX_TICKS = 1_000_000
+
+
+def halt_start(records: list[tuple[int, int, str, str]]) -> Optional[int]:
+    """Where a log ends with the halt of a run that had not completed (`--max-ticks`, an
+    operator's stop): the first of the trailing `-> IDLE` records, when they take the root
+    from RUNNING to IDLE; None otherwise."""
+    h = len(records)
+    while h > 0 and records[h - 1][3] == "IDLE":
+        h -= 1
+    tail = records[h:]
+    if any(uid == 1 and before == "RUNNING" for _, uid, before, _ in tail):
+        return h
+    return None
+
+
+def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0) -> str:
+    """The scenario that replays the log. The replay is bounded by the log: a tick that uses
+    no record of it is allowed only while the mission's clock (`clock_ms` a tick) has not
+    passed the log's time of its next record (from its first) (with no clock, nothing can change
+    without a record: the replay stops there), and the ticks and answers written are at
+    most MAX_TICKS and MAX_ANSWERS. A log that ends with the halt of an unfinished run is replayed up to the
+    halt (a scenario sends no halt)."""
     nodes, _ = g.walk(mission)
-    records = btlog_transitions(log, nodes)
+    timed = btlog_records(log, nodes)
+    halt = halt_start(timed)
+    if halt is not None and halt < len(timed):
+        print(
+            f"{log}:1:1: warning: the run was halted before it completed (records {halt + 1} to {len(timed)} "
+            "reset the running nodes); the scenario replays it up to the halt",
+            file=sys.stderr,
+        )
+        timed = timed[:halt]
+    records = [(uid, before, to) for _, uid, before, to in timed]
     r = _Replay(mission, records)
     ticks = 0
     try:
         while r.pos < len(records):
-            if ticks >= max_ticks:
-                raise _Mismatch(f"{max_ticks} ticks did not use up the log")
             ticks += 1
             if ticks > 1 and clock_ms:
                 r.interp.advance_clock(clock_ms)
             before = r.pos
             status = r.interp.tick_once()
             r.sync()
+            if len(r.picks) > MAX_ANSWERS:
+                raise _Mismatch(f"the replay needs more than {MAX_ANSWERS} leaf answers")
             if status.name in ("SUCCESS", "FAILURE") and r.pos < len(records):
                 # a robot ticks the tree again after it completes; a scenario is one run
                 rest = len(records) - r.pos
@@ -283,27 +320,47 @@ def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0, max_ticks: 
                     file=sys.stderr,
                 )
                 break
-            if r.pos == before and not r.picks:
-                raise _Mismatch(f"record {r.pos + 1}: a tick changes nothing the log shows")
+            if r.pos > before:
+                continue
+            # a tick that used no record: only time can make the next one differ, and the
+            # mission's clock may not run past the log's time of its next record
+            log_ms = (timed[r.pos][0] - timed[0][0]) // 1000
+            if not clock_ms or (ticks - 1) * clock_ms > log_ms + clock_ms or ticks >= MAX_TICKS:
+                raise _Mismatch(
+                    f"record {r.pos + 1}: a tick changes nothing the log shows"
+                    + (
+                        ""
+                        if not clock_ms
+                        else f" (the mission's clock is at {(ticks - 1) * clock_ms} ms, the log's next record "
+                        f"at {log_ms} ms)"
+                    )
+                )
     except _Mismatch as e:
         raise UserError(Diagnostic(Loc(log, 1, 1), f"the log is not a run of this mission: {e}")) from None
     per: dict[str, list[str]] = {}
     for name, st in r.picks:
         per.setdefault(name, []).append(st)
-    lines = [f"# replays {os.path.basename(log)} (records 1 to {r.pos})", f"ticks {max(ticks, 1)}"]
-    if clock_ms:
-        lines.append(f"clock_ms {clock_ms}")
-    lines += [f"leaf {name} {' '.join(sts)}" for name, sts in per.items()]
-    return "\n".join(lines) + "\n"
+    return format_scenario(
+        max(ticks, 1),
+        list(per.items()),
+        clock_ms,
+        f"replays {os.path.basename(log)} (records 1 to {r.pos})",
+        leaf_locs(mission),
+    )
 
 
 def scenario_from_log_command(args) -> int:
     from btgen import pipeline
+    from btgen.tools.explore import check_clock_ms
 
+    check_clock_ms(args)
     mission = pipeline.load(args.mission, pipeline.options_from_args(args))
+    inputs = (*mission.files, args.log)
+    if args.output not in (None, "-"):
+        check_output(args.output, inputs)  # before the replay: a slip costs nothing
     text = scenario_from_log(mission, args.log, args.clock_ms)
     if args.output in (None, "-"):
         sys.stdout.write(text)
         return 0
-    g._write(args.output, text.encode("utf-8"))
+    write_output(args.output, text.encode("utf-8"), inputs)
     return 0

@@ -136,7 +136,7 @@ def build_mission_executable(
     if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
         from btgen.tools.substitute import load_rules, lower_substituted
 
-        program = lower_substituted(mission, opts.data, load_rules(substitute))
+        program = lower_substituted(mission, opts.data, load_rules(substitute, mission.semantics.script_grammar_49))
     else:
         program = lower(mission, opts.data)
     outputs = render(program, mission_stem(mission_path), None, opts.namespace)

@@ -62,9 +62,10 @@ from typing import Callable, Optional
 
 from btgen import cmdline
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.fileio import Manifest, check_output, write_output
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
-from btgen.interp.scenario import parse_scenario_text
+from btgen.interp.scenario import MAX_VALUE, format_scenario, leaf_locs, parse_scenario_text
 from btgen.interp.tree import FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS, TreeNode
 from btgen.lang import values
 from btgen.lang.model import Mission
@@ -670,20 +671,13 @@ class _Violation(Exception):
 
 
 # ====================================================================== scenario files
-def scenario_text(path: Path, clock_ms: int, comment: str = "") -> str:
-    """The scenario file that replays a path: each leaf name's statuses in call order."""
+def scenario_text(path: Path, clock_ms: int, comment: str = "", where: Optional[dict[str, Loc]] = None) -> str:
+    """The scenario file that replays a path: each leaf name's statuses in call order
+    (interp.scenario.format_scenario: UserError at the leaf for a name the format cannot hold)."""
     per: dict[str, list[str]] = {}
     for name, st in path.picks:
         per.setdefault(name, []).append(NAMES[st])
-    lines = []
-    if comment:
-        lines.append(f"# {comment}")
-    lines.append(f"ticks {path.ticks}")
-    if clock_ms:
-        lines.append(f"clock_ms {clock_ms}")
-    for name, sts in per.items():
-        lines.append(f"leaf {name} {' '.join(sts)}")
-    return "\n".join(lines) + "\n"
+    return format_scenario(path.ticks, list(per.items()), clock_ms, comment, where)
 
 
 def sync_actions(mission: Mission, args) -> frozenset[str]:
@@ -724,6 +718,24 @@ def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     }
 
 
+def check_ticks(args) -> None:
+    """`--ticks` of a command that writes scenarios: what a scenario's `ticks` can hold."""
+    if args.ticks > MAX_VALUE:
+        raise cmdline.error(
+            args, "--ticks", f"--ticks {args.ticks} is larger than a scenario's ticks can be ({MAX_VALUE})"
+        )
+
+
+def check_clock_ms(args) -> None:
+    """`--clock-ms` of a command that writes scenarios: what a scenario's clock_ms can hold."""
+    if args.clock_ms < 0:
+        raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
+    if args.clock_ms > MAX_VALUE:
+        raise cmdline.error(
+            args, "--clock-ms", f"--clock-ms {args.clock_ms} is larger than a scenario's clock_ms can be ({MAX_VALUE})"
+        )
+
+
 def explore_command(args) -> int:
     from btgen import pipeline
     from btgen.interp.engine import trace_text
@@ -734,8 +746,8 @@ def explore_command(args) -> int:
         props = tuple(parse_property(t) for t in args.asserts)
     except ValueError as e:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
-    if args.clock_ms < 0:
-        raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
+    check_clock_ms(args)
+    check_ticks(args)
     possible = _possible(mission, args)
     try:
         ex = Explorer(
@@ -760,7 +772,19 @@ def explore_command(args) -> int:
     finally:
         if progress is not None:
             progress.clear()
+    where = leaf_locs(mission)
+    # Every text first (a name no scenario can hold is refused before any file is written),
+    # then every file, then the manifest that lets the next run remove exactly these.
+    covering = [
+        scenario_text(path, args.clock_ms, f"btgen explore: {len(path.goals)} goals", where) for path in result.paths
+    ]
+    cx_texts = [
+        scenario_text(path, args.clock_ms, f"counterexample of: {prop.text}", where) for prop, path in result.violations
+    ]
+    reaching = [scenario_text(path, args.clock_ms, f"reaches: {diag}", where) for diag, path in result.errors]
     files: list[str] = []
+    cx_files: list[str] = []
+    error_files: list[str] = []
     if args.output_dir:
         try:
             os.makedirs(args.output_dir, exist_ok=True)
@@ -769,17 +793,19 @@ def explore_command(args) -> int:
                 Diagnostic(Loc(args.output_dir, 1, 1), f"cannot create the output folder: {e.strerror or e}")
             ) from None
         stem = os.path.splitext(os.path.basename(args.mission))[0]
-        for i, path in enumerate(result.paths, start=1):
-            name = os.path.join(args.output_dir, f"{stem}-{i:03d}.scenario")
-            _write_atomic(name, scenario_text(path, args.clock_ms, f"btgen explore: {len(path.goals)} goals"))
-            files.append(name)
-        # scenarios of an earlier exploration of this mission beyond this one's are stale: a set of
-        # files that together cover the mission must not mix two explorations
-        ours = re.compile(re.escape(stem) + r"-[0-9]{3,}\.scenario")
-        for other in sorted(os.listdir(args.output_dir)):
-            full = os.path.join(args.output_dir, other)
-            if ours.fullmatch(other) and full not in files:
-                os.remove(full)
+        files = [os.path.join(args.output_dir, f"{stem}-{i:03d}.scenario") for i in range(1, len(covering) + 1)]
+        cx_files = [os.path.join(args.output_dir, f"counterexample-{k}.scenario") for k in range(1, len(cx_texts) + 1)]
+        error_files = [os.path.join(args.output_dir, f"error-{k}.scenario") for k in range(1, len(reaching) + 1)]
+        outputs = list(zip(files + cx_files + error_files, covering + cx_texts + reaching))
+        manifest = Manifest(args.output_dir, stem, "explore")
+        manifest.check(mission.files)
+        for name, _ in outputs:
+            check_output(name, mission.files)
+        for name, text in outputs:
+            write_output(name, text.encode("utf-8"), mission.files)
+        # what an earlier exploration of this mission wrote and this one did not is stale: a
+        # set of files that together cover the mission must not mix two explorations
+        manifest.replace([name for name, _ in outputs], mission.files)
     status = 0
     # each property: holds (how far the search went), violated (its counterexample), or undecided
     if result.stopped_at_violation:
@@ -793,7 +819,6 @@ def explore_command(args) -> int:
     else:
         bound = "exhaustive"
     properties = []
-    counterexamples = 0
     for prop in props:
         found = next((path for p, path in result.violations if p is prop), None)
         entry: dict = {"property": prop.text}
@@ -803,26 +828,22 @@ def explore_command(args) -> int:
             entry["line"] = f"holds ({result.states} states, {bound})" if decided else bound
         else:
             status = 1
-            text = scenario_text(found, args.clock_ms, f"counterexample of: {prop.text}")
+            k = next(i for i, (p, _) in enumerate(result.violations) if p is prop)
+            text = cx_texts[k]
             try:
                 trace = trace_text(mission, parse_scenario_text(text, "<counterexample>"))
             except UserError as e:
                 trace = "".join(str(d) + "\n" for d in e.diagnostics)
             entry.update(result="violated", line="violated (counterexample below)", scenario=text, trace=trace)
-            counterexamples += 1
             if args.output_dir:
-                cx = os.path.join(args.output_dir, f"counterexample-{counterexamples}.scenario")
-                _write_atomic(cx, text)
-                entry["file"] = cx
+                entry["file"] = cx_files[k]
         properties.append(entry)
-    for k, (diag, path) in enumerate(result.errors, start=1):
+    for k, (diag, _) in enumerate(result.errors):
         status = 1
         print(f"{diag}", file=sys.stderr)
-        text = scenario_text(path, args.clock_ms, f"reaches: {diag}")
+        text = reaching[k]
         if args.output_dir:
-            name = os.path.join(args.output_dir, f"error-{k}.scenario")
-            _write_atomic(name, text)
-            print(f"  a run that reaches it: {name}", file=sys.stderr)
+            print(f"  a run that reaches it: {error_files[k]}", file=sys.stderr)
         else:
             print("  a run that reaches it:", file=sys.stderr)
             for line in text.splitlines():
@@ -929,10 +950,3 @@ class _Progress:
     def clear(self) -> None:
         self.stream.write("\r\033[K")
         self.stream.flush()
-
-
-def _write_atomic(path: str, text: str) -> None:
-    """Whole or not at all (graph.py's writer: a temporary file renamed over it)."""
-    from btgen.tools.graph import _write
-
-    _write(path, text.encode("utf-8"))

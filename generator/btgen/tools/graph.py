@@ -22,20 +22,20 @@ is read up to record N (default: all); its tree must be the mission's.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
 import shutil
 import struct
 import subprocess
 import sys
-import tempfile
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Optional
 
 from btgen import cmdline
 from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
+from btgen.fileio import check_output, write_output
 from btgen.ir.numbering import number_nodes
 from btgen.lang.model import Mission, SubTreeNode
 
@@ -112,8 +112,31 @@ MAX_LOG_BYTES = 64 << 20
 _NUMBER = re.compile(r"[0-9]{1,18}\Z", re.ASCII)
 
 
-def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
-    """Statuses at the end of `tick` (default: the last) from a status trace."""
+@dataclass(frozen=True)
+class TraceRead:
+    """A status trace as read and checked against the mission: its transitions (each with
+    the count of `tick` lines before it), the tick numbers in order, and its line count."""
+
+    moves: tuple[tuple[int, int, str, str], ...]  # (ticks seen before, uid, from, to)
+    ticks: tuple[int, ...]
+    lines: int
+
+
+def is_transition(words: list[str]) -> bool:
+    """Whether the words of a trace line are `UID ID "name" FROM -> TO`."""
+    return (
+        len(words) >= 5
+        and _NUMBER.match(words[0]) is not None
+        and words[-2] == "->"
+        and words[-1] in STATUS_NAMES
+        and words[-3] in STATUS_NAMES
+    )
+
+
+def read_trace(path: str, nodes: list[GNode]) -> TraceRead:
+    """The one reader of a status trace (`btgen run` output), for `graph --trace` and `cover`
+    alike: every line is a tick, a result or a transition of a node of the mission (words
+    separated by any blanks), or the trace is refused at that line."""
     data = read_bounded(path, MAX_LOG_BYTES, "trace", cannot="cannot read the trace")
     try:
         lines = data.decode("utf-8").splitlines()
@@ -126,27 +149,18 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
             f"invalid UTF-8 (byte 0x{data[e.start]:02x}); traces are UTF-8",
         ) from None
     by_uid = {n.uid: n for n in nodes}
-    status: dict[int, str] = {}
-    current = 0
+    moves: list[tuple[int, int, str, str]] = []
+    ticks: list[int] = []
     for i, line in enumerate(lines, 1):
         if not line.strip():
             continue
         words = line.split()
         if words[0] == "tick" and len(words) == 2 and _NUMBER.match(words[1]):
-            n = int(words[1])
-            if tick is not None and n > tick:
-                return status, current
-            current = n
+            ticks.append(int(words[1]))
             continue
         if words[0] == "result" and len(words) == 2 and words[1] in STATUS_NAMES:
             continue
-        if (
-            len(words) >= 5
-            and _NUMBER.match(words[0])
-            and words[-2] == "->"
-            and words[-1] in STATUS_NAMES
-            and words[-3] in STATUS_NAMES
-        ):
+        if is_transition(words):
             uid = int(words[0])
             if uid not in by_uid:
                 raise _error(path, i, 1, f"UID {uid} is not a node of the mission (it has {len(nodes)})")
@@ -157,11 +171,30 @@ def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[
                     len(words[0]) + 2,
                     f"UID {uid} is `{by_uid[uid].id}` in the mission, `{words[1]}` in the trace",
                 )
-            _was(status, uid, words[-1])
+            moves.append((len(ticks), uid, words[-3], words[-1]))
             continue
         raise _error(path, i, 1, f"not a line of a status trace: `{line[:60]}`")
-    if tick is not None and tick > current:
-        raise _error(path, max(len(lines), 1), 1, f"the trace ends at tick {current}; there is no tick {tick}")
+    return TraceRead(tuple(moves), tuple(ticks), len(lines))
+
+
+def trace_statuses(path: str, tick: Optional[int], nodes: list[GNode]) -> tuple[dict[int, str], int]:
+    """Statuses at the end of `tick` (default: the last) from a status trace."""
+    trace = read_trace(path, nodes)
+    current = 0
+    seen = len(trace.ticks)  # the tick lines whose transitions count
+    for k, n in enumerate(trace.ticks):
+        if tick is not None and n > tick:
+            seen = k
+            break
+        current = n
+    else:
+        if tick is not None and tick > current:
+            raise _error(path, max(trace.lines, 1), 1, f"the trace ends at tick {current}; there is no tick {tick}")
+    status: dict[int, str] = {}
+    for before_ticks, uid, _, to in trace.moves:
+        if before_ticks > seen:
+            break
+        _was(status, uid, to)
     return status, current
 
 
@@ -324,8 +357,10 @@ def graph_command(args) -> int:
         status, record = btlog_statuses(args.btlog, args.record, nodes)
         caption += f"\nstatuses after record {record} of {args.btlog}"
     text = dot_text(mission, nodes, clusters, status, caption)
+    inputs = (*mission.files, *(f for f in (args.trace, args.btlog) if f is not None))
+    check_output(output, inputs)
     if ext == ".dot":
-        _write(output, text.encode("utf-8"))
+        _write(output, text.encode("utf-8"), inputs)
         return 0
     dot = shutil.which("dot")
     if dot is None:
@@ -339,25 +374,10 @@ def graph_command(args) -> int:
     if proc.returncode != 0:
         print(f"btgen: error: dot failed: {proc.stderr.decode('utf-8', 'replace').strip()}", file=sys.stderr)
         return 1
-    _write(output, proc.stdout)
+    _write(output, proc.stdout, inputs)
     return 0
 
 
-def _write(path: str, data: bytes) -> None:
-    """Writes `path` whole or not at all (a temporary file renamed over it)."""
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".btgen-graph-")
-    except OSError as e:
-        raise _error(path, 1, 1, f"cannot write: {e.strerror}") from None
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # what a new file gets (mkstemp's are 0600)
-        os.replace(tmp, path)
-    except OSError as e:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise _error(path, 1, 1, f"cannot write: {e.strerror}") from None
+def _write(path: str, data: bytes, inputs: Sequence[str] = ()) -> None:
+    """Writes `path` whole or not at all, never over an input (fileio.write_output)."""
+    write_output(path, data, inputs)

@@ -180,14 +180,63 @@ def project_files(name: str, title: str = "") -> dict[str, str]:
     }
 
 
+# Target names CMake reserves (policy CMP0037, and the targets its generators make: `ninja
+# test`, `make help`, Visual Studio's ALL_BUILD, ...) and those btgen's CMake package defines:
+# a project named so would not configure, so its name gets `_robot`.
+CMAKE_RESERVED = frozenset(
+    {
+        "all",
+        "clean",
+        "help",
+        "install",
+        "test",
+        "package",
+        "package_source",
+        "edit_cache",
+        "rebuild_cache",
+        "depend",
+        "preinstall",
+        "list_install_components",
+        "all_build",
+        "zero_check",
+        "run_tests",
+        "continuous",
+        "experimental",
+        "nightly",
+        "nightlymemorycheck",
+        "btgen_runtime",
+        "btgen_scenario",
+        "btgen_kb",
+        "btgen_btlog",
+        "btgen_groot2",
+        "btgen_bsp",
+    }
+)
+
+
+def project_name(wanted: str) -> str:
+    """The CMake project, executable and namespace name of `btgen init` for `wanted` (DIR's
+    name or --name): a C++ identifier (naming.namespace_name) that is no target name CMake
+    reserves, nor one of btgen's."""
+    name = namespace_name(wanted)
+    low = name.lower()
+    if low in CMAKE_RESERVED or low.startswith("cmake_") or f"{low}_mission" in CMAKE_RESERVED:
+        name += "_robot"
+    return name
+
+
 def init_command(args) -> int:
     target = os.path.normpath(args.directory)
-    if os.path.exists(target) and (not os.path.isdir(target) or os.listdir(target)):
+    exists = os.path.exists(target)
+    if exists and (not os.path.isdir(target) or os.listdir(target)):
         what = "is not a folder" if not os.path.isdir(target) else "is not empty"
         raise cmdline.error(args, args.directory, f"{args.directory} {what}: `btgen init` writes a new project")
     title = args.name or os.path.basename(os.path.abspath(target))
-    name = namespace_name(title)
-    parent = os.path.dirname(os.path.abspath(target))
+    name = project_name(title)
+    # A new folder is written beside it and renamed into place; an empty folder (`.` among
+    # them, which cannot be renamed onto) gets the files written in a folder inside it, then
+    # moved up, and removed again if one cannot be.
+    parent = os.path.abspath(target) if exists else os.path.dirname(os.path.abspath(target))
     try:
         os.makedirs(parent, exist_ok=True)
         work = tempfile.mkdtemp(prefix=".btgen-init-", dir=parent)
@@ -195,6 +244,7 @@ def init_command(args) -> int:
         raise cmdline.error(
             args, args.directory, f"{args.directory}: cannot create the project: {e.strerror or e}"
         ) from None
+    moved: list[str] = []
     try:
         for rel, text in project_files(name, title).items():
             path = os.path.join(work, rel)
@@ -204,8 +254,17 @@ def init_command(args) -> int:
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(work, 0o777 & ~umask)  # what a new folder gets (mkdtemp's is 0700)
-        os.replace(work, target)  # onto a missing or empty folder: all the files at once
+        if not exists:
+            os.replace(work, target)  # onto a missing folder: all the files at once
+        else:
+            for entry in sorted(os.listdir(work)):
+                os.rename(os.path.join(work, entry), os.path.join(target, entry))
+                moved.append(os.path.join(target, entry))
+            os.rmdir(work)
     except OSError as e:
+        for path in moved:  # the folder is empty again, as it was
+            with contextlib.suppress(OSError):
+                shutil.rmtree(path) if os.path.isdir(path) else os.unlink(path)
         with contextlib.suppress(OSError):
             shutil.rmtree(work)
         raise cmdline.error(

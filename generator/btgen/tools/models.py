@@ -29,7 +29,6 @@ import argparse
 import os
 import sys
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Optional
 from xml.sax.saxutils import quoteattr
 
@@ -37,8 +36,12 @@ from lxml import etree
 
 from btgen import pipeline
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.fileio import write_output
+from btgen.frontend.loader import _PORT_NAME_RE, MAX_INCLUDE_DEPTH
+from btgen.frontend.version_rules import is_port_name
 from btgen.frontend.xmlsource import Source, read_source
-from btgen.lang.catalogue import KINDS, builtins_for
+from btgen.lang.catalogue import KINDS, RESERVED_PORT_NAMES, builtins_for
+from btgen.lang.versions import semantics
 
 _ELEMENT_KINDS = ("Action", "Condition", "Control", "Decorator")
 
@@ -57,17 +60,23 @@ class _Use:
 class _Reader:
     def __init__(self, btcpp: str = "4.6.2") -> None:
         self.builtins = builtins_for(btcpp)  # TryCatch is built in from 4.9.0 (--btcpp 4.10.0)
+        self.sem = semantics(btcpp)
+        self.warnings: list[Diagnostic] = []
         self.files: list[str] = []  # real paths read
+        self.real: set[str] = set()
         self.shown: list[str] = []
         self.declared: set[str] = set()
         self.trees: set[str] = set()
         self.uses: dict[str, _Use] = {}
         self.sources: list[tuple[Source, list[etree._Element]]] = []
 
-    def read(self, path: str, shown: str) -> None:
+    def read(self, path: str, shown: str, depth: int = 1) -> None:
+        """Read a file and its includes (`depth`: the files on the include chain so far,
+        refused past the front end's MAX_INCLUDE_DEPTH with its words)."""
         real = os.path.realpath(path)
-        if real in self.files:
+        if real in self.real:
             return
+        self.real.add(real)
         self.files.append(real)
         self.shown.append(shown)
         src = read_source(path, shown)
@@ -88,7 +97,13 @@ class _Reader:
             elif child.tag == "include" and child.get("path"):
                 target = os.path.join(os.path.dirname(path), child.get("path") or "")
                 if os.path.isfile(target):  # (a missing include is the front end's to report)
-                    self.read(target, os.path.normpath(os.path.join(os.path.dirname(shown), child.get("path") or "")))
+                    if depth >= MAX_INCLUDE_DEPTH:
+                        raise UserError.at(src.loc(child), f"includes nested deeper than {MAX_INCLUDE_DEPTH} files")
+                    self.read(
+                        target,
+                        os.path.normpath(os.path.join(os.path.dirname(shown), child.get("path") or "")),
+                        depth + 1,
+                    )
         self.sources.append((src, trees))
 
     def collect(self) -> None:
@@ -120,7 +135,18 @@ class _Reader:
             use.children.add(children)
             use.children_at.setdefault(children, src.loc(elem))
         for name, value in elem.attrib.items():
-            if not name[:1].isalpha() or name in ("name", "ID"):
+            if name in ("name", "ID") or not is_port_name(name, self.sem):
+                continue  # not a port for this release: the library ignores the attribute
+            if not _PORT_NAME_RE.match(name) or name in RESERVED_PORT_NAMES:
+                # read as a port by this release, but no model can declare it: say so, write none
+                self.warnings.append(
+                    Diagnostic(
+                        src.attr_loc(elem, name),
+                        f"attribute `{name}` of `{node_id}` is read as a port, but no <TreeNodesModel> can "
+                        "declare a port of that name; it is left out",
+                        "warning",
+                    )
+                )
                 continue
             use.ports.add(name)
             if not (len(value) >= 2 and value.startswith("{") and value.endswith("}")):
@@ -187,7 +213,7 @@ def _project_kind(node_id: str, use: _Use, warnings: list[Diagnostic]) -> str:
 
 
 def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnostic]]:
-    warnings: list[Diagnostic] = []
+    warnings: list[Diagnostic] = list(reader.warnings)
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>\n',
         f"<!-- Node models inferred by `btgen models` from how {about} uses them.\n",
@@ -258,9 +284,8 @@ def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str,
 
 
 def models_command(args: argparse.Namespace) -> int:
-    from btgen.compiler import write_if_changed
-
     opts = pipeline.options_from_args(args)
+    pipeline.check_options(opts)  # as validate checks them
     paths = list(args.paths)
     for p in paths:
         if not os.path.exists(p):
@@ -275,19 +300,10 @@ def models_command(args: argparse.Namespace) -> int:
     if args.output is None:
         sys.stdout.write(text)
         return 0
-    target = Path(args.output)
-    for f in files:
-        if target.exists() and os.path.samefile(f, target):
-            raise UserError(
-                Diagnostic(
-                    Loc(f, 1, 1),
-                    f"`btgen models -o {args.output}` would overwrite this input file: choose another output file",
-                )
-            )
-    try:
-        write_if_changed(target, text)
-    except OSError as e:
-        raise UserError(
-            Diagnostic(Loc(args.output, 1, 1), f"cannot write the models file: {e.strerror or e}")
-        ) from None
+    write_output(
+        args.output,
+        text.encode("utf-8"),
+        files,
+        message=f"`btgen models -o {args.output}` would overwrite this input file: choose another output file",
+    )
     return 0

@@ -47,7 +47,7 @@ def run_command(args) -> int:
     if substitute is not None:
         from btgen.tools.substitute import load_rules
 
-        rules = load_rules(substitute)
+        rules = load_rules(substitute, mission.semantics.script_grammar_49)
 
     out = sys.stdout
 

@@ -31,12 +31,17 @@ error (a TestNode cannot hold their children).
 
 from __future__ import annotations
 
+import bisect
+import functools
+import itertools
 import json
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable, Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.fileio import read_json
 from btgen.interp import actions as iactions
 from btgen.interp import engine as iengine
 from btgen.interp.scenario import Scenario
@@ -58,6 +63,74 @@ class TestConfig:
     success_script: Optional[Attr]
     failure_script: Optional[Attr]
     post_script: Optional[Attr]
+    grammar_49: bool = False
+
+
+class Wildcard:
+    """A filter as a wildcard pattern, compiled once: `*` any run of characters, `?` one,
+    `\\` escapes the next (the library's wildcards::match). Matching takes time linear in the
+    text for a given pattern (no backtracking): the pattern is cut at its stars into pieces of
+    fixed length; the first must start the text, the last end it, and each other is found
+    leftmost after the one before (a fixed-length piece found earlier never spoils a match)."""
+
+    __slots__ = ("pieces", "literal", "prefix")
+
+    def __init__(self, pattern: str) -> None:
+        pieces: list[list[Optional[str]]] = [[]]
+        i = 0
+        while i < len(pattern):
+            c = pattern[i]
+            if c == "\\" and i + 1 < len(pattern):
+                pieces[-1].append(pattern[i + 1])
+                i += 2
+                continue
+            if c == "*":
+                pieces.append([])
+            else:
+                pieces[-1].append(None if c == "?" else c)
+            i += 1
+        self.literal = not any(c in pattern for c in "*?\\")  # matches the text equal to it only
+        # the characters every text it matches starts with (to index many patterns)
+        self.prefix = "".join(c for c in itertools.takewhile(lambda c: c is not None, pieces[0]) if c is not None)
+        # each piece: (length, its text when it has no `?`, else a regex of it); literal
+        # pieces are found with str methods, and only pieces with `?` compile a regex
+        self.pieces: list[tuple[int, Optional[str], Optional[re.Pattern[str]]]] = [
+            (len(p), "".join(c for c in p if c is not None), None)
+            if None not in p
+            else (len(p), None, re.compile("".join("." if c is None else re.escape(c) for c in p), re.DOTALL))
+            for p in pieces
+        ]
+
+    @staticmethod
+    def _at(text: str, piece: tuple[int, Optional[str], Optional[re.Pattern[str]]], pos: int) -> bool:
+        n, lit, rx = piece
+        if lit is not None:
+            return text.startswith(lit, pos)
+        return rx is not None and rx.match(text, pos) is not None
+
+    def match(self, text: str) -> bool:
+        pieces = self.pieces
+        n0 = pieces[0][0]
+        if len(pieces) == 1:
+            return len(text) == n0 and self._at(text, pieces[0], 0)
+        nl = pieces[-1][0]
+        if len(text) < n0 + nl or not self._at(text, pieces[0], 0) or not self._at(text, pieces[-1], len(text) - nl):
+            return False
+        pos, end = n0, len(text) - nl
+        for n, lit, rx in pieces[1:-1]:
+            if n == 0:
+                continue
+            if lit is not None:
+                at = text.find(lit, pos, end)
+                if at < 0:
+                    return False
+                pos = at + n
+                continue
+            m = rx.search(text, pos, end) if rx is not None else None
+            if m is None:
+                return False
+            pos = m.end()
+        return True
 
 
 @dataclass(frozen=True)
@@ -66,32 +139,100 @@ class Rule:
     target: str  # a TestNodeConfig's name or a node ID
     loc: Loc
     config: Optional[TestConfig]
+    pattern: Wildcard = field(init=False, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "pattern", Wildcard(self.filter))
+
+
+class Rules(tuple):
+    """The rules of a file, in its order, with their index (built once: a node is matched
+    against a dict of the exact filters and the list of the wildcard ones)."""
+
+    @cached_property
+    def exact(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for i, r in enumerate(self):
+            out.setdefault(r.filter, i)
+        return out
+
+    @cached_property
+    def literal(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for i, r in enumerate(self):
+            if r.pattern.literal:
+                out.setdefault(r.filter, i)
+        return out
+
+    @cached_property
+    def wild(self) -> list[int]:
+        return [i for i, r in enumerate(self) if not r.pattern.literal]
+
+    @cached_property
+    def _trie(self) -> dict:
+        """The wildcard rules by the literal prefix of their pattern (key None: the indexes
+        of the rules whose prefix ends there)."""
+        root: dict = {}
+        for i in self.wild:
+            node = root
+            for c in self[i].pattern.prefix:
+                node = node.setdefault(c, {})
+            node.setdefault(None, []).append(i)
+        return root
+
+    def wild_candidates(self, path: str) -> list[int]:
+        """The wildcard rules whose literal prefix starts `path`, in file order: the only ones
+        that may match it (one walk down the path, not one try per rule)."""
+        node: Optional[dict] = self._trie
+        out: list[int] = []
+        for c in itertools.chain((None,), path):
+            if c is not None:
+                node = node.get(c) if node is not None else None
+            if node is None:
+                break
+            out.extend(node.get(None, ()))
+        out.sort()
+        return out
 
 
 class _Obj(list):
     """A JSON object as its (key, value) pairs in file order (arrays stay plain lists)."""
 
 
+@functools.lru_cache(maxsize=2)
+def _line_starts(text: str) -> list[int]:
+    return [0] + [m.end() for m in re.finditer("\n", text)]
+
+
 def _loc_of(text: str, path: str, needle: str, start: int = 0) -> tuple[Loc, int]:
+    """Where `needle` first is in `text` from `start` (a table of line starts: 20,000 rules
+    cost 20,000 lookups, not 20,000 counts of the lines before each)."""
     at = text.find(needle, start)
     if at < 0:
         return Loc(path, 1, 1), start
-    line = text.count("\n", 0, at) + 1
-    col = at - (text.rfind("\n", 0, at) + 1) + 1
-    return Loc(path, line, col), at
+    starts = _line_starts(text)
+    line = bisect.bisect_right(starts, at)
+    return Loc(path, line, at - starts[line - 1] + 1), at
 
 
-def load_rules(path: str) -> tuple[Rule, ...]:
-    """Read a substitution file; UserError with `path:line:col` for every problem found."""
-    data = read_bounded(path, MAX_RULES_BYTES, "substitution file", cannot="cannot read the substitution file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise UserError(Diagnostic(Loc(path, 1, 1), f"invalid UTF-8 (byte 0x{data[e.start]:02x})")) from None
-    try:
-        doc = json.loads(text, object_pairs_hook=_Obj)
-    except json.JSONDecodeError as e:
-        raise UserError(Diagnostic(Loc(path, e.lineno, e.colno), f"invalid JSON: {e.msg}")) from None
+def _plain(value):
+    """A JSON value as Python's reader gives it without the pairs hook (objects as dicts)."""
+    if isinstance(value, _Obj):
+        return {k: _plain(v) for k, v in value}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _dumps(value) -> str:
+    return json.dumps(_plain(value), ensure_ascii=False)
+
+
+def load_rules(path: str, grammar_49: bool = False) -> Rules:
+    """Read a substitution file; UserError with `path:line:col` for every problem found.
+    Its scripts are parsed with the grammar of the selected release (`grammar_49`: the
+    mission's `semantics.script_grammar_49`), as the same text in the mission would be."""
+    doc, text = read_json(path, MAX_RULES_BYTES, "substitution", object_pairs_hook=_Obj)
     errors: list[Diagnostic] = []
 
     def err(loc: Loc, message: str) -> None:
@@ -103,11 +244,14 @@ def load_rules(path: str) -> tuple[Rule, ...]:
     configs: dict[str, TestConfig] = {}
     pos = 0
     raw_configs = top.get("TestNodeConfigs", [])
+    if key_missing := "TestNodeConfigs" not in top:
+        err(Loc(path, 1, 1), "the file has no `TestNodeConfigs` (BehaviorTree.CPP requires it: `{}` when empty)")
     if not isinstance(raw_configs, _Obj):
-        err(_loc_of(text, path, '"TestNodeConfigs"')[0], "`TestNodeConfigs` must be an object")
+        if not key_missing:
+            err(_loc_of(text, path, '"TestNodeConfigs"')[0], "`TestNodeConfigs` must be an object")
         raw_configs = []
     for name, body in raw_configs:
-        loc, pos = _loc_of(text, path, json.dumps(name), pos)
+        loc, pos = _loc_of(text, path, _dumps(name), pos)
         if not isinstance(body, _Obj):
             err(loc, f"test node config `{name}` must be an object")
             continue
@@ -115,7 +259,7 @@ def load_rules(path: str) -> tuple[Rule, ...]:
         for key in fields:
             if key not in ("return_status", "async_delay", "success_script", "failure_script", "post_script"):
                 err(
-                    _loc_of(text, path, json.dumps(key), pos)[0],
+                    _loc_of(text, path, _dumps(key), pos)[0],
                     f"unknown field `{key}` of `{name}`: use return_status, async_delay, success_script, "
                     "failure_script or post_script",
                 )
@@ -123,10 +267,10 @@ def load_rules(path: str) -> tuple[Rule, ...]:
         if status is None:
             err(loc, f"test node config `{name}` has no `return_status` (BehaviorTree.CPP requires it)")
             continue
-        if status not in _STATUS:
+        if not isinstance(status, str) or status not in _STATUS:
             err(
-                _loc_of(text, path, json.dumps(status), pos)[0],
-                f"`return_status` of `{name}` is {json.dumps(status)}: use SUCCESS, FAILURE or RUNNING",
+                _loc_of(text, path, _dumps(status), pos)[0],
+                f"`return_status` of `{name}` is {_dumps(status)}: use SUCCESS, FAILURE or RUNNING",
             )
             continue
         delay = fields.get("async_delay", 0)
@@ -139,13 +283,13 @@ def load_rules(path: str) -> tuple[Rule, ...]:
             if code is None or code == "":
                 scripts[key] = None
                 continue
-            kloc = _loc_of(text, path, json.dumps(key), pos)[0]
+            kloc = _loc_of(text, path, _dumps(key), pos)[0]
             if not isinstance(code, str):
                 err(kloc, f"`{key}` of `{name}` must be a string")
                 continue
-            vloc = _loc_of(text, path, json.dumps(code), pos)[0]
+            vloc = _loc_of(text, path, _dumps(code), pos)[0]
             try:
-                parsed = sc.parse_script(code)
+                parsed = sc.parse_script(code, grammar_49)
             except sc.ScriptSyntaxError as e:
                 err(vloc, f"`{key}` of `{name}`: {e.message}")
                 continue
@@ -157,38 +301,32 @@ def load_rules(path: str) -> tuple[Rule, ...]:
             scripts.get("success_script"),
             scripts.get("failure_script"),
             scripts.get("post_script"),
+            grammar_49,
         )
     rules: list[Rule] = []
     raw_rules = top.get("SubstitutionRules", [])
+    if key_missing := "SubstitutionRules" not in top:
+        err(Loc(path, 1, 1), "the file has no `SubstitutionRules` (BehaviorTree.CPP requires it: `{}` when empty)")
     if not isinstance(raw_rules, _Obj):
-        err(_loc_of(text, path, '"SubstitutionRules"')[0], "`SubstitutionRules` must be an object")
+        if not key_missing:
+            err(_loc_of(text, path, '"SubstitutionRules"')[0], "`SubstitutionRules` must be an object")
         raw_rules = []
     rules_at = _loc_of(text, path, '"SubstitutionRules"')[1]
     pos = rules_at
     for filt, target in raw_rules:
-        loc, pos = _loc_of(text, path, json.dumps(filt), pos)
+        loc, pos = _loc_of(text, path, _dumps(filt), pos)
         if not isinstance(target, str):
             err(loc, f"the rule `{filt}` must name a test node config or a node ID")
             continue
         rules.append(Rule(filt, target, loc, configs.get(target)))
     if errors:
         raise UserError(errors)
-    return tuple(rules)
+    return Rules(rules)
 
 
 def wildcard_match(text: str, pattern: str) -> bool:
     """`*` any run of characters, `?` one, `\\` escapes the next (the library's wildcards::match)."""
-    rx = []
-    i = 0
-    while i < len(pattern):
-        c = pattern[i]
-        if c == "\\" and i + 1 < len(pattern):
-            rx.append(re.escape(pattern[i + 1]))
-            i += 2
-            continue
-        rx.append(".*" if c == "*" else "." if c == "?" else re.escape(c))
-        i += 1
-    return re.fullmatch("".join(rx), text, re.DOTALL) is not None
+    return Wildcard(pattern).match(text)
 
 
 class TestNode(iactions.StatefulActionNode):
@@ -236,7 +374,7 @@ def _path(prefix: str, node: Node, uid: int) -> str:
 class _SubstitutingBuilder(iengine._Builder):
     def __init__(self, rt, mission: Mission, rules: tuple[Rule, ...]) -> None:
         super().__init__(rt, mission)
-        self.rules = rules
+        self.rules = rules if isinstance(rules, Rules) else Rules(rules)
         self.prefix = [""]
         self.used: set[int] = set()
 
@@ -346,11 +484,19 @@ def _instances(mission: Mission):
 def _match_index(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[int]:
     """The index of the first rule that matches `node` at `path` (its name, its registration ID,
     or its path as a wildcard pattern), or None."""
+    if not isinstance(rules, Rules):
+        rules = Rules(rules)
     reg = "SubTree" if isinstance(node, SubTreeNode) else node.id
-    for i, r in enumerate(rules):
-        if r.filter in (node.display_name, reg) or wildcard_match(path, r.filter):
+    best: Optional[int] = None
+    for i in (rules.exact.get(node.display_name), rules.exact.get(reg), rules.literal.get(path)):
+        if i is not None and (best is None or i < best):
+            best = i
+    for i in rules.wild_candidates(path):
+        if best is not None and i > best:
+            break
+        if rules[i].pattern.match(path):
             return i
-    return None
+    return best
 
 
 def _match(rules: tuple[Rule, ...], node: Node, path: str) -> Optional[Rule]:
@@ -369,6 +515,23 @@ def _check_leaf(rule: Rule, node: Node, mission: Mission) -> None:
                 f"{kind}: only leaves can be substituted",
             )
         )
+    if rule.config is not None or rule.target in BUILTINS:
+        return
+    try:
+        target = mission.spec(rule.target)
+    except KeyError:
+        return  # (reported where the node is built)
+    if target.kind in ("Action", "Condition") and target.kind != kind:
+        # A scripted Action and a scripted Condition answer differently (RUNNING, what is taken
+        # from the scenario when): both engines refuse the change rather than differ.
+        raise UserError(
+            Diagnostic(
+                rule.loc,
+                f'the rule `{rule.filter}` builds `{node.id}` "{node.display_name}" ({node.loc}), '
+                f"{'an' if kind == 'Action' else 'a'} {kind}, as `{rule.target}`, a {target.kind}: a mission's "
+                "own leaf can stand only for a leaf of its kind",
+            )
+        )
 
 
 def _merged(node: Node, config: TestConfig) -> Node:
@@ -381,7 +544,7 @@ def _merged(node: Node, config: TestConfig) -> Node:
             return None
         code = "; ".join(a.value for a in parts)
         where = parts[0]
-        return Attr(name, code, where.loc, where.value_loc, sc.parse_script(code))
+        return Attr(name, code, where.loc, where.value_loc, sc.parse_script(code, config.grammar_49))
 
     on_success = join("_onSuccess", [config.success_script, config.post_script])
     on_failure = join("_onFailure", [config.failure_script, config.post_script])
@@ -397,6 +560,7 @@ def lower_substituted(mission: Mission, options, rules: tuple[Rule, ...]):
 
     from btgen.ir.lower import lower
 
+    rules = rules if isinstance(rules, Rules) else Rules(rules)
     decided: dict[int, Optional[Rule]] = {}
     per_index: dict[int, Rule] = {}
     models: dict[int, Node] = {}

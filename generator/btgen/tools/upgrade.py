@@ -262,21 +262,32 @@ def _node_findings(f: _Findings, mission: Mission, node: Node) -> None:
 
 def first_difference(path: str, scenario_path: str, opts: pipeline.CompileOptions, old: str, new: str):
     """(tick, line of old, line of new) where the traces part, or None; each run on the
-    interpreter, stopping at a load or run-time error (its message is the last line)."""
+    interpreter, stopping at a load or run-time error (its message is the last line).
+    UserError when neither version runs at all (a missing or bad scenario, a mission neither
+    loads): two failures are not a comparison."""
     from btgen.interp.engine import run_trace
-    from btgen.interp.scenario import load_scenario
+    from btgen.interp.scenario import check_scenario, parse_scenario
+
+    scenario = parse_scenario(scenario_path)  # the same file for both: its errors are the file's
+    failed: dict[str, UserError] = {}
 
     def trace(version: str) -> list[str]:
         parts: list[str] = []
         try:
             mission = pipeline.load(path, pipeline.CompileOptions(**{**opts.__dict__, "btcpp": version}))
-            scenario, _ = load_scenario(scenario_path, mission)
+            check_scenario(scenario, mission)
             run_trace(mission, scenario, parts.append)
         except UserError as e:
+            if not parts:
+                failed[version] = e
             parts.append(f"error: {e.diagnostics[0].message}\n" if e.diagnostics else "error\n")
         return "".join(parts).splitlines()
 
     a, b = trace(old), trace(new)
+    if old in failed and new in failed:
+        diags = list(failed[old].diagnostics)
+        diags += [d for d in failed[new].diagnostics if d not in diags]
+        raise UserError(diags)
     tick = 0
     for i in range(max(len(a), len(b))):
         la = a[i] if i < len(a) else "(end of trace)"
