@@ -340,3 +340,21 @@ def test_interp_trace_of_counterexample_is_the_written_one(capsys, tmp_path):
     for stem, m in (("old", old), ("new", new)):
         text = trace_text(load_mission(m, (), None), parse_scenario(str(cx / f"{stem}.scenario")))
         assert text == (cx / f"{stem}.trace").read_text()
+
+
+def test_state_budget_gives_no_proof(capsys):
+    m = str(CONF_410 / "robot_lab_tour.xml")
+    rc, report, _ = _diff(capsys, "--max-states", "20", m, m)
+    assert rc == 0
+    assert report["equivalent"] is None and report["exhaustive"] is False
+    assert "not a proof" in report["verdict"]
+
+
+def test_upgrade_that_refuses_the_file(capsys):
+    # 4.8.4's name rules refuse a tree ID with a space: the upgrade stops the file from loading
+    m = str(ROOT / "tests/real_files/btcpp/tests-4.10.0/gtest_name_validation_L177.xml")
+    assert main(["diff", m, m, "--btcpp-new", "4.10.0"]) == 1
+    err = capsys.readouterr().err
+    assert f"{m}:2:7: error: BehaviorTree ID `Main Tree`" in err
+    assert f"{m}:1:1: note: while loading NEW under BehaviorTree.CPP 4.10.0" in err
+    assert "OLD" not in err

@@ -93,11 +93,15 @@ def diff_command(args) -> int:
         raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
     problems: list[Diagnostic] = []
     missions: list[Optional[Mission]] = []
-    for path, version in ((args.old, v_old), (args.new, v_new)):
+    for side, path, version in (("OLD", args.old, v_old), ("NEW", args.new, v_new)):
         try:
             missions.append(_load(path, args, version))
         except UserError as e:  # report both files' problems, not only the first's
             problems.extend(e.diagnostics)
+            # which side failed (OLD and NEW may be one file under two versions)
+            problems.append(
+                Diagnostic(Loc(path, 1, 1), f"while loading {side} under BehaviorTree.CPP {version}", "note")
+            )
             missions.append(None)
     if problems:
         raise UserError(problems)
@@ -117,6 +121,9 @@ def diff_command(args) -> int:
     head = f"{args.old} (BehaviorTree.CPP {v_old}) vs {args.new} (BehaviorTree.CPP {v_new})"
     if outcome.exhaustive:
         verdict = "equivalent (exhaustively)"
+    elif outcome.why_bounded == "states":
+        # a partial search: runs cut as repeats may have their futures still unexplored
+        verdict = f"no difference found (stopped at --max-states {args.max_states}: a partial search, not a proof)"
     else:
         verdict = f"equivalent (up to {outcome.bound} ticks)"
     stats = {
@@ -125,11 +132,18 @@ def diff_command(args) -> int:
         "seconds": round(outcome.seconds, 3),
     }
     if outcome.equivalent:
-        if outcome.why_bounded == "states":
-            verdict += f"; stopped at --max-states {args.max_states}"
         if args.format == "json":
             report = {"old": args.old, "new": args.new, "btcpp_old": v_old, "btcpp_new": v_new}
-            report.update({"equivalent": True, "exhaustive": outcome.exhaustive, "max_ticks": outcome.bound, **stats})
+            report.update(
+                {
+                    "equivalent": True if outcome.why_bounded != "states" else None,
+                    "exhaustive": outcome.exhaustive,
+                    "max_ticks": outcome.bound,
+                    "verdict": verdict,
+                    "stopped_at_max_states": outcome.why_bounded == "states",
+                    **stats,
+                }
+            )
             json.dump(report, sys.stdout, indent=2)
             sys.stdout.write("\n")
         elif args.format == "markdown":

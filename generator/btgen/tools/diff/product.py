@@ -25,7 +25,8 @@ engine has not consumed yet, and OLD's events of the tick NEW has not matched
 yet. A pair already reached at the same or an earlier tick is not explored
 again. When every run ends (both roots completed alike, or a repeated pair)
 the answer is exhaustive; when some run reached the tick bound, it holds up to
-that bound; when the state budget runs out, up to the bound reached.
+that bound; when the state budget runs out, the search was partial and proves
+nothing (the command says so).
 """
 
 from __future__ import annotations
@@ -352,7 +353,15 @@ class Differ:
                     break
         finally:
             restore()
-        return Outcome(True, not why, self.max_ticks, runs, len(self.seen), time.perf_counter() - t0, why_bounded=why)
+        return Outcome(
+            True,
+            not why,
+            self.max_ticks,
+            runs,
+            len(self.seen),
+            time.perf_counter() - t0,
+            why_bounded=why,
+        )
 
 
 # ====================================================================== replaying a scenario
