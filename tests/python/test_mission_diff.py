@@ -358,3 +358,36 @@ def test_upgrade_that_refuses_the_file(capsys):
     assert f"{m}:2:7: error: BehaviorTree ID `Main Tree`" in err
     assert f"{m}:1:1: note: while loading NEW under BehaviorTree.CPP 4.10.0" in err
     assert "OLD" not in err
+
+
+def test_condition_turned_action_is_found_both_ways(capsys, tmp_path):
+    models = '<TreeNodesModel><{kind} ID="X"/><Action ID="Beep"/></TreeNodesModel>'
+    paths = []
+    for kind in ("Condition", "Action"):
+        p = tmp_path / f"{kind}.xml"
+        p.write_text(
+            '<root BTCPP_format="4" main_tree_to_execute="Main">\n'
+            '  <BehaviorTree ID="Main"><Sequence><X/><Beep/></Sequence></BehaviorTree>\n'
+            f"  {models.format(kind=kind)}\n</root>\n"
+        )
+        paths.append(str(p))
+    for old, new in (paths, paths[::-1]):
+        rc, report, _ = _diff(capsys, old, new)
+        assert rc == 1
+        assert "leaf X RUNNING" in report["scenario"]
+
+
+def test_btcpp_is_the_default_of_both_sides(capsys):
+    m = str(CONF_410 / "seq_basic.xml")
+    rc, report, _ = _diff(capsys, "--btcpp", "4.10.0", m, m)
+    assert rc == 0 and (report["btcpp_old"], report["btcpp_new"]) == ("4.10.0", "4.10.0")
+    rc, report, _ = _diff(capsys, "--btcpp", "4.10.0", "--btcpp-old", "4.6.2", m, m)
+    assert (report["btcpp_old"], report["btcpp_new"]) == ("4.6.2", "4.10.0")
+
+
+def test_markdown_when_equivalent(capsys, tmp_path):
+    old = _mission(tmp_path, "old", "<Sequence><MoveTo goal='1.5'/></Sequence>")
+    new = _mission(tmp_path, "new", "<MoveTo goal='1.5'/>")
+    assert main(["diff", "--format", "markdown", old, new]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("**btgen diff**") and "**equivalent (exhaustively)**" in out

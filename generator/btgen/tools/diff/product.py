@@ -235,7 +235,10 @@ class _Side(_Recorder):
         i = self.pos.get(key, 0)
         if i >= len(q):
             run.branch_point(self)
-            raise _Branch(key, (SUCCESS, FAILURE) if condition else (SUCCESS, FAILURE, RUNNING))
+            # RUNNING is a possible result when the leaf is an Action in EITHER mission (a leaf
+            # turned from Condition into Action must not hide behind the side that asks first)
+            running = not condition or key in run.d.actions
+            raise _Branch(key, (SUCCESS, FAILURE, RUNNING) if running else (SUCCESS, FAILURE))
         self.pos[key] = i + 1
         v = q[i]
         self.call_event(node, key, v)
@@ -302,6 +305,11 @@ class Differ:
         self.ex_old = Explorer(old, max_ticks, clock_ms=clock_ms)
         self.ex_new = Explorer(new, max_ticks, clock_ms=clock_ms)
         self.seen: dict[tuple, int] = {}
+        self.actions: set[str] = set()  # leaf names (NEW's) that are an Action in either mission
+        for ex, renames in ((self.ex_old, self.rename), (self.ex_new, {})):
+            for node in ex.nodes:
+                if isinstance(node, iactions.ScriptedAction):
+                    self.actions.add(renames.get(node.name, node.name))
 
     def _run(self, plan: dict[str, tuple[int, ...]]) -> tuple[str, _Run, Optional[_Branch]]:
         run = _Run(self, plan)
