@@ -391,3 +391,15 @@ def test_markdown_when_equivalent(capsys, tmp_path):
     assert main(["diff", "--format", "markdown", old, new]) == 0
     out = capsys.readouterr().out
     assert out.startswith("**btgen diff**") and "**equivalent (exhaustively)**" in out
+
+
+def test_rename_onto_a_name_taken(capsys, tmp_path):
+    old = _mission(tmp_path, "old", "<Sequence><MoveTo goal='1'/><Drive goal='1'/></Sequence>")
+    new = _mission(tmp_path, "new", "<Sequence><Drive goal='1'/><MoveTo goal='1'/></Sequence>")
+    assert main(["diff", "--rename", "MoveTo=Drive", old, new]) == 1
+    assert "has a leaf `Drive` too; rename it as well" in capsys.readouterr().err
+    assert main(["diff", "--rename", "MoveTo=Drive", "--rename", "Drive=Drive", old, new]) == 1
+    assert "another leaf is renamed `Drive` already" in capsys.readouterr().err
+    # a swap of names is a rename of both: the same calls, so equivalent
+    rc, report, _ = _diff(capsys, "--rename", "MoveTo=Drive", "--rename", "Drive=MoveTo", old, new)
+    assert rc == 0 and report["exhaustive"] is True

@@ -46,7 +46,14 @@ def _renames(args, old: Mission, new: Mission) -> dict[str, str]:
             raise cmdline.error(args, text, f"--rename `{text}`: `{b}` is no leaf of {args.new}")
         if a in out:
             raise cmdline.error(args, text, f"--rename `{text}`: `{a}` is renamed twice")
+        if b in out.values():
+            raise cmdline.error(args, text, f"--rename `{text}`: another leaf is renamed `{b}` already")
         out[a] = b
+    for text in args.rename:
+        a, _, b = (x.strip() for x in text.partition("="))
+        if b in old_names and b not in out:
+            # OLD's own `b` and the renamed `a` would share one name: the scenario could not tell them apart
+            raise cmdline.error(args, text, f"--rename `{text}`: {args.old} has a leaf `{b}` too; rename it as well")
     return out
 
 
