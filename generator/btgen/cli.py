@@ -262,7 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=_count,
         default=200000,
         metavar="N",
-        help="stop after N product states; the answer then holds only up to the ticks explored (default 200000)",
+        help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
     )
     df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
     df.add_argument(
