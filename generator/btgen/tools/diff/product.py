@@ -97,8 +97,8 @@ _CURRENT: Optional[_Recorder] = None  # the engine being ticked (the hooks repor
 class _Recorder:
     """One engine's observer: the events of the tick being run."""
 
-    def __init__(self, mission: Mission, key_of: Callable[[str], str]) -> None:
-        self.interp = Interpreter(mission, None)
+    def __init__(self, mission: Mission, key_of: Callable[[str], str], scenario: Optional[Scenario] = None) -> None:
+        self.interp = Interpreter(mission, scenario)
         self.interp.rt.now_ms = 0
         self.key_of = key_of
         self.events: list[Event] = []
@@ -377,11 +377,7 @@ class _Replayer(_Recorder):
     """An engine run on a scenario file's cursors, its observable events kept per tick."""
 
     def __init__(self, mission: Mission, scenario: Scenario, key_of: Callable[[str], str]) -> None:
-        self.scenario = scenario
-        super().__init__(mission, key_of)
-        self.interp = Interpreter(mission, scenario)
-        self.interp.rt.now_ms = 0
-        self.root_bb = self.interp.root_bb
+        super().__init__(mission, key_of, scenario)
         self.real = {}
         for node in self.interp.nodes:
             if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
