@@ -141,6 +141,13 @@ def _cmd_upgrade_check(args: argparse.Namespace) -> int:
     return upgrade_command(args)
 
 
+def _cmd_diff(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.diff.command import diff_command
+
+    return stop_quietly_on_broken_pipe(diff_command, args)
+
+
 def _cmd_models(args: argparse.Namespace) -> int:
     from btgen.tools.models import models_command
 
@@ -256,6 +263,65 @@ def build_parser() -> argparse.ArgumentParser:
 
     _verify_arguments(vf)
     vf.set_defaults(func=_cmd_verify)
+
+    from btgen.lang.versions import SUPPORTED_VERSIONS
+
+    df = sub.add_parser(
+        "diff",
+        help="do two missions (or one under two versions) behave the same for every leaf outcome? "
+        "equivalent, or a shortest scenario where they differ",
+    )
+    df.add_argument("old", metavar="OLD.xml", help="the mission before the change")
+    df.add_argument("new", metavar="NEW.xml", help="the mission after the change (may be OLD.xml itself)")
+    add_mission_options(df)
+    df.add_argument(
+        "--btcpp-old",
+        choices=SUPPORTED_VERSIONS,
+        metavar="VERSION",
+        help="the BehaviorTree.CPP release OLD.xml runs under (default: --btcpp, else 4.6.2)",
+    )
+    df.add_argument(
+        "--btcpp-new",
+        choices=SUPPORTED_VERSIONS,
+        metavar="VERSION",
+        help="the BehaviorTree.CPP release NEW.xml runs under (default: --btcpp, else 4.6.2)",
+    )
+    df.add_argument(
+        "--rename",
+        action="append",
+        default=[],
+        metavar="OLD_ID=NEW_ID",
+        help="a leaf of OLD.xml called NEW_ID in NEW.xml (its scenario name: the name attribute, else "
+        "the ID); both get the same outcomes (repeatable)",
+    )
+    df.add_argument(
+        "--counterexample",
+        metavar="DIR",
+        help="when they differ, write there old.scenario, new.scenario (the same unless --rename) and "
+        "the interpreter's trace of each (old.trace, new.trace)",
+    )
+    df.add_argument(
+        "--max-ticks",
+        type=_count,
+        default=10,
+        metavar="K",
+        help="most root ticks of a run; when runs reach it the answer holds up to K ticks (default 10)",
+    )
+    df.add_argument(
+        "--max-states",
+        type=_count,
+        default=200000,
+        metavar="N",
+        help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
+    )
+    df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
+    df.add_argument(
+        "--format",
+        choices=("text", "markdown", "json"),
+        default="text",
+        help="the report: text (default), markdown (a pull-request comment) or json",
+    )
+    df.set_defaults(func=_cmd_diff)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
     cv.add_argument("mission", metavar="MISSION.xml", help="the mission the runs ran")

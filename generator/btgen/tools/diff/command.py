@@ -1,0 +1,260 @@
+"""`btgen diff OLD.xml NEW.xml`: the command line, the report and the counterexample files."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import sys
+from typing import Optional
+
+from btgen import cmdline
+from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_diagnostics
+from btgen.interp.scenario import parse_scenario_text
+from btgen.lang.leaves import mission_leaves
+from btgen.lang.model import Mission
+from btgen.tools.diff.product import Differ, Event, Outcome, event_text, first_difference, observe
+from btgen.tools.explore import Path, scenario_text
+
+WIDTH = 44
+
+
+def _load(path: str, args, version: str) -> Mission:
+    from btgen import pipeline
+
+    opts = dataclasses.replace(pipeline.options_from_args(args), btcpp=version)
+    mission = pipeline.load(path, opts)
+    print_diagnostics(mission.warnings)
+    return mission
+
+
+def _leaf_names(mission: Mission) -> set[str]:
+    return {use.name for use in mission_leaves(mission)}
+
+
+def _renames(args, old: Mission, new: Mission) -> dict[str, str]:
+    out: dict[str, str] = {}
+    old_names, new_names = _leaf_names(old), _leaf_names(new)
+    for text in args.rename:
+        a, sep, b = text.partition("=")
+        a, b = a.strip(), b.strip()
+        if not sep or not a or not b:
+            raise cmdline.error(args, text, f"--rename `{text}`: write OLD_ID=NEW_ID")
+        if a not in old_names:
+            raise cmdline.error(args, text, f"--rename `{text}`: `{a}` is no leaf of {args.old}")
+        if b not in new_names:
+            raise cmdline.error(args, text, f"--rename `{text}`: `{b}` is no leaf of {args.new}")
+        if a in out:
+            raise cmdline.error(args, text, f"--rename `{text}`: `{a}` is renamed twice")
+        if b in out.values():
+            raise cmdline.error(args, text, f"--rename `{text}`: another leaf is renamed `{b}` already")
+        out[a] = b
+    for text in args.rename:
+        a, _, b = (x.strip() for x in text.partition("="))
+        if b in old_names and b not in out:
+            # OLD's own `b` and the renamed `a` would share one name: the scenario could not tell them apart
+            raise cmdline.error(args, text, f"--rename `{text}`: {args.old} has a leaf `{b}` too; rename it as well")
+    return out
+
+
+def _scenario_texts(outcome: Outcome, rename: dict[str, str], clock_ms: int) -> tuple[str, str]:
+    """The counterexample as a scenario file for OLD (its own leaf names) and for NEW."""
+    back = {b: a for a, b in rename.items()}
+    picks_new = tuple((name, st) for name, sts in outcome.plan.items() for st in sts)
+    picks_old = tuple((back.get(name, name), st) for name, st in picks_new)
+    comment = "btgen diff: a shortest scenario on which the two missions differ"
+    texts = []
+    for picks in (picks_old, picks_new):
+        texts.append(scenario_text(Path((), picks, outcome.ticks, frozenset(), "differ"), clock_ms, comment))
+    return texts[0], texts[1]
+
+
+def _side_by_side(old: list[list[Event]], new: list[list[Event]], at: Optional[tuple[int, int]]) -> list[str]:
+    rows: list[str] = []
+    for t in range(max(len(old), len(new))):
+        rows.append(f"  {'tick ' + str(t + 1):<{WIDTH}} | tick {t + 1}")
+        eo = old[t] if t < len(old) else []
+        en = new[t] if t < len(new) else []
+        for i in range(max(len(eo), len(en))):
+            a = event_text(eo[i]) if i < len(eo) else ""
+            b = event_text(en[i]) if i < len(en) else ""
+            mark = "!" if at == (t, i) else " "
+            line = f"{mark}   {a:<{WIDTH - 2}} |   {b}"
+            if at == (t, i):
+                line += "   <- first difference"
+            rows.append(line.rstrip())
+    return rows
+
+
+def _write(path: str, text: str) -> None:
+    from btgen.tools.graph import _write as write_atomic
+
+    write_atomic(path, text.encode("utf-8"))
+
+
+def diff_command(args) -> int:
+    default = getattr(args, "btcpp", None) or "4.6.2"
+    v_old = args.btcpp_old or default
+    v_new = args.btcpp_new or default
+    if args.clock_ms < 0:
+        raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
+    problems: list[Diagnostic] = []
+    missions: list[Optional[Mission]] = []
+    for side, path, version in (("OLD", args.old, v_old), ("NEW", args.new, v_new)):
+        try:
+            missions.append(_load(path, args, version))
+        except UserError as e:  # report both files' problems, not only the first's
+            problems.extend(e.diagnostics)
+            # which side failed (OLD and NEW may be one file under two versions)
+            problems.append(
+                Diagnostic(Loc(path, 1, 1), f"while loading {side} under BehaviorTree.CPP {version}", "note")
+            )
+            missions.append(None)
+    if problems:
+        raise UserError(problems)
+    old, new = missions
+    assert old is not None and new is not None
+    if old.main_tree != new.main_tree:
+        raise UserError(
+            Diagnostic(
+                Loc(args.new, 1, 1),
+                f"the main tree is `{new.main_tree}` here and `{old.main_tree}` in {args.old}: "
+                "diff compares the same main tree (choose it with --main-tree)",
+            )
+        )
+    rename = _renames(args, old, new)
+    differ = Differ(old, new, rename, args.max_ticks, args.clock_ms, args.max_states)
+    outcome = differ.decide()
+    head = f"{args.old} (BehaviorTree.CPP {v_old}) vs {args.new} (BehaviorTree.CPP {v_new})"
+    if outcome.exhaustive:
+        verdict = "equivalent (exhaustively)"
+    elif outcome.why_bounded == "states":
+        # a partial search: runs cut as repeats may have their futures still unexplored
+        verdict = f"no difference found (stopped at --max-states {args.max_states}: a partial search, not a proof)"
+    else:
+        verdict = f"equivalent (up to {outcome.bound} ticks)"
+    stats = {
+        "runs": outcome.runs,
+        "states": outcome.states,
+        "seconds": round(outcome.seconds, 3),
+    }
+    if outcome.equivalent:
+        if args.format == "json":
+            report = {"old": args.old, "new": args.new, "btcpp_old": v_old, "btcpp_new": v_new}
+            report.update(
+                {
+                    "equivalent": True if outcome.why_bounded != "states" else None,
+                    "exhaustive": outcome.exhaustive,
+                    "max_ticks": outcome.bound,
+                    "verdict": verdict,
+                    "stopped_at_max_states": outcome.why_bounded == "states",
+                    **stats,
+                }
+            )
+            json.dump(report, sys.stdout, indent=2)
+            sys.stdout.write("\n")
+        elif args.format == "markdown":
+            print(f"**btgen diff**: `{args.old}` ({v_old}) vs `{args.new}` ({v_new}): **{verdict}**")
+            print()
+            print(f"{outcome.runs} runs, {outcome.states} product states, {outcome.seconds:.2f} s")
+        else:
+            print(f"{head}: {verdict}")
+            print(f"  {outcome.runs} runs, {outcome.states} product states, {outcome.seconds:.2f} s")
+        return 0
+
+    text_old, text_new = _scenario_texts(outcome, rename, args.clock_ms)
+    sc_old = parse_scenario_text(text_old, "old.scenario")
+    sc_new = parse_scenario_text(text_new, "new.scenario")
+    seen_old = observe(old, sc_old, lambda n: rename.get(n, n))
+    seen_new = observe(new, sc_new)
+    at = first_difference(seen_old, seen_new)
+    if at is None:  # the search and the replay disagree: never print a counterexample that is none
+        raise InternalError("btgen diff: the counterexample found does not replay as a difference")
+    files: list[str] = []
+    if args.counterexample:
+        files = write_counterexample(args.counterexample, old, new, text_old, text_new)
+    rows = _side_by_side(seen_old, seen_new, at)
+    where = ""
+    first: dict = {}
+    if at is not None:
+        t, i = at
+        eo = seen_old[t][i] if t < len(seen_old) and i < len(seen_old[t]) else None
+        en = seen_new[t][i] if t < len(seen_new) and i < len(seen_new[t]) else None
+        first = {
+            "tick": t + 1,
+            "event": i + 1,
+            "old": event_text(eo) if eo else None,
+            "new": event_text(en) if en else None,
+        }
+        where = f"tick {t + 1}, event {i + 1}: OLD {first['old'] or '(nothing)'}, NEW {first['new'] or '(nothing)'}"
+    if args.format == "json":
+        report = {"old": args.old, "new": args.new, "btcpp_old": v_old, "btcpp_new": v_new}
+        report.update(
+            {
+                "equivalent": False,
+                "max_ticks": outcome.bound,
+                **stats,
+                "first_difference": first,
+                "scenario": text_new,
+                "scenario_old": text_old,
+                "old_trace": [[event_text(e) for e in tick] for tick in seen_old],
+                "new_trace": [[event_text(e) for e in tick] for tick in seen_new],
+                "files": files,
+            }
+        )
+        json.dump(report, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+        return 1
+    if args.format == "markdown":
+        print(f"**btgen diff**: `{args.old}` ({v_old}) vs `{args.new}` ({v_new}): **different**")
+        print()
+        print(f"First difference: {where}.")
+        print()
+        print("Scenario (shortest):")
+        print()
+        print("```")
+        sys.stdout.write(text_new)
+        print("```")
+        print()
+        print("```text")
+    else:
+        print(f"{head}: different")
+        print(f"  first difference: {where}")
+        print("  scenario (shortest):")
+        for line in text_new.splitlines():
+            print(f"    {line}")
+        if text_old != text_new:
+            print("  scenario for OLD (its leaf names):")
+            for line in text_old.splitlines():
+                print(f"    {line}")
+    print(f"  {'OLD':<{WIDTH}} | NEW")
+    for row in rows:
+        print(row)
+    if args.format == "markdown":
+        print("```")
+    for f in files:
+        print(f"  wrote {f}", file=sys.stderr)
+    return 1
+
+
+def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str, text_new: str) -> list[str]:
+    """DIR/old.scenario, DIR/new.scenario (the same unless --rename) and the interpreter's
+    FORMAT.md trace of each mission on its scenario (old.trace, new.trace)."""
+    from btgen.interp.engine import trace_text
+
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        raise UserError(Diagnostic(Loc(folder, 1, 1), f"cannot create the output folder: {e.strerror or e}")) from None
+    out = []
+    for stem, mission, text in (("old", old, text_old), ("new", new, text_new)):
+        sc = os.path.join(folder, f"{stem}.scenario")
+        _write(sc, text)
+        try:
+            trace = trace_text(mission, parse_scenario_text(text, sc))
+        except UserError as e:
+            trace = "".join(str(d) + "\n" for d in e.diagnostics)
+        tr = os.path.join(folder, f"{stem}.trace")
+        _write(tr, trace)
+        out += [sc, tr]
+    return out
