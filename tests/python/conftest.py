@@ -152,9 +152,10 @@ _FILE_MARKS = {
     "test_conformance_cpp_410.py": ("slow", "cpp"),
     "test_diff_sanitize.py": ("sanitize", "cpp"),
     "test_mcu.py": ("qemu", "cpp"),
+    "test_bench.py": ("slow", "cpp"),  # -O2 benchmark builds
+    "test_groot2.py": ("slow", "cpp"),  # monitored executors built, servers started
     # C++ builds of a few missions each: in the quick path
     "test_compiler.py": ("cpp",),
-    "test_groot2.py": ("cpp",),
     "test_migration.py": ("cpp",),
     "test_leaf_hooks.py": ("cpp",),
     "test_bare_metal_text.py": ("cpp",),
@@ -166,6 +167,11 @@ _TEST_MARKS = (
     ("test_catch_on_halt.py", "test_random_missions", ("slow", "cpp")),
     ("test_edges_462.py", "test_cpp_", ("slow", "cpp")),
     ("test_edges_462.py", "test_interpreter_matches_462_on_random_edges", ("slow",)),
+    # both engines on a corpus of probes, a C++ build each (9 of the quick path's 29 minutes)
+    ("test_dynamic.py", "test_probe_", ("slow", "cpp")),
+    ("test_dynamic.py", "test_value_of_changing_type_into_static_entry", ("slow", "cpp")),
+    ("test_atomic.py", "test_sigkill_at_random_moments", ("slow",)),
+    ("test_limits.py", "test_65535_nodes_build_and_run", ("slow", "cpp")),
 )
 
 
@@ -181,5 +187,8 @@ def pytest_collection_modifyitems(config, items):
             marks.append("sanitize")
         if params.get("engine") == "cpp" or "compiler" in params:
             marks.append("cpp")
+            # a build per case (the regressions) or per compiler and case: the full run's
+            if name == "test_diff_regressions.py" or "compiler" in params:
+                marks.append("slow")
         for mark in dict.fromkeys(marks):
             item.add_marker(getattr(pytest.mark, mark))

@@ -33,7 +33,13 @@ def test_the_quick_selection_leaves_out_the_long_runs():
         return {t.split("::")[0].rsplit("/", 1)[-1] for t in tests}
 
     left_out = files(every - quick)
-    for name in ("test_diff_random.py", "test_diff_sanitize.py", "test_mcu.py", "test_fuzz_frontend.py"):
+    for name in (
+        "test_diff_random.py",
+        "test_diff_sanitize.py",
+        "test_mcu.py",
+        "test_fuzz_frontend.py",
+        "test_bench.py",
+    ):
         assert name in left_out and name not in files(quick), name
     for name in ("test_help.py", "test_frontend.py", "test_compiler.py", "test_explore.py", "test_script.py"):
         assert name in files(quick), name
