@@ -117,7 +117,7 @@ def run_pan(workdir: str, args: list[str], wall: Optional[float] = None) -> Spin
     errors = int(_num("errors", out))
     if "max search depth too small" in out:
         res.incomplete = f"the search needs more than {DEPTHS[-1]} steps of depth"
-    elif "pan: out of memory" in out or "memory limit" in out.lower() and "exceeded" in out.lower():
+    elif "out of memory" in out or "MEMLIM" in out or "hash table is full" in out.lower():
         res.incomplete = f"the search ran out of memory ({MEMLIM_MB} MB)"
     elif "State-vector" not in out:
         res.incomplete = "pan stopped without a report:\n" + out[-2000:]
