@@ -77,10 +77,8 @@ def measure(label: str, path: str, timeout: float, storm: bool, ticks: int | Non
         )
         print(line)
         if done:
-            print(
-                f"{'':22}   whole state space: {reach.states} states, {reach.memory_mb:.0f} MB, "
-                f"{reach.seconds:.2f} s search"
-            )
+            whole = "whole state space" if reach.holds else f"INCOMPLETE ({reach.incomplete or 'see pan'})"
+            print(f"{'':22}   {whole}: {reach.states} states, {reach.memory_mb:.0f} MB, {reach.seconds:.2f} s search")
             verdict = {True: "holds", False: "VIOLATED", None: "incomplete"}[live.holds] if live_done else "stopped"
             print(
                 f"{'':22}   <> root done (--running-bound 1): {verdict}; {live.states} states, "

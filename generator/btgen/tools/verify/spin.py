@@ -1,5 +1,8 @@
 """Running SPIN: `spin -a` writes the verifier pan.c, the system gcc compiles it, pan searches.
 
+pan is compiled with -O0 (`BTGEN_PAN_CFLAGS` changes it: a large model takes minutes at -O1)
+and with -DCOLLAPSE, its lossless compression of stored states.
+
 Every property of one model is an `ltl NAME { ... }` block; pan checks one at a time
 (`-a -N NAME`, acceptance cycles: safety and liveness alike). A violation leaves a trail,
 which `spin -t` replays in simulation: its `@C node status` lines are the leaf choices in
@@ -71,6 +74,7 @@ def compile_model(text: str, workdir: str, extra: tuple[str, ...] = ()) -> float
         f"-DVECTORSZ={VECTORSZ}",
         f"-DMEMLIM={MEMLIM_MB}",
         "-DNOREDUCE",
+        "-DCOLLAPSE",
         *extra,
     ]
     p = subprocess.run([cc, *flags, "-o", "pan", "pan.c"], cwd=workdir, capture_output=True, text=True, check=False)
@@ -117,7 +121,7 @@ def run_pan(workdir: str, args: list[str], wall: Optional[float] = None) -> Spin
     errors = int(_num("errors", out))
     if "max search depth too small" in out:
         res.incomplete = f"the search needs more than {DEPTHS[-1]} steps of depth"
-    elif "pan: out of memory" in out or "memory limit" in out.lower() and "exceeded" in out.lower():
+    elif "out of memory" in out or "MEMLIM" in out or "hash table is full" in out.lower():
         res.incomplete = f"the search ran out of memory ({MEMLIM_MB} MB)"
     elif "State-vector" not in out:
         res.incomplete = "pan stopped without a report:\n" + out[-2000:]
