@@ -18,6 +18,7 @@ shown as a finding.
 from __future__ import annotations
 
 import os
+import re
 import struct
 import subprocess
 from dataclasses import dataclass, field
@@ -34,6 +35,11 @@ from btgen.tools.verify.spin import Trail
 
 REPEATS = 2
 _HOOK = "execute_tick"  # the method every visit goes through, wrapped while replaying
+
+# a transition line of a status trace btgen's own engines print (`UID NAME ... OLD -> NEW`)
+_LINE = re.compile(
+    r"([0-9]{1,9}) (\S+) .* (IDLE|RUNNING|SUCCESS|FAILURE|SKIPPED) -> (IDLE|RUNNING|SUCCESS|FAILURE|SKIPPED)\Z"
+)
 
 
 @dataclass
@@ -179,8 +185,6 @@ class _WatchedInterpreter(Interpreter):
 
 def trace_states(trace: str, n: int) -> list[tuple[int, ...]]:
     """Every node's status after each tick, read from a status trace."""
-    from btgen.tools.cover import _LINE
-
     status = [0] * n
     out: list[tuple[int, ...]] = []
     for line in trace.splitlines():
@@ -244,8 +248,6 @@ def replay_cpp(cx: Counterexample, mission_path: str, opts, scenario_path: str, 
 
 def btlog_bytes(program: Program, trace: str, clock_ms: int) -> bytes:
     """A Groot2 log (FileLogger2) of the run: each status change, stamped by its tick."""
-    from btgen.tools.cover import _LINE
-
     assert program.groot2 is not None
     xml = program.groot2.xml.encode("utf-8")
     body = bytearray()
