@@ -25,7 +25,15 @@ _SOURCES = {
 def _files(files: dict[str, str]) -> list[str]:
     out = []
     for name, text in files.items():
-        out += [f"`{name}`:", "", "```xml", text.rstrip("\n"), "```", ""]
+        out += [
+            f"`{name}`:",
+            "",
+            "<!-- docs-test: not run: tests/python/test_check_rules.py runs it through btgen check -->",
+            "```xml",
+            text.rstrip("\n"),
+            "```",
+            "",
+        ]
     return out
 
 
