@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace lab_tour::detail
 
-static_assert(lab_tour::detail::kGeneration == 0x3de17453cb58590cULL,
+static_assert(lab_tour::detail::kGeneration == 0x46f35ee1c70e008cULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace reception::detail
 
-static_assert(reception::detail::kGeneration == 0x91fdf7aa1de04b29ULL,
+static_assert(reception::detail::kGeneration == 0x5fea1bdb90f12d66ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

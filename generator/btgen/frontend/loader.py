@@ -472,7 +472,7 @@ class _Loader:
         default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default)
+                values.convert_from_string(type_name, default, double_from_chars=self.sem.double_from_chars)
             except values.ConversionError as e:
                 # A model in XML documents a node registered in C++ (4.6.2 reads the default
                 # of providedPorts(), never this text): keep it, and report it only where a
@@ -827,17 +827,18 @@ class _Loader:
         """A port literal as 4.6.2 converts it: numbers are read as a prefix (`3.5` and `3abc`
         are 3 for an int, edges table I1), which loads with a warning; what 4.6.2 cannot
         convert at all is an error."""
+        fc = self.sem.double_from_chars
         try:
-            values.convert_from_string(type_name, value)
+            values.convert_from_string(type_name, value, double_from_chars=fc)
         except values.ConversionError as e:
             self.sink.error(loc, f"{what}: {e}")
             return
         try:
-            values.convert_from_string(type_name, value, strict=True)
+            values.convert_from_string(type_name, value, strict=True, double_from_chars=fc)
         except values.ConversionError as e:
-            read = values.convert_from_string(type_name, value)
+            read = values.convert_from_string(type_name, value, double_from_chars=fc)
             shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
-            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP {self.sem.version} reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}

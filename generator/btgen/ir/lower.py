@@ -213,7 +213,9 @@ class _Lowerer:
                 raise InternalError(f"{node.loc}: `{node.id}` has no `{port_name}` and no default")
             text, loc = default.default, node.loc
         try:
-            return values.convert_from_string(type_name, text), loc
+            return values.convert_from_string(
+                type_name, text, double_from_chars=self.m.semantics.double_from_chars
+            ), loc
         except values.ConversionError as e:
             if self.sink.errors:  # `{key}` where the C++ back end needs a literal: reported by dataflow
                 return 0, loc
