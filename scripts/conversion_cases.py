@@ -26,12 +26,12 @@ import contextlib
 import math
 import os
 import re
-import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "tests", "conformance", "conversions")
 sys.path.insert(0, os.path.join(ROOT, "generator"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from btgen.lang import values
 
@@ -168,22 +168,9 @@ def write() -> None:
 
 
 def record(version: str, harness: str) -> None:
-    folder = os.path.join(OUT, version)
-    os.makedirs(folder, exist_ok=True)
-    for stem, _, _ in cases():
-        base = os.path.join(OUT, stem)
-        proc = subprocess.run(
-            [harness, "trace", base + ".xml", base + ".scenario"], capture_output=True, timeout=60, check=False
-        )
-        with open(os.path.join(folder, stem + ".trace"), "wb") as f:
-            f.write(proc.stdout)
-        err = os.path.join(folder, stem + ".error")
-        if os.path.exists(err):
-            os.remove(err)
-        if proc.returncode != 0:
-            lines = [ln for ln in proc.stderr.decode("utf-8", "replace").splitlines() if ln.startswith("error:")]
-            with open(err, "w", encoding="utf-8") as f:
-                f.write((lines[0] if lines else f"exit {proc.returncode}") + "\n")
+    from record_releases import record as record_folder
+
+    record_folder(OUT, version, harness)
 
 
 def reading(version: str, stem: str, text: str, integer: bool) -> str:

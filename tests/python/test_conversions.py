@@ -14,20 +14,15 @@ import sys
 
 import pytest
 
-from btgen.diagnostics import UserError
-from btgen.frontend.loader import load_mission
-from btgen.interp.engine import run_trace
-from btgen.interp.scenario import load_scenario
-from conftest import ROOT, case_stems
+import release_cases as rc
+from conftest import ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 import conversion_cases
-import difftest
 
 HERE = os.path.join(ROOT, "tests", "conformance", "conversions")
-STEMS = case_stems(HERE, ".xml")
-VERSIONS = ("4.6.2", "4.10.0")
+STEMS = rc.stems(HERE)
 # A SetBlackboard copy of a string entry into a double entry: 4.6.2 copies the string as it is
 # (`dst->value = src->value`), so the entry then holds a string; both engines convert it.
 KNOWN = {(s, "4.6.2") for s in STEMS if s.startswith("set_copy_")}
@@ -35,16 +30,8 @@ CASES = [
     pytest.param(s, v, marks=pytest.mark.xfail(strict=True, reason="4.6.2's copy keeps the string"))
     if (s, v) in KNOWN
     else (s, v)
-    for v in VERSIONS
-    for s in STEMS
-    if os.path.exists(os.path.join(HERE, v, s + ".trace"))
+    for s, v in rc.recorded(HERE)
 ]
-
-
-def _expected(stem: str, version: str) -> tuple[str, bool]:
-    with open(os.path.join(HERE, version, stem + ".trace"), encoding="utf-8") as f:
-        trace = f.read()
-    return trace, os.path.exists(os.path.join(HERE, version, stem + ".error"))
 
 
 def test_the_table_is_complete():
@@ -66,77 +53,17 @@ def test_the_releases_differ_where_the_issue_says():
     assert conversion_cases.reading("4.10.0", stem, "0x1p3", False) == "0.0"
 
 
-def _loads(stem: str, version: str) -> bool:
-    try:
-        load_mission(os.path.join(HERE, stem + ".xml"), btcpp=version)
-    except UserError:
-        return False
-    return True
-
-
-def _interp(stem: str, version: str) -> tuple[str, bool]:
-    out: list[str] = []
-    try:
-        mission = load_mission(os.path.join(HERE, stem + ".xml"), btcpp=version)
-        scenario, _ = load_scenario(os.path.join(HERE, stem + ".scenario"), mission)
-        run_trace(mission, scenario, out.append)
-    except UserError:
-        return "".join(out), True
-    return "".join(out), False
-
-
 @pytest.mark.parametrize("stem,version", CASES)
 def test_interpreter_reads_as_the_release(stem, version):
-    assert _interp(stem, version) == _expected(stem, version)
+    rc.check_interp(HERE, stem, version)
 
 
 @pytest.fixture(scope="module")
 def batches(tmp_path_factory):
-    """One executable per release holding every mission of the table (scripts/difftest.py)."""
-    out = {}
-    work = tmp_path_factory.mktemp("conversions")
-    old = os.getcwd()
-    os.chdir(work)
-    try:
-        for version in VERSIONS:
-            difftest.BTCPP[0] = version
-            missions = []
-            for stem in STEMS:
-                if not _loads(stem, version):  # refused at load, as the library does (checked below)
-                    missions.append("")
-                    continue
-                rel = f"{stem}_{version.replace('.', '')}.xml"
-                with open(os.path.join(HERE, stem + ".xml"), encoding="utf-8") as f:
-                    (work / rel).write_text(f.read(), encoding="utf-8")
-                missions.append(rel)
-            out[version] = (difftest.build_batch([m for m in missions if m]), missions, work)
-    finally:
-        difftest.BTCPP[0] = "4.6.2"
-        os.chdir(old)
-    return out
+    """One executable per release holding every mission of the table."""
+    return rc.Batches(HERE, tmp_path_factory.mktemp("conversions")).build()
 
 
 @pytest.mark.parametrize("stem,version", CASES)
 def test_compiled_executor_reads_as_the_release(stem, version, batches):
-    binary, missions, work = batches[version]
-    if not missions[STEMS.index(stem)]:
-        assert _expected(stem, version) == ("", True)  # the library refused it on load too
-        return
-    index = [m for m in missions if m].index(missions[STEMS.index(stem)])
-    old = os.getcwd()
-    os.chdir(work)
-    difftest.BTCPP[0] = version
-    try:
-        got = difftest.run_cpp(binary, index, missions[STEMS.index(stem)], os.path.join(HERE, stem + ".scenario"))
-    finally:
-        difftest.BTCPP[0] = "4.6.2"
-        os.chdir(old)
-    assert got.rc in (0, 1), got.stderr
-    assert (got.stdout, got.rc == 1) == _expected(stem, version)
-    # The same message as the interpreter's (the library's own differs: "stod", ...).
-    if got.rc == 1:
-        mission = load_mission(os.path.join(HERE, stem + ".xml"), btcpp=version)
-        scenario, _ = load_scenario(os.path.join(HERE, stem + ".scenario"), mission)
-        with pytest.raises(UserError) as e:
-            run_trace(mission, scenario, lambda s: None)
-        assert e.value.diagnostics[0].message in got.stderr
+    rc.check_cpp(batches, stem, version)
