@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace lab_tour::detail
 
-static_assert(lab_tour::detail::kGeneration == 0xad43d6a8817a3f8eULL,
+static_assert(lab_tour::detail::kGeneration == 0x44253bfafddc4e42ULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

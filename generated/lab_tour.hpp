@@ -12,6 +12,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/convert.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
@@ -1166,7 +1167,7 @@ class DescribeExhibitSpeech_1 : public btgen::ModelBase<detail::Blackboard, btge
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 91:
-        return btgen::port::read<std::int32_t>(bb.IV_VisitExhibit_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1185,7 +1186,7 @@ class DescribeExhibitSpeech_2 : public btgen::ModelBase<detail::Blackboard, btge
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 97:
-        return btgen::port::read<std::int32_t>(bb.IV_VisitExhibit_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1309,7 +1310,7 @@ class IsListWithExhibit : public btgen::ModelBase<detail::Blackboard, btgen::Lea
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 67:
-        return btgen::port::read<std::string_view>(bb.IV_VisitExhibit_exhibits);
+        return btgen::port::read<std::string_view, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_exhibits);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1344,7 +1345,7 @@ class IsVisitorResponseYes : public btgen::ModelBase<detail::Blackboard, btgen::
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 53:
-        return btgen::port::read<std::string_view>(bb.response);
+        return btgen::port::read<std::string_view, detail::Semantics::double_from_chars>(bb.response);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1365,7 +1366,7 @@ class IsYesNoUttered : public btgen::ModelBase<detail::Blackboard, btgen::LeafKi
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 43: {
-        const btgen::Errc e = btgen::port::write(bb.response, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.response, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[0],
                          "output port `response` of `IsYesNoUttered` \"IsYesNoUttered\" cannot write `response`",
@@ -1395,7 +1396,7 @@ class LookUpEntrance : public btgen::ModelBase<detail::Blackboard, btgen::LeafKi
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 105: {
-        const btgen::Errc e = btgen::port::write(bb.V_EndTour_location_id, btgen::Declared::kInt, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.V_EndTour_location_id, btgen::Declared::kInt, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[5],
                          "output port `location_id` of `LookUpEntrance` \"LookUpEntrance\" cannot write "
@@ -1426,7 +1427,7 @@ class LookUpHome : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 138: {
-        const btgen::Errc e = btgen::port::write(bb.V_EndTour_GoHome_location_id, btgen::Declared::kInt, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.V_EndTour_GoHome_location_id, btgen::Declared::kInt, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[6],
                          "output port `location_id` of `LookUpHome` \"LookUpHome\" cannot write `location_id`",
@@ -1473,11 +1474,11 @@ class Navigate : public btgen::ModelBase<detail::Blackboard, btgen::LeafKind::Ac
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 84:
-        return btgen::port::read<std::int32_t>(bb.IV_VisitExhibit_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_location_id);
       case 116:
-        return btgen::port::read<std::int32_t>(bb.V_EndTour_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.V_EndTour_location_id);
       case 147:
-        return btgen::port::read<std::int32_t>(bb.V_EndTour_GoHome_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.V_EndTour_GoHome_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1496,9 +1497,9 @@ class PerformDeicticGesture : public btgen::ModelBase<detail::Blackboard, btgen:
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 94:
-        return btgen::port::read<std::int32_t>(bb.IV_VisitExhibit_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_location_id);
       case 126:
-        return btgen::port::read<std::int32_t>(bb.V_EndTour_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.V_EndTour_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1519,7 +1520,7 @@ class PressYesNoDialogue : public btgen::ModelBase<detail::Blackboard, btgen::Le
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 49: {
-        const btgen::Errc e = btgen::port::write(bb.response, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.response, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[1],
                          "output port `response` of `PressYesNoDialogue` \"PressYesNoDialogue\" cannot write "
@@ -1588,7 +1589,7 @@ class RetrieveListOfExhibits : public btgen::ModelBase<detail::Blackboard, btgen
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 62: {
-        const btgen::Errc e = btgen::port::write(bb.IV_VisitExhibit_exhibits, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_exhibits, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[2],
                          "output port `exhibits` of `RetrieveListOfExhibits` \"RetrieveListOfExhibits\" cannot "
@@ -1663,7 +1664,7 @@ class SelectExhibit : public btgen::ModelBase<detail::Blackboard, btgen::LeafKin
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 70:
-        return btgen::port::read<std::string_view>(bb.IV_VisitExhibit_exhibits);
+        return btgen::port::read<std::string_view, detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_exhibits);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1674,7 +1675,7 @@ class SelectExhibit : public btgen::ModelBase<detail::Blackboard, btgen::LeafKin
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 70: {
-        const btgen::Errc e = btgen::port::write(bb.IV_VisitExhibit_exhibits, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_exhibits, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[3],
                          "output port `exhibits` of `SelectExhibit` \"SelectExhibit\" cannot write `exhibits`",
@@ -1696,7 +1697,7 @@ class SelectExhibit : public btgen::ModelBase<detail::Blackboard, btgen::LeafKin
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 70: {
-        const btgen::Errc e = btgen::port::write(bb.IV_VisitExhibit_location_id, btgen::Declared::kInt, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.IV_VisitExhibit_location_id, btgen::Declared::kInt, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[4],
                          "output port `location_id` of `SelectExhibit` \"SelectExhibit\" cannot write "
@@ -2191,7 +2192,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xad43d6a8817a3f8eULL;
+inline constexpr unsigned long long kGeneration = 0x44253bfafddc4e42ULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace pick_place_ball::detail
 
-static_assert(pick_place_ball::detail::kGeneration == 0x4bc8725193724d34ULL,
+static_assert(pick_place_ball::detail::kGeneration == 0x597a005ee16bb474ULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

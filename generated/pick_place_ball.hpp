@@ -12,6 +12,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/convert.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
@@ -602,7 +603,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x4bc8725193724d34ULL;
+inline constexpr unsigned long long kGeneration = 0x597a005ee16bb474ULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

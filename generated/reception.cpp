@@ -15,5 +15,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace reception::detail
 
-static_assert(reception::detail::kGeneration == 0x08ac0829ea6012fdULL,
+static_assert(reception::detail::kGeneration == 0xf84c467a4e4de4a6ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

@@ -12,6 +12,7 @@
 
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
+#include "btgen/convert.hpp"
 #include "btgen/engine.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/hooks.hpp"
@@ -874,7 +875,7 @@ class PerformDeicticGesture : public btgen::ModelBase<detail::Blackboard, btgen:
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 58:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_GiveDirections_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1003,7 +1004,7 @@ class IsDestinationUttered : public btgen::ModelBase<detail::Blackboard, btgen::
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 43: {
-        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.destination, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[0],
                          "output port `destination` of `IsDestinationUttered` \"IsDestinationUttered\" cannot "
@@ -1054,7 +1055,7 @@ class PressDestinationDialogue : public btgen::ModelBase<detail::Blackboard, btg
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 49: {
-        const btgen::Errc e = btgen::port::write(bb.destination, btgen::Declared::kString, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.destination, btgen::Declared::kString, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[1],
                          "output port `destination` of `PressDestinationDialogue` \"PressDestinationDialogue\" "
@@ -1083,7 +1084,7 @@ class LookUpDestination : public btgen::ModelBase<detail::Blackboard, btgen::Lea
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 52:
-        return btgen::port::read<std::string_view>(bb.destination);
+        return btgen::port::read<std::string_view, detail::Semantics::double_from_chars>(bb.destination);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1097,7 +1098,7 @@ class LookUpDestination : public btgen::ModelBase<detail::Blackboard, btgen::Lea
     [[maybe_unused]] const btgen::ErrorSink& err = err_;
     switch (node_->index) {
       case 52: {
-        const btgen::Errc e = btgen::port::write(bb.IV_GiveDirections_location_id, btgen::Declared::kInt, value);
+        const btgen::Errc e = btgen::port::write<detail::Semantics::double_from_chars>(bb.IV_GiveDirections_location_id, btgen::Declared::kInt, value);
         if (e != btgen::Errc::kOk) {
           (void)err.fail(n, detail::kWhere[2],
                          "output port `location_id` of `LookUpDestination` \"LookUpDestination\" cannot write "
@@ -1126,7 +1127,7 @@ class DescribeRouteSpeech_1 : public btgen::ModelBase<detail::Blackboard, btgen:
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 55:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_GiveDirections_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1145,7 +1146,7 @@ class DescribeRouteSpeech_2 : public btgen::ModelBase<detail::Blackboard, btgen:
     [[maybe_unused]] detail::Blackboard& bb = *bb_;
     switch (node_->index) {
       case 61:
-        return btgen::port::read<std::int32_t>(bb.IV_GiveDirections_location_id);
+        return btgen::port::read<std::int32_t, detail::Semantics::double_from_chars>(bb.IV_GiveDirections_location_id);
       default:
         return btgen::PortError::kNotSet;
     }
@@ -1520,7 +1521,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0x08ac0829ea6012fdULL;
+inline constexpr unsigned long long kGeneration = 0xf84c467a4e4de4a6ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

@@ -321,7 +321,7 @@ def difftest(
     cases = {}
     try:
         for seed in seeds:
-            case = random_case(seed, features, n_scenarios)
+            case = random_case(seed, features, n_scenarios, btcpp)
             rel = f"fz_{features}_{seed}.xml"
             Path(rel).write_text(case.mission, encoding="utf-8")
             scen = []

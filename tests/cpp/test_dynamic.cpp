@@ -162,10 +162,10 @@ TEST(EntryType410, ALoopQueueIsTheTextConvertedWhenItStarts) {
   dyn::Msg m;
   ASSERT_TRUE(btgen::port::load_queue<std::int64_t>(q, "3;4;", "int", m));
   std::int64_t v = 0;
-  ASSERT_TRUE(btgen::port::queue_element(q.front(), v));
+  ASSERT_TRUE(btgen::port::queue_element<true>(q.front(), v));
   EXPECT_EQ(v, 3);
   q.pop_front();
-  ASSERT_TRUE(btgen::port::queue_element(q.front(), v));
+  ASSERT_TRUE(btgen::port::queue_element<true>(q.front(), v));
   EXPECT_EQ(v, 4);
   q.pop_front();
   EXPECT_TRUE(q.empty());  // no element after a final `;`

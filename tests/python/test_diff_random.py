@@ -217,3 +217,49 @@ def test_dynamic_missions_agree_under_410(tmp_path):
     print("\n" + report.summary())
     assert len(report.compiled) == len(DYNAMIC_SEEDS_410), report.summary()
     assert report.ok, report.summary()
+
+
+# The features of issue 44 (fuzzgen `btcpp`): TryCatch with catch_on_halt (4.10.0), hex and
+# special floats in LoopDouble queues and in SetBlackboard texts into a double entry (std::stod
+# against std::from_chars), and IfThenElse / WhileDoElse conditions that can be skipped.
+@pytest.mark.parametrize("btcpp", ["4.6.2", "4.10.0"])
+@pytest.mark.parametrize("features", ["full", "dynamic", "edges"])
+def test_missions_for_each_release_are_valid_and_reach_the_later_features(tmp_path, features, btcpp):
+    missions = []
+    for seed in range(60):
+        case = random_case(seed, features, 1, btcpp)
+        assert case == random_case(seed, features, 1, btcpp)
+        p = tmp_path / f"m{seed}.xml"
+        p.write_text(case.mission, encoding="utf-8")
+        load_mission(str(p), btcpp=btcpp)  # raises on an invalid mission
+        missions.append(case.mission)
+    text = "".join(missions)
+    assert ("<TryCatch" in text) == (btcpp == "4.10.0")  # a built-in from 4.9.0 only
+    if btcpp == "4.10.0":
+        assert "catch_on_halt=" in text
+    assert 'output_key="ld"' in text and "ld == 8.0" in text
+    assert any(f in text for f in ("0x1p3", "0X10")) and any(f in text for f in ("inf", "nan"))
+    # a skippable condition: the first child of an IfThenElse / WhileDoElse with _skipIf/_while
+    import re
+
+    conds = re.findall(r"<(?:IfThenElse|WhileDoElse)[^>]*>(<[^>]*>)", text)
+    assert any("_skipIf" in c or "_while" in c or 'then_skip="true"' in c or c.startswith("<Sequence") for c in conds)
+
+
+def test_random_case_keeps_its_4_6_2_default():
+    assert random_case(3, "full") == random_case(3, "full", 3, "4.6.2")
+    with pytest.raises(ValueError):
+        random_case(3, "full", 1, "4.7.0")
+
+
+# A short differential run of each release over the later features (the long runs are
+# `scripts/difftest.py --btcpp ...`; docs/btcpp-versions.md states their counts).
+LATER_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_LATER_SEEDS", "20")))
+
+
+@pytest.mark.parametrize("btcpp", ["4.6.2", "4.10.0"])
+def test_edges_missions_agree_for_each_release(tmp_path, btcpp):
+    report = difftest.difftest(LATER_SEEDS, "edges", 2, keep=tmp_path / "kept", btcpp=btcpp)
+    print("\n" + report.summary())
+    assert len(report.compiled) == len(LATER_SEEDS), report.summary()
+    assert report.ok, report.summary()

@@ -607,8 +607,8 @@ def test_skipped_condition_is_an_error(tmp_path, control):
     assert proc.returncode == 1
     assert proc.stdout == lines("tick 1", f'1 {control} "Choose" IDLE -> RUNNING')
     assert proc.stderr.splitlines() == [
-        f'm.xml:5:7: error: the condition of `{control}` "Choose" (`Check` "Check") was skipped; '
-        f"BehaviorTree.CPP 4.6.2 throws here, so a condition child must not be skippable"
+        f"m.xml:5:7: error: the condition of this `{control}` returned SKIPPED, which makes "
+        f"BehaviorTree.CPP throw (a condition child must not be skippable)"
     ]
     assert os.path.exists(path)
 

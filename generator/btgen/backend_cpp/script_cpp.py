@@ -599,7 +599,7 @@ class ScriptCompiler(CodeWriter):
             c = self.temp()
             self.emit(f"double {c} = 0.0;")
             self.errc_check(
-                f"btgen::parse_double_from_chars({cv.expr}, {c})",
+                f"btgen::cast_double({cv.expr}, {c})",
                 node.op_offset,
                 "the condition of `?:` is a string that is not a number",
             )
@@ -889,12 +889,12 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str, value: object) 
     decl = s.declared
     if is_queue(s.kind):
         c.errc_check(
-            f"btgen::port::parse_queue({v.expr}, {s.member}.value)",
+            f"btgen::port::parse_queue<detail::Semantics::double_from_chars>({v.expr}, {s.member}.value)",
             off,
             f"{what}: the string is not a valid {decl} of at most {s.capacity} elements",
         )
         return
-    if v.literal is not None:
+    if v.literal is not None and value is not None:
         if s.kind == "string":
             store_same(c, s, Val("string", cpp_view(str(value)), None, len(str(value)), value), off)
         else:
@@ -907,7 +907,7 @@ def store_converted(c, s: SlotView, v: Val, off: int, what: str, value: object) 
         parse = f"btgen::parse_integer({v.expr}, {cpp_int64(lo)}, {cpp_int64(hi)}, {t})"
     elif decl == values.DOUBLE:
         c.emit(f"double {t} = 0.0;")
-        parse = f"btgen::parse_double_stod({v.expr}, {t})"
+        parse = f"btgen::convert_double<detail::Semantics::double_from_chars>({v.expr}, {t})"
     else:  # bool (converted_literal refused the others)
         c.emit(f"bool {t} = false;")
         parse = f"btgen::parse_bool({v.expr}, {t})"

@@ -519,7 +519,7 @@ class _Loader:
         default_problem = ""
         if default is not None and direction != "output" and not is_remap(default):
             try:
-                values.convert_from_string(type_name, default)
+                values.convert_from_string(type_name, default, double_from_chars=self.sem.double_from_chars)
             except values.ConversionError as e:
                 # A model in XML documents a node registered in C++ (4.6.2 reads the default
                 # of providedPorts(), never this text): keep it, and report it only where a
@@ -883,10 +883,12 @@ class _Loader:
         convert at all is an error. An integer port of another width than 32 bits
         (`int_width`) is checked against its own range, as 4.6.2's convertFromString<T> does."""
 
+        fc = self.sem.double_from_chars
+
         def convert(strict: bool = False) -> values.Value:
             if int_width is not None:
                 return values.convert_integer(value, *int_width, strict=strict)
-            return values.convert_from_string(type_name, value, strict=strict)
+            return values.convert_from_string(type_name, value, strict=strict, double_from_chars=fc)
 
         try:
             convert()
@@ -898,7 +900,7 @@ class _Loader:
         except values.ConversionError as e:
             read = convert()
             shown = values.describe(read) if not isinstance(read, values.Queue) else str(list(read))
-            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP 4.6.2 reads it as {shown}")
+            self.sink.warning(loc, f"{what}: {e}; BehaviorTree.CPP {self.sem.version} reads it as {shown}")
 
     def _check_required(self, spec: NodeSpec, ports: list[Attr], loc: Loc, node_id: str) -> None:
         given = {p.name for p in ports}

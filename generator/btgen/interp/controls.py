@@ -431,7 +431,7 @@ class ParallelAllNode(ControlNode):
 
 class IfThenElseNode(ControlNode):
     """4.6.2 ``IfThenElseNode``: the condition is not re-evaluated while a branch is RUNNING.
-    A SKIPPED condition makes 4.6.2 throw; btgen reports it as an error."""
+    A SKIPPED condition makes the library throw; btgen reports it as a run-time error."""
 
     __slots__ = ("child_idx",)
 
@@ -491,6 +491,8 @@ class WhileDoElseNode(ControlNode):
             else:
                 status = FAILURE
         else:
+            # The library resets the children, then throws (its status would become IDLE).
+            self.reset_children()
             raise _skipped_condition_error(self, children[0])
         if status == RUNNING:
             return RUNNING
@@ -501,9 +503,8 @@ class WhileDoElseNode(ControlNode):
 def _skipped_condition_error(node: TreeNode, cond: TreeNode) -> RunError:
     return _run_error(
         cond.model.loc,
-        f'the condition of `{node.reg_id}` "{node.name}" (`{cond.reg_id}` '
-        f'"{cond.name}") was skipped; BehaviorTree.CPP 4.6.2 throws here, so a '
-        f"condition child must not be skippable",
+        f"the condition of this `{node.reg_id}` returned SKIPPED, which makes BehaviorTree.CPP throw "
+        f"(a condition child must not be skippable)",
     )
 
 

@@ -256,7 +256,7 @@ class Interpreter:
         self.scenario = scenario
         _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
-        self.root_bb = bbmod.Blackboard()
+        self.root_bb = bbmod.Blackboard(double_from_chars=mission.semantics.double_from_chars)
         provide(mission, self.root_bb, mission.main_tree, True)
         builder = self._builder()
         self.root = builder.build(self.root_bb)

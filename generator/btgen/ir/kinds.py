@@ -454,12 +454,15 @@ CONVERTIBLE_FROM_TEXT = (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL
 def converted_literal(s, literal: object, offset: int, what: str) -> object:
     """A string stored through the converter of the entry's declared type: a literal is
     converted now (its value returned, None for other strings); a declared type that text
-    never converts to is an error."""
+    never converts to is an error. A literal a number type does not take is converted at run
+    time (None), where the library throws: only when the script runs."""
     decl = s.declared
     if literal is not None:
         try:
-            value = values.convert_from_string(decl, literal)  # type: ignore[arg-type]
+            value = values.convert_from_string(decl, literal, double_from_chars=s.double_from_chars)  # type: ignore[arg-type]
         except values.ConversionError as e:
+            if decl in CONVERTIBLE_FROM_TEXT and not is_queue(s.kind) and s.kind != STRING:
+                return None
             raise ScriptTypeError(f"{what}: `{s.key}` is declared {decl}: {e}", offset) from None
         if s.kind == STRING:
             check_store_same(s, value, offset)

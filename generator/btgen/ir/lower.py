@@ -21,7 +21,7 @@ from types import MappingProxyType
 from typing import Optional
 
 from btgen.diagnostics import DiagnosticSink, InternalError, Loc
-from btgen.ir.data.records import DataIR, DataOptions, ScriptSlot
+from btgen.ir.data.records import DataIR, DataOptions
 from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
@@ -81,9 +81,6 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
 assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
-
-# NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
-_SKIP_BITS = (1 << ScriptSlot.SKIP_IF) | (1 << ScriptSlot.WHILE)
 
 
 @dataclass(frozen=True)
@@ -213,7 +210,9 @@ class _Lowerer:
                 raise InternalError(f"{node.loc}: `{node.id}` has no `{port_name}` and no default")
             text, loc = default.default, node.loc
         try:
-            return values.convert_from_string(type_name, text), loc
+            return values.convert_from_string(
+                type_name, text, double_from_chars=self.m.semantics.double_from_chars
+            ), loc
         except values.ConversionError as e:
             if self.sink.errors:  # `{key}` where the C++ back end needs a literal: reported by dataflow
                 return 0, loc
@@ -337,7 +336,6 @@ class _Lowerer:
             child_table.extend(n.children)
             counter += nslots
             timer += ntimers
-        self._check_conditions(nodes)
         self.sink.raise_if_errors()
         return Program(
             m.path,
@@ -356,63 +354,6 @@ class _Lowerer:
             m.btcpp,
             tuple(s.id for s in m.user_models()),
         )
-
-    def _check_conditions(self, nodes: list[IRNode]) -> None:
-        """An IfThenElse / WhileDoElse condition that can return SKIPPED makes 4.6.2 throw."""
-        skipped = 4  # Status::SKIPPED
-        skips = [False] * len(nodes)
-        for n in reversed(nodes):  # children before parents
-            kid = [skips[c] for c in n.children]
-            k = n.kind
-            if k == "RunOnce":
-                skips[n.index] = n.params[0] == 1 or kid[0]
-            elif k in (
-                "Sequence",
-                "AsyncSequence",
-                "SequenceWithMemory",
-                "ReactiveSequence",
-                "Fallback",
-                "AsyncFallback",
-                "ReactiveFallback",
-                "Parallel",
-                "ParallelAll",
-            ):
-                skips[n.index] = all(kid)
-            elif k == "TryCatch":
-                skips[n.index] = all(kid[:-1])
-            elif k in ("IfThenElse", "WhileDoElse"):
-                skips[n.index] = any(kid[1:])
-            elif k == "Switch":
-                skips[n.index] = any(kid)
-            elif k in ("Precondition", "Loop"):  # `else` / `if_empty`; a Loop answers RUNNING for its child
-                skips[n.index] = n.params[0] == skipped or (k == "Precondition" and kid[0])
-            elif k == "SkipUnlessUpdated":
-                skips[n.index] = True
-            elif k in ("Repeat", "RetryUntilSuccessful"):  # a count that never starts the loop skips
-                skips[n.index] = kid[0] or n.params[0] == 0 or n.params[0] < -1
-            elif k in (
-                "Inverter",
-                "ForceSuccess",
-                "ForceFailure",
-                "Timeout",
-                "Delay",
-                "SubTree",
-                "WaitValueUpdate",
-            ):
-                skips[n.index] = kid[0]
-            else:  # KeepRunningUntilFailure answers RUNNING; leaves never skip
-                skips[n.index] = False
-            if n.scripts & _SKIP_BITS:  # `_skipIf`, `_while`
-                skips[n.index] = True
-        for n in nodes:
-            if n.kind in ("IfThenElse", "WhileDoElse") and skips[n.children[0]]:
-                cond = nodes[n.children[0]]
-                self.error(
-                    cond.loc,
-                    f'the condition of `{n.id}` "{n.name}" (`{cond.id}` "{cond.name}") can '
-                    f"return SKIPPED, which makes BehaviorTree.CPP 4.6.2 throw; put a node that "
-                    f"answers SUCCESS or FAILURE there",
-                )
 
 
 def lower(mission: Mission, options: Optional[DataOptions] = None) -> Program:

@@ -50,6 +50,8 @@ class SlotType:
     capacity: int  # strings: bytes
     origin: str = ""  # why it has its kind (for messages)
     declared_kind: Optional[KindLike] = None  # the kind of the declared type (kinds.kind_of_type)
+    # the release's convertFromString<double> (versions.Semantics.double_from_chars)
+    double_from_chars: bool = False
 
 
 @dataclass(frozen=True)

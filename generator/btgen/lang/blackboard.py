@@ -48,12 +48,16 @@ class BlackboardError(Exception):
 class Entry:
     """One blackboard entry: declared type, value (None: not written yet), update counter."""
 
-    __slots__ = ("type_name", "value", "sequence_id")
+    __slots__ = ("type_name", "value", "sequence_id", "double_from_chars")
 
-    def __init__(self, type_name: str, value: Optional[Value] = None, sequence_id: int = 0) -> None:
+    def __init__(
+        self, type_name: str, value: Optional[Value] = None, sequence_id: int = 0, double_from_chars: bool = False
+    ) -> None:
         self.type_name = type_name
         self.value = value
         self.sequence_id = sequence_id
+        # the release's convertFromString<double> (versions.Semantics.double_from_chars)
+        self.double_from_chars = double_from_chars
 
     @property
     def strongly_typed(self) -> bool:
@@ -74,7 +78,7 @@ class Entry:
             raise ConversionError(
                 f"cannot convert {values.describe(text)} to BT::Any: the library has no convertFromString for BT::Any"
             )
-        return values.convert_from_string(self.type_name, text)
+        return values.convert_from_string(self.type_name, text, double_from_chars=self.double_from_chars)
 
     def bump(self) -> None:
         self.sequence_id += 1
@@ -90,9 +94,16 @@ def _is_private(key: str) -> bool:
 class Blackboard:
     """A blackboard, optionally the child of a SubTree's parent blackboard."""
 
-    def __init__(self, parent: Optional[Blackboard] = None, *, autoremap: bool = False) -> None:
+    def __init__(
+        self, parent: Optional[Blackboard] = None, *, autoremap: bool = False, double_from_chars: Optional[bool] = None
+    ) -> None:
         self.parent = parent
         self.autoremap = autoremap
+        # The release's convertFromString<double>, which every entry's converter and every port
+        # read use (versions.Semantics.double_from_chars); a SubTree's blackboard inherits it.
+        if double_from_chars is None:
+            double_from_chars = parent.double_from_chars if parent is not None else False
+        self.double_from_chars: bool = double_from_chars
         self._storage: dict[str, Entry] = {}
         self._remapping: dict[str, str] = {}
 
@@ -207,7 +218,7 @@ class Blackboard:
             if self.parent is None:
                 raise BlackboardError(f"`{key}` is autoremapped but the blackboard has no parent")
             return self.parent._create_entry_impl(key, type_name)
-        entry = Entry(type_name)
+        entry = Entry(type_name, double_from_chars=self.double_from_chars)
         self._storage[key] = entry
         return entry
 
@@ -352,7 +363,7 @@ def get_input(bb: Blackboard, port_value_text: str, port_type: str, port_name: s
     what = f"port `{port_name}`" if port_name else "port"
     if key is None:
         try:
-            return values.convert_from_string(port_type, port_value_text)
+            return values.convert_from_string(port_type, port_value_text, double_from_chars=bb.double_from_chars)
         except ConversionError as e:
             raise BlackboardError(f"{what}: {e}") from None
     entry = bb.get_entry(key)
@@ -364,7 +375,7 @@ def get_input(bb: Blackboard, port_value_text: str, port_type: str, port_name: s
         if port_type == ANY:
             return value
         if port_type != STRING and isinstance(value, str):
-            return values.convert_from_string(port_type, value)
+            return values.convert_from_string(port_type, value, double_from_chars=bb.double_from_chars)
         return values.cast(value, port_type)
     except ConversionError as e:
         raise BlackboardError(f"{what} reads blackboard entry `{key}`: {e}") from None

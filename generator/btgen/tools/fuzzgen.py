@@ -57,6 +57,12 @@ from dataclasses import dataclass
 from typing import Optional
 
 FEATURE_SETS = ("control", "full", "dynamic", "hostile", "edges")
+BTCPP_VERSIONS = ("4.6.2", "4.10.0")  # `--btcpp`: the release the mission is written for
+
+# Hex and special floats: std::stod (4.6.2) reads `0x1p3` as 8, std::from_chars (4.10.0) as 0
+# (stopping at `x`) and refuses a blank or `+` first (a literal queue: a load error then).
+FLOAT_TEXTS = ("0x1p3", "0X10", "inf", "-inf", "nan", "infinity", "1e1")
+FLOAT_TEXTS_462 = (" 2.5", "+1.5")
 
 # `edges`: the values at the edges of 4.6.2's parameters (docs/btcpp-4.6.2-edges.md): counts
 # that never start a loop, INT_MIN/INT_MAX, literals read as a prefix, zero durations.
@@ -257,12 +263,20 @@ class _Scope:
 
 
 class _Gen:
-    def __init__(self, seed: int, features: str) -> None:
+    def __init__(self, seed: int, features: str, btcpp: str = "4.6.2") -> None:
         if features not in FEATURE_SETS:
             raise ValueError(f"unknown feature set `{features}` (use {', '.join(FEATURE_SETS)})")
+        if btcpp not in BTCPP_VERSIONS:
+            raise ValueError(f"unknown BehaviorTree.CPP version `{btcpp}` (use {', '.join(BTCPP_VERSIONS)})")
         self.rng = random.Random(
             seed * 7919 + {"control": 0, "full": 1, "dynamic": 2, "hostile": 3, "edges": 4}[features]
         )
+        # The draws of the features added later (TryCatch, skippable conditions, hex and special
+        # floats) come from their own generator, so a seed's mission changes only where one of
+        # them is picked.
+        self.xrng = random.Random(seed * 6007 + BTCPP_VERSIONS.index(btcpp) * 13 + len(features))
+        self.btcpp = btcpp
+        self.later = btcpp != "4.6.2"  # 4.10.0: TryCatch; doubles read with std::from_chars
         self.data = features in ("full", "dynamic", "hostile", "edges")
         self.edges = features == "edges"
         self.dyn = features in ("dynamic", "hostile")
@@ -276,6 +290,9 @@ class _Gen:
         self.uses_queue_key = False
         self.uses_count_key = False
         self.leaf_ports = self.data and self.rng.random() < 0.5
+        # `ld`, declared double at load by a LoopDouble that never runs and set by the init
+        # script: SetBlackboard writes hex and special float texts into it, conditions read it.
+        self.typed_ld = self.data and not self.hostile and self.xrng.random() < 0.5
 
     def _subtree_mode(self) -> str:
         if not self.data:
@@ -321,6 +338,8 @@ class _Gen:
             simple += [f"{s} == 'a'", f"{s} != 'b'", f"!{f}", f"{f}"]
             if scope.main_like:
                 simple.append("u == 'x'")  # a run-time error once UnsetBlackboard removed `u`
+                if self.typed_ld:
+                    simple += ["ld == 8.0", "ld > 1.0", "ld == 0.0"]
             if self.dyn:
                 dv, dw = scope.var("v"), scope.var("w")
                 simple += [
@@ -423,6 +442,8 @@ class _Gen:
 
     def control(self, depth: int, tree: int, scope: _Scope) -> str:
         kind = self.rng.choice(CONTROLS)
+        if self.later and self.xrng.random() < 0.12:
+            return self.try_catch(depth, tree, scope)
         kids = self.children(depth, tree, scope)
         n = len(kids)
         attrs = ""
@@ -440,6 +461,33 @@ class _Gen:
             attrs = f' max_failures="{self.rng.choice((1, -1, n, 0, max(1, n - 1)) + edge)}"'
         return f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>"
 
+    def try_catch(self, depth: int, tree: int, scope: _Scope) -> str:
+        """4.10.0's TryCatch: try children, then the catch child; `catch_on_halt` a literal or absent."""
+        kids = self.children(depth, tree, scope, 2, 4)
+        attrs = self.xrng.choice(("", ' catch_on_halt="true"', ' catch_on_halt="false"', ' catch_on_halt="1"'))
+        return f"<TryCatch{self.name_attr()}{attrs}{self.with_conditions(scope)}>" + "".join(kids) + "</TryCatch>"
+
+    def skippable_condition(self, scope: _Scope) -> str:
+        """A condition that may answer SKIPPED (the library throws on the run where it does) or,
+        in 4.6.2, keep a stale SUCCESS: `_skipIf`/`_while` on it or in a Sequence, RunOnce."""
+        x = self.xrng
+        cond = x.choice(("_skipIf", "_while"))
+        guard = f" {cond}={_xml_attr(self.cond_expr(scope))}"
+        r = x.random()
+        if r < 0.3:
+            return f"<ScriptCondition{self.name_attr()} code={_xml_attr(self.cond_expr(scope))}{guard}/>"
+        if r < 0.5:
+            return f'<RunOnce{self.name_attr()} then_skip="true">{self.safe_condition(scope)}</RunOnce>'
+        # An Action under `_while` may be RUNNING, then halted and skipped: 4.6.2's Sequence
+        # keeps the SUCCESS of its flag, 4.10.0's counts the skip.
+        inner = (
+            self.scripted_leaf("Action", scope, conditions=False)[:-2] + guard + "/>"
+            if x.random() < 0.5
+            else self.safe_condition(scope)[:-2] + guard + "/>"
+        )
+        more = self.safe_condition(scope) if x.random() < 0.4 else ""
+        return f"<Sequence{self.name_attr()}>{inner}{more}</Sequence>"
+
     def safe_condition(self, scope: _Scope) -> str:
         """A child that never returns SKIPPED or RUNNING (IfThenElse/WhileDoElse condition)."""
         if self.data and self.rng.random() < 0.35:
@@ -448,7 +496,9 @@ class _Gen:
 
     def if_then_else(self, depth: int, tree: int, scope: _Scope) -> str:
         kind = self.rng.choice(("IfThenElse", "WhileDoElse"))
-        kids = [self.safe_condition(scope)] + self.children(depth, tree, scope, 1, 2)
+        skippable = self.data and self.xrng.random() < 0.3
+        cond = self.skippable_condition(scope) if skippable else self.safe_condition(scope)
+        kids = [cond] + self.children(depth, tree, scope, 1, 2)
         return f"<{kind}{self.name_attr()}{self.with_conditions(scope)}>" + "".join(kids) + f"</{kind}>"
 
     def switch(self, depth: int, tree: int, scope: _Scope) -> str:
@@ -501,12 +551,17 @@ class _Gen:
         elem = {
             "LoopInt": ("1", "2", "3", "-4") + (("1.5", "2x", "-0", INT_MIN_TEXT) if self.edges else ()),
             "LoopBool": ("true", "false", "1", "0"),
-            "LoopDouble": ("0.5", "1.25", "2", "-3.5") + ((" 2.5", "1e1x", "-0") if self.edges else ()),
+            # (` 2.5`: std::stod only; 4.10.0 refuses it on load)
+            "LoopDouble": ("0.5", "1.25", "2", "-3.5")
+            + (((" 2.5",) if not self.later else ()) + ("1e1x", "-0") if self.edges else ()),
             "LoopString": ("a", "b", "kitchen") + (("", " ") if self.edges else ()),
         }[kind]
         # Each loop writes an entry of its own element type (LoopInt's `int` is not a script's integer).
         target = scope.var({"LoopInt": "li", "LoopBool": "lb", "LoopDouble": "ld", "LoopString": "ls"}[kind])
         queue = ";".join(rng.choice(elem) for _ in range(rng.randint(0, 4)))
+        if kind == "LoopDouble" and queue and self.xrng.random() < 0.7:
+            texts = FLOAT_TEXTS + (() if self.later else FLOAT_TEXTS_462)
+            queue = ";".join(self.xrng.choice(texts) if self.xrng.random() < 0.5 else q for q in queue.split(";"))
         if kind == "LoopInt" and scope.main_like and rng.random() < 0.3:
             self.uses_queue_key = True
             queue = "{q}"
@@ -579,6 +634,12 @@ class _Gen:
                 if scope.main_like:
                     opts.append('value="{v}" output_key="fresh"')
                 return f"<SetBlackboard{self.name_attr()} {rng.choice(opts)}/>"
+            if d < 0.75 and self.typed_ld and scope.main_like and self.xrng.random() < 0.6:
+                # text through the double entry's converter: std::stod or std::from_chars
+                text = self.xrng.choice(
+                    self.xrng.choice((FLOAT_TEXTS[:2], FLOAT_TEXTS[2:], FLOAT_TEXTS_462 + ("2.5", "abc")))
+                )
+                return f'<SetBlackboard{self.name_attr()} value={_xml_attr(text)} output_key="ld"/>'
             if d < 0.75:
                 # A literal is a string (4.6.2 stores the text): only into string entries.
                 if rng.random() < 0.5:  # a copy between two integer entries
@@ -666,6 +727,12 @@ class _Gen:
                 # (a fraction, 2^32: the node throws)
                 k = rng.choice(("2.0", "-1.0", "0.0", "1.5", "'2'", "true", "false", "4294967296"))
                 extra = f'<Script code="k := {k}"/>'
+        if self.typed_ld:
+            init += "; ld := 0.5"
+            extra = (
+                '<Fallback><AlwaysSuccess/><LoopDouble queue="1.0" value="{ld}"><AlwaysSuccess/></LoopDouble>'
+                "</Fallback>" + extra
+            )
         if self.uses_queue_key:
             q = ";".join(str(rng.randint(0, 9)) for _ in range(rng.randint(0, 4)))
             extra += f'<SetBlackboard value="{q}" output_key="q"/>'
@@ -677,9 +744,9 @@ class _Gen:
         return f'<Sequence name="init"><Script code={_xml_attr(init)}/>{extra}{body}</Sequence>'
 
 
-def random_mission(seed: int, features: str = "control") -> str:
-    """The mission of `seed`: a valid BTCPP_format="4" document."""
-    return _Gen(seed, features).mission()
+def random_mission(seed: int, features: str = "control", btcpp: str = "4.6.2") -> str:
+    """The mission of `seed`: a valid BTCPP_format="4" document for release `btcpp`."""
+    return _Gen(seed, features, btcpp).mission()
 
 
 # Names of the hostile pool that can be model IDs, ports and script variables (XML names and
@@ -765,9 +832,9 @@ def random_scenario(rng: random.Random, clock: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
-def random_case(seed: int, features: str = "control", n_scenarios: int = 3) -> Case:
-    """Mission and scenarios of `seed` (deterministic)."""
-    mission = random_mission(seed, features)
+def random_case(seed: int, features: str = "control", n_scenarios: int = 3, btcpp: str = "4.6.2") -> Case:
+    """Mission and scenarios of `seed` for release `btcpp` (deterministic)."""
+    mission = random_mission(seed, features, btcpp)
     rng = random.Random(seed * 104729 + 17)
     scenarios = tuple(random_scenario(rng) for _ in range(n_scenarios))
     if features == "hostile":
@@ -784,8 +851,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     p.add_argument("seed", type=int)
     p.add_argument("--features", choices=FEATURE_SETS, default="control")
     p.add_argument("--scenarios", type=int, default=1)
+    p.add_argument("--btcpp", choices=BTCPP_VERSIONS, default="4.6.2", help="the release the mission is for")
     args = p.parse_args(argv)
-    case = random_case(args.seed, args.features, args.scenarios)
+    case = random_case(args.seed, args.features, args.scenarios, args.btcpp)
     sys.stdout.write(case.mission)
     for i, s in enumerate(case.scenarios):
         sys.stdout.write(f"<!-- scenario {i}\n{s}-->\n")

@@ -1189,6 +1189,20 @@ class Engine {
     return Status::FAILURE;
   }
 
+  // The condition of IfThenElse / WhileDoElse `n` answered SKIPPED, which the library throws
+  // on: a run-time error at the condition, and the node fails. (lower.py knows which
+  // conditions can skip; only a run can tell whether one does.)
+  Status skipped_condition(const NodeInfo& n) noexcept {
+    const NodeInfo& cond = info(child(n, 0));
+    sink().fail(cond, cond.source,
+                n.kind == NodeKind::IfThenElse
+                    ? std::string_view("the condition of this `IfThenElse` returned SKIPPED, which makes "
+                                       "BehaviorTree.CPP throw (a condition child must not be skippable)")
+                    : std::string_view("the condition of this `WhileDoElse` returned SKIPPED, which makes "
+                                       "BehaviorTree.CPP throw (a condition child must not be skippable)"));
+    return Status::FAILURE;
+  }
+
   static constexpr bool is_sequence(NodeKind k) noexcept {
     return k == NodeKind::Sequence || k == NodeKind::AsyncSequence || k == NodeKind::SequenceWithMemory ||
            k == NodeKind::ReactiveSequence;
@@ -1599,10 +1613,11 @@ class Engine {
             branch = 1;
           } else if (cs == Status::FAILURE && n.child_count == 3) {
             branch = 2;
+          } else if (cs == Status::SKIPPED) {
+            // The library throws at once (both releases): a run-time error at the condition.
+            return done(skipped_condition(n));
           } else {
-            // FAILURE without an else branch. (A SKIPPED condition, which
-            // makes 4.6.2 throw, is rejected by the generator.)
-            return done(Status::FAILURE);
+            return done(Status::FAILURE);  // FAILURE without an else branch
           }
           f.pos = static_cast<std::uint16_t>(branch);
           return descend(child(n, f.pos));
@@ -1626,10 +1641,10 @@ class Engine {
             f.pos = 2;
             return descend(child(n, 2));
           }
-          // FAILURE with two children (a SKIPPED condition is rejected by
-          // the generator).
+          // FAILURE with two children; a SKIPPED condition: the library resets the children,
+          // then throws (its status would become IDLE), in both releases.
           reset_children(n);
-          return done(Status::FAILURE);
+          return done(cs == Status::SKIPPED ? skipped_condition(n) : Status::FAILURE);
         }
         if (cs == Status::RUNNING) return done(Status::RUNNING);
         reset_children(n);

@@ -25,6 +25,7 @@
 #include <utility>
 
 #include "btgen/blackboard.hpp"
+#include "btgen/convert.hpp"
 #include "btgen/dynamic.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/status.hpp"
@@ -100,23 +101,23 @@ struct is_fixed_queue<FixedQueue<E, N>> : std::true_type {};
 
 // ---------------------------------------------------------------- reads
 
-// convertFromString<T>(text).
-template <class T>
+// convertFromString<T>(text), doubles by the release's rule (btgen/convert.hpp).
+template <class T, bool kFromChars>
 Input<T> parse(std::string_view text) noexcept {
   static_assert(is_port_type<T>, "a port is int, unsigned, double, bool, Status or a string");
   if constexpr (std::is_same_v<T, std::string_view>) {
     return text;
   } else if constexpr (std::is_same_v<T, std::int32_t>) {
     std::int64_t v = 0;
-    if (parse_integer(text, INT32_MIN, INT32_MAX, v) != Errc::kOk) return PortError::kConversion;
+    if (convert_int(text, v) != Errc::kOk) return PortError::kConversion;
     return static_cast<std::int32_t>(v);
   } else if constexpr (std::is_same_v<T, std::uint32_t>) {
     std::int64_t v = 0;
-    if (parse_integer(text, 0, UINT32_MAX, v) != Errc::kOk) return PortError::kConversion;
+    if (convert_unsigned(text, v) != Errc::kOk) return PortError::kConversion;
     return static_cast<std::uint32_t>(v);
   } else if constexpr (std::is_same_v<T, double>) {
     double v = 0.0;
-    if (parse_double_stod(text, v) != Errc::kOk) return PortError::kConversion;
+    if (convert_double<kFromChars>(text, v) != Errc::kOk) return PortError::kConversion;
     return v;
   } else if constexpr (std::is_same_v<T, bool>) {
     bool v = false;
@@ -186,8 +187,8 @@ Input<T> from_double(double v, NumberText* scratch) noexcept {
 
 // TreeNode::getInput<T> of a port connected to `slot`. Reading a number as
 // a string writes its text into `scratch` (the generator passes one where
-// that can happen).
-template <class T, class S>
+// that can happen). A string converts by the release's rule (kFromChars).
+template <class T, bool kFromChars, class S>
 Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
   static_assert(is_port_type<T>, "a port is int, unsigned, double, bool, Status or a string");
   if (!slot.exists) return PortError::kNoEntry;
@@ -195,7 +196,7 @@ Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
   if constexpr (std::is_same_v<S, NoValue>) {
     return PortError::kNoValue;
   } else if constexpr (is_fixed_string<S>::value) {
-    return parse<T>(slot.value.view());
+    return parse<T, kFromChars>(slot.value.view());
   } else if constexpr (std::is_same_v<S, std::int64_t>) {
     return from_integer<T>(slot.value, scratch);
   } else if constexpr (std::is_same_v<S, bool>) {
@@ -209,7 +210,7 @@ Input<T> read(const Slot<S>& slot, NumberText* scratch = nullptr) noexcept {
     const dyn::Ref v = slot.value.ref();
     switch (v.tag) {
       case DynTag::kNone: return PortError::kNoValue;
-      case DynTag::kString: return parse<T>(v.s);
+      case DynTag::kString: return parse<T, kFromChars>(v.s);
       case DynTag::kDouble: return from_double<T>(v.d, scratch);
       default: return from_integer<T>(v.i, scratch);
     }
@@ -386,7 +387,7 @@ Errc copy_number(Slot<S>& slot, const V& v) noexcept {
 
 // convertFromString of a `;`-separated queue: no element for an empty text
 // or after a final `;`.
-template <class E, std::size_t N>
+template <bool kFromChars, class E, std::size_t N>
 Errc parse_queue(std::string_view text, FixedQueue<E, N>& out) noexcept {
   FixedQueue<E, N> q;
   std::size_t pos = 0;
@@ -397,9 +398,9 @@ Errc parse_queue(std::string_view text, FixedQueue<E, N>& out) noexcept {
     E* slot = q.emplace_slot();
     if (slot == nullptr) return Errc::kTooLong;
     if constexpr (std::is_same_v<E, std::int64_t>) {
-      if (const Errc e = parse_integer(part, INT32_MIN, INT32_MAX, *slot); e != Errc::kOk) return e;
+      if (const Errc e = convert_int(part, *slot); e != Errc::kOk) return e;
     } else if constexpr (std::is_same_v<E, double>) {
-      if (const Errc e = parse_double_stod(part, *slot); e != Errc::kOk) return e;
+      if (const Errc e = convert_double<kFromChars>(part, *slot); e != Errc::kOk) return e;
     } else if constexpr (std::is_same_v<E, bool>) {
       if (const Errc e = parse_bool(part, *slot); e != Errc::kOk) return e;
     } else {
@@ -432,19 +433,19 @@ struct TextQueue {
   void pop_front() noexcept { pos += front().size() + 1; }
 };
 
-// One element of a queue's text as convertFromString<E> reads it (4.9.0 and
-// later: doubles with std::from_chars); on failure `m`, if given, gets the
-// reference interpreter's reason ("`x` is not a valid int").
-template <class E>
+// One element of a queue's text as convertFromString<E> reads it (doubles by the
+// release's rule); on failure `m`, if given, gets the reference interpreter's
+// reason ("`x` is not a valid int").
+template <bool kFromChars, class E>
 bool queue_element(std::string_view part, E& out, dyn::Msg* m = nullptr) noexcept {
   Errc e = Errc::kOk;
   std::string_view type;
   if constexpr (std::is_same_v<E, std::int64_t>) {
     type = "int";
-    e = parse_integer(part, INT32_MIN, INT32_MAX, out);
+    e = convert_int(part, out);
   } else if constexpr (std::is_same_v<E, double>) {
     type = "double";
-    e = parse_double_from_chars(part, out);
+    e = convert_double<kFromChars>(part, out);
   } else if constexpr (std::is_same_v<E, bool>) {
     type = "bool";
     e = parse_bool(part, out);
@@ -460,7 +461,7 @@ bool queue_element(std::string_view part, E& out, dyn::Msg* m = nullptr) noexcep
 
 // Starts `q` over `text`, checking every element as E (false: `m` says why, as
 // "`1;x` is not a valid queue<int>: element 2: `x` is not a valid int").
-template <class E, std::size_t N>
+template <class E, bool kFromChars, std::size_t N>
 bool load_queue(TextQueue<N>& q, std::string_view text, std::string_view elem_type, dyn::Msg& m) noexcept {
   std::size_t pos = 0;
   std::int64_t index = 0;
@@ -470,7 +471,7 @@ bool load_queue(TextQueue<N>& q, std::string_view text, std::string_view elem_ty
     ++index;
     E value{};
     dyn::Msg why;
-    if (!queue_element(text.substr(pos, end - pos), value, &why)) {
+    if (!queue_element<kFromChars>(text.substr(pos, end - pos), value, &why)) {
       m.add("`").add(text).add("` is not a valid queue<").add(elem_type).add(">: element ");
       m.add_int(index).add(": ").add(why.view());
       return false;
@@ -484,11 +485,11 @@ bool load_queue(TextQueue<N>& q, std::string_view text, std::string_view elem_ty
 }
 
 // A string through the converter of the slot's declared type.
-template <class S>
+template <bool kFromChars, class S>
 Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
   if constexpr (std::is_same_v<S, std::int64_t>) {
-    if (d == Declared::kInt) return parse_integer(text, INT32_MIN, INT32_MAX, slot.value);
-    if (d == Declared::kUnsigned) return parse_integer(text, 0, UINT32_MAX, slot.value);
+    if (d == Declared::kInt) return convert_int(text, slot.value);
+    if (d == Declared::kUnsigned) return convert_unsigned(text, slot.value);
     if (d == Declared::kBool) {  // a bool entry holds the integer 0 or 1 (ir/kinds.py kind_of_type)
       bool b = false;
       const Errc e = parse_bool(text, b);
@@ -497,13 +498,13 @@ Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
     }
     return Errc::kInvalid;
   } else if constexpr (std::is_same_v<S, double>) {
-    return d == Declared::kDouble ? parse_double_stod(text, slot.value) : Errc::kInvalid;
+    return d == Declared::kDouble ? convert_double<kFromChars>(text, slot.value) : Errc::kInvalid;
   } else if constexpr (std::is_same_v<S, bool>) {
     return d == Declared::kBool ? parse_bool(text, slot.value) : Errc::kInvalid;
   } else if constexpr (is_fixed_string<S>::value) {
     return slot.value.assign(text) ? Errc::kOk : Errc::kTooLong;
   } else if constexpr (is_fixed_queue<S>::value) {
-    return parse_queue(text, slot.value);
+    return parse_queue<kFromChars>(text, slot.value);
   } else {
     (void)slot;
     (void)d;
@@ -515,7 +516,7 @@ Errc convert_into(Slot<S>& slot, Declared d, std::string_view text) noexcept {
 // Blackboard::set<T>(key, v) of an entry declared `d` (T the type of `v`):
 // the store 4.6.2 does when a port writes. Errc::kInvalid is a write 4.6.2
 // rejects, or one that would change the entry's type.
-template <class S, class V>
+template <bool kFromChars, class S, class V>
 Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
   constexpr WriteType t = write_type<V>();
   const bool existed = slot.exists;
@@ -526,7 +527,7 @@ Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
   } else if (!same_type(d, t)) {
     if constexpr (t == WriteType::kString) {
       if (d == Declared::kStatus) return Errc::kInvalid;  // no converter for NodeStatus
-      e = convert_into(slot, d, std::string_view(v));
+      e = convert_into<kFromChars>(slot, d, std::string_view(v));
     } else if constexpr (t == WriteType::kStatus) {
       return Errc::kInvalid;
     } else {

@@ -280,11 +280,17 @@ class Compiler:
                     f"BehaviorTree.CPP cannot convert text into",
                 )
                 return None
+            sem = self.a.m.semantics
             try:
-                values.convert_from_string(declared, text)
+                values.convert_from_string(declared, text, double_from_chars=sem.double_from_chars)
             except values.ConversionError as e:
-                self.error(loc, f"{what} writes `{text}` to `{s.key}`, which is declared {declared}: {e}")
-                return None
+                # The library throws when the node runs (not on load): so does the executor, with
+                # the interpreter's message (lang/blackboard.py Blackboard.set, set_blackboard_410).
+                if sem.setblackboard_converts_to_entry_type:
+                    message = f"{what}: SetBlackboard: cannot convert {values.describe(text)}: {e}"
+                else:
+                    message = f"{what}: cannot write {values.describe(text)} to `{op.key}` ({declared}): {e}"
+                return DataOp(inst.index, comment, ops.SetText(dst, declared, text, self.fail(loc, message), untyped))
         elif s.kind != "string":
             self.error(
                 loc,
@@ -756,7 +762,9 @@ class Compiler:
                 elif ps.type != values.ANY:
                     try:
                         value = values.convert_from_string(
-                            ps.type if not values.is_opaque_type(ps.type) else values.STRING, raw
+                            ps.type if not values.is_opaque_type(ps.type) else values.STRING,
+                            raw,
+                            double_from_chars=self.a.m.semantics.double_from_chars,
                         )
                         entry.reads.append((inst.index, ops.ReadLiteral(ps.type, value)))
                     except values.ConversionError:

@@ -80,7 +80,7 @@ class Analysis:
 
     # ------------------------------------------------------------ 1. load
     def load(self) -> None:
-        root = bbmod.Blackboard()
+        root = bbmod.Blackboard(double_from_chars=self.m.semantics.double_from_chars)
         self._add_bb(root, "root")
         self._provide(root, self.m.main_tree, True, self.m.main.loc)
         # per tree instance (the index of its SubTree node, -1: the main tree): its blackboard
@@ -366,7 +366,7 @@ class Analysis:
         p = inst.ports.get(name)
         assert p is not None, (inst.reg_id, name)
         try:
-            return values.convert_from_string(type_name, p.raw)
+            return values.convert_from_string(type_name, p.raw, double_from_chars=self.m.semantics.double_from_chars)
         except values.ConversionError as e:
             self.error(p.loc_or or inst.node.loc, f"port `{name}` of {inst.what}: {e}")
             return None
@@ -513,7 +513,9 @@ class Analysis:
         loc = queue_port.loc_or or node.loc
         if qkey is None:
             try:
-                queue = values.convert_from_string(f"queue<{elem}>", queue_port.raw)
+                queue = values.convert_from_string(
+                    f"queue<{elem}>", queue_port.raw, double_from_chars=self.m.semantics.double_from_chars
+                )
                 assert isinstance(queue, values.Queue)
                 static = tuple(queue)
             except values.ConversionError as e:
@@ -601,6 +603,7 @@ class Analysis:
             s.capacity,
             s.origin_text,
             self.kind_of_type(s.entry.type_name),
+            self.m.semantics.double_from_chars,
         )
 
 

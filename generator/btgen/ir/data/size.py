@@ -23,14 +23,14 @@ def size_slots(a: Analysis) -> None:
                 s.capacity = max(s.capacity, qcap) if s.queue_unbounded else s.capacity
             s.capacity = max(s.capacity, 1)
             if s.kind == queue_kind(STRING):
+                # literal elements are known: the slot holds the longest of them, whatever `cap`
                 s.elem_capacity = max(s.elem_literals, default=0)
                 if s.queue_unbounded:
-                    s.elem_capacity = cap
-                s.elem_capacity = min(s.elem_capacity, cap)
-    # Capacities only grow. A literal (and robot code, whose bound is unknown) gets at
-    # most `cap`: a longer literal is an error where it is written. A computed value
-    # whose bound btgen knows (`'a' .. 1e300`: 318 bytes) gets its bound even above
-    # `cap`, or the executor would fail where 4.6.2 succeeds. A slot whose bound
+                    s.elem_capacity = max(s.elem_capacity, cap)
+    # Capacities only grow. Robot code, whose bound is unknown, gets `cap`. A literal gets
+    # its own length, and a computed value whose bound btgen knows (`'a' .. 1e300`: 318
+    # bytes) its bound, even above `cap`, or the executor would fail where the library
+    # succeeds (`cap` bounds what btgen cannot see, not what the mission spells out). A slot whose bound
     # depends on itself (`s := s .. 'x'`, possibly through other slots) grows a little
     # every round; after WIDEN_AFTER growths it is taken to grow without bound and gets
     # `cap` for good, so every slot changes at most WIDEN_AFTER + 1 times.
@@ -48,7 +48,7 @@ def size_slots(a: Analysis) -> None:
                 if s.kind == DYN and is_numeric(w.kind()):
                     continue  # a dynamic slot holds numbers as numbers
                 b = w.bound()
-                b = cap if b is None else min(b, cap) if w.literal is not None else b
+                b = cap if b is None else b
                 best = max(best, b)
             if best > s.capacity:
                 growths[i] += 1
