@@ -15,6 +15,7 @@ resolved by dataflow.py; its DataIR travels in the Program.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -28,6 +29,7 @@ from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
 from btgen.lang.catalogue import builtins_for
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.lang.nav2 import round_robin_wraps_always
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
@@ -75,12 +77,23 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
         "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
         "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
+        # Nav2's (lang/nav2.py), built in when a mission selects them
+        "PipelineSequence": ("PipelineSequence", 1, 0),  # furthest child RUNNING
+        "RecoveryNode": ("RecoveryNode", 4, 0),  # child being run, recoveries done, `{key}` value, read
+        "RoundRobin": ("RoundRobin", 2, 0),  # next child, failures in a row
+        "NonblockingSequence": ("NonblockingSequence", 0, 0),
+        "RateController": ("RateController", 1, 1),  # first tick of a run; start of the period
+        "SingleTrigger": ("SingleTrigger", 1, 0),  # the child completed
     }
+)
+# Nav2's nodes the C++ back end does not run (the interpreter does): why.
+NAV2_INTERPRETER_ONLY: Mapping[str, str] = MappingProxyType(
+    {"PersistentSequence": "its place is a blackboard entry it reads and writes on every tick"}
 )
 # Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
-assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
+assert set(SUPPORTED) == set(builtins_for("4.10.0", "lyrical")) - set(NAV2_INTERPRETER_ONLY)
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
 _SKIP_BITS = (1 << ScriptSlot.SKIP_IF) | (1 << ScriptSlot.WHILE)
@@ -272,6 +285,16 @@ class _Lowerer:
             return self.int_literal(node, "msec", "unsigned")[0], 0, 0
         if nid == "Delay":
             return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
+        if nid == "RecoveryNode":
+            return self.int_literal(node, "number_of_retries")[0], 0, 0
+        if nid == "RoundRobin":
+            if self.m.nav2 is None or round_robin_wraps_always(self.m.nav2):
+                return 1, 0, 0
+            return (1 if self.literal(node, "wrap_around", "bool")[0] else 0), 0, 0
+        if nid == "RateController":
+            hz, _ = self.literal(node, "hz", "double")
+            bits = struct.unpack("<q", struct.pack("<d", float(hz)))[0]  # type: ignore[arg-type]
+            return bits, 0, 0
         if nid == "TryCatch":
             # catch_on_halt: p0 the literal (read when the node is halted); p1 1 when it is a
             # `{key}` (data.params), read then through Spec::read_param.
@@ -300,6 +323,13 @@ class _Lowerer:
             node, index = n.node, n.index
             if isinstance(node, SubTreeNode):
                 kind, nslots, ntimers, model = "SubTree", 0, 0, -1
+            elif node.id in NAV2_INTERPRETER_ONLY and node.id in m.builtins:
+                self.error(
+                    node.loc,
+                    f"Nav2's `{node.id}` is not supported by the C++ back end yet: "
+                    f"{NAV2_INTERPRETER_ONLY[node.id]}; `btgen run` and `explore` run it on the interpreter",
+                )
+                kind, nslots, ntimers, model = "UserControl", 0, 0, -1
             elif node.id in SUPPORTED and node.id in m.builtins:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1
@@ -376,8 +406,12 @@ class _Lowerer:
                 "ReactiveFallback",
                 "Parallel",
                 "ParallelAll",
+                "PipelineSequence",
+                "RoundRobin",
             ):
                 skips[n.index] = all(kid)
+            elif k == "RecoveryNode":
+                skips[n.index] = kid[0]
             elif k == "TryCatch":
                 skips[n.index] = all(kid[:-1])
             elif k in ("IfThenElse", "WhileDoElse"):
@@ -398,6 +432,8 @@ class _Lowerer:
                 "Delay",
                 "SubTree",
                 "WaitValueUpdate",
+                "RateController",
+                "SingleTrigger",
             ):
                 skips[n.index] = kid[0]
             else:  # KeepRunningUntilFailure answers RUNNING; leaves never skip

@@ -39,6 +39,7 @@ unreachable, and the finding says which instance.
 from __future__ import annotations
 
 import json
+import struct
 import sys
 from dataclasses import dataclass, field
 from typing import Optional
@@ -466,6 +467,8 @@ class _Analyzer:
             return _switch(fr), _switch(un)
         if kind in ("Repeat", "RetryUntilSuccessful"):
             return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        if kind in _NAV2:
+            return self.nav2(n, fr), self.nav2(n, un)
         if kind not in _DECORATORS:  # a node this analysis does not model: anything, each child once
             total: Cost = ONE
             for w in un:
@@ -666,6 +669,69 @@ class _Analyzer:
             through(same)
         return out
 
+    def nav2(self, n: IRNode, kids: list[Outcomes]) -> Outcomes:
+        """One tick of a Nav2 node (interp/nav2.py): which statuses, and the most work. Each child
+        is ticked at most once, but RecoveryNode's: the first up to number_of_retries + 1 times
+        and the recovery up to number_of_retries times, while they answer at once."""
+        most = [ZERO if not w else _max_of(w) for w in kids]
+        can = [set(w) for w in kids]
+        kind = n.kind
+        out: Outcomes = {}
+        if kind == "RecoveryNode":
+            if self.keyed(n, "number_of_retries"):
+                if self.unbounded_by is None:
+                    self.unbounded_by = n.index
+                u: Cost = (UNBOUNDED, UNBOUNDED, UNBOUNDED)
+                return {st: u for st in ORDER}
+            r = max(n.params[0], 0)
+            cost = ONE
+            for _ in range(r + 1):
+                cost = _add(cost, most[0])
+            for _ in range(r):
+                cost = _add(cost, most[1])
+            statuses = set()
+            if S in can[0]:
+                statuses.add(S)
+            if F in can[0] or F in can[1] or K in can[1]:
+                statuses.add(F)
+            if R in can[0] or R in can[1]:
+                statuses.add(R)
+            if K in can[0]:
+                statuses.add(K)
+            return {st: cost for st in statuses}
+        cost = ONE
+        for c in most:
+            cost = _add(cost, c)
+        if kind == "PipelineSequence":
+            if all(c & {S, K} for c in can):
+                out[S] = cost
+            if all(K in c for c in can):
+                out[K] = cost
+            if any(F in c for c in can):
+                out[F] = cost
+            if any(R in c for c in can):
+                out[R] = cost
+        elif kind == "RoundRobin":
+            for st in (S, F, R):
+                if any(st in c for c in can) or (st == F and any(K in c for c in can)):
+                    out[st] = cost
+            if all(K in c for c in can):
+                out[K] = cost
+        elif kind == "NonblockingSequence":
+            if all(S in c for c in can):
+                out[S] = cost
+            if any(F in c for c in can) or any(K in c for c in can):  # (a SKIPPED child is an error)
+                out[F] = cost
+            if any(R in c for c in can):
+                out[R] = cost
+        elif kind == "RateController":  # a period not over yet: RUNNING without ticking the child
+            out = {st: cost for st in can[0]}
+            _put(out, R, ONE)
+        elif kind == "SingleTrigger":  # its child done, it fails while it stays active
+            out = {st: cost for st in can[0]}
+            _put(out, F, ONE)
+        return out
+
     def keyed(self, n: IRNode, port: str) -> bool:
         """Whether the node reads `port` from the blackboard (`{key}`), so its value is not known here."""
         attr = self.model(n.index).port(port)
@@ -700,6 +766,26 @@ class _Analyzer:
 
 
 # ====================================================================== the checks
+_NAV2 = ("PipelineSequence", "RecoveryNode", "RoundRobin", "NonblockingSequence", "RateController", "SingleTrigger")
+
+
+def _max_of(w: Outcomes) -> Cost:
+    c: Cost = ZERO
+    for v in w.values():
+        c = _max(c, v)
+    return c
+
+
+def rate_limits(program: Program) -> list[tuple[IRNode, float]]:
+    """Each Nav2 RateController and its hz: once its child has succeeded, the child is ticked
+    again only after 1/hz seconds of the clock (while the child is RUNNING, on every tick)."""
+    out = []
+    for n in program.nodes:
+        if n.kind == "RateController":
+            out.append((n, struct.unpack("<d", struct.pack("<q", n.params[0]))[0]))
+    return out
+
+
 def analyze_program(mission: Mission, program: Program, options: records.DataOptions) -> Analysis:
     data = _Data(mission, options)
     a = _Analyzer(mission, program, data)
@@ -949,6 +1035,7 @@ def analyze_command(args) -> int:
                     },
                     "root_outcomes": {st: list(c) for st, c in result.outcomes[0].items()},
                     "unreachable_nodes": sum(1 for r in result.reachable if not r),
+                    "rate_limits": [{"uid": n.uid, "name": n.name, "hz": hz} for n, hz in rate_limits(result.program)],
                     "memory": mem,
                 }
             )
@@ -977,6 +1064,14 @@ def analyze_command(args) -> int:
         if result.unbounded_by is not None:
             n = result.program.nodes[result.unbounded_by]
             rows.insert(5, ("unbounded because of", f'{n.id} "{n.name}" ({n.loc})'))
+        for n, hz in rate_limits(result.program):
+            rows.append(
+                (
+                    "rate limit",
+                    f'RateController "{n.name}": its child starts again at most {hz:g} times a second '
+                    f"(every {1.0 / hz if hz else float('inf'):g} s of the clock; ticked on every tick while RUNNING)",
+                )
+            )
         width = max(len(r[0]) for r in rows)
         print(f"{path}:")
         for label, text in rows:

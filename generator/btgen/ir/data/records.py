@@ -74,6 +74,7 @@ PARAM_PORTS = frozenset(
         ("Sleep", "msec"),
         ("RunOnce", "then_skip"),
         ("TryCatch", "catch_on_halt"),
+        ("RecoveryNode", "number_of_retries"),  # Nav2's: read on every tick
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
@@ -88,6 +89,8 @@ LITERAL_ONLY = frozenset(
         ("LoopBool", "if_empty"),
         ("LoopDouble", "if_empty"),
         ("LoopString", "if_empty"),
+        ("RoundRobin", "wrap_around"),  # Nav2's: read once, when the node is created
+        ("RateController", "hz"),  # Nav2's: a double
     }
 )
 LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
