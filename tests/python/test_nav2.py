@@ -233,3 +233,75 @@ def test_a_mission_implementing_them_itself_keeps_them():
     m = pipeline.load(str(ROOT / "tests" / "cpp" / "missions" / "user_nodes.xml"))
     assert m.nav2 is None
     assert not m.spec("RecoveryNode").builtin and not m.spec("PipelineSequence").builtin
+
+
+# ----------------------------------------------------------------------- random missions
+# Random trees of Nav2's nodes and BehaviorTree.CPP's, with random leaf scripts and time: the
+# C++ engine prints the interpreter's trace (the recordings tie the interpreter to Nav2's code).
+# BTGEN_NAV2_RANDOM=N runs N missions (default 3, four scenarios each).
+_CONTROLS = ("PipelineSequence", "RecoveryNode", "RoundRobin", "NonblockingSequence", "Sequence", "ReactiveSequence")
+_DECORATORS = ("RateController", "SingleTrigger", "Inverter", "ForceSuccess")
+
+
+def _random_mission(rng, distro):
+    leaves = []
+
+    def node(depth):
+        if depth >= 3 or rng.random() < 0.3:
+            kind = "Condition" if rng.random() < 0.25 else "Action"
+            name = f"{kind[0]}{len(leaves)}"
+            leaves.append((kind, name))
+            return f"<{name}/>"
+        if rng.random() < 0.35:
+            d = rng.choice(_DECORATORS)
+            attrs = f' hz="{rng.choice(["2", "5", "10", "3.3"])}"' if d == "RateController" else ""
+            return f"<{d}{attrs}>{node(depth + 1)}</{d}>"
+        c = rng.choice(_CONTROLS if distro == "lyrical" else _CONTROLS[:3] + _CONTROLS[4:])
+        n = 2 if c == "RecoveryNode" else rng.randint(1, 3)
+        attrs = ""
+        if c == "RecoveryNode":
+            attrs = f' number_of_retries="{rng.randint(0, 2)}"'
+        elif c == "RoundRobin" and distro == "lyrical" and rng.random() < 0.5:
+            attrs = f' wrap_around="{rng.choice(["true", "false"])}"'
+        return f"<{c}{attrs}>{''.join(node(depth + 1) for _ in range(n))}</{c}>"
+
+    body = node(0)
+    models = "".join(f'<{k} ID="{n}"/>' for k, n in leaves)
+    xml = (
+        f'<root BTCPP_format="4"><BehaviorTree ID="Main">{body}</BehaviorTree>'
+        f"<TreeNodesModel>{models}</TreeNodesModel></root>"
+    )
+    return xml, leaves
+
+
+def _random_scenario(rng, leaves):
+    lines = [f"ticks {rng.randint(4, 14)}", f"clock_ms {rng.choice([0, 40, 100, 150])}"]
+    for kind, name in leaves:
+        pool = ("SUCCESS", "FAILURE") if kind == "Condition" else ("SUCCESS", "FAILURE", "RUNNING", "RUNNING")
+        lines.append(f"leaf {name} " + " ".join(rng.choice(pool) for _ in range(rng.randint(1, 6))))
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("seed", range(int(os.environ.get("BTGEN_NAV2_RANDOM", "3"))))
+def test_random_missions_both_engines(seed, tmp_path):
+    import random
+
+    from btgen.tools.cppengine import build_cpp
+
+    rng = random.Random(seed)
+    distro = ("lyrical", "jazzy")[seed % 2]
+    version = VERSIONS[(seed // 2) % 2]
+    xml, leaves = _random_mission(rng, distro)
+    path = tmp_path / f"r{seed}.xml"
+    path.write_text(xml)
+    opts = _opts(distro, version)
+    mission = pipeline.load(str(path), opts)
+    binary = build_cpp(str(path), opts=opts)
+    for k in range(4):
+        sc = tmp_path / f"r{seed}_{k}.scenario"
+        sc.write_text(_random_scenario(rng, leaves))
+        expected = trace_text(mission, parse_scenario(str(sc)))
+        r = subprocess.run([str(binary), str(sc)], capture_output=True, check=False)
+        assert r.returncode == 0, r.stderr.decode()
+        got = r.stdout.decode("utf-8")
+        assert got == expected, f"{xml}\n{sc.read_text()}\n" + _diff(expected, got, "C++ engine")
