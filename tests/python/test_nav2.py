@@ -188,13 +188,6 @@ def test_rename_table():
 CPP_REFUSED = {
     "rate_hz_from_blackboard": "port `hz` of",  # RateController's hz as `{key}`: a literal is needed
 }
-CPP_REFUSED.update(
-    {
-        s: "Nav2's `PersistentSequence` is not supported by the C++ back end"
-        for s in STEMS
-        if s.startswith("persistent_")
-    }
-)
 
 
 def _cpp_cases():

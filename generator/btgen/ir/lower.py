@@ -82,18 +82,16 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "RecoveryNode": ("RecoveryNode", 4, 0),  # child being run, recoveries done, `{key}` value, read
         "RoundRobin": ("RoundRobin", 2, 0),  # next child, failures in a row
         "NonblockingSequence": ("NonblockingSequence", 0, 0),
+        "PersistentSequence": ("PersistentSequence", 0, 0),  # (its place lives in its entry)
         "RateController": ("RateController", 1, 1),  # first tick of a run; start of the period
         "SingleTrigger": ("SingleTrigger", 1, 0),  # the child completed
     }
 )
-# Nav2's nodes the C++ back end does not run (the interpreter does): why.
-NAV2_INTERPRETER_ONLY: Mapping[str, str] = MappingProxyType(
-    {"PersistentSequence": "its place is a blackboard entry it reads and writes on every tick"}
-)
 # Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
-assert set(SUPPORTED) == set(builtins_for("4.10.0", "lyrical")) - set(NAV2_INTERPRETER_ONLY)
+_EVERY = frozenset(builtins_for("4.10.0", "lyrical"))  # (Nav2's newest families included)
+assert set(SUPPORTED) == _EVERY, sorted(set(SUPPORTED) ^ _EVERY)
 
 # NodeInfo::scripts bits of the pre-conditions that can make a node return SKIPPED.
 _SKIP_BITS = (1 << ScriptSlot.SKIP_IF) | (1 << ScriptSlot.WHILE)
@@ -291,6 +289,8 @@ class _Lowerer:
             if self.m.nav2 is None or round_robin_wraps_always(self.m.nav2):
                 return 1, 0, 0
             return (1 if self.literal(node, "wrap_around", "bool")[0] else 0), 0, 0
+        if nid == "PersistentSequence":
+            return self.int_literal(node, "current_child_idx")[0], 0, 0
         if nid == "RateController":
             hz, _ = self.literal(node, "hz", "double")
             bits = struct.unpack("<q", struct.pack("<d", float(hz)))[0]  # type: ignore[arg-type]
@@ -323,13 +323,6 @@ class _Lowerer:
             node, index = n.node, n.index
             if isinstance(node, SubTreeNode):
                 kind, nslots, ntimers, model = "SubTree", 0, 0, -1
-            elif node.id in NAV2_INTERPRETER_ONLY and node.id in m.builtins:
-                self.error(
-                    node.loc,
-                    f"Nav2's `{node.id}` is not supported by the C++ back end yet: "
-                    f"{NAV2_INTERPRETER_ONLY[node.id]}; `btgen run` and `explore` run it on the interpreter",
-                )
-                kind, nslots, ntimers, model = "UserControl", 0, 0, -1
             elif node.id in SUPPORTED and node.id in m.builtins:
                 kind, nslots, ntimers = SUPPORTED[node.id]
                 model = -1

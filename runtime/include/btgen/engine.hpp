@@ -96,6 +96,13 @@ template <class S, class = void>
 struct has_script_table : std::false_type {};
 template <class S>
 struct has_script_table<S, std::void_t<decltype(S::kScripts), decltype(S::kScriptFirst)>> : std::true_type {};
+// A Spec whose mission has a Nav2 PersistentSequence writing its place into an entry.
+template <class S, class = void>
+struct has_write_index : std::false_type {};
+template <class S>
+struct has_write_index<
+    S, std::void_t<decltype(S::write_index(std::declval<typename S::Blackboard&>(), std::declval<const ErrorSink&>(),
+                                           std::declval<const NodeInfo&>(), std::int64_t{}))>> : std::true_type {};
 // A Spec with literals of user port types to convert at construction (btgen/user_type.hpp).
 template <class S, class = void>
 struct has_init : std::false_type {};
@@ -1147,6 +1154,16 @@ class Engine {
     ops.set_status(Status::IDLE);
     forget(n);
   }
+  // setOutput of PersistentSequence's place (Spec::write_index, generated for missions that
+  // have one writing an entry; a literal port is not written, as setOutput fails on it).
+  void write_index(const NodeInfo& n, std::int64_t value) noexcept {
+    if constexpr (engine_detail::has_write_index<Spec>::value) {
+      if (n.p1 != 0) (void)Spec::write_index(bb_, sink(), n, value);
+    } else {
+      (void)n;
+      (void)value;
+    }
+  }
   Status nav2_tick(const NodeInfo& n, const ChildOps& ops) noexcept {
     const auto count = static_cast<std::int32_t>(n.child_count);
     switch (n.kind) {
@@ -1272,6 +1289,31 @@ class Engine {
         }
         if (!all_success) return Status::RUNNING;
         ops.halt_children();
+        return Status::SUCCESS;
+      }
+      case NodeKind::PersistentSequence: {
+        // Its place is the entry `current_child_idx` names: read on every tick (Nav2 throws when
+        // it cannot: an error, the node fails), written after each child that completes.
+        std::int64_t idx = n.p0;
+        if (n.p1 != 0 && Spec::read_param(bb_, sink(), n, idx) < 0) return Status::FAILURE;
+        if (idx < 0) {
+          (void)sink().fail(n, n.source, "`current_child_idx` is negative: no child has that place");
+          return Status::FAILURE;
+        }
+        ops.set_status(Status::RUNNING);
+        while (idx < count) {
+          const Status cs = ops.tick_child(static_cast<std::size_t>(idx));
+          if (cs == Status::RUNNING) return cs;
+          if (cs == Status::FAILURE) {
+            ops.halt_children();
+            write_index(n, 0);
+            return cs;
+          }
+          ++idx;
+          write_index(n, idx);
+        }
+        ops.halt_children();
+        write_index(n, 0);
         return Status::SUCCESS;
       }
       case NodeKind::RateController: {
@@ -1624,6 +1666,7 @@ class Engine {
       case NodeKind::RecoveryNode:
       case NodeKind::RoundRobin:
       case NodeKind::NonblockingSequence:
+      case NodeKind::PersistentSequence:
       case NodeKind::RateController:
       case NodeKind::SingleTrigger: {
         // Nav2's nodes tick their children as a user Control does, above this frame of the

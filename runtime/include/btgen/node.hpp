@@ -69,6 +69,7 @@ enum class NodeKind : std::uint8_t {
   RecoveryNode,
   RoundRobin,
   NonblockingSequence,
+  PersistentSequence,
   RateController,
   SingleTrigger,
 };
@@ -119,6 +120,7 @@ struct NodeText {
 //   Loop                  p0 the `if_empty` status
 //   TryCatch              p0 catch_on_halt (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
 //   RecoveryNode          p0 number_of_retries; p1 1: read it as `{key}` on every tick
+//   PersistentSequence    p0 current_child_idx (a literal); p1 1: read it as `{key}` on every tick
 //   RoundRobin            p0 wrap_around (0 or 1; 1 before Nav2 lyrical, which always wrapped)
 //   RateController        p0 hz, the bits of a double
 // `scripts` has a bit per pre/post condition the node has (btgen::ScriptSlot:
@@ -147,7 +149,7 @@ struct NodeInfo {
 
 [[nodiscard]] constexpr bool is_control(NodeKind k) noexcept {
   return k <= NodeKind::WhileDoElse || k == NodeKind::UserControl ||
-         (k >= NodeKind::PipelineSequence && k <= NodeKind::NonblockingSequence);
+         (k >= NodeKind::PipelineSequence && k <= NodeKind::PersistentSequence);
 }
 
 [[nodiscard]] constexpr bool is_decorator(NodeKind k) noexcept {

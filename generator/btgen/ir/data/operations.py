@@ -25,6 +25,7 @@ from btgen.ir.data.records import (
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import (
     EntryUse,
+    IndexWriteUse,
     Inst,
     LoopUse,
     ParamUse,
@@ -508,6 +509,19 @@ class Compiler:
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
 
+    def index_write(self, inst: Inst, op: IndexWriteUse) -> Optional[DataOp]:
+        """setOutput of Nav2's PersistentSequence place (an int) into its entry."""
+        what = f"port `current_child_idx` of {inst.what}"
+        if not self.typed_write_ok(op.slot, values.INT, op.loc, what):
+            return None
+        s = self.a.slots[op.slot]
+        fail = self.fail(op.loc, f"{what} cannot write `{s.key}`", errc=True)
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" current_child_idx={{{op.key}}}',
+            ops.WriteEntry(op.slot, s.entry.type_name, fail),
+        )
+
     def entry(self, inst: Inst, op: EntryUse) -> DataOp:
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op.key}', ops.EntrySeq(op.slot))
 
@@ -821,6 +835,7 @@ class Compiler:
         switches: list[DataOp] = []
         loops: list[DataOp] = []
         param_reads: list[DataOp] = []
+        index_writes: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for inst, op in self.a.node_ops:
@@ -848,6 +863,10 @@ class Compiler:
                 if read is not None:
                     param_reads.append(read)
                     params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
+            elif isinstance(op, IndexWriteUse):
+                write = self.index_write(inst, op)
+                if write is not None:
+                    index_writes.append(write)
             elif isinstance(op, StatusParam):
                 p0 = op.p0
                 if p0 is not None:
@@ -907,4 +926,5 @@ class Compiler:
             user_types,
             tuple(self.user_inits),
             tuple(param_reads),
+            tuple(index_writes),
         )

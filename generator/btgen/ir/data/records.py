@@ -75,6 +75,7 @@ PARAM_PORTS = frozenset(
         ("RunOnce", "then_skip"),
         ("TryCatch", "catch_on_halt"),
         ("RecoveryNode", "number_of_retries"),  # Nav2's: read on every tick
+        ("PersistentSequence", "current_child_idx"),  # Nav2's: read on every tick (and written: IndexWrite)
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
@@ -199,6 +200,7 @@ class DataIR:
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
     inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
     param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
+    index_writes: tuple[DataOp, ...] = ()  # WriteEntry: Nav2's PersistentSequence writing its place
 
 
 def script_loc(attr: Attr, offset: int) -> Loc:
