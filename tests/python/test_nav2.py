@@ -185,9 +185,7 @@ def test_rename_table():
 
 # ----------------------------------------------------------------------- the C++ engine
 # Cases the C++ back end refuses, with a located error (the interpreter runs them).
-CPP_REFUSED = {
-    "rate_hz_from_blackboard": "port `hz` of",  # RateController's hz as `{key}`: a literal is needed
-}
+CPP_REFUSED: dict[str, str] = {}  # (none: both engines run every case)
 
 
 def _cpp_cases():
@@ -298,3 +296,35 @@ def test_random_missions_both_engines(seed, tmp_path):
         assert r.returncode == 0, r.stderr.decode()
         got = r.stdout.decode("utf-8")
         assert got == expected, f"{xml}\n{sc.read_text()}\n" + _diff(expected, got, "C++ engine")
+
+
+@pytest.mark.parametrize(
+    "setup",
+    [
+        "<Script code=\"rate := '2.5'\"/>",  # text, converted as getInput<double> converts it
+        '<Script code="rate := 4"/>',  # an int entry
+        "<AlwaysSuccess/>",  # the entry has no value: getInput fails, Nav2 keeps its local 1.0
+    ],
+)
+def test_rate_controller_hz_from_the_blackboard_on_both_engines(setup, tmp_path):
+    # Beyond the recorded `{rate}` case: what getInput<double> does with other entries, the
+    # interpreter and the C++ engine alike; analyze says the limit comes from the entry.
+    from btgen.tools.cppengine import build_cpp
+
+    xml = tmp_path / "hz.xml"
+    xml.write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Main"><Sequence>' + setup + "<PipelineSequence>"
+        '<RateController hz="{rate}"><Work/></RateController><Keep/></PipelineSequence></Sequence></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Work"/><Action ID="Keep"/></TreeNodesModel></root>'
+    )
+    sc = tmp_path / "hz.scenario"
+    sc.write_text("ticks 30\nclock_ms 150\nleaf Keep RUNNING\n")
+    opts = _opts("lyrical", "4.6.2")
+    expected = trace_text(pipeline.load(str(xml), opts), parse_scenario(str(sc)))
+    assert expected.count('Work "Work" IDLE -> SUCCESS') > 2
+    r = subprocess.run([str(build_cpp(str(xml), opts=opts)), str(sc)], capture_output=True, check=False)
+    assert r.returncode == 0, r.stderr.decode()
+    assert r.stdout.decode() == expected, _diff(expected, r.stdout.decode(), "C++ engine")
+    from btgen.cli import main
+
+    assert main(["analyze", str(xml), "--nodes", "nav2"]) == 0

@@ -83,7 +83,7 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "RoundRobin": ("RoundRobin", 2, 0),  # next child, failures in a row
         "NonblockingSequence": ("NonblockingSequence", 0, 0),
         "PersistentSequence": ("PersistentSequence", 0, 0),  # (its place lives in its entry)
-        "RateController": ("RateController", 1, 1),  # first tick of a run; start of the period
+        "RateController": ("RateController", 1, 2),  # first tick of a run; start of the period, hz in use
         "SingleTrigger": ("SingleTrigger", 1, 0),  # the child completed
     }
 )

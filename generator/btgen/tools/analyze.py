@@ -776,13 +776,14 @@ def _max_of(w: Outcomes) -> Cost:
     return c
 
 
-def rate_limits(program: Program) -> list[tuple[IRNode, float]]:
-    """Each Nav2 RateController and its hz: once its child has succeeded, the child is ticked
-    again only after 1/hz seconds of the clock (while the child is RUNNING, on every tick)."""
-    out = []
+def rate_limits(program: Program) -> list[tuple[IRNode, Optional[float]]]:
+    """Each Nav2 RateController and its hz (None: read from the blackboard when it starts): once
+    its child has succeeded, the child is ticked again only after 1/hz seconds of the clock
+    (while the child is RUNNING, on every tick)."""
+    out: list[tuple[IRNode, Optional[float]]] = []
     for n in program.nodes:
         if n.kind == "RateController":
-            out.append((n, struct.unpack("<d", struct.pack("<q", n.params[0]))[0]))
+            out.append((n, None if n.params[1] else struct.unpack("<d", struct.pack("<q", n.params[0]))[0]))
     return out
 
 
@@ -1065,13 +1066,13 @@ def analyze_command(args) -> int:
             n = result.program.nodes[result.unbounded_by]
             rows.insert(5, ("unbounded because of", f'{n.id} "{n.name}" ({n.loc})'))
         for n, hz in rate_limits(result.program):
-            rows.append(
-                (
-                    "rate limit",
-                    f'RateController "{n.name}": its child starts again at most {hz:g} times a second '
-                    f"(every {1.0 / hz if hz else float('inf'):g} s of the clock; ticked on every tick while RUNNING)",
-                )
+            how = (
+                "as often a second as its `hz` entry says when the node starts"
+                if hz is None
+                else f"at most {hz:g} times a second (every {1.0 / hz if hz else float('inf'):g} s of the clock"
+                "; ticked on every tick while RUNNING)"
             )
+            rows.append(("rate limit", f'RateController "{n.name}": its child starts again {how}'))
         width = max(len(r[0]) for r in rows)
         print(f"{path}:")
         for label, text in rows:

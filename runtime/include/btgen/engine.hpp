@@ -1319,13 +1319,21 @@ class Engine {
       case NodeKind::RateController: {
         // counter 0: the child is ticked on this run's first tick; timer: when the period began.
         // The time since, in float seconds (Nav2's duration<float>), against the period 1/hz.
+        // Timer 1 keeps the bits of hz read when the run started (a literal: NodeInfo p0; a
+        // `{key}`: getInput<double>, 1.0 when it fails, as Nav2's local default).
         std::int32_t& first = counter(n, 0);
         if (!is_active(status_[n.index])) {
           timer(n) = clock_.now_ms();
           first = 1;
+          std::int64_t bits = n.p0;
+          if (n.p1 != 0) (void)Spec::read_param(bb_, sink(), n, bits);
+          timers_[n.timer + 1] = static_cast<std::uint64_t>(bits);
         }
         ops.set_status(Status::RUNNING);
-        const double period = 1.0 / param::hz(n);
+        double hz = 0.0;
+        const std::uint64_t hz_bits = timers_[n.timer + 1];
+        std::memcpy(&hz, &hz_bits, sizeof hz);
+        const double period = 1.0 / hz;
         const auto ns = static_cast<std::int64_t>(elapsed(n)) * 1000000;
         const float seconds = static_cast<float>(ns) / 1.0e9f;
         if (first != 0 || ops.child_status(0) == Status::RUNNING || static_cast<double>(seconds) >= period) {

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import struct
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Optional
@@ -471,6 +472,8 @@ class Compiler:
         default = BOOL_PARAM_DEFAULTS.get(op.port)
         unsigned = op.port in ("msec", "delay_msec")
         constant: Optional[int] = None
+        if inst.reg_id == "RateController":
+            return self.hz_read(inst, op, what)
         if (
             s.kind == "string"
             and s.initial is not None
@@ -508,6 +511,34 @@ class Compiler:
             convert = self.fail(op.loc, f"{what}: ")
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
+
+    def hz_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
+        """Nav2's RateController hz as `{key}`: getInput<double>, 1.0 when it fails."""
+        s = self.a.slots[op.slot]
+        constant: Optional[int] = None
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            try:
+                hz = float(values.convert_from_string(values.DOUBLE, s.initial))  # type: ignore[arg-type]
+            except values.ConversionError:
+                hz = 1.0
+            constant = struct.unpack("<q", struct.pack("<d", hz))[0]
+        elif s.kind not in ("int", "bool", "double", "string", "dyn"):
+            self.error(
+                op.loc,
+                f"port `hz` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}); "
+                f"the C++ back end reads it from an int, bool, double or string entry, or one whose type changes",
+            )
+            return None
+        kind = "" if constant is not None else str(s.kind)
+        missing = self.fail(op.loc, f"{what}, which does not exist")
+        no_value = self.fail(op.loc, f"{what}, which has no value yet")
+        read = ops.ParamRead(op.slot, missing, no_value, constant, as_double=kind or "constant")
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" hz={{{op.key}}}', read)
 
     def index_write(self, inst: Inst, op: IndexWriteUse) -> Optional[DataOp]:
         """setOutput of Nav2's PersistentSequence place (an int) into its entry."""

@@ -76,6 +76,7 @@ PARAM_PORTS = frozenset(
         ("TryCatch", "catch_on_halt"),
         ("RecoveryNode", "number_of_retries"),  # Nav2's: read on every tick
         ("PersistentSequence", "current_child_idx"),  # Nav2's: read on every tick (and written: IndexWrite)
+        ("RateController", "hz"),  # Nav2's: a double, read when the node starts
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
@@ -91,7 +92,6 @@ LITERAL_ONLY = frozenset(
         ("LoopDouble", "if_empty"),
         ("LoopString", "if_empty"),
         ("RoundRobin", "wrap_around"),  # Nav2's: read once, when the node is created
-        ("RateController", "hz"),  # Nav2's: a double
     }
 )
 LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
