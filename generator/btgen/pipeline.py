@@ -23,6 +23,7 @@ if TYPE_CHECKING:  # the stages are imported when used: `btgen --help` stays qui
     from btgen.ir.lower import Program
     from btgen.lang.model import Mission
 
+from btgen.lang.nav2 import NODES_CHOICES
 from btgen.lang.versions import SUPPORTED_VERSIONS
 
 CAPACITY_MAX = 1 << 20
@@ -45,6 +46,7 @@ class CompileOptions:
     queue_capacity: Optional[int] = None  # --queue-capacity N
     btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
     ros_packages: tuple[tuple[str, str], ...] = ()  # package -> folder (btgen check's `ros-packages`)
+    nodes: Optional[str] = None  # --nodes btcpp|nav2[:DISTRO] (lang/nav2.py); None: Nav2's if a models file is
 
     @property
     def data(self) -> DataOptions:
@@ -158,6 +160,15 @@ def add_mission_options(p: argparse.ArgumentParser, *, capacities: bool = True, 
         + " or ".join(SUPPORTED_VERSIONS)
         + " (default 4.6.2); it decides loading, the script grammar, both engines and the generated C++",
     )
+    g.add_argument(
+        "--nodes",
+        choices=NODES_CHOICES,
+        default=None,
+        metavar="FAMILY",
+        help="built-in node families besides BehaviorTree.CPP's: nav2 (Nav2's PipelineSequence, RecoveryNode, "
+        "RoundRobin, RateController, SingleTrigger, ... of its newest distro) or nav2:jazzy, nav2:kilted, "
+        "nav2:lyrical; btcpp: none. Default: Nav2's when a models file is Nav2's nav2_tree_nodes.xml",
+    )
     if capacities:
         g.add_argument(
             "--string-capacity",
@@ -196,6 +207,7 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
         string_capacity=get("string_capacity"),
         queue_capacity=get("queue_capacity"),
         btcpp=get("btcpp", "4.6.2"),
+        nodes=get("nodes"),
     )
 
 
@@ -218,7 +230,13 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
     types = usertypes.load(opts.types)
     provided = entries.load(opts.entries, {t.name for t in types})
     mission = load_mission(
-        path, opts.models, opts.main_tree, opts.trees, btcpp=opts.btcpp, ros_packages=opts.ros_packages
+        path,
+        opts.models,
+        opts.main_tree,
+        opts.trees,
+        btcpp=opts.btcpp,
+        ros_packages=opts.ros_packages,
+        nodes=opts.nodes,
     )
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))

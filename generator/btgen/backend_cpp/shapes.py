@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.ir.lower import Program
+from btgen.lang.nav2 import ALL_FAMILY_IDS as NAV2_KINDS
 
 # btgen::Engine::kCompiledDepth: nodes at this depth (the root at 0) and below
 # are interpreted.
@@ -96,5 +97,6 @@ def shapes(program: Program, node_scripts: Optional[Sequence[tuple[str, ...]]] =
         tuple(rep_nodes),
         tuple(before),
         deep is not None,
-        any(n.kind in ("UserControl", "UserDecorator") for n in nodes),
+        # (Nav2's nodes tick their children there too, as the mission's own Controls do)
+        any(n.kind in ("UserControl", "UserDecorator") or n.kind in NAV2_KINDS for n in nodes),
     )

@@ -23,8 +23,8 @@ from btgen.frontend import version_rules
 from btgen.frontend.hints import SiblingIndex, model_advice, unmapped_subtree_ports
 from btgen.frontend.xmlsource import Source, read_source
 from btgen.lang import blackboard as bbmod
+from btgen.lang import nav2, values
 from btgen.lang import script as script_lang
-from btgen.lang import values
 from btgen.lang.catalogue import (
     EDITOR_ATTRIBUTES,
     KEY_NAME_PORTS,
@@ -95,12 +95,17 @@ class _Loader:
         trees: Sequence[str] = (),
         btcpp: str = DEFAULT_VERSION,
         ros_packages: Sequence[tuple[str, str]] = (),
+        nodes: Optional[str] = None,
     ) -> None:
         self.path = path
         self.ros_packages = dict(ros_packages)  # package -> folder, for <include ros_pkg=...>
         self.btcpp = btcpp
         self.sem = semantics(btcpp)
-        self.builtins = builtins_for(btcpp)
+        # Nav2's Controls and Decorators: the distro `--nodes` names, or (no `--nodes`) the one
+        # of a models file that is Nav2's (nav2.detect, after the models are read).
+        self.nav2 = nav2.parse_nodes(nodes) if nodes is not None else None
+        self.detect_nav2 = nodes is None
+        self.builtins = builtins_for(btcpp, self.nav2)
         self.models_paths = tuple(models)
         self.trees_paths = tuple(trees)
         self.mission_trees = 0  # tree_elems[:mission_trees] are the mission's own (file and includes)
@@ -142,6 +147,13 @@ class _Loader:
             self._load_tree_library(trees_path)
         for models_path in self.models_paths:
             self._load_models_file(models_path)
+        if self.detect_nav2 and self.nav2 is None:
+            distro = nav2.detect(self.models)
+            if distro is not None:
+                # Nav2's models file documents its Controls and Decorators: they are built in.
+                self.nav2 = distro
+                self.builtins = builtins_for(self.btcpp, distro)
+                self.models = [m for m in self.models if m.id not in self.builtins]
         self.sink.raise_if_errors()
         main = self._main_tree(root_source)
         self.sink.raise_if_errors()
@@ -177,6 +189,7 @@ class _Loader:
             tuple(self.files),
             tuple(self._sorted(d for d in self.sink.items if d.severity == "warning")),
             btcpp=self.btcpp,
+            nav2=self.nav2,
         )
         self.sink.items.extend(unmapped_subtree_ports(mission))
         self._check_instance_count(mission)
@@ -401,6 +414,8 @@ class _Loader:
             if not isinstance(m.tag, str):
                 continue
             kind, mid, loc = m.tag, m.get("ID"), src.loc(m)
+            if mid in self.builtins and mid in nav2.ALL_FAMILY_IDS and self.nav2 is not None:
+                continue  # Nav2's models file documents the Nav2 nodes btgen builds in
             if mid in self.builtins:
                 # 4.6.2 never reads leaf, control or decorator models from XML: the
                 # registered node, here the built-in, is what runs.
@@ -1093,6 +1108,7 @@ def load_mission(
     trees: Sequence[str] = (),
     btcpp: str = DEFAULT_VERSION,
     ros_packages: Sequence[tuple[str, str]] = (),
+    nodes: Optional[str] = None,
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
@@ -1100,5 +1116,6 @@ def load_mission(
     declarations count as the mission's. `main_tree`: the tree to run
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
     BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py).
-    `ros_packages`: folders of ROS packages for <include ros_pkg=...> (frontend/ros_packages.py)."""
-    return _Loader(path, models, main_tree, trees, btcpp, ros_packages).load()
+    `ros_packages`: folders of ROS packages for <include ros_pkg=...> (frontend/ros_packages.py).
+    `nodes`: `--nodes` (lang/nav2.py NODES_CHOICES); None: Nav2's nodes when a models file is Nav2's."""
+    return _Loader(path, models, main_tree, trees, btcpp, ros_packages, nodes).load()

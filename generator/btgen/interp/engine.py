@@ -74,6 +74,7 @@ from btgen.interp.decorators import (
     SubTreeRunNode,
     TimeoutNode,
 )
+from btgen.interp.nav2 import FACTORIES as NAV2_FACTORIES
 from btgen.interp.scenario import Scenario
 from btgen.interp.tree import _BY_VALUE, FAILURE, RUNNING, SKIPPED, SUCCESS, Runtime, TreeNode, _Port, _run_error
 from btgen.lang import blackboard as bbmod
@@ -126,6 +127,7 @@ _BUILTIN_FACTORIES = {
     "Sleep": SleepNode,
     "WasEntryUpdated": WasEntryUpdatedNode,
     "TryCatch": TryCatchNode,  # 4.9.0; only in the catalogue of versions that have it
+    **NAV2_FACTORIES,  # only in the catalogue of a mission that selects Nav2's nodes (lang/nav2.py)
 }
 
 

@@ -187,6 +187,9 @@ class ParamRead:
     kind: str = ""  # a count or duration: the entry's kind (int, bool, double, string, dyn)
     unsigned: bool = False  # a duration (getInput<unsigned>)
     convert: Optional[Fail] = None  # "... reads blackboard entry `k`: " before the reason
+    # Nav2's RateController hz: getInput<double> of the entry's kind into `out`'s bits, when the
+    # node starts; when it fails Nav2 keeps its local 1.0, silently.
+    as_double: str = ""
 
 
 @dataclass(frozen=True)

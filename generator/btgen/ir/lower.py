@@ -15,6 +15,7 @@ resolved by dataflow.py; its DataIR travels in the Program.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -28,6 +29,7 @@ from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
 from btgen.lang.catalogue import builtins_for
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
+from btgen.lang.nav2 import round_robin_wraps_always
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.
@@ -75,12 +77,21 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "UnsetBlackboard": ("UnsetBlackboard", 0, 0),
         "WasEntryUpdated": ("WasEntryUpdated", 0, 1),  # update counter seen
         "TryCatch": ("TryCatch", 3, 0),  # current try child, skipped try children, in the catch child (4.9.0)
+        # Nav2's (lang/nav2.py), built in when a mission selects them
+        "PipelineSequence": ("PipelineSequence", 1, 0),  # furthest child RUNNING
+        "RecoveryNode": ("RecoveryNode", 4, 0),  # child being run, recoveries done, `{key}` value, read
+        "RoundRobin": ("RoundRobin", 2, 0),  # next child, failures in a row
+        "NonblockingSequence": ("NonblockingSequence", 0, 0),
+        "PersistentSequence": ("PersistentSequence", 0, 0),  # (its place lives in its entry)
+        "RateController": ("RateController", 1, 2),  # first tick of a run; start of the period, hz in use
+        "SingleTrigger": ("SingleTrigger", 1, 0),  # the child completed
     }
 )
 # Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
-assert set(SUPPORTED) == set(builtins_for("4.10.0")), sorted(set(builtins_for("4.10.0")) ^ set(SUPPORTED))
+_EVERY = frozenset(builtins_for("4.10.0", "lyrical"))  # (Nav2's newest families included)
+assert set(SUPPORTED) == _EVERY, sorted(set(SUPPORTED) ^ _EVERY)
 
 
 @dataclass(frozen=True)
@@ -271,6 +282,18 @@ class _Lowerer:
             return self.int_literal(node, "msec", "unsigned")[0], 0, 0
         if nid == "Delay":
             return self.int_literal(node, "delay_msec", "unsigned")[0], 0, 0
+        if nid == "RecoveryNode":
+            return self.int_literal(node, "number_of_retries")[0], 0, 0
+        if nid == "RoundRobin":
+            if self.m.nav2 is None or round_robin_wraps_always(self.m.nav2):
+                return 1, 0, 0
+            return (1 if self.literal(node, "wrap_around", "bool")[0] else 0), 0, 0
+        if nid == "PersistentSequence":
+            return self.int_literal(node, "current_child_idx")[0], 0, 0
+        if nid == "RateController":
+            hz, _ = self.literal(node, "hz", "double")
+            bits = struct.unpack("<q", struct.pack("<d", float(hz)))[0]  # type: ignore[arg-type]
+            return bits, 0, 0
         if nid == "TryCatch":
             # catch_on_halt: p0 the literal (read when the node is halted); p1 1 when it is a
             # `{key}` (data.params), read then through Spec::read_param.

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.lang.model import Mission, Node, SubTreeNode
+from btgen.lang.nav2 import ROS_NODES, ros_node_message
 
 
 @dataclass(frozen=True)
@@ -48,6 +49,8 @@ def user_node_kind(mission: Mission, node: Node) -> Optional[str]:
 
 def user_node_message(node_id: str, kind: str) -> str:
     """Why `btgen run` cannot run a user Control/Decorator (the same on both engines)."""
+    if node_id in ROS_NODES:
+        return ros_node_message(node_id, kind)
     return (
         f"`{node_id}` is a {kind} of this mission's TreeNodesModel: it needs your implementation "
         f"(its tick() hook in the C++ that `btgen compile` generates), which `btgen run` does not have"

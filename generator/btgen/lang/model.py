@@ -117,6 +117,8 @@ class Mission:
     user_types: tuple[Any, ...] = ()
     # The BehaviorTree.CPP release whose semantics the mission was loaded for (versions.py).
     btcpp: str = DEFAULT_VERSION
+    # The Nav2 distro whose Controls and Decorators are built in (lang/nav2.py), else None.
+    nav2: Optional[str] = None
 
     @property
     def semantics(self) -> Semantics:
@@ -124,7 +126,7 @@ class Mission:
 
     @property
     def builtins(self) -> dict[str, NodeSpec]:
-        return builtins_for(self.btcpp)
+        return builtins_for(self.btcpp, self.nav2)
 
     # Entries the application provides (entries.py: `--entry [TREE:]NAME=TYPE`).
     provided: tuple[ProvidedEntry, ...] = ()
@@ -137,7 +139,7 @@ class Mission:
 
     def spec(self, node_id: str) -> NodeSpec:
         """The spec of a node ID: built in, or declared in TreeNodesModel."""
-        builtins = builtins_for(self.btcpp)
+        builtins = builtins_for(self.btcpp, self.nav2)
         if node_id in builtins:
             return builtins[node_id]
         for m in self.models:

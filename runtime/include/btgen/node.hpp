@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
 
 #include "btgen/status.hpp"
@@ -62,6 +63,15 @@ enum class NodeKind : std::uint8_t {
   // user's tick() hook (btgen/user_node.hpp)
   UserControl,
   UserDecorator,
+  // Nav2's Controls and Decorators that need only BehaviorTree.CPP (btgen/nav2 in the
+  // generator: built in when a mission selects Nav2's nodes)
+  PipelineSequence,
+  RecoveryNode,
+  RoundRobin,
+  NonblockingSequence,
+  PersistentSequence,
+  RateController,
+  SingleTrigger,
 };
 
 // The kind of a model of TreeNodesModel (the generated model classes' kKind).
@@ -109,6 +119,10 @@ struct NodeText {
 //   Precondition          p0 the `else` status
 //   Loop                  p0 the `if_empty` status
 //   TryCatch              p0 catch_on_halt (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
+//   RecoveryNode          p0 number_of_retries; p1 1: read it as `{key}` on every tick
+//   PersistentSequence    p0 current_child_idx (a literal); p1 1: read it as `{key}` on every tick
+//   RoundRobin            p0 wrap_around (0 or 1; 1 before Nav2 lyrical, which always wrapped)
+//   RateController        p0 hz, the bits of a double
 // `scripts` has a bit per pre/post condition the node has (btgen::ScriptSlot:
 // _failureIf, _successIf, _skipIf, _while, _onSuccess, _onFailure, _post,
 // _onHalted); the generated Spec::script() runs them.
@@ -131,12 +145,16 @@ struct NodeInfo {
   NodeText source;  // "path:line:col" of the element
 };
 
+[[nodiscard]] constexpr bool is_nav2(NodeKind k) noexcept { return k >= NodeKind::PipelineSequence; }
+
 [[nodiscard]] constexpr bool is_control(NodeKind k) noexcept {
-  return k <= NodeKind::WhileDoElse || k == NodeKind::UserControl;
+  return k <= NodeKind::WhileDoElse || k == NodeKind::UserControl ||
+         (k >= NodeKind::PipelineSequence && k <= NodeKind::PersistentSequence);
 }
 
 [[nodiscard]] constexpr bool is_decorator(NodeKind k) noexcept {
-  return (k >= NodeKind::Inverter && k <= NodeKind::SubTree) || k == NodeKind::UserDecorator;
+  return (k >= NodeKind::Inverter && k <= NodeKind::SubTree) || k == NodeKind::UserDecorator ||
+         k == NodeKind::RateController || k == NodeKind::SingleTrigger;
 }
 
 [[nodiscard]] constexpr bool is_leaf(NodeKind k) noexcept {
@@ -170,6 +188,19 @@ namespace param {
 
 // ParallelAll `max_failures` (made absolute).
 [[nodiscard]] constexpr std::int64_t max_failures(const NodeInfo& n) noexcept { return n.p0; }
+
+// Nav2's RecoveryNode `number_of_retries` (a literal).
+[[nodiscard]] constexpr std::int64_t number_of_retries(const NodeInfo& n) noexcept { return n.p0; }
+
+// Nav2's RoundRobin `wrap_around`.
+[[nodiscard]] constexpr bool wrap_around(const NodeInfo& n) noexcept { return n.p0 != 0; }
+
+// Nav2's RateController `hz` (a double kept in p0's bits).
+[[nodiscard]] inline double hz(const NodeInfo& n) noexcept {
+  double v = 0.0;
+  std::memcpy(&v, &n.p0, sizeof v);
+  return v;
+}
 
 }  // namespace param
 

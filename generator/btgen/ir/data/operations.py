@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import struct
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Optional
@@ -25,6 +26,7 @@ from btgen.ir.data.records import (
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import (
     EntryUse,
+    IndexWriteUse,
     Inst,
     LoopUse,
     ParamUse,
@@ -476,6 +478,8 @@ class Compiler:
         default = BOOL_PARAM_DEFAULTS.get(op.port)
         unsigned = op.port in ("msec", "delay_msec")
         constant: Optional[int] = None
+        if inst.reg_id == "RateController":
+            return self.hz_read(inst, op, what)
         if (
             s.kind == "string"
             and s.initial is not None
@@ -513,6 +517,47 @@ class Compiler:
             convert = self.fail(op.loc, f"{what}: ")
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
+
+    def hz_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
+        """Nav2's RateController hz as `{key}`: getInput<double>, 1.0 when it fails."""
+        s = self.a.slots[op.slot]
+        constant: Optional[int] = None
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            try:
+                hz = float(values.convert_from_string(values.DOUBLE, s.initial))  # type: ignore[arg-type]
+            except values.ConversionError:
+                hz = 1.0
+            constant = struct.unpack("<q", struct.pack("<d", hz))[0]
+        elif s.kind not in ("int", "bool", "double", "string", "dyn"):
+            self.error(
+                op.loc,
+                f"port `hz` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}); "
+                f"the C++ back end reads it from an int, bool, double or string entry, or one whose type changes",
+            )
+            return None
+        kind = "" if constant is not None else str(s.kind)
+        missing = self.fail(op.loc, f"{what}, which does not exist")
+        no_value = self.fail(op.loc, f"{what}, which has no value yet")
+        read = ops.ParamRead(op.slot, missing, no_value, constant, as_double=kind or "constant")
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" hz={{{op.key}}}', read)
+
+    def index_write(self, inst: Inst, op: IndexWriteUse) -> Optional[DataOp]:
+        """setOutput of Nav2's PersistentSequence place (an int) into its entry."""
+        what = f"port `current_child_idx` of {inst.what}"
+        if not self.typed_write_ok(op.slot, values.INT, op.loc, what):
+            return None
+        s = self.a.slots[op.slot]
+        fail = self.fail(op.loc, f"{what} cannot write `{s.key}`", errc=True)
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" current_child_idx={{{op.key}}}',
+            ops.WriteEntry(op.slot, s.entry.type_name, fail),
+        )
 
     def entry(self, inst: Inst, op: EntryUse) -> DataOp:
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" entry={op.key}', ops.EntrySeq(op.slot))
@@ -830,6 +875,7 @@ class Compiler:
         switches: list[DataOp] = []
         loops: list[DataOp] = []
         param_reads: list[DataOp] = []
+        index_writes: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
         for inst, op in self.a.node_ops:
@@ -857,6 +903,10 @@ class Compiler:
                 if read is not None:
                     param_reads.append(read)
                     params[inst.index] = (0, 1, 0)  # p1: read p0 from the blackboard (btgen::param)
+            elif isinstance(op, IndexWriteUse):
+                write = self.index_write(inst, op)
+                if write is not None:
+                    index_writes.append(write)
             elif isinstance(op, StatusParam):
                 p0 = op.p0
                 if p0 is not None:
@@ -916,6 +966,7 @@ class Compiler:
             user_types,
             tuple(self.user_inits),
             tuple(param_reads),
+            tuple(index_writes),
         )
 
 

@@ -74,6 +74,9 @@ PARAM_PORTS = frozenset(
         ("Sleep", "msec"),
         ("RunOnce", "then_skip"),
         ("TryCatch", "catch_on_halt"),
+        ("RecoveryNode", "number_of_retries"),  # Nav2's: read on every tick
+        ("PersistentSequence", "current_child_idx"),  # Nav2's: read on every tick (and written: IndexWrite)
+        ("RateController", "hz"),  # Nav2's: a double, read when the node starts
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
@@ -88,6 +91,7 @@ LITERAL_ONLY = frozenset(
         ("LoopBool", "if_empty"),
         ("LoopDouble", "if_empty"),
         ("LoopString", "if_empty"),
+        ("RoundRobin", "wrap_around"),  # Nav2's: read once, when the node is created
     }
 )
 LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
@@ -199,6 +203,7 @@ class DataIR:
     user_types: tuple = ()  # the user port types (usertypes.UserType) the mission uses: headers, checks
     inits: tuple[DataOp, ...] = ()  # UserInit: user-typed literals, converted when the mission is constructed
     param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
+    index_writes: tuple[DataOp, ...] = ()  # WriteEntry: Nav2's PersistentSequence writing its place
 
 
 def script_loc(attr: Attr, offset: int) -> Loc:

@@ -11,6 +11,7 @@ from btgen.ir import kinds
 from btgen.ir.data.records import ENTRY_NODES, LITERAL_ONLY, LOOPS, PARAM_PORTS, DataOptions, script_loc
 from btgen.ir.data.state import (
     EntryUse,
+    IndexWriteUse,
     Inst,
     LoopUse,
     NodeUse,
@@ -254,6 +255,8 @@ class Analysis:
                     slot = self.resolve(inst.bb, key, loc)
                     if slot is not None:
                         self.node_ops.append((inst, ParamUse(slot, p.name, key, loc)))
+                        if nid == "PersistentSequence":
+                            self.node_ops.append((inst, IndexWriteUse(slot, key, loc)))
                 if builtin and (nid, p.name) in LITERAL_ONLY and bbmod.remapped_key(p.name, p.raw) is not None:
                     self.error(
                         p.loc_or or node.loc,

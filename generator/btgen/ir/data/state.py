@@ -99,6 +99,15 @@ class Slot:
 
 
 @dataclass(frozen=True)
+class IndexWriteUse:
+    """Nav2's PersistentSequence writing its place into the entry `current_child_idx` names."""
+
+    slot: int
+    key: str
+    loc: Loc
+
+
+@dataclass(frozen=True)
 class ParamUse:
     """A count or duration of Repeat, RetryUntilSuccessful, Timeout, Delay, Sleep given as `{key}`."""
 
@@ -183,7 +192,9 @@ class PortAccess:
     scratch: bool = False  # a getter writes a number's text into a member
 
 
-NodeUse = Union[ParamUse, StatusParam, UnsetUse, EntryUse, SetLiteralUse, SetCopyUse, SwitchUse, LoopUse, PortUse]
+NodeUse = Union[
+    IndexWriteUse, ParamUse, StatusParam, UnsetUse, EntryUse, SetLiteralUse, SetCopyUse, SwitchUse, LoopUse, PortUse
+]
 
 
 def ports_of(mission: Mission, model: Node) -> dict[str, Port]:

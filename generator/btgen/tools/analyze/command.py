@@ -4,11 +4,13 @@ exit status."""
 from __future__ import annotations
 
 import json
+import struct
 import sys
+from typing import Optional
 
 from btgen.diagnostics import Diagnostic, UserError, print_diagnostics
 from btgen.ir.kinds import is_queue
-from btgen.ir.lower import Program
+from btgen.ir.lower import IRNode, Program
 from btgen.tools.analyze.checks import analyze_program
 from btgen.tools.analyze.results import ORDER, UNBOUNDED, Finding
 
@@ -57,6 +59,17 @@ def stop_quietly_on_broken_pipe(command, args) -> int:
 
 def _fmt(v: int) -> str:
     return "unbounded" if v == UNBOUNDED else str(v)
+
+
+def rate_limits(program: Program) -> list[tuple[IRNode, Optional[float]]]:
+    """Each Nav2 RateController and its hz (None: read from the blackboard when it starts): once
+    its child has succeeded, the child is ticked again only after 1/hz seconds of the clock
+    (while the child is RUNNING, on every tick)."""
+    out: list[tuple[IRNode, Optional[float]]] = []
+    for n in program.nodes:
+        if n.kind == "RateController":
+            out.append((n, None if n.params[1] else struct.unpack("<d", struct.pack("<q", n.params[0]))[0]))
+    return out
 
 
 def analyze_command(args) -> int:
@@ -115,6 +128,7 @@ def analyze_command(args) -> int:
                     },
                     "root_outcomes": {st: list(c) for st, c in result.outcomes[0].items()},
                     "unreachable_nodes": sum(1 for r in result.reachable if not r),
+                    "rate_limits": [{"uid": n.uid, "name": n.name, "hz": hz} for n, hz in rate_limits(result.program)],
                     "memory": mem,
                 }
             )
@@ -143,6 +157,14 @@ def analyze_command(args) -> int:
         if result.unbounded_by is not None:
             n = result.program.nodes[result.unbounded_by]
             rows.insert(5, ("unbounded because of", f'{n.id} "{n.name}" ({n.loc})'))
+        for n, hz in rate_limits(result.program):
+            how = (
+                "as often a second as its `hz` entry says when the node starts"
+                if hz is None
+                else f"at most {hz:g} times a second (every {1.0 / hz if hz else float('inf'):g} s of the clock"
+                "; ticked on every tick while RUNNING)"
+            )
+            rows.append(("rate limit", f'RateController "{n.name}": its child starts again {how}'))
         width = max(len(r[0]) for r in rows)
         print(f"{path}:")
         for label, text in rows:

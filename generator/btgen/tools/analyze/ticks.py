@@ -27,6 +27,16 @@ from btgen.tools.analyze.results import (
     _put,
 )
 
+_NAV2 = ("PipelineSequence", "RecoveryNode", "RoundRobin", "NonblockingSequence", "RateController", "SingleTrigger")
+
+
+def _max_of(w: Outcomes) -> Cost:
+    c: Cost = ZERO
+    for v in w.values():
+        c = _max(c, v)
+    return c
+
+
 _CHAINS = {
     "Sequence": (F, S),
     "AsyncSequence": (F, S),
@@ -250,6 +260,8 @@ class _Analyzer:
             return _switch(fr), _switch(un)
         if kind in ("Repeat", "RetryUntilSuccessful"):
             return self.decorator(n, fr[0], fr[0], False), self.decorator(n, rs[0], fr[0], True)
+        if kind in _NAV2:
+            return self.nav2(n, fr), self.nav2(n, un)
         if kind not in _DECORATORS:  # a node this analysis does not model: anything, each child once
             total: Cost = ONE
             for w in un:
@@ -448,6 +460,69 @@ class _Analyzer:
             _put(out, R, ONE)
         else:  # SubTree
             through(same)
+        return out
+
+    def nav2(self, n: IRNode, kids: list[Outcomes]) -> Outcomes:
+        """One tick of a Nav2 node (interp/nav2.py): which statuses, and the most work. Each child
+        is ticked at most once, but RecoveryNode's: the first up to number_of_retries + 1 times
+        and the recovery up to number_of_retries times, while they answer at once."""
+        most = [ZERO if not w else _max_of(w) for w in kids]
+        can = [set(w) for w in kids]
+        kind = n.kind
+        out: Outcomes = {}
+        if kind == "RecoveryNode":
+            if self.keyed(n, "number_of_retries"):
+                if self.unbounded_by is None:
+                    self.unbounded_by = n.index
+                u: Cost = (UNBOUNDED, UNBOUNDED, UNBOUNDED)
+                return {st: u for st in ORDER}
+            r = max(n.params[0], 0)
+            cost = ONE
+            for _ in range(r + 1):
+                cost = _add(cost, most[0])
+            for _ in range(r):
+                cost = _add(cost, most[1])
+            statuses = set()
+            if S in can[0]:
+                statuses.add(S)
+            if F in can[0] or F in can[1] or K in can[1]:
+                statuses.add(F)
+            if R in can[0] or R in can[1]:
+                statuses.add(R)
+            if K in can[0]:
+                statuses.add(K)
+            return {st: cost for st in statuses}
+        cost = ONE
+        for c in most:
+            cost = _add(cost, c)
+        if kind == "PipelineSequence":
+            if all(c & {S, K} for c in can):
+                out[S] = cost
+            if all(K in c for c in can):
+                out[K] = cost
+            if any(F in c for c in can):
+                out[F] = cost
+            if any(R in c for c in can):
+                out[R] = cost
+        elif kind == "RoundRobin":
+            for st in (S, F, R):
+                if any(st in c for c in can) or (st == F and any(K in c for c in can)):
+                    out[st] = cost
+            if all(K in c for c in can):
+                out[K] = cost
+        elif kind == "NonblockingSequence":
+            if all(S in c for c in can):
+                out[S] = cost
+            if any(F in c for c in can) or any(K in c for c in can):  # (a SKIPPED child is an error)
+                out[F] = cost
+            if any(R in c for c in can):
+                out[R] = cost
+        elif kind == "RateController":  # a period not over yet: RUNNING without ticking the child
+            out = {st: cost for st in can[0]}
+            _put(out, R, ONE)
+        elif kind == "SingleTrigger":  # its child done, it fails while it stays active
+            out = {st: cost for st in can[0]}
+            _put(out, F, ONE)
         return out
 
     def keyed(self, n: IRNode, port: str) -> bool:
