@@ -63,6 +63,12 @@ def _cmd_explore(args: argparse.Namespace) -> int:
     return stop_quietly_on_broken_pipe(explore_command, args)
 
 
+def _cmd_tests(args: argparse.Namespace) -> int:
+    from btgen.tools.gtests import tests_command
+
+    return tests_command(args)
+
+
 def _cmd_cover(args: argparse.Namespace) -> int:
     from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import cover_command
@@ -206,6 +212,39 @@ def build_parser() -> argparse.ArgumentParser:
     )
     e.add_argument("--json", action="store_true", help="print the report as JSON")
     e.set_defaults(func=_cmd_explore)
+
+    ts = sub.add_parser(
+        "tests", help="write a GoogleTest suite that checks the mission on the real BehaviorTree.CPP, tick by tick"
+    )
+    ts.add_argument("mission", metavar="MISSION.xml")
+    add_mission_options(ts)
+    ts.add_argument("-o", "--output-dir", required=True, metavar="DIR", help="the suite's folder (replaced whole)")
+    ts.add_argument(
+        "--mission-path",
+        metavar="PATH",
+        help="the mission path the suite reads at test time: absolute, or relative to DIR "
+        "(default: MISSION's path relative to DIR)",
+    )
+    ts.add_argument(
+        "--scenarios",
+        nargs="+",
+        metavar="FILE.scenario",
+        help="use these scenario files instead of exploring (default: the covering set `btgen explore` finds)",
+    )
+    ts.add_argument(
+        "--ticks", type=_count, default=8, metavar="N", help="exploration: most root ticks of a run (default 8)"
+    )
+    ts.add_argument(
+        "--depth", type=_count, default=200, metavar="N", help="exploration: most leaf results in a run (default 200)"
+    )
+    ts.add_argument(
+        "--max-states",
+        type=_count,
+        default=200000,
+        metavar="N",
+        help="exploration: stop after N explored states (default 200000)",
+    )
+    ts.set_defaults(func=_cmd_tests)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
     cv.add_argument("mission", metavar="MISSION.xml")
