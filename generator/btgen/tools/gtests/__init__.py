@@ -110,6 +110,12 @@ def _ident(text: str) -> str:
 def name_cases(cases: list[Case]) -> None:
     """Each TEST is named after the first thing it covers that no earlier one did: a halt of a
     RUNNING node, else an outcome (FAILURE, RUNNING, SUCCESS) of the deepest such node."""
+    uids: dict[str, set[str]] = {}
+    for case in cases:
+        for line in case.trace:
+            m = _LINE.match(line)
+            if m:
+                uids.setdefault(m.group(3), set()).add(m.group(1))
     seen: set[tuple] = set()
     for i, case in enumerate(cases, start=1):
         goals: list[tuple[int, tuple, str]] = []
@@ -119,12 +125,14 @@ def name_cases(cases: list[Case]) -> None:
             if not m:
                 continue
             uid, _, quoted, frm, to = m.groups()
-            label = quoted[1:-1]
+            label = f"`{quoted[1:-1]}`"
+            if len(uids[quoted]) > 1:  # a name several nodes share: the UID says which
+                label += f" (UID {uid})"
             if frm == "RUNNING" and to == "IDLE":
-                goals.append((0, ("halt", uid), f"`{label}` halted while RUNNING"))
+                goals.append((0, ("halt", uid), f"{label} halted while RUNNING"))
             if to != "IDLE":
                 rank = {"FAILURE": 1, "RUNNING": 2, "SUCCESS": 3}[to]
-                goals.append((rank, ("out", uid, to), f"`{label}` returns {to}"))
+                goals.append((rank, ("out", uid, to), f"{label} returns {to}"))
             status[uid] = to
         new = []
         for rank, key, words in goals:
