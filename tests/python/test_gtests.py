@@ -228,3 +228,24 @@ def test_suite_passes_on_the_library_and_fails_on_an_edited_mission(capsys, tmp_
     bad = _ctest(out, tmp_path / "build", f"-DBTGEN_MISSION={edited}")
     assert bad.returncode != 0
     assert "tests failed out of 4" in bad.stdout and "S01MoveFailure" in bad.stdout
+
+
+def test_scenario_files(capsys, tmp_path):
+    sc = tmp_path / "halt.scenario"
+    sc.write_text("ticks 3\nleaf BatteryOk SUCCESS FAILURE\nleaf Move RUNNING\n")
+    out = tmp_path / "suite"
+    rc, o, _ = _generate(capsys, GUARD, out, "--scenarios", str(sc))
+    assert rc == 0 and "1 tests" in o
+    cpp = (out / "Guard_tests.cpp").read_text()
+    (test,) = _parse_suite(cpp)
+    assert test["name"] == "S01MoveHaltedRunning"
+    assert '"4 Move \\"Move\\" RUNNING -> IDLE",' in cpp
+    want = trace_text(load_mission(str(GUARD)), parse_scenario_text(sc.read_text(), "<t>"))
+    assert test["expected"] == want.splitlines()
+
+
+def test_scenario_that_does_not_fit(capsys, tmp_path):
+    sc = tmp_path / "bad.scenario"
+    sc.write_text("ticks 2\nleaf BatteryOk RUNNING\n")
+    e = _bad(capsys, tmp_path, GUARD, "--scenarios", str(sc))
+    assert re.match(rf"{re.escape(str(sc))}:2:\d+: error: ", e), e
