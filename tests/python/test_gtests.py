@@ -67,6 +67,7 @@ def test_suite_structure_and_expectations(capsys, tmp_path, mission):
     assert files == sorted([".btgen-tests", "CMakeLists.txt", f"{stem}_tests.cpp", "btgen_gtest_support.hpp"])
     cmake = (out / "CMakeLists.txt").read_text()
     cpp = (out / f"{stem}_tests.cpp").read_text()
+    assert "static const char* const expected[] = {" in cpp
     for needle in ("find_package(behaviortree_cpp REQUIRED)", "find_package(GTest REQUIRED)", "enable_testing()"):
         assert needle in cmake
     tests = _parse_suite(cpp)

@@ -243,7 +243,7 @@ def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case
         out.append("  btgen_tests::Script script;")
         for name, statuses in case.lists:
             out.append(f"  script.lists[{_c_string(name)}] = {{ {', '.join(letter[s] for s in statuses)} }};")
-        out.append("  const std::vector<std::string> expected = {")
+        out.append("  static const char* const expected[] = {")
         for line in case.trace:
             out.append(f"    {_c_string(line)},")
         out.append("  };")

@@ -199,4 +199,11 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
       << (lines.size() > n ? "; first extra: " + lines[n] : std::string())
       << (expected.size() > n ? "; first missing: " + expected[n] : std::string());
 }
+// The expected lines as a static array of C strings (quick to compile, however many there are).
+template <std::size_t N>
+void runAndCheck(const std::vector<Leaf>& leaves, Script script, int ticks,
+                 const char* const (&expected)[N])
+{
+  runAndCheck(leaves, std::move(script), ticks, std::vector<std::string>(expected, expected + N));
+}
 }  // namespace btgen_tests
