@@ -6,10 +6,12 @@
 #
 # PREFIX: a BehaviorTree.CPP install (lib/cmake/behaviortree_cpp); VERSION: 4.6.2 or 4.10.0;
 # SED_EDIT: a sed expression giving the edited mission (default: ReactiveSequence -> Sequence).
+# BTGEN_TESTS_ARGS: more arguments for `btgen tests` (e.g. `--scenarios DIR/*.scenario`).
 set -euo pipefail
 prefix=$1 version=$2 mission=$3 out=$4
 edit=${5:-'s/ReactiveSequence/Sequence/g'}
-python -m btgen tests "$mission" --btcpp "$version" -o "$out"
+# shellcheck disable=SC2086 # BTGEN_TESTS_ARGS is a list of words
+python -m btgen tests "$mission" --btcpp "$version" -o "$out" ${BTGEN_TESTS_ARGS:-}
 cmake -S "$out" -B "$out/build" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$out/build" -j1 >/dev/null
 echo "== $mission on $prefix (btgen --btcpp $version)"
