@@ -250,3 +250,22 @@ def test_scenario_that_does_not_fit(capsys, tmp_path):
     sc.write_text("ticks 2\nleaf BatteryOk RUNNING\n")
     e = _bad(capsys, tmp_path, GUARD, "--scenarios", str(sc))
     assert re.match(rf"{re.escape(str(sc))}:2:\d+: error: ", e), e
+
+
+def test_models_file(capsys, tmp_path):
+    """Leaves declared in a --models file: registered with the same kinds and ports."""
+    text = GUARD.read_text()
+    head, rest = text.split("  <TreeNodesModel>")
+    models, tail = rest.split("</TreeNodesModel>")
+    mission = tmp_path / "Bare.xml"
+    mission.write_text(head + tail)
+    model_file = tmp_path / "models.xml"
+    model_file.write_text(f'<root BTCPP_format="4">\n  <TreeNodesModel>{models}</TreeNodesModel>\n</root>\n')
+    e = _bad(capsys, tmp_path, mission)
+    assert "unknown node `BatteryOk`" in e
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out, "--models", str(model_file))[0] == 0
+    cpp = (out / "Bare_tests.cpp").read_text()
+    assert '{ "BatteryOk", true, {} },' in cpp
+    assert '{ "Move", false, { { PortDirection::INPUT, "goal" } } },' in cpp
+    assert '{ "Recover", false, {} },' in cpp
