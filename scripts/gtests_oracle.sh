@@ -22,7 +22,8 @@ if cmp -s "$mission" "$edited"; then
   echo "the edit '$edit' changes nothing in $mission" >&2
   exit 1
 fi
-cmake -S "$out" -B "$out/build" -DBTGEN_MISSION="$PWD/$edited" >/dev/null
+edited=$(cd "$(dirname "$edited")" && pwd)/$(basename "$edited")
+cmake -S "$out" -B "$out/build" -DBTGEN_MISSION="$edited" >/dev/null
 cmake --build "$out/build" -j1 >/dev/null
 echo "== edited ($edit)"
 ctest --test-dir "$out/build" | grep "tests passed" || true

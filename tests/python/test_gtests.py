@@ -28,19 +28,26 @@ PICK = ROOT / "missions" / "PickPlaceBall.xml"
 _STATUS = {"S": "SUCCESS", "F": "FAILURE", "R": "RUNNING"}
 
 
+def _unescape(literal: str) -> str:
+    """The text of a C string literal's body (the escapes `btgen tests` writes)."""
+    simple = {"n": "\n", "t": "\t", "r": "\r", '"': '"', "\\": "\\", "?": "?"}
+    return re.sub(
+        r"\\(x[0-9A-Fa-f]{2}|.)",
+        lambda m: chr(int(m.group(1)[1:], 16)) if len(m.group(1)) == 3 else simple[m.group(1)],
+        literal,
+    )
+
+
 def _parse_suite(cpp: str) -> list[dict]:
     """Each TEST: its name, its scenario (from the code) and its expected lines."""
     tests = []
     for m in re.finditer(r"TEST\((\w+), (\w+)\)\n\{\n(.*?)\n\}\n", cpp, re.S):
         body = m.group(3)
         lists = [
-            (name, [_STATUS[s.strip()] for s in sts.split(",")])
-            for name, sts in re.findall(r'script\.lists\["([^"]+)"\] = \{ ([SFR, ]+) \};', body)
+            (_unescape(name), [_STATUS[s.strip()] for s in sts.split(",")])
+            for name, sts in re.findall(r'script\.lists\["((?:[^"\\]|\\.)*)"\] = \{ ([SFR, ]+) \};', body)
         ]
-        expected = [
-            bytes(s, "utf-8").decode("unicode_escape").replace("\\?", "?")
-            for s in re.findall(r'^    "((?:[^"\\]|\\.)*)",$', body, re.M)
-        ]
+        expected = [_unescape(s) for s in re.findall(r'^    "((?:[^"\\]|\\.)*)",$', body, re.M)]
         ticks = int(re.search(r"runAndCheck\(leaves\(\), script, (\d+), expected\)", body).group(1))
         tests.append({"suite": m.group(1), "name": m.group(2), "lists": lists, "expected": expected, "ticks": ticks})
     return tests
@@ -236,7 +243,7 @@ def test_scenario_files(capsys, tmp_path):
     sc.write_text("ticks 3\nleaf BatteryOk SUCCESS FAILURE\nleaf Move RUNNING\n")
     out = tmp_path / "suite"
     rc, o, _ = _generate(capsys, GUARD, out, "--scenarios", str(sc))
-    assert rc == 0 and "1 tests" in o
+    assert rc == 0 and ": 1 test, 4 files" in o
     cpp = (out / "Guard_tests.cpp").read_text()
     (test,) = _parse_suite(cpp)
     assert test["name"] == "S01MoveHaltedRunning"
@@ -269,3 +276,26 @@ def test_models_file(capsys, tmp_path):
     assert '{ "BatteryOk", true, {} },' in cpp
     assert '{ "Move", false, { { PortDirection::INPUT, "goal" } } },' in cpp
     assert '{ "Recover", false, {} },' in cpp
+
+
+def test_hostile_names(capsys, tmp_path):
+    """Names with quotes, backslashes and `?` reach C++ as escaped literals; a file name that
+    starts with a digit still gives identifiers."""
+    mission = tmp_path / "1st try.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M">\n'
+        '  <BehaviorTree ID="M">\n'
+        '    <Sequence name="say &quot;hi&quot; \\ ??/">\n'
+        '      <Act name="a\\b"/>\n      <Act name="q&quot;"/>\n'
+        "    </Sequence>\n  </BehaviorTree>\n"
+        '  <TreeNodesModel><Action ID="Act"/></TreeNodesModel>\n</root>\n'
+    )
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out)[0] == 0
+    cpp = (out / "M1stTry_tests.cpp").read_text()
+    assert "TEST(M1stTry, S01" in cpp
+    assert '"1 Sequence \\"say \\\\\\"hi\\\\\\" \\\\\\\\ \\?\\?/\\" IDLE -> RUNNING",' in cpp
+    m = load_mission(str(mission))
+    for t in _parse_suite(cpp):
+        assert t["expected"] == trace_text(m, parse_scenario_text(_scenario(t), "<t>")).splitlines()
+    assert "add_executable(M1stTry_tests M1stTry_tests.cpp)" in (out / "CMakeLists.txt").read_text()

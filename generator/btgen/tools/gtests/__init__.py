@@ -389,6 +389,8 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     cases = collect_cases(mission, texts)
     stem = os.path.splitext(os.path.basename(args.mission))[0]
     suite = _ident(stem)
+    if suite[0].isdigit():
+        suite = "M" + suite  # an identifier
     with open(os.path.join(os.path.dirname(__file__), "support.hpp"), encoding="utf-8") as f:
         support = f.read()
     files = {
@@ -405,5 +407,6 @@ def tests_command(args) -> int:
     write_suite(args.output_dir, files)
     size = sum(len(t.encode("utf-8")) for t in files.values())
     lines = sum(t.count("\n") for t in files.values())
-    print(f"{args.output_dir}: {len(cases)} tests, {len(files)} files, {lines} lines, {size} bytes")
+    tests = "1 test" if len(cases) == 1 else f"{len(cases)} tests"
+    print(f"{args.output_dir}: {tests}, {len(files)} files, {lines} lines, {size} bytes")
     return 0
