@@ -74,6 +74,12 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     return stop_quietly_on_broken_pipe(verify_command, args)
 
 
+def _cmd_tests(args: argparse.Namespace) -> int:
+    from btgen.tools.gtests import tests_command
+
+    return tests_command(args)
+
+
 def _cmd_cover(args: argparse.Namespace) -> int:
     from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import cover_command
@@ -308,6 +314,32 @@ def build_parser() -> argparse.ArgumentParser:
         help="most root ticks of a run; when runs reach it the answer holds up to K ticks (default 10)",
     )
     df.add_argument(
+
+    ts = sub.add_parser(
+        "tests", help="write a GoogleTest suite that checks the mission on the real BehaviorTree.CPP, tick by tick"
+    )
+    ts.add_argument("mission", metavar="MISSION.xml")
+    add_mission_options(ts)
+    ts.add_argument("-o", "--output-dir", required=True, metavar="DIR", help="the suite's folder (replaced whole)")
+    ts.add_argument(
+        "--mission-path",
+        metavar="PATH",
+        help="the mission path the suite reads at test time: absolute, or relative to DIR "
+        "(default: MISSION's path relative to DIR)",
+    )
+    ts.add_argument(
+        "--scenarios",
+        nargs="+",
+        metavar="FILE.scenario",
+        help="use these scenario files instead of exploring (default: the covering set `btgen explore` finds)",
+    )
+    ts.add_argument(
+        "--ticks", type=_count, default=8, metavar="N", help="exploration: most root ticks of a run (default 8)"
+    )
+    ts.add_argument(
+        "--depth", type=_count, default=200, metavar="N", help="exploration: most leaf results in a run (default 200)"
+    )
+    ts.add_argument(
         "--max-states",
         type=_count,
         default=200000,
@@ -322,6 +354,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="the report: text (default), markdown (a pull-request comment) or json",
     )
     df.set_defaults(func=_cmd_diff)
+
+        help="exploration: stop after N explored states (default 200000)",
+    )
+    ts.set_defaults(func=_cmd_tests)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
     cv.add_argument("mission", metavar="MISSION.xml", help="the mission the runs ran")

@@ -1,0 +1,412 @@
+"""`btgen tests MISSION -o DIR`: a GoogleTest suite for the real BehaviorTree.CPP.
+
+The scenarios are the covering set `btgen explore` finds (every node ticked, every possible
+outcome; the same search and bounds), or scenario files given with --scenarios. For each one
+the suite holds one TEST that, at test time, reads the mission file from its path unchanged,
+registers a scripted leaf (support.hpp) for every user Action and Condition the mission uses,
+ticks the tree with `Tree::tickExactlyOnce()` and compares every status change, seen through
+the library's StatusChangeLogger, and the root's results with the trace btgen's interpreter
+gives for the scenario (embedded as expected data). Tick-exact: no timers, threads or sleeps,
+so a mission with Sleep, Delay or Timeout is refused.
+
+DIR receives CMakeLists.txt (find_package(behaviortree_cpp), GTest, one ctest entry per
+TEST), `<stem>_tests.cpp`, `btgen_gtest_support.hpp` and `.btgen-tests` (the marker that lets
+a later run replace the folder). Everything is written to a temporary folder beside DIR and
+renamed into place: DIR is whole or unchanged.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass
+from typing import Optional
+
+from btgen import cmdline
+from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.lang.leaves import is_scripted_leaf, leaf_kind
+from btgen.lang.model import Mission, Node, SubTreeNode
+
+MARKER = ".btgen-tests"
+SUPPORT = "btgen_gtest_support.hpp"
+_TIMERS = ("Sleep", "Delay", "Timeout")
+_LINE = re.compile(r"([0-9]+) (\S+) (\".*\") (IDLE|RUNNING|SUCCESS|FAILURE) -> (IDLE|RUNNING|SUCCESS|FAILURE)\Z")
+_DIRS = {"input": "INPUT", "output": "OUTPUT", "inout": "INOUT"}
+
+
+@dataclass
+class Case:
+    name: str  # the TEST's name
+    covers: list[str]  # what it covers first, in words
+    ticks: int
+    lists: list[tuple[str, list[str]]]  # leaf name -> statuses, in first-call order
+    trace: list[str]  # the expected lines: tick N, status changes, result S
+
+
+@dataclass
+class LeafDecl:
+    id: str
+    condition: bool
+    ports: list[tuple[str, str]]  # (INPUT|OUTPUT|INOUT, name)
+
+
+# ---------------------------------------------------------------- the mission's leaves
+def _walk(mission: Mission) -> list[Node]:
+    trees = {t.id: t for t in mission.trees}
+    out: list[Node] = []
+    seen: set[str] = set()
+
+    def visit(node: Node) -> None:
+        out.append(node)
+        if isinstance(node, SubTreeNode):
+            if node.target not in seen and node.target in trees:
+                seen.add(node.target)
+                visit(trees[node.target].root)
+            return
+        for c in node.children:
+            visit(c)
+
+    seen.add(mission.main_tree)
+    visit(trees[mission.main_tree].root)
+    return out
+
+
+def mission_leaves(mission: Mission) -> list[LeafDecl]:
+    """The user Actions and Conditions the main tree uses (SubTrees followed), by ID, with the
+    ports the models declare (as the oracle harness registers them: by name, any type)."""
+    found: dict[str, LeafDecl] = {}
+    for node in _walk(mission):
+        if node.id in _TIMERS and node.id in mission.builtins:
+            raise UserError(
+                Diagnostic(
+                    node.loc,
+                    f"`{node.id}` waits on the wall clock: a tick-exact suite cannot run it "
+                    "(BehaviorTree.CPP takes no test clock)",
+                )
+            )
+        if not is_scripted_leaf(mission, node) or node.id in found:
+            continue
+        try:
+            spec = mission.spec(node.id)
+        except KeyError:
+            raise UserError(
+                Diagnostic(node.loc, f"`{node.id}` has no model: declare it in <TreeNodesModel> or pass --models")
+            ) from None
+        ports = [(_DIRS[p.direction], p.name) for p in spec.ports]
+        found[node.id] = LeafDecl(node.id, leaf_kind(mission, node) == "Condition", ports)
+    return [found[k] for k in sorted(found)]
+
+
+# ---------------------------------------------------------------- scenarios and names
+def _ident(text: str) -> str:
+    words = re.findall(r"[A-Za-z0-9]+", text)
+    out = "".join(w[:1].upper() + w[1:] for w in words)
+    return out or "Node"
+
+
+def name_cases(cases: list[Case]) -> None:
+    """Each TEST is named after the first thing it covers that no earlier one did: a halt of a
+    RUNNING node, else an outcome (FAILURE, RUNNING, SUCCESS) of the deepest such node."""
+    uids: dict[str, set[str]] = {}
+    for case in cases:
+        for line in case.trace:
+            m = _LINE.match(line)
+            if m:
+                uids.setdefault(m.group(3), set()).add(m.group(1))
+    seen: set[tuple] = set()
+    for i, case in enumerate(cases, start=1):
+        goals: list[tuple[int, tuple, str]] = []
+        status: dict[str, str] = {}
+        for line in case.trace:
+            m = _LINE.match(line)
+            if not m:
+                continue
+            uid, _, quoted, frm, to = m.groups()
+            label = f"`{quoted[1:-1]}`"
+            if len(uids[quoted]) > 1:  # a name several nodes share: the UID says which
+                label += f" (UID {uid})"
+            if frm == "RUNNING" and to == "IDLE":
+                goals.append((0, ("halt", uid), f"{label} halted while RUNNING"))
+            if to != "IDLE":
+                rank = {"FAILURE": 1, "RUNNING": 2, "SUCCESS": 3}[to]
+                goals.append((rank, ("out", uid, to), f"{label} returns {to}"))
+            status[uid] = to
+        new = []
+        for rank, key, words in goals:
+            if key not in seen:
+                seen.add(key)
+                new.append((rank, -int(key[1]), words))
+        new.sort(key=lambda g: (g[0], g[1]))
+        case.covers = [w for _, _, w in new]
+        head = new[0][2] if new else "the same as before, another path"
+        words = head.replace(" returns ", " ").replace(" while ", " ")
+        for st in ("SUCCESS", "FAILURE", "RUNNING"):
+            words = words.replace(st, st.capitalize())
+        case.name = f"S{i:02d}" + _ident(words)
+
+
+def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> list[Case]:
+    from btgen.interp.engine import trace_text
+    from btgen.interp.scenario import parse_scenario_text
+
+    cases: list[Case] = []
+    for path, text in scenario_texts:
+        sc = parse_scenario_text(text, path)
+        if sc.clock_ms:
+            raise UserError(Diagnostic(Loc(path, 1, 1), "clock_ms: a tick-exact suite has no clock"))
+        if sc.default != "SUCCESS":
+            where = sc.default_loc or Loc(path, 1, 1)
+            raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
+        trace = trace_text(mission, sc).splitlines()
+        lists = [(s.name, list(s.statuses)) for s in sc.leaves]
+        cases.append(Case("", [], sc.ticks, lists, trace))
+    name_cases(cases)
+    return cases
+
+
+def explored_scenarios(mission: Mission, args) -> list[tuple[str, str]]:
+    from btgen.tools.explore import Explorer, _possible, scenario_text
+
+    ex = Explorer(mission, args.ticks, args.depth, 0, args.max_states, (), _possible(mission, args), True)
+    result = ex.explore()
+    if result.truncated:
+        print(
+            f"{args.mission}: warning: exploration stopped at --max-states {args.max_states}: the suite "
+            "covers what was reached",
+            file=sys.stderr,
+        )
+    return [(f"<scenario {i}>", scenario_text(p, 0)) for i, p in enumerate(result.paths, start=1)]
+
+
+# ---------------------------------------------------------------- rendering
+def _c_string(text: str) -> str:
+    out = []
+    for ch in text:
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ch == "\n":
+            out.append("\\n")
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f'\\x{ord(ch):02X}""')
+        elif ch == "?":
+            out.append("\\?")  # no trigraphs
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
+def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str) -> str:
+    out = [
+        f"// Written by `btgen tests` for BehaviorTree.CPP {version}: {len(cases)} scenarios of {stem}.",
+        "// Each TEST reads the mission file (BTGEN_MISSION, set by CMakeLists.txt), scripts every",
+        "// user leaf, ticks the tree with tickExactlyOnce() and checks every status change and the",
+        "// root's results against the trace btgen's interpreter gives for the same scenario.",
+        "// Regenerate with `btgen tests`; do not edit.",
+        f'#include "{SUPPORT}"',
+        "",
+        "namespace",
+        "{",
+        "using btgen_tests::Leaf;",
+        "using BT::NodeStatus;",
+        "using BT::PortDirection;",
+        "constexpr NodeStatus S = NodeStatus::SUCCESS;",
+        "constexpr NodeStatus F = NodeStatus::FAILURE;",
+        "constexpr NodeStatus R = NodeStatus::RUNNING;",
+        "",
+        "// The user leaves the mission uses: registered as scripted Actions and Conditions.",
+        "const std::vector<Leaf>& leaves()",
+        "{",
+        "  static const std::vector<Leaf> all = {",
+    ]
+    for leaf in leaves:
+        ports = ", ".join(f"{{ PortDirection::{d}, {_c_string(n)} }}" for d, n in leaf.ports)
+        cond = "true" if leaf.condition else "false"
+        port_list = f"{{ {ports} }}" if ports else "{}"
+        out.append(f"    {{ {_c_string(leaf.id)}, {cond}, {port_list} }},")
+    out += ["  };", "  return all;", "}", "}  // namespace", ""]
+    letter = {"SUCCESS": "S", "FAILURE": "F", "RUNNING": "R"}
+    for k, case in enumerate(cases, start=1):
+        out.append(f"// Scenario {k} of {len(cases)}. Covers first: " + ("; ".join(case.covers[:3]) or "-"))
+        if len(case.covers) > 3:
+            out.append(f"// ... and {len(case.covers) - 3} more outcomes or halts no earlier scenario shows.")
+        width = max([4] + [len(n) for n, _ in case.lists])
+        out.append(f"//   ticks at most {case.ticks}")
+        out.append(f"//   {'leaf'.ljust(width)} | results, call by call (the last repeats; unlisted: SUCCESS)")
+        out.append(f"//   {'-' * width}-+-{'-' * 40}")
+        for name, statuses in case.lists:
+            out.append(f"//   {name.ljust(width)} | {' '.join(statuses)}")
+        out.append(f"TEST({suite}, {case.name})")
+        out.append("{")
+        out.append("  btgen_tests::Script script;")
+        for name, statuses in case.lists:
+            out.append(f"  script.lists[{_c_string(name)}] = {{ {', '.join(letter[s] for s in statuses)} }};")
+        out.append("  static const char* const expected[] = {")
+        for line in case.trace:
+            out.append(f"    {_c_string(line)},")
+        out.append("  };")
+        out.append(f"  btgen_tests::runAndCheck(leaves(), script, {case.ticks}, expected);")
+        out.append("}")
+        out.append("")
+    return "\n".join(out)
+
+
+def _cmake_string(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("$", "\\$").replace(";", "\\;") + '"'
+
+
+def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[str], cases: list[Case]) -> str:
+    target = f"{suite}_tests"
+    lines = [
+        "# Written by `btgen tests`: the GoogleTest suite of " + stem + " for BehaviorTree.CPP.",
+        "#   cmake -S . -B build -DCMAKE_PREFIX_PATH=<BehaviorTree.CPP prefix> && cmake --build build",
+        "#   ctest --test-dir build",
+        "cmake_minimum_required(VERSION 3.16)",
+        f"project({target} CXX)",
+        "set(CMAKE_CXX_STANDARD 17)",
+        "set(CMAKE_CXX_STANDARD_REQUIRED ON)",
+        "find_package(behaviortree_cpp REQUIRED)",
+        "find_package(GTest REQUIRED)",
+        "enable_testing()",
+        "",
+        "# The mission the tests read at run time: absolute, or relative to this folder.",
+        f"set(BTGEN_MISSION {_cmake_string(mission_ref)} CACHE STRING "
+        '"the mission file the tests read (absolute, or relative to this folder)")',
+        'get_filename_component(BTGEN_MISSION_PATH "${BTGEN_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
+        "",
+        f"add_executable({target} {suite}_tests.cpp)",
+        f"target_link_libraries({target} PRIVATE BT::behaviortree_cpp GTest::gtest GTest::gtest_main)",
+        f'target_compile_definitions({target} PRIVATE "BTGEN_MISSION=\\"${{BTGEN_MISSION_PATH}}\\""',
+    ]
+    if main_tree is not None:
+        lines.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
+    lines.append(")")
+    lines.append("")
+    for case in cases:
+        lines.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------- the command
+def _inside(path: str, folder: str) -> bool:
+    path, folder = os.path.realpath(path), os.path.realpath(folder)
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
+
+
+def _check_paths(args, mission: Mission) -> None:
+    out = args.output_dir
+    inputs = list(mission.files) + list(args.models) + list(args.scenarios or [])
+    for f in inputs:
+        if _inside(f, out):
+            raise cmdline.error(
+                args, "-o", f"-o {out}: the folder holds an input ({f}); it would be replaced: choose another folder"
+            )
+    if os.path.lexists(out):
+        if not os.path.isdir(out) or os.path.islink(out):
+            raise cmdline.error(args, "-o", f"-o {out}: exists and is not a folder")
+        if os.listdir(out) and not os.path.isfile(os.path.join(out, MARKER)):
+            raise cmdline.error(
+                args, "-o", f"-o {out}: a folder `btgen tests` did not write (no {MARKER}): refusing to replace it"
+            )
+
+
+def _mission_ref(args) -> str:
+    out = os.path.abspath(args.output_dir)
+    ref = args.mission_path
+    if ref is None:
+        ref = os.path.relpath(os.path.abspath(args.mission), out)
+    else:
+        resolved = ref if os.path.isabs(ref) else os.path.join(out, ref)
+        if not (os.path.isfile(resolved) and os.path.samefile(resolved, args.mission)):
+            raise cmdline.error(
+                args, "--mission-path", f"--mission-path {ref}: does not name {args.mission} from {args.output_dir}"
+            )
+    if any(ord(c) < 0x20 or c in '"\\$;' for c in ref):
+        raise cmdline.error(args, "--mission-path", f"the mission path {ref!r} has characters CMake cannot carry")
+    return ref
+
+
+def write_suite(out: str, files: dict[str, str]) -> None:
+    """DIR whole or unchanged: written beside it, then renamed into place."""
+    parent = os.path.dirname(os.path.abspath(out))
+    try:
+        os.makedirs(parent, exist_ok=True)
+        tmp = tempfile.mkdtemp(dir=parent, prefix=".btgen-tests-")
+    except OSError as e:
+        raise UserError(Diagnostic(Loc(out, 1, 1), f"cannot create the output folder: {e.strerror or e}")) from None
+    old = None
+    try:
+        for name, text in files.items():
+            with open(os.path.join(tmp, name), "w", encoding="utf-8", newline="\n") as f:
+                f.write(text)
+        os.chmod(tmp, 0o777 & ~_umask())
+        if os.path.exists(out):
+            old = tempfile.mkdtemp(dir=parent, prefix=".btgen-tests-old-")
+            os.rename(out, os.path.join(old, "suite"))
+        os.rename(tmp, out)
+    except OSError as e:
+        if old is not None and not os.path.exists(out):
+            os.rename(os.path.join(old, "suite"), out)
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise UserError(Diagnostic(Loc(out, 1, 1), f"cannot write the suite: {e.strerror or e}")) from None
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+def _umask() -> int:
+    m = os.umask(0)
+    os.umask(m)
+    return m
+
+
+def build_suite(args) -> tuple[dict[str, str], list[Case]]:
+    from btgen import pipeline
+    from btgen.interp.scenario import _read_text, load_scenario
+
+    opts = pipeline.options_from_args(args)
+    for flag, value in (("--trees", opts.trees), ("--entry", opts.entries), ("--type", opts.types)):
+        if value:
+            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet (the suite reads one file)")
+    if opts.enum_decls or opts.enum_files:
+        flag = "--enum" if opts.enum_decls else "--enums"
+        raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet")
+    mission = pipeline.load(args.mission, opts)
+    print_diagnostics(mission.warnings)
+    leaves = mission_leaves(mission)
+    _check_paths(args, mission)
+    ref = _mission_ref(args)
+    if args.scenarios:
+        texts = []
+        for p in args.scenarios:
+            _, warnings = load_scenario(p, mission)  # raises on errors
+            print_diagnostics(warnings)
+            texts.append((p, _read_text(p)))
+    else:
+        texts = explored_scenarios(mission, args)
+    cases = collect_cases(mission, texts)
+    stem = os.path.splitext(os.path.basename(args.mission))[0]
+    suite = _ident(stem)
+    if suite[0].isdigit():
+        suite = "M" + suite  # an identifier
+    with open(os.path.join(os.path.dirname(__file__), "support.hpp"), encoding="utf-8") as f:
+        support = f.read()
+    files = {
+        "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp),
+        SUPPORT: support,
+        MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
+    }
+    return files, cases
+
+
+def tests_command(args) -> int:
+    files, cases = build_suite(args)
+    write_suite(args.output_dir, files)
+    size = sum(len(t.encode("utf-8")) for t in files.values())
+    lines = sum(t.count("\n") for t in files.values())
+    tests = "1 test" if len(cases) == 1 else f"{len(cases)} tests"
+    print(f"{args.output_dir}: {tests}, {len(files)} files, {lines} lines, {size} bytes")
+    return 0
