@@ -314,6 +314,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="most root ticks of a run; when runs reach it the answer holds up to K ticks (default 10)",
     )
     df.add_argument(
+        "--max-states",
+        type=_count,
+        default=200000,
+        metavar="N",
+        help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
+    )
+    df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
+    df.add_argument(
+        "--format",
+        choices=("text", "markdown", "json"),
+        default="text",
+        help="the report: text (default), markdown (a pull-request comment) or json",
+    )
+    df.set_defaults(func=_cmd_diff)
 
     ts = sub.add_parser(
         "tests", help="write a GoogleTest suite that checks the mission on the real BehaviorTree.CPP, tick by tick"
@@ -344,17 +358,6 @@ def build_parser() -> argparse.ArgumentParser:
         type=_count,
         default=200000,
         metavar="N",
-        help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
-    )
-    df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
-    df.add_argument(
-        "--format",
-        choices=("text", "markdown", "json"),
-        default="text",
-        help="the report: text (default), markdown (a pull-request comment) or json",
-    )
-    df.set_defaults(func=_cmd_diff)
-
         help="exploration: stop after N explored states (default 200000)",
     )
     ts.set_defaults(func=_cmd_tests)
