@@ -38,9 +38,9 @@ from btgen.lang.catalogue import (
     SPECIAL_ATTRIBUTES,
     NodeSpec,
     PortSpec,
-    builtins_for,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
+from btgen.lang.nav2 import builtins_for
 from btgen.lang.versions import DEFAULT_VERSION, semantics
 
 MAX_INCLUDE_DEPTH = 32

@@ -27,9 +27,8 @@ from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
 from btgen.lang import values
-from btgen.lang.catalogue import builtins_for
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode
-from btgen.lang.nav2 import round_robin_wraps_always
+from btgen.lang.nav2 import builtins_for, round_robin_wraps_always
 
 # Built-in node ID -> NodeKind enumerator of runtime/include/btgen/node.hpp,
 # with the number of counter slots and timer slots its state needs.

@@ -313,17 +313,7 @@ def _builtins_410() -> dict[str, NodeSpec]:
 _BUILTINS_BY_VERSION = {"4.6.2": BUILTINS, "4.10.0": _builtins_410()}
 
 
-_WITH_NAV2: dict[tuple[str, str], dict[str, NodeSpec]] = {}
-
-
-def builtins_for(version: str, nav2: Optional[str] = None) -> dict[str, NodeSpec]:
-    """The built-in nodes a version registers (BUILTINS is 4.6.2's), with Nav2's families of
-    distro `nav2` (lang/nav2.py) when a mission selects them."""
-    if nav2 is None:
-        return _BUILTINS_BY_VERSION[version]
-    key = (version, nav2)
-    if key not in _WITH_NAV2:
-        from btgen.lang.nav2 import families  # (nav2.py builds its specs with this module)
-
-        _WITH_NAV2[key] = {**_BUILTINS_BY_VERSION[version], **families(nav2)}
-    return _WITH_NAV2[key]
+def builtins_for(version: str) -> dict[str, NodeSpec]:
+    """The built-in nodes a version registers (BUILTINS is 4.6.2's); with Nav2's families of a
+    distro: `lang.nav2.builtins_for`."""
+    return _BUILTINS_BY_VERSION[version]

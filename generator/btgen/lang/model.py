@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 from btgen.diagnostics import Diagnostic, Loc
-from btgen.lang.catalogue import NodeSpec, builtins_for
+from btgen.lang.catalogue import NodeSpec
+from btgen.lang.nav2 import builtins_for
 from btgen.lang.versions import DEFAULT_VERSION, Semantics, semantics
 
 

@@ -22,6 +22,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Optional
 
+from btgen.lang import catalogue
 from btgen.lang.catalogue import NodeSpec, PortSpec
 
 DISTROS = ("jazzy", "kilted", "lyrical")  # oldest first
@@ -200,3 +201,17 @@ def detect(models: Iterable[NodeSpec]) -> Optional[str]:
     if "IsStopped" in by_id:
         return "kilted"
     return "jazzy"
+
+
+_WITH_NAV2: dict[tuple[str, str], dict[str, NodeSpec]] = {}
+
+
+def builtins_for(version: str, nav2: Optional[str] = None) -> dict[str, NodeSpec]:
+    """The built-in nodes a version registers (lang/catalogue.py), with Nav2's families of
+    distro `nav2` when a mission selects them."""
+    if nav2 is None:
+        return catalogue.builtins_for(version)
+    key = (version, nav2)
+    if key not in _WITH_NAV2:
+        _WITH_NAV2[key] = {**catalogue.builtins_for(version), **families(nav2)}
+    return _WITH_NAV2[key]

@@ -92,6 +92,8 @@ def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bo
 
 
 def cover_command(args) -> int:
+    from btgen.tools.explore import coverage_lines
+
     from btgen import pipeline
 
     mission = pipeline.load(args.mission, pipeline.options_from_args(args))
@@ -167,20 +169,6 @@ def cover_command(args) -> int:
         )
         return 1
     return 0
-
-
-def coverage_lines(node_hits: int, node_goals: int, out_hits: int, out_goals: int) -> list[str]:
-    """The two coverage lines `cover` and `explore` print, in one vocabulary: nodes ticked, and
-    outcomes (each status a node can return, as `btgen analyze` finds, seen at least once)."""
-
-    def pct(hit: int, goal: int) -> str:
-        return f"{100.0 * hit / goal if goal else 100.0:.1f}%"
-
-    return [
-        f"nodes:    {node_hits}/{node_goals} = {pct(node_hits, node_goals)} ticked",
-        f"outcomes: {out_hits}/{out_goals} = {pct(out_hits, out_goals)} (each SUCCESS, FAILURE, RUNNING a node "
-        "can return, seen)",
-    ]
 
 
 def _write_graph(output: str, text: str, inputs: tuple[str, ...]) -> int:

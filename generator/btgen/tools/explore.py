@@ -680,6 +680,20 @@ def scenario_text(path: Path, clock_ms: int, comment: str = "", where: Optional[
     return format_scenario(path.ticks, list(per.items()), clock_ms, comment, where)
 
 
+def coverage_lines(node_hits: int, node_goals: int, out_hits: int, out_goals: int) -> list[str]:
+    """The two coverage lines `cover` and `explore` print, in one vocabulary: nodes ticked, and
+    outcomes (each status a node can return, as `btgen analyze` finds, seen at least once)."""
+
+    def pct(hit: int, goal: int) -> str:
+        return f"{100.0 * hit / goal if goal else 100.0:.1f}%"
+
+    return [
+        f"nodes:    {node_hits}/{node_goals} = {pct(node_hits, node_goals)} ticked",
+        f"outcomes: {out_hits}/{out_goals} = {pct(out_hits, out_goals)} (each SUCCESS, FAILURE, RUNNING a node "
+        "can return, seen)",
+    ]
+
+
 def sync_actions(mission: Mission, args) -> frozenset[str]:
     """The IDs of `--sync`: user Actions implemented synchronously (a `tick()` hook, like
     BehaviorTree.CPP's SyncActionNode), which never return RUNNING; each must be one."""
@@ -893,8 +907,6 @@ def explore_command(args) -> int:
         json.dump(report, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return status
-    from btgen.tools.cover import coverage_lines
-
     print(f"{args.mission}:")
     rate = report["states_per_second"]
     print(f"  runs {result.runs}, states {result.states}, {result.seconds:.2f} s ({rate} states/s)")
