@@ -92,9 +92,8 @@ def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bo
 
 
 def cover_command(args) -> int:
-    from btgen.tools.explore import coverage_lines
-
     from btgen import pipeline
+    from btgen.tools.explore import coverage_lines
 
     mission = pipeline.load(args.mission, pipeline.options_from_args(args))
     nodes, clusters = g.walk(mission)
