@@ -49,9 +49,9 @@ def test_include_hint_never_names_a_mission(tmp_path, capsys):
 
 def test_subtree_dotted_remap_loads_on_both_releases(tmp_path, capsys):
     (tmp_path / "m.xml").write_text(DOTTED)
-    assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 0
+    assert main(["validate", str(tmp_path / "m.xml")]) == 0
     assert capsys.readouterr().err == ""
-    assert main(["validate", "-q", "--btcpp", "4.10.0", str(tmp_path / "m.xml")]) == 0
+    assert main(["validate", "--btcpp", "4.10.0", str(tmp_path / "m.xml")]) == 0
     err = capsys.readouterr().err
     assert "m.xml:3:23: warning: attribute `target.room` on `Sub` is ignored: BehaviorTree.CPP 4.10.0" in err
 
@@ -67,10 +67,10 @@ def test_include_ros_pkg_in_validate(tmp_path, capsys, monkeypatch):
     )
     monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "nothing"))
-    assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 1
+    assert main(["validate", str(tmp_path / "m.xml")]) == 1
     assert "package `trees_pkg` not found (looked in AMENT_PREFIX_PATH" in capsys.readouterr().err
     monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "install" / "share"))
-    assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 0
+    assert main(["validate", str(tmp_path / "m.xml")]) == 0
 
 
 def test_a_node_declared_differently_in_two_files_loads(tmp_path, capsys):
@@ -86,7 +86,7 @@ def test_a_node_declared_differently_in_two_files_loads(tmp_path, capsys):
         '  <BehaviorTree ID="Main">\n    <Say text="hi" done="{d}"/>\n  </BehaviorTree>\n'
         '  <TreeNodesModel>\n    <Action ID="Say"><input_port name="text"/></Action>\n  </TreeNodesModel>\n</root>\n'
     )
-    assert main(["validate", "-q", str(tmp_path / "m.xml")]) == 0
+    assert main(["validate", str(tmp_path / "m.xml")]) == 0
     err = capsys.readouterr().err
     assert "m.xml:7:17: warning: `Say` is declared twice in TreeNodesModel and the declarations differ" in err
     assert main(["check", str(tmp_path)]) == 0
@@ -114,12 +114,12 @@ def test_subtree_model_port_starting_with_a_digit(tmp_path, capsys):
     can give (refused, unless `_autoremap`), with one the mission loads. 4.10.0 refuses the name."""
     m = tmp_path / "m.xml"
     m.write_text(SUB_MODEL.replace("AUTO", "").replace("DEFAULT", ""))
-    assert main(["validate", "-q", str(m)]) == 1
+    assert main(["validate", str(m)]) == 1
     assert "m.xml:3:5: error: SubTree `Sub` declares port `1st` without a default" in capsys.readouterr().err
     m.write_text(SUB_MODEL.replace("AUTO", ' _autoremap="true"').replace("DEFAULT", ""))
-    assert main(["validate", "-q", str(m)]) == 0
+    assert main(["validate", str(m)]) == 0
     m.write_text(SUB_MODEL.replace("AUTO", "").replace("DEFAULT", ' default="a"'))
-    assert main(["validate", "-q", str(m)]) == 0
+    assert main(["validate", str(m)]) == 0
     assert "keeps it all the same (refused from 4.8.4)" in capsys.readouterr().err
-    assert main(["validate", "-q", "--btcpp", "4.10.0", str(m)]) == 1
+    assert main(["validate", "--btcpp", "4.10.0", str(m)]) == 1
     assert "invalid port name `1st` in `Sub`" in capsys.readouterr().err

@@ -333,12 +333,14 @@ RULES: tuple[Rule, ...] = (
             r"is declared \w+: ",
         ),
         bad=_m(
-            '    <Sequence>\n      <Script code="n := 1"/>\n      <Repeat num_cycles="{n}">\n'
-            "        <AlwaysSuccess/>\n      </Repeat>\n      <Script code=\"n := 'x'\"/>\n    </Sequence>\n"
+            '    <Sequence>\n      <Count out="{k}"/>\n      <Gate in="{k}"/>\n    </Sequence>\n',
+            '  <TreeNodesModel>\n    <Action ID="Count"><output_port name="out" type="int"/></Action>\n'
+            '    <Action ID="Gate"><input_port name="in" type="bool"/></Action>\n  </TreeNodesModel>\n',
         ),
         good=_m(
-            '    <Sequence>\n      <Script code="n := 1"/>\n      <Repeat num_cycles="{n}">\n'
-            '        <AlwaysSuccess/>\n      </Repeat>\n      <Script code="n := 2"/>\n    </Sequence>\n'
+            '    <Sequence>\n      <Count out="{k}"/>\n      <Gate in="{k}"/>\n    </Sequence>\n',
+            '  <TreeNodesModel>\n    <Action ID="Count"><output_port name="out" type="int"/></Action>\n'
+            '    <Action ID="Gate"><input_port name="in" type="int"/></Action>\n  </TreeNodesModel>\n',
         ),
     ),
     Rule(
@@ -347,11 +349,6 @@ RULES: tuple[Rule, ...] = (
         "error",
         "a string or queue longer than the capacity btgen gives it",
         (r"does not fit blackboard entry", r"capacity"),
-        bad=_m("    <Script code=\"msg := '" + "x" * 140 + "'\"/>\n"),
-        good={
-            "mission.xml": tree("    <Script code=\"msg := '" + "x" * 140 + "'\"/>\n"),
-            "btgen.toml": "string-capacity = 256\n",
-        },
         why="btgen's strings have a fixed capacity (128 bytes by default); `string-capacity` and `queue-capacity` "
         "in [tool.btgen] raise it.",
     ),
