@@ -104,9 +104,9 @@ def test_unchanged_output_keeps_its_mtime(compiled):
     [
         MISSION.format(name="Broken", n=2).replace("</Sequence>", ""),  # not well-formed
         MISSION.format(name="Broken", n="two"),  # fails validation
-        # valid, but the C++ back end rejects it (a condition that can be SKIPPED makes 4.6.2 throw)
+        # valid, but the C++ back end rejects it (a SetBlackboard whose key is read from an entry)
         MISSION.format(name="Broken", n=2).replace(
-            "<Move/>", "<IfThenElse><RunOnce><IsReady/></RunOnce><Move/></IfThenElse>"
+            "<Move/>", "<Script code=\"target := 'x'\"/><SetBlackboard value=\"1\" output_key=\"{target}\"/>"
         ),
     ],
 )
