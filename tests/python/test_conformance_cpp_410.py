@@ -101,9 +101,11 @@ def test_cpp_rejects_where_the_410_library_rejects(stem, executors):
     assert when == REJECTED[stem], err
 
 
-@pytest.mark.parametrize("stem", sorted(CPP_REFUSES))
-def test_cpp_refusals_are_compile_errors(stem, executors):
-    when, _, err = _outcome(stem, executors)
-    assert when == "load"
-    assert CPP_REFUSES[stem] in err, err
-    assert "then_skip" not in err, err
+def test_cpp_refusals_are_compile_errors(executors):
+    """Each case the C++ back end refuses (none today: issue 44) is a compile error with its
+    message; a loop, not a parameter set, so that an empty table is no skip."""
+    for stem in sorted(CPP_REFUSES):
+        when, _, err = _outcome(stem, executors)
+        assert when == "load", stem
+        assert CPP_REFUSES[stem] in err, err
+        assert "then_skip" not in err, err
