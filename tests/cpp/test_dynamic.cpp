@@ -53,7 +53,7 @@ TEST(Dynamic, SetBlackboardTypesAnEntryAsAString) {
   EXPECT_FALSE(dyn::store(x, dyn::of_int(2), "x", e));
   EXPECT_EQ(text(e), "cannot assign 2 to `x`: a int cannot be stored where a string is");
   // A typed port reads the text with convertFromString.
-  const btgen::Input<std::int32_t> n = btgen::port::read<std::int32_t>(x);
+  const btgen::Input<std::int32_t> n = btgen::port::read<std::int32_t, false>(x);
   ASSERT_TRUE(n.has_value());
   EXPECT_EQ(n.value(), 7);
   x.unset();
@@ -150,9 +150,9 @@ TEST(EntryType410, ANewEntryIsTypedAndARemappedOneStaysUntyped) {
 
 TEST(EntryType410, APortWriteTypesAnExistingUntypedEntryOnly) {
   Slot<btgen::FixedString<8>> s;
-  ASSERT_EQ(btgen::port::write(s, btgen::Declared::kAny, std::string_view("a")), btgen::Errc::kOk);
+  ASSERT_EQ(btgen::port::write<true>(s, btgen::Declared::kAny, std::string_view("a")), btgen::Errc::kOk);
   EXPECT_EQ(s.entry_type, btgen::EntryType::kUntyped);  // Blackboard::set<std::string> creates it untyped
-  ASSERT_EQ(btgen::port::write(s, btgen::Declared::kAny, std::string_view("b")), btgen::Errc::kOk);
+  ASSERT_EQ(btgen::port::write<true>(s, btgen::Declared::kAny, std::string_view("b")), btgen::Errc::kOk);
   EXPECT_EQ(s.entry_type, btgen::EntryType::kTyped);
   EXPECT_EQ(btgen::set_string_410(s, btgen::EntryType::kTyped, true), 1);
 }
@@ -160,7 +160,7 @@ TEST(EntryType410, APortWriteTypesAnExistingUntypedEntryOnly) {
 TEST(EntryType410, ALoopQueueIsTheTextConvertedWhenItStarts) {
   btgen::port::TextQueue<16> q;
   dyn::Msg m;
-  ASSERT_TRUE(btgen::port::load_queue<std::int64_t>(q, "3;4;", "int", m));
+  ASSERT_TRUE((btgen::port::load_queue<std::int64_t, true>(q, "3;4;", "int", m)));
   std::int64_t v = 0;
   ASSERT_TRUE(btgen::port::queue_element<true>(q.front(), v));
   EXPECT_EQ(v, 3);
@@ -169,13 +169,13 @@ TEST(EntryType410, ALoopQueueIsTheTextConvertedWhenItStarts) {
   EXPECT_EQ(v, 4);
   q.pop_front();
   EXPECT_TRUE(q.empty());  // no element after a final `;`
-  ASSERT_TRUE(btgen::port::load_queue<std::int64_t>(q, "", "int", m));
+  ASSERT_TRUE((btgen::port::load_queue<std::int64_t, true>(q, "", "int", m)));
   EXPECT_TRUE(q.empty());
   dyn::Msg bad("p: ");
-  EXPECT_FALSE(btgen::port::load_queue<double>(q, "0.5;+1.5", "double", bad));
+  EXPECT_FALSE((btgen::port::load_queue<double, true>(q, "0.5;+1.5", "double", bad)));
   EXPECT_EQ(text(bad), "p: `0.5;+1.5` is not a valid queue<double>: element 2: `+1.5` is not a valid double");
   dyn::Msg range;
-  EXPECT_FALSE(btgen::port::load_queue<std::int64_t>(q, "1;3000000000", "int", range));
+  EXPECT_FALSE((btgen::port::load_queue<std::int64_t, true>(q, "1;3000000000", "int", range)));
   EXPECT_EQ(text(range),
             "`1;3000000000` is not a valid queue<int>: element 2: `3000000000` is out of range for int (-2147483648 to "
             "2147483647)");
