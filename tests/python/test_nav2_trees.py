@@ -74,13 +74,21 @@ SCRIPT = {
 CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}
 
 
-def _btlog(mission, trace: str, out: Path) -> Path:
-    """A .btlog as btgen::btlog::FileLogger writes it (as test_cover.py makes one)."""
+def _btlog(mission, trace: str, out: Path, clock_ms: int = 250) -> Path:
+    """A .btlog as btgen::btlog::FileLogger writes it of a run whose tick k happens at
+    (k - 1) * clock_ms on the mission's clock (each record stamped with its tick's time)."""
     xml = groot2_tree(mission).xml.encode()
-    body = b"".join(
-        struct.pack("<Q", 10 * i)[:6] + struct.pack("<HB", uid, CODES[to])
-        for i, (uid, _, to) in enumerate(trace_transitions(trace))
-    )
+    records, tick, seq = [], 0, 0
+    for line in trace.splitlines():
+        if line.startswith("tick "):
+            tick, seq = int(line.split()[1]), 0
+            continue
+        for uid, _, to in trace_transitions(line):
+            records.append(
+                struct.pack("<Q", (tick - 1) * clock_ms * 1000 + seq)[:6] + struct.pack("<HB", uid, CODES[to])
+            )
+            seq += 1
+    body = b"".join(records)
     out.write_bytes(b"BTCPP4-FileLogger2\x01" + struct.pack("<i", len(xml)) + xml + struct.pack("<q", 0) + body)
     return out
 
