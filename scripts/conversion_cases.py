@@ -2,8 +2,8 @@
 """The text-to-number conversion table: missions that reveal what each release reads.
 
     python scripts/conversion_cases.py                       # (re)writes the missions
-    python scripts/conversion_cases.py --record 4.6.2 /work/oracle/462/bin/harness
-    python scripts/conversion_cases.py --record 4.10.0 /work/oracle/410/bin/harness
+    python scripts/conversion_cases.py --record 4.6.2 PREFIX462/bin/harness
+    python scripts/conversion_cases.py --record 4.10.0 PREFIX410/bin/harness
     python scripts/conversion_cases.py --table               # the Markdown table, from the recordings
     python scripts/conversion_cases.py --index               # INDEX.md of the folder, with the table
 
@@ -225,8 +225,8 @@ below -10^6, which tells the two apart). `4.6.2/<stem>.trace` and
 `4.10.0/<stem>.trace` are what the real library printed (cut short where it threw);
 `<stem>.error` is its message when it threw or refused the file. Recorded with
 
-    python scripts/conversion_cases.py --record 4.6.2 /work/oracle/462/bin/harness
-    python scripts/conversion_cases.py --record 4.10.0 /work/oracle/410/bin/harness
+    python scripts/conversion_cases.py --record 4.6.2 PREFIX462/bin/harness
+    python scripts/conversion_cases.py --record 4.10.0 PREFIX410/bin/harness
 
 `tests/python/test_conversions.py` runs every case through the interpreter and the compiled
 executor of each release: same trace, and an error exactly where the library failed (btgen's

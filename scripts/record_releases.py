@@ -8,7 +8,7 @@ harness printed on stdout, cut short where the library threw) and DIR/VERSION/<s
 (the library's message, when it refused the file or threw). Unlike record_conformance.py,
 a throw keeps the trace before it, which both btgen engines must print too
 (tests/python/release_cases.py). The harness is the project's oracle
-(/work/shared/oracle/README.md).
+(../shared/oracle/README.md).
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ used in these cases.
 
     python scripts/nav2_oracle/record.py ORACLE_PREFIX VERSION [--mirror GIT_DIR]
         [--harness HARNESS_CPP] [--distros jazzy,kilted,lyrical]
-    e.g. python scripts/nav2_oracle/record.py /work/oracle/462 4.6.2
+    e.g. python scripts/nav2_oracle/record.py PREFIX462 4.6.2
 
 writes tests/conformance/nav2/<distro>-<VERSION>/<stem>.trace (or <stem>.refused, the
 library's message, for a case the distro cannot load) and <distro>-<VERSION>/RECORDED.md
@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import concurrent.futures
 import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -40,8 +41,9 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 CASES = ROOT / "tests" / "conformance" / "nav2" / "cases"
 OUT = ROOT / "tests" / "conformance" / "nav2"
-DEFAULT_MIRROR = "/work/.mirror/ros-navigation+navigation2/repo"
-DEFAULT_HARNESS = "/work/shared/oracle/harness.cpp"
+# a local mirror of ros-navigation/navigation2 (a git dir): --mirror, or NAV2_MIRROR
+DEFAULT_MIRROR = os.environ.get("NAV2_MIRROR", "")
+DEFAULT_HARNESS = str(ROOT.parent / "shared" / "oracle" / "harness.cpp")  # the project's shared oracle
 DISTROS = ("jazzy", "kilted", "lyrical")
 CACHE = Path(tempfile.gettempdir()) / "btgen-nav2-oracle"
 
@@ -167,7 +169,7 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("prefix", type=Path, help="oracle install prefix (has include/, lib/)")
     ap.add_argument("version", help="its BehaviorTree.CPP version, e.g. 4.6.2")
-    ap.add_argument("--mirror", default=DEFAULT_MIRROR)
+    ap.add_argument("--mirror", default=DEFAULT_MIRROR, required=not DEFAULT_MIRROR)
     ap.add_argument("--harness", type=Path, default=Path(DEFAULT_HARNESS))
     ap.add_argument("--distros", default=",".join(DISTROS))
     ap.add_argument("--jobs", type=int, default=1)

@@ -2,7 +2,7 @@
 
 Always: the suite's structure, and its embedded expectations equal what btgen's interpreter
 and its compiled executor give for the same scenarios; bad input leaves DIR untouched.
-With BTGEN_BTCPP_PREFIX naming a built BehaviorTree.CPP (`/work/oracle/462`; for 4.10.0 also
+With BTGEN_BTCPP_PREFIX naming a built BehaviorTree.CPP (`PREFIX462`; for 4.10.0 also
 BTGEN_BTCPP_VERSION=4.10.0): the suite builds and passes on it, and fails when the mission is
 edited (ReactiveSequence -> Sequence).
 """

@@ -262,7 +262,8 @@ def test_capacities_agree(tmp_path, capsys):
         build_info(["--check", mission]),
     )
     capsys.readouterr()
-    assert got == (1, 1, 1, 0, 0)
+    # a literal longer than the capacity widens its entry (issue 44): all agree, none refuses
+    assert got == (0, 0, 0, 0, 0)
 
 
 def test_types_reach_the_generated_header(tmp_path, capsys):
