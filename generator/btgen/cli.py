@@ -263,7 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
     vf = sub.add_parser(
         "verify", help="prove LTL properties of a mission with SPIN; probabilities with Storm (--probabilities)"
     )
-    vf.add_argument("mission", metavar="MISSION.xml")
+    vf.add_argument("mission", metavar="MISSION.xml", help="the mission whose properties to prove")
     add_mission_options(vf)
     from btgen.tools.verify import add_arguments as _verify_arguments
 
@@ -279,7 +279,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     df.add_argument("old", metavar="OLD.xml", help="the mission before the change")
     df.add_argument("new", metavar="NEW.xml", help="the mission after the change (may be OLD.xml itself)")
-    add_mission_options(df)
+    add_mission_options(df, capacities=False)
     df.add_argument(
         "--btcpp-old",
         choices=SUPPORTED_VERSIONS,
@@ -325,6 +325,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--format",
         choices=("text", "markdown", "json"),
         default="text",
+        metavar="FORMAT",
         help="the report: text (default), markdown (a pull-request comment) or json",
     )
     df.set_defaults(func=_cmd_diff)
@@ -332,8 +333,10 @@ def build_parser() -> argparse.ArgumentParser:
     ts = sub.add_parser(
         "tests", help="write a GoogleTest suite that checks the mission on the real BehaviorTree.CPP, tick by tick"
     )
-    ts.add_argument("mission", metavar="MISSION.xml")
-    add_mission_options(ts)
+    ts.add_argument(
+        "mission", metavar="MISSION.xml", help="the mission the suite checks (read from its path at test time)"
+    )
+    add_mission_options(ts, capacities=False)
     ts.add_argument("-o", "--output-dir", required=True, metavar="DIR", help="the suite's folder (replaced whole)")
     ts.add_argument(
         "--mission-path",
@@ -437,7 +440,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     k = sub.add_parser("lint-kb", help="validate and lint an environment knowledge base")
     k.add_argument("kb", metavar="FILE.dat", help="the knowledge base to check")
-    k.add_argument("--config", metavar="FILE.ini", help="the lint configuration (which checks run, their severities)")
+    k.add_argument("--config", metavar="FILE", help="the lint configuration (which checks run, their severities)")
     k.add_argument(
         "--mission", metavar="MISSION.xml", help="also check the knowledge base against what this mission uses"
     )

@@ -75,7 +75,7 @@ def _options(name):
 def test_namespace_and_capacities_only_where_they_mean_something():
     assert {n for n in COMMANDS if "--namespace" in _options(n)} == {"compile", "build-info"}
     sized = {n for n in COMMANDS if "--string-capacity" in _options(n)}
-    assert sized == {"validate", "analyze", "explore", "cover", "run", "compile", "bench", "build-info"}
+    assert sized == {"validate", "analyze", "explore", "verify", "cover", "run", "compile", "bench", "build-info"}
     assert sized == {n for n in COMMANDS if "--queue-capacity" in _options(n)}
 
 

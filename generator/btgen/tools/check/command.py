@@ -73,7 +73,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
         metavar="CODES",
         help="do not report these codes or prefixes",
     )
-    c.add_argument("--format", choices=formats.FORMATS, default="text", help="output format (default: text)")
+    c.add_argument(
+        "--format",
+        choices=formats.FORMATS,
+        default="text",
+        metavar="FORMAT",
+        help="output format: " + ", ".join(formats.FORMATS) + " (default: text)",
+    )
     c.add_argument(
         "-o",
         "--output-file",
