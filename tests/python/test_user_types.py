@@ -732,8 +732,10 @@ def test_a_port_type_btgen_does_not_know_is_loaded_with_a_warning(tmp_path, caps
         "declares it: its values are text here (robot code reads and writes std::string_view), a Pose2D in "
         "BehaviorTree.CPP; to compile it as that C++ type, declare it: --type Pose2D=CPP_TYPE@HEADER\n"
     ).replace(str(MISSION), path)
-    assert main(["validate", "-q", path]) == 0
+    assert main(["validate", path]) == 0
     assert capsys.readouterr().err == warning
+    assert main(["validate", "-q", path]) == 0  # -q: errors only
+    assert capsys.readouterr().err == ""
     assert main(["compile", path, "-o", str(tmp_path / "out")]) == 0
     assert capsys.readouterr().err == warning
     assert main(["validate", "-q", path, *POSE]) == 0
