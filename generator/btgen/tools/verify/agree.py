@@ -33,6 +33,11 @@ class _Recorder(ex.Explorer):
         self.order = sorted(range(len(self.nodes)), key=lambda i: self.nodes[i].uid)
 
     def run(self, plan):  # explore.Explorer.run with a record after each tick
+        # Every plan from the initial state (explore's own run resumes from the tick where the
+        # plan departs from the last one; this one records every tick, so it replays them all).
+        self.marks.clear()
+        self.last_plan = ()
+        self._restore(self._initial)
         run = ex._Run(self, plan)
         self.current = run
         interp = run.interp
