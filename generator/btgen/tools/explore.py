@@ -405,6 +405,26 @@ class Explorer:
         parts.append(tuple(run.seen_return) if any(p.kind == "before" for p in self.properties) else ())
         return tuple(parts)
 
+    def key_of_interpreter(self, interp: Interpreter) -> tuple:
+        """`state_key` at a tick boundary of another interpreter of the same mission (its nodes
+        in this explorer's order): what `btgen verify --probabilities` keys its chain by."""
+        index = {id(n): i for i, n in enumerate(self.nodes)}
+        parts: list = []
+        for node, getter, check in self._key_getters:
+            t = getter(interp.nodes[index[id(node)]])
+            if check:
+                t = tuple(v if type(v) in _KEY_PLAIN else repr(v) for v in t)
+            parts.append(t)
+        for bb in {id(n.bb): n.bb for n in interp.nodes}.values():
+            for k, e in sorted(bb._storage.items()):
+                v = e.value
+                parts.append(
+                    (k, type(v), v if type(v) in _KEY_PLAIN else repr(v), e.sequence_id if self.use_seq else 0)
+                )
+        if self.use_clock:
+            parts.append(interp.rt.now_ms)
+        return tuple(parts)
+
     # -- instrumentation: every execute_tick of the run's nodes
     def _install(self) -> Callable[[], None]:
         classes = {k for n in self.nodes for k in type(n).__mro__ if issubclass(k, TreeNode)}

@@ -178,7 +178,7 @@ def build_chain(
                     if new:
                         chain.transitions[target][target] = 1.0
                 else:
-                    key = (keyer.state_key(run), flags)  # type: ignore[arg-type]
+                    key = (keyer.key_of_interpreter(run.interp), flags)
                     target, new = state(key, labels)
                     if new:
                         if len(chain.transitions) > MAX_STATES:
