@@ -403,3 +403,17 @@ def test_rename_onto_a_name_taken(capsys, tmp_path):
     # a swap of names is a rename of both: the same calls, so equivalent
     rc, report, _ = _diff(capsys, "--rename", "MoveTo=Drive", "--rename", "Drive=MoveTo", old, new)
     assert rc == 0 and report["exhaustive"] is True
+
+
+def test_product_states_are_keyed_by_each_sides_own_interpreter(capsys):
+    """The state key of each side is read from that side's interpreter: keyed by the explorer's
+    own (never ticked) interpreter, distinct states merged and the search stopped early (PickPlaceBall
+    against itself gave 19 product states instead of 26), which could call missions equivalent
+    on a search that never reached where they differ."""
+    from btgen.cli import main
+
+    pick = str(ROOT / "missions" / "PickPlaceBall.xml")
+    assert main(["diff", pick, pick]) == 0
+    out = capsys.readouterr().out
+    assert "equivalent (exhaustively)" in out
+    assert "79 runs, 26 product states" in out

@@ -147,6 +147,12 @@ class _Recorder:
         return status.name not in ("SUCCESS", "FAILURE")
 
 
+def _state(ex: Explorer, rec: _Recorder) -> tuple:
+    """explore's state key of one side's own interpreter (Explorer.key_of_interpreter: the
+    explorer keeps an interpreter of its own), with the tick's chain of calls in progress."""
+    return ex.key_of_interpreter(rec.interp) + (tuple((n.uid, st) for n, st in rec.chain),)
+
+
 class _LeafHook:
     """Stands for a scripted leaf's scenario cursor: asks the engine's recorder."""
 
@@ -266,7 +272,7 @@ class _Run:
                 if rest:
                     left.append((s.index, name, rest))
         pending = tuple(old.events) if side is old else tuple(old.events[len(new.events) :])
-        key = (side.index, d.ex_old.state_key(old), d.ex_new.state_key(new), tuple(left), pending)  # type: ignore[arg-type]
+        key = (side.index, _state(d.ex_old, old), _state(d.ex_new, new), tuple(left), pending)
         best = d.seen.get(key)
         if best is not None and best <= self.tick_no:
             raise _Stop("repeat")
