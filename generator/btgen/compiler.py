@@ -44,7 +44,6 @@ from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.fileio import check_output
 from btgen.frontend import usertypes
 from btgen.ir.data.records import DataOptions
-from btgen.ir.lower import lower
 from btgen.lang.model import Mission
 from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 
@@ -80,26 +79,20 @@ def generate_checked(
     mission_path: str,
     opts: CompileOptions = DEFAULTS,
     relative_to: Optional[str] = None,
-    substitute: Optional[str] = None,
     loaded: Optional[Callable[[Mission], None]] = None,
 ) -> tuple[Mission, tuple[Output, ...]]:
     """The checked mission and its outputs rendered in memory: every step of `btgen compile` but
     the writing, so that `validate` and `build-info --check` run every check it runs (a
     problem found only while rendering is found by all three). `loaded` is called with the
     mission once the front end has read it (its warnings come before the IR's errors);
-    `substitute`: a file of substitution rules (a test build, tools/substitute.py)."""
+    `opts.substitute`: a file of substitution rules (a test build, ir/substitute.py)."""
     mission = pipeline.load(mission_path, opts)
     # Ports of types btgen does not know hold text: loaded as BehaviorTree.CPP loads them,
     # but the C++ interface they get deserves a word (the commands that compile say it).
     mission = replace(mission, warnings=mission.warnings + usertypes.unknown_type_warnings(mission))
     if loaded is not None:
         loaded(mission)
-    if substitute is not None:
-        from btgen.tools.substitute import load_rules, lower_substituted
-
-        program = lower_substituted(mission, opts.data, load_rules(substitute, mission.semantics.script_grammar_49))
-    else:
-        program = lower(mission, opts.data)
+    program = pipeline.program(mission, opts)
     outputs = render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
     return mission, outputs
 
@@ -189,12 +182,11 @@ def compile_command(args: argparse.Namespace) -> int:
     from btgen.diagnostics import print_diagnostics
 
     opts = options_from_args(args)
-    substitute = getattr(args, "substitute", None)  # a test build: substitution rules (tools/substitute.py)
+    substitute = opts.substitute  # a test build: substitution rules (ir/substitute.py)
     mission, outputs = generate_checked(
         args.mission,
         opts,
         args.relative_to,
-        substitute,
         lambda m: print_diagnostics(m.warnings),
     )
     out_dir = Path(args.output_dir)

@@ -47,6 +47,7 @@ class CompileOptions:
     btcpp: str = "4.6.2"  # --btcpp 4.6.2|4.10.0: the BehaviorTree.CPP release followed (lang/versions.py)
     ros_packages: tuple[tuple[str, str], ...] = ()  # package -> folder (btgen check's `ros-packages`)
     nodes: Optional[str] = None  # --nodes btcpp|nav2[:DISTRO] (lang/nav2.py); None: Nav2's if a models file is
+    substitute: Optional[str] = None  # --substitute FILE.json: substitution rules, a test build (ir/substitute.py)
 
     @property
     def data(self) -> DataOptions:
@@ -208,6 +209,7 @@ def options_from_args(args: Optional[argparse.Namespace]) -> CompileOptions:
         queue_capacity=get("queue_capacity"),
         btcpp=get("btcpp", "4.6.2"),
         nodes=get("nodes"),
+        substitute=get("substitute"),
     )
 
 
@@ -246,7 +248,19 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
 
 def build(path: str, opts: CompileOptions = DEFAULTS) -> tuple[Mission, Program]:
     """The checked mission and its lowered program: everything `compile` checks."""
+    mission = load(path, opts)
+    return mission, program(mission, opts)
+
+
+def program(mission: Mission, opts: CompileOptions = DEFAULTS) -> Program:
+    """The lowered program of a loaded mission: the one call of the IR's `lower` (with the
+    substitution rules of `opts.substitute` applied: a test build, ir/substitute.py)."""
     from btgen.ir.lower import lower
 
-    mission = load(path, opts)
-    return mission, lower(mission, opts.data)
+    if opts.substitute is None:
+        return lower(mission, opts.data)
+    from btgen.frontend.substitution import load_rules
+    from btgen.ir import substitute
+
+    plan = substitute.prepare(mission, load_rules(opts.substitute, mission.semantics.script_grammar_49))
+    return substitute.apply(plan, lower(plan.mission, opts.data))

@@ -8,7 +8,7 @@ from conftest import ROOT
 PACKAGE = Path(ROOT) / "generator" / "btgen"
 
 # layer -> the layers it may import (itself always allowed)
-BASE = {"btgen.diagnostics", "btgen.version", "btgen.resources"}
+BASE = {"btgen.diagnostics", "btgen.version", "btgen.resources", "btgen.fileio"}
 ALLOWED = {
     "base": set(),
     "lang": {"base"},
@@ -203,3 +203,19 @@ def test_the_cycle_finder_finds_cycles():
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a", "d"}, "d": set(), "e": {"e"}, "f": {"d"}}
     assert sorted(_cycles(graph)) == [["a", "b", "c"], ["e"]]
     assert _cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_only_the_pipeline_lowers():
+    """`pipeline.program` is the one caller of the IR's `lower` outside the IR (so every command,
+    the executor's builds and the Cortex-M builds lower alike, substitution rules included)."""
+    callers = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        me = _module_name(path)
+        if me == "btgen.pipeline" or me.startswith("btgen.ir."):
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module == "btgen.ir.lower":
+                if any(alias.name == "lower" for alias in node.names):
+                    callers.append(me)
+    assert callers == []

@@ -25,8 +25,8 @@ from btgen.frontend.loader import load_mission
 from btgen.interp.engine import trace_text
 from btgen.interp.scenario import MAX_VALUE, format_scenario, parse_scenario, parse_scenario_text
 from btgen.ir.treexml import groot2_tree
+from btgen.lang.substitution import Wildcard
 from btgen.tools.cover import trace_transitions
-from btgen.tools.substitute import Wildcard
 
 ROOT = Path(__file__).resolve().parents[2]
 CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}

@@ -266,7 +266,7 @@ class Interpreter:
         self.ticks_sent = 0
 
     def _builder(self) -> _Builder:
-        """What builds the tree (tools/substitute.py gives its own)."""
+        """What builds the tree (interp/substitute.py gives its own)."""
         return _Builder(self.rt, self.mission)
 
     def take_text(self) -> str:
@@ -298,7 +298,7 @@ def run_trace(mission: Mission, scenario: Scenario, write: Callable[[str], objec
 
 
 def run_ticks(interp: Interpreter, scenario: Scenario, write: Callable[[str], object]) -> NodeStatus:
-    """run_trace's ticks on a built interpreter (tools/substitute.py builds its own)."""
+    """run_trace's ticks on a built interpreter (interp/substitute.py builds its own)."""
     last = NodeStatus.IDLE
     for n in range(1, scenario.ticks + 1):
         if n > 1 and scenario.clock_ms:

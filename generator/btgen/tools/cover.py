@@ -75,12 +75,12 @@ def btlog_transitions(path: str, nodes: list[g.GNode]) -> list[tuple[int, str, s
 
 def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bool]]:
     from btgen import pipeline
-    from btgen.ir.lower import lower
     from btgen.tools.analyze import analyze_program
     from btgen.tools.explore import sync_actions
 
-    options = pipeline.options_from_args(args).data
-    program = lower(mission, options)
+    opts = pipeline.options_from_args(args)
+    options = opts.data
+    program = pipeline.program(mission, opts)
     result = analyze_program(mission, program, options)
     sync = sync_actions(mission, args)  # their RUNNING is no goal: they never return it
     possible = {

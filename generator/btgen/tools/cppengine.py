@@ -93,13 +93,12 @@ def build_cpp(
     mission_path: str,
     warnings: Optional[list] = None,
     opts: CompileOptions = DEFAULTS,
-    substitute: Optional[str] = None,
 ) -> Path:
     """The scenario-runner executable of a mission, built if not cached. UserError when
     the mission cannot be compiled; InternalError when the generated code does not build.
     The mission's warnings are appended to `warnings` when it is given; `opts`: the
-    mission options of every command (btgen.pipeline)."""
-    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, opts, substitute)
+    mission options of every command (btgen.pipeline; `opts.substitute`: a test build)."""
+    return build_mission_executable(mission_path, (DRIVER,), cxx_flags(), warnings, opts)
 
 
 def _check_no_user_nodes(mission) -> None:
@@ -121,24 +120,16 @@ def build_mission_executable(
     flags: tuple[str, ...],
     warnings: Optional[list] = None,
     opts: CompileOptions = DEFAULTS,
-    substitute: Optional[str] = None,
 ) -> Path:
     """An executable of the generated mission compiled with `sources` (a main that
     includes BTGEN_MISSION_HEADER and uses BTGEN_MISSION_TEMPLATE, and its helpers)
     and `flags`, built if not cached. Errors as build_cpp."""
-    from btgen.ir.lower import lower
-
     mission = pipeline.load(mission_path, opts)
     if warnings is not None:
         warnings.extend(mission.warnings)
     _check_no_user_nodes(mission)
     # Paths as the interpreter prints them (as given), so run-time errors read the same.
-    if substitute is not None:  # a test build: substitution rules (tools/substitute.py)
-        from btgen.tools.substitute import load_rules, lower_substituted
-
-        program = lower_substituted(mission, opts.data, load_rules(substitute, mission.semantics.script_grammar_49))
-    else:
-        program = lower(mission, opts.data)
+    program = pipeline.program(mission, opts)  # (with opts.substitute's rules: a test build)
     outputs = render(program, mission_stem(mission_path), None, opts.namespace)
     stem = mission_stem(mission_path)
     cxx = compiler()
@@ -232,13 +223,11 @@ def _inherited_fd(path: str) -> Optional[int]:
     return fd
 
 
-def run_cpp(
-    mission_path: str, scenario_path: str, opts: CompileOptions = DEFAULTS, substitute: Optional[str] = None
-) -> int:
+def run_cpp(mission_path: str, scenario_path: str, opts: CompileOptions = DEFAULTS) -> int:
     """Build (or reuse) the mission's executor, run it on the scenario, stream its
     output to stdout/stderr and return its exit status."""
     warnings: list = []
-    binary = build_cpp(mission_path, warnings, opts, substitute)
+    binary = build_cpp(mission_path, warnings, opts)
     for w in warnings:
         print(str(w), file=sys.stderr)
     sys.stdout.flush()

@@ -732,12 +732,12 @@ def sync_actions(mission: Mission, args) -> frozenset[str]:
 def _possible(mission: Mission, args) -> Optional[dict[int, set[int]]]:
     """The statuses `btgen analyze` finds possible per node (None when the mission does not lower)."""
     from btgen import pipeline
-    from btgen.ir.lower import lower
     from btgen.tools.analyze import analyze_program
 
     try:
-        options = pipeline.options_from_args(args).data
-        program = lower(mission, options)
+        opts = pipeline.options_from_args(args)
+        options = opts.data
+        program = pipeline.program(mission, opts)
     except UserError:
         return None
     result = analyze_program(mission, program, options)

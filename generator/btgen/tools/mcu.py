@@ -223,15 +223,14 @@ def main_cpp(indices: Sequence[int]) -> str:
 
 
 def _load(case: Case):
-    from btgen.frontend.loader import load_mission
+    from btgen import pipeline
     from btgen.interp.scenario import load_scenario
-    from btgen.ir.lower import lower
     from btgen.tools.cppengine import _check_no_user_nodes
 
-    mission = load_mission(case.mission)
+    mission = pipeline.load(case.mission)
     _check_no_user_nodes(mission)
     scenario, _ = load_scenario(case.scenario, mission)
-    return lower(mission), scenario
+    return pipeline.program(mission), scenario
 
 
 def images(cases: Sequence[Case], batch: int = BATCH) -> list[Image]:

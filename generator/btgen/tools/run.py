@@ -27,7 +27,7 @@ def run_command(args) -> int:
     if engine == "cpp":
         from btgen.tools.cppengine import run_cpp
 
-        return run_cpp(args.mission, args.scenario, options_from_args(args), substitute)
+        return run_cpp(args.mission, args.scenario, options_from_args(args))
     if engine != "interp":
         raise cmdline.error(args, engine, f"unknown engine `{engine}` (use interp or cpp)")
 
@@ -45,7 +45,7 @@ def run_command(args) -> int:
 
     rules = None
     if substitute is not None:
-        from btgen.tools.substitute import load_rules
+        from btgen.frontend.substitution import load_rules
 
         rules = load_rules(substitute, mission.semantics.script_grammar_49)
 
@@ -56,7 +56,7 @@ def run_command(args) -> int:
 
     try:
         if rules is not None:
-            from btgen.tools import substitute as subst
+            from btgen.interp import substitute as subst
 
             subst.run_trace(mission, scenario, rules, write)
         else:

@@ -74,7 +74,6 @@ def rate_limits(program: Program) -> list[tuple[IRNode, Optional[float]]]:
 
 def analyze_command(args) -> int:
     from btgen import pipeline
-    from btgen.ir.lower import lower
 
     opts = pipeline.options_from_args(args)
     options = opts.data
@@ -84,7 +83,7 @@ def analyze_command(args) -> int:
         try:
             mission = pipeline.load(path, opts)
             print_diagnostics(mission.warnings)
-            program = lower(mission, options)
+            program = pipeline.program(mission, opts)
         except UserError as e:
             print_diagnostics(e.diagnostics)
             status = 1

@@ -116,15 +116,13 @@ def _options(s: Settings, unit: discovery.Unit, models: tuple[str, ...]) -> pipe
 
 def run_unit(unit: discovery.Unit, s: Settings, projects: _ProjectModels) -> list[tuple[Diagnostic, str]]:
     """Every diagnostic of one load, with its source ("loader", "analysis" or "upgrade")."""
-    from btgen.ir.lower import lower
-
     models = tuple(projects.models_for(m) if m in unit.projects else m for m in unit.models)
     opts = _options(s, unit, models)
     out: list[tuple[Diagnostic, str]] = []
     try:
         mission = pipeline.load(unit.path, opts)
         out += [(d, "loader") for d in mission.warnings]
-        program = lower(mission, opts.data)
+        program = pipeline.program(mission, opts)
     except UserError as e:
         out += [(d, "loader") for d in e.diagnostics]
         return out
