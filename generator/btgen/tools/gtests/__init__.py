@@ -168,9 +168,12 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
 
 
 def explored_scenarios(mission: Mission, args) -> list[tuple[str, str]]:
-    from btgen.tools.explore import Explorer, _possible, scenario_text
+    from btgen.tools.explore import Explorer, _possible, criteria_of, scenario_text
 
-    ex = Explorer(mission, args.ticks, args.depth, 0, args.max_states, (), _possible(mission, args), True)
+    criteria = criteria_of(args)
+    ex = Explorer(
+        mission, args.ticks, args.depth, 0, args.max_states, (), _possible(mission, args), True, criteria=criteria
+    )
     result = ex.explore()
     if result.truncated:
         print(
@@ -365,7 +368,9 @@ def _umask() -> int:
 def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     from btgen import pipeline
     from btgen.interp.scenario import _read_text, load_scenario
+    from btgen.tools.explore import criteria_of
 
+    criteria_of(args)  # a bad --coverage is refused before anything else
     opts = pipeline.options_from_args(args)
     for flag, value in (("--trees", opts.trees), ("--entry", opts.entries), ("--type", opts.types)):
         if value:
