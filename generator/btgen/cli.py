@@ -369,6 +369,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="exploration: stop after N explored states (default 200000)",
     )
     ts.add_argument("--coverage", metavar="CRITERIA", help=COVERAGE_HELP)
+    ts.add_argument(
+        "--executor",
+        action="store_true",
+        help="also run each scenario on btgen's compiled executor from ctest (`btgen run --engine cpp`; "
+        "-DBTGEN_LIBRARY_TESTS=OFF builds no BehaviorTree.CPP suite)",
+    )
     ts.set_defaults(func=_cmd_tests)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")

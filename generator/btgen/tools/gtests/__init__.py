@@ -13,6 +13,12 @@ DIR receives CMakeLists.txt (find_package(behaviortree_cpp), GTest, one ctest en
 TEST), `<stem>_tests.cpp`, `btgen_gtest_support.hpp` and `.btgen-tests` (the marker that lets
 a later run replace the folder). Everything is written to a temporary folder beside DIR and
 renamed into place: DIR is whole or unchanged.
+
+With --executor, DIR/executor/ also holds each scenario and the interpreter's trace of it, and
+CMakeLists.txt one more ctest entry per TEST that runs the scenario on btgen's compiled
+executor (`btgen run --engine cpp`) through executor/check.cmake: one suite checks both
+runtimes; -DBTGEN_LIBRARY_TESTS=OFF leaves the BehaviorTree.CPP suite out. --coverage selects
+the criteria the explored scenarios reach (tools/obligations.py).
 """
 
 from __future__ import annotations
@@ -44,6 +50,7 @@ class Case:
     ticks: int
     lists: list[tuple[str, list[str]]]  # leaf name -> statuses, in first-call order
     trace: list[str]  # the expected lines: tick N, status changes, result S
+    trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
 
 
 @dataclass
@@ -160,9 +167,9 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
         if sc.default != "SUCCESS":
             where = sc.default_loc or Loc(path, 1, 1)
             raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
-        trace = trace_text(mission, sc).splitlines()
+        text = trace_text(mission, sc)
         lists = [(s.name, list(s.statuses)) for s in sc.leaves]
-        cases.append(Case("", [], sc.ticks, lists, trace))
+        cases.append(Case("", [], sc.ticks, lists, text.splitlines(), text))
     name_cases(cases)
     return cases
 
@@ -260,7 +267,16 @@ def _cmake_string(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("$", "\\$").replace(";", "\\;") + '"'
 
 
-def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[str], cases: list[Case]) -> str:
+def render_cmake(
+    stem: str,
+    suite: str,
+    mission_ref: str,
+    main_tree: Optional[str],
+    cases: list[Case],
+    executor: Optional[list[str]] = None,
+) -> str:
+    """CMakeLists.txt; with `executor` (btgen's options for `btgen run`), a second ctest entry
+    per scenario that runs it on btgen's compiled executor, and the library's suite optional."""
     target = f"{suite}_tests"
     lines = [
         "# Written by `btgen tests`: the GoogleTest suite of " + stem + " for BehaviorTree.CPP.",
@@ -270,8 +286,19 @@ def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[st
         f"project({target} CXX)",
         "set(CMAKE_CXX_STANDARD 17)",
         "set(CMAKE_CXX_STANDARD_REQUIRED ON)",
-        "find_package(behaviortree_cpp REQUIRED)",
-        "find_package(GTest REQUIRED)",
+    ]
+    if executor is not None:
+        lines += [
+            "# OFF: only the scenarios on btgen's compiled executor (no BehaviorTree.CPP needed)",
+            'option(BTGEN_LIBRARY_TESTS "the GoogleTest suite on BehaviorTree.CPP" ON)',
+            "if(BTGEN_LIBRARY_TESTS)",
+            "  find_package(behaviortree_cpp REQUIRED)",
+            "  find_package(GTest REQUIRED)",
+            "endif()",
+        ]
+    else:
+        lines += ["find_package(behaviortree_cpp REQUIRED)", "find_package(GTest REQUIRED)"]
+    lines += [
         "enable_testing()",
         "",
         "# The mission the tests read at run time: absolute, or relative to this folder.",
@@ -279,17 +306,72 @@ def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[st
         '"the mission file the tests read (absolute, or relative to this folder)")',
         'get_filename_component(BTGEN_MISSION_PATH "${BTGEN_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
         "",
+    ]
+    library = [
         f"add_executable({target} {suite}_tests.cpp)",
         f"target_link_libraries({target} PRIVATE BT::behaviortree_cpp GTest::gtest GTest::gtest_main)",
         f'target_compile_definitions({target} PRIVATE "BTGEN_MISSION=\\"${{BTGEN_MISSION_PATH}}\\""',
     ]
     if main_tree is not None:
-        lines.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
-    lines.append(")")
-    lines.append("")
+        library.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
+    library.append(")")
     for case in cases:
-        lines.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
+        library.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
+    if executor is None:
+        lines += library
+        return "\n".join(lines) + "\n"
+    lines += ["if(BTGEN_LIBRARY_TESTS)"] + [f"  {line}" for line in library] + ["endif()", ""]
+    lines += [
+        "# The same scenarios on btgen's compiled executor: `btgen run --engine cpp` (built once,",
+        "# cached), its trace compared with executor/NNN.trace (the interpreter's, as the TESTs above).",
+        'set(BTGEN_COMMAND "btgen" CACHE STRING "the command that runs btgen (e.g. `python3 -m btgen`)")',
+        f"set(BTGEN_RUN_OPTIONS {_cmake_string(' '.join(executor))})",
+    ]
+    for k, case in enumerate(cases, start=1):
+        base = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{k:03d}"
+        lines.append(
+            f"add_test(NAME {suite}.{case.name}.executor COMMAND ${{CMAKE_COMMAND}} "
+            '"-DBTGEN=${BTGEN_COMMAND}" "-DMISSION=${BTGEN_MISSION_PATH}" "-DOPTIONS=${BTGEN_RUN_OPTIONS}" '
+            f'"-DSCENARIO={base}.scenario" "-DEXPECTED={base}.trace" '
+            '-P "${CMAKE_CURRENT_SOURCE_DIR}/executor/check.cmake")'
+        )
     return "\n".join(lines) + "\n"
+
+
+CHECK_CMAKE = """# Written by `btgen tests --executor`: one scenario on btgen's compiled executor.
+# cmake -DBTGEN=<command> -DMISSION=<file> -DOPTIONS=<options> -DSCENARIO=<file> -DEXPECTED=<file> -P check.cmake
+separate_arguments(btgen UNIX_COMMAND "${BTGEN}")
+separate_arguments(options UNIX_COMMAND "${OPTIONS}")
+execute_process(
+  COMMAND ${btgen} run "${MISSION}" --scenario "${SCENARIO}" --engine cpp ${options}
+  OUTPUT_VARIABLE got
+  ERROR_VARIABLE err
+  RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "btgen run --engine cpp failed (${rc}):\\n${err}")
+endif()
+file(READ "${EXPECTED}" want)
+if(NOT got STREQUAL want)
+  string(REPLACE "\\n" ";" got_lines "${got}")
+  string(REPLACE "\\n" ";" want_lines "${want}")
+  list(LENGTH want_lines n)
+  set(k 0)
+  foreach(line IN LISTS want_lines)
+    list(LENGTH got_lines m)
+    if(k LESS m)
+      list(GET got_lines ${k} other)
+    else()
+      set(other "(nothing)")
+    endif()
+    if(NOT other STREQUAL line)
+      math(EXPR shown "${k} + 1")
+      message(FATAL_ERROR "line ${shown}: expected `${line}`, the executor gave `${other}`")
+    endif()
+    math(EXPR k "${k} + 1")
+  endforeach()
+  message(FATAL_ERROR "the executor's trace is longer than the expected one")
+endif()
+"""
 
 
 # ---------------------------------------------------------------- the command
@@ -342,6 +424,8 @@ def write_suite(out: str, files: dict[str, str]) -> None:
     old = None
     try:
         for name, text in files.items():
+            if "/" in name:
+                os.makedirs(os.path.join(tmp, os.path.dirname(name)), exist_ok=True)
             with open(os.path.join(tmp, name), "w", encoding="utf-8", newline="\n") as f:
                 f.write(text)
         os.chmod(tmp, 0o777 & ~_umask())
@@ -398,13 +482,37 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
         suite = "M" + suite  # an identifier
     with open(os.path.join(os.path.dirname(__file__), "support.hpp"), encoding="utf-8") as f:
         support = f.read()
+    executor = _run_options(args, opts) if getattr(args, "executor", False) else None
     files = {
-        "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases),
+        "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases, executor),
         f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp),
         SUPPORT: support,
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
+    if executor is not None:
+        files["executor/check.cmake"] = CHECK_CMAKE
+        for k, ((_, text), case) in enumerate(zip(texts, cases), start=1):
+            files[f"executor/{k:03d}.scenario"] = text
+            files[f"executor/{k:03d}.trace"] = case.trace_text
     return files, cases
+
+
+def _run_options(args, opts) -> list[str]:
+    """The options `btgen run` needs to load the mission as this command did: models (absolute),
+    main tree, version; each double-quoted for CMake's separate_arguments."""
+    out: list[str] = []
+    for m in opts.models:
+        out += ["--models", os.path.abspath(m)]
+    if opts.main_tree is not None:
+        out += ["--main-tree", opts.main_tree]
+    if opts.btcpp != "4.6.2":
+        out += ["--btcpp", opts.btcpp]
+    if opts.nodes is not None:
+        out += ["--nodes", opts.nodes]
+    for word in out:
+        if any(ord(c) < 0x20 or c in '"\\$;' for c in word):
+            raise cmdline.error(args, "--executor", f"--executor: {word!r} has characters CMake cannot carry")
+    return [f'"{w}"' for w in out]
 
 
 def tests_command(args) -> int:

@@ -294,13 +294,11 @@ def compare(mission_path: str, scenarios: list[tuple[str, Scenario]], options) -
 
 
 def main(argv: Optional[list[str]] = None) -> int:
-    import argparse
-
-    from btgen import pipeline
+    from btgen import cmdline, pipeline
     from btgen.diagnostics import print_diagnostics
     from btgen.interp.scenario import load_scenario
 
-    p = argparse.ArgumentParser(prog="python -m btgen.tools.gtests.btpy", description=__doc__.split("\n\n")[0])
+    p = cmdline.Parser(prog="python -m btgen.tools.gtests.btpy", description=__doc__.split("\n\n")[0])
     p.add_argument("mission", metavar="MISSION.xml", help="the mission the scenarios run")
     p.add_argument("scenarios", nargs="+", metavar="FILE.scenario", help="the scenarios to run on the library")
     p.add_argument("--models", action="append", default=[], metavar="FILE.xml", help="a models file")

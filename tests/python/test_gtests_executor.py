@@ -1,0 +1,98 @@
+"""`btgen tests --executor`: the suite's scenarios on btgen's compiled executor, from ctest.
+
+The suite is configured with -DBTGEN_LIBRARY_TESTS=OFF (no BehaviorTree.CPP here), so ctest runs
+only the executor entries: each runs `btgen run --engine cpp` on the scenario (one build of the
+mission, cached) and compares the trace with executor/NNN.trace, the interpreter's.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from btgen.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+GUARD = ROOT / "tests" / "gtests" / "Guard.xml"
+NAV2 = ROOT / "tests" / "real_files" / "nav2"
+
+
+def _configure(src: Path, build: Path, *defs: str) -> None:
+    cfg = subprocess.run(
+        [
+            "cmake",
+            "-S",
+            str(src),
+            "-B",
+            str(build),
+            "-DBTGEN_LIBRARY_TESTS=OFF",
+            f"-DBTGEN_COMMAND={sys.executable} -m btgen",
+            *defs,
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert cfg.returncode == 0, cfg.stdout + cfg.stderr
+
+
+def _ctest(build: Path, *args: str) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "generator")}
+    cmd = ["ctest", "--test-dir", str(build), "--output-on-failure", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
+
+
+def test_the_suite_runs_on_the_compiled_executor(capsys, tmp_path):
+    out = tmp_path / "suite"
+    assert main(["tests", str(GUARD), "-o", str(out), "--executor"]) == 0
+    assert capsys.readouterr().out.startswith(f"{out}: 4 tests, 13 files")
+    names = sorted(p.name for p in (out / "executor").iterdir())
+    assert names == ["001.scenario", "001.trace", "002.scenario", "002.trace", "003.scenario", "003.trace"] + [
+        "004.scenario",
+        "004.trace",
+        "check.cmake",
+    ]
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert cmake.count(".executor COMMAND") == 4 and "if(BTGEN_LIBRARY_TESTS)" in cmake
+    build = tmp_path / "build"
+    _configure(out, build)
+    ok = _ctest(build)
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert "100% tests passed, 0 tests failed out of 4" in ok.stdout
+    # an expectation that is not the executor's trace fails, naming the line
+    trace = out / "executor" / "002.trace"
+    lines = trace.read_text().splitlines()
+    k = next(i for i, line in enumerate(lines) if "->" in line)
+    lines[k] = lines[k].replace("IDLE -> RUNNING", "IDLE -> SUCCESS")
+    trace.write_text("\n".join(lines) + "\n")
+    bad = _ctest(build, "-R", "Guard.S02")
+    assert bad.returncode != 0
+    assert "tests failed out of 1" in bad.stdout and f"line {k + 1}: expected `" in bad.stdout
+
+
+def test_run_options_are_carried(capsys, tmp_path):
+    """--models, --main-tree and --btcpp reach `btgen run` as this command read the mission."""
+    out = tmp_path / "suite"
+    tree = NAV2 / "navigate_to_pose_w_bounds_check.xml"
+    models = NAV2 / "nav2_tree_nodes.xml"
+    args = ["tests", str(tree), "-o", str(out), "--executor", "--models", str(models), "--btcpp", "4.10.0"]
+    assert main(args) == 0
+    capsys.readouterr()
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert f'set(BTGEN_RUN_OPTIONS "\\"--models\\" \\"{models}\\" \\"--btcpp\\" \\"4.10.0\\"")' in cmake
+
+
+@pytest.mark.parametrize("bad", ['we"ird', "semi;colon"])
+def test_paths_cmake_cannot_carry(capsys, tmp_path, bad):
+    models = tmp_path / f"{bad}.xml"
+    models.write_text((NAV2 / "nav2_tree_nodes.xml").read_text())
+    out = tmp_path / "suite"
+    tree = NAV2 / "navigate_to_pose_w_bounds_check.xml"
+    assert main(["tests", str(tree), "-o", str(out), "--executor", "--models", str(models)]) == 1
+    err = capsys.readouterr().err
+    assert "error: --executor: " in err and "characters CMake cannot carry" in err
+    assert not out.exists()
