@@ -96,3 +96,24 @@ def test_paths_cmake_cannot_carry(capsys, tmp_path, bad):
     err = capsys.readouterr().err
     assert "error: --executor: " in err and "characters CMake cannot carry" in err
     assert not out.exists()
+
+
+def test_enums_are_registered(capsys, tmp_path):
+    """--enum reaches the library's suite (registerScriptingEnum before the tree is created) and
+    the executor entries; a suite without it defines no enum."""
+    mission = ROOT / "tests" / "gtests" / "Enums.xml"
+    out = tmp_path / "suite"
+    assert main(["tests", str(mission), "-o", str(out), "--enum", "Color=Red,Blue=3", "--executor"]) == 0
+    capsys.readouterr()
+    cpp = (out / "Enums_tests.cpp").read_text()
+    assert '#define BTGEN_ENUMS { { "Red", 0 }, { "Blue", 3 } }' in cpp
+    assert cpp.index("#define BTGEN_ENUMS") < cpp.index('#include "btgen_gtest_support.hpp"')
+    support = (out / "btgen_gtest_support.hpp").read_text()
+    assert "factory.registerScriptingEnum(name, value);" in support
+    assert 'set(BTGEN_RUN_OPTIONS "\\"--enum\\" \\"Color=Red,Blue=3\\"")' in (out / "CMakeLists.txt").read_text()
+    # the expectations are runs where `color == Blue` holds (3 == 3): Repaint is never ticked
+    for trace in (out / "executor").glob("*.trace"):
+        assert "Repaint" not in trace.read_text() and 'IsBlue" IDLE -> SUCCESS' in trace.read_text()
+    plain = tmp_path / "plain"
+    assert main(["tests", str(GUARD), "-o", str(plain)]) == 0
+    assert "BTGEN_ENUMS" not in (plain / "Guard_tests.cpp").read_text()

@@ -208,13 +208,21 @@ def _c_string(text: str) -> str:
     return '"' + "".join(out) + '"'
 
 
-def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str) -> str:
+def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=()) -> str:
+    head = []
+    if enums:
+        pairs = ", ".join(f"{{ {_c_string(name)}, {value} }}" for name, value in enums)
+        head = [
+            "// The scripting enums (--enum / --enums): registerScriptingEnum before the tree is created.",
+            f"#define BTGEN_ENUMS {{ {pairs} }}",
+        ]
     out = [
         f"// Written by `btgen tests` for BehaviorTree.CPP {version}: {len(cases)} scenarios of {stem}.",
         "// Each TEST reads the mission file (BTGEN_MISSION, set by CMakeLists.txt), scripts every",
         "// user leaf, ticks the tree with tickExactlyOnce() and checks every status change and the",
         "// root's results against the trace btgen's interpreter gives for the same scenario.",
         "// Regenerate with `btgen tests`; do not edit.",
+        *head,
         f'#include "{SUPPORT}"',
         "",
         "namespace",
@@ -459,9 +467,6 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     for flag, value in (("--trees", opts.trees), ("--entry", opts.entries), ("--type", opts.types)):
         if value:
             raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet (the suite reads one file)")
-    if opts.enum_decls or opts.enum_files:
-        flag = "--enum" if opts.enum_decls else "--enums"
-        raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet")
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
     leaves = mission_leaves(mission)
@@ -485,7 +490,7 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     executor = _run_options(args, opts) if getattr(args, "executor", False) else None
     files = {
         "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases, executor),
-        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums),
         SUPPORT: support,
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
@@ -509,6 +514,10 @@ def _run_options(args, opts) -> list[str]:
         out += ["--btcpp", opts.btcpp]
     if opts.nodes is not None:
         out += ["--nodes", opts.nodes]
+    for decl in opts.enum_decls:
+        out += ["--enum", decl]
+    for f in opts.enum_files:
+        out += ["--enums", os.path.abspath(f)]
     for word in out:
         if any(ord(c) < 0x20 or c in '"\\$;' for c in word):
             raise cmdline.error(args, "--executor", f"--executor: {word!r} has characters CMake cannot carry")

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <utility>
@@ -161,6 +162,11 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
     else
       factory.registerNodeType<ScriptedAction>(leaf.id, ports, &script);
   }
+#ifdef BTGEN_ENUMS
+  // the scripting enums of --enum / --enums, as the application registers them
+  for(const auto& [name, value] : std::initializer_list<std::pair<const char*, int>> BTGEN_ENUMS)
+    factory.registerScriptingEnum(name, value);
+#endif
 #ifdef BTGEN_MAIN_TREE
   factory.registerBehaviorTreeFromFile(BTGEN_MISSION);
   BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE);
