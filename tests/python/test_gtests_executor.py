@@ -117,3 +117,25 @@ def test_enums_are_registered(capsys, tmp_path):
     plain = tmp_path / "plain"
     assert main(["tests", str(GUARD), "-o", str(plain)]) == 0
     assert "BTGEN_ENUMS" not in (plain / "Guard_tests.cpp").read_text()
+
+
+def test_tree_libraries_are_registered(capsys, tmp_path):
+    """--trees: the suite registers each library file (relative to DIR) before the mission and
+    creates the main tree by name; the executor entries get the option too."""
+    mission = ROOT / "tests" / "gtests" / "UsesLibrary.xml"
+    library = ROOT / "tests" / "gtests" / "library"
+    out = tmp_path / "suite"
+    assert main(["tests", str(mission), "-o", str(out), "--trees", str(library), "--executor"]) == 0
+    capsys.readouterr()
+    cpp = (out / "UsesLibrary_tests.cpp").read_text()
+    rel = os.path.relpath(library / "Docking.xml", out)
+    assert f'#define BTGEN_TREES {{ "{rel}" }}' in cpp
+    assert '{ "IsAligned", true, {} },' in cpp  # the library tree's leaves are scripted too
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert '"BTGEN_MAIN_TREE=\\"Main\\""' in cmake and "BTGEN_SOURCE_DIR" in cmake
+    assert f'\\"--trees\\" \\"{library}\\"' in cmake
+    build = tmp_path / "build"
+    _configure(out, build)
+    ok = _ctest(build, "-R", "S01")
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert "100% tests passed, 0 tests failed out of 1" in ok.stdout

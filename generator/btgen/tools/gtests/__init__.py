@@ -208,11 +208,18 @@ def _c_string(text: str) -> str:
     return '"' + "".join(out) + '"'
 
 
-def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=()) -> str:
+def render_tests(
+    stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=(), trees=()
+) -> str:
     head = []
+    if trees:
+        head += [
+            "// The tree libraries (--trees), relative to the suite's folder: registered before the mission.",
+            f"#define BTGEN_TREES {{ {', '.join(_c_string(t) for t in trees)} }}",
+        ]
     if enums:
         pairs = ", ".join(f"{{ {_c_string(name)}, {value} }}" for name, value in enums)
-        head = [
+        head += [
             "// The scripting enums (--enum / --enums): registerScriptingEnum before the tree is created.",
             f"#define BTGEN_ENUMS {{ {pairs} }}",
         ]
@@ -282,6 +289,7 @@ def render_cmake(
     main_tree: Optional[str],
     cases: list[Case],
     executor: Optional[list[str]] = None,
+    trees: bool = False,
 ) -> str:
     """CMakeLists.txt; with `executor` (btgen's options for `btgen run`), a second ctest entry
     per scenario that runs it on btgen's compiled executor, and the library's suite optional."""
@@ -322,6 +330,8 @@ def render_cmake(
     ]
     if main_tree is not None:
         library.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
+    if trees:
+        library.append('  "BTGEN_SOURCE_DIR=\\"${CMAKE_CURRENT_SOURCE_DIR}\\""')
     library.append(")")
     for case in cases:
         library.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
@@ -464,7 +474,7 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
 
     criteria_of(args)  # a bad --coverage is refused before anything else
     opts = pipeline.options_from_args(args)
-    for flag, value in (("--trees", opts.trees), ("--entry", opts.entries), ("--type", opts.types)):
+    for flag, value in (("--entry", opts.entries), ("--type", opts.types)):
         if value:
             raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet (the suite reads one file)")
     mission = pipeline.load(args.mission, opts)
@@ -488,9 +498,12 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     with open(os.path.join(os.path.dirname(__file__), "support.hpp"), encoding="utf-8") as f:
         support = f.read()
     executor = _run_options(args, opts) if getattr(args, "executor", False) else None
+    trees = tree_files(args, opts, mission)
+    # with tree libraries the mission is registered too and its main tree created by name
+    main_tree = opts.main_tree if not trees else mission.main_tree
     files = {
-        "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases, executor),
-        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums),
+        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees),
         SUPPORT: support,
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
@@ -500,6 +513,35 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
             files[f"executor/{k:03d}.scenario"] = text
             files[f"executor/{k:03d}.trace"] = case.trace_text
     return files, cases
+
+
+def tree_files(args, opts, mission: Mission) -> list[str]:
+    """The files of --trees as the loader reads them (a folder: its `*.xml`, in name order; the
+    mission itself and repeats left out), each relative to DIR (absolute when --mission-path
+    is), for registerBehaviorTreeFromFile."""
+    out: list[str] = []
+    seen = {os.path.realpath(mission.path)}
+    base = os.path.abspath(args.output_dir)
+    absolute = bool(args.mission_path) and os.path.isabs(args.mission_path)
+    for path in opts.trees:
+        if os.path.isdir(path):
+            found = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+        else:
+            found = [path]
+        for f in found:
+            real = os.path.realpath(f)
+            if real in seen:
+                continue
+            seen.add(real)
+            ref = os.path.abspath(f) if absolute else os.path.relpath(os.path.abspath(f), base)
+            if any(ord(c) < 0x20 for c in ref):
+                raise cmdline.error(args, "--trees", f"--trees: the path {ref!r} has characters C++ cannot carry")
+            out.append(ref)
+    return out
 
 
 def _run_options(args, opts) -> list[str]:
@@ -516,6 +558,8 @@ def _run_options(args, opts) -> list[str]:
         out += ["--nodes", opts.nodes]
     for decl in opts.enum_decls:
         out += ["--enum", decl]
+    for t in opts.trees:
+        out += ["--trees", os.path.abspath(t)]
     for f in opts.enum_files:
         out += ["--enums", os.path.abspath(f)]
     for word in out:
