@@ -139,3 +139,12 @@ def test_tree_libraries_are_registered(capsys, tmp_path):
     ok = _ctest(build, "-R", "S01")
     assert ok.returncode == 0, ok.stdout + ok.stderr
     assert "100% tests passed, 0 tests failed out of 1" in ok.stdout
+
+
+@pytest.mark.parametrize("option", [["--entry", "speed=int"], ["--type", "Pose=geo::Pose@geo/pose.hpp"]])
+def test_entry_and_type_are_refused(capsys, tmp_path, option):
+    out = tmp_path / "suite"
+    assert main(["tests", str(GUARD), "-o", str(out), *option]) == 1
+    err = capsys.readouterr().err
+    assert f"error: {option[0]}: not supported by `btgen tests` yet" in err and "Traceback" not in err
+    assert not out.exists()

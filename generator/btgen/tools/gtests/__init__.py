@@ -476,7 +476,8 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     opts = pipeline.options_from_args(args)
     for flag, value in (("--entry", opts.entries), ("--type", opts.types)):
         if value:
-            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet (the suite reads one file)")
+            why = "the suite would have to carry it into the blackboard and the ports' types"
+            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet ({why})")
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
     leaves = mission_leaves(mission)
