@@ -168,9 +168,19 @@ def test_tests_command_writes_the_criteria_scenarios(capsys, tmp_path):
     report = _explore(capsys, CRIT, "--coverage", "all")
     assert many.split(": ")[1].startswith(f"{report['scenarios']} tests")
     assert int(few.split(": ")[1].split()[0]) <= report["scenarios"]
-    # the halt of Work is named in a test
+    # the halt of Work is named in a test; each TEST's comment names the condition ways and the
+    # MC/DC evaluations no earlier one reaches, and between them they are every one reached
     cpp = next((tmp_path / "a").glob("*_tests.cpp")).read_text()
     assert "WorkHaltedRunning" in cpp
+    reaches = [line for line in cpp.splitlines() if line.startswith("// Reaches first: ")]
+    assert "// Reaches first: `Work` _skipIf evaluated true" in reaches
+    assert "// Reaches first: `Both` code: operands `a`, `b` = (T, T) -> true" in reaches
+    assert "// Reaches first: `Mix` code: operands `a`, `a`, `b` = (T, T, F) -> true" in reaches
+    assert sum("_onSuccess" in line or "_onFailure" in line for line in reaches) == 8
+    assert sum("operands" in line for line in reaches) == 8  # Both: 4 vectors, Mix: 4 (a twice)
+    assert len(reaches) == len(set(reaches))
+    assert not any("_failureIf evaluated true" in line for line in reaches)  # never reached
+    assert "Reaches first" not in next((tmp_path / "d").glob("*_tests.cpp")).read_text()
 
 
 @pytest.mark.parametrize(

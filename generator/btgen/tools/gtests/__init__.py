@@ -28,7 +28,7 @@ import re
 import shutil
 import sys
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 from btgen import cmdline
@@ -51,6 +51,7 @@ class Case:
     lists: list[tuple[str, list[str]]]  # leaf name -> statuses, in first-call order
     trace: list[str]  # the expected lines: tick N, status changes, result S
     trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
+    obligations: list[str] = field(default_factory=list)  # condition / MC/DC goals it reaches first
 
 
 @dataclass
@@ -191,6 +192,36 @@ def explored_scenarios(mission: Mission, args) -> list[tuple[str, str]]:
     return [(f"<scenario {i}>", scenario_text(p, 0)) for i, p in enumerate(result.paths, start=1)]
 
 
+def name_obligations(mission: Mission, args, texts: list[tuple[str, str]], cases: list[Case]) -> None:
+    """With --coverage condition or mcdc: each case's comment names the pre- and post-condition
+    ways and the MC/DC evaluations (operand values of an `&&`/`||` expression) no earlier case
+    reaches (the interpreter's replay of the scenario)."""
+    from btgen.interp.scenario import parse_scenario_text
+    from btgen.tools import obligations
+    from btgen.tools.explore import Explorer, Places, _possible, criteria_of
+
+    criteria = criteria_of(args)
+    if not {"condition", "mcdc"} & set(criteria):
+        return
+    ex = Explorer(mission, possible=_possible(mission, args), criteria=criteria)
+    places = Places(mission, ex.nodes)
+    seen: set = set()
+    for (path, text), case in zip(texts, cases):
+        goals = ex.replay(parse_scenario_text(text, path))
+        new = sorted((g for g in goals - seen if g[0] in ("pre", "post", "eval")), key=str)
+        seen |= goals
+        for g in new:
+            who = places.path(g[1]).rsplit("/", 1)[-1]
+            if g[0] == "eval":
+                site = ex.obligations.sites[(g[1], g[2])][g[3]]
+                vals = ", ".join("T" if v else "F" for v in g[4])
+                operands = ", ".join(f"`{t}`" for t in site.text)
+                result = "true" if g[5] else "false"
+                case.obligations.append(f"`{who}` {g[2]}: operands {operands} = ({vals}) -> {result}")
+            elif g in ex.obligations.goals:
+                case.obligations.append(f"`{who}` {obligations.describe(g)}")
+
+
 # ---------------------------------------------------------------- rendering
 def _c_string(text: str) -> str:
     out = []
@@ -257,6 +288,8 @@ def render_tests(
         out.append(f"// Scenario {k} of {len(cases)}. Covers first: " + ("; ".join(case.covers[:3]) or "-"))
         if len(case.covers) > 3:
             out.append(f"// ... and {len(case.covers) - 3} more outcomes or halts no earlier scenario shows.")
+        for line in case.obligations:
+            out.append(f"// Reaches first: {line}")
         width = max([4] + [len(n) for n, _ in case.lists])
         out.append(f"//   ticks at most {case.ticks}")
         out.append(f"//   {'leaf'.ljust(width)} | results, call by call (the last repeats; unlisted: SUCCESS)")
@@ -492,6 +525,7 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     else:
         texts = explored_scenarios(mission, args)
     cases = collect_cases(mission, texts)
+    name_obligations(mission, args, texts, cases)
     stem = os.path.splitext(os.path.basename(args.mission))[0]
     suite = _ident(stem)
     if suite[0].isdigit():
