@@ -134,11 +134,8 @@ def test_tree_libraries_are_registered(capsys, tmp_path):
     cmake = (out / "CMakeLists.txt").read_text()
     assert '"BTGEN_MAIN_TREE=\\"Main\\""' in cmake and "BTGEN_SOURCE_DIR" in cmake
     assert f'\\"--trees\\" \\"{library}\\"' in cmake
-    build = tmp_path / "build"
-    _configure(out, build)
-    ok = _ctest(build, "-R", "S01")
-    assert ok.returncode == 0, ok.stdout + ok.stderr
-    assert "100% tests passed, 0 tests failed out of 1" in ok.stdout
+    # (one C++ build a test file: the executor entries are run above, on Guard; this suite's
+    # 8 of 8 on the real 4.6.2 and the executor are in docs/tests.md)
 
 
 @pytest.mark.parametrize("option", [["--entry", "speed=int"], ["--type", "Pose=geo::Pose@geo/pose.hpp"]])
