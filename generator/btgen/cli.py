@@ -164,6 +164,10 @@ SYNC_HELP = (
     "an Action whose leaves implement it synchronously (a `tick()` hook, BehaviorTree.CPP's "
     "SyncActionNode): it never returns RUNNING, so RUNNING is no goal for it (repeatable)"
 )
+COVERAGE_HELP = (
+    "the coverage criteria, comma-separated: node, outcome, halt, condition, mcdc, or all "
+    "(default: node,outcome; docs/tests.md says what each asks)"
+)
 
 
 def _count(text: str) -> int:
@@ -258,6 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="go on after a property's first violation (default: stop there; its counterexample is printed)",
     )
     e.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
+    e.add_argument("--coverage", metavar="CRITERIA", help=COVERAGE_HELP)
     e.set_defaults(func=_cmd_explore)
 
     vf = sub.add_parser(
@@ -363,6 +368,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="exploration: stop after N explored states (default 200000)",
     )
+    ts.add_argument("--coverage", metavar="CRITERIA", help=COVERAGE_HELP)
+    ts.add_argument(
+        "--executor",
+        action="store_true",
+        help="also run each scenario on btgen's compiled executor from ctest (`btgen run --engine cpp`; "
+        "-DBTGEN_LIBRARY_TESTS=OFF builds no BehaviorTree.CPP suite)",
+    )
     ts.set_defaults(func=_cmd_tests)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
@@ -376,6 +388,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--min", type=_percent, metavar="PCT", help="exit 1, saying so, when node coverage is below PCT percent"
     )
     cv.add_argument("--sync", action="append", default=[], metavar="ID", help=SYNC_HELP)
+    cv.add_argument("--coverage", metavar="CRITERIA", help=COVERAGE_HELP)
     cv.set_defaults(func=_cmd_cover)
 
     sl = sub.add_parser("scenario-from-log", help="the scenario that replays a .btlog on both engines")

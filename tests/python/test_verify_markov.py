@@ -97,3 +97,20 @@ def test_bad_probability_files(tmp_path, text, message):
     with pytest.raises(UserError) as e:
         load_probabilities(p, program)
     assert message in str(e.value.diagnostics[0])
+
+
+def test_rate_controller_reads_the_clock(tmp_path, capsys):
+    """Nav2's RateController re-ticks its child only once its period has passed: a chain without
+    a clock would answer for a clock that never moves (P(SUCCESS) 0.5 here), so it is refused
+    like Sleep, Delay and Timeout."""
+    nav2 = Path(__file__).resolve().parents[2] / "tests" / "real_files" / "nav2"
+    probs = tmp_path / "p.json"
+    probs.write_text(
+        '{"ComputePathToPose": {"SUCCESS": 0.5, "FAILURE": 0.5}, "ControllerSelector": {"SUCCESS": 1.0}, '
+        '"PlannerSelector": {"SUCCESS": 1.0}, "FollowPath": {"SUCCESS": 0.5, "RUNNING": 0.5}}'
+    )
+    tree = nav2 / "navigate_w_replanning_time.xml"
+    models = nav2 / "nav2_tree_nodes.xml"
+    assert main(["verify", str(tree), "--models", str(models), "--probabilities", str(probs)]) == 1
+    err = capsys.readouterr().err
+    assert f"{tree}:10:7: error: `RateController` reads the clock: --probabilities does not translate it" in err

@@ -153,3 +153,16 @@ def version_number(version: str) -> int:
     """4.10.0 -> 41000: the constant of the generated header and the runtime."""
     major, minor, patch = (int(x) for x in version.split("."))
     return major * 10000 + minor * 100 + patch
+
+
+def at_release(version: str) -> Semantics:
+    """The switches of a release between 4.6.2 and 4.10.0 that btgen does not implement as
+    such (4.8.2, whose Python bindings `behaviortreepy` runs in CI): every switch made by
+    that release or an earlier one (SINCE) is on. Only as exact as SINCE: a change of that
+    release that is no switch (none is known) is not in it. For comparisons, never for
+    `--btcpp`."""
+    key = version_number(version)
+    if not version_number(DEFAULT_VERSION) <= key <= version_number(SUPPORTED_VERSIONS[-1]):
+        raise ValueError(f"`{version}` is not between {DEFAULT_VERSION} and {SUPPORTED_VERSIONS[-1]}")
+    on = {name: version_number(since) <= key for name, since in SINCE.items()}
+    return Semantics(version, **on)

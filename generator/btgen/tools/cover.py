@@ -36,6 +36,7 @@ from btgen.interp.scenario import format_scenario, leaf_locs, parse_scenario
 from btgen.interp.tree import FAILURE, RUNNING, SUCCESS
 from btgen.lang.model import Mission
 from btgen.tools import graph as g
+from btgen.tools import obligations
 
 STATUS_NAMES = g.STATUS_NAMES
 
@@ -93,11 +94,13 @@ def _possible(mission: Mission, args) -> tuple[dict[int, set[str]], dict[int, bo
 
 def cover_command(args) -> int:
     from btgen import pipeline
-    from btgen.tools.explore import coverage_lines
+    from btgen.tools.explore import coverage_lines, criteria_of
 
     mission = pipeline.load(args.mission, pipeline.options_from_args(args))
     nodes, clusters = g.walk(mission)
+    criteria = criteria_of(args)
     possible, reach = _possible(mission, args)
+    extra = Extra(mission, args, criteria)
     seen: dict[int, set[str]] = {}
     ticked: set[int] = set()
     for run in args.runs:
@@ -112,6 +115,7 @@ def cover_command(args) -> int:
             if to != "IDLE":
                 ticked.add(uid)
                 seen.setdefault(uid, set()).add(to)
+        extra.add_run(run, ext, moves)
     rows = []
     node_goals = node_hits = out_goals = out_hits = 0
     state: dict[int, str] = {}
@@ -133,8 +137,9 @@ def cover_command(args) -> int:
     pct_o = 100.0 * out_hits / out_goals if out_goals else 100.0
     runs = f"{len(args.runs)} run{'' if len(args.runs) == 1 else 's'}"
     print(f"{args.mission}: {runs}")
-    for line in coverage_lines(node_hits, node_goals, out_hits, out_goals):
+    for line in coverage_lines(node_hits, node_goals, out_hits, out_goals)[: 2 if "outcome" in criteria else 1]:
         print(f"  {line}")
+    extra.report(args.table or args.uncovered, args.table)
     if args.table or args.uncovered:
         print(f"  {'uid':>5}  {'node':40}  {'ticked':8}  {'seen':30}  missing")
         for n, tick, got_s, miss in rows:
@@ -168,6 +173,84 @@ def cover_command(args) -> int:
         )
         return 1
     return 0
+
+
+class Extra:
+    """The criteria beyond nodes and outcomes (tools/obligations.py) over a set of runs: halts
+    and post-conditions from the status changes of every run; pre-conditions and MC/DC by
+    replaying scenario files (and .btlog files, through `scenario-from-log`): a trace shows no
+    script evaluation, so those criteria leave traces out, and say how many."""
+
+    def __init__(self, mission: Mission, args, criteria: tuple[str, ...]) -> None:
+        from btgen.tools.explore import Explorer, Places, _possible
+
+        self.mission = mission
+        self.criteria = criteria
+        self.kinds = obligations.kinds_of(criteria) - {"node", "outcome"}
+        self.reached: set = set()
+        self.unreplayed: list[str] = []
+        self.ex = None
+        if not self.kinds:
+            return
+        self.ex = ex = Explorer(mission, possible=_possible(mission, args), criteria=criteria)
+        self.ob = ex.obligations
+        self.places = Places(mission, ex.nodes)
+
+    def add_run(self, run: str, ext: str, moves: list[tuple[int, str, str]]) -> None:
+        if self.ex is None:
+            return
+        got: set[tuple] = {("halt", uid) for uid, before, to in moves if before == "RUNNING" and to == "IDLE"}
+        got |= {("outcome", uid, _STATUS[to]) for uid, _, to in moves if to in _STATUS}
+        self.reached |= got | obligations.derived(self.ob, got)
+        if not self.kinds & {"pre", "mcdc"}:
+            return
+        if ext == ".scenario":
+            self.reached |= self.ex.replay(parse_scenario(run))
+        elif ext == ".btlog":
+            from btgen.interp.scenario import parse_scenario_text
+
+            self.reached |= self.ex.replay(parse_scenario_text(scenario_from_log(self.mission, run), run))
+        else:
+            self.unreplayed.append(run)
+
+    def report(self, uncovered: bool, table: bool) -> None:
+        if self.ex is None:
+            return
+        from btgen.tools.explore import criteria_lines
+
+        goals = self.ob.all_goals
+        shown = obligations.mcdc_shown(self.ob, self.reached)
+        covered = (self.reached & goals) | set(shown)
+        extra = tuple(c for c in self.criteria if c not in ("node", "outcome"))
+        for line in criteria_lines(extra, goals, covered):
+            print(f"  {line}")
+        if self.unreplayed and self.kinds & {"pre", "mcdc"}:
+            n = len(self.unreplayed)
+            print(
+                f"  pre and mcdc leave out {n} trace{'' if n == 1 else 's'}: a trace shows no script evaluation "
+                "(give the scenario or the .btlog instead)"
+            )
+        if not uncovered:
+            return
+        rows = sorted(goals - covered, key=lambda g: (g[1], str(g)))
+        for goal in rows:
+            where = f"{self.places.path(goal[1])} ({self.places.loc(goal)})"
+            print(f"  uncovered {obligations.criterion_of(goal)}: {where}: {obligations.describe(goal, self.ob)}")
+        if table:
+            for goal, (a, b, unique) in sorted(shown.items(), key=lambda kv: str(kv[0])):
+                where = f"{self.places.path(goal[1])} ({self.places.loc(goal)})"
+                form = "unique-cause" if unique else "masking"
+                pair = f"{_bits(a)} -> {'true' if self.ob.site(goal).value(a) else 'false'}, " + (
+                    f"{_bits(b)} -> {'true' if self.ob.site(goal).value(b) else 'false'}"
+                )
+                print(f"  shown mcdc: {where}: {obligations.describe(goal, self.ob)}: {form} ({pair})")
+
+
+_STATUS = {"SUCCESS": SUCCESS, "FAILURE": FAILURE, "RUNNING": RUNNING}
+
+
+def _bits(vals: tuple[bool, ...]) -> str:
+    return "(" + ", ".join("T" if v else "F" for v in vals) + ")"
 
 
 def _write_graph(output: str, text: str, inputs: tuple[str, ...]) -> int:

@@ -69,6 +69,7 @@ from btgen.interp.scenario import MAX_VALUE, format_scenario, leaf_locs, parse_s
 from btgen.interp.tree import FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS, TreeNode
 from btgen.lang import values
 from btgen.lang.model import Mission
+from btgen.tools import obligations
 
 
 def _discard(_piece: tuple[str, str]) -> None:
@@ -93,7 +94,7 @@ _NOT_STATE = frozenset(TreeNode.__slots__) | {
     "if_not_updated",
     "cases",
 }
-_TIMERS = {"Sleep", "Delay", "Timeout"}
+_TIMERS = {"Sleep", "Delay", "Timeout", "RateController"}  # nodes that read the clock
 _HOOKED = "execute_tick"  # the method every visit goes through, wrapped while exploring
 _ENTRY_NODES = {"WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate"}
 
@@ -280,6 +281,7 @@ class Explorer:
         possible: Optional[dict[int, set[int]]] = None,
         merge: bool = True,
         sync: frozenset[str] = frozenset(),
+        criteria: tuple[str, ...] = obligations.DEFAULT,
     ) -> None:
         self.merge = merge
         self.sync = sync
@@ -310,6 +312,13 @@ class Explorer:
         self.marks: list[_Mark] = []
         self.last_plan: tuple[int, ...] = ()
         self.nodes = probe.nodes
+        self.criteria = criteria
+        self.shown: dict[tuple, tuple] = {}  # MC/DC obligation -> its pair (A, B, unique)
+        # the goals of the criteria beyond nodes and outcomes (tools/obligations.py)
+        self.obligations = obligations.build(probe.nodes, possible, obligations.kinds_of(criteria))
+        if self.obligations.halt_uids:
+            for node in probe.nodes:
+                node.emit = obligations.halt_emit(node, _discard, self._sink)
         ids = {n.reg_id for n in probe.nodes}
         self.use_clock = bool(ids & _TIMERS)
         self.use_seq = bool(ids & _ENTRY_NODES)
@@ -425,8 +434,22 @@ class Explorer:
             parts.append(interp.rt.now_ms)
         return tuple(parts)
 
+    def _sink(self) -> Optional[set]:
+        run = self.current
+        return run.goals if run is not None else None
+
     # -- instrumentation: every execute_tick of the run's nodes
     def _install(self) -> Callable[[], None]:
+        restore_hooks = obligations.Hooks(self.obligations, self._sink).install()
+        restore_ticks = self._install_ticks()
+
+        def restore() -> None:
+            restore_ticks()
+            restore_hooks()
+
+        return restore
+
+    def _install_ticks(self) -> Callable[[], None]:
         classes = {k for n in self.nodes for k in type(n).__mro__ if issubclass(k, TreeNode)}
         patched: list[tuple[type, object]] = []
         ex = self
@@ -592,6 +615,8 @@ class Explorer:
                     for o in reversed(options):
                         stack.append(plan + (o,))
                     continue
+                if self.obligations.post:
+                    run.goals |= obligations.derived(self.obligations, run.goals)
                 mask = 0
                 for goal in run.goals:
                     b = self.bit.get(goal)
@@ -623,10 +648,17 @@ class Explorer:
         seconds = time.perf_counter() - t0
         self.reached = covered  # every goal a run reached, possible or not (tests check analyze with it)
         goals = self.goals()
+        # MC/DC: an obligation is shown by a pair of evaluations; the pair's two evaluations
+        # are what the covering set must reach (one run may reach both)
+        self.shown = obligations.mcdc_shown(self.obligations, covered)
+        wanted = set(goals)
+        for goal, (a, b, _) in self.shown.items():
+            site = self.obligations.site(goal)
+            wanted |= {obligations.eval_goal(site, a), obligations.eval_goal(site, b)}
         return Result(
-            goals,
-            covered & goals,
-            self._cover(list(candidates.values()), goals),
+            goals | set(self.obligations.mcdc),
+            (covered & goals) | set(self.shown),
+            self._cover(list(candidates.values()), wanted),
             runs,
             len(self.seen),
             seconds,
@@ -638,6 +670,30 @@ class Explorer:
             tuple(sorted(cut)),
             stopped,
         )
+
+    def replay(self, scenario) -> set:
+        """The goals one scenario reaches (every kind, and the MC/DC evaluations), on an
+        interpreter of its own with this explorer's hooks: what `btgen cover` measures."""
+        interp = Interpreter(self.mission, scenario)
+        run = _Run(self, ())
+        run.interp = interp
+        for node in interp.nodes:
+            node.emit = obligations.halt_emit(node, _discard, self._sink)
+        restore = self._install()
+        self.current = run
+        try:
+            for n in range(1, scenario.ticks + 1):
+                if n > 1 and scenario.clock_ms:
+                    interp.advance_clock(scenario.clock_ms)
+                status = interp.tick_once()
+                if status.name in ("SUCCESS", "FAILURE"):
+                    break
+        except UserError:
+            pass  # a run-time error ends the run; what it reached, it reached
+        finally:
+            self.current = None
+            restore()
+        return run.goals | obligations.derived(self.obligations, run.goals)
 
     def _cover(self, paths: list[Path], goals: set) -> list[Path]:
         """Greedy set cover (the run adding most goals first, the shorter on a tie), then each
@@ -675,11 +731,17 @@ class Explorer:
         ]
 
     def goals(self) -> set:
-        out: set = set()
+        """The goals of the selected criteria but MC/DC's (each shown by a pair of runs)."""
+        out: set = set(self.obligations.goals)
+        if "node" not in self.criteria and "outcome" not in self.criteria:
+            return out
         for i, n in enumerate(self.nodes):
             if self.possible is not None and not self.possible.get(i):
                 continue  # never ticked whatever the leaves return (btgen analyze says why)
-            out.add(("node", n.uid))
+            if "node" in self.criteria:
+                out.add(("node", n.uid))
+            if "outcome" not in self.criteria:
+                continue
             for st in self.possible.get(i, ()) if self.possible is not None else (SUCCESS, FAILURE, RUNNING):
                 out.add(("outcome", n.uid, st))
         return out
@@ -770,6 +832,102 @@ def check_clock_ms(args) -> None:
         )
 
 
+def criteria_of(args) -> tuple[str, ...]:
+    """`--coverage` of a command (default: node,outcome)."""
+    text = getattr(args, "coverage", None)
+    if text is None:
+        return obligations.DEFAULT
+    try:
+        return obligations.parse_criteria(text)
+    except ValueError as e:
+        raise cmdline.error(args, "--coverage", f"--coverage {text}: {e}") from None
+
+
+def _goal_order(g: tuple) -> tuple:
+    order = ("node", "outcome", "halt", "pre", "post", "mcdc")
+    return (g[1], order.index(g[0]) if g[0] in order else 9, str(g[2:]))
+
+
+def _uncovered_text(g: tuple, names: dict, ob) -> str:
+    n = names[g[1]]
+    head = f'{g[1]} {n.reg_id} "{n.name}"'
+    if g[0] == "node":
+        return head + " ticked"
+    if g[0] == "outcome":
+        return f"{head} {NAMES[g[2]]}"
+    return f"{head} {obligations.describe(g, ob)}"
+
+
+def obligation_counts(goals: set, covered: set) -> dict[str, list[int]]:
+    """Per goal kind: [covered, goals]."""
+    out: dict[str, list[int]] = {}
+    for g in goals:
+        row = out.setdefault(g[0], [0, 0])
+        row[1] += 1
+        if g in covered:
+            row[0] += 1
+    return out
+
+
+def criteria_lines(criteria: tuple[str, ...], goals: set, covered: set) -> list[str]:
+    """One line per goal kind of the criteria, `nodes:` and `outcomes:` as before."""
+    counts = obligation_counts(goals, covered)
+
+    def get(kind: str) -> tuple[int, int]:
+        hit, total = counts.get(kind, [0, 0])
+        return hit, total
+
+    lines: list[str] = []
+    if "node" in criteria or "outcome" in criteria:
+        both = coverage_lines(*get("node"), *get("outcome"))
+        lines += [both[0]] if "node" in criteria else []
+        lines += [both[1]] if "outcome" in criteria else []
+    what = {
+        "halt": "each node that can be RUNNING, halted while RUNNING",
+        "pre": "each _failureIf/_successIf/_skipIf/_while evaluated true and false",
+        "post": "each _onSuccess/_onFailure/_post/_onHalted decided each way",
+        "mcdc": "each operand of each && and || shown to decide the result (masking MC/DC)",
+    }
+    for kind in ("halt", "pre", "post", "mcdc"):
+        if kind not in obligations.kinds_of(criteria):
+            continue
+        hit, total = get(kind)
+        pct = f"{100.0 * hit / total if total else 100.0:.1f}%"
+        label = {"halt": "halts:", "pre": "pre:", "post": "post:", "mcdc": "mcdc:"}[kind]
+        lines.append(f"{label:9} {hit}/{total} = {pct} ({what[kind]})")
+    return lines
+
+
+class Places:
+    """Where a goal is: the node's path from the root (names, SubTrees followed) and the line
+    of the node, or of the attribute the goal is about."""
+
+    def __init__(self, mission: Mission, nodes: list) -> None:
+        from btgen.tools import graph as g
+
+        gnodes, _ = g.walk(mission)
+        self.by_uid = {n.uid: n for n in gnodes}
+        self.interp = {n.uid: n for n in nodes}
+        self.main = mission.main_tree
+
+    def path(self, uid: int) -> str:
+        parts = []
+        n = self.by_uid.get(uid)
+        while n is not None:
+            parts.append(n.name)
+            n = self.by_uid.get(n.parent)
+        return "/".join([self.main, *reversed(parts)])
+
+    def loc(self, goal: tuple) -> Loc:
+        node = self.interp[goal[1]]
+        if goal[0] in ("pre", "post", "mcdc"):
+            model = node.model
+            for attr in (*model.ports, *model.pre, *model.post):
+                if attr.name == goal[2]:
+                    return attr.loc
+        return node.model.loc
+
+
 def explore_command(args) -> int:
     from btgen import pipeline
     from btgen.interp.engine import trace_text
@@ -782,6 +940,7 @@ def explore_command(args) -> int:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
     check_clock_ms(args)
     check_ticks(args)
+    criteria = criteria_of(args)
     possible = _possible(mission, args)
     try:
         ex = Explorer(
@@ -794,6 +953,7 @@ def explore_command(args) -> int:
             possible,
             not args.no_merge,
             sync_actions(mission, args),
+            criteria,
         )
     except ValueError as e:
         raise cmdline.error(args, "--assert", f"--assert: {e}") from None
@@ -882,7 +1042,7 @@ def explore_command(args) -> int:
             print("  a run that reaches it:", file=sys.stderr)
             for line in text.splitlines():
                 print(f"    {line}", file=sys.stderr)
-    uncovered = sorted(result.goals - result.covered, key=lambda g: (g[1], g[2] if len(g) > 2 else -1))
+    uncovered = sorted(result.goals - result.covered, key=_goal_order)
     names = {n.uid: n for n in ex.nodes}
     impossible = []
     if possible is not None:
@@ -891,12 +1051,17 @@ def explore_command(args) -> int:
                 impossible.append(f'{n.uid} {n.reg_id} "{n.name}": never ticked (see `btgen analyze`)')
     if result.stopped_at_violation:
         why = "not explored: the search stopped at the first violation (--keep-going explores on)"
+        answer = "not explored"
     elif result.truncated:
         why = f"not reached within the bounds (stopped at --max-states {args.max_states})"
+        answer = "not reached within the bound"
     elif result.bounded_by:
         why = f"not reached within the bounds (--ticks {args.ticks}, --depth {args.depth})"
+        answer = "not reached within the bound"
     else:
         why = "never reached, and the search was exhaustive: no run of the leaves gets there"
+        answer = "unreachable (exhaustive exploration)"
+    places = Places(mission, ex.nodes)
     report = {
         "mission": args.mission,
         "runs": result.runs,
@@ -914,8 +1079,17 @@ def explore_command(args) -> int:
         "files": files,
         "max_nodes_visited_per_tick": result.max_visits,
         "max_leaf_hooks_per_tick": result.max_hooks,
-        "uncovered": [
-            (f'{g[1]} {names[g[1]].reg_id} "{names[g[1]].name}"' + (f" {NAMES[g[2]]}" if len(g) > 2 else " ticked"))
+        "criteria": list(criteria),
+        "obligations": obligation_counts(result.goals, result.covered),
+        "uncovered": [_uncovered_text(g, names, ex.obligations) for g in uncovered],
+        "uncovered_obligations": [
+            {
+                "criterion": obligations.criterion_of(g),
+                "node": places.path(g[1]),
+                "location": str(places.loc(g)),
+                "what": obligations.describe(g, ex.obligations),
+                "answer": answer,
+            }
             for g in uncovered
         ],
         "never_ticked": impossible,
@@ -930,9 +1104,7 @@ def explore_command(args) -> int:
     print(f"{args.mission}:")
     rate = report["states_per_second"]
     print(f"  runs {result.runs}, states {result.states}, {result.seconds:.2f} s ({rate} states/s)")
-    for line in coverage_lines(
-        report["nodes_covered"], report["node_goals"], report["outcomes_covered"], report["outcome_goals"]
-    ):
+    for line in criteria_lines(criteria, result.goals, result.covered):
         print(f"  {line}")
     for entry in properties:
         print(f"  assert `{entry['property']}`: {entry['line']}")
@@ -943,8 +1115,10 @@ def explore_command(args) -> int:
     if result.stopped_at_violation and uncovered:
         print(f"  uncovered: {len(uncovered)} goals: {why}")
     else:
-        for line in report["uncovered"]:
+        for g, line in zip(uncovered, report["uncovered"]):
             print(f"  uncovered: {line}: {why}")
+            if g[0] not in ("node", "outcome"):
+                print(f"    at {places.path(g[1])} ({places.loc(g)})")
     for entry in properties:
         if entry["result"] != "violated":
             continue

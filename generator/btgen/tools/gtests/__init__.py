@@ -13,6 +13,12 @@ DIR receives CMakeLists.txt (find_package(behaviortree_cpp), GTest, one ctest en
 TEST), `<stem>_tests.cpp`, `btgen_gtest_support.hpp` and `.btgen-tests` (the marker that lets
 a later run replace the folder). Everything is written to a temporary folder beside DIR and
 renamed into place: DIR is whole or unchanged.
+
+With --executor, DIR/executor/ also holds each scenario and the interpreter's trace of it, and
+CMakeLists.txt one more ctest entry per TEST that runs the scenario on btgen's compiled
+executor (`btgen run --engine cpp`) through executor/check.cmake: one suite checks both
+runtimes; -DBTGEN_LIBRARY_TESTS=OFF leaves the BehaviorTree.CPP suite out. --coverage selects
+the criteria the explored scenarios reach (tools/obligations.py).
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ import re
 import shutil
 import sys
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 from btgen import cmdline
@@ -44,6 +50,8 @@ class Case:
     ticks: int
     lists: list[tuple[str, list[str]]]  # leaf name -> statuses, in first-call order
     trace: list[str]  # the expected lines: tick N, status changes, result S
+    trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
+    obligations: list[str] = field(default_factory=list)  # condition / MC/DC goals it reaches first
 
 
 @dataclass
@@ -160,17 +168,20 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
         if sc.default != "SUCCESS":
             where = sc.default_loc or Loc(path, 1, 1)
             raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
-        trace = trace_text(mission, sc).splitlines()
+        text = trace_text(mission, sc)
         lists = [(s.name, list(s.statuses)) for s in sc.leaves]
-        cases.append(Case("", [], sc.ticks, lists, trace))
+        cases.append(Case("", [], sc.ticks, lists, text.splitlines(), text))
     name_cases(cases)
     return cases
 
 
 def explored_scenarios(mission: Mission, args) -> list[tuple[str, str]]:
-    from btgen.tools.explore import Explorer, _possible, scenario_text
+    from btgen.tools.explore import Explorer, _possible, criteria_of, scenario_text
 
-    ex = Explorer(mission, args.ticks, args.depth, 0, args.max_states, (), _possible(mission, args), True)
+    criteria = criteria_of(args)
+    ex = Explorer(
+        mission, args.ticks, args.depth, 0, args.max_states, (), _possible(mission, args), True, criteria=criteria
+    )
     result = ex.explore()
     if result.truncated:
         print(
@@ -179,6 +190,36 @@ def explored_scenarios(mission: Mission, args) -> list[tuple[str, str]]:
             file=sys.stderr,
         )
     return [(f"<scenario {i}>", scenario_text(p, 0)) for i, p in enumerate(result.paths, start=1)]
+
+
+def name_obligations(mission: Mission, args, texts: list[tuple[str, str]], cases: list[Case]) -> None:
+    """With --coverage condition or mcdc: each case's comment names the pre- and post-condition
+    ways and the MC/DC evaluations (operand values of an `&&`/`||` expression) no earlier case
+    reaches (the interpreter's replay of the scenario)."""
+    from btgen.interp.scenario import parse_scenario_text
+    from btgen.tools import obligations
+    from btgen.tools.explore import Explorer, Places, _possible, criteria_of
+
+    criteria = criteria_of(args)
+    if not {"condition", "mcdc"} & set(criteria):
+        return
+    ex = Explorer(mission, possible=_possible(mission, args), criteria=criteria)
+    places = Places(mission, ex.nodes)
+    seen: set = set()
+    for (path, text), case in zip(texts, cases):
+        goals = ex.replay(parse_scenario_text(text, path))
+        new = sorted((g for g in goals - seen if g[0] in ("pre", "post", "eval")), key=str)
+        seen |= goals
+        for g in new:
+            who = places.path(g[1]).rsplit("/", 1)[-1]
+            if g[0] == "eval":
+                site = ex.obligations.sites[(g[1], g[2])][g[3]]
+                vals = ", ".join("T" if v else "F" for v in g[4])
+                operands = ", ".join(f"`{t}`" for t in site.text)
+                result = "true" if g[5] else "false"
+                case.obligations.append(f"`{who}` {g[2]}: operands {operands} = ({vals}) -> {result}")
+            elif g in ex.obligations.goals:
+                case.obligations.append(f"`{who}` {obligations.describe(g)}")
 
 
 # ---------------------------------------------------------------- rendering
@@ -198,13 +239,28 @@ def _c_string(text: str) -> str:
     return '"' + "".join(out) + '"'
 
 
-def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str) -> str:
+def render_tests(
+    stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=(), trees=()
+) -> str:
+    head = []
+    if trees:
+        head += [
+            "// The tree libraries (--trees), relative to the suite's folder: registered before the mission.",
+            f"#define BTGEN_TREES {{ {', '.join(_c_string(t) for t in trees)} }}",
+        ]
+    if enums:
+        pairs = ", ".join(f"{{ {_c_string(name)}, {value} }}" for name, value in enums)
+        head += [
+            "// The scripting enums (--enum / --enums): registerScriptingEnum before the tree is created.",
+            f"#define BTGEN_ENUMS {{ {pairs} }}",
+        ]
     out = [
         f"// Written by `btgen tests` for BehaviorTree.CPP {version}: {len(cases)} scenarios of {stem}.",
         "// Each TEST reads the mission file (BTGEN_MISSION, set by CMakeLists.txt), scripts every",
         "// user leaf, ticks the tree with tickExactlyOnce() and checks every status change and the",
         "// root's results against the trace btgen's interpreter gives for the same scenario.",
         "// Regenerate with `btgen tests`; do not edit.",
+        *head,
         f'#include "{SUPPORT}"',
         "",
         "namespace",
@@ -232,6 +288,8 @@ def render_tests(stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case
         out.append(f"// Scenario {k} of {len(cases)}. Covers first: " + ("; ".join(case.covers[:3]) or "-"))
         if len(case.covers) > 3:
             out.append(f"// ... and {len(case.covers) - 3} more outcomes or halts no earlier scenario shows.")
+        for line in case.obligations:
+            out.append(f"// Reaches first: {line}")
         width = max([4] + [len(n) for n, _ in case.lists])
         out.append(f"//   ticks at most {case.ticks}")
         out.append(f"//   {'leaf'.ljust(width)} | results, call by call (the last repeats; unlisted: SUCCESS)")
@@ -257,7 +315,17 @@ def _cmake_string(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("$", "\\$").replace(";", "\\;") + '"'
 
 
-def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[str], cases: list[Case]) -> str:
+def render_cmake(
+    stem: str,
+    suite: str,
+    mission_ref: str,
+    main_tree: Optional[str],
+    cases: list[Case],
+    executor: Optional[list[str]] = None,
+    trees: bool = False,
+) -> str:
+    """CMakeLists.txt; with `executor` (btgen's options for `btgen run`), a second ctest entry
+    per scenario that runs it on btgen's compiled executor, and the library's suite optional."""
     target = f"{suite}_tests"
     lines = [
         "# Written by `btgen tests`: the GoogleTest suite of " + stem + " for BehaviorTree.CPP.",
@@ -267,8 +335,19 @@ def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[st
         f"project({target} CXX)",
         "set(CMAKE_CXX_STANDARD 17)",
         "set(CMAKE_CXX_STANDARD_REQUIRED ON)",
-        "find_package(behaviortree_cpp REQUIRED)",
-        "find_package(GTest REQUIRED)",
+    ]
+    if executor is not None:
+        lines += [
+            "# OFF: only the scenarios on btgen's compiled executor (no BehaviorTree.CPP needed)",
+            'option(BTGEN_LIBRARY_TESTS "the GoogleTest suite on BehaviorTree.CPP" ON)',
+            "if(BTGEN_LIBRARY_TESTS)",
+            "  find_package(behaviortree_cpp REQUIRED)",
+            "  find_package(GTest REQUIRED)",
+            "endif()",
+        ]
+    else:
+        lines += ["find_package(behaviortree_cpp REQUIRED)", "find_package(GTest REQUIRED)"]
+    lines += [
         "enable_testing()",
         "",
         "# The mission the tests read at run time: absolute, or relative to this folder.",
@@ -276,17 +355,74 @@ def render_cmake(stem: str, suite: str, mission_ref: str, main_tree: Optional[st
         '"the mission file the tests read (absolute, or relative to this folder)")',
         'get_filename_component(BTGEN_MISSION_PATH "${BTGEN_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
         "",
+    ]
+    library = [
         f"add_executable({target} {suite}_tests.cpp)",
         f"target_link_libraries({target} PRIVATE BT::behaviortree_cpp GTest::gtest GTest::gtest_main)",
         f'target_compile_definitions({target} PRIVATE "BTGEN_MISSION=\\"${{BTGEN_MISSION_PATH}}\\""',
     ]
     if main_tree is not None:
-        lines.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
-    lines.append(")")
-    lines.append("")
+        library.append(f"  {_cmake_string('BTGEN_MAIN_TREE=' + _c_string(main_tree))}")
+    if trees:
+        library.append('  "BTGEN_SOURCE_DIR=\\"${CMAKE_CURRENT_SOURCE_DIR}\\""')
+    library.append(")")
     for case in cases:
-        lines.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
+        library.append(f"add_test(NAME {suite}.{case.name} COMMAND {target} --gtest_filter={suite}.{case.name})")
+    if executor is None:
+        lines += library
+        return "\n".join(lines) + "\n"
+    lines += ["if(BTGEN_LIBRARY_TESTS)"] + [f"  {line}" for line in library] + ["endif()", ""]
+    lines += [
+        "# The same scenarios on btgen's compiled executor: `btgen run --engine cpp` (built once,",
+        "# cached), its trace compared with executor/NNN.trace (the interpreter's, as the TESTs above).",
+        'set(BTGEN_COMMAND "btgen" CACHE STRING "the command that runs btgen (e.g. `python3 -m btgen`)")',
+        f"set(BTGEN_RUN_OPTIONS {_cmake_string(' '.join(executor))})",
+    ]
+    for k, case in enumerate(cases, start=1):
+        base = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{k:03d}"
+        lines.append(
+            f"add_test(NAME {suite}.{case.name}.executor COMMAND ${{CMAKE_COMMAND}} "
+            '"-DBTGEN=${BTGEN_COMMAND}" "-DMISSION=${BTGEN_MISSION_PATH}" "-DOPTIONS=${BTGEN_RUN_OPTIONS}" '
+            f'"-DSCENARIO={base}.scenario" "-DEXPECTED={base}.trace" '
+            '-P "${CMAKE_CURRENT_SOURCE_DIR}/executor/check.cmake")'
+        )
     return "\n".join(lines) + "\n"
+
+
+CHECK_CMAKE = """# Written by `btgen tests --executor`: one scenario on btgen's compiled executor.
+# cmake -DBTGEN=<command> -DMISSION=<file> -DOPTIONS=<options> -DSCENARIO=<file> -DEXPECTED=<file> -P check.cmake
+separate_arguments(btgen UNIX_COMMAND "${BTGEN}")
+separate_arguments(options UNIX_COMMAND "${OPTIONS}")
+execute_process(
+  COMMAND ${btgen} run "${MISSION}" --scenario "${SCENARIO}" --engine cpp ${options}
+  OUTPUT_VARIABLE got
+  ERROR_VARIABLE err
+  RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "btgen run --engine cpp failed (${rc}):\\n${err}")
+endif()
+file(READ "${EXPECTED}" want)
+if(NOT got STREQUAL want)
+  string(REPLACE "\\n" ";" got_lines "${got}")
+  string(REPLACE "\\n" ";" want_lines "${want}")
+  list(LENGTH want_lines n)
+  set(k 0)
+  foreach(line IN LISTS want_lines)
+    list(LENGTH got_lines m)
+    if(k LESS m)
+      list(GET got_lines ${k} other)
+    else()
+      set(other "(nothing)")
+    endif()
+    if(NOT other STREQUAL line)
+      math(EXPR shown "${k} + 1")
+      message(FATAL_ERROR "line ${shown}: expected `${line}`, the executor gave `${other}`")
+    endif()
+    math(EXPR k "${k} + 1")
+  endforeach()
+  message(FATAL_ERROR "the executor's trace is longer than the expected one")
+endif()
+"""
 
 
 # ---------------------------------------------------------------- the command
@@ -339,6 +475,8 @@ def write_suite(out: str, files: dict[str, str]) -> None:
     old = None
     try:
         for name, text in files.items():
+            if "/" in name:
+                os.makedirs(os.path.join(tmp, os.path.dirname(name)), exist_ok=True)
             with open(os.path.join(tmp, name), "w", encoding="utf-8", newline="\n") as f:
                 f.write(text)
         os.chmod(tmp, 0o777 & ~_umask())
@@ -365,14 +503,14 @@ def _umask() -> int:
 def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     from btgen import pipeline
     from btgen.interp.scenario import _read_text, load_scenario
+    from btgen.tools.explore import criteria_of
 
+    criteria_of(args)  # a bad --coverage is refused before anything else
     opts = pipeline.options_from_args(args)
-    for flag, value in (("--trees", opts.trees), ("--entry", opts.entries), ("--type", opts.types)):
+    for flag, value in (("--entry", opts.entries), ("--type", opts.types)):
         if value:
-            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet (the suite reads one file)")
-    if opts.enum_decls or opts.enum_files:
-        flag = "--enum" if opts.enum_decls else "--enums"
-        raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet")
+            why = "the suite would have to carry it into the blackboard and the ports' types"
+            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet ({why})")
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
     leaves = mission_leaves(mission)
@@ -387,19 +525,82 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     else:
         texts = explored_scenarios(mission, args)
     cases = collect_cases(mission, texts)
+    name_obligations(mission, args, texts, cases)
     stem = os.path.splitext(os.path.basename(args.mission))[0]
     suite = _ident(stem)
     if suite[0].isdigit():
         suite = "M" + suite  # an identifier
     with open(os.path.join(os.path.dirname(__file__), "support.hpp"), encoding="utf-8") as f:
         support = f.read()
+    executor = _run_options(args, opts) if getattr(args, "executor", False) else None
+    trees = tree_files(args, opts, mission)
+    # with tree libraries the mission is registered too and its main tree created by name
+    main_tree = opts.main_tree if not trees else mission.main_tree
     files = {
-        "CMakeLists.txt": render_cmake(stem, suite, ref, opts.main_tree, cases),
-        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp),
+        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees),
         SUPPORT: support,
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
+    if executor is not None:
+        files["executor/check.cmake"] = CHECK_CMAKE
+        for k, ((_, text), case) in enumerate(zip(texts, cases), start=1):
+            files[f"executor/{k:03d}.scenario"] = text
+            files[f"executor/{k:03d}.trace"] = case.trace_text
     return files, cases
+
+
+def tree_files(args, opts, mission: Mission) -> list[str]:
+    """The files of --trees as the loader reads them (a folder: its `*.xml`, in name order; the
+    mission itself and repeats left out), each relative to DIR (absolute when --mission-path
+    is), for registerBehaviorTreeFromFile."""
+    out: list[str] = []
+    seen = {os.path.realpath(mission.path)}
+    base = os.path.abspath(args.output_dir)
+    absolute = bool(args.mission_path) and os.path.isabs(args.mission_path)
+    for path in opts.trees:
+        if os.path.isdir(path):
+            found = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+        else:
+            found = [path]
+        for f in found:
+            real = os.path.realpath(f)
+            if real in seen:
+                continue
+            seen.add(real)
+            ref = os.path.abspath(f) if absolute else os.path.relpath(os.path.abspath(f), base)
+            if any(ord(c) < 0x20 for c in ref):
+                raise cmdline.error(args, "--trees", f"--trees: the path {ref!r} has characters C++ cannot carry")
+            out.append(ref)
+    return out
+
+
+def _run_options(args, opts) -> list[str]:
+    """The options `btgen run` needs to load the mission as this command did: models (absolute),
+    main tree, version; each double-quoted for CMake's separate_arguments."""
+    out: list[str] = []
+    for m in opts.models:
+        out += ["--models", os.path.abspath(m)]
+    if opts.main_tree is not None:
+        out += ["--main-tree", opts.main_tree]
+    if opts.btcpp != "4.6.2":
+        out += ["--btcpp", opts.btcpp]
+    if opts.nodes is not None:
+        out += ["--nodes", opts.nodes]
+    for decl in opts.enum_decls:
+        out += ["--enum", decl]
+    for t in opts.trees:
+        out += ["--trees", os.path.abspath(t)]
+    for f in opts.enum_files:
+        out += ["--enums", os.path.abspath(f)]
+    for word in out:
+        if any(ord(c) < 0x20 or c in '"\\$;' for c in word):
+            raise cmdline.error(args, "--executor", f"--executor: {word!r} has characters CMake cannot carry")
+    return [f'"{w}"' for w in out]
 
 
 def tests_command(args) -> int:

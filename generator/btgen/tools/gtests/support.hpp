@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdio>
+#include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <utility>
@@ -161,6 +163,17 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
     else
       factory.registerNodeType<ScriptedAction>(leaf.id, ports, &script);
   }
+#ifdef BTGEN_ENUMS
+  // the scripting enums of --enum / --enums, as the application registers them
+  for(const auto& [name, value] : std::initializer_list<std::pair<const char*, int>> BTGEN_ENUMS)
+    factory.registerScriptingEnum(name, value);
+#endif
+#ifdef BTGEN_TREES
+  // the tree libraries of --trees (relative to the suite's folder, or absolute), registered
+  // before the mission as the application registers them
+  for(const char* file : std::initializer_list<const char*> BTGEN_TREES)
+    factory.registerBehaviorTreeFromFile(std::filesystem::path(BTGEN_SOURCE_DIR) / file);
+#endif
 #ifdef BTGEN_MAIN_TREE
   factory.registerBehaviorTreeFromFile(BTGEN_MISSION);
   BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE);

@@ -37,7 +37,7 @@ from btgen.lang.model import Mission
 from btgen.tools.verify.promela import STATUS
 
 MAX_STATES = 200_000
-_TIMERS = ("Sleep", "Delay", "Timeout")
+_TIMERS = ("Sleep", "Delay", "Timeout", "RateController")  # the nodes that read the clock
 
 
 class _Branch(Exception):
