@@ -43,7 +43,7 @@ if [ "$quick" = 1 ]; then
   echo "== validate shipped missions"
   btgen validate -q missions/*.xml
   echo "== Python tests, quick: -m \"not slow and not sanitize and not qemu\""
-  pytest -q -p no:cacheprovider --durations=15 -m "not slow and not sanitize and not qemu"
+  pytest -q -p no:cacheprovider -n "$jobs" --dist loadfile --durations=15 -m "not slow and not sanitize and not qemu"
   echo "== quick path done in $(($(date +%s) - start)) s (CI runs bash scripts/test.sh: everything)"
   exit 0
 fi
@@ -65,8 +65,8 @@ fi
 echo "== the Cortex-M toolchain and QEMU (scripts/test_mcu.sh; tests/python/test_mcu.py runs with pytest)"
 bash scripts/test_mcu.sh --install-only
 
-echo "== Python tests"
-pytest -q -p no:cacheprovider --durations=25
+echo "== Python tests (pytest-xdist: $jobs processes, one test file per process at a time)"
+pytest -q -p no:cacheprovider -n "$jobs" --dist loadfile --durations=25
 
 echo "== C++ tests"
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPython3_EXECUTABLE="$PWD/.venv/bin/python" >/dev/null

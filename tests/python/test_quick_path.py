@@ -56,6 +56,8 @@ def test_test_sh_quick_runs_that_selection_and_the_full_run_everything():
     for left_out in ("ctest", "test_ros1.sh", "fuzz_cpp.sh", "test_mcu.sh"):
         assert left_out not in quick
     pytest_lines = [line for line in full.splitlines() if re.match(r"\s*pytest ", line)]
-    assert pytest_lines == ["pytest -q -p no:cacheprovider --durations=25"]  # no -m: every test
+    # no -m: every test; both on every core, a test file's tests in one process (pytest-xdist)
+    assert pytest_lines == ['pytest -q -p no:cacheprovider -n "$jobs" --dist loadfile --durations=25']
+    assert '-n "$jobs" --dist loadfile' in quick
     for step in ("ctest --test-dir build/test", "ctest --test-dir build/asan", "test_ros1.sh", "test_mcu.sh"):
         assert step in full
