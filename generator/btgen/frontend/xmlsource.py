@@ -147,6 +147,11 @@ class Source:
     def attr_names_in_order(self, elem: etree._Element) -> list[str]:
         return list(self._tags[elem].attrs)
 
+    def tag(self, elem: etree._Element) -> str:
+        """The element's name as written: `arm:Grasp` where lxml was given `arm\u00b7Grasp`
+        (undeclared_prefixes)."""
+        return self._tags[elem].name if isinstance(elem.tag, str) and PREFIX_MARK in elem.tag else elem.tag
+
 
 def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
     """Start tags and attribute positions, in document order; checks nesting depth."""
@@ -321,6 +326,11 @@ def parse_bytes(data: bytes, path: str) -> Source:
         )
     tags = _scan(path, text, lines)
     fixed, warnings = tolerated(path, text, lines)
+    fixed, prefixed = undeclared_prefixes(fixed)
+    for tag in tags:  # one warning per name, at its first element
+        if tag.name in prefixed:
+            prefixed.discard(tag.name)
+            warnings.append(Diagnostic(tag.loc, _colon_message(tag.name), "warning"))
     # tinyxml2 (both BehaviorTree.CPP versions) reads an XML declaration after blank lines or
     # spaces (a C++ raw string `R"(\n<?xml ...` of the library's own tests); XML wants it first,
     # so lxml is given spaces in its place, which keeps every line and column.
@@ -435,3 +445,60 @@ def tolerated(path: str, text: str, lines: _LineIndex) -> tuple[str, list[Diagno
         at = end
     out.append(text[at:])
     return "".join(out), warnings
+
+
+# tinyxml2 reads `<arm:Grasp/>` as the element `arm:Grasp`; XML reads `arm` as a namespace prefix,
+# and one the file does not declare is an error. lxml is given `arm\u00b7Grasp` instead (a middle
+# dot, an XML name character, one character for one), Source.tag gives the name as written, and
+# the mission XSD declares the node under the name lxml sees (xsd.element_name).
+PREFIX_MARK = "\u00b7"
+_PREFIXED_TAG_RE = re.compile(r"<(/?)([A-Za-z_][-A-Za-z0-9_.]*(?::[-A-Za-z0-9_.]*)+)")
+_DECLARED_PREFIX_RE = re.compile(r"\bxmlns:([A-Za-z_][-A-Za-z0-9_.]*)\s*=")
+
+
+def lxml_name(name: str) -> str:
+    """The name lxml is given for an element written `name` (undeclared_prefixes)."""
+    return name.replace(":", PREFIX_MARK)
+
+
+def _colon_message(name: str) -> str:
+    return (
+        f"element name `{name}` has a colon: XML reads `{name.split(':')[0]}` as a namespace prefix, which "
+        f"this file does not declare; tinyxml2 (BehaviorTree.CPP) reads it as one name, other tools do not"
+    )
+
+
+def undeclared_prefixes(text: str) -> tuple[str, set[str]]:
+    """The text lxml is given for element names with a colon whose prefix the file does not declare
+    (`<arm:Grasp/>`, read whole by tinyxml2), and those names. Only when the file holds no middle
+    dot already (the mark must stand for one thing); a declared prefix stays XML's (and btgen's
+    "no namespace" error)."""
+    if ":" not in text or PREFIX_MARK in text:
+        return text, set()
+    declared = set(_DECLARED_PREFIX_RE.findall(text)) | {"xml", "xmlns"}
+    out: list[str] = []
+    names: set[str] = set()
+    at, i, n = 0, 0, len(text)
+    while True:
+        j = text.find("<", i)
+        if j < 0 or j + 1 >= n:
+            break
+        for opener, closer in (("<!--", "-->"), ("<![CDATA[", "]]>"), ("<?", "?>"), ("<!", ">")):
+            if text.startswith(opener, j):
+                k = text.find(closer, j + len(opener))
+                i = n if k < 0 else k + len(closer)
+                break
+        else:
+            m = _PREFIXED_TAG_RE.match(text, j)
+            i = j + 1
+            if m is None or m.group(2).split(":")[0] in declared:
+                continue
+            out.append(text[at : m.start(2)])
+            out.append(lxml_name(m.group(2)))
+            at = i = m.end()
+            if not m.group(1):
+                names.add(m.group(2))
+    if not out:
+        return text, set()
+    out.append(text[at:])
+    return "".join(out), names

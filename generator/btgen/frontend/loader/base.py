@@ -27,8 +27,10 @@ MAX_NODES = 65535  # BehaviorTree.CPP UIDs are 16-bit (see also the instance cou
 _KEY_RE = re.compile(r"^@?[A-Za-z_][A-Za-z0-9_.\-:]*$")
 _PORT_NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SUBTREE_REMAP_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)*$")
-# FORMAT.md: node IDs contain no white space, `"` or `\` (the trace prints them unquoted).
-_ID_FORBIDDEN = re.compile(r'[\s"\\]')
+# FORMAT.md: node IDs contain no tab, line break, `"` or `\` (the trace prints them unquoted and
+# a line of it must read back); a space loads (`<Action ID="Grasp Cup"/>`, recorded on 4.6.2 and
+# 4.10.0: tests/conformance/both-releases/space_in_node_id).
+_ID_FORBIDDEN = re.compile(r'[^\S ]|["\\]')
 # Elements of the format: as node IDs, <root/> or <Action/> in a tree would not mean the node
 # (4.6.2 reads <Action/> as the explicit form and asks for its ID attribute).
 RESERVED_MODEL_IDS = frozenset(

@@ -25,6 +25,7 @@ from btgen.lang import script as script_lang
 from btgen.lang import values
 from btgen.lang.catalogue import (
     EDITOR_ATTRIBUTES,
+    ENTRY_PORTS,
     KEY_NAME_PORTS,
     KINDS,
     METADATA_ATTRIBUTES,
@@ -116,7 +117,7 @@ class MissionChecks(LoaderBase):
         return self._node(kids[0], src)
 
     def _node(self, elem: etree._Element, src: Source) -> Node:
-        tag, loc = elem.tag, src.loc(elem)
+        tag, loc = src.tag(elem), src.loc(elem)  # (as written: `arm:Grasp`, xmlsource.undeclared_prefixes)
         if len(self._tree_ids) != len(self.tree_elems):  # (one set for all the nodes, not one each)
             self._tree_ids = {t for t, _, _ in self.tree_elems}
         tree_ids = self._tree_ids
@@ -350,7 +351,11 @@ class MissionChecks(LoaderBase):
             return self._with_script(attr, elem, src, spec.id)
         if (spec.id, attr.name) in KEY_NAME_PORTS:
             # These nodes read the raw text as the name of an entry (`output_key="result"`).
-            self._check_key(attr, value, what)
+            # SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated take `{}` as the name of
+            # an entry (recorded on 4.6.2 and 4.10.0: one nothing writes, so SKIPPED, RUNNING
+            # for ever, FAILURE): loaded, with the warning above that it is literal text.
+            if (spec.id, attr.name) not in ENTRY_PORTS or value != "{}":
+                self._check_key(attr, value, what)
             return attr
         if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
             version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)

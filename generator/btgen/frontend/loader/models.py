@@ -116,8 +116,8 @@ class ModelsReader(MissionChecks):
                 }.get(bad.group(0), "white space")
                 self.sink.error(
                     src.value_loc(m, "ID"),
-                    f"node ID `{mid}` contains {what}: node IDs contain no "
-                    f'white space, `"` or `\\` (they appear unquoted in '
+                    f"node ID `{mid}` contains {what}: node IDs contain no tab, "
+                    f'line break, `"` or `\\` (they appear unquoted in '
                     f"status traces)",
                 )
                 continue
