@@ -165,7 +165,9 @@ def read_trace(path: str, nodes: list[GNode]) -> TraceRead:
             if uid not in by_uid:
                 raise _error(path, i, 1, f"UID {uid} is not a node of the mission (it has {len(nodes)})")
             # (an ID may hold a space, `<Action ID="Grasp Cup"/>`: it ends where the quoted name starts)
-            if not line.split(None, 1)[1].startswith(by_uid[uid].id + ' "'):
+            rest, node_id = line.split(None, 1)[1], by_uid[uid].id
+            after = rest[len(node_id) :]
+            if not (rest.startswith(node_id) and after[:1].isspace() and after.lstrip().startswith('"')):
                 raise _error(
                     path,
                     i,
