@@ -14,7 +14,11 @@ i-th start tag's positions.
 
 from __future__ import annotations
 
+import collections
+import contextlib
+import hashlib
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Optional
 
@@ -284,11 +288,46 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
     return UserError.at(Loc(path, line, max(col, 1)), msg)
 
 
+# `btgen check` loads a file once per mission that includes it or looks beside it for a hint: within
+# shared_sources(), a file read again with the same bytes under the same shown path is the Source
+# parsed before (nothing changes a Source or its tree after parse_bytes). Bounded, least recently
+# used first out.
+_SHARED: Optional[collections.OrderedDict[tuple[str, bytes], Source]] = None
+_SHARED_MAX = 256  # files
+_SHARED_MAX_BYTES = 64 * 1024 * 1024  # of their texts
+
+
+@contextlib.contextmanager
+def shared_sources() -> Iterator[None]:
+    """Share parsed files between the loads run inside (`btgen check`)."""
+    global _SHARED
+    outer = _SHARED
+    if outer is None:
+        _SHARED = collections.OrderedDict()
+    try:
+        yield
+    finally:
+        _SHARED = outer
+
+
 def read_source(path: str, display_path: Optional[str] = None) -> Source:
     """Read, decode and securely parse an XML file; UserError on any problem."""
     shown = display_path or path
     data = read_bounded(path, MAX_FILE_BYTES, "mission", "missions", shown)
-    return parse_bytes(data, shown)
+    shared = _SHARED
+    if shared is None:
+        return parse_bytes(data, shown)
+    key = (shown, hashlib.sha256(data).digest())
+    src = shared.get(key)
+    if src is None:
+        src = shared[key] = parse_bytes(data, shown)
+        while len(shared) > 1 and (
+            len(shared) > _SHARED_MAX or sum(len(s.text) for s in shared.values()) > _SHARED_MAX_BYTES
+        ):
+            shared.popitem(last=False)
+    else:
+        shared.move_to_end(key)
+    return src
 
 
 def parse_bytes(data: bytes, path: str) -> Source:

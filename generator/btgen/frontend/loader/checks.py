@@ -506,11 +506,10 @@ class MissionChecks(LoaderBase):
     def _validate_mission_xsd(self, mission: Mission) -> None:
         if self.sink.errors:
             return
-        from btgen.frontend.xsd import mission_schema, validate_against_mission_xsd
+        from btgen.frontend.xsd import validate_against_mission_xsd
 
-        schema = mission_schema(mission)
         for src in self.sources:
-            for d in validate_against_mission_xsd(mission, src, schema):
+            for d in validate_against_mission_xsd(mission, src):
                 # attributes the library ignores (not port names) were reported, if at all, above
                 m = re.fullmatch(r"attribute `(.+)` is not allowed here", d.message)
                 ignored = m is not None and (
