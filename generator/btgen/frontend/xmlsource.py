@@ -489,7 +489,7 @@ def tolerated(path: str, text: str, lines: _LineIndex) -> tuple[str, list[Diagno
 # tinyxml2 reads `<arm:Grasp/>` as the element `arm:Grasp`; XML reads `arm` as a namespace prefix,
 # and one the file does not declare is an error. lxml is given `arm\u00b7Grasp` instead (a middle
 # dot, an XML name character, one character for one), Source.tag gives the name as written, and
-# the mission XSD declares the node under the name lxml sees (xsd.element_name).
+# the mission XSD declares the node under the name lxml sees (lxml_name, in xsd.mission_xsd).
 PREFIX_MARK = "\u00b7"
 _PREFIXED_TAG_RE = re.compile(r"<(/?)([A-Za-z_][-A-Za-z0-9_.]*(?::[-A-Za-z0-9_.]*)+)")
 _DECLARED_PREFIX_RE = re.compile(r"\bxmlns:([A-Za-z_][-A-Za-z0-9_.]*)\s*=")
