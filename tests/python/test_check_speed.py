@@ -101,3 +101,20 @@ def test_a_file_included_by_many_missions_gives_one_finding_each_place(tmp_path,
     assert main(["check", "-j", jobs, str(tmp_path)]) == 1
     err = capsys.readouterr().err
     assert err.count("lib.xml:5:29: error:") == 1, err
+
+
+def test_validations_are_shared_and_bounded(tmp_path, monkeypatch):
+    path = tmp_path / "m.xml"
+    path.write_text('<root BTCPP_format="4"><Bogus/><BehaviorTree ID="T"><AlwaysSuccess/></BehaviorTree></root>\n')
+    src = xmlsource.read_source(str(path))
+    first = xsd.validate_structure(src)
+    assert first and xsd.validate_structure(src) == first  # the same findings, from the cache
+    monkeypatch.setattr(xsd, "_VALIDATED", type(xsd._VALIDATED)())
+    monkeypatch.setattr(xsd, "_VALIDATED_MAX_DIAGS", len(first) - 1)
+    assert xsd.validate_structure(src) == first and not xsd._VALIDATED  # too many to keep
+    monkeypatch.setattr(xsd, "_VALIDATED_MAX_DIAGS", 64)
+    monkeypatch.setattr(xsd, "_VALIDATED_MAX", 2)
+    for i in range(4):
+        path.write_text(path.read_text() + " " * i)
+        xsd.validate_structure(xmlsource.read_source(str(path)))
+    assert len(xsd._VALIDATED) == 2

@@ -95,9 +95,11 @@ def _iter_diags(schema: xmlschema.XMLSchema, src: Source, root: etree._Element) 
 
 # What validating a file found, by (schema, shown path, text): `btgen check` loads a file once per
 # mission that includes it (Nav2's models file, a tree library) and validates it against the same
-# schema each time. Keyed by digests (memory bounded by the count); a Diagnostic is immutable.
+# schema each time. Keyed by digests; bounded by the count of entries and of diagnostics in one; a
+# Diagnostic is immutable.
 _VALIDATED: collections.OrderedDict[tuple[str, str, bytes], tuple[Diagnostic, ...]] = collections.OrderedDict()
 _VALIDATED_MAX = 1024
+_VALIDATED_MAX_DIAGS = 64
 
 
 def _digest(text: str) -> bytes:
@@ -108,9 +110,11 @@ def _validated(schema: xmlschema.XMLSchema, schema_key: str, src: Source) -> lis
     key = (schema_key, src.path, _digest(src.text))
     found = _VALIDATED.get(key)
     if found is None:
-        found = _VALIDATED[key] = tuple(_iter_diags(schema, src, src.root))
-        if len(_VALIDATED) > _VALIDATED_MAX:
-            _VALIDATED.popitem(last=False)
+        found = tuple(_iter_diags(schema, src, src.root))
+        if len(found) <= _VALIDATED_MAX_DIAGS:  # (a file with thousands of errors is not kept)
+            _VALIDATED[key] = found
+            if len(_VALIDATED) > _VALIDATED_MAX:
+                _VALIDATED.popitem(last=False)
     else:
         _VALIDATED.move_to_end(key)
     return list(found)
