@@ -4,7 +4,10 @@ end where the library threw, through both engines (release_cases.py).
 They hold what the C++ back end used to refuse at compile time although the library runs them:
 an IfThenElse or WhileDoElse whose condition can be skipped, which 4.6.2 may keep running on a
 stale SUCCESS, and which throws (after WhileDoElse resets its children) only on a run where the
-condition does answer SKIPPED.
+condition does answer SKIPPED. And load rules btgen refused although the library loads them
+(issue 38): an element name with a colon (`<arm:Grasp/>`, refused by 4.10.0), a node ID with a
+space or a colon in the generic form, `entry="{}"` on SkipUnlessUpdated, WaitValueUpdate and
+WasEntryUpdated.
 """
 
 import os
@@ -30,7 +33,11 @@ def test_every_case_is_recorded_on_both_releases():
 
 @pytest.mark.parametrize("version", rc.VERSIONS)
 def test_the_c_back_end_compiles_every_case(version):
+    """Every case the library loads on this release (it refuses some: `colon_element_name` on 4.10.0)."""
     for stem in rc.stems(HERE):
+        if rc.expected(HERE, stem, version) == ("", True):
+            assert not rc.loads(HERE, stem, version), stem
+            continue
         lower(pipeline.load(os.path.join(HERE, stem + ".xml"), pipeline.CompileOptions(btcpp=version)))
 
 

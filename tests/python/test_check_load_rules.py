@@ -1,7 +1,12 @@
 """Load rules of issue 38's item 8, each recorded on the real library first (docs/check.md, "What
 BehaviorTree.CPP loads, recorded"): what `validate` (and so `check`) now does with them."""
 
+import shutil
+from pathlib import Path
+
 from btgen.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
 
 MAIN = """<root BTCPP_format="4" main_tree_to_execute="MainTree">
   <BehaviorTree ID="MainTree">
@@ -123,3 +128,85 @@ def test_subtree_model_port_starting_with_a_digit(tmp_path, capsys):
     assert "keeps it all the same (refused from 4.8.4)" in capsys.readouterr().err
     assert main(["validate", "--btcpp", "4.10.0", str(m)]) == 1
     assert "invalid port name `1st` in `Sub`" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- recorded in tests/conformance/both-releases
+# (each mission there runs on both engines against the library's trace: test_both_releases.py)
+BOTH = ROOT / "tests" / "conformance" / "both-releases"
+
+
+def test_element_name_with_a_colon(tmp_path, capsys):
+    """tinyxml2 knows no namespaces: 4.6.2 loads `<arm:Grasp/>` and runs it, 4.10.0 refuses the name."""
+    m = BOTH / "colon_element_name.xml"
+    assert main(["validate", str(m)]) == 0
+    err = capsys.readouterr().err
+    assert "colon_element_name.xml:7:7: warning: element name `arm:Grasp` has a colon" in err
+    assert err.count("has a colon") == 1  # once per name
+    assert main(["validate", "--btcpp", "4.10.0", str(m)]) == 1
+    assert "7:7: error: node ID `arm:Grasp` contains the forbidden character `:`" in capsys.readouterr().err
+    shutil.copy(m, tmp_path / "m.xml")
+    assert main(["check", "--select", "W110", str(tmp_path)]) == 0
+    assert "[W110]" in capsys.readouterr().err
+    # undeclared, `btgen models` declares it under its name as written
+    (tmp_path / "m.xml").write_text(m.read_text(encoding="utf-8").split("  <TreeNodesModel>")[0] + "</root>\n")
+    assert main(["models", str(tmp_path), "-o", str(tmp_path / "nodes.xml")]) == 0
+    assert '<Action ID="arm:Grasp"/>' in (tmp_path / "nodes.xml").read_text(encoding="utf-8")
+    capsys.readouterr()
+
+
+def test_a_declared_prefix_stays_a_namespace(tmp_path, capsys):
+    """With xmlns:arm declared the element is in a namespace (btgen's error, as before); a file that
+    holds a middle dot already keeps XML's error (the mark btgen gives lxml must stand for one thing)."""
+    text = (BOTH / "colon_element_name.xml").read_text(encoding="utf-8")
+    m = tmp_path / "m.xml"
+    m.write_text(text.replace('<root BTCPP_format="4"', '<root xmlns:arm="urn:arm" BTCPP_format="4"'))
+    assert main(["validate", str(m)]) == 1
+    assert "BehaviorTree.CPP node elements have no namespace (it is in urn:arm)" in capsys.readouterr().err
+    m.write_text(text.replace("Recorded", "Recorded \u00b7"))
+    assert main(["validate", str(m)]) == 1
+    assert "Namespace prefix arm on Grasp is not defined" in capsys.readouterr().err
+
+
+def test_node_id_with_a_space(tmp_path, capsys):
+    """Both releases load `<Action ID="Grasp Cup"/>`; its trace reads back (graph --trace)."""
+    m = BOTH / "space_in_node_id.xml"
+    for version in ("4.6.2", "4.10.0"):
+        assert main(["validate", "--btcpp", version, str(m)]) == 0
+    assert capsys.readouterr().err == ""
+    trace = BOTH / "4.6.2" / "space_in_node_id.trace"
+    assert main(["graph", str(m), "--trace", str(trace), "-o", str(tmp_path / "g.dot")]) == 0
+    assert "Grasp Cup" in (tmp_path / "g.dot").read_text(encoding="utf-8")
+
+
+def test_entry_braces_alone(tmp_path, capsys):
+    """`entry="{}"` loads (one warning); another text that is no key, and SetBlackboard's output_key, do not."""
+    for stem in ("empty_entry_skip_unless_updated", "empty_entry_wait_value_update", "empty_entry_was_entry_updated"):
+        assert main(["validate", str(BOTH / (stem + ".xml"))]) == 0
+        err = capsys.readouterr().err
+        assert err.count("warning:") == 1 and "reads it as this literal text" in err, err
+    m = tmp_path / "m.xml"
+    text = (BOTH / "empty_entry_was_entry_updated.xml").read_text(encoding="utf-8")
+    m.write_text(text.replace('entry="{}"', 'entry="{x"'))
+    assert main(["validate", str(m)]) == 1
+    assert "is not a valid blackboard key" in capsys.readouterr().err
+    m.write_text(text.replace('<WasEntryUpdated entry="{}"/>', '<SetBlackboard output_key="{}" value="1"/>'))
+    assert main(["validate", str(m)]) == 1
+    assert "is not a valid blackboard key" in capsys.readouterr().err
+
+
+def test_include_hint_never_names_a_file_that_includes_this_one(tmp_path, capsys):
+    """A sibling that includes the file asking (its parent, without main_tree_to_execute): including
+    it back would be an include cycle."""
+    (tmp_path / "work.xml").write_text(
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="Work">\n    <SubTree ID="Dock"/>\n  </BehaviorTree>\n</root>\n'
+    )
+    (tmp_path / "parent.xml").write_text(
+        '<root BTCPP_format="4">\n  <include path="work.xml"/>\n  <BehaviorTree ID="Dock">\n'
+        "    <AlwaysSuccess/>\n  </BehaviorTree>\n</root>\n"
+    )
+    assert main(["validate", str(tmp_path / "work.xml")]) == 1
+    err = capsys.readouterr().err
+    assert "defines `Dock` and includes `work.xml` (including it back would be a cycle)" in err
+    assert "<include" not in err
+    # what the hint says to do loads
+    assert main(["validate", "--main-tree", "Work", str(tmp_path / "parent.xml")]) == 0

@@ -522,7 +522,7 @@ def test_trees_folder_reads_each_files_real_path_once(tmp_path, monkeypatch):
         calls.append(path)
         return real(path, *args, **kwargs)
 
-    monkeypatch.setattr(loader.os.path, "realpath", counting)
+    monkeypatch.setattr(os.path, "realpath", counting)
     mission = loader.load_mission(str(tmp_path / "m.xml"), (), None, (str(deep),))
     assert len(mission.trees) == n + 1
     assert len(calls) <= 3 * n + 10  # before: n * n / 2 + ...

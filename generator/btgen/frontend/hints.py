@@ -10,6 +10,7 @@ each, read with the same secure parser as missions; a file that does not parse i
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass
 from typing import Optional
@@ -33,11 +34,20 @@ class Sibling:
     trees: frozenset[str]  # IDs of its <BehaviorTree>s
     models_only: bool  # <root> holds only <TreeNodesModel>: a file for --models
     mission: bool = False  # its <root> names a main_tree_to_execute: a mission of its own
+    includes: frozenset[str] = frozenset()  # the real paths of the files its <include path=...> name
+    parent_of: str = ""  # the file (shown) it includes that asks for the hint: including it is a cycle
 
     def include_advice(self, tree_id: str, loaded: set[str]) -> str:
-        """How to load what this file defines: `<include>` it, unless it is a mission of its own or
-        defines a tree the mission has (including it would define a BehaviorTree twice)."""
+        """How to load what this file defines: `<include>` it, unless it is a mission of its own,
+        defines a tree the mission has (including it would define a BehaviorTree twice) or includes
+        the file that would include it (an include cycle)."""
         twice = sorted(self.trees & loaded)
+        if self.parent_of:
+            return (
+                f"`{self.path}` beside it defines `{tree_id}` and includes `{os.path.basename(self.parent_of)}` "
+                f"(including it back would be a cycle): check `{self.path}`, which the program loads, or move "
+                f"`{tree_id}` to a file of its own and include that"
+            )
         if self.mission or twice:
             why = f"it defines `{twice[0]}` too" if twice else "it is a mission of its own (main_tree_to_execute)"
             return (
@@ -87,7 +97,12 @@ class SiblingIndex:
             trees = frozenset(c.get("ID", "") for c in elements if c.tag == "BehaviorTree")
             only = bool(elements) and all(c.tag == "TreeNodesModel" for c in elements)
             mission = root.get("main_tree_to_execute") is not None
-            out.append(Sibling(os.path.join(folder, name), name, models, trees, only, mission))
+            includes = frozenset(
+                os.path.realpath(os.path.join(real, c.get("path") or ""))
+                for c in elements
+                if c.tag == "include" and c.get("path") and c.get("ros_pkg") is None
+            )
+            out.append(Sibling(os.path.join(folder, name), name, models, trees, only, mission, includes))
         return out
 
     def beside(self, file_shown: str) -> list[Sibling]:
@@ -100,9 +115,17 @@ class SiblingIndex:
         return next((s for s in self.beside(file_shown) if node_id in s.models), None)
 
     def defining_tree(self, file_shown: str, tree_id: str) -> Optional[Sibling]:
-        # a file that can be included first, then a mission of its own
-        found = [s for s in self.beside(file_shown) if tree_id in s.trees]
-        return min(found, key=lambda s: s.mission, default=None)
+        # a file that can be included first, then a mission of its own, then one that includes
+        # this file or the mission (a parent: including it back is a cycle)
+        ours = {os.path.realpath(p): p for p in (*self._loaded[:1], file_shown)}
+        found = [
+            dataclasses.replace(s, parent_of=next(ours[r] for r in ours if r in s.includes))
+            if s.includes & ours.keys()
+            else s
+            for s in self.beside(file_shown)
+            if tree_id in s.trees
+        ]
+        return min(found, key=lambda s: (bool(s.parent_of), s.mission), default=None)
 
 
 def model_advice(node_id: str, children: int) -> str:

@@ -14,7 +14,11 @@ i-th start tag's positions.
 
 from __future__ import annotations
 
+import collections
+import contextlib
+import hashlib
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Optional
 
@@ -146,6 +150,11 @@ class Source:
 
     def attr_names_in_order(self, elem: etree._Element) -> list[str]:
         return list(self._tags[elem].attrs)
+
+    def tag(self, elem: etree._Element) -> str:
+        """The element's name as written: `arm:Grasp` where lxml was given `arm\u00b7Grasp`
+        (undeclared_prefixes)."""
+        return self._tags[elem].name if isinstance(elem.tag, str) and PREFIX_MARK in elem.tag else elem.tag
 
 
 def _scan(path: str, text: str, lines: _LineIndex) -> list[StartTag]:
@@ -279,11 +288,46 @@ def _syntax_error(path: str, text: str, err: etree.XMLSyntaxError) -> UserError:
     return UserError.at(Loc(path, line, max(col, 1)), msg)
 
 
+# `btgen check` loads a file once per mission that includes it or looks beside it for a hint: within
+# shared_sources(), a file read again with the same bytes under the same shown path is the Source
+# parsed before (nothing changes a Source or its tree after parse_bytes). Bounded, least recently
+# used first out.
+_SHARED: Optional[collections.OrderedDict[tuple[str, bytes], Source]] = None
+_SHARED_MAX = 256  # files
+_SHARED_MAX_BYTES = 64 * 1024 * 1024  # of their texts
+
+
+@contextlib.contextmanager
+def shared_sources() -> Iterator[None]:
+    """Share parsed files between the loads run inside (`btgen check`)."""
+    global _SHARED
+    outer = _SHARED
+    if outer is None:
+        _SHARED = collections.OrderedDict()
+    try:
+        yield
+    finally:
+        _SHARED = outer
+
+
 def read_source(path: str, display_path: Optional[str] = None) -> Source:
     """Read, decode and securely parse an XML file; UserError on any problem."""
     shown = display_path or path
     data = read_bounded(path, MAX_FILE_BYTES, "mission", "missions", shown)
-    return parse_bytes(data, shown)
+    shared = _SHARED
+    if shared is None:
+        return parse_bytes(data, shown)
+    key = (shown, hashlib.sha256(data).digest())
+    src = shared.get(key)
+    if src is None:
+        src = shared[key] = parse_bytes(data, shown)
+        while len(shared) > 1 and (
+            len(shared) > _SHARED_MAX or sum(len(s.text) for s in shared.values()) > _SHARED_MAX_BYTES
+        ):
+            shared.popitem(last=False)
+    else:
+        shared.move_to_end(key)
+    return src
 
 
 def parse_bytes(data: bytes, path: str) -> Source:
@@ -321,6 +365,11 @@ def parse_bytes(data: bytes, path: str) -> Source:
         )
     tags = _scan(path, text, lines)
     fixed, warnings = tolerated(path, text, lines)
+    fixed, prefixed = undeclared_prefixes(fixed)
+    for tag in tags:  # one warning per name, at its first element
+        if tag.name in prefixed:
+            prefixed.discard(tag.name)
+            warnings.append(Diagnostic(tag.loc, _colon_message(tag.name), "warning"))
     # tinyxml2 (both BehaviorTree.CPP versions) reads an XML declaration after blank lines or
     # spaces (a C++ raw string `R"(\n<?xml ...` of the library's own tests); XML wants it first,
     # so lxml is given spaces in its place, which keeps every line and column.
@@ -435,3 +484,60 @@ def tolerated(path: str, text: str, lines: _LineIndex) -> tuple[str, list[Diagno
         at = end
     out.append(text[at:])
     return "".join(out), warnings
+
+
+# tinyxml2 reads `<arm:Grasp/>` as the element `arm:Grasp`; XML reads `arm` as a namespace prefix,
+# and one the file does not declare is an error. lxml is given `arm\u00b7Grasp` instead (a middle
+# dot, an XML name character, one character for one), Source.tag gives the name as written, and
+# the mission XSD declares the node under the name lxml sees (lxml_name, in xsd.mission_xsd).
+PREFIX_MARK = "\u00b7"
+_PREFIXED_TAG_RE = re.compile(r"<(/?)([A-Za-z_][-A-Za-z0-9_.]*(?::[-A-Za-z0-9_.]*)+)")
+_DECLARED_PREFIX_RE = re.compile(r"\bxmlns:([A-Za-z_][-A-Za-z0-9_.]*)\s*=")
+
+
+def lxml_name(name: str) -> str:
+    """The name lxml is given for an element written `name` (undeclared_prefixes)."""
+    return name.replace(":", PREFIX_MARK)
+
+
+def _colon_message(name: str) -> str:
+    return (
+        f"element name `{name}` has a colon: XML reads `{name.split(':')[0]}` as a namespace prefix, which "
+        f"this file does not declare; tinyxml2 (BehaviorTree.CPP) reads it as one name, other tools do not"
+    )
+
+
+def undeclared_prefixes(text: str) -> tuple[str, set[str]]:
+    """The text lxml is given for element names with a colon whose prefix the file does not declare
+    (`<arm:Grasp/>`, read whole by tinyxml2), and those names. Only when the file holds no middle
+    dot already (the mark must stand for one thing); a declared prefix stays XML's (and btgen's
+    "no namespace" error)."""
+    if ":" not in text or PREFIX_MARK in text:
+        return text, set()
+    declared = set(_DECLARED_PREFIX_RE.findall(text)) | {"xml", "xmlns"}
+    out: list[str] = []
+    names: set[str] = set()
+    at, i, n = 0, 0, len(text)
+    while True:
+        j = text.find("<", i)
+        if j < 0 or j + 1 >= n:
+            break
+        for opener, closer in (("<!--", "-->"), ("<![CDATA[", "]]>"), ("<?", "?>"), ("<!", ">")):
+            if text.startswith(opener, j):
+                k = text.find(closer, j + len(opener))
+                i = n if k < 0 else k + len(closer)
+                break
+        else:
+            m = _PREFIXED_TAG_RE.match(text, j)
+            i = j + 1
+            if m is None or m.group(2).split(":")[0] in declared:
+                continue
+            out.append(text[at : m.start(2)])
+            out.append(lxml_name(m.group(2)))
+            at = i = m.end()
+            if not m.group(1):
+                names.add(m.group(2))
+    if not out:
+        return text, set()
+    out.append(text[at:])
+    return "".join(out), names

@@ -164,7 +164,10 @@ def read_trace(path: str, nodes: list[GNode]) -> TraceRead:
             uid = int(words[0])
             if uid not in by_uid:
                 raise _error(path, i, 1, f"UID {uid} is not a node of the mission (it has {len(nodes)})")
-            if words[1] != by_uid[uid].id:
+            # (an ID may hold a space, `<Action ID="Grasp Cup"/>`: it ends where the quoted name starts)
+            rest, node_id = line.split(None, 1)[1], by_uid[uid].id
+            after = rest[len(node_id) :]
+            if not (rest.startswith(node_id) and after[:1].isspace() and after.lstrip().startswith('"')):
                 raise _error(
                     path,
                     i,

@@ -117,7 +117,7 @@ class _Reader:
                     self._use(elem, len(kids), src)
 
     def _use(self, elem: etree._Element, children: int, src: Source) -> None:
-        tag = elem.tag
+        tag = src.tag(elem)
         if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
             return
         node_id = elem.get("ID") if tag in _ELEMENT_KINDS else tag

@@ -226,9 +226,12 @@ RULES: tuple[Rule, ...] = (
         "E303",
         "node-id",
         "error",
-        "a node ID BehaviorTree.CPP cannot hold (white space, quotes, a word of the file format)",
+        'a node ID btgen cannot hold (a tab, a line break, `"` or `\\`: status traces print IDs unquoted; a word '
+        "of the file format)",
         (r"^node ID `", r"cannot be a node ID", r"needs an ID attribute naming the node"),
-        bad=_m('    <Action ID="Say Hi"/>\n', '  <TreeNodesModel>\n    <Action ID="Say Hi"/>\n  </TreeNodesModel>\n'),
+        bad=_m(
+            '    <Action ID="Say&#9;Hi"/>\n', '  <TreeNodesModel>\n    <Action ID="Say&#9;Hi"/>\n  </TreeNodesModel>\n'
+        ),
         good=_m('    <Action ID="SayHi"/>\n', '  <TreeNodesModel>\n    <Action ID="SayHi"/>\n  </TreeNodesModel>\n'),
     ),
     Rule(
@@ -465,7 +468,8 @@ RULES: tuple[Rule, ...] = (
         "tinyxml2-only",
         "warning",
         "XML that tinyxml2 (BehaviorTree.CPP's parser) reads and other XML tools refuse: a raw `&` or `<` in "
-        "an attribute value, `--` inside a comment, two attributes without a space",
+        "an attribute value, `--` inside a comment, two attributes without a space, an element name with a "
+        "colon whose prefix the file does not declare (`<arm:Grasp/>`)",
         (r"tinyxml2 \(BehaviorTree\.CPP\) reads it",),
         bad=_m(
             '    <Sequence>\n      <Script code="a := true"/>\n      <ScriptCondition code="a && a"/>\n'

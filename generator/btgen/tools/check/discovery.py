@@ -23,6 +23,7 @@ on the set of files found, never on the order of the walk.
 from __future__ import annotations
 
 import fnmatch
+import functools
 import os
 import re
 import stat
@@ -61,8 +62,8 @@ class BTFile:
     projects: list[str] = field(default_factory=list)  # shown paths of .btproj files listing it
     context: bool = False  # beside a file given by name: read for its models and trees, not checked
 
-    @property
-    def real(self) -> str:
+    @functools.cached_property
+    def real(self) -> str:  # (asked for every pair of files of a folder: computed once)
         return os.path.realpath(self.path)
 
     @property

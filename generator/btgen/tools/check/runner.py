@@ -20,6 +20,7 @@ from typing import Callable, Optional
 
 from btgen import pipeline
 from btgen.diagnostics import Diagnostic, UserError
+from btgen.frontend.xmlsource import shared_sources
 from btgen.tools.check import discovery
 from btgen.tools.check.codes import BY_CODE, classify, selected
 from btgen.tools.check.config import Settings
@@ -206,9 +207,12 @@ def filters(s: Settings) -> tuple[Callable[[str, bool], bool], Callable[[str], O
 
 def _work(unit: discovery.Unit, s: Settings, made: dict[str, str]) -> list[tuple[Diagnostic, str]]:
     """One unit in a worker process (--jobs): the project models files were made by the parent."""
+    from btgen.frontend.xmlsource import shared_sources
+
     projects = _ProjectModels()
     projects.made = made
-    return run_unit(unit, s, projects)
+    with shared_sources():
+        return run_unit(unit, s, projects)
 
 
 def check(
@@ -223,27 +227,28 @@ def check(
     report.units = len(units)
     seen: set[Finding] = set()
     projects = _ProjectModels()
-    try:
-        for unit in units:  # (made before any worker starts: the workers only look them up)
-            for proj in unit.projects:
-                projects.models_for(proj)
-        if jobs > 1 and len(units) > 1:
-            import multiprocessing
+    with shared_sources():  # (a file included by many missions is parsed once)
+        try:
+            for unit in units:  # (made before any worker starts: the workers only look them up)
+                for proj in unit.projects:
+                    projects.models_for(proj)
+            if jobs > 1 and len(units) > 1:
+                import multiprocessing
 
-            with multiprocessing.get_context().Pool(min(jobs, len(units))) as pool:
-                results = pool.imap(functools.partial(_work, s=s, made=dict(projects.made)), units, chunksize=4)
-                for i, (unit, diags) in enumerate(zip(units, results)):
+                with multiprocessing.get_context().Pool(min(jobs, len(units))) as pool:
+                    results = pool.imap(functools.partial(_work, s=s, made=dict(projects.made)), units, chunksize=4)
+                    for i, (unit, diags) in enumerate(zip(units, results)):
+                        if progress is not None:
+                            progress(i, len(units), unit.path)
+                        seen.update(to_finding(d, source, unit, projects) for d, source in diags)
+            else:
+                for i, unit in enumerate(units):
                     if progress is not None:
                         progress(i, len(units), unit.path)
-                    seen.update(to_finding(d, source, unit, projects) for d, source in diags)
-        else:
-            for i, unit in enumerate(units):
-                if progress is not None:
-                    progress(i, len(units), unit.path)
-                for d, source in run_unit(unit, s, projects):
-                    seen.add(to_finding(d, source, unit, projects))
-    finally:
-        projects.close()
+                    for d, source in run_unit(unit, s, projects):
+                        seen.add(to_finding(d, source, unit, projects))
+        finally:
+            projects.close()
     context = {f.path for f in project.files.values() if f.context}
     report.findings = _filter(sorted(f for f in _merge(seen) if f.path not in context), s)
     return report
