@@ -276,6 +276,22 @@ def test_tick_states_agree_with_explore_on_random_missions(tmp_path, seed):
     assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
 
 
+def test_atomic_subtrees_store_fewer_states_and_reach_the_same_tick_ends(tmp_path):
+    """A subtree with few paths through a tick is one atomic step: SPIN stores fewer states,
+    and the tick-end states are those of the model without atomic steps (and explore's)."""
+    from btgen.tools.fuzzgen import random_case
+    from btgen.tools.verify.agree import spin_tick_states
+
+    path = _mission(tmp_path, random_case(18, "control", 1).mission)
+    mission, program = pipeline.build(path)
+    plain, plain_res = spin_tick_states(mission, program, 3, 20, str(tmp_path / "a"), atomic_paths=0)
+    packed, packed_res = spin_tick_states(mission, program, 3, 20, str(tmp_path / "b"))
+    text = emit_model(mission, program, ModelOptions(ticks=3))
+    assert "atomic {" in text and "atomic {" not in emit_model(mission, program, ModelOptions(atomic_paths=0))
+    assert plain == packed and len(packed) > 10
+    assert packed_res.states < plain_res.states
+
+
 def test_tick_states_agree_under_btcpp_4_10(tmp_path):
     """4.10.0's switches (SKIPPED counted, loops never ending SKIPPED) on both sides."""
     from btgen.tools.fuzzgen import random_case

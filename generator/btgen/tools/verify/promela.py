@@ -135,6 +135,7 @@ class ModelOptions:
     contract: tuple[tuple[str, tuple[int, ...]], ...] = ()  # leaf name -> allowed statuses
     print_states: bool = False  # `@S` line of every node's status at every tick end (agreement)
     failure_bound: Optional[int] = None  # most FAILURE answers of a leaf in a row (a fairness)
+    atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
 
 
 def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
@@ -161,6 +162,11 @@ class Emitter(DecoratorTicks):
         self.temps: list[str] = []  # reset at every tick end
         self.node_temps: dict[int, list[str]] = {}  # reset when the node returns: paths merge sooner
         self.timers: list[tuple[int, int]] = []  # (node, ticks) of every timer that counts
+        self._paths: Optional[list[int]] = None
+        self.parent = [0] * len(self.nodes)
+        for n in self.nodes:
+            for c in n.children:
+                self.parent[c] = n.index
         self.check()
 
     # ------------------------------------------------------------ what is translated
@@ -411,8 +417,40 @@ class Emitter(DecoratorTicks):
         )
 
     # ------------------------------------------------------------ ticking
+    def paths(self, i: int) -> int:
+        """A bound on the paths a tick of node i can take (its leaves' choices); capped."""
+        if self._paths is None:
+            cap = 1 << 20
+            memo: list[int] = [1] * len(self.nodes)
+            for n in reversed(self.nodes):  # creation order: children after their parent
+                if n.kind in ("Action", "Condition"):
+                    v = len(self.allowed(n))
+                else:
+                    v = 1
+                    for c in n.children:
+                        v = min(cap, v * memo[c])
+                    if n.kind in ("Repeat", "RetryUntilSuccessful"):  # loops within a tick
+                        v = cap if n.params[0] < 0 or v > 1 else v
+                memo[n.index] = v
+            self._paths = memo
+        return self._paths[i]
+
+    def atomic_root(self, i: int) -> bool:
+        """Node i's tick is one atomic step of the model (no state stored inside it): its paths
+        are few (so the search loses little by not merging them) and its parent's are not.
+        Atomic or not, the model's runs are the same; only what SPIN stores differs."""
+        k = self.o.atomic_paths
+        if k <= 0 or self.paths(i) > k:
+            return False
+        return i == 0 or self.paths(self.parent[i]) > k
+
     def tick(self, i: int) -> list[str]:
         """execute_tick of node i: its result in `rv`."""
+        if self.atomic_root(i):
+            return ["atomic {", *("   " + s for s in self.tick_body(i)), "};"]
+        return self.tick_body(i)
+
+    def tick_body(self, i: int) -> list[str]:
         n = self.nodes[i]
         out = [f"/* {n.uid} {n.id} {n.name!r} */"]
         if i in self.obs.ticked:
