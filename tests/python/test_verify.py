@@ -52,7 +52,7 @@ GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
 """
 
 # Counterexamples every test of this module produced: the last test replays them all on the C++.
-PRODUCED: list[tuple[str, R.Counterexample]] = []
+PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
 
 def _mission(tmp_path: Path, text: str, name: str = "m.xml") -> str:
@@ -66,14 +66,14 @@ def _props(program, *texts: str) -> list[P.Property]:
     return [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
 
 
-def _verdicts(tmp_path, path, texts, **options):
-    mission, program = pipeline.build(path)
+def _verdicts(tmp_path, path, texts, compile_options=pipeline.DEFAULTS, **options):
+    mission, program = pipeline.build(path, compile_options)
     results = run_properties(
         mission, program, _props(program, *texts), ModelOptions(print_states=True, **options), str(tmp_path / "w")
     )
     for _prop, _res, cx in results:
         if cx is not None:
-            PRODUCED.append((path, cx))
+            PRODUCED.append((path, cx, compile_options))
     return {prop.text: (res.holds, cx) for prop, res, cx in results}
 
 
@@ -292,6 +292,57 @@ def test_atomic_subtrees_store_fewer_states_and_reach_the_same_tick_ends(tmp_pat
     assert packed_res.states < plain_res.states
 
 
+# Nav2's Controls and Decorators (--nodes nav2): RateController at 5 Hz is 2 ticks of 100 ms.
+NAV2 = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <RecoveryNode number_of_retries="1">
+      <PipelineSequence>
+        <Plan/>
+        <RateController hz="5"><Compute/></RateController>
+        <Follow/>
+      </PipelineSequence>
+      <RoundRobin><Clear/><Spin/><Near/></RoundRobin>
+    </RecoveryNode>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Plan"/><Action ID="Compute"/><Action ID="Follow"/>
+    <Action ID="Clear"/><Action ID="Spin"/><Condition ID="Near"/>
+  </TreeNodesModel>
+</root>
+"""
+
+
+@pytest.mark.parametrize("nodes", ["nav2", "nav2:lyrical"])
+def test_nav2_nodes_agree_with_explore(tmp_path, nodes):
+    """PipelineSequence, RecoveryNode, RoundRobin (wrapping, and lyrical's round that ends at the
+    last child) and RateController: the same tick-end states as explore."""
+    path = _mission(tmp_path, NAV2)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(nodes=nodes))
+    a = agreement(mission, program, 6, 100, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 8
+
+
+def test_nav2_verdicts_and_a_counterexample(tmp_path):
+    path = _mission(tmp_path, NAV2)
+    v = _verdicts(
+        tmp_path,
+        path,
+        ["absence(ticked(Spin))", "[] (ticked(Clear) -> !ticked(Plan))", "absence(returned(Compute, SKIPPED))"],
+        pipeline.CompileOptions(nodes="nav2"),
+        running_bound=1,
+    )
+    assert v["absence(ticked(Spin))"][0] is False and v["absence(ticked(Spin))"][1].shown_interp
+    assert v["[] (ticked(Clear) -> !ticked(Plan))"][0] is False  # a recovery, then Plan again in one tick
+    assert v["absence(returned(Compute, SKIPPED))"][0] is True
+
+
+def test_rate_controller_period_in_ticks():
+    from btgen.tools.verify.nav2 import rate_ticks
+
+    assert rate_ticks(1.0, 100, 250) == 10 and rate_ticks(5.0, 100, 250) == 2 and rate_ticks(3.0, 100, 250) == 4
+    assert rate_ticks(0.001, 100, 250) is None and rate_ticks(-1.0, 100, 250) == 0
+
+
 def test_tick_states_agree_under_btcpp_4_10(tmp_path):
     """4.10.0's switches (SKIPPED counted, loops never ending SKIPPED) on both sides."""
     from btgen.tools.fuzzgen import random_case
@@ -344,11 +395,10 @@ def test_every_counterexample_replays_on_the_generated_cpp(tmp_path):
         path = _mission(tmp_path, GRASP)
         _verdicts(tmp_path, path, ["absence(returned(Place, FAILURE))", "[] <> ticked(Place)"])
     assert PRODUCED
-    opts = pipeline.DEFAULTS
-    for k, (path, cx) in enumerate(PRODUCED):
+    for k, (path, cx, opts) in enumerate(PRODUCED):
         if not os.path.exists(path):  # its tmp_path is gone: write the mission again
             continue
-        mission, program = pipeline.build(path)
+        mission, program = pipeline.build(path, opts)
         scen = tmp_path / f"cx{k}.scenario"
         scen.write_text(cx.scenario, encoding="utf-8")
         R.replay_cpp(cx, path, opts, str(scen), len(program.nodes))

@@ -27,6 +27,7 @@ returns any more, the statuses stay, and that observation stays for ever.
 from __future__ import annotations
 
 import math
+import struct
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -36,6 +37,7 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
+from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
 
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 STATUS = {"IDLE": IDLE, "RUNNING": RUNNING, "SUCCESS": SUCCESS, "FAILURE": FAILURE, "SKIPPED": SKIPPED}
@@ -72,6 +74,7 @@ SUPPORTED_KINDS = frozenset(
         "Action",
         "Condition",
         "TryCatch",
+        *NAV2_KINDS,
     }
 )
 _WHY_NOT = {
@@ -101,6 +104,9 @@ _PARAM_PORTS = {
     "Delay": ("delay_msec",),
     "Sleep": ("msec",),
     "TryCatch": ("catch_on_halt",),
+    "RecoveryNode": ("number_of_retries",),
+    "RateController": ("hz",),
+    "RoundRobin": ("wrap_around",),
 }
 
 
@@ -138,6 +144,11 @@ class ModelOptions:
     atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
 
 
+def _double(bits: int) -> float:
+    """A double parameter of the lowered program (kept as its IEEE bits)."""
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
+
+
 def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
     """Ticks after the start at which `msec` have passed (None: never, the clock stands still)."""
     if msec <= 0:
@@ -147,7 +158,7 @@ def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
     return math.ceil(msec / clock_ms)
 
 
-class Emitter(DecoratorTicks):
+class Emitter(DecoratorTicks, Nav2Ticks):
     def __init__(
         self, mission: Mission, program: Program, options: ModelOptions, observe: Optional[Observe] = None
     ) -> None:
@@ -207,6 +218,14 @@ class Emitter(DecoratorTicks):
             if n.kind == "TryCatch" and n.params[0]:
                 raise _refuse(n.loc, f'`TryCatch` "{n.name}": catch_on_halt="true" is not translated yet')
         for n in self.nodes:
+            if n.kind == "RateController":
+                hz = _double(n.params[0])
+                if not hz > 0.0 or rate_ticks(hz, self.o.clock_ms, MAX_TIMER_TICKS) is None:
+                    raise _refuse(
+                        n.loc,
+                        f'`{n.id}` "{n.name}": hz="{hz}" with --clock-ms {self.o.clock_ms}: btgen verify counts '
+                        f"a period of 1 to {MAX_TIMER_TICKS} ticks",
+                    )
             if n.kind in ("Sleep", "Delay", "Timeout") and n.params[0] > 0:
                 k = timer_ticks(n.params[0], self.o.clock_ms)
                 if k is not None and k > MAX_TIMER_TICKS:
@@ -329,6 +348,25 @@ class Emitter(DecoratorTicks):
                 self.var(f"byte cs{i}", True)
             elif k in ("Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure", "SubTree"):
                 self.var(f"byte cs{i}", True)
+            elif k == "PipelineSequence":
+                self.var(f"byte last{i}")
+                self.var(f"byte cs{i}", True)
+                self.var(f"byte k{i}", True)
+                self.var(f"byte sk{i}", True)
+            elif k == "RecoveryNode":
+                self.var(f"byte rcur{i}")
+                self.var(f"int rcnt{i}")
+                self.var(f"byte cs{i}", True)
+            elif k == "RoundRobin":
+                self.var(f"byte ix{i}")
+                self.var(f"byte fl{i}")
+                self.var(f"byte cs{i}", True)
+                self.var(f"byte sk{i}", True)
+                self.var(f"bit tmp{i}", True)
+            elif k == "RateController":
+                self.var(f"bit first{i}")
+                self.var(f"byte el{i} = {NONE}")
+                self.timers.append((i, self.ticks_of(n)))
             if self.running_bounded(n):
                 self.var(f"byte rc{i}")
             if self.failure_bounded(n):
@@ -339,6 +377,9 @@ class Emitter(DecoratorTicks):
             self.var(f"byte rt{i}", True)
 
     def ticks_of(self, n: IRNode) -> int:
+        if n.kind == "RateController":
+            r = rate_ticks(_double(n.params[0]), self.o.clock_ms, MAX_TIMER_TICKS)
+            return MAX_TIMER_TICKS + 1 if r is None else r
         k = timer_ticks(n.params[0], self.o.clock_ms)
         return MAX_TIMER_TICKS + 1 if k is None else k  # never reached: the counter stops below
 
@@ -366,6 +407,14 @@ class Emitter(DecoratorTicks):
             out.append(f"started{c} = 0; el{c} = {NONE};")
         elif k == "Sleep":
             out.append(f"el{c} = {NONE};")
+        elif k == "PipelineSequence":
+            out.append(f"last{c} = 0;")
+        elif k == "RecoveryNode":
+            out.append(f"rcnt{c} = 0; rcur{c} = 0;")
+        elif k == "RoundRobin":
+            out.append(f"ix{c} = 0; fl{c} = 0;")
+        elif k == "RateController":  # its start is taken again from IDLE: forgotten, so states merge
+            out.append(f"el{c} = {NONE}; first{c} = 0;")
         if n.children:
             if self.is_decorator(n):
                 out.extend(self.reset_child(n.children[0]))
@@ -414,6 +463,7 @@ class Emitter(DecoratorTicks):
             "Timeout",
             "Delay",
             "SubTree",
+            "RateController",
         )
 
     # ------------------------------------------------------------ ticking
@@ -429,7 +479,7 @@ class Emitter(DecoratorTicks):
                     v = 1
                     for c in n.children:
                         v = min(cap, v * memo[c])
-                    if n.kind in ("Repeat", "RetryUntilSuccessful"):  # loops within a tick
+                    if n.kind in ("Repeat", "RetryUntilSuccessful", "RecoveryNode", "RoundRobin"):  # loops
                         v = cap if n.params[0] < 0 or v > 1 else v
                 memo[n.index] = v
             self._paths = memo
