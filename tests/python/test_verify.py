@@ -336,6 +336,15 @@ def test_nav2_verdicts_and_a_counterexample(tmp_path):
     assert v["absence(returned(Compute, SKIPPED))"][0] is True
 
 
+def test_rate_controller_without_a_countable_period_is_refused(tmp_path):
+    path = _mission(tmp_path, NAV2.replace('hz="5"', 'hz="0"'))
+    mission, program = pipeline.build(path, pipeline.CompileOptions(nodes="nav2"))
+    with pytest.raises(Refusal) as e:
+        emit_model(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert d.loc.line == 6 and "period of 1 to 250 ticks" in d.message
+
+
 def test_rate_controller_period_in_ticks():
     from btgen.tools.verify.nav2 import rate_ticks
 
