@@ -210,11 +210,16 @@ def test_ambiguous_name_lists_the_candidates(tmp_path, capsys):
 
 
 def test_refused_nodes_are_located_errors(tmp_path, capsys):
-    text = GRASP.replace("<AlwaysFailure/>", '<Script code="x := 1"/>')
+    text = GRASP.replace("<AlwaysFailure/>", '<SetBlackboard output_key="k" value="1"/>')
     path = _mission(tmp_path, text)
     rc = main(["verify", path, "--property", "[] !running(Grasp)"])
     err = capsys.readouterr().err
-    assert rc == 1 and f'{path}:6:25: error: `Script` "Script": btgen verify does not translate' in err
+    assert rc == 1 and f'{path}:6:25: error: `SetBlackboard` "SetBlackboard": btgen verify does not translate' in err
+    # a script read from the blackboard: no table can be made of it
+    path = _mission(tmp_path, GRASP.replace("<AlwaysFailure/>", '<Script code="{x}"/>'), "s.xml")
+    assert main(["verify", path, "--property", "[] !running(Grasp)"]) == 1
+    err = capsys.readouterr().err
+    assert f'{path}:6:39: error: `code` of `Script` "Script" reads its script from blackboard' in err
 
 
 def test_leaf_names_a_scenario_cannot_carry_are_refused(tmp_path, capsys):
@@ -264,6 +269,7 @@ def test_lasso_evaluation_by_hand():
 
 
 AGREE_SEEDS = (3, 18, 21)
+SCRIPT_SEEDS = (5, 8, 9)  # fuzzgen `full` missions whose scripts the model translates
 
 
 @pytest.mark.parametrize("seed", AGREE_SEEDS)
@@ -334,6 +340,72 @@ def test_nav2_verdicts_and_a_counterexample(tmp_path):
     assert v["absence(ticked(Spin))"][0] is False and v["absence(ticked(Spin))"][1].shown_interp
     assert v["[] (ticked(Clear) -> !ticked(Plan))"][0] is False  # a recovery, then Plan again in one tick
     assert v["absence(returned(Compute, SKIPPED))"][0] is True
+
+
+# Scripts: a Script, a ScriptCondition, pre-conditions (_successIf, _skipIf) and post-conditions.
+SCRIPTS = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="mode := 'idle'; armed := false"/>
+      <RetryUntilSuccessful num_attempts="3">
+        <Sequence>
+          <Script code="armed = !armed"/>
+          <Grasp _successIf="armed == false" _onFailure="mode = 'failed'" _onSuccess="mode = 'holding'"/>
+        </Sequence>
+      </RetryUntilSuccessful>
+      <ScriptCondition code="mode == 'holding'"/>
+      <Place _skipIf="mode == 'idle'" _while="armed"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Grasp"/><Action ID="Place"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_scripts_agree_with_explore_and_their_counterexamples_replay(tmp_path):
+    from btgen.tools.verify.blackboard import build_tables
+
+    path = _mission(tmp_path, SCRIPTS)
+    mission, program = pipeline.build(path)
+    tables = build_tables(mission, program)
+    assert {"mode": "holding", "armed": 1} in tables.values and tables.count == 7
+    a = agreement(mission, program, 6, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
+    v = _verdicts(
+        tmp_path,
+        path,
+        ["absence(ticked(Place))", "absence(returned(ScriptCondition, FAILURE))", "absence(returned(Place, SKIPPED))"],
+        running_bound=1,
+    )
+    assert v["absence(ticked(Place))"][0] is False and v["absence(ticked(Place))"][1].shown_interp
+    # every SUCCESS of Grasp (its own or _successIf's) runs _onSuccess: mode is `holding` after the loop
+    assert v["absence(returned(ScriptCondition, FAILURE))"][0] is True
+    # _while="armed" skips Place when Grasp succeeded with `armed` false
+    assert v["absence(returned(Place, SKIPPED))"][0] is False and v["absence(returned(Place, SKIPPED))"][1].shown_interp
+
+
+def test_a_script_of_unbounded_values_is_refused_located(tmp_path):
+    counter = SCRIPTS.replace('code="armed = !armed"', 'code="armed = !armed; n := 0; n += 1"').replace(
+        "mode := 'idle'; armed := false", "mode := 'idle'; armed := false; n := 0"
+    )
+    counter = counter.replace('"n := 0; n += 1"', '"n += 1"').replace("armed = !armed; n := 0; n += 1", "n += 1")
+    path = _mission(tmp_path, counter)
+    mission, program = pipeline.build(path)
+    with pytest.raises(Refusal) as e:
+        emit_model(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert (d.loc.line, d.loc.col) == (7, 25) and "more than 250 values" in d.message
+
+
+@pytest.mark.parametrize("seed", SCRIPT_SEEDS)
+def test_scripts_of_random_missions_agree_with_explore(tmp_path, seed):
+    from btgen.tools.fuzzgen import random_case
+
+    path = _mission(tmp_path, random_case(seed, "full", 1).mission)
+    mission, program = pipeline.build(path)
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"), max_states=50000)
+    assert "byte bb;" in (tmp_path / "w" / "model.pml").read_text()
+    assert not a.explore_truncated and a.explore_states == a.spin_states
 
 
 def test_rate_controller_without_a_countable_period_is_refused(tmp_path):

@@ -163,7 +163,9 @@ def parse_properties(args, program: Program) -> list[P.Property]:
 def build_model(mission, program: Program, options: ModelOptions, properties: list[P.Property]) -> str:
     from btgen.tools.verify.promela import Emitter
 
-    Emitter(mission, program, options).check_scenario_names()
+    emitter = Emitter(mission, program, options)
+    emitter.check_scenario_names()
+    print_diagnostics(emitter.bbt.warnings)
     obs = Observe()
     ltl = []
     for p in properties:

@@ -36,6 +36,7 @@ from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
+from btgen.tools.verify.blackboard import HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
 
@@ -74,12 +75,12 @@ SUPPORTED_KINDS = frozenset(
         "Action",
         "Condition",
         "TryCatch",
+        "Script",
+        "ScriptCondition",
         *NAV2_KINDS,
     }
 )
 _WHY_NOT = {
-    "Script": "a Script node (scripts are not translated yet)",
-    "ScriptCondition": "a ScriptCondition node (scripts are not translated yet)",
     "SetBlackboard": "a SetBlackboard node (the blackboard is not translated yet)",
     "UnsetBlackboard": "an UnsetBlackboard node (the blackboard is not translated yet)",
     "Switch": "a Switch node (it reads the blackboard, which is not translated yet)",
@@ -174,11 +175,13 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         self.node_temps: dict[int, list[str]] = {}  # reset when the node returns: paths merge sooner
         self.timers: list[tuple[int, int]] = []  # (node, ticks) of every timer that counts
         self._paths: Optional[list[int]] = None
+
         self.parent = [0] * len(self.nodes)
         for n in self.nodes:
             for c in n.children:
                 self.parent[c] = n.index
         self.check()
+        self.bbt = build_tables(mission, program)  # after check(): the nodes it refuses come first
 
     # ------------------------------------------------------------ what is translated
     def check(self) -> None:
@@ -186,11 +189,6 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             if n.kind not in SUPPORTED_KINDS:
                 why = _WHY_NOT.get(n.kind, f"a `{n.kind}` node")
                 raise _refuse(n.loc, f'`{n.id}` "{n.name}": btgen verify does not translate {why}')
-            if n.scripts:
-                raise _refuse(
-                    n.loc,
-                    f'`{n.id}` "{n.name}" has pre- or post-condition scripts, which btgen verify does not translate',
-                )
             if n.kind in ("Parallel", "ParallelAll") and len(n.children) > MAX_PARALLEL:
                 raise _refuse(
                     n.loc,
@@ -505,8 +503,29 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         out = [f"/* {n.uid} {n.id} {n.name!r} */"]
         if i in self.obs.ticked:
             out.append(f"tk{i} = 1;")
-        out.extend(getattr(self, "k_" + n.kind)(n))
+        body = getattr(self, "k_" + n.kind)(n)
+        t = self.bbt
+        if i in t.pre_idle:  # TreeNode::checkPreConditions: all when IDLE, _while when RUNNING
+            out.append(f"if :: st[{i}] == IDLE ->")
+            out.extend("   " + s for s in lookup(t.pre_idle[i], result_is("pr")))
+            out.append(f":: st[{i}] == RUNNING ->")
+            running = lookup(t.pre_running[i], result_is("pr")) if i in t.pre_running else [f"pr = {NO_RESULT};"]
+            out.extend("   " + s for s in running)
+            out.append(f":: else -> pr = {NO_RESULT} fi;")
+            out.append(f"if :: pr == {NO_RESULT} ->")
+            out.extend("   " + s for s in body)
+            out.append(f":: pr == {HALT} ->")
+            out.extend("   " + s for s in self.halt_node(i))
+            out.append("   rv = SKIPPED")
+            out.append(":: else -> rv = pr fi;")
+        else:
+            out.extend(body)
         out.append(f"E{i}: if :: rv != SKIPPED -> st[{i}] = rv :: else -> skip fi;")
+        for status, name in ((SUCCESS, "SUCCESS"), (FAILURE, "FAILURE")):
+            if (i, status) in t.post:  # checkPostConditions (the status is set after it: no matter)
+                out.append(f"if :: rv == {name} ->")
+                out.extend("   " + s for s in lookup(t.post[(i, status)], lambda r: "skip"))
+                out.append(":: else -> skip fi;")
         if self.node_temps.get(i):
             out.append(" ".join(f"{t} = 0;" for t in self.node_temps[i]))
         if self.is_decorator(n):
@@ -562,6 +581,12 @@ class Emitter(DecoratorTicks, Nav2Ticks):
 
     def k_Condition(self, n: IRNode) -> list[str]:
         return self.choice(n)
+
+    def k_Script(self, n: IRNode) -> list[str]:
+        return lookup(self.bbt.script[n.index], result_is("rv"))
+
+    def k_ScriptCondition(self, n: IRNode) -> list[str]:
+        return lookup(self.bbt.script[n.index], result_is("rv"))
 
     def k_Sleep(self, n: IRNode) -> list[str]:
         i, msec = n.index, n.params[0]
@@ -817,6 +842,9 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             "byte rv;",
             "byte rootr;",
         ]
+        if self.bbt.used:
+            head.append(f"byte bb;  /* the blackboard: one of {self.bbt.count} (blackboard.py) */")
+            head.append("byte pr;  /* the pre-conditions' verdict */")
         if self.o.ticks is not None:
             head.append("int ticks;")
         head += [d + ";" for d in self.globals]
@@ -831,7 +859,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             if self.o.clock_ms > 0
         ]
         temps = [f"{t} = 0;" for t in self.temps if not t.startswith(("tk", "rt"))]
-        end = [*observe, *clear, *temps, *timers, "rv = 0;"]
+        end = [*observe, *clear, *temps, *timers, "rv = 0;", *(["pr = 0;"] if self.bbt.used else [])]
         if self.o.ticks is not None:
             end.append("ticks++;")
         if self.o.print_states:
@@ -859,6 +887,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             "   rootr = 255;",
             *("   " + s for s in observe),
             "}",
+            "Error: skip  /* a script failed at run time (blackboard.py): the run ends there */",
             "}",
         ]
         return "\n".join(head + proc) + "\n"
