@@ -61,15 +61,21 @@ def _mission(tmp_path: Path, text: str, name: str = "m.xml") -> str:
     return str(path)
 
 
-def _props(program, *texts: str) -> list[P.Property]:
-    names = P.Names(program)
+def _props(program, *texts: str, mission=None) -> list[P.Property]:
+    from btgen.tools.verify.blackboard import build_tables, entries_of
+
+    names = P.Names(program, entries_of(build_tables(mission, program)) if mission is not None else None)
     return [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
 
 
 def _verdicts(tmp_path, path, texts, compile_options=pipeline.DEFAULTS, **options):
     mission, program = pipeline.build(path, compile_options)
     results = run_properties(
-        mission, program, _props(program, *texts), ModelOptions(print_states=True, **options), str(tmp_path / "w")
+        mission,
+        program,
+        _props(program, *texts, mission=mission),
+        ModelOptions(print_states=True, **options),
+        str(tmp_path / "w"),
     )
     for _prop, _res, cx in results:
         if cx is not None:
@@ -185,7 +191,7 @@ def test_command_line_output_files_and_exit_status(tmp_path, capsys):
         ("[] running(Nope)", 12, "no node is named `Nope`"),
         ("X ticked(Ready)", 1, "`X` (next) is not supported"),
         ("[] (ticked(Ready)", 18, "expected `)`"),
-        ("[] level > 3", 4, "unknown atom `level`"),
+        ("[] level > 3", 4, "`level` is no blackboard entry the mission's scripts write on the root blackboard"),
         ("returned(Ready, DONE)", 17, "expected a status"),
     ],
 )
@@ -382,6 +388,25 @@ def test_scripts_agree_with_explore_and_their_counterexamples_replay(tmp_path):
     assert v["absence(returned(ScriptCondition, FAILURE))"][0] is True
     # _while="armed" skips Place when Grasp succeeded with `armed` false
     assert v["absence(returned(Place, SKIPPED))"][0] is False and v["absence(returned(Place, SKIPPED))"][1].shown_interp
+
+
+def test_blackboard_atoms(tmp_path, capsys):
+    """ENTRY OP VALUE over the root blackboard at tick ends: proved, or a counterexample that the
+    interpreter's own blackboard shows (and the C++, in the last test)."""
+    path = _mission(tmp_path, SCRIPTS)
+    never_failed = "absence(mode == 'failed')"
+    holding = "[] (ticked(Place) -> mode == 'holding')"
+    both = "absence(mode == 'holding' && armed == false && root(SUCCESS))"
+    v = _verdicts(tmp_path, path, [never_failed, holding, both, "[] (armed != 2)"], running_bound=1)
+    assert v[never_failed][0] is False and v[never_failed][1].shown_interp
+    assert v[holding][0] is True and v["[] (armed != 2)"][0] is True
+    assert v[both][0] is False and v[both][1].shown_interp
+    rc = main(["verify", path, "--property", "absence(mdoe == 'x')"])
+    err = capsys.readouterr().err
+    assert rc == 1 and "error: `mdoe` is no blackboard entry" in err and err.count("<command-line>:1:") == 1
+    assert "(did you mean `mode`?)" in err
+    assert main(["verify", path, "--property", "absence(mode == failed)"]) == 1
+    assert "expected a value: a number, true, false or a 'string'" in capsys.readouterr().err
 
 
 def test_a_script_of_unbounded_values_is_refused_located(tmp_path):

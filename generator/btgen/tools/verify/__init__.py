@@ -150,8 +150,13 @@ def _options(args, program: Program) -> ModelOptions:
     return ModelOptions(args.running_bound, args.ticks, args.clock_ms, contract, True, args.failure_bound)
 
 
-def parse_properties(args, program: Program) -> list[P.Property]:
-    names = P.Names(program)
+def parse_properties(args, program: Program, mission=None) -> list[P.Property]:
+    entries: dict[str, str] = {}
+    if mission is not None:
+        from btgen.tools.verify.blackboard import build_tables, entries_of
+
+        entries = entries_of(build_tables(mission, program))
+    names = P.Names(program, entries)
     out: list[P.Property] = []
     for text in args.properties_inline:
         out.append(P.parse_property(text, _prop_loc(args, text), names, len(out)))
@@ -166,7 +171,7 @@ def build_model(mission, program: Program, options: ModelOptions, properties: li
     emitter = Emitter(mission, program, options)
     emitter.check_scenario_names()
     print_diagnostics(emitter.bbt.warnings)
-    obs = Observe()
+    obs = Observe(bb_values=emitter.bbt.values)
     ltl = []
     for p in properties:
         f = P.to_spin(p.formula, obs)
@@ -189,7 +194,7 @@ def verify_command(args) -> int:
         from btgen.tools.verify.markov import markov_command
 
         return markov_command(args, mission, program, options)
-    properties = parse_properties(args, program)
+    properties = parse_properties(args, program, mission)
     text = build_model(mission, program, options, properties)
     if args.model:
         from btgen.tools.graph import _write

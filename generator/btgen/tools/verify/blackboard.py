@@ -202,6 +202,38 @@ def _post(node, status: int) -> int:
     return status
 
 
+def compare_entry(values: dict, key: tuple) -> bool:
+    """("bb", ENTRY, OP, VALUE) on the root blackboard's entries: False when the entry has no
+    value, or when a number is compared with a string (then `!=` is True)."""
+    _bb, name, op, want = key
+    if name not in values or values[name] is None:
+        return False
+    have = values[name]
+    if isinstance(have, bool):
+        have = int(have)
+    numbers = isinstance(have, (int, float)) and isinstance(want, (int, float))
+    if not numbers and not (isinstance(have, str) and isinstance(want, str)):
+        return op == "!="
+    return {
+        "==": have == want,
+        "!=": have != want,
+        "<": have < want,
+        "<=": have <= want,
+        ">": have > want,
+        ">=": have >= want,
+    }[op]
+
+
+def entries_of(tables: Tables) -> dict[str, str]:
+    """The root blackboard's entries some reachable blackboard gives a value."""
+    out: dict[str, str] = {}
+    for values in tables.values:
+        for k, v in values.items():
+            if v is not None:
+                out.setdefault(k, type(v).__name__)
+    return out
+
+
 def describe_root(state: tuple, bbs: list, root) -> str:
     entries = state[bbs.index(root)] if root in bbs else ()
     shown = ", ".join(f"{k}={v!r}" for k, _e, _t, v, _s in sorted(entries, key=lambda x: x[0])[:6])

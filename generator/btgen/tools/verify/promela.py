@@ -126,6 +126,7 @@ class Observe:
     ticked: set[int] = field(default_factory=set)
     returned: set[int] = field(default_factory=set)
     atoms: list[str] = field(default_factory=list)  # Promela expressions over the records, end of tick
+    bb_values: list[dict] = field(default_factory=list)  # the root blackboard's entries, per `bb` number
 
     def atom(self, expr: str) -> str:
         """The observation bit of `expr` (one per distinct expression)."""
