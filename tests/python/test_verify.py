@@ -16,24 +16,10 @@ from btgen.tools.verify import props as P
 from btgen.tools.verify import replay as R
 from btgen.tools.verify.agree import agreement
 from btgen.tools.verify.promela import ModelOptions, Refusal, emit_model
+from verify_missions import GRASP, write_mission
 
 ROOT = Path(__file__).resolve().parents[2]
 
-GRASP = """<root BTCPP_format="4" main_tree_to_execute="Main">
-  <BehaviorTree ID="Main">
-    <Sequence>
-      <Check name="Ready"/>
-      <RetryUntilSuccessful num_attempts="2"><Grasp/></RetryUntilSuccessful>
-      <Fallback><Place/><AlwaysFailure/></Fallback>
-    </Sequence>
-  </BehaviorTree>
-  <TreeNodesModel>
-    <Condition ID="Check"/>
-    <Action ID="Grasp"/>
-    <Action ID="Place"/>
-  </TreeNodesModel>
-</root>
-"""
 
 # Two branches of a ReactiveFallback: the second is halted whenever the first runs.
 GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -56,9 +42,7 @@ PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
 
 def _mission(tmp_path: Path, text: str, name: str = "m.xml") -> str:
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return str(path)
+    return write_mission(tmp_path, text, name)
 
 
 def _props(program, *texts: str, mission=None) -> list[P.Property]:

@@ -27,6 +27,7 @@ from typing import Callable
 from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.ir.lower import Program
 from btgen.lang.model import Mission
+from btgen.tools.verify.refusal import refuse
 
 MAX_BLACKBOARDS = 250
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
@@ -61,9 +62,7 @@ class Tables:
 
 
 def _refuse(loc: Loc, message: str) -> UserError:
-    from btgen.tools.verify.promela import Refusal
-
-    return Refusal(Diagnostic(loc, message))
+    return refuse(loc, message)
 
 
 def build_tables(mission: Mission, program: Program) -> Tables:

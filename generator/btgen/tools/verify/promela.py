@@ -13,9 +13,13 @@ RUNNING, each tick of a Condition SUCCESS or FAILURE, as far as the leaf contrac
 Action's RUNNING answers in a row can be bounded (`running_bound`). Every such choice prints
 `@C <node> <status>` so a SPIN trail replays as the scenario that makes the same choices.
 
-What the model does not translate is refused with a located error (`Refusal`): scripts, the
-blackboard nodes, user Controls and Decorators, parameters read from the blackboard. Nothing
-is abstracted silently.
+Scripts and pre/post conditions are tables over the reachable blackboards (`blackboard.py`),
+Nav2's nodes are in `nav2.py`. What the model does not translate is refused with a located
+error (`Refusal`): the blackboard nodes, user Controls and Decorators, parameters read from the
+blackboard, `_onHalted`. Nothing is abstracted silently.
+
+A subtree with few paths through a tick (`ModelOptions.atomic_paths`) is one atomic step:
+SPIN stores no state inside it (`Emitter.atomic_root`).
 
 Atoms are evaluated at the end of each tick: the model copies them into observation bits in
 one `d_step`, so a never claim sees one value per tick (every LTL formula without X is
@@ -31,7 +35,6 @@ import struct
 from dataclasses import dataclass, field
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
@@ -39,6 +42,9 @@ from btgen.lang.versions import Semantics
 from btgen.tools.verify.blackboard import HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
+from btgen.tools.verify.refusal import Refusal, refuse
+
+__all__ = ["Refusal", "Emitter", "ModelOptions", "Observe", "emit_model"]
 
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 STATUS = {"IDLE": IDLE, "RUNNING": RUNNING, "SUCCESS": SUCCESS, "FAILURE": FAILURE, "SKIPPED": SKIPPED}
@@ -111,12 +117,7 @@ _PARAM_PORTS = {
 }
 
 
-class Refusal(UserError):
-    """The mission uses something the model does not translate (a located error)."""
-
-
-def _refuse(loc: Loc, message: str) -> Refusal:
-    return Refusal(Diagnostic(loc, message))
+_refuse = refuse
 
 
 @dataclass

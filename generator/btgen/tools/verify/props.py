@@ -4,6 +4,7 @@
              | formula ('U' | 'V' | 'W') formula | ('!' | '[]' | '<>') formula
              | '(' formula ')' | 'true' | 'false' | ATOM | TEMPLATE
     ATOM    := ticked(NAME) | running(NAME) | returned(NAME, STATUS) | root(STATUS)
+             | ENTRY ('==' | '!=' | '<' | '<=' | '>' | '>=') VALUE   (the root blackboard)
     TEMPLATE:= absence(F) | response(F, G) | mutex(NAME, NAME, ...) | eventually_success[(NAME, ...)]
 
 Binding, tightest first: the unary operators, then U V W, then &&, then ||, then -> and <->
