@@ -393,6 +393,47 @@ def test_blackboard_atoms(tmp_path, capsys):
     assert "expected a value: a number, true, false or a 'string'" in capsys.readouterr().err
 
 
+# A Condition the leaf contract makes a function of the blackboard: Low is SUCCESS when level is 'low'.
+CONTRACT_BB = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="level := 'ok'"/>
+      <ReactiveFallback>
+        <Sequence><Battery name="Low"/><Dock/></Sequence>
+        <Sequence><Patrol/><Script code="level = 'low'"/></Sequence>
+      </ReactiveFallback>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Condition ID="Battery"/><Action ID="Dock"/><Action ID="Patrol"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_a_contract_makes_a_condition_a_function_of_the_blackboard(tmp_path, capsys):
+    path = _mission(tmp_path, CONTRACT_BB)
+    contract = tmp_path / "c.json"
+    contract.write_text('{"Low": {"success_if": "level == \'low\'"}}', encoding="utf-8")
+    prop = "[] (ticked(Dock) -> level == 'low')"
+    # free, Low may answer SUCCESS at once: Dock is ticked while level is 'ok'
+    assert main(["verify", path, "--running-bound", "1", "--property", prop]) == 1
+    assert "VIOLATED  [] (ticked(Dock)" in capsys.readouterr().out
+    args = ["verify", path, "--running-bound", "1", "--contract", str(contract), "--replay-cpp"]
+    assert main([*args, "--property", prop, "--property", "absence(ticked(Dock))"]) == 0
+    out = capsys.readouterr().out
+    assert "holds     [] (ticked(Dock)" in out and "holds     absence(ticked(Dock))" in out
+    assert main([*args, "--property", "absence(level == 'low')"]) == 1
+    out = capsys.readouterr().out
+    assert "VIOLATED  absence(level == 'low')" in out and "generated C++: the violation shows" in out
+    contract.write_text('{"Dock": {"success_if": "true"}}', encoding="utf-8")
+    assert main([*args, "--property", prop]) == 1
+    assert 'c.json:1:2: error: `Dock`: a Condition\'s function of the blackboard is {"success_if": "SCRIPT"}' in (
+        capsys.readouterr().err
+    )
+    contract.write_text('{"Low": {"success_if": "level = = 1"}}', encoding="utf-8")
+    assert main([*args, "--property", prop]) == 1
+    assert "c.json:1:2: error: `Low`: success_if `level = = 1` is not a script" in capsys.readouterr().err
+
+
 def test_a_script_of_unbounded_values_is_refused_located(tmp_path):
     counter = SCRIPTS.replace('code="armed = !armed"', 'code="armed = !armed; n := 0; n += 1"').replace(
         "mode := 'idle'; armed := false", "mode := 'idle'; armed := false; n := 0"

@@ -33,6 +33,7 @@ MAX_BLACKBOARDS = 250
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 HALT = 5  # a _while that turns false on a RUNNING node: halt it, SKIPPED
 ERROR = 254  # the script fails at run time: the run ends there (the tree throws)
+FREE = 253  # a contract's condition that cannot be evaluated on a blackboard: either status
 NO_RESULT = 255  # the pre-conditions leave the tick to the node
 
 
@@ -53,23 +54,37 @@ class Tables:
     pre_idle: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # result or NO_RESULT
     pre_running: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # HALT or NO_RESULT
     post: dict[tuple[int, int], dict[int, tuple[int, int]]] = field(default_factory=dict)  # (node, status)
+    cond: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # contract: SUCCESS, FAILURE, FREE
     values: list[dict[str, object]] = field(default_factory=list)  # root blackboard's entries, per number
     warnings: list[Diagnostic] = field(default_factory=list)  # scripts that can fail at run time
 
     @property
     def used(self) -> bool:
-        return bool(self.script or self.pre_idle or self.pre_running or self.post)
+        return bool(self.script or self.pre_idle or self.pre_running or self.post or self.cond)
 
 
 def _refuse(loc: Loc, message: str) -> UserError:
     return refuse(loc, message)
 
 
-def build_tables(mission: Mission, program: Program) -> Tables:
+def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> Tables:
+    """`functions`: (Condition name, success_if script, its place in the contract file)."""
     from btgen.interp.engine import Interpreter
     from btgen.interp.tree import RunError
+    from btgen.lang import script as scriptmod
 
-    wanted = [n for n in program.nodes if n.kind in ("Script", "ScriptCondition") or n.scripts]
+    by_name = {name: (text, loc) for name, text, loc in functions}
+    parsed = {}
+    for name, (text, loc) in by_name.items():
+        try:
+            parsed[name] = scriptmod.parse_script(text, mission.semantics.script_grammar_49)
+        except scriptmod.ScriptSyntaxError as e:
+            raise _refuse(loc, f"`{name}`: success_if `{text}` is not a script: {e.message}") from None
+    wanted = [
+        n
+        for n in program.nodes
+        if n.kind in ("Script", "ScriptCondition") or n.scripts or (n.kind == "Condition" and n.name in by_name)
+    ]
     tables = Tables()
     if not wanted:
         return tables
@@ -112,6 +127,9 @@ def build_tables(mission: Mission, program: Program) -> Tables:
                 )
             run = _run_condition if n.kind == "ScriptCondition" else _run_script
             jobs.append((tables.script.setdefault(n.index, {}), None, port.attr.value_loc, partial(run, port)))
+        if n.kind == "Condition" and n.name in by_name:
+            job = partial(_contract_condition, node, parsed[n.name], interp)
+            jobs.append((tables.cond.setdefault(n.index, {}), "pure", by_name[n.name][1], job))
         if node.pre:
             where = node.pre[0][1].value_loc
             jobs.append((tables.pre_idle.setdefault(n.index, {}), None, where, partial(_pre_idle, node)))
@@ -142,6 +160,8 @@ def build_tables(mission: Mission, program: Program) -> Tables:
                 continue
             after = save()
             k = key(after)
+            if _k == "pure" and k != key(states[s]):
+                raise _refuse(loc, "a contract's success_if must not write the blackboard")
             if k not in numbers:
                 if len(states) >= MAX_BLACKBOARDS:
                     raise _refuse(
@@ -182,6 +202,23 @@ def _run_script(port) -> int:
 
 def _run_condition(port) -> int:
     return SUCCESS if port.truth() else FAILURE
+
+
+def _contract_condition(node, parsed, interp) -> int:
+    """SUCCESS when the contract's script is true on the node's blackboard; FREE when it cannot
+    be evaluated there (an entry without a value)."""
+    from btgen.lang import script as scriptmod
+    from btgen.lang import values
+
+    try:
+        value = scriptmod.evaluate(parsed, node.bb, interp.rt.enums, interp.rt.sem.int_to_double_53_bits)
+        return SUCCESS if scriptmod.script_truth(value) else FAILURE
+    except (scriptmod.ScriptRuntimeError, values.ConversionError):
+        return FREE
+    except Exception as e:  # a blackboard error: the same as an entry without value
+        if type(e).__name__ == "BlackboardError":
+            return FREE
+        raise
 
 
 def _pre_idle(node) -> int:

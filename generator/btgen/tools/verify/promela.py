@@ -35,11 +35,12 @@ import struct
 from dataclasses import dataclass, field
 from typing import Optional
 
+from btgen.diagnostics import Loc
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
-from btgen.tools.verify.blackboard import HALT, NO_RESULT, build_tables, lookup, result_is
+from btgen.tools.verify.blackboard import FREE, HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
 from btgen.tools.verify.refusal import Refusal, refuse
@@ -145,6 +146,7 @@ class ModelOptions:
     print_states: bool = False  # `@S` line of every node's status at every tick end (agreement)
     failure_bound: Optional[int] = None  # most FAILURE answers of a leaf in a row (a fairness)
     atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
+    functions: tuple[tuple[str, str, Loc], ...] = ()  # Condition name -> success_if script (its place)
 
 
 def _double(bits: int) -> float:
@@ -183,7 +185,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             for c in n.children:
                 self.parent[c] = n.index
         self.check()
-        self.bbt = build_tables(mission, program)  # after check(): the nodes it refuses come first
+        self.bbt = build_tables(mission, program, options.functions)  # after check(): the nodes it refuses come first
 
     # ------------------------------------------------------------ what is translated
     def check(self) -> None:
@@ -555,6 +557,10 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         allowed = self.allowed(n)
         if not allowed:
             raise _refuse(n.loc, f'the leaf contract leaves `{n.id}` "{n.name}" no status to return')
+        if i in self.bbt.cond:  # the contract makes it a function of the blackboard
+            free = "if :: rv = SUCCESS :: rv = FAILURE fi"
+            out = lookup(self.bbt.cond[i], lambda r: free if r == FREE else f"rv = {r}")
+            return [*out, f'printf("@C {i} %d\\n", rv);']
         bounded = self.running_bounded(n)
         fair = self.failure_bounded(n)
         opts = []
