@@ -2,7 +2,8 @@
 
     .venv/bin/python bench/verify_scale.py [--sizes 100,1000] [--storm] [--timeout S]
 
-Missions: the shipped Lab Tour and Reception, and generated missions of N nodes
+Missions: Nav2's navigate_to_pose_w_replanning_and_recovery (tests/real_files/nav2, with
+Nav2's models file), the shipped Lab Tour and Reception, and generated missions of N nodes
 (`tools/synth.balanced_mission`: Sequence, Fallback and Inverter levels) whose leaves are
 made free: every other leaf a user Condition (`Ready`), the others a user Action (`Work`).
 For each: the Promela model's size, the seconds to build pan (spin -a and gcc), and two
@@ -37,6 +38,17 @@ from btgen.tools.verify import props as P
 from btgen.tools.verify.promela import ModelOptions
 
 ROOT = os.path.dirname(HERE)
+NAV2_TREES = ("navigate_to_pose_w_replanning_and_recovery",)
+NAV2_CONTRACT = tuple(
+    (name, (2,))
+    for name in (
+        "ProgressCheckerSelector",
+        "GoalCheckerSelector",
+        "PathHandlerSelector",
+        "ControllerSelector",
+        "PlannerSelector",
+    )
+)
 
 
 def free_leaves(xml: str) -> str:
@@ -59,12 +71,20 @@ def run_pan_timed(work: str, args: list[str], timeout: float) -> tuple[spin.Spin
         return spin.SpinResult(holds=None, incomplete=f"not finished within {timeout:.0f} s"), False
 
 
-def measure(label: str, path: str, timeout: float, storm: bool, ticks: int | None = None) -> None:
-    mission, program = pipeline.build(path)
+def measure(
+    label: str,
+    path: str,
+    timeout: float,
+    storm: bool,
+    ticks: int | None = None,
+    opts=pipeline.DEFAULTS,
+    contract: tuple = (),
+) -> None:
+    mission, program = pipeline.build(path, opts)
     names = P.Names(program)
     whole = P.parse_property("[] true", Loc("<bench>", 1, 1), names, 0)  # holds: the whole state space
     ends = P.parse_property("<> (root(SUCCESS) || root(FAILURE))", Loc("<bench>", 1, 1), names, 1)
-    options = ModelOptions(running_bound=1, ticks=ticks, print_states=False)
+    options = ModelOptions(running_bound=1, ticks=ticks, print_states=False, contract=contract)
     text = build_model(mission, program, options, [whole, ends])
     with tempfile.TemporaryDirectory(prefix="btgen-bench-") as work:
         t0 = time.perf_counter()
@@ -120,7 +140,19 @@ def main() -> int:
     ap.add_argument("--ticks", type=int, default=3, help="bound the runs (0: unbounded); default 3")
     ap.add_argument("--storm", action="store_true", help="also build the Markov chain and ask Storm")
     ap.add_argument("--shipped", default="LabTour.xml,Reception.xml")
+    ap.add_argument(
+        "--nav2",
+        default=",".join(NAV2_TREES),
+        help="Nav2 default trees of tests/real_files/nav2 (comma-separated stems; empty: none)",
+    )
     args = ap.parse_args()
+    nav2 = os.path.join(ROOT, "tests", "real_files", "nav2")
+    for stem in filter(None, args.nav2.split(",")):
+        opts = pipeline.CompileOptions(models=(os.path.join(nav2, "nav2_tree_nodes.xml"),))
+        path = os.path.join(nav2, stem + ".xml")
+        measure(stem[:22], path, args.timeout, args.storm, args.ticks or None, opts)
+        # Nav2's selectors are SyncActionNodes that always answer SUCCESS (they publish a choice)
+        measure("  selectors SUCCESS", path, args.timeout, args.storm, args.ticks or None, opts, NAV2_CONTRACT)
     for name in filter(None, args.shipped.split(",")):
         measure(name, os.path.join(ROOT, "missions", name), args.timeout, args.storm, args.ticks or None)
     with tempfile.TemporaryDirectory(prefix="btgen-bench-m-") as d:

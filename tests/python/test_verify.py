@@ -16,24 +16,10 @@ from btgen.tools.verify import props as P
 from btgen.tools.verify import replay as R
 from btgen.tools.verify.agree import agreement
 from btgen.tools.verify.promela import ModelOptions, Refusal, emit_model
+from verify_missions import GRASP, write_mission
 
 ROOT = Path(__file__).resolve().parents[2]
 
-GRASP = """<root BTCPP_format="4" main_tree_to_execute="Main">
-  <BehaviorTree ID="Main">
-    <Sequence>
-      <Check name="Ready"/>
-      <RetryUntilSuccessful num_attempts="2"><Grasp/></RetryUntilSuccessful>
-      <Fallback><Place/><AlwaysFailure/></Fallback>
-    </Sequence>
-  </BehaviorTree>
-  <TreeNodesModel>
-    <Condition ID="Check"/>
-    <Action ID="Grasp"/>
-    <Action ID="Place"/>
-  </TreeNodesModel>
-</root>
-"""
 
 # Two branches of a ReactiveFallback: the second is halted whenever the first runs.
 GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -52,28 +38,32 @@ GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
 """
 
 # Counterexamples every test of this module produced: the last test replays them all on the C++.
-PRODUCED: list[tuple[str, R.Counterexample]] = []
+PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
 
 def _mission(tmp_path: Path, text: str, name: str = "m.xml") -> str:
-    path = tmp_path / name
-    path.write_text(text, encoding="utf-8")
-    return str(path)
+    return write_mission(tmp_path, text, name)
 
 
-def _props(program, *texts: str) -> list[P.Property]:
-    names = P.Names(program)
+def _props(program, *texts: str, mission=None) -> list[P.Property]:
+    from btgen.tools.verify.blackboard import build_tables, entries_of
+
+    names = P.Names(program, entries_of(build_tables(mission, program)) if mission is not None else None)
     return [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
 
 
-def _verdicts(tmp_path, path, texts, **options):
-    mission, program = pipeline.build(path)
+def _verdicts(tmp_path, path, texts, compile_options=pipeline.DEFAULTS, **options):
+    mission, program = pipeline.build(path, compile_options)
     results = run_properties(
-        mission, program, _props(program, *texts), ModelOptions(print_states=True, **options), str(tmp_path / "w")
+        mission,
+        program,
+        _props(program, *texts, mission=mission),
+        ModelOptions(print_states=True, **options),
+        str(tmp_path / "w"),
     )
     for _prop, _res, cx in results:
         if cx is not None:
-            PRODUCED.append((path, cx))
+            PRODUCED.append((path, cx, compile_options))
     return {prop.text: (res.holds, cx) for prop, res, cx in results}
 
 
@@ -185,7 +175,7 @@ def test_command_line_output_files_and_exit_status(tmp_path, capsys):
         ("[] running(Nope)", 12, "no node is named `Nope`"),
         ("X ticked(Ready)", 1, "`X` (next) is not supported"),
         ("[] (ticked(Ready)", 18, "expected `)`"),
-        ("[] level > 3", 4, "unknown atom `level`"),
+        ("[] level > 3", 4, "`level` is no blackboard entry the mission's scripts write on the root blackboard"),
         ("returned(Ready, DONE)", 17, "expected a status"),
     ],
 )
@@ -210,11 +200,16 @@ def test_ambiguous_name_lists_the_candidates(tmp_path, capsys):
 
 
 def test_refused_nodes_are_located_errors(tmp_path, capsys):
-    text = GRASP.replace("<AlwaysFailure/>", '<Script code="x := 1"/>')
+    text = GRASP.replace("<AlwaysFailure/>", '<SetBlackboard output_key="k" value="1"/>')
     path = _mission(tmp_path, text)
     rc = main(["verify", path, "--property", "[] !running(Grasp)"])
     err = capsys.readouterr().err
-    assert rc == 1 and f'{path}:6:25: error: `Script` "Script": btgen verify does not translate' in err
+    assert rc == 1 and f'{path}:6:25: error: `SetBlackboard` "SetBlackboard": btgen verify does not translate' in err
+    # a script read from the blackboard: no table can be made of it
+    path = _mission(tmp_path, GRASP.replace("<AlwaysFailure/>", '<Script code="{x}"/>'), "s.xml")
+    assert main(["verify", path, "--property", "[] !running(Grasp)"]) == 1
+    err = capsys.readouterr().err
+    assert f'{path}:6:39: error: `code` of `Script` "Script" reads its script from blackboard' in err
 
 
 def test_leaf_names_a_scenario_cannot_carry_are_refused(tmp_path, capsys):
@@ -264,6 +259,7 @@ def test_lasso_evaluation_by_hand():
 
 
 AGREE_SEEDS = (3, 18, 21)
+SCRIPT_SEEDS = (5, 8, 9)  # fuzzgen `full` missions whose scripts the model translates
 
 
 @pytest.mark.parametrize("seed", AGREE_SEEDS)
@@ -274,6 +270,208 @@ def test_tick_states_agree_with_explore_on_random_missions(tmp_path, seed):
     mission, program = pipeline.build(path)
     a = agreement(mission, program, 3, 20, str(tmp_path / "w"))
     assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) > 10
+
+
+def test_atomic_subtrees_store_fewer_states_and_reach_the_same_tick_ends(tmp_path):
+    """A subtree with few paths through a tick is one atomic step: SPIN stores fewer states,
+    and the tick-end states are those of the model without atomic steps (and explore's)."""
+    from btgen.tools.fuzzgen import random_case
+    from btgen.tools.verify.agree import spin_tick_states
+
+    path = _mission(tmp_path, random_case(18, "control", 1).mission)
+    mission, program = pipeline.build(path)
+    plain, plain_res = spin_tick_states(mission, program, 3, 20, str(tmp_path / "a"), atomic_paths=0)
+    packed, packed_res = spin_tick_states(mission, program, 3, 20, str(tmp_path / "b"))
+    text = emit_model(mission, program, ModelOptions(ticks=3))
+    assert "atomic {" in text and "atomic {" not in emit_model(mission, program, ModelOptions(atomic_paths=0))
+    assert plain == packed and len(packed) > 10
+    assert packed_res.states < plain_res.states
+
+
+# Nav2's Controls and Decorators (--nodes nav2): RateController at 5 Hz is 2 ticks of 100 ms.
+NAV2 = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <RecoveryNode number_of_retries="1">
+      <PipelineSequence>
+        <Plan/>
+        <RateController hz="5"><Compute/></RateController>
+        <Follow/>
+      </PipelineSequence>
+      <RoundRobin><Clear/><Spin/><Near/></RoundRobin>
+    </RecoveryNode>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Plan"/><Action ID="Compute"/><Action ID="Follow"/>
+    <Action ID="Clear"/><Action ID="Spin"/><Condition ID="Near"/>
+  </TreeNodesModel>
+</root>
+"""
+
+
+@pytest.mark.parametrize("nodes", ["nav2", "nav2:lyrical"])
+def test_nav2_nodes_agree_with_explore(tmp_path, nodes):
+    """PipelineSequence, RecoveryNode, RoundRobin (wrapping, and lyrical's round that ends at the
+    last child) and RateController: the same tick-end states as explore."""
+    path = _mission(tmp_path, NAV2)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(nodes=nodes))
+    a = agreement(mission, program, 6, 100, str(tmp_path / "w"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 8
+
+
+def test_nav2_verdicts_and_a_counterexample(tmp_path):
+    path = _mission(tmp_path, NAV2)
+    v = _verdicts(
+        tmp_path,
+        path,
+        ["absence(ticked(Spin))", "[] (ticked(Clear) -> !ticked(Plan))", "absence(returned(Compute, SKIPPED))"],
+        pipeline.CompileOptions(nodes="nav2"),
+        running_bound=1,
+    )
+    assert v["absence(ticked(Spin))"][0] is False and v["absence(ticked(Spin))"][1].shown_interp
+    assert v["[] (ticked(Clear) -> !ticked(Plan))"][0] is False  # a recovery, then Plan again in one tick
+    assert v["absence(returned(Compute, SKIPPED))"][0] is True
+
+
+# Scripts: a Script, a ScriptCondition, pre-conditions (_successIf, _skipIf) and post-conditions.
+SCRIPTS = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="mode := 'idle'; armed := false"/>
+      <RetryUntilSuccessful num_attempts="3">
+        <Sequence>
+          <Script code="armed = !armed"/>
+          <Grasp _successIf="armed == false" _onFailure="mode = 'failed'" _onSuccess="mode = 'holding'"/>
+        </Sequence>
+      </RetryUntilSuccessful>
+      <ScriptCondition code="mode == 'holding'"/>
+      <Place _skipIf="mode == 'idle'" _while="armed"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Grasp"/><Action ID="Place"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_scripts_agree_with_explore_and_their_counterexamples_replay(tmp_path):
+    from btgen.tools.verify.blackboard import build_tables
+
+    path = _mission(tmp_path, SCRIPTS)
+    mission, program = pipeline.build(path)
+    tables = build_tables(mission, program)
+    assert {"mode": "holding", "armed": 1} in tables.values and tables.count == 7
+    a = agreement(mission, program, 6, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
+    v = _verdicts(
+        tmp_path,
+        path,
+        ["absence(ticked(Place))", "absence(returned(ScriptCondition, FAILURE))", "absence(returned(Place, SKIPPED))"],
+        running_bound=1,
+    )
+    assert v["absence(ticked(Place))"][0] is False and v["absence(ticked(Place))"][1].shown_interp
+    # every SUCCESS of Grasp (its own or _successIf's) runs _onSuccess: mode is `holding` after the loop
+    assert v["absence(returned(ScriptCondition, FAILURE))"][0] is True
+    # _while="armed" skips Place when Grasp succeeded with `armed` false
+    assert v["absence(returned(Place, SKIPPED))"][0] is False and v["absence(returned(Place, SKIPPED))"][1].shown_interp
+
+
+def test_blackboard_atoms(tmp_path, capsys):
+    """ENTRY OP VALUE over the root blackboard at tick ends: proved, or a counterexample that the
+    interpreter's own blackboard shows (and the C++, in the last test)."""
+    path = _mission(tmp_path, SCRIPTS)
+    never_failed = "absence(mode == 'failed')"
+    holding = "[] (ticked(Place) -> mode == 'holding')"
+    both = "absence(mode == 'holding' && armed == false && root(SUCCESS))"
+    v = _verdicts(tmp_path, path, [never_failed, holding, both, "[] (armed != 2)"], running_bound=1)
+    assert v[never_failed][0] is False and v[never_failed][1].shown_interp
+    assert v[holding][0] is True and v["[] (armed != 2)"][0] is True
+    assert v[both][0] is False and v[both][1].shown_interp
+    rc = main(["verify", path, "--property", "absence(mdoe == 'x')"])
+    err = capsys.readouterr().err
+    assert rc == 1 and "error: `mdoe` is no blackboard entry" in err and err.count("<command-line>:1:") == 1
+    assert "(did you mean `mode`?)" in err
+    assert main(["verify", path, "--property", "absence(mode == failed)"]) == 1
+    assert "expected a value: a number, true, false or a 'string'" in capsys.readouterr().err
+
+
+# A Condition the leaf contract makes a function of the blackboard: Low is SUCCESS when level is 'low'.
+CONTRACT_BB = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="level := 'ok'"/>
+      <ReactiveFallback>
+        <Sequence><Battery name="Low"/><Dock/></Sequence>
+        <Sequence><Patrol/><Script code="level = 'low'"/></Sequence>
+      </ReactiveFallback>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Condition ID="Battery"/><Action ID="Dock"/><Action ID="Patrol"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_a_contract_makes_a_condition_a_function_of_the_blackboard(tmp_path, capsys):
+    path = _mission(tmp_path, CONTRACT_BB)
+    contract = tmp_path / "c.json"
+    contract.write_text('{"Low": {"success_if": "level == \'low\'"}}', encoding="utf-8")
+    prop = "[] (ticked(Dock) -> level == 'low')"
+    # free, Low may answer SUCCESS at once: Dock is ticked while level is 'ok'
+    assert main(["verify", path, "--running-bound", "1", "--property", prop]) == 1
+    assert "VIOLATED  [] (ticked(Dock)" in capsys.readouterr().out
+    args = ["verify", path, "--running-bound", "1", "--contract", str(contract), "--replay-cpp"]
+    assert main([*args, "--property", prop, "--property", "absence(ticked(Dock))"]) == 0
+    out = capsys.readouterr().out
+    assert "holds     [] (ticked(Dock)" in out and "holds     absence(ticked(Dock))" in out
+    assert main([*args, "--property", "absence(level == 'low')"]) == 1
+    out = capsys.readouterr().out
+    assert "VIOLATED  absence(level == 'low')" in out and "generated C++: the violation shows" in out
+    contract.write_text('{"Dock": {"success_if": "true"}}', encoding="utf-8")
+    assert main([*args, "--property", prop]) == 1
+    assert 'c.json:1:2: error: `Dock`: a Condition\'s function of the blackboard is {"success_if": "SCRIPT"}' in (
+        capsys.readouterr().err
+    )
+    contract.write_text('{"Low": {"success_if": "level = = 1"}}', encoding="utf-8")
+    assert main([*args, "--property", prop]) == 1
+    assert "c.json:1:2: error: `Low`: success_if `level = = 1` is not a script" in capsys.readouterr().err
+
+
+def test_a_script_of_unbounded_values_is_refused_located(tmp_path):
+    counter = SCRIPTS.replace('code="armed = !armed"', 'code="armed = !armed; n := 0; n += 1"').replace(
+        "mode := 'idle'; armed := false", "mode := 'idle'; armed := false; n := 0"
+    )
+    counter = counter.replace('"n := 0; n += 1"', '"n += 1"').replace("armed = !armed; n := 0; n += 1", "n += 1")
+    path = _mission(tmp_path, counter)
+    mission, program = pipeline.build(path)
+    with pytest.raises(Refusal) as e:
+        emit_model(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert (d.loc.line, d.loc.col) == (7, 25) and "more than 250 values" in d.message
+
+
+@pytest.mark.parametrize("seed", SCRIPT_SEEDS)
+def test_scripts_of_random_missions_agree_with_explore(tmp_path, seed):
+    from btgen.tools.fuzzgen import random_case
+
+    path = _mission(tmp_path, random_case(seed, "full", 1).mission)
+    mission, program = pipeline.build(path)
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"), max_states=50000)
+    assert "byte bb;" in (tmp_path / "w" / "model.pml").read_text()
+    assert not a.explore_truncated and a.explore_states == a.spin_states
+
+
+def test_rate_controller_without_a_countable_period_is_refused(tmp_path):
+    path = _mission(tmp_path, NAV2.replace('hz="5"', 'hz="0"'))
+    mission, program = pipeline.build(path, pipeline.CompileOptions(nodes="nav2"))
+    with pytest.raises(Refusal) as e:
+        emit_model(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert d.loc.line == 6 and "period of 1 to 250 ticks" in d.message
+
+
+def test_rate_controller_period_in_ticks():
+    from btgen.tools.verify.nav2 import rate_ticks
+
+    assert rate_ticks(1.0, 100, 250) == 10 and rate_ticks(5.0, 100, 250) == 2 and rate_ticks(3.0, 100, 250) == 4
+    assert rate_ticks(0.001, 100, 250) is None and rate_ticks(-1.0, 100, 250) == 0
 
 
 def test_tick_states_agree_under_btcpp_4_10(tmp_path):
@@ -328,11 +526,10 @@ def test_every_counterexample_replays_on_the_generated_cpp(tmp_path):
         path = _mission(tmp_path, GRASP)
         _verdicts(tmp_path, path, ["absence(returned(Place, FAILURE))", "[] <> ticked(Place)"])
     assert PRODUCED
-    opts = pipeline.DEFAULTS
-    for k, (path, cx) in enumerate(PRODUCED):
+    for k, (path, cx, opts) in enumerate(PRODUCED):
         if not os.path.exists(path):  # its tmp_path is gone: write the mission again
             continue
-        mission, program = pipeline.build(path)
+        mission, program = pipeline.build(path, opts)
         scen = tmp_path / f"cx{k}.scenario"
         scen.write_text(cx.scenario, encoding="utf-8")
         R.replay_cpp(cx, path, opts, str(scen), len(program.nodes))

@@ -12,24 +12,10 @@ from btgen import pipeline
 from btgen.cli import main
 from btgen.diagnostics import UserError
 from btgen.tools.verify.markov import build_chain, load_probabilities, monte_carlo, storm_queries
+from verify_missions import GRASP, write_mission
 
 pytest.importorskip("stormpy")
 
-GRASP = """<root BTCPP_format="4" main_tree_to_execute="Main">
-  <BehaviorTree ID="Main">
-    <Sequence>
-      <Check name="Ready"/>
-      <RetryUntilSuccessful num_attempts="2"><Grasp/></RetryUntilSuccessful>
-      <Fallback><Place/><AlwaysFailure/></Fallback>
-    </Sequence>
-  </BehaviorTree>
-  <TreeNodesModel>
-    <Condition ID="Check"/>
-    <Action ID="Grasp"/>
-    <Action ID="Place"/>
-  </TreeNodesModel>
-</root>
-"""
 PROBS = """{"Ready": {"SUCCESS": 0.9, "FAILURE": 0.1},
  "Grasp": {"SUCCESS": 0.5, "FAILURE": 0.3, "RUNNING": 0.2},
  "Place": {"SUCCESS": 0.8, "FAILURE": 0.2}}
@@ -37,10 +23,9 @@ PROBS = """{"Ready": {"SUCCESS": 0.9, "FAILURE": 0.1},
 
 
 def _files(tmp_path: Path, mission: str = GRASP, probs: str = PROBS) -> tuple[str, str]:
-    m, p = tmp_path / "m.xml", tmp_path / "p.json"
-    m.write_text(mission, encoding="utf-8")
+    p = tmp_path / "p.json"
     p.write_text(probs, encoding="utf-8")
-    return str(m), str(p)
+    return write_mission(tmp_path, mission), str(p)
 
 
 def test_hand_computed_probabilities(tmp_path, capsys):

@@ -70,7 +70,8 @@ def add_arguments(v) -> None:
     v.add_argument(
         "--contract",
         metavar="FILE",
-        help='leaf contract, JSON: {"LeafName": ["SUCCESS", "FAILURE"]} (the statuses it may return)',
+        help='leaf contract, JSON: {"LeafName": ["SUCCESS", "FAILURE"]} (the statuses it may return), '
+        '{"Condition": {"success_if": "SCRIPT"}} (a function of the blackboard)',
     )
     v.add_argument("--replay-cpp", action="store_true", help="also replay every counterexample on the generated C++")
     v.add_argument("--model", metavar="FILE", help="write the Promela model there")
@@ -100,6 +101,14 @@ def _prop_loc(args, text: str) -> Loc:
 
 def load_contract(path: str, program: Program) -> tuple[tuple[str, tuple[int, ...]], ...]:
     """{"Leaf": ["SUCCESS", ...]}: the statuses each named leaf may return."""
+    return load_contract_full(path, program)[0]
+
+
+def load_contract_full(
+    path: str, program: Program
+) -> tuple[tuple[tuple[str, tuple[int, ...]], ...], tuple[tuple[str, str, Loc], ...]]:
+    """The statuses each named leaf may return, and the Conditions that are a function of the
+    blackboard: {"Low": {"success_if": "battery < 20"}} (a script, true: SUCCESS)."""
     data = read_bounded(path, 1 << 20, "contract", "contracts", cannot="cannot read the contract")
     text = data.decode("utf-8", "replace")
     try:
@@ -117,7 +126,8 @@ def load_contract(path: str, program: Program) -> tuple[tuple[str, tuple[int, ..
     if not isinstance(doc, dict):
         raise UserError(Diagnostic(Loc(path, 1, 1), 'the contract is a JSON object: {"Leaf": ["SUCCESS", "FAILURE"]}'))
     leaves = {n.name: n.kind for n in program.nodes if n.kind in ("Action", "Condition")}
-    out = []
+    out: list[tuple[str, tuple[int, ...]]] = []
+    functions: list[tuple[str, str, Loc]] = []
     for name, statuses in doc.items():
         if name not in leaves:
             hint = did_you_mean(name, list(leaves))
@@ -125,6 +135,19 @@ def load_contract(path: str, program: Program) -> tuple[tuple[str, tuple[int, ..
             raise UserError(
                 Diagnostic(at(name), f"the contract names `{name}`, which is no leaf of the mission{extra}")
             )
+        if isinstance(statuses, dict):
+            script = statuses.get("success_if")
+            if leaves[name] != "Condition" or set(statuses) != {"success_if"} or not isinstance(script, str):
+                raise UserError(
+                    Diagnostic(
+                        at(name),
+                        f'`{name}`: a Condition\'s function of the blackboard is {{"success_if": "SCRIPT"}}'
+                        + ("" if leaves[name] == "Condition" else f" (`{name}` is an Action)"),
+                    )
+                )
+            functions.append((name, script, at(name)))
+            out.append((name, (STATUS["SUCCESS"], STATUS["FAILURE"])))
+            continue
         if not isinstance(statuses, list) or not statuses or not all(isinstance(s, str) for s in statuses):
             raise UserError(Diagnostic(at(name), f"`{name}`: a non-empty list of statuses"))
         allowed = ("SUCCESS", "FAILURE") if leaves[name] == "Condition" else ("SUCCESS", "FAILURE", "RUNNING")
@@ -134,7 +157,7 @@ def load_contract(path: str, program: Program) -> tuple[tuple[str, tuple[int, ..
                     Diagnostic(at(name), f"`{name}` ({leaves[name]}) cannot return `{s}`: use {', '.join(allowed)}")
                 )
         out.append((name, tuple(STATUS[s] for s in statuses)))
-    return tuple(out)
+    return tuple(out), tuple(functions)
 
 
 def _options(args, program: Program) -> ModelOptions:
@@ -146,12 +169,19 @@ def _options(args, program: Program) -> ModelOptions:
         raise cmdline.error(args, "--ticks", "--ticks must be at least 1")
     if args.clock_ms < 0:
         raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
-    contract = load_contract(args.contract, program) if args.contract else ()
-    return ModelOptions(args.running_bound, args.ticks, args.clock_ms, contract, True, args.failure_bound)
+    contract, functions = load_contract_full(args.contract, program) if args.contract else ((), ())
+    return ModelOptions(
+        args.running_bound, args.ticks, args.clock_ms, contract, True, args.failure_bound, functions=functions
+    )
 
 
-def parse_properties(args, program: Program) -> list[P.Property]:
-    names = P.Names(program)
+def parse_properties(args, program: Program, mission=None) -> list[P.Property]:
+    entries: dict[str, str] = {}
+    if mission is not None:
+        from btgen.tools.verify.blackboard import build_tables, entries_of
+
+        entries = entries_of(build_tables(mission, program))
+    names = P.Names(program, entries)
     out: list[P.Property] = []
     for text in args.properties_inline:
         out.append(P.parse_property(text, _prop_loc(args, text), names, len(out)))
@@ -163,8 +193,10 @@ def parse_properties(args, program: Program) -> list[P.Property]:
 def build_model(mission, program: Program, options: ModelOptions, properties: list[P.Property]) -> str:
     from btgen.tools.verify.promela import Emitter
 
-    Emitter(mission, program, options).check_scenario_names()
-    obs = Observe()
+    emitter = Emitter(mission, program, options)
+    emitter.check_scenario_names()
+    print_diagnostics(emitter.bbt.warnings)
+    obs = Observe(bb_values=emitter.bbt.values)
     ltl = []
     for p in properties:
         f = P.to_spin(p.formula, obs)
@@ -187,7 +219,7 @@ def verify_command(args) -> int:
         from btgen.tools.verify.markov import markov_command
 
         return markov_command(args, mission, program, options)
-    properties = parse_properties(args, program)
+    properties = parse_properties(args, program, mission)
     text = build_model(mission, program, options, properties)
     if args.model:
         from btgen.tools.graph import _write

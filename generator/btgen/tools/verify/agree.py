@@ -85,9 +85,10 @@ def explore_tick_states(
 
 
 def spin_tick_states(
-    mission: Mission, program: Program, ticks: int, clock_ms: int, workdir: str
+    mission: Mission, program: Program, ticks: int, clock_ms: int, workdir: str, atomic_paths: int = 64
 ) -> tuple[set[tuple[int, ...]], spin.SpinResult]:
-    text = emit_model(mission, program, ModelOptions(ticks=ticks, clock_ms=clock_ms, print_states=True))
+    options = ModelOptions(ticks=ticks, clock_ms=clock_ms, print_states=True, atomic_paths=atomic_paths)
+    text = emit_model(mission, program, options)
     res = spin.reachable(text, workdir, print_states=True)
     states = {tuple(int(x) for x in line.split()[1:]) for line in res.lines if line.startswith("@S")}
     return states, res

@@ -13,9 +13,13 @@ RUNNING, each tick of a Condition SUCCESS or FAILURE, as far as the leaf contrac
 Action's RUNNING answers in a row can be bounded (`running_bound`). Every such choice prints
 `@C <node> <status>` so a SPIN trail replays as the scenario that makes the same choices.
 
-What the model does not translate is refused with a located error (`Refusal`): scripts, the
-blackboard nodes, user Controls and Decorators, parameters read from the blackboard. Nothing
-is abstracted silently.
+Scripts and pre/post conditions are tables over the reachable blackboards (`blackboard.py`),
+Nav2's nodes are in `nav2.py`. What the model does not translate is refused with a located
+error (`Refusal`): the blackboard nodes, user Controls and Decorators, parameters read from the
+blackboard, `_onHalted`. Nothing is abstracted silently.
+
+A subtree with few paths through a tick (`ModelOptions.atomic_paths`) is one atomic step:
+SPIN stores no state inside it (`Emitter.atomic_root`).
 
 Atoms are evaluated at the end of each tick: the model copies them into observation bits in
 one `d_step`, so a never claim sees one value per tick (every LTL formula without X is
@@ -27,15 +31,21 @@ returns any more, the statuses stay, and that observation stays for ever.
 from __future__ import annotations
 
 import math
+import struct
 from dataclasses import dataclass, field
 from typing import Optional
 
-from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.diagnostics import Loc
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
+from btgen.tools.verify.blackboard import FREE, HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
+from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
+from btgen.tools.verify.refusal import Refusal, refuse
+
+__all__ = ["Refusal", "Emitter", "ModelOptions", "Observe", "emit_model"]
 
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 STATUS = {"IDLE": IDLE, "RUNNING": RUNNING, "SUCCESS": SUCCESS, "FAILURE": FAILURE, "SKIPPED": SKIPPED}
@@ -72,11 +82,12 @@ SUPPORTED_KINDS = frozenset(
         "Action",
         "Condition",
         "TryCatch",
+        "Script",
+        "ScriptCondition",
+        *NAV2_KINDS,
     }
 )
 _WHY_NOT = {
-    "Script": "a Script node (scripts are not translated yet)",
-    "ScriptCondition": "a ScriptCondition node (scripts are not translated yet)",
     "SetBlackboard": "a SetBlackboard node (the blackboard is not translated yet)",
     "UnsetBlackboard": "an UnsetBlackboard node (the blackboard is not translated yet)",
     "Switch": "a Switch node (it reads the blackboard, which is not translated yet)",
@@ -101,15 +112,13 @@ _PARAM_PORTS = {
     "Delay": ("delay_msec",),
     "Sleep": ("msec",),
     "TryCatch": ("catch_on_halt",),
+    "RecoveryNode": ("number_of_retries",),
+    "RateController": ("hz",),
+    "RoundRobin": ("wrap_around",),
 }
 
 
-class Refusal(UserError):
-    """The mission uses something the model does not translate (a located error)."""
-
-
-def _refuse(loc: Loc, message: str) -> Refusal:
-    return Refusal(Diagnostic(loc, message))
+_refuse = refuse
 
 
 @dataclass
@@ -119,6 +128,7 @@ class Observe:
     ticked: set[int] = field(default_factory=set)
     returned: set[int] = field(default_factory=set)
     atoms: list[str] = field(default_factory=list)  # Promela expressions over the records, end of tick
+    bb_values: list[dict] = field(default_factory=list)  # the root blackboard's entries, per `bb` number
 
     def atom(self, expr: str) -> str:
         """The observation bit of `expr` (one per distinct expression)."""
@@ -135,6 +145,13 @@ class ModelOptions:
     contract: tuple[tuple[str, tuple[int, ...]], ...] = ()  # leaf name -> allowed statuses
     print_states: bool = False  # `@S` line of every node's status at every tick end (agreement)
     failure_bound: Optional[int] = None  # most FAILURE answers of a leaf in a row (a fairness)
+    atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
+    functions: tuple[tuple[str, str, Loc], ...] = ()  # Condition name -> success_if script (its place)
+
+
+def _double(bits: int) -> float:
+    """A double parameter of the lowered program (kept as its IEEE bits)."""
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
 
 
 def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
@@ -146,7 +163,7 @@ def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
     return math.ceil(msec / clock_ms)
 
 
-class Emitter(DecoratorTicks):
+class Emitter(DecoratorTicks, Nav2Ticks):
     def __init__(
         self, mission: Mission, program: Program, options: ModelOptions, observe: Optional[Observe] = None
     ) -> None:
@@ -161,7 +178,14 @@ class Emitter(DecoratorTicks):
         self.temps: list[str] = []  # reset at every tick end
         self.node_temps: dict[int, list[str]] = {}  # reset when the node returns: paths merge sooner
         self.timers: list[tuple[int, int]] = []  # (node, ticks) of every timer that counts
+        self._paths: Optional[list[int]] = None
+
+        self.parent = [0] * len(self.nodes)
+        for n in self.nodes:
+            for c in n.children:
+                self.parent[c] = n.index
         self.check()
+        self.bbt = build_tables(mission, program, options.functions)  # after check(): the nodes it refuses come first
 
     # ------------------------------------------------------------ what is translated
     def check(self) -> None:
@@ -169,11 +193,6 @@ class Emitter(DecoratorTicks):
             if n.kind not in SUPPORTED_KINDS:
                 why = _WHY_NOT.get(n.kind, f"a `{n.kind}` node")
                 raise _refuse(n.loc, f'`{n.id}` "{n.name}": btgen verify does not translate {why}')
-            if n.scripts:
-                raise _refuse(
-                    n.loc,
-                    f'`{n.id}` "{n.name}" has pre- or post-condition scripts, which btgen verify does not translate',
-                )
             if n.kind in ("Parallel", "ParallelAll") and len(n.children) > MAX_PARALLEL:
                 raise _refuse(
                     n.loc,
@@ -201,6 +220,14 @@ class Emitter(DecoratorTicks):
             if n.kind == "TryCatch" and n.params[0]:
                 raise _refuse(n.loc, f'`TryCatch` "{n.name}": catch_on_halt="true" is not translated yet')
         for n in self.nodes:
+            if n.kind == "RateController":
+                hz = _double(n.params[0])
+                if not hz > 0.0 or rate_ticks(hz, self.o.clock_ms, MAX_TIMER_TICKS) is None:
+                    raise _refuse(
+                        n.loc,
+                        f'`{n.id}` "{n.name}": hz="{hz}" with --clock-ms {self.o.clock_ms}: btgen verify counts '
+                        f"a period of 1 to {MAX_TIMER_TICKS} ticks",
+                    )
             if n.kind in ("Sleep", "Delay", "Timeout") and n.params[0] > 0:
                 k = timer_ticks(n.params[0], self.o.clock_ms)
                 if k is not None and k > MAX_TIMER_TICKS:
@@ -323,6 +350,25 @@ class Emitter(DecoratorTicks):
                 self.var(f"byte cs{i}", True)
             elif k in ("Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure", "SubTree"):
                 self.var(f"byte cs{i}", True)
+            elif k == "PipelineSequence":
+                self.var(f"byte last{i}")
+                self.var(f"byte cs{i}", True)
+                self.var(f"byte k{i}", True)
+                self.var(f"byte sk{i}", True)
+            elif k == "RecoveryNode":
+                self.var(f"byte rcur{i}")
+                self.var(f"int rcnt{i}")
+                self.var(f"byte cs{i}", True)
+            elif k == "RoundRobin":
+                self.var(f"byte ix{i}")
+                self.var(f"byte fl{i}")
+                self.var(f"byte cs{i}", True)
+                self.var(f"byte sk{i}", True)
+                self.var(f"bit tmp{i}", True)
+            elif k == "RateController":
+                self.var(f"bit first{i}")
+                self.var(f"byte el{i} = {NONE}")
+                self.timers.append((i, self.ticks_of(n)))
             if self.running_bounded(n):
                 self.var(f"byte rc{i}")
             if self.failure_bounded(n):
@@ -333,6 +379,9 @@ class Emitter(DecoratorTicks):
             self.var(f"byte rt{i}", True)
 
     def ticks_of(self, n: IRNode) -> int:
+        if n.kind == "RateController":
+            r = rate_ticks(_double(n.params[0]), self.o.clock_ms, MAX_TIMER_TICKS)
+            return MAX_TIMER_TICKS + 1 if r is None else r
         k = timer_ticks(n.params[0], self.o.clock_ms)
         return MAX_TIMER_TICKS + 1 if k is None else k  # never reached: the counter stops below
 
@@ -360,6 +409,14 @@ class Emitter(DecoratorTicks):
             out.append(f"started{c} = 0; el{c} = {NONE};")
         elif k == "Sleep":
             out.append(f"el{c} = {NONE};")
+        elif k == "PipelineSequence":
+            out.append(f"last{c} = 0;")
+        elif k == "RecoveryNode":
+            out.append(f"rcnt{c} = 0; rcur{c} = 0;")
+        elif k == "RoundRobin":
+            out.append(f"ix{c} = 0; fl{c} = 0;")
+        elif k == "RateController":  # its start is taken again from IDLE: forgotten, so states merge
+            out.append(f"el{c} = {NONE}; first{c} = 0;")
         if n.children:
             if self.is_decorator(n):
                 out.extend(self.reset_child(n.children[0]))
@@ -408,17 +465,71 @@ class Emitter(DecoratorTicks):
             "Timeout",
             "Delay",
             "SubTree",
+            "RateController",
         )
 
     # ------------------------------------------------------------ ticking
+    def paths(self, i: int) -> int:
+        """A bound on the paths a tick of node i can take (its leaves' choices); capped."""
+        if self._paths is None:
+            cap = 1 << 20
+            memo: list[int] = [1] * len(self.nodes)
+            for n in reversed(self.nodes):  # creation order: children after their parent
+                if n.kind in ("Action", "Condition"):
+                    v = len(self.allowed(n))
+                else:
+                    v = 1
+                    for c in n.children:
+                        v = min(cap, v * memo[c])
+                    if n.kind in ("Repeat", "RetryUntilSuccessful", "RecoveryNode", "RoundRobin"):  # loops
+                        v = cap if n.params[0] < 0 or v > 1 else v
+                memo[n.index] = v
+            self._paths = memo
+        return self._paths[i]
+
+    def atomic_root(self, i: int) -> bool:
+        """Node i's tick is one atomic step of the model (no state stored inside it): its paths
+        are few (so the search loses little by not merging them) and its parent's are not.
+        Atomic or not, the model's runs are the same; only what SPIN stores differs."""
+        k = self.o.atomic_paths
+        if k <= 0 or self.paths(i) > k:
+            return False
+        return i == 0 or self.paths(self.parent[i]) > k
+
     def tick(self, i: int) -> list[str]:
         """execute_tick of node i: its result in `rv`."""
+        if self.atomic_root(i):
+            return ["atomic {", *("   " + s for s in self.tick_body(i)), "};"]
+        return self.tick_body(i)
+
+    def tick_body(self, i: int) -> list[str]:
         n = self.nodes[i]
         out = [f"/* {n.uid} {n.id} {n.name!r} */"]
         if i in self.obs.ticked:
             out.append(f"tk{i} = 1;")
-        out.extend(getattr(self, "k_" + n.kind)(n))
+        body = getattr(self, "k_" + n.kind)(n)
+        t = self.bbt
+        if i in t.pre_idle:  # TreeNode::checkPreConditions: all when IDLE, _while when RUNNING
+            out.append(f"if :: st[{i}] == IDLE ->")
+            out.extend("   " + s for s in lookup(t.pre_idle[i], result_is("pr")))
+            out.append(f":: st[{i}] == RUNNING ->")
+            running = lookup(t.pre_running[i], result_is("pr")) if i in t.pre_running else [f"pr = {NO_RESULT};"]
+            out.extend("   " + s for s in running)
+            out.append(f":: else -> pr = {NO_RESULT} fi;")
+            out.append(f"if :: pr == {NO_RESULT} ->")
+            out.extend("   " + s for s in body)
+            out.append(f":: pr == {HALT} ->")
+            out.extend("   " + s for s in self.halt_node(i))
+            out.append("   rv = SKIPPED")
+            out.append(":: else -> rv = pr fi;")
+        else:
+            out.extend(body)
         out.append(f"E{i}: if :: rv != SKIPPED -> st[{i}] = rv :: else -> skip fi;")
+        for status, name in ((SUCCESS, "SUCCESS"), (FAILURE, "FAILURE")):
+            if (i, status) in t.post:  # checkPostConditions (the status is set after it: no matter)
+                out.append(f"if :: rv == {name} ->")
+                out.extend("   " + s for s in lookup(t.post[(i, status)], lambda r: "skip"))
+                out.append(":: else -> skip fi;")
         if self.node_temps.get(i):
             out.append(" ".join(f"{t} = 0;" for t in self.node_temps[i]))
         if self.is_decorator(n):
@@ -446,6 +557,10 @@ class Emitter(DecoratorTicks):
         allowed = self.allowed(n)
         if not allowed:
             raise _refuse(n.loc, f'the leaf contract leaves `{n.id}` "{n.name}" no status to return')
+        if i in self.bbt.cond:  # the contract makes it a function of the blackboard
+            free = "if :: rv = SUCCESS :: rv = FAILURE fi"
+            out = lookup(self.bbt.cond[i], lambda r: free if r == FREE else f"rv = {r}")
+            return [*out, f'printf("@C {i} %d\\n", rv);']
         bounded = self.running_bounded(n)
         fair = self.failure_bounded(n)
         opts = []
@@ -474,6 +589,12 @@ class Emitter(DecoratorTicks):
 
     def k_Condition(self, n: IRNode) -> list[str]:
         return self.choice(n)
+
+    def k_Script(self, n: IRNode) -> list[str]:
+        return lookup(self.bbt.script[n.index], result_is("rv"))
+
+    def k_ScriptCondition(self, n: IRNode) -> list[str]:
+        return lookup(self.bbt.script[n.index], result_is("rv"))
 
     def k_Sleep(self, n: IRNode) -> list[str]:
         i, msec = n.index, n.params[0]
@@ -729,6 +850,9 @@ class Emitter(DecoratorTicks):
             "byte rv;",
             "byte rootr;",
         ]
+        if self.bbt.used:
+            head.append(f"byte bb;  /* the blackboard: one of {self.bbt.count} (blackboard.py) */")
+            head.append("byte pr;  /* the pre-conditions' verdict */")
         if self.o.ticks is not None:
             head.append("int ticks;")
         head += [d + ";" for d in self.globals]
@@ -743,7 +867,7 @@ class Emitter(DecoratorTicks):
             if self.o.clock_ms > 0
         ]
         temps = [f"{t} = 0;" for t in self.temps if not t.startswith(("tk", "rt"))]
-        end = [*observe, *clear, *temps, *timers, "rv = 0;"]
+        end = [*observe, *clear, *temps, *timers, "rv = 0;", *(["pr = 0;"] if self.bbt.used else [])]
         if self.o.ticks is not None:
             end.append("ticks++;")
         if self.o.print_states:
@@ -771,6 +895,7 @@ class Emitter(DecoratorTicks):
             "   rootr = 255;",
             *("   " + s for s in observe),
             "}",
+            "Error: skip  /* a script failed at run time (blackboard.py): the run ends there */",
             "}",
         ]
         return "\n".join(head + proc) + "\n"

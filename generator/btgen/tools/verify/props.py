@@ -4,6 +4,7 @@
              | formula ('U' | 'V' | 'W') formula | ('!' | '[]' | '<>') formula
              | '(' formula ')' | 'true' | 'false' | ATOM | TEMPLATE
     ATOM    := ticked(NAME) | running(NAME) | returned(NAME, STATUS) | root(STATUS)
+             | ENTRY ('==' | '!=' | '<' | '<=' | '>' | '>=') VALUE   (the root blackboard)
     TEMPLATE:= absence(F) | response(F, G) | mutex(NAME, NAME, ...) | eventually_success[(NAME, ...)]
 
 Binding, tightest first: the unary operators, then U V W, then &&, then ||, then -> and <->
@@ -37,7 +38,7 @@ from btgen.tools.verify.promela import STATUS, Observe
 
 MAX_FAIR = 2
 _TOKEN = re.compile(
-    r"\s*(?:(?P<op>\[\]|<->|<>|->|&&|\|\||==|!=|<=|>=|<|>|!|\(|\)|,)|(?P<word>#?(?:[A-Za-z0-9_.:@/]|-(?!>))+)|(?P<bad>\S))"
+    r"\s*(?:(?P<str>'[^']*')|(?P<op>\[\]|<->|<>|->|&&|\|\||==|!=|<=|>=|<|>|!|\(|\)|,)|(?P<word>#?(?:[A-Za-z0-9_.:@/]|-(?!>))+)|(?P<bad>\S))"
 )
 _RESULTS = ("SUCCESS", "FAILURE", "RUNNING", "SKIPPED")
 
@@ -68,7 +69,7 @@ def _tokens(text: str, at: Loc) -> list[_Tok]:
             break
         if m.group("bad") is not None:
             raise _err(at, m.start("bad"), f"unexpected `{m.group('bad')}` in a property")
-        kind = "op" if m.group("op") is not None else "word"
+        kind = "op" if m.group("op") is not None else "str" if m.group("str") is not None else "word"
         start = m.start(kind)
         out.append(_Tok(kind, m.group(kind), start))
         pos = m.end()
@@ -83,8 +84,10 @@ def _err(at: Loc, col: int, message: str) -> UserError:
 class Names:
     """NAME -> node index, as traces name nodes."""
 
-    def __init__(self, program: Program) -> None:
+    def __init__(self, program: Program, entries: Optional[dict[str, str]] = None) -> None:
         self.program = program
+        # the root blackboard's entries the scripts give values (name -> a value's description)
+        self.entries = entries or {}
         self.by: dict[str, list[int]] = {}
         for n in program.nodes:
             self.by.setdefault(n.name, []).append(n.index)
@@ -205,14 +208,45 @@ class _Parser:
             return self.atom(t)
         if word in ("absence", "response", "mutex", "eventually_success"):
             return self.template(t)
-        if self.peek().text in ("==", "!=", "<", ">", "<=", ">=") or re.match(r"[A-Za-z_]", word):
+        if self.peek().text in ("==", "!=", "<", ">", "<=", ">="):
+            return self.comparison(t)
+        if re.match(r"[A-Za-z_]", word):
             raise _err(
                 self.at,
                 t.col,
                 f"unknown atom `{word}`: use ticked(NAME), running(NAME), returned(NAME, STATUS), root(STATUS) "
-                "(blackboard comparisons need the blackboard, which btgen verify does not translate yet)",
+                "or a blackboard comparison, ENTRY == VALUE (==, !=, <, <=, >, >=)",
             )
         raise _err(self.at, t.col, f"unexpected `{word}` in a property")
+
+    def comparison(self, t: _Tok) -> Formula:
+        """ENTRY OP VALUE over the root blackboard at the end of a tick (blackboard.compare_entry)."""
+        if t.text not in self.names.entries:
+            from btgen.diagnostics import did_you_mean
+
+            hint = did_you_mean(t.text, list(self.names.entries))
+            known = ", ".join(sorted(self.names.entries)[:8]) or "none: the mission has no scripts"
+            extra = f" (did you mean `{hint}`?)" if hint else ""
+            raise _err(
+                self.at,
+                t.col,
+                f"`{t.text}` is no blackboard entry the mission's scripts write on the root blackboard{extra}; "
+                f"entries: {known}",
+            )
+        op = self.next().text
+        v = self.next()
+        value: object
+        if v.kind == "str":
+            value = v.text[1:-1]
+        elif v.text in ("true", "false"):
+            value = 1 if v.text == "true" else 0
+        elif v.kind == "word" and re.fullmatch(r"-?[0-9]+", v.text):
+            value = int(v.text)
+        elif v.kind == "word" and re.fullmatch(r"-?[0-9]*\.[0-9]+(?:[eE][-+]?[0-9]+)?", v.text):
+            value = float(v.text)
+        else:
+            raise _err(self.at, v.col, "expected a value: a number, true, false or a 'string'")
+        return ("atom", ("bb", t.text, op, value))
 
     def name_arg(self) -> int:
         t = self.next()
@@ -348,6 +382,11 @@ def atom_expr(key: tuple, obs: Observe) -> str:
         return f"(rt{key[1]} & {1 << key[2]}) != 0"
     if kind == "running":
         return f"st[{key[1]}] == RUNNING"
+    if kind == "bb":
+        from btgen.tools.verify.blackboard import compare_entry
+
+        holds = [f"bb == {k}" for k, values in enumerate(obs.bb_values) if compare_entry(values, key)]
+        return "(" + " || ".join(holds) + ")" if holds else "false"
     return f"rootr == {key[1]}"
 
 

@@ -29,6 +29,7 @@ from btgen.interp.scenario import parse_scenario_text
 from btgen.interp.tree import RUNNING, TreeNode
 from btgen.ir.lower import Program
 from btgen.lang.model import Mission
+from btgen.tools.verify.blackboard import compare_entry
 from btgen.tools.verify.promela import STATUS, STATUS_NAME
 from btgen.tools.verify.props import Frame, Property, atoms_of, holds_on_lasso
 from btgen.tools.verify.spin import Trail
@@ -176,6 +177,9 @@ class _WatchedInterpreter(Interpreter):
                 frame[key] = (key[1], key[2]) in w.returned
             elif kind == "running":
                 frame[key] = status[key[1]] == RUNNING
+            elif kind == "bb":  # the interpreter's own root blackboard
+                values = {k: e.value for k, e in self.root_bb._storage.items()}
+                frame[key] = compare_entry(values, key)
             else:
                 frame[key] = root == key[1]
         self.frames.append(frame)

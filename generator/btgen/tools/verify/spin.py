@@ -74,7 +74,7 @@ def compile_model(text: str, workdir: str, extra: tuple[str, ...] = ()) -> float
         f"-DVECTORSZ={VECTORSZ}",
         f"-DMEMLIM={MEMLIM_MB}",
         "-DNOREDUCE",
-        "-DCOLLAPSE",
+        *([] if "-DBITSTATE" in extra else ["-DCOLLAPSE"]),  # pan refuses the two together
         *extra,
     ]
     p = subprocess.run([cc, *flags, "-o", "pan", "pan.c"], cwd=workdir, capture_output=True, text=True, check=False)

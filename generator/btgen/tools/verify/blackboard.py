@@ -1,0 +1,294 @@
+"""The mission's scripts in the Promela model: the blackboard as one finite variable.
+
+Scripts (Script and ScriptCondition nodes, the _failureIf/_successIf/_skipIf/_while
+pre-conditions, the _onSuccess/_onFailure/_post post-conditions) are not re-written in
+Promela: they are run by the reference interpreter's own evaluator on every blackboard the
+mission can reach, and the model gets their effect as tables. A *blackboard* is the value of
+every entry of every blackboard of the tree (type and value; the update counters, which only
+the refused entry-update nodes read, are left out). Starting from the blackboard the tree is
+created with, every script is run on every blackboard found so far, until no new one comes:
+the reachable blackboards are then a finite set (an over-approximation: a script is run on
+blackboards it may never meet), numbered, and the model's variable `bb` holds the number.
+
+What cannot be translated is refused with a located error, never abstracted silently: more
+than MAX_BLACKBOARDS blackboards (an entry that counts without bound, a double that keeps
+changing: the error names the script that makes the new values), a script that can fail at
+run time on one of them, `_onHalted`, and scripts read from the blackboard (`code="{key}"`).
+Free leaves never write the blackboard (a scenario gives them statuses only), so scripts are
+its only writers; the blackboard nodes (SetBlackboard, Switch ...) stay refused.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import partial
+from typing import Callable
+
+from btgen.diagnostics import Diagnostic, Loc, UserError
+from btgen.ir.lower import Program
+from btgen.lang.model import Mission
+from btgen.tools.verify.refusal import refuse
+
+MAX_BLACKBOARDS = 250
+IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
+HALT = 5  # a _while that turns false on a RUNNING node: halt it, SKIPPED
+ERROR = 254  # the script fails at run time: the run ends there (the tree throws)
+FREE = 253  # a contract's condition that cannot be evaluated on a blackboard: either status
+NO_RESULT = 255  # the pre-conditions leave the tick to the node
+
+
+def _value_key(v) -> tuple:
+    try:
+        hash(v)
+        return (type(v).__name__, v)
+    except TypeError:
+        return (type(v).__name__, repr(v))
+
+
+@dataclass
+class Tables:
+    """Per node index: each script's effect as {blackboard: (blackboard after, result)}."""
+
+    count: int = 1  # blackboards (0: the initial one)
+    script: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # Script / ScriptCondition
+    pre_idle: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # result or NO_RESULT
+    pre_running: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # HALT or NO_RESULT
+    post: dict[tuple[int, int], dict[int, tuple[int, int]]] = field(default_factory=dict)  # (node, status)
+    cond: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # contract: SUCCESS, FAILURE, FREE
+    values: list[dict[str, object]] = field(default_factory=list)  # root blackboard's entries, per number
+    warnings: list[Diagnostic] = field(default_factory=list)  # scripts that can fail at run time
+
+    @property
+    def used(self) -> bool:
+        return bool(self.script or self.pre_idle or self.pre_running or self.post or self.cond)
+
+
+def _refuse(loc: Loc, message: str) -> UserError:
+    return refuse(loc, message)
+
+
+def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> Tables:
+    """`functions`: (Condition name, success_if script, its place in the contract file)."""
+    from btgen.interp.engine import Interpreter
+    from btgen.interp.tree import RunError
+    from btgen.lang import script as scriptmod
+
+    by_name = {name: (text, loc) for name, text, loc in functions}
+    parsed = {}
+    for name, (text, loc) in by_name.items():
+        try:
+            parsed[name] = scriptmod.parse_script(text, mission.semantics.script_grammar_49)
+        except scriptmod.ScriptSyntaxError as e:
+            raise _refuse(loc, f"`{name}`: success_if `{text}` is not a script: {e.message}") from None
+    wanted = [
+        n
+        for n in program.nodes
+        if n.kind in ("Script", "ScriptCondition") or n.scripts or (n.kind == "Condition" and n.name in by_name)
+    ]
+    tables = Tables()
+    if not wanted:
+        return tables
+    interp = Interpreter(mission)
+    inodes = interp.nodes
+    bbs = list({id(n.bb): n.bb for n in inodes}.values())
+    root = interp.root_bb
+
+    def save() -> tuple:
+        return tuple(tuple((k, e, e.type_name, e.value, e.sequence_id) for k, e in bb._storage.items()) for bb in bbs)
+
+    def key(state: tuple) -> tuple:
+        return tuple(tuple(sorted((k, t, _value_key(v)) for k, _e, t, v, _s in entries)) for entries in state)
+
+    def restore(state: tuple) -> None:
+        for bb, entries in zip(bbs, state):
+            bb._storage.clear()
+            for k, e, t, v, s in entries:
+                e.type_name, e.value, e.sequence_id = t, v, s
+                bb._storage[k] = e
+
+    states: list[tuple] = [save()]
+    numbers: dict[tuple, int] = {key(states[0]): 0}
+
+    # Every script: (table, entry key, where, what to run on the interpreter's node).
+    jobs: list[tuple[dict, object, Loc, Callable[[], int]]] = []
+    for n in wanted:
+        node = inodes[n.index]
+        if node.uid != n.uid:  # pragma: no cover - the interpreter builds in creation order
+            raise AssertionError("the interpreter's nodes are not in creation order")
+        for attr in (node.on_halted,):
+            if attr is not None:
+                raise _refuse(attr.value_loc, f'`{n.id}` "{n.name}": `_onHalted` is not translated by btgen verify')
+        if n.kind in ("Script", "ScriptCondition"):
+            port = node.script  # type: ignore[attr-defined]  # a Script or ScriptCondition node
+            if not port.literal or port.attr is None:
+                where = port.attr.value_loc if port.attr is not None else n.loc
+                raise _refuse(
+                    where, f'`{n.id}` "{n.name}" reads its script from the blackboard; btgen verify needs a literal'
+                )
+            run = _run_condition if n.kind == "ScriptCondition" else _run_script
+            jobs.append((tables.script.setdefault(n.index, {}), None, port.attr.value_loc, partial(run, port)))
+        if n.kind == "Condition" and n.name in by_name:
+            job = partial(_contract_condition, node, parsed[n.name], interp)
+            jobs.append((tables.cond.setdefault(n.index, {}), "pure", by_name[n.name][1], job))
+        if node.pre:
+            where = node.pre[0][1].value_loc
+            jobs.append((tables.pre_idle.setdefault(n.index, {}), None, where, partial(_pre_idle, node)))
+            for kind, attr in node.pre:
+                if kind == "_while":
+                    job = partial(_pre_running, node, attr)
+                    jobs.append((tables.pre_running.setdefault(n.index, {}), None, attr.value_loc, job))
+        for status in (SUCCESS, FAILURE):
+            attrs = [a for a in (node.on_success if status == SUCCESS else node.on_failure, node.post_always) if a]
+            if attrs:
+                job = partial(_post, node, status)
+                jobs.append((tables.post.setdefault((n.index, status), {}), None, attrs[0].value_loc, job))
+
+    failing: dict[Loc, str] = {}
+    todo = [0]
+    while todo:
+        s = todo.pop()
+        for table, _k, loc, job_run in jobs:
+            restore(states[s])
+            try:
+                result = job_run()
+            except (RunError, UserError) as e:
+                table[s] = (s, ERROR)
+                if loc not in failing:
+                    failing[loc] = f"{e.diagnostics[0].message if e.diagnostics else e} (with " + (
+                        describe_root(states[s], bbs, root) + ")"
+                    )
+                continue
+            after = save()
+            k = key(after)
+            if _k == "pure" and k != key(states[s]):
+                raise _refuse(loc, "a contract's success_if must not write the blackboard")
+            if k not in numbers:
+                if len(states) >= MAX_BLACKBOARDS:
+                    raise _refuse(
+                        loc,
+                        f"the blackboard takes more than {MAX_BLACKBOARDS} values: run on every blackboard found "
+                        f"so far, this script keeps making new ones (e.g. {describe_root(after, bbs, root)}); "
+                        "btgen verify needs entries of a finite domain (bool, enums, integers and strings that "
+                        "take few values whatever the order the scripts run in)",
+                    )
+                numbers[k] = len(states)
+                states.append(after)
+                todo.append(numbers[k])
+            table[s] = (numbers[k], result)
+    if failing:  # one warning: the blackboards are over-approximated, most failures never happen
+        loc, first = next(iter(failing.items()))
+        more = f" and {len(failing) - 1} more script(s)" if len(failing) > 1 else ""
+        tables.warnings.append(
+            Diagnostic(
+                loc,
+                f"this script{more} can fail at run time on some of the blackboards btgen verify considers, "
+                f"which may not all be reachable (here: {first}); a run that gets there ends there, as the "
+                "tree's exception ends it, and the properties are checked on what came before",
+                severity="warning",
+            )
+        )
+    tables.count = len(states)
+    for st in states:
+        restore(st)
+        tables.values.append({k: e.value for k, e in root._storage.items()})
+    restore(states[0])
+    return tables
+
+
+def _run_script(port) -> int:
+    port.run()
+    return SUCCESS
+
+
+def _run_condition(port) -> int:
+    return SUCCESS if port.truth() else FAILURE
+
+
+def _contract_condition(node, parsed, interp) -> int:
+    """SUCCESS when the contract's script is true on the node's blackboard; FREE when it cannot
+    be evaluated there (an entry without a value)."""
+    from btgen.lang import script as scriptmod
+    from btgen.lang import values
+
+    try:
+        value = scriptmod.evaluate(parsed, node.bb, interp.rt.enums, interp.rt.sem.int_to_double_53_bits)
+        return SUCCESS if scriptmod.script_truth(value) else FAILURE
+    except (scriptmod.ScriptRuntimeError, values.ConversionError):
+        return FREE
+    except Exception as e:  # a blackboard error: the same as an entry without value
+        if type(e).__name__ == "BlackboardError":
+            return FREE
+        raise
+
+
+def _pre_idle(node) -> int:
+    """checkPreConditions of an IDLE node: a result, or NO_RESULT (tick it)."""
+    node.status = IDLE
+    r = node._check_pre_conditions()
+    return NO_RESULT if r is None else r
+
+
+def _pre_running(node, attr) -> int:
+    """checkPreConditions of a RUNNING node: its _while false halts it."""
+    return NO_RESULT if node.truth(attr) else HALT
+
+
+def _post(node, status: int) -> int:
+    node._check_post_conditions(status)
+    return status
+
+
+def compare_entry(values: dict, key: tuple) -> bool:
+    """("bb", ENTRY, OP, VALUE) on the root blackboard's entries: False when the entry has no
+    value, or when a number is compared with a string (then `!=` is True)."""
+    _bb, name, op, want = key
+    if name not in values or values[name] is None:
+        return False
+    have = values[name]
+    if isinstance(have, bool):
+        have = int(have)
+    numbers = isinstance(have, (int, float)) and isinstance(want, (int, float))
+    if not numbers and not (isinstance(have, str) and isinstance(want, str)):
+        return op == "!="
+    return {
+        "==": have == want,
+        "!=": have != want,
+        "<": have < want,
+        "<=": have <= want,
+        ">": have > want,
+        ">=": have >= want,
+    }[op]
+
+
+def entries_of(tables: Tables) -> dict[str, str]:
+    """The root blackboard's entries some reachable blackboard gives a value."""
+    out: dict[str, str] = {}
+    for values in tables.values:
+        for k, v in values.items():
+            if v is not None:
+                out.setdefault(k, type(v).__name__)
+    return out
+
+
+def describe_root(state: tuple, bbs: list, root) -> str:
+    entries = state[bbs.index(root)] if root in bbs else ()
+    shown = ", ".join(f"{k}={v!r}" for k, _e, _t, v, _s in sorted(entries, key=lambda x: x[0])[:6])
+    return shown or "no entries"
+
+
+def lookup(table: dict[int, tuple[int, int]], on_result: Callable[[int], str], var: str = "bb") -> list[str]:
+    """`if :: bb == S -> bb = S'; <on_result(result)> ... fi` over a table."""
+    out = ["if"]
+    for s, (after, result) in sorted(table.items()):
+        if result == ERROR:
+            out.append(f":: {var} == {s} -> goto Error")
+            continue
+        move = f"{var} = {after}; " if after != s else ""
+        out.append(f":: {var} == {s} -> {move}{on_result(result)}")
+    out.append(":: else -> assert(false)  /* a blackboard the tables do not know: a btgen bug */")
+    out.append("fi;")
+    return out
+
+
+def result_is(name: str) -> Callable[[int], str]:
+    return lambda r: f"{name} = {r}"
