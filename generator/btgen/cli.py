@@ -303,8 +303,9 @@ def build_parser() -> argparse.ArgumentParser:
     df.add_argument(
         "--counterexample",
         metavar="DIR",
-        help="when they differ, write there old.scenario, new.scenario (the same unless --rename) and "
-        "the interpreter's trace of each (old.trace, new.trace)",
+        help="when they differ, write there old.scenario, new.scenario (the same unless --rename), "
+        "the interpreter's trace of each (old.trace, new.trace) and the same runs as Groot2 logs "
+        "(old.btlog, new.btlog)",
     )
     df.add_argument(
         "--max-ticks",

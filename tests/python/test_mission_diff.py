@@ -221,6 +221,30 @@ def _replay_both_engines(old, new, cx: Path, v_old="4.6.2", v_new="4.6.2"):
     return traces
 
 
+def _replay_logs_on_both_engines(old, new, cx: Path, v_old="4.6.2", v_new="4.6.2", clock_ms=100):
+    """Each .btlog through `btgen scenario-from-log`, the scenario got back run on the interpreter
+    and on the generated C++: both give the written trace, and OLD's differs from NEW's."""
+    traces = {}
+    for stem, mission, version in (("old", old, v_old), ("new", new, v_new)):
+        log = cx / f"{stem}.btlog"
+        assert log.read_bytes().startswith(b"BTCPP4-FileLogger2\x01")
+        back = cx.parent / f"{stem}-from-log.scenario"
+        got = subprocess.run(
+            [sys.executable, "-m", "btgen", "scenario-from-log", mission, str(log), "-o", str(back)]
+            + ["--clock-ms", str(clock_ms), "--btcpp", version],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert got.returncode == 0, got.stderr
+        interp = _run(mission, str(back), "interp", version)
+        assert interp == _run(mission, str(back), "cpp", version), f"{stem}: the two engines disagree"
+        assert interp == (cx / f"{stem}.trace").read_text()
+        traces[stem] = interp
+    assert traces["old"] != traces["new"]
+    return traces
+
+
 @pytest.mark.parametrize("case", ["reactive", "fallback"])
 def test_counterexample_replays_on_both_engines(capsys, tmp_path, case):
     if case == "reactive":
@@ -233,8 +257,16 @@ def test_counterexample_replays_on_both_engines(capsys, tmp_path, case):
     cx = tmp_path / "cx"
     rc, report, _ = _diff(capsys, "--counterexample", str(cx), old, new)
     assert rc == 1
-    assert sorted(p.name for p in cx.iterdir()) == ["new.scenario", "new.trace", "old.scenario", "old.trace"]
+    assert sorted(p.name for p in cx.iterdir()) == [
+        "new.btlog",
+        "new.scenario",
+        "new.trace",
+        "old.btlog",
+        "old.scenario",
+        "old.trace",
+    ]
     _replay_both_engines(old, new, cx)
+    _replay_logs_on_both_engines(old, new, cx)
     # the observable runs of the written scenario differ exactly where the report says
     at = first_difference(
         observe(load_mission(old, (), None), parse_scenario(str(cx / "old.scenario"))),
@@ -257,6 +289,7 @@ def test_version_switch_that_matters(capsys, tmp_path):
         "new": "write greeting = <empty>",
     }
     traces = _replay_both_engines(m, m, cx, "4.6.2", "4.10.0")
+    assert _replay_logs_on_both_engines(m, m, cx, "4.6.2", "4.10.0") == traces
     # the same tree under two versions: its traces are comparable line by line
     assert _tick_of_first_difference(traces["old"], traces["new"]) == report["first_difference"]["tick"]
     # and the recordings of the real library say the same

@@ -28,6 +28,12 @@ def _load(path: str, args, version: str) -> Mission:
     return mission
 
 
+def pipeline_options(args):
+    from btgen import pipeline
+
+    return pipeline.options_from_args(args)
+
+
 def _leaf_names(mission: Mission) -> set[str]:
     return {use.name for use in mission_leaves(mission)}
 
@@ -172,7 +178,7 @@ def diff_command(args) -> int:
         raise InternalError("btgen diff: the counterexample found does not replay as a difference")
     files: list[str] = []
     if args.counterexample:
-        files = write_counterexample(args.counterexample, old, new, text_old, text_new)
+        files = write_counterexample(args.counterexample, old, new, text_old, text_new, pipeline_options(args))
     rows = _side_by_side(seen_old, seen_new, at)
     where = ""
     first: dict = {}
@@ -237,11 +243,18 @@ def diff_command(args) -> int:
     return 1
 
 
-def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str, text_new: str) -> list[str]:
-    """DIR/old.scenario, DIR/new.scenario (the same unless --rename) and the interpreter's
-    FORMAT.md trace of each mission on its scenario (old.trace, new.trace)."""
-    from btgen.interp.engine import trace_text
+def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str, text_new: str, opts=None) -> list[str]:
+    """DIR/old.scenario, DIR/new.scenario (the same unless --rename), the interpreter's FORMAT.md
+    trace of each mission on its scenario (old.trace, new.trace) and the same run of each as a
+    Groot2 log (old.btlog, new.btlog: verify's writer, `tools/verify/replay.btlog_bytes`), which
+    `btgen scenario-from-log` turns back into the scenario's run on both engines. Each file is
+    written whole or not at all."""
+    from btgen import pipeline
+    from btgen.interp.engine import Interpreter, run_ticks
+    from btgen.ir.lower import lower
+    from btgen.tools.verify.replay import btlog_bytes
 
+    data = (opts or pipeline.DEFAULTS).data
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as e:
@@ -249,12 +262,25 @@ def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str,
     out = []
     for stem, mission, text in (("old", old, text_old), ("new", new, text_new)):
         sc = os.path.join(folder, f"{stem}.scenario")
-        _write(sc, text)
+        scenario = parse_scenario_text(text, sc)
+        parts: list[str] = []
         try:
-            trace = trace_text(mission, parse_scenario_text(text, sc))
-        except UserError as e:
-            trace = "".join(str(d) + "\n" for d in e.diagnostics)
+            run_ticks(Interpreter(mission, scenario), scenario, parts.append)
+            trace = "".join(parts)
+        except UserError as e:  # a run-time error ends this side's run: its ticks so far, then why
+            trace = "".join(parts) + "".join(str(d) + "\n" for d in e.diagnostics)
+        program = lower(mission, data)
+        log = btlog_bytes(program, trace, scenario.clock_ms)
+        _write(sc, text)
         tr = os.path.join(folder, f"{stem}.trace")
         _write(tr, trace)
-        out += [sc, tr]
+        bl = os.path.join(folder, f"{stem}.btlog")
+        write_atomic_bytes(bl, log)
+        out += [sc, tr, bl]
     return out
+
+
+def write_atomic_bytes(path: str, data: bytes) -> None:
+    from btgen.tools.graph import _write as write_atomic
+
+    write_atomic(path, data)
