@@ -534,6 +534,28 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="FILE.scenario",
         help="also run the mission on both versions and print where the traces part",
     )
+    u.add_argument(
+        "--fix",
+        action="store_true",
+        help="write the mission rewritten for --to into -o OUT (parenthesised scripts, IDs renamed, "
+        "explicit attributes) and prove with `btgen diff` that OUT under --to behaves as the mission "
+        "under --from, or say where it cannot",
+    )
+    u.add_argument("-o", "--output", metavar="FILE.xml", help="with --fix: the file to write (never the input)")
+    u.add_argument(
+        "--max-ticks",
+        type=_count,
+        default=10,
+        metavar="K",
+        help="with --fix: most root ticks of a run of the proof (default 10)",
+    )
+    u.add_argument(
+        "--max-states",
+        type=_count,
+        default=200000,
+        metavar="N",
+        help="with --fix: product states the proof may visit before it stops, unfinished (default 200000)",
+    )
     add_mission_options(u, capacities=False)
     u.set_defaults(func=_cmd_upgrade_check)
 
