@@ -277,8 +277,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="do two missions (or one under two versions) behave the same for every leaf outcome? "
         "equivalent, or a shortest scenario where they differ",
     )
-    df.add_argument("old", metavar="OLD.xml", help="the mission before the change")
-    df.add_argument("new", metavar="NEW.xml", help="the mission after the change (may be OLD.xml itself)")
+    df.add_argument("old", nargs="?", metavar="OLD.xml", help="the mission before the change")
+    df.add_argument(
+        "new",
+        nargs="?",
+        metavar="NEW.xml",
+        help="the mission after the change (may be OLD.xml itself); with --git: paths, like PATH",
+    )
+    df.add_argument(
+        "paths",
+        nargs="*",
+        metavar="PATH",
+        help="with --git: the files or folders of the working tree to compare (default: the current folder)",
+    )
+    df.add_argument(
+        "--git",
+        metavar="REV",
+        help="compare the working tree with the git revision REV, mission by mission (the files found as "
+        "`btgen check` finds them under the PATHs)",
+    )
     add_mission_options(df, capacities=False)
     df.add_argument(
         "--btcpp-old",

@@ -104,6 +104,14 @@ def diff_command(args) -> int:
     v_new = args.btcpp_new or default
     if args.clock_ms < 0:
         raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
+    if args.git is not None:
+        from btgen.tools.diff.git import git_diff_command
+
+        return git_diff_command(args, v_old, v_new)
+    if args.old is None or args.new is None:
+        raise cmdline.error(args, None, "diff needs OLD.xml and NEW.xml (or --git REV [PATH ...])")
+    if args.paths:
+        raise cmdline.error(args, args.paths[0], f"`{args.paths[0]}`: more than two missions (PATHs go with --git)")
     problems: list[Diagnostic] = []
     missions: list[Optional[Mission]] = []
     for side, path, version in (("OLD", args.old, v_old), ("NEW", args.new, v_new)):
