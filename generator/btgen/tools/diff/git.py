@@ -203,21 +203,22 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
                 sc = parse_scenario_text(text_new, "scenario")
                 seen_old, seen_new = observe(old, sc), observe(new, sc)
                 at = first_difference(seen_old, seen_new)
-                detail = dict(stats, scenario=text_new)
+                detail: dict = dict(stats, scenario=text_new)
                 where = ""
                 if at is not None:
                     t, i = at
                     eo = seen_old[t][i] if t < len(seen_old) and i < len(seen_old[t]) else None
                     en = seen_new[t][i] if t < len(seen_new) and i < len(seen_new[t]) else None
-                    detail["first_difference"] = {
+                    first = {
                         "tick": t + 1,
                         "event": i + 1,
                         "old": event_text(eo) if eo else None,
                         "new": event_text(en) if en else None,
                     }
+                    detail["first_difference"] = first
                     where = (
-                        f": tick {t + 1}, event {i + 1}: {rev} {detail['first_difference']['old'] or '(nothing)'}, "
-                        f"working tree {detail['first_difference']['new'] or '(nothing)'}"
+                        f": tick {t + 1}, event {i + 1}: {rev} {first['old'] or '(nothing)'}, "
+                        f"working tree {first['new'] or '(nothing)'}"
                     )
                 rows.append(Row(show, main, "different", "different" + where, detail))
         finally:
