@@ -338,6 +338,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
     )
+    df.add_argument(
+        "--observe",
+        metavar="WHAT",
+        help="what must agree, comma-separated: leaf-calls (names and results), inputs (their input "
+        "values), root (its result each tick), writes (main blackboard), transitions (every node's "
+        "status changes); default: leaf-calls,inputs,root,writes",
+    )
     df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
     df.add_argument(
         "--format",

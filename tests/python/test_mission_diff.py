@@ -450,3 +450,50 @@ def test_product_states_are_keyed_by_each_sides_own_interpreter(capsys):
     out = capsys.readouterr().out
     assert "equivalent (exhaustively)" in out
     assert "79 runs, 26 product states" in out
+
+
+# ---------------------------------------------------------------- what is observed (--observe)
+def test_observe_transitions_sees_a_reshaped_tree(capsys, tmp_path):
+    old = _mission(tmp_path, "old", EQUIVALENT["nested sequence flattened"][0])
+    new = _mission(tmp_path, "new", EQUIVALENT["nested sequence flattened"][1])
+    rc, report, _ = _diff(capsys, old, new)
+    assert rc == 0 and report["exhaustive"] is True  # by default control nodes are not observed
+    rc, report, _ = _diff(capsys, "--observe", "transitions", old, new)
+    assert rc == 1
+    # OLD's inner Sequence starts where NEW has none: the first transition that differs
+    first = report["first_difference"]
+    assert (first["tick"], first["event"], first["old"]) == (1, 3, "Sequence: IDLE -> RUNNING")
+    assert first["new"].startswith("MoveTo: IDLE -> ")
+    # a mission against itself agrees on every transition
+    rc, report, _ = _diff(capsys, "--observe", "default,transitions", old, old)
+    assert rc == 0 and report["exhaustive"] is True
+
+
+def test_observe_without_inputs_or_writes(capsys, tmp_path):
+    old = _mission(tmp_path, "old", "<Sequence><Script code='x := 1'/><MoveTo goal='1'/></Sequence>")
+    new = _mission(tmp_path, "new", "<Sequence><Script code='x := 2'/><MoveTo goal='2'/></Sequence>")
+    rc, report, _ = _diff(capsys, old, new)
+    assert rc == 1 and report["first_difference"]["old"] == "write x = 1"
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,inputs,root", old, new)
+    assert rc == 1 and report["first_difference"]["old"] == "MoveTo(goal=1.0) -> SUCCESS"
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,root", old, new)
+    assert rc == 0 and report["exhaustive"] is True
+    # the root's result left out: a different result is not seen, a different end is
+    a = _mission(tmp_path, "a", "<MoveTo goal='1'/>")
+    b = _mission(tmp_path, "b", "<Inverter><MoveTo goal='1'/></Inverter>")
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls", a, b)
+    assert rc == 0
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,root", a, b)
+    assert rc == 1 and report["first_difference"]["old"] == "result SUCCESS"
+    # the end of a run is always observed: the same calls, but one run goes on sleeping
+    c = _mission(tmp_path, "c", "<Sequence><MoveTo goal='1'/><Sleep msec='1000'/></Sequence>")
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls", a, c)
+    assert rc == 1 and report["first_difference"] == {"tick": 1, "event": 2, "old": "result completed", "new": None}
+
+
+def test_observe_bad_values(capsys, tmp_path):
+    m = _mission(tmp_path, "m", "<MoveTo goal='1'/>")
+    assert main(["diff", "--observe", "leaf-cals", m, m]) == 1
+    assert "did you mean `leaf-calls`?" in capsys.readouterr().err
+    assert main(["diff", "--observe", ",", m, m]) == 1
+    assert "error:" in capsys.readouterr().err

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import json
 import os
 import sys
@@ -13,7 +14,16 @@ from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_d
 from btgen.interp.scenario import parse_scenario_text
 from btgen.lang.leaves import mission_leaves
 from btgen.lang.model import Mission
-from btgen.tools.diff.product import Differ, Event, Outcome, event_text, first_difference, observe
+from btgen.tools.diff.product import (
+    DEFAULT_OBSERVE,
+    OBSERVABLES,
+    Differ,
+    Event,
+    Outcome,
+    event_text,
+    first_difference,
+    observe,
+)
 from btgen.tools.explore import Path, scenario_text
 
 WIDTH = 44
@@ -32,6 +42,28 @@ def pipeline_options(args):
     from btgen import pipeline
 
     return pipeline.options_from_args(args)
+
+
+def parse_observe(args) -> frozenset:
+    """--observe A,B,...: the observables named (product.OBSERVABLES), `default` for the default set."""
+    text = getattr(args, "observe", None)
+    if text is None:
+        return DEFAULT_OBSERVE
+    out: set[str] = set()
+    for word in (w.strip() for w in text.split(",")):
+        if word == "default":
+            out |= DEFAULT_OBSERVE
+        elif word in OBSERVABLES:
+            out.add(word)
+        else:
+            close = difflib.get_close_matches(word, OBSERVABLES, 1)
+            hint = f" (did you mean `{close[0]}`?)" if close else ""
+            raise cmdline.error(
+                args, text, f"--observe `{word}`{hint}: choose from {', '.join(OBSERVABLES)} or default"
+            )
+    if not out:
+        raise cmdline.error(args, "--observe", "--observe names nothing to observe")
+    return frozenset(out)
 
 
 def _leaf_names(mission: Mission) -> set[str]:
@@ -137,7 +169,8 @@ def diff_command(args) -> int:
             )
         )
     rename = _renames(args, old, new)
-    differ = Differ(old, new, rename, args.max_ticks, args.clock_ms, args.max_states)
+    observables = parse_observe(args)
+    differ = Differ(old, new, rename, args.max_ticks, args.clock_ms, args.max_states, observables)
     outcome = differ.decide()
     head = f"{args.old} (BehaviorTree.CPP {v_old}) vs {args.new} (BehaviorTree.CPP {v_new})"
     if outcome.exhaustive:
@@ -179,8 +212,8 @@ def diff_command(args) -> int:
     text_old, text_new = _scenario_texts(outcome, rename, args.clock_ms)
     sc_old = parse_scenario_text(text_old, "old.scenario")
     sc_new = parse_scenario_text(text_new, "new.scenario")
-    seen_old = observe(old, sc_old, lambda n: rename.get(n, n))
-    seen_new = observe(new, sc_new)
+    seen_old = observe(old, sc_old, lambda n: rename.get(n, n), observables)
+    seen_new = observe(new, sc_new, observables=observables)
     at = first_difference(seen_old, seen_new)
     if at is None:  # the search and the replay disagree: never print a counterexample that is none
         raise InternalError("btgen diff: the counterexample found does not replay as a difference")

@@ -91,7 +91,9 @@ def _read(path: str) -> Optional[bytes]:
 def git_diff_command(args, v_old: str, v_new: str) -> int:
     from btgen.interp.scenario import parse_scenario_text
     from btgen.tools.check.runner import _ProjectModels
-    from btgen.tools.diff.command import _scenario_texts
+    from btgen.tools.diff.command import _scenario_texts, parse_observe
+
+    observables = parse_observe(args)
 
     if args.rename:
         raise cmdline.error(args, "--rename", "--rename names leaves of two missions: not with --git")
@@ -176,7 +178,7 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
                     rows.append(Row(show, main, "unchanged", "unchanged"))
                     continue
                 try:
-                    outcome = Differ(old, new, {}, args.max_ticks, args.clock_ms, args.max_states).decide()
+                    outcome = Differ(old, new, {}, args.max_ticks, args.clock_ms, args.max_states, observables).decide()
                 except UserError as e:
                     problems.extend(located(e.diagnostics))
                     rows.append(Row(show, main, "error", "cannot be run (see the errors)"))
@@ -201,7 +203,8 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
                     continue
                 _, text_new = _scenario_texts(outcome, {}, args.clock_ms)
                 sc = parse_scenario_text(text_new, "scenario")
-                seen_old, seen_new = observe(old, sc), observe(new, sc)
+                seen_old = observe(old, sc, observables=observables)
+                seen_new = observe(new, sc, observables=observables)
                 at = first_difference(seen_old, seen_new)
                 detail: dict = dict(stats, scenario=text_new)
                 where = ""

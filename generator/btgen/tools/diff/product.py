@@ -10,11 +10,13 @@ the search goes on with each possible result appended (SUCCESS or FAILURE for a
 Condition, RUNNING too for an Action). The search is breadth first over the
 plan's length, so the first difference found comes with a shortest scenario.
 
-What is observed, per tick and in order: each leaf call (its name, the values
-of its input ports when called, the result it was given), each write of an
-entry of the main tree's blackboard (key and new value), a run-time error, and
-the root's result. Control nodes, SubTree-private entries and the trace's status
-lines are not observed: a tree reshaped without changing these is equivalent.
+What is observed by default, per tick and in order: each leaf call (its name,
+the values of its input ports when called, the result it was given), each write
+of an entry of the main tree's blackboard (key and new value), a run-time error,
+and the root's result. Control nodes, SubTree-private entries and the trace's
+status lines are not observed: a tree reshaped without changing these is
+equivalent. `observe` (OBSERVABLES, `--observe`) selects a subset, or adds every
+node's status transitions.
 NEW's events of a tick are compared with OLD's as they happen; the first one
 that differs ends the run with a counterexample.
 
@@ -46,8 +48,15 @@ from btgen.lang.model import Mission
 from btgen.tools.explore import NAMES, Explorer
 
 # An event: ("call", leaf, ((port, value), ...), STATUS) | ("write", key, value)
-#           | ("error", message) | ("result", STATUS)
+#           | ("error", message) | ("result", STATUS) | ("transition", node, "FROM -> TO")
 Event = tuple
+
+# What can be observed (`--observe`): the leaf calls (name and result, in order), the values of
+# their input ports, the root's result each tick, the writes of the main tree's blackboard,
+# every node's status transitions (control nodes too: a reshaped tree then differs). A run-time
+# error, and the end of a run (the root completing), are always observed.
+OBSERVABLES = ("leaf-calls", "inputs", "root", "writes", "transitions")
+DEFAULT_OBSERVE = frozenset(("leaf-calls", "inputs", "root", "writes"))
 
 
 class _Branch(Exception):
@@ -86,6 +95,8 @@ def event_text(ev: Event) -> str:
         return f"write {ev[1]} = {ev[2]}"
     if ev[0] == "error":
         return f"error: {ev[1]}"
+    if ev[0] == "transition":
+        return f"{ev[1]}: {ev[2]}"
     return f"result {ev[1]}"
 
 
@@ -97,7 +108,13 @@ _CURRENT: Optional[_Recorder] = None  # the engine being ticked (the hooks repor
 class _Recorder:
     """One engine's observer: the events of the tick being run."""
 
-    def __init__(self, mission: Mission, key_of: Callable[[str], str], scenario: Optional[Scenario] = None) -> None:
+    def __init__(
+        self,
+        mission: Mission,
+        key_of: Callable[[str], str],
+        scenario: Optional[Scenario] = None,
+        observe: frozenset = DEFAULT_OBSERVE,
+    ) -> None:
         self.interp = Interpreter(mission, scenario)
         self.interp.rt.now_ms = 0
         self.key_of = key_of
@@ -105,11 +122,30 @@ class _Recorder:
         self.chain: list[tuple[TreeNode, int]] = []
         self.seen_return: set = set()  # Explorer.state_key reads it (no properties here)
         self.root_bb = self.interp.root_bb
+        self.calls = "leaf-calls" in observe or "inputs" in observe
+        self.inputs = "inputs" in observe
+        self.root = "root" in observe
+        self.writes = "writes" in observe
+        if "transitions" in observe:
+            for node in self.interp.nodes:
+                node.emit = self._transition_emitter(node)
+
+    def _transition_emitter(self, node: TreeNode) -> Callable[[tuple[str, str]], None]:
+        out = self.interp.rt.buf.extend
+        name = self.key_of(node.name) if isinstance(node, _SCRIPTED) else node.name
+
+        def emit(piece: tuple[str, str]) -> None:
+            out(piece)
+            self.emit(("transition", name, piece[1].rstrip("\n")))
+
+        return emit
 
     def emit(self, ev: Event) -> None:
         self.events.append(ev)
 
     def on_write(self, entry: bbmod.Entry) -> None:
+        if not self.writes:
+            return
         bb = self.root_bb
         for k in bb.local_keys():
             if bb.local_entry(k) is entry:
@@ -120,8 +156,10 @@ class _Recorder:
         raise NotImplementedError
 
     def call_event(self, node: TreeNode, key: str, status: int) -> None:
+        if not self.calls:
+            return
         inputs = []
-        for name in sorted(node.ports):
+        for name in sorted(node.ports) if self.inputs else ():
             p = node.ports[name]
             if p.spec is not None and p.spec.direction == "output":
                 continue
@@ -143,8 +181,12 @@ class _Recorder:
         finally:
             _CURRENT = None
             self.interp.take_text()
-        self.emit(("result", status.name))
-        return status.name not in ("SUCCESS", "FAILURE")
+        going = status.name not in ("SUCCESS", "FAILURE")
+        if self.root:
+            self.emit(("result", status.name))
+        elif not going:
+            self.emit(("result", "completed"))  # the end of the run, without its status
+        return going
 
 
 def _state(ex: Explorer, rec: _Recorder) -> tuple:
@@ -168,9 +210,12 @@ class _LeafHook:
         return self.rec.leaf_call(self.node, self.key, self.condition)
 
 
+_SCRIPTED = (iactions.ScriptedAction, iactions.ScriptedCondition)
+
+
 def _hook_leaves(rec: _Recorder) -> None:
     for node in rec.interp.nodes:
-        if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+        if isinstance(node, _SCRIPTED):
             node.cursor = _LeafHook(rec, node)
 
 
@@ -221,7 +266,7 @@ class _Side(_Recorder):
     """One engine of a product run, fed by the shared plan."""
 
     def __init__(self, run: _Run, index: int, mission: Mission, key_of: Callable[[str], str]) -> None:
-        super().__init__(mission, key_of)
+        super().__init__(mission, key_of, None, run.d.observe)
         self.run = run
         self.index = index
         self.pos: dict[str, int] = {}
@@ -301,7 +346,9 @@ class Differ:
         max_ticks: int = 10,
         clock_ms: int = 100,
         max_states: int = 200000,
+        observe: Optional[frozenset] = None,
     ) -> None:
+        self.observe = DEFAULT_OBSERVE if observe is None else frozenset(observe)
         self.old = old
         self.new = new
         self.rename = dict(rename or {})
@@ -382,8 +429,8 @@ class Differ:
 class _Replayer(_Recorder):
     """An engine run on a scenario file's cursors, its observable events kept per tick."""
 
-    def __init__(self, mission: Mission, scenario: Scenario, key_of: Callable[[str], str]) -> None:
-        super().__init__(mission, key_of, scenario)
+    def __init__(self, mission: Mission, scenario: Scenario, key_of: Callable[[str], str], observe: frozenset) -> None:
+        super().__init__(mission, key_of, scenario, observe)
         self.real = {}
         for node in self.interp.nodes:
             if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
@@ -397,9 +444,14 @@ class _Replayer(_Recorder):
         return v
 
 
-def observe(mission: Mission, scenario: Scenario, key_of: Callable[[str], str] = lambda n: n) -> list[list[Event]]:
+def observe(
+    mission: Mission,
+    scenario: Scenario,
+    key_of: Callable[[str], str] = lambda n: n,
+    observables: Optional[frozenset] = None,
+) -> list[list[Event]]:
     """The observable events of each tick of a scenario's run (what `btgen diff` compares)."""
-    rec = _Replayer(mission, scenario, key_of)
+    rec = _Replayer(mission, scenario, key_of, DEFAULT_OBSERVE if observables is None else observables)
     restore = _install(rec.interp.nodes)
     ticks: list[list[Event]] = []
     try:
