@@ -310,6 +310,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="the BehaviorTree.CPP release NEW.xml runs under (default: --btcpp, else 4.6.2)",
     )
     df.add_argument(
+        "--models-old",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="models files of OLD.xml instead of --models (e.g. one Nav2 distro's nav2_tree_nodes.xml; repeatable)",
+    )
+    df.add_argument(
+        "--models-new",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="models files of NEW.xml instead of --models (repeatable)",
+    )
+    df.add_argument(
         "--rename",
         action="append",
         default=[],

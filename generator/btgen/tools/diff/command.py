@@ -29,10 +29,12 @@ from btgen.tools.explore import Path, scenario_text
 WIDTH = 44
 
 
-def _load(path: str, args, version: str) -> Mission:
+def _load(path: str, args, version: str, models: Optional[list] = None) -> Mission:
     from btgen import pipeline
 
     opts = dataclasses.replace(pipeline.options_from_args(args), btcpp=version)
+    if models:  # --models-old / --models-new: this side's models files
+        opts = dataclasses.replace(opts, models=tuple(models))
     mission = pipeline.load(path, opts)
     print_diagnostics(mission.warnings)
     return mission
@@ -146,9 +148,10 @@ def diff_command(args) -> int:
         raise cmdline.error(args, args.paths[0], f"`{args.paths[0]}`: more than two missions (PATHs go with --git)")
     problems: list[Diagnostic] = []
     missions: list[Optional[Mission]] = []
-    for side, path, version in (("OLD", args.old, v_old), ("NEW", args.new, v_new)):
+    sides = (("OLD", args.old, v_old, args.models_old), ("NEW", args.new, v_new, args.models_new))
+    for side, path, version, models in sides:
         try:
-            missions.append(_load(path, args, version))
+            missions.append(_load(path, args, version, models))
         except UserError as e:  # report both files' problems, not only the first's
             problems.extend(e.diagnostics)
             # which side failed (OLD and NEW may be one file under two versions)

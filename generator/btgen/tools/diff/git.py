@@ -97,6 +97,9 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
 
     if args.rename:
         raise cmdline.error(args, "--rename", "--rename names leaves of two missions: not with --git")
+    if args.models_old or args.models_new:
+        option = "--models-old" if args.models_old else "--models-new"
+        raise cmdline.error(args, option, "each mission's models are found: not with --git")
     if args.counterexample:
         raise cmdline.error(args, "--counterexample", "--counterexample writes one pair: not with --git")
     here = os.getcwd()
