@@ -34,6 +34,7 @@ nothing (the command says so).
 from __future__ import annotations
 
 import time
+import weakref
 from collections import deque
 from dataclasses import dataclass, field
 from typing import Callable, Optional
@@ -330,10 +331,31 @@ class _Side(_Recorder):
         return v
 
 
+MARK_BUDGET = 4_000_000  # saved node states held at once by the marks of queued plans (memory)
+
+
+class _Mark:
+    """Both interpreters (Explorer._save) and both sides' plan positions at a tick's start."""
+
+    __slots__ = ("tick", "old", "new", "pos_old", "pos_new", "__weakref__")
+
+    def __init__(self, tick: int, old: tuple, new: tuple, pos_old: dict, pos_new: dict) -> None:
+        self.tick = tick
+        self.old = old
+        self.new = new
+        self.pos_old = pos_old
+        self.pos_new = pos_new
+
+
+def _dec(live: list) -> None:
+    live[0] -= 1
+
+
 class _Run:
     def __init__(self, d: Differ, plan: dict[str, tuple[int, ...]]) -> None:
         self.d = d
         self.plan = plan
+        self.mark: Optional[_Mark] = None
         self.tick_no = 0
         self.sides: list[_Side] = []
         self.sides.append(_Side(self, 0, d.old, lambda n: d.rename.get(n, n)))
@@ -398,19 +420,47 @@ class Differ:
                 if isinstance(node, iactions.ScriptedAction):
                     self.actions.add(renames.get(node.name, node.name))
         # each side plays its runs on its explorer's interpreter; its leaves ask the side's slot
+        # runs resume from the start of the tick where their parent branched (`_Mark`: both
+        # interpreters saved by explore's core), at most `max_marks` saved at once
+        self.resume = True
+        self.max_marks = max(64, MARK_BUDGET // max(1, len(self.ex_old.nodes) + len(self.ex_new.nodes)))
+        self._live = [0]
         self.slots = (_Slot(), _Slot())
         for slot, ex, renames in ((self.slots[0], self.ex_old, self.rename), (self.slots[1], self.ex_new, {})):
             for node in ex.nodes:
                 if isinstance(node, _SCRIPTED):
                     node.cursor = _SharedHook(slot, node, renames.get(node.name, node.name))
 
-    def _run(self, plan: dict[str, tuple[int, ...]]) -> tuple[str, _Run, Optional[_Branch]]:
+    def _mark(self, n: int, old: _Side, new: _Side) -> Optional[_Mark]:
+        """Both interpreters and both plan positions at the start of tick n (None past the budget
+        of saved states: those runs are replayed from the first tick)."""
+        if self._live[0] >= self.max_marks:
+            return None
+        m = _Mark(n, self.ex_old._save(), self.ex_new._save(), dict(old.pos), dict(new.pos))
+        self._live[0] += 1
+        weakref.finalize(m, _dec, self._live)
+        return m
+
+    def _run(
+        self, plan: dict[str, tuple[int, ...]], mark: Optional[_Mark] = None
+    ) -> tuple[str, _Run, Optional[_Branch]]:
+        """Play `plan` from tick 1, or on from `mark` (the start of the tick where its parent plan
+        branched: every earlier tick of the two runs is the parent's)."""
         run = _Run(self, plan)
         old, new = run.sides
         going = [True, True]
+        start = 1
+        if mark is not None:
+            self.ex_old._restore(mark.old)
+            self.ex_new._restore(mark.new)
+            old.pos, new.pos = dict(mark.pos_old), dict(mark.pos_new)
+            start = mark.tick
+        run.mark = mark
         try:
-            for n in range(1, self.max_ticks + 1):
+            for n in range(start, self.max_ticks + 1):
                 run.tick_no = n
+                if n != start or mark is None:
+                    run.mark = self._mark(n, old, new) if self.resume else None
                 old.events = []
                 new.events = []
                 going[0] = old.tick(n, self.clock_ms)
@@ -432,11 +482,11 @@ class Differ:
         restore = _install(self.ex_old.nodes + self.ex_new.nodes)
         runs = 0
         why = ""
-        queue: deque[dict[str, tuple[int, ...]]] = deque([{}])
+        queue: deque[tuple[dict[str, tuple[int, ...]], Optional[_Mark]]] = deque([({}, None)])
         try:
             while queue:
-                plan = queue.popleft()
-                end, run, branch = self._run(plan)
+                plan, mark = queue.popleft()
+                end, run, branch = self._run(plan, mark)
                 runs += 1
                 if end == "differ":
                     return Outcome(
@@ -446,7 +496,7 @@ class Differ:
                     for o in branch.options:
                         ext = dict(plan)
                         ext[branch.name] = plan.get(branch.name, ()) + (o,)
-                        queue.append(ext)
+                        queue.append((ext, run.mark))
                 elif end == "ticks" and not why:
                     why = "ticks"
                 elif end == "states":
