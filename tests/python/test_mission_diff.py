@@ -497,3 +497,35 @@ def test_observe_bad_values(capsys, tmp_path):
     assert "did you mean `leaf-calls`?" in capsys.readouterr().err
     assert main(["diff", "--observe", ",", m, m]) == 1
     assert "error:" in capsys.readouterr().err
+
+
+def test_resumed_runs_search_as_replayed_runs(tmp_path):
+    """A run resumes from the tick where its parent plan branched (both interpreters restored by
+    explore's core); played from the first tick instead, the search is the same: the same
+    answer, runs, product states and counterexample."""
+    from btgen.tools.diff.product import Differ
+
+    pairs = [
+        (str(ROOT / "missions" / "PickPlaceBall.xml"), str(ROOT / "missions" / "PickPlaceBall.xml")),
+        (
+            _mission(tmp_path, "a", "<ReactiveSequence><IsBatteryOk/><MoveTo goal='1.5'/></ReactiveSequence>"),
+            _mission(tmp_path, "b", "<Sequence><IsBatteryOk/><MoveTo goal='1.5'/></Sequence>"),
+        ),
+        (
+            _mission(tmp_path, "c", "<RetryUntilSuccessful num_attempts='2'><Charge/></RetryUntilSuccessful>"),
+            _mission(tmp_path, "d", "<RetryUntilSuccessful num_attempts='3'><Charge/></RetryUntilSuccessful>"),
+        ),
+        (
+            _mission(tmp_path, "e", "<Sequence><Sleep msec='250'/><MoveTo goal='1'/><Charge/></Sequence>"),
+            _mission(tmp_path, "f", "<Sequence><Sleep msec='250'/><MoveTo goal='1'/><Charge/></Sequence>"),
+        ),
+    ]
+    for old, new in pairs:
+        got = []
+        for resume, budget in ((True, None), (False, None), (True, 1)):  # 1: most runs replayed again
+            d = Differ(load_mission(old, (), None), load_mission(new, (), None), max_ticks=6)
+            d.resume = resume
+            d.max_marks = budget or d.max_marks
+            o = d.decide()
+            got.append((o.equivalent, o.exhaustive, o.runs, o.states, o.plan, o.ticks))
+        assert got[0] == got[1] == got[2], (old, new)
