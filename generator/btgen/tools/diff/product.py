@@ -299,8 +299,7 @@ class _Side(_Recorder):
     about 70% of the search), its leaves answering through the side's slot."""
 
     def __init__(self, run: _Run, index: int, mission: Mission, key_of: Callable[[str], str]) -> None:
-        ex = run.d.ex_old if index == 0 else run.d.ex_new
-        ex._restore(ex._initial)
+        ex = run.d.ex_old if index == 0 else run.d.ex_new  # restored by Differ._run
         super().__init__(mission, key_of, None, run.d.observe, ex.interp)
         self.run = run
         self.index = index
@@ -455,6 +454,9 @@ class Differ:
             self.ex_new._restore(mark.new)
             old.pos, new.pos = dict(mark.pos_old), dict(mark.pos_new)
             start = mark.tick
+        else:
+            self.ex_old._restore(self.ex_old._initial)
+            self.ex_new._restore(self.ex_new._initial)
         run.mark = mark
         try:
             for n in range(start, self.max_ticks + 1):
