@@ -187,9 +187,10 @@ def test_text_report_marks_the_first_difference(capsys, tmp_path):
 
 
 # ---------------------------------------------------------------- counterexamples on both engines
-def _run(mission: str, scenario: str, engine: str, version: str = "4.6.2") -> str:
+def _run(mission: str, scenario: str, engine: str, version: str = "4.6.2", extra: tuple = ()) -> str:
     got = subprocess.run(
-        [sys.executable, "-m", "btgen", "run", mission, "--scenario", scenario, "--engine", engine, "--btcpp", version],
+        [sys.executable, "-m", "btgen", "run", mission, "--scenario", scenario, "--engine", engine, "--btcpp", version]
+        + list(extra),
         capture_output=True,
         text=True,
         check=False,
@@ -529,3 +530,38 @@ def test_resumed_runs_search_as_replayed_runs(tmp_path):
             o = d.decide()
             got.append((o.equivalent, o.exhaustive, o.runs, o.states, o.plan, o.ticks))
         assert got[0] == got[1] == got[2], (old, new)
+
+
+# ---------------------------------------------------------------- Nav2 distros (--models-old/--models-new)
+def test_nav2_round_robin_from_jazzy_to_lyrical(capsys, tmp_path):
+    """Nav2's rename table (lang/nav2.py RENAMES): RoundRobin always wrapped around before
+    lyrical, where `wrap_around` defaults to false; written `wrap_around="true"` the tree keeps
+    jazzy's behaviour. Lyrical's Spin also has a new input port (disable_collision_checks), so
+    the calls compare without their inputs here."""
+    models = ROOT / "tests" / "nav2_models"
+    paths = []
+    for k, wrap in enumerate(("", ' wrap_around="true"')):
+        p = tmp_path / f"rr{k}.xml"
+        p.write_text(
+            '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <BehaviorTree ID="Main">\n'
+            f"    <RoundRobin{wrap}><Spin/><Wait/></RoundRobin>\n  </BehaviorTree>\n</root>\n"
+        )
+        paths.append(str(p))
+    sides = ["--btcpp", "4.10.0", "--models-old", str(models / "jazzy" / "nav2_tree_nodes.xml")]
+    sides += ["--models-new", str(models / "lyrical" / "nav2_tree_nodes.xml")]
+    rc, report, _ = _diff(capsys, paths[0], paths[0], *sides)
+    assert rc == 1 and "disable_collision_checks=false" in report["first_difference"]["new"]
+    cx = tmp_path / "cx"
+    rc, report, _ = _diff(
+        capsys, paths[0], paths[0], *sides, "--observe", "leaf-calls,root,writes", "--counterexample", str(cx)
+    )
+    assert rc == 1
+    assert report["first_difference"] == {"tick": 1, "event": 3, "old": "result SUCCESS", "new": "result FAILURE"}
+    # the written scenario on both engines, each distro's models: jazzy succeeds, lyrical fails
+    for stem, distro, result in (("old", "jazzy", "SUCCESS"), ("new", "lyrical", "FAILURE")):
+        extra = ["--models", str(models / distro / "nav2_tree_nodes.xml")]
+        interp = _run(paths[0], str(cx / f"{stem}.scenario"), "interp", "4.10.0", extra)
+        assert interp == _run(paths[0], str(cx / f"{stem}.scenario"), "cpp", "4.10.0", extra)
+        assert interp.rstrip().endswith(f"result {result}")
+    rc, report, _ = _diff(capsys, paths[0], paths[1], *sides, "--observe", "leaf-calls,root,writes")
+    assert rc == 0 and report["exhaustive"] is True
