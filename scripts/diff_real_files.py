@@ -51,6 +51,8 @@ def _models(rel: str, tmp: str) -> list[str]:
 
 def _run(argv: list[str], a) -> tuple[int, dict, str, float]:
     argv = [*argv, "--format", "json", "--max-ticks", a.max_ticks, "--max-states", a.max_states]
+    if a.observe:
+        argv += ["--observe", a.observe]
     out, err = io.StringIO(), io.StringIO()
     t0 = time.perf_counter()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -136,6 +138,8 @@ def main_() -> int:
     p.add_argument("--max-ticks", default="8")
     p.add_argument("--max-states", default="20000")
     p.add_argument("--only", default="", help="only the files whose path (under tests/real_files) starts so")
+    p.add_argument("--observe", default="", help="btgen diff's --observe (default: its default)")
+    p.add_argument("--distros-only", action="store_true", help="only jazzy -> lyrical")
     a = p.parse_args()
     files = []
     for root, _, names in os.walk(HERE):
@@ -146,7 +150,7 @@ def main_() -> int:
     total = 0.0
     with tempfile.TemporaryDirectory() as tmp:
         for rel in sorted(files):
-            if rel.endswith("nav2_tree_nodes.xml") or not rel.startswith(a.only):
+            if rel.endswith("nav2_tree_nodes.xml") or not rel.startswith(a.only) or a.distros_only:
                 continue
             if rel.startswith("jazzy/"):
                 path = os.path.join(JAZZY, "behavior_trees", rel[len("jazzy/") :])
@@ -162,7 +166,8 @@ def main_() -> int:
             counts[kind] = counts.get(kind, 0) + 1
             print(f"{rel}: rc={rc} {kind} {dt:.2f} s {detail}", flush=True)
         summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items()))
-        print(f"{sum(counts.values())} files, {total:.1f} s: {summary}")
+        if not a.distros_only:
+            print(f"{sum(counts.values())} files, {total:.1f} s: {summary}")
         if "nav2".startswith(a.only) or a.only.startswith(("nav2", "jazzy")) or not a.only:
             counts, total = _jazzy_to_lyrical(a, tmp)
             print(f"jazzy -> lyrical: {sum(counts.values())} trees, {total:.1f} s: ", end="")
