@@ -142,6 +142,10 @@ def _cmd_graph(args: argparse.Namespace) -> int:
 
 
 def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    if args.fix or args.output:
+        from btgen.tools.upgrade_fix import fix_command
+
+        return fix_command(args)
     from btgen.tools.upgrade import upgrade_command
 
     return upgrade_command(args)

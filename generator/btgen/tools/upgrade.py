@@ -300,19 +300,7 @@ def first_difference(path: str, scenario_path: str, opts: pipeline.CompileOption
 
 
 def upgrade_command(args) -> int:
-    from btgen import cmdline
-
     old, new = args.from_version, args.to_version
-    if getattr(args, "fix", False) or getattr(args, "output", None):
-        if not args.fix:
-            raise cmdline.error(args, "-o", "-o is the output of --fix: add --fix")
-        if not args.output:
-            raise cmdline.error(args, "--fix", "--fix writes a new file: name it with -o OUT.xml")
-        if args.scenario:
-            raise cmdline.error(args, "--scenario", "--fix proves the rewrite for every scenario: drop --scenario")
-        from btgen.tools.upgrade_fix import fix_command
-
-        return fix_command(args)
     opts = pipeline.options_from_args(args)
     try:
         findings = static_findings(args.mission, opts, old, new)

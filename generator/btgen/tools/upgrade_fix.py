@@ -44,6 +44,7 @@ from btgen.lang.catalogue import KINDS
 from btgen.lang.model import Mission, Node
 from btgen.lang.script.nodes import Binary, Compare, Literal, Name, Ternary, Unary
 from btgen.lang.versions import semantics
+from btgen.tools.upgrade import static_findings
 
 # ====================================================================== the file's tags
 _NAME = r"[^\s=/>]+"
@@ -394,10 +395,16 @@ def pipeline_builtins(version: str, mission: Mission):
 
 # ====================================================================== the command
 def fix_command(args) -> int:
+    from btgen import cmdline
     from btgen.interp.engine import Interpreter
     from btgen.tools.diff.product import Differ
-    from btgen.tools.upgrade import static_findings
 
+    if not args.fix:
+        raise cmdline.error(args, "-o", "-o is the output of --fix: add --fix")
+    if not args.output:
+        raise cmdline.error(args, "--fix", "--fix writes a new file: name it with -o OUT.xml")
+    if args.scenario:
+        raise cmdline.error(args, "--scenario", "--fix proves the rewrite for every scenario: drop --scenario")
     old, new = args.from_version, args.to_version
     opts = pipeline.options_from_args(args)
     out_path = args.output

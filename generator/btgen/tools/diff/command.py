@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import json
 import os
 import sys
@@ -14,17 +13,14 @@ from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_d
 from btgen.interp.scenario import parse_scenario_text
 from btgen.lang.leaves import mission_leaves
 from btgen.lang.model import Mission
+from btgen.tools.diff.common import parse_observe, scenario_texts
 from btgen.tools.diff.product import (
-    DEFAULT_OBSERVE,
-    OBSERVABLES,
     Differ,
     Event,
-    Outcome,
     event_text,
     first_difference,
     observe,
 )
-from btgen.tools.explore import Path, scenario_text
 
 WIDTH = 44
 
@@ -44,28 +40,6 @@ def pipeline_options(args):
     from btgen import pipeline
 
     return pipeline.options_from_args(args)
-
-
-def parse_observe(args) -> frozenset:
-    """--observe A,B,...: the observables named (product.OBSERVABLES), `default` for the default set."""
-    text = getattr(args, "observe", None)
-    if text is None:
-        return DEFAULT_OBSERVE
-    out: set[str] = set()
-    for word in (w.strip() for w in text.split(",")):
-        if word == "default":
-            out |= DEFAULT_OBSERVE
-        elif word in OBSERVABLES:
-            out.add(word)
-        else:
-            close = difflib.get_close_matches(word, OBSERVABLES, 1)
-            hint = f" (did you mean `{close[0]}`?)" if close else ""
-            raise cmdline.error(
-                args, text, f"--observe `{word}`{hint}: choose from {', '.join(OBSERVABLES)} or default"
-            )
-    if not out:
-        raise cmdline.error(args, "--observe", "--observe names nothing to observe")
-    return frozenset(out)
 
 
 def _leaf_names(mission: Mission) -> set[str]:
@@ -95,18 +69,6 @@ def _renames(args, old: Mission, new: Mission) -> dict[str, str]:
             # OLD's own `b` and the renamed `a` would share one name: the scenario could not tell them apart
             raise cmdline.error(args, text, f"--rename `{text}`: {args.old} has a leaf `{b}` too; rename it as well")
     return out
-
-
-def _scenario_texts(outcome: Outcome, rename: dict[str, str], clock_ms: int) -> tuple[str, str]:
-    """The counterexample as a scenario file for OLD (its own leaf names) and for NEW."""
-    back = {b: a for a, b in rename.items()}
-    picks_new = tuple((name, st) for name, sts in outcome.plan.items() for st in sts)
-    picks_old = tuple((back.get(name, name), st) for name, st in picks_new)
-    comment = "btgen diff: a shortest scenario on which the two missions differ"
-    texts = []
-    for picks in (picks_old, picks_new):
-        texts.append(scenario_text(Path((), picks, outcome.ticks, frozenset(), "differ"), clock_ms, comment))
-    return texts[0], texts[1]
 
 
 def _side_by_side(old: list[list[Event]], new: list[list[Event]], at: Optional[tuple[int, int]]) -> list[str]:
@@ -212,7 +174,7 @@ def diff_command(args) -> int:
             print(f"  {outcome.runs} runs, {outcome.states} product states, {outcome.seconds:.2f} s")
         return 0
 
-    text_old, text_new = _scenario_texts(outcome, rename, args.clock_ms)
+    text_old, text_new = scenario_texts(outcome, rename, args.clock_ms)
     sc_old = parse_scenario_text(text_old, "old.scenario")
     sc_new = parse_scenario_text(text_new, "new.scenario")
     seen_old = observe(old, sc_old, lambda n: rename.get(n, n), observables)

@@ -91,7 +91,7 @@ def _read(path: str) -> Optional[bytes]:
 def git_diff_command(args, v_old: str, v_new: str) -> int:
     from btgen.interp.scenario import parse_scenario_text
     from btgen.tools.check.runner import _ProjectModels
-    from btgen.tools.diff.command import _scenario_texts, parse_observe
+    from btgen.tools.diff.common import parse_observe, scenario_texts
 
     observables = parse_observe(args)
 
@@ -204,7 +204,7 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
                     else:
                         rows.append(Row(show, main, "bounded", f"equivalent (up to {outcome.bound} ticks)", stats))
                     continue
-                _, text_new = _scenario_texts(outcome, {}, args.clock_ms)
+                _, text_new = scenario_texts(outcome, {}, args.clock_ms)
                 sc = parse_scenario_text(text_new, "scenario")
                 seen_old = observe(old, sc, observables=observables)
                 seen_new = observe(new, sc, observables=observables)
