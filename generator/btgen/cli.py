@@ -142,6 +142,10 @@ def _cmd_graph(args: argparse.Namespace) -> int:
 
 
 def _cmd_upgrade_check(args: argparse.Namespace) -> int:
+    if args.fix or args.output:
+        from btgen.tools.upgrade_fix import fix_command
+
+        return fix_command(args)
     from btgen.tools.upgrade import upgrade_command
 
     return upgrade_command(args)
@@ -282,8 +286,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="do two missions (or one under two versions) behave the same for every leaf outcome? "
         "equivalent, or a shortest scenario where they differ",
     )
-    df.add_argument("old", metavar="OLD.xml", help="the mission before the change")
-    df.add_argument("new", metavar="NEW.xml", help="the mission after the change (may be OLD.xml itself)")
+    df.add_argument("old", nargs="?", metavar="OLD.xml", help="the mission before the change")
+    df.add_argument(
+        "new",
+        nargs="?",
+        metavar="NEW.xml",
+        help="the mission after the change (may be OLD.xml itself); with --git: paths, like PATH",
+    )
+    df.add_argument(
+        "paths",
+        nargs="*",
+        metavar="PATH",
+        help="with --git: the files or folders of the working tree to compare (default: the current folder)",
+    )
+    df.add_argument(
+        "--git",
+        metavar="REV",
+        help="compare the working tree with the git revision REV, mission by mission (the files found as "
+        "`btgen check` finds them under the PATHs)",
+    )
     add_mission_options(df, capacities=False)
     df.add_argument(
         "--btcpp-old",
@@ -298,6 +319,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="the BehaviorTree.CPP release NEW.xml runs under (default: --btcpp, else 4.6.2)",
     )
     df.add_argument(
+        "--models-old",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="models files of OLD.xml instead of --models (e.g. one Nav2 distro's nav2_tree_nodes.xml; repeatable)",
+    )
+    df.add_argument(
+        "--models-new",
+        action="append",
+        default=[],
+        metavar="FILE.xml",
+        help="models files of NEW.xml instead of --models (repeatable)",
+    )
+    df.add_argument(
         "--rename",
         action="append",
         default=[],
@@ -308,8 +343,9 @@ def build_parser() -> argparse.ArgumentParser:
     df.add_argument(
         "--counterexample",
         metavar="DIR",
-        help="when they differ, write there old.scenario, new.scenario (the same unless --rename) and "
-        "the interpreter's trace of each (old.trace, new.trace)",
+        help="when they differ, write there old.scenario, new.scenario (the same unless --rename), "
+        "the interpreter's trace of each (old.trace, new.trace) and the same runs as Groot2 logs "
+        "(old.btlog, new.btlog)",
     )
     df.add_argument(
         "--max-ticks",
@@ -324,6 +360,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=200000,
         metavar="N",
         help="stop after N product states; the answer is then partial, not a proof, and says so (default 200000)",
+    )
+    df.add_argument(
+        "--observe",
+        metavar="WHAT",
+        help="what must agree, comma-separated: leaf-calls (names and results), inputs (their input "
+        "values), root (its result each tick), writes (main blackboard), transitions (every node's "
+        "status changes); default: leaf-calls,inputs,root,writes",
     )
     df.add_argument("--clock-ms", type=int, default=100, metavar="MS", help="virtual time per tick (default 100)")
     df.add_argument(
@@ -545,6 +588,28 @@ def build_parser() -> argparse.ArgumentParser:
         "--scenario",
         metavar="FILE.scenario",
         help="also run the mission on both versions and print where the traces part",
+    )
+    u.add_argument(
+        "--fix",
+        action="store_true",
+        help="write the mission rewritten for --to into -o OUT (parenthesised scripts, IDs renamed, "
+        "explicit attributes) and prove with `btgen diff` that OUT under --to behaves as the mission "
+        "under --from, or say where it cannot",
+    )
+    u.add_argument("-o", "--output", metavar="FILE.xml", help="with --fix: the file to write (never the input)")
+    u.add_argument(
+        "--max-ticks",
+        type=_count,
+        default=10,
+        metavar="K",
+        help="with --fix: most root ticks of a run of the proof (default 10)",
+    )
+    u.add_argument(
+        "--max-states",
+        type=_count,
+        default=200000,
+        metavar="N",
+        help="with --fix: product states the proof may visit before it stops, unfinished (default 200000)",
     )
     add_mission_options(u, capacities=False)
     u.set_defaults(func=_cmd_upgrade_check)

@@ -187,9 +187,10 @@ def test_text_report_marks_the_first_difference(capsys, tmp_path):
 
 
 # ---------------------------------------------------------------- counterexamples on both engines
-def _run(mission: str, scenario: str, engine: str, version: str = "4.6.2") -> str:
+def _run(mission: str, scenario: str, engine: str, version: str = "4.6.2", extra: tuple = ()) -> str:
     got = subprocess.run(
-        [sys.executable, "-m", "btgen", "run", mission, "--scenario", scenario, "--engine", engine, "--btcpp", version],
+        [sys.executable, "-m", "btgen", "run", mission, "--scenario", scenario, "--engine", engine, "--btcpp", version]
+        + list(extra),
         capture_output=True,
         text=True,
         check=False,
@@ -221,6 +222,30 @@ def _replay_both_engines(old, new, cx: Path, v_old="4.6.2", v_new="4.6.2"):
     return traces
 
 
+def _replay_logs_on_both_engines(old, new, cx: Path, v_old="4.6.2", v_new="4.6.2", clock_ms=100):
+    """Each .btlog through `btgen scenario-from-log`, the scenario got back run on the interpreter
+    and on the generated C++: both give the written trace, and OLD's differs from NEW's."""
+    traces = {}
+    for stem, mission, version in (("old", old, v_old), ("new", new, v_new)):
+        log = cx / f"{stem}.btlog"
+        assert log.read_bytes().startswith(b"BTCPP4-FileLogger2\x01")
+        back = cx.parent / f"{stem}-from-log.scenario"
+        got = subprocess.run(
+            [sys.executable, "-m", "btgen", "scenario-from-log", mission, str(log), "-o", str(back)]
+            + ["--clock-ms", str(clock_ms), "--btcpp", version],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert got.returncode == 0, got.stderr
+        interp = _run(mission, str(back), "interp", version)
+        assert interp == _run(mission, str(back), "cpp", version), f"{stem}: the two engines disagree"
+        assert interp == (cx / f"{stem}.trace").read_text()
+        traces[stem] = interp
+    assert traces["old"] != traces["new"]
+    return traces
+
+
 @pytest.mark.parametrize("case", ["reactive", "fallback"])
 def test_counterexample_replays_on_both_engines(capsys, tmp_path, case):
     if case == "reactive":
@@ -233,8 +258,16 @@ def test_counterexample_replays_on_both_engines(capsys, tmp_path, case):
     cx = tmp_path / "cx"
     rc, report, _ = _diff(capsys, "--counterexample", str(cx), old, new)
     assert rc == 1
-    assert sorted(p.name for p in cx.iterdir()) == ["new.scenario", "new.trace", "old.scenario", "old.trace"]
+    assert sorted(p.name for p in cx.iterdir()) == [
+        "new.btlog",
+        "new.scenario",
+        "new.trace",
+        "old.btlog",
+        "old.scenario",
+        "old.trace",
+    ]
     _replay_both_engines(old, new, cx)
+    _replay_logs_on_both_engines(old, new, cx)
     # the observable runs of the written scenario differ exactly where the report says
     at = first_difference(
         observe(load_mission(old, (), None), parse_scenario(str(cx / "old.scenario"))),
@@ -257,6 +290,7 @@ def test_version_switch_that_matters(capsys, tmp_path):
         "new": "write greeting = <empty>",
     }
     traces = _replay_both_engines(m, m, cx, "4.6.2", "4.10.0")
+    assert _replay_logs_on_both_engines(m, m, cx, "4.6.2", "4.10.0") == traces
     # the same tree under two versions: its traces are comparable line by line
     assert _tick_of_first_difference(traces["old"], traces["new"]) == report["first_difference"]["tick"]
     # and the recordings of the real library say the same
@@ -417,3 +451,117 @@ def test_product_states_are_keyed_by_each_sides_own_interpreter(capsys):
     out = capsys.readouterr().out
     assert "equivalent (exhaustively)" in out
     assert "79 runs, 26 product states" in out
+
+
+# ---------------------------------------------------------------- what is observed (--observe)
+def test_observe_transitions_sees_a_reshaped_tree(capsys, tmp_path):
+    old = _mission(tmp_path, "old", EQUIVALENT["nested sequence flattened"][0])
+    new = _mission(tmp_path, "new", EQUIVALENT["nested sequence flattened"][1])
+    rc, report, _ = _diff(capsys, old, new)
+    assert rc == 0 and report["exhaustive"] is True  # by default control nodes are not observed
+    rc, report, _ = _diff(capsys, "--observe", "transitions", old, new)
+    assert rc == 1
+    # OLD's inner Sequence starts where NEW has none: the first transition that differs
+    first = report["first_difference"]
+    assert (first["tick"], first["event"], first["old"]) == (1, 3, "Sequence: IDLE -> RUNNING")
+    assert first["new"].startswith("MoveTo: IDLE -> ")
+    # a mission against itself agrees on every transition
+    rc, report, _ = _diff(capsys, "--observe", "default,transitions", old, old)
+    assert rc == 0 and report["exhaustive"] is True
+
+
+def test_observe_without_inputs_or_writes(capsys, tmp_path):
+    old = _mission(tmp_path, "old", "<Sequence><Script code='x := 1'/><MoveTo goal='1'/></Sequence>")
+    new = _mission(tmp_path, "new", "<Sequence><Script code='x := 2'/><MoveTo goal='2'/></Sequence>")
+    rc, report, _ = _diff(capsys, old, new)
+    assert rc == 1 and report["first_difference"]["old"] == "write x = 1"
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,inputs,root", old, new)
+    assert rc == 1 and report["first_difference"]["old"] == "MoveTo(goal=1.0) -> SUCCESS"
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,root", old, new)
+    assert rc == 0 and report["exhaustive"] is True
+    # the root's result left out: a different result is not seen, a different end is
+    a = _mission(tmp_path, "a", "<MoveTo goal='1'/>")
+    b = _mission(tmp_path, "b", "<Inverter><MoveTo goal='1'/></Inverter>")
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls", a, b)
+    assert rc == 0
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls,root", a, b)
+    assert rc == 1 and report["first_difference"]["old"] == "result SUCCESS"
+    # the end of a run is always observed: the same calls, but one run goes on sleeping
+    c = _mission(tmp_path, "c", "<Sequence><MoveTo goal='1'/><Sleep msec='1000'/></Sequence>")
+    rc, report, _ = _diff(capsys, "--observe", "leaf-calls", a, c)
+    assert rc == 1 and report["first_difference"] == {"tick": 1, "event": 2, "old": "result completed", "new": None}
+
+
+def test_observe_bad_values(capsys, tmp_path):
+    m = _mission(tmp_path, "m", "<MoveTo goal='1'/>")
+    assert main(["diff", "--observe", "leaf-cals", m, m]) == 1
+    assert "did you mean `leaf-calls`?" in capsys.readouterr().err
+    assert main(["diff", "--observe", ",", m, m]) == 1
+    assert "error:" in capsys.readouterr().err
+
+
+def test_resumed_runs_search_as_replayed_runs(tmp_path):
+    """A run resumes from the tick where its parent plan branched (both interpreters restored by
+    explore's core); played from the first tick instead, the search is the same: the same
+    answer, runs, product states and counterexample."""
+    from btgen.tools.diff.product import Differ
+
+    pairs = [
+        (str(ROOT / "missions" / "PickPlaceBall.xml"), str(ROOT / "missions" / "PickPlaceBall.xml")),
+        (
+            _mission(tmp_path, "a", "<ReactiveSequence><IsBatteryOk/><MoveTo goal='1.5'/></ReactiveSequence>"),
+            _mission(tmp_path, "b", "<Sequence><IsBatteryOk/><MoveTo goal='1.5'/></Sequence>"),
+        ),
+        (
+            _mission(tmp_path, "c", "<RetryUntilSuccessful num_attempts='2'><Charge/></RetryUntilSuccessful>"),
+            _mission(tmp_path, "d", "<RetryUntilSuccessful num_attempts='3'><Charge/></RetryUntilSuccessful>"),
+        ),
+        (
+            _mission(tmp_path, "e", "<Sequence><Sleep msec='250'/><MoveTo goal='1'/><Charge/></Sequence>"),
+            _mission(tmp_path, "f", "<Sequence><Sleep msec='250'/><MoveTo goal='1'/><Charge/></Sequence>"),
+        ),
+    ]
+    for old, new in pairs:
+        got = []
+        for resume, budget in ((True, None), (False, None), (True, 1)):  # 1: most runs replayed again
+            d = Differ(load_mission(old, (), None), load_mission(new, (), None), max_ticks=6)
+            d.resume = resume
+            d.max_marks = budget or d.max_marks
+            o = d.decide()
+            got.append((o.equivalent, o.exhaustive, o.runs, o.states, o.plan, o.ticks))
+        assert got[0] == got[1] == got[2], (old, new)
+
+
+# ---------------------------------------------------------------- Nav2 distros (--models-old/--models-new)
+def test_nav2_round_robin_from_jazzy_to_lyrical(capsys, tmp_path):
+    """Nav2's rename table (lang/nav2.py RENAMES): RoundRobin always wrapped around before
+    lyrical, where `wrap_around` defaults to false; written `wrap_around="true"` the tree keeps
+    jazzy's behaviour. Lyrical's Spin also has a new input port (disable_collision_checks), so
+    the calls compare without their inputs here."""
+    models = ROOT / "tests" / "nav2_models"
+    paths = []
+    for k, wrap in enumerate(("", ' wrap_around="true"')):
+        p = tmp_path / f"rr{k}.xml"
+        p.write_text(
+            '<root BTCPP_format="4" main_tree_to_execute="Main">\n  <BehaviorTree ID="Main">\n'
+            f"    <RoundRobin{wrap}><Spin/><Wait/></RoundRobin>\n  </BehaviorTree>\n</root>\n"
+        )
+        paths.append(str(p))
+    sides = ["--btcpp", "4.10.0", "--models-old", str(models / "jazzy" / "nav2_tree_nodes.xml")]
+    sides += ["--models-new", str(models / "lyrical" / "nav2_tree_nodes.xml")]
+    rc, report, _ = _diff(capsys, paths[0], paths[0], *sides)
+    assert rc == 1 and "disable_collision_checks=false" in report["first_difference"]["new"]
+    cx = tmp_path / "cx"
+    rc, report, _ = _diff(
+        capsys, paths[0], paths[0], *sides, "--observe", "leaf-calls,root,writes", "--counterexample", str(cx)
+    )
+    assert rc == 1
+    assert report["first_difference"] == {"tick": 1, "event": 3, "old": "result SUCCESS", "new": "result FAILURE"}
+    # the written scenario on both engines, each distro's models: jazzy succeeds, lyrical fails
+    for stem, distro, result in (("old", "jazzy", "SUCCESS"), ("new", "lyrical", "FAILURE")):
+        extra = ["--models", str(models / distro / "nav2_tree_nodes.xml")]
+        interp = _run(paths[0], str(cx / f"{stem}.scenario"), "interp", "4.10.0", extra)
+        assert interp == _run(paths[0], str(cx / f"{stem}.scenario"), "cpp", "4.10.0", extra)
+        assert interp.rstrip().endswith(f"result {result}")
+    rc, report, _ = _diff(capsys, paths[0], paths[1], *sides, "--observe", "leaf-calls,root,writes")
+    assert rc == 0 and report["exhaustive"] is True

@@ -417,14 +417,15 @@ class Explorer:
     def key_of_interpreter(self, interp: Interpreter) -> tuple:
         """`state_key` at a tick boundary of another interpreter of the same mission (its nodes
         in this explorer's order): what `btgen verify --probabilities` keys its chain by."""
-        index = {id(n): i for i, n in enumerate(self.nodes)}
+        own = interp is self.interp  # `btgen diff` plays its runs on the explorer's interpreter
+        index = None if own else {id(n): i for i, n in enumerate(self.nodes)}
         parts: list = []
         for node, getter, check in self._key_getters:
-            t = getter(interp.nodes[index[id(node)]])
+            t = getter(node if index is None else interp.nodes[index[id(node)]])
             if check:
                 t = tuple(v if type(v) in _KEY_PLAIN else repr(v) for v in t)
             parts.append(t)
-        for bb in {id(n.bb): n.bb for n in interp.nodes}.values():
+        for bb in self._bbs if own else {id(n.bb): n.bb for n in interp.nodes}.values():
             for k, e in sorted(bb._storage.items()):
                 v = e.value
                 parts.append(

@@ -13,19 +13,33 @@ from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_d
 from btgen.interp.scenario import parse_scenario_text
 from btgen.lang.leaves import mission_leaves
 from btgen.lang.model import Mission
-from btgen.tools.diff.product import Differ, Event, Outcome, event_text, first_difference, observe
-from btgen.tools.explore import Path, scenario_text
+from btgen.tools.diff.common import parse_observe, scenario_texts
+from btgen.tools.diff.product import (
+    Differ,
+    Event,
+    event_text,
+    first_difference,
+    observe,
+)
 
 WIDTH = 44
 
 
-def _load(path: str, args, version: str) -> Mission:
+def _load(path: str, args, version: str, models: Optional[list] = None) -> Mission:
     from btgen import pipeline
 
     opts = dataclasses.replace(pipeline.options_from_args(args), btcpp=version)
+    if models:  # --models-old / --models-new: this side's models files
+        opts = dataclasses.replace(opts, models=tuple(models))
     mission = pipeline.load(path, opts)
     print_diagnostics(mission.warnings)
     return mission
+
+
+def pipeline_options(args):
+    from btgen import pipeline
+
+    return pipeline.options_from_args(args)
 
 
 def _leaf_names(mission: Mission) -> set[str]:
@@ -57,18 +71,6 @@ def _renames(args, old: Mission, new: Mission) -> dict[str, str]:
     return out
 
 
-def _scenario_texts(outcome: Outcome, rename: dict[str, str], clock_ms: int) -> tuple[str, str]:
-    """The counterexample as a scenario file for OLD (its own leaf names) and for NEW."""
-    back = {b: a for a, b in rename.items()}
-    picks_new = tuple((name, st) for name, sts in outcome.plan.items() for st in sts)
-    picks_old = tuple((back.get(name, name), st) for name, st in picks_new)
-    comment = "btgen diff: a shortest scenario on which the two missions differ"
-    texts = []
-    for picks in (picks_old, picks_new):
-        texts.append(scenario_text(Path((), picks, outcome.ticks, frozenset(), "differ"), clock_ms, comment))
-    return texts[0], texts[1]
-
-
 def _side_by_side(old: list[list[Event]], new: list[list[Event]], at: Optional[tuple[int, int]]) -> list[str]:
     rows: list[str] = []
     for t in range(max(len(old), len(new))):
@@ -98,11 +100,20 @@ def diff_command(args) -> int:
     v_new = args.btcpp_new or default
     if args.clock_ms < 0:
         raise cmdline.error(args, "--clock-ms", "--clock-ms cannot be negative")
+    if args.git is not None:
+        from btgen.tools.diff.git import git_diff_command
+
+        return git_diff_command(args, v_old, v_new)
+    if args.old is None or args.new is None:
+        raise cmdline.error(args, None, "diff needs OLD.xml and NEW.xml (or --git REV [PATH ...])")
+    if args.paths:
+        raise cmdline.error(args, args.paths[0], f"`{args.paths[0]}`: more than two missions (PATHs go with --git)")
     problems: list[Diagnostic] = []
     missions: list[Optional[Mission]] = []
-    for side, path, version in (("OLD", args.old, v_old), ("NEW", args.new, v_new)):
+    sides = (("OLD", args.old, v_old, args.models_old), ("NEW", args.new, v_new, args.models_new))
+    for side, path, version, models in sides:
         try:
-            missions.append(_load(path, args, version))
+            missions.append(_load(path, args, version, models))
         except UserError as e:  # report both files' problems, not only the first's
             problems.extend(e.diagnostics)
             # which side failed (OLD and NEW may be one file under two versions)
@@ -123,7 +134,8 @@ def diff_command(args) -> int:
             )
         )
     rename = _renames(args, old, new)
-    differ = Differ(old, new, rename, args.max_ticks, args.clock_ms, args.max_states)
+    observables = parse_observe(args)
+    differ = Differ(old, new, rename, args.max_ticks, args.clock_ms, args.max_states, observables)
     outcome = differ.decide()
     head = f"{args.old} (BehaviorTree.CPP {v_old}) vs {args.new} (BehaviorTree.CPP {v_new})"
     if outcome.exhaustive:
@@ -162,17 +174,17 @@ def diff_command(args) -> int:
             print(f"  {outcome.runs} runs, {outcome.states} product states, {outcome.seconds:.2f} s")
         return 0
 
-    text_old, text_new = _scenario_texts(outcome, rename, args.clock_ms)
+    text_old, text_new = scenario_texts(outcome, rename, args.clock_ms)
     sc_old = parse_scenario_text(text_old, "old.scenario")
     sc_new = parse_scenario_text(text_new, "new.scenario")
-    seen_old = observe(old, sc_old, lambda n: rename.get(n, n))
-    seen_new = observe(new, sc_new)
+    seen_old = observe(old, sc_old, lambda n: rename.get(n, n), observables)
+    seen_new = observe(new, sc_new, observables=observables)
     at = first_difference(seen_old, seen_new)
     if at is None:  # the search and the replay disagree: never print a counterexample that is none
         raise InternalError("btgen diff: the counterexample found does not replay as a difference")
     files: list[str] = []
     if args.counterexample:
-        files = write_counterexample(args.counterexample, old, new, text_old, text_new)
+        files = write_counterexample(args.counterexample, old, new, text_old, text_new, pipeline_options(args))
     rows = _side_by_side(seen_old, seen_new, at)
     where = ""
     first: dict = {}
@@ -237,11 +249,18 @@ def diff_command(args) -> int:
     return 1
 
 
-def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str, text_new: str) -> list[str]:
-    """DIR/old.scenario, DIR/new.scenario (the same unless --rename) and the interpreter's
-    FORMAT.md trace of each mission on its scenario (old.trace, new.trace)."""
-    from btgen.interp.engine import trace_text
+def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str, text_new: str, opts=None) -> list[str]:
+    """DIR/old.scenario, DIR/new.scenario (the same unless --rename), the interpreter's FORMAT.md
+    trace of each mission on its scenario (old.trace, new.trace) and the same run of each as a
+    Groot2 log (old.btlog, new.btlog: verify's writer, `tools/verify/replay.btlog_bytes`), which
+    `btgen scenario-from-log` turns back into the scenario's run on both engines. Each file is
+    written whole or not at all."""
+    from btgen import pipeline
+    from btgen.interp.engine import Interpreter, run_ticks
+    from btgen.ir.lower import lower
+    from btgen.tools.verify.replay import btlog_bytes
 
+    data = (opts or pipeline.DEFAULTS).data
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as e:
@@ -249,12 +268,25 @@ def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str,
     out = []
     for stem, mission, text in (("old", old, text_old), ("new", new, text_new)):
         sc = os.path.join(folder, f"{stem}.scenario")
-        _write(sc, text)
+        scenario = parse_scenario_text(text, sc)
+        parts: list[str] = []
         try:
-            trace = trace_text(mission, parse_scenario_text(text, sc))
-        except UserError as e:
-            trace = "".join(str(d) + "\n" for d in e.diagnostics)
+            run_ticks(Interpreter(mission, scenario), scenario, parts.append)
+            trace = "".join(parts)
+        except UserError as e:  # a run-time error ends this side's run: its ticks so far, then why
+            trace = "".join(parts) + "".join(str(d) + "\n" for d in e.diagnostics)
+        program = lower(mission, data)
+        log = btlog_bytes(program, trace, scenario.clock_ms)
+        _write(sc, text)
         tr = os.path.join(folder, f"{stem}.trace")
         _write(tr, trace)
-        out += [sc, tr]
+        bl = os.path.join(folder, f"{stem}.btlog")
+        write_atomic_bytes(bl, log)
+        out += [sc, tr, bl]
     return out
+
+
+def write_atomic_bytes(path: str, data: bytes) -> None:
+    from btgen.tools.graph import _write as write_atomic
+
+    write_atomic(path, data)

@@ -10,11 +10,13 @@ the search goes on with each possible result appended (SUCCESS or FAILURE for a
 Condition, RUNNING too for an Action). The search is breadth first over the
 plan's length, so the first difference found comes with a shortest scenario.
 
-What is observed, per tick and in order: each leaf call (its name, the values
-of its input ports when called, the result it was given), each write of an
-entry of the main tree's blackboard (key and new value), a run-time error, and
-the root's result. Control nodes, SubTree-private entries and the trace's status
-lines are not observed: a tree reshaped without changing these is equivalent.
+What is observed by default, per tick and in order: each leaf call (its name,
+the values of its input ports when called, the result it was given), each write
+of an entry of the main tree's blackboard (key and new value), a run-time error,
+and the root's result. Control nodes, SubTree-private entries and the trace's
+status lines are not observed: a tree reshaped without changing these is
+equivalent. `observe` (OBSERVABLES, `--observe`) selects a subset, or adds every
+node's status transitions.
 NEW's events of a tick are compared with OLD's as they happen; the first one
 that differs ends the run with a counterexample.
 
@@ -32,6 +34,7 @@ nothing (the command says so).
 from __future__ import annotations
 
 import time
+import weakref
 from collections import deque
 from dataclasses import dataclass, field
 from typing import Callable, Optional
@@ -46,8 +49,15 @@ from btgen.lang.model import Mission
 from btgen.tools.explore import NAMES, Explorer
 
 # An event: ("call", leaf, ((port, value), ...), STATUS) | ("write", key, value)
-#           | ("error", message) | ("result", STATUS)
+#           | ("error", message) | ("result", STATUS) | ("transition", node, "FROM -> TO")
 Event = tuple
+
+# What can be observed (`--observe`): the leaf calls (name and result, in order), the values of
+# their input ports, the root's result each tick, the writes of the main tree's blackboard,
+# every node's status transitions (control nodes too: a reshaped tree then differs). A run-time
+# error, and the end of a run (the root completing), are always observed.
+OBSERVABLES = ("leaf-calls", "inputs", "root", "writes", "transitions")
+DEFAULT_OBSERVE = frozenset(("leaf-calls", "inputs", "root", "writes"))
 
 
 class _Branch(Exception):
@@ -86,6 +96,8 @@ def event_text(ev: Event) -> str:
         return f"write {ev[1]} = {ev[2]}"
     if ev[0] == "error":
         return f"error: {ev[1]}"
+    if ev[0] == "transition":
+        return f"{ev[1]}: {ev[2]}"
     return f"result {ev[1]}"
 
 
@@ -97,19 +109,47 @@ _CURRENT: Optional[_Recorder] = None  # the engine being ticked (the hooks repor
 class _Recorder:
     """One engine's observer: the events of the tick being run."""
 
-    def __init__(self, mission: Mission, key_of: Callable[[str], str], scenario: Optional[Scenario] = None) -> None:
-        self.interp = Interpreter(mission, scenario)
-        self.interp.rt.now_ms = 0
+    def __init__(
+        self,
+        mission: Mission,
+        key_of: Callable[[str], str],
+        scenario: Optional[Scenario] = None,
+        observe: frozenset = DEFAULT_OBSERVE,
+        interp: Optional[Interpreter] = None,
+    ) -> None:
+        if interp is None:
+            interp = Interpreter(mission, scenario)
+            interp.rt.now_ms = 0
+        self.interp = interp
         self.key_of = key_of
         self.events: list[Event] = []
         self.chain: list[tuple[TreeNode, int]] = []
         self.seen_return: set = set()  # Explorer.state_key reads it (no properties here)
         self.root_bb = self.interp.root_bb
+        self.calls = "leaf-calls" in observe or "inputs" in observe
+        self.inputs = "inputs" in observe
+        self.root = "root" in observe
+        self.writes = "writes" in observe
+        if "transitions" in observe:
+            for node in self.interp.nodes:
+                node.emit = self._transition_emitter(node)
+
+    def _transition_emitter(self, node: TreeNode) -> Callable[[tuple[str, str]], None]:
+        out = self.interp.rt.buf.extend
+        name = self.key_of(node.name) if isinstance(node, _SCRIPTED) else node.name
+
+        def emit(piece: tuple[str, str]) -> None:
+            out(piece)
+            self.emit(("transition", name, piece[1].rstrip("\n")))
+
+        return emit
 
     def emit(self, ev: Event) -> None:
         self.events.append(ev)
 
     def on_write(self, entry: bbmod.Entry) -> None:
+        if not self.writes:
+            return
         bb = self.root_bb
         for k in bb.local_keys():
             if bb.local_entry(k) is entry:
@@ -120,8 +160,10 @@ class _Recorder:
         raise NotImplementedError
 
     def call_event(self, node: TreeNode, key: str, status: int) -> None:
+        if not self.calls:
+            return
         inputs = []
-        for name in sorted(node.ports):
+        for name in sorted(node.ports) if self.inputs else ():
             p = node.ports[name]
             if p.spec is not None and p.spec.direction == "output":
                 continue
@@ -143,8 +185,12 @@ class _Recorder:
         finally:
             _CURRENT = None
             self.interp.take_text()
-        self.emit(("result", status.name))
-        return status.name not in ("SUCCESS", "FAILURE")
+        going = status.name not in ("SUCCESS", "FAILURE")
+        if self.root:
+            self.emit(("result", status.name))
+        elif not going:
+            self.emit(("result", "completed"))  # the end of the run, without its status
+        return going
 
 
 def _state(ex: Explorer, rec: _Recorder) -> tuple:
@@ -168,9 +214,39 @@ class _LeafHook:
         return self.rec.leaf_call(self.node, self.key, self.condition)
 
 
+class _Slot:
+    """The side of the run being played on one explorer's interpreter (its leaves' hooks ask it)."""
+
+    __slots__ = ("side",)
+
+    def __init__(self) -> None:
+        self.side: Optional[_Side] = None
+
+
+class _SharedHook:
+    """A scripted leaf's cursor on an explorer's interpreter, installed once: the run being
+    played answers (through the side's slot)."""
+
+    __slots__ = ("slot", "node", "key", "condition")
+
+    def __init__(self, slot: _Slot, node: TreeNode, key: str) -> None:
+        self.slot = slot
+        self.node = node
+        self.key = key
+        self.condition = isinstance(node, iactions.ScriptedCondition)
+
+    def next(self) -> int:
+        side = self.slot.side
+        assert side is not None
+        return side.leaf_call(self.node, self.key, self.condition)
+
+
+_SCRIPTED = (iactions.ScriptedAction, iactions.ScriptedCondition)
+
+
 def _hook_leaves(rec: _Recorder) -> None:
     for node in rec.interp.nodes:
-        if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+        if isinstance(node, _SCRIPTED):
             node.cursor = _LeafHook(rec, node)
 
 
@@ -218,14 +294,17 @@ def _install(nodes: list[TreeNode]) -> Callable[[], None]:
 
 # ====================================================================== the product search
 class _Side(_Recorder):
-    """One engine of a product run, fed by the shared plan."""
+    """One engine of a product run, fed by the shared plan: the side's explorer's interpreter
+    (explore's core), restored to its initial state (building an interpreter per run cost
+    about 70% of the search), its leaves answering through the side's slot."""
 
     def __init__(self, run: _Run, index: int, mission: Mission, key_of: Callable[[str], str]) -> None:
-        super().__init__(mission, key_of)
+        ex = run.d.ex_old if index == 0 else run.d.ex_new  # restored by Differ._run
+        super().__init__(mission, key_of, None, run.d.observe, ex.interp)
         self.run = run
         self.index = index
         self.pos: dict[str, int] = {}
-        _hook_leaves(self)
+        run.d.slots[index].side = self
 
     def emit(self, ev: Event) -> None:
         self.events.append(ev)
@@ -251,10 +330,31 @@ class _Side(_Recorder):
         return v
 
 
+MARK_BUDGET = 4_000_000  # saved node states held at once by the marks of queued plans (memory)
+
+
+class _Mark:
+    """Both interpreters (Explorer._save) and both sides' plan positions at a tick's start."""
+
+    __slots__ = ("tick", "old", "new", "pos_old", "pos_new", "__weakref__")
+
+    def __init__(self, tick: int, old: tuple, new: tuple, pos_old: dict, pos_new: dict) -> None:
+        self.tick = tick
+        self.old = old
+        self.new = new
+        self.pos_old = pos_old
+        self.pos_new = pos_new
+
+
+def _dec(live: list) -> None:
+    live[0] -= 1
+
+
 class _Run:
     def __init__(self, d: Differ, plan: dict[str, tuple[int, ...]]) -> None:
         self.d = d
         self.plan = plan
+        self.mark: Optional[_Mark] = None
         self.tick_no = 0
         self.sides: list[_Side] = []
         self.sides.append(_Side(self, 0, d.old, lambda n: d.rename.get(n, n)))
@@ -301,7 +401,9 @@ class Differ:
         max_ticks: int = 10,
         clock_ms: int = 100,
         max_states: int = 200000,
+        observe: Optional[frozenset] = None,
     ) -> None:
+        self.observe = DEFAULT_OBSERVE if observe is None else frozenset(observe)
         self.old = old
         self.new = new
         self.rename = dict(rename or {})
@@ -316,14 +418,51 @@ class Differ:
             for node in ex.nodes:
                 if isinstance(node, iactions.ScriptedAction):
                     self.actions.add(renames.get(node.name, node.name))
+        # each side plays its runs on its explorer's interpreter; its leaves ask the side's slot
+        # runs resume from the start of the tick where their parent branched (`_Mark`: both
+        # interpreters saved by explore's core), at most `max_marks` saved at once
+        self.resume = True
+        self.max_marks = max(64, MARK_BUDGET // max(1, len(self.ex_old.nodes) + len(self.ex_new.nodes)))
+        self._live = [0]
+        self.slots = (_Slot(), _Slot())
+        for slot, ex, renames in ((self.slots[0], self.ex_old, self.rename), (self.slots[1], self.ex_new, {})):
+            for node in ex.nodes:
+                if isinstance(node, _SCRIPTED):
+                    node.cursor = _SharedHook(slot, node, renames.get(node.name, node.name))
 
-    def _run(self, plan: dict[str, tuple[int, ...]]) -> tuple[str, _Run, Optional[_Branch]]:
+    def _mark(self, n: int, old: _Side, new: _Side) -> Optional[_Mark]:
+        """Both interpreters and both plan positions at the start of tick n (None past the budget
+        of saved states: those runs are replayed from the first tick)."""
+        if self._live[0] >= self.max_marks:
+            return None
+        m = _Mark(n, self.ex_old._save(), self.ex_new._save(), dict(old.pos), dict(new.pos))
+        self._live[0] += 1
+        weakref.finalize(m, _dec, self._live)
+        return m
+
+    def _run(
+        self, plan: dict[str, tuple[int, ...]], mark: Optional[_Mark] = None
+    ) -> tuple[str, _Run, Optional[_Branch]]:
+        """Play `plan` from tick 1, or on from `mark` (the start of the tick where its parent plan
+        branched: every earlier tick of the two runs is the parent's)."""
         run = _Run(self, plan)
         old, new = run.sides
         going = [True, True]
+        start = 1
+        if mark is not None:
+            self.ex_old._restore(mark.old)
+            self.ex_new._restore(mark.new)
+            old.pos, new.pos = dict(mark.pos_old), dict(mark.pos_new)
+            start = mark.tick
+        else:
+            self.ex_old._restore(self.ex_old._initial)
+            self.ex_new._restore(self.ex_new._initial)
+        run.mark = mark
         try:
-            for n in range(1, self.max_ticks + 1):
+            for n in range(start, self.max_ticks + 1):
                 run.tick_no = n
+                if n != start or mark is None:
+                    run.mark = self._mark(n, old, new) if self.resume else None
                 old.events = []
                 new.events = []
                 going[0] = old.tick(n, self.clock_ms)
@@ -345,11 +484,11 @@ class Differ:
         restore = _install(self.ex_old.nodes + self.ex_new.nodes)
         runs = 0
         why = ""
-        queue: deque[dict[str, tuple[int, ...]]] = deque([{}])
+        queue: deque[tuple[dict[str, tuple[int, ...]], Optional[_Mark]]] = deque([({}, None)])
         try:
             while queue:
-                plan = queue.popleft()
-                end, run, branch = self._run(plan)
+                plan, mark = queue.popleft()
+                end, run, branch = self._run(plan, mark)
                 runs += 1
                 if end == "differ":
                     return Outcome(
@@ -359,7 +498,7 @@ class Differ:
                     for o in branch.options:
                         ext = dict(plan)
                         ext[branch.name] = plan.get(branch.name, ()) + (o,)
-                        queue.append(ext)
+                        queue.append((ext, run.mark))
                 elif end == "ticks" and not why:
                     why = "ticks"
                 elif end == "states":
@@ -382,8 +521,8 @@ class Differ:
 class _Replayer(_Recorder):
     """An engine run on a scenario file's cursors, its observable events kept per tick."""
 
-    def __init__(self, mission: Mission, scenario: Scenario, key_of: Callable[[str], str]) -> None:
-        super().__init__(mission, key_of, scenario)
+    def __init__(self, mission: Mission, scenario: Scenario, key_of: Callable[[str], str], observe: frozenset) -> None:
+        super().__init__(mission, key_of, scenario, observe)
         self.real = {}
         for node in self.interp.nodes:
             if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
@@ -397,9 +536,14 @@ class _Replayer(_Recorder):
         return v
 
 
-def observe(mission: Mission, scenario: Scenario, key_of: Callable[[str], str] = lambda n: n) -> list[list[Event]]:
+def observe(
+    mission: Mission,
+    scenario: Scenario,
+    key_of: Callable[[str], str] = lambda n: n,
+    observables: Optional[frozenset] = None,
+) -> list[list[Event]]:
     """The observable events of each tick of a scenario's run (what `btgen diff` compares)."""
-    rec = _Replayer(mission, scenario, key_of)
+    rec = _Replayer(mission, scenario, key_of, DEFAULT_OBSERVE if observables is None else observables)
     restore = _install(rec.interp.nodes)
     ticks: list[list[Event]] = []
     try:
