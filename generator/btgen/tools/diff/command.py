@@ -257,10 +257,8 @@ def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str,
     written whole or not at all."""
     from btgen import pipeline
     from btgen.interp.engine import Interpreter, run_ticks
-    from btgen.ir.lower import lower
     from btgen.tools.verify.replay import btlog_bytes
 
-    data = (opts or pipeline.DEFAULTS).data
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as e:
@@ -275,7 +273,7 @@ def write_counterexample(folder: str, old: Mission, new: Mission, text_old: str,
             trace = "".join(parts)
         except UserError as e:  # a run-time error ends this side's run: its ticks so far, then why
             trace = "".join(parts) + "".join(str(d) + "\n" for d in e.diagnostics)
-        program = lower(mission, data)
+        program = pipeline.program(mission, opts or pipeline.DEFAULTS)
         log = btlog_bytes(program, trace, scenario.clock_ms)
         _write(sc, text)
         tr = os.path.join(folder, f"{stem}.trace")
