@@ -240,3 +240,25 @@ def test_shipped_missions_score(capsys, tmp_path, mission):
     capsys.readouterr()
     report = _json(capsys, ROOT / mission, tmp_path / "suite")
     assert report["score"] >= 95.0, report["summary"]
+
+
+def test_an_edit_that_changes_nothing_is_no_mutant(tmp_path):
+    from btgen.frontend.xmlsource import read_source
+    from btgen.lang.catalogue import BUILTINS
+    from btgen.tools.mutate.operators import all_mutants
+
+    mission = tmp_path / "twice.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T">'
+        "<Sequence><Beep/><Beep/><Stop/></Sequence></BehaviorTree></root>"
+    )
+    got = [(m.operator, m.change) for m in all_mutants(read_source(str(mission)), frozenset(BUILTINS), lambda r: None)]
+    # swapping the two equal Beeps gives the file back; removing either gives one mutant
+    assert got == [
+        ("swap-kind", "Sequence -> Fallback"),
+        ("swap-form", "Sequence -> ReactiveSequence"),
+        ("swap-form", "Sequence -> SequenceWithMemory"),
+        ("drop-child", "child 1 of 3 (Beep[1]) removed"),
+        ("drop-child", "child 3 of 3 (Stop) removed"),
+        ("reorder", "children 2 and 3 swapped"),
+    ]

@@ -4,7 +4,8 @@ Each operator works on the parsed file (frontend/xmlsource: lxml with exact posi
 yields `Mutant`s: an edit named by its operator, the node's path (`Tree/Tag#name/Tag[2]`), its
 line and column, and a function that applies the edit to a copy of the tree. The mutant's XML
 (`Mutant.xml`) is what `btgen mutate -o DIR` writes and what is loaded, with the checks of
-`btgen validate`, before it counts.
+`btgen validate`, before it counts. An edit whose XML is the original's (two equal children
+swapped) or an earlier mutant's (one of two equal children removed) makes no new mutant.
 
 Operators (the names `--format json` and the report use):
   swap-kind        Sequence <-> Fallback, in the same form (reactive, memory)
@@ -157,6 +158,11 @@ class Finder:
         self.elems = [e for e in source.root.iter() if isinstance(e.tag, str)]
         self.index = {e: i for i, e in enumerate(self.elems)}
         self.mutants: list[Mutant] = []
+        # the original's XML and every mutant's: an edit that gives one of them again is no new mutant
+        original = copy.deepcopy(source.root)
+        relocate(original)
+        self.seen = {etree.tostring(original, xml_declaration=True, encoding="UTF-8")}
+        self.skipped = 0
 
     # ------------------------------------------------------------ building a mutant
     def _add(self, elem: etree._Element, op: str, loc: Loc, change: str, edit: Edit) -> None:
@@ -165,6 +171,10 @@ class Finder:
         edit(twin)
         self.relocate(root)
         xml = etree.tostring(root, xml_declaration=True, encoding="UTF-8")
+        if xml in self.seen:  # the file unchanged (two equal children swapped), or an earlier mutant's
+            self.skipped += 1
+            return
+        self.seen.add(xml)
         m = Mutant(f"M{len(self.mutants) + 1:03d}", op, loc, _path(elem), change, xml)
         self.mutants.append(m)
 
