@@ -30,6 +30,7 @@ class Verdict:
     killed_by: str = ""  # killed: the suite's scenario that kills it
     scenario: str = ""  # survived: a scenario that kills it (from the product search)
     states: int = 0  # the product search's states, when one ran
+    seconds: float = 0.0  # the product search's time
 
 
 @dataclass
@@ -213,7 +214,8 @@ def run_mutation(args) -> Report:
                 continue
             t = time.perf_counter()
             v = decide(original, loaded, args, clock_ms)
-            t_search += time.perf_counter() - t
+            v.seconds = time.perf_counter() - t
+            t_search += v.seconds
             v.mutant = m
             report.verdicts.append(v)
     report.seconds = {
@@ -310,7 +312,11 @@ def report_json(report: Report) -> dict:
                 **({"killed_by": v.killed_by} if v.killed_by else {}),
                 **({"reason": v.reason} if v.reason else {}),
                 **({"scenario": v.scenario} if v.scenario else {}),
-                **({"product_states": v.states} if v.status in ("equivalent", "undecided", "survived") else {}),
+                **(
+                    {"product_states": v.states, "search_seconds": round(v.seconds, 3)}
+                    if v.status in ("equivalent", "undecided", "survived")
+                    else {}
+                ),
             }
             for v in r.verdicts
         ],
