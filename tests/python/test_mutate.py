@@ -233,12 +233,24 @@ def test_bad_input(capsys, tmp_path):
     assert rc == 1 and "refusing to replace it" in err and (foreign / "keep.txt").read_text() == "mine\n"
 
 
+def _full_missions() -> list[tuple[str, tuple[str, ...]]]:
+    from btgen.lang.nav2 import ROS_NODES
+
+    nav2 = ROOT / "tests" / "real_files" / "nav2"
+    models = nav2 / "nav2_tree_nodes.xml"
+    out = [("missions/Reception.xml", ()), ("missions/LabTour.xml", ())]
+    for p in sorted(nav2.glob("*.xml")):
+        if p != models and not any(f"<{r}" in p.read_text() for r in ROS_NODES):
+            out.append((str(p.relative_to(ROOT)), ("--models", str(models))))
+    return out
+
+
 @pytest.mark.skipif(not os.environ.get("BTGEN_MUTATE_FULL"), reason="set BTGEN_MUTATE_FULL=1: the full runs")
-@pytest.mark.parametrize("mission", ["missions/Reception.xml", "missions/LabTour.xml"])
-def test_shipped_missions_score(capsys, tmp_path, mission):
-    assert main(["tests", str(ROOT / mission), "-o", str(tmp_path / "suite")]) == 0
+@pytest.mark.parametrize("mission,extra", _full_missions(), ids=[Path(m).stem for m, _ in _full_missions()])
+def test_shipped_missions_and_nav2_trees_score(capsys, tmp_path, mission, extra):
+    assert main(["tests", str(ROOT / mission), *extra, "-o", str(tmp_path / "suite")]) == 0
     capsys.readouterr()
-    report = _json(capsys, ROOT / mission, tmp_path / "suite")
+    report = _json(capsys, ROOT / mission, tmp_path / "suite", *extra)
     assert report["score"] >= 95.0, report["summary"]
 
 
