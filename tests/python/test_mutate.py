@@ -274,3 +274,23 @@ def test_an_edit_that_changes_nothing_is_no_mutant(tmp_path):
         ("drop-child", "child 3 of 3 (Stop) removed"),
         ("reorder", "children 2 and 3 swapped"),
     ]
+
+
+def test_a_nav2_control_turned_plain_loses_its_own_ports(tmp_path):
+    # RecoveryNode -> Fallback: `number_of_retries` is no Fallback port (the mutant would not load)
+    from btgen.frontend.xmlsource import read_source
+    from btgen.lang.nav2 import builtins_for
+    from btgen.tools.mutate.operators import all_mutants
+
+    mission = tmp_path / "nav.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T">'
+        '<RecoveryNode number_of_retries="2" name="R"><Go/><Clear/></RecoveryNode></BehaviorTree></root>'
+    )
+    mutants = list(all_mutants(read_source(str(mission)), frozenset(builtins_for("4.6.2", "jazzy")), lambda r: None))
+    (fallback,) = [m for m in mutants if m.change == "RecoveryNode -> Fallback"]
+    assert b'<Fallback name="R"><Go/><Clear/></Fallback>' in fallback.xml
+    assert [m.change for m in mutants if m.operator == "count"] == [
+        'number_of_retries="2" -> "1"',
+        'number_of_retries="2" -> "3"',
+    ]

@@ -200,10 +200,12 @@ class Finder:
             self._add(elem, "swap-kind", loc, f"{nid} -> {new}", _retag(new))
         family = _SEQ if nid in _SEQ else _FALL if nid in _FALL else ()
         if nid in self.builtins:
-            forms = [f for f in family if f != nid] + list(_NAV2_FORMS.get(nid, ()))
-            for new in forms:
+            for new in [f for f in family if f != nid]:
                 if new in self.builtins:
                     self._add(elem, "swap-form", loc, f"{nid} -> {new}", _retag(new))
+            for new in _NAV2_FORMS.get(nid, ()):
+                if new in self.builtins:  # the Nav2 node's own ports (number_of_retries, ...) go
+                    self._add(elem, "swap-form", loc, f"{nid} -> {new}", _retag(new, portless=True))
         if self._builtin(elem, _PARALLEL):
             for attr in _PARALLEL[nid]:
                 self._numbers(elem, "parallel", attr, lambda n: [n - 1, n + 1])
@@ -341,8 +343,14 @@ def _swapper(i: int) -> Edit:
     return edit
 
 
-def _retag(new: str) -> Edit:
-    return lambda e: _set_id(e, new)
+def _retag(new: str, portless: bool = False) -> Edit:
+    def edit(e: etree._Element) -> None:
+        _set_id(e, new)
+        if portless:
+            for a in [a for a in e.attrib if a not in ("ID", "name") and not str(a).startswith("_")]:
+                del e.attrib[a]
+
+    return edit
 
 
 def _dropper(k: int) -> Edit:
