@@ -407,10 +407,10 @@ def build_parser() -> argparse.ArgumentParser:
     mu.add_argument(
         "--max-states",
         type=_count,
-        default=50000,
+        default=10000,
         metavar="N",
         help="product search of a survivor: most product states; running out leaves the mutant undecided "
-        "(default 50000)",
+        "(default 10000)",
     )
     mu.add_argument(
         "--format",
