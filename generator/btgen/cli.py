@@ -80,6 +80,13 @@ def _cmd_tests(args: argparse.Namespace) -> int:
     return tests_command(args)
 
 
+def _cmd_mutate(args: argparse.Namespace) -> int:
+    from btgen.tools.analyze import stop_quietly_on_broken_pipe
+    from btgen.tools.mutate import mutate_command
+
+    return stop_quietly_on_broken_pipe(mutate_command, args)
+
+
 def _cmd_cover(args: argparse.Namespace) -> int:
     from btgen.tools.analyze import stop_quietly_on_broken_pipe
     from btgen.tools.cover import cover_command
@@ -419,6 +426,55 @@ def build_parser() -> argparse.ArgumentParser:
         "-DBTGEN_LIBRARY_TESTS=OFF builds no BehaviorTree.CPP suite)",
     )
     ts.set_defaults(func=_cmd_tests)
+
+    mu = sub.add_parser(
+        "mutate",
+        help="how good a scenario suite is: mutants of the mission, killed by its scenarios or proved equivalent",
+    )
+    mu.add_argument("mission", metavar="MISSION.xml", help="the mission to mutate")
+    add_mission_options(mu, capacities=False)
+    mu.add_argument(
+        "--tests",
+        required=True,
+        metavar="DIR",
+        help="the suite: DIR/scenarios/*.scenario (what `btgen tests -o DIR` writes) or DIR/*.scenario",
+    )
+    mu.add_argument(
+        "-o",
+        "--output-dir",
+        metavar="DIR",
+        help="write every mutant there (M001-OPERATOR.xml) and, for each survivor, a scenario that kills it",
+    )
+    mu.add_argument(
+        "--min-score",
+        type=_percent,
+        metavar="S",
+        help="exit 1 when the mutation score (killed / non-equivalent, in %%) is below S",
+    )
+    mu.add_argument(
+        "--max-ticks",
+        type=_count,
+        default=30,
+        metavar="K",
+        help="product search of a survivor: most root ticks of a run; reaching it leaves the mutant undecided "
+        "(default 30)",
+    )
+    mu.add_argument(
+        "--max-states",
+        type=_count,
+        default=10000,
+        metavar="N",
+        help="product search of a survivor: most product states; running out leaves the mutant undecided "
+        "(default 10000)",
+    )
+    mu.add_argument(
+        "--format",
+        choices=("text", "json"),
+        default="text",
+        metavar="FORMAT",
+        help="the report: text (default) or json",
+    )
+    mu.set_defaults(func=_cmd_mutate)
 
     cv = sub.add_parser("cover", help="node and outcome coverage of scenario files, traces and .btlog files")
     cv.add_argument("mission", metavar="MISSION.xml", help="the mission the runs ran")

@@ -72,7 +72,9 @@ def test_suite_structure_and_expectations(capsys, tmp_path, mission):
     assert rc == 0
     stem = mission.stem
     files = sorted(p.name for p in out.iterdir())
-    assert files == sorted([".btgen-tests", "CMakeLists.txt", f"{stem}_tests.cpp", "btgen_gtest_support.hpp"])
+    assert files == sorted(
+        [".btgen-tests", "CMakeLists.txt", f"{stem}_tests.cpp", "btgen_gtest_support.hpp", "scenarios"]
+    )
     cmake = (out / "CMakeLists.txt").read_text()
     cpp = (out / f"{stem}_tests.cpp").read_text()
     assert "static const char* const expected[] = {" in cpp
@@ -101,6 +103,9 @@ def test_suite_structure_and_expectations(capsys, tmp_path, mission):
         text = _scenario(t)
         want = trace_text(m, parse_scenario_text(text, "<t>"))
         assert t["expected"] == want.splitlines(), t["name"]
+        # the TEST's scenario file (what `btgen mutate` and `cover` read) gives the same trace
+        written = (out / "scenarios" / f"{t['name']}.scenario").read_text()
+        assert trace_text(m, parse_scenario_text(written, "<f>")) == want, t["name"]
         sc = tmp_path / f"{i}.scenario"
         sc.write_text(text)
         proc = subprocess.run([str(binary), str(sc)], capture_output=True, check=False, timeout=60)
@@ -118,7 +123,9 @@ def test_suite_structure_and_expectations(capsys, tmp_path, mission):
     # deterministic
     again = tmp_path / "again"
     assert _generate(capsys, mission, again)[0] == 0
-    for f in files:
+    written = sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file())
+    assert written == sorted(p.relative_to(again) for p in again.rglob("*") if p.is_file())
+    for f in written:
         assert (again / f).read_bytes() == (out / f).read_bytes()
 
 
@@ -191,8 +198,10 @@ def test_replaces_its_own_suite_whole(capsys, tmp_path):
     (out / "stale.cpp").write_text("// an old file\n")
     assert _generate(capsys, GUARD, out)[0] == 0
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        [".btgen-tests", "CMakeLists.txt", "Guard_tests.cpp", "btgen_gtest_support.hpp"]
+        [".btgen-tests", "CMakeLists.txt", "Guard_tests.cpp", "btgen_gtest_support.hpp", "scenarios"]
     )
+    tests = _parse_suite((out / "Guard_tests.cpp").read_text())
+    assert sorted(p.name for p in (out / "scenarios").iterdir()) == sorted(f"{t['name']}.scenario" for t in tests)
     assert [p.name for p in tmp_path.iterdir()] == ["suite"]
 
 
@@ -244,7 +253,8 @@ def test_scenario_files(capsys, tmp_path):
     sc.write_text("ticks 3\nleaf BatteryOk SUCCESS FAILURE\nleaf Move RUNNING\n")
     out = tmp_path / "suite"
     rc, o, _ = _generate(capsys, GUARD, out, "--scenarios", str(sc))
-    assert rc == 0 and ": 1 test, 4 files" in o
+    assert rc == 0 and ": 1 test, 5 files" in o
+    assert (out / "scenarios" / "S01MoveHaltedRunning.scenario").read_text() == sc.read_text()
     cpp = (out / "Guard_tests.cpp").read_text()
     (test,) = _parse_suite(cpp)
     assert test["name"] == "S01MoveHaltedRunning"

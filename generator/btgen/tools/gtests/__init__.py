@@ -10,9 +10,10 @@ gives for the scenario (embedded as expected data). Tick-exact: no timers, threa
 so a mission with Sleep, Delay or Timeout is refused.
 
 DIR receives CMakeLists.txt (find_package(behaviortree_cpp), GTest, one ctest entry per
-TEST), `<stem>_tests.cpp`, `btgen_gtest_support.hpp` and `.btgen-tests` (the marker that lets
-a later run replace the folder). Everything is written to a temporary folder beside DIR and
-renamed into place: DIR is whole or unchanged.
+TEST), `<stem>_tests.cpp`, `btgen_gtest_support.hpp`, `scenarios/<TEST>.scenario` (each TEST's
+scenario in btgen's scenario format, which `btgen run`, `cover` and `mutate` read) and
+`.btgen-tests` (the marker that lets a later run replace the folder). Everything is written to
+a temporary folder beside DIR and renamed into place: DIR is whole or unchanged.
 
 With --executor, DIR/executor/ also holds each scenario and the interpreter's trace of it, and
 CMakeLists.txt one more ctest entry per TEST that runs the scenario on btgen's compiled
@@ -38,6 +39,7 @@ from btgen.lang.model import Mission, Node, SubTreeNode
 
 MARKER = ".btgen-tests"
 SUPPORT = "btgen_gtest_support.hpp"
+SCENARIOS = "scenarios"  # DIR/scenarios/<TEST>.scenario: each TEST's scenario, as a scenario file
 _TIMERS = ("Sleep", "Delay", "Timeout")
 _LINE = re.compile(r"([0-9]+) (\S+) (\".*\") (IDLE|RUNNING|SUCCESS|FAILURE) -> (IDLE|RUNNING|SUCCESS|FAILURE)\Z")
 _DIRS = {"input": "INPUT", "output": "OUTPUT", "inout": "INOUT"}
@@ -52,6 +54,7 @@ class Case:
     trace: list[str]  # the expected lines: tick N, status changes, result S
     trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
     obligations: list[str] = field(default_factory=list)  # condition / MC/DC goals it reaches first
+    text: str = ""  # the scenario file's text
 
 
 @dataclass
@@ -168,9 +171,9 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
         if sc.default != "SUCCESS":
             where = sc.default_loc or Loc(path, 1, 1)
             raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
-        text = trace_text(mission, sc)
+        trace = trace_text(mission, sc)
         lists = [(s.name, list(s.statuses)) for s in sc.leaves]
-        cases.append(Case("", [], sc.ticks, lists, text.splitlines(), text))
+        cases.append(Case("", [], sc.ticks, lists, trace.splitlines(), trace, text=text))
     name_cases(cases)
     return cases
 
@@ -475,10 +478,12 @@ def write_suite(out: str, files: dict[str, str]) -> None:
     old = None
     try:
         for name, text in files.items():
-            if "/" in name:
-                os.makedirs(os.path.join(tmp, os.path.dirname(name)), exist_ok=True)
-            with open(os.path.join(tmp, name), "w", encoding="utf-8", newline="\n") as f:
+            path = os.path.join(tmp, name)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            with open(path, "w", encoding="utf-8", newline="\n") as f:
                 f.write(text)
+            if os.path.dirname(name):
+                os.chmod(os.path.dirname(path), 0o777 & ~_umask())
         os.chmod(tmp, 0o777 & ~_umask())
         if os.path.exists(out):
             old = tempfile.mkdtemp(dir=parent, prefix=".btgen-tests-old-")
@@ -540,6 +545,7 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
         "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
         f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees),
         SUPPORT: support,
+        **{f"{SCENARIOS}/{case.name}.scenario": case.text for case in cases},
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
     if executor is not None:
