@@ -133,9 +133,10 @@ def test_recovery_node_takes_two_children(tmp_path):
 def test_ros_nodes_stay_the_users_and_say_why(tmp_path):
     xml = _mission(
         tmp_path,
-        '<PipelineSequence><DistanceController distance="1.0"><Plan/></DistanceController><Follow/></PipelineSequence>',
-        '<Decorator ID="DistanceController"><input_port name="distance"/></Decorator>'
-        '<Action ID="Plan"/><Action ID="Follow"/>',
+        '<PipelineSequence><PauseResumeController pause_service_name="p" resume_service_name="r"><Plan/>'
+        "</PauseResumeController><Follow/></PipelineSequence>",
+        '<Control ID="PauseResumeController"><input_port name="pause_service_name"/>'
+        '<input_port name="resume_service_name"/></Control><Action ID="Plan"/><Action ID="Follow"/>',
     )
     sc = tmp_path / "s.scenario"
     sc.write_text("ticks 2\n")
@@ -147,8 +148,25 @@ def test_ros_nodes_stay_the_users_and_say_why(tmp_path):
         env={**os.environ, "PYTHONPATH": str(ROOT / "generator")},
     )
     assert r.returncode == 1
-    assert "needs ROS 2 (it reads the robot's pose through tf2)" in r.stderr
+    assert "needs ROS 2 (it offers ROS 2 services to pause and resume)" in r.stderr
     assert "declare it in TreeNodesModel" in r.stderr
+
+
+def test_ros_reading_decorators_are_built_in_with_an_input(tmp_path):
+    # DistanceController reads the robot's pose: built in, that fact scripted under its name.
+    xml = _mission(
+        tmp_path,
+        '<PipelineSequence><DistanceController distance="1.0"><Plan/></DistanceController><Follow/></PipelineSequence>',
+        '<Action ID="Plan"/><Action ID="Follow"/>',
+    )
+    sc = tmp_path / "s.scenario"
+    sc.write_text("ticks 4\nleaf Follow RUNNING\nleaf DistanceController FAILURE FAILURE SUCCESS FAILURE\n")
+    m = pipeline.load(xml, pipeline.CompileOptions(nodes="nav2"))
+    trace = trace_text(m, parse_scenario(str(sc)))
+    plans = [t for t in trace.split("tick ")[1:] if '"Plan" IDLE -> SUCCESS' in t]
+    # one answer per tick: the child is ticked on the first tick of the run (whatever the
+    # answer), then only on the tick whose answer is yes (the node's SUCCESS keeps it active)
+    assert [t.split("\n")[0] for t in plans] == ["1", "3"], trace
 
 
 MODELS = ROOT / "tests" / "nav2_models"
@@ -169,8 +187,8 @@ def test_each_distros_models_file_loads_as_shipped(distro, version, tmp_path):
     m = pipeline.load(xml, pipeline.CompileOptions(models=(models,), btcpp=version))
     assert m.nav2 == distro
     assert {"PipelineSequence", "RateController"} <= {i for i, s in m.builtins.items() if s.builtin}
-    # the ROS-needing ones stay models of the file
-    assert "DistanceController" in {s.id for s in m.models}
+    # those reading ROS 2 for one fact are built in too (the fact is an input of the scenario)
+    assert m.builtins["DistanceController"].builtin and "DistanceController" not in {s.id for s in m.models}
 
 
 def test_rename_table():
