@@ -8,9 +8,10 @@ nodes (`--nodes nav2[:DISTRO]`, or a models file that is Nav2's: `detect`). Thei
 behaviour was recorded from Nav2's own sources compiled against the real library
 (`scripts/nav2_oracle/`, `tests/conformance/nav2/`), never read from them.
 
-The others read ROS 2 (tf2, odometry, topics, services): `ROS_NODES` says what each
-needs; they stay the user's Controls and Decorators (declared in TreeNodesModel, ticked
-by robot code).
+Five Decorators read one fact of the robot's world from ROS 2 (tf2, odometry, the goal, a
+path): they are built in too, that fact an input of the scenario (`ENV_INPUTS`), recorded on
+Nav2's code with scripts/nav2_oracle/ros_shim.hpp. PauseResumeController (ROS 2 services)
+stays the user's (`ROS_NODES` says why).
 
 `RENAMES` is the one table of what a tree written for one distro must change to mean the
 same on the next (node IDs renamed, a port default that changed behaviour).
@@ -181,8 +182,8 @@ def round_robin_wraps_always(distro: str) -> bool:
 
 
 # Nav2's Controls and Decorators whose code needs ROS 2 and that btgen does not build in: what
-# for (the reason they stay the user's). Recorded by scripts/nav2_oracle/record.py: none of
-# these compiles without ROS 2 headers.
+# for (the reason they stay the user's): it does not compile without ROS 2 headers
+# (scripts/nav2_oracle/record.py), and its pause and resume come from service calls.
 ROS_NODES = {
     "PauseResumeController": "it offers ROS 2 services to pause and resume",
 }

@@ -92,8 +92,8 @@ template <class Input>
 }  // namespace btgen
 
 // The check a generated mission class with one of these nodes makes of its Leaves type.
-#define BTGEN_NAV2_INPUT_HOOK                                                                        \
-  static_assert(::btgen::has_nav2_input_hook<Leaves>,                                                \
-                "Leaves has no hook for the inputs of Nav2's DistanceController, SpeedController, "  \
+#define BTGEN_NAV2_INPUT_HOOK                                                                         \
+  static_assert(::btgen::has_nav2_input_hook<Leaves>,                                                 \
+                "Leaves has no hook for the inputs of Nav2's DistanceController, SpeedController, "   \
                 "GoalUpdatedController or PathLongerOnApproach: add `btgen::Status nav2_input(const " \
                 "btgen::NodeInfo&)` (SUCCESS: yes, FAILURE: no)")
