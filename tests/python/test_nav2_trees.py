@@ -18,6 +18,8 @@ from __future__ import annotations
 import os
 import re
 import struct
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -301,16 +303,105 @@ def test_both_engines_explore_cover_replay_and_bench(models, tree, version, tmp_
     assert c.returncode == 0, c.stderr
     assert re.search(r"nodes: +\d+/\d+", c.stdout)
     # scenario-from-log: a Groot2 log of the run gives a scenario that replays it (a log has no
-    # record of the Decorators' inputs: not for our tree)
+    # record of the Decorators' inputs: refused for our tree)
     m = pipeline.load(str(tree), pipeline.CompileOptions(models=(models,), btcpp=version))
     trace = trace_text(m, parse_scenario(str(sc)))
     log = _btlog(m, trace, tmp_path / "run.btlog")
+    back = tmp_path / "back.scenario"
+    r = _btgen("scenario-from-log", str(tree), str(log), "-o", str(back), "--clock-ms", "250", *opts)
     if tree.name != "patrol.xml":
-        back = tmp_path / "back.scenario"
-        r = _btgen("scenario-from-log", str(tree), str(log), "-o", str(back), "--clock-ms", "250", *opts)
         assert r.returncode == 0, r.stderr
         assert trace_transitions(trace_text(m, parse_scenario(str(back)))) == trace_transitions(trace)
+    else:  # located at the first Decorator with an input, and no file written
+        assert r.returncode == 1 and not back.exists()
+        why = r"error: .*cannot recover the input of Nav2's `GoalUpdatedController`"
+        assert re.search(r"patrol.xml:5:\d+: " + why, r.stderr), r.stderr
     # bench: the compiled tree ticks with instant leaves and prints its numbers
     b = _btgen("bench", str(tree), *opts, "--ticks", "2000")
     assert b.returncode == 0, b.stderr
     assert re.search(r"\d", b.stdout)
+
+
+def test_diff_branches_on_the_inputs(tmp_path):
+    # Always yes, DistanceController would tick its child on every tick, as a one-attempt
+    # RetryUntilSuccessful does: `btgen diff` must try its no (it once found them equivalent).
+    def tree(name: str, decorator: str) -> str:
+        path = tmp_path / f"{name}.xml"
+        path.write_text(
+            '<root BTCPP_format="4" main_tree_to_execute="T"><BehaviorTree ID="T"><PipelineSequence>'
+            f"<{decorator}><Plan/></{decorator.split()[0]}><Follow/></PipelineSequence></BehaviorTree>"
+            '<TreeNodesModel><Action ID="Plan"/><Action ID="Follow"/></TreeNodesModel></root>'
+        )
+        return str(path)
+
+    a = tree("a", 'DistanceController distance="1.0"')
+    b = tree("b", 'RetryUntilSuccessful num_attempts="1"')
+    r = _btgen("diff", a, b, "--nodes", "nav2", "--max-ticks", "4")
+    assert r.returncode == 1 and ": different" in r.stdout, r.stdout + r.stderr
+    assert re.search(r"^ +leaf DistanceController (SUCCESS|FAILURE)", r.stdout, re.M), r.stdout
+    same = _btgen("diff", a, a, "--nodes", "nav2", "--max-ticks", "4")
+    assert same.returncode == 0 and "equivalent" in same.stdout
+
+
+BTVIEW = Path(sys.executable).parent / "btview"
+
+
+@pytest.mark.skipif(not BTVIEW.exists() and not os.environ.get("CI"), reason="btview is not installed")
+def test_groot2_monitor_on_a_nav2_tree(tmp_path):
+    # The compiled tree under btgen::groot2::Publisher (runtime/src/monitor_driver.cpp), its
+    # leaves and DistanceController's input scripted: after three ticks btview (a Groot2 client
+    # no one here wrote) shows every node with the status the interpreter has then.
+    import cppbuild
+    from conftest import free_port_pair
+
+    tree = NAV2 / "navigate_w_replanning_distance.xml"
+    out = tmp_path / "out"
+    assert _btgen("compile", str(tree), "--models", MODELS, "-o", str(out)).returncode == 0
+    stem = tree.stem
+    exe = cppbuild.build(
+        [ROOT / "runtime" / "src" / "monitor_driver.cpp", out / f"{stem}.cpp"],
+        tmp_path / "monitor",
+        opt="-O1",
+        includes=[out],
+        defines=[f'BTGEN_MISSION_HEADER="{stem}.hpp"', f"BTGEN_MISSION_TEMPLATE={stem}::NavigateWReplanningDistance"],
+        libs=["-lzmq", "-pthread"],
+    )
+    sc = tmp_path / "run.scenario"
+    sc.write_text("ticks 3\nleaf FollowPath RUNNING\nleaf DistanceController FAILURE FAILURE SUCCESS\n")
+    port = free_port_pair()
+    proc = subprocess.Popen(
+        [str(exe), str(sc), "--groot2", str(port), "--address", "127.0.0.1"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        for _ in range(3):
+            proc.stdin.write("tick\n")
+            proc.stdin.flush()
+            assert proc.stdout.readline().split()[1] == "RUNNING"
+        shown = subprocess.run(
+            [str(BTVIEW), "snapshot", "-p", str(port), "--uid", "--no-color"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
+    finally:
+        proc.stdin.write("quit\n")
+        proc.stdin.flush()
+        proc.wait(timeout=10)
+    assert shown.returncode == 0, shown.stderr
+    seen = {}
+    for line in shown.stdout.splitlines():
+        m = re.search(r"#(\d+)\s+\S+\s+(?:was )?(\w+)\s*$", line)
+        if m:
+            seen[int(m.group(1))] = "IDLE" if " was " in line or "· idle" in line else m.group(2)
+    mission = pipeline.load(str(tree), pipeline.CompileOptions(models=(MODELS,)))
+    status = {}
+    for uid, _, to in trace_transitions(trace_text(mission, parse_scenario(str(sc)))):
+        status[uid] = to
+    expected = {uid: status.get(uid, "IDLE") for uid in range(1, 7)}
+    assert seen == expected, shown.stdout
+    assert expected[4] == "SUCCESS"  # DistanceController: its child ran again on the third tick (a yes)

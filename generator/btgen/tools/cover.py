@@ -35,6 +35,7 @@ from btgen.interp.engine import Interpreter, run_ticks
 from btgen.interp.nav2 import record_inputs
 from btgen.interp.scenario import format_scenario, leaf_locs, parse_scenario
 from btgen.interp.tree import FAILURE, RUNNING, SUCCESS
+from btgen.lang.leaves import mission_leaves
 from btgen.lang.model import Mission
 from btgen.lang.nav2 import ENV_INPUTS
 from btgen.tools import graph as g
@@ -288,6 +289,17 @@ def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0) -> str:
     halt (a scenario sends no halt)."""
     nodes, _ = g.walk(mission)
     timed = btlog_records(log, nodes)
+    if mission.nav2 is not None:
+        for use in mission_leaves(mission):
+            if use.node.id in ENV_INPUTS:
+                raise UserError(
+                    Diagnostic(
+                        use.node.loc,
+                        f"`btgen scenario-from-log` cannot recover the input of Nav2's `{use.node.id}` "
+                        f'"{use.name}" (whether {ENV_INPUTS[use.node.id]}): a log has no record of it; '
+                        f"write its `leaf {use.name} ...` line by hand, or use `btgen explore`",
+                    )
+                )
     halt = halt_start(timed)
     if halt is not None and halt < len(timed):
         print(
