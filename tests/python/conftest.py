@@ -87,6 +87,11 @@ CI_SKIP_ALLOWED: tuple[tuple[str, str], ...] = (
         "the C++ back end cannot compile it yet: ",
         "test_diff_regressions.py: a regression case whose mission the C++ back end refuses, with its message",
     ),
+    (
+        "BTGEN_NAV2_TREES=all",
+        "test_nav2_trees.py: the ten default trees with a Nav2 Decorator reading ROS 2 on both engines, one C++ "
+        "build each, run by hand (docs/nav2.md states the count; CI runs a tree of ours with all five Decorators)",
+    ),
 )
 
 
