@@ -67,6 +67,8 @@ struct InstantLeaves {
   btgen::Status check(Model&, Rest&&...) noexcept {
     return btgen::Status::SUCCESS;
   }
+  // Nav2's Decorators that read ROS 2 (btgen/nav2.hpp): always yes, so their child runs.
+  btgen::Status nav2_input(const btgen::NodeInfo&) noexcept { return btgen::Status::SUCCESS; }
 };
 
 using Mission = BTGEN_MISSION_TEMPLATE<InstantLeaves, btgen::ManualClock, btgen::NoObserver>;

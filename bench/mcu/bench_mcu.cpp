@@ -54,6 +54,7 @@ struct BenchLeaves {
   btgen::Status check(M&, const btgen::NodeInfo&) noexcept {
     return answer();
   }
+  btgen::Status nav2_input(const btgen::NodeInfo&) noexcept { return answer(); }
 };
 
 struct CounterClock {

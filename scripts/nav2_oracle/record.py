@@ -6,8 +6,12 @@ For each Nav2 distro (a branch of a local git mirror of ros-navigation/navigatio
 compiles each source as a BehaviorTree.CPP plugin (`-DBT_PLUGIN_EXPORT`, one shared
 library each, as Nav2 builds them) against an oracle install of BehaviorTree.CPP, and
 runs every case of tests/conformance/nav2/cases with a copy of the oracle harness extended
-to load those plugins. A source that does not compile without ROS 2 is listed with the
-first header it misses (that is why btgen leaves it to the user).
+to load those plugins. DistanceController, SpeedController, GoalUpdatedController and
+PathLongerOnApproach (SHIMMED) are compiled with `ros_shim.hpp` standing in for the few ROS 2
+calls they make: the one where each reads its fact of the robot's world asks the harness,
+which answers from the scenario's `leaf NAME ...` line of the node being ticked. A source that
+does not compile even so is listed with the first header it misses (btgen leaves it to the
+user).
 
 Time: `clock_shim.hpp` is force-included before each plugin source; it turns the plugin's
 `std::chrono::high_resolution_clock` into a clock that the harness advances by the
@@ -66,10 +70,62 @@ static void btgen_nav2_register(BT::BehaviorTreeFactory& factory)
   }
 }
 """
+# The Decorators that read one fact of the robot's world on every tick (ros_shim.hpp): the
+# harness answers it from the scenario's `leaf NAME ...` line of the node being ticked (a
+# pre-tick callback on each of them says which), and their constructors find on the blackboard
+# the ROS handles they take (stand-ins).
+PREAMBLE += """
+#include <functional>
+#include <set>
+#include "ros_shim.hpp"
+static std::function<bool(const std::string&)> btgen_nav2_answer;
+static std::string btgen_nav2_current;
+static long btgen_nav2_serial_value = 0;
+extern "C" int btgen_nav2_input()
+{
+  return btgen_nav2_answer && btgen_nav2_answer(btgen_nav2_current) ? 1 : 0;
+}
+extern "C" long btgen_nav2_serial()
+{
+  return btgen_nav2_serial_value;
+}
+static void btgen_nav2_attach(BT::Tree& tree, std::function<bool(const std::string&)> answer)
+{
+  btgen_nav2_answer = std::move(answer);
+  tree.applyVisitor([](BT::TreeNode* node) {
+    static const std::set<std::string> ids{"DistanceController", "SpeedController",
+                                           "GoalUpdatedController", "PathLongerOnApproach"};
+    if(ids.count(node->registrationName()))
+      node->setPreTickFunction([](BT::TreeNode& n) {
+        btgen_nav2_current = n.name();
+        ++btgen_nav2_serial_value;
+        return BT::NodeStatus::IDLE;
+      });
+  });
+}
+static BT::Blackboard::Ptr btgen_nav2_blackboard()
+{
+  auto bb = BT::Blackboard::create();
+  bb->set("node", std::make_shared<rclcpp::Node>());
+  bb->set("tf_buffer", std::make_shared<tf2_ros::Buffer>());
+  bb->set("odom_smoother", std::make_shared<nav2_util::OdomSmoother>());
+  return bb;
+}
+"""
 PATCHES = (
     (
         "  BT::BehaviorTreeFactory factory;\n  auto leaves = collectLeaves(",
         "  BT::BehaviorTreeFactory factory;\n  btgen_nav2_register(factory);\n  auto leaves = collectLeaves(",
+    ),
+    (
+        "factory.createTreeFromFile(std::filesystem::absolute(path));",
+        "factory.createTreeFromFile(std::filesystem::absolute(path), btgen_nav2_blackboard());",
+    ),
+    (
+        "  BT::Tree tree = createTree(factory, mission);\n\n  // Reject RUNNING",
+        "  BT::Tree tree = createTree(factory, mission);\n"
+        "  btgen_nav2_attach(tree, [&sc](const std::string& n) { return sc.next(n) == NodeStatus::SUCCESS; });\n"
+        "\n  // Reject RUNNING",
     ),
     (
         "std::this_thread::sleep_for(std::chrono::milliseconds(sc.clock_ms));",
@@ -107,6 +163,7 @@ def build_harness(prefix: Path, harness_cpp: Path, work: Path) -> Path:
             "-o",
             str(exe),
             str(src),
+            f"-I{HERE}",
             f"-I{prefix}/include",
             f"-L{prefix}/lib",
             f"-Wl,-rpath,{prefix}/lib",
@@ -132,14 +189,58 @@ def export_distro(mirror: str, branch: str, dest: Path) -> str:
     return commit
 
 
+# The plugin sources compiled with ros_shim.hpp standing in for ROS 2 (each reads one fact of
+# the robot's world, which the harness answers from the scenario), with their extra flags.
+SHIMMED = {
+    "distance_controller": (),
+    "speed_controller": (),
+    "goal_updated_controller": ("-DBTGEN_SHIM_GOAL_INPUT",),
+    "path_longer_on_approach": (),
+}
+# The headers those sources (and Nav2's bt_utils.hpp, json_utils.hpp) include from ROS 2: each
+# becomes one line including ros_shim.hpp, in a folder searched before Nav2's own headers.
+SHIM_HEADERS = (
+    "rclcpp/rclcpp.hpp",
+    "rclcpp/time.hpp",
+    "rclcpp/node.hpp",
+    "geometry_msgs/msg/pose_stamped.hpp",
+    "geometry_msgs/msg/point.hpp",
+    "geometry_msgs/msg/quaternion.hpp",
+    "nav_msgs/msg/goals.hpp",
+    "nav_msgs/msg/path.hpp",
+    "nav_msgs/msg/odometry.hpp",
+    "nav2_util/robot_utils.hpp",
+    "nav2_util/geometry_utils.hpp",
+    "nav2_util/odometry_utils.hpp",
+    "nav2_util/path_utils.hpp",
+    "nav2_ros_common/tf2_factories.hpp",
+    "tf2_ros/buffer.h",
+    "nav2_behavior_tree/bt_utils.hpp",
+    "nav2_behavior_tree/json_utils.hpp",
+)
+
+
+def shim_include(out_dir: Path) -> Path:
+    folder = out_dir / "ros_shim_include"
+    for name in SHIM_HEADERS:
+        path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text('#pragma once\n#include "ros_shim.hpp"\n')
+    return folder
+
+
 def compile_plugin(cpp: Path, include: Path, prefix: Path, out_dir: Path) -> tuple[Path, Path | None, str]:
     """One plugin source -> (source, shared library or None, the reason it did not build)."""
+    shim = cpp.stem in SHIMMED
     digest = hashlib.sha256(cpp.read_bytes() + (HERE / "clock_shim.hpp").read_bytes() + str(prefix).encode())
+    if shim:
+        digest.update((HERE / "ros_shim.hpp").read_bytes() + " ".join(SHIM_HEADERS).encode())
     for hpp in sorted(include.rglob(cpp.stem + ".hpp")):
         digest.update(hpp.read_bytes())
     so = out_dir / f"lib{cpp.stem}-{digest.hexdigest()[:16]}.so"
     if so.exists():
         return cpp, so, ""
+    extra = [f"-I{shim_include(out_dir)}", f"-I{HERE}", *SHIMMED[cpp.stem]] if shim else []
     r = sh(
         [
             "g++",
@@ -150,6 +251,7 @@ def compile_plugin(cpp: Path, include: Path, prefix: Path, out_dir: Path) -> tup
             "-DBT_PLUGIN_EXPORT",
             "-include",
             str(HERE / "clock_shim.hpp"),
+            *extra,
             f"-I{include}",
             f"-I{prefix}/include",
             "-o",
@@ -213,7 +315,8 @@ def main() -> int:
             "|---|---|",
         ]
         for cpp, so, why in built:
-            lines.append(f"| `{cpp.relative_to(pkg)}` | {'yes' if so else 'no: ' + why} |")
+            built_as = "yes, with ros_shim.hpp for ROS 2" if cpp.stem in SHIMMED else "yes"
+            lines.append(f"| `{cpp.relative_to(pkg)}` | {built_as if so else 'no: ' + why} |")
         (dest / "RECORDED.md").write_text("\n".join(lines) + "\n")
         print(f"{distro} {args.version}: {len(plugins)} plugins, {len(stems) - refused} traces, {refused} refused")
     return 0

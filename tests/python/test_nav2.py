@@ -6,6 +6,10 @@ selects them (`--nodes`, or Nav2's models file).
 `BTGEN_NAV2_CPP=all` runs the C++ engine on every distro; by default it runs the cases of
 lyrical (all families) and those whose jazzy traces differ (RoundRobin before wrap_around),
 and the kilted recordings are checked to equal jazzy's (the same families, the same code).
+The cases of the Decorators that read ROS 2 (DistanceController, SpeedController,
+GoalUpdatedController, PathLongerOnApproach: recorded with scripts/nav2_oracle/ros_shim.hpp)
+record the same trace on every distro and version: the C++ engine runs one case of each by
+default, all of them with `BTGEN_NAV2_CPP=all`.
 """
 
 import difflib
@@ -133,9 +137,10 @@ def test_recovery_node_takes_two_children(tmp_path):
 def test_ros_nodes_stay_the_users_and_say_why(tmp_path):
     xml = _mission(
         tmp_path,
-        '<PipelineSequence><DistanceController distance="1.0"><Plan/></DistanceController><Follow/></PipelineSequence>',
-        '<Decorator ID="DistanceController"><input_port name="distance"/></Decorator>'
-        '<Action ID="Plan"/><Action ID="Follow"/>',
+        '<PipelineSequence><PauseResumeController pause_service_name="p" resume_service_name="r"><Plan/>'
+        "</PauseResumeController><Follow/></PipelineSequence>",
+        '<Control ID="PauseResumeController"><input_port name="pause_service_name"/>'
+        '<input_port name="resume_service_name"/></Control><Action ID="Plan"/><Action ID="Follow"/>',
     )
     sc = tmp_path / "s.scenario"
     sc.write_text("ticks 2\n")
@@ -147,8 +152,25 @@ def test_ros_nodes_stay_the_users_and_say_why(tmp_path):
         env={**os.environ, "PYTHONPATH": str(ROOT / "generator")},
     )
     assert r.returncode == 1
-    assert "needs ROS 2 (it reads the robot's pose through tf2)" in r.stderr
+    assert "needs ROS 2 (it offers ROS 2 services to pause and resume)" in r.stderr
     assert "declare it in TreeNodesModel" in r.stderr
+
+
+def test_ros_reading_decorators_are_built_in_with_an_input(tmp_path):
+    # DistanceController reads the robot's pose: built in, that fact scripted under its name.
+    xml = _mission(
+        tmp_path,
+        '<PipelineSequence><DistanceController distance="1.0"><Plan/></DistanceController><Follow/></PipelineSequence>',
+        '<Action ID="Plan"/><Action ID="Follow"/>',
+    )
+    sc = tmp_path / "s.scenario"
+    sc.write_text("ticks 4\nleaf Follow RUNNING\nleaf DistanceController FAILURE FAILURE SUCCESS FAILURE\n")
+    m = pipeline.load(xml, pipeline.CompileOptions(nodes="nav2"))
+    trace = trace_text(m, parse_scenario(str(sc)))
+    plans = [t for t in trace.split("tick ")[1:] if '"Plan" IDLE -> SUCCESS' in t]
+    # one answer per tick: the child is ticked on the first tick of the run (whatever the
+    # answer), then only on the tick whose answer is yes (the node's SUCCESS keeps it active)
+    assert [t.split("\n")[0] for t in plans] == ["1", "3"], trace
 
 
 MODELS = ROOT / "tests" / "nav2_models"
@@ -169,8 +191,8 @@ def test_each_distros_models_file_loads_as_shipped(distro, version, tmp_path):
     m = pipeline.load(xml, pipeline.CompileOptions(models=(models,), btcpp=version))
     assert m.nav2 == distro
     assert {"PipelineSequence", "RateController"} <= {i for i, s in m.builtins.items() if s.builtin}
-    # the ROS-needing ones stay models of the file
-    assert "DistanceController" in {s.id for s in m.models}
+    # those reading ROS 2 for one fact are built in too (the fact is an input of the scenario)
+    assert m.builtins["DistanceController"].builtin and "DistanceController" not in {s.id for s in m.models}
 
 
 def test_rename_table():
@@ -195,9 +217,33 @@ def _cpp_cases():
         expected, refused = _expected(distro, version, stem)
         if refused is not None:
             continue  # a tree the distro cannot load: the front end refuses it (interpreter test)
+        if stem in ENV_CASES and not every:
+            # the same trace everywhere (test_env_cases_...): one case per node, on one distro
+            if (distro, version) == ("lyrical", "4.6.2") and stem in ENV_CPP_SAMPLE:
+                out.append((distro, version, stem))
+            continue
         if every or distro == "lyrical" or (distro == "jazzy" and expected != _expected("lyrical", version, stem)[0]):
             out.append((distro, version, stem))
     return out
+
+
+# The cases of the Decorators that read ROS 2 (recorded with scripts/nav2_oracle/ros_shim.hpp).
+ENV_CASES = [s for s in STEMS if s.startswith(("distance_", "speed_", "goal_updated_", "longer_"))]
+ENV_CPP_SAMPLE = ("distance_child_fails", "speed_halted", "goal_updated_replans", "longer_on_approach")
+
+
+def test_env_cases_record_the_same_everywhere():
+    assert len(ENV_CASES) == 10
+    for stem in ENV_CASES:
+        first = _expected("lyrical", "4.6.2", stem)[0]
+        assert first is not None
+        for distro in nav2.DISTROS:
+            for version in VERSIONS:
+                assert _expected(distro, version, stem)[0] == first, (distro, version, stem)
+    for distro in nav2.DISTROS:
+        recorded = (NAV2 / f"{distro}-4.6.2" / "RECORDED.md").read_text()
+        for src in ("distance_controller", "speed_controller", "goal_updated_controller", "path_longer_on_approach"):
+            assert f"`plugins/decorator/{src}.cpp` | yes, with ros_shim.hpp" in recorded, (distro, src)
 
 
 @pytest.mark.parametrize("distro,version,stem", _cpp_cases())
@@ -231,7 +277,7 @@ def test_a_mission_implementing_them_itself_keeps_them():
 # C++ engine prints the interpreter's trace (the recordings tie the interpreter to Nav2's code).
 # BTGEN_NAV2_RANDOM=N runs N missions (default 3, four scenarios each).
 _CONTROLS = ("PipelineSequence", "RecoveryNode", "RoundRobin", "NonblockingSequence", "Sequence", "ReactiveSequence")
-_DECORATORS = ("RateController", "SingleTrigger", "Inverter", "ForceSuccess")
+_DECORATORS = ("RateController", "SingleTrigger", "Inverter", "ForceSuccess", *sorted(nav2.ENV_NODES))
 
 
 def _random_mission(rng, distro):
@@ -246,6 +292,10 @@ def _random_mission(rng, distro):
         if rng.random() < 0.35:
             d = rng.choice(_DECORATORS)
             attrs = f' hz="{rng.choice(["2", "5", "10", "3.3"])}"' if d == "RateController" else ""
+            if d in nav2.ENV_INPUTS:  # its input, scripted under its name (one per instance)
+                name = f"{d}{len(leaves)}"
+                leaves.append(("Input", name))
+                attrs = f' name="{name}"'
             return f"<{d}{attrs}>{node(depth + 1)}</{d}>"
         c = rng.choice(_CONTROLS if distro == "lyrical" else _CONTROLS[:3] + _CONTROLS[4:])
         n = 2 if c == "RecoveryNode" else rng.randint(1, 3)
@@ -257,7 +307,7 @@ def _random_mission(rng, distro):
         return f"<{c}{attrs}>{''.join(node(depth + 1) for _ in range(n))}</{c}>"
 
     body = node(0)
-    models = "".join(f'<{k} ID="{n}"/>' for k, n in leaves)
+    models = "".join(f'<{k} ID="{n}"/>' for k, n in leaves if k != "Input")
     xml = (
         f'<root BTCPP_format="4"><BehaviorTree ID="Main">{body}</BehaviorTree>'
         f"<TreeNodesModel>{models}</TreeNodesModel></root>"
@@ -268,7 +318,8 @@ def _random_mission(rng, distro):
 def _random_scenario(rng, leaves):
     lines = [f"ticks {rng.randint(4, 14)}", f"clock_ms {rng.choice([0, 40, 100, 150])}"]
     for kind, name in leaves:
-        pool = ("SUCCESS", "FAILURE") if kind == "Condition" else ("SUCCESS", "FAILURE", "RUNNING", "RUNNING")
+        either = ("SUCCESS", "FAILURE")
+        pool = either if kind in ("Condition", "Input") else (*either, "RUNNING", "RUNNING")
         lines.append(f"leaf {name} " + " ".join(rng.choice(pool) for _ in range(rng.randint(1, 6))))
     return "\n".join(lines) + "\n"
 

@@ -297,7 +297,141 @@ class SingleTriggerNode(DecoratorNode):
         return FAILURE
 
 
+class EnvInputDecorator(DecoratorNode):
+    """A Nav2 Decorator whose code reads ROS 2 for one yes-or-no fact (lang/nav2.py ENV_INPUTS):
+    the scenario scripts it under the node's name as a Condition's results (SUCCESS: yes), one
+    result each time the node consults it; explore branches on it as on a Condition."""
+
+    __slots__ = ("cursor", "default")
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.cursor = rt.cursor(self.name)
+        self.default = rt.default
+
+    def env(self) -> bool:
+        c = self.cursor
+        st = c.next() if c is not None else self.default
+        if st == RUNNING:
+            raise _run_error(
+                self.model.loc,
+                f'the input of `{self.reg_id}` "{self.name}" is yes (SUCCESS) or no (FAILURE), not RUNNING',
+            )
+        return st == SUCCESS
+
+
+class InputsSeen:
+    """A cursor that records each answer an EnvInputDecorator's input gives: (uid, status) into
+    `seen` (cover counts them)."""
+
+    __slots__ = ("inner", "node", "seen")
+
+    def __init__(self, node: EnvInputDecorator, seen: set) -> None:
+        self.inner = node.cursor
+        self.node = node
+        self.seen = seen
+
+    def next(self) -> int:
+        st = self.inner.next() if self.inner is not None else self.node.default
+        self.seen.add((self.node.uid, st))
+        return st
+
+
+def record_inputs(nodes, seen: set) -> None:
+    """Make every EnvInputDecorator of `nodes` record its answers into `seen`."""
+    for node in nodes:
+        if isinstance(node, EnvInputDecorator):
+            node.cursor = InputsSeen(node, seen)
+
+
+class DistanceControllerNode(EnvInputDecorator):
+    """Nav2's DistanceController: on every tick the input says whether the robot is `distance`
+    or more from where it was when the run started or the child last succeeded; the child is
+    ticked on the first tick of a run, while it is RUNNING, and when the input says yes; else
+    the node answers RUNNING. (The robot's pose is always available here: Nav2 fails when tf2
+    has none.)"""
+
+    __slots__ = ("first",)
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.first = False
+
+    def tick(self) -> int:
+        if self.status in (IDLE, SKIPPED):  # !isStatusActive(status())
+            self.first = True
+        self.set_status(RUNNING)
+        far = self.env()
+        if self.first or self.child.status == RUNNING or far:
+            self.first = False
+            return self.child.execute_tick()
+        return self.status
+
+
+class SpeedControllerNode(DistanceControllerNode):
+    """Nav2's SpeedController: as DistanceController, the input (every tick) saying whether the
+    period (1/rate, the rate set by the robot's speed between min_rate and max_rate) has passed
+    since the child was last ticked for it, or the goal changed."""
+
+    __slots__ = ()
+
+
+class GoalUpdatedControllerNode(EnvInputDecorator):
+    """Nav2's GoalUpdatedController: the input (every tick) says whether the goal changed; the
+    child is ticked on the first tick of a run, while it is RUNNING, and when it did; else the
+    node answers RUNNING."""
+
+    __slots__ = ()
+
+    def tick(self) -> int:
+        updated = self.status in (IDLE, SKIPPED)
+        self.set_status(RUNNING)
+        if self.env():
+            updated = True
+        if self.child.status == RUNNING or updated:
+            return self.child.execute_tick()
+        return self.status
+
+
+class PathLongerOnApproachNode(EnvInputDecorator):
+    """Nav2's PathLongerOnApproach: the input (every tick) says whether a new path came that is
+    much longer near the goal; then the child is ticked (a completed child is reset), except on
+    the node's very first tick; otherwise the node succeeds, leaving a RUNNING child as it is."""
+
+    __slots__ = ("first",)
+
+    def __init__(self, rt, model, bb, reg_id, ports) -> None:
+        super().__init__(rt, model, bb, reg_id, ports)
+        self.first = True  # Nav2's first_time_: the node has never been ticked
+
+    def tick(self) -> int:
+        self.set_status(RUNNING)
+        if self.env() and not self.first:
+            cs = self.child.execute_tick()
+            if cs in (SUCCESS, FAILURE):
+                self.reset_child()
+            return cs
+        self.first = False
+        return SUCCESS
+
+
+class GoalUpdaterNode(DecoratorNode):
+    """Nav2's GoalUpdater: ticks its child and answers as it does. No goal arrives on its topic
+    in a scenario, so Nav2 would write input_goal to output_goal: btgen writes nothing there
+    (a goal is a ROS message, which neither engine holds without `--type`; docs/nav2.md)."""
+
+    __slots__ = ()
+
+    def tick(self) -> int:
+        return self.child.execute_tick()
+
+
 FACTORIES = {
+    "DistanceController": DistanceControllerNode,
+    "SpeedController": SpeedControllerNode,
+    "GoalUpdatedController": GoalUpdatedControllerNode,
+    "PathLongerOnApproach": PathLongerOnApproachNode,
+    "GoalUpdater": GoalUpdaterNode,
     "PipelineSequence": PipelineSequenceNode,
     "RecoveryNode": RecoveryNode,
     "RoundRobin": RoundRobinNode,

@@ -32,6 +32,7 @@ from btgen.diagnostics import (
 )
 from btgen.lang.leaves import LeafUse, _tree_with_leaf, mission_leaves
 from btgen.lang.model import Mission
+from btgen.lang.nav2 import ENV_INPUTS
 
 MAX_SCENARIO_BYTES = 16 * 1024 * 1024
 DEFAULT_TICKS = 100
@@ -363,6 +364,13 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
         cond = next((u for u in found if u.kind == "Condition"), None)
         if cond is not None:
             for status, loc in zip(script.statuses, script.status_locs):
+                if status == "RUNNING" and cond.node.children:
+                    sink.error(
+                        loc,
+                        f"`{script.name}` scripts the input of Nav2's `{cond.node.id}` at {cond.node.loc} "
+                        f"({ENV_INPUTS[cond.node.id]}): SUCCESS for yes or FAILURE for no, not RUNNING",
+                    )
+                    break
                 if status == "RUNNING":
                     sink.error(
                         loc,

@@ -84,8 +84,15 @@ SUPPORTED: Mapping[str, tuple[str, int, int]] = MappingProxyType(
         "PersistentSequence": ("PersistentSequence", 0, 0),  # (its place lives in its entry)
         "RateController": ("RateController", 1, 2),  # first tick of a run; start of the period, hz in use
         "SingleTrigger": ("SingleTrigger", 1, 0),  # the child completed
+        # Nav2's Decorators with an input of the environment (lang/nav2.py ENV_INPUTS)
+        "DistanceController": ("DistanceController", 1, 0),  # the first tick of a run
+        "SpeedController": ("SpeedController", 1, 0),  # the first tick of a run
+        "GoalUpdatedController": ("GoalUpdatedController", 0, 0),
+        "PathLongerOnApproach": ("PathLongerOnApproach", 1, 0),  # ticked before (Nav2's first_time_ over)
+        "GoalUpdater": ("GoalUpdater", 0, 0),
     }
 )
+NAV2_INPUT_KINDS = frozenset({"DistanceController", "SpeedController", "GoalUpdatedController", "PathLongerOnApproach"})
 # Nodes whose count or duration may be a `{key}` (data/records.py PARAM_PORTS): NodeInfo p1 is 1 then,
 # and the node has one more counter slot, after those of SUPPORTED, holding the value read.
 PARAM_NODES = ("Repeat", "RetryUntilSuccessful", "Timeout", "Delay", "Sleep")
@@ -162,6 +169,11 @@ class Program:
     def user_nodes(self) -> tuple[LeafModel, ...]:
         """The mission's own Controls and Decorators."""
         return tuple(m for m in self.leaf_models if m.kind in ("Control", "Decorator"))
+
+    @property
+    def nav2_inputs(self) -> bool:
+        """A node asks Leaves for an input of the environment (btgen/nav2.hpp)."""
+        return any(n.kind in NAV2_INPUT_KINDS for n in self.nodes)
 
     @property
     def used_user_nodes(self) -> tuple[LeafModel, ...]:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from btgen.lang.model import Mission, Node, SubTreeNode
-from btgen.lang.nav2 import ROS_NODES, ros_node_message
+from btgen.lang.nav2 import ENV_INPUTS, ROS_NODES, ros_node_message
 
 
 @dataclass(frozen=True)
@@ -57,6 +57,17 @@ def user_node_message(node_id: str, kind: str) -> str:
     )
 
 
+def has_env_input(mission: Mission, node: Node) -> bool:
+    """A built-in Nav2 Decorator with an input of the environment (lang/nav2.py ENV_INPUTS):
+    the scenario scripts that input under the node's name, as a Condition's results."""
+    return (
+        mission.nav2 is not None
+        and not isinstance(node, SubTreeNode)
+        and node.id in ENV_INPUTS
+        and node.id in mission.builtins
+    )
+
+
 def leaf_kind(mission: Mission, node: Node) -> str:
     try:
         spec = mission.spec(node.id)
@@ -84,6 +95,8 @@ def mission_leaves(mission: Mission, builtin_names: Optional[set] = None) -> Ite
         if is_scripted_leaf(mission, node):
             yield LeafUse(node.display_name, leaf_kind(mission, node), node)
             continue
+        if has_env_input(mission, node):
+            yield LeafUse(node.display_name, "Condition", node)  # its input, scripted as a Condition
         if not node.children and builtin_names is not None:
             builtin_names.add(node.display_name)
         stack.extend(reversed(node.children))
@@ -93,7 +106,7 @@ def _tree_with_leaf(mission: Mission, name: str) -> Optional[str]:
     """The first BehaviorTree (in file order) with a scripted leaf called `name`, if any."""
 
     def walk(node: Node) -> bool:
-        if is_scripted_leaf(mission, node) and node.display_name == name:
+        if (is_scripted_leaf(mission, node) or has_env_input(mission, node)) and node.display_name == name:
             return True
         return any(walk(c) for c in node.children)
 

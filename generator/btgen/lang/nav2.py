@@ -8,9 +8,10 @@ nodes (`--nodes nav2[:DISTRO]`, or a models file that is Nav2's: `detect`). Thei
 behaviour was recorded from Nav2's own sources compiled against the real library
 (`scripts/nav2_oracle/`, `tests/conformance/nav2/`), never read from them.
 
-The others read ROS 2 (tf2, odometry, topics, services): `ROS_NODES` says what each
-needs; they stay the user's Controls and Decorators (declared in TreeNodesModel, ticked
-by robot code).
+Five Decorators read one fact of the robot's world from ROS 2 (tf2, odometry, the goal, a
+path): they are built in too, that fact an input of the scenario (`ENV_INPUTS`), recorded on
+Nav2's code with scripts/nav2_oracle/ros_shim.hpp. PauseResumeController (ROS 2 services)
+stays the user's (`ROS_NODES` says why).
 
 `RENAMES` is the one table of what a tree written for one distro must change to mean the
 same on the next (node IDs renamed, a port default that changed behaviour).
@@ -91,10 +92,81 @@ _RATE = _decorator(
 )
 _SINGLE = _decorator("SingleTrigger", d="Nav2: ticks its child once while it stays active, then fails")
 
+
+# Nav2's Decorators whose code reads ROS 2 for one fact (how far the robot went, whether a
+# period set by its speed passed, whether the goal changed, whether the new path is longer on
+# approach): that fact is an *input of the environment*, scripted per consultation as a
+# Condition's result is (`leaf NAME SUCCESS FAILURE ...`, SUCCESS meaning yes), explored and
+# covered like one. Each node consults it once on every tick, where Nav2's code reads that
+# fact; the node's control logic around it is Nav2's (interp/nav2.py, runtime btgen/nav2.hpp).
+# ENV_INPUTS says what the input of each means (SUCCESS: yes).
+def _port(name: str, direction: str = "input", type_: str = "any", default: Optional[str] = None) -> PortSpec:
+    return PortSpec(name, direction, type_, default)
+
+
+_FRAMES = (_port("global_frame", type_="string"), _port("robot_base_frame", type_="string"))
+_DISTANCE = _decorator(
+    "DistanceController",
+    (_port("distance", type_="double", default="1.0"), *_FRAMES),
+    "Nav2: ticks its child again once the robot has travelled `distance` (an input of the scenario)",
+)
+_GOAL_PORTS = (_port("goal"), _port("goals"))
+_SPEED = _decorator(
+    "SpeedController",
+    (
+        _port("min_rate", type_="double", default="0.1"),
+        _port("max_rate", type_="double", default="1.0"),
+        _port("min_speed", type_="double", default="0.0"),
+        _port("max_speed", type_="double", default="0.5"),
+        *_GOAL_PORTS,
+    ),
+    "Nav2: ticks its child again when a period set by the robot's speed has passed (an input of the scenario)",
+)
+_GOAL_UPDATED = _decorator(
+    "GoalUpdatedController",
+    _GOAL_PORTS,
+    "Nav2: ticks its child when the goal changed (an input of the scenario) or while it runs",
+)
+_LONGER = _decorator(
+    "PathLongerOnApproach",
+    (
+        _port("path"),
+        _port("prox_len", type_="double", default="3.0"),
+        _port("length_factor", type_="double", default="2.0"),
+    ),
+    "Nav2: ticks its child when a new path is much longer near the goal (an input of the scenario), else succeeds",
+)
+_UPDATER_JAZZY = _decorator(
+    "GoalUpdater",
+    (_port("input_goal"), _port("output_goal", "output")),
+    "Nav2: writes the goal (input_goal, or a newer one from a topic) to output_goal, then ticks its child",
+)
+_UPDATER = _decorator(
+    "GoalUpdater",
+    (_port("input_goal"), _port("input_goals"), _port("output_goal", "output"), _port("output_goals", "output")),
+    "Nav2: writes the goal (input_goal, or a newer one from a topic) to output_goal, then ticks its child",
+)
+_ROS_JAZZY = (_DISTANCE, _SPEED, _GOAL_UPDATED, _LONGER, _UPDATER_JAZZY)
+_ROS_LYRICAL = (_DISTANCE, _SPEED, _GOAL_UPDATED, _LONGER, _UPDATER)
+
+# What the scripted input of each means (SUCCESS: yes), and when the node consults it.
+ENV_INPUTS = {
+    "DistanceController": "the robot is `distance` or more from where it was when the node started or its "
+    "child last succeeded",
+    "SpeedController": "the period set by the robot's speed has passed since the child was last ticked for it, "
+    "or the goal (`goal`/`goals`) changed",
+    "GoalUpdatedController": "the goal (`goal`/`goals`) changed since the last tick",
+    "PathLongerOnApproach": "a new path came, the robot is within `prox_len` of the goal and the new path is "
+    "longer than `length_factor` times the old one",
+}
+# GoalUpdater has no scripted input: no goal ever arrives on its topic in a scenario (so
+# output_goal is input_goal, as in Nav2 when nothing is published).
+ENV_NODES = frozenset(ENV_INPUTS) | {"GoalUpdater"}
+
 _FAMILIES: dict[str, tuple[NodeSpec, ...]] = {
-    "jazzy": (_PIPELINE, _RECOVERY, _ROUND_ROBIN_ALWAYS_WRAPS, _RATE, _SINGLE),
-    "kilted": (_PIPELINE, _RECOVERY, _ROUND_ROBIN_ALWAYS_WRAPS, _RATE, _SINGLE),
-    "lyrical": (_PIPELINE, _RECOVERY, _ROUND_ROBIN, _NONBLOCKING, _PERSISTENT, _RATE, _SINGLE),
+    "jazzy": (_PIPELINE, _RECOVERY, _ROUND_ROBIN_ALWAYS_WRAPS, _RATE, _SINGLE, *_ROS_JAZZY),
+    "kilted": (_PIPELINE, _RECOVERY, _ROUND_ROBIN_ALWAYS_WRAPS, _RATE, _SINGLE, *_ROS_JAZZY),
+    "lyrical": (_PIPELINE, _RECOVERY, _ROUND_ROBIN, _NONBLOCKING, _PERSISTENT, _RATE, _SINGLE, *_ROS_LYRICAL),
 }
 ALL_FAMILY_IDS = frozenset(s.id for specs in _FAMILIES.values() for s in specs)
 
@@ -109,15 +181,10 @@ def round_robin_wraps_always(distro: str) -> bool:
     return families(distro)["RoundRobin"].port("wrap_around") is None
 
 
-# Nav2's Controls and Decorators whose code needs ROS 2: what for (the reason btgen leaves
-# them to the user's code). Recorded by scripts/nav2_oracle/record.py: none of these
-# compiles without ROS 2 headers.
+# Nav2's Controls and Decorators whose code needs ROS 2 and that btgen does not build in: what
+# for (the reason they stay the user's): it does not compile without ROS 2 headers
+# (scripts/nav2_oracle/record.py), and its pause and resume come from service calls.
 ROS_NODES = {
-    "DistanceController": "it reads the robot's pose through tf2",
-    "SpeedController": "it reads the robot's speed from odometry",
-    "GoalUpdater": "it subscribes to a ROS 2 topic of goal updates",
-    "GoalUpdatedController": "it compares geometry_msgs goals on the blackboard",
-    "PathLongerOnApproach": "it compares nav_msgs paths on the blackboard",
     "PauseResumeController": "it offers ROS 2 services to pause and resume",
 }
 

@@ -31,10 +31,13 @@ from typing import Optional
 from btgen.diagnostics import Diagnostic, Loc, UserError, read_bounded
 from btgen.fileio import check_output, write_output
 from btgen.interp import actions as iactions
-from btgen.interp.engine import Interpreter, trace_text
+from btgen.interp.engine import Interpreter, run_ticks
+from btgen.interp.nav2 import record_inputs
 from btgen.interp.scenario import format_scenario, leaf_locs, parse_scenario
 from btgen.interp.tree import FAILURE, RUNNING, SUCCESS
+from btgen.lang.leaves import mission_leaves
 from btgen.lang.model import Mission
+from btgen.lang.nav2 import ENV_INPUTS
 from btgen.tools import graph as g
 from btgen.tools import obligations
 
@@ -103,12 +106,19 @@ def cover_command(args) -> int:
     extra = Extra(mission, args, criteria)
     seen: dict[int, set[str]] = {}
     ticked: set[int] = set()
+    inputs: set[tuple[int, int]] = set()  # (uid, SUCCESS or FAILURE): a Nav2 Decorator's input seen
+    input_uids = [n.uid for n in nodes if mission.nav2 is not None and n.id in ENV_INPUTS]
     for run in args.runs:
         ext = os.path.splitext(run)[1].lower()
         if ext == ".btlog":
             moves = btlog_transitions(run, nodes)
         elif ext == ".scenario":
-            moves = trace_transitions(trace_text(mission, parse_scenario(run)))
+            scenario = parse_scenario(run)
+            interp = Interpreter(mission, scenario)
+            record_inputs(interp.nodes, inputs)
+            parts: list[str] = []
+            run_ticks(interp, scenario, parts.append)
+            moves = trace_transitions("".join(parts))
         else:
             moves = [(uid, before, to) for _, uid, before, to in g.read_trace(run, nodes).moves]
         for uid, _, to in moves:
@@ -137,7 +147,10 @@ def cover_command(args) -> int:
     pct_o = 100.0 * out_hits / out_goals if out_goals else 100.0
     runs = f"{len(args.runs)} run{'' if len(args.runs) == 1 else 's'}"
     print(f"{args.mission}: {runs}")
-    for line in coverage_lines(node_hits, node_goals, out_hits, out_goals)[: 2 if "outcome" in criteria else 1]:
+    in_goals = [(uid, st) for uid in input_uids if reach.get(uid, True) for st in (SUCCESS, FAILURE)]
+    in_hits = sum(1 for goal in in_goals if goal in inputs)
+    lines = coverage_lines(node_hits, node_goals, out_hits, out_goals, in_hits, len(in_goals))
+    for line in lines if "outcome" in criteria else lines[:1]:
         print(f"  {line}")
     extra.report(args.table or args.uncovered, args.table)
     if args.table or args.uncovered:
@@ -360,6 +373,17 @@ def scenario_from_log(mission: Mission, log: str, clock_ms: int = 0) -> str:
     halt (a scenario sends no halt)."""
     nodes, _ = g.walk(mission)
     timed = btlog_records(log, nodes)
+    if mission.nav2 is not None:
+        for use in mission_leaves(mission):
+            if use.node.id in ENV_INPUTS:
+                raise UserError(
+                    Diagnostic(
+                        use.node.loc,
+                        f"`btgen scenario-from-log` cannot recover the input of Nav2's `{use.node.id}` "
+                        f'"{use.name}" (whether {ENV_INPUTS[use.node.id]}): a log has no record of it; '
+                        f"write its `leaf {use.name} ...` line by hand, or use `btgen explore`",
+                    )
+                )
     halt = halt_start(timed)
     if halt is not None and halt < len(timed):
         print(

@@ -65,6 +65,7 @@ from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
 from btgen.fileio import Manifest, check_output, write_output
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
+from btgen.interp.nav2 import EnvInputDecorator
 from btgen.interp.scenario import MAX_VALUE, format_scenario, leaf_locs, parse_scenario_text
 from btgen.interp.tree import FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS, TreeNode
 from btgen.lang import values
@@ -211,6 +212,8 @@ class _Run:
             raise _Branch((SUCCESS, FAILURE) if condition else (SUCCESS, FAILURE, RUNNING))
         self.pos += 1
         self.picks.append((node.name, v))
+        if isinstance(node, EnvInputDecorator):
+            self.goals.add(("input", node.uid, v))
         return v
 
 
@@ -223,7 +226,7 @@ class _Cursor:
         self.ex = ex
         self.node = node
         # a Condition, or an Action implemented synchronously (--sync): SUCCESS or FAILURE only
-        self.condition = isinstance(node, iactions.ScriptedCondition) or node.reg_id in ex.sync
+        self.condition = isinstance(node, (iactions.ScriptedCondition, EnvInputDecorator)) or node.reg_id in ex.sync
 
     def next(self) -> int:
         run = self.ex.current
@@ -307,7 +310,7 @@ class Explorer:
         probe.rt.now_ms = 0
         for node in probe.nodes:
             node.emit = _discard  # the search reads no trace; a counterexample is re-run for one
-            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition, EnvInputDecorator)):
                 node.cursor = _Cursor(self, node)
         self.marks: list[_Mark] = []
         self.last_plan: tuple[int, ...] = ()
@@ -745,6 +748,9 @@ class Explorer:
                 continue
             for st in self.possible.get(i, ()) if self.possible is not None else (SUCCESS, FAILURE, RUNNING):
                 out.add(("outcome", n.uid, st))
+            if isinstance(n, EnvInputDecorator):  # its input of the environment: yes and no
+                out.add(("input", n.uid, SUCCESS))
+                out.add(("input", n.uid, FAILURE))
         return out
 
 
@@ -763,18 +769,27 @@ def scenario_text(path: Path, clock_ms: int, comment: str = "", where: Optional[
     return format_scenario(path.ticks, list(per.items()), clock_ms, comment, where)
 
 
-def coverage_lines(node_hits: int, node_goals: int, out_hits: int, out_goals: int) -> list[str]:
-    """The two coverage lines `cover` and `explore` print, in one vocabulary: nodes ticked, and
-    outcomes (each status a node can return, as `btgen analyze` finds, seen at least once)."""
+def coverage_lines(
+    node_hits: int, node_goals: int, out_hits: int, out_goals: int, in_hits: int = 0, in_goals: int = 0
+) -> list[str]:
+    """The coverage lines `cover` and `explore` print, in one vocabulary: nodes ticked, outcomes
+    (each status a node can return, as `btgen analyze` finds, seen at least once), and, when the
+    mission has Nav2 Decorators with an input of the environment, inputs (each yes and no)."""
 
     def pct(hit: int, goal: int) -> str:
         return f"{100.0 * hit / goal if goal else 100.0:.1f}%"
 
-    return [
+    lines = [
         f"nodes:    {node_hits}/{node_goals} = {pct(node_hits, node_goals)} ticked",
         f"outcomes: {out_hits}/{out_goals} = {pct(out_hits, out_goals)} (each SUCCESS, FAILURE, RUNNING a node "
         "can return, seen)",
     ]
+    if in_goals:
+        lines.append(
+            f"inputs:   {in_hits}/{in_goals} = {pct(in_hits, in_goals)} (each yes and no of a Nav2 Decorator's "
+            "input, seen)"
+        )
+    return lines
 
 
 def sync_actions(mission: Mission, args) -> frozenset[str]:
@@ -856,6 +871,8 @@ def _uncovered_text(g: tuple, names: dict, ob) -> str:
         return head + " ticked"
     if g[0] == "outcome":
         return f"{head} {NAMES[g[2]]}"
+    if g[0] == "input":
+        return f"{head} input {'yes' if g[2] == SUCCESS else 'no'}"
     return f"{head} {obligations.describe(g, ob)}"
 
 
@@ -880,9 +897,9 @@ def criteria_lines(criteria: tuple[str, ...], goals: set, covered: set) -> list[
 
     lines: list[str] = []
     if "node" in criteria or "outcome" in criteria:
-        both = coverage_lines(*get("node"), *get("outcome"))
+        both = coverage_lines(*get("node"), *get("outcome"), *get("input"))
         lines += [both[0]] if "node" in criteria else []
-        lines += [both[1]] if "outcome" in criteria else []
+        lines += both[1:] if "outcome" in criteria else []  # (the inputs line with the outcomes)
     what = {
         "halt": "each node that can be RUNNING, halted while RUNNING",
         "pre": "each _failureIf/_successIf/_skipIf/_while evaluated true and false",
@@ -1082,6 +1099,8 @@ def explore_command(args) -> int:
         "max_leaf_hooks_per_tick": result.max_hooks,
         "criteria": list(criteria),
         "obligations": obligation_counts(result.goals, result.covered),
+        "input_goals": sum(1 for g in result.goals if g[0] == "input"),
+        "inputs_covered": sum(1 for g in result.covered if g[0] == "input"),
         "uncovered": [_uncovered_text(g, names, ex.obligations) for g in uncovered],
         "uncovered_obligations": [
             {

@@ -411,6 +411,8 @@ def describe(goal: tuple, ob: Optional[Obligations] = None) -> str:
     if kind == "outcome":
         names = {RUNNING: "RUNNING", SUCCESS: "SUCCESS", FAILURE: "FAILURE", SKIPPED: "SKIPPED"}
         return f"returns {names.get(goal[2], goal[2])}"
+    if kind == "input":  # a Nav2 Decorator's input of the environment (interp/nav2.py)
+        return f"input {'yes' if goal[2] == SUCCESS else 'no'}"
     if kind == "halt":
         return "halted while RUNNING"
     if kind == "pre":
@@ -432,4 +434,4 @@ def describe(goal: tuple, ob: Optional[Obligations] = None) -> str:
 
 
 def criterion_of(goal: tuple) -> str:
-    return {"pre": "condition", "post": "condition"}.get(goal[0], goal[0])
+    return {"pre": "condition", "post": "condition", "input": "outcome"}.get(goal[0], goal[0])

@@ -38,6 +38,7 @@
 #include "btgen/blackboard.hpp"
 #include "btgen/clock.hpp"
 #include "btgen/leaf_dispatch.hpp"
+#include "btgen/nav2.hpp"
 #include "btgen/node.hpp"
 #include "btgen/status.hpp"
 #include "btgen/trace.hpp"
@@ -1354,8 +1355,22 @@ class Engine {
         if (cs == Status::SUCCESS || cs == Status::FAILURE) spent = 1;
         return cs;
       }
-      default: return Status::FAILURE;
+      default:
+        if (is_nav2_env_node(n.kind)) {
+          std::int32_t none = 0;
+          std::int32_t& first = n.slot != kNoSlot ? counter(n, 0) : none;
+          return nav2_env_tick(n.kind, ops, first, [&]() { return nav2_env_input(n); });
+        }
+        return Status::FAILURE;
     }
+  }
+  // The input of a Nav2 Decorator (btgen/nav2.hpp): Leaves' answer, yes or no.
+  bool nav2_env_input(const NodeInfo& n) noexcept {
+    const Status s = nav2_input(*leaves_, n);
+    if (s != Status::SUCCESS && s != Status::FAILURE) {
+      (void)sink().fail(n, n.source, "the input of this Nav2 Decorator is SUCCESS (yes) or FAILURE (no)");
+    }
+    return s == Status::SUCCESS;
   }
 
   // The start of executeTick: the pre-conditions may decide instead of tick().
@@ -1690,7 +1705,12 @@ class Engine {
       case NodeKind::NonblockingSequence:
       case NodeKind::PersistentSequence:
       case NodeKind::RateController:
-      case NodeKind::SingleTrigger: {
+      case NodeKind::SingleTrigger:
+      case NodeKind::DistanceController:
+      case NodeKind::SpeedController:
+      case NodeKind::GoalUpdatedController:
+      case NodeKind::PathLongerOnApproach:
+      case NodeKind::GoalUpdater: {
         // Nav2's nodes tick their children as a user Control does, above this frame of the
         // stack; an error of a child fails only the child.
         f.decorator = is_decorator(kind) ? 1 : 0;

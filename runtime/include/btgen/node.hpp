@@ -72,6 +72,12 @@ enum class NodeKind : std::uint8_t {
   PersistentSequence,
   RateController,
   SingleTrigger,
+  // Nav2's Decorators with an input of the environment (btgen/nav2.hpp)
+  DistanceController,
+  SpeedController,
+  GoalUpdatedController,
+  PathLongerOnApproach,
+  GoalUpdater,
 };
 
 // The kind of a model of TreeNodesModel (the generated model classes' kKind).
@@ -154,7 +160,17 @@ struct NodeInfo {
 
 [[nodiscard]] constexpr bool is_decorator(NodeKind k) noexcept {
   return (k >= NodeKind::Inverter && k <= NodeKind::SubTree) || k == NodeKind::UserDecorator ||
-         k == NodeKind::RateController || k == NodeKind::SingleTrigger;
+         k == NodeKind::RateController || k == NodeKind::SingleTrigger || k >= NodeKind::DistanceController;
+}
+
+// A node whose results a scenario scripts under its name: a user Action or Condition, or a Nav2
+// Decorator's input of the environment (btgen/nav2.hpp; SUCCESS or FAILURE, as a Condition).
+[[nodiscard]] constexpr bool is_scripted(NodeKind k) noexcept {
+  return k == NodeKind::Action || k == NodeKind::Condition ||
+         (k >= NodeKind::DistanceController && k <= NodeKind::PathLongerOnApproach);
+}
+[[nodiscard]] constexpr bool is_condition_like(NodeKind k) noexcept {
+  return k == NodeKind::Condition || (k >= NodeKind::DistanceController && k <= NodeKind::PathLongerOnApproach);
 }
 
 [[nodiscard]] constexpr bool is_leaf(NodeKind k) noexcept {

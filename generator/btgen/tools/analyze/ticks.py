@@ -27,7 +27,19 @@ from btgen.tools.analyze.results import (
     _put,
 )
 
-_NAV2 = ("PipelineSequence", "RecoveryNode", "RoundRobin", "NonblockingSequence", "RateController", "SingleTrigger")
+_NAV2 = (
+    "PipelineSequence",
+    "RecoveryNode",
+    "RoundRobin",
+    "NonblockingSequence",
+    "RateController",
+    "SingleTrigger",
+    "DistanceController",
+    "SpeedController",
+    "GoalUpdatedController",
+    "PathLongerOnApproach",
+    "GoalUpdater",
+)
 
 
 def _max_of(w: Outcomes) -> Cost:
@@ -523,6 +535,14 @@ class _Analyzer:
         elif kind == "SingleTrigger":  # its child done, it fails while it stays active
             out = {st: cost for st in can[0]}
             _put(out, F, ONE)
+        elif kind in ("DistanceController", "SpeedController", "GoalUpdatedController"):
+            out = {st: cost for st in can[0]}  # the input says no: RUNNING without ticking the child
+            _put(out, R, ONE)
+        elif kind == "PathLongerOnApproach":  # the input says no: SUCCESS without ticking the child
+            out = {st: cost for st in can[0]}
+            _put(out, S, ONE)
+        elif kind == "GoalUpdater":
+            out = {st: cost for st in can[0]}
         return out
 
     def keyed(self, n: IRNode, port: str) -> bool:

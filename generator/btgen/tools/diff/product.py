@@ -42,6 +42,7 @@ from typing import Callable, Optional
 from btgen.diagnostics import UserError
 from btgen.interp import actions as iactions
 from btgen.interp.engine import Interpreter
+from btgen.interp.nav2 import EnvInputDecorator
 from btgen.interp.scenario import Scenario
 from btgen.interp.tree import FAILURE, MISSING, RUNNING, SUCCESS, TreeNode
 from btgen.lang import blackboard as bbmod
@@ -199,6 +200,11 @@ def _state(ex: Explorer, rec: _Recorder) -> tuple:
     return ex.key_of_interpreter(rec.interp) + (tuple((n.uid, st) for n, st in rec.chain),)
 
 
+# The nodes whose results a scenario scripts: user leaves, and the inputs of Nav2's Decorators
+# that read ROS 2 (answered as a Condition's).
+_SCRIPTED = (iactions.ScriptedAction, iactions.ScriptedCondition, EnvInputDecorator)
+
+
 class _LeafHook:
     """Stands for a scripted leaf's scenario cursor: asks the engine's recorder."""
 
@@ -208,7 +214,7 @@ class _LeafHook:
         self.rec = rec
         self.node = node
         self.key = rec.key_of(node.name)
-        self.condition = isinstance(node, iactions.ScriptedCondition)
+        self.condition = isinstance(node, (iactions.ScriptedCondition, EnvInputDecorator))
 
     def next(self) -> int:
         return self.rec.leaf_call(self.node, self.key, self.condition)
@@ -233,15 +239,12 @@ class _SharedHook:
         self.slot = slot
         self.node = node
         self.key = key
-        self.condition = isinstance(node, iactions.ScriptedCondition)
+        self.condition = isinstance(node, (iactions.ScriptedCondition, EnvInputDecorator))
 
     def next(self) -> int:
         side = self.slot.side
         assert side is not None
         return side.leaf_call(self.node, self.key, self.condition)
-
-
-_SCRIPTED = (iactions.ScriptedAction, iactions.ScriptedCondition)
 
 
 def _hook_leaves(rec: _Recorder) -> None:
@@ -525,7 +528,7 @@ class _Replayer(_Recorder):
         super().__init__(mission, key_of, scenario, observe)
         self.real = {}
         for node in self.interp.nodes:
-            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+            if isinstance(node, _SCRIPTED):
                 self.real[id(node)] = node.cursor
         _hook_leaves(self)
 

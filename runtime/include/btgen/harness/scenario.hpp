@@ -438,13 +438,13 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
                            std::string_view main_tree = {}) {
   bool ok = true;
   std::vector<std::string> leaf_names;
-  auto is_user_leaf = [](const NodeInfo& n) { return n.kind == NodeKind::Action || n.kind == NodeKind::Condition; };
+  auto is_user_leaf = [](const NodeInfo& n) { return is_scripted(n.kind); };
   auto is_builtin_leaf = [](const NodeInfo& n) {
     return is_leaf(n.kind) && n.kind != NodeKind::Action && n.kind != NodeKind::Condition;
   };
   auto first_condition = [&](std::string_view name) -> const NodeInfo* {
     for (std::size_t i = 0; i < count; ++i) {
-      if (nodes[i].kind == NodeKind::Condition && nodes[i].name == name) return &nodes[i];
+      if (is_condition_like(nodes[i].kind) && nodes[i].name == name) return &nodes[i];
     }
     return nullptr;
   };
@@ -485,6 +485,14 @@ inline bool check_scenario(const Scenario& sc, const NodeInfo* nodes, std::size_
     }
     if (const NodeInfo* cond = first_condition(leaf.name)) {
       for (std::size_t k = 0; k < leaf.statuses.size(); ++k) {
+        if (leaf.statuses[k] == Status::RUNNING && cond->kind != NodeKind::Condition) {
+          diags.push_back(Diagnostic{sc.path, leaf.line, leaf.status_cols[k], true,
+                                     "`" + leaf.name + "` scripts the input of Nav2's `" + std::string(cond->id) +
+                                         "` at " + std::string(cond->source) +
+                                         ": SUCCESS for yes or FAILURE for no, not RUNNING"});
+          ok = false;
+          break;
+        }
         if (leaf.statuses[k] == Status::RUNNING) {
           diags.push_back(Diagnostic{sc.path, leaf.line, leaf.status_cols[k], true,
                                      "`" + leaf.name +
@@ -520,7 +528,7 @@ class ScenarioLeaves : public ScenarioHooks<ScenarioLeaves> {
       : list_of_node_(count, kNone), default_(sc.default_status) {
     for (const auto& leaf : sc.leaves) lists_.push_back(List{leaf.statuses, 0});
     for (std::size_t i = 0; i < count; ++i) {
-      if (nodes[i].kind != NodeKind::Action && nodes[i].kind != NodeKind::Condition) continue;
+      if (!is_scripted(nodes[i].kind)) continue;
       for (std::size_t k = 0; k < sc.leaves.size(); ++k) {
         if (sc.leaves[k].name == nodes[i].name) list_of_node_[i] = static_cast<std::uint32_t>(k);
       }

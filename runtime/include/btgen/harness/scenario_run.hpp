@@ -37,6 +37,8 @@ class ScenarioHooks {
   Status check(Leaf&, const NodeInfo& node) noexcept {
     return self().next(node);
   }
+  // The input of a Nav2 Decorator (btgen/nav2.hpp), scripted under its name as a Condition.
+  Status nav2_input(const NodeInfo& node) noexcept { return self().next(node); }
 
  private:
   Derived& self() noexcept { return static_cast<Derived&>(*this); }

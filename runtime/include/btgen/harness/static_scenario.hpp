@@ -86,7 +86,7 @@ class StaticScenarioLeaves : public ScenarioHooks<StaticScenarioLeaves<NodeCount
       script_[i] = kNone;
       owner_[i] = static_cast<std::uint16_t>(i);
       cursor_[i] = 0;
-      if (nodes[i].kind != NodeKind::Action && nodes[i].kind != NodeKind::Condition) continue;
+      if (!is_scripted(nodes[i].kind)) continue;
       if (sc.node_scripts != nullptr) {
         script_[i] = sc.node_scripts[i];
       } else {
