@@ -62,7 +62,7 @@ TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
 
 class Compiler:
     """Step 5: every data operation decided over the typed and sized slots (ir/dataops.py
-    records; scripts: compiled by backend_cpp/script_cpp.py), and the errors that would
+    records; scripts: compiled by backend_cpp/script_cpp/), and the errors that would
     happen whenever one runs reported."""
 
     def __init__(self, a: Analysis) -> None:
