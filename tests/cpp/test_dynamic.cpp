@@ -182,3 +182,38 @@ TEST(EntryType410, ALoopQueueIsTheTextConvertedWhenItStarts) {
 }
 
 }  // namespace v410
+
+namespace copied_string {
+
+using btgen::Dyn;
+using btgen::Slot;
+namespace dyn = btgen::dyn;
+
+// A typed entry a 4.6.2 SetBlackboard copy may leave holding a string (a Dyn slot): a port's
+// Blackboard::set<T> is Any::copyInto into what it holds (values.copy_into).
+TEST(CopiedString, ATypedWriteCopiesIntoWhatTheEntryHolds) {
+  Slot<Dyn<8>> x{{}, 0, true, false};  // created at load by the port, no value
+  ASSERT_EQ(btgen::port::write<true>(x, btgen::Declared::kDouble, 1.5), btgen::Errc::kOk);
+  EXPECT_EQ(x.value.tag, btgen::DynTag::kDouble);
+  EXPECT_EQ(x.value.d, 1.5);
+  EXPECT_EQ(x.seq, 1u);
+  ASSERT_TRUE(x.value.set(dyn::of_int(3)));  // an integer there: a double converts to it when whole
+  ASSERT_EQ(btgen::port::write<true>(x, btgen::Declared::kDouble, 4.0), btgen::Errc::kOk);
+  EXPECT_EQ(x.value.tag, btgen::DynTag::kInt);
+  EXPECT_EQ(x.value.i, 4);
+  ASSERT_TRUE(x.value.set(dyn::of_string("8.5")));  // what the copy left
+  const dyn::Ref held = dyn::ref(x);
+  EXPECT_EQ(btgen::port::write<true>(x, btgen::Declared::kDouble, 1.0), btgen::Errc::kInvalid);
+  EXPECT_EQ(dyn::ref(x).s, "8.5");  // unchanged
+  EXPECT_EQ(x.seq, 2u);
+  dyn::Msg m("`LoopDouble` \"L\": ");
+  dyn::add_write_failure(m, dyn::of_number(1.0), "x", held);
+  EXPECT_EQ(std::string(m.view()),
+            "`LoopDouble` \"L\": cannot write 1.0 to `x`: a double cannot be stored where a string is");
+  Slot<Dyn<8>> n{{}, 0, true, false};
+  ASSERT_EQ(btgen::port::write<true>(n, btgen::Declared::kInt, std::int32_t{7}), btgen::Errc::kOk);
+  EXPECT_EQ(n.value.tag, btgen::DynTag::kInt);
+  EXPECT_EQ(n.value.i, 7);
+}
+
+}  // namespace copied_string

@@ -377,7 +377,7 @@ def test_set_blackboard_literal_and_copy():
     assert bb.get_entry("copy").sequence_id == 2  # a copy counts as an update (4.7.0, FORMAT.md)
 
 
-def test_set_blackboard_converts_for_typed_entries():
+def test_set_blackboard_literals_convert_copies_do_not():
     # loop_int_queue: `jobs` got its type from LoopInt's queue port at load time.
     bb = Blackboard()
     create_port_entry(bb, "{jobs}", "queue<int>", "queue")
@@ -386,7 +386,8 @@ def test_set_blackboard_converts_for_typed_entries():
     create_port_entry(bb, "{n}", "int", "value")
     run(bb, "text := '12'")
     assert set_blackboard(bb, "n", "{text}")
-    assert state(bb.get_entry("n")) == ("int", 12, 1)
+    # 4.6.2 copies the string as it is: the int entry holds '12' (conversions/set_copy_*)
+    assert state(bb.get_entry("n")) == ("int", "12", 1)
     with pytest.raises(BlackboardError) as err:
         set_blackboard(bb, "n", "lots")
     assert err.value.message == "cannot write 'lots' to `n` (int): `lots` is not a valid int"

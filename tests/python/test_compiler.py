@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import cppbuild
-from btgen.backend_cpp import naming
+from btgen.backend_cpp import literals, naming
 from btgen.backend_cpp.emit import render
 from btgen.compiler import committed_outputs, compile_command, generate, generator_inputs, main, mission_files
 from btgen.diagnostics import UserError
@@ -101,9 +101,9 @@ def test_unique_identifiers_disambiguate():
 
 
 def test_cpp_string_is_ascii_and_exact():
-    assert naming.cpp_string('say "hi"\\') == '"say \\"hi\\"\\\\"'
-    assert naming.cpp_string("a\nb\tc??=") == '"a\\012b\\011c\\?\\?="'
-    assert naming.cpp_string("é") == '"\\303\\251"'
+    assert literals.cpp_string('say "hi"\\') == '"say \\"hi\\"\\\\"'
+    assert literals.cpp_string("a\nb\tc??=") == '"a\\012b\\011c\\?\\?="'
+    assert literals.cpp_string("é") == '"\\303\\251"'
     assert naming.cpp_comment("x\n\\") == "x?"
 
 
@@ -580,7 +580,7 @@ def test_long_literals_are_split_between_words():
     """A message spread over adjacent literals is cut after a space, never inside a word, so
     grepping the header for a word of a message seen in a log finds it; only a word longer
     than the width is cut. The literals still join to exactly the text."""
-    from btgen.backend_cpp.naming import cpp_string, cpp_string_chunks
+    from btgen.backend_cpp.literals import cpp_string, cpp_string_chunks
 
     text = "the left operand of `+` has no value (an entry nothing writes: é\n) " * 3 + "x" * 50
     chunks = cpp_string_chunks(text, 40)

@@ -24,14 +24,9 @@ import conversion_cases
 HERE = os.path.join(ROOT, "tests", "conformance", "conversions")
 STEMS = rc.stems(HERE)
 # A SetBlackboard copy of a string entry into a double entry: 4.6.2 copies the string as it is
-# (`dst->value = src->value`), so the entry then holds a string; both engines convert it.
-KNOWN = {(s, "4.6.2") for s in STEMS if s.startswith("set_copy_")}
-CASES = [
-    pytest.param(s, v, marks=pytest.mark.xfail(strict=True, reason="4.6.2's copy keeps the string"))
-    if (s, v) in KNOWN
-    else (s, v)
-    for s, v in rc.recorded(HERE)
-]
+# (`dst->value = src->value`), so the entry then holds a string (its scripts' arithmetic
+# throws); 4.10.0 converts it. Both engines follow (the 13 set_copy_* cases of 4.6.2).
+CASES = rc.recorded(HERE)
 
 
 def test_the_table_is_complete():

@@ -1,4 +1,4 @@
-"""Scripts compiled to C++ (script_cpp.py) and the runtime conversions they use.
+"""Scripts compiled to C++ (backend_cpp/script_cpp/) and the runtime conversions they use.
 
 Three layers: the static kinds of script expressions; the text of generated
 code; and differential runs: the C++ conversions (runtime/include/btgen/value.hpp)
@@ -16,6 +16,7 @@ import subprocess
 import pytest
 
 import cppbuild
+from btgen.backend_cpp import literals
 from btgen.backend_cpp import script_cpp as scpp
 from btgen.frontend.loader import load_mission
 from btgen.interp.controls import switch_equal
@@ -98,12 +99,12 @@ def test_expressions_that_fail_or_change_type_at_run_time(code, names, expected)
 
 def test_cpp_literals_are_exact():
     for v in (0.1, 1e-300, 5e-324, 1.7976931348623157e308, -2.5, 3.0, 1e22, 123456789.123456789):
-        text = scpp.cpp_double(v)
+        text = literals.cpp_double(v)
         assert float(text.strip("()")) == v and ("." in text or "e" in text)
         assert not text.startswith("-")
-    assert scpp.cpp_double(math.inf) == "std::numeric_limits<double>::infinity()"
-    assert scpp.cpp_int64(-(2**63)) == "std::int64_t{-9223372036854775807 - 1}"
-    assert scpp.cpp_view('a"é') == 'std::string_view("a\\"\\303\\251", 4)'
+    assert literals.cpp_double(math.inf) == "std::numeric_limits<double>::infinity()"
+    assert literals.cpp_int64(-(2**63)) == "std::int64_t{-9223372036854775807 - 1}"
+    assert literals.cpp_view('a"é') == 'std::string_view("a\\"\\303\\251", 4)'
 
 
 def _compile(code, slots, condition=False):
@@ -480,7 +481,7 @@ def _random_expr(rng, names, depth):
 
 def test_the_cpp_writer_prints_every_typed_script():
     """Scripts are typed once (ir/script_types.py), which reports every type error; the writer
-    (script_cpp.py) only prints from the typed tree. Over random scripts on entries of every
+    (backend_cpp/script_cpp/) only prints from the typed tree. Over random scripts on entries of every
     kind and declared type, whatever the typing pass accepts is written without an error, and
     an expression of each kind of decision is written both ways (static and dynamic)."""
     rng = random.Random(20261124)
@@ -524,17 +525,21 @@ def test_the_cpp_writer_prints_every_typed_script():
 
 
 def test_the_writer_applies_no_typing_rule():
-    """backend_cpp/script_cpp.py takes of ir/kinds.py only its vocabulary (the kind names,
+    """backend_cpp/script_cpp/ takes of ir/kinds.py only its vocabulary (the kind names,
     bounds, descriptions), none of the rules: the typing pass applied them once."""
     import ast
     import inspect
 
-    tree = ast.parse(inspect.getsource(scpp))
-    taken = {
-        a.name
-        for n in ast.walk(tree)
-        if isinstance(n, ast.ImportFrom) and n.module == "btgen.ir.kinds"
-        for a in n.names
-    }
-    assert taken <= {"DYN", "INT32_MAX", "INT32_MIN", "TEXT_BOUND", "UINT32_MAX", "describe_kind", "is_queue"}, taken
-    assert "ScriptTypeError" not in inspect.getsource(scpp)
+    from btgen.backend_cpp.script_cpp import compiler, stores, writer
+
+    for module in (scpp, compiler, stores, writer):
+        source = inspect.getsource(module)
+        taken = {
+            a.name
+            for n in ast.walk(ast.parse(source))
+            if isinstance(n, ast.ImportFrom) and n.module == "btgen.ir.kinds"
+            for a in n.names
+        }
+        allowed = {"DYN", "INT32_MAX", "INT32_MIN", "TEXT_BOUND", "UINT32_MAX", "describe_kind", "is_queue"}
+        assert taken <= allowed, (module.__name__, taken)
+        assert "ScriptTypeError" not in source, module.__name__

@@ -7,8 +7,9 @@ these filters give it the C++ types, enumerators and literals it needs.
 
 from __future__ import annotations
 
-from btgen.backend_cpp.naming import CppSlot, cpp_comment_lines, cpp_string, cpp_string_chunks
-from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, cpp_value, cpp_view, to_ref
+from btgen.backend_cpp.literals import cpp_int64, cpp_string, cpp_string_chunks, cpp_value, cpp_view
+from btgen.backend_cpp.naming import CppSlot, cpp_comment_lines
+from btgen.backend_cpp.script_cpp import CPP_SCALAR, Val, to_ref
 from btgen.diagnostics import InternalError
 from btgen.ir.data.records import LocalIR, PortIR, SlotIR
 from btgen.ir.dataops import TextOperand
@@ -72,13 +73,12 @@ def slot_init(s: SlotIR) -> str:
     if s.initial is not None:
         if s.kind in (INT, DOUBLE):
             # 4.9.1 stores a SubTree literal that is wholly a number as that number
-            from btgen.backend_cpp.script_cpp import cpp_value
             from btgen.lang.blackboard import typed_literal
 
             number = typed_literal(s.initial)
             if not isinstance(number, (int, float)):
                 raise InternalError(f"the SubTree constant `{s.initial}` is no number")
-            value = cpp_value(float(number)) if s.kind == DOUBLE else f"std::int64_t{{{int(number)}}}"
+            value = cpp_value(float(number)) if s.kind == DOUBLE else cpp_int64(int(number))
             return f"{{{value}, 1, true, true}}"
         if s.kind != STRING:
             raise InternalError(f"a SubTree constant of kind {s.kind}")

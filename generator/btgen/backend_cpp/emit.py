@@ -17,6 +17,7 @@ import jinja2
 
 from btgen import resources
 from btgen.backend_cpp import data_cpp, naming
+from btgen.backend_cpp.literals import cpp_bool, cpp_int, cpp_string, cpp_string_view
 from btgen.backend_cpp.script_cpp import compile_scripts
 from btgen.backend_cpp.shapes import shapes
 from btgen.diagnostics import InternalError
@@ -52,24 +53,6 @@ def node_kind(kind: str) -> str:
     if kind not in _NODE_KINDS:
         raise InternalError(f"no btgen::NodeKind for `{kind}`")
     return f"btgen::NodeKind::{kind}"
-
-
-def cpp_int(value: int) -> str:
-    """An int64 literal (INT64_MIN cannot be written as a literal)."""
-    if value == -(2**63):
-        return "(-9223372036854775807 - 1)"
-    return str(value)
-
-
-def cpp_bool(value: bool) -> str:
-    return "true" if value else "false"
-
-
-def cpp_string_view(text: str) -> str:
-    """`"..."sv`: a std::string_view whose length the compiler gives, so constant evaluation
-    does no strlen. The node table of a large mission would otherwise exceed the compilers'
-    constexpr budgets (clang's 1M steps at about 10,000 nodes, g++'s 33M ops later)."""
-    return f"{naming.cpp_string(text)}sv"
 
 
 def groot2_context(program: Program) -> dict:
@@ -110,7 +93,7 @@ def _environment() -> jinja2.Environment:
         lstrip_blocks=True,
     )
     env.filters.update(
-        cpp_string=naming.cpp_string,
+        cpp_string=cpp_string,
         cpp_comment=naming.cpp_comment,
         node_ref=node_ref,
         slot_ref=slot_ref,

@@ -395,52 +395,11 @@ def include_guard(stem: str) -> str:
     return "BTGEN_GENERATED_" + namespace_name(stem).rstrip("_").upper() + "_HPP"
 
 
-def cpp_string(text: str) -> str:
-    """A C++ narrow string literal holding the UTF-8 bytes of `text`.
-
-    Printable ASCII is kept; everything else is an octal escape, so the
-    literal is pure ASCII, and no `?` sequences can form trigraphs.
-    """
-    return '"' + "".join(map(_CPP_STRING_BYTES.__getitem__, text.encode("utf-8"))) + '"'
-
-
-def cpp_string_chunks(text: str, width: int = 88) -> list[str]:
-    """cpp_string(text) as adjacent literals of at most `width` characters each (C++ joins them),
-    so that a long message or XML line stays readable; at least one literal. A literal ends
-    after a space where one allows it, so a word is never split (grepping the header for a
-    message finds it); only a word longer than the width is cut."""
-    chunks: list[str] = []
-    part: list[str] = []
-    size = 2
-    space = -1  # index in `part` just after its last space
-    for b in text.encode("utf-8"):
-        token = _CPP_STRING_BYTES[b]
-        while part and size + len(token) > width:
-            cut = space if space > 0 else len(part)
-            chunks.append('"' + "".join(part[:cut]) + '"')
-            part = part[cut:]
-            size = 2 + sum(len(t) for t in part)
-            space = -1
-        part.append(token)
-        size += len(token)
-        if b == 0x20:
-            space = len(part)
-    chunks.append('"' + "".join(part) + '"')
-    return chunks
-
-
 def cpp_comment_lines(text: str, width: int = 100) -> list[str]:
     """cpp_comment(text) wrapped at spaces into lines of at most `width` characters (a word
     longer than that stays whole)."""
     lines = textwrap.wrap(cpp_comment(text), width, break_long_words=False, break_on_hyphens=False)
     return [line.rstrip("\\ ") for line in lines] or [""]
-
-
-# What cpp_string writes for each byte (a table: a 10,000-node mission has some 70,000 literals).
-_CPP_STRING_BYTES = [chr(b) if 0x20 <= b < 0x7F else f"\\{b:03o}" for b in range(256)]
-_CPP_STRING_BYTES[ord('"')] = '\\"'
-_CPP_STRING_BYTES[ord("\\")] = "\\\\"
-_CPP_STRING_BYTES[ord("?")] = "\\?"
 
 
 def cpp_comment(text: str) -> str:

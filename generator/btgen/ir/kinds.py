@@ -4,7 +4,7 @@ btgen gives every blackboard entry one type (dataflow.py) and every script
 expression one static kind. The kinds, what each operator gives for the
 kinds of its operands, and which combinations fail whenever they run (a
 `ScriptTypeError`, reported as a compile error) are defined here, with no
-C++ in them; backend_cpp/script_cpp.py turns typed scripts into C++.
+C++ in them; backend_cpp/script_cpp/ turns typed scripts into C++.
 
 Kinds:
 
@@ -302,7 +302,7 @@ def compare_check(op: str, a: KindLike, b: KindLike, offset: int) -> None:
 
 # ================================================================ checks of a script's statements
 # Shared by the typing pass (script_types.py), which reports them, and the C++ writer
-# (backend_cpp/script_cpp.py), which relies on them. `s` is a slot as scripts see it: its
+# (backend_cpp/script_cpp/), which relies on them. `s` is a slot as scripts see it: its
 # `key`, `kind`, `declared` type and the kind of that type (`declared_kind`), `capacity` and
 # `origin` (why it has its kind).
 

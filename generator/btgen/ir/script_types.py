@@ -6,7 +6,7 @@ Scripts are typed here once, by the rules of ir/kinds.py (what each operator giv
 which stores are possible). The result, a TypedScript, records for every expression
 its kind and the decisions the C++ writer needs (static or dynamic operation, the
 route of a store, a literal converted through the entry's type); the writer
-(backend_cpp/script_cpp.py) only prints from it and reports nothing.
+(backend_cpp/script_cpp/) only prints from it and reports nothing.
 """
 
 from __future__ import annotations

@@ -438,13 +438,18 @@ def create_port_entry(
 EMPTY_COPY_SUCCEEDS = True  # BehaviorTree.CPP 4.6.2
 
 
+# The declared types of the entries a 4.6.2 SetBlackboard copy leaves holding a string as it
+# is (the C++ back end gives them a dynamic slot: ir/data/types.py).
+RAW_COPY_TYPES = (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL)
+
+
 def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
     """The SetBlackboard action: write ``value_text`` (or the entry it names) to ``output_key``.
 
     A literal is written as 4.6.2 does, with ``set<std::string>`` (a typed
     entry converts it; an ``any`` one stores the string). ``{key}`` copies
     that entry's value; the destination is created with the source's type
-    if missing, a string is converted to a typed destination, and the copy
+    if missing, a string is copied as it is into a typed one, and the copy
     bumps the destination's update counter (4.7.0 behaviour, see FORMAT.md;
     4.6.2 copied the counter along). A source with no value yet empties the
     destination and succeeds, or returns False (the node fails), as
@@ -469,6 +474,13 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
     # set<BT::Any>; this module's values do not tell unsigned from int, the entry that holds one
     # does: a value converted for the destination, or copied from an unsigned entry, has that type
     written = values.UNSIGNED if src.type_name == values.UNSIGNED else ANY
+    if dst.type_name in RAW_COPY_TYPES and isinstance(out, str):
+        # 4.6.2 copies the value as it is (`dst_entry->value = src_entry->value`): the entry
+        # keeps its type and holds the string (recorded: tests/conformance/conversions set_copy_*).
+        # (Queue, NodeStatus and user-typed destinations still convert: not followed yet.)
+        dst.value = out
+        dst.bump()
+        return True
     if dst.strongly_typed and dst.type_name != STRING and isinstance(out, str):
         if not dst.has_converter:
             raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(out)} to {dst.type_name}")

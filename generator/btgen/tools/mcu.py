@@ -37,6 +37,7 @@ from typing import Optional
 from btgen import cmdline, resources
 from btgen.backend_cpp import naming
 from btgen.backend_cpp.emit import render
+from btgen.backend_cpp.literals import cpp_view  # outside the mission namespace, where `"..."sv` is declared
 from btgen.compiler import mission_stem
 from btgen.diagnostics import InternalError, UserError
 
@@ -119,12 +120,6 @@ class Image:
 # ------------------------------------------------------------------ sources
 
 
-def _string_view(text: str) -> str:
-    """`std::string_view("...", N)`: a case file is outside the mission's namespace, where the
-    header's `"..."sv` literal is declared."""
-    return f"std::string_view({naming.cpp_string(text)}, {len(text.encode('utf-8'))})"
-
-
 def _status(s: str) -> str:
     return f"btgen::Status::{s}"
 
@@ -139,7 +134,7 @@ def scenario_cpp(scenario, prefix: str, program=None) -> str:
         lines.append(f"constexpr btgen::Status {prefix}_leaf{k}[] = {{{statuses}}};")
     if scenario.leaves:
         rows = ",\n    ".join(
-            f"btgen::LeafScript{{{_string_view(leaf.name)}, {prefix}_leaf{k}, {len(leaf.statuses)}}}"
+            f"btgen::LeafScript{{{cpp_view(leaf.name)}, {prefix}_leaf{k}, {len(leaf.statuses)}}}"
             for k, leaf in enumerate(scenario.leaves)
         )
         lines.append(f"constexpr btgen::LeafScript {prefix}_leaves[] = {{\n    {rows}}};")

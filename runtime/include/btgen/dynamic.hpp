@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/fixed_string.hpp"
@@ -755,6 +756,31 @@ inline bool converted_text(Errc e, std::string_view text, std::string_view key, 
   m.add(" to `").add(key).add("` (").add(type).add("): ");
   add_conversion_error(m, text, type, e);
   return false;
+}
+
+// A number or bool of any C++ arithmetic type as a Ref.
+template <class V>
+Ref of_number(V v) noexcept {
+  static_assert(std::is_arithmetic_v<V>, "a number or a bool");
+  if constexpr (std::is_same_v<V, bool>) {
+    return of_bool(v);
+  } else if constexpr (std::is_integral_v<V>) {
+    return of_int(static_cast<std::int64_t>(v));
+  } else {
+    return of_double(static_cast<double>(v));
+  }
+}
+
+// Why Blackboard::set<T> of `value` failed on an entry declared T that held `held` (a
+// 4.6.2 SetBlackboard copy left a string there; btgen::port::write of a Dyn slot):
+// "cannot write 1.0 to `x`: a double cannot be stored where a string is".
+inline void add_write_failure(Msg& m, const Ref& value, std::string_view key, const Ref& held) noexcept {
+  Ref out;
+  Msg why;
+  (void)copy_into(value, held, out, why);
+  m.add("cannot write ");
+  add_value(m, value);
+  m.add(" to `").add(key).add("`: ").add(why.view());
 }
 
 // A script store (`op`) of `value` into a statically typed entry whose kind `dst`

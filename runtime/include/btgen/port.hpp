@@ -548,5 +548,20 @@ Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
   return e;
 }
 
+// Blackboard::set<T> of a number or bool into an entry declared T (int, unsigned,
+// double, bool) that a 4.6.2 SetBlackboard copy may have left holding a string, a
+// Dyn slot: Any::copyInto of the value into what the entry holds (values.copy_into);
+// Errc::kInvalid where that throws (a number where a string is).
+template <bool kFromChars, std::size_t N, class V>
+Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
+  (void)d;
+  const dyn::Ref value = dyn::of_number(v);
+  dyn::Ref out;
+  dyn::Msg why;
+  if (!dyn::copy_into(value, dyn::ref(slot), out, why) || !slot.value.set(out)) return Errc::kInvalid;
+  slot.mark_written();
+  return Errc::kOk;
+}
+
 }  // namespace port
 }  // namespace btgen

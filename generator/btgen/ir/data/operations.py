@@ -44,6 +44,7 @@ from btgen.ir.script_types import type_script
 from btgen.lang import blackboard as bbmod
 from btgen.lang import script as sc
 from btgen.lang import values
+from btgen.lang.blackboard import RAW_COPY_TYPES
 from btgen.lang.catalogue import PortSpec
 from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
@@ -62,7 +63,7 @@ TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
 
 class Compiler:
     """Step 5: every data operation decided over the typed and sized slots (ir/dataops.py
-    records; scripts: compiled by backend_cpp/script_cpp.py), and the errors that would
+    records; scripts: compiled by backend_cpp/script_cpp/), and the errors that would
     happen whenever one runs reported."""
 
     def __init__(self, a: Analysis) -> None:
@@ -95,6 +96,8 @@ class Compiler:
         s = self.a.slots[slot]
         declared = s.entry.type_name
         k = self.a.kind_of_type(type_name)
+        if s.kind == DYN and declared == type_name and declared in RAW_COPY_TYPES:
+            return True  # an entry of its own type that a 4.6.2 copy may leave holding a string
         if s.kind == DYN:
             self.error(
                 loc,
@@ -631,6 +634,8 @@ class Compiler:
         vloc = inst.ports["value"].loc_or or inst.node.loc
         if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
             return None
+        if self.a.slots[vslot].kind == DYN:  # the message names the value (templates' dyn_write_fail)
+            return self.a.slots[vslot].entry.type_name, self.fail(vloc, f"{what}: ")
         return self.a.slots[vslot].entry.type_name, self.fail(vloc, f"{what} cannot write its `value`", errc=True)
 
     def loop_untyped(self, inst: Inst, op: LoopUse, locals_: list[LocalIR]) -> Optional[DataOp]:
@@ -829,7 +834,10 @@ class Compiler:
                 ):
                     continue
                 s = self.a.slots[slot]
-                fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)
+                if s.kind == DYN:  # the message names the value (templates' dyn_write_fail)
+                    fail = self.fail(loc, f"{inst.what}: ")
+                else:
+                    fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)
                 entry.writes.append((inst.index, ops.WriteEntry(slot, s.entry.type_name, fail)))
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,

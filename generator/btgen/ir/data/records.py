@@ -129,7 +129,7 @@ class SlotIR:
 @dataclass(frozen=True)
 class ScriptIR:
     """A script of one node, typed (script_types.py): its expression tree over the slots it
-    names, for backend_cpp/script_cpp.py to write as C++."""
+    names, for backend_cpp/script_cpp/ to write as C++."""
 
     node: int
     comment: str

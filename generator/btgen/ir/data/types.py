@@ -6,6 +6,7 @@ from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import Slot
 from btgen.ir.kinds import DOUBLE, DYN, INT, NONE, STATUS, STRING, describe_kind, is_queue, is_user
 from btgen.lang import values
+from btgen.lang.blackboard import RAW_COPY_TYPES
 
 
 # ------------------------------------------------------------ 3. kinds
@@ -111,6 +112,9 @@ def mark_dynamic(a: Analysis) -> None:
     while changed:
         changed = False
         for s in a.slots:
+            if _mark_typed_copy_dynamic(a, s):
+                changed = True
+                continue
             if (
                 s.kind == DYN
                 or s.failed
@@ -166,3 +170,32 @@ def _mark_typed_number_dynamic(a: Analysis, s: Slot) -> None:
             )
             s.origin_loc = w.loc
             return
+
+
+def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
+    """A typed int, unsigned, double or bool entry that a 4.6.2 SetBlackboard copies a string
+    (or a value of changing type) into: 4.6.2 copies the value as it is (`dst_entry->value =
+    src_entry->value`), so the entry keeps its declared type and holds the string. Its slot
+    is dynamic; its other writes must be copies or writes of its own type by ports (a typed
+    write into it is then Blackboard::set<T>'s copyInto, btgen::port::write of a Dyn slot).
+    True when the slot became dynamic."""
+    declared = s.entry.type_name
+    if (
+        a.m.semantics.setblackboard_converts_to_entry_type
+        or s.kind == DYN
+        or s.failed
+        or s.initial is not None
+        or declared not in RAW_COPY_TYPES
+        or s.kind != a.kind_of_type(declared)
+    ):
+        return False
+    copied = [w for w in s.writes if w.source == "copy" and w.kind() in (STRING, DYN)]
+    if not copied or any(w.source not in ("copy", "loop", "port") for w in s.writes):
+        return False
+    s.kind = DYN
+    s.origin = (
+        f"4.6.2's SetBlackboard copies a string into it as it is ({copied[0].what} writes "
+        f"{describe_kind(copied[0].kind() or DYN)})"
+    )
+    s.origin_loc = copied[0].loc
+    return True
