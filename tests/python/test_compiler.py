@@ -270,14 +270,13 @@ def test_banner_abi_and_shape_of_the_header():
         "template <class Leaves, class Clock = btgen::SteadyClock, class Observer = btgen::NoObserver>\n"
         "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
     )
-    for hook in (
-        "tick(leaf::Move& m, const btgen::NodeInfo&)",
-        "onStart(leaf::Move& m, const btgen::NodeInfo& n)",
-        "onRunning(leaf::Move& m, const btgen::NodeInfo& n)",
-        "onHalted(leaf::Move&, const btgen::NodeInfo&)",
-        "check(leaf::IsDone& model, const btgen::NodeInfo& node)",
-    ):
-        assert f"virtual {'void' if 'Halted' in hook else 'btgen::Status'} {hook}" in header.text
+    # the class of virtual hooks: a line per model (btgen/mission_base.hpp)
+    assert "class ControlFlowLeaves : public btgen::VirtualLeaves {" in header.text
+    assert "  BTGEN_VIRTUAL_ACTION(leaf::Move);\n" in header.text
+    assert "  BTGEN_VIRTUAL_CONDITION(leaf::IsDone);\n" in header.text
+    # the contract right under the banner, before the include guard
+    contract = header.text.index("// What your `Leaves` implements")
+    assert contract < header.text.index("#ifndef ") and "check(leaf::C&, const btgen::NodeInfo&)" in header.text
     assert "/work/" not in header.text and "/tmp/" not in header.text  # no absolute paths
     assert "template class btgen::Engine<control_flow::detail::Spec, control_flow::ControlFlowLeaves" in source.text
 
@@ -473,9 +472,9 @@ def test_user_controls_and_decorators_compile(compiler, tmp_path):
         "btgen::Input<double> hz() const",
         "using ControlModelBase::ControlModelBase;",
         "namespace control = leaf;",
-        "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
-        "btgen::NodeKind::UserControl",
-        "btgen::NodeKind::UserDecorator",
+        "BTGEN_VIRTUAL_USER_NODE(control::RecoveryNode);",
+        "NodeKind::UserControl",
+        "NodeKind::UserDecorator",
     ):
         assert text in header.text, text
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
