@@ -112,7 +112,7 @@ inline constexpr std::array<std::string_view, 7> kWhere = {
     "missions/LabTour.xml:302:34"sv,
 };
 
-// The leaf model classes by number (Spec::Model<M>; defined below the classes).
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
 template <std::uint16_t M>
 struct ModelOf;
 
@@ -162,8 +162,8 @@ struct Spec {
   static constexpr bool kHasParallel = true;
   using Blackboard = detail::Blackboard;
 
-  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), each row under
-  // its node's kind and name, indented by depth. Each row:
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), a row a line
+  // under its node's kind and name, indented by depth. Each row:
   //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //    id, name, source}
   // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
@@ -186,16 +186,13 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 7, 8, 3, 11u, 2, kNoModel, 6u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:80:7"sv},
       //         Action ScanningOvertAttentionMode
-      {NodeKind::Action, 8, 9, 7, 13u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:81:9"sv},
+      {NodeKind::Action, 8, 9, 7, 13u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:81:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 9, 10, 7, 13u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:82:9"sv},
       //       RetryUntilSuccessful "WaitForVisitor"
-      {NodeKind::RetryUntilSuccessful, 10, 11, 3, 13u, 1, kNoModel, 8u, kNoSlot, 0, -1, 0, 0,
-       "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/LabTour.xml:84:7"sv},
+      {NodeKind::RetryUntilSuccessful, 10, 11, 3, 13u, 1, kNoModel, 8u, kNoSlot, 0, -1, 0, 0, "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/LabTour.xml:84:7"sv},
       //         Condition IsVisitorDiscovered
-      {NodeKind::Condition, 11, 12, 10, 14u, 0, 13, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/LabTour.xml:85:9"sv},
+      {NodeKind::Condition, 11, 12, 10, 14u, 0, 13, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/LabTour.xml:85:9"sv},
       //   SubTree "II_EngageVisitor"
       {NodeKind::SubTree, 12, 13, 0, 14u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "SubTree"sv, "II_EngageVisitor"sv, "missions/LabTour.xml:30:7"sv},
       //     Sequence
@@ -203,16 +200,13 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 14, 15, 13, 20u, 2, kNoModel, 12u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:92:7"sv},
       //         Sequence "WelcomeGestureWithoutAnimation"
-      {NodeKind::Sequence, 15, 16, 14, 22u, 3, kNoModel, 14u, kNoSlot, 0, 0, 0, 0,
-       "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/LabTour.xml:93:9"sv},
+      {NodeKind::Sequence, 15, 16, 14, 22u, 3, kNoModel, 14u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/LabTour.xml:93:9"sv},
       //           Action DisableAnimateBehavior
-      {NodeKind::Action, 16, 17, 15, 25u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:94:11"sv},
+      {NodeKind::Action, 16, 17, 15, 25u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:94:11"sv},
       //           Action WelcomeGesture
       {NodeKind::Action, 17, 18, 15, 25u, 0, 31, kNoSlot, kNoSlot, 0, 0, 0, 0, "WelcomeGesture"sv, "WelcomeGesture"sv, "missions/LabTour.xml:95:11"sv},
       //           Action EnableAnimateBehavior
-      {NodeKind::Action, 18, 19, 15, 25u, 0, 4, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/LabTour.xml:96:11"sv},
+      {NodeKind::Action, 18, 19, 15, 25u, 0, 4, kNoSlot, kNoSlot, 0, 0, 0, 0, "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/LabTour.xml:96:11"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 19, 20, 14, 25u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:99:9"sv},
       //       Fallback
@@ -224,18 +218,15 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 23, 24, 13, 27u, 2, kNoModel, 18u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:110:7"sv},
       //         Action ScanningOvertAttentionMode
-      {NodeKind::Action, 24, 25, 23, 29u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:111:9"sv},
+      {NodeKind::Action, 24, 25, 23, 29u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:111:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 25, 26, 23, 29u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:112:9"sv},
       //       Condition IsMutualGazeDiscovered
-      {NodeKind::Condition, 26, 27, 13, 29u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:114:7"sv},
+      {NodeKind::Condition, 26, 27, 13, 29u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:114:7"sv},
       //       Fallback
       {NodeKind::Fallback, 27, 28, 13, 29u, 2, kNoModel, 20u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:120:7"sv},
       //         Action SocialOvertAttentionMode
-      {NodeKind::Action, 28, 29, 27, 31u, 0, 29, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/LabTour.xml:121:9"sv},
+      {NodeKind::Action, 28, 29, 27, 31u, 0, 29, kNoSlot, kNoSlot, 0, 0, 0, 0, "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/LabTour.xml:121:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 29, 30, 27, 31u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:122:9"sv},
       //   SubTree "III_QueryVisitorResponse"
@@ -255,8 +246,7 @@ struct Spec {
       //           Condition IsASREnabled
       {NodeKind::Condition, 37, 38, 36, 40u, 0, 10, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsASREnabled"sv, "IsASREnabled"sv, "missions/LabTour.xml:140:11"sv},
       //           RetryUntilSuccessful "AskUpToThreeTimes"
-      {NodeKind::RetryUntilSuccessful, 38, 39, 36, 40u, 1, kNoModel, 30u, kNoSlot, 0, 3, 0, 0,
-       "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/LabTour.xml:144:11"sv},
+      {NodeKind::RetryUntilSuccessful, 38, 39, 36, 40u, 1, kNoModel, 30u, kNoSlot, 0, 3, 0, 0, "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/LabTour.xml:144:11"sv},
       //             Sequence
       {NodeKind::Sequence, 39, 40, 38, 41u, 2, kNoModel, 32u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:145:13"sv},
       //               Fallback
@@ -268,8 +258,7 @@ struct Spec {
       //               Condition IsYesNoUttered
       {NodeKind::Condition, 43, 44, 39, 45u, 0, 15, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsYesNoUttered"sv, "IsYesNoUttered"sv, "missions/LabTour.xml:150:15"sv},
       //         RetryUntilSuccessful "TabletAnswer"
-      {NodeKind::RetryUntilSuccessful, 44, 45, 35, 45u, 1, kNoModel, 36u, kNoSlot, 0, 3, 0, 0,
-       "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/LabTour.xml:160:9"sv},
+      {NodeKind::RetryUntilSuccessful, 44, 45, 35, 45u, 1, kNoModel, 36u, kNoSlot, 0, 3, 0, 0, "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/LabTour.xml:160:9"sv},
       //           Sequence
       {NodeKind::Sequence, 45, 46, 44, 46u, 2, kNoModel, 38u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:161:11"sv},
       //             Fallback
@@ -287,15 +276,13 @@ struct Spec {
       //       Inverter
       {NodeKind::Inverter, 52, 53, 51, 54u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "Inverter"sv, "Inverter"sv, "missions/LabTour.xml:40:11"sv},
       //         Condition IsVisitorResponseYes
-      {NodeKind::Condition, 53, 54, 52, 55u, 0, 14, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsVisitorResponseYes"sv, "IsVisitorResponseYes"sv, "missions/LabTour.xml:41:13"sv},
+      {NodeKind::Condition, 53, 54, 52, 55u, 0, 14, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsVisitorResponseYes"sv, "IsVisitorResponseYes"sv, "missions/LabTour.xml:41:13"sv},
       //       ForceSuccess
       {NodeKind::ForceSuccess, 54, 55, 51, 55u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "ForceSuccess"sv, "ForceSuccess"sv, "missions/LabTour.xml:47:11"sv},
       //         Fallback
       {NodeKind::Fallback, 55, 56, 54, 56u, 2, kNoModel, 46u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:48:13"sv},
       //           Action MaybeAnotherTimeSpeech
-      {NodeKind::Action, 56, 57, 55, 58u, 0, 18, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "MaybeAnotherTimeSpeech"sv, "MaybeAnotherTimeSpeech"sv, "missions/LabTour.xml:49:15"sv},
+      {NodeKind::Action, 56, 57, 55, 58u, 0, 18, kNoSlot, kNoSlot, 0, 0, 0, 0, "MaybeAnotherTimeSpeech"sv, "MaybeAnotherTimeSpeech"sv, "missions/LabTour.xml:49:15"sv},
       //           Action HandleFallBack
       {NodeKind::Action, 57, 58, 55, 58u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:50:15"sv},
       //     Sequence "Tour"
@@ -307,20 +294,17 @@ struct Spec {
       //           Fallback
       {NodeKind::Fallback, 61, 62, 60, 63u, 2, kNoModel, 52u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:183:7"sv},
       //             Action RetrieveListOfExhibits
-      {NodeKind::Action, 62, 63, 61, 65u, 0, 24, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "RetrieveListOfExhibits"sv, "RetrieveListOfExhibits"sv, "missions/LabTour.xml:184:9"sv},
+      {NodeKind::Action, 62, 63, 61, 65u, 0, 24, kNoSlot, kNoSlot, 0, 0, 0, 0, "RetrieveListOfExhibits"sv, "RetrieveListOfExhibits"sv, "missions/LabTour.xml:184:9"sv},
       //             Action HandleFallBack
       {NodeKind::Action, 63, 64, 61, 65u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:185:9"sv},
       //           Inverter "UntilNoExhibitLeft"
       {NodeKind::Inverter, 64, 65, 60, 65u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "Inverter"sv, "UntilNoExhibitLeft"sv, "missions/LabTour.xml:187:7"sv},
       //             KeepRunningUntilFailure "ExhibitLoop"
-      {NodeKind::KeepRunningUntilFailure, 65, 66, 64, 66u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "KeepRunningUntilFailure"sv, "ExhibitLoop"sv, "missions/LabTour.xml:188:9"sv},
+      {NodeKind::KeepRunningUntilFailure, 65, 66, 64, 66u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "KeepRunningUntilFailure"sv, "ExhibitLoop"sv, "missions/LabTour.xml:188:9"sv},
       //               Sequence
       {NodeKind::Sequence, 66, 67, 65, 67u, 2, kNoModel, 54u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "Sequence"sv, "missions/LabTour.xml:189:11"sv},
       //                 Condition IsListWithExhibit
-      {NodeKind::Condition, 67, 68, 66, 69u, 0, 11, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsListWithExhibit"sv, "IsListWithExhibit"sv, "missions/LabTour.xml:190:13"sv},
+      {NodeKind::Condition, 67, 68, 66, 69u, 0, 11, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsListWithExhibit"sv, "IsListWithExhibit"sv, "missions/LabTour.xml:190:13"sv},
       //                 Sequence "VisitOneExhibit"
       {NodeKind::Sequence, 68, 69, 66, 69u, 6, kNoModel, 56u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "VisitOneExhibit"sv, "missions/LabTour.xml:191:13"sv},
       //                   Fallback
@@ -342,15 +326,13 @@ struct Spec {
       //                       Fallback
       {NodeKind::Fallback, 77, 78, 76, 85u, 2, kNoModel, 64u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:274:7"sv},
       //                         Action DisabledOvertAttentionMode
-      {NodeKind::Action, 78, 79, 77, 87u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
+      {NodeKind::Action, 78, 79, 77, 87u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
       //                         Action HandleFallBack
       {NodeKind::Action, 79, 80, 77, 87u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:276:9"sv},
       //                       Fallback
       {NodeKind::Fallback, 80, 81, 76, 87u, 2, kNoModel, 66u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:278:7"sv},
       //                         Action DisableAnimateBehavior
-      {NodeKind::Action, 81, 82, 80, 89u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
+      {NodeKind::Action, 81, 82, 80, 89u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
       //                         Action HandleFallBack
       {NodeKind::Action, 82, 83, 80, 89u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:280:9"sv},
       //                       Fallback
@@ -362,18 +344,15 @@ struct Spec {
       //                       Fallback
       {NodeKind::Fallback, 86, 87, 76, 91u, 2, kNoModel, 70u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:288:7"sv},
       //                         Action ScanningOvertAttentionMode
-      {NodeKind::Action, 87, 88, 86, 93u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
+      {NodeKind::Action, 87, 88, 86, 93u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
       //                         Action HandleFallBack
       {NodeKind::Action, 88, 89, 86, 93u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:290:9"sv},
       //                       Condition IsMutualGazeDiscovered
-      {NodeKind::Condition, 89, 90, 76, 93u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
+      {NodeKind::Condition, 89, 90, 76, 93u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
       //                   Fallback
       {NodeKind::Fallback, 90, 91, 68, 93u, 2, kNoModel, 72u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:203:15"sv},
       //                     Action DescribeExhibitSpeech_1
-      {NodeKind::Action, 91, 92, 90, 95u, 0, 0, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DescribeExhibitSpeech_1"sv, "DescribeExhibitSpeech_1"sv, "missions/LabTour.xml:204:17"sv},
+      {NodeKind::Action, 91, 92, 90, 95u, 0, 0, kNoSlot, kNoSlot, 0, 0, 0, 0, "DescribeExhibitSpeech_1"sv, "DescribeExhibitSpeech_1"sv, "missions/LabTour.xml:204:17"sv},
       //                     Action HandleFallBack
       {NodeKind::Action, 92, 93, 90, 95u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:205:17"sv},
       //                   Fallback
@@ -385,8 +364,7 @@ struct Spec {
       //                   Fallback
       {NodeKind::Fallback, 96, 97, 68, 97u, 2, kNoModel, 76u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:214:15"sv},
       //                     Action DescribeExhibitSpeech_2
-      {NodeKind::Action, 97, 98, 96, 99u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DescribeExhibitSpeech_2"sv, "DescribeExhibitSpeech_2"sv, "missions/LabTour.xml:215:17"sv},
+      {NodeKind::Action, 97, 98, 96, 99u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0, "DescribeExhibitSpeech_2"sv, "DescribeExhibitSpeech_2"sv, "missions/LabTour.xml:215:17"sv},
       //                     Action HandleFallBack
       {NodeKind::Action, 98, 99, 96, 99u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:216:17"sv},
       //       SubTree "V_EndTour"
@@ -412,15 +390,13 @@ struct Spec {
       //               Fallback
       {NodeKind::Fallback, 109, 110, 108, 117u, 2, kNoModel, 86u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:274:7"sv},
       //                 Action DisabledOvertAttentionMode
-      {NodeKind::Action, 110, 111, 109, 119u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
+      {NodeKind::Action, 110, 111, 109, 119u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:275:9"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 111, 112, 109, 119u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:276:9"sv},
       //               Fallback
       {NodeKind::Fallback, 112, 113, 108, 119u, 2, kNoModel, 88u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:278:7"sv},
       //                 Action DisableAnimateBehavior
-      {NodeKind::Action, 113, 114, 112, 121u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
+      {NodeKind::Action, 113, 114, 112, 121u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:279:9"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 114, 115, 112, 121u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:280:9"sv},
       //               Fallback
@@ -432,18 +408,15 @@ struct Spec {
       //               Fallback
       {NodeKind::Fallback, 118, 119, 108, 123u, 2, kNoModel, 92u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:288:7"sv},
       //                 Action ScanningOvertAttentionMode
-      {NodeKind::Action, 119, 120, 118, 125u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
+      {NodeKind::Action, 119, 120, 118, 125u, 0, 27, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/LabTour.xml:289:9"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 120, 121, 118, 125u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:290:9"sv},
       //               Condition IsMutualGazeDiscovered
-      {NodeKind::Condition, 121, 122, 108, 125u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
+      {NodeKind::Condition, 121, 122, 108, 125u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/LabTour.xml:292:7"sv},
       //           Fallback
       {NodeKind::Fallback, 122, 123, 100, 125u, 2, kNoModel, 94u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:238:7"sv},
       //             Action HereIsTheDoorSpeech
-      {NodeKind::Action, 123, 124, 122, 127u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "HereIsTheDoorSpeech"sv, "HereIsTheDoorSpeech"sv, "missions/LabTour.xml:239:9"sv},
+      {NodeKind::Action, 123, 124, 122, 127u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0, "HereIsTheDoorSpeech"sv, "HereIsTheDoorSpeech"sv, "missions/LabTour.xml:239:9"sv},
       //             Action HandleFallBack
       {NodeKind::Action, 124, 125, 122, 127u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:240:9"sv},
       //           Fallback
@@ -479,15 +452,13 @@ struct Spec {
       //               Fallback
       {NodeKind::Fallback, 140, 141, 136, 142u, 2, kNoModel, 108u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:305:7"sv},
       //                 Action DisabledOvertAttentionMode
-      {NodeKind::Action, 141, 142, 140, 144u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:306:9"sv},
+      {NodeKind::Action, 141, 142, 140, 144u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisabledOvertAttentionMode"sv, "DisabledOvertAttentionMode"sv, "missions/LabTour.xml:306:9"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 142, 143, 140, 144u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:307:9"sv},
       //               Fallback
       {NodeKind::Fallback, 143, 144, 136, 144u, 2, kNoModel, 110u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/LabTour.xml:309:7"sv},
       //                 Action DisableAnimateBehavior
-      {NodeKind::Action, 144, 145, 143, 146u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:310:9"sv},
+      {NodeKind::Action, 144, 145, 143, 146u, 0, 2, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/LabTour.xml:310:9"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 145, 146, 143, 146u, 0, 8, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/LabTour.xml:311:9"sv},
       //               Fallback
@@ -1111,21 +1082,39 @@ namespace control = leaf;
 namespace detail {
 
 // The leaf model classes by number, and the switches of Spec.
-template <std::uint16_t M>
-struct ModelOf {
-  using type = typename btgen::ModelList<
-      leaf::DescribeExhibitSpeech_1, leaf::DescribeExhibitSpeech_2, leaf::DisableAnimateBehavior,
-      leaf::DisabledOvertAttentionMode, leaf::EnableAnimateBehavior, leaf::EndTourSpeech,
-      leaf::FollowMeSpeech, leaf::GoodbyeGesture, leaf::HandleFallBack, leaf::HereIsTheDoorSpeech,
-      leaf::IsASREnabled, leaf::IsListWithExhibit, leaf::IsMutualGazeDiscovered,
-      leaf::IsVisitorDiscovered, leaf::IsVisitorResponseYes, leaf::IsYesNoUttered, leaf::LookUpEntrance,
-      leaf::LookUpHome, leaf::MaybeAnotherTimeSpeech, leaf::Navigate, leaf::PerformDeicticGesture,
-      leaf::PressYesNoDialogue, leaf::PressYesNoSpeech, leaf::QueryTourSpeech,
-      leaf::RetrieveListOfExhibits, leaf::SayGoodByeSpeech, leaf::SayYesNoSpeech,
-      leaf::ScanningOvertAttentionMode, leaf::SelectExhibit, leaf::SocialOvertAttentionMode,
-      leaf::START_OF_TREE, leaf::WelcomeGesture, leaf::WelcomeSpeech
-      >::template At<M>;
-};
+template <> struct ModelOf<0> { using type = leaf::DescribeExhibitSpeech_1; };
+template <> struct ModelOf<1> { using type = leaf::DescribeExhibitSpeech_2; };
+template <> struct ModelOf<2> { using type = leaf::DisableAnimateBehavior; };
+template <> struct ModelOf<3> { using type = leaf::DisabledOvertAttentionMode; };
+template <> struct ModelOf<4> { using type = leaf::EnableAnimateBehavior; };
+template <> struct ModelOf<5> { using type = leaf::EndTourSpeech; };
+template <> struct ModelOf<6> { using type = leaf::FollowMeSpeech; };
+template <> struct ModelOf<7> { using type = leaf::GoodbyeGesture; };
+template <> struct ModelOf<8> { using type = leaf::HandleFallBack; };
+template <> struct ModelOf<9> { using type = leaf::HereIsTheDoorSpeech; };
+template <> struct ModelOf<10> { using type = leaf::IsASREnabled; };
+template <> struct ModelOf<11> { using type = leaf::IsListWithExhibit; };
+template <> struct ModelOf<12> { using type = leaf::IsMutualGazeDiscovered; };
+template <> struct ModelOf<13> { using type = leaf::IsVisitorDiscovered; };
+template <> struct ModelOf<14> { using type = leaf::IsVisitorResponseYes; };
+template <> struct ModelOf<15> { using type = leaf::IsYesNoUttered; };
+template <> struct ModelOf<16> { using type = leaf::LookUpEntrance; };
+template <> struct ModelOf<17> { using type = leaf::LookUpHome; };
+template <> struct ModelOf<18> { using type = leaf::MaybeAnotherTimeSpeech; };
+template <> struct ModelOf<19> { using type = leaf::Navigate; };
+template <> struct ModelOf<20> { using type = leaf::PerformDeicticGesture; };
+template <> struct ModelOf<21> { using type = leaf::PressYesNoDialogue; };
+template <> struct ModelOf<22> { using type = leaf::PressYesNoSpeech; };
+template <> struct ModelOf<23> { using type = leaf::QueryTourSpeech; };
+template <> struct ModelOf<24> { using type = leaf::RetrieveListOfExhibits; };
+template <> struct ModelOf<25> { using type = leaf::SayGoodByeSpeech; };
+template <> struct ModelOf<26> { using type = leaf::SayYesNoSpeech; };
+template <> struct ModelOf<27> { using type = leaf::ScanningOvertAttentionMode; };
+template <> struct ModelOf<28> { using type = leaf::SelectExhibit; };
+template <> struct ModelOf<29> { using type = leaf::SocialOvertAttentionMode; };
+template <> struct ModelOf<30> { using type = leaf::START_OF_TREE; };
+template <> struct ModelOf<31> { using type = leaf::WelcomeGesture; };
+template <> struct ModelOf<32> { using type = leaf::WelcomeSpeech; };
 
 template <class Hook, class... Args>
 constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
@@ -1291,7 +1280,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0xa58edb7c82929e23ULL;
+inline constexpr unsigned long long kGeneration = 0x79768ba5667c7d3bULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

@@ -83,7 +83,7 @@ struct Blackboard {
 inline constexpr std::array<std::string_view, 0> kWhere = {
 };
 
-// The leaf model classes by number (Spec::Model<M>; defined below the classes).
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
 template <std::uint16_t M>
 struct ModelOf;
 
@@ -133,8 +133,8 @@ struct Spec {
   static constexpr bool kHasParallel = false;
   using Blackboard = detail::Blackboard;
 
-  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), each row under
-  // its node's kind and name, indented by depth. Each row:
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), a row a line
+  // under its node's kind and name, indented by depth. Each row:
   //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //    id, name, source}
   // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
@@ -143,8 +143,7 @@ struct Spec {
       // Sequence "PickPlaceBall"
       {NodeKind::Sequence, 0, 1, kNoNode, 0u, 2, kNoModel, 0u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "PickPlaceBall"sv, "missions/PickPlaceBall.xml:17:5"sv},
       //   RetryUntilSuccessful "FindBallTwice"
-      {NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, kNoModel, 2u, kNoSlot, 0, 2, 0, 0,
-       "RetryUntilSuccessful"sv, "FindBallTwice"sv, "missions/PickPlaceBall.xml:18:7"sv},
+      {NodeKind::RetryUntilSuccessful, 1, 2, 0, 2u, 1, kNoModel, 2u, kNoSlot, 0, 2, 0, 0, "RetryUntilSuccessful"sv, "FindBallTwice"sv, "missions/PickPlaceBall.xml:18:7"sv},
       //     Action FindBall
       {NodeKind::Action, 2, 3, 1, 3u, 0, 0, kNoSlot, kNoSlot, 0, 0, 0, 0, "FindBall"sv, "FindBall"sv, "missions/PickPlaceBall.xml:19:9"sv},
       //   Sequence "PickMovePlace"
@@ -289,12 +288,10 @@ namespace control = leaf;
 namespace detail {
 
 // The leaf model classes by number, and the switches of Spec.
-template <std::uint16_t M>
-struct ModelOf {
-  using type = typename btgen::ModelList<
-      leaf::FindBall, leaf::PickBall, leaf::MoveBall, leaf::PlaceBall
-      >::template At<M>;
-};
+template <> struct ModelOf<0> { using type = leaf::FindBall; };
+template <> struct ModelOf<1> { using type = leaf::PickBall; };
+template <> struct ModelOf<2> { using type = leaf::MoveBall; };
+template <> struct ModelOf<3> { using type = leaf::PlaceBall; };
 
 template <class Hook, class... Args>
 constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
@@ -373,7 +370,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x12164dcbdc059ff9ULL;
+inline constexpr unsigned long long kGeneration = 0x8bbc64350443a31dULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -97,7 +97,7 @@ inline constexpr std::array<std::string_view, 3> kWhere = {
     "missions/Reception.xml:126:67"sv,
 };
 
-// The leaf model classes by number (Spec::Model<M>; defined below the classes).
+// The leaf model classes by number (Spec::Model<M>; specialised below the classes).
 template <std::uint16_t M>
 struct ModelOf;
 
@@ -147,8 +147,8 @@ struct Spec {
   static constexpr bool kHasParallel = true;
   using Blackboard = detail::Blackboard;
 
-  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), each row under
-  // its node's kind and name, indented by depth. Each row:
+  // The node table, in BehaviorTree.CPP's creation order (UID = index + 1), a row a line
+  // under its node's kind and name, indented by depth. Each row:
   //   {kind, index, uid, parent, child_begin, child_count, model, slot, timer, scripts, p0, p1, p2,
   //    id, name, source}
   // (btgen::NodeInfo in btgen/node.hpp; p0..p2 are the node's converted port literals,
@@ -165,23 +165,19 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 4, 5, 3, 10u, 2, kNoModel, 4u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:43:7"sv},
       //         Action EnableAnimateBehavior
-      {NodeKind::Action, 5, 6, 4, 12u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:44:9"sv},
+      {NodeKind::Action, 5, 6, 4, 12u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0, "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:44:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 6, 7, 4, 12u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:45:9"sv},
       //       Fallback
       {NodeKind::Fallback, 7, 8, 3, 12u, 2, kNoModel, 6u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:47:7"sv},
       //         Action ScanningOvertAttentionMode
-      {NodeKind::Action, 8, 9, 7, 14u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:48:9"sv},
+      {NodeKind::Action, 8, 9, 7, 14u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:48:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 9, 10, 7, 14u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:49:9"sv},
       //       RetryUntilSuccessful "WaitForVisitor"
-      {NodeKind::RetryUntilSuccessful, 10, 11, 3, 14u, 1, kNoModel, 8u, kNoSlot, 0, -1, 0, 0,
-       "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/Reception.xml:51:7"sv},
+      {NodeKind::RetryUntilSuccessful, 10, 11, 3, 14u, 1, kNoModel, 8u, kNoSlot, 0, -1, 0, 0, "RetryUntilSuccessful"sv, "WaitForVisitor"sv, "missions/Reception.xml:51:7"sv},
       //         Condition IsVisitorDiscovered
-      {NodeKind::Condition, 11, 12, 10, 15u, 0, 6, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/Reception.xml:52:9"sv},
+      {NodeKind::Condition, 11, 12, 10, 15u, 0, 6, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsVisitorDiscovered"sv, "IsVisitorDiscovered"sv, "missions/Reception.xml:52:9"sv},
       //   SubTree "II_EngageVisitor"
       {NodeKind::SubTree, 12, 13, 0, 15u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "SubTree"sv, "II_EngageVisitor"sv, "missions/Reception.xml:32:7"sv},
       //     Sequence
@@ -189,16 +185,13 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 14, 15, 13, 21u, 2, kNoModel, 12u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:59:7"sv},
       //         Sequence "WelcomeGestureWithoutAnimation"
-      {NodeKind::Sequence, 15, 16, 14, 23u, 3, kNoModel, 14u, kNoSlot, 0, 0, 0, 0,
-       "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/Reception.xml:60:9"sv},
+      {NodeKind::Sequence, 15, 16, 14, 23u, 3, kNoModel, 14u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "WelcomeGestureWithoutAnimation"sv, "missions/Reception.xml:60:9"sv},
       //           Action DisableAnimateBehavior
-      {NodeKind::Action, 16, 17, 15, 26u, 0, 0, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/Reception.xml:61:11"sv},
+      {NodeKind::Action, 16, 17, 15, 26u, 0, 0, kNoSlot, kNoSlot, 0, 0, 0, 0, "DisableAnimateBehavior"sv, "DisableAnimateBehavior"sv, "missions/Reception.xml:61:11"sv},
       //           Action WelcomeGesture
       {NodeKind::Action, 17, 18, 15, 26u, 0, 12, kNoSlot, kNoSlot, 0, 0, 0, 0, "WelcomeGesture"sv, "WelcomeGesture"sv, "missions/Reception.xml:62:11"sv},
       //           Action EnableAnimateBehavior
-      {NodeKind::Action, 18, 19, 15, 26u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:63:11"sv},
+      {NodeKind::Action, 18, 19, 15, 26u, 0, 1, kNoSlot, kNoSlot, 0, 0, 0, 0, "EnableAnimateBehavior"sv, "EnableAnimateBehavior"sv, "missions/Reception.xml:63:11"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 19, 20, 14, 26u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:65:9"sv},
       //       Fallback
@@ -210,18 +203,15 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 23, 24, 13, 28u, 2, kNoModel, 18u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:72:7"sv},
       //         Action ScanningOvertAttentionMode
-      {NodeKind::Action, 24, 25, 23, 30u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:73:9"sv},
+      {NodeKind::Action, 24, 25, 23, 30u, 0, 9, kNoSlot, kNoSlot, 0, 0, 0, 0, "ScanningOvertAttentionMode"sv, "ScanningOvertAttentionMode"sv, "missions/Reception.xml:73:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 25, 26, 23, 30u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:74:9"sv},
       //       Condition IsMutualGazeDiscovered
-      {NodeKind::Condition, 26, 27, 13, 30u, 0, 5, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/Reception.xml:76:7"sv},
+      {NodeKind::Condition, 26, 27, 13, 30u, 0, 5, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsMutualGazeDiscovered"sv, "IsMutualGazeDiscovered"sv, "missions/Reception.xml:76:7"sv},
       //       Fallback
       {NodeKind::Fallback, 27, 28, 13, 30u, 2, kNoModel, 20u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:77:7"sv},
       //         Action SocialOvertAttentionMode
-      {NodeKind::Action, 28, 29, 27, 32u, 0, 10, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/Reception.xml:78:9"sv},
+      {NodeKind::Action, 28, 29, 27, 32u, 0, 10, kNoSlot, kNoSlot, 0, 0, 0, 0, "SocialOvertAttentionMode"sv, "SocialOvertAttentionMode"sv, "missions/Reception.xml:78:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 29, 30, 27, 32u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:79:9"sv},
       //   SubTree "III_QueryDestination"
@@ -231,8 +221,7 @@ struct Spec {
       //       Fallback
       {NodeKind::Fallback, 32, 33, 31, 35u, 2, kNoModel, 24u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:90:7"sv},
       //         Action QueryDestinationSpeech
-      {NodeKind::Action, 33, 34, 32, 37u, 0, 14, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "QueryDestinationSpeech"sv, "QueryDestinationSpeech"sv, "missions/Reception.xml:91:9"sv},
+      {NodeKind::Action, 33, 34, 32, 37u, 0, 14, kNoSlot, kNoSlot, 0, 0, 0, 0, "QueryDestinationSpeech"sv, "QueryDestinationSpeech"sv, "missions/Reception.xml:91:9"sv},
       //         Action HandleFallBack
       {NodeKind::Action, 34, 35, 32, 37u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:92:9"sv},
       //       Fallback "SpeechOrTablet"
@@ -242,35 +231,29 @@ struct Spec {
       //           Condition IsASREnabled
       {NodeKind::Condition, 37, 38, 36, 41u, 0, 4, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsASREnabled"sv, "IsASREnabled"sv, "missions/Reception.xml:96:11"sv},
       //           RetryUntilSuccessful "AskUpToThreeTimes"
-      {NodeKind::RetryUntilSuccessful, 38, 39, 36, 41u, 1, kNoModel, 30u, kNoSlot, 0, 3, 0, 0,
-       "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/Reception.xml:97:11"sv},
+      {NodeKind::RetryUntilSuccessful, 38, 39, 36, 41u, 1, kNoModel, 30u, kNoSlot, 0, 3, 0, 0, "RetryUntilSuccessful"sv, "AskUpToThreeTimes"sv, "missions/Reception.xml:97:11"sv},
       //             Sequence
       {NodeKind::Sequence, 39, 40, 38, 42u, 2, kNoModel, 32u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "Sequence"sv, "missions/Reception.xml:98:13"sv},
       //               Fallback
       {NodeKind::Fallback, 40, 41, 39, 44u, 2, kNoModel, 34u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:99:15"sv},
       //                 Action SayDestinationSpeech
-      {NodeKind::Action, 41, 42, 40, 46u, 0, 15, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "SayDestinationSpeech"sv, "SayDestinationSpeech"sv, "missions/Reception.xml:100:17"sv},
+      {NodeKind::Action, 41, 42, 40, 46u, 0, 15, kNoSlot, kNoSlot, 0, 0, 0, 0, "SayDestinationSpeech"sv, "SayDestinationSpeech"sv, "missions/Reception.xml:100:17"sv},
       //                 Action HandleFallBack
       {NodeKind::Action, 42, 43, 40, 46u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:101:17"sv},
       //               Condition IsDestinationUttered
-      {NodeKind::Condition, 43, 44, 39, 46u, 0, 16, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "IsDestinationUttered"sv, "IsDestinationUttered"sv, "missions/Reception.xml:103:15"sv},
+      {NodeKind::Condition, 43, 44, 39, 46u, 0, 16, kNoSlot, kNoSlot, 0, 0, 0, 0, "IsDestinationUttered"sv, "IsDestinationUttered"sv, "missions/Reception.xml:103:15"sv},
       //         RetryUntilSuccessful "TabletAnswer"
-      {NodeKind::RetryUntilSuccessful, 44, 45, 35, 46u, 1, kNoModel, 36u, kNoSlot, 0, 3, 0, 0,
-       "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/Reception.xml:107:9"sv},
+      {NodeKind::RetryUntilSuccessful, 44, 45, 35, 46u, 1, kNoModel, 36u, kNoSlot, 0, 3, 0, 0, "RetryUntilSuccessful"sv, "TabletAnswer"sv, "missions/Reception.xml:107:9"sv},
       //           Sequence
       {NodeKind::Sequence, 45, 46, 44, 47u, 2, kNoModel, 38u, kNoSlot, 0, 0, 0, 0, "Sequence"sv, "Sequence"sv, "missions/Reception.xml:108:11"sv},
       //             Fallback
       {NodeKind::Fallback, 46, 47, 45, 49u, 2, kNoModel, 40u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:109:13"sv},
       //               Action PressDestinationSpeech
-      {NodeKind::Action, 47, 48, 46, 51u, 0, 17, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "PressDestinationSpeech"sv, "PressDestinationSpeech"sv, "missions/Reception.xml:110:15"sv},
+      {NodeKind::Action, 47, 48, 46, 51u, 0, 17, kNoSlot, kNoSlot, 0, 0, 0, 0, "PressDestinationSpeech"sv, "PressDestinationSpeech"sv, "missions/Reception.xml:110:15"sv},
       //               Action HandleFallBack
       {NodeKind::Action, 48, 49, 46, 51u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:111:15"sv},
       //             Action PressDestinationDialogue
-      {NodeKind::Action, 49, 50, 45, 51u, 0, 18, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "PressDestinationDialogue"sv, "PressDestinationDialogue"sv, "missions/Reception.xml:113:13"sv},
+      {NodeKind::Action, 49, 50, 45, 51u, 0, 18, kNoSlot, kNoSlot, 0, 0, 0, 0, "PressDestinationDialogue"sv, "PressDestinationDialogue"sv, "missions/Reception.xml:113:13"sv},
       //   SubTree "IV_GiveDirections"
       {NodeKind::SubTree, 50, 51, 0, 51u, 1, kNoModel, kNoSlot, kNoSlot, 0, 0, 0, 0, "SubTree"sv, "IV_GiveDirections"sv, "missions/Reception.xml:34:7"sv},
       //     IfThenElse "KnownPlace"
@@ -282,22 +265,19 @@ struct Spec {
       //         Fallback
       {NodeKind::Fallback, 54, 55, 53, 58u, 2, kNoModel, 45u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:128:9"sv},
       //           Action DescribeRouteSpeech_1
-      {NodeKind::Action, 55, 56, 54, 60u, 0, 20, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DescribeRouteSpeech_1"sv, "DescribeRouteSpeech_1"sv, "missions/Reception.xml:129:11"sv},
+      {NodeKind::Action, 55, 56, 54, 60u, 0, 20, kNoSlot, kNoSlot, 0, 0, 0, 0, "DescribeRouteSpeech_1"sv, "DescribeRouteSpeech_1"sv, "missions/Reception.xml:129:11"sv},
       //           Action HandleFallBack
       {NodeKind::Action, 56, 57, 54, 60u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:130:11"sv},
       //         Fallback
       {NodeKind::Fallback, 57, 58, 53, 60u, 2, kNoModel, 47u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:132:9"sv},
       //           Action PerformDeicticGesture "PointToDestination"
-      {NodeKind::Action, 58, 59, 57, 62u, 0, 7, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "PerformDeicticGesture"sv, "PointToDestination"sv, "missions/Reception.xml:133:11"sv},
+      {NodeKind::Action, 58, 59, 57, 62u, 0, 7, kNoSlot, kNoSlot, 0, 0, 0, 0, "PerformDeicticGesture"sv, "PointToDestination"sv, "missions/Reception.xml:133:11"sv},
       //           Action HandleFallBack
       {NodeKind::Action, 59, 60, 57, 62u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:134:11"sv},
       //         Fallback
       {NodeKind::Fallback, 60, 61, 53, 62u, 2, kNoModel, 49u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:136:9"sv},
       //           Action DescribeRouteSpeech_2
-      {NodeKind::Action, 61, 62, 60, 64u, 0, 21, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "DescribeRouteSpeech_2"sv, "DescribeRouteSpeech_2"sv, "missions/Reception.xml:137:11"sv},
+      {NodeKind::Action, 61, 62, 60, 64u, 0, 21, kNoSlot, kNoSlot, 0, 0, 0, 0, "DescribeRouteSpeech_2"sv, "DescribeRouteSpeech_2"sv, "missions/Reception.xml:137:11"sv},
       //           Action HandleFallBack
       {NodeKind::Action, 62, 63, 60, 64u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:138:11"sv},
       //       ForceSuccess "Apology"
@@ -305,8 +285,7 @@ struct Spec {
       //         Fallback
       {NodeKind::Fallback, 64, 65, 63, 65u, 2, kNoModel, 51u, kNoSlot, 0, 0, 0, 0, "Fallback"sv, "Fallback"sv, "missions/Reception.xml:142:9"sv},
       //           Action UnknownDestinationSpeech
-      {NodeKind::Action, 65, 66, 64, 67u, 0, 22, kNoSlot, kNoSlot, 0, 0, 0, 0,
-       "UnknownDestinationSpeech"sv, "UnknownDestinationSpeech"sv, "missions/Reception.xml:143:11"sv},
+      {NodeKind::Action, 65, 66, 64, 67u, 0, 22, kNoSlot, kNoSlot, 0, 0, 0, 0, "UnknownDestinationSpeech"sv, "UnknownDestinationSpeech"sv, "missions/Reception.xml:143:11"sv},
       //           Action HandleFallBack
       {NodeKind::Action, 66, 67, 64, 67u, 0, 3, kNoSlot, kNoSlot, 0, 0, 0, 0, "HandleFallBack"sv, "HandleFallBack"sv, "missions/Reception.xml:144:11"sv},
       //   SubTree "V_Farewell"
@@ -745,18 +724,29 @@ namespace control = leaf;
 namespace detail {
 
 // The leaf model classes by number, and the switches of Spec.
-template <std::uint16_t M>
-struct ModelOf {
-  using type = typename btgen::ModelList<
-      leaf::DisableAnimateBehavior, leaf::EnableAnimateBehavior, leaf::GoodbyeGesture,
-      leaf::HandleFallBack, leaf::IsASREnabled, leaf::IsMutualGazeDiscovered, leaf::IsVisitorDiscovered,
-      leaf::PerformDeicticGesture, leaf::SayGoodByeSpeech, leaf::ScanningOvertAttentionMode,
-      leaf::SocialOvertAttentionMode, leaf::START_OF_TREE, leaf::WelcomeGesture, leaf::WelcomeSpeech,
-      leaf::QueryDestinationSpeech, leaf::SayDestinationSpeech, leaf::IsDestinationUttered,
-      leaf::PressDestinationSpeech, leaf::PressDestinationDialogue, leaf::LookUpDestination,
-      leaf::DescribeRouteSpeech_1, leaf::DescribeRouteSpeech_2, leaf::UnknownDestinationSpeech
-      >::template At<M>;
-};
+template <> struct ModelOf<0> { using type = leaf::DisableAnimateBehavior; };
+template <> struct ModelOf<1> { using type = leaf::EnableAnimateBehavior; };
+template <> struct ModelOf<2> { using type = leaf::GoodbyeGesture; };
+template <> struct ModelOf<3> { using type = leaf::HandleFallBack; };
+template <> struct ModelOf<4> { using type = leaf::IsASREnabled; };
+template <> struct ModelOf<5> { using type = leaf::IsMutualGazeDiscovered; };
+template <> struct ModelOf<6> { using type = leaf::IsVisitorDiscovered; };
+template <> struct ModelOf<7> { using type = leaf::PerformDeicticGesture; };
+template <> struct ModelOf<8> { using type = leaf::SayGoodByeSpeech; };
+template <> struct ModelOf<9> { using type = leaf::ScanningOvertAttentionMode; };
+template <> struct ModelOf<10> { using type = leaf::SocialOvertAttentionMode; };
+template <> struct ModelOf<11> { using type = leaf::START_OF_TREE; };
+template <> struct ModelOf<12> { using type = leaf::WelcomeGesture; };
+template <> struct ModelOf<13> { using type = leaf::WelcomeSpeech; };
+template <> struct ModelOf<14> { using type = leaf::QueryDestinationSpeech; };
+template <> struct ModelOf<15> { using type = leaf::SayDestinationSpeech; };
+template <> struct ModelOf<16> { using type = leaf::IsDestinationUttered; };
+template <> struct ModelOf<17> { using type = leaf::PressDestinationSpeech; };
+template <> struct ModelOf<18> { using type = leaf::PressDestinationDialogue; };
+template <> struct ModelOf<19> { using type = leaf::LookUpDestination; };
+template <> struct ModelOf<20> { using type = leaf::DescribeRouteSpeech_1; };
+template <> struct ModelOf<21> { using type = leaf::DescribeRouteSpeech_2; };
+template <> struct ModelOf<22> { using type = leaf::UnknownDestinationSpeech; };
 
 template <class Hook, class... Args>
 constexpr decltype(auto) Spec::visit_action(std::uint16_t model, Args&... args) {
@@ -892,7 +882,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xa4a88ab03b5ed7d2ULL;
+inline constexpr unsigned long long kGeneration = 0xdc587df8c35db9e7ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

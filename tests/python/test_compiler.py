@@ -643,3 +643,51 @@ def test_deps_that_a_cmake_list_cannot_hold(tmp_path, capsys):
         "btgen_add_mission cannot depend on it (rename it)\n"
     )
     assert main(["--deps", main_xml]) == 0  # (one per line: any path)
+
+
+# ------------------------------------------------- templates that fail loudly (issue 45)
+class Mystery:
+    """A data operation no template knows."""
+
+
+def test_a_template_fails_at_its_line_on_an_unknown_operation(tmp_path):
+    """A data operation the templates have no C++ for is an InternalError naming the template
+    file and line and the operation, never code that quietly returns SUCCESS (the SetBlackboard
+    dispatcher used to fall through to `return btgen::Status::SUCCESS;`)."""
+    import dataclasses
+
+    from btgen.diagnostics import InternalError
+
+    path = _write(tmp_path, "m.xml", _mission('<Sequence><SetBlackboard output_key="k" value="1"/><Act/></Sequence>'))
+    program = lower(load_mission(path))
+    assert program.data is not None and program.data.data_leaves
+    header, _ = render(program, "m", str(tmp_path))  # as lowered: renders
+    assert "case 1: {  // " in header.text
+    leaf = program.data.data_leaves[0]
+    broken = dataclasses.replace(
+        program, data=dataclasses.replace(program.data, data_leaves=(dataclasses.replace(leaf, op=Mystery()),))
+    )
+    with pytest.raises(InternalError) as e:
+        render(broken, "m", str(tmp_path))
+    message = str(e.value)
+    lines = (Path(ROOT) / "templates" / "_data.j2").read_text(encoding="utf-8").splitlines()
+    m = re.match(
+        r"templates/_data\.j2:([0-9]+): the templates have no C\+\+ for the SetBlackboard/UnsetBlackboard "
+        r"operation `Mystery`$",
+        message,
+    )
+    assert m, message
+    assert "unknown(" in lines[int(m.group(1)) - 1]  # the line that refused it
+
+
+def test_an_undefined_name_in_a_template_is_located(tmp_path):
+    """StrictUndefined's error (a template naming what the context lacks) is located too."""
+    import jinja2
+
+    from btgen.backend_cpp.emit import render_template
+    from btgen.diagnostics import InternalError
+
+    (tmp_path / "t.j2").write_text("line one\n{{ nothing_here }}\n", encoding="utf-8")
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(tmp_path)), undefined=jinja2.StrictUndefined)
+    with pytest.raises(InternalError, match=r"t\.j2:2: 'nothing_here' is undefined"):
+        render_template(env, "t.j2", {})

@@ -252,7 +252,6 @@ def render(
         program=program,
         nodes=[dict(n=n, source=source_of(n), label=node_label(n, depth[n.index])) for n in program.nodes],
         contract_models=contract_models(program),
-        model_list=textwrap.wrap(", ".join(f"leaf::{_cpp_name(m)}" for m in program.leaf_models), width=100),
         data=data,
         slots=[
             dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))

@@ -4,7 +4,6 @@
 //   BTGEN_SPEC_DEFAULT_SCRIPT & co.  the data operations of a mission that has none of a kind
 //                                    (no scripts, no SetBlackboard, no Switch, ...), a line
 //                                    each in the generated Spec
-//   btgen::ModelList                 the leaf model classes by number
 //   btgen::port::set_output          a port setter's store, reporting a failed one
 //   btgen::VirtualLeaves and         the class of virtual hooks (<Mission>Leaves) for robot
 //   BTGEN_VIRTUAL_ACTION & co.       code that prefers virtual calls: one line per model
@@ -18,10 +17,8 @@
 // virtual call adjust `this` through a thunk.
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <string_view>
-#include <tuple>
 
 #include "btgen/blackboard.hpp"
 #include "btgen/node.hpp"
@@ -31,13 +28,6 @@
 #include "btgen/value.hpp"
 
 namespace btgen {
-
-// The leaf model classes of a mission by number (the generated Spec::Model<M>).
-template <class... Models>
-struct ModelList {
-  template <std::size_t M>
-  using At = std::tuple_element_t<M, std::tuple<Models...>>;
-};
 
 namespace port {
 
