@@ -270,14 +270,13 @@ def test_banner_abi_and_shape_of_the_header():
         "template <class Leaves, class Clock = btgen::SteadyClock, class Observer = btgen::NoObserver>\n"
         "class ControlFlow : public btgen::Engine<detail::Spec, Leaves, Clock, Observer>" in header.text
     )
-    for hook in (
-        "tick(leaf::Move& m, const btgen::NodeInfo&)",
-        "onStart(leaf::Move& m, const btgen::NodeInfo& n)",
-        "onRunning(leaf::Move& m, const btgen::NodeInfo& n)",
-        "onHalted(leaf::Move&, const btgen::NodeInfo&)",
-        "check(leaf::IsDone& model, const btgen::NodeInfo& node)",
-    ):
-        assert f"virtual {'void' if 'Halted' in hook else 'btgen::Status'} {hook}" in header.text
+    # the class of virtual hooks: a line per model (btgen/mission_base.hpp)
+    assert "class ControlFlowLeaves : public btgen::VirtualLeaves {" in header.text
+    assert "  BTGEN_VIRTUAL_ACTION(leaf::Move);\n" in header.text
+    assert "  BTGEN_VIRTUAL_CONDITION(leaf::IsDone);\n" in header.text
+    # the contract right under the banner, before the include guard
+    contract = header.text.index("// What your `Leaves` implements")
+    assert contract < header.text.index("#ifndef ") and "check(leaf::C&, const btgen::NodeInfo&)" in header.text
     assert "/work/" not in header.text and "/tmp/" not in header.text  # no absolute paths
     assert "template class btgen::Engine<control_flow::detail::Spec, control_flow::ControlFlowLeaves" in source.text
 
@@ -473,9 +472,9 @@ def test_user_controls_and_decorators_compile(compiler, tmp_path):
         "btgen::Input<double> hz() const",
         "using ControlModelBase::ControlModelBase;",
         "namespace control = leaf;",
-        "virtual btgen::Status tick(control::RecoveryNode& model, const btgen::NodeInfo& node) = 0;",
-        "btgen::NodeKind::UserControl",
-        "btgen::NodeKind::UserDecorator",
+        "BTGEN_VIRTUAL_USER_NODE(control::RecoveryNode);",
+        "NodeKind::UserControl",
+        "NodeKind::UserDecorator",
     ):
         assert text in header.text, text
     (tmp_path / header.name).write_text(header.text, encoding="utf-8")
@@ -644,3 +643,51 @@ def test_deps_that_a_cmake_list_cannot_hold(tmp_path, capsys):
         "btgen_add_mission cannot depend on it (rename it)\n"
     )
     assert main(["--deps", main_xml]) == 0  # (one per line: any path)
+
+
+# ------------------------------------------------- templates that fail loudly (issue 45)
+class Mystery:
+    """A data operation no template knows."""
+
+
+def test_a_template_fails_at_its_line_on_an_unknown_operation(tmp_path):
+    """A data operation the templates have no C++ for is an InternalError naming the template
+    file and line and the operation, never code that quietly returns SUCCESS (the SetBlackboard
+    dispatcher used to fall through to `return btgen::Status::SUCCESS;`)."""
+    import dataclasses
+
+    from btgen.diagnostics import InternalError
+
+    path = _write(tmp_path, "m.xml", _mission('<Sequence><SetBlackboard output_key="k" value="1"/><Act/></Sequence>'))
+    program = lower(load_mission(path))
+    assert program.data is not None and program.data.data_leaves
+    header, _ = render(program, "m", str(tmp_path))  # as lowered: renders
+    assert "case 1: {  // " in header.text
+    leaf = program.data.data_leaves[0]
+    broken = dataclasses.replace(
+        program, data=dataclasses.replace(program.data, data_leaves=(dataclasses.replace(leaf, op=Mystery()),))
+    )
+    with pytest.raises(InternalError) as e:
+        render(broken, "m", str(tmp_path))
+    message = str(e.value)
+    lines = (Path(ROOT) / "templates" / "_data.j2").read_text(encoding="utf-8").splitlines()
+    m = re.match(
+        r"templates/_data\.j2:([0-9]+): the templates have no C\+\+ for the SetBlackboard/UnsetBlackboard "
+        r"operation `Mystery`$",
+        message,
+    )
+    assert m, message
+    assert "unknown(" in lines[int(m.group(1)) - 1]  # the line that refused it
+
+
+def test_an_undefined_name_in_a_template_is_located(tmp_path):
+    """StrictUndefined's error (a template naming what the context lacks) is located too."""
+    import jinja2
+
+    from btgen.backend_cpp.emit import render_template
+    from btgen.diagnostics import InternalError
+
+    (tmp_path / "t.j2").write_text("line one\n{{ nothing_here }}\n", encoding="utf-8")
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(tmp_path)), undefined=jinja2.StrictUndefined)
+    with pytest.raises(InternalError, match=r"t\.j2:2: 'nothing_here' is undefined"):
+        render_template(env, "t.j2", {})

@@ -145,8 +145,12 @@ def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
     return "true" if o.literal is not None else "false"
 
 
+_BLACKBOARD_READS = ("ReadEntry", "ReadUser", "ReadUserLiteral")
+
 FILTERS = dict(
     op_kind=lambda op: type(op).__name__,
+    # whether a getter's cases read the blackboard (the others return literals)
+    reads_blackboard=lambda reads: any(type(r).__name__ in _BLACKBOARD_READS for _, r in reads),
     text_ok=text_ok,
     declared_enum=declared_enum,
     slot_type=slot_type,

@@ -2,16 +2,20 @@
 
 One Environment (StrictUndefined, keep_trailing_newline, autoescape off);
 every name, literal and reference spelling is a Python filter from here or
-naming.py. Templates only loop and substitute. Output depends on nothing
-but the Program, the file stem and the banner's input paths: same input,
-same bytes.
+naming.py. Templates only loop and substitute; a choice a template does not know
+(an operation kind it has no C++ for) calls `unknown()`, and any error while
+rendering is an InternalError located at the template's line, never C++ that
+quietly does something else. Output depends on nothing but the Program, the
+file stem and the banner's input paths: same input, same bytes.
 """
 
 from __future__ import annotations
 
 import os
+import sys
+import textwrap
 from dataclasses import dataclass
-from typing import Any, Callable, Optional
+from typing import Any, Callable, NoReturn, Optional
 
 import jinja2
 
@@ -37,22 +41,32 @@ class Output:
     text: str
 
 
+# The node table's spellings: the mission's namespace `detail` has using-declarations of
+# btgen::NodeKind, kNoNode, kNoSlot and kNoModel (btgen/node.hpp), so that a row fits a line.
 def node_ref(index: int) -> str:
-    return "btgen::kNoNode" if index < 0 else str(index)
+    return "kNoNode" if index < 0 else str(index)
 
 
 def slot_ref(slot: int) -> str:
-    return "btgen::kNoSlot" if slot < 0 else f"{slot}u"
+    return "kNoSlot" if slot < 0 else f"{slot}u"
 
 
 def model_ref(model: int) -> str:
-    return "btgen::kNoModel" if model < 0 else str(model)
+    return "kNoModel" if model < 0 else str(model)
 
 
 def node_kind(kind: str) -> str:
     if kind not in _NODE_KINDS:
         raise InternalError(f"no btgen::NodeKind for `{kind}`")
-    return f"btgen::NodeKind::{kind}"
+    return f"NodeKind::{kind}"
+
+
+def node_label(n: IRNode, depth: int) -> str:
+    """A node table row's comment: its kind, model ID and name (each once), indented by depth."""
+    label = n.kind if n.kind == n.id else f"{n.kind} {n.id}"
+    if n.name != n.id:
+        label += f' "{n.name}"'
+    return "  " * depth + label
 
 
 def groot2_context(program: Program) -> dict:
@@ -83,6 +97,56 @@ def groot2_context(program: Program) -> dict:
     )
 
 
+class TemplateFailure(Exception):
+    """A template met a value it has no C++ for (raised by `unknown()` in a template)."""
+
+
+def unknown(what: str, value: object) -> NoReturn:
+    """Called by a template for a choice it does not know: fail, rather than print code that
+    does something else."""
+    raise TemplateFailure(f"the templates have no C++ for the {what} `{value}`")
+
+
+def render_template(env: jinja2.Environment, name: str, ctx: dict) -> str:
+    """The template `name` rendered; an error inside it (unknown(), an undefined name, a
+    filter's InternalError, a bug of the template) is an InternalError that names the
+    template file and line where it happened."""
+    try:
+        return env.get_template(name).render(ctx)
+    except (TemplateFailure, jinja2.TemplateError, InternalError, LookupError, TypeError, ValueError) as e:
+        where = name
+        tb = sys.exc_info()[2]
+        while tb is not None:  # Jinja2 gives template frames the template's file and line
+            filename = tb.tb_frame.f_code.co_filename
+            if filename.endswith(".j2"):
+                where = f"{display_path(filename, str(TEMPLATE_DIR.parent))}:{tb.tb_lineno}"
+            tb = tb.tb_next
+        raise InternalError(f"{where}: {e}") from e
+
+
+def _cpp_name(model: Any) -> str:
+    """A leaf model's class name (naming.name_program made it a CppLeafModel)."""
+    if not isinstance(model, naming.CppLeafModel):
+        raise InternalError(f"leaf model `{model.id}` has no C++ name (naming.name_program gives it one)")
+    return model.cpp_name
+
+
+def contract_models(program: Program) -> list[str]:
+    """The lines of the header's contract that name this mission's models by kind."""
+    parts = []
+    for kind, models, ns in (
+        ("Action", program.actions, "leaf"),
+        ("Condition", program.conditions, "leaf"),
+        ("Control or Decorator", program.user_nodes, "control"),
+    ):
+        if models:
+            names = ", ".join(_cpp_name(m) for m in models)
+            parts.append(f"{len(models)} {kind} model{'s' if len(models) > 1 else ''} in {ns}:: ({names})")
+    if not parts:
+        return ["This mission has no models: Leaves needs no hook."]
+    return textwrap.wrap("Here: " + "; ".join(parts) + ".", width=96, break_on_hyphens=False)
+
+
 def _environment() -> jinja2.Environment:
     env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
@@ -105,6 +169,7 @@ def _environment() -> jinja2.Environment:
     )
     env.filters.update(data_cpp.FILTERS)
     env.tests.update(data_cpp.TESTS)
+    env.globals["unknown"] = unknown
     return env
 
 
@@ -146,6 +211,9 @@ def render(
     header, source = output_names(stem)
     cls = naming.pascal_case(stem)
     compiled, where = compile_scripts(data)
+    depth: dict[int, int] = {}
+    for n in program.nodes:  # a parent comes before its children
+        depth[n.index] = 0 if n.parent < 0 else depth[n.parent] + 1
     tables = script_tables(compiled, len(program.nodes))
 
     def source_of(n: IRNode) -> str:
@@ -165,7 +233,8 @@ def render(
         ns=naming.mission_namespace(stem, namespace),
         cls=cls,
         program=program,
-        nodes=[dict(n=n, source=source_of(n)) for n in program.nodes],
+        nodes=[dict(n=n, source=source_of(n), label=node_label(n, depth[n.index])) for n in program.nodes],
+        contract_models=contract_models(program),
         data=data,
         slots=[
             dict(s=sl, origin=sl.origin + (f" at {show_loc(sl.origin_loc)}" if sl.origin_loc else ""))
@@ -189,8 +258,8 @@ def render(
     )
     env = environment()
     return _stamped(
-        Output(header, env.get_template("mission.hpp.j2").render(ctx)),
-        Output(source, env.get_template("mission.cpp.j2").render(ctx)),
+        Output(header, render_template(env, "mission.hpp.j2", ctx)),
+        Output(source, render_template(env, "mission.cpp.j2", ctx)),
         ctx["ns"],
         ctx["guard"],
     )

@@ -6,7 +6,7 @@ namespace btgen {
 // The runtime ABI generated code is written against. Every generated header
 // static_asserts that this number equals the one its generator targeted
 // (btgen.version.RUNTIME_ABI); a mismatch means: regenerate the mission.
-inline constexpr int kRuntimeAbi = 8;
+inline constexpr int kRuntimeAbi = 9;
 
 inline constexpr const char* kRuntimeVersion = "0.3.0";
 
