@@ -1,0 +1,101 @@
+// btgen runtime: SetBlackboard into a dynamic blackboard slot under BehaviorTree.CPP 4.7.0
+// and later (a part of btgen/dynamic.hpp, which includes it at its end; including this
+// header alone includes the rest).
+#pragma once
+
+#include "btgen/dynamic.hpp"
+
+namespace btgen {
+namespace dyn {
+
+// ------------------------------------------------------------ SetBlackboard, 4.7.0 and later
+//
+// SetBlackboard into a dynamic entry no port declared, from BehaviorTree.CPP 4.7.0
+// (Semantics::setblackboard_converts_to_entry_type; lang/blackboard.py set_blackboard_410
+// is the reference). The entry's own type is Slot::entry_type: kUntyped (created by a
+// Script, an untyped port, a SubTree text literal), kTyped (std::string: created by a
+// SetBlackboard literal, or copied from such an entry; Dyn::typed_string says the same),
+// kBtAny (left so by a string below). A string is converted with the entry's converter:
+// an untyped entry has none and receives an empty value; BT::Any's throws. The write is
+// Blackboard::set<BT::Any>: an entry on the node's own blackboard (`local`) that is not
+// strongly typed becomes BT::Any; a std::string one refuses another type; one reached
+// through a SubTree remapping keeps its type. Each returns 1 (SUCCESS), 0 (FAILURE: the
+// value to copy is empty) or -1 (m says why, after the node's prefix).
+
+// `raw`: the `value` port as written, for the conversion message; `key`: the output_key
+// as written; `entry_key`: the entry's key on the blackboard that holds it.
+struct SetNames410 {
+  std::string_view raw;
+  std::string_view key;
+  std::string_view entry_key;
+};
+
+template <std::size_t N>
+int set_value_410(Slot<Dyn<N>>& slot, Ref out, bool local, const SetNames410& names, Msg& m) noexcept {
+  const bool typed_string = slot.entry_type == EntryType::kTyped;
+  if (!typed_string && out.is_string()) {
+    if (slot.entry_type == EntryType::kBtAny) {
+      m.add("SetBlackboard: cannot convert ");
+      add_string_repr(m, names.raw);
+      m.add(": cannot convert ");
+      add_string_repr(m, out.s);
+      m.add(" to BT::Any: the library has no convertFromString for BT::Any");
+      return -1;
+    }
+    out = Ref{};  // TypeInfo::parseString without a converter: an empty value
+  }
+  if (typed_string && !out.none() && !out.is_string()) {
+    if (local) {
+      m.add("SetBlackboard: blackboard entry `")
+          .add(names.key)
+          .add("` is declared as string; it cannot be written with a ");
+    } else {
+      m.add("blackboard entry `").add(names.entry_key).add("` is declared as string; it cannot be used as ");
+    }
+    m.add(type_name(out));
+    return -1;
+  }
+  if (local && !typed_string) {
+    slot.entry_type = EntryType::kBtAny;
+    slot.value.typed_string = false;
+  }
+  if (out.none()) {
+    slot.value.tag = DynTag::kNone;
+    slot.exists = true;
+    slot.has_value = false;
+    ++slot.seq;
+    return 1;
+  }
+  return put(slot, out, names.key, m) ? 1 : -1;
+}
+
+// SetBlackboard value="text".
+template <std::size_t N>
+int set_text_410(Slot<Dyn<N>>& slot, std::string_view text, bool local, const SetNames410& names, Msg& m) noexcept {
+  if (!slot.exists) {  // a new entry takes the value's type, std::string
+    slot.exists = true;
+    slot.has_value = false;
+    slot.entry_type = EntryType::kTyped;
+    slot.value.typed_string = true;
+  }
+  return set_value_410(slot, of_string(text), local, names, m);
+}
+
+// SetBlackboard value="{src}" once the source exists: `value` is what it holds, `src_type`
+// its own type (a missing destination is created with it).
+template <std::size_t N>
+int set_copy_410(Slot<Dyn<N>>& slot, const Ref& value, EntryType src_type, bool local, const SetNames410& names,
+                 Msg& m) noexcept {
+  if (!slot.exists) {
+    slot.exists = true;
+    slot.has_value = false;
+    slot.value.tag = DynTag::kNone;
+    slot.entry_type = src_type;
+    slot.value.typed_string = src_type == EntryType::kTyped;
+  }
+  if (value.none()) return 0;
+  return set_value_410(slot, value, local, names, m);
+}
+
+}  // namespace dyn
+}  // namespace btgen
