@@ -49,7 +49,7 @@ def _ctest(build: Path, *args: str) -> subprocess.CompletedProcess:
 def test_the_suite_runs_on_the_compiled_executor(capsys, tmp_path):
     out = tmp_path / "suite"
     assert main(["tests", str(GUARD), "-o", str(out), "--executor"]) == 0
-    assert capsys.readouterr().out.startswith(f"{out}: 4 tests, 13 files")
+    assert capsys.readouterr().out.startswith(f"{out}: 4 tests, 17 files")  # (with scenarios/: one per TEST)
     names = sorted(p.name for p in (out / "executor").iterdir())
     assert names == ["001.scenario", "001.trace", "002.scenario", "002.trace", "003.scenario", "003.trace"] + [
         "004.scenario",
