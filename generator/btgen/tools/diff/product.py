@@ -20,7 +20,7 @@ node's status transitions.
 NEW's events of a tick are compared with OLD's as they happen; the first one
 that differs ends the run with a counterexample.
 
-Repeats are cut as `btgen explore` cuts them (tools/explore.py's state hash),
+Repeats are cut as `btgen explore` cuts them (tools/explore/search.py's state hash),
 on the pair: both engines' states (node statuses and members, blackboards,
 clock, the chain of nodes being ticked), the results the plan holds that each
 engine has not consumed yet, and OLD's events of the tick NEW has not matched

@@ -1,4 +1,4 @@
-"""Agreement of the Promela model with `btgen explore` (tools/explore.py).
+"""Agreement of the Promela model with `btgen explore` (tools/explore/search.py).
 
 Both enumerate the runs of a mission whose leaves answer freely, up to a number of ticks:
 explore replays plans on the interpreter, SPIN searches the model. What they must agree on
