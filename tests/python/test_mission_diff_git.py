@@ -149,3 +149,16 @@ def test_mistakes(capsys, repo, tmp_path):
     assert "diff needs OLD.xml and NEW.xml" in capsys.readouterr().err
     assert main(["diff", "missions/same.xml", "missions/same.xml", "missions/new.xml"]) == 1
     assert "PATHs go with --git" in capsys.readouterr().err
+
+
+def test_a_difference_that_does_not_replay_is_never_reported(capsys, repo, monkeypatch):
+    """The search's answer is replayed; were the replay to show no difference, `diff --git` must
+    fail as a bug (as `btgen diff` does), not print "different" without a witness."""
+    from btgen.tools.diff import git as diff_git
+
+    monkeypatch.setattr(diff_git, "first_difference", lambda a, b: None)
+    rc = main(["diff", "--git", "HEAD", "missions/change.xml"])
+    out, err = capsys.readouterr()
+    assert rc != 0 and rc != 1
+    assert "different" not in out
+    assert "does not replay" in err

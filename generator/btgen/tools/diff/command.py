@@ -17,6 +17,7 @@ from btgen.tools.diff.common import parse_observe, scenario_texts
 from btgen.tools.diff.product import (
     Differ,
     Event,
+    difference_record,
     event_text,
     first_difference,
     observe,
@@ -189,16 +190,11 @@ def diff_command(args) -> int:
     where = ""
     first: dict = {}
     if at is not None:
-        t, i = at
-        eo = seen_old[t][i] if t < len(seen_old) and i < len(seen_old[t]) else None
-        en = seen_new[t][i] if t < len(seen_new) and i < len(seen_new[t]) else None
-        first = {
-            "tick": t + 1,
-            "event": i + 1,
-            "old": event_text(eo) if eo else None,
-            "new": event_text(en) if en else None,
-        }
-        where = f"tick {t + 1}, event {i + 1}: OLD {first['old'] or '(nothing)'}, NEW {first['new'] or '(nothing)'}"
+        first = difference_record(seen_old, seen_new, at)
+        where = (
+            f"tick {first['tick']}, event {first['event']}: OLD {first['old'] or '(nothing)'}, "
+            f"NEW {first['new'] or '(nothing)'}"
+        )
     if args.format == "json":
         report = {"old": args.old, "new": args.new, "btcpp_old": v_old, "btcpp_new": v_new}
         report.update(

@@ -29,10 +29,10 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from btgen import cmdline, pipeline
-from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_diagnostics
 from btgen.lang.model import Mission
 from btgen.tools.check import discovery
-from btgen.tools.diff.product import Differ, event_text, first_difference, observe
+from btgen.tools.diff.product import Differ, difference_record, first_difference, observe
 
 MAX_ARCHIVE = 256 * 1024 * 1024
 
@@ -209,23 +209,14 @@ def git_diff_command(args, v_old: str, v_new: str) -> int:
                 seen_old = observe(old, sc, observables=observables)
                 seen_new = observe(new, sc, observables=observables)
                 at = first_difference(seen_old, seen_new)
-                detail: dict = dict(stats, scenario=text_new)
-                where = ""
-                if at is not None:
-                    t, i = at
-                    eo = seen_old[t][i] if t < len(seen_old) and i < len(seen_old[t]) else None
-                    en = seen_new[t][i] if t < len(seen_new) and i < len(seen_new[t]) else None
-                    first = {
-                        "tick": t + 1,
-                        "event": i + 1,
-                        "old": event_text(eo) if eo else None,
-                        "new": event_text(en) if en else None,
-                    }
-                    detail["first_difference"] = first
-                    where = (
-                        f": tick {t + 1}, event {i + 1}: {rev} {first['old'] or '(nothing)'}, "
-                        f"working tree {first['new'] or '(nothing)'}"
-                    )
+                if at is None:  # the search and the replay disagree: never report a difference that is none
+                    raise InternalError(f"btgen diff --git: {show}: the difference found does not replay")
+                first = difference_record(seen_old, seen_new, at)
+                detail: dict = dict(stats, scenario=text_new, first_difference=first)
+                where = (
+                    f": tick {first['tick']}, event {first['event']}: {rev} {first['old'] or '(nothing)'}, "
+                    f"working tree {first['new'] or '(nothing)'}"
+                )
                 rows.append(Row(show, main, "different", "different" + where, detail))
         finally:
             projects.close()

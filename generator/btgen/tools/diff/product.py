@@ -570,3 +570,17 @@ def first_difference(a: list[list[Event]], b: list[list[Event]]) -> Optional[tup
             if i >= len(ea) or i >= len(eb) or ea[i] != eb[i]:
                 return t, i
     return None
+
+
+def difference_record(a: list[list[Event]], b: list[list[Event]], at: tuple[int, int]) -> dict:
+    """The first difference `at` of two observed runs, for reports: tick and event (from 1) and
+    each side's event as the traces print it (None where that side has no such event)."""
+    t, i = at
+    ea = a[t][i] if t < len(a) and i < len(a[t]) else None
+    eb = b[t][i] if t < len(b) and i < len(b[t]) else None
+    return {
+        "tick": t + 1,
+        "event": i + 1,
+        "old": event_text(ea) if ea else None,
+        "new": event_text(eb) if eb else None,
+    }
