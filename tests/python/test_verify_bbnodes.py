@@ -20,7 +20,7 @@ from btgen.tools.verify import run_properties
 from btgen.tools.verify.agree import agreement
 from btgen.tools.verify.bbjobs import BB_KINDS
 from btgen.tools.verify.blackboard import build_tables, entries_of
-from btgen.tools.verify.promela import Emitter, ModelOptions
+from btgen.tools.verify.promela import RUNNING, SUCCESS, Emitter, ModelOptions
 from verify_missions import write_mission
 
 V410 = pipeline.CompileOptions(btcpp="4.10.0")
@@ -86,8 +86,8 @@ def _release(text: str, btcpp: str) -> str:
 PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
 
-def _verdicts(tmp_path: Path, path: str, texts: list[str], **options) -> dict:
-    mission, program = pipeline.build(path)
+def _verdicts(tmp_path: Path, path: str, texts: list[str], opts=pipeline.DEFAULTS, **options) -> dict:
+    mission, program = pipeline.build(path, opts)
     names = P.Names(program, entries_of(build_tables(mission, program)))
     props = [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
     results = run_properties(mission, program, props, ModelOptions(print_states=True, **options), str(tmp_path / "w"))
@@ -95,7 +95,7 @@ def _verdicts(tmp_path: Path, path: str, texts: list[str], **options) -> dict:
     for prop, res, cx in results:
         if cx is not None:
             assert cx.shown_interp and cx.problems == [], (prop.text, cx.problems)
-            PRODUCED.append((path, cx, pipeline.DEFAULTS))
+            PRODUCED.append((path, cx, opts))
         out[prop.text] = res.holds
     return out
 
@@ -167,6 +167,37 @@ def test_verdicts_on_counts_queues_and_on_halted(tmp_path):
     assert v["absence(item == 2)"] is False and v["absence(n == 1)"] is False
 
 
+# catch_on_halt="true" (4.9.0+): Work never fails (its contract), so Cleanup runs only when Safe
+# fails while the try block runs: the halt ticks the catch child once.
+CATCH = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveSequence>
+      <Check name="Safe"/>
+      <TryCatch catch_on_halt="true">
+        <Sequence><Work/><Work name="More"/></Sequence>
+        <Cleanup/>
+      </TryCatch>
+    </ReactiveSequence>
+  </BehaviorTree>
+  <TreeNodesModel><Condition ID="Check"/><Action ID="Work"/><Action ID="Cleanup"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_try_catch_on_halt_ticks_the_catch_child(tmp_path):
+    never_fails = (("Work", (SUCCESS, RUNNING)), ("More", (SUCCESS, RUNNING)))
+    path = write_mission(tmp_path, CATCH)
+    mission, program = pipeline.build(path, V410)
+    a = agreement(mission, program, 6, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
+    props = ["absence(ticked(Cleanup))", "[] (ticked(Cleanup) -> returned(Safe, FAILURE))"]
+    v = _verdicts(tmp_path, path, props, V410, running_bound=1, contract=never_fails)
+    assert v["absence(ticked(Cleanup))"] is False and v["[] (ticked(Cleanup) -> returned(Safe, FAILURE))"] is True
+    # without catch_on_halt the catch child is never ticked: the halt of the model does not tick it
+    plain = write_mission(tmp_path, CATCH.replace(' catch_on_halt="true"', ""), "plain.xml")
+    assert _verdicts(tmp_path, plain, props[:1], V410, running_bound=1, contract=never_fails)[props[0]] is True
+
+
 # Storm: Place decides (the Switch takes case b, never Dock), then three runs of Grasp (one per element).
 STORM = """<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
@@ -206,7 +237,7 @@ def test_storm_on_the_blackboard_nodes_equals_hand_computed_values(tmp_path, cap
 
 def test_every_counterexample_replays_on_the_generated_cpp(tmp_path):
     """Runs last in this module: each counterexample the tests above produced, on the C++
-    (one build per mission)."""
+    (one build per mission: three)."""
     if not PRODUCED:  # run alone: make some
         _verdicts(tmp_path, write_mission(tmp_path, NODES), ["absence(ticked(Charge))"], running_bound=1)
     assert PRODUCED

@@ -32,6 +32,7 @@ the run there (`goto Error`), as the tree's exception ends it.
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING
 
 from btgen.ir.lower import IRNode
@@ -41,6 +42,28 @@ from btgen.tools.verify.blackboard import lookup, result_is
 if TYPE_CHECKING:  # pragma: no cover
     from btgen.lang.versions import Semantics
     from btgen.tools.verify.blackboard import Tables
+
+
+_LABEL = re.compile(r"\b((?:E|TC)\d+)\b(?!@)")  # a node's labels (promela.py: E<i>, TC<i>)
+_OPEN, _CLOSE = "/*@H{*/", "/*@H}*/"  # a halt's copy of a tick: its labels are `@H`, made unique by the emitter
+
+
+def unique_labels(lines: list[str]) -> list[str]:
+    """Each copy of a tick a halt emits (the same lines may be emitted in several places) gets
+    labels of its own: `E5@H` becomes `E5_h<k>`, k counting the copies, innermost first."""
+    out: list[str] = []
+    stack: list[str] = []
+    count = 0
+    for line in lines:
+        if line.strip() == _OPEN:
+            count += 1
+            stack.append(f"_h{count}")
+            continue
+        if line.strip() == _CLOSE:
+            stack.pop()
+            continue
+        out.append(line.replace("@H", stack[-1]) if stack and "@H" in line else line)
+    return out
 
 
 # ---------------------------------------------------------------- the Promela (a mixin of promela.Emitter)
@@ -83,6 +106,8 @@ class BlackboardNodeTicks:
         elif k in ("SkipUnlessUpdated", "WaitValueUpdate"):
             self.var(f"bit se{i}")  # still_executing
             self.var(f"bit eu{i}", True)
+        elif k == "TryCatch" and n.params[0]:
+            self.var(f"byte ch{i}", True)  # the result the halt's tick of the catch child must not clobber
         elif k in PARAM_FROM_BB and i in self.bbt.params:
             self.var(f"int lim{i}", True)
 
@@ -96,6 +121,28 @@ class BlackboardNodeTicks:
         if k in ("SkipUnlessUpdated", "WaitValueUpdate"):
             return [f"se{i} = 0;"]
         return []  # a Precondition keeps children_running (the library's halt() does not clear it)
+
+    def catch_on_halt(self, n: IRNode) -> list[str]:
+        """4.9.0+ TryCatch catch_on_halt="true": halted while in the try block, it halts the try
+        children and ticks the catch child once (halting it when RUNNING). The catch child's tick
+        is emitted again here, its labels made unique."""
+        i = n.index
+        if not n.params[0] or len(n.children) < 2:
+            return []
+        *tries, last = n.children
+        tick = [_LABEL.sub(r"\1@H", s) for s in self.child_tick(last)]
+        out = [_OPEN, f"if :: !inc{i} && st[{i}] == RUNNING ->"]
+        for c in tries:
+            out += ["   " + s for s in self.reset_child(c)]
+        out.append(f"   ch{i} = rv;")
+        out += ["   " + s for s in tick]
+        out.append("   if :: rv == RUNNING ->")
+        out += ["      " + s for s in self.reset_child(last)]
+        out.append("   :: else -> skip fi;")
+        out.append(f"   rv = ch{i}")
+        out.append(":: else -> skip fi;")
+        out.append(_CLOSE)
+        return out
 
     def on_halted(self, c: int) -> list[str]:
         """haltNode's _onHalted script, after halt()."""
