@@ -167,6 +167,37 @@ def test_verdicts_on_counts_queues_and_on_halted(tmp_path):
     assert v["absence(item == 2)"] is False and v["absence(n == 1)"] is False
 
 
+AGAIN = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="t := 1; t := 2; t := 3"/>
+      <Repeat num_cycles="2">
+        <Sequence>
+          <ForceSuccess><SkipUnlessUpdated entry="{t}"><Act/></SkipUnlessUpdated></ForceSuccess>
+          <UnsetBlackboard key="t"/>
+          <Script code="t := 1"/>
+        </Sequence>
+      </Repeat>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Act"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_an_entry_made_again_is_abstracted_with_a_located_warning(tmp_path):
+    """Unset and made again, `t` counts from 0: how far SkipUnlessUpdated's last seen counter is
+    ahead of it is not kept (bbjobs._relation), and a warning at the node says what that loses."""
+    kept = write_mission(tmp_path, AGAIN.replace('<UnsetBlackboard key="t"/>', "<AlwaysSuccess/>"), "kept.xml")
+    assert not build_tables(*pipeline.build(kept)).warnings
+    mission, program = pipeline.build(write_mission(tmp_path, AGAIN))
+    (w,) = build_tables(mission, program).warnings
+    assert w.severity == "warning" and "keeps whether the counter is ahead, not by how much" in w.message
+    assert (w.loc.line, w.loc.col) == (7, 51) and w.message.startswith('`SkipUnlessUpdated` "SkipUnlessUpdated"')
+    a = agreement(mission, program, 4, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states
+
+
 # catch_on_halt="true" (4.9.0+): Work never fails (its contract), so Cleanup runs only when Safe
 # fails while the try block runs: the halt ticks the catch child once.
 CATCH = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -233,6 +264,45 @@ def test_storm_on_the_blackboard_nodes_equals_hand_computed_values(tmp_path, cap
     assert main([*args, "--within", "3"]) == 0  # (--ever Dock: a label no state carries, declared to Storm)
     out = capsys.readouterr().out
     assert {line[:42].strip(): float(line[42:]) for line in out.splitlines()[1:]}["P(root SUCCESS within 3 ticks)"] == 0
+
+
+def test_random_missions_per_feature_set_behind_an_env_var(tmp_path):
+    """BTGEN_VERIFY_AGREE=N: N fuzzgen missions per feature set and release; every one verify
+    translates agrees with explore, and the refusals are of the kinds docs/verify.md lists."""
+    count = int(os.environ.get("BTGEN_VERIFY_AGREE", "0"))
+    if not count:
+        pytest.skip("set BTGEN_VERIFY_AGREE=N to compare N random missions per fuzzgen feature set and release")
+    from btgen.diagnostics import UserError
+    from btgen.tools.fuzzgen import random_case
+    from btgen.tools.verify.promela import Refusal
+
+    allowed = ("the blackboard takes more than", "a Control of the mission's own", "a Decorator of the mission's own")
+    for btcpp in ("4.6.2", "4.10.0"):
+        opts = pipeline.CompileOptions(btcpp=btcpp)
+        for features in ("control", "full", "dynamic", "edges"):
+            translated = agree = truncated = 0
+            refused: dict[str, int] = {}
+            for seed in range(count):
+                path = write_mission(tmp_path, random_case(seed, features, 1, btcpp=btcpp).mission, "r.xml")
+                mission, program = pipeline.build(path, opts)
+                try:
+                    a = agreement(mission, program, 3, 20, str(tmp_path / f"w{btcpp}{features}{seed}"), 50000)
+                except Refusal as e:
+                    why = e.diagnostics[0].message
+                    assert any(x in why for x in allowed), (btcpp, features, seed, why)
+                    key = next(x for x in allowed if x in why)
+                    refused[key] = refused.get(key, 0) + 1
+                    continue
+                except UserError as e:  # pragma: no cover - shown with the seed
+                    raise AssertionError((btcpp, features, seed, e.diagnostics[0].message)) from None
+                translated += 1
+                if a.explore_truncated:
+                    truncated += 1
+                    continue
+                assert a.explore_states == a.spin_states, (btcpp, features, seed)
+                agree += 1
+            print(f"{btcpp} {features}: {translated}/{count} translated, {agree} agree, {truncated} explore truncated")
+            print(f"    refused: {refused}")
 
 
 def test_every_counterexample_replays_on_the_generated_cpp(tmp_path):

@@ -101,6 +101,7 @@ class Members:
 
         self.loops = [n for n in inodes if isinstance(n, LoopNode)]
         self.updates = [n for n in inodes if isinstance(n, (EntryUpdatedDecorator, WasEntryUpdatedNode))]
+        self.ahead: list = []  # the entry-update nodes found ahead of their entry's counter (a warning)
 
     def save(self) -> tuple:
         from btgen.interp.tree import RunError, _entry_of
@@ -113,7 +114,10 @@ class Members:
                 e = _entry_of(u)
             except RunError:  # a bad key: the node fails at run time whatever it saw
                 e = None
-            ups.append((u.seen, ("missing", u.seen) if e is None else ("fresh", e.sequence_id == u.seen)))
+            rel = _relation(u.seen, e)
+            if rel == ("ahead",) and u not in self.ahead:
+                self.ahead.append(u)
+            ups.append((u.seen, rel))
         return (loops, tuple(ups))
 
     @staticmethod
@@ -128,3 +132,25 @@ class Members:
             n.current = None if q is None else values.Queue(q.element_type, q)
         for u, (seen, _k) in zip(self.updates, saved[1]):
             u.seen = seen
+
+
+def _relation(seen: int, entry) -> tuple:
+    """What an entry-update node's last seen counter decides: equal to the entry's (not
+    updated), behind it (updated, and it stays so: counters only grow), or ahead of it. Ahead
+    happens when the entry was unset and made again (it counts from 0): the node sees an update
+    until the new counter comes back to `seen`, and then not. Keeping by how much would make the
+    over-approximated blackboards grow, so ahead is one state (abstracted, with a warning:
+    blackboard.build_tables)."""
+    if entry is None:
+        return ("missing", seen)
+    seq = entry.sequence_id
+    if seen == seq:
+        return ("fresh",)
+    return ("behind",) if seen < seq else ("ahead",)
+
+
+AHEAD_WARNING = (
+    "its entry may be unset and made again, and the new entry's update counter may come back to "
+    "the one this node saw last: then BehaviorTree.CPP sees no update where btgen verify may see "
+    "one (btgen verify keeps whether the counter is ahead, not by how much)"
+)

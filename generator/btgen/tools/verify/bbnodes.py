@@ -21,10 +21,11 @@ as tables (`bb == S -> bb = S'; result`, made by `bbjobs.py`), per node and *rol
 
 The members of these nodes that the blackboard decides are part of the *blackboard state*
 (`bbjobs.Members`): a Loop's queue (what is left of it), and each entry-update node's last seen
-update counter, kept as whether it equals the entry's counter now (all that the node ever
-compares), so the states stay finite. What the node keeps beside (the running child of a
-Switch, a Loop's `child_running`, an entry-update node's `still_executing`, a
-Precondition's `children_running`) is a Promela variable.
+update counter, kept as how it stands to the entry's counter now (equal, behind, or ahead by
+how much after the entry was unset and made again: all the node's comparison depends on),
+so the states stay finite. What the node keeps beside (the running child of a Switch, a
+Loop's `child_running`, an entry-update node's `still_executing`, a Precondition's
+`children_running`) is a Promela variable.
 
 A run-time error of the node (a port that cannot be read or converted, `else="IDLE"`) ends
 the run there (`goto Error`), as the tree's exception ends it.
@@ -250,7 +251,7 @@ class BlackboardNodeTicks:
         """`lim{i}` read as the tick begins (require_input: no value is a run-time error)."""
         i = n.index
         values = self.bbt.params[i]
-        return lookup(self.bbt.node[(i, "param")], lambda r: f"lim{i} = {values[r]}")
+        return lookup(self.bbt.node[(i, "param")], lambda r: f"lim{i} = {_count(values[r])}")
 
     def param_reread(self, n: IRNode) -> list[str]:
         """4.7.0+ Retry: num_attempts read again after a failure (no value: the count stays)."""
@@ -258,4 +259,10 @@ class BlackboardNodeTicks:
         if (i, "reread") not in self.bbt.node:
             return []
         values = self.bbt.params[i]
-        return lookup(self.bbt.node[(i, "reread")], lambda r: "skip" if r == KEEP else f"lim{i} = {values[r]}")
+        return lookup(self.bbt.node[(i, "reread")], lambda r: "skip" if r == KEEP else f"lim{i} = {_count(values[r])}")
+
+
+def _count(v: int) -> int:
+    """A count below -1 loops as little as 0 does (`cnt < lim` is false at once): one Promela
+    literal for them all (INT_MIN would not parse as one)."""
+    return -2 if v < -1 else v

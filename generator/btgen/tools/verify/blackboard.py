@@ -208,6 +208,11 @@ def build_tables(
                 severity="warning",
             )
         )
+    if members.ahead:  # bbjobs._relation: an abstraction, said where
+        node = members.ahead[0]
+        p = node.ports.get("entry")
+        where = p.attr.value_loc if p is not None and p.attr is not None else node.model.loc
+        tables.warnings.append(Diagnostic(where, f'`{node.reg_id}` "{node.name}": {bbjobs.AHEAD_WARNING}', "warning"))
     tables.count = len(states)
     for st in states:
         restore(st)
