@@ -82,7 +82,10 @@ def _precondition(node) -> int:
     """PreconditionNode.tick up to the child: `else` read, then the `if` script's truth."""
     node.script.load()
     else_status = node.status_input("else")
-    return 16 * else_status + (1 if node.script.truth() else 0)
+    truth = node.script.truth()
+    if not truth and else_status == IDLE:  # returned, IDLE throws: a table's error (and its warning)
+        raise node._idle_error()
+    return 16 * else_status + (1 if truth else 0)
 
 
 def _pop(node, status: int) -> int:
