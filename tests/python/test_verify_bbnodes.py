@@ -212,6 +212,31 @@ def test_an_entry_made_again_is_abstracted_with_a_located_warning(tmp_path):
     assert not a.explore_truncated and a.explore_states == a.spin_states
 
 
+# An IfThenElse/WhileDoElse whose condition is SKIPPED at run time (a `_while` inside it): the
+# library throws, the run ends there (the model asserted false: a fuzzgen `edges` mission found it).
+SKIPPED_CONDITION = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="go := false"/>
+      <Fallback>
+        <Act/>
+        <KIND><Sequence><Check _while="go"/></Sequence><Act name="Then"/><Act name="Else"/></KIND>
+      </Fallback>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Act"/><Condition ID="Check"/></TreeNodesModel>
+</root>
+"""
+
+
+@pytest.mark.parametrize("kind", ["IfThenElse", "WhileDoElse"])
+def test_a_condition_skipped_at_run_time_ends_the_run(tmp_path, kind):
+    path = write_mission(tmp_path, SKIPPED_CONDITION.replace("KIND", kind))
+    mission, program = pipeline.build(path)
+    a = agreement(mission, program, 3, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) == 2
+
+
 # catch_on_halt="true" (4.9.0+): Work never fails (its contract), so Cleanup runs only when Safe
 # fails while the try block runs: the halt ticks the catch child once.
 CATCH = """<root BTCPP_format="4" main_tree_to_execute="Main">

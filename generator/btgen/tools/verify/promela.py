@@ -777,7 +777,7 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
             out.append(f"      :: cs{i} == FAILURE -> cidx{i} = 2")
         else:
             out.append(f"      :: cs{i} == FAILURE -> {self.leave(i, 'FAILURE')}")
-        out.append("      :: else -> assert(false) fi  /* a skipped condition: refused by the lowering */")
+        out.append("      :: else -> goto Error fi  /* a skipped condition: the library throws */")
         out.append(":: else -> skip fi;")
         out.extend(self.dispatch(f"cidx{i}", n, lambda pos, c: self.child_tick(c), list(range(1, nn))))
         out.append(f"cs{i} = rv;")
@@ -803,7 +803,7 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
             out.append(f"   cs{i} = rv")
         else:
             out.append("   skip")
-        out.append(":: else -> assert(false) fi;")
+        out.append(":: else -> goto Error fi;  /* a skipped condition: the library throws */")
         out.append(f"if :: cs{i} == RUNNING -> {self.leave(i, 'RUNNING')} :: else -> skip fi;")
         out.extend(self.reset_children(n))
         out.append(f"rv = cs{i};")
