@@ -52,11 +52,11 @@ NODES = """<root BTCPP_format="4" main_tree_to_execute="Main">
 """
 
 # Counts read from the blackboard, a queue read from it, `_onHalted`: Ok failing while Push runs
-# halts the Retry, whose halted Push sets n to 1.
+# halts the Retry, whose halted Push sets n to 1; RunOnce's then_skip read from the blackboard.
 COUNTS = """<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
     <Sequence>
-      <Script code="n := 2; k := 2"/>
+      <Script code="n := 2; k := 2; skip := false"/>
       <SetBlackboard value="1;2" output_key="q"/>
       <Repeat num_cycles="{k}">
         <LoopInt queue="{q}" value="{item}" if_empty="SUCCESS"><Grasp/></LoopInt>
@@ -65,6 +65,9 @@ COUNTS = """<root BTCPP_format="4" main_tree_to_execute="Main">
         <Check name="Ok"/>
         <RetryUntilSuccessful num_attempts="{n}"><Push _onHalted="n := 1"/></RetryUntilSuccessful>
       </ReactiveSequence>
+      <Repeat num_cycles="2">
+        <Sequence><RunOnce then_skip="{skip}"><Grasp name="Once"/></RunOnce><Script code="skip := !skip"/></Sequence>
+      </Repeat>
     </Sequence>
   </BehaviorTree>
   <TreeNodesModel><Action ID="Grasp"/><Action ID="Push"/><Condition ID="Check"/></TreeNodesModel>
@@ -125,8 +128,8 @@ def test_every_blackboard_node_agrees_with_explore(tmp_path, btcpp):
         emitter = Emitter(mission, program, ModelOptions())
         a = agreement(mission, program, 7, 100, str(tmp_path / f"w{k}"))
         assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
-        if text is COUNTS:  # both counts are read from the blackboard, Push's _onHalted is a table
-            assert len(emitter.params_from_bb) == 2 and any(role == "halted" for _i, role in emitter.bbt.node)
+        if text is COUNTS:  # the counts and then_skip are read from the blackboard, Push's _onHalted is a table
+            assert len(emitter.params_from_bb) == 3 and any(role == "halted" for _i, role in emitter.bbt.node)
     assert kinds >= BB_KINDS
 
 
@@ -175,10 +178,21 @@ def test_verdicts_on_the_blackboard_nodes(tmp_path):
 def test_verdicts_on_counts_queues_and_on_halted(tmp_path):
     path = write_mission(tmp_path, COUNTS)
     v = _verdicts(
-        tmp_path, path, ["absence(item == 3)", "absence(item == 2)", "absence(n == 1)", "[] (k == 2)"], running_bound=1
+        tmp_path,
+        path,
+        [
+            "absence(item == 3)",
+            "absence(item == 2)",
+            "absence(n == 1)",
+            "[] (k == 2)",
+            "absence(returned(RunOnce, SKIPPED))",
+        ],
+        running_bound=1,
     )
     assert v["absence(item == 3)"] is True and v["[] (k == 2)"] is True
     assert v["absence(item == 2)"] is False and v["absence(n == 1)"] is False
+    # the second cycle reads then_skip true (the Script flipped it): SKIPPED
+    assert v["absence(returned(RunOnce, SKIPPED))"] is False
 
 
 AGAIN = """<root BTCPP_format="4" main_tree_to_execute="Main">

@@ -25,8 +25,8 @@ BB_KINDS = frozenset(
         "WaitValueUpdate",
     }
 )
-PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful"})  # a count the model reads from the blackboard
-_PARAM_PORT = {"Repeat": "num_cycles", "RetryUntilSuccessful": "num_attempts"}
+PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful", "RunOnce"})  # parameters read from the blackboard
+_PARAM_PORT = {"Repeat": "num_cycles", "RetryUntilSuccessful": "num_attempts", "RunOnce": "then_skip"}
 
 
 Job = tuple[dict, object, Loc, Callable[[], int]]  # (table, None, place, what to run on the interpreter's node)
@@ -56,6 +56,9 @@ def node_jobs(n: IRNode, node, tables: Any, param_from_bb: bool) -> list[Job]:
         job("cont", lambda: _pop(node, RUNNING), "queue")
     elif k in ("SkipUnlessUpdated", "WaitValueUpdate"):
         job("upd", lambda: 1 if node.consume_update() else 0, "entry")
+    elif k == "RunOnce" and param_from_bb:  # then_skip, read every tick (no value: true)
+        values = tables.params.setdefault(i, [])
+        job("param", lambda: _index(values, _then_skip(node)), "then_skip")
     elif k in PARAM_FROM_BB and param_from_bb:
         port = _PARAM_PORT[k]
         values = tables.params.setdefault(i, [])
@@ -76,6 +79,13 @@ def _reread(values: list, node, port: str) -> int:
 
     v = node.get_input(port, "int")
     return KEEP if v is MISSING else _index(values, v)
+
+
+def _then_skip(node) -> bool:
+    from btgen.interp.tree import MISSING
+
+    v = node.get_input("then_skip", "bool")
+    return True if v is MISSING else bool(v)
 
 
 def _precondition(node) -> int:

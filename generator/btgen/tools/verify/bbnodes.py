@@ -1,8 +1,9 @@
 """The blackboard nodes in the Promela model, as the reference interpreter runs them.
 
 SetBlackboard, UnsetBlackboard, WasEntryUpdated, Switch2..6, Precondition, LoopInt/Bool/
-Double/String, SkipUnlessUpdated, WaitValueUpdate, and the loop counts a Repeat or a
-RetryUntilSuccessful reads from the blackboard (`num_attempts="{n}"`). What such a node does
+Double/String, SkipUnlessUpdated, WaitValueUpdate, the loop counts a Repeat or a
+RetryUntilSuccessful reads from the blackboard (`num_attempts="{n}"`), RunOnce's
+`then_skip="{flag}"`, `_onHalted`, and TryCatch's catch_on_halt. What such a node does
 with the blackboard is, as for scripts (`blackboard.py`), not re-written in Promela: the
 interpreter's own node code runs on every reachable blackboard and the model gets its effect
 as tables (`bb == S -> bb = S'; result`, made by `bbjobs.py`), per node and *role*:
@@ -18,6 +19,7 @@ as tables (`bb == S -> bb = S'; result`, made by `bbjobs.py`), per node and *rol
     Repeat, RetryUntilSuccessful        "param"  the count read from the blackboard (an index
                                         "reread" into `Tables.params`); 4.7.0+ Retry reads it
                                                  again after a failure (KEEP: no value)
+    RunOnce                             "param"  then_skip read from the blackboard (no value: true)
 
 The members of these nodes that the blackboard decides are part of the *blackboard state*
 (`bbjobs.Members`): a Loop's queue (what is left of it), and each entry-update node's last seen
@@ -109,6 +111,8 @@ class BlackboardNodeTicks:
             self.var(f"bit eu{i}", True)
         elif k == "TryCatch" and n.params[0]:
             self.var(f"byte ch{i}", True)  # the result the halt's tick of the catch child must not clobber
+        elif k == "RunOnce" and i in self.bbt.params:
+            self.var(f"bit ts{i}", True)
         elif k in PARAM_FROM_BB and i in self.bbt.params:
             self.var(f"int lim{i}", True)
 
@@ -252,6 +256,15 @@ class BlackboardNodeTicks:
         i = n.index
         values = self.bbt.params[i]
         return lookup(self.bbt.node[(i, "param")], lambda r: f"lim{i} = {_count(values[r])}")
+
+    def then_skip(self, n: IRNode) -> tuple[list[str], str]:
+        """RunOnce's then_skip read from the blackboard (every tick, before anything): the lines
+        and the test; a literal: no lines."""
+        i = n.index
+        if i not in self.bbt.params:
+            return [], "1" if n.params[0] else "0"
+        values = self.bbt.params[i]
+        return lookup(self.bbt.node[(i, "param")], lambda r: f"ts{i} = {1 if values[r] else 0}"), f"ts{i}"
 
     def param_reread(self, n: IRNode) -> list[str]:
         """4.7.0+ Retry: num_attempts read again after a failure (no value: the count stays)."""

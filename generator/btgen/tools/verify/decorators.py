@@ -22,6 +22,9 @@ class DecoratorTicks:
     def param_reread(self, n: IRNode) -> list[str]:  # pragma: no cover
         raise NotImplementedError
 
+    def then_skip(self, n: IRNode) -> tuple[list[str], str]:  # pragma: no cover
+        raise NotImplementedError
+
     # given by promela.Emitter
     def child_tick(self, c: int) -> list[str]:  # pragma: no cover
         raise NotImplementedError
@@ -140,9 +143,13 @@ class DecoratorTicks:
 
     def k_RunOnce(self, n: IRNode) -> list[str]:
         i, c = n.index, n.children[0]
-        then = "SKIPPED" if n.params[0] else f"ret{i}"
+        read, skip = self.then_skip(n)  # then_skip from the blackboard: bbnodes.py
+        then = self.leave(i, "SKIPPED") if skip == "1" else self.leave(i, f"ret{i}")
+        if read:
+            then = f"if :: {skip} -> {self.leave(i, 'SKIPPED')} :: else -> {self.leave(i, f'ret{i}')} fi"
         return [
-            f"if :: done{i} -> {self.leave(i, then)} :: else -> skip fi;",
+            *read,
+            f"if :: done{i} -> {then} :: else -> skip fi;",
             f"st[{i}] = RUNNING;",
             *self.child_tick(c),
             f"if :: rv == SUCCESS || rv == FAILURE -> done{i} = 1; ret{i} = rv; st[{c}] = IDLE",
