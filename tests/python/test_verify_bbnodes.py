@@ -280,6 +280,18 @@ def test_try_catch_on_halt_ticks_the_catch_child(tmp_path):
     # without catch_on_halt the catch child is never ticked: the halt of the model does not tick it
     plain = write_mission(tmp_path, CATCH.replace(' catch_on_halt="true"', ""), "plain.xml")
     assert _verdicts(tmp_path, plain, props[:1], V410, running_bound=1, contract=never_fails)[props[0]] is True
+    # catch_on_halt read from the blackboard, as halt() reads it: false, then true
+    for flag, holds in (("false", True), ("true", False)):
+        text = CATCH.replace('catch_on_halt="true"', 'catch_on_halt="{on_halt}"').replace(
+            "<ReactiveSequence>", f'<Sequence><Script code="on_halt := {flag}"/><ReactiveSequence>'
+        )
+        read = write_mission(tmp_path, text.replace("</ReactiveSequence>", "</ReactiveSequence></Sequence>"), "r.xml")
+        mission, program = pipeline.build(read, V410)
+        a = agreement(mission, program, 6, 100, str(tmp_path / f"r{flag}"))
+        assert not a.explore_truncated and a.explore_states == a.spin_states
+        if holds:  # (a violation would be one more C++ build for the last test: the literal case shows it)
+            v = _verdicts(tmp_path, read, props[:1], V410, running_bound=1, contract=never_fails)
+            assert v[props[0]] is True
 
 
 def test_storm_on_the_blackboard_nodes_equals_hand_computed_values(tmp_path, capsys):

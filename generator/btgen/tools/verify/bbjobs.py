@@ -25,8 +25,8 @@ BB_KINDS = frozenset(
         "WaitValueUpdate",
     }
 )
-PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful", "RunOnce"})  # parameters read from the blackboard
-_PARAM_PORT = {"Repeat": "num_cycles", "RetryUntilSuccessful": "num_attempts", "RunOnce": "then_skip"}
+PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful", "RunOnce", "TryCatch"})  # parameters read from it
+_PARAM_PORT = {"Repeat": "num_cycles", "RetryUntilSuccessful": "num_attempts"}
 
 
 Job = tuple[dict, object, Loc, Callable[[], int]]  # (table, None, place, what to run on the interpreter's node)
@@ -59,6 +59,9 @@ def node_jobs(n: IRNode, node, tables: Any, param_from_bb: bool) -> list[Job]:
     elif k == "RunOnce" and param_from_bb:  # then_skip, read every tick (no value: true)
         values = tables.params.setdefault(i, [])
         job("param", lambda: _index(values, _then_skip(node)), "then_skip")
+    elif k == "TryCatch" and param_from_bb:  # catch_on_halt, read in halt() (no value: false)
+        values = tables.params.setdefault(i, [])
+        job("param", lambda: _index(values, node.get_input("catch_on_halt", "bool") is True), "catch_on_halt")
     elif k in PARAM_FROM_BB and param_from_bb:
         port = _PARAM_PORT[k]
         values = tables.params.setdefault(i, [])

@@ -109,8 +109,10 @@ class BlackboardNodeTicks:
         elif k in ("SkipUnlessUpdated", "WaitValueUpdate"):
             self.var(f"bit se{i}")  # still_executing
             self.var(f"bit eu{i}", True)
-        elif k == "TryCatch" and n.params[0]:
+        elif k == "TryCatch" and (n.params[0] or i in self.bbt.params):
             self.var(f"byte ch{i}", True)  # the result the halt's tick of the catch child must not clobber
+            if i in self.bbt.params:
+                self.var(f"bit coh{i}", True)  # catch_on_halt read from the blackboard
         elif k == "RunOnce" and i in self.bbt.params:
             self.var(f"bit ts{i}", True)
         elif k in PARAM_FROM_BB and i in self.bbt.params:
@@ -132,11 +134,16 @@ class BlackboardNodeTicks:
         children and ticks the catch child once (halting it when RUNNING). The catch child's tick
         is emitted again here, its labels made unique."""
         i = n.index
-        if not n.params[0] or len(n.children) < 2:
+        read = i in self.bbt.params  # catch_on_halt="{key}": read as the halt begins
+        if not (n.params[0] or read) or len(n.children) < 2:
             return []
         *tries, last = n.children
         tick = [_LABEL.sub(r"\1@H", s) for s in self.child_tick(last)]
-        out = [_OPEN, f"if :: !inc{i} && st[{i}] == RUNNING ->"]
+        out = [_OPEN]
+        if read:
+            values = self.bbt.params[i]
+            out += lookup(self.bbt.node[(i, "param")], lambda r: f"coh{i} = {1 if values[r] else 0}")
+        out.append(f"if :: {f'coh{i} && ' if read else ''}!inc{i} && st[{i}] == RUNNING ->")
         for c in tries:
             out += ["   " + s for s in self.reset_child(c)]
         out.append(f"   ch{i} = rv;")

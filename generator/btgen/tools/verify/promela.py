@@ -210,9 +210,12 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
 
         for entry in number_nodes(self.m):
             n = self.nodes[entry.index]
-            for port in _PARAM_PORTS.get(n.kind, ()) if n.kind not in PARAM_FROM_BB else ():
+            for port in _PARAM_PORTS.get(n.kind, ()):
                 attr = entry.node.port(port)
                 if attr is not None and bbmod.is_blackboard_pointer(attr.value):
+                    if n.kind in PARAM_FROM_BB:  # read from the blackboard by the model (bbnodes.py)
+                        self.params_from_bb.add(n.index)
+                        continue
                     raise _refuse(
                         attr.value_loc,
                         f'port `{port}` of `{n.id}` "{n.name}" reads the blackboard; btgen verify needs a literal',
