@@ -20,7 +20,7 @@ from btgen.tools.verify import run_properties
 from btgen.tools.verify.agree import agreement
 from btgen.tools.verify.bbjobs import BB_KINDS
 from btgen.tools.verify.blackboard import build_tables, entries_of
-from btgen.tools.verify.promela import RUNNING, SUCCESS, Emitter, ModelOptions
+from btgen.tools.verify.promela import RUNNING, SUCCESS, Emitter, ModelOptions, Refusal
 from verify_missions import write_mission
 
 V410 = pipeline.CompileOptions(btcpp="4.10.0")
@@ -224,6 +224,18 @@ def test_an_entry_made_again_is_abstracted_with_a_located_warning(tmp_path):
     assert (w.loc.line, w.loc.col) == (7, 51) and w.message.startswith('`SkipUnlessUpdated` "SkipUnlessUpdated"')
     a = agreement(mission, program, 4, 100, str(tmp_path / "a"))
     assert not a.explore_truncated and a.explore_states == a.spin_states
+
+
+def test_other_parameters_read_from_the_blackboard_are_refused_located(tmp_path):
+    text = COUNTS.replace('<Repeat num_cycles="{k}">', '<Timeout msec="{k}">').replace(
+        "</LoopInt>\n      </Repeat>", "</LoopInt>\n      </Timeout>"
+    )
+    mission, program = pipeline.build(write_mission(tmp_path, text))
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert (d.loc.line, d.loc.col) == (6, 7) and d.message.startswith('`Timeout` "Timeout" reads a parameter')
+    assert d.message.endswith("from the blackboard; btgen verify needs a literal")
 
 
 # An IfThenElse/WhileDoElse whose condition is SKIPPED at run time (a `_while` inside it): the
