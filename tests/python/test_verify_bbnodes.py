@@ -226,6 +226,32 @@ def test_an_entry_made_again_is_abstracted_with_a_located_warning(tmp_path):
     assert not a.explore_truncated and a.explore_states == a.spin_states
 
 
+# Nav2's RecoveryNode reads number_of_retries every tick: the recovery sets it to 0, so the
+# next failure of the first child ends the node (a failed read would keep the last value).
+RECOVERY = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="n := 2"/>
+      <RecoveryNode number_of_retries="{n}">
+        <Sequence><Plan/><Follow/></Sequence>
+        <Sequence><Clear/><Script code="n := 0"/></Sequence>
+      </RecoveryNode>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Plan"/><Action ID="Follow"/><Action ID="Clear"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_recovery_retries_read_from_the_blackboard_agree(tmp_path):
+    path = write_mission(tmp_path, RECOVERY)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(nodes="nav2"))
+    emitter = Emitter(mission, program, ModelOptions())
+    assert [program.nodes[i].kind for i in emitter.params_from_bb] == ["RecoveryNode"]
+    a = agreement(mission, program, 8, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
+
+
 def test_other_parameters_read_from_the_blackboard_are_refused_located(tmp_path):
     text = COUNTS.replace('<Repeat num_cycles="{k}">', '<Timeout msec="{k}">').replace(
         "</LoopInt>\n      </Repeat>", "</LoopInt>\n      </Timeout>"

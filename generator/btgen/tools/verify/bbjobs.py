@@ -25,7 +25,7 @@ BB_KINDS = frozenset(
         "WaitValueUpdate",
     }
 )
-PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful", "RunOnce", "TryCatch"})  # parameters read from it
+PARAM_FROM_BB = frozenset({"Repeat", "RetryUntilSuccessful", "RunOnce", "TryCatch", "RecoveryNode"})  # read from it
 _PARAM_PORT = {"Repeat": "num_cycles", "RetryUntilSuccessful": "num_attempts"}
 
 
@@ -59,6 +59,9 @@ def node_jobs(n: IRNode, node, tables: Any, param_from_bb: bool) -> list[Job]:
     elif k == "RunOnce" and param_from_bb:  # then_skip, read every tick (no value: true)
         values = tables.params.setdefault(i, [])
         job("param", lambda: _index(values, _then_skip(node)), "then_skip")
+    elif k == "RecoveryNode" and param_from_bb:  # Nav2: read every tick (no value: the last one stays)
+        values = tables.params.setdefault(i, [])
+        job("param", lambda: _reread(values, node, "number_of_retries"), "number_of_retries")
     elif k == "TryCatch" and param_from_bb:  # catch_on_halt, read in halt() (no value: false)
         values = tables.params.setdefault(i, [])
         job("param", lambda: _index(values, node.get_input("catch_on_halt", "bool") is True), "catch_on_halt")

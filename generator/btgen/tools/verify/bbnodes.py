@@ -20,6 +20,7 @@ as tables (`bb == S -> bb = S'; result`, made by `bbjobs.py`), per node and *rol
                                         "reread" into `Tables.params`); 4.7.0+ Retry reads it
                                                  again after a failure (KEEP: no value)
     RunOnce                             "param"  then_skip read from the blackboard (no value: true)
+    RecoveryNode (Nav2)                 "param"  number_of_retries, every tick (no value: KEEP)
 
 The members of these nodes that the blackboard decides are part of the *blackboard state*
 (`bbjobs.Members`): a Loop's queue (what is left of it), and each entry-update node's last seen
@@ -113,6 +114,8 @@ class BlackboardNodeTicks:
             self.var(f"byte ch{i}", True)  # the result the halt's tick of the catch child must not clobber
             if i in self.bbt.params:
                 self.var(f"bit coh{i}", True)  # catch_on_halt read from the blackboard
+        elif k == "RecoveryNode" and i in self.bbt.params:
+            self.var(f"int rlim{i} = 1")  # number_of_retries: the last value read stays (a member)
         elif k == "RunOnce" and i in self.bbt.params:
             self.var(f"bit ts{i}", True)
         elif k in PARAM_FROM_BB and i in self.bbt.params:
@@ -272,6 +275,16 @@ class BlackboardNodeTicks:
             return [], "1" if n.params[0] else "0"
         values = self.bbt.params[i]
         return lookup(self.bbt.node[(i, "param")], lambda r: f"ts{i} = {1 if values[r] else 0}"), f"ts{i}"
+
+    def retries(self, n: IRNode) -> tuple[list[str], str]:
+        """Nav2's RecoveryNode: number_of_retries read from the blackboard every tick (no value:
+        the last one read stays, 1 at first); a literal: no lines."""
+        i = n.index
+        if i not in self.bbt.params:
+            return [], str(n.params[0])
+        values = self.bbt.params[i]
+        keep = lambda r: "skip" if r == KEEP else f"rlim{i} = {_count(values[r])}"  # noqa: E731
+        return lookup(self.bbt.node[(i, "param")], keep), f"rlim{i}"
 
     def param_reread(self, n: IRNode) -> list[str]:
         """4.7.0+ Retry: num_attempts read again after a failure (no value: the count stays)."""
