@@ -37,6 +37,11 @@ GUARD = """<root BTCPP_format="4" main_tree_to_execute="Main">
 </root>
 """
 
+# A Control of the mission's own: its tick() is robot code, refused without a contract.
+USER_CONTROL = GRASP.replace("<AlwaysFailure/>", "<Gate><AlwaysFailure/></Gate>").replace(
+    '<Action ID="Place"/>', '<Action ID="Place"/>\n    <Control ID="Gate"/>'
+)
+
 # Counterexamples every test of this module produced: the last test replays them all on the C++.
 PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
@@ -200,11 +205,10 @@ def test_ambiguous_name_lists_the_candidates(tmp_path, capsys):
 
 
 def test_refused_nodes_are_located_errors(tmp_path, capsys):
-    text = GRASP.replace("<AlwaysFailure/>", '<SetBlackboard output_key="k" value="1"/>')
-    path = _mission(tmp_path, text)
+    path = _mission(tmp_path, USER_CONTROL)
     rc = main(["verify", path, "--property", "[] !running(Grasp)"])
     err = capsys.readouterr().err
-    assert rc == 1 and f'{path}:6:25: error: `SetBlackboard` "SetBlackboard": btgen verify does not translate' in err
+    assert rc == 1 and f'{path}:6:25: error: `Gate` "Gate": btgen verify does not translate a Control of the' in err
     # a script read from the blackboard: no table can be made of it
     path = _mission(tmp_path, GRASP.replace("<AlwaysFailure/>", '<Script code="{x}"/>'), "s.xml")
     assert main(["verify", path, "--property", "[] !running(Grasp)"]) == 1
@@ -514,7 +518,7 @@ def test_a_long_random_agreement_run_behind_an_env_var(tmp_path):
 
 
 def test_refusal_is_raised_before_any_model(tmp_path):
-    path = _mission(tmp_path, GRASP.replace("<AlwaysFailure/>", '<SetBlackboard output_key="k" value="1"/>'))
+    path = _mission(tmp_path, USER_CONTROL)
     mission, program = pipeline.build(path)
     with pytest.raises(Refusal):
         emit_model(mission, program, ModelOptions())

@@ -578,7 +578,8 @@ class SwitchNode(ControlNode):
         self.running_child = -1
         ControlNode.halt(self)
 
-    def tick(self) -> int:
+    def select(self) -> int:
+        """The child to tick: the first case equal to `variable`, else the default (the last)."""
         match = self.cases
         variable = self.get_input("variable", "string")
         if variable is not MISSING:
@@ -587,6 +588,10 @@ class SwitchNode(ControlNode):
                 if value is not MISSING and switch_equal(variable, value, self.rt.sem.switch_whole_parse):
                     match = index
                     break
+        return match
+
+    def tick(self) -> int:
+        match = self.select()
         if self.running_child != -1 and self.running_child != match:
             self.halt_child(self.running_child)
         ret = self.children[match].execute_tick()

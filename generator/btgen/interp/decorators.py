@@ -418,6 +418,23 @@ class LoopNode(DecoratorNode):
                 raise _run_error(self.port_loc("queue"), f'port `queue` of `{reg_id}` "{self.name}": {e}') from None
 
     def tick(self) -> int:
+        done = self.pop_phase()
+        if done is not None:
+            return done
+        if self.status == IDLE:
+            self.set_status(RUNNING)
+        cs = self.child.execute_tick()
+        self.child_running = cs == RUNNING
+        if cs in (SUCCESS, FAILURE):
+            self.reset_child()
+        if cs == FAILURE:
+            return FAILURE
+        return RUNNING
+
+    def pop_phase(self) -> Optional[int]:
+        """The part of tick() before the child: the next element into `value`; the status to
+        return when the queue is empty (`if_empty`), None when the child is to be ticked.
+        (btgen verify runs it on every blackboard, tools/verify/bbnodes.py.)"""
         popped = False
         if self.status == IDLE:
             self.child_running = False
@@ -443,15 +460,7 @@ class LoopNode(DecoratorNode):
             if if_empty == IDLE:  # setStatus(IDLE) throws (edges table, L1)
                 raise _run_error(self.model.loc, _IDLE_RESULT.format("the queue is empty and `if_empty`"))
             return if_empty
-        if self.status == IDLE:
-            self.set_status(RUNNING)
-        cs = self.child.execute_tick()
-        self.child_running = cs == RUNNING
-        if cs in (SUCCESS, FAILURE):
-            self.reset_child()
-        if cs == FAILURE:
-            return FAILURE
-        return RUNNING
+        return None
 
     def _queue_from_blackboard_410(self):
         """4.9.1's getLockedPortContent("queue"): a queue of the element type is used (and
@@ -543,18 +552,22 @@ class EntryUpdatedDecorator(TreeNode):
     def _entry(self):
         return _entry_of(self)
 
+    def consume_update(self) -> bool:
+        """The entry's update counter changed since this node last looked (it looks now)."""
+        entry = self._entry()
+        if entry is None:
+            return False
+        seq = entry.sequence_id
+        previous = self.seen
+        self.seen = seq
+        return previous != seq
+
     def tick(self) -> int:
         if self.still_executing:
             status = self.child.execute_tick()
             self.still_executing = status == RUNNING
             return status
-        entry = self._entry()
-        if entry is None:
-            return self.if_not_updated
-        seq = entry.sequence_id
-        previous = self.seen
-        self.seen = seq
-        if previous == seq:
+        if not self.consume_update():
             return self.if_not_updated
         status = self.child.execute_tick()
         self.still_executing = status == RUNNING

@@ -4,8 +4,9 @@ Scripts (Script and ScriptCondition nodes, the _failureIf/_successIf/_skipIf/_wh
 pre-conditions, the _onSuccess/_onFailure/_post post-conditions) are not re-written in
 Promela: they are run by the reference interpreter's own evaluator on every blackboard the
 mission can reach, and the model gets their effect as tables. A *blackboard* is the value of
-every entry of every blackboard of the tree (type and value; the update counters, which only
-the refused entry-update nodes read, are left out). Starting from the blackboard the tree is
+every entry of every blackboard of the tree (type and value; an update counter only as far
+as an entry-update node compares it), with what is left of each Loop's queue
+(`bbjobs.Members`). Starting from the blackboard the tree is
 created with, every script is run on every blackboard found so far, until no new one comes:
 the reachable blackboards are then a finite set (an over-approximation: a script is run on
 blackboards it may never meet), numbered, and the model's variable `bb` holds the number.
@@ -14,8 +15,9 @@ What cannot be translated is refused with a located error, never abstracted sile
 than MAX_BLACKBOARDS blackboards (an entry that counts without bound, a double that keeps
 changing: the error names the script that makes the new values), a script that can fail at
 run time on one of them, `_onHalted`, and scripts read from the blackboard (`code="{key}"`).
-Free leaves never write the blackboard (a scenario gives them statuses only), so scripts are
-its only writers; the blackboard nodes (SetBlackboard, Switch ...) stay refused.
+Free leaves never write the blackboard (a scenario gives them statuses only), so scripts and
+the blackboard nodes (SetBlackboard, Loop ..., `bbjobs.py`, whose jobs run here too) are its
+only writers.
 """
 
 from __future__ import annotations
@@ -55,23 +57,29 @@ class Tables:
     pre_running: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # HALT or NO_RESULT
     post: dict[tuple[int, int], dict[int, tuple[int, int]]] = field(default_factory=dict)  # (node, status)
     cond: dict[int, dict[int, tuple[int, int]]] = field(default_factory=dict)  # contract: SUCCESS, FAILURE, FREE
+    node: dict[tuple[int, str], dict[int, tuple[int, int]]] = field(default_factory=dict)  # bbnodes.py: (node, role)
+    params: dict[int, list] = field(default_factory=dict)  # bbnodes.py: the counts a node reads, by index
     values: list[dict[str, object]] = field(default_factory=list)  # root blackboard's entries, per number
     warnings: list[Diagnostic] = field(default_factory=list)  # scripts that can fail at run time
 
     @property
     def used(self) -> bool:
-        return bool(self.script or self.pre_idle or self.pre_running or self.post or self.cond)
+        return bool(self.script or self.pre_idle or self.pre_running or self.post or self.cond or self.node)
 
 
 def _refuse(loc: Loc, message: str) -> UserError:
     return refuse(loc, message)
 
 
-def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> Tables:
-    """`functions`: (Condition name, success_if script, its place in the contract file)."""
+def build_tables(
+    mission: Mission, program: Program, functions: tuple = (), params_from_bb: frozenset = frozenset()
+) -> Tables:
+    """`functions`: (Condition name, success_if script, its place in the contract file);
+    `params_from_bb`: the nodes whose count is read from the blackboard (bbjobs.py)."""
     from btgen.interp.engine import Interpreter
     from btgen.interp.tree import RunError
     from btgen.lang import script as scriptmod
+    from btgen.tools.verify import bbjobs
 
     by_name = {name: (text, loc) for name, text, loc in functions}
     parsed = {}
@@ -83,7 +91,11 @@ def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> T
     wanted = [
         n
         for n in program.nodes
-        if n.kind in ("Script", "ScriptCondition") or n.scripts or (n.kind == "Condition" and n.name in by_name)
+        if n.kind in ("Script", "ScriptCondition")
+        or n.scripts
+        or (n.kind == "Condition" and n.name in by_name)
+        or n.kind in bbjobs.BB_KINDS
+        or n.index in params_from_bb
     ]
     tables = Tables()
     if not wanted:
@@ -92,19 +104,27 @@ def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> T
     inodes = interp.nodes
     bbs = list({id(n.bb): n.bb for n in inodes}.values())
     root = interp.root_bb
+    members = bbjobs.Members(inodes)  # the nodes' members the blackboard decides: the last item of a state
 
     def save() -> tuple:
-        return tuple(tuple((k, e, e.type_name, e.value, e.sequence_id) for k, e in bb._storage.items()) for bb in bbs)
+        return (
+            *(tuple((k, e, e.type_name, _copy(e.value), e.sequence_id) for k, e in bb._storage.items()) for bb in bbs),
+            members.save(),
+        )
 
     def key(state: tuple) -> tuple:
-        return tuple(tuple(sorted((k, t, _value_key(v)) for k, _e, t, v, _s in entries)) for entries in state)
+        return (
+            *(tuple(sorted((k, t, _value_key(v)) for k, _e, t, v, _s in entries)) for entries in state[:-1]),
+            members.key(state[-1]),
+        )
 
     def restore(state: tuple) -> None:
         for bb, entries in zip(bbs, state):
             bb._storage.clear()
             for k, e, t, v, s in entries:
-                e.type_name, e.value, e.sequence_id = t, v, s
+                e.type_name, e.value, e.sequence_id = t, _copy(v), s
                 bb._storage[k] = e
+        members.restore(state[-1])
 
     states: list[tuple] = [save()]
     numbers: dict[tuple, int] = {key(states[0]): 0}
@@ -115,9 +135,9 @@ def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> T
         node = inodes[n.index]
         if node.uid != n.uid:  # pragma: no cover - the interpreter builds in creation order
             raise AssertionError("the interpreter's nodes are not in creation order")
-        for attr in (node.on_halted,):
-            if attr is not None:
-                raise _refuse(attr.value_loc, f'`{n.id}` "{n.name}": `_onHalted` is not translated by btgen verify')
+        if node.on_halted is not None:  # haltNode: halt(), then the script (promela.Emitter.halt_node)
+            job = partial(_run_on_halted, node)
+            jobs.append((tables.node.setdefault((n.index, "halted"), {}), None, node.on_halted.value_loc, job))
         if n.kind in ("Script", "ScriptCondition"):
             port = node.script  # type: ignore[attr-defined]  # a Script or ScriptCondition node
             if not port.literal or port.attr is None:
@@ -142,6 +162,7 @@ def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> T
             if attrs:
                 job = partial(_post, node, status)
                 jobs.append((tables.post.setdefault((n.index, status), {}), None, attrs[0].value_loc, job))
+        jobs.extend(bbjobs.node_jobs(n, node, tables, n.index in params_from_bb))
 
     failing: dict[Loc, str] = {}
     todo = [0]
@@ -187,12 +208,29 @@ def build_tables(mission: Mission, program: Program, functions: tuple = ()) -> T
                 severity="warning",
             )
         )
+    if members.ahead:  # bbjobs._relation: an abstraction, said where
+        node = members.ahead[0]
+        p = node.ports.get("entry")
+        where = p.attr.value_loc if p is not None and p.attr is not None else node.model.loc
+        tables.warnings.append(Diagnostic(where, f'`{node.reg_id}` "{node.name}": {bbjobs.AHEAD_WARNING}', "warning"))
     tables.count = len(states)
     for st in states:
         restore(st)
         tables.values.append({k: e.value for k, e in root._storage.items()})
     restore(states[0])
     return tables
+
+
+def _copy(value):
+    """A queue is a mutable value (a Loop pops it in place): each state keeps its own."""
+    from btgen.lang import values
+
+    return values.Queue(value.element_type, value) if isinstance(value, values.Queue) else value
+
+
+def _run_on_halted(node) -> int:
+    node.run_script(node.on_halted)
+    return SUCCESS
 
 
 def _run_script(port) -> int:

@@ -14,6 +14,16 @@ NONE = 255  # a timer not armed
 
 class DecoratorTicks:
     sem: Semantics
+    params_from_bb: set[int]
+
+    def param_limit(self, n: IRNode) -> list[str]:  # pragma: no cover - bbnodes.BlackboardNodeTicks
+        raise NotImplementedError
+
+    def param_reread(self, n: IRNode) -> list[str]:  # pragma: no cover
+        raise NotImplementedError
+
+    def then_skip(self, n: IRNode) -> tuple[list[str], str]:  # pragma: no cover
+        raise NotImplementedError
 
     # given by promela.Emitter
     def child_tick(self, c: int) -> list[str]:  # pragma: no cover
@@ -77,10 +87,11 @@ class DecoratorTicks:
     def k_loop(self, n: IRNode, retry: bool) -> list[str]:
         i, c = n.index, n.children[0]
         limit = n.params[0]
-        endless = limit == -1
-        more = "true" if endless else f"cnt{i} < {limit}"
+        read = i in self.params_from_bb  # the count read from the blackboard (bbnodes.py): lim{i}
+        endless = limit == -1 and not read
+        more = "true" if endless else (f"(lim{i} == -1 || cnt{i} < lim{i})" if read else f"cnt{i} < {limit}")
         track = not self.sem.loop_end_never_skipped
-        out = []
+        out = self.param_limit(n) if read else []
         if track:
             out.append(f"if :: st[{i}] == IDLE -> als{i} = 1 :: else -> skip fi;")
         out += [f"st[{i}] = RUNNING;", "do", f":: {more} ->", f"   prv{i} = st[{c}];"]
@@ -97,6 +108,8 @@ class DecoratorTicks:
             out.extend("      " + s for s in rc)
             out.append(f"      {self.leave(i, 'SUCCESS')}")
             out.append(f"   :: cs{i} == FAILURE -> {inc}")
+            if read:
+                out.extend("      " + s for s in self.param_reread(n))
             out.extend("      " + s for s in rc)
             out.append(f"      if :: prv{i} == IDLE && ({more}) -> {self.leave(i, 'RUNNING')} :: else -> skip fi")
         else:
@@ -130,9 +143,13 @@ class DecoratorTicks:
 
     def k_RunOnce(self, n: IRNode) -> list[str]:
         i, c = n.index, n.children[0]
-        then = "SKIPPED" if n.params[0] else f"ret{i}"
+        read, skip = self.then_skip(n)  # then_skip from the blackboard: bbnodes.py
+        then = self.leave(i, "SKIPPED") if skip == "1" else self.leave(i, f"ret{i}")
+        if read:
+            then = f"if :: {skip} -> {self.leave(i, 'SKIPPED')} :: else -> {self.leave(i, f'ret{i}')} fi"
         return [
-            f"if :: done{i} -> {self.leave(i, then)} :: else -> skip fi;",
+            *read,
+            f"if :: done{i} -> {then} :: else -> skip fi;",
             f"st[{i}] = RUNNING;",
             *self.child_tick(c),
             f"if :: rv == SUCCESS || rv == FAILURE -> done{i} = 1; ret{i} = rv; st[{c}] = IDLE",

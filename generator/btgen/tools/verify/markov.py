@@ -23,6 +23,7 @@ import json
 import math
 import os
 import random
+import re
 import sys
 import tempfile
 from collections import deque
@@ -205,7 +206,9 @@ def storm_queries(chain: Chain, queries: list[str]) -> list[float]:
                 total = sum(row.values())
                 for t, p in sorted(row.items()):
                     f.write(f"{s} {t} {p / total!r}\n")
-        names = sorted({x for ls in chain.labels for x in ls} | {"init", "success", "failure", "done"})
+        # a label no state carries (a node never ticked) is declared too: Storm refuses an unknown one
+        asked = {x for q in queries for x in re.findall(r'"(\w+)"', q)}
+        names = sorted({x for ls in chain.labels for x in ls} | {"init", "success", "failure", "done"} | asked)
         with open(lab, "w") as f:
             f.write("#DECLARATION\n" + " ".join(names) + "\n#END\n")
             for s, ls in enumerate(chain.labels):

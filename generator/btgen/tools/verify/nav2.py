@@ -44,6 +44,9 @@ class Nav2Ticks:
     def halt_node(self, c: int) -> list[str]:  # pragma: no cover
         raise NotImplementedError
 
+    def retries(self, n: IRNode) -> tuple[list[str], str]:  # pragma: no cover - bbnodes.BlackboardNodeTicks
+        raise NotImplementedError
+
     def leave(self, i: int, value: str) -> str:  # pragma: no cover
         raise NotImplementedError
 
@@ -79,9 +82,9 @@ class Nav2Ticks:
 
     def k_RecoveryNode(self, n: IRNode) -> list[str]:
         i, (c0, c1) = n.index, n.children
-        r = n.params[0]
+        read, r = self.retries(n)  # number_of_retries from the blackboard: bbnodes.py
         halt = self.halt_node(i)
-        out = [f"st[{i}] = RUNNING;", "do", f":: rcur{i} < 2 && rcnt{i} <= {r} ->"]
+        out = [*read, f"st[{i}] = RUNNING;", "do", f":: rcur{i} < 2 && rcnt{i} <= {r} ->"]
         out.extend("   " + s for s in self.dispatch(f"rcur{i}", n, lambda pos, c: self.child_tick(c)))
         out.append(f"   cs{i} = rv;")
         out.append(f"   if :: rcur{i} == 0 ->")

@@ -14,9 +14,10 @@ Action's RUNNING answers in a row can be bounded (`running_bound`). Every such c
 `@C <node> <status>` so a SPIN trail replays as the scenario that makes the same choices.
 
 Scripts and pre/post conditions are tables over the reachable blackboards (`blackboard.py`),
-Nav2's nodes are in `nav2.py`. What the model does not translate is refused with a located
-error (`Refusal`): the blackboard nodes, user Controls and Decorators, parameters read from the
-blackboard, `_onHalted`. Nothing is abstracted silently.
+Nav2's nodes are in `nav2.py`, the blackboard nodes (SetBlackboard, Switch, Loop ...) in
+`bbnodes.py`. What the model does not translate is refused with a located
+error (`Refusal`): user Controls and Decorators, most parameters read from the blackboard
+(bbnodes.py reads a Repeat's and a Retry's count). Nothing is abstracted silently.
 
 A subtree with few paths through a tick (`ModelOptions.atomic_paths`) is one atomic step:
 SPIN stores no state inside it (`Emitter.atomic_root`).
@@ -40,6 +41,8 @@ from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
+from btgen.tools.verify.bbjobs import BB_KINDS, PARAM_FROM_BB
+from btgen.tools.verify.bbnodes import BlackboardNodeTicks, unique_labels
 from btgen.tools.verify.blackboard import FREE, HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
@@ -85,17 +88,10 @@ SUPPORTED_KINDS = frozenset(
         "Script",
         "ScriptCondition",
         *NAV2_KINDS,
+        *BB_KINDS,
     }
 )
 _WHY_NOT = {
-    "SetBlackboard": "a SetBlackboard node (the blackboard is not translated yet)",
-    "UnsetBlackboard": "an UnsetBlackboard node (the blackboard is not translated yet)",
-    "Switch": "a Switch node (it reads the blackboard, which is not translated yet)",
-    "Loop": "a Loop node (queues are not translated)",
-    "Precondition": "a Precondition node (scripts are not translated yet)",
-    "SkipUnlessUpdated": "an entry-update node (the blackboard is not translated yet)",
-    "WaitValueUpdate": "an entry-update node (the blackboard is not translated yet)",
-    "WasEntryUpdated": "an entry-update node (the blackboard is not translated yet)",
     "UserControl": "a Control of the mission's own (its tick() is robot code; no contract for it)",
     "UserDecorator": "a Decorator of the mission's own (its tick() is robot code; no contract for it)",
 }
@@ -163,7 +159,7 @@ def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
     return math.ceil(msec / clock_ms)
 
 
-class Emitter(DecoratorTicks, Nav2Ticks):
+class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
     def __init__(
         self, mission: Mission, program: Program, options: ModelOptions, observe: Optional[Observe] = None
     ) -> None:
@@ -179,13 +175,15 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         self.node_temps: dict[int, list[str]] = {}  # reset when the node returns: paths merge sooner
         self.timers: list[tuple[int, int]] = []  # (node, ticks) of every timer that counts
         self._paths: Optional[list[int]] = None
+        self.params_from_bb: set[int] = set()  # a Repeat's or Retry's count read from the blackboard (bbnodes.py)
 
         self.parent = [0] * len(self.nodes)
         for n in self.nodes:
             for c in n.children:
                 self.parent[c] = n.index
         self.check()
-        self.bbt = build_tables(mission, program, options.functions)  # after check(): the nodes it refuses come first
+        # after check(): the nodes it refuses come first
+        self.bbt = build_tables(mission, program, options.functions, frozenset(self.params_from_bb))
 
     # ------------------------------------------------------------ what is translated
     def check(self) -> None:
@@ -201,7 +199,9 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         if self.p.data is not None:
             for index in self.p.data.params:
                 n = self.nodes[index]
-                if n.kind in _PARAM_PORTS:
+                if n.kind in PARAM_FROM_BB:
+                    self.params_from_bb.add(index)
+                elif n.kind in _PARAM_PORTS:
                     raise _refuse(
                         n.loc,
                         f'`{n.id}` "{n.name}" reads a parameter from the blackboard; btgen verify needs a literal',
@@ -213,12 +213,13 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             for port in _PARAM_PORTS.get(n.kind, ()):
                 attr = entry.node.port(port)
                 if attr is not None and bbmod.is_blackboard_pointer(attr.value):
+                    if n.kind in PARAM_FROM_BB:  # read from the blackboard by the model (bbnodes.py)
+                        self.params_from_bb.add(n.index)
+                        continue
                     raise _refuse(
                         attr.value_loc,
                         f'port `{port}` of `{n.id}` "{n.name}" reads the blackboard; btgen verify needs a literal',
                     )
-            if n.kind == "TryCatch" and n.params[0]:
-                raise _refuse(n.loc, f'`TryCatch` "{n.name}": catch_on_halt="true" is not translated yet')
         for n in self.nodes:
             if n.kind == "RateController":
                 hz = _double(n.params[0])
@@ -373,6 +374,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
                 self.var(f"byte rc{i}")
             if self.failure_bounded(n):
                 self.var(f"byte fb{i}")
+            self.declare_bb(n)
         for i in sorted(self.obs.ticked):
             self.var(f"bit tk{i}", True)
         for i in sorted(self.obs.returned):
@@ -387,7 +389,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
 
     # ------------------------------------------------------------ halting
     def halt_node(self, c: int) -> list[str]:
-        """Node c's halt() (haltNode: no _onHalted script, those are refused)."""
+        """Node c's haltNode: halt(), then its _onHalted script (bbnodes.py)."""
         n = self.nodes[c]
         k = n.kind
         out: list[str] = []
@@ -402,6 +404,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         elif k == "IfThenElse":
             out.append(f"cidx{c} = 0;")
         elif k == "TryCatch":
+            out.extend(self.catch_on_halt(n))
             out.append(f"idx{c} = 0; skp{c} = 0; inc{c} = 0;")
         elif k in ("Repeat", "RetryUntilSuccessful") and n.params[0] != -1:
             out.append(f"cnt{c} = 0;")
@@ -417,6 +420,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             out.append(f"ix{c} = 0; fl{c} = 0;")
         elif k == "RateController":  # its start is taken again from IDLE: forgotten, so states merge
             out.append(f"el{c} = {NONE}; first{c} = 0;")
+        out.extend(self.halt_bb(n))
         if n.children:
             if self.is_decorator(n):
                 out.extend(self.reset_child(n.children[0]))
@@ -424,6 +428,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
                 for ch in n.children:
                     out.extend(self.reset_child(ch))
         out.append(f"st[{c}] = IDLE;")
+        out.extend(self.on_halted(c))
         return out
 
     def reset_child(self, c: int) -> list[str]:
@@ -466,6 +471,10 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             "Delay",
             "SubTree",
             "RateController",
+            "Precondition",
+            "Loop",
+            "SkipUnlessUpdated",
+            "WaitValueUpdate",
         )
 
     # ------------------------------------------------------------ ticking
@@ -771,7 +780,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             out.append(f"      :: cs{i} == FAILURE -> cidx{i} = 2")
         else:
             out.append(f"      :: cs{i} == FAILURE -> {self.leave(i, 'FAILURE')}")
-        out.append("      :: else -> assert(false) fi  /* a skipped condition: refused by the lowering */")
+        out.append("      :: else -> goto Error fi  /* a skipped condition: the library throws */")
         out.append(":: else -> skip fi;")
         out.extend(self.dispatch(f"cidx{i}", n, lambda pos, c: self.child_tick(c), list(range(1, nn))))
         out.append(f"cs{i} = rv;")
@@ -797,7 +806,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             out.append(f"   cs{i} = rv")
         else:
             out.append("   skip")
-        out.append(":: else -> assert(false) fi;")
+        out.append(":: else -> goto Error fi;  /* a skipped condition: the library throws */")
         out.append(f"if :: cs{i} == RUNNING -> {self.leave(i, 'RUNNING')} :: else -> skip fi;")
         out.extend(self.reset_children(n))
         out.append(f"rv = cs{i};")
@@ -837,7 +846,7 @@ class Emitter(DecoratorTicks, Nav2Ticks):
     # ------------------------------------------------------------ the model
     def emit(self, ltl: list[tuple[str, str]]) -> str:
         self.declare()
-        body = self.tick(0)
+        body = unique_labels(self.tick(0))
         n = len(self.nodes)
         head = [
             "/* generated by btgen verify from " + self.p.mission_path.replace("*/", "* /") + " */",
