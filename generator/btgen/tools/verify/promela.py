@@ -52,6 +52,7 @@ STATUS = {"IDLE": IDLE, "RUNNING": RUNNING, "SUCCESS": SUCCESS, "FAILURE": FAILU
 STATUS_NAME = {v: k for k, v in STATUS.items()}
 MAX_PARALLEL = 30  # children of a Parallel (their completed set is a bit mask)
 MAX_TIMER_TICKS = 250
+D_STEP_LINES = 120  # the longest halt emitted as one d_step (SPIN refuses a few hundred statements)
 
 SUPPORTED_KINDS = frozenset(
     {
@@ -387,7 +388,48 @@ class Emitter(DecoratorTicks, Nav2Ticks):
 
     # ------------------------------------------------------------ halting
     def halt_node(self, c: int) -> list[str]:
-        """Node c's halt() (haltNode: no _onHalted script, those are refused)."""
+        """Node c's halt() (haltNode: no _onHalted script, those are refused), in `d_step`s."""
+        return self._stepped(self._halt(c), lambda: self._halt_parts(c))
+
+    def reset_child(self, c: int) -> list[str]:
+        """haltChild / resetChildren for one child: halt it when RUNNING, then IDLE; in `d_step`s."""
+        return self._stepped(self._reset(c), lambda: self._reset_parts(c))
+
+    def reset_children(self, n: IRNode) -> list[str]:
+        return self._stepped(
+            [s for ch in n.children for s in self._reset(ch)],
+            lambda: [s for ch in n.children for s in self.reset_child(ch)],
+        )
+
+    def _stepped(self, body: list[str], parts) -> list[str]:
+        """A halt is deterministic and never blocks (every `if` has an `else`): one `d_step`, which
+        pan compiles as one transition (a smaller verifier, no state stored inside). SPIN takes a
+        d_step of a few hundred statements at most: a longer halt is one d_step per child."""
+        if len(body) <= 1:
+            return body
+        if len(body) > D_STEP_LINES:
+            return parts()
+        return [
+            "atomic { d_step {  /* atomic: a jump (`break`) may end at it, which SPIN refuses for a d_step */",
+            *("   " + s for s in body),
+            "} };",
+        ]
+
+    def _halt_parts(self, c: int) -> list[str]:
+        inner = self._halt(c)
+        n = self.nodes[c]
+        kids = n.children[:1] if self.is_decorator(n) else n.children
+        own = inner[: len(inner) - 1 - sum(len(self._reset(ch)) for ch in kids)]
+        return [*own, *(s for ch in kids for s in self.reset_child(ch)), f"st[{c}] = IDLE;"]
+
+    def _reset_parts(self, c: int) -> list[str]:
+        return [
+            f"if :: st[{c}] == RUNNING ->",
+            *("  " + s for s in self._halt_parts(c)),
+            f"   :: else -> st[{c}] = IDLE fi;",
+        ]
+
+    def _halt(self, c: int) -> list[str]:
         n = self.nodes[c]
         k = n.kind
         out: list[str] = []
@@ -418,28 +460,20 @@ class Emitter(DecoratorTicks, Nav2Ticks):
         elif k == "RateController":  # its start is taken again from IDLE: forgotten, so states merge
             out.append(f"el{c} = {NONE}; first{c} = 0;")
         if n.children:
-            if self.is_decorator(n):
-                out.extend(self.reset_child(n.children[0]))
-            else:
-                for ch in n.children:
-                    out.extend(self.reset_child(ch))
+            for ch in n.children[:1] if self.is_decorator(n) else n.children:
+                out.extend(self._reset(ch))
         out.append(f"st[{c}] = IDLE;")
         return out
 
-    def reset_child(self, c: int) -> list[str]:
-        """haltChild / resetChildren for one child: halt it when RUNNING, then IDLE."""
-        inner = self.halt_node(c)
+    def _reset(self, c: int) -> list[str]:
+        inner = self._halt(c)
+        if inner == [f"st[{c}] = IDLE;"]:  # nothing else to halt: IDLE either way
+            return inner
         return [
             f"if :: st[{c}] == RUNNING ->",
             *("  " + s for s in inner),
             f"   :: else -> st[{c}] = IDLE fi;",
         ]
-
-    def reset_children(self, n: IRNode) -> list[str]:
-        out: list[str] = []
-        for ch in n.children:
-            out.extend(self.reset_child(ch))
-        return out
 
     def dispatch(self, var: str, n: IRNode, body, positions: Optional[list[int]] = None) -> list[str]:
         """`if :: var == 0 -> body(child 0) :: ... fi` over the children (positions)."""
