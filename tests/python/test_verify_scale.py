@@ -129,3 +129,21 @@ def test_split_halts_reach_explores_tick_end_states(tmp_path, n):
     finally:
         promela.D_STEP_LINES = old
     assert ex == sp and not truncated and len(sp) > 2
+
+
+def test_pan_built_by_tcc_searches_as_gccs(tmp_path, monkeypatch):
+    """tcc builds pan when installed: the same states, transitions and tick-end states as gcc's."""
+    import shutil
+
+    if shutil.which("tcc") is None:
+        pytest.skip("no tcc")  # scripts/setup.sh installs it
+    path = write_mission(tmp_path, GRASP)
+    mission, program = pipeline.build(path)
+    text = emit_model(mission, program, ModelOptions(ticks=4, running_bound=1, print_states=True))
+    seen = {}
+    for cc in ("gcc", "tcc"):
+        monkeypatch.setenv("BTGEN_PAN_CC", cc)
+        assert spin.tools()[1].endswith(cc)
+        res = spin.reachable(text, str(tmp_path / cc), print_states=True)
+        seen[cc] = (res.states, res.transitions, sorted(x for x in res.lines if x.startswith("@S")))
+    assert seen["gcc"] == seen["tcc"] and seen["gcc"][0] > 100

@@ -255,7 +255,7 @@ def verify_command(args) -> int:
         except spin.SpinMissing as e:
             raise UserError(
                 Diagnostic(
-                    Loc(args.mission, 1, 1), f"btgen verify needs `{e}` (scripts/setup.sh installs spin and gcc)"
+                    Loc(args.mission, 1, 1), f"btgen verify needs `{e}` (scripts/setup.sh installs spin and tcc)"
                 )
             ) from None
         search = " (bitstate search: no proofs)" if args.search == "bitstate" else ""
