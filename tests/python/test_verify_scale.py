@@ -147,3 +147,27 @@ def test_pan_built_by_tcc_searches_as_gccs(tmp_path, monkeypatch):
         res = spin.reachable(text, str(tmp_path / cc), print_states=True)
         seen[cc] = (res.states, res.transitions, sorted(x for x in res.lines if x.startswith("@S")))
     assert seen["gcc"] == seen["tcc"] and seen["gcc"][0] > 100
+
+
+@pytest.mark.parametrize("seed", [3, 7])
+def test_packed_state_vector_reaches_the_same_states(tmp_path, seed):
+    """Status temporaries and counters as bit fields: a smaller state vector, the same tick-end
+    states as the model of bytes (with a RUNNING bound too: its counter packed), and explore's."""
+    from btgen.tools.fuzzgen import random_case
+
+    path = write_mission(tmp_path, random_case(seed, "control", 1).mission)
+    mission, program = pipeline.build(path)
+    seen = {}
+    for bound in (None, 1):
+        for pack in (False, True):
+            options = ModelOptions(ticks=3, running_bound=bound, print_states=True, pack=pack)
+            text = emit_model(mission, program, options)
+            assert ("unsigned cs0 : 3;" in text) is pack
+            res = spin.reachable(text, str(tmp_path / f"{pack}{bound}"), print_states=True)
+            ends = {tuple(int(x) for x in line.split()[1:]) for line in res.lines if line.startswith("@S")}
+            seen[pack, bound] = (ends, res.vector_bytes)
+        assert seen[True, bound][0] == seen[False, bound][0]
+        assert seen[True, bound][1] < seen[False, bound][1]
+    explored, _runs, truncated = explore_tick_states(mission, 3, 100)
+    assert explored == seen[True, None][0] and not truncated
+    assert seen[True, 1][0] <= explored  # the bound only cuts runs

@@ -43,6 +43,7 @@ from btgen.lang.versions import Semantics
 from btgen.tools.verify.blackboard import FREE, HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
+from btgen.tools.verify.packing import pack, widths
 from btgen.tools.verify.refusal import Refusal, refuse
 
 __all__ = ["Refusal", "Emitter", "ModelOptions", "Observe", "emit_model"]
@@ -148,6 +149,7 @@ class ModelOptions:
     failure_bound: Optional[int] = None  # most FAILURE answers of a leaf in a row (a fairness)
     atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
     functions: tuple[tuple[str, str, Loc], ...] = ()  # Condition name -> success_if script (its place)
+    pack: bool = True  # statuses and counters as bit fields (packing.py)
 
 
 def _double(bits: int) -> float:
@@ -906,8 +908,10 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             end.append("ticks++;")
         if self.o.print_states:
             end.append('printf("@S");')
-            end.append(f'do :: rv < {n} -> printf(" %d", st[rv]); rv++ :: else -> break od;')
-            end.append('printf("\\n"); rv = 0;')
+            for k in range(0, n, 8):  # eight statuses a printf
+                part = range(k, min(n, k + 8))
+                end.append(f'printf("{" %d" * len(part)}", {", ".join(f"st[{j}]" for j in part)});')
+            end.append('printf("\\n");')
         end.append('printf("@T\\n");')
         bound = f"ticks < {self.o.ticks}" if self.o.ticks is not None else "true"
         proc = [
@@ -932,7 +936,12 @@ class Emitter(DecoratorTicks, Nav2Ticks):
             "Error: skip  /* a script failed at run time (blackboard.py): the run ends there */",
             "}",
         ]
-        return "\n".join(head + proc) + "\n"
+        text = "\n".join(head + proc) + "\n"
+        if not self.o.pack:
+            return text
+        rc = {i.index: self.o.running_bound or 0 for i in self.nodes if self.running_bounded(i)}
+        fb = {i.index: self.o.failure_bound or 0 for i in self.nodes if self.failure_bounded(i)}
+        return pack(text, widths(self.nodes, rc, fb), self.o.ticks)
 
 
 def emit_model(
