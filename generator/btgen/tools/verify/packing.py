@@ -11,6 +11,7 @@ largest value the emitter writes.
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 
 from btgen.ir.lower import IRNode
 
@@ -67,7 +68,7 @@ def bits(most: int) -> int:
     return max(1, most.bit_length())
 
 
-def widths(nodes: list[IRNode], rc: dict[int, int], fb: dict[int, int]) -> dict[str, int]:
+def widths(nodes: Sequence[IRNode], rc: dict[int, int], fb: dict[int, int]) -> dict[str, int]:
     """name -> bits of every variable packed: the status temporaries of STATUS_KINDS, the
     child counters of the Sequences, Fallbacks, reactive ones and TryCatch, and the RUNNING and
     FAILURE counters of the bounded leaves (node -> bound)."""
