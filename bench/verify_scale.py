@@ -111,7 +111,7 @@ def measure(
         print(
             f"{label:<22} {len(program.nodes):>5} nodes  model {len(text.splitlines()):>6} lines  "
             f"pan sources {times['pan_bytes'] / 1e6:5.1f} MB  built in {build:6.1f} s wall, "
-            f"{times['spin_cpu']:.1f} + {times['cc_cpu']:.1f} CPU s (spin -a + gcc)"
+            f"{times['spin_cpu']:.2f} + {times['cc_cpu']:.2f} CPU s (spin -a + {os.path.basename(spin.tools()[1])})"
             + (f"  (runs of at most {ticks} ticks)" if ticks else "")
         )
         reach, done, c_reach = run_pan_timed(work, ["-n", "-a", "-N", "p0"], timeout)
@@ -130,7 +130,7 @@ def measure(
             )
             print(
                 f"{'':22}   bitstate search: {bit.partial or verdict(bit)}; {bit.memory_mb:.0f} MB, "
-                f"{c_bit:.1f} CPU s search (+{bt['cc_cpu']:.1f} CPU s gcc)" + ("" if ok else " (stopped)")
+                f"{c_bit:.1f} CPU s search (+{bt['cc_cpu']:.2f} CPU s to build it)" + ("" if ok else " (stopped)")
             )
         live, live_done, c_live = run_pan_timed(work, ["-n", "-a", "-N", "p1"], timeout)
         print(
