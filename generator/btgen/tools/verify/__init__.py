@@ -78,6 +78,7 @@ def add_arguments(v) -> None:
         "--search",
         choices=("exhaustive", "bitstate", "auto"),
         default="exhaustive",
+        metavar="HOW",
         help="exhaustive (a proof, default); bitstate (pan -DBITSTATE: finds violations, proves nothing; "
         "exit 2 when none is found); auto (bitstate for a property whose exhaustive search does not fit)",
     )
