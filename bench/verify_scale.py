@@ -6,7 +6,7 @@ Missions: Nav2's navigate_to_pose_w_replanning_and_recovery (tests/real_files/na
 Nav2's models file), the shipped Lab Tour and Reception, and generated missions of N nodes
 (`tools/synth.balanced_mission`: Sequence, Fallback and Inverter levels) whose leaves are
 made free: every other leaf a user Condition (`Ready`), the others a user Action (`Work`).
-For each: the Promela model's size, the seconds to build pan (spin -a and gcc), and two
+For each: the Promela model's size, the seconds to build pan (spin -a and tcc or gcc), and two
 searches: the whole reachable state space (the property `[] true`) and the liveness property
 `<> (root(SUCCESS) || root(FAILURE))` with `--running-bound 1` (every Action finishes after
 at most one RUNNING answer), on runs of at most --ticks ticks (default 3; 0: unbounded).
@@ -65,7 +65,7 @@ def free_leaves(xml: str) -> str:
 
 
 def cpu() -> float:
-    """CPU seconds of the children so far (spin, gcc, pan): the machine is shared, wall time is not."""
+    """CPU seconds of the children so far (spin, the C compiler, pan): the machine is shared."""
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
 

@@ -115,7 +115,7 @@ def compile_model(
     ]
     p = subprocess.run([cc, *flags, "-o", "pan", "pan.c"], cwd=workdir, capture_output=True, text=True, check=False)
     if p.returncode != 0:
-        raise RuntimeError("gcc failed on SPIN's pan.c:\n" + p.stdout[-4000:] + p.stderr[-4000:])
+        raise RuntimeError(f"{os.path.basename(cc)} failed on SPIN's pan.c:\n" + p.stdout[-4000:] + p.stderr[-4000:])
     if times is not None:
         times["spin_cpu"] = c1 - c0
         times["cc_cpu"] = _child_cpu() - c1
