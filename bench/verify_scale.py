@@ -6,13 +6,14 @@ Missions: Nav2's navigate_to_pose_w_replanning_and_recovery (tests/real_files/na
 Nav2's models file), the shipped Lab Tour and Reception, and generated missions of N nodes
 (`tools/synth.balanced_mission`: Sequence, Fallback and Inverter levels) whose leaves are
 made free: every other leaf a user Condition (`Ready`), the others a user Action (`Work`).
-For each: the Promela model's size, the seconds to build pan (spin -a and gcc), and two
+For each: the Promela model's size, the seconds to build pan (spin -a and tcc or gcc), and two
 searches: the whole reachable state space (the property `[] true`) and the liveness property
 `<> (root(SUCCESS) || root(FAILURE))` with `--running-bound 1` (every Action finishes after
 at most one RUNNING answer), on runs of at most --ticks ticks (default 3; 0: unbounded).
-A search that does not finish within --timeout seconds is
-reported as such; then a bitstate search (pan -DBITSTATE: a partial search, NOT a proof) is
-run and labelled so. Prints numbers; it passes or fails nothing.
+A whole-state-space search that does not finish within --timeout seconds (or does not fit
+pan's memory bound) is reported as such; then a bitstate search (pan -DBITSTATE, 2^30 bits: a
+partial search, NOT a proof) is run and labelled so. Seconds are CPU seconds (the machine is
+shared) unless they say wall. Prints numbers; it passes or fails nothing.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import resource
 import sys
 import tempfile
 import time
@@ -62,13 +64,29 @@ def free_leaves(xml: str) -> str:
     return re.sub(r"<AlwaysFailure/>", swap, xml)
 
 
-def run_pan_timed(work: str, args: list[str], timeout: float) -> tuple[spin.SpinResult, bool]:
+def cpu() -> float:
+    """CPU seconds of the children so far (spin, the C compiler, pan): the machine is shared."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run_pan_timed(
+    work: str, args: list[str], timeout: float, bitstate: bool = False
+) -> tuple[spin.SpinResult, bool, float]:
+    c0 = cpu()
     try:
-        return spin.run_pan(work, args, wall=timeout), True
+        res, done = spin.run_pan(work, args, wall=timeout, bitstate=bitstate), True
     except Exception as e:  # subprocess.TimeoutExpired
         if type(e).__name__ != "TimeoutExpired":
             raise
-        return spin.SpinResult(holds=None, incomplete=f"not finished within {timeout:.0f} s"), False
+        res, done = spin.SpinResult(holds=None, incomplete=f"not finished within {timeout:.0f} s"), False
+    return res, done, cpu() - c0
+
+
+def verdict(res: spin.SpinResult) -> str:
+    if res.partial:
+        return "PARTIAL (bitstate: no proof)"
+    return {True: "holds", False: "VIOLATED", None: f"INCOMPLETE ({res.incomplete or 'see pan'})"}[res.holds]
 
 
 def measure(
@@ -88,31 +106,38 @@ def measure(
     text = build_model(mission, program, options, [whole, ends])
     with tempfile.TemporaryDirectory(prefix="btgen-bench-") as work:
         t0 = time.perf_counter()
-        build = spin.compile_model(text, work)
-        reach, done = run_pan_timed(work, ["-n", "-a", "-N", "p0"], timeout)
-        live, live_done = run_pan_timed(work, ["-n", "-a", "-N", "p1"], timeout) if done else (reach, False)
-        line = (
+        times: dict[str, float] = {}
+        build = spin.compile_model(text, work, times=times)
+        print(
             f"{label:<22} {len(program.nodes):>5} nodes  model {len(text.splitlines()):>6} lines  "
-            f"pan built in {build:6.1f} s" + (f"  (runs of at most {ticks} ticks)" if ticks else "")
+            f"pan sources {times['pan_bytes'] / 1e6:5.1f} MB  built in {build:6.1f} s wall, "
+            f"{times['spin_cpu']:.2f} + {times['cc_cpu']:.2f} CPU s (spin -a + {os.path.basename(spin.tools()[1])})"
+            + (f"  (runs of at most {ticks} ticks)" if ticks else "")
         )
-        print(line)
-        if done:
-            whole = "whole state space" if reach.holds else f"INCOMPLETE ({reach.incomplete or 'see pan'})"
-            print(f"{'':22}   {whole}: {reach.states} states, {reach.memory_mb:.0f} MB, {reach.seconds:.2f} s search")
-            verdict = {True: "holds", False: "VIOLATED", None: "incomplete"}[live.holds] if live_done else "stopped"
+        reach, done, c_reach = run_pan_timed(work, ["-n", "-a", "-N", "p0"], timeout)
+        if done and reach.holds:
             print(
-                f"{'':22}   <> root done (--running-bound 1): {verdict}; {live.states} states, "
-                f"{live.memory_mb:.0f} MB, {live.seconds:.2f} s search"
+                f"{'':22}   whole state space: {reach.states} states, vector {reach.vector_bytes} B, "
+                f"{reach.memory_mb:.0f} MB, {c_reach:.2f} CPU s search"
             )
         else:
-            print(f"{'':22}   exhaustive search: {reach.incomplete}")
-            spin.compile_model(text, work, ("-DBITSTATE",))
-            bit, ok = run_pan_timed(work, ["-n", "-a", "-N", "p0", "-w28"], timeout)
-            print(
-                f"{'':22}   bitstate search (partial, no proof): {bit.states} states, {bit.memory_mb:.0f} MB, "
-                f"{bit.seconds:.2f} s" + ("" if ok else " (stopped)")
+            print(f"{'':22}   exhaustive search: {reach.incomplete} ({reach.states} states, {c_reach:.1f} CPU s)")
+            bwork = os.path.join(work, "bitstate")
+            bt: dict[str, float] = {}
+            spin.compile_model(text, bwork, spin.BITSTATE, times=bt)
+            bit, ok, c_bit = run_pan_timed(
+                bwork, ["-n", "-a", "-N", "p0", f"-w{spin.bitstate_bits()}"], timeout, bitstate=True
             )
-        print(f"{'':22}   total {time.perf_counter() - t0:.1f} s")
+            print(
+                f"{'':22}   bitstate search: {bit.partial or verdict(bit)}; {bit.memory_mb:.0f} MB, "
+                f"{c_bit:.1f} CPU s search (+{bt['cc_cpu']:.2f} CPU s to build it)" + ("" if ok else " (stopped)")
+            )
+        live, live_done, c_live = run_pan_timed(work, ["-n", "-a", "-N", "p1"], timeout)
+        print(
+            f"{'':22}   <> root done (--running-bound 1): {verdict(live) if live_done else 'stopped'}; "
+            f"{live.states} states, {live.memory_mb:.0f} MB, {c_live:.2f} CPU s search"
+        )
+        print(f"{'':22}   total {time.perf_counter() - t0:.1f} s wall")
     if storm:
         from btgen.tools.verify.markov import build_chain, storm_queries
 

@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 need_apt=()
-for pkg in python3 python3-venv g++ cmake ninja-build libgtest-dev libeigen3-dev libzmq3-dev cppzmq-dev graphviz clang-format spin; do
+for pkg in python3 python3-venv g++ cmake ninja-build libgtest-dev libeigen3-dev libzmq3-dev cppzmq-dev graphviz clang-format spin tcc; do
   dpkg -s "$pkg" >/dev/null 2>&1 || need_apt+=("$pkg")
 done
 if [ "${BTGEN_WITH_CLANG:-0}" = 1 ]; then

@@ -99,3 +99,44 @@ def test_rate_controller_reads_the_clock(tmp_path, capsys):
     assert main(["verify", str(tree), "--models", str(models), "--probabilities", str(probs)]) == 1
     err = capsys.readouterr().err
     assert f"{tree}:10:7: error: `RateController` reads the clock: --probabilities does not translate it" in err
+
+
+def test_an_endless_retry_is_a_finite_chain(tmp_path, capsys):
+    """RetryUntilSuccessful num_attempts="-1": its count of attempts is never read, so the chain
+    forgets it (before: one state per attempt, the search never ended on this 3-node mission).
+    Ready fails with 1/2 and the Retry answers RUNNING then: the ticks to the end are
+    geometric, 2 on average; the root ends with SUCCESS for sure."""
+    path = tmp_path / "m.xml"
+    path.write_text(
+        """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <RetryUntilSuccessful num_attempts="-1" name="Again"><Check name="Ready"/></RetryUntilSuccessful>
+      <Work name="Go"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Condition ID="Check"/><Action ID="Work"/></TreeNodesModel>
+</root>
+""",
+        encoding="utf-8",
+    )
+    probs = tmp_path / "p.json"
+    probs.write_text('{"Ready": {"SUCCESS": 0.5, "FAILURE": 0.5}, "Go": {"SUCCESS": 1}}', encoding="utf-8")
+    assert main(["verify", str(path), "--probabilities", str(probs)]) == 0
+    out = capsys.readouterr().out
+    values = dict(line.rsplit(None, 1) for line in out.splitlines()[1:])
+    assert float(values["  P(root SUCCESS)"]) == pytest.approx(1.0)
+    assert float(values["  expected ticks to the end"]) == pytest.approx(2.0)
+    assert "Markov chain of 3 states" in out
+
+
+def test_a_tick_of_too_many_paths_is_refused_located(tmp_path, monkeypatch):
+    """The chain runs one tick per path of leaf answers: past MAX_TICK_PATHS a located error."""
+    from btgen.tools.verify import markov
+
+    monkeypatch.setattr(markov, "MAX_TICK_PATHS", 3)
+    mission, program = pipeline.build(write_mission(tmp_path, GRASP))
+    probs = {"Ready": [(2, 0.9), (3, 0.1)], "Grasp": [(2, 0.5), (3, 0.5)], "Place": [(2, 0.8), (3, 0.2)]}
+    with pytest.raises(UserError) as e:
+        build_chain(mission, program, probs)
+    assert "more than 3 paths of leaf answers through one tick" in str(e.value.diagnostics[0])

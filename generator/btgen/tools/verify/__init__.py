@@ -12,7 +12,8 @@ translated into Promela (`promela.py`), properties in SPIN's LTL over per-tick a
 Markov chain of a mission whose leaves answer with given probabilities and asks Storm.
 
 Exit status: 0 when every property holds, 1 when one is violated (or on bad input, or when a
-search is incomplete: no proof is claimed then).
+search is incomplete: no proof is claimed then), 2 when none is violated but a bitstate search
+(`--search bitstate|auto`) found no violation where no proof was made: partial, not a proof.
 """
 
 from __future__ import annotations
@@ -72,6 +73,14 @@ def add_arguments(v) -> None:
         metavar="FILE",
         help='leaf contract, JSON: {"LeafName": ["SUCCESS", "FAILURE"]} (the statuses it may return), '
         '{"Condition": {"success_if": "SCRIPT"}} (a function of the blackboard)',
+    )
+    v.add_argument(
+        "--search",
+        choices=("exhaustive", "bitstate", "auto"),
+        default="exhaustive",
+        metavar="HOW",
+        help="exhaustive (a proof, default); bitstate (pan -DBITSTATE: finds violations, proves nothing; "
+        "exit 2 when none is found); auto (bitstate for a property whose exhaustive search does not fit)",
     )
     v.add_argument("--replay-cpp", action="store_true", help="also replay every counterexample on the generated C++")
     v.add_argument("--model", metavar="FILE", help="write the Promela model there")
@@ -220,6 +229,10 @@ def verify_command(args) -> int:
 
         return markov_command(args, mission, program, options)
     properties = parse_properties(args, program, mission)
+    if args.search != "exhaustive" and not properties:
+        raise cmdline.error(
+            args, "--search", "--search bitstate|auto checks properties: give --property or --properties"
+        )
     text = build_model(mission, program, options, properties)
     if args.model:
         from btgen.tools.graph import _write
@@ -239,18 +252,32 @@ def verify_command(args) -> int:
                     f"{res.memory_mb:.1f} MB, {res.seconds:.2f} s search + {res.compile_seconds:.2f} s to build pan"
                 )
                 return 0
-            compile_s = spin.compile_model(text, work)
+            compile_s = spin.compile_model(text, work, spin.BITSTATE if args.search == "bitstate" else ())
         except spin.SpinMissing as e:
             raise UserError(
                 Diagnostic(
-                    Loc(args.mission, 1, 1), f"btgen verify needs `{e}` (scripts/setup.sh installs spin and gcc)"
+                    Loc(args.mission, 1, 1), f"btgen verify needs `{e}` (scripts/setup.sh installs spin and tcc)"
                 )
             ) from None
-        print(f"{args.mission}: {len(program.nodes)} nodes, model built in {compile_s:.2f} s")
+        search = " (bitstate search: no proofs)" if args.search == "bitstate" else ""
+        print(f"{args.mission}: {len(program.nodes)} nodes, model built in {compile_s:.2f} s{search}")
+        bit_work = work if args.search == "bitstate" else None
         for prop in properties:
             t0 = time.perf_counter()
-            res = spin.check(work, prop.name)
-            stats = f"states {res.states}, depth {res.depth}, {res.memory_mb:.1f} MB, {time.perf_counter() - t0:.2f} s"
+            res = spin.check(work, prop.name, bitstate=args.search == "bitstate")
+            why = ""
+            if res.holds is None and not res.partial and args.search == "auto":
+                why = f" (the exhaustive search did not fit: {res.incomplete})"
+                if bit_work is None:
+                    bit_work = os.path.join(work, "bitstate")
+                    spin.compile_model(text, bit_work, spin.BITSTATE)
+                res = spin.check(bit_work, prop.name, bitstate=True)
+            cost = f"{res.memory_mb:.1f} MB, {time.perf_counter() - t0:.2f} s"
+            stats = f"states {res.states}, depth {res.depth}, {cost}" + (", bitstate search" if why else "")
+            if res.partial:
+                print(f"  partial   {prop.text}  ({res.partial}{why}; depth {res.depth}, {cost})")
+                status = status or 2
+                continue
             if res.holds is None:
                 print(
                     f"{prop.loc}: error: `{prop.text}`: no proof, the search is incomplete: {res.incomplete}",

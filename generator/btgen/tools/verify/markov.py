@@ -4,10 +4,10 @@ Each leaf answers with the probabilities the file gives, call by call, independe
 (`{"Grasp": {"SUCCESS": 0.6, "FAILURE": 0.3, "RUNNING": 0.1}}`: a RUNNING answer with
 probability p makes the Action's run last a geometric number of ticks). A state of the chain
 is the state of the reference interpreter after a tick (explore's state key: every node's
-status and members, the blackboard), found by replaying plans of leaf answers on the
-interpreter, as `btgen explore` does; one transition is one tick, with the probability of the
-answers that lead there. The run ends in an absorbing state when the root returns SUCCESS or
-FAILURE. Storm (stormpy) then computes
+status and members, the blackboard), found on explore's interpreter: each state's saved
+snapshot is restored and ticked once per path of leaf answers (`build_chain`); one transition
+is one tick, with the probability of the answers that lead there. The run ends in an absorbing
+state when the root returns SUCCESS or FAILURE. Storm (stormpy) then computes
 
     P(root SUCCESS)            P=? [F "success"]      (and FAILURE)
     P(root SUCCESS within N)   P=? [F<=N "success"]   (--within N)
@@ -38,6 +38,8 @@ from btgen.lang.model import Mission
 from btgen.tools.verify.promela import STATUS
 
 MAX_STATES = 200_000
+MAX_TICK_ANSWERS = 1_000  # leaf answers in one tick: past them a loop repeats within the tick
+MAX_TICK_PATHS = 20_000  # paths of leaf answers through one tick
 _TIMERS = ("Sleep", "Delay", "Timeout", "RateController")  # the nodes that read the clock
 
 
@@ -46,34 +48,30 @@ class _Branch(Exception):
         self.name = name
 
 
-class _Cursor:
-    __slots__ = ("run", "name")
+class _Feed:
+    """The leaves' answers of the tick being played: a leaf asked past them is a branch."""
 
-    def __init__(self, run: _Replay, name: str) -> None:
-        self.run = run
+    __slots__ = ("plan", "pos")
+
+    def __init__(self) -> None:
+        self.plan: tuple[int, ...] = ()
+        self.pos = 0
+
+
+class _Cursor:
+    __slots__ = ("feed", "name")
+
+    def __init__(self, feed: _Feed, name: str) -> None:
+        self.feed = feed
         self.name = name
 
     def next(self) -> int:
-        r = self.run
-        if r.pos < len(r.plan):
-            v = r.plan[r.pos]
-            r.pos += 1
+        f = self.feed
+        if f.pos < len(f.plan):
+            v = f.plan[f.pos]
+            f.pos += 1
             return v
         raise _Branch(self.name)
-
-
-class _Replay:
-    """A fresh interpreter taking the leaves' answers from a plan."""
-
-    def __init__(self, mission: Mission, plan: tuple[int, ...]) -> None:
-        self.plan = plan
-        self.pos = 0
-        self.interp = Interpreter(mission, None)
-        self.chain: list = []
-        self.seen_return: set = set()
-        for node in self.interp.nodes:
-            if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
-                node.cursor = _Cursor(self, node.name)
 
 
 def load_probabilities(path: str, program: Program) -> dict[str, list[tuple[int, float]]]:
@@ -130,13 +128,36 @@ class Chain:
 def build_chain(
     mission: Mission, program: Program, probs: dict[str, list[tuple[int, float]]], watched: tuple[int, ...] = ()
 ) -> Chain:
+    """The chain, breadth first over the interpreter's states at tick ends. The interpreter is
+    explore's (`Explorer`: one interpreter whose whole state is saved and restored, keyed as
+    explore keys it): each state is expanded from its saved snapshot, one tick per path of
+    leaf answers through it, so no run is replayed from the start."""
+    from btgen.interp.nav2 import EnvInputDecorator
     from btgen.tools.explore import Explorer
     from btgen.tools.verify.replay import _Watch
 
     for n in program.nodes:
         if n.id in _TIMERS:
             raise UserError(Diagnostic(n.loc, f"`{n.id}` reads the clock: --probabilities does not translate it"))
-    keyer = Explorer(mission)
+    ex = Explorer(mission)
+    interp = ex.interp
+    feed = _Feed()
+    for node in interp.nodes:
+        if isinstance(node, (iactions.ScriptedAction, iactions.ScriptedCondition)):
+            node.cursor = _Cursor(feed, node.name)
+        elif isinstance(node, EnvInputDecorator):
+            node.cursor = None  # its default, as an interpreter without a scenario answers
+    # the counter of an endless loop (a literal -1) is never read: forgotten at each tick end,
+    # so the states it alone tells apart are one (as in the Promela model); else the chain of
+    # a mission with `num_attempts="-1"` grows by one state per attempt
+    from_bb = set(program.data.params) if program.data is not None else set()
+    endless = [
+        (node, "count" if program.nodes[node.uid - 1].kind == "Repeat" else "tries")
+        for node in interp.nodes
+        if program.nodes[node.uid - 1].kind in ("Repeat", "RetryUntilSuccessful")
+        and program.nodes[node.uid - 1].params[0] == -1
+        and node.uid - 1 not in from_bb
+    ]
     chain = Chain()
     index: dict[tuple, int] = {}
     ends = {SUCCESS: "success", FAILURE: "failure"}
@@ -150,27 +171,31 @@ def build_chain(
         return index[key], True
 
     start, _ = state(("start",), {"init"})
-    queue: deque[tuple[int, tuple[int, ...], int]] = deque([(start, (), 0)])
-    probe = _Replay(mission, ())
-    watch = _Watch(probe.interp)
+    queue: deque[tuple[int, tuple]] = deque([(start, ex._save())])
+    watch = _Watch(interp)
     try:
         while queue:
-            sid, plan, ticks = queue.popleft()
+            sid, snapshot = queue.popleft()
             stack: list[tuple[tuple[int, ...], float]] = [((), 1.0)]
+            paths = 0
             while stack:
                 ext, p = stack.pop()
-                run = _Replay(mission, plan + ext)
-                watch.index = {id(n): n.uid - 1 for n in run.interp.nodes}
+                paths += 1
+                if len(ext) > MAX_TICK_ANSWERS or paths > MAX_TICK_PATHS:
+                    raise _unbounded_tick(program, len(ext) > MAX_TICK_ANSWERS)
+                ex._restore(snapshot)
+                feed.plan, feed.pos = ext, 0
+                watch.ticked.clear()
+                watch.returned.clear()
+                watch.inside.clear()
                 try:
-                    for _ in range(ticks):
-                        run.interp.tick_once()
-                    watch.ticked.clear()
-                    watch.returned.clear()
-                    result = run.interp.tick_once()
+                    result = interp.tick_once()
                 except _Branch as b:
                     for status, q in probs[b.name]:
                         stack.append((ext + (status,), p * q))
                     continue
+                for node, counter in endless:
+                    setattr(node, counter, 0)
                 flags = frozenset(i for i in watched if i in watch.ticked)
                 labels = {f"ticked_{i}" for i in flags}
                 code = STATUS[result.name]
@@ -179,19 +204,45 @@ def build_chain(
                     if new:
                         chain.transitions[target][target] = 1.0
                 else:
-                    key = (keyer.key_of_interpreter(run.interp), flags)
-                    target, new = state(key, labels)
+                    target, new = state((ex.key_of_interpreter(interp), flags), labels)
                     if new:
                         if len(chain.transitions) > MAX_STATES:
                             raise UserError(
                                 Diagnostic(program.nodes[0].loc, f"the Markov chain has more than {MAX_STATES} states")
                             )
-                        queue.append((target, plan + ext, ticks + 1))
+                        queue.append((target, ex._save()))
                 row = chain.transitions[sid]
                 row[target] = row.get(target, 0.0) + p
     finally:
         watch.restore()
     return chain
+
+
+def _unbounded_tick(program: Program, answers: bool) -> UserError:
+    """A tick whose paths do not end: a loop that asks its child again within the tick, for ever
+    (RetryUntilSuccessful or Repeat with -1) or very many times. Refused, located at the loop."""
+    what = (
+        f"more than {MAX_TICK_ANSWERS} leaf answers in one tick"
+        if answers
+        else f"more than {MAX_TICK_PATHS} paths of leaf answers through one tick"
+    )
+    loops = [n for n in program.nodes if n.kind in ("Repeat", "RetryUntilSuccessful") and n.params[0] < 0]
+    if loops and answers:
+        n = loops[0]
+        port = "num_cycles" if n.kind == "Repeat" else "num_attempts"
+        return UserError(
+            Diagnostic(
+                n.loc,
+                f'`{n.kind}` "{n.name}" ({port}="-1") may tick its child again and again within one tick: {what}; '
+                "--probabilities builds the chain tick by tick and does not translate a loop inside a tick",
+            )
+        )
+    return UserError(
+        Diagnostic(
+            program.nodes[0].loc,
+            f"{what}: --probabilities builds the chain tick by tick, one run per path; the mission is too wide",
+        )
+    )
 
 
 def storm_queries(chain: Chain, queries: list[str]) -> list[float]:

@@ -42,10 +42,12 @@ from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
 from btgen.lang.versions import Semantics
 from btgen.tools.verify.bbjobs import BB_KINDS, PARAM_FROM_BB
+from btgen.tools.verify.bbnodes import _OPEN as _HALT_TICK
 from btgen.tools.verify.bbnodes import BlackboardNodeTicks, unique_labels
 from btgen.tools.verify.blackboard import FREE, HALT, NO_RESULT, build_tables, lookup, result_is
 from btgen.tools.verify.decorators import NONE, DecoratorTicks
 from btgen.tools.verify.nav2 import NAV2_KINDS, Nav2Ticks, rate_ticks
+from btgen.tools.verify.packing import pack, widths
 from btgen.tools.verify.refusal import Refusal, refuse
 
 __all__ = ["Refusal", "Emitter", "ModelOptions", "Observe", "emit_model"]
@@ -55,6 +57,7 @@ STATUS = {"IDLE": IDLE, "RUNNING": RUNNING, "SUCCESS": SUCCESS, "FAILURE": FAILU
 STATUS_NAME = {v: k for k, v in STATUS.items()}
 MAX_PARALLEL = 30  # children of a Parallel (their completed set is a bit mask)
 MAX_TIMER_TICKS = 250
+D_STEP_LINES = 120  # the longest halt emitted as one d_step (SPIN refuses a few hundred statements)
 
 SUPPORTED_KINDS = frozenset(
     {
@@ -143,6 +146,7 @@ class ModelOptions:
     failure_bound: Optional[int] = None  # most FAILURE answers of a leaf in a row (a fairness)
     atomic_paths: int = 64  # a subtree with at most this many paths through a tick runs atomically
     functions: tuple[tuple[str, str, Loc], ...] = ()  # Condition name -> success_if script (its place)
+    pack: bool = True  # statuses and counters as bit fields (packing.py)
 
 
 def _double(bits: int) -> float:
@@ -157,6 +161,13 @@ def timer_ticks(msec: int, clock_ms: int) -> Optional[int]:
     if clock_ms <= 0:
         return None
     return math.ceil(msec / clock_ms)
+
+
+def _steppable(body: list[str]) -> bool:
+    """A halt that can be one `d_step`: no jump out of it (a script's `goto Error`) and no choice
+    in it (TryCatch catch_on_halt ticks its catch child, whose leaves choose; a d_step would take
+    the first choice only)."""
+    return not any("goto " in s or _HALT_TICK in s for s in body)
 
 
 class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
@@ -389,7 +400,62 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
 
     # ------------------------------------------------------------ halting
     def halt_node(self, c: int) -> list[str]:
-        """Node c's haltNode: halt(), then its _onHalted script (bbnodes.py)."""
+        """Node c's haltNode: halt(), then its _onHalted script (bbnodes.py); in `d_step`s."""
+        return self._stepped(self._halt(c), lambda: self._halt_parts(c))
+
+    def reset_child(self, c: int) -> list[str]:
+        """haltChild / resetChildren for one child: halt it when RUNNING, then IDLE; in `d_step`s."""
+        return self._stepped(self._reset(c), lambda: self._reset_parts(c))
+
+    def reset_children(self, n: IRNode) -> list[str]:
+        return self._stepped(
+            [s for ch in n.children for s in self._reset(ch)],
+            lambda: [s for ch in n.children for s in self.reset_child(ch)],
+        )
+
+    def _stepped(self, body: list[str], parts) -> list[str]:
+        """A halt is deterministic and never blocks (every `if` has an `else`): one `d_step`, which
+        pan compiles as one transition (a smaller verifier, no state stored inside). SPIN takes a
+        d_step of a few hundred statements at most: a longer halt is one d_step per child."""
+        if len(body) <= 1:
+            return body
+        if len(body) > D_STEP_LINES or not _steppable(body):
+            return parts()
+        return [
+            "atomic { d_step {  /* atomic: a jump (`break`) may end at it, which SPIN refuses for a d_step */",
+            *("   " + s for s in body),
+            "} };",
+        ]
+
+    def _halt_parts(self, c: int) -> list[str]:
+        return [
+            *self._halt_own(c),
+            *(s for ch in self._halted_children(c) for s in self.reset_child(ch)),
+            f"st[{c}] = IDLE;",
+            *self.on_halted(c),
+        ]
+
+    def _halted_children(self, c: int) -> list[int]:
+        n = self.nodes[c]
+        return list(n.children[:1] if self.is_decorator(n) else n.children)
+
+    def _reset_parts(self, c: int) -> list[str]:
+        return [
+            f"if :: st[{c}] == RUNNING ->",
+            *("  " + s for s in self._halt_parts(c)),
+            f"   :: else -> st[{c}] = IDLE fi;",
+        ]
+
+    def _halt(self, c: int) -> list[str]:
+        return [
+            *self._halt_own(c),
+            *(s for ch in self._halted_children(c) for s in self._reset(ch)),
+            f"st[{c}] = IDLE;",
+            *self.on_halted(c),
+        ]
+
+    def _halt_own(self, c: int) -> list[str]:
+        """What halt() clears beside the children and the status (and a TryCatch's catch tick)."""
         n = self.nodes[c]
         k = n.kind
         out: list[str] = []
@@ -421,30 +487,17 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
         elif k == "RateController":  # its start is taken again from IDLE: forgotten, so states merge
             out.append(f"el{c} = {NONE}; first{c} = 0;")
         out.extend(self.halt_bb(n))
-        if n.children:
-            if self.is_decorator(n):
-                out.extend(self.reset_child(n.children[0]))
-            else:
-                for ch in n.children:
-                    out.extend(self.reset_child(ch))
-        out.append(f"st[{c}] = IDLE;")
-        out.extend(self.on_halted(c))
         return out
 
-    def reset_child(self, c: int) -> list[str]:
-        """haltChild / resetChildren for one child: halt it when RUNNING, then IDLE."""
-        inner = self.halt_node(c)
+    def _reset(self, c: int) -> list[str]:
+        inner = self._halt(c)
+        if inner == [f"st[{c}] = IDLE;"]:  # nothing else to halt: IDLE either way
+            return inner
         return [
             f"if :: st[{c}] == RUNNING ->",
             *("  " + s for s in inner),
             f"   :: else -> st[{c}] = IDLE fi;",
         ]
-
-    def reset_children(self, n: IRNode) -> list[str]:
-        out: list[str] = []
-        for ch in n.children:
-            out.extend(self.reset_child(ch))
-        return out
 
     def dispatch(self, var: str, n: IRNode, body, positions: Optional[list[int]] = None) -> list[str]:
         """`if :: var == 0 -> body(child 0) :: ... fi` over the children (positions)."""
@@ -881,8 +934,10 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
             end.append("ticks++;")
         if self.o.print_states:
             end.append('printf("@S");')
-            end.append(f'do :: rv < {n} -> printf(" %d", st[rv]); rv++ :: else -> break od;')
-            end.append('printf("\\n"); rv = 0;')
+            for k in range(0, n, 8):  # eight statuses a printf
+                part = range(k, min(n, k + 8))
+                end.append(f'printf("{" %d" * len(part)}", {", ".join(f"st[{j}]" for j in part)});')
+            end.append('printf("\\n");')
         end.append('printf("@T\\n");')
         bound = f"ticks < {self.o.ticks}" if self.o.ticks is not None else "true"
         proc = [
@@ -907,7 +962,12 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
             "Error: skip  /* a script failed at run time (blackboard.py): the run ends there */",
             "}",
         ]
-        return "\n".join(head + proc) + "\n"
+        text = "\n".join(head + proc) + "\n"
+        if not self.o.pack:
+            return text
+        rc = {i.index: self.o.running_bound or 0 for i in self.nodes if self.running_bounded(i)}
+        fb = {i.index: self.o.failure_bound or 0 for i in self.nodes if self.failure_bounded(i)}
+        return pack(text, widths(self.nodes, rc, fb), self.o.ticks)
 
 
 def emit_model(
