@@ -11,7 +11,7 @@ largest value the emitter writes.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 from btgen.ir.lower import IRNode
 
@@ -68,10 +68,13 @@ def bits(most: int) -> int:
     return max(1, most.bit_length())
 
 
-def widths(nodes: Sequence[IRNode], rc: dict[int, int], fb: dict[int, int]) -> dict[str, int]:
+def widths(
+    nodes: Sequence[IRNode], rc: dict[int, int], fb: dict[int, int], counts_read: Collection[int] = ()
+) -> dict[str, int]:
     """name -> bits of every variable packed: the status temporaries of STATUS_KINDS, the
     child counters of the Sequences, Fallbacks, reactive ones and TryCatch, and the RUNNING and
-    FAILURE counters of the bounded leaves (node -> bound)."""
+    FAILURE counters of the bounded leaves (node -> bound). A Repeat's or Retry's count read
+    from the blackboard (`counts_read`) has no literal bound here: its counter stays an int."""
     out: dict[str, int] = {}
     for n in nodes:
         i = n.index
@@ -81,7 +84,7 @@ def widths(nodes: Sequence[IRNode], rc: dict[int, int], fb: dict[int, int]) -> d
         if n.kind in _COUNTING:
             for v in ("idx", "skp", "k", "j"):
                 out[f"{v}{i}"] = bits(len(n.children))
-        if n.kind in ("Repeat", "RetryUntilSuccessful") and n.params[0] >= 0:
+        if n.kind in ("Repeat", "RetryUntilSuccessful") and n.params[0] >= 0 and i not in counts_read:
             out[f"cnt{i}"] = bits(n.params[0])  # counts up to num_cycles / num_attempts
     for i, most in rc.items():
         out[f"rc{i}"] = bits(most)

@@ -967,7 +967,7 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
             return text
         rc = {i.index: self.o.running_bound or 0 for i in self.nodes if self.running_bounded(i)}
         fb = {i.index: self.o.failure_bound or 0 for i in self.nodes if self.failure_bounded(i)}
-        return pack(text, widths(self.nodes, rc, fb), self.o.ticks)
+        return pack(text, widths(self.nodes, rc, fb, self.params_from_bb), self.o.ticks)
 
 
 def emit_model(
