@@ -90,3 +90,79 @@ def test_library_4_10_trees(tmp_path, capsys):
     files, loads, errors, _ = outcome(copy, load_settings(str(copy / "btgen.toml")))
     assert set(errors) == recorded_refusals("expected-4.10.0", "btcpp__tests-4.10.0__")
     assert len(loads) == 15
+
+
+def _unit_trees(folder: Path) -> dict:
+    from btgen.tools.check import discovery
+
+    old = os.getcwd()
+    os.chdir(folder)
+    try:
+        units = discovery.plan(discovery.survey(["."]))
+    finally:
+        os.chdir(old)
+    return {os.path.normpath(u.path): (u.models, u.trees) for u in units}
+
+
+def test_nav2_in_its_own_layout(tmp_path):
+    """Nav2 keeps its models file in another package than its trees (nav2_behavior_tree/ and
+    nav2_bt_navigator/behavior_trees/): a models file found anywhere under the checked paths counts
+    for a file whose nodes it declares (before: 0 of 15 loaded, every node C101)."""
+    models = tmp_path / "nav2_behavior_tree"
+    trees = tmp_path / "nav2_bt_navigator" / "behavior_trees"
+    models.mkdir()
+    trees.mkdir(parents=True)
+    shutil.copy(REAL / "nav2" / "nav2_tree_nodes.xml", models)
+    for f in (REAL / "nav2").glob("*.xml"):
+        if f.name != "nav2_tree_nodes.xml":
+            shutil.copy(f, trees)
+    files, loads, errors, _ = outcome(tmp_path)
+    assert len(files) == 15 and loads == files, errors
+
+
+def test_models_at_the_top_count_for_the_folders_below(tmp_path, capsys):
+    """`btgen models .` writes one file at the top of a repository; the files of the folders below
+    find it (before: only a models file beside a file counted)."""
+    deep = tmp_path / "plansys2_bt_actions" / "test" / "behavior_tree"
+    shutil.copytree(REAL / "plansys2", deep)
+    files, loads, errors, _ = outcome(tmp_path)
+    assert loads == [] and set().union(*errors.values()) == {"C101"}
+    assert main(["models", str(tmp_path), "-o", str(tmp_path / "nodes.xml")]) == 0
+    files, loads, errors, _ = outcome(tmp_path)
+    assert len(files) == 2 and loads == files, errors
+
+
+TREE = '<root BTCPP_format="4"><BehaviorTree ID="{id}">{body}</BehaviorTree></root>\n'
+
+
+def test_subtree_of_another_folder_is_the_nearest_definition(tmp_path):
+    """A SubTree defined in no file of the folder is taken from the nearest file found that defines it
+    (MoveIt Pro registers the objectives of several configuration packages): the one fewest folders
+    away, then the first by path; the choice depends on the files, not on the order of the walk."""
+    (tmp_path / "robot_config" / "objectives").mkdir(parents=True)
+    (tmp_path / "base_config" / "objectives").mkdir(parents=True)
+    (tmp_path / "other" / "deeper" / "objectives").mkdir(parents=True)
+    (tmp_path / "robot_config" / "objectives" / "pick.xml").write_text(
+        TREE.format(id="Pick", body='<Sequence><SubTree ID="Open Gripper"/><AlwaysSuccess/></Sequence>')
+    )
+    near = tmp_path / "base_config" / "objectives" / "open_gripper.xml"
+    near.write_text(TREE.format(id="Open Gripper", body="<AlwaysSuccess/>"))
+    # farther, and it would not load (an unknown port of a built-in)
+    (tmp_path / "other" / "deeper" / "objectives" / "open.xml").write_text(
+        TREE.format(id="Open Gripper", body='<AlwaysSuccess speed="3"/>')
+    )
+    files, loads, errors, _ = outcome(tmp_path)
+    assert "robot_config/objectives/pick.xml" in loads, errors
+    _, trees = _unit_trees(tmp_path)["robot_config/objectives/pick.xml"]
+    assert [os.path.normpath(t) for t in trees] == ["base_config/objectives/open_gripper.xml"]
+    # a tie is decided by path: `a_config` comes before `base_config`
+    (tmp_path / "a_config" / "objectives").mkdir(parents=True)
+    tie = tmp_path / "a_config" / "objectives" / "open.xml"
+    tie.write_text(TREE.format(id="Open Gripper", body="<AlwaysFailure/>"))
+    _, trees = _unit_trees(tmp_path)["robot_config/objectives/pick.xml"]
+    assert [os.path.normpath(t) for t in trees] == ["a_config/objectives/open.xml"]
+    # none defines it: the SubTree is refused where it is used
+    for f in [near, *tmp_path.glob("*/objectives/open.xml"), *tmp_path.glob("other/deeper/objectives/*.xml")]:
+        f.unlink()
+    files, loads, errors, _ = outcome(tmp_path)
+    assert errors == {"robot_config/objectives/pick.xml": {"E205"}}
