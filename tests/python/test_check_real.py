@@ -166,3 +166,21 @@ def test_subtree_of_another_folder_is_the_nearest_definition(tmp_path):
         f.unlink()
     files, loads, errors, _ = outcome(tmp_path)
     assert errors == {"robot_config/objectives/pick.xml": {"E205"}}
+
+
+def test_xml_version_2_is_a_file_of_trees_with_its_models(tmp_path):
+    """`<?xml version="2.0"?>` (a real project's file): tinyxml2 reads it, libxml2 refuses the
+    version; check finds it as a file of trees, loads it with the models beside it, and warns (W110)."""
+    (tmp_path / "models.xml").write_text(
+        '<root BTCPP_format="4"><TreeNodesModel><Action ID="Drive"/></TreeNodesModel></root>\n'
+    )
+    (tmp_path / "v2.xml").write_text(
+        '<?xml version="2.0"?>\n<root BTCPP_format="4"><BehaviorTree ID="Main"><Drive/></BehaviorTree></root>\n'
+    )
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        report = runner.check(["."], Settings())
+    finally:
+        os.chdir(old)
+    assert [(f.path, f.line, f.code) for f in report.findings] == [("v2.xml", 1, "W110")]

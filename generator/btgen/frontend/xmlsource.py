@@ -375,6 +375,14 @@ def parse_bytes(data: bytes, path: str) -> Source:
     # so lxml is given spaces in its place, which keeps every line and column.
     late = re.match(r"\s+(<\?xml\s[^>]*\?>)", fixed)
     parsed = fixed if late is None else fixed[: late.start(1)] + " " * len(late.group(1)) + fixed[late.end(1) :]
+    # tinyxml2 reads the declaration's version without looking at it; libxml2 knows only 1.x:
+    # another one (`version="2.0"`) is given to lxml as spaces, with a warning.
+    decl_version = XML_VERSION_RE.match(parsed)
+    if decl_version is not None and not re.fullmatch(r"1\.[0-9]+", decl_version.group(2)):
+        warnings.append(
+            Diagnostic(Loc(path, *lines.pos(decl_version.start(2))), version_message(decl_version.group(2)), "warning")
+        )
+        parsed = parsed[: decl_version.start(1)] + " " * len(decl_version.group(1)) + parsed[decl_version.end(1) :]
     parser = etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -391,6 +399,16 @@ def parse_bytes(data: bytes, path: str) -> Source:
     src = Source(path, text, root, tags)
     src.warnings = warnings
     return src
+
+
+XML_VERSION_RE = re.compile(r"\ufeff?\s*(<\?xml\s[^>]*?\bversion\s*=\s*[\"']([^\"']*)[\"'][^>]*\?>)")
+
+
+def version_message(version: str) -> str:
+    return (
+        f'XML version `{version}` does not exist (XML is version 1.0 or 1.1): write `version="1.0"`; '
+        "tinyxml2 (BehaviorTree.CPP) reads it, other tools do not"
+    )
 
 
 _TOLERATED_ATTR = (

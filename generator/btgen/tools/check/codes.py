@@ -469,7 +469,8 @@ RULES: tuple[Rule, ...] = (
         "warning",
         "XML that tinyxml2 (BehaviorTree.CPP's parser) reads and other XML tools refuse: a raw `&` or `<` in "
         "an attribute value, `--` inside a comment, two attributes without a space, an element name with a "
-        "colon whose prefix the file does not declare (`<arm:Grasp/>`)",
+        "colon whose prefix the file does not declare (`<arm:Grasp/>`), an XML declaration of a version that "
+        'does not exist (`<?xml version="2.0"?>`)',
         (r"tinyxml2 \(BehaviorTree\.CPP\) reads it",),
         bad=_m(
             '    <Sequence>\n      <Script code="a := true"/>\n      <ScriptCondition code="a && a"/>\n'

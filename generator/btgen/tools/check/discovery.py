@@ -44,6 +44,7 @@ _LEAD = (
 )
 _ROOT = re.compile(_LEAD + rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
 _ROOT_V3 = re.compile(_LEAD + rb"<root\b[^>]*>\s*(?:<!--.*?-->\s*)*<(?:BehaviorTree|TreeNodesModel|include)\b", re.S)
+_XML_VERSION = re.compile(rb"(?:\xef\xbb\xbf)?\s*(<\?xml\s[^>]*?\bversion\s*=\s*[\"']([^\"']*)[\"'][^>]*\?>)")
 _PROJECT = re.compile(rb"<root\b[^>]*\bproject_name\s*=", re.S)
 
 
@@ -160,6 +161,10 @@ def read(path: str) -> BTFile:
         if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
             f.role = "broken"
             return f
+        version = _XML_VERSION.match(data)
+        if version is not None and not re.fullmatch(rb"1\.[0-9]+", version.group(2)):
+            # a version libxml2 does not know (`2.0`), which tinyxml2 does not read: the loader warns
+            data = data[: version.start(1)] + b" " * len(version.group(1)) + data[version.end(1) :]
         root = etree.fromstring(data, _PARSER)
     except (OSError, etree.XMLSyntaxError, ValueError):
         f.role = "broken"
