@@ -360,6 +360,21 @@ class MissionChecks(LoaderBase):
         if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
             version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
+        if spec.id not in self.builtins and port.direction in ("output", "inout"):
+            # A node the program registers: 4.6.2 and 4.10.0 load a literal on its output or inout
+            # port (recorded: tests/conformance/both-releases/output_port_literal); its setOutput
+            # then fails and writes nothing, as when the port is not given. An output port is
+            # loaded as not given; an inout port keeps the literal as the value it reads.
+            self.sink.warning(
+                attr.value_loc,
+                f"{what} is an {port.direction} port given the literal `{value}`, not a blackboard entry: "
+                f"BehaviorTree.CPP {self.btcpp} loads it and the node's writes to it go nowhere; "
+                f"write `{{key}}` (or `{{=}}`) to keep what it writes",
+            )
+            # (a typed port's literal must convert all the same: the library checks it on load
+            # whatever the direction, as `<LoopInt value="x">` shows)
+            self._check_literal(attr.value_loc, what, port.type, value, port.int_width)
+            return None if port.direction == "output" else attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
             self.sink.error(

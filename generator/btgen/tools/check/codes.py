@@ -483,6 +483,27 @@ RULES: tuple[Rule, ...] = (
         why="The library loads such a file (recorded on 4.6.2 and 4.10.0), and so does btgen, reading it as "
         "tinyxml2 does; Groot2, editors and XML Schema validators refuse it. The message says what to write.",
     ),
+    Rule(
+        "W111",
+        "literal-output",
+        "warning",
+        "a literal on an output or inout port of a node the program registers: its writes go nowhere",
+        (r"port given the literal",),
+        bad=_m(
+            '    <WaitForEvent result=""/>\n',
+            '  <TreeNodesModel>\n    <Action ID="WaitForEvent">\n      <output_port name="result"/>\n'
+            "    </Action>\n  </TreeNodesModel>\n",
+        ),
+        good=_m(
+            '    <WaitForEvent result="{result}"/>\n',
+            '  <TreeNodesModel>\n    <Action ID="WaitForEvent">\n      <output_port name="result"/>\n'
+            "    </Action>\n  </TreeNodesModel>\n",
+        ),
+        why="BehaviorTree.CPP 4.6.2 and 4.10.0 load it (recorded: "
+        "tests/conformance/both-releases/output_port_literal): the node's setOutput fails and writes nothing, "
+        "so btgen loads an output port given a literal as not given, and an inout port's literal as the value "
+        "it reads. A built-in node's output port given a literal stays an error (E403).",
+    ),
     # ------------------------------------------------------------------ A1: analysis findings
     Rule(
         "A101",
