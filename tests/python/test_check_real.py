@@ -184,3 +184,23 @@ def test_xml_version_2_is_a_file_of_trees_with_its_models(tmp_path):
     finally:
         os.chdir(old)
     assert [(f.path, f.line, f.code) for f in report.findings] == [("v2.xml", 1, "W110")]
+
+
+def test_models_types_a_port_whose_entry_a_loop_reads_as_its_queue(tmp_path, capsys):
+    """A real project (mounteverset/generalist_bt_gen) fills a queue in C++ and loops over it with
+    LoopString: `btgen models .` declared the port untyped, so btgen took the entry for text and
+    refused the Loop (E504: "holds a string"), which the library loads. The port now gets the queue's
+    type; what is left is the C++ back end's own limit, said as such (E601)."""
+    (tmp_path / "route.xml").write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Main"><Sequence>'
+        '<ParseWaypoints raw="{payload}" waypoint_queue="{queue}"/>'
+        '<LoopString queue="{queue}" value="{wp}"><MoveTo pose="{wp}"/></LoopString>'
+        "</Sequence></BehaviorTree></root>\n"
+    )
+    assert main(["models", str(tmp_path), "-o", str(tmp_path / "nodes.xml")]) == 0
+    text = (tmp_path / "nodes.xml").read_text()
+    assert '<inout_port name="waypoint_queue" type="BT::SharedQueue&lt;std::string&gt;"/>' in text
+    assert '<inout_port name="raw"/>' in text and '<inout_port name="pose"/>' in text
+    files, loads, errors, messages = outcome(tmp_path)
+    assert errors == {"route.xml": {"E601"}}, messages
+    assert all("C++ back end" in m for m in messages["route.xml"])

@@ -51,6 +51,7 @@ class _Use:
     kinds: set[str] = field(default_factory=set)  # kinds the elements say (explicit form)
     children: set[int] = field(default_factory=set)  # child counts of the implicit form
     literal: set[str] = field(default_factory=set)  # ports given a literal somewhere
+    keys: dict[str, set[str]] = field(default_factory=dict)  # the entries each port is given as {key}
     ports: set[str] = field(default_factory=set)
     first: Loc = field(default_factory=lambda: Loc("", 1, 1))
     kind_at: dict[str, Loc] = field(default_factory=dict)  # the first use of each kind the elements say
@@ -68,6 +69,7 @@ class _Reader:
         self.declared: set[str] = set()
         self.trees: set[str] = set()
         self.uses: dict[str, _Use] = {}
+        self.queue_keys: dict[str, set[str]] = {}  # entry -> the queue types built-in Loops read it as
         self.sources: list[tuple[Source, list[etree._Element]]] = []
 
     def read(self, path: str, shown: str, depth: int = 1) -> None:
@@ -121,6 +123,10 @@ class _Reader:
         if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
             return
         node_id = elem.get("ID") if tag in _ELEMENT_KINDS else tag
+        if node_id in _LOOP_QUEUES and node_id in self.builtins:
+            key = _key_of(elem.get("queue") or "")
+            if key:
+                self.queue_keys.setdefault(key, set()).add(_LOOP_QUEUES[node_id])
         if not node_id or node_id in self.builtins or node_id in self.declared or node_id in self.trees:
             return
         if node_id.startswith("{"):  # a namespaced element: the front end reports it
@@ -151,6 +157,26 @@ class _Reader:
             use.ports.add(name)
             if not (len(value) >= 2 and value.startswith("{") and value.endswith("}")):
                 use.literal.add(name)
+            elif _key_of(value):
+                use.keys.setdefault(name, set()).add(_key_of(value))
+
+
+# A built-in Loop reads its `queue` entry as a SharedQueue of its type: a port of a node the program
+# registers that is only ever given that entry gets that type (with an untyped port, btgen would take
+# the entry for text, which no Loop reads as a queue on 4.6.2).
+_LOOP_QUEUES = {
+    "LoopInt": "BT::SharedQueue<int>",
+    "LoopDouble": "BT::SharedQueue<double>",
+    "LoopBool": "BT::SharedQueue<bool>",
+    "LoopString": "BT::SharedQueue<std::string>",
+}
+
+
+def _key_of(value: str) -> str:
+    """The entry a `{key}` value names ("" for anything else: a literal, `{=}`, `{}`)."""
+    if len(value) > 2 and value.startswith("{") and value.endswith("}") and value[1:-1].strip() not in ("", "="):
+        return value[1:-1].strip().lstrip("@")
+    return ""
 
 
 def _kind(node_id: str, use: _Use, warnings: list[Diagnostic], project: bool = False) -> str:
@@ -218,8 +244,9 @@ def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnos
         '<?xml version="1.0" encoding="UTF-8"?>\n',
         f"<!-- Node models inferred by `btgen models` from how {about} uses them.\n",
         "     Review them: a <Condition> is written as <Action> (use cannot tell them apart), and\n",
-        '     ports are untyped (give each its type="..."). A port given a literal somewhere is an\n',
-        "     input_port; one only ever given {key} is an inout_port. -->\n",
+        '     ports are untyped (give each its type="..."), but for one given only the entry a built-in\n',
+        "     Loop reads as its queue. A port given a literal somewhere is an input_port; one only\n",
+        "     ever given {key} is an inout_port. -->\n",
         '<root BTCPP_format="4">\n',
         "  <TreeNodesModel>\n",
     ]
@@ -233,7 +260,9 @@ def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnos
         lines.append(f"    <{kind} ID={quoteattr(node_id)}>\n")
         for port in ports:
             tag = "input_port" if port in use.literal else "inout_port"
-            lines.append(f"      <{tag} name={quoteattr(port)}/>\n")
+            types = {t for k in use.keys.get(port, ()) for t in reader.queue_keys.get(k, ())}
+            typed = f" type={quoteattr(types.pop())}" if tag == "inout_port" and len(types) == 1 else ""
+            lines.append(f"      <{tag} name={quoteattr(port)}{typed}/>\n")
         lines.append(f"    </{kind}>\n")
     lines += ["  </TreeNodesModel>\n", "</root>\n"]
     return "".join(lines), warnings
