@@ -204,3 +204,35 @@ def test_models_types_a_port_whose_entry_a_loop_reads_as_its_queue(tmp_path, cap
     files, loads, errors, messages = outcome(tmp_path)
     assert errors == {"route.xml": {"E601"}}, messages
     assert all("C++ back end" in m for m in messages["route.xml"])
+
+
+def test_a_models_file_found_is_a_palette_of_the_project(tmp_path, capsys):
+    """aerostack2 keeps a models file (Groot2's palette) beside its missions: its SubTree models name
+    trees of other missions, and one declares a SubTree's ports otherwise than the mission that has
+    it. The library never reads that file: check loaded each mission with an error (E205, E304); it
+    now takes the palette's SubTree models of other trees as documentation, and the mission's own
+    declaration over the palette's (a warning, W105). Given with --models, the rule stays strict."""
+    (tmp_path / "actions.xml").write_text(
+        "<root>\n  <TreeNodesModel>\n"
+        '    <SubTree ID="ArmTakeoff"><input_port name="height"/></SubTree>\n'
+        '    <SubTree ID="RTL"/>\n'
+        "  </TreeNodesModel>\n</root>\n"
+    )
+    (tmp_path / "mission.xml").write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="Main">\n'
+        '  <BehaviorTree ID="Main"><SubTree ID="RTL" pose="{home}"/></BehaviorTree>\n'
+        '  <BehaviorTree ID="RTL"><AlwaysSuccess/></BehaviorTree>\n'
+        '  <TreeNodesModel><SubTree ID="RTL"><input_port name="pose"/></SubTree></TreeNodesModel>\n'
+        "</root>\n"
+    )
+    files, loads, errors, _ = outcome(tmp_path)
+    assert files == ["mission.xml"] and loads == files, errors
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        report = runner.check(["."], Settings())
+    finally:
+        os.chdir(old)
+    assert [(f.path, f.line, f.code) for f in report.findings] == [("actions.xml", 4, "W105")]
+    assert main(["validate", str(tmp_path / "mission.xml"), "--models", str(tmp_path / "actions.xml")]) == 1
+    assert "error: `RTL` is declared twice in TreeNodesModel" in capsys.readouterr().err

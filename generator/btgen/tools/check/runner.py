@@ -112,6 +112,9 @@ def _options(s: Settings, unit: discovery.Unit, models: tuple[str, ...]) -> pipe
         queue_capacity=s.queue_capacity,
         btcpp=s.btcpp,
         ros_packages=tuple(sorted(s.ros_packages.items())),
+        # the models files found beside or above the file, or elsewhere in the project (not those
+        # the configuration names): a palette whose SubTree models may be other missions' trees
+        palettes=tuple(m for m in unit.models if m not in s.models and m not in unit.projects),
     )
 
 
