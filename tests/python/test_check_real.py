@@ -236,3 +236,23 @@ def test_a_models_file_found_is_a_palette_of_the_project(tmp_path, capsys):
     assert [(f.path, f.line, f.code) for f in report.findings] == [("actions.xml", 4, "W105")]
     assert main(["validate", str(tmp_path / "mission.xml"), "--models", str(tmp_path / "actions.xml")]) == 1
     assert "error: `RTL` is declared twice in TreeNodesModel" in capsys.readouterr().err
+
+
+def test_models_declares_what_another_folder_declares(tmp_path, capsys):
+    """AutoAPMS declares `Logger` in the TreeNodesModel of a mission and of a Groot2 project of one
+    folder and uses it in another folder's trees too: `btgen models .` took it as declared (somewhere
+    in the project) and wrote no model, so check still found it unknown there (C101). It now writes a
+    model for every node some file uses and nothing declares where check loads that file."""
+    (tmp_path / "mission").mkdir()
+    (tmp_path / "examples").mkdir()
+    (tmp_path / "mission" / "orchestrator.xml").write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Main"><Logger message="up"/></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Logger"><input_port name="message"/></Action></TreeNodesModel></root>\n'
+    )
+    (tmp_path / "examples" / "demo.xml").write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Demo"><Logger message="hi"/></BehaviorTree></root>\n'
+    )
+    assert main(["models", str(tmp_path), "-o", str(tmp_path / "nodes.xml")]) == 0
+    assert '<Action ID="Logger">' in (tmp_path / "nodes.xml").read_text()
+    files, loads, errors, _ = outcome(tmp_path)
+    assert loads == files == ["examples/demo.xml", "mission/orchestrator.xml"], errors

@@ -108,17 +108,21 @@ class _Reader:
                     )
         self.sources.append((src, trees))
 
-    def collect(self) -> None:
+    def collect(self, declared_in: Optional[dict[str, set[str]]] = None) -> None:
+        """Every node the trees use and nothing declares; `declared_in`: for a project, what is
+        declared for each file (real path) the way `btgen check` loads it, which may be less than what
+        some file of the project declares (another folder's TreeNodesModel does not count for it)."""
         for src, trees in self.sources:
+            declared = None if declared_in is None else declared_in.get(os.path.realpath(src.path))
             for tree in trees:
                 stack = [c for c in tree if isinstance(c.tag, str)]
                 while stack:
                     elem = stack.pop()
                     kids = [c for c in elem if isinstance(c.tag, str)]
                     stack.extend(kids)
-                    self._use(elem, len(kids), src)
+                    self._use(elem, len(kids), src, declared)
 
-    def _use(self, elem: etree._Element, children: int, src: Source) -> None:
+    def _use(self, elem: etree._Element, children: int, src: Source, declared: Optional[set[str]] = None) -> None:
         tag = src.tag(elem)
         if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
             return
@@ -127,7 +131,8 @@ class _Reader:
             key = _key_of(elem.get("queue") or "")
             if key:
                 self.queue_keys.setdefault(key, set()).add(_LOOP_QUEUES[node_id])
-        if not node_id or node_id in self.builtins or node_id in self.declared or node_id in self.trees:
+        known = self.declared if declared is None else declared
+        if not node_id or node_id in self.builtins or node_id in known or node_id in self.trees:
             return
         if node_id.startswith("{"):  # a namespaced element: the front end reports it
             return
@@ -274,21 +279,49 @@ def infer_project_models(
     """One models file for every node the BehaviorTree.CPP files under `paths` (found by content, as
     `btgen check` finds them) use and none of them declares, merged across the files; a file that does
     not parse is passed over (`btgen check` reports it). `output`, the file to be written, is not read."""
-    from btgen.tools.check.discovery import walk
+    from btgen.tools.check import discovery
 
     reader = _Reader(opts.btcpp)
     skip = {os.path.realpath(output)} if output else set()
-    for path in walk(paths) + list(opts.models) + list(opts.trees):
+    for path in discovery.walk(paths) + list(opts.models) + list(opts.trees):
         if os.path.realpath(path) in skip or not os.path.isfile(path):
             continue
         try:
             reader.read(path, path)
         except UserError:
             continue
-    reader.collect()
+    reader.collect(_declared_per_file(paths, opts, skip))
     about = "the files under " + ", ".join(paths) if len(paths) > 1 else f"the files under {paths[0]}"
     text, warnings = _text(reader, about, True)
     return text, warnings, reader.shown
+
+
+def _declared_per_file(paths: list[str], opts: pipeline.CompileOptions, skip: set[str]) -> dict[str, set[str]]:
+    """For each file of trees, the node IDs declared where `btgen check` loads it: the TreeNodesModel
+    of the models files and Groot2 projects it is loaded with, of its includes and tree libraries, and
+    those given with --models (a file several loads read counts what all of them declare)."""
+    from btgen.tools.check import discovery
+
+    project = discovery.survey(paths, lambda p, is_dir: not is_dir and os.path.realpath(p) in skip)
+    extra: set[str] = set()
+    for m in opts.models:
+        extra |= set(discovery.read(m).models)  # (a file it cannot read declares nothing)
+    out: dict[str, set[str]] = {}
+    for unit in discovery.plan(project):
+        f = project.files[os.path.realpath(unit.path)]
+        files = discovery._closure(project, f)
+        for t in unit.trees:
+            files += discovery._closure(project, project.files[os.path.realpath(t)])
+        ids = set(extra)
+        for g in files:
+            ids |= g.models
+        for m in unit.models:
+            models_file = project.files.get(os.path.realpath(m))
+            if models_file is not None:
+                ids |= models_file.models
+        for g in files:
+            out[g.real] = out[g.real] & ids if g.real in out else set(ids)
+    return out
 
 
 def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str, list[Diagnostic], list[str]]:
