@@ -397,8 +397,41 @@ def parse_bytes(data: bytes, path: str) -> Source:
     except etree.XMLSyntaxError as e:
         raise _syntax_error(path, text, e) from None
     src = Source(path, text, root, tags)
+    warnings += _unread_model_elements(src)
     src.warnings = warnings
     return src
+
+
+_MODEL_KINDS = ("Action", "Condition", "Control", "Decorator", "SubTree")
+_MODEL_CHILDREN = ("input_port", "output_port", "inout_port", "bidirectional_port", "MetadataFields")
+
+
+def _unread_model_elements(src: Source) -> list[Diagnostic]:
+    """Other elements in a node model than its ports and Groot2's MetadataFields (MoveIt Pro writes
+    a `<description>` there for its editor): BehaviorTree.CPP 4.6.2 and 4.10.0 load the file and never
+    read them. They are taken out of the parsed tree, with a warning each."""
+    out: list[Diagnostic] = []
+    for models in src.root:
+        if models.tag != "TreeNodesModel":
+            continue
+        for model in models:
+            if model.tag not in _MODEL_KINDS:
+                continue
+            for child in list(model):
+                if isinstance(child.tag, str) and child.tag not in _MODEL_CHILDREN:
+                    out.append(
+                        Diagnostic(
+                            src.loc(child),
+                            f"<{src.tag(child)}> in the model of `{model.get('ID') or ''}` is not read by "
+                            "BehaviorTree.CPP (a model holds its ports and MetadataFields): ignored",
+                            "warning",
+                        )
+                    )
+                    tail = child.tail
+                    model.remove(child)  # (lxml takes the tail text with it: kept)
+                    if tail and tail.strip():
+                        model.text = (model.text or "") + tail
+    return out
 
 
 XML_VERSION_RE = re.compile(r"\ufeff?\s*(<\?xml\s[^>]*?\bversion\s*=\s*[\"']([^\"']*)[\"'][^>]*\?>)")

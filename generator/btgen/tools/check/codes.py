@@ -409,12 +409,14 @@ RULES: tuple[Rule, ...] = (
         "W104",
         "model-ignored",
         "warning",
-        "a model BehaviorTree.CPP never reads (a built-in redeclared, an unknown port element)",
+        "a model BehaviorTree.CPP never reads (a built-in redeclared, an unknown port element, another element "
+        "in a model: MoveIt Pro's `<description>`)",
         (
             r"is a built-in node of BehaviorTree\.CPP",
             r"^<bidirectional_port>",
             r"can never be given",
             r"^default of port",
+            r"in the model of `.*` is not read by BehaviorTree\.CPP",
         ),
         bad=_m("    <AlwaysSuccess/>\n", '  <TreeNodesModel>\n    <Action ID="AlwaysSuccess"/>\n  </TreeNodesModel>\n'),
         good=_m("    <AlwaysSuccess/>\n"),
