@@ -256,3 +256,50 @@ def test_models_declares_what_another_folder_declares(tmp_path, capsys):
     assert '<Action ID="Logger">' in (tmp_path / "nodes.xml").read_text()
     files, loads, errors, _ = outcome(tmp_path)
     assert loads == files == ["examples/demo.xml", "mission/orchestrator.xml"], errors
+
+
+def test_an_entry_its_own_subtree_model_declares_is_the_callers(tmp_path):
+    """A MoveIt Pro objective names itself as main tree and declares its own SubTree model, whose
+    ports its callers give (`expected_vector_size` of ErrorCheckVectorSize). A script reading such a
+    port's entry was an error (E503) the library does not have on load; it is now a warning (C102),
+    as in a tree library. An entry that no port declares stays an error."""
+    mission = (
+        '<root BTCPP_format="4" main_tree_to_execute="Check">\n'
+        '  <BehaviorTree ID="Check">\n'
+        '    <Precondition if="size != expected" else="SUCCESS"><AlwaysFailure/></Precondition>\n'
+        "  </BehaviorTree>\n"
+        '  <TreeNodesModel><SubTree ID="Check"><input_port name="{port}"/></SubTree></TreeNodesModel>\n'
+        "</root>\n"
+    )
+    (tmp_path / "check.xml").write_text(mission.format(port="expected"))
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        codes = [(f.code, f.severity, f.message.split("`")[5]) for f in runner.check(["."], Settings()).findings]
+        assert ("C102", "warning", "expected") in codes and ("E503", "error", "size") in codes, codes
+        (tmp_path / "check.xml").write_text(mission.format(port="other"))
+        codes = [(f.code, f.message.split("`")[5]) for f in runner.check(["."], Settings()).findings]
+        assert ("E503", "expected") in codes and ("E503", "size") in codes, codes
+    finally:
+        os.chdir(old)
+
+
+def test_a_file_given_by_name_finds_the_models_file_above(tmp_path, capsys):
+    """pre-commit passes the changed files by name: the models file `btgen models .` wrote at the top
+    of the repository counts for them as when the whole repository is checked (before: only the
+    files of the file's own folder were read)."""
+    deep = tmp_path / "src" / "robot" / "objectives"
+    deep.mkdir(parents=True)
+    (deep / "pick.xml").write_text(
+        '<root BTCPP_format="4"><BehaviorTree ID="Pick"><CloseGripper/></BehaviorTree></root>\n'
+    )
+    (tmp_path / "btgen_models.xml").write_text(
+        '<root BTCPP_format="4"><TreeNodesModel><Action ID="CloseGripper"/></TreeNodesModel></root>\n'
+    )
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        report = runner.check(["src/robot/objectives/pick.xml"], Settings())
+    finally:
+        os.chdir(old)
+    assert report.findings == [] and report.files == ["src/robot/objectives/pick.xml"]

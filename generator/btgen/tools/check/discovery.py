@@ -246,6 +246,20 @@ def _ancestor(folder: str, real: str) -> bool:
     return d == folder or d.startswith(folder.rstrip(os.sep) + os.sep)
 
 
+def _folders_above(path: str) -> list[str]:
+    """The folders above the file's own, up to the current folder (shown relative to it); none when the
+    file is not under the current folder."""
+    here = os.path.realpath(os.getcwd())
+    folder = os.path.dirname(os.path.realpath(path))
+    if folder != here and not folder.startswith(here.rstrip(os.sep) + os.sep):
+        return []
+    out = []
+    while folder != here:
+        folder = os.path.dirname(folder)
+        out.append(os.path.relpath(folder, here))
+    return out
+
+
 def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir: False) -> Project:
     """Every file found, read, with who includes it, whose library it is and which projects list it."""
     project = Project({})
@@ -260,6 +274,15 @@ def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_di
                     f = read(p)
                     f.context = True
                     project.files[os.path.realpath(p)] = f
+            # and the models files of the folders above it, up to the current folder (where
+            # `btgen models .` writes one for the whole repository)
+            for folder in _folders_above(top):
+                for p in walk([folder], skip, recurse=False):
+                    if os.path.realpath(p) not in project.files:
+                        f = read(p)
+                        if f.role == "models":
+                            f.context = True
+                            project.files[os.path.realpath(p)] = f
     for _real, f in sorted(project.files.items()):
         for target in f.includes:
             t = project.files.get(target)
