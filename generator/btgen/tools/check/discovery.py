@@ -274,9 +274,10 @@ def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_di
                     f = read(p)
                     f.context = True
                     project.files[os.path.realpath(p)] = f
-            # and the models files of the folders above it, up to the current folder (where
-            # `btgen models .` writes one for the whole repository)
-            for folder in _folders_above(top):
+        # the models files of the folders above a file or folder given, up to the current folder
+        # (where `btgen models .` writes one for the whole repository)
+        if os.path.exists(top):
+            for folder in _folders_above(top if os.path.isfile(top) else os.path.join(top, "x")):
                 for p in walk([folder], skip, recurse=False):
                     if os.path.realpath(p) not in project.files:
                         f = read(p)
