@@ -100,7 +100,8 @@ CI_SKIP_ALLOWED: tuple[tuple[str, str], ...] = (
     (
         "set BTGEN_REAL_PROJECTS=all",
         "test_check_real.py: MoveIt Pro's example workspace, 296 files checked twice (114 s wall on the busy "
-        "shared 2-core machine), run by hand (docs/check.md states its counts; CI checks the three other MoveIt Pro projects)",
+        "shared 2-core machine), run by hand (docs/check.md states its counts; CI checks the three other "
+        "MoveIt Pro projects)",
     ),
 )
 
