@@ -48,6 +48,9 @@ class CompileOptions:
     ros_packages: tuple[tuple[str, str], ...] = ()  # package -> folder (btgen check's `ros-packages`)
     nodes: Optional[str] = None  # --nodes btcpp|nav2[:DISTRO] (lang/nav2.py); None: Nav2's if a models file is
     substitute: Optional[str] = None  # --substitute FILE.json: substitution rules, a test build (ir/substitute.py)
+    # those of `models` that `btgen check` found in the project rather than was told to use: their
+    # SubTree models document the trees of the whole project (Groot2's palette), not only this mission's
+    palettes: tuple[str, ...] = ()
 
     @property
     def data(self) -> DataOptions:
@@ -239,6 +242,7 @@ def load(path: str, opts: CompileOptions = DEFAULTS) -> Mission:
         btcpp=opts.btcpp,
         ros_packages=opts.ros_packages,
         nodes=opts.nodes,
+        palettes=opts.palettes,
     )
     mission = entries.apply(mission, provided)
     mission = enums.apply(mission, enums.load(opts.enum_decls, opts.enum_files))

@@ -375,6 +375,14 @@ def parse_bytes(data: bytes, path: str) -> Source:
     # so lxml is given spaces in its place, which keeps every line and column.
     late = re.match(r"\s+(<\?xml\s[^>]*\?>)", fixed)
     parsed = fixed if late is None else fixed[: late.start(1)] + " " * len(late.group(1)) + fixed[late.end(1) :]
+    # tinyxml2 reads the declaration's version without looking at it; libxml2 knows only 1.x:
+    # another one (`version="2.0"`) is given to lxml as spaces, with a warning.
+    decl_version = XML_VERSION_RE.match(parsed)
+    if decl_version is not None and not re.fullmatch(r"1\.[0-9]+", decl_version.group(2)):
+        warnings.append(
+            Diagnostic(Loc(path, *lines.pos(decl_version.start(2))), version_message(decl_version.group(2)), "warning")
+        )
+        parsed = parsed[: decl_version.start(1)] + " " * len(decl_version.group(1)) + parsed[decl_version.end(1) :]
     parser = etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -389,8 +397,51 @@ def parse_bytes(data: bytes, path: str) -> Source:
     except etree.XMLSyntaxError as e:
         raise _syntax_error(path, text, e) from None
     src = Source(path, text, root, tags)
+    warnings += _unread_model_elements(src)
     src.warnings = warnings
     return src
+
+
+_MODEL_KINDS = ("Action", "Condition", "Control", "Decorator", "SubTree")
+_MODEL_CHILDREN = ("input_port", "output_port", "inout_port", "bidirectional_port", "MetadataFields")
+
+
+def _unread_model_elements(src: Source) -> list[Diagnostic]:
+    """Other elements in a node model than its ports and Groot2's MetadataFields (MoveIt Pro writes
+    a `<description>` there for its editor): BehaviorTree.CPP 4.6.2 and 4.10.0 load the file and never
+    read them. They are taken out of the parsed tree, with a warning each."""
+    out: list[Diagnostic] = []
+    for models in src.root:
+        if models.tag != "TreeNodesModel":
+            continue
+        for model in models:
+            if model.tag not in _MODEL_KINDS:
+                continue
+            for child in list(model):
+                if isinstance(child.tag, str) and child.tag not in _MODEL_CHILDREN:
+                    out.append(
+                        Diagnostic(
+                            src.loc(child),
+                            f"<{src.tag(child)}> in the model of `{model.get('ID') or ''}` is not read by "
+                            "BehaviorTree.CPP (a model holds its ports and MetadataFields): ignored",
+                            "warning",
+                        )
+                    )
+                    tail = child.tail
+                    model.remove(child)  # (lxml takes the tail text with it: kept)
+                    if tail and tail.strip():
+                        model.text = (model.text or "") + tail
+    return out
+
+
+XML_VERSION_RE = re.compile(r"\ufeff?\s*(<\?xml\s[^>]*?\bversion\s*=\s*[\"']([^\"']*)[\"'][^>]*\?>)")
+
+
+def version_message(version: str) -> str:
+    return (
+        f'XML version `{version}` does not exist (XML is version 1.0 or 1.1): write `version="1.0"`; '
+        "tinyxml2 (BehaviorTree.CPP) reads it, other tools do not"
+    )
 
 
 _TOLERATED_ATTR = (

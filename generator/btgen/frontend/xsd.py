@@ -133,10 +133,12 @@ _SIMPLE = {
 }
 
 
-def _type_ref(port: PortSpec, node_id: str = "") -> str:
+def _type_ref(port: PortSpec, node_id: str = "", literal_writes: bool = False) -> str:
     t = port.type
     if node_id.startswith("Loop") and port.name == "queue":
         return "xs:string"  # untyped from 4.9.1, a literal queue or a {key} all the same
+    if literal_writes and port.direction == "output":
+        return "xs:string"  # a literal on the output port of a node the program registers loads (warned)
     if port.direction == "output" or (port.direction == "inout" and not t.startswith("queue<")):
         return "bt_key"
     return {
@@ -194,7 +196,7 @@ def _children(spec: NodeSpec) -> str:
     return f'      <xs:element ref="bt_node" minOccurs="{lo}" maxOccurs="{hi_text}"/>\n'
 
 
-def _node_type(spec: NodeSpec, lenient: bool) -> str:
+def _node_type(spec: NodeSpec, lenient: bool, user: bool = False) -> str:
     mixed = ' mixed="true"' if lenient else ""
     lines = [f"  <xs:complexType name={quoteattr('node.' + lxml_name(spec.id))}{mixed}>\n"]
     kids = _children(spec)
@@ -202,7 +204,10 @@ def _node_type(spec: NodeSpec, lenient: bool) -> str:
         lines.append("    <xs:sequence>\n" + kids.replace("      ", "      ", 1) + "    </xs:sequence>\n")
     for p in spec.ports:
         use = ' use="required"' if p.required else ""
-        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{_type_ref(p, spec.id)}"{use}/>\n')
+        ref = _type_ref(p, spec.id, literal_writes=lenient and user)
+        if lenient and user and p.direction == "inout" and ref == "bt_key":
+            ref = "xs:string"  # (read as a literal, as an input port: the loader checks and warns)
+        lines.append(f'    <xs:attribute name={quoteattr(p.name)} type="{ref}"{use}/>\n')
     lines.append('    <xs:attributeGroup ref="bt_common"/>\n')
     if lenient:
         lines.append('    <xs:anyAttribute processContents="skip"/>\n')
@@ -279,7 +284,7 @@ def mission_xsd(mission: Mission, lenient: bool = False, comment: bool = True) -
     for kind in ("Action", "Condition", "Control", "Decorator", "SubTree"):
         out.append(f'  <xs:element name="{kind}" type="explicit.{kind}" substitutionGroup="{group}"/>\n')
     for s in specs:
-        out.append(_node_type(s, lenient))
+        out.append(_node_type(s, lenient, user=s.id not in mission.builtins))
     for kind, kids in (
         ("Action", ""),
         ("Condition", ""),

@@ -51,6 +51,7 @@ class _Use:
     kinds: set[str] = field(default_factory=set)  # kinds the elements say (explicit form)
     children: set[int] = field(default_factory=set)  # child counts of the implicit form
     literal: set[str] = field(default_factory=set)  # ports given a literal somewhere
+    keys: dict[str, set[str]] = field(default_factory=dict)  # the entries each port is given as {key}
     ports: set[str] = field(default_factory=set)
     first: Loc = field(default_factory=lambda: Loc("", 1, 1))
     kind_at: dict[str, Loc] = field(default_factory=dict)  # the first use of each kind the elements say
@@ -68,6 +69,7 @@ class _Reader:
         self.declared: set[str] = set()
         self.trees: set[str] = set()
         self.uses: dict[str, _Use] = {}
+        self.queue_keys: dict[str, set[str]] = {}  # entry -> the queue types built-in Loops read it as
         self.sources: list[tuple[Source, list[etree._Element]]] = []
 
     def read(self, path: str, shown: str, depth: int = 1) -> None:
@@ -106,22 +108,31 @@ class _Reader:
                     )
         self.sources.append((src, trees))
 
-    def collect(self) -> None:
+    def collect(self, declared_in: Optional[dict[str, set[str]]] = None) -> None:
+        """Every node the trees use and nothing declares; `declared_in`: for a project, what is
+        declared for each file (real path) the way `btgen check` loads it, which may be less than what
+        some file of the project declares (another folder's TreeNodesModel does not count for it)."""
         for src, trees in self.sources:
+            declared = None if declared_in is None else declared_in.get(os.path.realpath(src.path))
             for tree in trees:
                 stack = [c for c in tree if isinstance(c.tag, str)]
                 while stack:
                     elem = stack.pop()
                     kids = [c for c in elem if isinstance(c.tag, str)]
                     stack.extend(kids)
-                    self._use(elem, len(kids), src)
+                    self._use(elem, len(kids), src, declared)
 
-    def _use(self, elem: etree._Element, children: int, src: Source) -> None:
+    def _use(self, elem: etree._Element, children: int, src: Source, declared: Optional[set[str]] = None) -> None:
         tag = src.tag(elem)
         if tag == "SubTree" or (tag in KINDS and elem.get("ID") is None):
             return
         node_id = elem.get("ID") if tag in _ELEMENT_KINDS else tag
-        if not node_id or node_id in self.builtins or node_id in self.declared or node_id in self.trees:
+        if node_id in _LOOP_QUEUES and node_id in self.builtins:
+            key = _key_of(elem.get("queue") or "")
+            if key:
+                self.queue_keys.setdefault(key, set()).add(_LOOP_QUEUES[node_id])
+        known = self.declared if declared is None else declared
+        if not node_id or node_id in self.builtins or node_id in known or node_id in self.trees:
             return
         if node_id.startswith("{"):  # a namespaced element: the front end reports it
             return
@@ -151,6 +162,26 @@ class _Reader:
             use.ports.add(name)
             if not (len(value) >= 2 and value.startswith("{") and value.endswith("}")):
                 use.literal.add(name)
+            elif _key_of(value):
+                use.keys.setdefault(name, set()).add(_key_of(value))
+
+
+# A built-in Loop reads its `queue` entry as a SharedQueue of its type: a port of a node the program
+# registers that is only ever given that entry gets that type (with an untyped port, btgen would take
+# the entry for text, which no Loop reads as a queue on 4.6.2).
+_LOOP_QUEUES = {
+    "LoopInt": "BT::SharedQueue<int>",
+    "LoopDouble": "BT::SharedQueue<double>",
+    "LoopBool": "BT::SharedQueue<bool>",
+    "LoopString": "BT::SharedQueue<std::string>",
+}
+
+
+def _key_of(value: str) -> str:
+    """The entry a `{key}` value names ("" for anything else: a literal, `{=}`, `{}`)."""
+    if len(value) > 2 and value.startswith("{") and value.endswith("}") and value[1:-1].strip() not in ("", "="):
+        return value[1:-1].strip().lstrip("@")
+    return ""
 
 
 def _kind(node_id: str, use: _Use, warnings: list[Diagnostic], project: bool = False) -> str:
@@ -218,8 +249,9 @@ def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnos
         '<?xml version="1.0" encoding="UTF-8"?>\n',
         f"<!-- Node models inferred by `btgen models` from how {about} uses them.\n",
         "     Review them: a <Condition> is written as <Action> (use cannot tell them apart), and\n",
-        '     ports are untyped (give each its type="..."). A port given a literal somewhere is an\n',
-        "     input_port; one only ever given {key} is an inout_port. -->\n",
+        '     ports are untyped (give each its type="..."), but for one given only the entry a built-in\n',
+        "     Loop reads as its queue. A port given a literal somewhere is an input_port; one only\n",
+        "     ever given {key} is an inout_port. -->\n",
         '<root BTCPP_format="4">\n',
         "  <TreeNodesModel>\n",
     ]
@@ -233,7 +265,9 @@ def _text(reader: _Reader, about: str, project: bool) -> tuple[str, list[Diagnos
         lines.append(f"    <{kind} ID={quoteattr(node_id)}>\n")
         for port in ports:
             tag = "input_port" if port in use.literal else "inout_port"
-            lines.append(f"      <{tag} name={quoteattr(port)}/>\n")
+            types = {t for k in use.keys.get(port, ()) for t in reader.queue_keys.get(k, ())}
+            typed = f" type={quoteattr(types.pop())}" if tag == "inout_port" and len(types) == 1 else ""
+            lines.append(f"      <{tag} name={quoteattr(port)}{typed}/>\n")
         lines.append(f"    </{kind}>\n")
     lines += ["  </TreeNodesModel>\n", "</root>\n"]
     return "".join(lines), warnings
@@ -245,21 +279,49 @@ def infer_project_models(
     """One models file for every node the BehaviorTree.CPP files under `paths` (found by content, as
     `btgen check` finds them) use and none of them declares, merged across the files; a file that does
     not parse is passed over (`btgen check` reports it). `output`, the file to be written, is not read."""
-    from btgen.tools.check.discovery import walk
+    from btgen.tools.check import discovery
 
     reader = _Reader(opts.btcpp)
     skip = {os.path.realpath(output)} if output else set()
-    for path in walk(paths) + list(opts.models) + list(opts.trees):
+    for path in discovery.walk(paths) + list(opts.models) + list(opts.trees):
         if os.path.realpath(path) in skip or not os.path.isfile(path):
             continue
         try:
             reader.read(path, path)
         except UserError:
             continue
-    reader.collect()
+    reader.collect(_declared_per_file(paths, opts, skip))
     about = "the files under " + ", ".join(paths) if len(paths) > 1 else f"the files under {paths[0]}"
     text, warnings = _text(reader, about, True)
     return text, warnings, reader.shown
+
+
+def _declared_per_file(paths: list[str], opts: pipeline.CompileOptions, skip: set[str]) -> dict[str, set[str]]:
+    """For each file of trees, the node IDs declared where `btgen check` loads it: the TreeNodesModel
+    of the models files and Groot2 projects it is loaded with, of its includes and tree libraries, and
+    those given with --models (a file several loads read counts what all of them declare)."""
+    from btgen.tools.check import discovery
+
+    project = discovery.survey(paths, lambda p, is_dir: not is_dir and os.path.realpath(p) in skip)
+    extra: set[str] = set()
+    for m in opts.models:
+        extra |= set(discovery.read(m).models)  # (a file it cannot read declares nothing)
+    out: dict[str, set[str]] = {}
+    for unit in discovery.plan(project):
+        f = project.files[os.path.realpath(unit.path)]
+        files = discovery._closure(project, f)
+        for t in unit.trees:
+            files += discovery._closure(project, project.files[os.path.realpath(t)])
+        ids = set(extra)
+        for g in files:
+            ids |= g.models
+        for m in unit.models:
+            models_file = project.files.get(os.path.realpath(m))
+            if models_file is not None:
+                ids |= models_file.models
+        for g in files:
+            out[g.real] = out[g.real] & ids if g.real in out else set(ids)
+    return out
 
 
 def infer_models(mission_path: str, opts: pipeline.CompileOptions) -> tuple[str, list[Diagnostic], list[str]]:

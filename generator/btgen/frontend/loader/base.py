@@ -101,6 +101,7 @@ class LoaderBase:
         self._shown_files: dict[str, int] = {}
         self._tree_ids: set[str] = set()
         self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
+        self.palettes: set[str] = set()  # real paths of the models files that are a project's palette
         self.siblings = SiblingIndex(self.files)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far

@@ -275,6 +275,11 @@ class MissionChecks(LoaderBase):
             return False
 
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
+        if node_id == "Script" and attr.name == "code" and attr.value == "":
+            # 4.6.2 and 4.10.0 run `<Script code=""/>`: it does nothing and succeeds (recorded:
+            # tests/conformance/both-releases/empty_script); `code="  "`, an empty ScriptCondition
+            # or precondition throw there, and stay refused here
+            return Attr(attr.name, attr.value, attr.loc, attr.value_loc, script_lang.Script((), ""))
         try:
             parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)
         except script_lang.ScriptSyntaxError as e:
@@ -360,6 +365,21 @@ class MissionChecks(LoaderBase):
         if (spec.id, attr.name) in version_rules.LOOP_QUEUE_PORTS:
             version_rules.check_literal_queue(self.sink, attr, spec.id, self.sem)
             return attr
+        if spec.id not in self.builtins and port.direction in ("output", "inout"):
+            # A node the program registers: 4.6.2 and 4.10.0 load a literal on its output or inout
+            # port (recorded: tests/conformance/both-releases/output_port_literal); its setOutput
+            # then fails and writes nothing, as when the port is not given. An output port is
+            # loaded as not given; an inout port keeps the literal as the value it reads.
+            self.sink.warning(
+                attr.value_loc,
+                f"{what} is an {port.direction} port given the literal `{value}`, not a blackboard entry: "
+                f"BehaviorTree.CPP {self.btcpp} loads it and the node's writes to it go nowhere; "
+                f"write `{{key}}` (or `{{=}}`) to keep what it writes",
+            )
+            # (a typed port's literal must convert all the same: the library checks it on load
+            # whatever the direction, as `<LoopInt value="x">` shows)
+            self._check_literal(attr.value_loc, what, port.type, value, port.int_width)
+            return None if port.direction == "output" else attr
         if port.direction == "output" or (port.direction == "inout" and not port.type.startswith("queue<")):
             # 4.6.2's setOutput only writes through `{key}`; a literal would silently write nothing.
             self.sink.error(

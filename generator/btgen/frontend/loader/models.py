@@ -77,7 +77,8 @@ class ModelsReader(MissionChecks):
             if child.tag == "TreeNodesModel":
                 before = len(self.models)
                 self._read_models(child, src)
-                self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
+                if os.path.realpath(path) not in self.palettes:
+                    self.palette_subtrees.extend(m for m in self.models[before:] if m.kind == "SubTree")
             else:
                 self.sink.error(
                     src.loc(child),
@@ -141,6 +142,16 @@ class ModelsReader(MissionChecks):
                 # models file beside a mission that declares it too) is the same model;
                 # only a declaration that differs is an error.
                 conflict = model_conflict(known[mid], spec)
+                if conflict and "SubTree" in (kind, known[mid].kind) and os.path.realpath(src.path) in self.palettes:
+                    # a models file `btgen check` found in the project, which the library never reads:
+                    # the mission's own SubTree model counts
+                    self.sink.warning(
+                        src.value_loc(m, "ID"),
+                        f"`{mid}` is declared twice in TreeNodesModel and the declarations differ: {conflict} "
+                        f"(first at {known[mid].loc}); BehaviorTree.CPP never reads this models file: the "
+                        f"first declaration counts",
+                    )
+                    continue
                 if conflict and "SubTree" in (kind, known[mid].kind):
                     self.sink.error(
                         src.value_loc(m, "ID"),

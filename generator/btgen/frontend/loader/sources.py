@@ -251,6 +251,7 @@ def load_mission(
     btcpp: str = DEFAULT_VERSION,
     ros_packages: Sequence[tuple[str, str]] = (),
     nodes: Optional[str] = None,
+    palettes: Sequence[str] = (),
 ) -> Mission:
     """Read, validate and model a mission; raises UserError with every problem found.
 
@@ -259,5 +260,9 @@ def load_mission(
     (`--main-tree`), overriding main_tree_to_execute. `trees`: files or folders of
     BehaviorTrees the mission's SubTrees may use (`--trees`). `btcpp`: the release to follow (lang/versions.py).
     `ros_packages`: folders of ROS packages for <include ros_pkg=...> (frontend/ros_packages.py).
-    `nodes`: `--nodes` (lang/nav2.py NODES_CHOICES); None: Nav2's nodes when a models file is Nav2's."""
-    return _Loader(path, models, main_tree, trees, btcpp, ros_packages, nodes).load()
+    `nodes`: `--nodes` (lang/nav2.py NODES_CHOICES); None: Nav2's nodes when a models file is Nav2's.
+    `palettes`: those of `models` found in the project by `btgen check`, whose SubTree models may name
+    trees of other missions (a SubTree model of a file given with `--models` must name one of this one)."""
+    loader = _Loader(path, models, main_tree, trees, btcpp, ros_packages, nodes)
+    loader.palettes = {os.path.realpath(p) for p in palettes}
+    return loader.load()

@@ -409,12 +409,14 @@ RULES: tuple[Rule, ...] = (
         "W104",
         "model-ignored",
         "warning",
-        "a model BehaviorTree.CPP never reads (a built-in redeclared, an unknown port element)",
+        "a model BehaviorTree.CPP never reads (a built-in redeclared, an unknown port element, another element "
+        "in a model: MoveIt Pro's `<description>`)",
         (
             r"is a built-in node of BehaviorTree\.CPP",
             r"^<bidirectional_port>",
             r"can never be given",
             r"^default of port",
+            r"in the model of `.*` is not read by BehaviorTree\.CPP",
         ),
         bad=_m("    <AlwaysSuccess/>\n", '  <TreeNodesModel>\n    <Action ID="AlwaysSuccess"/>\n  </TreeNodesModel>\n'),
         good=_m("    <AlwaysSuccess/>\n"),
@@ -469,7 +471,8 @@ RULES: tuple[Rule, ...] = (
         "warning",
         "XML that tinyxml2 (BehaviorTree.CPP's parser) reads and other XML tools refuse: a raw `&` or `<` in "
         "an attribute value, `--` inside a comment, two attributes without a space, an element name with a "
-        "colon whose prefix the file does not declare (`<arm:Grasp/>`)",
+        "colon whose prefix the file does not declare (`<arm:Grasp/>`), an XML declaration of a version that "
+        'does not exist (`<?xml version="2.0"?>`)',
         (r"tinyxml2 \(BehaviorTree\.CPP\) reads it",),
         bad=_m(
             '    <Sequence>\n      <Script code="a := true"/>\n      <ScriptCondition code="a && a"/>\n'
@@ -481,6 +484,27 @@ RULES: tuple[Rule, ...] = (
         ),
         why="The library loads such a file (recorded on 4.6.2 and 4.10.0), and so does btgen, reading it as "
         "tinyxml2 does; Groot2, editors and XML Schema validators refuse it. The message says what to write.",
+    ),
+    Rule(
+        "W111",
+        "literal-output",
+        "warning",
+        "a literal on an output or inout port of a node the program registers: its writes go nowhere",
+        (r"port given the literal",),
+        bad=_m(
+            '    <WaitForEvent result=""/>\n',
+            '  <TreeNodesModel>\n    <Action ID="WaitForEvent">\n      <output_port name="result"/>\n'
+            "    </Action>\n  </TreeNodesModel>\n",
+        ),
+        good=_m(
+            '    <WaitForEvent result="{result}"/>\n',
+            '  <TreeNodesModel>\n    <Action ID="WaitForEvent">\n      <output_port name="result"/>\n'
+            "    </Action>\n  </TreeNodesModel>\n",
+        ),
+        why="BehaviorTree.CPP 4.6.2 and 4.10.0 load it (recorded: "
+        "tests/conformance/both-releases/output_port_literal): the node's setOutput fails and writes nothing, "
+        "so btgen loads an output port given a literal as not given, and an inout port's literal as the value "
+        "it reads. A built-in node's output port given a literal stays an error (E403).",
     ),
     # ------------------------------------------------------------------ A1: analysis findings
     Rule(

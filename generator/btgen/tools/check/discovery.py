@@ -44,6 +44,7 @@ _LEAD = (
 )
 _ROOT = re.compile(_LEAD + rb"<root\b[^>]*\bBTCPP_format\s*=", re.S)
 _ROOT_V3 = re.compile(_LEAD + rb"<root\b[^>]*>\s*(?:<!--.*?-->\s*)*<(?:BehaviorTree|TreeNodesModel|include)\b", re.S)
+_XML_VERSION = re.compile(rb"(?:\xef\xbb\xbf)?\s*(<\?xml\s[^>]*?\bversion\s*=\s*[\"']([^\"']*)[\"'][^>]*\?>)")
 _PROJECT = re.compile(rb"<root\b[^>]*\bproject_name\s*=", re.S)
 
 
@@ -57,6 +58,7 @@ class BTFile:
     includes: tuple[str, ...] = ()  # real paths of the files its <include path=...> name
     ros_includes: bool = False
     models: frozenset[str] = frozenset()  # IDs its <TreeNodesModel> declares
+    uses: frozenset[str] = frozenset()  # node IDs its trees use (element names, ID of the generic forms)
     included_by: list[str] = field(default_factory=list)  # shown paths of includers
     library_of: list[str] = field(default_factory=list)  # shown paths of files using its trees as SubTrees
     projects: list[str] = field(default_factory=list)  # shown paths of .btproj files listing it
@@ -159,6 +161,10 @@ def read(path: str) -> BTFile:
         if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
             f.role = "broken"
             return f
+        version = _XML_VERSION.match(data)
+        if version is not None and not re.fullmatch(rb"1\.[0-9]+", version.group(2)):
+            # a version libxml2 does not know (`2.0`), which tinyxml2 does not read: the loader warns
+            data = data[: version.start(1)] + b" " * len(version.group(1)) + data[version.end(1) :]
         root = etree.fromstring(data, _PARSER)
     except (OSError, etree.XMLSyntaxError, ValueError):
         f.role = "broken"
@@ -187,7 +193,16 @@ def read(path: str) -> BTFile:
     f.trees = tuple(t.get("ID") or "" for t in trees)
     f.main = root.get("main_tree_to_execute")
     f.subtrees = frozenset(e.get("ID") or "" for t in trees for e in t.iter("SubTree"))
+    f.uses = frozenset(
+        (e.get("ID") or "") if e.tag in _GENERIC else e.tag
+        for t in trees
+        for e in t.iter()
+        if isinstance(e.tag, str) and e is not t and e.tag != "SubTree"
+    )
     return f
+
+
+_GENERIC = ("Action", "Condition", "Control", "Decorator")
 
 
 @dataclass
@@ -197,6 +212,52 @@ class Project:
     def by_folder(self, real: str) -> list[BTFile]:
         folder = os.path.dirname(real)
         return [f for r, f in sorted(self.files.items()) if os.path.dirname(r) == folder]
+
+    @functools.cached_property
+    def definers(self) -> dict[str, list[BTFile]]:
+        """The files of trees defining each tree ID (a file found anywhere under the checked paths)."""
+        out: dict[str, list[BTFile]] = {}
+        for _r, f in sorted(self.files.items()):
+            if f.role == "trees":
+                for t in f.trees:
+                    out.setdefault(t, []).append(f)
+        return out
+
+    @functools.cached_property
+    def models_files(self) -> list[BTFile]:
+        return [f for _r, f in sorted(self.files.items()) if f.role == "models"]
+
+
+def distance(a: str, b: str) -> int:
+    """How far apart two files' folders are: the folders to go up from one and down to the other."""
+    pa = os.path.dirname(a).split(os.sep)
+    pb = os.path.dirname(b).split(os.sep)
+    common = 0
+    for x, y in zip(pa, pb):
+        if x != y:
+            break
+        common += 1
+    return len(pa) + len(pb) - 2 * common
+
+
+def _ancestor(folder: str, real: str) -> bool:
+    """Whether `folder` is the folder of the file `real` or one above it."""
+    d = os.path.dirname(real)
+    return d == folder or d.startswith(folder.rstrip(os.sep) + os.sep)
+
+
+def _folders_above(path: str) -> list[str]:
+    """The folders above the file's own, up to the current folder (shown relative to it); none when the
+    file is not under the current folder."""
+    here = os.path.realpath(os.getcwd())
+    folder = os.path.dirname(os.path.realpath(path))
+    if folder != here and not folder.startswith(here.rstrip(os.sep) + os.sep):
+        return []
+    out = []
+    while folder != here:
+        folder = os.path.dirname(folder)
+        out.append(os.path.relpath(folder, here))
+    return out
 
 
 def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_dir: False) -> Project:
@@ -213,6 +274,16 @@ def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_di
                     f = read(p)
                     f.context = True
                     project.files[os.path.realpath(p)] = f
+        # the models files of the folders above a file or folder given, up to the current folder
+        # (where `btgen models .` writes one for the whole repository)
+        if os.path.exists(top):
+            for folder in _folders_above(top if os.path.isfile(top) else os.path.join(top, "x")):
+                for p in walk([folder], skip, recurse=False):
+                    if os.path.realpath(p) not in project.files:
+                        f = read(p)
+                        if f.role == "models":
+                            f.context = True
+                            project.files[os.path.realpath(p)] = f
     for _real, f in sorted(project.files.items()):
         for target in f.includes:
             t = project.files.get(target)
@@ -226,8 +297,13 @@ def survey(paths: list[str], skip: Callable[[str, bool], bool] = lambda p, is_di
         if f.role != "trees":
             continue
         own = _closure_trees(project, f)
+        marked = set()
         for other in _candidates(project, f):
             if other is not f and (f.subtrees - own) & set(other.trees):
+                other.library_of.append(f.path)
+                marked.add(other.real)
+        for other in _libraries(project, f, _closure(project, f)):
+            if other.real not in marked:
                 other.library_of.append(f.path)
     return project
 
@@ -258,6 +334,65 @@ def _candidates(project: Project, f: BTFile) -> list[BTFile]:
             if t in project.files:
                 out.setdefault(t, project.files[t])
     return [out[k] for k in sorted(out)]
+
+
+def _libraries(project: Project, f: BTFile, closure: list[BTFile]) -> list[BTFile]:
+    """The files of trees that define the SubTrees `f` (and its includes) uses and does not define:
+    first those of its folder (and of the Groot2 projects listing it), then, for a tree none of those
+    defines, the nearest file found anywhere under the checked paths that defines it (fewest folders
+    apart, then by path: a repository whose program registers the trees of several folders, like
+    MoveIt Pro's objectives). Libraries may use libraries."""
+    own = {t for g in closure for t in g.trees}
+    cands = _candidates(project, f)
+    libs: list[BTFile] = []
+    chosen: set[str] = set()
+    need = {s for g in closure for s in g.subtrees} - own
+    known = set(own)
+
+    def take(g: BTFile) -> bool:
+        nonlocal need, known
+        if g.role != "trees" or g is f or g.real in chosen or not need & set(g.trees):
+            return False
+        lib_trees = _closure_trees(project, g)
+        if lib_trees & known:
+            return False  # it redefines a tree already loaded ("defined twice"): not a library of f
+        libs.append(g)
+        chosen.add(g.real)
+        known |= lib_trees
+        need = (need | {s for h in _closure(project, g) for s in h.subtrees}) - known
+        return True
+
+    changed = True
+    while need and changed:
+        changed = False
+        for g in cands:
+            changed = take(g) or changed
+        if not changed:
+            for tree in sorted(need):
+                for g in sorted(project.definers.get(tree, ()), key=lambda g: (distance(f.real, g.real), g.path)):
+                    if take(g):
+                        changed = True
+                        break
+                if changed:
+                    break
+    return sorted(libs, key=lambda g: g.path)
+
+
+def _models_for(project: Project, f: BTFile, closure: list[BTFile], libs: list[BTFile]) -> list[str]:
+    """The models files that count for `f`: those of its folder and of the folders above it (the one
+    `btgen models .` writes at the top of a repository), those beside its tree libraries, then any other
+    models file found under the checked paths that declares a node the files use and those do not
+    (Nav2's `nav2_behavior_tree/nav2_tree_nodes.xml` for the trees of `nav2_bt_navigator/`)."""
+    near = [g for g in _candidates(project, f) if g.role == "models"]
+    near += [
+        m
+        for m in project.models_files
+        if m not in near and any(_ancestor(os.path.dirname(m.real), g.real) for g in [f, *libs])
+    ]
+    declared = {i for m in near for i in m.models} | {i for g in [*closure, *libs] for i in g.models}
+    uses = {u for g in [*closure, *libs] for h in _closure(project, g) for u in h.uses} - declared
+    far = [m for m in project.models_files if m not in near and m.models & uses]
+    return sorted(m.path for m in near) + sorted(m.path for m in far)
 
 
 def plan(
@@ -291,26 +426,10 @@ def plan(
         if f.included_by and f.main is None:
             continue  # loaded with the files that include it
         closure = _closure(project, f)
-        own = {t for g in closure for t in g.trees}
-        cands = _candidates(project, f)
-        model_files = sorted({g.path for g in cands if g.role == "models"})
+        lib_files = _libraries(project, f, closure)
+        libs = [g.path for g in lib_files]
+        model_files = _models_for(project, f, closure, lib_files)
         model_files += sorted(f.projects)
-        libs: list[str] = []
-        need = {s for g in closure for s in g.subtrees} - own
-        known = set(own)
-        changed = True
-        while need and changed:  # libraries may use libraries
-            changed = False
-            for g in cands:
-                if g.role != "trees" or g is f or g.path in libs or not need & set(g.trees):
-                    continue
-                lib_trees = _closure_trees(project, g)
-                if lib_trees & known:
-                    continue  # it redefines a tree already loaded ("defined twice"): not a library of f
-                libs.append(g.path)
-                known |= lib_trees
-                need = (need | {s for h in _closure(project, g) for s in h.subtrees}) - known
-                changed = True
         opts_models = tuple(models) + tuple(m for m in model_files if m not in models)
         opts_trees = tuple(trees) + tuple(sorted(libs))
         library = bool(f.library_of) and f.main is None

@@ -112,6 +112,9 @@ def _options(s: Settings, unit: discovery.Unit, models: tuple[str, ...]) -> pipe
         queue_capacity=s.queue_capacity,
         btcpp=s.btcpp,
         ros_packages=tuple(sorted(s.ros_packages.items())),
+        # the models files found beside or above the file, or elsewhere in the project (not those
+        # the configuration names): a palette whose SubTree models may be other missions' trees
+        palettes=tuple(m for m in unit.models if m not in s.models and m not in unit.projects),
     )
 
 
@@ -120,12 +123,14 @@ def run_unit(unit: discovery.Unit, s: Settings, projects: _ProjectModels) -> lis
     models = tuple(projects.models_for(m) if m in unit.projects else m for m in unit.models)
     opts = _options(s, unit, models)
     out: list[tuple[Diagnostic, str]] = []
+    mission = None
     try:
         mission = pipeline.load(unit.path, opts)
         out += [(d, "loader") for d in mission.warnings]
         program = pipeline.program(mission, opts)
     except UserError as e:
-        out += [(d, "loader") for d in e.diagnostics]
+        given = _caller_given(mission) if mission is not None else set()
+        out += [(_given_by_caller(d, given), "loader") for d in e.diagnostics]
         return out
     if s.analysis:
         from btgen.tools.analyze import analyze_program
@@ -145,6 +150,23 @@ def run_unit(unit: discovery.Unit, s: Settings, projects: _ProjectModels) -> lis
     return out
 
 
+_CALLER_GIVES = "a port of its own SubTree model"
+_READS = re.compile(r"reads `([^`]+)`, but nothing creates that blackboard entry")
+
+
+def _caller_given(mission) -> set[str]:
+    """The ports the main tree's own SubTree model declares (MoveIt Pro declares one for every objective
+    that other objectives call): entries a caller gives it when it runs as a SubTree."""
+    return {p.name for m in mission.models if m.kind == "SubTree" and m.id == mission.main_tree for p in m.ports}
+
+
+def _given_by_caller(d: Diagnostic, given: set[str]) -> Diagnostic:
+    m = _READS.search(d.message)
+    if m is None or m.group(1) not in given:
+        return d
+    return replace(d, message=f"{d.message} ({_CALLER_GIVES}, which its caller gives)")
+
+
 def to_finding(d: Diagnostic, source: str, unit: discovery.Unit, projects: _ProjectModels) -> Finding:
     code = classify(d.message, d.severity, source)
     message, severity = d.message, d.severity
@@ -154,11 +176,12 @@ def to_finding(d: Diagnostic, source: str, unit: discovery.Unit, projects: _Proj
         message += "; for btgen check: `string-capacity = N` in [tool.btgen]"
     elif code == "E505" and "--queue-capacity" in message:
         message += "; for btgen check: `queue-capacity = N` in [tool.btgen]"
-    if unit.library and code == "E503":
+    if code == "E503" and (unit.library or _CALLER_GIVES in message):
         # a tree library checked on its own: the entry may come from its caller or the program, and the
         # library loads it all the same; the call site decides
         code, severity = "C102", "warning"
-        message = f"{message} (tree library): the caller or the program may create it"
+        if _CALLER_GIVES not in message:
+            message = f"{message} (tree library): the caller or the program may create it"
     elif d.severity != BY_CODE[code].severity and code not in ("E999", "W999"):
         severity = d.severity  # the level is the front end's; the table gives the default
     path = projects.shown(d.loc.path)
