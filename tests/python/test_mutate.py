@@ -294,3 +294,25 @@ def test_a_nav2_control_turned_plain_loses_its_own_ports(tmp_path):
         'number_of_retries="2" -> "1"',
         'number_of_retries="2" -> "3"',
     ]
+
+
+def test_mission_options_are_taken_as_tests_takes_them(capsys, tmp_path):
+    """--entry and --trees: the mission and every mutant load as `btgen tests` loaded them. A
+    --trees folder that holds the mission itself (the loader leaves the mission out of it) gives
+    mutants that load too: the mutant, written elsewhere, does not meet the original's trees."""
+    entry = ROOT / "tests" / "gtests" / "Entry.xml"
+    assert main(["tests", str(entry), "--entry", "level=int", "-o", str(tmp_path / "entry")]) == 0
+    capsys.readouterr()
+    report = _json(capsys, entry, tmp_path / "entry", "--entry", "level=int")
+    assert report["loaded"] == report["mutants"] == 20 and report["score"] == 100.0
+
+    folder = tmp_path / "project"
+    folder.mkdir()
+    library = ROOT / "tests" / "gtests" / "library"
+    for f in [ROOT / "tests" / "gtests" / "UsesLibrary.xml", *library.glob("*.xml")]:
+        (folder / f.name).write_text(f.read_text())
+    mission = folder / "UsesLibrary.xml"
+    assert main(["tests", str(mission), "--trees", str(folder), "-o", str(tmp_path / "lib")]) == 0
+    capsys.readouterr()
+    report = _json(capsys, mission, tmp_path / "lib", "--trees", str(folder))
+    assert report["discarded"] == 0 and report["loaded"] == 6 and report["killed"] == 5 and report["equivalent"] == 1

@@ -15,8 +15,8 @@ scenario in btgen's scenario format, which `btgen run`, `cover` and `mutate` rea
 `.btgen-tests` (the marker that lets a later run replace the folder). Everything is written to
 a temporary folder beside DIR and renamed into place: DIR is whole or unchanged.
 
-With --executor, DIR/executor/ also holds each scenario and the interpreter's trace of it, and
-CMakeLists.txt one more ctest entry per TEST that runs the scenario on btgen's compiled
+With --executor, DIR/executor/ also holds the interpreter's trace of each TEST's scenario, and
+CMakeLists.txt one more ctest entry per TEST that runs scenarios/<TEST>.scenario on btgen's compiled
 executor (`btgen run --engine cpp`) through executor/check.cmake: one suite checks both
 runtimes; -DBTGEN_LIBRARY_TESTS=OFF leaves the BehaviorTree.CPP suite out. --coverage selects
 the criteria the explored scenarios reach (tools/obligations.py).
@@ -243,9 +243,29 @@ def _c_string(text: str) -> str:
 
 
 def render_tests(
-    stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=(), trees=()
+    stem: str,
+    suite: str,
+    leaves: list[LeafDecl],
+    cases: list[Case],
+    version: str,
+    enums=(),
+    trees=(),
+    entries: Optional[tuple[list[str], list[str]]] = None,
 ) -> str:
     head = []
+    if entries is not None:
+        includes, creates = entries
+        head += [
+            *includes,
+            "#include <behaviortree_cpp/blackboard.h>",
+            "// The entries the application sets before the first tick (--entry): created on the root",
+            "// blackboard, with their type and no value, before the tree (as btgen's engines create them).",
+            "inline void btgen_entries(BT::Blackboard& blackboard)",
+            "{",
+            *creates,
+            "}",
+            "#define BTGEN_ENTRIES btgen_entries",
+        ]
     if trees:
         head += [
             "// The tree libraries (--trees), relative to the suite's folder: registered before the mission.",
@@ -377,16 +397,17 @@ def render_cmake(
     lines += ["if(BTGEN_LIBRARY_TESTS)"] + [f"  {line}" for line in library] + ["endif()", ""]
     lines += [
         "# The same scenarios on btgen's compiled executor: `btgen run --engine cpp` (built once,",
-        "# cached), its trace compared with executor/NNN.trace (the interpreter's, as the TESTs above).",
+        "# cached) on scenarios/<TEST>.scenario, its trace compared with executor/<TEST>.trace (the interpreter's).",
         'set(BTGEN_COMMAND "btgen" CACHE STRING "the command that runs btgen (e.g. `python3 -m btgen`)")',
         f"set(BTGEN_RUN_OPTIONS {_cmake_string(' '.join(executor))})",
     ]
-    for k, case in enumerate(cases, start=1):
-        base = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{k:03d}"
+    for case in cases:
+        scenario = f"${{CMAKE_CURRENT_SOURCE_DIR}}/{SCENARIOS}/{case.name}.scenario"
+        trace = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{case.name}.trace"
         lines.append(
             f"add_test(NAME {suite}.{case.name}.executor COMMAND ${{CMAKE_COMMAND}} "
             '"-DBTGEN=${BTGEN_COMMAND}" "-DMISSION=${BTGEN_MISSION_PATH}" "-DOPTIONS=${BTGEN_RUN_OPTIONS}" '
-            f'"-DSCENARIO={base}.scenario" "-DEXPECTED={base}.trace" '
+            f'"-DSCENARIO={scenario}" "-DEXPECTED={trace}" '
             '-P "${CMAKE_CURRENT_SOURCE_DIR}/executor/check.cmake")'
         )
     return "\n".join(lines) + "\n"
@@ -512,12 +533,9 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
 
     criteria_of(args)  # a bad --coverage is refused before anything else
     opts = pipeline.options_from_args(args)
-    for flag, value in (("--entry", opts.entries), ("--type", opts.types)):
-        if value:
-            why = "the suite would have to carry it into the blackboard and the ports' types"
-            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet ({why})")
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
+    entries = entry_lines(args, mission)
     leaves = mission_leaves(mission)
     _check_paths(args, mission)
     ref = _mission_ref(args)
@@ -543,17 +561,62 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     main_tree = opts.main_tree if not trees else mission.main_tree
     files = {
         "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
-        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees, entries),
         SUPPORT: support,
         **{f"{SCENARIOS}/{case.name}.scenario": case.text for case in cases},
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
     if executor is not None:
         files["executor/check.cmake"] = CHECK_CMAKE
-        for k, ((_, text), case) in enumerate(zip(texts, cases), start=1):
-            files[f"executor/{k:03d}.scenario"] = text
-            files[f"executor/{k:03d}.trace"] = case.trace_text
+        for case in cases:  # the scenario is the TEST's own, scenarios/<TEST>.scenario
+            files[f"executor/{case.name}.trace"] = case.trace_text
     return files, cases
+
+
+_CPP_TYPES = {
+    "int": "int",
+    "unsigned": "unsigned",
+    "double": "double",
+    "bool": "bool",
+    "string": "std::string",
+    "NodeStatus": "BT::NodeStatus",
+    "any": "BT::AnyTypeAllowed",
+    "queue<int>": "std::shared_ptr<std::deque<int>>",
+    "queue<double>": "std::shared_ptr<std::deque<double>>",
+    "queue<bool>": "std::shared_ptr<std::deque<bool>>",
+    "queue<string>": "std::shared_ptr<std::deque<std::string>>",
+}
+
+
+def entry_lines(args, mission: Mission) -> Optional[tuple[list[str], list[str]]]:
+    """--entry: the `#include`s of the user types the entries have (--type) and one createEntry
+    line per entry; None without --entry. An entry of every instance of a BehaviorTree
+    (`TREE:NAME`) is refused: the library creates those blackboards inside createTree, after
+    the nodes before them are built, so the suite could not create it when btgen's engines do."""
+    if not mission.provided:
+        return None
+    users = {u.name: u for u in mission.user_types}
+    includes: list[str] = []
+    creates: list[str] = []
+    for entry in mission.provided:
+        if entry.tree is not None:
+            raise cmdline.error(
+                args,
+                "--entry",
+                f"{entry.option}: an entry of every instance of `{entry.tree}`: not supported by `btgen tests` "
+                "(BehaviorTree.CPP creates that blackboard inside createTree; only root entries can be created "
+                "before the tree, as btgen's engines do)",
+            )
+        user = users.get(entry.type)
+        if user is not None:
+            line = f"#include {user.include}"
+            if line not in includes:
+                includes.append(line)
+            cpp = user.cpp
+        else:
+            cpp = _CPP_TYPES[entry.type]
+        creates.append(f"  blackboard.createEntry({_c_string(entry.key)}, BT::TypeInfo::Create<{cpp}>());")
+    return includes, creates
 
 
 def tree_files(args, opts, mission: Mission) -> list[str]:
@@ -603,6 +666,10 @@ def _run_options(args, opts) -> list[str]:
         out += ["--trees", os.path.abspath(t)]
     for f in opts.enum_files:
         out += ["--enums", os.path.abspath(f)]
+    for decl in opts.entries:
+        out += ["--entry", decl]
+    for decl in opts.types:
+        out += ["--type", decl]
     for word in out:
         if any(ord(c) < 0x20 or c in '"\\$;' for c in word):
             raise cmdline.error(args, "--executor", f"--executor: {word!r} has characters CMake cannot carry")

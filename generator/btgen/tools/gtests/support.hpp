@@ -174,11 +174,16 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
   for(const char* file : std::initializer_list<const char*> BTGEN_TREES)
     factory.registerBehaviorTreeFromFile(std::filesystem::path(BTGEN_SOURCE_DIR) / file);
 #endif
+  BT::Blackboard::Ptr blackboard = BT::Blackboard::create();
+#ifdef BTGEN_ENTRIES
+  // the entries of --entry, created before the tree as the application creates them
+  BTGEN_ENTRIES(*blackboard);
+#endif
 #ifdef BTGEN_MAIN_TREE
   factory.registerBehaviorTreeFromFile(BTGEN_MISSION);
-  BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE);
+  BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE, blackboard);
 #else
-  BT::Tree tree = factory.createTreeFromFile(BTGEN_MISSION);
+  BT::Tree tree = factory.createTreeFromFile(BTGEN_MISSION, blackboard);
 #endif
   std::vector<std::string> lines;
   std::vector<std::string> results;

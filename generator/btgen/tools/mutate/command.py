@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import glob
 import json
 import os
@@ -128,6 +129,25 @@ def load_mutant(folder: str, name: str, mutant: Mutant, opts) -> Mission | str:
     return mission
 
 
+def library_files(trees: tuple[str, ...], mission_path: str) -> tuple[str, ...]:
+    """--trees for a mutant: each folder as its `*.xml` files (name order, as the loader reads
+    it) without the mission itself, which the loader leaves out of a library by its path; the
+    mutant, written elsewhere, would otherwise meet the original's trees."""
+    mission = os.path.realpath(mission_path)
+    out: list[str] = []
+    for path in trees:
+        if os.path.isdir(path):
+            found = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+        else:
+            found = [path]
+        out += [f for f in found if os.path.realpath(f) != mission]
+    return tuple(out)
+
+
 # ---------------------------------------------------------------- killing
 def _observe(mission: Mission, sc: Scenario) -> list[list[Event]]:
     try:
@@ -183,8 +203,6 @@ def run_mutation(args) -> Report:
 
     t0 = time.perf_counter()
     opts = pipeline.options_from_args(args)
-    if opts.trees:
-        raise cmdline.error(args, "--trees", "--trees: not supported by `btgen mutate` yet (it mutates one file)")
     original = pipeline.load(args.mission, opts)
     print_diagnostics(original.warnings)
     files = suite_files(args)
@@ -197,11 +215,12 @@ def run_mutation(args) -> Report:
     report = Report(args.mission, args.tests, len(suite), clock_ms)
     t_load = t_runs = t_search = 0.0
     name = os.path.basename(args.mission)
+    mutant_opts = dataclasses.replace(opts, trees=library_files(opts.trees, args.mission))
     with tempfile.TemporaryDirectory(prefix="btgen-mutate-") as tmp:
         for i, m in enumerate(mutants, start=1):
             _progress(i, len(mutants))
             t = time.perf_counter()
-            loaded = load_mutant(tmp, name, m, opts)
+            loaded = load_mutant(tmp, name, m, mutant_opts)
             t_load += time.perf_counter() - t
             if isinstance(loaded, str):
                 report.verdicts.append(Verdict(m, "discarded", reason=loaded))
