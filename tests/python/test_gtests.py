@@ -309,4 +309,5 @@ def test_hostile_names(capsys, tmp_path):
     m = load_mission(str(mission))
     for t in _parse_suite(cpp):
         assert t["expected"] == trace_text(m, parse_scenario_text(_scenario(t), "<t>")).splitlines()
-    assert "add_executable(M1stTry_tests M1stTry_tests.cpp)" in (out / "CMakeLists.txt").read_text()
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert "add_executable(M1stTry_tests M1stTry_tests.cpp ${btgen_register_sources})" in cmake

@@ -346,6 +346,7 @@ def render_cmake(
     cases: list[Case],
     executor: Optional[list[str]] = None,
     trees: bool = False,
+    register: tuple[str, ...] = (),
 ) -> str:
     """CMakeLists.txt; with `executor` (btgen's options for `btgen run`), a second ctest entry
     per scenario that runs it on btgen's compiled executor, and the library's suite optional."""
@@ -379,9 +380,40 @@ def render_cmake(
         'get_filename_component(BTGEN_MISSION_PATH "${BTGEN_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
         "",
     ]
+    lines += [
+        "# The project's own nodes: registration sources compiled into the suite (each adds a",
+        "# btgen_tests::Hook, btgen_gtest_support.hpp), BT_REGISTER_NODES plugins loaded with",
+        "# registerFromPlugin, and the folders their headers are in (lists; relative to this folder).",
+        f"set(BTGEN_REGISTER {_cmake_string(';'.join(register))} CACHE STRING "
+        '"registration sources of the project nodes (relative to this folder)")',
+        'set(BTGEN_PLUGINS "" CACHE STRING "plugin libraries of the project nodes (registerFromPlugin)")',
+        'set(BTGEN_INCLUDE_DIRS "" CACHE STRING "include folders of the registration sources")',
+        "",
+    ]
     library = [
-        f"add_executable({target} {suite}_tests.cpp)",
+        "set(btgen_register_sources)",
+        "foreach(file IN LISTS BTGEN_REGISTER)",
+        '  get_filename_component(file "${file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
+        '  list(APPEND btgen_register_sources "${file}")',
+        "endforeach()",
+        f"add_executable({target} {suite}_tests.cpp ${{btgen_register_sources}})",
         f"target_link_libraries({target} PRIVATE BT::behaviortree_cpp GTest::gtest GTest::gtest_main)",
+        f'target_include_directories({target} PRIVATE "${{CMAKE_CURRENT_SOURCE_DIR}}" ${{BTGEN_INCLUDE_DIRS}})',
+        "if(BTGEN_REGISTER)",
+        f"  set_target_properties({target} PROPERTIES ENABLE_EXPORTS ON)  # a plugin may call back into it",
+        "endif()",
+        "if(BTGEN_PLUGINS)",
+        "  set(btgen_plugins)",
+        "  foreach(file IN LISTS BTGEN_PLUGINS)",
+        '    get_filename_component(file "${file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
+        '    string(REPLACE "\\\\" "\\\\\\\\" file "${file}")',
+        '    string(REPLACE "\\"" "\\\\\\"" file "${file}")',
+        '    string(APPEND btgen_plugins "\\"${file}\\",\\n")',
+        "  endforeach()",
+        '  file(WRITE "${CMAKE_CURRENT_BINARY_DIR}/btgen_plugins.inc" "${btgen_plugins}")',
+        f"  target_compile_definitions({target} PRIVATE "
+        '"BTGEN_PLUGINS_FILE=\\"${CMAKE_CURRENT_BINARY_DIR}/btgen_plugins.inc\\"")',
+        "endif()",
         f'target_compile_definitions({target} PRIVATE "BTGEN_MISSION=\\"${{BTGEN_MISSION_PATH}}\\""',
     ]
     if main_tree is not None:
@@ -557,10 +589,11 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
         support = f.read()
     executor = _run_options(args, opts) if getattr(args, "executor", False) else None
     trees = tree_files(args, opts, mission)
+    register = register_files(args)
     # with tree libraries the mission is registered too and its main tree created by name
     main_tree = opts.main_tree if not trees else mission.main_tree
     files = {
-        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
+        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees), register),
         f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees, entries),
         SUPPORT: support,
         **{f"{SCENARIOS}/{case.name}.scenario": case.text for case in cases},
@@ -646,6 +679,26 @@ def tree_files(args, opts, mission: Mission) -> list[str]:
                 raise cmdline.error(args, "--trees", f"--trees: the path {ref!r} has characters C++ cannot carry")
             out.append(ref)
     return out
+
+
+def register_files(args) -> tuple[str, ...]:
+    """--register FILE.cpp: each relative to DIR (absolute with an absolute --mission-path), for
+    the CMake list BTGEN_REGISTER; a file that does not exist is an error."""
+    out: list[str] = []
+    base = os.path.abspath(args.output_dir)
+    absolute = bool(args.mission_path) and os.path.isabs(args.mission_path)
+    for path in getattr(args, "register", None) or ():
+        if not os.path.isfile(path):
+            raise cmdline.error(args, "--register", f"--register {path}: no such file")
+        if _inside(path, args.output_dir):
+            raise cmdline.error(
+                args, "--register", f"--register {path}: inside -o {args.output_dir}, which is replaced"
+            )
+        ref = os.path.abspath(path) if absolute else os.path.relpath(os.path.abspath(path), base)
+        if any(ord(c) < 0x20 or c in '"\\$;' for c in ref):
+            raise cmdline.error(args, "--register", f"--register: the path {ref!r} has characters CMake cannot carry")
+        out.append(ref)
+    return tuple(out)
 
 
 def _run_options(args, opts) -> list[str]:
