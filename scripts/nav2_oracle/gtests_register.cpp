@@ -10,6 +10,10 @@
 //   PathLongerOnApproach read on each tick: the test's scenario input for the node being
 //   ticked (its `leaf NAME SUCCESS|FAILURE` line: yes/no), as the recorder's harness answers it.
 //
+// - GoalUpdater, which record.py does not build (a topic subscription): a stand-in with btgen's
+//   model of it (docs/nav2.md: no goal arrives on its topic in a scenario, so it ticks its child
+//   and returns its status; no goal is written), registered only when no plugin gave one.
+//
 // Build the suite with -DBTGEN_INCLUDE_DIRS=<this folder> (ros_shim.hpp). Nothing here is Nav2's code.
 #include <set>
 #include <string>
@@ -21,6 +25,26 @@ namespace
 {
 std::string g_current;  // the Decorator being ticked
 long g_serial = 0;      // changes at each tick of one of them
+
+class GoalUpdaterStandIn : public BT::DecoratorNode
+{
+public:
+  GoalUpdaterStandIn(const std::string& name, const BT::NodeConfig& config) : DecoratorNode(name, config) {}
+  static BT::PortsList providedPorts()
+  {
+    return {BT::InputPort("input_goal"), BT::InputPort("input_goals"), BT::OutputPort("output_goal"),
+            BT::OutputPort("output_goals")};
+  }
+
+private:
+  BT::NodeStatus tick() override { return child_node_->executeTick(); }  // as Nav2's, with no new goal
+};
+
+void nodes(BT::BehaviorTreeFactory& factory)
+{
+  if(factory.builders().count("GoalUpdater") == 0)
+    factory.registerNodeType<GoalUpdaterStandIn>("GoalUpdater");
+}
 
 void blackboard(BT::Blackboard& bb)
 {
@@ -43,7 +67,7 @@ void attach(BT::Tree& tree)
   });
 }
 
-btgen_tests::AddHook nav2({nullptr, &blackboard, &attach});
+btgen_tests::AddHook nav2({&nodes, &blackboard, &attach});
 }  // namespace
 
 extern "C" {

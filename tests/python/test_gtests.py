@@ -176,6 +176,26 @@ def test_timer_refused(capsys, tmp_path):
     assert f"{bad}:4:7: error: `Sleep` waits on the wall clock" in e
 
 
+def test_leaves_of_trees_the_main_tree_does_not_use_are_registered(capsys, tmp_path):
+    # BehaviorTreeFactory checks every tree of the file: a leaf only an unused tree has must be
+    # registered too, else the library refuses the file ("Node not recognized: Act", found by a
+    # random mission on the real 4.6.2); a timer in an unused tree never runs, and is no refusal
+    mission = tmp_path / "two.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M">\n'
+        '  <BehaviorTree ID="M"><Move name="go"/></BehaviorTree>\n'
+        '  <BehaviorTree ID="Spare"><Sequence><Sleep msec="5"/><Act/><Check/></Sequence></BehaviorTree>\n'
+        '  <TreeNodesModel><Action ID="Act"/><Action ID="Move"/><Condition ID="Check"/>'
+        '<Action ID="Unused"/></TreeNodesModel>\n'
+        "</root>\n"
+    )
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out)[0] == 0
+    cpp = (out / "Two_tests.cpp").read_text()
+    assert '    { "Act", false, {} },\n    { "Check", true, {} },\n    { "Move", false, {} },\n  };' in cpp
+    assert "Unused" not in cpp  # a model alone is no node the library checks
+
+
 def test_refuses_to_replace_inputs_or_foreign_folders(capsys, tmp_path):
     work = tmp_path / "work"
     work.mkdir()

@@ -173,3 +173,26 @@ def test_an_entry_of_every_instance_of_a_tree_is_refused(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "<command-line>:1:" in err and "error: --entry Main:speed=int: an entry of every instance" in err
     assert "Traceback" not in err and not out.exists()
+
+
+def test_register_files_reach_the_cmake_list(capsys, tmp_path):
+    """--register FILE.cpp: the CMake list BTGEN_REGISTER (relative to DIR), compiled into the
+    suite's executable, which then exports its symbols; the plugins' list is left to configure
+    time (BTGEN_PLUGINS). A file that does not exist is a located error and nothing is written.
+    (Built on the real library with Nav2's plugins by test_gtests_nav2.py.)"""
+    register = ROOT / "scripts" / "nav2_oracle" / "gtests_register.cpp"
+    out = tmp_path / "suite"
+    assert main(["tests", str(GUARD), "-o", str(out), "--register", str(register)]) == 0
+    capsys.readouterr()
+    cmake = (out / "CMakeLists.txt").read_text()
+    rel = os.path.relpath(register, out)
+    assert f'set(BTGEN_REGISTER "{rel}" CACHE STRING' in cmake
+    assert "add_executable(Guard_tests Guard_tests.cpp ${btgen_register_sources})" in cmake
+    assert 'set(BTGEN_PLUGINS "" CACHE STRING' in cmake and "ENABLE_EXPORTS ON" in cmake
+    support = (out / "btgen_gtest_support.hpp").read_text()
+    assert "factory.registerFromPlugin(plugin);" in support and "hook.nodes(factory);" in support
+    missing = tmp_path / "nope.cpp"
+    other = tmp_path / "other"
+    assert main(["tests", str(GUARD), "-o", str(other), "--register", str(missing)]) == 1
+    err = capsys.readouterr().err
+    assert f"error: --register {missing}: no such file" in err and not other.exists()

@@ -85,9 +85,23 @@ def _walk(mission: Mission) -> list[Node]:
     return out
 
 
+def _all_nodes(mission: Mission) -> list[Node]:
+    out: list[Node] = []
+    for tree in mission.trees:
+        stack = [tree.root]
+        while stack:
+            node = stack.pop()
+            out.append(node)
+            stack.extend(reversed(node.children))
+    return out
+
+
 def mission_leaves(mission: Mission) -> list[LeafDecl]:
-    """The user Actions and Conditions the main tree uses (SubTrees followed), by ID, with the
-    ports the models declare (as the oracle harness registers them: by name, any type)."""
+    """The user Actions and Conditions of every BehaviorTree the mission loads (the main tree's
+    and the others: BehaviorTreeFactory checks every tree of a file it reads, and refuses a node
+    it does not know even in a tree the main one never uses), by ID, with the ports the models
+    declare (as the oracle harness registers them: by name, any type). A timer the main tree
+    uses (SubTrees followed) is refused."""
     found: dict[str, LeafDecl] = {}
     for node in _walk(mission):
         if node.id in _TIMERS and node.id in mission.builtins:
@@ -98,6 +112,7 @@ def mission_leaves(mission: Mission) -> list[LeafDecl]:
                     "(BehaviorTree.CPP takes no test clock)",
                 )
             )
+    for node in _all_nodes(mission):
         if not is_scripted_leaf(mission, node) or node.id in found:
             continue
         try:
