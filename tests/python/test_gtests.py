@@ -331,3 +331,65 @@ def test_hostile_names(capsys, tmp_path):
         assert t["expected"] == trace_text(m, parse_scenario_text(_scenario(t), "<t>")).splitlines()
     cmake = (out / "CMakeLists.txt").read_text()
     assert "add_executable(M1stTry_tests M1stTry_tests.cpp ${btgen_register_sources})" in cmake
+
+
+# Recorded on the real BehaviorTree.CPP 4.6.2 (the oracle harness, 28 Nov 2026): a ScriptCondition
+# with each code after `a := 3; flag := true`; True where the library refused the file ("while
+# parsing Grammar::Expression ... operator cannot be mixed with previous operators").
+REFUSED_BY_462 = [
+    ("a + 1 == 4", True),
+    ("a == 4 + 1", True),
+    ("a + 1 > 2", True),
+    ("a * 2 + 1 == 7", True),
+    ("(a + 1) == 4", False),
+    ("a == 3 && a + 1 == 4", True),
+    ("a - 1 != 2", True),
+    ("a == 3 ? 1 : 2", False),
+    ("a + 1 == 4 + 0", True),
+    ("a == 3 == true", False),
+    ("a & 1 == 1", True),
+    ("-a == -3", True),
+    ("!flag == false", True),
+    ("a == -3", True),
+    ("'x' .. 'y' == 'xy'", True),
+    ("a * 2 == 6", True),
+    ("a == 3 && (a * 2) == 6", False),
+    ("a * 2 > 5 ? true : false", True),
+    ("-a < 0", True),
+    ("~a == -4", True),
+    ("a == 3 || a - 1 == 2", True),
+    ("a != 2 + 2", True),
+    ("a .. 'x' == '3x'", True),
+    ("a <= 3", False),
+    ("flag == !false", True),
+    ("a == (-3)", False),
+    ("(a + 1) == 4 && a == 3", False),
+    ("!(a == 3) == false", True),
+]
+
+
+def test_scripts_the_real_462_refuses_give_no_suite(capsys, tmp_path):
+    """btgen loads these on purpose (as 4.9.0 does: docs/real-files.md), but a 4.6.2 suite of
+    them could never pass (found running `btgen tests` on a new mission on the real 4.6.2):
+    `btgen tests` refuses exactly the ones the library refused, located; 4.10.0 suites are
+    written."""
+    from btgen.lang.script.grammar462 import Strict462Parser
+    from btgen.lang.script.nodes import ScriptSyntaxError
+
+    for code, refused in REFUSED_BY_462:
+        try:
+            Strict462Parser(code).script()
+            got = False
+        except ScriptSyntaxError:
+            got = True
+        assert got == refused, code
+    mission = tmp_path / "mixed.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+        '<Script code="a := 3"/><ScriptCondition code="a + 1 == 4"/><Go/></Sequence></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Go"/></TreeNodesModel></root>'
+    )
+    e = _bad(capsys, tmp_path, mission)
+    assert f"{mission}:1:" in e and "error: BehaviorTree.CPP 4.6.2 refuses this script in `code`" in e
+    assert "parenthesise it" in e
+    assert _generate(capsys, mission, tmp_path / "s410", "--btcpp", "4.10.0")[0] == 0

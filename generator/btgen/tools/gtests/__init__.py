@@ -126,6 +126,35 @@ def mission_leaves(mission: Mission) -> list[LeafDecl]:
     return [found[k] for k in sorted(found)]
 
 
+def refuse_462_scripts(mission: Mission) -> None:
+    """The scripts BehaviorTree.CPP 4.6.2's parser refuses and btgen loads on purpose (an operator
+    in a comparison's operand: `a + 1 == 4`, `x == -1`; grammar462.Strict462Parser): the real
+    library would refuse the mission, so no suite for it could pass. UserError, each located."""
+    from btgen.lang.script.grammar462 import Strict462Parser
+    from btgen.lang.script.nodes import ScriptSyntaxError
+    from btgen.lang.script.parse import raw_attr_value, script_error_loc
+
+    problems: list[Diagnostic] = []
+    for node in _all_nodes(mission):
+        for attr in (*node.ports, *node.pre, *node.post):
+            if attr.script is None:
+                continue
+            try:
+                Strict462Parser(attr.value).script()
+            except ScriptSyntaxError as e:
+                where = script_error_loc(attr.value_loc, attr.value, e.offset, raw_attr_value(attr.value_loc))
+                problems.append(
+                    Diagnostic(
+                        where,
+                        f"BehaviorTree.CPP 4.6.2 refuses this script in `{attr.name}` of `{node.id}` ({e.message}: "
+                        "its parser takes no operator in an operand of a comparison); btgen loads it as 4.9.0 "
+                        "does, but the suite's library would not: parenthesise it, e.g. `(a + 1) == 4`, `x == (-1)`",
+                    )
+                )
+    if problems:
+        raise UserError(problems)
+
+
 # ---------------------------------------------------------------- scenarios and names
 def _ident(text: str) -> str:
     words = re.findall(r"[A-Za-z0-9]+", text)
@@ -584,6 +613,8 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
     print_diagnostics(mission.warnings)
     entries = entry_lines(args, mission)
     leaves = mission_leaves(mission)
+    if not mission.semantics.script_grammar_49:
+        refuse_462_scripts(mission)
     _check_paths(args, mission)
     ref = _mission_ref(args)
     if args.scenarios:
