@@ -393,3 +393,26 @@ def test_scripts_the_real_462_refuses_give_no_suite(capsys, tmp_path):
     assert f"{mission}:1:" in e and "error: BehaviorTree.CPP 4.6.2 refuses this script in `code`" in e
     assert "parenthesise it" in e
     assert _generate(capsys, mission, tmp_path / "s410", "--btcpp", "4.10.0")[0] == 0
+
+
+def test_a_run_time_error_is_expected_where_the_engines_stop(capsys, tmp_path):
+    """A run that ends with a run-time error (a script adds 1 to a string): the TEST
+    expects the status changes up to it, then `error` (the support header catches what the
+    library throws); the executor entry expects exit status 1 and the same error (found running
+    `btgen tests` on a random mission: the suite was refused before). On the real 4.6.2 and
+    4.10.0, and on the executor, 2 of 2 pass (docs/tests.md)."""
+    mission = ROOT / "tests" / "gtests" / "RunError.xml"
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out, "--executor")[0] == 0
+    tests = {t["name"]: t for t in _parse_suite((out / "RunError_tests.cpp").read_text())}
+    first = tests["S01GoRunning"]["expected"]
+    assert first[-2:] == ['3 Go "go" RUNNING -> SUCCESS', "error"] and "result SUCCESS" not in first
+    assert tests["S02GoFailure"]["expected"][-1] == "result FAILURE"
+    error = (out / "executor" / "S01GoRunning.error").read_text()
+    assert error == 'script error in `code` of `ScriptCondition` "Check": `+` cannot be applied to a string and a int\n'
+    assert not (out / "executor" / "S02GoFailure.error").exists()
+    assert (
+        "// Ends with a run-time error (the library throws): script error" in (out / "RunError_tests.cpp").read_text()
+    )
+    assert 'string(FIND "${err}" "error: ${want_error}" at)' in (out / "executor" / "check.cmake").read_text()
+    assert "catch(const std::exception& e)" in (out / "btgen_gtest_support.hpp").read_text()

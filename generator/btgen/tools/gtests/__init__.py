@@ -55,6 +55,7 @@ class Case:
     trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
     obligations: list[str] = field(default_factory=list)  # condition / MC/DC goals it reaches first
     text: str = ""  # the scenario file's text
+    error: str = ""  # the run-time error that ends the run (the expectation's last line is `error`)
 
 
 @dataclass
@@ -204,7 +205,7 @@ def name_cases(cases: list[Case]) -> None:
 
 
 def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> list[Case]:
-    from btgen.interp.engine import trace_text
+    from btgen.interp.engine import run_trace
     from btgen.interp.scenario import parse_scenario_text
 
     cases: list[Case] = []
@@ -215,9 +216,16 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
         if sc.default != "SUCCESS":
             where = sc.default_loc or Loc(path, 1, 1)
             raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
-        trace = trace_text(mission, sc)
+        parts: list[str] = []
+        error = ""
+        try:
+            run_trace(mission, sc, parts.append)
+        except UserError as e:  # a run-time error ends the run: the library throws there too
+            error = e.diagnostics[0].message if e.diagnostics else "run-time error"
+        trace = "".join(parts)
+        lines = trace.splitlines() + (["error"] if error else [])
         lists = [(s.name, list(s.statuses)) for s in sc.leaves]
-        cases.append(Case("", [], sc.ticks, lists, trace.splitlines(), trace, text=text))
+        cases.append(Case("", [], sc.ticks, lists, lines, trace, text=text, error=error))
     name_cases(cases)
     return cases
 
@@ -357,6 +365,8 @@ def render_tests(
             out.append(f"// ... and {len(case.covers) - 3} more outcomes or halts no earlier scenario shows.")
         for line in case.obligations:
             out.append(f"// Reaches first: {line}")
+        if case.error:
+            out.append(f"// Ends with a run-time error (the library throws): {' '.join(case.error.split())}")
         width = max([4] + [len(n) for n, _ in case.lists])
         out.append(f"//   ticks at most {case.ticks}")
         out.append(f"//   {'leaf'.ljust(width)} | results, call by call (the last repeats; unlisted: SUCCESS)")
@@ -498,7 +508,16 @@ execute_process(
   OUTPUT_VARIABLE got
   ERROR_VARIABLE err
   RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
+string(REGEX REPLACE "\\\\.trace$" ".error" error_file "${EXPECTED}")
+if(EXISTS "${error_file}")
+  # the run ends with a run-time error: exit status 1 and that error on stderr
+  file(READ "${error_file}" want_error)
+  string(STRIP "${want_error}" want_error)
+  string(FIND "${err}" "error: ${want_error}" at)
+  if(NOT rc EQUAL 1 OR at EQUAL -1)
+    message(FATAL_ERROR "expected the run to end with `error: ${want_error}`; the executor gave (${rc}):\\n${err}")
+  endif()
+elseif(NOT rc EQUAL 0)
   message(FATAL_ERROR "btgen run --engine cpp failed (${rc}):\\n${err}")
 endif()
 file(READ "${EXPECTED}" want)
@@ -649,6 +668,8 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
         files["executor/check.cmake"] = CHECK_CMAKE
         for case in cases:  # the scenario is the TEST's own, scenarios/<TEST>.scenario
             files[f"executor/{case.name}.trace"] = case.trace_text
+            if case.error:  # the run ends with this error (stderr, exit status 1)
+                files[f"executor/{case.name}.error"] = case.error + "\n"
     return files, cases
 
 

@@ -250,7 +250,18 @@ static inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, i
   for(int n = 1; n <= ticks; ++n)
   {
     lines.push_back("tick " + std::to_string(n));
-    NodeStatus result = tree.tickExactlyOnce();
+    NodeStatus result;
+    try
+    {
+      result = tree.tickExactlyOnce();
+    }
+    catch(const std::exception& e)
+    {
+      // a run-time error ends the run (btgen's engines stop there too): `error`, then the checks
+      lines.push_back("error");
+      std::printf("the tree threw: %s\n", e.what());
+      break;
+    }
     lines.push_back(std::string("result ") + statusName(result));
     results.push_back(statusName(result));
     if(result == NodeStatus::SUCCESS || result == NodeStatus::FAILURE)
