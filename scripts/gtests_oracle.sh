@@ -6,13 +6,21 @@
 #
 # PREFIX: a BehaviorTree.CPP install (lib/cmake/behaviortree_cpp); VERSION: 4.6.2 or 4.10.0;
 # SED_EDIT: a sed expression giving the edited mission (default: ReactiveSequence -> Sequence).
-# BTGEN_TESTS_ARGS: more arguments for `btgen tests` (e.g. `--scenarios DIR/*.scenario`).
+# BTGEN_TESTS_ARGS: more arguments for `btgen tests` (e.g. `--scenarios DIR/*.scenario`);
+# BTGEN_CMAKE_ARGS: more arguments for the suite's cmake configure (e.g. `-DBTGEN_PLUGINS=...`).
+# A Nav2 tree with Nav2's own Controls and Decorators (plugins built from a navigation2 mirror):
+#   P=$(python scripts/nav2_oracle/record.py PREFIX VERSION --mirror GIT_DIR --distros lyrical --plugins-only)
+#   BTGEN_TESTS_ARGS="--models tests/real_files/nav2/nav2_tree_nodes.xml \
+#     --register scripts/nav2_oracle/gtests_register.cpp" \
+#   BTGEN_CMAKE_ARGS="-DBTGEN_PLUGINS=$P -DBTGEN_INCLUDE_DIRS=$PWD/scripts/nav2_oracle" \
+#   bash scripts/gtests_oracle.sh PREFIX VERSION tests/real_files/nav2/TREE.xml OUT 's/PipelineSequence/Sequence/g'
 set -euo pipefail
 prefix=$1 version=$2 mission=$3 out=$4
 edit=${5:-'s/ReactiveSequence/Sequence/g'}
 # shellcheck disable=SC2086 # BTGEN_TESTS_ARGS is a list of words
 python -m btgen tests "$mission" --btcpp "$version" -o "$out" ${BTGEN_TESTS_ARGS:-}
-cmake -S "$out" -B "$out/build" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+# shellcheck disable=SC2086 # BTGEN_CMAKE_ARGS is a list of words
+cmake -S "$out" -B "$out/build" -DCMAKE_PREFIX_PATH="$prefix" ${BTGEN_CMAKE_ARGS:-} >/dev/null
 cmake --build "$out/build" -j1 >/dev/null
 echo "== $mission on $prefix (btgen --btcpp $version)"
 ctest --test-dir "$out/build" | grep "tests passed"

@@ -420,6 +420,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ts.add_argument("--coverage", metavar="CRITERIA", help=COVERAGE_HELP)
     ts.add_argument(
+        "--register",
+        action="append",
+        metavar="FILE.cpp",
+        help="a source compiled into the suite that registers the project's own nodes (Controls, "
+        "Decorators: a btgen_tests::Hook); repeatable (CMake: BTGEN_REGISTER, BTGEN_PLUGINS, BTGEN_INCLUDE_DIRS)",
+    )
+    ts.add_argument(
         "--executor",
         action="store_true",
         help="also run each scenario on btgen's compiled executor from ctest (`btgen run --engine cpp`; "
@@ -466,6 +473,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="product search of a survivor: most product states; running out leaves the mutant undecided "
         "(default 10000)",
+    )
+    mu.add_argument(
+        "--replay",
+        choices=("both", "interp"),
+        default="both",
+        metavar="ENGINES",
+        help="where a survivor's killing scenario is replayed: both (default: the interpreter and the compiled "
+        "C++ executor, one build of the original and one of each survivor) or interp",
     )
     mu.add_argument(
         "--format",

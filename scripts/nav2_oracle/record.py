@@ -267,6 +267,19 @@ def compile_plugin(cpp: Path, include: Path, prefix: Path, out_dir: Path) -> tup
     return cpp, None, f"needs {missing.group(1)}" if missing else r.stderr.strip().splitlines()[0]
 
 
+def build_plugins(mirror: str, distro: str, prefix: Path, work: Path, jobs: int) -> list[Path]:
+    """The plugin libraries of one distro's Controls and Decorators that build (cached)."""
+    src = CACHE / "src" / distro
+    export_distro(mirror, distro, src)
+    pkg = src / "nav2_behavior_tree"
+    sources = sorted((pkg / "plugins" / "control").glob("*.cpp")) + sorted(
+        (pkg / "plugins" / "decorator").glob("*.cpp")
+    )
+    with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
+        built = list(pool.map(lambda c: compile_plugin(c, pkg / "include", prefix, work), sources))
+    return [so for _, so, _ in built if so]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("prefix", type=Path, help="oracle install prefix (has include/, lib/)")
@@ -275,10 +288,19 @@ def main() -> int:
     ap.add_argument("--harness", type=Path, default=Path(DEFAULT_HARNESS))
     ap.add_argument("--distros", default=",".join(DISTROS))
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument(
+        "--plugins-only",
+        action="store_true",
+        help="build the plugins of the first distro only and print their paths, `;`-separated (the CMake "
+        "list BTGEN_PLUGINS of a `btgen tests` suite): no harness, nothing recorded",
+    )
     args = ap.parse_args()
 
     work = CACHE / args.version
     work.mkdir(parents=True, exist_ok=True)
+    if args.plugins_only:
+        print(";".join(str(p) for p in build_plugins(args.mirror, args.distros.split(",")[0], args.prefix, work, 1)))
+        return 0
     exe = build_harness(args.prefix, args.harness, work)
     stems = sorted(p.stem for p in CASES.glob("*.xml"))
     for distro in args.distros.split(","):

@@ -77,6 +77,11 @@ CI_SKIP_ALLOWED: tuple[tuple[str, str], ...] = (
         "no BehaviorTree.CPP 4.6.2 to build against",
         "test_migration.py: the library's headers are neither on PyPI nor in Debian (BTGEN_BTCPP_PREFIX)",
     ),
+    (
+        "no Nav2 sources to build its plugins (NAV2_MIRROR)",
+        "test_gtests_nav2.py: Nav2's plugins are built from a local navigation2 mirror, which CI has not "
+        "(docs/tests.md records the runs on 4.6.2 and 4.10.0)",
+    ),
     ("does not fit the board: ", "test_mcu.py: the cases DOES_NOT_FIT names, each with its reason"),
     (
         "set BTGEN_VERIFY_AGREE=N",

@@ -207,3 +207,15 @@ def test_sync_names_an_action_of_the_mission(capsys):
     assert (
         "--sync PickBal: the mission declares no Action `PickBal` (did you mean `PickBall`?)" in capsys.readouterr().err
     )
+
+
+def test_cover_takes_the_mission_options_of_tests(tmp_path, capsys):
+    """--entry as `btgen tests` takes it: Entry.xml's script adds 1 to an entry it wrote as text,
+    which runs only with the entry declared int; without it the run stops with a located error."""
+    mission = ROOT / "tests" / "gtests" / "Entry.xml"
+    sc = tmp_path / "one.scenario"
+    sc.write_text("ticks 1\nleaf Go RUNNING\n")
+    assert main(["cover", str(mission), str(sc), "--entry", "level=int"]) == 0
+    assert "nodes:    5/6" in capsys.readouterr().out  # all but the Fallback's second child
+    assert main(["cover", str(mission), str(sc)]) == 1
+    assert f"{mission}:6:" in capsys.readouterr().err

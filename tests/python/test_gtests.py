@@ -176,6 +176,26 @@ def test_timer_refused(capsys, tmp_path):
     assert f"{bad}:4:7: error: `Sleep` waits on the wall clock" in e
 
 
+def test_leaves_of_trees_the_main_tree_does_not_use_are_registered(capsys, tmp_path):
+    # BehaviorTreeFactory checks every tree of the file: a leaf only an unused tree has must be
+    # registered too, else the library refuses the file ("Node not recognized: Act", found by a
+    # random mission on the real 4.6.2); a timer in an unused tree never runs, and is no refusal
+    mission = tmp_path / "two.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M">\n'
+        '  <BehaviorTree ID="M"><Move name="go"/></BehaviorTree>\n'
+        '  <BehaviorTree ID="Spare"><Sequence><Sleep msec="5"/><Act/><Check/></Sequence></BehaviorTree>\n'
+        '  <TreeNodesModel><Action ID="Act"/><Action ID="Move"/><Condition ID="Check"/>'
+        '<Action ID="Unused"/></TreeNodesModel>\n'
+        "</root>\n"
+    )
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out)[0] == 0
+    cpp = (out / "Two_tests.cpp").read_text()
+    assert '    { "Act", false, {} },\n    { "Check", true, {} },\n    { "Move", false, {} },\n  };' in cpp
+    assert "Unused" not in cpp  # a model alone is no node the library checks
+
+
 def test_refuses_to_replace_inputs_or_foreign_folders(capsys, tmp_path):
     work = tmp_path / "work"
     work.mkdir()
@@ -309,4 +329,90 @@ def test_hostile_names(capsys, tmp_path):
     m = load_mission(str(mission))
     for t in _parse_suite(cpp):
         assert t["expected"] == trace_text(m, parse_scenario_text(_scenario(t), "<t>")).splitlines()
-    assert "add_executable(M1stTry_tests M1stTry_tests.cpp)" in (out / "CMakeLists.txt").read_text()
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert "add_executable(M1stTry_tests M1stTry_tests.cpp ${btgen_register_sources})" in cmake
+
+
+# Recorded on the real BehaviorTree.CPP 4.6.2 (the oracle harness, 28 Nov 2026): a ScriptCondition
+# with each code after `a := 3; flag := true`; True where the library refused the file ("while
+# parsing Grammar::Expression ... operator cannot be mixed with previous operators").
+REFUSED_BY_462 = [
+    ("a + 1 == 4", True),
+    ("a == 4 + 1", True),
+    ("a + 1 > 2", True),
+    ("a * 2 + 1 == 7", True),
+    ("(a + 1) == 4", False),
+    ("a == 3 && a + 1 == 4", True),
+    ("a - 1 != 2", True),
+    ("a == 3 ? 1 : 2", False),
+    ("a + 1 == 4 + 0", True),
+    ("a == 3 == true", False),
+    ("a & 1 == 1", True),
+    ("-a == -3", True),
+    ("!flag == false", True),
+    ("a == -3", True),
+    ("'x' .. 'y' == 'xy'", True),
+    ("a * 2 == 6", True),
+    ("a == 3 && (a * 2) == 6", False),
+    ("a * 2 > 5 ? true : false", True),
+    ("-a < 0", True),
+    ("~a == -4", True),
+    ("a == 3 || a - 1 == 2", True),
+    ("a != 2 + 2", True),
+    ("a .. 'x' == '3x'", True),
+    ("a <= 3", False),
+    ("flag == !false", True),
+    ("a == (-3)", False),
+    ("(a + 1) == 4 && a == 3", False),
+    ("!(a == 3) == false", True),
+]
+
+
+def test_scripts_the_real_462_refuses_give_no_suite(capsys, tmp_path):
+    """btgen loads these on purpose (as 4.9.0 does: docs/real-files.md), but a 4.6.2 suite of
+    them could never pass (found running `btgen tests` on a new mission on the real 4.6.2):
+    `btgen tests` refuses exactly the ones the library refused, located; 4.10.0 suites are
+    written."""
+    from btgen.lang.script.grammar462 import Strict462Parser
+    from btgen.lang.script.nodes import ScriptSyntaxError
+
+    for code, refused in REFUSED_BY_462:
+        try:
+            Strict462Parser(code).script()
+            got = False
+        except ScriptSyntaxError:
+            got = True
+        assert got == refused, code
+    mission = tmp_path / "mixed.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+        '<Script code="a := 3"/><ScriptCondition code="a + 1 == 4"/><Go/></Sequence></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Go"/></TreeNodesModel></root>'
+    )
+    e = _bad(capsys, tmp_path, mission)
+    assert f"{mission}:1:" in e and "error: BehaviorTree.CPP 4.6.2 refuses this script in `code`" in e
+    assert "parenthesise it" in e
+    assert _generate(capsys, mission, tmp_path / "s410", "--btcpp", "4.10.0")[0] == 0
+
+
+def test_a_run_time_error_is_expected_where_the_engines_stop(capsys, tmp_path):
+    """A run that ends with a run-time error (a script adds 1 to a string): the TEST
+    expects the status changes up to it, then `error` (the support header catches what the
+    library throws); the executor entry expects exit status 1 and the same error (found running
+    `btgen tests` on a random mission: the suite was refused before). On the real 4.6.2 and
+    4.10.0, and on the executor, 2 of 2 pass (docs/tests.md)."""
+    mission = ROOT / "tests" / "gtests" / "RunError.xml"
+    out = tmp_path / "suite"
+    assert _generate(capsys, mission, out, "--executor")[0] == 0
+    tests = {t["name"]: t for t in _parse_suite((out / "RunError_tests.cpp").read_text())}
+    first = tests["S01GoRunning"]["expected"]
+    assert first[-2:] == ['3 Go "go" RUNNING -> SUCCESS', "error"] and "result SUCCESS" not in first
+    assert tests["S02GoFailure"]["expected"][-1] == "result FAILURE"
+    error = (out / "executor" / "S01GoRunning.error").read_text()
+    assert error == 'script error in `code` of `ScriptCondition` "Check": `+` cannot be applied to a string and a int\n'
+    assert not (out / "executor" / "S02GoFailure.error").exists()
+    assert (
+        "// Ends with a run-time error (the library throws): script error" in (out / "RunError_tests.cpp").read_text()
+    )
+    assert 'string(FIND "${err}" "error: ${want_error}" at)' in (out / "executor" / "check.cmake").read_text()
+    assert "catch(const std::exception& e)" in (out / "btgen_gtest_support.hpp").read_text()

@@ -2,7 +2,7 @@
 
 The suite is configured with -DBTGEN_LIBRARY_TESTS=OFF (no BehaviorTree.CPP here), so ctest runs
 only the executor entries: each runs `btgen run --engine cpp` on the scenario (one build of the
-mission, cached) and compares the trace with executor/NNN.trace, the interpreter's.
+mission, cached) and compares the trace with executor/<TEST>.trace, the interpreter's.
 """
 
 from __future__ import annotations
@@ -49,22 +49,22 @@ def _ctest(build: Path, *args: str) -> subprocess.CompletedProcess:
 def test_the_suite_runs_on_the_compiled_executor(capsys, tmp_path):
     out = tmp_path / "suite"
     assert main(["tests", str(GUARD), "-o", str(out), "--executor"]) == 0
-    assert capsys.readouterr().out.startswith(f"{out}: 4 tests, 17 files")  # (with scenarios/: one per TEST)
+    # each scenario once (scenarios/<TEST>.scenario, read by the TEST's executor entry too)
+    assert capsys.readouterr().out.startswith(f"{out}: 4 tests, 13 files")
+    tests = sorted(p.stem for p in (out / "scenarios").iterdir())
     names = sorted(p.name for p in (out / "executor").iterdir())
-    assert names == ["001.scenario", "001.trace", "002.scenario", "002.trace", "003.scenario", "003.trace"] + [
-        "004.scenario",
-        "004.trace",
-        "check.cmake",
-    ]
+    assert names == sorted([f"{t}.trace" for t in tests] + ["check.cmake"]) and len(tests) == 4
     cmake = (out / "CMakeLists.txt").read_text()
     assert cmake.count(".executor COMMAND") == 4 and "if(BTGEN_LIBRARY_TESTS)" in cmake
+    for t in tests:
+        assert f'"-DSCENARIO=${{CMAKE_CURRENT_SOURCE_DIR}}/scenarios/{t}.scenario"' in cmake
     build = tmp_path / "build"
     _configure(out, build)
     ok = _ctest(build)
     assert ok.returncode == 0, ok.stdout + ok.stderr
     assert "100% tests passed, 0 tests failed out of 4" in ok.stdout
     # an expectation that is not the executor's trace fails, naming the line
-    trace = out / "executor" / "002.trace"
+    trace = out / "executor" / f"{tests[1]}.trace"
     lines = trace.read_text().splitlines()
     k = next(i for i, line in enumerate(lines) if "->" in line)
     lines[k] = lines[k].replace("IDLE -> RUNNING", "IDLE -> SUCCESS")
@@ -138,10 +138,65 @@ def test_tree_libraries_are_registered(capsys, tmp_path):
     # 8 of 8 on the real 4.6.2 and the executor are in docs/tests.md)
 
 
-@pytest.mark.parametrize("option", [["--entry", "speed=int"], ["--type", "Pose=geo::Pose@geo/pose.hpp"]])
-def test_entry_and_type_are_refused(capsys, tmp_path, option):
+def test_root_entries_are_created_before_the_tree(capsys, tmp_path):
+    """--entry NAME=TYPE: the suite creates the entry on the root blackboard, typed, before the
+    tree (Entry.xml's script adds to it: without the int entry both engines stop with an error,
+    so the expectation is the run with it); --type is accepted, and a user-type entry includes
+    its header; the executor entries get both options."""
+    mission = ROOT / "tests" / "gtests" / "Entry.xml"
     out = tmp_path / "suite"
-    assert main(["tests", str(GUARD), "-o", str(out), *option]) == 1
+    pose = "Pose=geo::Pose@geo/pose.hpp"
+    args = ["tests", str(mission), "-o", str(out), "--entry", "level=int", "--executor"]
+    assert main([*args, "--type", pose, "--entry", "where=Pose"]) == 0
+    capsys.readouterr()
+    cpp = (out / "Entry_tests.cpp").read_text()
+    assert '  blackboard.createEntry("level", BT::TypeInfo::Create<int>());' in cpp
+    assert '  blackboard.createEntry("where", BT::TypeInfo::Create<::geo::Pose>());' in cpp
+    assert cpp.index('#include "geo/pose.hpp"') < cpp.index('#include "btgen_gtest_support.hpp"')
+    assert "BTGEN_ENTRIES(*blackboard);" in (out / "btgen_gtest_support.hpp").read_text()
+    cmake = (out / "CMakeLists.txt").read_text()
+    assert '\\"--entry\\" \\"level=int\\" \\"--entry\\" \\"where=Pose\\" \\"--type\\"' in cmake
+    for trace in (out / "executor").glob("*.trace"):  # the script reads the int: 3 + 1 == 4
+        assert 'ScriptCondition "NextIsFour" IDLE -> SUCCESS' in trace.read_text()
+    assert not list((out / "executor").glob("*.error"))
+    # without --entry every run stops with the script's error, and the suite expects it there
+    none = tmp_path / "none"
+    assert main(["tests", str(mission), "-o", str(none), "--executor"]) == 0
+    capsys.readouterr()
+    errors = list((none / "executor").glob("*.error"))
+    assert errors and all("cannot be applied to a string and a int" in e.read_text() for e in errors)
+    plain = tmp_path / "plain"
+    assert main(["tests", str(GUARD), "-o", str(plain)]) == 0
+    assert "BTGEN_ENTRIES" not in (plain / "Guard_tests.cpp").read_text()
+
+
+def test_an_entry_of_every_instance_of_a_tree_is_refused(capsys, tmp_path):
+    out = tmp_path / "suite"
+    mission = ROOT / "tests" / "gtests" / "Entry.xml"
+    assert main(["tests", str(mission), "-o", str(out), "--entry", "level=int", "--entry", "Main:speed=int"]) == 1
     err = capsys.readouterr().err
-    assert f"error: {option[0]}: not supported by `btgen tests` yet" in err and "Traceback" not in err
-    assert not out.exists()
+    assert "<command-line>:1:" in err and "error: --entry Main:speed=int: an entry of every instance" in err
+    assert "Traceback" not in err and not out.exists()
+
+
+def test_register_files_reach_the_cmake_list(capsys, tmp_path):
+    """--register FILE.cpp: the CMake list BTGEN_REGISTER (relative to DIR), compiled into the
+    suite's executable, which then exports its symbols; the plugins' list is left to configure
+    time (BTGEN_PLUGINS). A file that does not exist is a located error and nothing is written.
+    (Built on the real library with Nav2's plugins by test_gtests_nav2.py.)"""
+    register = ROOT / "scripts" / "nav2_oracle" / "gtests_register.cpp"
+    out = tmp_path / "suite"
+    assert main(["tests", str(GUARD), "-o", str(out), "--register", str(register)]) == 0
+    capsys.readouterr()
+    cmake = (out / "CMakeLists.txt").read_text()
+    rel = os.path.relpath(register, out)
+    assert f'set(BTGEN_REGISTER "{rel}" CACHE STRING' in cmake
+    assert "add_executable(Guard_tests Guard_tests.cpp ${btgen_register_sources})" in cmake
+    assert 'set(BTGEN_PLUGINS "" CACHE STRING' in cmake and "ENABLE_EXPORTS ON" in cmake
+    support = (out / "btgen_gtest_support.hpp").read_text()
+    assert "factory.registerFromPlugin(plugin);" in support and "hook.nodes(factory);" in support
+    missing = tmp_path / "nope.cpp"
+    other = tmp_path / "other"
+    assert main(["tests", str(GUARD), "-o", str(other), "--register", str(missing)]) == 1
+    err = capsys.readouterr().err
+    assert f"error: --register {missing}: no such file" in err and not other.exists()

@@ -122,6 +122,13 @@ def test_a_missing_behaviour_survives_and_its_scenario_kills_it(capsys, tmp_path
     assert "ReactiveSequence -> Sequence" in changes
     sequence = next(r for r in survivors if r["change"] == "ReactiveSequence -> Sequence")
     scenario = sequence["scenario"]
+    # replayed on the compiled C++ executor too (the original and each survivor built): each
+    # run is the interpreter's, and the mutant's leaves change status otherwise there as well
+    # (the Sequence does not re-tick BatteryOk while Move runs)
+    for r in survivors:
+        assert r["cpp_replay"].startswith("killed on the C++ executor too: the leaves' status changes differ"), r
+    assert 'line 4: `BatteryOk "BatteryOk" SUCCESS -> IDLE` / `result RUNNING`' in sequence["cpp_replay"]
+    assert "(killed on the C++ executor too" in out
     # shortest: Move RUNNING once, and the second tick shows whether the battery is re-checked
     assert "ticks 2\n" in scenario and "leaf Move RUNNING" in scenario
     # the mutant is written, and so is its killing scenario
@@ -194,8 +201,8 @@ def test_a_bounded_search_is_never_equivalent(capsys, tmp_path):
     mission.write_text(COUNTER)
     suite = _suite(tmp_path, "ticks 1\nleaf Work SUCCESS\n")
     pick = "_skipIf: `>` -> `>=`"
-    short = _json(capsys, mission, suite, "--max-ticks", "3")
-    long = _json(capsys, mission, suite, "--max-ticks", "8")
+    short = _json(capsys, mission, suite, "--max-ticks", "3", "--replay", "interp")
+    long = _json(capsys, mission, suite, "--max-ticks", "8", "--replay", "interp")
     s = {r["change"]: r for r in short["results"]}[pick]
     g = {r["change"]: r for r in long["results"]}[pick]
     assert s["status"] == "undecided" and "within 3 ticks" in s["reason"] and "not a proof" in s["reason"]
@@ -204,7 +211,8 @@ def test_a_bounded_search_is_never_equivalent(capsys, tmp_path):
     for a, b in zip(short["results"], long["results"]):
         if b["status"] in ("survived", "undecided"):
             assert a["status"] != "equivalent", a
-    tiny = _json(capsys, mission, suite, "--max-states", "1")
+    tiny = _json(capsys, mission, suite, "--max-states", "1", "--replay", "interp")
+    assert all("cpp_replay" not in r for r in long["results"])
     t = {r["change"]: r for r in tiny["results"]}[pick]
     assert t["status"] == "undecided" and "--max-states 1" in t["reason"]
     assert tiny["equivalent"] == 0 and short["undecided"] >= 1
@@ -229,7 +237,7 @@ def test_bad_input(capsys, tmp_path):
     foreign = tmp_path / "foreign"
     foreign.mkdir()
     (foreign / "keep.txt").write_text("mine\n")
-    rc, _, err = _mutate(capsys, GUARD, _suite(tmp_path, "ticks 1\n"), "-o", str(foreign))
+    rc, _, err = _mutate(capsys, GUARD, _suite(tmp_path, "ticks 1\n"), "-o", str(foreign), "--replay", "interp")
     assert rc == 1 and "refusing to replace it" in err and (foreign / "keep.txt").read_text() == "mine\n"
 
 
@@ -294,3 +302,25 @@ def test_a_nav2_control_turned_plain_loses_its_own_ports(tmp_path):
         'number_of_retries="2" -> "1"',
         'number_of_retries="2" -> "3"',
     ]
+
+
+def test_mission_options_are_taken_as_tests_takes_them(capsys, tmp_path):
+    """--entry and --trees: the mission and every mutant load as `btgen tests` loaded them. A
+    --trees folder that holds the mission itself (the loader leaves the mission out of it) gives
+    mutants that load too: the mutant, written elsewhere, does not meet the original's trees."""
+    entry = ROOT / "tests" / "gtests" / "Entry.xml"
+    assert main(["tests", str(entry), "--entry", "level=int", "-o", str(tmp_path / "entry")]) == 0
+    capsys.readouterr()
+    report = _json(capsys, entry, tmp_path / "entry", "--entry", "level=int")
+    assert report["loaded"] == report["mutants"] == 20 and report["score"] == 100.0
+
+    folder = tmp_path / "project"
+    folder.mkdir()
+    library = ROOT / "tests" / "gtests" / "library"
+    for f in [ROOT / "tests" / "gtests" / "UsesLibrary.xml", *library.glob("*.xml")]:
+        (folder / f.name).write_text(f.read_text())
+    mission = folder / "UsesLibrary.xml"
+    assert main(["tests", str(mission), "--trees", str(folder), "-o", str(tmp_path / "lib")]) == 0
+    capsys.readouterr()
+    report = _json(capsys, mission, tmp_path / "lib", "--trees", str(folder))
+    assert report["discarded"] == 0 and report["loaded"] == 6 and report["killed"] == 5 and report["equivalent"] == 1

@@ -433,3 +433,43 @@ class _Parser:
         if signed is not None:
             return signed
         raise self.error(f"expected a value, a name or `(`, found {self.describe(t)}")
+
+
+class Strict462Parser(_Parser):
+    """4.6.2's parser as the real library applies it: a comparison's operands hold no operator
+    outside parentheses (`a + 1 == 4`, `x == -1`, `!f == g` are refused: "operator cannot be
+    mixed with previous operators", recorded on 4.6.2). btgen's own parser accepts them on
+    purpose (as 4.9.0 does, docs/real-files.md); `btgen tests` uses this one to refuse a suite
+    the real 4.6.2 cannot load."""
+
+    last_ops: list[tuple[str, int]] = []
+
+    def operand(self) -> Expr:
+        self.groups.append([])
+        try:
+            return self.bits_or()
+        finally:
+            self.last_ops = self.groups.pop()
+
+    def comparison(self) -> Expr:
+        first = self.operand()
+        mixed = self.last_ops[0][0] if self.last_ops else None
+        ops: list[str] = []
+        offsets: list[int] = []
+        operands = [first]
+        while self.at_op(*COMPARE_OPS):
+            op = self.advance()
+            if mixed is not None:
+                raise ScriptSyntaxError(_mixed(op.text, mixed), op.start)
+            ops.append(op.text)
+            offsets.append(op.start)
+            operands.append(self.operand())
+            if self.last_ops:
+                raise ScriptSyntaxError(_mixed(self.last_ops[0][0], op.text), self.last_ops[0][1])
+        if not ops:
+            return first
+        return Compare(tuple(ops), tuple(operands), first.offset, tuple(offsets))
+
+
+def _mixed(op: str, prev: str) -> str:
+    return f"`{op}` cannot be mixed with `{prev}` without parentheses"

@@ -15,8 +15,8 @@ scenario in btgen's scenario format, which `btgen run`, `cover` and `mutate` rea
 `.btgen-tests` (the marker that lets a later run replace the folder). Everything is written to
 a temporary folder beside DIR and renamed into place: DIR is whole or unchanged.
 
-With --executor, DIR/executor/ also holds each scenario and the interpreter's trace of it, and
-CMakeLists.txt one more ctest entry per TEST that runs the scenario on btgen's compiled
+With --executor, DIR/executor/ also holds the interpreter's trace of each TEST's scenario, and
+CMakeLists.txt one more ctest entry per TEST that runs scenarios/<TEST>.scenario on btgen's compiled
 executor (`btgen run --engine cpp`) through executor/check.cmake: one suite checks both
 runtimes; -DBTGEN_LIBRARY_TESTS=OFF leaves the BehaviorTree.CPP suite out. --coverage selects
 the criteria the explored scenarios reach (tools/obligations.py).
@@ -55,6 +55,7 @@ class Case:
     trace_text: str = ""  # the interpreter's trace as `btgen run` prints it
     obligations: list[str] = field(default_factory=list)  # condition / MC/DC goals it reaches first
     text: str = ""  # the scenario file's text
+    error: str = ""  # the run-time error that ends the run (the expectation's last line is `error`)
 
 
 @dataclass
@@ -85,9 +86,23 @@ def _walk(mission: Mission) -> list[Node]:
     return out
 
 
+def _all_nodes(mission: Mission) -> list[Node]:
+    out: list[Node] = []
+    for tree in mission.trees:
+        stack = [tree.root]
+        while stack:
+            node = stack.pop()
+            out.append(node)
+            stack.extend(reversed(node.children))
+    return out
+
+
 def mission_leaves(mission: Mission) -> list[LeafDecl]:
-    """The user Actions and Conditions the main tree uses (SubTrees followed), by ID, with the
-    ports the models declare (as the oracle harness registers them: by name, any type)."""
+    """The user Actions and Conditions of every BehaviorTree the mission loads (the main tree's
+    and the others: BehaviorTreeFactory checks every tree of a file it reads, and refuses a node
+    it does not know even in a tree the main one never uses), by ID, with the ports the models
+    declare (as the oracle harness registers them: by name, any type). A timer the main tree
+    uses (SubTrees followed) is refused."""
     found: dict[str, LeafDecl] = {}
     for node in _walk(mission):
         if node.id in _TIMERS and node.id in mission.builtins:
@@ -98,6 +113,7 @@ def mission_leaves(mission: Mission) -> list[LeafDecl]:
                     "(BehaviorTree.CPP takes no test clock)",
                 )
             )
+    for node in _all_nodes(mission):
         if not is_scripted_leaf(mission, node) or node.id in found:
             continue
         try:
@@ -109,6 +125,35 @@ def mission_leaves(mission: Mission) -> list[LeafDecl]:
         ports = [(_DIRS[p.direction], p.name) for p in spec.ports]
         found[node.id] = LeafDecl(node.id, leaf_kind(mission, node) == "Condition", ports)
     return [found[k] for k in sorted(found)]
+
+
+def refuse_462_scripts(mission: Mission) -> None:
+    """The scripts BehaviorTree.CPP 4.6.2's parser refuses and btgen loads on purpose (an operator
+    in a comparison's operand: `a + 1 == 4`, `x == -1`; grammar462.Strict462Parser): the real
+    library would refuse the mission, so no suite for it could pass. UserError, each located."""
+    from btgen.lang.script.grammar462 import Strict462Parser
+    from btgen.lang.script.nodes import ScriptSyntaxError
+    from btgen.lang.script.parse import raw_attr_value, script_error_loc
+
+    problems: list[Diagnostic] = []
+    for node in _all_nodes(mission):
+        for attr in (*node.ports, *node.pre, *node.post):
+            if attr.script is None:
+                continue
+            try:
+                Strict462Parser(attr.value).script()
+            except ScriptSyntaxError as e:
+                where = script_error_loc(attr.value_loc, attr.value, e.offset, raw_attr_value(attr.value_loc))
+                problems.append(
+                    Diagnostic(
+                        where,
+                        f"BehaviorTree.CPP 4.6.2 refuses this script in `{attr.name}` of `{node.id}` ({e.message}: "
+                        "its parser takes no operator in an operand of a comparison); btgen loads it as 4.9.0 "
+                        "does, but the suite's library would not: parenthesise it, e.g. `(a + 1) == 4`, `x == (-1)`",
+                    )
+                )
+    if problems:
+        raise UserError(problems)
 
 
 # ---------------------------------------------------------------- scenarios and names
@@ -160,7 +205,7 @@ def name_cases(cases: list[Case]) -> None:
 
 
 def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> list[Case]:
-    from btgen.interp.engine import trace_text
+    from btgen.interp.engine import run_trace
     from btgen.interp.scenario import parse_scenario_text
 
     cases: list[Case] = []
@@ -171,9 +216,16 @@ def collect_cases(mission: Mission, scenario_texts: list[tuple[str, str]]) -> li
         if sc.default != "SUCCESS":
             where = sc.default_loc or Loc(path, 1, 1)
             raise UserError(Diagnostic(where, "`default` other than SUCCESS: not supported by `btgen tests`"))
-        trace = trace_text(mission, sc)
+        parts: list[str] = []
+        error = ""
+        try:
+            run_trace(mission, sc, parts.append)
+        except UserError as e:  # a run-time error ends the run: the library throws there too
+            error = e.diagnostics[0].message if e.diagnostics else "run-time error"
+        trace = "".join(parts)
+        lines = trace.splitlines() + (["error"] if error else [])
         lists = [(s.name, list(s.statuses)) for s in sc.leaves]
-        cases.append(Case("", [], sc.ticks, lists, trace.splitlines(), trace, text=text))
+        cases.append(Case("", [], sc.ticks, lists, lines, trace, text=text, error=error))
     name_cases(cases)
     return cases
 
@@ -243,9 +295,29 @@ def _c_string(text: str) -> str:
 
 
 def render_tests(
-    stem: str, suite: str, leaves: list[LeafDecl], cases: list[Case], version: str, enums=(), trees=()
+    stem: str,
+    suite: str,
+    leaves: list[LeafDecl],
+    cases: list[Case],
+    version: str,
+    enums=(),
+    trees=(),
+    entries: Optional[tuple[list[str], list[str]]] = None,
 ) -> str:
     head = []
+    if entries is not None:
+        includes, creates = entries
+        head += [
+            *includes,
+            "#include <behaviortree_cpp/blackboard.h>",
+            "// The entries the application sets before the first tick (--entry): created on the root",
+            "// blackboard, with their type and no value, before the tree (as btgen's engines create them).",
+            "inline void btgen_entries(BT::Blackboard& blackboard)",
+            "{",
+            *creates,
+            "}",
+            "#define BTGEN_ENTRIES btgen_entries",
+        ]
     if trees:
         head += [
             "// The tree libraries (--trees), relative to the suite's folder: registered before the mission.",
@@ -293,6 +365,8 @@ def render_tests(
             out.append(f"// ... and {len(case.covers) - 3} more outcomes or halts no earlier scenario shows.")
         for line in case.obligations:
             out.append(f"// Reaches first: {line}")
+        if case.error:
+            out.append(f"// Ends with a run-time error (the library throws): {' '.join(case.error.split())}")
         width = max([4] + [len(n) for n, _ in case.lists])
         out.append(f"//   ticks at most {case.ticks}")
         out.append(f"//   {'leaf'.ljust(width)} | results, call by call (the last repeats; unlisted: SUCCESS)")
@@ -326,6 +400,7 @@ def render_cmake(
     cases: list[Case],
     executor: Optional[list[str]] = None,
     trees: bool = False,
+    register: tuple[str, ...] = (),
 ) -> str:
     """CMakeLists.txt; with `executor` (btgen's options for `btgen run`), a second ctest entry
     per scenario that runs it on btgen's compiled executor, and the library's suite optional."""
@@ -359,9 +434,40 @@ def render_cmake(
         'get_filename_component(BTGEN_MISSION_PATH "${BTGEN_MISSION}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
         "",
     ]
+    lines += [
+        "# The project's own nodes: registration sources compiled into the suite (each adds a",
+        "# btgen_tests::Hook, btgen_gtest_support.hpp), BT_REGISTER_NODES plugins loaded with",
+        "# registerFromPlugin, and the folders their headers are in (lists; relative to this folder).",
+        f"set(BTGEN_REGISTER {_cmake_string(';'.join(register))} CACHE STRING "
+        '"registration sources of the project nodes (relative to this folder)")',
+        'set(BTGEN_PLUGINS "" CACHE STRING "plugin libraries of the project nodes (registerFromPlugin)")',
+        'set(BTGEN_INCLUDE_DIRS "" CACHE STRING "include folders of the registration sources")',
+        "",
+    ]
     library = [
-        f"add_executable({target} {suite}_tests.cpp)",
+        "set(btgen_register_sources)",
+        "foreach(file IN LISTS BTGEN_REGISTER)",
+        '  get_filename_component(file "${file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
+        '  list(APPEND btgen_register_sources "${file}")',
+        "endforeach()",
+        f"add_executable({target} {suite}_tests.cpp ${{btgen_register_sources}})",
         f"target_link_libraries({target} PRIVATE BT::behaviortree_cpp GTest::gtest GTest::gtest_main)",
+        f'target_include_directories({target} PRIVATE "${{CMAKE_CURRENT_SOURCE_DIR}}" ${{BTGEN_INCLUDE_DIRS}})',
+        "if(BTGEN_REGISTER)",
+        f"  set_target_properties({target} PROPERTIES ENABLE_EXPORTS ON)  # a plugin may call back into it",
+        "endif()",
+        "if(BTGEN_PLUGINS)",
+        "  set(btgen_plugins)",
+        "  foreach(file IN LISTS BTGEN_PLUGINS)",
+        '    get_filename_component(file "${file}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")',
+        '    string(REPLACE "\\\\" "\\\\\\\\" file "${file}")',
+        '    string(REPLACE "\\"" "\\\\\\"" file "${file}")',
+        '    string(APPEND btgen_plugins "\\"${file}\\",\\n")',
+        "  endforeach()",
+        '  file(WRITE "${CMAKE_CURRENT_BINARY_DIR}/btgen_plugins.inc" "${btgen_plugins}")',
+        f"  target_compile_definitions({target} PRIVATE "
+        '"BTGEN_PLUGINS_FILE=\\"${CMAKE_CURRENT_BINARY_DIR}/btgen_plugins.inc\\"")',
+        "endif()",
         f'target_compile_definitions({target} PRIVATE "BTGEN_MISSION=\\"${{BTGEN_MISSION_PATH}}\\""',
     ]
     if main_tree is not None:
@@ -377,16 +483,17 @@ def render_cmake(
     lines += ["if(BTGEN_LIBRARY_TESTS)"] + [f"  {line}" for line in library] + ["endif()", ""]
     lines += [
         "# The same scenarios on btgen's compiled executor: `btgen run --engine cpp` (built once,",
-        "# cached), its trace compared with executor/NNN.trace (the interpreter's, as the TESTs above).",
+        "# cached) on scenarios/<TEST>.scenario, its trace compared with executor/<TEST>.trace (the interpreter's).",
         'set(BTGEN_COMMAND "btgen" CACHE STRING "the command that runs btgen (e.g. `python3 -m btgen`)")',
         f"set(BTGEN_RUN_OPTIONS {_cmake_string(' '.join(executor))})",
     ]
-    for k, case in enumerate(cases, start=1):
-        base = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{k:03d}"
+    for case in cases:
+        scenario = f"${{CMAKE_CURRENT_SOURCE_DIR}}/{SCENARIOS}/{case.name}.scenario"
+        trace = f"${{CMAKE_CURRENT_SOURCE_DIR}}/executor/{case.name}.trace"
         lines.append(
             f"add_test(NAME {suite}.{case.name}.executor COMMAND ${{CMAKE_COMMAND}} "
             '"-DBTGEN=${BTGEN_COMMAND}" "-DMISSION=${BTGEN_MISSION_PATH}" "-DOPTIONS=${BTGEN_RUN_OPTIONS}" '
-            f'"-DSCENARIO={base}.scenario" "-DEXPECTED={base}.trace" '
+            f'"-DSCENARIO={scenario}" "-DEXPECTED={trace}" '
             '-P "${CMAKE_CURRENT_SOURCE_DIR}/executor/check.cmake")'
         )
     return "\n".join(lines) + "\n"
@@ -401,7 +508,16 @@ execute_process(
   OUTPUT_VARIABLE got
   ERROR_VARIABLE err
   RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
+string(REGEX REPLACE "\\\\.trace$" ".error" error_file "${EXPECTED}")
+if(EXISTS "${error_file}")
+  # the run ends with a run-time error: exit status 1 and that error on stderr
+  file(READ "${error_file}" want_error)
+  string(STRIP "${want_error}" want_error)
+  string(FIND "${err}" "error: ${want_error}" at)
+  if(NOT rc EQUAL 1 OR at EQUAL -1)
+    message(FATAL_ERROR "expected the run to end with `error: ${want_error}`; the executor gave (${rc}):\\n${err}")
+  endif()
+elseif(NOT rc EQUAL 0)
   message(FATAL_ERROR "btgen run --engine cpp failed (${rc}):\\n${err}")
 endif()
 file(READ "${EXPECTED}" want)
@@ -512,13 +628,12 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
 
     criteria_of(args)  # a bad --coverage is refused before anything else
     opts = pipeline.options_from_args(args)
-    for flag, value in (("--entry", opts.entries), ("--type", opts.types)):
-        if value:
-            why = "the suite would have to carry it into the blackboard and the ports' types"
-            raise cmdline.error(args, flag, f"{flag}: not supported by `btgen tests` yet ({why})")
     mission = pipeline.load(args.mission, opts)
     print_diagnostics(mission.warnings)
+    entries = entry_lines(args, mission)
     leaves = mission_leaves(mission)
+    if not mission.semantics.script_grammar_49:
+        refuse_462_scripts(mission)
     _check_paths(args, mission)
     ref = _mission_ref(args)
     if args.scenarios:
@@ -539,21 +654,69 @@ def build_suite(args) -> tuple[dict[str, str], list[Case]]:
         support = f.read()
     executor = _run_options(args, opts) if getattr(args, "executor", False) else None
     trees = tree_files(args, opts, mission)
+    register = register_files(args)
     # with tree libraries the mission is registered too and its main tree created by name
     main_tree = opts.main_tree if not trees else mission.main_tree
     files = {
-        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees)),
-        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees),
+        "CMakeLists.txt": render_cmake(stem, suite, ref, main_tree, cases, executor, bool(trees), register),
+        f"{suite}_tests.cpp": render_tests(stem, suite, leaves, cases, opts.btcpp, mission.enums, trees, entries),
         SUPPORT: support,
         **{f"{SCENARIOS}/{case.name}.scenario": case.text for case in cases},
         MARKER: f"written by btgen tests for {os.path.basename(args.mission)} (BehaviorTree.CPP {opts.btcpp})\n",
     }
     if executor is not None:
         files["executor/check.cmake"] = CHECK_CMAKE
-        for k, ((_, text), case) in enumerate(zip(texts, cases), start=1):
-            files[f"executor/{k:03d}.scenario"] = text
-            files[f"executor/{k:03d}.trace"] = case.trace_text
+        for case in cases:  # the scenario is the TEST's own, scenarios/<TEST>.scenario
+            files[f"executor/{case.name}.trace"] = case.trace_text
+            if case.error:  # the run ends with this error (stderr, exit status 1)
+                files[f"executor/{case.name}.error"] = case.error + "\n"
     return files, cases
+
+
+_CPP_TYPES = {
+    "int": "int",
+    "unsigned": "unsigned",
+    "double": "double",
+    "bool": "bool",
+    "string": "std::string",
+    "NodeStatus": "BT::NodeStatus",
+    "any": "BT::AnyTypeAllowed",
+    "queue<int>": "std::shared_ptr<std::deque<int>>",
+    "queue<double>": "std::shared_ptr<std::deque<double>>",
+    "queue<bool>": "std::shared_ptr<std::deque<bool>>",
+    "queue<string>": "std::shared_ptr<std::deque<std::string>>",
+}
+
+
+def entry_lines(args, mission: Mission) -> Optional[tuple[list[str], list[str]]]:
+    """--entry: the `#include`s of the user types the entries have (--type) and one createEntry
+    line per entry; None without --entry. An entry of every instance of a BehaviorTree
+    (`TREE:NAME`) is refused: the library creates those blackboards inside createTree, after
+    the nodes before them are built, so the suite could not create it when btgen's engines do."""
+    if not mission.provided:
+        return None
+    users = {u.name: u for u in mission.user_types}
+    includes: list[str] = []
+    creates: list[str] = []
+    for entry in mission.provided:
+        if entry.tree is not None:
+            raise cmdline.error(
+                args,
+                "--entry",
+                f"{entry.option}: an entry of every instance of `{entry.tree}`: not supported by `btgen tests` "
+                "(BehaviorTree.CPP creates that blackboard inside createTree; only root entries can be created "
+                "before the tree, as btgen's engines do)",
+            )
+        user = users.get(entry.type)
+        if user is not None:
+            line = f"#include {user.include}"
+            if line not in includes:
+                includes.append(line)
+            cpp = user.cpp
+        else:
+            cpp = _CPP_TYPES[entry.type]
+        creates.append(f"  blackboard.createEntry({_c_string(entry.key)}, BT::TypeInfo::Create<{cpp}>());")
+    return includes, creates
 
 
 def tree_files(args, opts, mission: Mission) -> list[str]:
@@ -585,6 +748,26 @@ def tree_files(args, opts, mission: Mission) -> list[str]:
     return out
 
 
+def register_files(args) -> tuple[str, ...]:
+    """--register FILE.cpp: each relative to DIR (absolute with an absolute --mission-path), for
+    the CMake list BTGEN_REGISTER; a file that does not exist is an error."""
+    out: list[str] = []
+    base = os.path.abspath(args.output_dir)
+    absolute = bool(args.mission_path) and os.path.isabs(args.mission_path)
+    for path in getattr(args, "register", None) or ():
+        if not os.path.isfile(path):
+            raise cmdline.error(args, "--register", f"--register {path}: no such file")
+        if _inside(path, args.output_dir):
+            raise cmdline.error(
+                args, "--register", f"--register {path}: inside -o {args.output_dir}, which is replaced"
+            )
+        ref = os.path.abspath(path) if absolute else os.path.relpath(os.path.abspath(path), base)
+        if any(ord(c) < 0x20 or c in '"\\$;' for c in ref):
+            raise cmdline.error(args, "--register", f"--register: the path {ref!r} has characters CMake cannot carry")
+        out.append(ref)
+    return tuple(out)
+
+
 def _run_options(args, opts) -> list[str]:
     """The options `btgen run` needs to load the mission as this command did: models (absolute),
     main tree, version; each double-quoted for CMake's separate_arguments."""
@@ -603,6 +786,10 @@ def _run_options(args, opts) -> list[str]:
         out += ["--trees", os.path.abspath(t)]
     for f in opts.enum_files:
         out += ["--enums", os.path.abspath(f)]
+    for decl in opts.entries:
+        out += ["--entry", decl]
+    for decl in opts.types:
+        out += ["--type", decl]
     for word in out:
         if any(ord(c) < 0x20 or c in '"\\$;' for c in word):
             raise cmdline.error(args, "--executor", f"--executor: {word!r} has characters CMake cannot carry")

@@ -139,6 +139,43 @@ private:
   std::vector<std::string>* lines_;
 };
 
+// The script of the test that runs (for the project's nodes that read a fact of the world).
+inline Script*& currentScript()
+{
+  static Script* script = nullptr;
+  return script;
+}
+
+// A scenario input of a node the project registers (`leaf NAME SUCCESS|FAILURE` in the
+// scenario, yes/no call by call, as btgen's engines read it): the next answer for node NAME.
+inline bool scriptedInput(const std::string& name)
+{
+  return currentScript() != nullptr && currentScript()->next(name) == NodeStatus::SUCCESS;
+}
+
+// The project's own nodes (`btgen tests --register FILE.cpp`, or the CMake list
+// BTGEN_REGISTER): a registration file compiled into the suite adds a Hook,
+//   static btgen_tests::AddHook mine({&registerMyNodes, nullptr, nullptr});
+// nodes(factory) runs before the scripted leaves are registered, blackboard(bb) on the root
+// blackboard before the tree is created (entries the nodes' constructors read), and tree(t)
+// after it is created. Shared libraries of BT_REGISTER_NODES plugins (the CMake list
+// BTGEN_PLUGINS) are loaded with registerFromPlugin before the hooks run.
+struct Hook
+{
+  void (*nodes)(BT::BehaviorTreeFactory&);
+  void (*blackboard)(BT::Blackboard&);
+  void (*tree)(BT::Tree&);
+};
+inline std::vector<Hook>& hooks()
+{
+  static std::vector<Hook> all;
+  return all;
+}
+struct AddHook
+{
+  explicit AddHook(Hook hook) { hooks().push_back(hook); }
+};
+
 struct Leaf
 {
   const char* id;
@@ -149,10 +186,26 @@ struct Leaf
 // Registers the scripted leaves, creates the tree from the mission file, ticks it with
 // tickExactlyOnce() up to `ticks` times (stopping when the root completes), and checks the
 // status changes and the root's results against `expected` (`tick N`, the changes, `result S`).
-inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int ticks,
+// (static: a registration file includes this header too, without the test file's macros)
+static inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int ticks,
                         const std::vector<std::string>& expected)
 {
+  currentScript() = &script;
+  struct Reset
+  {
+    ~Reset() { currentScript() = nullptr; }
+  } reset;
   BT::BehaviorTreeFactory factory;
+#ifdef BTGEN_PLUGINS_FILE
+  // the plugins of BTGEN_PLUGINS (CMake), as the application loads them
+  for(const char* plugin : std::initializer_list<const char*>{
+#include BTGEN_PLUGINS_FILE
+      })
+    factory.registerFromPlugin(plugin);
+#endif
+  for(const Hook& hook : hooks())
+    if(hook.nodes != nullptr)
+      hook.nodes(factory);
   for(const Leaf& leaf : leaves)
   {
     BT::PortsList ports;
@@ -174,19 +227,41 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
   for(const char* file : std::initializer_list<const char*> BTGEN_TREES)
     factory.registerBehaviorTreeFromFile(std::filesystem::path(BTGEN_SOURCE_DIR) / file);
 #endif
+  BT::Blackboard::Ptr blackboard = BT::Blackboard::create();
+#ifdef BTGEN_ENTRIES
+  // the entries of --entry, created before the tree as the application creates them
+  BTGEN_ENTRIES(*blackboard);
+#endif
+  for(const Hook& hook : hooks())
+    if(hook.blackboard != nullptr)
+      hook.blackboard(*blackboard);
 #ifdef BTGEN_MAIN_TREE
   factory.registerBehaviorTreeFromFile(BTGEN_MISSION);
-  BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE);
+  BT::Tree tree = factory.createTree(BTGEN_MAIN_TREE, blackboard);
 #else
-  BT::Tree tree = factory.createTreeFromFile(BTGEN_MISSION);
+  BT::Tree tree = factory.createTreeFromFile(BTGEN_MISSION, blackboard);
 #endif
+  for(const Hook& hook : hooks())
+    if(hook.tree != nullptr)
+      hook.tree(tree);
   std::vector<std::string> lines;
   std::vector<std::string> results;
   Recorder recorder(tree.rootNode(), &lines);
   for(int n = 1; n <= ticks; ++n)
   {
     lines.push_back("tick " + std::to_string(n));
-    NodeStatus result = tree.tickExactlyOnce();
+    NodeStatus result;
+    try
+    {
+      result = tree.tickExactlyOnce();
+    }
+    catch(const std::exception& e)
+    {
+      // a run-time error ends the run (btgen's engines stop there too): `error`, then the checks
+      lines.push_back("error");
+      std::printf("the tree threw: %s\n", e.what());
+      break;
+    }
     lines.push_back(std::string("result ") + statusName(result));
     results.push_back(statusName(result));
     if(result == NodeStatus::SUCCESS || result == NodeStatus::FAILURE)
@@ -214,7 +289,7 @@ inline void runAndCheck(const std::vector<Leaf>& leaves, Script script, int tick
 }
 // The expected lines as a static array of C strings (quick to compile, however many there are).
 template <std::size_t N>
-void runAndCheck(const std::vector<Leaf>& leaves, Script script, int ticks,
+static void runAndCheck(const std::vector<Leaf>& leaves, Script script, int ticks,
                  const char* const (&expected)[N])
 {
   runAndCheck(leaves, std::move(script), ticks, std::vector<std::string>(expected, expected + N));

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 import glob
 import json
 import os
+import re
 import sys
 import tempfile
 import time
@@ -31,6 +33,7 @@ class Verdict:
     scenario: str = ""  # survived: a scenario that kills it (from the product search)
     states: int = 0  # the product search's states, when one ran
     seconds: float = 0.0  # the product search's time
+    cpp: str = ""  # survived: what the scenario's replay on the compiled C++ executor showed
 
 
 @dataclass
@@ -128,6 +131,25 @@ def load_mutant(folder: str, name: str, mutant: Mutant, opts) -> Mission | str:
     return mission
 
 
+def library_files(trees: tuple[str, ...], mission_path: str) -> tuple[str, ...]:
+    """--trees for a mutant: each folder as its `*.xml` files (name order, as the loader reads
+    it) without the mission itself, which the loader leaves out of a library by its path; the
+    mutant, written elsewhere, would otherwise meet the original's trees."""
+    mission = os.path.realpath(mission_path)
+    out: list[str] = []
+    for path in trees:
+        if os.path.isdir(path):
+            found = sorted(
+                os.path.join(path, f)
+                for f in os.listdir(path)
+                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
+            )
+        else:
+            found = [path]
+        out += [f for f in found if os.path.realpath(f) != mission]
+    return tuple(out)
+
+
 # ---------------------------------------------------------------- killing
 def _observe(mission: Mission, sc: Scenario) -> list[list[Event]]:
     try:
@@ -145,9 +167,107 @@ def killer(mission: Mission, suite: list[tuple[str, Scenario]], seen: list[list[
     return None
 
 
-def decide(original: Mission, mutant: Mission, args, clock_ms: int) -> Verdict:
+def _interp_trace(mission: Mission, sc: Scenario) -> str:
+    """The interpreter's trace (`btgen run`'s output); a run-time error ends it with its message."""
+    from btgen.interp.engine import Interpreter, run_ticks
+
+    parts: list[str] = []
+    try:
+        run_ticks(Interpreter(mission, sc), sc, parts.append)
+    except UserError as e:
+        return "".join(parts) + "".join(str(d) + "\n" for d in e.diagnostics)
+    return "".join(parts)
+
+
+def _cpp_trace(path: str, opts, scenario_path: str) -> str:
+    """The compiled C++ executor's trace of the scenario (`btgen run --engine cpp`: built once
+    per mission, cached); its errors, as the interpreter gives them, end it (its warnings, about
+    the scenario's lines, are the interpreter's too and are left out)."""
+    import subprocess
+
+    from btgen.tools.cppengine import build_cpp
+
+    binary = build_cpp(path, None, opts)
+    proc = subprocess.run([str(binary), scenario_path], capture_output=True, check=False)
+    errors = [ln for ln in proc.stderr.decode("utf-8", "replace").splitlines(True) if ": error: " in ln]
+    return proc.stdout.decode("utf-8", "replace") + "".join(errors)
+
+
+def _first_line(a: str, b: str) -> str:
+    la, lb = a.splitlines(), b.splitlines()
+    for i in range(max(len(la), len(lb))):
+        x = la[i] if i < len(la) else "(nothing)"
+        y = lb[i] if i < len(lb) else "(nothing)"
+        if x != y:
+            return f"line {i + 1}: `{x}` / `{y}`"
+    return "the same"
+
+
+_CHANGE = re.compile(r"[0-9]+ (\S+) (\".*\") (\S+) -> (\S+)\Z")
+_ERROR = re.compile(r".*?:[0-9]+:[0-9]+: (error: .*)\Z")
+
+
+def visible(trace: str, leaves: set[str]) -> list[str]:
+    """What a trace shows of the run that a mutant cannot change by its edit alone: the ticks,
+    the status changes of the user leaves (ID, name, from, to: no UID, which a dropped node
+    renumbers), the root's results and the errors (without the file's path)."""
+    out = []
+    for line in trace.splitlines():
+        m = _CHANGE.match(line)
+        if m is not None:
+            if m.group(1) in leaves:
+                out.append("{} {} {} -> {}".format(*m.groups()))
+            continue
+        e = _ERROR.match(line)
+        out.append(e.group(1) if e is not None else line)
+    return out
+
+
+def _user_leaves(mission: Mission) -> set[str]:
+    from btgen.lang.leaves import is_scripted_leaf
+    from btgen.tools.gtests import _walk
+
+    return {n.id for n in _walk(mission) if is_scripted_leaf(mission, n)}
+
+
+def replay_cpp(original: Mission, mutant: Mission, text: str, paths: tuple[str, str], opts) -> str:
+    """The killing scenario of a survivor on the compiled C++ executor: the original and the mutant
+    each built and run on it; each trace must be the interpreter's (else an engine disagreement,
+    reported), and the two traces differ (killed there too), or they are the same on both engines
+    (the difference is in what `btgen diff` observes besides the statuses: a leaf's input values,
+    a blackboard write)."""
+    with tempfile.TemporaryDirectory(prefix="btgen-mutate-cpp-") as tmp:
+        sc_path = os.path.join(tmp, "kill.scenario")
+        with open(sc_path, "w", encoding="utf-8") as f:
+            f.write(text)
+        sc = parse_scenario_text(text, sc_path)
+        got = []
+        for mission, path, who in ((original, paths[0], "original"), (mutant, paths[1], "mutant")):
+            try:
+                cpp = _cpp_trace(path, opts[who], sc_path)
+            except UserError as e:
+                why = e.diagnostics[0].message if e.diagnostics else "refused"
+                return f"not replayed on the C++ executor: the C++ back end refuses the {who} ({why})"
+            interp = _interp_trace(mission, sc)
+            if cpp != interp:
+                raise InternalError(
+                    f"btgen mutate: the killing scenario's run of the {who} differs between the interpreter and "
+                    f"the C++ executor ({_first_line(interp, cpp)})\n{text}"
+                )
+            got.append(visible(cpp, _user_leaves(mission)))
+    if got[0] != got[1]:
+        where = _first_line("\n".join(got[0]), "\n".join(got[1]))
+        return f"killed on the C++ executor too: the leaves' status changes differ, {where}"
+    return (
+        "the C++ executor gives each the interpreter's trace, and the leaves' status changes are the same: "
+        "the difference is in the leaves' input values or the blackboard"
+    )
+
+
+def decide(original: Mission, mutant: Mission, args, clock_ms: int, cpp=None) -> Verdict:
     """A survivor through the product search: equivalent (exhaustive), a killing scenario, or
-    undecided (the tick bound or the state budget stopped the search)."""
+    undecided (the tick bound or the state budget stopped the search). `cpp`: (paths, options)
+    of the original and the mutant, to replay a killing scenario on the C++ executor too."""
     differ = Differ(original, mutant, None, args.max_ticks, clock_ms, args.max_states)
     out = differ.decide()
     dummy = Mutant("", "", Loc("", 1, 1), "", "")
@@ -165,7 +285,8 @@ def decide(original: Mission, mutant: Mission, args, clock_ms: int) -> Verdict:
     sc = parse_scenario_text(text, "<survivor>")
     if first_difference(_observe(original, sc), _observe(mutant, sc)) is None:
         raise InternalError("btgen mutate: the product search's scenario does not replay as a difference")
-    return Verdict(dummy, "survived", scenario=text, states=out.states)
+    shown = replay_cpp(original, mutant, text, *cpp) if cpp is not None else ""
+    return Verdict(dummy, "survived", scenario=text, states=out.states, cpp=shown)
 
 
 # ---------------------------------------------------------------- the run
@@ -183,8 +304,6 @@ def run_mutation(args) -> Report:
 
     t0 = time.perf_counter()
     opts = pipeline.options_from_args(args)
-    if opts.trees:
-        raise cmdline.error(args, "--trees", "--trees: not supported by `btgen mutate` yet (it mutates one file)")
     original = pipeline.load(args.mission, opts)
     print_diagnostics(original.warnings)
     files = suite_files(args)
@@ -197,11 +316,12 @@ def run_mutation(args) -> Report:
     report = Report(args.mission, args.tests, len(suite), clock_ms)
     t_load = t_runs = t_search = 0.0
     name = os.path.basename(args.mission)
+    mutant_opts = dataclasses.replace(opts, trees=library_files(opts.trees, args.mission))
     with tempfile.TemporaryDirectory(prefix="btgen-mutate-") as tmp:
         for i, m in enumerate(mutants, start=1):
             _progress(i, len(mutants))
             t = time.perf_counter()
-            loaded = load_mutant(tmp, name, m, opts)
+            loaded = load_mutant(tmp, name, m, mutant_opts)
             t_load += time.perf_counter() - t
             if isinstance(loaded, str):
                 report.verdicts.append(Verdict(m, "discarded", reason=loaded))
@@ -213,7 +333,10 @@ def run_mutation(args) -> Report:
                 report.verdicts.append(Verdict(m, "killed", killed_by=by))
                 continue
             t = time.perf_counter()
-            v = decide(original, loaded, args, clock_ms)
+            cpp = None
+            if getattr(args, "replay", "both") == "both":
+                cpp = ((args.mission, os.path.join(tmp, name)), {"original": opts, "mutant": mutant_opts})
+            v = decide(original, loaded, args, clock_ms, cpp)
             v.seconds = time.perf_counter() - t
             t_search += v.seconds
             v.mutant = m
@@ -252,6 +375,8 @@ def print_text(report: Report) -> None:
             print(f"  {_line(v.mutant)}")
             for text in v.scenario.splitlines():
                 print(f"      {text}")
+            if v.cpp:
+                print(f"      ({v.cpp})")
     undecided = [v for v in r.verdicts if v.status == "undecided"]
     if undecided:
         print(f"undecided ({len(undecided)}): survived the suite; the product search stopped before a proof")
@@ -312,6 +437,7 @@ def report_json(report: Report) -> dict:
                 **({"killed_by": v.killed_by} if v.killed_by else {}),
                 **({"reason": v.reason} if v.reason else {}),
                 **({"scenario": v.scenario} if v.scenario else {}),
+                **({"cpp_replay": v.cpp} if v.cpp else {}),
                 **(
                     {"product_states": v.states, "search_seconds": round(v.seconds, 3)}
                     if v.status in ("equivalent", "undecided", "survived")
