@@ -33,6 +33,7 @@ from btgen.ir.data.state import (
     PortAccess,
     PortUse,
     SetCopyUse,
+    SetKeyUse,
     SetLiteralUse,
     Slot,
     StatusParam,
@@ -310,6 +311,40 @@ class Compiler:
             return None
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
         return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
+
+    def set_key(self, inst: Inst, op: SetKeyUse) -> Optional[DataOp]:
+        """SetBlackboard output_key="{key}": getInput<std::string> of the key's entry, then the
+        operation of a SetBlackboard written with that text as its output_key."""
+        k = self.a.slots[op.slot]
+        what = f'`SetBlackboard` "{inst.node.display_name}"'
+        if k.kind != kinds.STRING:
+            self.error(
+                op.loc,
+                f"port `output_key` of {what} reads the key from blackboard entry `{op.key}`, which holds "
+                f"{describe_kind(k.kind or 'none')} ({k.origin_text}); the C++ back end follows a key read "
+                f"from a string entry",
+            )
+            return None
+        cases: list[tuple[str, ops.DataLeafOp]] = []
+        for text, use in op.cases:
+            code = self.set_literal(inst, use) if isinstance(use, SetLiteralUse) else self.set_copy(inst, use)
+            if code is None:
+                return None
+            assert isinstance(
+                code.op, (ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
+            ), code
+            cases.append((text, code.op))
+        prefix = f"{what}: port `output_key` reads blackboard entry `{op.key}`, which"
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {{{op.key}}}',
+            ops.SetKey(
+                op.slot,
+                self.fail(op.loc, f"{prefix} does not exist"),
+                self.fail(op.loc, f"{prefix} has no value yet"),
+                tuple(cases),
+            ),
+        )
 
     def overflow_message(self, text: str, s: Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
@@ -896,6 +931,10 @@ class Compiler:
                     data_leaves.append(code)
             elif isinstance(op, SetCopyUse):
                 code = self.set_copy(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif isinstance(op, SetKeyUse):
+                code = self.set_key(inst, op)
                 if code is not None:
                     data_leaves.append(code)
             elif isinstance(op, EntryUse):

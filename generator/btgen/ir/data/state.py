@@ -157,6 +157,18 @@ class SetCopyUse:
 
 
 @dataclass(frozen=True)
+class SetKeyUse:
+    """SetBlackboard output_key="{key}": the destination's key is read from entry `key` when the
+    node runs; `cases`: one write per text that entry can hold (every value it is given is a
+    literal), each resolved as if it were written as output_key."""
+
+    slot: int  # the entry holding the key
+    key: str
+    loc: Loc  # the `output_key` attribute
+    cases: tuple[tuple[str, Union[SetLiteralUse, SetCopyUse]], ...]
+
+
+@dataclass(frozen=True)
 class SwitchUse:
     reads: tuple[tuple[str, Optional[str], Optional[int]], ...]  # (port, text, slot): variable, then cases
     cases: int
@@ -193,7 +205,17 @@ class PortAccess:
 
 
 NodeUse = Union[
-    IndexWriteUse, ParamUse, StatusParam, UnsetUse, EntryUse, SetLiteralUse, SetCopyUse, SwitchUse, LoopUse, PortUse
+    IndexWriteUse,
+    ParamUse,
+    StatusParam,
+    UnsetUse,
+    EntryUse,
+    SetLiteralUse,
+    SetCopyUse,
+    SetKeyUse,
+    SwitchUse,
+    LoopUse,
+    PortUse,
 ]
 
 
