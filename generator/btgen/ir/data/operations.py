@@ -407,7 +407,15 @@ class Compiler:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
         loc = op.loc
         src_decl = s.entry.type_name
-        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
+        # From a static entry a port declared (int, double, bool, NodeStatus): 4.6.2 copies its
+        # value as it is (`dst_entry->value = src_entry->value`); from 4.7.0 a missing destination
+        # would take the source's type, which a dynamic slot does not keep (refused below).
+        typed_src = s.kind in (kinds.INT, kinds.DOUBLE, kinds.BOOL, kinds.STATUS) and src_decl not in (
+            values.ANY,
+            values.STRING,
+        )
+        v462_typed = typed_src and not self.a.m.semantics.setblackboard_converts_to_entry_type
+        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not v462_typed):
             self.error(
                 loc,
                 f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
