@@ -96,3 +96,55 @@ def test_a_key_held_by_a_number_entry_is_refused(tmp_path):
 def test_a_key_naming_the_key_entry_of_a_set_blackboard_is_refused(tmp_path):
     msg = _refusal(tmp_path, """<Script code="k := 'k'"/>\n      <SetBlackboard value="k" output_key="{k}"/>""")
     assert "holds the key of a SetBlackboard" in msg, msg
+
+
+ALLOC_MAIN = r"""
+#include <cstdio>
+
+#include "btgen/clock.hpp"
+#include "btgen/testing/alloc_counter.hpp"
+#include "key_switches_between_entries.hpp"
+
+namespace {
+struct Leaves {
+  int calls = 0;
+  btgen::Status check(key_switches_between_entries::leaf::Pick&, const btgen::NodeInfo&) {
+    return (calls++ % 3 == 0) ? btgen::Status::SUCCESS : btgen::Status::FAILURE;
+  }
+};
+}  // namespace
+
+int main() {
+  Leaves leaves;
+  btgen_test::AllocationScope scope;
+  long completed = 0;
+  {
+    key_switches_between_entries::KeySwitchesBetweenEntries<Leaves, btgen::ManualClock> mission(leaves);
+    for (int i = 0; i < 20000; ++i) completed += btgen::is_completed(mission.tick()) ? 1 : 0;
+  }
+  const std::size_t allocations = scope.count();  // (before printf, whose buffer may allocate)
+  std::printf("allocations %zu completed %ld picks %d\n", allocations, completed, leaves.calls);
+  return allocations == 0 && completed > 0 ? 0 : 1;
+}
+"""
+
+
+def test_a_key_read_at_run_time_allocates_nothing(tmp_path):
+    """Construct the mission and tick it 20,000 times, the key switching between entries: no
+    heap allocation (btgen_test::AllocationScope counts operator new and malloc)."""
+    import subprocess
+
+    import cppbuild
+    from btgen.backend_cpp.emit import render
+
+    stem = "key_switches_between_entries"
+    for out in render(lower(pipeline.load(os.path.join(HERE, stem + ".xml"))), stem, str(tmp_path)):
+        (tmp_path / out.name).write_text(out.text, encoding="utf-8")
+    (tmp_path / "main.cpp").write_text(ALLOC_MAIN, encoding="utf-8")
+    counter = os.path.join(ROOT, "runtime", "src", "testing", "alloc_counter.cpp")
+    exe = cppbuild.build(
+        [tmp_path / "main.cpp", counter], tmp_path / "alloc", opt="-O2", includes=[tmp_path], cwd=tmp_path
+    )
+    proc = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60, check=False)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stdout.startswith("allocations 0 completed "), proc.stdout

@@ -70,7 +70,7 @@ INT_MIN_TEXT, INT_MAX_TEXT = "-2147483648", "2147483647"
 EDGE_COUNTS = ("0", "-0", "-2", INT_MIN_TEXT, INT_MAX_TEXT, "2.5", "1abc", "0x3", "-1", "1", "2")
 EDGE_DURATIONS = ("0", "-0", "0x9", "5x", "1.9")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
-DYN_KEY_NAMES = ("v", "w", "s", "fresh2")  # the names `dk` holds (`fresh2`: an entry only it creates)
+DYN_KEY_NAMES = ("v", "w", "fresh2")  # the names `dk` holds (`fresh2`: an entry only it creates)
 
 CONTROLS = (
     "Sequence",
