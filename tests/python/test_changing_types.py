@@ -1,6 +1,8 @@
 """tests/conformance/changing-types/: SetBlackboard copies between entries a port typed and entries
-whose type changes at run time (issue 44, item d), recorded on the real 4.6.2 and 4.10.0 (traces
-cut short where the library threw), through both engines.
+whose type changes at run time (issue 44, item d), and scripts storing a value of changing type
+into an int entry a port declared (item c: `script_store_dynamic_into_int_*`, a boolean, whole
+and fractional numbers, a number's text and other text), recorded on the real 4.6.2 and 4.10.0
+(traces cut short where the library threw), through both engines.
 
 KNOWN: recordings neither engine follows yet; REFUSED: missions the C++ back end still refuses;
 each a strict expected failure with its reason."""
@@ -50,7 +52,7 @@ def _cases(refused=None):
 
 
 def test_every_case_is_recorded_on_both_releases():
-    assert len(rc.stems(HERE)) >= 6
+    assert len(rc.stems(HERE)) >= 12
     assert len(rc.recorded(HERE)) == 2 * len(rc.stems(HERE))
     for stem in rc.stems(HERE):
         with open(os.path.join(HERE, stem + ".xml"), encoding="utf-8") as f:
