@@ -1,6 +1,7 @@
-"""tests/conformance/dynamic-keys/: `SetBlackboard output_key="{key}"`, the destination's key read
-from an entry when the node runs (issue 44; found on a real project's file), recorded on the real
-4.6.2 and 4.10.0 (traces cut short where the library threw), through both engines."""
+"""tests/conformance/dynamic-keys/: `SetBlackboard output_key="{key}"` (and `UnsetBlackboard
+key="{key}"`), the key read from an entry when the node runs (issue 44; found on a real
+project's file), recorded on the real 4.6.2 and 4.10.0 (traces cut short where the library
+threw), through both engines."""
 
 import os
 

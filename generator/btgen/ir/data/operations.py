@@ -238,9 +238,11 @@ class Compiler:
 
     def mark_unsets(self) -> None:
         """Entries UnsetBlackboard can remove may be missing when a script runs."""
-        for inst, op in self.a.node_ops:
-            if not isinstance(op, UnsetUse):
-                continue
+        unsets = [(inst, op) for inst, op in self.a.node_ops if isinstance(op, UnsetUse)]
+        for inst, op in self.a.node_ops:  # a key read from an entry: each key it may hold
+            if isinstance(op, SetKeyUse):
+                unsets.extend((inst, u) for _, u in op.cases if isinstance(u, UnsetUse))
+        for inst, op in unsets:
             entry = inst.bb.local_entry(op.key)
             if entry is None:
                 continue
@@ -316,28 +318,33 @@ class Compiler:
         """SetBlackboard output_key="{key}": getInput<std::string> of the key's entry, then the
         operation of a SetBlackboard written with that text as its output_key."""
         k = self.a.slots[op.slot]
-        what = f'`SetBlackboard` "{inst.node.display_name}"'
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
         if k.kind != kinds.STRING:
             self.error(
                 op.loc,
-                f"port `output_key` of {what} reads the key from blackboard entry `{op.key}`, which holds "
+                f"port `{op.port}` of {what} reads the key from blackboard entry `{op.key}`, which holds "
                 f"{describe_kind(k.kind or 'none')} ({k.origin_text}); the C++ back end follows a key read "
                 f"from a string entry",
             )
             return None
         cases: list[tuple[str, ops.DataLeafOp]] = []
         for text, use in op.cases:
-            code = self.set_literal(inst, use) if isinstance(use, SetLiteralUse) else self.set_copy(inst, use)
+            if isinstance(use, UnsetUse):
+                code: Optional[DataOp] = self.unset(inst, use)
+            elif isinstance(use, SetLiteralUse):
+                code = self.set_literal(inst, use)
+            else:
+                code = self.set_copy(inst, use)
             if code is None:
                 return None
             assert isinstance(
-                code.op, (ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
+                code.op, (ops.Unset, ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
             ), code
             cases.append((text, code.op))
-        prefix = f"{what}: port `output_key` reads blackboard entry `{op.key}`, which"
+        prefix = f"{what}: port `{op.port}` reads blackboard entry `{op.key}`, which"
         return DataOp(
             inst.index,
-            f'SetBlackboard "{inst.node.display_name}" {{{op.key}}}',
+            f'{inst.reg_id} "{inst.node.display_name}" {{{op.key}}}',
             ops.SetKey(
                 op.slot,
                 self.fail(op.loc, f"{prefix} does not exist"),

@@ -401,11 +401,11 @@ class Analysis:
             p = inst.ports["key"]
             key = p.raw
             if bbmod.is_blackboard_pointer(key):
-                self.error(
-                    p.loc_or or node.loc,
-                    f"port `key` of {inst.what} reads the key from blackboard entry "
-                    f"`{key}`; the C++ back end needs the key written here",
-                )
+                # The key is read from an entry when the node runs (collect_set_keys).
+                name = bbmod.strip_blackboard_pointer(key) or key
+                slot = self.resolve(inst.bb, name, p.loc_or or node.loc)
+                if slot is not None:
+                    self.pending_keys.append((inst, slot, name, p.loc_or or node.loc, self.next_order()))
                 return
             self.node_ops.append((inst, UnsetUse(key, p.loc_or or node.loc)))
         elif nid in ENTRY_NODES:
@@ -509,13 +509,15 @@ class Analysis:
         blackboard, picked at run time by the entry's text."""
         key_slots = {slot for _, slot, _, _, _ in self.pending_keys}
         for inst, slot, key, loc, order in self.pending_keys:
+            unset = inst.reg_id == "UnsetBlackboard"
+            port = "key" if unset else "output_key"
             ks = self.slots[slot]
             texts: list[str] = []
             for w in sorted(ks.writes, key=lambda w: w.order):
                 if w.literal is None or not w.determining or w.source not in ("script", "set", "constant"):
                     self.error(
                         loc,
-                        f"port `output_key` of {inst.what} reads the key from blackboard entry `{key}`, "
+                        f"port `{port}` of {inst.what} reads the key from blackboard entry `{key}`, "
                         f"which {w.what} writes with a value btgen cannot know before the run; the C++ "
                         f"back end follows a key read from an entry when every value it is given is a "
                         f"literal",
@@ -525,22 +527,25 @@ class Analysis:
                 if w.literal not in texts:
                     texts.append(w.literal)
             else:
-                cases = []
+                cases: list[tuple[str, Union[SetLiteralUse, SetCopyUse, UnsetUse]]] = []
                 for text in texts:
                     if bbmod.is_blackboard_pointer(text) or not text:
                         self.error(
                             loc,
-                            f"port `output_key` of {inst.what} reads the key `{text}` from blackboard entry "
+                            f"port `{port}` of {inst.what} reads the key `{text}` from blackboard entry "
                             f"`{key}`, which names no entry the C++ back end can write",
                         )
                         break
+                    if unset:  # (the entry need not exist: then nothing is removed)
+                        cases.append((text, UnsetUse(text, loc)))
+                        continue
                     dst = self.resolve(inst.bb, text, loc)
                     if dst is None:
                         break
                     if dst in key_slots:
                         self.error(
                             loc,
-                            f"port `output_key` of {inst.what} may write blackboard entry `{text}`, which "
+                            f"port `{port}` of {inst.what} may write blackboard entry `{text}`, which "
                             f"holds the key of a SetBlackboard; the C++ back end cannot follow that",
                         )
                         break
@@ -549,7 +554,7 @@ class Analysis:
                         break
                     cases.append((text, use))
                 else:
-                    self.node_ops.append((inst, SetKeyUse(slot, key, loc, tuple(cases))))
+                    self.node_ops.append((inst, SetKeyUse(slot, key, loc, tuple(cases), port)))
         self.pending_keys.clear()
 
     def _queue_literal(self, slot: int, text: str) -> None:

@@ -158,14 +158,15 @@ class SetCopyUse:
 
 @dataclass(frozen=True)
 class SetKeyUse:
-    """SetBlackboard output_key="{key}": the destination's key is read from entry `key` when the
-    node runs; `cases`: one write per text that entry can hold (every value it is given is a
-    literal), each resolved as if it were written as output_key."""
+    """SetBlackboard output_key="{key}" (UnsetBlackboard key="{key}"): the key is read from entry
+    `key` when the node runs; `cases`: one operation per text that entry can hold (every value
+    it is given is a literal), each as if that text were written in the port."""
 
     slot: int  # the entry holding the key
     key: str
-    loc: Loc  # the `output_key` attribute
-    cases: tuple[tuple[str, Union[SetLiteralUse, SetCopyUse]], ...]
+    loc: Loc  # the port's attribute
+    cases: tuple[tuple[str, Union[SetLiteralUse, SetCopyUse, UnsetUse]], ...]
+    port: str = "output_key"
 
 
 @dataclass(frozen=True)
