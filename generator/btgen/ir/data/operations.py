@@ -414,15 +414,14 @@ class Compiler:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
         loc = op.loc
         src_decl = s.entry.type_name
-        # From a static entry a port declared (int, double, bool, NodeStatus): 4.6.2 copies its
-        # value as it is (`dst_entry->value = src_entry->value`); from 4.7.0 a missing destination
-        # would take the source's type, which a dynamic slot does not keep (refused below).
-        typed_src = s.kind in (kinds.INT, kinds.DOUBLE, kinds.BOOL, kinds.STATUS) and src_decl not in (
-            values.ANY,
-            values.STRING,
-        )
-        v462_typed = typed_src and not self.a.m.semantics.setblackboard_converts_to_entry_type
-        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not v462_typed):
+        # From a static entry a port declared int, double, bool or NodeStatus: 4.6.2 copies its
+        # value as it is (`dst_entry->value = src_entry->value`); from 4.7.0 it is set<BT::Any>
+        # (btgen::dyn::set_copy_410), but a missing destination would take the source's type,
+        # which a dynamic slot does not keep: only into one that exists from load on.
+        typed_src = s.kind != DYN and src_decl in (values.INT, values.DOUBLE, values.BOOL, values.NODE_STATUS)
+        exists = d.at_load and not d.unset
+        typed_ok = typed_src and (not self.a.m.semantics.setblackboard_converts_to_entry_type or exists)
+        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
                 f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
@@ -433,7 +432,8 @@ class Compiler:
             return None
         v410 = self._dyn_410(inst, op.key, d, op.raw)
         if v410 is not None:
-            src_type = self._dyn_410_src_type(s)
+            # (a typed source: never read, the destination exists from load on)
+            src_type = "typed" if typed_ok else self._dyn_410_src_type(s)
             if src_type is None:
                 self.error(
                     loc,
