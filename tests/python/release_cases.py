@@ -65,9 +65,10 @@ class Batches:
     batched builds); a mission the front end refuses is left out (the library refused it too,
     which the caller checks)."""
 
-    def __init__(self, folder: str, work) -> None:
+    def __init__(self, folder: str, work, include=None) -> None:
         self.folder = folder
         self.work = work
+        self.include = include  # (stem, version) -> whether to build it (default: every one that loads)
         self.built: dict[str, tuple[object, list[str]]] = {}
 
     def build(self) -> Batches:
@@ -79,6 +80,8 @@ class Batches:
                 missions = []
                 for stem in stems(self.folder):
                     if not loads(self.folder, stem, version):
+                        continue
+                    if self.include is not None and not self.include(stem, version):
                         continue
                     rel = f"{stem}_{version.replace('.', '')}.xml"
                     with open(os.path.join(self.folder, stem + ".xml"), encoding="utf-8") as f:

@@ -104,9 +104,11 @@ def test_unchanged_output_keeps_its_mtime(compiled):
     [
         MISSION.format(name="Broken", n=2).replace("</Sequence>", ""),  # not well-formed
         MISSION.format(name="Broken", n="two"),  # fails validation
-        # valid, but the C++ back end rejects it (a SetBlackboard whose key is read from an entry)
+        # valid, but the C++ back end rejects it (a SetBlackboard whose key is read from an entry
+        # that a script gives a value btgen cannot know before the run)
         MISSION.format(name="Broken", n=2).replace(
-            "<Move/>", '<Script code="target := \'x\'"/><SetBlackboard value="1" output_key="{target}"/>'
+            "<Move/>",
+            '<Script code="target := \'x\'; target += \'y\'"/><SetBlackboard value="1" output_key="{target}"/>',
         ),
     ],
 )

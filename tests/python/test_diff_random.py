@@ -244,6 +244,9 @@ def test_missions_for_each_release_are_valid_and_reach_the_later_features(tmp_pa
 
     conds = re.findall(r"<(?:IfThenElse|WhileDoElse)[^>]*>(<[^>]*>)", text)
     assert any("_skipIf" in c or "_while" in c or 'then_skip="true"' in c or c.startswith("<Sequence") for c in conds)
+    if features == "dynamic":  # SetBlackboard output_key="{dk}", the key read when it runs
+        assert re.search(r'value="[^{"]*" output_key="\{dk\}"', text)  # a literal
+        assert re.search(r'value="\{[vw]\}" output_key="\{dk\}"', text)  # a copy of changing type
 
 
 def test_random_case_keeps_its_4_6_2_default():

@@ -118,7 +118,18 @@ class SetCopyDyn:
     v410: Optional[DynSet410] = None  # into an entry no port declared, from 4.7.0
 
 
-DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn]
+@dataclass(frozen=True)
+class SetKey:
+    """SetBlackboard output_key="{key}": the text of string entry `slot` picks one of `cases`
+    (each the operation of a SetBlackboard written with that output_key)."""
+
+    slot: int
+    missing: Fail  # the key's entry does not exist
+    empty: Fail  # it has no value
+    cases: tuple[tuple[str, DataLeafOp], ...]
+
+
+DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey]
 
 
 # ------------------------------------------------------------ other data nodes

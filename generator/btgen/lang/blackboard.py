@@ -481,6 +481,13 @@ def set_blackboard(bb: Blackboard, output_key: str, value_text: str) -> bool:
         dst.value = out
         dst.bump()
         return True
+    if dst.strongly_typed and (dst.type_name == STRING or not isinstance(out, str)):
+        # Any other value is copied as it is too: the entry keeps its declared type and holds the
+        # source's value (recorded: tests/conformance/changing-types/, a number into an entry a
+        # port declared string or double); reading it then casts (Any::cast), as the library does.
+        dst.value = out
+        dst.bump()
+        return True
     if dst.strongly_typed and dst.type_name != STRING and isinstance(out, str):
         if not dst.has_converter:
             raise BlackboardError(f"SetBlackboard: cannot convert {values.describe(out)} to {dst.type_name}")

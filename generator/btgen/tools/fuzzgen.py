@@ -70,6 +70,7 @@ INT_MIN_TEXT, INT_MAX_TEXT = "-2147483648", "2147483647"
 EDGE_COUNTS = ("0", "-0", "-2", INT_MIN_TEXT, INT_MAX_TEXT, "2.5", "1abc", "0x3", "-1", "1", "2")
 EDGE_DURATIONS = ("0", "-0", "0x9", "5x", "1.9")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
+DYN_KEY_NAMES = ("v", "w", "fresh2")  # the names `dk` holds (`fresh2`: an entry only it creates)
 
 CONTROLS = (
     "Sequence",
@@ -293,6 +294,11 @@ class _Gen:
         # `ld`, declared double at load by a LoopDouble that never runs and set by the init
         # script: SetBlackboard writes hex and special float texts into it, conditions read it.
         self.typed_ld = self.data and not self.hostile and self.xrng.random() < 0.5
+        # `dynamic`: `dk`, the key a SetBlackboard output_key="{dk}" reads when it runs, given
+        # literal names of the root's entries by scripts (issue 44).
+        # (their own generator too, so the missions of earlier seeds change only where they are picked)
+        self.krng = random.Random(seed * 104729 + BTCPP_VERSIONS.index(btcpp) * 17 + len(features))
+        self.dyn_keys = self.dyn and not self.hostile and self.krng.random() < 0.6
 
     def _subtree_mode(self) -> str:
         if not self.data:
@@ -640,6 +646,8 @@ class _Gen:
                     self.xrng.choice((FLOAT_TEXTS[:2], FLOAT_TEXTS[2:], FLOAT_TEXTS_462 + ("2.5", "abc")))
                 )
                 return f'<SetBlackboard{self.name_attr()} value={_xml_attr(text)} output_key="ld"/>'
+            if self.dyn_keys and scope.main_like and d < 0.75 and self.krng.random() < 0.7:
+                return self.dynamic_key_leaf()
             if d < 0.75:
                 # A literal is a string (4.6.2 stores the text): only into string entries.
                 if rng.random() < 0.5:  # a copy between two integer entries
@@ -702,6 +710,18 @@ class _Gen:
             + "  </TreeNodesModel>\n</root>\n"
         )
 
+    def dynamic_key_leaf(self) -> str:
+        """A Script pointing `dk` at another root entry, or a SetBlackboard writing the entry
+        `dk` names (a literal, a copy of a dynamic, string or integer entry; under 4.6.2 also of
+        the double entry `ld` a port typed). Unnamed: it draws nothing from the main generator."""
+        x = self.krng
+        if x.random() < 0.35:
+            return f'<Script code="dk := {x.choice(DYN_KEY_NAMES)!r}"/>'
+        values = ['"7"', '"abc"', '"2.5"', '"{v}"', '"{w}"', '"{s}"', '"{i0}"']
+        if self.typed_ld and not self.later:
+            values.append('"{ld}"')
+        return f'<SetBlackboard value={x.choice(values)} output_key="{{dk}}"/>'
+
     def with_init(self, body: str) -> str:
         """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
         rng = self.rng
@@ -738,6 +758,10 @@ class _Gen:
             extra += f'<SetBlackboard value="{q}" output_key="q"/>'
         if self.dyn:
             init += f"; v := {self.dyn_value()}; w := {self.dyn_value()}"
+            if self.dyn_keys:
+                init += f"; dk := {self.krng.choice(DYN_KEY_NAMES)!r}"
+                if self.krng.random() < 0.5:
+                    extra += self.dynamic_key_leaf()
             # Never ticked: its untyped ports create `v` and `w` at load (type AnyTypeAllowed), before any
             # typed port could declare them.
             extra = '<Fallback><AlwaysSuccess/><Show what="{v}" other="{w}"/></Fallback>' + extra
@@ -757,6 +781,8 @@ _GENERATOR_NAMES = frozenset(
     ACTION_NAMES
     + CONDITION_NAMES
     + DYN_VARS
+    + DYN_KEY_NAMES
+    + ("dk",)
     + INT_VARS
     + PARAM_VARS
     + (

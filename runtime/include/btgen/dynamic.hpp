@@ -915,20 +915,8 @@ int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_
     slot.value.typed_string = src_string;
   }
   if (value.none()) return 0;
-  if (slot.value.typed_string) {
-    if (!value.is_string()) {
-      m.add("blackboard entry `").add(key).add("` is declared as string; it cannot be written with a any");
-      return -1;
-    }
-    Ref out;
-    Msg why;
-    if (!copy_into(value, ref(slot), out, why)) {
-      m.add("cannot write ");
-      add_value(m, value);
-      m.add(" to `").add(key).add("`: ").add(why.view());
-      return -1;
-    }
-  }
+  // 4.6.2 copies the value as it is (`dst_entry->value = src_entry->value`), into an entry
+  // declared std::string too: the entry keeps its type (typed_string) and holds the value.
   return put(slot, value, key, m) ? 1 : -1;
 }
 

@@ -33,6 +33,7 @@ from btgen.ir.data.state import (
     PortAccess,
     PortUse,
     SetCopyUse,
+    SetKeyUse,
     SetLiteralUse,
     Slot,
     StatusParam,
@@ -237,9 +238,11 @@ class Compiler:
 
     def mark_unsets(self) -> None:
         """Entries UnsetBlackboard can remove may be missing when a script runs."""
-        for inst, op in self.a.node_ops:
-            if not isinstance(op, UnsetUse):
-                continue
+        unsets = [(inst, op) for inst, op in self.a.node_ops if isinstance(op, UnsetUse)]
+        for inst, op in self.a.node_ops:  # a key read from an entry: each key it may hold
+            if isinstance(op, SetKeyUse):
+                unsets.extend((inst, u) for _, u in op.cases if isinstance(u, UnsetUse))
+        for inst, op in unsets:
             entry = inst.bb.local_entry(op.key)
             if entry is None:
                 continue
@@ -311,6 +314,45 @@ class Compiler:
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
         return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
 
+    def set_key(self, inst: Inst, op: SetKeyUse) -> Optional[DataOp]:
+        """SetBlackboard output_key="{key}": getInput<std::string> of the key's entry, then the
+        operation of a SetBlackboard written with that text as its output_key."""
+        k = self.a.slots[op.slot]
+        what = f'`{inst.reg_id}` "{inst.node.display_name}"'
+        if k.kind != kinds.STRING:
+            self.error(
+                op.loc,
+                f"port `{op.port}` of {what} reads the key from blackboard entry `{op.key}`, which holds "
+                f"{describe_kind(k.kind or 'none')} ({k.origin_text}); the C++ back end follows a key read "
+                f"from a string entry",
+            )
+            return None
+        cases: list[tuple[str, ops.DataLeafOp]] = []
+        for text, use in op.cases:
+            if isinstance(use, UnsetUse):
+                code: Optional[DataOp] = self.unset(inst, use)
+            elif isinstance(use, SetLiteralUse):
+                code = self.set_literal(inst, use)
+            else:
+                code = self.set_copy(inst, use)
+            if code is None:
+                return None
+            assert isinstance(
+                code.op, (ops.Unset, ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
+            ), code
+            cases.append((text, code.op))
+        prefix = f"{what}: port `{op.port}` reads blackboard entry `{op.key}`, which"
+        return DataOp(
+            inst.index,
+            f'{inst.reg_id} "{inst.node.display_name}" {{{op.key}}}',
+            ops.SetKey(
+                op.slot,
+                self.fail(op.loc, f"{prefix} does not exist"),
+                self.fail(op.loc, f"{prefix} has no value yet"),
+                tuple(cases),
+            ),
+        )
+
     def overflow_message(self, text: str, s: Slot) -> str:
         return kinds.overflow_message(text, s.key, s.capacity)
 
@@ -372,7 +414,14 @@ class Compiler:
         """SetBlackboard value="{src}" where the destination's or the source's type changes at run time."""
         loc = op.loc
         src_decl = s.entry.type_name
-        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING)):
+        # From a static entry a port declared int, double, bool or NodeStatus: 4.6.2 copies its
+        # value as it is (`dst_entry->value = src_entry->value`); from 4.7.0 it is set<BT::Any>
+        # (btgen::dyn::set_copy_410), but a missing destination would take the source's type,
+        # which a dynamic slot does not keep: only into one that exists from load on.
+        typed_src = s.kind != DYN and src_decl in (values.INT, values.DOUBLE, values.BOOL, values.NODE_STATUS)
+        exists = d.at_load and not d.unset
+        typed_ok = typed_src and (not self.a.m.semantics.setblackboard_converts_to_entry_type or exists)
+        if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
                 f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to "
@@ -383,7 +432,8 @@ class Compiler:
             return None
         v410 = self._dyn_410(inst, op.key, d, op.raw)
         if v410 is not None:
-            src_type = self._dyn_410_src_type(s)
+            # (a typed source: never read, the destination exists from load on)
+            src_type = "typed" if typed_ok else self._dyn_410_src_type(s)
             if src_type is None:
                 self.error(
                     loc,
@@ -896,6 +946,10 @@ class Compiler:
                     data_leaves.append(code)
             elif isinstance(op, SetCopyUse):
                 code = self.set_copy(inst, op)
+                if code is not None:
+                    data_leaves.append(code)
+            elif isinstance(op, SetKeyUse):
+                code = self.set_key(inst, op)
                 if code is not None:
                     data_leaves.append(code)
             elif isinstance(op, EntryUse):

@@ -4,7 +4,7 @@ XML loader does it, and every key a node reads or writes resolved to one slot.""
 from __future__ import annotations
 
 import functools
-from typing import Callable, Optional
+from typing import Callable, Optional, Union
 
 from btgen.diagnostics import DiagnosticSink, Loc
 from btgen.ir import kinds
@@ -18,6 +18,7 @@ from btgen.ir.data.state import (
     ParamUse,
     PortUse,
     SetCopyUse,
+    SetKeyUse,
     SetLiteralUse,
     Slot,
     StatusParam,
@@ -57,6 +58,8 @@ class Analysis:
         # per-node uses, filled by _collect
         self.script_uses: list[tuple[Inst, Attr, str, sc.Script, dict[str, int], bool]] = []
         self.node_ops: list[tuple[Inst, NodeUse]] = []
+        # SetBlackboard nodes whose output_key names an entry: (inst, its slot, key, place, order)
+        self.pending_keys: list[tuple[Inst, int, str, Loc, int]] = []
         self.user = {t.kind: t for t in mission.user_types}  # kind -> usertypes.UserType
         self.user_kinds = kinds.UserKinds.of(mission.user_types)
 
@@ -240,6 +243,7 @@ class Analysis:
     def collect(self) -> None:
         for inst in self.insts:
             self._collect_node(inst)
+        self.collect_set_keys()
 
     def _collect_node(self, inst: Inst) -> None:
         node = inst.node
@@ -397,11 +401,11 @@ class Analysis:
             p = inst.ports["key"]
             key = p.raw
             if bbmod.is_blackboard_pointer(key):
-                self.error(
-                    p.loc_or or node.loc,
-                    f"port `key` of {inst.what} reads the key from blackboard entry "
-                    f"`{key}`; the C++ back end needs the key written here",
-                )
+                # The key is read from an entry when the node runs (collect_set_keys).
+                name = bbmod.strip_blackboard_pointer(key) or key
+                slot = self.resolve(inst.bb, name, p.loc_or or node.loc)
+                if slot is not None:
+                    self.pending_keys.append((inst, slot, name, p.loc_or or node.loc, self.next_order()))
                 return
             self.node_ops.append((inst, UnsetUse(key, p.loc_or or node.loc)))
         elif nid in ENTRY_NODES:
@@ -428,16 +432,27 @@ class Analysis:
     def _collect_set_blackboard(self, inst: Inst) -> None:
         node = inst.node
         out = inst.ports["output_key"]
+        out_loc = out.loc_or or node.loc
         if bbmod.is_blackboard_pointer(out.raw):
-            self.error(
-                out.loc_or or node.loc,
-                f"port `output_key` of {inst.what} reads the key from blackboard "
-                f"entry `{out.raw}`; the C++ back end needs the key written here",
-            )
+            # The key is read from an entry when the node runs: its writes are only all known
+            # once every node is collected (collect_set_keys).
+            key = bbmod.strip_blackboard_pointer(out.raw) or out.raw
+            slot = self.resolve(inst.bb, key, out_loc)
+            if slot is not None:
+                self.pending_keys.append((inst, slot, key, out_loc, self.next_order()))
             return
-        dst = self.resolve(inst.bb, out.raw, out.loc_or or node.loc)
+        dst = self.resolve(inst.bb, out.raw, out_loc)
         if dst is None:
             return
+        use = self._set_blackboard_use(inst, dst, out.raw, self.next_order())
+        if use is not None:
+            self.node_ops.append((inst, use))
+
+    def _set_blackboard_use(
+        self, inst: Inst, dst: int, out_key: str, order: int
+    ) -> Optional[Union[SetLiteralUse, SetCopyUse]]:
+        """The write of a SetBlackboard into slot `dst` (named `out_key`), and its use."""
+        node = inst.node
         value = inst.ports["value"]
         src_key = bbmod.strip_blackboard_pointer(value.raw)
         loc = value.loc_or or node.loc
@@ -455,7 +470,7 @@ class Analysis:
             self.slots[dst].writes.append(
                 Write(
                     dst,
-                    self.next_order(),
+                    order,
                     loc,
                     what,
                     lit_kind,
@@ -466,16 +481,15 @@ class Analysis:
                 )
             )
             self._queue_literal(dst, text)
-            self.node_ops.append((inst, SetLiteralUse(dst, text, loc, out.raw)))
-            return
+            return SetLiteralUse(dst, text, loc, out_key)
         src = self.resolve(inst.bb, src_key, loc)
         if src is None:
-            return
+            return None
         what = f'`value="{value.raw}"` of {inst.what}'
         self.slots[dst].writes.append(
             Write(
                 dst,
-                self.next_order(),
+                order,
                 loc,
                 what,
                 lambda s=src: self.slots[s].kind,
@@ -485,7 +499,63 @@ class Analysis:
                 "copy",
             )
         )
-        self.node_ops.append((inst, SetCopyUse(dst, src, loc, out.raw, src_key, value.raw)))
+        return SetCopyUse(dst, src, loc, out_key, src_key, value.raw)
+
+    def collect_set_keys(self) -> None:
+        """SetBlackboard output_key="{key}": the library reads the key when the node runs and
+        writes the entry of that name. The C++ back end follows it when every value the key's
+        entry is given is a literal (a script's `key := 'name'`, a SetBlackboard literal, a
+        SubTree's constant port): each such name is a destination resolved from the node's
+        blackboard, picked at run time by the entry's text."""
+        key_slots = {slot for _, slot, _, _, _ in self.pending_keys}
+        for inst, slot, key, loc, order in self.pending_keys:
+            unset = inst.reg_id == "UnsetBlackboard"
+            port = "key" if unset else "output_key"
+            ks = self.slots[slot]
+            texts: list[str] = []
+            for w in sorted(ks.writes, key=lambda w: w.order):
+                if w.literal is None or not w.determining or w.source not in ("script", "set", "constant"):
+                    self.error(
+                        loc,
+                        f"port `{port}` of {inst.what} reads the key from blackboard entry `{key}`, "
+                        f"which {w.what} writes with a value btgen cannot know before the run; the C++ "
+                        f"back end follows a key read from an entry when every value it is given is a "
+                        f"literal",
+                    )
+                    texts = []
+                    break
+                if w.literal not in texts:
+                    texts.append(w.literal)
+            else:
+                cases: list[tuple[str, Union[SetLiteralUse, SetCopyUse, UnsetUse]]] = []
+                for text in texts:
+                    if bbmod.is_blackboard_pointer(text) or not text:
+                        self.error(
+                            loc,
+                            f"port `{port}` of {inst.what} reads the key `{text}` from blackboard entry "
+                            f"`{key}`, which names no entry the C++ back end can write",
+                        )
+                        break
+                    if unset:  # (the entry need not exist: then nothing is removed)
+                        cases.append((text, UnsetUse(text, loc)))
+                        continue
+                    dst = self.resolve(inst.bb, text, loc)
+                    if dst is None:
+                        break
+                    if dst in key_slots:
+                        self.error(
+                            loc,
+                            f"port `{port}` of {inst.what} may write blackboard entry `{text}`, which "
+                            f"holds the key of a SetBlackboard; the C++ back end cannot follow that",
+                        )
+                        break
+                    use = self._set_blackboard_use(inst, dst, text, order)
+                    if use is None:
+                        break
+                    cases.append((text, use))
+                else:
+                    self.node_ops.append((inst, SetKeyUse(slot, key, loc, tuple(cases), port)))
+        self.pending_keys.clear()
 
     def _queue_literal(self, slot: int, text: str) -> None:
         s = self.slots[slot]

@@ -157,6 +157,19 @@ class SetCopyUse:
 
 
 @dataclass(frozen=True)
+class SetKeyUse:
+    """SetBlackboard output_key="{key}" (UnsetBlackboard key="{key}"): the key is read from entry
+    `key` when the node runs; `cases`: one operation per text that entry can hold (every value
+    it is given is a literal), each as if that text were written in the port."""
+
+    slot: int  # the entry holding the key
+    key: str
+    loc: Loc  # the port's attribute
+    cases: tuple[tuple[str, Union[SetLiteralUse, SetCopyUse, UnsetUse]], ...]
+    port: str = "output_key"
+
+
+@dataclass(frozen=True)
 class SwitchUse:
     reads: tuple[tuple[str, Optional[str], Optional[int]], ...]  # (port, text, slot): variable, then cases
     cases: int
@@ -193,7 +206,17 @@ class PortAccess:
 
 
 NodeUse = Union[
-    IndexWriteUse, ParamUse, StatusParam, UnsetUse, EntryUse, SetLiteralUse, SetCopyUse, SwitchUse, LoopUse, PortUse
+    IndexWriteUse,
+    ParamUse,
+    StatusParam,
+    UnsetUse,
+    EntryUse,
+    SetLiteralUse,
+    SetCopyUse,
+    SetKeyUse,
+    SwitchUse,
+    LoopUse,
+    PortUse,
 ]
 
 

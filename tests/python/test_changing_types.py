@@ -1,0 +1,89 @@
+"""tests/conformance/changing-types/: SetBlackboard copies between entries a port typed and entries
+whose type changes at run time (issue 44, item d), a Loop writing into such an entry (item b,
+refused by the C++ back end), and scripts storing a value of changing type
+into an int entry a port declared (item c: `script_store_dynamic_into_int_*`, a boolean, whole
+and fractional numbers, a number's text and other text), recorded on the real 4.6.2 and 4.10.0
+(traces cut short where the library threw), through both engines.
+
+KNOWN: recordings neither engine follows yet; REFUSED: missions the C++ back end still refuses;
+each a strict expected failure with its reason."""
+
+import os
+
+import pytest
+
+import release_cases as rc
+from btgen import pipeline
+from btgen.diagnostics import UserError
+from btgen.ir.lower import lower
+from conftest import ROOT
+
+HERE = os.path.join(ROOT, "tests", "conformance", "changing-types")
+_THROW_410 = (
+    "4.10.0 throws (`Blackboard::set`: once declared, the type of a port shall not change) and "
+    "prints its blackboard on stdout first (debugMessage); the interpreter copies"
+)
+KNOWN = {
+    ("copy_dynamic_into_typed_int", "4.10.0"): _THROW_410,
+    ("copy_dynamic_into_typed_double", "4.10.0"): _THROW_410,
+}
+# What the C++ back end still refuses (docs/btcpp-versions.md, "Still refused"): a typed
+# destination that scripts write too (a dynamic slot does not keep its declared type, whose
+# converter a script's string goes through), and from 4.7.0 a copy between an entry a port
+# typed and an entry whose type changes (a missing destination takes the source's type).
+_SCRIPT_TYPED = "refused: a copy of changing type into a typed entry that a script writes"
+_TYPED_410 = "refused: from 4.7.0, copies between typed entries and entries whose type changes"
+_TYPED_WRITE = "refused: a typed write (a Loop's `value`) into an entry whose type changes at run time"
+REFUSED = {
+    ("loop_writes_into_dynamic_text", "4.6.2"): _TYPED_WRITE,
+    ("loop_writes_into_dynamic_text", "4.10.0"): _TYPED_WRITE,
+    ("loop_writes_into_dynamic_after_number", "4.6.2"): _TYPED_WRITE,
+    ("loop_writes_into_dynamic_after_number", "4.10.0"): _TYPED_WRITE,
+    ("copy_dynamic_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
+    ("copy_dynamic_text_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
+    ("copy_dynamic_text_into_typed_int", "4.10.0"): _TYPED_410,
+    ("copy_dynamic_text_into_typed_double", "4.10.0"): _TYPED_410,
+    ("copy_typed_int_into_dynamic", "4.10.0"): _TYPED_410,
+    ("copy_typed_int_into_dynamic_text", "4.10.0"): _TYPED_410,
+}
+
+
+def _cases(refused=None):
+    out = []
+    for stem, version in rc.recorded(HERE):
+        why = KNOWN.get((stem, version)) or (refused or {}).get((stem, version))
+        marks = [pytest.mark.xfail(strict=True, reason=why)] if why is not None else []
+        out.append(pytest.param(stem, version, marks=marks, id=f"{stem}-{version}"))
+    return out
+
+
+def test_every_case_is_recorded_on_both_releases():
+    assert len(rc.stems(HERE)) >= 12
+    assert len(rc.recorded(HERE)) == 2 * len(rc.stems(HERE))
+    for stem in rc.stems(HERE):
+        with open(os.path.join(HERE, stem + ".xml"), encoding="utf-8") as f:
+            assert f.read().startswith("<!--"), f"{stem}: say what it shows"
+
+
+@pytest.mark.parametrize("stem,version", _cases())
+def test_interpreter(stem, version):
+    rc.check_interp(HERE, stem, version)
+
+
+@pytest.fixture(scope="module")
+def batches(tmp_path_factory):
+    return rc.Batches(HERE, tmp_path_factory.mktemp("changing"), _compiles).build()
+
+
+def _compiles(stem: str, version: str) -> bool:
+    try:
+        lower(pipeline.load(os.path.join(HERE, stem + ".xml"), pipeline.CompileOptions(btcpp=version)))
+    except UserError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("stem,version", _cases(REFUSED))
+def test_compiled_executor(stem, version, batches):
+    assert _compiles(stem, version), "the C++ back end refuses it"
+    rc.check_cpp(batches, stem, version)
