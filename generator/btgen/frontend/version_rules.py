@@ -111,6 +111,7 @@ def loading_findings(mission: Mission) -> list[Finding]:
     """Every place of `mission` that 4.7.0 to 4.10.0 refuse when they load it."""
     out: list[Finding] = []
     builtins = mission.builtins
+    created = _created_trees(mission)
     for tree in mission.trees:
         # X1: tree IDs, SubTree IDs and the element names of user nodes (validateModelName)
         out.extend(_name_findings(tree.id, tree.loc, "BehaviorTree ID"))
@@ -135,7 +136,33 @@ def loading_findings(mission: Mission) -> list[Finding]:
                 out.extend(_name_findings(node.id, node.loc, "node ID"))
             if node.id == "ReactiveSequence" and node.id in builtins:
                 out.extend(_reactive_findings(node))
+            if tree.id in created and node.name:
+                # X3: validateInstanceName, when a node is created (trees the main tree runs only)
+                bad = next((c for c in node.name if (ord(c) < 32 and c not in "\t\n\r") or ord(c) == 127), "")
+                if bad:
+                    out.append(
+                        Finding(
+                            "name_validation_484",
+                            node.loc,
+                            f"the name of `{node.id}` contains {_shown(bad)} (only tab, newline and carriage "
+                            f"return are allowed among the control characters)",
+                        )
+                    )
     return out
+
+
+def _created_trees(mission: Mission) -> set[str]:
+    """The BehaviorTrees the library creates: the main tree and the trees its SubTrees run."""
+    by_id = {t.id: t for t in mission.trees}
+    seen: set[str] = set()
+    todo = [mission.main_tree]
+    while todo:
+        tid = todo.pop()
+        if tid in seen or tid not in by_id:
+            continue
+        seen.add(tid)
+        todo.extend(n.target for n in _nodes(by_id[tid].root) if isinstance(n, SubTreeNode))
+    return seen
 
 
 def _name_findings(name: str, loc: Loc, what: str) -> list[Finding]:

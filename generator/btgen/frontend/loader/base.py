@@ -102,6 +102,8 @@ class LoaderBase:
         self._tree_ids: set[str] = set()
         self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
         self.siblings = SiblingIndex(self.files)
+        # (tree ID, file, first line, last line) of each BehaviorTree the main tree never runs
+        self.uncreated: list[tuple[str, str, int, int]] = []
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 
