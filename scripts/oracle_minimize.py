@@ -31,11 +31,11 @@ def signature(xml: str, scenario: str, version: str, tmp: str) -> tuple | None:
     m, s = os.path.join(tmp, "x.xml"), os.path.join(tmp, "x.scenario")
     Path(m).write_text(xml, encoding="utf-8")
     Path(s).write_text(scenario, encoding="utf-8")
-    lib = orc.library(orc.default_harness(version), m, s)
+    lib = orc.observe(orc.default_harness(version), xml, m, s, tmp)
     got = orc.interpreter(m, s, version)
-    if lib[:2] == got[:2]:
+    if orc.compare(lib, got, version, xml) != "divergence":
         return None
-    return lib[1], got[1], lib[2] if lib[1] else "", got[2][:30] if got[1] else ""
+    return lib[1], got[1], lib[2].splitlines()[-1] if lib[1] else "", got[2][:30] if got[1] else ""
 
 
 def _candidates(xml: str):

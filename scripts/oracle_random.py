@@ -16,7 +16,10 @@ build/oracle-divergences) as mission, scenario, the library's trace and error, t
 Missions with a Delay, Timeout or Sleep are left out and counted: the library times them with a
 thread on the wall clock, so their traces race with the ticks (the scenario's `clock_ms` is
 btgen's injected clock only). The harnesses are the project's oracle builds
-(../shared/oracle/README.md; defaults /work/oracle/462 and /work/oracle/410). The compiled C++ is
+(../shared/oracle/README.md: ORACLE_462_PREFIX and ORACLE_410_PREFIX, the environment variables
+BTGEN_ORACLE_462 and BTGEN_ORACLE_410, default ../oracle/462 and ../oracle/410 beside the
+checkout's parent; the harness source: BTGEN_ORACLE_HARNESS_SRC, default
+../shared/oracle/harness.cpp beside the checkout's parent). The compiled C++ is
 compared with the interpreter on the same seeds by scripts/difftest.py. Exit 1 on any divergence.
 """
 
@@ -25,6 +28,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -41,12 +45,17 @@ from btgen.interp.engine import run_trace
 from btgen.interp.scenario import load_scenario
 from btgen.tools.fuzzgen import BTCPP_VERSIONS, FEATURE_SETS, random_case
 
-HARNESS = {"4.6.2": "/work/oracle/462/bin/harness", "4.10.0": "/work/oracle/410/bin/harness"}
+_BESIDE = ROOT.parent.parent if ROOT.parent.name == "wt" else ROOT.parent  # a worktree's checkouts sit in wt/
+PREFIX = {
+    "4.6.2": os.environ.get("BTGEN_ORACLE_462", str(_BESIDE / "oracle" / "462")),
+    "4.10.0": os.environ.get("BTGEN_ORACLE_410", str(_BESIDE / "oracle" / "410")),
+}
+HARNESS = {v: str(Path(p) / "bin" / "harness") for v, p in PREFIX.items()}
 # The harness built by `--build-harness` (build/oracle-harness/): the same source with the tree never
 # destroyed. The library's Tree destructor halts the tree after the last tick; an `_onHalted` script
 # that throws there ends the process in std::terminate and loses the whole trace (exit 134).
 OWN = ROOT / "build" / "oracle-harness"
-SHARED_HARNESS = os.environ.get("BTGEN_ORACLE_HARNESS_SRC", "/work/shared/oracle/harness.cpp")
+SHARED_HARNESS = os.environ.get("BTGEN_ORACLE_HARNESS_SRC", str(_BESIDE / "shared" / "oracle" / "harness.cpp"))
 TIMED = ("<Delay", "<Timeout", "<Sleep")
 # Where btgen follows a later release on purpose (tests/conformance/FORMAT.md, "Where btgen follows
 # a later BehaviorTree.CPP on purpose"): a run the library ends with one of these messages is
@@ -92,7 +101,11 @@ def default_harness(version: str) -> str:
 
 def library(harness: str, mission: str, scenario: str) -> tuple[str, bool, str]:
     """The library's trace, whether it refused or threw, and its messages (stderr, warnings left out)."""
-    proc = subprocess.run([harness, "trace", mission, scenario], capture_output=True, timeout=120, check=False)
+    # unbuffered: a run that ends in std::terminate keeps the lines it printed
+    unbuffered = ["stdbuf", "-o0"] if shutil.which("stdbuf") else []
+    proc = subprocess.run(
+        [*unbuffered, harness, "trace", mission, scenario], capture_output=True, timeout=120, check=False
+    )
     err = [
         ln for ln in proc.stderr.decode("utf-8", "replace").splitlines() if ln.strip() and not ln.startswith("warning:")
     ]
@@ -119,6 +132,18 @@ def unmasked(harness: str, text: str, scenario: str, tmp: str, lib: tuple[str, b
     again = library(harness, variant, scenario)
     if again[1] and not again[0] and "terminate called" not in again[2]:
         return again[0], True, lib[2] + "\n(without its _onHalted scripts:)\n" + again[2]
+    if not lib[0] and not again[1]:
+        # the abort came before the first tick and the mission runs without its _onHalted
+        # scripts: a halt while the library was creating the tree (no part of any trace)
+        return again[0], False, ABORT_MARK + lib[2]
+    return lib
+
+
+def observe(harness: str, text: str, mission: str, scenario: str, tmp: str) -> tuple[str, bool, str]:
+    """The library's run of `mission` (whose text is `text`), an abort unmasked (`unmasked`)."""
+    lib = library(harness, mission, scenario)
+    if lib[1] and "terminate called" in lib[2]:
+        lib = unmasked(harness, text, scenario, tmp, lib)
     return lib
 
 
@@ -134,10 +159,13 @@ def interpreter(mission: str, scenario: str, version: str) -> tuple[str, bool, s
     return "".join(out), False, ""
 
 
+ABORT_MARK = "(the library aborted before the first tick; this is its run without the _onHalted scripts) "
+
+
 def compare(lib: tuple[str, bool, str], got: tuple[str, bool, str], version: str, mission: str = "") -> str:
     """The verdict: `agree`, `documented` (a difference FORMAT.md documents) or `divergence`."""
     if lib[:2] == got[:2]:
-        return "agree"
+        return "library abort" if lib[2].startswith(ABORT_MARK) else "agree"
     if lib[1] and any(m in lib[2] for m, _ in DOCUMENTED[version]):
         return "documented"
     if version == "4.6.2" and _reentered_literal_loop(lib[0], got[0], mission):
@@ -190,9 +218,7 @@ def run(
             for j, text in enumerate(case.scenarios):
                 Path(scenario).write_text(text, encoding="utf-8")
                 for version in BTCPP_VERSIONS:
-                    lib = library(harness[version], mission, scenario)
-                    if lib[1] and "terminate called" in lib[2]:
-                        lib = unmasked(harness[version], case.mission, scenario, tmp, lib)
+                    lib = observe(harness[version], case.mission, mission, scenario, tmp)
                     got = interpreter(mission, scenario, version)
                     key = (feat, wf, version)
                     counts[(*key, "runs")] += 1
@@ -202,7 +228,7 @@ def run(
                     if verdict == "agree":
                         continue
                     counts[(*key, verdict)] += 1
-                    if verdict == "documented":
+                    if verdict in ("documented", "library abort"):
                         continue
                     stem = keep_case(
                         keep, f"{feat}_{wf}_{seed}_s{j}_on{version.replace('.', '')}", case.mission, text, lib, got
@@ -219,16 +245,19 @@ def table(counts: Counter) -> str:
     rows = sorted({k[:2] for k in counts})
     lines = [
         "| features | written for | missions | timed, left out | runs on 4.6.2 | on 4.10.0 "
-        "| library threw or refused | documented differences | divergences |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| library threw or refused | documented differences | library aborted | divergences |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for feat, wf in rows:
         threw = sum(counts[(feat, wf, v, w)] for v in BTCPP_VERSIONS for w in ("library failed", "library refused"))
         div = sum(counts[(feat, wf, v, "divergence")] for v in BTCPP_VERSIONS)
         doc = sum(counts[(feat, wf, v, "documented")] for v in BTCPP_VERSIONS)
+        abort = sum(counts[(feat, wf, v, "library abort")] for v in BTCPP_VERSIONS)
         missions, timed = counts[(feat, wf, "*", "missions")], counts[(feat, wf, "*", "timed, left out")]
         runs = [counts[(feat, wf, v, "runs")] for v in BTCPP_VERSIONS]
-        lines.append(f"| {feat} | {wf} | {missions} | {timed} | {runs[0]} | {runs[1]} | {threw} | {doc} | {div} |")
+        lines.append(
+            f"| {feat} | {wf} | {missions} | {timed} | {runs[0]} | {runs[1]} | {threw} | {doc} | {abort} | {div} |"
+        )
     return "\n".join(lines)
 
 
@@ -254,7 +283,7 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"unknown release `{v}`")
     harness = {"4.6.2": args.harness_462, "4.10.0": args.harness_410}
     if args.build_harness:
-        harness = build_harness({v: str(Path(h).parents[1]) for v, h in HARNESS.items()})
+        harness = build_harness(PREFIX)
     start = time.monotonic()
     counts, found = run(
         features,

@@ -5,6 +5,7 @@ engines (release_cases.py): the trace, cut short where the library threw, and wh
 """
 
 import os
+import sys
 
 import pytest
 
@@ -36,3 +37,67 @@ def batches(tmp_path_factory):
 @pytest.mark.parametrize("stem,version", CASES)
 def test_compiled_executor(stem, version, batches):
     rc.check_cpp(batches, stem, version)
+
+
+def _load(tmp_path, text, version="4.6.2"):
+    from btgen.frontend.loader import load_mission
+
+    path = tmp_path / "m.xml"
+    path.write_text(text, encoding="utf-8")
+    return load_mission(str(path), btcpp=version)
+
+
+UNUSED = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><AlwaysSuccess/></BehaviorTree>
+  <BehaviorTree ID="Unused">{body}</BehaviorTree>
+</root>
+"""
+
+
+@pytest.mark.parametrize("version", rc.VERSIONS)
+def test_an_uncreated_tree_with_creation_errors_is_left_out_with_warnings(tmp_path, version):
+    m = _load(tmp_path, UNUSED.format(body='<Repeat num_cycles="xyz"><AlwaysSuccess/></Repeat>'), version)
+    assert [t.id for t in m.trees] == ["Main"]
+    assert any("never runs BehaviorTree `Unused`" in w.message and "num_cycles" in w.message for w in m.warnings)
+
+
+@pytest.mark.parametrize(
+    "body,message",
+    [
+        ("<Inverter><AlwaysSuccess/><AlwaysSuccess/></Inverter>", "takes exactly 1 child"),
+        ("<Sequence/>", "but has no children"),
+        ("<NoSuchNode/>", "unknown node `NoSuchNode`"),
+    ],
+)
+def test_what_verify_xml_checks_still_refuses_an_uncreated_tree(tmp_path, body, message):
+    from btgen.diagnostics import UserError
+
+    with pytest.raises(UserError) as e:
+        _load(tmp_path, UNUSED.format(body=body))
+    assert any(message in d.message for d in e.value.diagnostics if d.severity == "error")
+
+
+def test_a_created_tree_keeps_its_errors(tmp_path):
+    from btgen.diagnostics import UserError
+
+    text = UNUSED.replace("<AlwaysSuccess/></BehaviorTree>", '<SubTree ID="Unused"/></BehaviorTree>', 1)
+    with pytest.raises(UserError):
+        _load(tmp_path, text.format(body='<Repeat num_cycles="xyz"><AlwaysSuccess/></Repeat>'))
+
+
+def test_the_driver_counts_documented_differences_apart():
+    """scripts/oracle_random.py's verdicts (the differential runs' table depends on them)."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import oracle_random as orc
+
+    mixed = ("", True, "error: ...\n   ^^ operator cannot be mixed with previous operators")
+    assert orc.compare(mixed, ("tick 1\n", False, ""), "4.6.2") == "documented"
+    assert orc.compare(mixed, ("tick 1\n", False, ""), "4.10.0") == "divergence"
+    assert orc.compare(("t\n", False, ""), ("t\n", False, ""), "4.10.0") == "agree"
+    assert orc.compare(("t\n", True, "x"), ("t\n", False, ""), "4.6.2") == "divergence"
+    lib = 'tick 2\n2 LoopInt "L" RUNNING -> IDLE\nresult SKIPPED\ntick 3\nresult SKIPPED\n'
+    got = 'tick 2\n2 LoopInt "L" RUNNING -> IDLE\nresult SKIPPED\ntick 3\n2 LoopInt "L" IDLE -> RUNNING\n'
+    literal = '<LoopInt queue="1;2" value="{v}">'
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal) == "documented"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal.replace('"1;2"', '"{q}"')) == "divergence"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", literal) == "divergence"
