@@ -101,3 +101,9 @@ def test_the_driver_counts_documented_differences_apart():
     assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal) == "documented"
     assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal.replace('"1;2"', '"{q}"')) == "divergence"
     assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", literal) == "divergence"
+    # 4.6.2's entry-update nodes: a SetBlackboard copy is no update, a halt leaves the child running
+    updates = '<SkipUnlessUpdated entry="{i}"><SetBlackboard value="{j}" output_key="i"/></SkipUnlessUpdated>'
+    lib, got = "tick 2\nresult RUNNING\n", 'tick 2\n3 Fallback "f" IDLE -> RUNNING\n'
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates) == "documented"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", updates) == "divergence"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates.replace("{j}", "5")) == "divergence"
