@@ -7,7 +7,8 @@ Writes one mission and scenario per case into OUT_DIR (halting every Control and
 while it runs, SKIPPED through every Control, every pre/post-condition on every node kind,
 script operators and conversions, Parallel thresholds, Repeat/Retry with -1 and 0, RunOnce
 then_skip, Switch2..6 on numbers, strings and enums, Loop nodes with empty and odd queues,
-SubTree remapping, `_autoremap` and port defaults, TryCatch), runs each on both releases of the
+SubTree remapping, `_autoremap` and port defaults, TryCatch, entries never written, ports
+reading entries of another type, script values seen through comparisons), runs each on both releases of the
 real library and in btgen's interpreter (scripts/oracle_random.py), and prints the counts per
 family and every divergence (kept in --keep, default build/oracle-edges-divergences).
 Missions with Delay, Timeout or Sleep are not written (the library times them on the wall clock).
@@ -409,6 +410,51 @@ def cases() -> dict[str, list[tuple[str, str, str]]]:
             sc = "ticks 4\ndefault SUCCESS\nleaf a FAILURE SUCCESS\n"
             reads.append((f"read_{len(reads):03d}", mission(body), sc))
     fam["port reads"] = reads
+
+    # 11. script values seen through comparisons (each probe in a ForceSuccess, so the trace
+    # shows which held; a probe that throws ends the run on both sides)
+    probes = ("x == 1", "x == 1.5", "x == 3", "x == (0 - 1)", "x < 2", "x == 'ab'", "x == '1'", "x == true")
+    vals = []
+    for i, e in enumerate(
+        (
+            "1",
+            "1.0",
+            "1.5",
+            "3 / 2",
+            "3.0 / 2",
+            "7 / 2 * 2",
+            "-1",
+            "0 - 1",
+            "'1'",
+            "'1.0'",
+            "'ab'",
+            "'a' .. 'b'",
+            "true",
+            "false",
+            "1 == 1",
+            "0x1",
+            "1e0",
+            "'1' .. ''",
+            "1 .. ''",
+            "2 - 1",
+            "(1 + 2) / 2",
+            "'3' == 3",
+            "!0",
+            "~0 + 2",
+            "5 % 2",
+            "1 & 3",
+            "'true'",
+            "'0x1'",
+            "' 1'",
+            "'1 '",
+        )
+    ):
+        checks = "".join(
+            f"<ForceSuccess><ScriptCondition name={quoteattr(pr)} code={quoteattr(pr)}/></ForceSuccess>"
+            for pr in probes
+        )
+        vals.append((f"value_{i:02d}", mission(f"<Script code={quoteattr('x := ' + e)}/>{checks}"), "ticks 1\n"))
+    fam["values"] = vals
     return fam
 
 
