@@ -336,6 +336,16 @@ def cases() -> dict[str, list[tuple[str, str, str]]]:
             '<SubTree ID="S" _autoremap="true" a="{x}"/>',
             '<SubTree ID="S" _autoremap="false" b="{b}"/>',
             '<SubTree ID="S" a="{a}"/>',
+            '<SubTree ID="S" a="{=}" b="{=}"/>',
+            '<SubTree ID="S" a="5" b="{y}" _autoremap="true"/>',
+            '<SubTree ID="S" a="{@x}"/>',
+            '<SubTree ID="S" a="" b="{y}"/>',
+            '<SubTree ID="S" a=" 5" b="{y}"/>',
+            '<SubTree ID="S" a="5.0" b="{y}"/>',
+            '<SubTree ID="S" a="{x}" b="{x}"/>',
+            '<SubTree ID="S" b="{a}"/>',
+            '<SubTree ID="S" a="{missing}" b="{y}"/>',
+            '<SubTree ID="S" _autoremap="1"/>',
         )
     ):
         body = (
