@@ -107,3 +107,17 @@ def test_the_driver_counts_documented_differences_apart():
     assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates) == "documented"
     assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", updates) == "divergence"
     assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates.replace("{j}", "5")) == "divergence"
+
+
+def test_fuzzgen_writes_no_name_410_refuses():
+    """fuzzgen's missions for 4.10.0 load there (the differential runs found DEL in node names and
+    a SubTree named "" in the main tree, which 4.10.0 refuses)."""
+    import re
+
+    from btgen.tools.fuzzgen import FEATURE_SETS, random_case
+
+    for features in FEATURE_SETS:
+        for seed in range(100):
+            mission = random_case(seed, features, 1, "4.10.0").mission
+            assert "\x7f" not in mission, (features, seed)
+            assert not re.search(r'<SubTree [^>]*name=""', mission), (features, seed)
