@@ -104,6 +104,7 @@ class LoaderBase:
         self.siblings = SiblingIndex(self.files)
         # (tree ID, file, first line, last line) of each BehaviorTree the main tree never runs
         self.uncreated: list[tuple[str, str, int, int]] = []
+        self.left_out: set[str] = set()  # those of them left out of the mission (loader errors)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 

@@ -145,6 +145,7 @@ class MissionChecks(LoaderBase):
             )
             for d in found
         ]
+        self.left_out.add(tree_id)
         return True
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
@@ -558,6 +559,8 @@ class MissionChecks(LoaderBase):
                 if ignored:
                     continue
                 tree = self._uncreated_at(d.loc)
+                if tree in self.left_out:
+                    continue  # reported by the loader, as a warning, with the tree left out
                 if tree is not None and d.severity == "error":
                     d = dataclasses.replace(
                         d,
