@@ -132,10 +132,11 @@ def unmasked(harness: str, text: str, scenario: str, tmp: str, lib: tuple[str, b
     again = library(harness, variant, scenario)
     if again[1] and not again[0] and "terminate called" not in again[2]:
         return again[0], True, lib[2] + "\n(without its _onHalted scripts:)\n" + again[2]
-    if not lib[0] and not again[1]:
-        # the abort came before the first tick and the mission runs without its _onHalted
-        # scripts: a halt while the library was creating the tree (no part of any trace)
-        return again[0], False, ABORT_MARK + lib[2]
+    if not lib[0] and (not again[1] or (again[0] and "terminate called" not in again[2])):
+        # the abort came before the first tick and the mission runs (or starts to run) without
+        # its _onHalted scripts: a halt while the library was creating the tree, no part of any
+        # trace; that run is the one to compare
+        return again[0], again[1], ABORT_MARK + lib[2] + ("\n" + again[2] if again[1] else "")
     return lib
 
 
