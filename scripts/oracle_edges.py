@@ -142,6 +142,18 @@ def cases() -> dict[str, list[tuple[str, str, str]]]:
         "subtree": '<SubTree ID="Sub"{a}/>',
         "always": "<AlwaysSuccess{a}/>",
         "setbb": '<SetBlackboard value="5" output_key="k"{a}/>',
+        "ifthenelse": '<IfThenElse{a}><Check name="y"/><Act name="x"/><Act name="x"/></IfThenElse>',
+        "whiledoelse": '<WhileDoElse{a}><Check name="y"/><Act name="x"/><Act name="x"/></WhileDoElse>',
+        "switch": '<Switch2 variable="{{n}}" case_1="0" case_2="1"{a}>' + '<Act name="x"/>' * 3 + "</Switch2>",
+        "loop": '<LoopInt queue="1;2" value="{{li}}"{a}><Act name="x"/></LoopInt>',
+        "runonce": '<RunOnce{a}><Act name="x"/></RunOnce>',
+        "keeprunning": '<KeepRunningUntilFailure{a}><Act name="x"/></KeepRunningUntilFailure>',
+        "asyncseq": '<AsyncSequence{a}><Act name="x"/><Act name="x"/></AsyncSequence>',
+        "parallelall": '<ParallelAll{a}><Act name="x"/></ParallelAll>',
+        "precondition": '<Precondition if="true" else="FAILURE"{a}><Act name="x"/></Precondition>',
+        "skipunless": '<SkipUnlessUpdated entry="{{upd}}"{a}><Act name="x"/></SkipUnlessUpdated>',
+        "retry": '<RetryUntilSuccessful num_attempts="2"{a}><Act name="x"/></RetryUntilSuccessful>',
+        "scriptcond": '<ScriptCondition code="n &lt; 3"{a}/>',
     }
     sub = '  <BehaviorTree ID="Sub">\n    <Act name="x"/>\n  </BehaviorTree>\n'
     conds = []
