@@ -740,7 +740,7 @@ def test_switch_string_equality(a, b, equal):
 def test_quote_name_escapes():
     assert quote_name('a"b\\c') == '"a\\"b\\\\c"'
     assert quote_name("l1\nl2\rx\ty") == '"l1\\nl2\\rx\\ty"'
-    assert quote_name("\x01\x1f\x7f") == '"\\x01\\x1f\\x7f"'
+    assert quote_name("\x01\x1f\x7f") == '"\\x01\\x1F\\x7F"'
     assert quote_name("Küche 台所") == '"Küche 台所"'
     assert quote_name("") == '""'
 
@@ -758,7 +758,7 @@ def test_names_in_the_trace(tmp_path):
         "ticks 1\n",
     )
     assert got.splitlines()[1:5] == [
-        '1 Sequence "a\\"b\\\\c\\nd\\te\\x7fé" IDLE -> RUNNING',
+        '1 Sequence "a\\"b\\\\c\\nd\\te\\x7Fé" IDLE -> RUNNING',
         '2 A "" IDLE -> SUCCESS',
         '3 SubTree "Other" IDLE -> RUNNING',
         '4 B "B" IDLE -> SUCCESS',

@@ -600,7 +600,7 @@ def test_queues_in_scripts():
     [
         (1.0, True),
         (0.0, False),
-        (-0.5, True),
+        (-0.0, False),
         (math.nan, True),
         (1, True),
         (0, False),
@@ -622,6 +622,15 @@ def test_script_truth(value, truth):
             2,
             "the script's result cannot be used as a condition: cannot convert 2 (int) to bool: "
             "only the integers 0 and 1 convert to bool",
+        ),
+        (
+            -0.5,  # both releases: "Value is negative and can't be converted to unsigned" (oracle-diff)
+            "the script's result cannot be used as a condition: cannot convert -0.5 (double) to bool: "
+            "the value is negative",
+        ),
+        (
+            -1,
+            "the script's result cannot be used as a condition: cannot convert -1 (int) to bool: the value is negative",
         ),
         ("true", "the script gives 'true' (string), which is not a condition"),
         (Queue("int"), "the script gives queue<int> [] (queue<int>), which is not a condition"),

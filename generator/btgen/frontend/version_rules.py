@@ -111,31 +111,85 @@ def loading_findings(mission: Mission) -> list[Finding]:
     """Every place of `mission` that 4.7.0 to 4.10.0 refuse when they load it."""
     out: list[Finding] = []
     builtins = mission.builtins
+    created = _created_trees(mission)
+    out.extend(_subtree_path_findings(mission))
     for tree in mission.trees:
         # X1: tree IDs, SubTree IDs and the element names of user nodes (validateModelName)
         out.extend(_name_findings(tree.id, tree.loc, "BehaviorTree ID"))
-        names_seen: dict[str, Loc] = {}
         for node in _nodes(tree.root):
             if isinstance(node, SubTreeNode):
                 out.extend(_name_findings(node.target, node.loc, "SubTree ID"))
-                # X2: SubTree paths are `parent path/name`; two equal names in one tree clash
-                if node.name is not None:
-                    if node.name in names_seen:
-                        out.append(
-                            Finding(
-                                "unique_subtree_paths",
-                                node.loc,
-                                f"a second SubTree named `{node.name}` in BehaviorTree `{tree.id}` (the first is at "
-                                f"{names_seen[node.name]}): SubTree paths must be unique",
-                            )
-                        )
-                    else:
-                        names_seen[node.name] = node.loc
             elif node.id not in builtins and node.tag not in KINDS:
                 out.extend(_name_findings(node.id, node.loc, "node ID"))
             if node.id == "ReactiveSequence" and node.id in builtins:
                 out.extend(_reactive_findings(node))
+            if tree.id in created and node.name:
+                # X3: validateInstanceName, when a node is created (trees the main tree runs only)
+                bad = next((c for c in node.name if (ord(c) < 32 and c not in "\t\n\r") or ord(c) == 127), "")
+                if bad:
+                    out.append(
+                        Finding(
+                            "name_validation_484",
+                            node.loc,
+                            f"the name of `{node.id}` contains {_shown(bad)} (only tab, newline and carriage "
+                            f"return are allowed among the control characters)",
+                        )
+                    )
     return out
+
+
+def _subtree_path_findings(mission: Mission) -> list[Finding]:
+    """X2: every SubTree instance of the created tree has the path `parent path/name` (its `name`
+    only under the main tree, whose own path is empty); 4.8.4 refuses two equal paths, which
+    `name=""` under the main tree makes with the main tree itself, and `name="a/x"` with the
+    SubTree `x` inside the SubTree `a`. An instance without a name gets a path of its own."""
+    by_id = {t.id: t for t in mission.trees}
+    seen: dict[str, Loc] = {"": by_id[mission.main_tree].loc} if mission.main_tree in by_id else {}
+    out: list[Finding] = []
+    todo: list[tuple[str, str, tuple[str, ...]]] = [(mission.main_tree, "", ())]
+    budget = 100_000  # instances visited (the 16-bit node count is checked apart)
+    reported: set[Loc] = set()
+    while todo and budget > 0:
+        tid, prefix, stack = todo.pop()
+        if tid not in by_id or tid in stack:
+            continue
+        for node in _nodes(by_id[tid].root):
+            if not isinstance(node, SubTreeNode):
+                continue
+            budget -= 1
+            path = None if node.name is None else (f"{prefix}/{node.name}" if prefix else node.name)
+            if path is not None and path in seen and node.loc not in reported:
+                reported.add(node.loc)
+                first = seen[path]
+                out.append(
+                    Finding(
+                        "unique_subtree_paths",
+                        node.loc,
+                        f"the SubTree path `{path}` is taken (by the "
+                        + ("main tree" if path == "" else f"SubTree at {first}")
+                        + "): SubTree paths must be unique"
+                        + (" (an empty name is the main tree's path)" if path == "" else ""),
+                    )
+                )
+            elif path is not None:
+                seen[path] = node.loc
+            own = path if path is not None else f"{prefix}/{node.target}::{id(node)}"
+            todo.append((node.target, own, stack + (tid,)))
+    return out
+
+
+def _created_trees(mission: Mission) -> set[str]:
+    """The BehaviorTrees the library creates: the main tree and the trees its SubTrees run."""
+    by_id = {t.id: t for t in mission.trees}
+    seen: set[str] = set()
+    todo = [mission.main_tree]
+    while todo:
+        tid = todo.pop()
+        if tid in seen or tid not in by_id:
+            continue
+        seen.add(tid)
+        todo.extend(n.target for n in _nodes(by_id[tid].root) if isinstance(n, SubTreeNode))
+    return seen
 
 
 def _name_findings(name: str, loc: Loc, what: str) -> list[Finding]:

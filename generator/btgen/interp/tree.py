@@ -47,7 +47,7 @@ def quote_name(name: str) -> str:
         elif ch == "\t":
             out.append("\\t")
         elif o < 0x20 or o == 0x7F:
-            out.append(f"\\x{o:02x}")
+            out.append(f"\\x{o:02X}")  # upper case, as the library's recordings (\x7F)
         else:
             out.append(ch)
     out.append('"')

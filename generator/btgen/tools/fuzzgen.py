@@ -309,7 +309,10 @@ class _Gen:
     def name(self) -> str:
         self.counter += 1
         if self.rng.random() < 0.06:
-            return self.rng.choice(ODD_NAMES)
+            odd = self.rng.choice(ODD_NAMES)
+            if self.later and any((ord(c) < 32 and c not in "\t\n\r") or ord(c) == 127 for c in odd):
+                return "del"  # 4.8.4 refuses these control characters in a created node's name
+            return odd
         return f"n{self.counter}"
 
     def name_attr(self) -> str:
@@ -584,6 +587,9 @@ class _Gen:
             # An _autoremap tree's names do not exist in this tree's blackboard.
             return self.leaf(tree, scope)
         attrs = self.name_attr()
+        if self.later and attrs == ' name=""':
+            # 4.8.4: the path of a SubTree named "" in the main tree is the main tree's own
+            attrs = f' name="s{self.counter}"'
         if mode == "remap":
             for p in PARAM_VARS:
                 attrs += f' {p}="{{{self.int_var(scope)}}}"'

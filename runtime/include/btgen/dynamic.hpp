@@ -356,14 +356,20 @@ inline bool read_count(const Ref& v, bool is_unsigned, std::int64_t& out, Msg& m
   return true;
 }
 
-// values.cast(v, bool) of a number.
+// evaluate.script_bool: cast<bool>() of a number in a script (a condition's result, an
+// operand of `&&`/`||`): never negative, then a double is true when non-zero and an integer
+// is 0 or 1.
 inline bool number_to_bool(const Ref& v, bool& out, Msg& m) noexcept {
-  if (v.tag == DynTag::kDouble) {
-    out = v.d != 0.0;
-    return true;
-  }
   if (v.tag == DynTag::kBool) {
     out = v.i != 0;
+    return true;
+  }
+  if (v.tag == DynTag::kDouble ? v.d < 0.0 : v.i < 0) {
+    add_cast_error(m, v, "bool", "the value is negative");
+    return false;
+  }
+  if (v.tag == DynTag::kDouble) {
+    out = v.d != 0.0;
     return true;
   }
   if (v.i != 0 && v.i != 1) {

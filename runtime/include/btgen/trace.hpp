@@ -33,10 +33,10 @@ struct NoObserver {
 // and returns the number of bytes the escaped text needs (which may exceed
 // `cap`; nothing is written past it). `"` and `\` become `\"` and `\\`;
 // newline, carriage return and tab become `\n`, `\r`, `\t`; other control
-// bytes (below 0x20, and 0x7f) become `\xHH`; everything else, UTF-8
-// included, is copied as is.
+// bytes (below 0x20, and 0x7f) become `\xHH`, upper-case digits as the library's
+// recordings show (`\x7F`); everything else, UTF-8 included, is copied as is.
 inline std::size_t escape_name(std::string_view name, char* out, std::size_t cap) noexcept {
-  static constexpr char kHex[] = "0123456789abcdef";
+  static constexpr char kHex[] = "0123456789ABCDEF";
   std::size_t n = 0;
   auto put = [&](char c) {
     if (n < cap) out[n] = c;

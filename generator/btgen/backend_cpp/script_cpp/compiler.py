@@ -98,7 +98,7 @@ class ScriptCompiler(CodeWriter):
 
     def truth(self, v: Val) -> None:
         """script_truth of the last statement's value, returned."""
-        if v.kind in (DYN, "string", "none") or v.kind == "int":
+        if v.kind in (DYN, "string", "none", "int", "double"):  # a negative number is an error
             t = self.temp()
             self.emit(f"btgen::dyn::Msg {t}m({self.prefix_view()});")
             self.emit(f"const int {t} = btgen::dyn::truth({self.to_ref(v)}, {t}m);")
@@ -107,7 +107,7 @@ class ScriptCompiler(CodeWriter):
             return
         if v.has is not None:
             self.check(f"!{v.has}", 0, "the script gives no value, so it cannot be used as a condition")
-        if v.kind in ("double", "bool"):
+        if v.kind == "bool":
             self.emit(f"return btgen::script::truth({v.expr});")
             return
         t = self.temp()
@@ -297,8 +297,6 @@ class ScriptCompiler(CodeWriter):
         return Val("double", f"{t}.d", None)
 
     def as_truth(self, v: Val, offset: int, op: str) -> str:
-        if v.kind == "double":
-            return f"({v.expr} != 0.0)"
         if v.kind == "bool":
             return v.expr  # type: ignore[return-value]
         t = self.temp()

@@ -103,6 +103,9 @@ class LoaderBase:
         self.palette_subtrees: list[NodeSpec] = []  # the SubTree models of models files
         self.palettes: set[str] = set()  # real paths of the models files that are a project's palette
         self.siblings = SiblingIndex(self.files)
+        # (tree ID, file, first line, last line) of each BehaviorTree the main tree never runs
+        self.uncreated: list[tuple[str, str, int, int]] = []
+        self.left_out: set[str] = set()  # those of them left out of the mission (loader errors)
         self.undeclared: list[int] = []  # sink indexes of unknown nodes in a mission without models
         self.anonymous = 0  # <BehaviorTree> elements without ID so far
 

@@ -4,6 +4,7 @@ mission XSD)."""
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from typing import Optional
 
@@ -106,6 +107,46 @@ class MissionChecks(LoaderBase):
                 f"main_tree_to_execute names `{main}`, but no BehaviorTree has that ID{suggestion(main, every)}",
             )
         return main
+
+    def _created_trees(self, main: str) -> set[str]:
+        """The BehaviorTrees the library creates: the main tree and, transitively, the trees
+        its SubTree elements name. Only their nodes are created, so only there are ports,
+        literals and scripts checked (XMLParser::createNodeFromXML); the checks of VerifyXML
+        (known node IDs, a decorator's single child, a control's children, one root per
+        tree) cover every tree."""
+        elems = {tid: elem for tid, elem, _src in self.tree_elems}
+        seen: set[str] = set()
+        todo = [main]
+        while todo:
+            tid = todo.pop()
+            if tid in seen or tid not in elems:
+                continue
+            seen.add(tid)
+            todo.extend(e.get("ID", "") for e in elems[tid].iter("SubTree"))
+        return seen
+
+    def _left_out(self, tree_id: str, mark: int) -> bool:
+        """A tree the main tree never runs with errors only its creation would find (from sink
+        item `mark` on): those become warnings and the tree is left out of the mission, as the
+        library never creates it. False (errors kept) when VerifyXML would refuse it too."""
+        found = self.sink.items[mark:]
+        errors = [d for d in found if d.severity == "error"]
+        if not errors or any(_verify_xml_error(d.message) for d in errors):
+            return False
+        self.sink.items[mark:] = [
+            d
+            if d.severity != "error"
+            else dataclasses.replace(
+                d,
+                severity="warning",
+                message=f"{d.message}; BehaviorTree.CPP loads the file all the same, since the main tree "
+                f"never runs BehaviorTree `{tree_id}` (it creates only the trees it runs): btgen leaves "
+                f"`{tree_id}` out",
+            )
+            for d in found
+        ]
+        self.left_out.add(tree_id)
+        return True
 
     def _tree_root(self, elem: etree._Element, src: Source, tree_id: str) -> Node:
         self._warn_text(elem, src)
@@ -535,5 +576,36 @@ class MissionChecks(LoaderBase):
                 ignored = m is not None and (
                     m.group(1).startswith("_") or not version_rules.is_port_name(m.group(1), self.sem)
                 )
-                if not ignored:
-                    self.sink.items.append(d)
+                if ignored:
+                    continue
+                tree = self._uncreated_at(d.loc)
+                if tree in self.left_out:
+                    continue  # reported by the loader, as a warning, with the tree left out
+                if tree is not None and d.severity == "error":
+                    d = dataclasses.replace(
+                        d,
+                        severity="warning",
+                        message=f"{d.message}; BehaviorTree.CPP loads the file all the same, since the main tree "
+                        f"never runs BehaviorTree `{tree}` (it creates only the trees it runs)",
+                    )
+                self.sink.items.append(d)
+
+    def _line_of(self, elem: etree._Element, src: Source) -> int:
+        return src.loc(elem).line
+
+    def _uncreated_at(self, loc: Loc) -> Optional[str]:
+        """The tree the main tree never runs whose element holds `loc`, if any."""
+        for tid, path, first, last in self.uncreated:
+            if loc.path == path and first <= loc.line <= last:
+                return tid
+        return None
+
+
+def _verify_xml_error(message: str) -> bool:
+    """An error VerifyXML reports in every tree of the file, created or not."""
+    return (
+        message.startswith("unknown node")
+        or "is a decorator and takes" in message
+        or ("is a control node and takes" in message and message.endswith("but has no children"))
+        or (message.startswith("BehaviorTree `") and "must have exactly 1 child" in message)
+    )

@@ -54,11 +54,19 @@ class _Loader(ModelsReader):
                     spec.loc or Loc(self.path),
                     f"SubTree model `{spec.id}` names no BehaviorTree of the mission{suggestion(spec.id, tree_ids)}",
                 )
-        trees = tuple(
-            TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
-            for tid, elem, src in self.tree_elems
-            if tid in tree_ids
-        )
+        created = self._created_trees(main)
+        built: list[TreeDef] = []
+        for tid, elem, src in self.tree_elems:
+            if tid not in tree_ids:
+                continue
+            mark = len(self.sink.items)
+            tree = TreeDef(tid, self._tree_root(elem, src, tid), src.loc(elem))
+            if tid not in created:
+                last = max((self._line_of(e, src) for e in elem.iter() if isinstance(e.tag, str)), default=0)
+                self.uncreated.append((tid, src.loc(elem).path, src.loc(elem).line, last))
+            if tid in created or not self._left_out(tid, mark):
+                built.append(tree)
+        trees = tuple(built)
         self._check_subtree_cycles(trees)
         if self.undeclared:
             # No model anywhere (none in the mission, no --models): most likely the models file

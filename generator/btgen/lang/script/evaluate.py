@@ -163,8 +163,8 @@ class _Evaluator:
                 return float(a & b if op == "&" else a | b if op == "|" else a ^ b)
             if op in LOGIC_OPS:
                 try:
-                    a_b = values.cast(lv, values.BOOL)
-                    b_b = values.cast(rv, values.BOOL)
+                    a_b = script_bool(lv)
+                    b_b = script_bool(rv)
                 except ConversionError as e:
                     raise ScriptRuntimeError(f"`{op}` needs operands that convert to bool: {e}", off) from None
                 return float(bool(a_b and b_b) if op == "&&" else bool(a_b or b_b))
@@ -366,6 +366,18 @@ def script_truth(value: Optional[Value]) -> bool:
             f"the script gives {values.describe(value)} ({values.type_of(value)}), which is not a condition", 0
         )
     try:
-        return bool(values.cast(value, values.BOOL))
+        return script_bool(value)
     except ConversionError as e:
         raise ScriptRuntimeError(f"the script's result cannot be used as a condition: {e}", 0) from None
+
+
+def script_bool(value: Value) -> bool:
+    """``cast<bool>()`` of a script value (a condition's result, an operand of `&&`/`||`): the
+    number must not be negative, in both releases ("Value is negative and can't be converted to
+    unsigned", a double as much as an integer: tests/conformance/oracle-diff/negative_condition),
+    then a double is true when non-zero and an integer must be 0 or 1."""
+    if not isinstance(value, bool) and isinstance(value, (int, float)) and value < 0:
+        raise ConversionError(
+            f"cannot convert {values.describe(value)} ({values.type_of(value)}) to bool: the value is negative"
+        )
+    return bool(values.cast(value, values.BOOL))

@@ -1,0 +1,125 @@
+"""tests/conformance/oracle-diff/: the divergences differential testing against the real library
+found (scripts/oracle_random.py, scripts/oracle_minimize.py; docs/testing.md), each shrunk to a
+minimal mission and recorded on 4.6.2 and 4.10.0 (scripts/record_releases.py), through both
+engines (release_cases.py): the trace, cut short where the library threw, and whether it failed.
+"""
+
+import os
+import sys
+
+import pytest
+
+import release_cases as rc
+from conftest import ROOT
+
+HERE = os.path.join(ROOT, "tests", "conformance", "oracle-diff")
+CASES = rc.recorded(HERE)
+
+
+def test_every_case_is_recorded_on_both_releases_and_says_what_it_shows():
+    assert len(rc.stems(HERE)) >= 2
+    assert len(CASES) == 2 * len(rc.stems(HERE))
+    for stem in rc.stems(HERE):
+        with open(os.path.join(HERE, stem + ".xml"), encoding="utf-8") as f:
+            assert f.read().startswith("<!--"), f"{stem}: say what it shows"
+
+
+@pytest.mark.parametrize("stem,version", CASES)
+def test_interpreter(stem, version):
+    rc.check_interp(HERE, stem, version)
+
+
+@pytest.fixture(scope="module")
+def batches(tmp_path_factory):
+    return rc.Batches(HERE, tmp_path_factory.mktemp("oracle_diff")).build()
+
+
+@pytest.mark.parametrize("stem,version", CASES)
+def test_compiled_executor(stem, version, batches):
+    rc.check_cpp(batches, stem, version)
+
+
+def _load(tmp_path, text, version="4.6.2"):
+    from btgen.frontend.loader import load_mission
+
+    path = tmp_path / "m.xml"
+    path.write_text(text, encoding="utf-8")
+    return load_mission(str(path), btcpp=version)
+
+
+UNUSED = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><AlwaysSuccess/></BehaviorTree>
+  <BehaviorTree ID="Unused">{body}</BehaviorTree>
+</root>
+"""
+
+
+@pytest.mark.parametrize("version", rc.VERSIONS)
+def test_an_uncreated_tree_with_creation_errors_is_left_out_with_warnings(tmp_path, version):
+    m = _load(tmp_path, UNUSED.format(body='<Repeat num_cycles="xyz"><AlwaysSuccess/></Repeat>'), version)
+    assert [t.id for t in m.trees] == ["Main"]
+    about = [w for w in m.warnings if "num_cycles" in w.message]
+    assert len(about) == 1, about  # the loader's, not the mission XSD's again
+    assert "never runs BehaviorTree `Unused`" in about[0].message
+
+
+@pytest.mark.parametrize(
+    "body,message",
+    [
+        ("<Inverter><AlwaysSuccess/><AlwaysSuccess/></Inverter>", "takes exactly 1 child"),
+        ("<Sequence/>", "but has no children"),
+        ("<NoSuchNode/>", "unknown node `NoSuchNode`"),
+    ],
+)
+def test_what_verify_xml_checks_still_refuses_an_uncreated_tree(tmp_path, body, message):
+    from btgen.diagnostics import UserError
+
+    with pytest.raises(UserError) as e:
+        _load(tmp_path, UNUSED.format(body=body))
+    assert any(message in d.message for d in e.value.diagnostics if d.severity == "error")
+
+
+def test_a_created_tree_keeps_its_errors(tmp_path):
+    from btgen.diagnostics import UserError
+
+    text = UNUSED.replace("<AlwaysSuccess/></BehaviorTree>", '<SubTree ID="Unused"/></BehaviorTree>', 1)
+    with pytest.raises(UserError):
+        _load(tmp_path, text.format(body='<Repeat num_cycles="xyz"><AlwaysSuccess/></Repeat>'))
+
+
+def test_the_driver_counts_documented_differences_apart():
+    """scripts/oracle_random.py's verdicts (the differential runs' table depends on them)."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import oracle_random as orc
+
+    mixed = ("", True, "error: ...\n   ^^ operator cannot be mixed with previous operators")
+    assert orc.compare(mixed, ("tick 1\n", False, ""), "4.6.2") == "documented"
+    assert orc.compare(mixed, ("tick 1\n", False, ""), "4.10.0") == "divergence"
+    assert orc.compare(("t\n", False, ""), ("t\n", False, ""), "4.10.0") == "agree"
+    assert orc.compare(("t\n", True, "x"), ("t\n", False, ""), "4.6.2") == "divergence"
+    lib = 'tick 2\n2 LoopInt "L" RUNNING -> IDLE\nresult SKIPPED\ntick 3\nresult SKIPPED\n'
+    got = 'tick 2\n2 LoopInt "L" RUNNING -> IDLE\nresult SKIPPED\ntick 3\n2 LoopInt "L" IDLE -> RUNNING\n'
+    literal = '<LoopInt queue="1;2" value="{v}">'
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal) == "documented"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", literal.replace('"1;2"', '"{q}"')) == "divergence"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", literal) == "divergence"
+    # 4.6.2's entry-update nodes: a SetBlackboard copy is no update, a halt leaves the child running
+    updates = '<SkipUnlessUpdated entry="{i}"><SetBlackboard value="{j}" output_key="i"/></SkipUnlessUpdated>'
+    lib, got = "tick 2\nresult RUNNING\n", 'tick 2\n3 Fallback "f" IDLE -> RUNNING\n'
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates) == "documented"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.10.0", updates) == "divergence"
+    assert orc.compare((lib, False, ""), (got, False, ""), "4.6.2", updates.replace("{j}", "5")) == "divergence"
+
+
+def test_fuzzgen_writes_no_name_410_refuses():
+    """fuzzgen's missions for 4.10.0 load there (the differential runs found DEL in node names and
+    a SubTree named "" in the main tree, which 4.10.0 refuses)."""
+    import re
+
+    from btgen.tools.fuzzgen import FEATURE_SETS, random_case
+
+    for features in FEATURE_SETS:
+        for seed in range(100):
+            mission = random_case(seed, features, 1, "4.10.0").mission
+            assert "\x7f" not in mission, (features, seed)
+            assert not re.search(r'<SubTree [^>]*name=""', mission), (features, seed)
