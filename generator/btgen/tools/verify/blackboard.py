@@ -11,9 +11,17 @@ created with, every script is run on every blackboard found so far, until no new
 the reachable blackboards are then a finite set (an over-approximation: a script is run on
 blackboards it may never meet), numbered, and the model's variable `bb` holds the number.
 
+When that closure passes MAX_BLACKBOARDS (a counter, `_onSuccess="i1 += 1"`, makes a new
+value on every run) and the runs are bounded (--ticks N), the tables come instead from the
+blackboards the runs reach: explore's search (tools/explore/search.py, the interpreter under
+free leaves, N ticks) records every blackboard at the points where a table's job runs
+(`_reachable`), and each job is run on each of those. Free leaves there are freer than in the
+model (no contract, no running bound), so the set is an over-approximation still.
+
 What cannot be translated is refused with a located error, never abstracted silently: more
-than MAX_BLACKBOARDS blackboards (an entry that counts without bound, a double that keeps
-changing: the error names the script that makes the new values), a script that can fail at
+than MAX_BLACKBOARDS blackboards with unbounded runs (an entry that counts without bound, a
+double that keeps changing: the error names the script, the entries it changes, and --ticks),
+more than MAX_REACHED reached ones under --ticks, a script that can fail at
 run time on one of them, `_onHalted`, and scripts read from the blackboard (`code="{key}"`).
 Free leaves never write the blackboard (a scenario gives them statuses only), so scripts and
 the blackboard nodes (SetBlackboard, Loop ..., `bbjobs.py`, whose jobs run here too) are its
@@ -34,11 +42,13 @@ from btgen.tools.verify.refusal import refuse
 MAX_BLACKBOARDS = 250
 MAX_REACHED = 5000  # with --ticks, blackboards the runs reach (the closure was too large)
 MAX_EXPLORE_STATES = 200000  # explore's states for them
-# A state past the reached ones (a script run on a reached blackboard the runs never run it on)
-# gets its own scripts run up to this many steps away; past that its table rows are absent, and
-# the model's lookup asserts (a btgen bug, never a silent proof): a node's pre-condition, its
-# body and its post-condition are three writes in one tick of it, between two recorded points.
-AFTER_REACHED = 3
+# A state past the reached ones (a script run on a reached blackboard where no run runs it) gets
+# its own scripts run up to this many steps away. 0: the model runs a script only where a run of
+# the interpreter does (it is the same semantics), at a point `_reachable` records, so such a
+# state is never met; if it were, its rows are absent and the model's lookup asserts (a btgen
+# bug, shown as a violation that does not replay, never a silent proof). The agreement with
+# explore checks it: the assertion would stop SPIN's search short.
+AFTER_REACHED = 0
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 HALT = 5  # a _while that turns false on a RUNNING node: halt it, SKIPPED
 ERROR = 254  # the script fails at run time: the run ends there (the tree throws)
@@ -304,8 +314,10 @@ def _changed(before: tuple, after: tuple, bbs: list, root) -> list[str]:
 
 def _reachable(explorer, save: Callable[[], tuple], key: Callable[[tuple], tuple], loc: Loc) -> list[tuple]:
     """Every blackboard (build_tables' `save`) explore's search meets in its runs: at the start
-    and the end of every node's tick (pre-conditions, body, post-conditions between) and of
-    every halt. explore merges repeated states; a state cut by --ticks ends its run."""
+    and the end of every node's executeTick (its pre-conditions run at the start), of its
+    tick() (the body: its post-conditions run at the end) and of every halt, the points where
+    a table's job runs. explore merges repeated states (what follows one was recorded where it
+    was first reached); --ticks ends a run."""
     from btgen.interp.tree import TreeNode
 
     found: dict[tuple, tuple] = {}
@@ -332,7 +344,7 @@ def _reachable(explorer, save: Callable[[], tuple], key: Callable[[tuple], tuple
     def install_both():
         restore = install()
         for cls in classes:
-            for name in ("execute_tick", "halt"):
+            for name in ("execute_tick", "tick", "halt"):
                 if name in cls.__dict__:
                     original = cls.__dict__[name]
                     patched.append((cls, name, original))
