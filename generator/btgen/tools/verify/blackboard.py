@@ -41,7 +41,7 @@ from btgen.tools.verify.refusal import refuse
 
 MAX_BLACKBOARDS = 250
 MAX_REACHED = 5000  # with --ticks, blackboards the runs reach (the closure was too large)
-MAX_EXPLORE_STATES = 200000  # explore's states for them
+MAX_EXPLORE_STATES = 50000  # explore's states for them (its search stops there: refused)
 # A state past the reached ones (a script run on a reached blackboard where no run runs it) gets
 # its own scripts run up to this many steps away. 0: the model runs a script only where a run of
 # the interpreter does (it is the same semantics), at a point `_reachable` records, so such a
