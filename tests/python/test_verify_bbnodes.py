@@ -379,6 +379,24 @@ def test_a_counter_under_ticks_is_tabled_from_the_reached_blackboards(tmp_path, 
     assert v == {"absence(ticked(Place))": True, "[] (i1 <= 2)": True}
 
 
+# fuzzgen missions verify refused for a counter (more than 250 blackboards), before the tables
+# came from the blackboards the runs reach: (feature set, seed, release).
+COUNTING = [("full", 4, "4.6.2"), ("full", 13, "4.6.2")]
+
+
+@pytest.mark.parametrize("features, seed, btcpp", COUNTING)
+def test_random_missions_with_counters_agree_under_ticks(tmp_path, features, seed, btcpp):
+    from btgen.tools.fuzzgen import random_case
+
+    path = write_mission(tmp_path, random_case(seed, features, 1, btcpp=btcpp).mission)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(btcpp=btcpp))
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions())
+    assert "--ticks N" in e.value.diagnostics[0].message
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"), max_states=50000)
+    assert not a.explore_truncated and a.explore_states == a.spin_states
+
+
 def test_storm_on_the_blackboard_nodes_equals_hand_computed_values(tmp_path, capsys):
     pytest.importorskip("stormpy")
     path = write_mission(tmp_path, STORM)
@@ -412,7 +430,13 @@ def test_random_missions_per_feature_set_behind_an_env_var(tmp_path):
     from btgen.tools.fuzzgen import random_case
     from btgen.tools.verify.promela import Refusal
 
-    allowed = ("the blackboard takes more than", "a Control of the mission's own", "a Decorator of the mission's own")
+    allowed = (
+        "the blackboard takes more than",
+        "the runs reach more than",  # --ticks: blackboard.MAX_REACHED
+        "explore's search of the runs stopped",  # --ticks: blackboard.MAX_EXPLORE_STATES
+        "a Control of the mission's own",
+        "a Decorator of the mission's own",
+    )
     for btcpp in ("4.6.2", "4.10.0"):
         opts = pipeline.CompileOptions(btcpp=btcpp)
         for features in ("control", "full", "dynamic", "edges"):
