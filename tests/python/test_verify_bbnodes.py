@@ -379,6 +379,23 @@ def test_a_counter_under_ticks_is_tabled_from_the_reached_blackboards(tmp_path, 
     assert v == {"absence(ticked(Place))": True, "[] (i1 <= 2)": True}
 
 
+def test_reached_blackboards_past_the_limits_are_refused_located(tmp_path, monkeypatch):
+    from btgen.tools.verify import blackboard
+
+    mission, program = pipeline.build(write_mission(tmp_path, COUNTER))
+    monkeypatch.setattr(blackboard, "MAX_REACHED", 3)
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions(ticks=6))
+    d = e.value.diagnostics[0]
+    assert d.message == "the runs reach more than 3 blackboards (in the runs of at most 6 ticks)"
+    assert d.loc.line == 4  # the first node with a script
+    monkeypatch.setattr(blackboard, "MAX_REACHED", 5000)
+    monkeypatch.setattr(blackboard, "MAX_EXPLORE_STATES", 5)
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions(ticks=6))
+    assert e.value.diagnostics[0].message.startswith("explore's search of the runs stopped at 5 states")
+
+
 # fuzzgen missions verify refused for a counter (more than 250 blackboards), before the tables
 # came from the blackboards the runs reach: (feature set, seed, release).
 COUNTING = [("full", 4, "4.6.2"), ("full", 13, "4.6.2")]
