@@ -105,7 +105,7 @@ PRODUCED: list[tuple[str, R.Counterexample, pipeline.CompileOptions]] = []
 
 def _verdicts(tmp_path: Path, path: str, texts: list[str], opts=pipeline.DEFAULTS, **options) -> dict:
     mission, program = pipeline.build(path, opts)
-    names = P.Names(program, entries_of(build_tables(mission, program)))
+    names = P.Names(program, entries_of(build_tables(mission, program, ticks=options.get("ticks"))))
     props = [P.parse_property(t, Loc("<test>", 1, 1), names, i) for i, t in enumerate(texts)]
     results = run_properties(mission, program, props, ModelOptions(print_states=True, **options), str(tmp_path / "w"))
     out = {}
@@ -332,6 +332,89 @@ def test_try_catch_on_halt_ticks_the_catch_child(tmp_path):
             assert v[props[0]] is True
 
 
+# A counter without bound: Grasp's failures count in i1, and Place runs once i1 reaches 2. Run on
+# every blackboard found, `i1 += 1` makes new values for ever; the runs of N ticks reach i1 <= N.
+COUNTER = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="i1 := 0"/>
+      <RetryUntilSuccessful num_attempts="-1">
+        <Sequence>
+          <Grasp _onFailure="i1 += 1"/>
+          <ScriptCondition code="i1 &gt;= 2"/>
+        </Sequence>
+      </RetryUntilSuccessful>
+      <Place/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Grasp"/><Action ID="Place"/></TreeNodesModel>
+</root>
+"""
+
+
+def test_a_counter_without_a_tick_bound_is_refused_naming_the_entry_and_the_bound(tmp_path):
+    mission, program = pipeline.build(write_mission(tmp_path, COUNTER))
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions())
+    d = e.value.diagnostics[0]
+    assert (d.loc.line, d.loc.col) == (7, 30)  # the `_onFailure` script
+    assert "the blackboard takes more than 250 values" in d.message
+    assert "`i1` takes a new value on every run of this script" in d.message and "--ticks N" in d.message
+
+
+@pytest.mark.parametrize("btcpp", ["4.6.2", "4.10.0"])
+def test_a_counter_under_ticks_is_tabled_from_the_reached_blackboards(tmp_path, btcpp):
+    """Hand-computed: one failure of Grasp a tick, so i1 <= N in N ticks; Place needs two
+    failures and a success, so three ticks."""
+    opts = pipeline.CompileOptions(btcpp=btcpp)
+    path = write_mission(tmp_path, COUNTER)
+    mission, program = pipeline.build(path, opts)
+    tables = Emitter(mission, program, ModelOptions(ticks=6)).bbt
+    assert {v.get("i1") for v in tables.values} >= set(range(7))
+    a = agreement(mission, program, 5, 100, str(tmp_path / "a"))
+    assert not a.explore_truncated and a.explore_states == a.spin_states and len(a.spin_states) >= 4
+    v = _verdicts(tmp_path, path, ["[] (i1 <= 6)", "[] (i1 <= 5)", "absence(ticked(Place))"], opts, ticks=6)
+    assert v == {"[] (i1 <= 6)": True, "[] (i1 <= 5)": False, "absence(ticked(Place))": False}
+    v = _verdicts(tmp_path, path, ["absence(ticked(Place))", "[] (i1 <= 2)"], opts, ticks=2)
+    assert v == {"absence(ticked(Place))": True, "[] (i1 <= 2)": True}
+
+
+def test_reached_blackboards_past_the_limits_are_refused_located(tmp_path, monkeypatch):
+    from btgen.tools.verify import blackboard
+
+    mission, program = pipeline.build(write_mission(tmp_path, COUNTER))
+    monkeypatch.setattr(blackboard, "MAX_REACHED", 3)
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions(ticks=6))
+    d = e.value.diagnostics[0]
+    assert d.message == "the runs reach more than 3 blackboards (in the runs of at most 6 ticks)"
+    assert d.loc.line == 4  # the first node with a script
+    monkeypatch.setattr(blackboard, "MAX_REACHED", 5000)
+    monkeypatch.setattr(blackboard, "MAX_EXPLORE_STATES", 5)
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions(ticks=6))
+    assert e.value.diagnostics[0].message.startswith("explore's search of the runs stopped at 5 states")
+
+
+# fuzzgen missions verify refused for a counter (more than 250 blackboards), before the tables
+# came from the blackboards the runs reach: (feature set, seed, release).
+# edges 53: a Repeat of num_cycles="-2147483648" (INT_MIN, which SPIN's parser misread) too.
+COUNTING = [("full", 4, "4.6.2"), ("full", 13, "4.6.2"), ("edges", 53, "4.6.2")]
+
+
+@pytest.mark.parametrize("features, seed, btcpp", COUNTING)
+def test_random_missions_with_counters_agree_under_ticks(tmp_path, features, seed, btcpp):
+    from btgen.tools.fuzzgen import random_case
+
+    path = write_mission(tmp_path, random_case(seed, features, 1, btcpp=btcpp).mission)
+    mission, program = pipeline.build(path, pipeline.CompileOptions(btcpp=btcpp))
+    with pytest.raises(Refusal) as e:
+        Emitter(mission, program, ModelOptions())
+    assert "--ticks N" in e.value.diagnostics[0].message
+    a = agreement(mission, program, 3, 20, str(tmp_path / "w"), max_states=50000)
+    assert not a.explore_truncated and a.explore_states == a.spin_states
+
+
 def test_storm_on_the_blackboard_nodes_equals_hand_computed_values(tmp_path, capsys):
     pytest.importorskip("stormpy")
     path = write_mission(tmp_path, STORM)
@@ -365,7 +448,13 @@ def test_random_missions_per_feature_set_behind_an_env_var(tmp_path):
     from btgen.tools.fuzzgen import random_case
     from btgen.tools.verify.promela import Refusal
 
-    allowed = ("the blackboard takes more than", "a Control of the mission's own", "a Decorator of the mission's own")
+    allowed = (
+        "the blackboard takes more than",
+        "the runs reach more than",  # --ticks: blackboard.MAX_REACHED
+        "explore's search of the runs stopped",  # --ticks: blackboard.MAX_EXPLORE_STATES
+        "a Control of the mission's own",
+        "a Decorator of the mission's own",
+    )
     for btcpp in ("4.6.2", "4.10.0"):
         opts = pipeline.CompileOptions(btcpp=btcpp)
         for features in ("control", "full", "dynamic", "edges"):

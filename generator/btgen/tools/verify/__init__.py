@@ -189,7 +189,7 @@ def parse_properties(args, program: Program, mission=None) -> list[P.Property]:
     if mission is not None:
         from btgen.tools.verify.blackboard import build_tables, entries_of
 
-        entries = entries_of(build_tables(mission, program))
+        entries = entries_of(build_tables(mission, program, ticks=args.ticks, clock_ms=args.clock_ms))
     names = P.Names(program, entries)
     out: list[P.Property] = []
     for text in args.properties_inline:

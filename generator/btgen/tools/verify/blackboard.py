@@ -11,9 +11,17 @@ created with, every script is run on every blackboard found so far, until no new
 the reachable blackboards are then a finite set (an over-approximation: a script is run on
 blackboards it may never meet), numbered, and the model's variable `bb` holds the number.
 
+When that closure passes MAX_BLACKBOARDS (a counter, `_onSuccess="i1 += 1"`, makes a new
+value on every run) and the runs are bounded (--ticks N), the tables come instead from the
+blackboards the runs reach: explore's search (tools/explore/search.py, the interpreter under
+free leaves, N ticks) records every blackboard at the points where a table's job runs
+(`_reachable`), and each job is run on each of those. Free leaves there are freer than in the
+model (no contract, no running bound), so the set is an over-approximation still.
+
 What cannot be translated is refused with a located error, never abstracted silently: more
-than MAX_BLACKBOARDS blackboards (an entry that counts without bound, a double that keeps
-changing: the error names the script that makes the new values), a script that can fail at
+than MAX_BLACKBOARDS blackboards with unbounded runs (an entry that counts without bound, a
+double that keeps changing: the error names the script, the entries it changes, and --ticks),
+more than MAX_REACHED reached ones under --ticks, a script that can fail at
 run time on one of them, `_onHalted`, and scripts read from the blackboard (`code="{key}"`).
 Free leaves never write the blackboard (a scenario gives them statuses only), so scripts and
 the blackboard nodes (SetBlackboard, Loop ..., `bbjobs.py`, whose jobs run here too) are its
@@ -24,7 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Callable
+from typing import Callable, Optional
 
 from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.ir.lower import Program
@@ -32,6 +40,15 @@ from btgen.lang.model import Mission
 from btgen.tools.verify.refusal import refuse
 
 MAX_BLACKBOARDS = 250
+MAX_REACHED = 5000  # with --ticks, blackboards the runs reach (the closure was too large)
+MAX_EXPLORE_STATES = 50000  # explore's states for them (its search stops there: refused)
+# A state past the reached ones (a script run on a reached blackboard where no run runs it) gets
+# its own scripts run up to this many steps away. 0: the model runs a script only where a run of
+# the interpreter does (it is the same semantics), at a point `_reachable` records, so such a
+# state is never met; if it were, its rows are absent and the model's lookup asserts (a btgen
+# bug, shown as a violation that does not replay, never a silent proof). The agreement with
+# explore checks it: the assertion would stop SPIN's search short.
+AFTER_REACHED = 0
 IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = 0, 1, 2, 3, 4
 HALT = 5  # a _while that turns false on a RUNNING node: halt it, SKIPPED
 ERROR = 254  # the script fails at run time: the run ends there (the tree throws)
@@ -72,10 +89,53 @@ def _refuse(loc: Loc, message: str) -> UserError:
 
 
 def build_tables(
-    mission: Mission, program: Program, functions: tuple = (), params_from_bb: frozenset = frozenset()
+    mission: Mission,
+    program: Program,
+    functions: tuple = (),
+    params_from_bb: frozenset = frozenset(),
+    ticks: Optional[int] = None,
+    clock_ms: int = 100,
 ) -> Tables:
     """`functions`: (Condition name, success_if script, its place in the contract file);
-    `params_from_bb`: the nodes whose count is read from the blackboard (bbjobs.py)."""
+    `params_from_bb`: the nodes whose count is read from the blackboard (bbjobs.py); `ticks`:
+    the runs' bound (--ticks), which lets the tables come from the blackboards the runs reach
+    when the closure over every script is too large (`_reachable`)."""
+    try:
+        return _build_tables(mission, program, functions, params_from_bb, None, clock_ms)
+    except _TooMany as e:
+        if ticks is None:
+            raise _refuse(e.loc, e.message + _unbounded_hint(e)) from None
+    try:
+        return _build_tables(mission, program, functions, params_from_bb, ticks, clock_ms)
+    except _TooMany as e:
+        raise _refuse(e.loc, e.message + f" (in the runs of at most {ticks} ticks)") from None
+
+
+class _TooMany(Exception):
+    def __init__(self, loc: Loc, message: str, grows: list[str]) -> None:
+        super().__init__(message)
+        self.loc, self.message, self.grows = loc, message, grows
+
+
+def _unbounded_hint(e: _TooMany) -> str:
+    grows = ", ".join(f"`{k}`" for k in e.grows) if e.grows else "an entry"
+    return (
+        f"; {grows} takes a new value on every run of this script and the runs are unbounded: "
+        "with --ticks N only the blackboards runs of N ticks reach are tabled"
+    )
+
+
+def _build_tables(
+    mission: Mission,
+    program: Program,
+    functions: tuple,
+    params_from_bb: frozenset,
+    ticks: Optional[int],
+    clock_ms: int,
+) -> Tables:
+    """With `ticks` None: every script run on every blackboard found (the closure). Otherwise the
+    blackboards explore's search reaches in runs of `ticks` ticks (`_reachable`), and every script
+    run on each of them and on what those runs make, up to AFTER_REACHED steps away."""
     from btgen.interp.engine import Interpreter
     from btgen.interp.tree import RunError
     from btgen.lang import script as scriptmod
@@ -100,7 +160,14 @@ def build_tables(
     tables = Tables()
     if not wanted:
         return tables
-    interp = Interpreter(mission)
+    explorer = None
+    if ticks is not None:
+        from btgen.tools.explore.search import Explorer
+
+        explorer = Explorer(mission, ticks, 10**9, clock_ms, MAX_EXPLORE_STATES)
+        interp = explorer.interp
+    else:
+        interp = Interpreter(mission)
     inodes = interp.nodes
     bbs = list({id(n.bb): n.bb for n in inodes}.values())
     root = interp.root_bb
@@ -128,6 +195,18 @@ def build_tables(
 
     states: list[tuple] = [save()]
     numbers: dict[tuple, int] = {key(states[0]): 0}
+    level = [0]  # per state: 0 reached by a run (or the closure), else steps past one
+    limit = MAX_BLACKBOARDS
+    if explorer is not None:
+        limit = MAX_REACHED
+        for st in _reachable(explorer, save, key, wanted[0].loc):
+            k = key(st)
+            if k not in numbers:
+                if len(states) >= limit:
+                    raise _TooMany(wanted[0].loc, f"the runs reach more than {limit} blackboards", [])
+                numbers[k] = len(states)
+                states.append(st)
+                level.append(0)
 
     # Every script: (table, entry key, where, what to run on the interpreter's node).
     jobs: list[tuple[dict, object, Loc, Callable[[], int]]] = []
@@ -165,7 +244,7 @@ def build_tables(
         jobs.extend(bbjobs.node_jobs(n, node, tables, n.index in params_from_bb))
 
     failing: dict[Loc, str] = {}
-    todo = [0]
+    todo = list(range(len(states)))
     while todo:
         s = todo.pop()
         for table, _k, loc, job_run in jobs:
@@ -184,17 +263,20 @@ def build_tables(
             if _k == "pure" and k != key(states[s]):
                 raise _refuse(loc, "a contract's success_if must not write the blackboard")
             if k not in numbers:
-                if len(states) >= MAX_BLACKBOARDS:
-                    raise _refuse(
+                if len(states) >= limit:
+                    raise _TooMany(
                         loc,
-                        f"the blackboard takes more than {MAX_BLACKBOARDS} values: run on every blackboard found "
+                        f"the blackboard takes more than {limit} values: run on every blackboard found "
                         f"so far, this script keeps making new ones (e.g. {describe_root(after, bbs, root)}); "
                         "btgen verify needs entries of a finite domain (bool, enums, integers and strings that "
                         "take few values whatever the order the scripts run in)",
+                        _changed(states[s], after, bbs, root),
                     )
                 numbers[k] = len(states)
                 states.append(after)
-                todo.append(numbers[k])
+                level.append(0 if explorer is None else level[s] + 1)
+                if level[-1] <= AFTER_REACHED:
+                    todo.append(numbers[k])
             table[s] = (numbers[k], result)
     if failing:  # one warning: the blackboards are over-approximated, most failures never happen
         loc, first = next(iter(failing.items()))
@@ -219,6 +301,73 @@ def build_tables(
         tables.values.append({k: e.value for k, e in root._storage.items()})
     restore(states[0])
     return tables
+
+
+def _changed(before: tuple, after: tuple, bbs: list, root) -> list[str]:
+    """The root blackboard's entries a script changed (the error names them)."""
+    if root not in bbs:
+        return []
+    i = bbs.index(root)
+    old = {k: _value_key(v) for k, _e, _t, v, _s in before[i]}
+    return sorted(k for k, _e, _t, v, _s in after[i] if old.get(k) != _value_key(v))
+
+
+def _reachable(explorer, save: Callable[[], tuple], key: Callable[[tuple], tuple], loc: Loc) -> list[tuple]:
+    """Every blackboard (build_tables' `save`) explore's search meets in its runs: at the start
+    and the end of every node's executeTick (its pre-conditions run at the start), of its
+    tick() (the body: its post-conditions run at the end) and of every halt, the points where
+    a table's job runs. explore merges repeated states (what follows one was recorded where it
+    was first reached); --ticks ends a run."""
+    from btgen.interp.tree import TreeNode
+
+    found: dict[tuple, tuple] = {}
+
+    def record() -> None:
+        st = save()
+        found.setdefault(key(st), st)
+
+    classes = {k for n in explorer.nodes for k in type(n).__mro__ if issubclass(k, TreeNode)}
+    patched: list[tuple[type, str, object]] = []
+
+    def wrap(original):
+        def hooked(node, *a):
+            record()
+            try:
+                return original(node, *a)
+            finally:
+                record()
+
+        return hooked
+
+    install = explorer._install
+
+    def install_both():
+        restore = install()
+        for cls in classes:
+            for name in ("execute_tick", "tick", "halt"):
+                if name in cls.__dict__:
+                    original = cls.__dict__[name]
+                    patched.append((cls, name, original))
+                    setattr(cls, name, wrap(original))
+
+        def restore_both() -> None:
+            for cls, name, original in reversed(patched):
+                setattr(cls, name, original)
+            restore()
+
+        return restore_both
+
+    explorer._install = install_both
+    record()
+    result = explorer.explore()
+    explorer._restore(explorer._initial)
+    if result.truncated:
+        raise _TooMany(
+            loc,
+            f"explore's search of the runs stopped at {explorer.max_states} states",
+            [],
+        )
+    return list(found.values())
 
 
 def _copy(value):

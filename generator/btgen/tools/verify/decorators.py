@@ -89,7 +89,9 @@ class DecoratorTicks:
         limit = n.params[0]
         read = i in self.params_from_bb  # the count read from the blackboard (bbnodes.py): lim{i}
         endless = limit == -1 and not read
-        more = "true" if endless else (f"(lim{i} == -1 || cnt{i} < lim{i})" if read else f"cnt{i} < {limit}")
+        # INT_MIN as a literal: SPIN reads 2147483648 as INT_MIN, and -INT_MIN is positive in pan's C
+        bound = "(-2147483647 - 1)" if limit == -(2**31) else str(limit)
+        more = "true" if endless else (f"(lim{i} == -1 || cnt{i} < lim{i})" if read else f"cnt{i} < {bound}")
         track = not self.sem.loop_end_never_skipped
         out = self.param_limit(n) if read else []
         if track:

@@ -194,7 +194,9 @@ class Emitter(BlackboardNodeTicks, DecoratorTicks, Nav2Ticks):
                 self.parent[c] = n.index
         self.check()
         # after check(): the nodes it refuses come first
-        self.bbt = build_tables(mission, program, options.functions, frozenset(self.params_from_bb))
+        self.bbt = build_tables(
+            mission, program, options.functions, frozenset(self.params_from_bb), options.ticks, options.clock_ms
+        )
 
     # ------------------------------------------------------------ what is translated
     def check(self) -> None:
