@@ -158,7 +158,7 @@ TEST(Trace, EscapesNamesAsTheFormatSays) {
   char buf[64];
   const std::string_view in = "a\"b\\c\nd\re\tf\x01g\x7f\xc3\xa9";
   const std::size_t n = btgen::escape_name(in, buf, sizeof buf);
-  EXPECT_EQ(std::string(buf, n), "a\\\"b\\\\c\\nd\\re\\tf\\x01g\\x7f\xc3\xa9");
+  EXPECT_EQ(std::string(buf, n), "a\\\"b\\\\c\\nd\\re\\tf\\x01g\\x7F\xc3\xa9");
   EXPECT_EQ(btgen::escape_name("\x1f", buf, 0), 4u);  // size needed, nothing written
 }
 
