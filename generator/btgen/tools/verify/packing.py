@@ -19,35 +19,6 @@ STATUS_BITS = 3  # IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED
 # per-node variables that hold a status (a child's result, a child's status before its tick),
 # in the node kinds whose emitters write nothing else into them
 _STATUS_VARS = ("cs", "prv", "ret")
-STATUS_KINDS = frozenset(
-    {
-        "Sequence",
-        "AsyncSequence",
-        "Fallback",
-        "AsyncFallback",
-        "SequenceWithMemory",
-        "ReactiveSequence",
-        "ReactiveFallback",
-        "Parallel",
-        "ParallelAll",
-        "IfThenElse",
-        "WhileDoElse",
-        "Inverter",
-        "ForceSuccess",
-        "ForceFailure",
-        "Repeat",
-        "RetryUntilSuccessful",
-        "KeepRunningUntilFailure",
-        "RunOnce",
-        "Timeout",
-        "Delay",
-        "SubTree",
-        "TryCatch",
-        "PipelineSequence",
-        "RecoveryNode",
-        "RoundRobin",
-    }
-)
 # the kinds whose child counters (idx, skp, k, j) run from 0 to their number of children
 _COUNTING = frozenset(
     {
@@ -61,6 +32,25 @@ _COUNTING = frozenset(
         "TryCatch",
     }
 )
+STATUS_KINDS = _COUNTING | {
+    "Parallel",
+    "ParallelAll",
+    "IfThenElse",
+    "WhileDoElse",
+    "Inverter",
+    "ForceSuccess",
+    "ForceFailure",
+    "Repeat",
+    "RetryUntilSuccessful",
+    "KeepRunningUntilFailure",
+    "RunOnce",
+    "Timeout",
+    "Delay",
+    "SubTree",
+    "PipelineSequence",
+    "RecoveryNode",
+    "RoundRobin",
+}
 
 
 def bits(most: int) -> int:
