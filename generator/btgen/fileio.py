@@ -92,6 +92,16 @@ def read_json(path: str, limit: int, kind: str, object_pairs_hook=None) -> tuple
 
 
 # ====================================================================== writing
+def xml_files_of(folder: str) -> list[str]:
+    """The `*.xml` files of a folder (not below it), in name order: what `--trees DIR` registers,
+    as registerBehaviorTreeFromFile is called on each."""
+    return sorted(
+        os.path.join(folder, f)
+        for f in os.listdir(folder)
+        if f.endswith(".xml") and os.path.isfile(os.path.join(folder, f))
+    )
+
+
 def _identity(path: str) -> Optional[tuple[int, int]]:
     try:
         st = os.stat(path)

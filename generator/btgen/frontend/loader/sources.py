@@ -12,6 +12,7 @@ from typing import Optional
 from lxml import etree
 
 from btgen.diagnostics import Loc, UserError, suggestion
+from btgen.fileio import xml_files_of
 from btgen.frontend.hints import unmapped_subtree_ports
 from btgen.frontend.loader.base import MAX_INCLUDE_DEPTH
 from btgen.frontend.loader.models import ModelsReader
@@ -145,11 +146,7 @@ class _Loader(ModelsReader):
         folder, in name order) becomes available to the mission's SubTrees, as
         registerBehaviorTreeFromFile makes them; their includes and TreeNodesModel count too."""
         if os.path.isdir(path):
-            files = sorted(
-                os.path.join(path, f)
-                for f in os.listdir(path)
-                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
-            )
+            files = xml_files_of(path)
             if not files:
                 self.sink.error(Loc(path, 1, 1), "--trees names a folder that holds no .xml file")
                 return

@@ -34,6 +34,7 @@ from typing import Optional
 
 from btgen import cmdline
 from btgen.diagnostics import Diagnostic, Loc, UserError, print_diagnostics
+from btgen.fileio import xml_files_of
 from btgen.lang.leaves import is_scripted_leaf, leaf_kind
 from btgen.lang.model import Mission, Node, SubTreeNode
 
@@ -728,14 +729,7 @@ def tree_files(args, opts, mission: Mission) -> list[str]:
     base = os.path.abspath(args.output_dir)
     absolute = bool(args.mission_path) and os.path.isabs(args.mission_path)
     for path in opts.trees:
-        if os.path.isdir(path):
-            found = sorted(
-                os.path.join(path, f)
-                for f in os.listdir(path)
-                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
-            )
-        else:
-            found = [path]
+        found = xml_files_of(path) if os.path.isdir(path) else [path]
         for f in found:
             real = os.path.realpath(f)
             if real in seen:

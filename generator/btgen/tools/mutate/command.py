@@ -15,6 +15,7 @@ from typing import Optional
 
 from btgen import cmdline
 from btgen.diagnostics import Diagnostic, InternalError, Loc, UserError, print_diagnostics
+from btgen.fileio import xml_files_of
 from btgen.interp.scenario import Scenario, format_scenario, load_scenario, parse_scenario_text
 from btgen.lang.model import Mission
 from btgen.tools.diff.product import Differ, Event, first_difference, observe
@@ -138,14 +139,7 @@ def library_files(trees: tuple[str, ...], mission_path: str) -> tuple[str, ...]:
     mission = os.path.realpath(mission_path)
     out: list[str] = []
     for path in trees:
-        if os.path.isdir(path):
-            found = sorted(
-                os.path.join(path, f)
-                for f in os.listdir(path)
-                if f.endswith(".xml") and os.path.isfile(os.path.join(path, f))
-            )
-        else:
-            found = [path]
+        found = xml_files_of(path) if os.path.isdir(path) else [path]
         out += [f for f in found if os.path.realpath(f) != mission]
     return tuple(out)
 
