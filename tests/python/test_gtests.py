@@ -395,6 +395,20 @@ def test_scripts_the_real_462_refuses_give_no_suite(capsys, tmp_path):
     assert _generate(capsys, mission, tmp_path / "s410", "--btcpp", "4.10.0")[0] == 0
 
 
+def test_an_empty_condition_loads_in_a_462_suite(capsys, tmp_path):
+    """4.6.2 loads an empty ScriptCondition and Precondition `if` and throws when one is ticked
+    (tests/conformance/both-releases/empty_condition_*): the suite is written (the strict 4.6.2
+    parser refused the empty text before). Its run on the real 4.6.2 passed (docs/tests.md)."""
+    mission = tmp_path / "empty.xml"
+    mission.write_text(
+        '<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Fallback>'
+        '<Sequence><AlwaysFailure/><ScriptCondition code=""/></Sequence>'
+        '<Precondition if="" else="SUCCESS"><Go/></Precondition></Fallback></BehaviorTree>'
+        '<TreeNodesModel><Action ID="Go"/></TreeNodesModel></root>'
+    )
+    assert _generate(capsys, mission, tmp_path / "s462")[0] == 0
+
+
 def test_a_run_time_error_is_expected_where_the_engines_stop(capsys, tmp_path):
     """A run that ends with a run-time error (a script adds 1 to a string): the TEST
     expects the status changes up to it, then `error` (the support header catches what the

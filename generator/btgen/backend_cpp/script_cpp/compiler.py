@@ -92,7 +92,9 @@ class ScriptCompiler(CodeWriter):
         if not condition:
             self.emit("return 1;")
             return self.lines
-        assert last is not None
+        if last is None:  # an empty ScriptCondition / Precondition: it throws whenever it runs
+            self.emit(self.fail(0, "the script gives no value, so it cannot be used as a condition"))
+            return self.lines
         self.truth(last)
         return self.lines
 

@@ -38,6 +38,9 @@ from btgen.lang.catalogue import (
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
 
+# The script ports an empty text loads in (and throws when ticked); _with_script.
+_EMPTY_LOADS = frozenset({("ScriptCondition", "code"), ("Precondition", "if")})
+
 
 class MissionChecks(LoaderBase):
     # ---------------------------------------------------------------- trees
@@ -318,8 +321,18 @@ class MissionChecks(LoaderBase):
     def _with_script(self, attr: Attr, elem: etree._Element, src: Source, node_id: str) -> Attr:
         if node_id == "Script" and attr.name == "code" and attr.value == "":
             # 4.6.2 and 4.10.0 run `<Script code=""/>`: it does nothing and succeeds (recorded:
-            # tests/conformance/both-releases/empty_script); `code="  "`, an empty ScriptCondition
-            # or precondition throw there, and stay refused here
+            # tests/conformance/both-releases/empty_script); `code="  "` and an empty `_skipIf`
+            # & co. are refused at load ("Empty Script"), and stay refused here
+            return Attr(attr.name, attr.value, attr.loc, attr.value_loc, script_lang.Script((), ""))
+        if (node_id, attr.name) in _EMPTY_LOADS and attr.value == "":
+            # Both releases load an empty ScriptCondition `code` or Precondition `if` and throw
+            # when the node is ticked (bad_function_call; recorded:
+            # tests/conformance/both-releases/empty_condition_*): the script gives no value,
+            # which both engines report as the error it is when it runs
+            self.sink.warning(
+                attr.value_loc,
+                f"`{attr.name}` of `{node_id}` is empty: BehaviorTree.CPP loads it and throws when the node is ticked",
+            )
             return Attr(attr.name, attr.value, attr.loc, attr.value_loc, script_lang.Script((), ""))
         try:
             parsed = script_lang.parse_script(attr.value, self.sem.script_grammar_49)

@@ -506,6 +506,19 @@ RULES: tuple[Rule, ...] = (
         "so btgen loads an output port given a literal as not given, and an inout port's literal as the value "
         "it reads. A built-in node's output port given a literal stays an error (E403).",
     ),
+    Rule(
+        "W112",
+        "empty-condition",
+        "warning",
+        "an empty ScriptCondition `code` or Precondition `if`: the library loads it and throws when it is ticked",
+        (r"is empty: BehaviorTree\.CPP loads it and throws when the node is ticked",),
+        bad=_m('    <Fallback>\n      <ScriptCondition code=""/>\n      <AlwaysSuccess/>\n    </Fallback>\n'),
+        good=_m('    <Fallback>\n      <ScriptCondition code="true"/>\n      <AlwaysSuccess/>\n    </Fallback>\n'),
+        why="BehaviorTree.CPP 4.6.2 and 4.10.0 load it and throw (bad_function_call) whenever the node is "
+        "ticked (recorded: tests/conformance/both-releases/empty_condition_*); both btgen engines load it too "
+        "and stop with an error when it runs. A script of spaces, or an empty `_skipIf` & co., the library "
+        "refuses to load, and so does btgen.",
+    ),
     # ------------------------------------------------------------------ A1: analysis findings
     Rule(
         "A101",

@@ -139,8 +139,8 @@ def refuse_462_scripts(mission: Mission) -> None:
     problems: list[Diagnostic] = []
     for node in _all_nodes(mission):
         for attr in (*node.ports, *node.pre, *node.post):
-            if attr.script is None:
-                continue
+            if attr.script is None or attr.value == "":
+                continue  # (an empty script loads on 4.6.2: frontend/loader/checks.py _with_script)
             try:
                 Strict462Parser(attr.value).script()
             except ScriptSyntaxError as e:
