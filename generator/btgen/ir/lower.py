@@ -322,6 +322,8 @@ class _Lowerer:
             if d.severity == "error":
                 self.error(d.loc, d.message)
         warnings = tuple(d for d in data_sink.items if d.severity == "warning")
+        for d in warnings:  # (said with the errors too, when there are any)
+            self.sink.warning(d.loc, d.message)
 
         # Only the models a node of the mission uses get a leaf class, dispatch branches and
         # hooks: a palette of 600 unused Actions cost g++ minutes (the back end names classes
