@@ -2,6 +2,7 @@
 """The share of missions the C++ back end refuses while the interpreter runs them.
 
     scripts/refusal_share.py [--seeds N] [--markdown] [--list]
+    scripts/refusal_share.py --corpus DIR [--list]      # a real-file corpus, loaded as check loads it
 
 A mission counts as *run by the interpreter* when btgen's front end loads it for the
 selected BehaviorTree.CPP release (what `btgen run` needs), and as *refused by the C++ back
