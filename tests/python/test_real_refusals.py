@@ -8,6 +8,8 @@ engines:
 - MoveIt Pro's errorcheckvectorsize and plan_and_execute_with_position_only: a Precondition reads
   an entry nothing creates (the main tree's own SubTree model declares it, which no caller gives):
   it throws when it runs, and a run that never reaches it goes on;
+- of our own, the same kind: `x += 1` of an entry nothing creates (the C++ back end refused it
+  too; the library throws "does not exist yet" where it runs);
 - tuper_btcpp's follower.xml, a tree of it run as the main tree: a `_skipIf` reads an entry only
   its caller creates (4.10.0 refuses the file: its scripts quote with `"`).
 

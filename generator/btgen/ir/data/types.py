@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import re
+
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import Slot
 from btgen.ir.kinds import DOUBLE, DYN, INT, NONE, STATUS, STRING, describe_kind, is_queue, is_user
 from btgen.lang import values
 from btgen.lang.blackboard import RAW_COPY_TYPES
+
+# A script's update of an entry, as a Write names it ("`x += 1` in `code` of ...").
+_COMPOUND = re.compile(r"^`[^`]*? (\+=|-=|\*=|/=) ")
 
 
 # ------------------------------------------------------------ 3. kinds
@@ -43,6 +48,17 @@ def type_slots(a: Analysis) -> None:
         w = min(s.writes, key=lambda x: x.order)
         if any(x.determining and x.kind() in (NONE, "error") for x in s.writes):
             s.kind = NONE  # a script that fails whatever runs: compiling it says why
+            continue
+        if not s.at_load and all(x.source == "script" and _COMPOUND.match(x.what) for x in s.writes):
+            # Only updated (`x += 1`) and never created: the library loads it, and the script
+            # throws where it runs ("does not exist yet"), as both engines do: said, not refused.
+            a.run_time(
+                w.loc,
+                f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
+                f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)",
+            )
+            s.kind = NONE
+            s.origin = "only updated, never created"
             continue
         s.failed = True
         if any(x.determining for x in s.writes):
