@@ -2,12 +2,14 @@
 """The share of missions the C++ back end refuses while the interpreter runs them.
 
     scripts/refusal_share.py [--seeds N] [--markdown] [--list]
+    scripts/refusal_share.py --corpus DIR [--list]      # a real-file corpus, loaded as check loads it
 
 A mission counts as *run by the interpreter* when btgen's front end loads it for the
 selected BehaviorTree.CPP release (what `btgen run` needs), and as *refused by the C++ back
 end* when `btgen compile` then rejects it (lowering and rendering, no C++ compiler run).
 The recorded cases are every folder under tests/conformance (each with the release it was
-recorded on), the random missions recorded there, the regressions, and the real files of
+recorded on), the random missions recorded there, Nav2's cases (with Nav2's nodes, per distro), the
+regressions, and the real files of
 tests/real_files (both releases, the models `btgen models` infers, as test_real_files.py
 does); the random missions are `fuzzgen`'s feature sets full, dynamic and edges, seeds
 0..N-1, under both releases. `--list` prints each refusal's first line.
@@ -116,8 +118,35 @@ def _missions(folder: Path) -> list[str]:
     return sorted(str(p) for p in folder.glob("*.xml") if p.with_suffix(".scenario").exists())
 
 
+def nav2_rows() -> Iterator[Row]:
+    """tests/conformance/nav2: the cases of cases/ with Nav2's Controls and Decorators of each
+    distro built in (`--nodes nav2:DISTRO`, as test_nav2.py loads them), under each release; a
+    `.refused` recording in DISTRO-VERSION/ says the library refuses the case."""
+    from btgen.lang import nav2
+
+    folder = CONFORMANCE / "nav2"
+    for distro in nav2.DISTROS:
+        for version in VERSIONS:
+            opts = CompileOptions(btcpp=version, nodes=f"nav2:{distro}")
+            recorded = folder / f"{distro}-{version}"
+            row = Row(f"tests/conformance/nav2 {distro} ({version})")
+            for path in _missions(folder / "cases"):
+                verdict = classify(path, opts)
+                if verdict is None:
+                    continue
+                row.loaded += 1
+                if verdict:
+                    row.refused.append((path, verdict))
+                    if (recorded / (Path(path).stem + ".refused")).exists():
+                        row.library_refuses += 1
+            yield row
+
+
 def recorded_rows() -> Iterator[Row]:
     for folder in sorted(p for p in CONFORMANCE.iterdir() if p.is_dir()):
+        if folder.name == "nav2":
+            yield from nav2_rows()
+            continue
         if all((folder / v).is_dir() for v in VERSIONS):  # recorded on both releases
             versions: tuple[str, ...] = VERSIONS
         else:
@@ -168,6 +197,49 @@ def real_rows() -> Iterator[Row]:
             yield row
 
 
+def corpus_rows(folder: str, versions: tuple[str, ...] = VERSIONS) -> Iterator[Row]:
+    """Each project folder of `folder` (a real-file corpus: `btgen models .` already run in each),
+    its files loaded as `btgen check` loads them (the same models, libraries and main tree), under
+    each release; `folder`/../oracle_<462|410>.json, when present ({project: {file: [[tree,
+    "loaded" or "refused: ..."]]}}), says which files the library refuses."""
+    import json
+    from dataclasses import replace
+
+    from btgen.tools.check import config, discovery, runner
+
+    for version in versions:
+        oracle_json = Path(folder).parent / f"oracle_{version.replace('.', '')[:3]}.json"
+        oracle = json.loads(oracle_json.read_text(encoding="utf-8")) if oracle_json.exists() else {}
+        for project in sorted(p for p in Path(folder).iterdir() if p.is_dir()):
+            row = Row(f"{project.name} ({version})")
+            old = os.getcwd()
+            os.chdir(project)
+            try:
+                s = replace(config.load_settings(None), btcpp=version)
+                skip, main_for = runner.filters(s)
+                units = discovery.plan(discovery.survey(["."], skip), s.models, s.trees, main_for)
+                projects = runner._ProjectModels()
+                try:
+                    for unit in units:
+                        models = tuple(projects.models_for(m) if m in unit.projects else m for m in unit.models)
+                        with contextlib.redirect_stderr(io.StringIO()):
+                            verdict = classify(unit.path, runner._options(s, unit, models))
+                        if verdict is None:
+                            continue
+                        row.loaded += 1
+                        if verdict:
+                            rel = os.path.normpath(unit.path)
+                            row.refused.append((f"{project.name}/{rel}", verdict))
+                            outcomes = oracle.get(project.name, {}).get(rel)
+                            if outcomes and any(o != "loaded" for _, o in outcomes):
+                                row.library_refuses += 1
+                finally:
+                    projects.close()
+            finally:
+                os.chdir(old)
+            yield row
+
+
 def random_rows(n: int) -> Iterator[Row]:
     from btgen.tools.fuzzgen import random_case
 
@@ -188,9 +260,18 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--markdown", action="store_true", help="print a Markdown table")
     p.add_argument("--list", action="store_true", help="print every refusal's first line")
     p.add_argument("--no-random", action="store_true", help="recorded cases only")
+    p.add_argument(
+        "--corpus",
+        metavar="DIR",
+        help="instead: each project folder of DIR (`btgen models .` run in each), loaded as `btgen check` "
+        "loads it; DIR/../oracle_462.json and oracle_410.json say what the library refuses",
+    )
     args = p.parse_args(argv)
     rows: list[Row] = []
-    sets = [recorded_rows()] + ([] if args.no_random else [random_rows(args.seeds)])
+    if args.corpus:
+        sets: list[Iterator[Row]] = [corpus_rows(os.path.abspath(args.corpus))]
+    else:
+        sets = [recorded_rows()] + ([] if args.no_random else [random_rows(args.seeds)])
     if args.markdown:
         print(
             "| missions | loaded | refused by the C++ back end | of which the library refuses too "

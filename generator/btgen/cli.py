@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from typing import Callable
 
 from btgen.cmdline import Parser
-from btgen.diagnostics import InternalError, UserError, new_run, print_diagnostics
+from btgen.diagnostics import Diagnostic, InternalError, UserError, new_run, print_diagnostics
 from btgen.pipeline import add_mission_options
 from btgen.version import __version__
 
@@ -39,13 +39,21 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             # Every step of `btgen compile` but writing (the data side: blackboard entries, port
             # and entry types, scripts, capacities; lowering; rendering): validate rejects all
             # it rejects.
+            said: list[Diagnostic] = []  # the program's warnings: what throws only when a node runs
             mission, _ = generate_checked(
-                path, opts, loaded=lambda m: None if args.quiet else print_diagnostics(m.warnings)
+                path,
+                opts,
+                loaded=lambda m: None if args.quiet else print_diagnostics(m.warnings),
+                lowered=lambda p, said=said: said.extend(p.warnings),  # type: ignore[misc]
             )
             if not args.quiet:
                 from btgen.tools.analyze import unwritten_script_reads
 
-                print_diagnostics(unwritten_script_reads(mission, opts.data))
+                print_diagnostics(said)
+                lines = {(d.loc.path, d.loc.line) for d in said}  # (said once)
+                print_diagnostics(
+                    [d for d in unwritten_script_reads(mission, opts.data) if (d.loc.path, d.loc.line) not in lines]
+                )
                 trees = f"{len(mission.trees)} tree{'' if len(mission.trees) == 1 else 's'}"
                 print(f"{path}: ok ({trees}, main `{mission.main_tree}`)")
         except UserError as e:

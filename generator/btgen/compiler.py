@@ -44,6 +44,7 @@ from btgen.diagnostics import Diagnostic, Loc, UserError
 from btgen.fileio import check_output
 from btgen.frontend import usertypes
 from btgen.ir.data.records import DataOptions
+from btgen.ir.lower import Program
 from btgen.lang.model import Mission
 from btgen.pipeline import DEFAULTS, CompileOptions, options_from_args
 
@@ -80,11 +81,13 @@ def generate_checked(
     opts: CompileOptions = DEFAULTS,
     relative_to: Optional[str] = None,
     loaded: Optional[Callable[[Mission], None]] = None,
+    lowered: Optional[Callable[[Program], None]] = None,
 ) -> tuple[Mission, tuple[Output, ...]]:
     """The checked mission and its outputs rendered in memory: every step of `btgen compile` but
     the writing, so that `validate` and `build-info --check` run every check it runs (a
     problem found only while rendering is found by all three). `loaded` is called with the
     mission once the front end has read it (its warnings come before the IR's errors);
+    `lowered` is called with the program (its warnings: what throws only when a node runs);
     `opts.substitute`: a file of substitution rules (a test build, ir/substitute.py)."""
     mission = pipeline.load(mission_path, opts)
     # Ports of types btgen does not know hold text: loaded as BehaviorTree.CPP loads them,
@@ -93,6 +96,8 @@ def generate_checked(
     if loaded is not None:
         loaded(mission)
     program = pipeline.program(mission, opts)
+    if lowered is not None:
+        lowered(program)
     outputs = render(program, mission_stem(mission_path), relative_to or os.getcwd(), opts.namespace)
     return mission, outputs
 
@@ -188,6 +193,7 @@ def compile_command(args: argparse.Namespace) -> int:
         opts,
         args.relative_to,
         lambda m: print_diagnostics(m.warnings),
+        lambda p: print_diagnostics(p.warnings),
     )
     out_dir = Path(args.output_dir)
     for out in outputs:  # `-o` the mission's own folder, and the mission is named like an output

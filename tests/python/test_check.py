@@ -206,7 +206,7 @@ def test_selection_rules():
 def test_every_known_message_has_its_own_code():
     """Every diagnostic the bad-input corpora record gets a code of the table, not the fallback."""
     fallback = []
-    for folder in ("bad_missions", "bad_data", "tree_libraries", "provided_entries"):
+    for folder in ("bad_missions", "bad_data", "warned_data", "tree_libraries", "provided_entries"):
         for f in sorted((ROOT / "tests" / folder).rglob("*.stderr")):
             for line in f.read_text().splitlines():
                 parts = line.split(": ", 2)

@@ -108,13 +108,15 @@ def test_data_errors_are_user_errors(tmp_path):
     mission = tmp_path / "data.xml"
     mission.write_text(
         '<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>\n'
-        '  <Script code="x := 1; x := nothing"/>\n</Sequence></BehaviorTree></root>\n'
+        '  <SetBlackboard output_key="a" value="{b}"/><SetBlackboard output_key="b" value="{a}"/>\n'
+        "</Sequence></BehaviorTree></root>\n"
     )
     with pytest.raises(UserError) as e:
         build_cpp(str(mission))
+    untyped = "every write copies another entry of unknown type; write it with a literal first"
     assert [str(d) for d in e.value.diagnostics] == [
-        f'{mission}:2:30: error: `code` of `Script` "Script" reads `nothing`, but nothing creates that blackboard '
-        f"entry: no port, script or SetBlackboard writes it (create it with `nothing := ...` first)"
+        f"{mission}:2:83: error: cannot tell the type of blackboard entry `b`: {untyped}",
+        f"{mission}:2:40: error: cannot tell the type of blackboard entry `a`: {untyped}",
     ]
 
 

@@ -110,7 +110,7 @@ def test_a_script_reading_an_entry_the_subtree_node_does_not_remap(tmp_path):
         '  <BehaviorTree ID="GoTo">\n    <ScriptCondition code="target == 3"/>\n  </BehaviorTree>\n</root>\n'
     )
     rc, _, err = btgen("validate", "m.xml", cwd=tmp_path)
-    assert rc == 1
+    assert rc == 0  # (a warning: the library loads it and throws when the script runs)
     assert err.endswith(
         "reads `target`, but nothing creates that blackboard entry: no port, script or SetBlackboard writes "
         "it (the calling tree's `target` is not seen here: the SubTree node does not remap it; add "

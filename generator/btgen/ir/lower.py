@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Optional
 
-from btgen.diagnostics import DiagnosticSink, InternalError, Loc
+from btgen.diagnostics import Diagnostic, DiagnosticSink, InternalError, Loc
 from btgen.ir.data.records import DataIR, DataOptions
 from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
@@ -156,6 +156,9 @@ class Program:
     # Every user model the mission declares (used or not), in declaration order: the back end
     # names the leaf classes over all of them.
     model_ids: tuple[str, ...] = ()
+    # What the library meets only when a node runs (both engines throw there): said, not refused
+    # (`btgen check` reports them at their rule's level).
+    warnings: tuple[Diagnostic, ...] = ()
 
     @property
     def actions(self) -> tuple[LeafModel, ...]:
@@ -316,7 +319,11 @@ class _Lowerer:
         numbering = number_nodes(m)
         data, data_sink = analyze(m, self.options, numbering)
         for d in data_sink.items:
-            self.error(d.loc, d.message)
+            if d.severity == "error":
+                self.error(d.loc, d.message)
+        warnings = tuple(d for d in data_sink.items if d.severity == "warning")
+        for d in warnings:  # (said with the errors too, when there are any)
+            self.sink.warning(d.loc, d.message)
 
         # Only the models a node of the mission uses get a leaf class, dispatch branches and
         # hooks: a palette of 600 unused Actions cost g++ minutes (the back end names classes
@@ -387,6 +394,7 @@ class _Lowerer:
             groot2_tree(m, numbering),
             m.btcpp,
             tuple(s.id for s in m.user_models()),
+            warnings,
         )
 
 

@@ -65,7 +65,8 @@ class ExprType:
     links:     a comparison chain: for each operator, whether it compares dynamically
     route:     an assignment: "none" (its value has none: fails whenever it runs),
                "dynamic" (a dynamic value or entry, or an update decided at run time),
-               "compound" (`+= -= *= /=` of numbers, or `+=` of strings), else how the
+               "compound" (`+= -= *= /=` of numbers, or `+=` of strings), "no value" (an
+               update of an entry that never has one: fails where it runs), else how the
                value is stored (kinds.store_route: "same", "converted", "number_text",
                "number")
     converted: an assignment routed "converted": the string literal's converted value
@@ -174,6 +175,8 @@ class ScriptTyper:
         v = self.expr(node.value)
         if v.kind == NONE:  # fails whenever it runs, as in 4.6.2: a run-time error
             return ExprType(NONE, route="none")
+        if s.kind == NONE and op not in (":=", "="):  # `x += 1` of an entry that never has a value
+            return ExprType(NONE, route="no value")
         if (op not in (":=", "=") and not static_update_ok(op, s.kind, v.kind)) or DYN in (s.kind, v.kind):
             if s.kind != DYN:
                 kinds = dynamic_value_kinds(node.value, lambda n: self.typed.of(n).kind) if v.kind == DYN else ()

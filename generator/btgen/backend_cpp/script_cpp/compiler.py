@@ -447,6 +447,9 @@ class ScriptCompiler(CodeWriter):
         if typed.route == "dynamic":
             return self.dyn_assign(node, idx, s, v)
         self.need_value(v, off, f"the right operand of `{op}`")
+        if typed.route == "no value":  # an update of an entry that never has a value
+            self.emit(self.fail(off, f"`{node.target}` has no value yet, so `{op}` cannot update it"))
+            return Val("none", None, "false")
         if op in (":=", "="):
             store_value(self, s, v, off, f"`{node.target} {op} ...`", op, typed)
         else:

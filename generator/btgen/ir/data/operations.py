@@ -131,8 +131,7 @@ class Compiler:
         out: list[ScriptIR] = []
         bits: dict[int, int] = {}
         for inst, attr, which, script, names, condition in self.a.script_uses:
-            if not self.check_reads(inst, attr, script, names):
-                continue
+            self.check_reads(inst, attr, script, names)
             if any(self.a.slots[i].failed for i in names.values()):
                 continue  # its entry's type is already reported as unknown
             if not self.check_user_free(inst, attr, script, names):
@@ -181,9 +180,9 @@ class Compiler:
                     return False
         return True
 
-    def check_reads(self, inst: Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> bool:
-        """A name read that can never find its entry: nothing anywhere creates it. False: reported."""
-        ok = True
+    def check_reads(self, inst: Inst, attr: Attr, script: sc.Script, names: dict[str, int]) -> None:
+        """A name read that can never find its entry (nothing anywhere creates it): a run-time
+        error of both engines where the script runs, and a warning of the program."""
         for stmt in script.statements:
             for node in sc.walk(stmt):
                 if isinstance(node, sc.Name):
@@ -207,13 +206,13 @@ class Compiler:
                                 f"the calling tree's `{node.name}` is not seen here: the SubTree node does "
                                 f'not remap it; add {node.name}="{{{node.name}}}" or _autoremap="true"'
                             )
-                        self.error(
+                        # The library loads it and throws when the script runs ("Variable not
+                        # found"): so does the C++ (the slot may be missing), and `check` says so.
+                        self.a.run_time(
                             script_loc(attr, node.offset),
                             f"`{attr.name}` of {inst.what} reads `{node.name}`, but nothing creates that "
                             f"blackboard entry: no port, script or SetBlackboard writes it ({advice})",
                         )
-                        ok = False
-        return ok
 
     def created_keys(self, bb: bbmod.Blackboard) -> set[str]:
         """The keys a script on `bb` can name whose entries something creates: its own and

@@ -68,6 +68,14 @@ class Analysis:
             self.reported.add((loc, message))
             self.sink.error(loc, message)
 
+    def run_time(self, loc: Loc, message: str) -> None:
+        """A problem the library meets only when the node runs (it loads the mission): both
+        engines throw there, with the interpreter's message. Not a refusal: a warning of the
+        program (`btgen check` reports it at its rule's level)."""
+        if (loc, message) not in self.reported:
+            self.reported.add((loc, message))
+            self.sink.warning(loc, message)
+
     def kind_of_type(self, type_name: str) -> Optional[KindLike]:
         """The kind an entry of a declared type holds in this mission (its --type names too)."""
         return kind_of_type(type_name, self.user_kinds)

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import re
+
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.data.state import Slot
 from btgen.ir.kinds import DOUBLE, DYN, INT, NONE, STATUS, STRING, describe_kind, is_queue, is_user
 from btgen.lang import values
 from btgen.lang.blackboard import RAW_COPY_TYPES
+
+# A script's update of an entry, as a Write names it ("`x += 1` in `code` of ...").
+_COMPOUND = re.compile(r"^`[^`]*? (\+=|-=|\*=|/=) ")
 
 
 # ------------------------------------------------------------ 3. kinds
@@ -25,6 +30,62 @@ def type_slots(a: Analysis) -> None:
             s.kind = STRING if s.entry.type_name == values.STRING else NONE
             s.origin = s.origin or "never written"
     undecided = [i for i, s in enumerate(a.slots) if s.kind is None]
+    _propagate(a, undecided)
+    # Entries robot code writes through untyped ports only (as TreeNodesModel files exported by
+    # Groot2 often have them) hold text; decided before the copies of them are given up on
+    # (`full_path := dir_path + tag_name`, tag_name an untyped port's entry), then propagated.
+    for i in undecided:
+        s = a.slots[i]
+        if s.kind is None and all(x.source == "port" for x in s.writes):
+            s.kind = STRING
+            s.origin = "no declared type, written by untyped ports only: it holds text"
+            s.origin_loc = None
+            s.untyped_text = True
+    _propagate(a, undecided)
+    for s in a.slots:
+        if s.kind is not None:
+            continue
+        w = min(s.writes, key=lambda x: x.order)
+        if any(x.determining and x.kind() in (NONE, "error") for x in s.writes):
+            s.kind = NONE  # a script that fails whatever runs: compiling it says why
+            continue
+        if not s.at_load and all(x.source == "script" and _COMPOUND.match(x.what) for x in s.writes):
+            # Only updated (`x += 1`) and never created: the library loads it, and the script
+            # throws where it runs ("does not exist yet"), as both engines do: said, not refused.
+            a.run_time(
+                w.loc,
+                f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
+                f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)",
+            )
+            s.kind = NONE
+            s.origin = "only updated, never created"
+            continue
+        s.failed = True
+        if any(x.determining for x in s.writes):
+            a.error(
+                w.loc,
+                f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
+                f"another entry of unknown type; write it with a literal first",
+            )
+        elif all(x.source == "script" for x in s.writes):
+            a.error(
+                w.loc,
+                f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
+                f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)",
+            )
+        else:
+            a.error(
+                w.loc,
+                f"cannot tell the type of blackboard entry `{s.key}`: {w.what} writes it, but "
+                f"the port has no type; give the port a type in TreeNodesModel (e.g. "
+                f'type="std::string")',
+            )
+        s.kind = STRING
+    mark_dynamic(a)
+
+
+def _propagate(a: Analysis, undecided: list[int]) -> None:
+    """Each undecided slot's kind from its first determining write whose kind is known."""
     changed = True
     while changed:
         changed = False
@@ -57,43 +118,6 @@ def type_slots(a: Analysis) -> None:
                     s.origin_loc = w.loc
                     changed = True
                     break
-    for s in a.slots:
-        if s.kind is not None:
-            continue
-        w = min(s.writes, key=lambda x: x.order)
-        if any(x.determining and x.kind() in (NONE, "error") for x in s.writes):
-            s.kind = NONE  # a script that fails whatever runs: compiling it says why
-            continue
-        if all(x.source == "port" for x in s.writes):
-            # Robot code writes it through untyped ports only (as TreeNodesModel files
-            # exported by Groot2 often have them): it holds text.
-            s.kind = STRING
-            s.origin = "no declared type, written by untyped ports only: it holds text"
-            s.origin_loc = None
-            s.untyped_text = True
-            continue
-        s.failed = True
-        if any(x.determining for x in s.writes):
-            a.error(
-                w.loc,
-                f"cannot tell the type of blackboard entry `{s.key}`: every write copies "
-                f"another entry of unknown type; write it with a literal first",
-            )
-        elif all(x.source == "script" for x in s.writes):
-            a.error(
-                w.loc,
-                f"blackboard entry `{s.key}` is only updated ({w.what}), never given a first "
-                f"value, so it never has one; initialize it first (e.g. `{s.key} := 0`)",
-            )
-        else:
-            a.error(
-                w.loc,
-                f"cannot tell the type of blackboard entry `{s.key}`: {w.what} writes it, but "
-                f"the port has no type; give the port a type in TreeNodesModel (e.g. "
-                f'type="std::string")',
-            )
-        s.kind = STRING
-    mark_dynamic(a)
 
 
 def mark_dynamic(a: Analysis) -> None:

@@ -124,13 +124,21 @@ def run_unit(unit: discovery.Unit, s: Settings, projects: _ProjectModels) -> lis
     opts = _options(s, unit, models)
     out: list[tuple[Diagnostic, str]] = []
     mission = None
+    lowering = False
     try:
         mission = pipeline.load(unit.path, opts)
         out += [(d, "loader") for d in mission.warnings]
+        lowering = True
         program = pipeline.program(mission, opts)
+        # What only fails when a node runs (the library loads it; both engines throw there)
+        # compiles with a warning; for a team's check it stays at its rule's level.
+        given = _caller_given(mission)
+        out += [(_given_by_caller(replace(d, severity="error"), given), "loader") for d in program.warnings]
     except UserError as e:
         given = _caller_given(mission) if mission is not None else set()
-        out += [(_given_by_caller(d, given), "loader") for d in e.diagnostics]
+        # (the program's warnings come with its errors: the same level as above)
+        diags = [replace(d, severity="error") if lowering else d for d in e.diagnostics]
+        out += [(_given_by_caller(d, given), "loader") for d in diags]
         return out
     if s.analysis:
         from btgen.tools.analyze import analyze_program
