@@ -62,8 +62,8 @@ TEST(ScenarioParse, ReportsEveryErrorWithItsPosition) {
       "s.scenario:4:1: error: `default` is given twice (first at line 3)",
       "s.scenario:5:10: error: leaf `Move` has no status: list one or more of SUCCESS, FAILURE, RUNNING",
       "s.scenario:7:6: error: leaf `Grasp` is listed twice (first at line 6)",
-      "s.scenario:8:3: error: unknown keyword `tick`: a line starts with ticks, default, leaf or clock_ms (did you "
-      "mean `ticks`?)",
+      "s.scenario:8:3: error: unknown keyword `tick`: a line starts with ticks, default, leaf, clock_ms or queue "
+      "(did you mean `ticks`?)",
       "s.scenario:9:16: error: `SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING",
       "s.scenario:10:10: error: clock_ms cannot be negative, got -1",
   };

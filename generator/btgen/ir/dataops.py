@@ -252,7 +252,14 @@ class ReadUserLiteral:
     local: str  # the UserLiteral local
 
 
-PortRead = Union[ReadEntry, ReadLiteral, ParseLiteral, ReadUser, ReadUserLiteral]
+@dataclass(frozen=True)
+class ReadQueue:
+    """A queue port (BT::SharedQueue<T>) connected to a queue entry: a view of the entry's own queue."""
+
+    slot: int
+
+
+PortRead = Union[ReadEntry, ReadLiteral, ParseLiteral, ReadUser, ReadUserLiteral, ReadQueue]
 
 
 @dataclass(frozen=True)
@@ -271,4 +278,12 @@ class WriteUser:
     fail: Optional[Fail] = None
 
 
-PortWrite = Union[WriteEntry, WriteUser]
+@dataclass(frozen=True)
+class WriteQueue:
+    """setOutput of a new BT::SharedQueue<T> into a queue entry; `fail`: it does not fit the entry."""
+
+    slot: int
+    fail: Fail
+
+
+PortWrite = Union[WriteEntry, WriteUser, WriteQueue]

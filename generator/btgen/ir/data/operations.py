@@ -824,6 +824,40 @@ class Compiler:
         return ops.WriteUser(slot)
 
     # ------------------------------------------------------------ user leaf ports
+    def queue_port(self, inst: Inst, ps: PortSpec, entry: PortAccess, slot: Optional[int], loc: Loc) -> None:
+        """A port of a user leaf declared BT::SharedQueue<T>: the accessors give a view of the
+        queue entry it names (runtime/include/btgen/queue_view.hpp), as getInput and setOutput
+        of the library's shared pointer do."""
+        if slot is None:
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} is a queue ({ps.type}) given a literal; the C++ back "
+                f"end connects a queue port of a user node only to a blackboard entry: not supported "
+                f"by the C++ back end yet",
+            )
+            return
+        s = self.a.slots[slot]
+        if s.kind != self.a.kind_of_type(ps.type):
+            if not any(at == loc for at, _ in self.a.reported):
+                self.error(
+                    loc,
+                    f"port `{ps.name}` of {inst.what} ({ps.type}) is connected to blackboard entry "
+                    f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); a queue "
+                    f"port of a user node reads and writes only a queue entry of its element type in the "
+                    f"C++ back end",
+                )
+            return
+        if ps.reads:
+            entry.reads.append((inst.index, ops.ReadQueue(slot)))
+        if ps.writes:
+            fail = self.fail(
+                loc,
+                f"output port `{ps.name}` of {inst.what} cannot write `{s.key}` (capacity {s.capacity} "
+                f"elements" + (f" of {s.elem_capacity} bytes)" if s.elem_capacity else ")"),
+                errc=True,
+            )
+            entry.writes.append((inst.index, ops.WriteQueue(slot, fail)))
+
     def ports(self) -> dict[str, tuple[PortIR, ...]]:
         by_model: dict[str, dict[str, PortAccess]] = {}
         for inst, op in self.a.node_ops:
@@ -835,11 +869,7 @@ class Compiler:
             slot, raw, p = op.slot, op.raw, op.p
             loc = p.loc_or or inst.node.loc
             if values.queue_element_type(ps.type) is not None:
-                self.error(
-                    loc,
-                    f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
-                    f"nodes are not supported by the C++ back end yet",
-                )
+                self.queue_port(inst, ps, entry, slot, loc)
                 continue
             pk = self.a.kind_of_type(ps.type)
             # Ports read as text: string and opaque types, and untyped ports (whose T may be text).
@@ -892,16 +922,13 @@ class Compiler:
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
-        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        # setOutput fails: false). Queue ports: a QueueView getter and a setter of any range.
         declared: dict[str, dict[str, PortAccess]] = {}
         for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
-                if ps.name in used:
-                    model[ps.name] = used[ps.name]
-                elif values.queue_element_type(ps.type) is None:
-                    model[ps.name] = PortAccess(ps)
+                model[ps.name] = used.get(ps.name, PortAccess(ps))
         by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
         for model_id, ports in by_model.items():
