@@ -6,7 +6,9 @@
 // bool, std::string) is registered with that type, and a scenario line
 //   queue NAME PORT ITEM ...
 // makes every run of leaf NAME's code (onStart, onRunning, a Condition's tick) first
-// setOutput(PORT, a new SharedQueue<T> of the items, each convertFromString<T>).
+// setOutput(PORT, a new SharedQueue<T> of the items, each convertFromString<T>). The port of a
+// leaf declared nowhere that a `queue` line names is registered as an inout
+// SharedQueue<std::string>, as the C++ nodes of tests/real_files/queue_project declare it.
 //
 //   harness trace MISSION.xml SCENARIO.scenario   trace on stdout
 //   harness bench MISSION.xml N                   N x tickExactlyOnce() with trivial leaves
@@ -562,6 +564,23 @@ int runTrace(const std::string& mission, const std::string& scenarioPath)
   Scenario sc = parseScenario(scenarioPath);
   BT::BehaviorTreeFactory factory;
   auto leaves = collectLeaves(parseXml(readFile(mission)), factory);
+  // An untyped port a `queue` line names (a leaf declared nowhere, named by its ID): an inout
+  // SharedQueue<std::string>, as `btgen models` declares it and the project's C++ registers it.
+  for(const auto& [name, fills] : sc.queues)
+  {
+    auto leaf = leaves.find(name);
+    if(leaf == leaves.end())
+      continue;
+    for(const auto& fill : fills)
+    {
+      auto port = leaf->second.ports.find(fill.first);
+      if(port != leaf->second.ports.end() && port->second.type() == typeid(BT::AnyTypeAllowed))
+      {
+        leaf->second.ports.erase(port);
+        leaf->second.ports.insert(BT::BidirectionalPort<BT::SharedQueue<std::string>>(fill.first));
+      }
+    }
+  }
   registerLeaves<ScriptedAction, ScriptedCondition>(factory, leaves, &sc);
   BT::Tree tree = createTree(factory, mission);
 

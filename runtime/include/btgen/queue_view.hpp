@@ -122,7 +122,9 @@ class QueueView {
   static constexpr Ops kOps = {
       [](const void* q) noexcept { return static_cast<const FixedQueue<T, N>*>(q)->size(); },
       N,
-      [](const void* q, std::size_t i) noexcept { return queue_detail::seen((*static_cast<const FixedQueue<T, N>*>(q))[i]); },
+      [](const void* q, std::size_t i) noexcept {
+        return queue_detail::seen((*static_cast<const FixedQueue<T, N>*>(q))[i]);
+      },
       [](void* q, E value) noexcept {
         T item{};
         return queue_detail::store(item, value) && static_cast<FixedQueue<T, N>*>(q)->push_back(item);

@@ -852,7 +852,7 @@ class Compiler:
         if ps.writes:
             fail = self.fail(
                 loc,
-                f"output port `{ps.name}` of {inst.what} cannot write `{s.key}` (capacity {s.capacity} "
+                f"output port `{ps.name}` of {inst.what} cannot write `{s.key}` (at most {s.capacity} "
                 f"elements" + (f" of {s.elem_capacity} bytes)" if s.elem_capacity else ")"),
                 errc=True,
             )
