@@ -1,10 +1,11 @@
 """The C++ interface of a user leaf's queue ports (runtime/include/btgen/queue_view.hpp): a
 robot's parser fills a queue<string> through the view its setter gives, another leaf reads and
-changes the shared queue through its getter (the Loop after it sees the change), a third counts
-it; a queue<int> is set from a range of numbers, and from texts that do not convert; a queue
-that does not fit its capacity is reported and nothing is stored. Built once, with g++ -O1,
--Werror, ASan and UBSan (clang++ checks the same sources with -Werror), and the tick allocates
-nothing. Then the scenario's `queue` lines: refused, located, when they cannot set a queue."""
+changes the shared queue through its getter, a third counts it through a SetBlackboard copy
+(one deque: it and the Loop over the copy see the change); a queue<int> is set from a range of
+numbers, and from texts that do not convert; a queue that does not fit its capacity is reported
+and nothing is stored. Built once, with g++ -O1, -Werror, ASan and UBSan (clang++ checks the
+same sources with -Werror), and the tick allocates nothing. Then the scenario's `queue` lines:
+refused, located, when they cannot set a queue."""
 
 import shutil
 import subprocess
@@ -24,14 +25,19 @@ MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
     <Sequence>
       <Script code="sum := 0"/>
       <ParseWaypoints raw="kitchen;hall;dock" waypoint_queue="{queue}"/>
+      <SetBlackboard value="{queue}" output_key="route"/>
       <SkipFirst queue="{queue}"/>
-      <CountWaypoints queue="{queue}" count="{count}"/>
-      <LoopString queue="{queue}" value="{wp}" if_empty="SUCCESS">
+      <CountWaypoints queue="{route}" count="{count}"/>
+      <LoopString queue="{route}" value="{wp}" if_empty="SUCCESS">
         <MoveTo goal="{wp}"/>
       </LoopString>
       <FillCounts name="ints" counts="{counts}"/>
-      <LoopInt queue="{counts}" value="{n}" if_empty="SUCCESS">
+      <SetBlackboard value="{counts}" output_key="more"/>
+      <LoopInt queue="{more}" value="{n}" if_empty="SUCCESS">
         <Script code="sum += n"/>
+      </LoopInt>
+      <LoopInt name="AlreadyEmpty" queue="{counts}" value="{n}" if_empty="SUCCESS">
+        <Script code="sum += 100"/>
       </LoopInt>
       <Fallback>
         <FillCounts name="texts_bad" counts="{counts}"/>
@@ -181,6 +187,9 @@ def test_leaves_fill_read_and_change_queues(tmp_path, capsys):
     header = (out / "queues.hpp").read_text(encoding="utf-8")
     assert "btgen::Input<btgen::QueueView<std::string_view>> queue() const noexcept" in header
     assert "btgen::QueueView<std::int32_t> set_counts() const noexcept" in header
+    # `queue` and `route`, `counts` and `more` are one deque each (SetBlackboard copies the pointer)
+    assert "btgen::QueuePool<btgen::FixedQueue<btgen::FixedString<128>, 3>, 2> qpool0_" in header
+    assert "btgen::QueuePool<btgen::FixedQueue<std::int64_t, 3>, 2> qpool1_" in header
     sources = [tmp_path / "main.cpp", out / "queues.cpp"]
     if shutil.which("clang++") is not None:
         cppbuild.syntax_check(sources, cxx="clang++", includes=[out])

@@ -61,6 +61,8 @@ def slot_type(s: SlotIR) -> str:
         return "btgen::NoValue"
     if k == DYN:
         return f"btgen::Dyn<{max(s.capacity, 1)}>"
+    if is_queue(k) and s.pool:
+        return "btgen::QueueRef"  # its queue is in the pool it shares (btgen::QueuePool)
     if is_queue(k):
         elem = queue_element(k)
         etype = ELEMENT_TYPE.get(elem, f"btgen::FixedString<{s.elem_capacity}>")
@@ -90,6 +92,9 @@ def slot_init(s: SlotIR) -> str:
 
 
 def local_type(local: LocalIR) -> str:
+    if local.pool:
+        queue = f"btgen::FixedQueue<{element_type(local.elem, local.elem_capacity)}, {local.length}>"
+        return f"btgen::QueuePool<{queue}, {local.pool}>"
     if local.user_cpp:
         return f"btgen::UserLiteral<{local.user_cpp}>"
     if local.text_capacity:

@@ -104,6 +104,17 @@ class SetCopy:
 
 
 @dataclass(frozen=True)
+class ShareQueue:
+    """SetBlackboard value="{src}" of a queue entry: `dst` holds the same deque (QueuePool::share)."""
+
+    dst: int
+    src: int
+    pool: str  # the LocalIR member of the pool
+    missing: Fail  # the source does not exist
+    empty_succeeds: bool = True  # a source without value empties `dst` (4.6.2) or fails the node
+
+
+@dataclass(frozen=True)
 class SetCopyDyn:
     """SetBlackboard value="{src}" where the destination's (or the source's) type changes at run time."""
 
@@ -129,7 +140,7 @@ class SetKey:
     cases: tuple[tuple[str, DataLeafOp], ...]
 
 
-DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey]
+DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey, ShareQueue]
 
 
 # ------------------------------------------------------------ other data nodes

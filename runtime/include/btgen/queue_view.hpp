@@ -196,4 +196,96 @@ bool set_queue(Slot<FixedQueue<T, N>>& slot, const Range& items, const ErrorSink
 }
 
 }  // namespace port
+
+// ---------------------------------------------------------------- shared queues
+//
+// SetBlackboard value="{q}" output_key="r" copies the library's shared pointer: `r` and
+// `q` are one deque until either is set anew. The entries such copies connect (one
+// element type and capacity) keep a QueueRef, the number of a queue of their QueuePool,
+// which holds as many queues as there are entries: an entry set anew releases its queue
+// and takes a free one (the others hold at most all but one), a copy shares the source's.
+
+// The queue an entry of a pool holds (meaningful while the entry has a value).
+struct QueueRef {
+  std::uint8_t index = 0;
+};
+
+template <class Q, std::size_t K>
+class QueuePool {
+  static_assert(K >= 1 && K <= 255, "a pool of 1 to 255 queues");
+
+ public:
+  [[nodiscard]] Q& at(QueueRef r) noexcept { return items_[r.index]; }
+  [[nodiscard]] const Q& at(QueueRef r) const noexcept { return items_[r.index]; }
+
+  // The entry's queue is released (when it holds one).
+  void release(const Slot<QueueRef>& slot) noexcept {
+    if (slot.has_value && refs_[slot.value.index] > 0) --refs_[slot.value.index];
+  }
+  // The entry holds a new, empty queue of its own.
+  Q& fresh(Slot<QueueRef>& slot) noexcept {
+    release(slot);
+    std::size_t i = 0;
+    while (i + 1 < K && refs_[i] != 0) ++i;  // (one is free: K entries, this one released)
+    refs_[i] = 1;
+    items_[i].clear();
+    slot.value.index = static_cast<std::uint8_t>(i);
+    return items_[i];
+  }
+  // The entry `dst` holds the queue of `src` (which has a value).
+  void share(Slot<QueueRef>& dst, const Slot<QueueRef>& src) noexcept {
+    const std::uint8_t i = src.value.index;
+    ++refs_[i];  // first: `dst` may be `src`
+    release(dst);
+    dst.value.index = i;
+  }
+
+ private:
+  Q items_[K] = {};
+  std::uint8_t refs_[K] = {};
+};
+
+// An entry of a pool as the blackboard's visitors see it (Groot2): its queue, by value.
+template <class Q, std::size_t K>
+Slot<Q> pooled_slot(const Slot<QueueRef>& slot, const QueuePool<Q, K>& pool) noexcept {
+  Slot<Q> out;
+  if (slot.has_value) out.value = pool.at(slot.value);
+  out.seq = slot.seq;
+  out.exists = slot.exists;
+  out.has_value = slot.has_value;
+  out.entry_type = slot.entry_type;
+  return out;
+}
+
+namespace port {
+
+template <class E, class Q, std::size_t K>
+Input<QueueView<E>> read_queue(Slot<QueueRef>& slot, QueuePool<Q, K>& pool) noexcept {
+  if (!slot.exists) return PortError::kNoEntry;
+  if (!slot.has_value) return PortError::kNoValue;
+  return QueueView<E>(pool.at(slot.value));
+}
+
+template <class E, class Q, std::size_t K>
+QueueView<E> new_queue(Slot<QueueRef>& slot, QueuePool<Q, K>& pool) noexcept {
+  Q& q = pool.fresh(slot);
+  slot.mark_written();
+  return QueueView<E>(q);
+}
+
+template <bool kFromChars, class Q, std::size_t K, class Range>
+bool set_queue(Slot<QueueRef>& slot, QueuePool<Q, K>& pool, const Range& items, const ErrorSink& err,
+               const NodeInfo& node, std::string_view where, std::string_view message) noexcept {
+  Q q;
+  const Errc e = fill_queue<kFromChars>(q, items);
+  if (e != Errc::kOk) {
+    (void)err.fail(node, where, message, describe(e));
+    return false;
+  }
+  pool.fresh(slot) = q;
+  slot.mark_written();
+  return true;
+}
+
+}  // namespace port
 }  // namespace btgen
