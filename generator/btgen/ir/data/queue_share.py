@@ -19,7 +19,7 @@ SHARED_WRITES = ("port", "copy")
 
 
 def share_classes(a: Analysis) -> list[list[int]]:
-    """The classes (two slots or more, sorted) that queue copies connect, in slot order."""
+    """The classes (sorted) that queue copies connect, in slot order (one slot: copied into itself)."""
     parent: dict[int, int] = {}
 
     def find(i: int) -> int:
@@ -32,9 +32,9 @@ def share_classes(a: Analysis) -> list[list[int]]:
         if not isinstance(op, SetCopyUse):
             continue
         d, s = a.slots[op.dst], a.slots[op.src]
-        if is_queue(s.kind) and d.kind == s.kind and op.dst != op.src:
-            parent[find(op.dst)] = find(op.src)
+        if is_queue(s.kind) and d.kind == s.kind:
+            parent[find(op.dst)] = find(op.src)  # (a copy into itself: a class of one)
     groups: dict[int, list[int]] = {}
     for i in sorted(parent):
         groups.setdefault(find(i), []).append(i)
-    return sorted((g for g in groups.values() if len(g) > 1), key=lambda g: g[0])
+    return sorted(groups.values(), key=lambda g: g[0])
