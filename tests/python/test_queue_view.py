@@ -72,6 +72,7 @@ MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
 MAIN = r"""#include <array>
 #include <cstdio>
 #include <string_view>
+#include <type_traits>
 
 #include "btgen/testing/alloc_counter.hpp"
 #include "queues.hpp"
@@ -150,6 +151,18 @@ int main() {
   std::printf("count %d sum %d\n", static_cast<int>(mission.blackboard().count.value),
               static_cast<int>(mission.blackboard().sum.value));
   std::printf("allocations %zu\n", allocations);
+  // What Groot2's blackboard view sees: every queue entry's items (shared ones from their pool).
+  std::size_t items = 0, entries = 0;
+  queues::Queues<Leaves, btgen::ManualClock, Print>::Groot2::visit_blackboard(
+      mission.blackboard(), [&](std::size_t, std::string_view key, const auto& slot) {
+        using T = typename std::decay_t<decltype(slot)>::value_type;
+        if constexpr (btgen::port::is_fixed_queue<T>::value) {
+          ++entries;
+          items += slot.value.size();
+          std::printf("%.*s: %zu\n", static_cast<int>(key.size()), key.data(), slot.value.size());
+        }
+      });
+  std::printf("queue entries %zu, items %zu\n", entries, items);
   return 0;
 }
 """
@@ -171,6 +184,14 @@ EXPECTED = "".join(
         "tick SUCCESS, errors 3",
         "count 2 sum 15",
         "allocations 0",
+        # Groot2's view: `counts` and `more` are one deque, emptied by the loop over `more` (the
+        # failed sets stored nothing); `queue` holds what parse_too_many pushed before it failed
+        # (a new queue, no longer `route`'s, which the loop emptied)
+        "counts: 0",
+        "more: 0",
+        "queue: 3",
+        "route: 0",
+        "queue entries 4, items 3",
     ]
 )
 
