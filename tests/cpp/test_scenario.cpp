@@ -35,6 +35,22 @@ TEST(ScenarioParse, ReadsEveryKeyword) {
   EXPECT_EQ(sc.leaves[0].statuses, (std::vector<btgen::Status>{btgen::Status::RUNNING, btgen::Status::SUCCESS}));
 }
 
+TEST(ScenarioParse, QueueLines) {
+  Scenario sc;
+  EXPECT_TRUE(parse("queue Parse waypoints a b\nqueue Parse other\nqueue Fill waypoints 1\n", &sc).empty());
+  ASSERT_EQ(sc.queues.size(), 3u);
+  EXPECT_EQ(sc.queues[0].name, "Parse");
+  EXPECT_EQ(sc.queues[0].port, "waypoints");
+  EXPECT_EQ(sc.queues[0].items, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(sc.queues[1].items.empty());  // an empty queue
+  EXPECT_EQ(sc.queues[2].line, 3);
+  const std::vector<std::string> expected{
+      "s.scenario:1:1: error: `queue` needs a leaf name, its queue port and the queue's items (none: empty)",
+      "s.scenario:3:13: error: queue port `q` of leaf `Parse` is listed twice (first at line 2)",
+  };
+  EXPECT_EQ(parse("queue Parse\nqueue Parse q x\nqueue Parse q y\n"), expected);
+}
+
 TEST(ScenarioParse, Defaults) {
   Scenario sc;
   EXPECT_TRUE(parse("", &sc).empty());
