@@ -35,6 +35,22 @@ TEST(ScenarioParse, ReadsEveryKeyword) {
   EXPECT_EQ(sc.leaves[0].statuses, (std::vector<btgen::Status>{btgen::Status::RUNNING, btgen::Status::SUCCESS}));
 }
 
+TEST(ScenarioParse, QueueLines) {
+  Scenario sc;
+  EXPECT_TRUE(parse("queue Parse waypoints a b\nqueue Parse other\nqueue Fill waypoints 1\n", &sc).empty());
+  ASSERT_EQ(sc.queues.size(), 3u);
+  EXPECT_EQ(sc.queues[0].name, "Parse");
+  EXPECT_EQ(sc.queues[0].port, "waypoints");
+  EXPECT_EQ(sc.queues[0].items, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(sc.queues[1].items.empty());  // an empty queue
+  EXPECT_EQ(sc.queues[2].line, 3);
+  const std::vector<std::string> expected{
+      "s.scenario:1:1: error: `queue` needs a leaf name, its queue port and the queue's items (none: empty)",
+      "s.scenario:3:13: error: queue port `q` of leaf `Parse` is listed twice (first at line 2)",
+  };
+  EXPECT_EQ(parse("queue Parse\nqueue Parse q x\nqueue Parse q y\n"), expected);
+}
+
 TEST(ScenarioParse, Defaults) {
   Scenario sc;
   EXPECT_TRUE(parse("", &sc).empty());
@@ -62,8 +78,8 @@ TEST(ScenarioParse, ReportsEveryErrorWithItsPosition) {
       "s.scenario:4:1: error: `default` is given twice (first at line 3)",
       "s.scenario:5:10: error: leaf `Move` has no status: list one or more of SUCCESS, FAILURE, RUNNING",
       "s.scenario:7:6: error: leaf `Grasp` is listed twice (first at line 6)",
-      "s.scenario:8:3: error: unknown keyword `tick`: a line starts with ticks, default, leaf or clock_ms (did you "
-      "mean `ticks`?)",
+      "s.scenario:8:3: error: unknown keyword `tick`: a line starts with ticks, default, leaf, clock_ms or queue "
+      "(did you mean `ticks`?)",
       "s.scenario:9:16: error: `SKIPPED` cannot be scripted: a leaf returns SUCCESS, FAILURE or RUNNING",
       "s.scenario:10:10: error: clock_ms cannot be negative, got -1",
   };

@@ -285,7 +285,7 @@ def test_scenario_through_process_substitution(tmp_path, engine):
         ),
         (
             "ticks 1\n" + "y" * 3_000_000 + "\n",
-            "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000071 bytes in all)\n",
+            "s.scenario:2:1: error: unknown keyword `" + "y" * 4079 + "... (cut: 3000078 bytes in all)\n",
         ),
     ],
 )

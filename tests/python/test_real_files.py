@@ -62,6 +62,12 @@ CPP_410 = {
     "btcpp/tests-4.10.0/gtest_try_catch_L117.xml",
     "btcpp/tests-4.10.0/gtest_try_catch_L391.xml",
 }
+# Our queue project (ORIGIN.md): tests/conformance/user-queues runs its feature on both engines
+# and releases in one batched build each; the cpp engine runs two of its files here.
+CPP_QUEUE = {
+    "queue_project/src/mission_runner/trees/patrol_route.xml",
+    "queue_project/src/mission_runner/trees/gps_survey.xml",
+}
 # Where btgen follows a later release on purpose (FORMAT.md): the real library refuses the
 # file, btgen loads it.
 DELIBERATE = {
@@ -102,11 +108,11 @@ def test_every_real_file_is_listed():
     # (the projects kept in their own layout, checked by test_check_real.py, are not this file's)
     files = sorted(
         os.path.relpath(p, HERE)
-        for top in ("nav2", "btcpp", "plansys2")
+        for top in ("nav2", "btcpp", "plansys2", "queue_project")
         for p in glob.glob(os.path.join(HERE, top, "**", "*.xml"), recursive=True)
     )
     assert files == sorted(ALL + REFUSED + [os.path.relpath(NAV2_MODELS, HERE)])
-    assert len(NAV2) == 15 and len(RUNNABLE) == 41 and len(REFUSED) == 3
+    assert len(NAV2) == 15 and len(RUNNABLE) == 48 and len(REFUSED) == 3
     for version in VERSIONS:
         recorded = sorted(os.listdir(os.path.join(HERE, EXPECTED[version])))
         assert recorded == sorted(f"{_flat(r)}.{_recorded(r, version)}" for r in list(RUNNABLE) + REFUSED)
@@ -131,7 +137,7 @@ def _runs() -> list[tuple[str, str, str]]:
     for rel in sorted(RUNNABLE):
         # The cpp engine compiles a program per run: every file of the projects under 4.6.2,
         # the representatives (CPP_410) otherwise; the interpreter runs everything.
-        cpp_462 = not rel.startswith("btcpp/tests-4.10.0/") or rel in CPP_410
+        cpp_462 = (not rel.startswith(("btcpp/tests-4.10.0/", "queue_project/")) or rel in CPP_410) or rel in CPP_QUEUE
         for engine in ("interp", "cpp"):
             if _recorded(rel, "4.6.2") == "trace" and (engine == "interp" or cpp_462):
                 out.append((rel, engine, "4.6.2"))

@@ -103,7 +103,7 @@ ERRORS = [
     (
         "unknown keyword",
         "ticks 3\ntick 4\n",
-        "s.scenario:2:1: error: unknown keyword `tick`: a line starts with ticks, default, leaf or clock_ms "
+        "s.scenario:2:1: error: unknown keyword `tick`: a line starts with ticks, default, leaf, clock_ms or queue "
         "(did you mean `ticks`?)",
     ),
     ("repeated ticks", "ticks 2\n\nticks 3\n", "s.scenario:3:1: error: `ticks` is given twice (first at line 1)"),
@@ -199,7 +199,7 @@ def test_all_errors_of_a_file_reported_together(tmp_path, mission_path):
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr.splitlines() == [
         "s.scenario:1:7: error: ticks must be at least 1, got 0",
-        "s.scenario:2:1: error: unknown keyword `bogus`: a line starts with ticks, default, leaf or clock_ms",
+        "s.scenario:2:1: error: unknown keyword `bogus`: a line starts with ticks, default, leaf, clock_ms or queue",
         "s.scenario:3:6: error: leaf `X` has no status: list one or more of SUCCESS, FAILURE, RUNNING",
     ]
 

@@ -61,6 +61,8 @@ def slot_type(s: SlotIR) -> str:
         return "btgen::NoValue"
     if k == DYN:
         return f"btgen::Dyn<{max(s.capacity, 1)}>"
+    if is_queue(k) and s.pool:
+        return "btgen::QueueRef"  # its queue is in the pool it shares (btgen::QueuePool)
     if is_queue(k):
         elem = queue_element(k)
         etype = ELEMENT_TYPE.get(elem, f"btgen::FixedString<{s.elem_capacity}>")
@@ -90,6 +92,9 @@ def slot_init(s: SlotIR) -> str:
 
 
 def local_type(local: LocalIR) -> str:
+    if local.pool:
+        queue = f"btgen::FixedQueue<{element_type(local.elem, local.elem_capacity)}, {local.length}>"
+        return f"btgen::QueuePool<{queue}, {local.pool}>"
     if local.user_cpp:
         return f"btgen::UserLiteral<{local.user_cpp}>"
     if local.text_capacity:
@@ -101,10 +106,27 @@ def element_type(elem: str, capacity: int) -> str:
     return ELEMENT_TYPE.get(elem, f"btgen::FixedString<{capacity}>")
 
 
+# The element a QueueView of a queue port gives (runtime/include/btgen/queue_view.hpp).
+QUEUE_VIEW_ELEMENT = {
+    values.INT: "std::int32_t",
+    values.DOUBLE: "double",
+    values.BOOL: "bool",
+    values.STRING: "std::string_view",
+}
+
+
+def queue_view(p: PortIR) -> str:
+    """The btgen::QueueView of a queue port (BT::SharedQueue<T>); "" for another port."""
+    elem = values.queue_element_type(p.type_name)
+    return f"btgen::QueueView<{QUEUE_VIEW_ELEMENT[elem]}>" if elem is not None else ""
+
+
 def port_type(p: PortIR) -> str:
     """The C++ type of a port's accessors; "" for an untyped port (template accessors)."""
     if p.user_cpp:
         return p.user_cpp
+    if queue_view(p):
+        return queue_view(p)
     if p.type_name == values.ANY:
         return ""
     return CPP_PORT_TYPE.get(p.type_name, "std::string_view")  # opaque user types are strings
@@ -145,7 +167,7 @@ def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
     return "true" if o.literal is not None else "false"
 
 
-_BLACKBOARD_READS = ("ReadEntry", "ReadUser", "ReadUserLiteral")
+_BLACKBOARD_READS = ("ReadEntry", "ReadUser", "ReadUserLiteral", "ReadQueue")
 
 FILTERS = dict(
     op_kind=lambda op: type(op).__name__,
@@ -158,6 +180,8 @@ FILTERS = dict(
     local_type=local_type,
     element_type_of=lambda elem: ELEMENT_TYPE[elem],
     port_type=port_type,
+    queue_view=queue_view,
+    queue_view_element=lambda p: QUEUE_VIEW_ELEMENT[values.queue_element_type(p.type_name) or ""],
     port_literal=port_literal,
     element_literal=element_literal,
     dyn_ref=dyn_ref,
@@ -167,4 +191,4 @@ FILTERS = dict(
     cpp_string_chunks=cpp_string_chunks,
     cpp_comment_lines=cpp_comment_lines,
 )
-TESTS = dict(numeric_kind=is_numeric, queue_kind=is_queue)
+TESTS = dict(numeric_kind=is_numeric, queue_kind=is_queue, queue_port=lambda p: bool(queue_view(p)))

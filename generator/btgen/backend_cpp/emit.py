@@ -86,7 +86,7 @@ def groot2_context(program: Program) -> dict:
         bb = index_of_uid.get(sl.owner_uid)
         if bb is None:
             raise InternalError(f"blackboard of SubTree UID {sl.owner_uid} not among the tree instances")
-        entries.append(dict(bb=bb, key=sl.key, member=member))
+        entries.append(dict(bb=bb, key=sl.key, member=member, pool=sl.pool))
     entries.sort(key=lambda e: (e["bb"], e["key"].encode("utf-8")))
     return dict(
         xml_lines=tree.xml.splitlines(keepends=True),

@@ -110,6 +110,10 @@ LEAF_MEMBERS = frozenset(
         "name",
         "uid",
         "children",
+        # the scenario runners' setter of a queue port by name (btgen/user_node.hpp), and the
+        # name the setters of queue ports (set_queue_port) and their getters' views leave visible
+        "set_queue_port",
+        "queue_port",
         # the base classes (btgen/user_node.hpp), named unqualified in each leaf class
         "ModelBase",
         "ControlModelBase",

@@ -145,17 +145,36 @@ class StatefulActionNode(TreeNode):
         pass
 
 
-class ScriptedAction(StatefulActionNode):
-    """A user Action: every onStart/onRunning takes the next scripted result."""
+def fill_queues(node: TreeNode, fills: list[tuple[str, tuple[str, ...]]]) -> None:
+    """A scenario's `queue` lines for a leaf: setOutput of a new SharedQueue<T> of the items
+    into each queue port (the scenario check made sure each converts to T)."""
+    for port, items in fills:
+        p = node.ports.get(port)
+        if p is None or p.spec is None:
+            continue
+        elem = values.queue_element_type(p.spec.type)
+        if elem is None:
+            continue
+        dfc = node.rt.sem.double_from_chars
+        queue = values.Queue(elem, (values.convert_from_string(elem, x, double_from_chars=dfc) for x in items))
+        node.set_output(port, queue)
 
-    __slots__ = ("cursor", "default")
+
+class ScriptedAction(StatefulActionNode):
+    """A user Action: every onStart/onRunning takes the next scripted result (after setting
+    the queue ports its `queue` lines name)."""
+
+    __slots__ = ("cursor", "default", "fills")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.cursor = rt.cursor(self.name)
         self.default = rt.default
+        self.fills = rt.fills.get(self.name)
 
     def on_start(self) -> int:
+        if self.fills:
+            fill_queues(self, self.fills)
         c = self.cursor
         return c.next() if c is not None else self.default
 
@@ -167,6 +186,8 @@ class ScriptedAction(StatefulActionNode):
             return self._execute_tick_with_conditions()
         prev = self.status
         if prev in (IDLE, RUNNING):
+            if self.fills:
+                fill_queues(self, self.fills)
             c = self.cursor
             new = c.next() if c is not None else self.default
             if new != prev:
@@ -179,16 +200,19 @@ class ScriptedAction(StatefulActionNode):
 class ScriptedCondition(TreeNode):
     """A user Condition: every tick takes the next scripted result."""
 
-    __slots__ = ("cursor", "default")
+    __slots__ = ("cursor", "default", "fills")
 
     def __init__(self, rt, model, bb, reg_id, ports) -> None:
         super().__init__(rt, model, bb, reg_id, ports)
         self.cursor = rt.cursor(self.name)
         self.default = rt.default
+        self.fills = rt.fills.get(self.name)
         if self.cursor is None and self.default == RUNNING:
             raise _run_error(model.loc, f"Condition `{self.name}` would return RUNNING (the scenario's default)")
 
     def tick(self) -> int:
+        if self.fills:
+            fill_queues(self, self.fills)
         c = self.cursor
         st = c.next() if c is not None else self.default
         if st == RUNNING:

@@ -6,6 +6,7 @@ The format is the contract of ``tests/conformance/FORMAT.md``::
     default SUCCESS                # what unlisted leaves return (default SUCCESS)
     leaf FindBall FAILURE SUCCESS  # successive results of the leaf named FindBall
     clock_ms 100                   # virtual time per tick (default 0)
+    queue ParseWaypoints waypoint_queue a b c   # what the leaf's queue port gets (setOutput)
 
 :func:`parse_scenario` reads a file into a frozen :class:`Scenario` and reports
 every syntax problem as ``path:line:col: error: ...``. :func:`check_scenario`
@@ -30,6 +31,7 @@ from btgen.diagnostics import (
     read_bounded,
     suggestion,
 )
+from btgen.lang import values
 from btgen.lang.leaves import LeafUse, _tree_with_leaf, mission_leaves
 from btgen.lang.model import Mission
 from btgen.lang.nav2 import ENV_INPUTS
@@ -37,7 +39,7 @@ from btgen.lang.nav2 import ENV_INPUTS
 MAX_SCENARIO_BYTES = 16 * 1024 * 1024
 DEFAULT_TICKS = 100
 STATUSES = ("SUCCESS", "FAILURE", "RUNNING")
-KEYWORDS = ("ticks", "default", "leaf", "clock_ms")
+KEYWORDS = ("ticks", "default", "leaf", "clock_ms", "queue")
 
 _TOKEN_RE = re.compile(r"[^ \t\f\v]+")
 _INT_RE = re.compile(r"[+-]?[0-9]+")
@@ -60,6 +62,19 @@ class LeafScript:
 
 
 @dataclass(frozen=True)
+class QueueScript:
+    """A `queue` line: every run of the leaf's code first sets its queue port `port` to a new
+    queue of `items` (setOutput of a SharedQueue<T>, each item converted as convertFromString<T>)."""
+
+    name: str
+    port: str
+    items: tuple[str, ...]
+    loc: Loc  # the name
+    port_loc: Loc
+    item_locs: tuple[Loc, ...]
+
+
+@dataclass(frozen=True)
 class Scenario:
     path: str
     ticks: int = DEFAULT_TICKS
@@ -67,6 +82,7 @@ class Scenario:
     leaves: tuple[LeafScript, ...] = ()
     clock_ms: int = 0
     default_loc: Optional[Loc] = None  # the status of the `default` line, when there is one
+    queues: tuple[QueueScript, ...] = ()
 
     def leaf(self, name: str) -> Optional[LeafScript]:
         for s in self.leaves:
@@ -128,6 +144,7 @@ def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
     clock: Optional[int] = None
     clock_loc: Optional[Loc] = None
     leaves: dict[str, LeafScript] = {}
+    queues: dict[tuple[str, str], QueueScript] = {}
 
     for lineno, line in enumerate(text.split("\n"), start=1):
         if line.endswith("\r"):
@@ -187,10 +204,26 @@ def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
             for t in bad:
                 sink.error(t.loc, _status_error(t))
             leaves[name.text] = LeafScript(name.text, tuple(t.text for t in sts), name.loc, tuple(t.loc for t in sts))
+        elif kw.text == "queue":
+            if len(args) < 2:
+                sink.error(kw.loc, "`queue` needs a leaf name, its queue port and the queue's items (none: empty)")
+                continue
+            name, port = args[0], args[1]
+            prev = queues.get((name.text, port.text))
+            if prev is not None:
+                sink.error(
+                    port.loc,
+                    f"queue port `{port.text}` of leaf `{name.text}` is listed twice (first at line {prev.loc.line})",
+                )
+                continue
+            items = args[2:]
+            queues[(name.text, port.text)] = QueueScript(
+                name.text, port.text, tuple(t.text for t in items), name.loc, port.loc, tuple(t.loc for t in items)
+            )
         else:
             sink.error(
                 kw.loc,
-                f"unknown keyword `{kw.text}`: a line starts with ticks, default, leaf or clock_ms"
+                f"unknown keyword `{kw.text}`: a line starts with ticks, default, leaf, clock_ms or queue"
                 f"{suggestion(kw.text, KEYWORDS)}",
             )
     sink.raise_if_errors()
@@ -201,6 +234,7 @@ def parse_scenario_text(text: str, path: str = "<scenario>") -> Scenario:
         tuple(leaves.values()),
         clock if clock is not None else 0,
         default_loc,
+        tuple(queues.values()),
     )
 
 
@@ -378,6 +412,8 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
                         f"(a Condition answers in one tick; its Condition node is at {cond.node.loc})",
                     )
                     break
+    for q in scenario.queues:
+        _check_queue(sink, q, uses.get(q.name), mission, uses)
     if scenario.default == "RUNNING":
         reached = [
             (name, next(u for u in found if u.kind == "Condition"))
@@ -394,6 +430,41 @@ def check_scenario(scenario: Scenario, mission: Mission) -> list[Diagnostic]:
             )
     sink.raise_if_errors()
     return list(sink.items)
+
+
+def _check_queue(
+    sink: DiagnosticSink, q: QueueScript, found: Optional[list[LeafUse]], mission: Mission, uses: Mapping[str, object]
+) -> None:
+    """A `queue` line: its leaf runs, and every model it stands for declares `port` an output
+    queue whose element type every item converts to (an error, else a warning naming the line)."""
+    if not found:
+        hint = closest_leaf(q.name, list(uses))
+        extra = f" (did you mean `{hint}`?)" if hint else ""
+        sink.warning(
+            q.loc,
+            f"leaf `{q.name}` of a `queue` line matches no Action or Condition of the mission; it is ignored{extra}",
+        )
+        return
+    for use in found:
+        spec = mission.spec(use.node.id)
+        ps = next((p for p in spec.ports if p.name == q.port), None)
+        elem = values.queue_element_type(ps.type) if ps is not None else None
+        if ps is None or elem is None or not ps.writes:
+            declared = (
+                f"declares it {ps.direction} port of type {ps.type}" if ps is not None else "declares no such port"
+            )
+            sink.error(
+                q.port_loc,
+                f"`{q.port}` of leaf `{q.name}` is no output queue port: model `{use.node.id}` {declared} "
+                f"(a `queue` line sets a port declared BT::SharedQueue<T> as output or inout)",
+            )
+            return
+        for item, loc in zip(q.items, q.item_locs):
+            try:
+                values.convert_from_string(elem, item, double_from_chars=mission.semantics.double_from_chars)
+            except values.ConversionError as e:
+                sink.error(loc, f"item `{item}` of queue port `{q.port}` ({ps.type}) of leaf `{q.name}`: {e}")
+                return
 
 
 def load_scenario(path: str, mission: Mission) -> tuple[Scenario, list[Diagnostic]]:

@@ -100,6 +100,10 @@ class Runtime:
         if scenario is not None:
             for s in scenario.leaves:
                 self.cursors[s.name] = _Cursor(tuple(_STATUS_OF_TEXT[t] for t in s.statuses))
+        # `queue` lines: what each run of a leaf's code sets its queue ports to, by leaf name.
+        self.fills: dict[str, list[tuple[str, tuple[str, ...]]]] = {}
+        for q in scenario.queues if scenario is not None else ():
+            self.fills.setdefault(q.name, []).append((q.port, q.items))
         self.uid = 0
         # The one place the interpreter learns the version: every node reads its switches here.
         self.sem = mission.semantics

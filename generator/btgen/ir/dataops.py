@@ -104,6 +104,17 @@ class SetCopy:
 
 
 @dataclass(frozen=True)
+class ShareQueue:
+    """SetBlackboard value="{src}" of a queue entry: `dst` holds the same deque (QueuePool::share)."""
+
+    dst: int
+    src: int
+    pool: str  # the LocalIR member of the pool
+    missing: Fail  # the source does not exist
+    empty_succeeds: bool = True  # a source without value empties `dst` (4.6.2) or fails the node
+
+
+@dataclass(frozen=True)
 class SetCopyDyn:
     """SetBlackboard value="{src}" where the destination's (or the source's) type changes at run time."""
 
@@ -129,7 +140,7 @@ class SetKey:
     cases: tuple[tuple[str, DataLeafOp], ...]
 
 
-DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey]
+DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey, ShareQueue]
 
 
 # ------------------------------------------------------------ other data nodes
@@ -252,7 +263,14 @@ class ReadUserLiteral:
     local: str  # the UserLiteral local
 
 
-PortRead = Union[ReadEntry, ReadLiteral, ParseLiteral, ReadUser, ReadUserLiteral]
+@dataclass(frozen=True)
+class ReadQueue:
+    """A queue port (BT::SharedQueue<T>) connected to a queue entry: a view of the entry's own queue."""
+
+    slot: int
+
+
+PortRead = Union[ReadEntry, ReadLiteral, ParseLiteral, ReadUser, ReadUserLiteral, ReadQueue]
 
 
 @dataclass(frozen=True)
@@ -271,4 +289,12 @@ class WriteUser:
     fail: Optional[Fail] = None
 
 
-PortWrite = Union[WriteEntry, WriteUser]
+@dataclass(frozen=True)
+class WriteQueue:
+    """setOutput of a new BT::SharedQueue<T> into a queue entry; `fail`: it does not fit the entry."""
+
+    slot: int
+    fail: Fail
+
+
+PortWrite = Union[WriteEntry, WriteUser, WriteQueue]

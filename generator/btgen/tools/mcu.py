@@ -128,6 +128,13 @@ def scenario_cpp(scenario, prefix: str, program=None) -> str:
     """`scenario` (btgen.interp.scenario.Scenario) as a btgen::StaticScenario named `prefix`;
     with the lowered `program`, with the leaf line of every node matched here (by name, the
     last line naming it), so that the board needs no node names."""
+    if scenario.queues:  # (btgen::StaticScenario holds statuses only)
+        q = scenario.queues[0]
+        raise UserError.at(
+            q.loc,
+            f"the `queue` line of `{q.name}` is not supported on a microcontroller image (its scenarios "
+            "set statuses only)",
+        )
     lines = []
     for k, leaf in enumerate(scenario.leaves):
         statuses = ", ".join(_status(s) for s in leaf.statuses)

@@ -23,6 +23,7 @@
 #include "btgen/blackboard.hpp"
 #include "btgen/node.hpp"
 #include "btgen/port.hpp"
+#include "btgen/queue_view.hpp"  // the queue ports of user leaves
 #include "btgen/status.hpp"
 #include "btgen/user_node.hpp"
 #include "btgen/value.hpp"

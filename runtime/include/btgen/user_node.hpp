@@ -96,6 +96,14 @@ class ModelBase {
     (void)err_.fail(*node_, node_->source, message);
     return Status::FAILURE;
   }
+  // (scenario runners) The setter of the queue port named `n`: a model with queue ports
+  // has its own (btgen/queue_view.hpp); false: no such port.
+  template <class T>
+  bool set_queue_port(std::string_view n, const T& value) const noexcept {
+    (void)n;
+    (void)value;
+    return false;
+  }
   // (Actions) A SyncActionNode's tick() result as the engine takes it: RUNNING
   // is reported as an error and fails the node.
   template <LeafKind L = K, std::enable_if_t<L == LeafKind::Action, int> = 0>

@@ -11,6 +11,7 @@ from typing import Optional
 from btgen.diagnostics import Loc, did_you_mean
 from btgen.ir import dataops as ops
 from btgen.ir import kinds
+from btgen.ir.data.queue_share import SHARED_WRITES, share_classes
 from btgen.ir.data.records import (
     BOOL_PARAM_DEFAULTS,
     SCRIPT_SLOTS,
@@ -75,6 +76,7 @@ class Compiler:
         self.user_locals: list[LocalIR] = []  # converted literals of user-typed ports
         self.user_inits: list[DataOp] = []
         self.bt_any_slots: set[int] = set()  # slots a SetBlackboard string may leave typed BT::Any
+        self.pool_of: dict[int, str] = {}  # queue slots sharing one deque: slot -> its pool member
 
     def where(self, loc: Loc) -> int:
         """The index of `loc` among the places run-time errors name (DataIR.where)."""
@@ -367,12 +369,7 @@ class Compiler:
         strong = values.is_strongly_typed(declared)
         convert = False
         if is_queue(s.kind):
-            self.error(
-                loc,
-                f"{what} copies the queue `{s.key}`; BehaviorTree.CPP would share one queue between "
-                f"both entries, which the C++ back end does not do",
-            )
-            return None
+            return self.share_queue(inst, op, d, s, what)
         if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
             return self.set_copy_dynamic(inst, op, d, s, what)
         if is_user(d.kind) or is_user(s.kind):
@@ -514,6 +511,78 @@ class Compiler:
         if all(w.source == "script" for w in s.writes):
             return "untyped"
         return None
+
+    def share_queue(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
+        """SetBlackboard value="{q}" output_key="r" of a queue entry: both releases copy the shared
+        pointer, so both entries hold one deque (queue_share.py; a pool of queues in the C++)."""
+        pool = self.pool_of.get(op.src)
+        if d.kind != s.kind or pool is None:
+            self.error(
+                op.loc,
+                f"{what} copies the queue `{s.key}` ({s.kind}) into `{d.key}`, which holds "
+                f"{describe_kind(d.kind or 'none')} ({d.origin_text}); BehaviorTree.CPP would share one "
+                f"queue between both entries, which the C++ back end does only between entries of one "
+                f"queue type",
+            )
+            return None
+        if pool == "":
+            return None  # (its class is refused, at the write that is not a queue port's or a copy's)
+        missing = self.fail(op.loc, f"{what}: `value` reads blackboard entry `{op.src_key}`, which does not exist")
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}} (one queue)',
+            ops.ShareQueue(op.dst, op.src, pool, missing, self._empty_copy_succeeds()),
+        )
+
+    def queue_pools(self) -> list[LocalIR]:
+        """The pools of the queue entries that copies connect (queue_share.py): their LocalIRs,
+        and self.pool_of (slot -> pool member, "" for a class refused here)."""
+        out: list[LocalIR] = []
+        for group in share_classes(self.a):
+            other = [(i, w) for i in group for w in self.a.slots[i].writes if w.source not in SHARED_WRITES]
+            provided = [i for i in group if self.a.slots[i].provided]
+            if provided and not other:  # (the application's setter writes the entry's own queue)
+                s = self.a.slots[provided[0]]
+                self.error(
+                    s.first_loc,
+                    f"the application provides the queue entry `{s.key}` (--entry), which a SetBlackboard copy "
+                    f"shares with another entry: not supported by the C++ back end yet",
+                )
+                for j in group:
+                    self.pool_of[j] = ""
+                continue
+            if other:
+                i, w = other[0]
+                self.error(
+                    w.loc,
+                    f"{w.what} writes the queue entry `{self.a.slots[i].key}`, which a SetBlackboard copy shares "
+                    f"with another entry; the C++ back end shares a queue between entries that only queue "
+                    f"ports of user nodes and copies write: not supported by the C++ back end yet",
+                )
+                for j in group:
+                    self.pool_of[j] = ""
+                continue
+            if len(group) > 255:
+                self.error(self.a.slots[group[0]].first_loc, "more than 255 queue entries share one queue")
+                for j in group:
+                    self.pool_of[j] = ""
+                continue
+            first = self.a.slots[group[0]]
+            member = f"qpool{len(out)}_"
+            keys = ", ".join(f"`{self.a.slots[j].key}`" for j in group)
+            out.append(
+                LocalIR(
+                    member,
+                    f"the queues of {keys}, which SetBlackboard copies share",
+                    str(kinds.queue_element(first.kind or "none")),
+                    first.capacity,
+                    first.elem_capacity,
+                    pool=len(group),
+                )
+            )
+            for j in group:
+                self.pool_of[j] = member
+        return out
 
     def _empty_copy_succeeds(self) -> bool:
         """4.6.2 copies an empty value; from 4.7.0 the node fails (setblackboard_converts_to_entry_type)."""
@@ -660,9 +729,16 @@ class Compiler:
                     f"{describe_kind(s.kind or 'none')} ({s.origin_text}), not a {want}",
                 )
                 return None
-            no_value = self.fail(
-                loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet"
-            )
+            if self.a.m.semantics.loop_queue_untyped:  # (the interpreter's _queue_from_blackboard_410)
+                no_value = self.fail(
+                    loc,
+                    f"port `queue` of {what} reads blackboard entry `{op.qkey}`, which has no value: it must "
+                    f"hold a {want} or a string",
+                )
+            else:
+                no_value = self.fail(
+                    loc, f"port `queue` of {what} reads blackboard entry `{s.key}`, which has no value yet"
+                )
         value = self.loop_value(inst, vslot, elem, what)
         if value is None:
             return None
@@ -823,6 +899,40 @@ class Compiler:
         return ops.WriteUser(slot)
 
     # ------------------------------------------------------------ user leaf ports
+    def queue_port(self, inst: Inst, ps: PortSpec, entry: PortAccess, slot: Optional[int], loc: Loc) -> None:
+        """A port of a user leaf declared BT::SharedQueue<T>: the accessors give a view of the
+        queue entry it names (runtime/include/btgen/queue_view.hpp), as getInput and setOutput
+        of the library's shared pointer do."""
+        if slot is None:
+            self.error(
+                loc,
+                f"port `{ps.name}` of {inst.what} is a queue ({ps.type}) given a literal; the C++ back "
+                f"end connects a queue port of a user node only to a blackboard entry: not supported "
+                f"by the C++ back end yet",
+            )
+            return
+        s = self.a.slots[slot]
+        if s.kind != self.a.kind_of_type(ps.type):
+            if not any(at == loc for at, _ in self.a.reported):
+                self.error(
+                    loc,
+                    f"port `{ps.name}` of {inst.what} ({ps.type}) is connected to blackboard entry "
+                    f"`{s.key}`, which holds {describe_kind(s.kind or 'none')} ({s.origin_text}); a queue "
+                    f"port of a user node reads and writes only a queue entry of its element type in the "
+                    f"C++ back end",
+                )
+            return
+        if ps.reads:
+            entry.reads.append((inst.index, ops.ReadQueue(slot)))
+        if ps.writes:
+            fail = self.fail(
+                loc,
+                f"output port `{ps.name}` of {inst.what} cannot write `{s.key}` (at most {s.capacity} "
+                f"elements" + (f" of {s.elem_capacity} bytes)" if s.elem_capacity else ")"),
+                errc=True,
+            )
+            entry.writes.append((inst.index, ops.WriteQueue(slot, fail)))
+
     def ports(self) -> dict[str, tuple[PortIR, ...]]:
         by_model: dict[str, dict[str, PortAccess]] = {}
         for inst, op in self.a.node_ops:
@@ -834,11 +944,7 @@ class Compiler:
             slot, raw, p = op.slot, op.raw, op.p
             loc = p.loc_or or inst.node.loc
             if values.queue_element_type(ps.type) is not None:
-                self.error(
-                    loc,
-                    f"port `{ps.name}` of {inst.what} is a queue ({ps.type}); queue ports of user "
-                    f"nodes are not supported by the C++ back end yet",
-                )
+                self.queue_port(inst, ps, entry, slot, loc)
                 continue
             pk = self.a.kind_of_type(ps.type)
             # Ports read as text: string and opaque types, and untyped ports (whose T may be text).
@@ -891,16 +997,13 @@ class Compiler:
         # Every port a leaf model declares gets its accessors, wired here or not (one leaf
         # implementation builds against every mission using the model): in declaration order,
         # with 4.6.2's result on an instance that does not set it (getInput fails: kNotSet;
-        # setOutput fails: false). Queue ports have no C++ type yet (rejected when wired).
+        # setOutput fails: false). Queue ports: a QueueView getter and a setter of any range.
         declared: dict[str, dict[str, PortAccess]] = {}
         for spec in self.a.m.used_user_models():
             used = by_model.get(spec.id, {})
             model = declared.setdefault(spec.id, {})
             for ps in spec.ports:
-                if ps.name in used:
-                    model[ps.name] = used[ps.name]
-                elif values.queue_element_type(ps.type) is None:
-                    model[ps.name] = PortAccess(ps)
+                model[ps.name] = used.get(ps.name, PortAccess(ps))
         by_model = declared
         out: dict[str, tuple[PortIR, ...]] = {}
         for model_id, ports in by_model.items():
@@ -926,6 +1029,7 @@ class Compiler:
     # ------------------------------------------------------------ all
     def run(self) -> DataIR:
         self.mark_unsets()
+        pools = self.queue_pools()
         scripts, bits = self.scripts()
         data_leaves: list[DataOp] = []
         entries: list[DataOp] = []
@@ -1002,6 +1106,7 @@ class Compiler:
                 s.provided,
                 i in self.bt_any_slots or s.bt_any_at_load,
                 s.at_load and s.bt_any_at_load,
+                self.pool_of.get(i, ""),
             )
             for i, s in enumerate(self.a.slots)
         )
@@ -1011,7 +1116,7 @@ class Compiler:
         user_types = tuple(t for t in self.a.m.user_types if t.kind in used)
         return DataIR(
             slots,
-            tuple(locals_ + self.user_locals),
+            tuple(locals_ + self.user_locals + pools),
             tuple(scripts),
             tuple(data_leaves),
             tuple(entries),

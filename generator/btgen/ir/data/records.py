@@ -124,6 +124,7 @@ class SlotIR:
     provided: bool = False  # the application sets it before the first tick (--entry): it has a setter
     may_be_bt_any: bool = False  # typed BT::Any at load (bt_any_at_load), or by 4.7.0's SetBlackboard string
     bt_any_at_load: bool = False  # an `entry` port (InputPort<BT::Any>) created it at load: typed BT::Any
+    pool: str = ""  # a queue entry sharing its deque (queue_share.py): the LocalIR of its QueuePool
 
 
 @dataclass(frozen=True)
@@ -146,7 +147,8 @@ class ScriptIR:
 class LocalIR:
     """Node-local storage in the Blackboard struct: the copy of a Loop's literal queue
     (`elem`, `length`, `elem_capacity`), a Loop's queue converted from a string entry
-    (`text_capacity`), or a user-typed literal (`user_cpp`)."""
+    (`text_capacity`), a user-typed literal (`user_cpp`), or the pool of queues of entries
+    that SetBlackboard copies share (`pool`)."""
 
     member: str
     comment: str
@@ -155,6 +157,7 @@ class LocalIR:
     elem_capacity: int = 0
     user_cpp: str = ""
     text_capacity: int = 0  # a Loop's queue converted from a string entry (from 4.9.1)
+    pool: int = 0  # a btgen::QueuePool of this many queues (`elem`, `length`, `elem_capacity`)
 
 
 @dataclass(frozen=True)

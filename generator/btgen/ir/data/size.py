@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from btgen.diagnostics import InternalError
+from btgen.ir.data.queue_share import share_classes
 from btgen.ir.data.records import WIDEN_AFTER
 from btgen.ir.data.resolve import Analysis
 from btgen.ir.kinds import DYN, STRING, is_numeric, is_queue, queue_kind
@@ -27,6 +28,12 @@ def size_slots(a: Analysis) -> None:
                 s.elem_capacity = max(s.elem_literals, default=0)
                 if s.queue_unbounded:
                     s.elem_capacity = max(s.elem_capacity, cap)
+    # Entries sharing one deque (queue_share.py) share one pool of queues: one capacity.
+    for group in share_classes(a):
+        cap_q = max(a.slots[i].capacity for i in group)
+        cap_e = max(a.slots[i].elem_capacity for i in group)
+        for i in group:
+            a.slots[i].capacity, a.slots[i].elem_capacity = cap_q, cap_e
     # Capacities only grow. Robot code, whose bound is unknown, gets `cap`. A literal gets
     # its own length, and a computed value whose bound btgen knows (`'a' .. 1e300`: 318
     # bytes) its bound, even above `cap`, or the executor would fail where the library

@@ -6,6 +6,8 @@
 //     default SUCCESS                # what unlisted leaves return
 //     leaf FindBall FAILURE SUCCESS  # successive results of the leaf named FindBall
 //     clock_ms 100                   # virtual time per tick (default 0)
+//     queue Parse waypoints a b c    # every run of Parse first sets its queue port
+//                                    # `waypoints` to a new queue of a, b, c
 //
 // Reading a scenario allocates (it happens before the run); the per-tick
 // calls of ScenarioLeaves do not. Problems are reported as
@@ -53,8 +55,17 @@ struct ScenarioLeaf {
   std::vector<long> status_cols;  // same line as the name
 };
 
+struct ScenarioQueue {
+  std::string name;
+  std::string port;
+  std::vector<std::string> items;
+  long line = 1;
+  long col = 1;
+};
+
 struct Scenario {
   std::string path;
+  std::vector<ScenarioQueue> queues;
   long ticks = 100;
   Status default_status = Status::SUCCESS;
   long clock_ms = 0;
@@ -315,10 +326,33 @@ class ScenarioParser {
           leaf.status_cols.push_back(args[i].col);
         }
         out.leaves.push_back(std::move(leaf));
+      } else if (kw.text == "queue") {
+        if (args.size() < 2) {
+          error(lineno, kw.col, "`queue` needs a leaf name, its queue port and the queue's items (none: empty)");
+          continue;
+        }
+        const ScenarioQueue* prev = nullptr;
+        for (const auto& q : out.queues) {
+          if (q.name == args[0].text && q.port == args[1].text) prev = &q;
+        }
+        if (prev != nullptr) {
+          error(lineno, args[1].col,
+                "queue port `" + std::string(args[1].text) + "` of leaf `" + std::string(args[0].text) +
+                    "` is listed twice (first at line " + std::to_string(prev->line) + ")");
+          continue;
+        }
+        ScenarioQueue q;
+        q.name = std::string(args[0].text);
+        q.port = std::string(args[1].text);
+        for (std::size_t i = 2; i < args.size(); ++i) q.items.emplace_back(args[i].text);
+        q.line = lineno;
+        q.col = args[0].col;
+        out.queues.push_back(std::move(q));
       } else {
-        std::string msg =
-            "unknown keyword `" + std::string(kw.text) + "`: a line starts with ticks, default, leaf or clock_ms";
-        const std::string hint = scenario_detail::did_you_mean(kw.text, {"ticks", "default", "leaf", "clock_ms"});
+        std::string msg = "unknown keyword `" + std::string(kw.text) +
+                          "`: a line starts with ticks, default, leaf, clock_ms or queue";
+        const std::string hint =
+            scenario_detail::did_you_mean(kw.text, {"ticks", "default", "leaf", "clock_ms", "queue"});
         if (!hint.empty()) msg += " (did you mean `" + hint + "`?)";
         error(lineno, kw.col, msg);
       }
@@ -532,12 +566,30 @@ class ScenarioLeaves : public ScenarioHooks<ScenarioLeaves> {
       for (std::size_t k = 0; k < sc.leaves.size(); ++k) {
         if (sc.leaves[k].name == nodes[i].name) list_of_node_[i] = static_cast<std::uint32_t>(k);
       }
+      for (const auto& q : sc.queues) {
+        if (q.name == nodes[i].name) fills_.push_back(Fill{static_cast<std::uint32_t>(i), &q});
+      }
     }
   }
 
  private:
   friend class ScenarioHooks<ScenarioLeaves>;
 
+  // The `queue` lines of each node, in node order.
+  struct Fill {
+    std::uint32_t node;
+    const ScenarioQueue* queue;
+  };
+
+ public:
+  template <class Leaf>
+  void fill(Leaf& leaf, const NodeInfo& node) noexcept {
+    for (const Fill& f : fills_) {
+      if (f.node == node.index) (void)leaf.set_queue_port(f.queue->port, f.queue->items);
+    }
+  }
+
+ private:
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
   struct List {
     std::vector<Status> statuses;
@@ -555,6 +607,7 @@ class ScenarioLeaves : public ScenarioHooks<ScenarioLeaves> {
 
   std::vector<std::uint32_t> list_of_node_;
   std::vector<List> lists_;
+  std::vector<Fill> fills_;
   Status default_;
 };
 

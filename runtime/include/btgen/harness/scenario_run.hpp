@@ -24,19 +24,25 @@ template <class Derived>
 class ScenarioHooks {
  public:
   template <class Leaf>
-  Status onStart(Leaf&, const NodeInfo& node) noexcept {
+  Status onStart(Leaf& leaf, const NodeInfo& node) noexcept {
+    self().fill(leaf, node);
     return self().next(node);
   }
   template <class Leaf>
-  Status onRunning(Leaf&, const NodeInfo& node) noexcept {
+  Status onRunning(Leaf& leaf, const NodeInfo& node) noexcept {
+    self().fill(leaf, node);
     return self().next(node);
   }
   template <class Leaf>
   void onHalted(Leaf&, const NodeInfo&) noexcept {}
   template <class Leaf>
-  Status check(Leaf&, const NodeInfo& node) noexcept {
+  Status check(Leaf& leaf, const NodeInfo& node) noexcept {
+    self().fill(leaf, node);
     return self().next(node);
   }
+  // A scenario's `queue` lines of the node (Derived may hide it): none here.
+  template <class Leaf>
+  void fill(Leaf&, const NodeInfo&) noexcept {}
   // The input of a Nav2 Decorator (btgen/nav2.hpp), scripted under its name as a Condition.
   Status nav2_input(const NodeInfo& node) noexcept { return self().next(node); }
 
