@@ -23,6 +23,8 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "btgen/harness/scenario_run.hpp"
@@ -54,6 +56,14 @@ struct ScenarioLeaf {
   long col = 1;
   std::vector<long> status_cols;  // same line as the name
 };
+
+// Whether `leaf.set_queue_port(port, items)` is a call ScenarioLeaves::fill can make.
+template <class Leaf, class = void>
+struct has_queue_ports : std::false_type {};
+template <class Leaf>
+struct has_queue_ports<Leaf, std::void_t<decltype(std::declval<Leaf&>().set_queue_port(
+                                 std::string_view{}, std::declval<const std::vector<std::string>&>()))>>
+    : std::true_type {};
 
 struct ScenarioQueue {
   std::string name;
@@ -582,10 +592,18 @@ class ScenarioLeaves : public ScenarioHooks<ScenarioLeaves> {
   };
 
  public:
+  // A leaf that has queue ports (a generated model, btgen::UserNode) gets each of its
+  // `queue` lines; any other object a caller checks with (the Lab Tour's robot passes an
+  // int: only the node is looked at) has none to fill.
   template <class Leaf>
   void fill(Leaf& leaf, const NodeInfo& node) noexcept {
-    for (const Fill& f : fills_) {
-      if (f.node == node.index) (void)leaf.set_queue_port(f.queue->port, f.queue->items);
+    if constexpr (has_queue_ports<Leaf>::value) {
+      for (const Fill& f : fills_) {
+        if (f.node == node.index) (void)leaf.set_queue_port(f.queue->port, f.queue->items);
+      }
+    } else {
+      (void)leaf;
+      (void)node;
     }
   }
 
