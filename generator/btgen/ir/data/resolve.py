@@ -379,6 +379,19 @@ class Analysis:
             return None
 
     def _status_literal(self, inst: Inst, name: str) -> Optional[NodeStatus]:
+        p = inst.ports.get(name)
+        assert p is not None, (inst.reg_id, name)
+        try:
+            values.convert_from_string(values.NODE_STATUS, p.raw)
+        except values.ConversionError as e:
+            # The library loads it and the node throws when it reads the port (the front end
+            # warns; the interpreter throws there).
+            self.error(
+                p.loc_or or inst.node.loc,
+                f"port `{name}` of {inst.what}: {e}, which the node throws on when it reads the port: "
+                f"not supported by the C++ back end yet",
+            )
+            return None
         value = self._literal(inst, name, values.NODE_STATUS)
         assert value is None or isinstance(value, NodeStatus), value
         return value
