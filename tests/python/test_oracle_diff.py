@@ -5,6 +5,7 @@ engines (release_cases.py): the trace, cut short where the library threw, and wh
 """
 
 import os
+import re
 import sys
 
 import pytest
@@ -21,6 +22,38 @@ REFUSED = {
     for stem in ("status_literal_precondition_else", "status_literal_loop_if_empty", "status_literal_never_read")
     for version in rc.VERSIONS
 }
+REFUSED.update(
+    {
+        ("set_text_into_status_entry", v): "refused: `else` as `{key}`, and text into a NodeStatus entry"
+        for v in rc.VERSIONS
+    }
+)
+# Recordings neither engine follows yet, each a strict expected failure with its reason.
+_DUMP = (
+    "the library prints its blackboard on stdout (Blackboard::debugMessage) before it throws on a "
+    "write that changes an entry's type; btgen does not (test_changing_types.py KNOWN)"
+)
+_QUEUE_COPY = (
+    "4.6.2 copies a string entry as it is into a queue entry (blackboard.py set_blackboard: queue "
+    "destinations still convert), so the Loop's cast throws; btgen converts it"
+)
+KNOWN = {
+    ("set_text_into_status_entry", "4.6.2"): _DUMP,
+    ("set_text_into_status_entry", "4.10.0"): _DUMP,
+    ("queue_copy_of_text", "4.6.2"): _QUEUE_COPY,
+}
+CPP_KNOWN = {
+    ("queue_copy_of_text", "4.6.2"): _QUEUE_COPY + " (the C++ fails at the copy: the capacity of `q`)",
+}
+# The blackboard's lines in the library's trace (`key (type)`)
+DUMP_LINE = re.compile(r"^[^ \n]+ \((?:BT::|std::)?[\w:<>, ]+\)\n", re.M)
+
+
+def _params(refused):
+    return [
+        pytest.param(s, v, marks=[pytest.mark.xfail(strict=True, reason=refused[(s, v)])] if (s, v) in refused else [])
+        for s, v in CASES
+    ]
 
 
 def _compiles(stem: str, version: str) -> bool:
@@ -43,9 +76,21 @@ def test_every_case_is_recorded_on_both_releases_and_says_what_it_shows():
             assert f.read().startswith("<!--"), f"{stem}: say what it shows"
 
 
-@pytest.mark.parametrize("stem,version", CASES)
+@pytest.mark.parametrize("stem,version", _params(KNOWN))
 def test_interpreter(stem, version):
     rc.check_interp(HERE, stem, version)
+
+
+@pytest.mark.parametrize("stem,version", [k for k, why in KNOWN.items() if why == _DUMP])
+def test_interpreter_fails_where_the_library_does_but_for_its_blackboard_dump(stem, version):
+    """4.10.0 too throws at a SetBlackboard of text into a NodeStatus entry (the interpreter left
+    the entry empty and failed later, at the Precondition reading it)."""
+    trace, failed = rc.expected(HERE, stem, version)
+    assert DUMP_LINE.search(trace)
+    assert failed
+    got = rc.interp(HERE, stem, version)
+    assert (got[0], got[1]) == (DUMP_LINE.sub("", trace), True)
+    assert "SetBlackboard" in got[2], got[2]
 
 
 @pytest.fixture(scope="module")
@@ -53,13 +98,7 @@ def batches(tmp_path_factory):
     return rc.Batches(HERE, tmp_path_factory.mktemp("oracle_diff"), _compiles).build()
 
 
-@pytest.mark.parametrize(
-    "stem,version",
-    [
-        pytest.param(s, v, marks=[pytest.mark.xfail(strict=True, reason=REFUSED[(s, v)])] if (s, v) in REFUSED else [])
-        for s, v in CASES
-    ],
-)
+@pytest.mark.parametrize("stem,version", _params({**REFUSED, **CPP_KNOWN}))
 def test_compiled_executor(stem, version, batches):
     if rc.loads(HERE, stem, version):
         assert _compiles(stem, version), "the C++ back end refuses it"
