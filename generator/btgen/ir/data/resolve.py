@@ -385,7 +385,8 @@ class Analysis:
             values.convert_from_string(values.NODE_STATUS, p.raw)
         except values.ConversionError as e:
             if bbmod.remapped_key(name, p.raw) is not None:
-                return self._literal(inst, name, values.NODE_STATUS)  # (LITERAL_ONLY: reported)
+                self._literal(inst, name, values.NODE_STATUS)  # (and LITERAL_ONLY's error)
+                return None
             # The library loads it and the node throws when it reads the port (the front end
             # warns; the interpreter throws there).
             self.error(
