@@ -15,19 +15,11 @@ from conftest import ROOT
 
 HERE = os.path.join(ROOT, "tests", "conformance", "oracle-diff")
 CASES = rc.recorded(HERE)
-# What the C++ back end still refuses (listed by scripts/refusal_share.py): a NodeStatus literal
-# that does not convert, which the node throws on where it reads it (the interpreter follows).
+# What the C++ back end still refuses (listed by scripts/refusal_share.py).
 REFUSED = {
-    (stem, version): "refused: a Precondition `else` / Loop `if_empty` that is no NodeStatus"
-    for stem in ("status_literal_precondition_else", "status_literal_loop_if_empty", "status_literal_never_read")
-    for version in rc.VERSIONS
+    ("set_text_into_status_entry", v): "refused: `else` as `{key}`, and text into a NodeStatus entry"
+    for v in rc.VERSIONS
 }
-REFUSED.update(
-    {
-        ("set_text_into_status_entry", v): "refused: `else` as `{key}`, and text into a NodeStatus entry"
-        for v in rc.VERSIONS
-    }
-)
 # Recordings neither engine follows yet, each a strict expected failure with its reason.
 _DUMP = (
     "the library prints its blackboard on stdout (Blackboard::debugMessage) before it throws on a "
