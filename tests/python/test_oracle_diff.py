@@ -197,3 +197,27 @@ def test_fuzzgen_writes_no_name_410_refuses():
             mission = random_case(seed, features, 1, "4.10.0").mission
             assert "\x7f" not in mission, (features, seed)
             assert not re.search(r'<SubTree [^>]*name=""', mission), (features, seed)
+
+
+def test_the_themes_runner_writes_distinct_loadable_cases_and_counts_the_dump_apart():
+    """scripts/oracle_themes.py: every case a unique stem and well-formed XML, and a run that
+    differs only by the library's blackboard dump is counted apart."""
+    from lxml import etree
+
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import oracle_themes as ot
+
+    stems = set()
+    for family, make in ot.FAMILIES.items():
+        cases = make()
+        assert cases, family
+        for stem, text, scenario in cases:
+            assert stem not in stems, stem
+            stems.add(stem)
+            etree.fromstring(text.encode("utf-8"))
+            assert scenario.startswith("ticks ")
+    assert len(stems) > 4000
+    lib = ("tick 1\nv (int)\nw (BT::AnyTypeAllowed)\n", True, "error: ... the type of a port shall not change ...")
+    assert ot.verdict_of(lib, ("tick 1\n", True, "x"), "4.10.0", "") == "blackboard dump"
+    assert ot.verdict_of(lib, ("tick 1\n", False, ""), "4.10.0", "") == "divergence"
+    assert ot.verdict_of(lib, ("tick 1\nv (int)\n", True, "x"), "4.10.0", "") == "divergence"
