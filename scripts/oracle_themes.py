@@ -2,7 +2,7 @@
 """Written missions on issue 44's themes, run on the real library, the interpreter AND the C++.
 
     python scripts/oracle_themes.py OUT_DIR [--keep DIR] [--only FAMILY,...] [--no-cpp]
-                                    [--cpp-every N] [--batch N]
+                                    [--cpp-every N] [--cpp-offset K] [--batch N]
 
 The families scripts/oracle_edges.py leaves thin: one entry written by typed and changing-type
 writers in turn (scripts, SetBlackboard literals and copies, the Loop nodes' typed `value`) and
@@ -515,6 +515,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--only", default="", help="families, comma-separated (names as in the table)")
     p.add_argument("--no-cpp", action="store_true")
     p.add_argument("--cpp-every", type=int, default=1, help="compile every Nth case only")
+    p.add_argument("--cpp-offset", type=int, default=0, help="starting with case K (0-based)")
     p.add_argument("--batch", type=int, default=80, help="missions per C++ executable")
     p.add_argument("--list", action="store_true", help="print the families and their case counts")
     args = p.parse_args(argv)
@@ -555,7 +556,7 @@ def main(argv: list[str] | None = None) -> int:
         log(f"{family}: {len(items)} cases on the library and the interpreter, {time.monotonic() - start:.0f} s")
     refusals: dict[str, list[str]] = defaultdict(list)
     if not args.no_cpp:
-        chosen = every[:: max(1, args.cpp_every)]
+        chosen = every[args.cpp_offset :: max(1, args.cpp_every)]
         results = cpp_runs(chosen, out, args.batch, log)
         for (family, stem, version), (kind, res) in sorted(results.items()):
             text = next(t for f, s, t, _ in chosen if s == stem)
