@@ -27,7 +27,14 @@ from lxml import etree
 from btgen import resources
 from btgen.diagnostics import Diagnostic, Loc
 from btgen.frontend.xmlsource import Source, lxml_name
-from btgen.lang.catalogue import METADATA_ATTRIBUTES, POST_CONDITIONS, PRE_CONDITIONS, NodeSpec, PortSpec
+from btgen.lang.catalogue import (
+    METADATA_ATTRIBUTES,
+    POST_CONDITIONS,
+    PRE_CONDITIONS,
+    STATUS_READ_WHEN_TICKED,
+    NodeSpec,
+    PortSpec,
+)
 from btgen.lang.model import Mission
 
 _XML_NAME = re.compile(r"^[A-Za-z_][-A-Za-z0-9_.]*$")
@@ -137,6 +144,8 @@ def _type_ref(port: PortSpec, node_id: str = "", literal_writes: bool = False) -
     t = port.type
     if node_id.startswith("Loop") and port.name == "queue":
         return "xs:string"  # untyped from 4.9.1, a literal queue or a {key} all the same
+    if (node_id, port.name) in STATUS_READ_WHEN_TICKED:
+        return "xs:string"  # converted when the node reads it: any text loads (the loader warns)
     if literal_writes and port.direction == "output":
         return "xs:string"  # a literal on the output port of a node the program registers loads (warned)
     if port.direction == "output" or (port.direction == "inout" and not t.startswith("queue<")):

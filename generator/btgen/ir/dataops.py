@@ -212,6 +212,9 @@ class ParamRead:
     # Nav2's RateController hz: getInput<double> of the entry's kind into `out`'s bits, when the
     # node starts; when it fails Nav2 keeps its local 1.0, silently.
     as_double: str = ""
+    # Precondition `else`, a Loop's `if_empty`: a literal that is no NodeStatus, which the
+    # library loads and throws on whenever the node reads it (slot -1)
+    always: Optional[Fail] = None
 
 
 @dataclass(frozen=True)

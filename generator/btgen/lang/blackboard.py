@@ -564,6 +564,13 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
             f"SetBlackboard: blackboard entry `{output_key}` is declared as {local.type_name}; "
             f"it cannot be written with a {written}"
         )
+    if out is None and local.type_name == values.NODE_STATUS and isinstance(value_text, str):
+        # A string into an entry a port typed NodeStatus: no converter, so an empty value
+        # (BT::Any), which the typed entry refuses (recorded: oracle-diff/set_text_into_status_entry)
+        raise BlackboardError(
+            f"SetBlackboard: blackboard entry `{output_key}` is declared as NodeStatus; a string converts "
+            f"to no value there (no converter), and the entry cannot be written with an empty value"
+        )
     local.value = out
     local.bump()
     return True

@@ -261,6 +261,13 @@ SPECIAL_ATTRIBUTES = ("name", "ID") + PRE_CONDITIONS + POST_CONDITIONS
 # Editor metadata on node elements: BehaviorTree.CPP's own XML writer adds `_uid` and
 # `_fullpath` (WriteTreeToXML with metadata, as Groot2 receives a running tree) and Groot2
 # keeps `_description`; 4.6.2's loader ignores them, and so does btgen.
+# Built-in NodeStatus ports the library converts only when the node reads them (on a tick), not
+# when it loads the file: a literal that is no NodeStatus loads, and the read throws.
+STATUS_READ_WHEN_TICKED = frozenset(
+    {("Precondition", "else"), ("LoopInt", "if_empty"), ("LoopBool", "if_empty")}
+    | {("LoopDouble", "if_empty"), ("LoopString", "if_empty")}
+)
+
 METADATA_ATTRIBUTES = ("_uid", "_fullpath", "_description")
 # What editors (Groot2, MoveIt Pro) write on node elements for themselves; 4.6.2 reads no
 # attribute that does not start with a letter, and btgen ignores these without a word.

@@ -34,6 +34,7 @@ from btgen.lang.catalogue import (
     PRE_CONDITIONS,
     SCRIPT_PORTS,
     SPECIAL_ATTRIBUTES,
+    STATUS_READ_WHEN_TICKED,
     NodeSpec,
 )
 from btgen.lang.model import Attr, Mission, Node, SubTreeNode, TreeDef
@@ -441,6 +442,17 @@ class MissionChecks(LoaderBase):
                 f"{what} is an {port.direction} port and must name a blackboard "
                 f"entry as `{{key}}` (or `{{=}}`), not the literal `{value}`",
             )
+            return attr
+        if (spec.id, attr.name) in STATUS_READ_WHEN_TICKED:
+            try:
+                values.convert_from_string(values.NODE_STATUS, value)
+            except values.ConversionError as e:
+                # Recorded (tests/conformance/oracle-diff/status_literal_*): both releases load
+                # it and the node throws where it reads the port (getInput<NodeStatus> fails).
+                self.sink.warning(
+                    attr.value_loc,
+                    f"{what}: {e}; BehaviorTree.CPP {self.btcpp} loads it and the node throws when it reads the port",
+                )
             return attr
         self._check_literal(attr.value_loc, what, port.type, value, port.int_width)
         return attr

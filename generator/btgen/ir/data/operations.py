@@ -1074,7 +1074,13 @@ class Compiler:
                     index_writes.append(write)
             elif isinstance(op, StatusParam):
                 p0 = op.p0
-                if p0 is not None:
+                if op.throws is not None and op.where is not None:
+                    # p1: Spec::read_param reports the error where the node reads the port
+                    fail = self.fail(op.where, op.throws)
+                    always = ops.ParamRead(-1, fail, fail, always=fail)
+                    param_reads.append(DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}"', always))
+                    params[inst.index] = (0, 1, 0)
+                elif p0 is not None:
                     params[inst.index] = (p0.value if isinstance(p0, NodeStatus) else p0, 0, 0)
         ports = self.ports()
         for s in self.a.slots:

@@ -386,10 +386,20 @@ class Analysis:
             self.error(p.loc_or or inst.node.loc, f"port `{name}` of {inst.what}: {e}")
             return None
 
-    def _status_literal(self, inst: Inst, name: str) -> Optional[NodeStatus]:
+    def _status_param(self, inst: Inst, name: str) -> StatusParam:
+        p = inst.ports.get(name)
+        assert p is not None, (inst.reg_id, name)
+        try:
+            values.convert_from_string(values.NODE_STATUS, p.raw)
+        except values.ConversionError as e:
+            if bbmod.remapped_key(name, p.raw) is None:
+                # The library loads it and the node throws where it reads the port (the front
+                # end warns; the interpreter throws there, with this message)
+                message = f'`{inst.reg_id}` "{inst.node.display_name}": port `{name}`: {e}'
+                return StatusParam(None, message, p.loc_or or inst.node.loc)
         value = self._literal(inst, name, values.NODE_STATUS)
         assert value is None or isinstance(value, NodeStatus), value
-        return value
+        return StatusParam(value)
 
     def _collect_builtin(self, inst: Inst) -> None:
         nid = inst.reg_id
@@ -402,7 +412,7 @@ class Analysis:
             p = inst.ports["if"]
             if p.attr is not None:
                 self._script_use(inst, p.attr, "if", condition=True)
-            self.node_ops.append((inst, StatusParam(self._status_literal(inst, "else"))))
+            self.node_ops.append((inst, self._status_param(inst, "else")))
         elif nid == "SetBlackboard":
             self._collect_set_blackboard(inst)
         elif nid == "UnsetBlackboard":
@@ -625,7 +635,7 @@ class Analysis:
                 )
             )
         self.node_ops.append((inst, LoopUse(elem, static, qslot, vslot, loc, qkey)))
-        self.node_ops.append((inst, StatusParam(self._status_literal(inst, "if_empty"))))
+        self.node_ops.append((inst, self._status_param(inst, "if_empty")))
 
     # -- user leaves
     def _collect_leaf(self, inst: Inst) -> None:

@@ -122,6 +122,10 @@ class StatusParam:
     """p0 of the node's row: a converted literal (Precondition `else`, Loop `if_empty`) or a count."""
 
     p0: Optional[Union[int, NodeStatus]]  # None: the literal did not convert (reported)
+    # A literal the library loads but cannot convert (no NodeStatus): the node throws this
+    # message where it reads the port, at `where`
+    throws: Optional[str] = None
+    where: Optional[Loc] = None
 
 
 @dataclass(frozen=True)

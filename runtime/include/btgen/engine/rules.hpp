@@ -186,6 +186,9 @@
 
       case NodeKind::Precondition: {
         f.decorator = 1;
+        // p1: an `else` that is no NodeStatus, which the library throws on when it reads it, on
+        // every tick (Spec::read_param reports it)
+        if (!read_param(n, false)) return done(Status::FAILURE);
         // 4.6.2 evaluates `if` on every tick; when false it answers `else`
         // without ticking (or halting) its child. From 4.7.0
         // (Sem::precondition_if_until_started) only until the child has
@@ -215,7 +218,10 @@
           const ErrorSink es = sink();
           const int r = Spec::loop_pop(bb_, n, es, idle);
           if (r < 0) return done(Status::FAILURE);
-          if (r == 0) return done(not_idle(n, param::otherwise(n)));
+          if (r == 0) {
+            if (!read_param(n, false)) return done(Status::FAILURE);  // p1: an `if_empty` that is no NodeStatus
+            return done(not_idle(n, param::otherwise(n)));
+          }
         }
         if (idle) set_status(f.node, Status::RUNNING);
         return descend(child(n, 0));
