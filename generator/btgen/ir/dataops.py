@@ -52,6 +52,9 @@ class DynSet410:
     # a copy's source type, which a missing destination takes: "entry" (the source's
     # Slot::entry_type), "typed" (std::string) or "untyped"
     src_type: str = ""
+    # a source a port declared int, double or bool: the btgen::DynTag a missing destination
+    # is typed with ("kInt", "kDouble", "kBool"; "" otherwise)
+    src_tag: str = ""
 
 
 @dataclass(frozen=True)
