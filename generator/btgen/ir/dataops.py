@@ -119,6 +119,9 @@ class SetCopyDyn:
     where: int
     empty_succeeds: bool = True  # as SetCopy's
     v410: Optional[DynSet410] = None  # into an entry no port declared, from 4.7.0
+    # a source a port declared int, double, bool or NodeStatus: the btgen::DynTag a missing
+    # destination is typed with ("kInt", ...; "" otherwise)
+    src_tag: str = ""
 
 
 @dataclass(frozen=True)

@@ -647,7 +647,7 @@ template <std::size_t N>
 struct Dyn {
   DynTag tag = DynTag::kNone;
   bool typed_string = false;
-  DynTag typed = DynTag::kNone;  // int, double or bool: the type a typed write gave it
+  DynTag typed = DynTag::kNone;  // int, double, bool (NodeStatus): the type a typed write or copy gave it
   std::int64_t i = 0;
   double d = 0.0;
   FixedString<N> s{};
@@ -674,7 +674,8 @@ Ref ref(const Slot<Dyn<N>>& slot) noexcept {
 }
 
 // The entry's declared type: kNone (`any`, or BT::Any: not strongly typed), kString,
-// or the kInt, kDouble, kBool a typed write gave it (dynamic/write.hpp).
+// or the kInt, kDouble, kBool a typed write gave it (btgen::port::write), or the kInt,
+// kDouble, kBool, kStatus of the source a copy created it with.
 template <std::size_t N>
 constexpr DynTag declared(const Slot<Dyn<N>>& slot) noexcept {
   return slot.value.typed_string ? DynTag::kString : slot.value.typed;
@@ -853,8 +854,8 @@ bool store(Slot<Dyn<N>>& slot, const Ref& value, std::string_view key, Msg& m) n
   }
   if (value.is_string() && !dst.is_string()) {
     if (type == DynTag::kString) {
-      out = value;                       // the string converter gives the text itself
-    } else if (type != DynTag::kNone) {  // typed int, double or bool: its converter
+      out = value;                                                  // the string converter gives the text itself
+    } else if (type != DynTag::kNone && type != DynTag::kStatus) {  // int, double or bool: its converter
       const Errc e = convert_typed<kFromChars>(type, value.s, out);
       if (!converted_text(e, value.s, key, type_name(Ref{type, 0, 0.0, {}}), m)) return false;
     } else if (dst.is_number()) {
@@ -930,6 +931,9 @@ bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key
   if (!slot.exists) {
     slot.value.typed_string = false;  // a new entry of type `any`
     slot.value.typed = DynTag::kNone;
+  } else if (type == DynTag::kStatus) {  // (NodeStatus has no converter)
+    m.add("blackboard entry `").add(key).add("` is declared as NodeStatus; it cannot be written with a string");
+    return false;
   } else if (type != DynTag::kNone && type != DynTag::kString) {
     // typed int, double or bool (a typed write): the entry's converter, then copyInto
     const Errc e = convert_typed<kFromChars>(type, text, v);
@@ -966,14 +970,17 @@ bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key
 }
 
 // SetBlackboard value="{src}" into a dynamic entry, once the source exists: `src_string`
-// says the source's type is std::string (a new destination takes it). Returns 1 (copied),
-// 0 (the source has no value: the node fails) or -1 (m says why).
+// says the source's type is std::string, `src_tag` that it is int, double, bool or
+// NodeStatus (a new destination takes it). Returns 1 (copied), 0 (the source has no value:
+// the node fails) or -1 (m says why).
 template <std::size_t N>
-int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_view key, Msg& m) noexcept {
+int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_view key, Msg& m,
+             DynTag src_tag = DynTag::kNone) noexcept {
   if (!slot.exists) {
     slot.exists = true;
     slot.has_value = false;
     slot.value.typed_string = src_string;
+    slot.value.typed = src_string || src_tag == DynTag::kString ? DynTag::kNone : src_tag;
   }
   if (value.none()) return 0;
   // 4.6.2 copies the value as it is (`dst_entry->value = src_entry->value`), into an entry

@@ -610,16 +610,17 @@ bool write(Slot<Dyn<N>>& slot, Declared d, const V& v, std::string_view key, dyn
   if (type != tag) {
     bool ok = false;
     if constexpr (t == WriteType::kString) {
-      // (type is int, double or bool: each has a converter)
-      const Errc e = dyn::convert_typed<kFromChars>(type, value.s, value);
-      if (e != Errc::kOk) {
-        m.add("cannot write ");
-        dyn::add_string_repr(m, std::string_view(v));
-        m.add(" to `").add(key).add("` (").add(type_name).add("): ");
-        dyn::add_conversion_error(m, std::string_view(v), type_name, e);
-        return false;
+      if (type != DynTag::kStatus) {  // (NodeStatus has no converter)
+        const Errc e = dyn::convert_typed<kFromChars>(type, value.s, value);
+        if (e != Errc::kOk) {
+          m.add("cannot write ");
+          dyn::add_string_repr(m, std::string_view(v));
+          m.add(" to `").add(key).add("` (").add(type_name).add("): ");
+          dyn::add_conversion_error(m, std::string_view(v), type_name, e);
+          return false;
+        }
+        ok = true;
       }
-      ok = true;
     } else {
       const Declared as = type == DynTag::kInt      ? Declared::kInt
                           : type == DynTag::kDouble ? Declared::kDouble

@@ -54,7 +54,7 @@ from btgen.lang.status import NodeStatus
 # The types of a Blackboard::set<T> that btgen::port::write follows into an entry whose type
 # changes at run time (dynamic.hpp Dyn::typed, Dyn::typed_string).
 DYN_WRITE_TYPES = (values.INT, values.DOUBLE, values.BOOL, values.STRING)
-_DYN_TAG = {values.INT: "kInt", values.DOUBLE: "kDouble", values.BOOL: "kBool"}
+_DYN_TAG = {values.INT: "kInt", values.DOUBLE: "kDouble", values.BOOL: "kBool", values.NODE_STATUS: "kStatus"}
 
 TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
     {
@@ -489,6 +489,7 @@ class Compiler:
                 self.where(loc),
                 self._empty_copy_succeeds(),
                 v410,
+                src_tag,
             ),
         )
 

@@ -36,7 +36,7 @@ int set_value_410(Slot<Dyn<N>>& slot, Ref out, bool local, const SetNames410& na
   DynTag type = declared(slot);
   if (type == DynTag::kNone && slot.entry_type == EntryType::kTyped) type = DynTag::kString;
   if (type != DynTag::kString && out.is_string()) {
-    if (type != DynTag::kNone) {  // TypeInfo::parseString: the entry's converter
+    if (type != DynTag::kNone && type != DynTag::kStatus) {  // TypeInfo::parseString: its converter
       const std::string_view text = out.s;
       const Errc e = convert_typed<kFromChars>(type, text, out);
       if (e != Errc::kOk) {
@@ -54,7 +54,7 @@ int set_value_410(Slot<Dyn<N>>& slot, Ref out, bool local, const SetNames410& na
       m.add(" to BT::Any: the library has no convertFromString for BT::Any");
       return -1;
     } else {
-      out = Ref{};  // TypeInfo::parseString without a converter: an empty value
+      out = Ref{};  // TypeInfo::parseString without a converter (untyped, NodeStatus): empty
     }
   }
   if (type != DynTag::kNone && !out.none() && out.tag != type) {
