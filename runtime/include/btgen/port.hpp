@@ -569,7 +569,9 @@ dyn::Ref written_ref(const V& v) noexcept {
 //    the type T and the value; one typed (std::string, or the T of an earlier typed
 //    write) converts a string with its converter and takes a number that fits it
 //    (isCastingSafe), anything else throws; the value is then copied into what it holds.
-template <bool kFromChars, std::size_t N, class V>
+//    `kFalseIntoIntUnsafe`: Semantics::false_into_int_unsafe (4.10.0 refuses `false` into an
+//    int entry).
+template <bool kFromChars, bool kFalseIntoIntUnsafe = false, std::size_t N = 0, class V = int>
 bool write(Slot<Dyn<N>>& slot, Declared d, const V& v, std::string_view key, dyn::Msg& m) noexcept {
   constexpr WriteType t = write_type<V>();
   static_assert(t != WriteType::kStatus && (t != WriteType::kUnsigned || std::is_same_v<V, std::uint32_t>),
@@ -626,6 +628,9 @@ bool write(Slot<Dyn<N>>& slot, Declared d, const V& v, std::string_view key, dyn
                           : type == DynTag::kDouble ? Declared::kDouble
                                                     : Declared::kAny;
       ok = casting_safe(as, v);
+      if constexpr (kFalseIntoIntUnsafe && std::is_same_v<V, bool>) {
+        if (type == DynTag::kInt && !v) ok = false;
+      }
     }
     if (!ok) {
       m.add("blackboard entry `")

@@ -40,6 +40,7 @@ from btgen.ir.data.state import (
     SwitchUse,
     UnsetUse,
 )
+from btgen.ir.data.types import TYPED_WRITE_TYPES
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user
 from btgen.ir.script_types import type_script
 from btgen.lang import blackboard as bbmod
@@ -51,10 +52,10 @@ from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 from btgen.lang.status import NodeStatus
 
-# The types of a Blackboard::set<T> that btgen::port::write follows into an entry whose type
-# changes at run time (dynamic.hpp Dyn::typed, Dyn::typed_string).
-DYN_WRITE_TYPES = (values.INT, values.DOUBLE, values.BOOL, values.STRING)
-_DYN_TAG = {values.INT: "kInt", values.DOUBLE: "kDouble", values.BOOL: "kBool", values.NODE_STATUS: "kStatus"}
+DYN_WRITE_TYPES = TYPED_WRITE_TYPES  # (btgen::port::write of a Dyn slot: Dyn::typed, Dyn::typed_string)
+_DYN_TAG: Mapping[str, str] = MappingProxyType(
+    {values.INT: "kInt", values.DOUBLE: "kDouble", values.BOOL: "kBool", values.NODE_STATUS: "kStatus"}
+)
 
 TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
     {
