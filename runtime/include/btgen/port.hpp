@@ -651,5 +651,12 @@ bool write(Slot<Dyn<N>>& slot, Declared d, const V& v, std::string_view key, dyn
   return dyn::put(slot, out, key, m);
 }
 
+// The same without the message: Errc::kInvalid where the library throws.
+template <bool kFromChars, std::size_t N, class V>
+Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
+  dyn::Msg m;
+  return write<kFromChars>(slot, d, v, std::string_view(), m) ? Errc::kOk : Errc::kInvalid;
+}
+
 }  // namespace port
 }  // namespace btgen
