@@ -1,6 +1,6 @@
 """tests/conformance/changing-types/: SetBlackboard copies between entries a port typed and entries
-whose type changes at run time (issue 44, item d), a Loop writing into such an entry (item b,
-refused by the C++ back end), and scripts storing a value of changing type
+whose type changes at run time (issue 44, item d), a Loop writing into such an entry (item b),
+and scripts storing a value of changing type
 into an int entry a port declared (item c: `script_store_dynamic_into_int_*`, a boolean, whole
 and fractional numbers, a number's text and other text), recorded on the real 4.6.2 and 4.10.0
 (traces cut short where the library threw), through both engines.

@@ -14,8 +14,9 @@ namespace dyn {
 // (Semantics::setblackboard_converts_to_entry_type; lang/blackboard.py set_blackboard_410
 // is the reference). The entry's own type is Slot::entry_type: kUntyped (created by a
 // Script, an untyped port, a SubTree text literal), kTyped (std::string: created by a
-// SetBlackboard literal, or copied from such an entry; Dyn::typed_string says the same),
-// kBtAny (left so by a string below). A string is converted with the entry's converter:
+// SetBlackboard literal, or copied from such an entry, as Dyn::typed_string says; or the
+// int, double or bool of Dyn::typed, given by a typed write or a copy from an entry a port
+// typed), kBtAny (left so by a string below). A string is converted with the entry's converter:
 // an untyped entry has none and receives an empty value; BT::Any's throws. The write is
 // Blackboard::set<BT::Any>: an entry on the node's own blackboard (`local`) that is not
 // strongly typed becomes BT::Any; a std::string one refuses another type; one reached
