@@ -217,3 +217,72 @@ TEST(CopiedString, ATypedWriteCopiesIntoWhatTheEntryHolds) {
 }
 
 }  // namespace copied_string
+
+namespace typed_write {
+
+using btgen::Dyn;
+using btgen::Slot;
+namespace dyn = btgen::dyn;
+
+// Blackboard::set<T> into an entry of changing type (lang/blackboard.py Blackboard.set; the
+// table of tests/python/test_typed_writes.py runs both engines over more cases).
+TEST(TypedWrite, AnUntypedEntryTakesTheTypeThenConvertsOrRefuses) {
+  Slot<Dyn<8>> v;
+  dyn::Msg m;
+  ASSERT_TRUE(dyn::store(v, dyn::of_string("abc"), "v", m));  // a script: untyped, a string
+  ASSERT_TRUE(btgen::port::write<false>(v, btgen::Declared::kAny, std::int32_t{5}, "v", m));
+  EXPECT_EQ(dyn::declared(v), btgen::DynTag::kInt);
+  EXPECT_EQ(v.entry_type, btgen::EntryType::kTyped);
+  EXPECT_EQ(v.value.i, 5);
+  ASSERT_TRUE(btgen::port::write<false>(v, btgen::Declared::kAny, 2.0, "v", m));  // fits: stored as 2
+  EXPECT_EQ(v.value.tag, btgen::DynTag::kInt);
+  EXPECT_EQ(v.value.i, 2);
+  ASSERT_TRUE(btgen::port::write<false>(v, btgen::Declared::kAny, std::string_view("8"), "v", m));
+  EXPECT_EQ(v.value.i, 8);
+  dyn::Msg e("P: ");
+  EXPECT_FALSE(btgen::port::write<false>(v, btgen::Declared::kAny, 2.5, "v", e));
+  EXPECT_EQ(std::string(e.view()), "P: blackboard entry `v` is declared as int; it cannot be written with a double");
+  dyn::Msg t;
+  EXPECT_FALSE(btgen::port::write<false>(v, btgen::Declared::kAny, std::string_view("x"), "v", t));
+  EXPECT_EQ(std::string(t.view()), "cannot write 'x' to `v` (int): `x` is not a valid int");
+  EXPECT_TRUE(btgen::port::write<false>(v, btgen::Declared::kAny, false, "v", m));  // 4.6.2: 0
+  dyn::Msg f;
+  EXPECT_FALSE((btgen::port::write<false, true>(v, btgen::Declared::kAny, false, "v", f)));  // 4.10.0
+  EXPECT_EQ(v.seq, 5u);
+}
+
+TEST(TypedWrite, ScriptsAndLiteralsThenGoThroughTheConverter) {
+  Slot<Dyn<8>> v;
+  dyn::Msg m;
+  ASSERT_TRUE(btgen::port::write<false>(v, btgen::Declared::kAny, 1.5, "v", m));  // a new entry: double
+  ASSERT_TRUE(dyn::store<false>(v, dyn::of_string("2.5"), "v", m));
+  EXPECT_EQ(v.value.tag, btgen::DynTag::kDouble);
+  EXPECT_EQ(v.value.d, 2.5);
+  dyn::Msg e;
+  EXPECT_FALSE(dyn::store<false>(v, dyn::of_string("x"), "v", e));
+  EXPECT_EQ(std::string(e.view()), "cannot assign 'x' to `v` (double): `x` is not a valid double");
+  ASSERT_TRUE(dyn::set_literal<false>(v, "7", "v", m));
+  EXPECT_EQ(v.value.d, 7.0);
+  dyn::Msg l;
+  EXPECT_FALSE(dyn::set_literal<false>(v, "abc", "v", l));
+  EXPECT_EQ(std::string(l.view()), "cannot write 'abc' to `v` (double): `abc` is not a valid double");
+  // 4.10.0's SetBlackboard converts with the same converter
+  dyn::Msg s("SB: ");
+  const dyn::SetNames410 names{"abc", "v", "v"};
+  EXPECT_EQ(dyn::set_text_410<false>(v, "abc", true, names, s), -1);
+  EXPECT_EQ(std::string(s.view()), "SB: SetBlackboard: cannot convert 'abc': `abc` is not a valid double");
+}
+
+TEST(TypedWrite, ACopyCreatesAMissingEntryWithTheSourcesType) {
+  Slot<Dyn<8>> v;
+  dyn::Msg m;
+  ASSERT_EQ(dyn::set_copy(v, dyn::of_int(5), false, "v", m, btgen::DynTag::kInt), 1);
+  EXPECT_EQ(dyn::declared(v), btgen::DynTag::kInt);
+  dyn::Msg e;
+  EXPECT_FALSE(dyn::store(v, dyn::of_string("x"), "v", e));
+  EXPECT_EQ(std::string(e.view()), "cannot assign 'x' to `v` (int): `x` is not a valid int");
+  v.unset();
+  EXPECT_EQ(dyn::declared(v), btgen::DynTag::kNone);
+}
+
+}  // namespace typed_write

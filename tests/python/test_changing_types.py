@@ -1,6 +1,6 @@
 """tests/conformance/changing-types/: SetBlackboard copies between entries a port typed and entries
-whose type changes at run time (issue 44, item d), a Loop writing into such an entry (item b,
-refused by the C++ back end), and scripts storing a value of changing type
+whose type changes at run time (issue 44, item d), a Loop writing into such an entry (item b),
+and scripts storing a value of changing type
 into an int entry a port declared (item c: `script_store_dynamic_into_int_*`, a boolean, whole
 and fractional numbers, a number's text and other text), recorded on the real 4.6.2 and 4.10.0
 (traces cut short where the library threw), through both engines.
@@ -33,18 +33,11 @@ KNOWN = {
 # typed and an entry whose type changes (a missing destination takes the source's type).
 _SCRIPT_TYPED = "refused: a copy of changing type into a typed entry that a script writes"
 _TYPED_410 = "refused: from 4.7.0, copies between typed entries and entries whose type changes"
-_TYPED_WRITE = "refused: a typed write (a Loop's `value`) into an entry whose type changes at run time"
 REFUSED = {
-    ("loop_writes_into_dynamic_text", "4.6.2"): _TYPED_WRITE,
-    ("loop_writes_into_dynamic_text", "4.10.0"): _TYPED_WRITE,
-    ("loop_writes_into_dynamic_after_number", "4.6.2"): _TYPED_WRITE,
-    ("loop_writes_into_dynamic_after_number", "4.10.0"): _TYPED_WRITE,
     ("copy_dynamic_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
     ("copy_dynamic_text_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
     ("copy_dynamic_text_into_typed_int", "4.10.0"): _TYPED_410,
     ("copy_dynamic_text_into_typed_double", "4.10.0"): _TYPED_410,
-    ("copy_typed_int_into_dynamic", "4.10.0"): _TYPED_410,
-    ("copy_typed_int_into_dynamic_text", "4.10.0"): _TYPED_410,
 }
 
 

@@ -258,7 +258,10 @@ class Interpreter:
         self.scenario = scenario
         _ensure_recursion_depth(expanded_depth(mission))
         self.rt = Runtime(mission, scenario)
-        self.root_bb = bbmod.Blackboard(double_from_chars=mission.semantics.double_from_chars)
+        self.root_bb = bbmod.Blackboard(
+            double_from_chars=mission.semantics.double_from_chars,
+            false_into_int_unsafe=mission.semantics.false_into_int_unsafe,
+        )
         provide(mission, self.root_bb, mission.main_tree, True)
         builder = self._builder()
         self.root = builder.build(self.root_bb)

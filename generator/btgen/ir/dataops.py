@@ -52,6 +52,9 @@ class DynSet410:
     # a copy's source type, which a missing destination takes: "entry" (the source's
     # Slot::entry_type), "typed" (std::string) or "untyped"
     src_type: str = ""
+    # a source a port declared int, double or bool: the btgen::DynTag a missing destination
+    # is typed with ("kInt", "kDouble", "kBool"; "" otherwise)
+    src_tag: str = ""
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,9 @@ class SetCopyDyn:
     where: int
     empty_succeeds: bool = True  # as SetCopy's
     v410: Optional[DynSet410] = None  # into an entry no port declared, from 4.7.0
+    # a source a port declared int, double, bool or NodeStatus: the btgen::DynTag a missing
+    # destination is typed with ("kInt", ...; "" otherwise)
+    src_tag: str = ""
 
 
 @dataclass(frozen=True)

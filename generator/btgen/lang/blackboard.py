@@ -95,7 +95,12 @@ class Blackboard:
     """A blackboard, optionally the child of a SubTree's parent blackboard."""
 
     def __init__(
-        self, parent: Optional[Blackboard] = None, *, autoremap: bool = False, double_from_chars: Optional[bool] = None
+        self,
+        parent: Optional[Blackboard] = None,
+        *,
+        autoremap: bool = False,
+        double_from_chars: Optional[bool] = None,
+        false_into_int_unsafe: Optional[bool] = None,
     ) -> None:
         self.parent = parent
         self.autoremap = autoremap
@@ -104,6 +109,10 @@ class Blackboard:
         if double_from_chars is None:
             double_from_chars = parent.double_from_chars if parent is not None else False
         self.double_from_chars: bool = double_from_chars
+        # versions.Semantics.false_into_int_unsafe (set<bool>(false) into an int entry throws)
+        if false_into_int_unsafe is None:
+            false_into_int_unsafe = parent.false_into_int_unsafe if parent is not None else False
+        self.false_into_int_unsafe: bool = false_into_int_unsafe
         self._storage: dict[str, Entry] = {}
         self._remapping: dict[str, str] = {}
 
@@ -282,6 +291,7 @@ class Blackboard:
                 mismatching
                 and t in (values.INT, values.UNSIGNED, values.DOUBLE, values.BOOL)
                 and values.is_casting_safe(entry.type_name, value)
+                and not (self.false_into_int_unsafe and value is False and entry.type_name == values.INT)
             ):
                 mismatching = False
             if mismatching:

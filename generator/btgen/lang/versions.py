@@ -65,6 +65,10 @@ class Semantics:
     double_from_chars: bool = False
     # TryCatch is a built-in control node (4.9.0 b8f27152).
     trycatch: bool = False
+    # Blackboard::set<bool>(false) into an entry typed int throws (isCastingSafe refuses it;
+    # `true`, and either into a double entry, are accepted) (recorded on 4.10.0:
+    # tests/conformance/typed-writes/loop_int_then_bool_*; the commit is not identified).
+    false_into_int_unsafe: bool = False
 
     # ---------------------------------------------------------------- monitoring
     # A Groot2 BLACKBOARD reply that dumps a SubTree's blackboard also holds the root
@@ -122,6 +126,7 @@ SINCE = {
     "int_to_double_53_bits": "4.7.0",
     "double_from_chars": "4.9.0",
     "trycatch": "4.9.0",
+    "false_into_int_unsafe": "4.10.0",
     "groot2_root_blackboard": "4.10.0",
     "script_grammar_49": "4.9.0",
     "name_validation_484": "4.8.4",

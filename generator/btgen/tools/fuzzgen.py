@@ -23,7 +23,8 @@ Feature sets:
   `+=`, concatenate and compare them; SetBlackboard writes literals and copies
   into them and out of them; UnsetBlackboard removes `v`; an untyped port
   creates both at load (so a typed `int` port may read them too) and Switch
-  reads `v` as text.
+  reads `v` as text; Loops write their `value` into them (a typed write: the
+  entry takes the Loop's type, which later writes convert to or throw on).
 
 - ``hostile``: all of ``dynamic`` with the leaf models, their ports and the integer
   entries renamed to names of HOSTILE_NAMES (C++ keywords, macros, the runtime's and the
@@ -299,6 +300,9 @@ class _Gen:
         # (their own generator too, so the missions of earlier seeds change only where they are picked)
         self.krng = random.Random(seed * 104729 + BTCPP_VERSIONS.index(btcpp) * 17 + len(features))
         self.dyn_keys = self.dyn and not self.hostile and self.krng.random() < 0.6
+        # `dynamic`: Loops writing their `value` into `v` and `w` (their own generator too)
+        self.wrng = random.Random(seed * 15485863 + BTCPP_VERSIONS.index(btcpp) * 19 + len(features))
+        self.dyn_writes = self.dyn and not self.hostile and self.wrng.random() < 0.6
 
     def _subtree_mode(self) -> str:
         if not self.data:
@@ -549,13 +553,13 @@ class _Gen:
                 status = rng.choice(("FAILURE", "SUCCESS", "SKIPPED", "RUNNING"))
                 attrs += f' else="{"IDLE" if self.edges and rng.random() < 0.1 else status}"'
         elif kind.startswith("Loop"):
-            attrs = self.loop_ports(kind, scope)
+            attrs = self.loop_ports(kind, scope, tree)
         elif kind in ("SkipUnlessUpdated", "WaitValueUpdate"):
             attrs = f' entry="{{{rng.choice(scope.ints + (scope.var("u"),))}}}"'
         child = self.node(depth + 1, tree, scope)
         return f"<{kind}{self.name_attr()}{attrs}{self.with_conditions(scope)}>{child}</{kind}>"
 
-    def loop_ports(self, kind: str, scope: _Scope) -> str:
+    def loop_ports(self, kind: str, scope: _Scope, tree: int = 0) -> str:
         rng = self.rng
         elem = {
             "LoopInt": ("1", "2", "3", "-4") + (("1.5", "2x", "-0", INT_MIN_TEXT) if self.edges else ()),
@@ -567,6 +571,10 @@ class _Gen:
         }[kind]
         # Each loop writes an entry of its own element type (LoopInt's `int` is not a script's integer).
         target = scope.var({"LoopInt": "li", "LoopBool": "lb", "LoopDouble": "ld", "LoopString": "ls"}[kind])
+        if self.dyn_writes and scope.has_root_vars and (scope.prefix == "@" or tree == 0) and self.wrng.random() < 0.35:
+            # `dynamic`: a typed write (Blackboard::set<T>) into `v` or `w`, whose type changes at
+            # run time, on the root blackboard that holds them (issue 44)
+            target = scope.var(self.wrng.choice(DYN_VARS))
         queue = ";".join(rng.choice(elem) for _ in range(rng.randint(0, 4)))
         if kind == "LoopDouble" and queue and self.xrng.random() < 0.7:
             texts = FLOAT_TEXTS + (() if self.later else FLOAT_TEXTS_462)

@@ -27,6 +27,7 @@
 #include <type_traits>
 
 #include "btgen/blackboard.hpp"
+#include "btgen/convert.hpp"
 #include "btgen/fixed_string.hpp"
 #include "btgen/status.hpp"
 #include "btgen/value.hpp"
@@ -640,11 +641,13 @@ inline void add_bt_any_assign(Msg& m, std::string_view text, std::string_view ke
 }  // namespace dyn
 
 // The value of a dynamic slot: what the entry holds, and its 4.6.2 type (`any`,
-// or `string` once a SetBlackboard literal typed it).
+// `string` once a SetBlackboard literal typed it, or the T of a Blackboard::set<T>
+// that found it untyped: a Loop's `value`, a port).
 template <std::size_t N>
 struct Dyn {
   DynTag tag = DynTag::kNone;
   bool typed_string = false;
+  DynTag typed = DynTag::kNone;  // int, double, bool (NodeStatus): the type a typed write or copy gave it
   std::int64_t i = 0;
   double d = 0.0;
   FixedString<N> s{};
@@ -668,6 +671,34 @@ template <std::size_t N>
 Ref ref(const Slot<Dyn<N>>& slot) noexcept {
   if (!slot.exists || !slot.has_value) return Ref{};
   return slot.value.ref();
+}
+
+// The entry's declared type: kNone (`any`, or BT::Any: not strongly typed), kString,
+// or the kInt, kDouble, kBool a typed write gave it (btgen::port::write), or the kInt,
+// kDouble, kBool, kStatus of the source a copy created it with.
+template <std::size_t N>
+constexpr DynTag declared(const Slot<Dyn<N>>& slot) noexcept {
+  return slot.value.typed_string ? DynTag::kString : slot.value.typed;
+}
+
+// The converter of an entry declared `type` (kInt, kDouble, kBool) applied to `text`.
+template <bool kFromChars>
+Errc convert_typed(DynTag type, std::string_view text, Ref& out) noexcept {
+  Errc e = Errc::kInvalid;
+  if (type == DynTag::kInt) {
+    std::int64_t v = 0;
+    e = convert_int(text, v);
+    out = of_int(v);
+  } else if (type == DynTag::kDouble) {
+    double v = 0.0;
+    e = convert_double<kFromChars>(text, v);
+    out = of_double(v);
+  } else if (type == DynTag::kBool) {
+    bool v = false;
+    e = parse_bool(text, v);
+    out = of_bool(v);
+  }
+  return e;
 }
 
 // Whether the entry holds a string now (a script's text then replaces it as it is).
@@ -810,19 +841,23 @@ bool put(Slot<Dyn<N>>& slot, const Ref& v, std::string_view key, Msg& m) noexcep
 }
 
 // A script's `key := value` (and `=`): the entry exists (`:=` created it).
-template <std::size_t N>
+template <bool kFromChars = false, std::size_t N = 0>
 bool store(Slot<Dyn<N>>& slot, const Ref& value, std::string_view key, Msg& m) noexcept {
   // Typed BT::Any (an `entry` port's entry, or one a 4.7.0+ SetBlackboard string left so):
   // unless it holds a string, a string goes through BT::Any's converter, which throws.
   if (value.is_string() && !store_text_bt_any(slot, value.s, key, m)) return false;
   const Ref dst = ref(slot);
   Ref out = value;
-  if (dst.none() && !slot.value.typed_string) {
+  const DynTag type = declared(slot);
+  if (dst.none() && type == DynTag::kNone) {
     return put(slot, out, key, m);
   }
   if (value.is_string() && !dst.is_string()) {
-    if (slot.value.typed_string) {
-      out = value;  // the string converter gives the text itself
+    if (type == DynTag::kString) {
+      out = value;                                                  // the string converter gives the text itself
+    } else if (type != DynTag::kNone && type != DynTag::kStatus) {  // int, double or bool: its converter
+      const Errc e = convert_typed<kFromChars>(type, value.s, out);
+      if (!converted_text(e, value.s, key, type_name(Ref{type, 0, 0.0, {}}), m)) return false;
     } else if (dst.is_number()) {
       double x = 0.0;
       if (!string_to_double(value.s, x, m)) return false;
@@ -889,11 +924,35 @@ bool compound(char op, const Ref& current, const Ref& value, std::string_view ke
 }
 
 // SetBlackboard value="text" (Blackboard::set<std::string>). The entry exists afterwards.
-template <std::size_t N>
+template <bool kFromChars = false, std::size_t N = 0>
 bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key, Msg& m) noexcept {
-  const Ref v = of_string(text);
+  Ref v = of_string(text);
+  const DynTag type = declared(slot);
   if (!slot.exists) {
     slot.value.typed_string = false;  // a new entry of type `any`
+    slot.value.typed = DynTag::kNone;
+  } else if (type == DynTag::kStatus) {  // (NodeStatus has no converter)
+    m.add("blackboard entry `").add(key).add("` is declared as NodeStatus; it cannot be written with a string");
+    return false;
+  } else if (type != DynTag::kNone && type != DynTag::kString) {
+    // typed int, double or bool (a typed write): the entry's converter, then copyInto
+    const Errc e = convert_typed<kFromChars>(type, text, v);
+    if (e != Errc::kOk) {
+      m.add("cannot write ");
+      add_string_repr(m, text);
+      m.add(" to `").add(key).add("` (").add(type_name(Ref{type, 0, 0.0, {}})).add("): ");
+      add_conversion_error(m, text, type_name(Ref{type, 0, 0.0, {}}), e);
+      return false;
+    }
+    Ref out;
+    Msg why;
+    if (!copy_into(v, ref(slot), out, why)) {
+      m.add("cannot write ");
+      add_string_repr(m, text);
+      m.add(" to `").add(key).add("`: ").add(why.view());
+      return false;
+    }
+    v = out;
   } else if (!slot.value.typed_string) {
     slot.value.typed_string = true;  // an `any` (or BT::Any) entry takes the type std::string
     if (slot.entry_type == EntryType::kBtAny) slot.entry_type = EntryType::kTyped;
@@ -911,14 +970,17 @@ bool set_literal(Slot<Dyn<N>>& slot, std::string_view text, std::string_view key
 }
 
 // SetBlackboard value="{src}" into a dynamic entry, once the source exists: `src_string`
-// says the source's type is std::string (a new destination takes it). Returns 1 (copied),
-// 0 (the source has no value: the node fails) or -1 (m says why).
+// says the source's type is std::string, `src_tag` that it is int, double, bool or
+// NodeStatus (a new destination takes it). Returns 1 (copied), 0 (the source has no value:
+// the node fails) or -1 (m says why).
 template <std::size_t N>
-int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_view key, Msg& m) noexcept {
+int set_copy(Slot<Dyn<N>>& slot, const Ref& value, bool src_string, std::string_view key, Msg& m,
+             DynTag src_tag = DynTag::kNone) noexcept {
   if (!slot.exists) {
     slot.exists = true;
     slot.has_value = false;
     slot.value.typed_string = src_string;
+    slot.value.typed = src_string || src_tag == DynTag::kString ? DynTag::kNone : src_tag;
   }
   if (value.none()) return 0;
   // 4.6.2 copies the value as it is (`dst_entry->value = src_entry->value`), into an entry

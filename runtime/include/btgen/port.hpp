@@ -548,19 +548,114 @@ Errc write(Slot<S>& slot, Declared d, const V& v) noexcept {
   return e;
 }
 
-// Blackboard::set<T> of a number or bool into an entry declared T (int, unsigned,
-// double, bool) that a 4.6.2 SetBlackboard copy may have left holding a string, a
-// Dyn slot: Any::copyInto of the value into what the entry holds (values.copy_into);
-// Errc::kInvalid where that throws (a number where a string is).
-template <bool kFromChars, std::size_t N, class V>
-Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
-  (void)d;
-  const dyn::Ref value = dyn::of_number(v);
+// The value a port writes, as a btgen::dyn::Ref.
+template <class V>
+dyn::Ref written_ref(const V& v) noexcept {
+  if constexpr (std::is_arithmetic_v<V>) {
+    return dyn::of_number(v);
+  } else {
+    return dyn::of_string(std::string_view(v));
+  }
+}
+
+// Blackboard::set<T>(key, v) into a Dyn slot (lang/blackboard.py Blackboard.set is the
+// reference; T the type of `v`: int, double, bool or a string). False when the library
+// throws, `m` saying why after the writer's prefix.
+//  - `d` int, unsigned, double or bool: an entry a port declared that a 4.6.2
+//    SetBlackboard copy may have left holding a string: Any::copyInto of the value into
+//    what the entry holds.
+//  - `d` any (no port declared it): a missing entry is created with the type T (a string:
+//    untyped) and the value; an entry that is not strongly typed (`any`, BT::Any) takes
+//    the type T and the value; one typed (std::string, or the T of an earlier typed
+//    write) converts a string with its converter and takes a number that fits it
+//    (isCastingSafe), anything else throws; the value is then copied into what it holds.
+//    `kFalseIntoIntUnsafe`: Semantics::false_into_int_unsafe (4.10.0 refuses `false` into an
+//    int entry).
+template <bool kFromChars, bool kFalseIntoIntUnsafe = false, std::size_t N = 0, class V = int>
+bool write(Slot<Dyn<N>>& slot, Declared d, const V& v, std::string_view key, dyn::Msg& m) noexcept {
+  constexpr WriteType t = write_type<V>();
+  static_assert(t != WriteType::kStatus && (t != WriteType::kUnsigned || std::is_same_v<V, std::uint32_t>),
+                "a typed write into a dynamic slot is of an int, a double, a bool or a string");
+  dyn::Ref value = written_ref(v);
+  const dyn::Ref held = dyn::ref(slot);
   dyn::Ref out;
   dyn::Msg why;
-  if (!dyn::copy_into(value, dyn::ref(slot), out, why) || !slot.value.set(out)) return Errc::kInvalid;
-  slot.mark_written();
-  return Errc::kOk;
+  if (d != Declared::kAny) {
+    if (!dyn::copy_into(value, held, out, why) || !slot.value.set(out)) {
+      dyn::add_write_failure(m, value, key, held);
+      return false;
+    }
+    slot.mark_written();
+    return true;
+  }
+  constexpr DynTag tag = t == WriteType::kString   ? DynTag::kString
+                         : t == WriteType::kDouble ? DynTag::kDouble
+                         : t == WriteType::kBool   ? DynTag::kBool
+                                                   : DynTag::kInt;
+  const DynTag type = dyn::declared(slot);
+  if (!slot.exists || type == DynTag::kNone) {
+    // A new entry takes the type T (a string: none); an untyped one, the type T.
+    const bool created = !slot.exists;
+    if (!dyn::put(slot, value, key, m)) return false;
+    if (created && tag == DynTag::kString) {
+      slot.value.typed_string = false;
+      slot.value.typed = DynTag::kNone;
+      slot.entry_type = EntryType::kUntyped;
+    } else {
+      slot.value.typed_string = tag == DynTag::kString;
+      slot.value.typed = tag == DynTag::kString ? DynTag::kNone : tag;
+      slot.entry_type = EntryType::kTyped;
+    }
+    return true;
+  }
+  const std::string_view type_name = dyn::type_name(dyn::Ref{type, 0, 0.0, {}});
+  if (type != tag) {
+    bool ok = false;
+    if constexpr (t == WriteType::kString) {
+      if (type != DynTag::kStatus) {  // (NodeStatus has no converter)
+        const Errc e = dyn::convert_typed<kFromChars>(type, value.s, value);
+        if (e != Errc::kOk) {
+          m.add("cannot write ");
+          dyn::add_string_repr(m, std::string_view(v));
+          m.add(" to `").add(key).add("` (").add(type_name).add("): ");
+          dyn::add_conversion_error(m, std::string_view(v), type_name, e);
+          return false;
+        }
+        ok = true;
+      }
+    } else {
+      const Declared as = type == DynTag::kInt      ? Declared::kInt
+                          : type == DynTag::kDouble ? Declared::kDouble
+                                                    : Declared::kAny;
+      ok = casting_safe(as, v);
+      if constexpr (kFalseIntoIntUnsafe && std::is_same_v<V, bool>) {
+        if (type == DynTag::kInt && !v) ok = false;
+      }
+    }
+    if (!ok) {
+      m.add("blackboard entry `")
+          .add(key)
+          .add("` is declared as ")
+          .add(type_name)
+          .add("; it cannot be written with a ");
+      m.add(t == WriteType::kUnsigned ? std::string_view("unsigned") : dyn::type_name(dyn::Ref{tag, 0, 0.0, {}}));
+      return false;
+    }
+  }
+  if (!dyn::copy_into(value, held, out, why)) {
+    m.add("cannot write ");
+    dyn::add_value(m, written_ref(v));
+    m.add(" to `").add(key).add("`: ").add(why.view());
+    return false;
+  }
+  return dyn::put(slot, out, key, m);
+}
+
+// The same without the message: Errc::kInvalid where the library throws.
+template <bool kFromChars, std::size_t N, class V>
+Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
+  dyn::Msg m;
+  return write<kFromChars>(slot, d, v, std::string_view(), m) ? Errc::kOk : Errc::kInvalid;
 }
 
 }  // namespace port

@@ -480,7 +480,8 @@ class ScriptCompiler(CodeWriter):
             self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
         if s.kind == DYN:
             if op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
-                self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
+                store = "btgen::dyn::store<detail::Semantics::double_from_chars>"
+                self.dyn_call(f"{store}({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
                 t = self.temp()
                 # room for the text of whatever the entry holds, so that only the store reports

@@ -41,6 +41,7 @@ from btgen.ir.data.state import (
     SwitchUse,
     UnsetUse,
 )
+from btgen.ir.data.types import TYPED_WRITE_TYPES
 from btgen.ir.kinds import DYN, ScriptTypeError, describe_kind, is_numeric, is_queue, is_user
 from btgen.ir.script_types import type_script
 from btgen.lang import blackboard as bbmod
@@ -51,6 +52,11 @@ from btgen.lang.catalogue import PortSpec
 from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 from btgen.lang.status import NodeStatus
+
+DYN_WRITE_TYPES = TYPED_WRITE_TYPES  # (btgen::port::write of a Dyn slot: Dyn::typed, Dyn::typed_string)
+_DYN_TAG: Mapping[str, str] = MappingProxyType(
+    {values.INT: "kInt", values.DOUBLE: "kDouble", values.BOOL: "kBool", values.NODE_STATUS: "kStatus"}
+)
 
 TYPE_NAME_OF_KIND: Mapping[KindLike, str] = MappingProxyType(
     {
@@ -93,20 +99,26 @@ class Compiler:
         return ops.Fail(self.where(where), message, errc)
 
     # ------------------------------------------------------------ typed writes
-    def typed_write_ok(self, slot: int, type_name: str, loc: Loc, what: str) -> bool:
+    def typed_write_ok(
+        self, slot: int, type_name: str, loc: Loc, what: str, owner: Optional[tuple[Inst, str, str]] = None
+    ) -> bool:
         """Blackboard::set<T> of a T into the slot: what btgen::port::write does, checked where it
-        fails (or would change the entry's type) whenever it runs."""
+        fails (or would change the entry's type) whenever it runs. `owner`: the writing node and
+        its port's name and text as written, to tell whether its blackboard holds the entry."""
         s = self.a.slots[slot]
         declared = s.entry.type_name
         k = self.a.kind_of_type(type_name)
         if s.kind == DYN and declared == type_name and declared in RAW_COPY_TYPES:
             return True  # an entry of its own type that a 4.6.2 copy may leave holding a string
+        if s.kind == DYN and declared == values.ANY and type_name in DYN_WRITE_TYPES and self._owns(s, owner):
+            return True  # btgen::port::write of a Dyn slot follows the entry's run-time type
         if s.kind == DYN:
             self.error(
                 loc,
                 f"{what} writes {describe_kind(k or 'none')} ({type_name}) to blackboard entry "
                 f"`{s.key}`, whose type changes at run time ({s.origin_text}); typed writes into "
-                f"such entries are not supported by the C++ back end yet",
+                f"such entries are not supported by the C++ back end yet"
+                + ("" if type_name in DYN_WRITE_TYPES else " but for int, double, bool and string values"),
             )
             return False
         if declared == values.ANY or values.is_opaque_type(declared) or declared == type_name:
@@ -127,6 +139,20 @@ class Compiler:
                 f"gives every entry one type",
             )
         return ok
+
+    @staticmethod
+    def _owns(s: Slot, owner: Optional[tuple[Inst, str, str]]) -> bool:
+        """Whether the writer's blackboard holds the entry itself: Blackboard::set<T> of an entry
+        reached through a SubTree's remapping stores the value without typing it, which a
+        dynamic slot does not follow."""
+        if owner is None:
+            return False
+        inst, port, raw = owner
+        key = bbmod.remapped_key(port, raw)
+        if key is None:
+            return False
+        target = inst.bb.root if key.startswith("@") else inst.bb
+        return target.local_entry(key[1:] if key.startswith("@") else key) is s.entry
 
     # ------------------------------------------------------------ scripts
     def scripts(self) -> tuple[list[ScriptIR], dict[int, int]]:
@@ -414,9 +440,12 @@ class Compiler:
         # value as it is (`dst_entry->value = src_entry->value`); from 4.7.0 it is set<BT::Any>
         # (btgen::dyn::set_copy_410), but a missing destination would take the source's type,
         # which a dynamic slot does not keep: only into one that exists from load on.
+        # A missing destination typed int, double or bool: Dyn::typed (set_copy_410's src_tag).
         typed_src = s.kind != DYN and src_decl in (values.INT, values.DOUBLE, values.BOOL, values.NODE_STATUS)
         exists = d.at_load and not d.unset
-        typed_ok = typed_src and (not self.a.m.semantics.setblackboard_converts_to_entry_type or exists)
+        src_tag = _DYN_TAG.get(src_decl, "") if typed_src else ""
+        converts = self.a.m.semantics.setblackboard_converts_to_entry_type
+        typed_ok = typed_src and (not converts or exists or src_tag != "")
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
@@ -440,7 +469,7 @@ class Compiler:
                     f"this source: not supported by the C++ back end yet",
                 )
                 return None
-            v410 = dataclasses.replace(v410, src_type=src_type)
+            v410 = dataclasses.replace(v410, src_type=src_type, src_tag=src_tag if typed_ok else "")
         missing = self.fail(
             loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
         )
@@ -457,6 +486,7 @@ class Compiler:
                 self.where(loc),
                 self._empty_copy_succeeds(),
                 v410,
+                src_tag,
             ),
         )
 
@@ -757,9 +787,10 @@ class Compiler:
         if vslot is None:
             return "", None
         vloc = inst.ports["value"].loc_or or inst.node.loc
-        if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}"):
+        owner = (inst, "value", inst.ports["value"].raw)
+        if not self.typed_write_ok(vslot, elem, vloc, f"port `value` of {what}", owner):
             return None
-        if self.a.slots[vslot].kind == DYN:  # the message names the value (templates' dyn_write_fail)
+        if self.a.slots[vslot].kind == DYN:  # the prefix of btgen::port::write's message
             return self.a.slots[vslot].entry.type_name, self.fail(vloc, f"{what}: ")
         return self.a.slots[vslot].entry.type_name, self.fail(vloc, f"{what} cannot write its `value`", errc=True)
 
@@ -986,10 +1017,11 @@ class Compiler:
                     ps.type if not values.is_opaque_type(ps.type) else values.STRING,
                     loc,
                     f"output port `{ps.name}` of {inst.what}",
+                    (inst, ps.name, raw),
                 ):
                     continue
                 s = self.a.slots[slot]
-                if s.kind == DYN:  # the message names the value (templates' dyn_write_fail)
+                if s.kind == DYN:  # the prefix of btgen::port::write's message
                     fail = self.fail(loc, f"{inst.what}: ")
                 else:
                     fail = self.fail(loc, f"output port `{ps.name}` of {inst.what} cannot write `{s.key}`", errc=True)

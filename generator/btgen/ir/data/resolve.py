@@ -631,7 +631,16 @@ class Analysis:
 
             self.slots[vslot].writes.append(
                 Write(
-                    vslot, self.next_order(), vloc, what, lambda e=elem: self.kind_of_type(e), True, bound, None, "loop"
+                    vslot,
+                    self.next_order(),
+                    vloc,
+                    what,
+                    lambda e=elem: self.kind_of_type(e),
+                    True,
+                    bound,
+                    None,
+                    "loop",
+                    elem,
                 )
             )
         self.node_ops.append((inst, LoopUse(elem, static, qslot, vslot, loc, qkey)))
@@ -668,6 +677,7 @@ class Analysis:
                             (lambda: None),
                             None,
                             "port",
+                            ps.type,
                         )
                     )
             self.node_ops.append((inst, PortUse(ps, slot, p.raw, p)))

@@ -63,6 +63,7 @@ class Write:
     bound: Callable[..., Optional[int]]  # strings: most bytes written (None: no bound)
     literal: Optional[str] = None  # the text written, when it is a literal
     source: str = "script"  # script | constant | set | copy | loop | port
+    type_name: str = ""  # a typed write (loop, a node's port): the T of its Blackboard::set<T>
 
 
 @dataclass

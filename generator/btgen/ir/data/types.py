@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import re
+from typing import Optional
 
 from btgen.ir.data.resolve import Analysis
-from btgen.ir.data.state import Slot
+from btgen.ir.data.state import Slot, Write
 from btgen.ir.kinds import DOUBLE, DYN, INT, NONE, STATUS, STRING, describe_kind, is_queue, is_user
 from btgen.lang import values
 from btgen.lang.blackboard import RAW_COPY_TYPES
@@ -151,6 +152,13 @@ def mark_dynamic(a: Analysis) -> None:
                 or is_user(s.kind)
             ):  # (a user type's entry: other writes are errors, reported as such)
                 continue
+            typed = _typed_write_change(s)
+            if typed is not None:
+                s.kind = DYN
+                s.origin = f"its type changes at run time ({typed.what} writes {typed.type_name})"
+                s.origin_loc = typed.loc
+                changed = True
+                continue
             for w in s.writes:
                 if w.source in ("port", "loop"):
                     continue
@@ -172,6 +180,32 @@ def mark_dynamic(a: Analysis) -> None:
                     s.origin_loc = w.loc
                     changed = True
                     break
+
+
+# The types of a Blackboard::set<T> (a Loop's `value`, a node's output port) that the C++
+# back end follows into an entry whose type changes at run time (btgen::port::write of a Dyn
+# slot, btgen::Dyn::typed; ir/data/operations.py refuses the others).
+TYPED_WRITE_TYPES = (values.INT, values.DOUBLE, values.BOOL, values.STRING)
+
+
+def _typed_write_change(s: Slot) -> Optional[Write]:
+    """A typed write into an entry no port declared that changes its type: Blackboard::set<T>
+    gives the entry the type T, and a write of another kind (a LoopDouble into an entry
+    scripts give integers), or a typed write of another T (a LoopBool and a LoopInt), then
+    converts or throws by that type. The write, or None."""
+    typed = [w for w in s.writes if w.source in ("port", "loop") and w.type_name in TYPED_WRITE_TYPES]
+    if not typed:
+        return None
+    for w in typed:
+        if w.type_name != typed[0].type_name:
+            return w
+    for w in s.writes:
+        k = w.kind()
+        if k is None or k in (NONE, "error") or is_queue(k):
+            continue
+        if k != s.kind or k == DYN:
+            return w if w in typed else typed[0]
+    return None
 
 
 def _mark_typed_number_dynamic(a: Analysis, s: Slot) -> None:
