@@ -27,11 +27,10 @@ KNOWN = {
     ("copy_dynamic_into_typed_int", "4.10.0"): _THROW_410,
     ("copy_dynamic_into_typed_double", "4.10.0"): _THROW_410,
 }
-# What the C++ back end still refuses (docs/btcpp-versions.md, "Still refused"): a typed
-# destination that scripts write too (a dynamic slot does not keep its declared type, whose
-# converter a script's string goes through), and from 4.7.0 a copy between an entry a port
-# typed and an entry whose type changes (a missing destination takes the source's type).
-_SCRIPT_TYPED = "refused: a copy of changing type into a typed entry that a script writes"
+# What the C++ back end still refuses (docs/btcpp-versions.md, "Still refused"): from 4.7.0
+# a copy between an entry a port typed and an entry whose type changes (a missing destination
+# takes the source's type). (A typed destination that scripts write too runs: its dynamic
+# slot keeps the declared type's converter, btgen::port::store_declared.)
 _TYPED_410 = "refused: from 4.7.0, copies between typed entries and entries whose type changes"
 _TYPED_WRITE = "refused: a typed write (a Loop's `value`) into an entry whose type changes at run time"
 REFUSED = {
@@ -39,8 +38,6 @@ REFUSED = {
     ("loop_writes_into_dynamic_text", "4.10.0"): _TYPED_WRITE,
     ("loop_writes_into_dynamic_after_number", "4.6.2"): _TYPED_WRITE,
     ("loop_writes_into_dynamic_after_number", "4.10.0"): _TYPED_WRITE,
-    ("copy_dynamic_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
-    ("copy_dynamic_text_into_typed_int", "4.6.2"): _SCRIPT_TYPED,
     ("copy_dynamic_text_into_typed_int", "4.10.0"): _TYPED_410,
     ("copy_dynamic_text_into_typed_double", "4.10.0"): _TYPED_410,
     ("copy_typed_int_into_dynamic", "4.10.0"): _TYPED_410,

@@ -563,5 +563,38 @@ Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
   return Errc::kOk;
 }
 
+// A script's `key := value` (and `=`) into an entry declared `d` (int, unsigned, double,
+// bool; `type` its name) that a 4.6.2 SetBlackboard copy may leave holding a string or
+// another value, a Dyn slot (ir/data/types.py _mark_typed_copy_dynamic): the entry keeps its
+// declared type, so a string goes through that type's converter unless the entry holds a
+// string; any other value is Any::copyInto into what it holds, as it is into an empty entry
+// (lang/script/evaluate.py _store is the reference).
+template <bool kFromChars, std::size_t N>
+bool store_declared(Slot<Dyn<N>>& slot, Declared d, std::string_view type, const dyn::Ref& value, std::string_view key,
+                    dyn::Msg& m) noexcept {
+  const dyn::Ref dst = dyn::ref(slot);
+  dyn::Ref out = value;
+  if (value.is_string() && !dst.is_string()) {
+    Errc e = Errc::kInvalid;
+    if (d == Declared::kInt || d == Declared::kUnsigned) {
+      std::int64_t x = 0;
+      e = d == Declared::kInt ? convert_int(value.s, x) : convert_unsigned(value.s, x);
+      out = dyn::of_int(x);
+    } else if (d == Declared::kDouble) {
+      double x = 0.0;
+      e = convert_double<kFromChars>(value.s, x);
+      out = dyn::of_double(x);
+    } else if (d == Declared::kBool) {
+      bool x = false;
+      e = parse_bool(value.s, x);
+      out = dyn::of_bool(x);
+    }
+    if (!dyn::converted_text(e, value.s, key, type, m)) return false;
+  } else if (!dst.none() && !dyn::store_into(value, dst, ":=", key, out, m)) {
+    return false;
+  }
+  return dyn::put(slot, out, key, m);
+}
+
 }  // namespace port
 }  // namespace btgen

@@ -55,7 +55,11 @@ from btgen.ir.kinds import DYN, TEXT_BOUND, is_queue
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
 from btgen.lang import values
+from btgen.lang.blackboard import RAW_COPY_TYPES
 from btgen.lang.kind import KindLike
+
+# btgen::Declared of the declared types RAW_COPY_TYPES names (data_cpp.DECLARED_ENUM has them all).
+DECLARED_ENUM_OF = {values.INT: "kInt", values.UNSIGNED: "kUnsigned", values.DOUBLE: "kDouble", values.BOOL: "kBool"}
 
 
 class ScriptCompiler(CodeWriter):
@@ -474,7 +478,15 @@ class ScriptCompiler(CodeWriter):
         if v.kind == DYN or v.has is not None:
             self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
         if s.kind == DYN:
-            if op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
+            if op in (":=", "=") and s.declared in RAW_COPY_TYPES:
+                # a typed entry a 4.6.2 SetBlackboard copy made dynamic: it keeps its converter
+                self.dyn_call(
+                    f"btgen::port::store_declared<detail::Semantics::double_from_chars>({s.member}, "
+                    f"btgen::Declared::{DECLARED_ENUM_OF[s.declared]}, {cpp_view(s.declared)}, {ref}, "
+                    f"{cpp_view(key)}, dm)",
+                    off,
+                )
+            elif op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
                 self.dyn_call(f"btgen::dyn::store({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:
                 t = self.temp()

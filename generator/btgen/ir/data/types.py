@@ -176,8 +176,10 @@ def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
     """A typed int, unsigned, double or bool entry that a 4.6.2 SetBlackboard copies a string
     (or a value of changing type) into: 4.6.2 copies the value as it is (`dst_entry->value =
     src_entry->value`), so the entry keeps its declared type and holds the string. Its slot
-    is dynamic; its other writes must be copies or writes of its own type by ports (a typed
-    write into it is then Blackboard::set<T>'s copyInto, btgen::port::write of a Dyn slot).
+    is dynamic; its other writes must be copies, writes of its own type by ports (a typed
+    write into it is then Blackboard::set<T>'s copyInto, btgen::port::write of a Dyn slot)
+    or scripts (whose strings still go through the declared type's converter:
+    btgen::port::store_declared).
     True when the slot became dynamic."""
     declared = s.entry.type_name
     if (
@@ -190,7 +192,7 @@ def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
     ):
         return False
     copied = [w for w in s.writes if w.source == "copy" and w.kind() in (STRING, DYN)]
-    if not copied or any(w.source not in ("copy", "loop", "port") for w in s.writes):
+    if not copied or any(w.source not in ("copy", "loop", "port", "script") for w in s.writes):
         return False
     s.kind = DYN
     s.origin = (
