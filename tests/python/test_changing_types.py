@@ -31,10 +31,6 @@ REFUSED = {
     ("loop_writes_into_dynamic_text", "4.10.0"): _TYPED_WRITE,
     ("loop_writes_into_dynamic_after_number", "4.6.2"): _TYPED_WRITE,
     ("loop_writes_into_dynamic_after_number", "4.10.0"): _TYPED_WRITE,
-    ("copy_dynamic_into_typed_int", "4.10.0"): _TYPED_410,
-    ("copy_dynamic_into_typed_double", "4.10.0"): _TYPED_410,
-    ("copy_dynamic_text_into_typed_int", "4.10.0"): _TYPED_410,
-    ("copy_dynamic_text_into_typed_double", "4.10.0"): _TYPED_410,
     ("copy_typed_int_into_dynamic", "4.10.0"): _TYPED_410,
     ("copy_typed_int_into_dynamic_text", "4.10.0"): _TYPED_410,
 }

@@ -334,6 +334,10 @@ class Blackboard:
         if self._storage.pop(key, None) is not None:
             self._order.erase(key)
 
+    def storage_order(self) -> list[str]:
+        """The keys of this blackboard's own storage in the order the library keeps them."""
+        return self._order.order()
+
     def debug_message(self) -> str:
         """What ``Blackboard::debugMessage`` prints: every entry with its type, in the order of
         libstdc++'s unordered_map (hashorder.py), then the SubTree remappings."""

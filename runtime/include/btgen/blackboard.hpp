@@ -104,6 +104,7 @@ struct RuntimeError {
   std::string_view where;    // "path:line:col" of what failed (script character, port), or the node
   std::string_view message;  // what happened, without the location
   std::string_view detail;   // why, when known (e.g. btgen::describe(Errc)); may be empty
+  std::string_view printed;  // what the library prints on stdout before it throws (a trace's lines), or empty
 };
 
 // Where generated code reports run-time errors: a function and its context
@@ -116,9 +117,9 @@ class ErrorSink {
   constexpr ErrorSink(Fn fn, void* context) noexcept : fn_(fn), context_(context) {}
 
   // Reports the error; returns -1 (what generated script functions return on error).
-  int fail(const NodeInfo& node, std::string_view where, std::string_view message,
-           std::string_view detail = {}) const noexcept {
-    fn_(context_, RuntimeError{&node, where, message, detail});
+  int fail(const NodeInfo& node, std::string_view where, std::string_view message, std::string_view detail = {},
+           std::string_view printed = {}) const noexcept {
+    fn_(context_, RuntimeError{&node, where, message, detail, printed});
     return -1;
   }
 

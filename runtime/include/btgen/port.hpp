@@ -596,5 +596,46 @@ bool store_declared(Slot<Dyn<N>>& slot, Declared d, std::string_view type, const
   return dyn::put(slot, out, key, m);
 }
 
+// SetBlackboard value="{src}" from 4.7.0, the source a Dyn slot that scripts and literals
+// write, into an entry declared `d` (int, unsigned, double, bool; `type` its name) that
+// exists (ir/dataops.py SetCopyDynTyped410; lang/blackboard.py set_blackboard_410 is the
+// reference): Blackboard::set<BT::Any>. Returns 1 (copied), 0 (the source is empty: the node
+// fails), -1 (a string the entry's converter refuses) or -2 (a value of another type than
+// the entry's, a script's integer being an int64_t: the library prints its blackboard and
+// throws), `m` saying why.
+template <bool kFromChars, class S>
+int set_dyn_typed_410(Slot<S>& slot, Declared d, std::string_view type, const dyn::Ref& v, std::string_view raw,
+                      std::string_view key, dyn::Msg& m) noexcept {
+  if (v.none()) return 0;
+  if (v.is_string()) {
+    Slot<S> converted = slot;
+    const Errc e = convert_into<kFromChars>(converted, d, v.s);
+    if (e != Errc::kOk) {
+      m.add("SetBlackboard: cannot convert ");
+      dyn::add_string_repr(m, raw);
+      m.add(": ");
+      dyn::add_conversion_error(m, v.s, type, e);
+      return -1;
+    }
+    slot.value = converted.value;
+    slot.mark_written();
+    return 1;
+  }
+  const bool same =
+      (v.tag == DynTag::kDouble && d == Declared::kDouble) || (v.tag == DynTag::kBool && d == Declared::kBool);
+  if (!same) {
+    m.add("SetBlackboard: blackboard entry `").add(key).add("` is declared as ").add(type);
+    m.add("; it cannot be written with a ").add(v.tag == DynTag::kInt ? std::string_view("int64") : dyn::type_name(v));
+    return -2;
+  }
+  if constexpr (std::is_same_v<S, double>) {
+    slot.value = v.d;
+  } else {
+    slot.value = static_cast<S>(v.i);
+  }
+  slot.mark_written();
+  return 1;
+}
+
 }  // namespace port
 }  // namespace btgen

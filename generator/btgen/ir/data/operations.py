@@ -338,7 +338,16 @@ class Compiler:
             if code is None:
                 return None
             assert isinstance(
-                code.op, (ops.Unset, ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
+                code.op,
+                (
+                    ops.Unset,
+                    ops.SetUserLiteral,
+                    ops.SetDynLiteral,
+                    ops.SetText,
+                    ops.SetCopy,
+                    ops.SetCopyDyn,
+                    ops.SetCopyDynTyped410,
+                ),
             ), code
             cases.append((text, code.op))
         prefix = f"{what}: port `{op.port}` reads blackboard entry `{op.key}`, which"
@@ -421,6 +430,10 @@ class Compiler:
         typed_src = s.kind != DYN and src_decl in (values.INT, values.DOUBLE, values.BOOL, values.NODE_STATUS)
         exists = d.at_load and not d.unset
         typed_ok = typed_src and (not self.a.m.semantics.setblackboard_converts_to_entry_type or exists)
+        if d.kind != DYN and s.kind == DYN:
+            into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
+            if into_typed is not None:
+                return into_typed
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
@@ -463,6 +476,74 @@ class Compiler:
                 v410,
             ),
         )
+
+    def set_copy_dyn_typed_410(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
+        """From 4.7.0, a copy of an entry whose type changes at run time into an entry a port
+        declared int, unsigned, double or bool (ops.SetCopyDynTyped410), or None where the C++
+        back end does not follow it (the caller reports that): the source must be written by
+        scripts and literals only (an integer it holds is then a script's int64_t), the
+        destination must exist from load on, on the node's blackboard, and that blackboard's
+        debugMessage must be known (debug_entries)."""
+        declared = d.entry.type_name
+        if (
+            not self.a.m.semantics.setblackboard_converts_to_entry_type
+            or declared not in bbmod.RAW_COPY_TYPES
+            or d.kind != self.a.kind_of_type(declared)
+            or not d.at_load
+            or d.unset
+            or s.entry.type_name != values.ANY
+            or any(w.source not in ("script", "set") for w in s.writes)
+        ):
+            return None
+        target = inst.bb.root if op.key.startswith("@") else inst.bb
+        if target.local_entry(op.key[1:] if op.key.startswith("@") else op.key) is not d.entry:
+            return None
+        debug = self.debug_entries(target)
+        if debug is None:
+            return None
+        loc = op.loc
+        missing = self.fail(
+            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
+        )
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopyDynTyped410(
+                op.dst, op.src, declared, op.raw, op.key, what + ": ", missing, self.where(loc), debug
+            ),
+        )
+
+    def debug_entries(self, bb: bbmod.Blackboard) -> Optional[tuple[ops.DebugEntry, ...]]:
+        """What Blackboard::debugMessage prints for `bb` whenever it runs, or None where that is
+        not known: every entry must exist from load on (so that the storage order is the one
+        the loader left, lang/hashorder.py) and never be unset, the blackboard must have no
+        SubTree remappings, and each entry's type must be one whose name is known (an entry no
+        port declared is named by its Slot::entry_type; it must not be typed by a port)."""
+        if bb.remapping or bb.autoremap:
+            return None
+        out = []
+        for key in bb.storage_order():
+            entry = bb.local_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry))
+            if entry is None or idx is None:
+                return None
+            sl = self.a.slots[idx]
+            if not sl.at_load or sl.unset:
+                return None
+            t = entry.type_name
+            if t == values.ANY:
+                if sl.kind in (kinds.STRING, DYN):
+                    typed = bbmod.CPP_TYPE_NAMES[values.STRING]  # (a SetBlackboard literal types it)
+                elif all(w.source in ("script", "constant") for w in sl.writes):
+                    typed = bbmod.CPP_TYPE_NAMES[values.ANY]  # (nothing gives it a type)
+                else:
+                    return None
+                out.append(ops.DebugEntry(idx, key, "", typed))
+            elif t in bbmod.CPP_TYPE_NAMES:
+                out.append(ops.DebugEntry(idx, key, bbmod.CPP_TYPE_NAMES[t]))
+            else:
+                return None
+        return tuple(out)
 
     def _untyped_dst(
         self, inst: Inst, key: str, loc: Loc, d: Slot, prefix: str, src: Optional[Slot] = None
