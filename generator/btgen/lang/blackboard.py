@@ -56,7 +56,7 @@ CPP_TYPE_NAMES = {
     values.UNSIGNED: "unsigned int",
     values.DOUBLE: "double",
     values.BOOL: "bool",
-    values.STRING: "std::__cxx11::basic_string<char, std::char_traits<char>, std::allocator<char> >",
+    values.STRING: "std::string",  # (BT::demangle names it so)
     values.NODE_STATUS: "BT::NodeStatus",
 }
 # The type an integer a script stored has (int64_t), where values.type_of says `int`; only

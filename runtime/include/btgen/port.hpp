@@ -637,5 +637,46 @@ int set_dyn_typed_410(Slot<S>& slot, Declared d, std::string_view type, const dy
   return 1;
 }
 
+// The same into a Dyn slot: an entry declared `d` that a script gave the other kind of number
+// first (ir/data/types.py _mark_typed_number_dynamic). The check is on the declared type, as
+// Blackboard::set's; the value is stored as it is.
+template <bool kFromChars, std::size_t N>
+int set_dyn_typed_410(Slot<Dyn<N>>& slot, Declared d, std::string_view type, const dyn::Ref& v, std::string_view raw,
+                      std::string_view key, dyn::Msg& m) noexcept {
+  if (v.none()) return 0;
+  dyn::Ref out = v;
+  if (v.is_string()) {
+    if (d == Declared::kDouble) {
+      Slot<double> converted;
+      const Errc e = convert_into<kFromChars>(converted, d, v.s);
+      out = dyn::of_double(converted.value);
+      if (e != Errc::kOk) {
+        m.add("SetBlackboard: cannot convert ");
+        dyn::add_string_repr(m, raw);
+        m.add(": ");
+        dyn::add_conversion_error(m, v.s, type, e);
+        return -1;
+      }
+    } else {
+      Slot<std::int64_t> converted;
+      const Errc e = convert_into<kFromChars>(converted, d, v.s);
+      out = d == Declared::kBool ? dyn::of_bool(converted.value != 0) : dyn::of_int(converted.value);
+      if (e != Errc::kOk) {
+        m.add("SetBlackboard: cannot convert ");
+        dyn::add_string_repr(m, raw);
+        m.add(": ");
+        dyn::add_conversion_error(m, v.s, type, e);
+        return -1;
+      }
+    }
+  } else if (!((v.tag == DynTag::kDouble && d == Declared::kDouble) ||
+               (v.tag == DynTag::kBool && d == Declared::kBool))) {
+    m.add("SetBlackboard: blackboard entry `").add(key).add("` is declared as ").add(type);
+    m.add("; it cannot be written with a ").add(v.tag == DynTag::kInt ? std::string_view("int64") : dyn::type_name(v));
+    return -2;
+  }
+  return dyn::put(slot, out, key, m) ? 1 : -1;
+}
+
 }  // namespace port
 }  // namespace btgen

@@ -385,6 +385,27 @@ class Compiler:
             return None
         if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
             return self.set_copy_dynamic(inst, op, d, s, what)
+        if s.kind in (kinds.INT, kinds.DOUBLE, kinds.STRING) and d.at_load and d.entry.type_name in RAW_COPY_TYPES:
+            into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
+            if into_typed is not None:
+                return into_typed
+            if (
+                self.a.m.semantics.setblackboard_converts_to_entry_type
+                and s.entry.type_name == values.ANY
+                and (s.kind == kinds.INT or (s.kind == kinds.DOUBLE and d.entry.type_name != values.DOUBLE))
+                and self.holds_script_integers(src)
+            ):
+                # (a script's int64_t or double into an entry of another type: the library
+                # prints its blackboard and throws, which the C++ back end cannot print here)
+                self.error(
+                    loc,
+                    f"{what} copies `{s.key}` ({describe_kind(s.kind)}, {s.origin_text}) to `{d.key}` "
+                    f"(declared {d.entry.type_name}); BehaviorTree.CPP {self.a.m.semantics.version} throws "
+                    f"there after printing its blackboard, which the C++ back end follows only for an "
+                    f"entry that exists from load on, on a blackboard without SubTree remappings whose "
+                    f"entries all exist from load on: not supported by the C++ back end yet",
+                )
+                return None
         if is_user(d.kind) or is_user(s.kind):
             ok = d.kind == s.kind
         elif not strong:
@@ -430,7 +451,7 @@ class Compiler:
         typed_src = s.kind != DYN and src_decl in (values.INT, values.DOUBLE, values.BOOL, values.NODE_STATUS)
         exists = d.at_load and not d.unset
         typed_ok = typed_src and (not self.a.m.semantics.setblackboard_converts_to_entry_type or exists)
-        if d.kind != DYN and s.kind == DYN:
+        if d.entry.type_name in RAW_COPY_TYPES:
             into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
             if into_typed is not None:
                 return into_typed
@@ -478,21 +499,23 @@ class Compiler:
         )
 
     def set_copy_dyn_typed_410(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
-        """From 4.7.0, a copy of an entry whose type changes at run time into an entry a port
-        declared int, unsigned, double or bool (ops.SetCopyDynTyped410), or None where the C++
-        back end does not follow it (the caller reports that): the source must be written by
-        scripts and literals only (an integer it holds is then a script's int64_t), the
+        """From 4.7.0, a copy of an entry no port declared (its type changes at run time, or a
+        script gives it an integer, a double or a string) into an entry a port declared int,
+        unsigned, double or bool (ops.SetCopyDynTyped410), or None where the C++ back end does
+        not follow it (the caller says what then): a source that may hold an integer must be
+        written by scripts and literals only (the integer is then a script's int64_t), the
         destination must exist from load on, on the node's blackboard, and that blackboard's
-        debugMessage must be known (debug_entries)."""
+        debugMessage must be known (debug_entries) where the library may print it."""
         declared = d.entry.type_name
         if (
             not self.a.m.semantics.setblackboard_converts_to_entry_type
             or declared not in bbmod.RAW_COPY_TYPES
-            or d.kind != self.a.kind_of_type(declared)
+            or d.kind not in (self.a.kind_of_type(declared), DYN)  # (Dyn: a script gave it the other number)
             or not d.at_load
             or d.unset
             or s.entry.type_name != values.ANY
-            or any(w.source not in ("script", "set") for w in s.writes)
+            or s.kind not in (DYN, kinds.INT, kinds.DOUBLE, kinds.STRING)
+            or (s.kind in (DYN, kinds.INT) and not self.holds_script_integers(self.a.slots.index(s)))
         ):
             return None
         target = inst.bb.root if op.key.startswith("@") else inst.bb
@@ -500,7 +523,9 @@ class Compiler:
             return None
         debug = self.debug_entries(target)
         if debug is None:
-            return None
+            if s.kind in (DYN, kinds.INT) or (s.kind == kinds.DOUBLE and declared != values.DOUBLE):
+                return None
+            debug = ()  # (a string is converted, a double stored in a double entry: it never throws)
         loc = op.loc
         missing = self.fail(
             loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
@@ -512,6 +537,29 @@ class Compiler:
                 op.dst, op.src, declared, op.raw, op.key, what + ": ", missing, self.where(loc), debug
             ),
         )
+
+    def holds_script_integers(self, idx: int, seen: Optional[set[int]] = None) -> bool:
+        """Whether an integer slot `idx` may hold is a script's int64_t (never an `int` from a
+        port): no port declared the entry, and only scripts, SetBlackboard literals and
+        SetBlackboard copies of such entries write it."""
+        seen = set() if seen is None else seen
+        if idx in seen:
+            return True  # (a cycle of copies adds no other writer)
+        seen.add(idx)
+        s = self.a.slots[idx]
+        if s.entry.type_name != values.ANY:
+            return False
+        if any(w.source not in ("script", "set", "copy") for w in s.writes):
+            return False
+        if not any(w.source == "copy" for w in s.writes):
+            return True
+        copies: list[SetCopyUse] = []
+        for _, use in self.a.node_ops:
+            if isinstance(use, SetCopyUse):
+                copies.append(use)
+            elif isinstance(use, SetKeyUse):
+                copies.extend(c for _, c in use.cases if isinstance(c, SetCopyUse))
+        return all(self.holds_script_integers(c.src, seen) for c in copies if c.dst == idx)
 
     def debug_entries(self, bb: bbmod.Blackboard) -> Optional[tuple[ops.DebugEntry, ...]]:
         """What Blackboard::debugMessage prints for `bb` whenever it runs, or None where that is

@@ -159,7 +159,13 @@ def _mark_typed_number_dynamic(a: Analysis, s: Slot) -> None:
     if s.kind not in (INT, DOUBLE) or s.failed or s.initial is not None or a.kind_of_type(s.entry.type_name) != s.kind:
         return
     kinds = [w.kind() for w in s.writes]
-    if any(k not in (INT, DOUBLE, None) for k in kinds):
+    # (from 4.7.0 a SetBlackboard copy of a string or of a value of changing type converts it or
+    # must have the entry's type: btgen::port::set_dyn_typed_410 follows that into a Dyn slot)
+    converted = a.m.semantics.setblackboard_converts_to_entry_type
+    if any(
+        k not in (INT, DOUBLE, None) and not (converted and w.source == "copy" and k in (STRING, DYN))
+        for w, k in zip(s.writes, kinds)
+    ):
         return  # (strings go through the declared type's converter: a static slot does that)
     for w, k in zip(s.writes, kinds):
         if w.source == "script" and w.determining and k in (INT, DOUBLE) and k != s.kind:
