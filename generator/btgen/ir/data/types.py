@@ -197,7 +197,18 @@ def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
         or s.kind != a.kind_of_type(declared)
     ):
         return False
-    copied = [w for w in s.writes if w.source == "copy" and w.kind() in (STRING, DYN)]
+    # (a number of another kind is copied as it is too: an integer into a `double` entry, any
+    # integer into an `unsigned` or `bool` one)
+    copied = [
+        w
+        for w in s.writes
+        if w.source == "copy"
+        and (
+            w.kind() in (STRING, DYN)
+            or (w.kind() in (INT, DOUBLE) and w.kind() != s.kind)
+            or (w.kind() == INT and declared in (values.UNSIGNED, values.BOOL))
+        )
+    ]
     if not copied or any(w.source not in ("copy", "loop", "port", "script") for w in s.writes):
         return False
     s.kind = DYN
