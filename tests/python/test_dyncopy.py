@@ -114,6 +114,14 @@ def test_a_blackboard_whose_print_is_unknown_is_refused_not_run(tmp_path):
     err = _compile_error(tmp_path, body)
     assert "m.xml:" in err and "throws there after printing its blackboard" in err
     assert _compile_error(tmp_path, body, "4.6.2") == ""  # (4.6.2 copies the value as it is)
+    # a script's double into a bool entry a script gave its first value (a dynamic slot), with an
+    # entry a script creates at run time: refused (it was copied as 4.6.2 does before)
+    body = (
+        '<Fallback><AlwaysSuccess/><LoopBool queue="true" value="{td}"><AlwaysSuccess/></LoopBool></Fallback>'
+        '<Script code="k := 1; td := true; v := 7.0"/><SetBlackboard name="Copy" value="{v}" output_key="td"/>'
+    )
+    err = _compile_error(tmp_path, body)
+    assert "m.xml:" in err and "may throw there after printing its blackboard" in err, err
     # the same with nothing that types `v` at run time compiles
     body = (
         _NEVER.replace("MORE", "") + '<Script code="v := 7"/><SetBlackboard name="Copy" value="{v}" output_key="dst"/>'

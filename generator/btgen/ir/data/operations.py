@@ -392,10 +392,12 @@ class Compiler:
             if (
                 self.a.m.semantics.setblackboard_converts_to_entry_type
                 and s.entry.type_name == values.ANY
-                and (s.kind == kinds.INT or (s.kind == kinds.DOUBLE and d.entry.type_name != values.DOUBLE))
-                and self.holds_script_integers(src)
+                and (
+                    (s.kind == kinds.INT and self.holds_script_integers(src))
+                    or (s.kind == kinds.DOUBLE and d.entry.type_name != values.DOUBLE)
+                )
             ):
-                # (a script's int64_t or double into an entry of another type: the library
+                # (a script's int64_t, or any double, into an entry of another type: the library
                 # prints its blackboard and throws, which the C++ back end cannot print here)
                 self.error(
                     loc,
@@ -455,6 +457,18 @@ class Compiler:
             into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
             if into_typed is not None:
                 return into_typed
+            if self.a.m.semantics.setblackboard_converts_to_entry_type:
+                # (from 4.7.0 never a raw copy: it converts, or throws after printing the blackboard)
+                self.error(
+                    loc,
+                    f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to `{d.key}` "
+                    f"(declared {d.entry.type_name}); BehaviorTree.CPP {self.a.m.semantics.version} may throw "
+                    f"there after printing its blackboard, which the C++ back end follows only for an entry "
+                    f"that exists from load on, on a blackboard without SubTree remappings whose entries all "
+                    f"exist from load on, from a source whose integers are a script's: not supported by the "
+                    f"C++ back end yet",
+                )
+                return None
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
