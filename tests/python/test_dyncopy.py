@@ -1,8 +1,9 @@
 """tests/conformance/dyncopy/: SetBlackboard copies of an entry whose type changes at run time
 (a script's integer, double, string, `true` or comparison, or a SetBlackboard literal) into an
 entry a port declared int, unsigned, double or bool that a script also writes, then read by a
-script and by a port (Repeat `num_cycles`, RunOnce `then_skip`); and a blackboard of 19 entries
-that 4.10.0 prints, rehashed, before it throws. Recorded on the real 4.6.2 and 4.10.0 (traces
+script and by a port (Repeat `num_cycles`, Timeout `msec`, RunOnce `then_skip`); and blackboards
+that 4.10.0 prints before it throws (19 entries created at load, rehashed; entries scripts create
+when they run, 8 and 15, rehashed). Recorded on the real 4.6.2 and 4.10.0 (traces
 cut short where the library threw), run through both engines: 4.6.2 copies the value as it is,
 4.10.0 converts a string with the entry's converter and throws on a value of another type (a
 script's integer is an int64_t), printing its blackboard first."""
@@ -104,8 +105,8 @@ _NEVER = (
 def test_a_blackboard_whose_print_is_unknown_is_refused_not_run(tmp_path):
     """4.10.0 throws on a script's integer copied into an int entry, after printing the
     blackboard: where the C++ back end cannot tell what it prints (here an entry a copy makes
-    BT::Any), it refuses the mission, located, rather than run it and print something else
-    (it copied the integer before)."""
+    BT::Any, an entry UnsetBlackboard removes), it refuses the mission, located, rather than run
+    it and print something else (it copied the integer before)."""
     more = '<Script code="w := 1"/><SetBlackboard value="{w}" output_key="v"/>'
     body = (
         _NEVER.replace("MORE", more)
@@ -115,10 +116,12 @@ def test_a_blackboard_whose_print_is_unknown_is_refused_not_run(tmp_path):
     assert "m.xml:" in err and "throws there after printing its blackboard" in err
     assert _compile_error(tmp_path, body, "4.6.2") == ""  # (4.6.2 copies the value as it is)
     # a script's double into a bool entry a script gave its first value (a dynamic slot), with an
-    # entry a script creates at run time: refused (it was copied as 4.6.2 does before)
+    # entry a script creates at run time and UnsetBlackboard removes (the storage's history is
+    # not replayed then): refused (it was copied as 4.6.2 does before)
     body = (
         '<Fallback><AlwaysSuccess/><LoopBool queue="true" value="{td}"><AlwaysSuccess/></LoopBool></Fallback>'
-        '<Script code="k := 1; td := true; v := 7.0"/><SetBlackboard name="Copy" value="{v}" output_key="td"/>'
+        '<Script code="k := 1; td := true; v := 7.0"/><UnsetBlackboard key="k"/>'
+        '<SetBlackboard name="Copy" value="{v}" output_key="td"/>'
     )
     err = _compile_error(tmp_path, body)
     assert "m.xml:" in err and "may throw there after printing its blackboard" in err, err

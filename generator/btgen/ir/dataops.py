@@ -126,6 +126,8 @@ class DebugEntry:
     key: str
     type_name: str  # "": the entry has no declared type; its Slot::entry_type tells the name
     typed_name: str = ""  # with type_name "": the name when entry_type is kTyped
+    key_hash: int = 0  # std::hash of the key (lang/hashorder.py)
+    runtime: bool = False  # a script creates it when it runs (Slot::born); else it exists from load on
 
 
 @dataclass(frozen=True)

@@ -433,8 +433,11 @@ class ScriptCompiler(CodeWriter):
         idx = self.ctx.names[node.target]
         s = self.ctx.slots[idx]
         if op == ":=":
-            if s.may_be_missing:
-                self.emit(f"{s.member}.exists = true;")
+            if s.may_be_missing:  # (a new entry: when, for the order of the library's storage)
+                self.emit(f"if (!{s.member}.exists) {{")
+                self.emit(f"  {s.member}.exists = true;")
+                self.emit(f"  {s.member}.born = ++bb.births_;")
+                self.emit("}")
         elif s.may_be_missing:
             self.check(
                 f"!{s.member}.exists",

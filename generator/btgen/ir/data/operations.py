@@ -47,6 +47,7 @@ from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.blackboard import RAW_COPY_TYPES
 from btgen.lang.catalogue import PortSpec
+from btgen.lang.hashorder import std_hash
 from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 from btgen.lang.status import NodeStatus
@@ -576,21 +577,24 @@ class Compiler:
         return all(self.holds_script_integers(c.src, seen) for c in copies if c.dst == idx)
 
     def debug_entries(self, bb: bbmod.Blackboard) -> Optional[tuple[ops.DebugEntry, ...]]:
-        """What Blackboard::debugMessage prints for `bb` whenever it runs, or None where that is
-        not known: every entry must exist from load on (so that the storage order is the one
-        the loader left, lang/hashorder.py) and never be unset, the blackboard must have no
-        SubTree remappings, and each entry's type must be one whose name is known (an entry no
-        port declared is named by its Slot::entry_type; it must not be typed by a port)."""
+        """What Blackboard::debugMessage prints for `bb` whenever it runs, in the order the
+        loader inserted its entries (the generated code replays the storage's order when it
+        prints, btgen::storage_order), or None where that is not known: every entry must exist
+        from load on or be created by scripts only (whose creations the generated code counts:
+        Slot::born), none may be unset, the blackboard must have no SubTree remappings, and each
+        entry's type must be one whose name is known (an entry no port declared is named by its
+        Slot::entry_type; it must not be typed by a port)."""
         if bb.remapping or bb.autoremap:
             return None
         out = []
-        for key in bb.storage_order():
+        for key in bb.local_keys():  # (in insertion order: the loader's entries first)
             entry = bb.local_entry(key)
             idx = self.a.slot_of_entry.get(id(entry))
             if entry is None or idx is None:
                 return None
             sl = self.a.slots[idx]
-            if not sl.at_load or sl.unset:
+            runtime = not sl.at_load
+            if sl.unset or (runtime and (not sl.writes or any(w.source != "script" for w in sl.writes))):
                 return None
             t = entry.type_name
             if t == values.ANY:
@@ -600,9 +604,9 @@ class Compiler:
                     typed = bbmod.CPP_TYPE_NAMES[values.ANY]  # (nothing gives it a type)
                 else:
                     return None
-                out.append(ops.DebugEntry(idx, key, "", typed))
-            elif t in bbmod.CPP_TYPE_NAMES:
-                out.append(ops.DebugEntry(idx, key, bbmod.CPP_TYPE_NAMES[t]))
+                out.append(ops.DebugEntry(idx, key, "", typed, std_hash(key), runtime))
+            elif t in bbmod.CPP_TYPE_NAMES and not runtime:
+                out.append(ops.DebugEntry(idx, key, bbmod.CPP_TYPE_NAMES[t], "", std_hash(key)))
             else:
                 return None
         return tuple(out)
