@@ -580,10 +580,11 @@ class Compiler:
         """What Blackboard::debugMessage prints for `bb` whenever it runs, in the order the
         loader inserted its entries (the generated code replays the storage's order when it
         prints, btgen::storage_order), or None where that is not known: every entry must exist
-        from load on or be created by scripts only (whose creations the generated code counts:
-        Slot::born), none may be unset, the blackboard must have no SubTree remappings, and each
-        entry's type must be one whose name is known (an entry no port declared is named by its
-        Slot::entry_type; it must not be typed by a port)."""
+        from load on or be created by scripts, SetBlackboard literals or copies (whose creations
+        the generated code counts: Slot::born; a literal or a copy only into a string or dynamic
+        slot, whose Slot::entry_type names its type), none may be unset, the blackboard must have
+        no SubTree remappings, and each entry's type must be one whose name is known (an entry no
+        port declared is named by its Slot::entry_type; it must not be typed by a port)."""
         if bb.remapping or bb.autoremap:
             return None
         out = []
@@ -594,7 +595,8 @@ class Compiler:
                 return None
             sl = self.a.slots[idx]
             runtime = not sl.at_load
-            if sl.unset or (runtime and (not sl.writes or any(w.source != "script" for w in sl.writes))):
+            creators = ("script", "set", "copy") if sl.kind in (kinds.STRING, DYN) else ("script",)
+            if sl.unset or (runtime and (not sl.writes or any(w.source not in creators for w in sl.writes))):
                 return None
             t = entry.type_name
             if t == values.ANY:
