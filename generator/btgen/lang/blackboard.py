@@ -613,14 +613,17 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
         local.held_int32 = held_int32
         local.bump()
         return True
-    if int64 and out_type is None:
-        written = INT64
+    if int64 and out_type is None and local.type_name in RAW_COPY_TYPES:
+        written = INT64  # (an `int` entry refuses it too; another entry refuses any integer)
     if out is not None and local.type_name != written and not values.is_opaque_type(local.type_name):
-        # Blackboard::set prints the blackboard (debugMessage) before it throws
+        # Blackboard::set prints the blackboard (debugMessage) before it throws. (Followed for the
+        # entries RAW_COPY_TYPES names; into a std::string entry too in the library, which neither
+        # engine prints yet: recorded by hand, `SetBlackboard value="{n}"` into an entry a literal
+        # typed std::string.)
         raise BlackboardError(
             f"SetBlackboard: blackboard entry `{output_key}` is declared as {local.type_name}; "
             f"it cannot be written with a {written}",
-            target.debug_message(),
+            target.debug_message() if local.type_name in RAW_COPY_TYPES else "",
         )
     local.value = out
     local.bump()
