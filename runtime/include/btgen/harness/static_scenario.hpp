@@ -159,7 +159,7 @@ class SinkTrace {
   void on_error(const RuntimeError& e) const noexcept {
     if (stopped_) return;
     stopped_ = true;
-    put(e.printed);  // (what the library prints before it throws)
+    if (!e.printed.empty()) put(e.printed);  // (what the library prints before it throws)
     Sink* sink = sink_;
     auto err = [sink](std::string_view s) { sink->error(s.data(), s.size()); };
     err(e.where);
