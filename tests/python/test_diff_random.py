@@ -247,6 +247,8 @@ def test_missions_for_each_release_are_valid_and_reach_the_later_features(tmp_pa
     if features == "dynamic":  # SetBlackboard output_key="{dk}", the key read when it runs
         assert re.search(r'value="[^{"]*" output_key="\{dk\}"', text)  # a literal
         assert re.search(r'value="\{[vw]\}" output_key="\{dk\}"', text)  # a copy of changing type
+        # a copy of changing type into the typed entry `td`, which scripts write and conditions read
+        assert re.search(r'value="\{[vw]\}" output_key="td"', text) and "td := " in text and "td ==" in text
 
 
 def test_random_case_keeps_its_4_6_2_default():

@@ -169,6 +169,31 @@ def text_ok(o: TextOperand, var: str, slots: tuple[SlotIR, ...]) -> str:
 
 _BLACKBOARD_READS = ("ReadEntry", "ReadUser", "ReadUserLiteral", "ReadQueue")
 
+
+def debug_capacity(op) -> int:
+    """The bytes of the longest Blackboard::debugMessage an ops.SetCopyDynTyped410 prints."""
+    longest = max(len(n.encode("utf-8")) for n in ("BT::AnyTypeAllowed", "BT::Any"))
+    return max(
+        1,
+        sum(
+            len(e.key.encode("utf-8"))
+            + 4
+            + max(len(e.type_name.encode("utf-8")), len(e.typed_name.encode("utf-8")), longest)
+            for e in op.debug
+        ),
+    )
+
+
+def debug_type(e, member: str) -> str:
+    """The type name of one debugMessage line (ops.DebugEntry); `member`: its slot."""
+    if e.type_name:
+        return cpp_view(e.type_name)
+    return (
+        f"({member}.entry_type == btgen::EntryType::kUntyped ? {cpp_view('BT::AnyTypeAllowed')} : "
+        f"{member}.entry_type == btgen::EntryType::kBtAny ? {cpp_view('BT::Any')} : {cpp_view(e.typed_name)})"
+    )
+
+
 FILTERS = dict(
     op_kind=lambda op: type(op).__name__,
     # whether a getter's cases read the blackboard (the others return literals)
@@ -185,6 +210,8 @@ FILTERS = dict(
     port_literal=port_literal,
     element_literal=element_literal,
     dyn_ref=dyn_ref,
+    debug_capacity=debug_capacity,
+    debug_type=debug_type,
     cpp_view=cpp_view,
     cpp_message=cpp_string,
     byte_length=lambda text: len(text.encode("utf-8")),

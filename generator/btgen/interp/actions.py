@@ -75,6 +75,9 @@ class SetBlackboardNode(TreeNode):
             else:
                 ok = bbmod.set_blackboard(self.bb, str(key), p.raw)
         except (values.ConversionError, bbmod.BlackboardError) as e:
+            if isinstance(e, bbmod.BlackboardError) and e.stdout:
+                for line in e.stdout.splitlines():  # (the library prints before it throws)
+                    self.rt.write_line(line)
             raise _run_error(self.port_loc("value"), f'`SetBlackboard` "{self.name}": {e}') from None
         return SUCCESS if ok is not False else FAILURE
 

@@ -136,6 +136,38 @@ class SetCopyDyn:
 
 
 @dataclass(frozen=True)
+class DebugEntry:
+    """One line of Blackboard::debugMessage: an entry and its type's name (BT::demangle)."""
+
+    slot: int
+    key: str
+    type_name: str  # "": the entry has no declared type; its Slot::entry_type tells the name
+    typed_name: str = ""  # with type_name "": the name when entry_type is kTyped
+    key_hash: int = 0  # std::hash of the key (lang/hashorder.py)
+    runtime: bool = False  # a script creates it when it runs (Slot::born); else it exists from load on
+
+
+@dataclass(frozen=True)
+class SetCopyDynTyped410:
+    """From 4.7.0, SetBlackboard value="{src}" from an entry whose type changes at run time
+    (scripts and literals write it) into an entry a port declared int, unsigned, double or
+    bool that exists from load on: Blackboard::set<BT::Any>. An empty source fails the node; a
+    string goes through the entry's converter; another value must have the entry's type (a
+    script's integer is an int64_t, never an int): else the library prints its blackboard
+    (`debug`, in storage order) and throws (btgen::port::set_dyn_typed_410)."""
+
+    dst: int
+    src: int
+    declared: str
+    raw: str  # the `value` port as written (the conversion message names it)
+    key: str  # the output_key as written
+    prefix: str
+    missing: Fail
+    where: int
+    debug: tuple[DebugEntry, ...]
+
+
+@dataclass(frozen=True)
 class SetKey:
     """SetBlackboard output_key="{key}": the text of string entry `slot` picks one of `cases`
     (each the operation of a SetBlackboard written with that output_key)."""
@@ -146,7 +178,9 @@ class SetKey:
     cases: tuple[tuple[str, DataLeafOp], ...]
 
 
-DataLeafOp = Union[Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetKey, ShareQueue]
+DataLeafOp = Union[
+    Unset, SetUserLiteral, SetDynLiteral, SetText, SetCopy, SetCopyDyn, SetCopyDynTyped410, SetKey, ShareQueue
+]
 
 
 # ------------------------------------------------------------ other data nodes

@@ -29,6 +29,7 @@ from typing import Optional
 
 from btgen.lang import values
 from btgen.lang.catalogue import ENTRY_PORTS
+from btgen.lang.hashorder import HashOrder
 from btgen.lang.values import ANY, STRING, ConversionError, Value
 
 # An entry typed BT::Any: what 4.7.0's SetBlackboard leaves when it writes a string into an
@@ -38,17 +39,35 @@ ANY_TYPED = "BT::Any"
 
 
 class BlackboardError(Exception):
-    """A blackboard or port operation that 4.6.2 rejects (it throws there)."""
+    """A blackboard or port operation that 4.6.2 rejects (it throws there). `stdout`: what the
+    library prints before it throws (Blackboard::debugMessage), part of the trace."""
 
-    def __init__(self, message: str) -> None:
+    def __init__(self, message: str, stdout: str = "") -> None:
         super().__init__(message)
         self.message = message
+        self.stdout = stdout
+
+
+# The type names Blackboard::debugMessage prints (BT::demangle with libstdc++), by declared type.
+CPP_TYPE_NAMES = {
+    values.ANY: "BT::AnyTypeAllowed",
+    ANY_TYPED: "BT::Any",
+    values.INT: "int",
+    values.UNSIGNED: "unsigned int",
+    values.DOUBLE: "double",
+    values.BOOL: "bool",
+    values.STRING: "std::string",  # (BT::demangle names it so)
+    values.NODE_STATUS: "BT::NodeStatus",
+}
+# The type an integer a script stored has (int64_t), where values.type_of says `int`; only
+# 4.7.0's SetBlackboard (Blackboard::set<BT::Any> into a typed entry) tells them apart.
+INT64 = "int64"
 
 
 class Entry:
     """One blackboard entry: declared type, value (None: not written yet), update counter."""
 
-    __slots__ = ("type_name", "value", "sequence_id", "double_from_chars")
+    __slots__ = ("type_name", "value", "sequence_id", "double_from_chars", "held_int32")
 
     def __init__(
         self, type_name: str, value: Optional[Value] = None, sequence_id: int = 0, double_from_chars: bool = False
@@ -58,6 +77,9 @@ class Entry:
         self.sequence_id = sequence_id
         # the release's convertFromString<double> (versions.Semantics.double_from_chars)
         self.double_from_chars = double_from_chars
+        # An integer this untyped entry holds is an `int` (copied from an int entry by 4.7.0's
+        # SetBlackboard), not a script's int64_t (set_blackboard_410)
+        self.held_int32 = False
 
     @property
     def strongly_typed(self) -> bool:
@@ -115,6 +137,9 @@ class Blackboard:
         self.false_into_int_unsafe: bool = false_into_int_unsafe
         self._storage: dict[str, Entry] = {}
         self._remapping: dict[str, str] = {}
+        # the order std::unordered_map keeps storage_ and internal_to_external_ in (debug_message)
+        self._order = HashOrder()
+        self._remap_order = HashOrder()
 
     # ----------------------------------------------------------- structure
     @property
@@ -127,6 +152,7 @@ class Blackboard:
     def add_remapping(self, internal: str, external: str) -> None:
         """``internal`` on this blackboard means ``external`` on the parent."""
         self._remapping[internal] = external
+        self._remap_order.insert(internal)
 
     @property
     def remapping(self) -> dict[str, str]:
@@ -229,6 +255,7 @@ class Blackboard:
             return self.parent._create_entry_impl(key, type_name)
         entry = Entry(type_name, double_from_chars=self.double_from_chars)
         self._storage[key] = entry
+        self._order.insert(key)
         return entry
 
     # ------------------------------------------------------------------ writes
@@ -314,7 +341,28 @@ class Blackboard:
         As in 4.6.2, a key reached only through remapping (or written with
         `@`) is not removed, and a missing key is no error.
         """
-        self._storage.pop(key, None)
+        if self._storage.pop(key, None) is not None:
+            self._order.erase(key)
+
+    def storage_order(self) -> list[str]:
+        """The keys of this blackboard's own storage in the order the library keeps them."""
+        return self._order.order()
+
+    def debug_message(self) -> str:
+        """What ``Blackboard::debugMessage`` prints: every entry with its type, in the order of
+        libstdc++'s unordered_map (hashorder.py), then the SubTree remappings."""
+        lines = []
+        for key in self._order.order():
+            entry = self._storage[key]
+            lines.append(f"{key} ({CPP_TYPE_NAMES.get(entry.type_name, entry.type_name)})\n")
+        for internal in self._remap_order.order():
+            external = self._remapping[internal]
+            line = f"[{internal}] remapped to port of parent tree [{external}]"
+            target = self.parent.get_entry(external) if self.parent is not None else None
+            if target is not None:
+                line += f" ({CPP_TYPE_NAMES.get(target.type_name, target.type_name)})"
+            lines.append(line + "\n")
+        return "".join(lines)
 
 
 # ------------------------------------------------------------ port helpers
@@ -531,6 +579,8 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
     # The type BT::Any keeps with the value (its original type), where the value alone does not
     # tell it: this module's values do not tell unsigned from int, the entry that holds one does.
     out_type: Optional[str] = None
+    # An integer copied from an untyped entry is a script's int64_t (Entry.held_int32)
+    int64 = False
     if src_key is not None:
         src = bb.get_entry(src_key)
         if src is None:
@@ -540,6 +590,7 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
         out = src.value
         if src.type_name == values.UNSIGNED:
             out_type = values.UNSIGNED
+        int64 = out is not None and values.type_of(out) == values.INT and not src.strongly_typed and not src.held_int32
     else:
         out = value_text
     if out is None:
@@ -559,20 +610,30 @@ def set_blackboard_410(bb: Blackboard, output_key: str, value_text: str) -> bool
         target, key = bb.root, key[1:]
     written = out_type if out_type is not None else values.type_of(out) if out is not None else ANY
     local = target._storage.get(key)
+    held_int32 = out is not None and values.type_of(out) == values.INT and not int64
     if local is None:
         entry = target._create_entry_impl(key, written)
         entry.value = out
+        entry.held_int32 = held_int32
         entry.bump()
         return True
     if not local.strongly_typed:
         local.type_name = ANY_TYPED
         local.value = out
+        local.held_int32 = held_int32
         local.bump()
         return True
+    if int64 and out_type is None and local.type_name in RAW_COPY_TYPES:
+        written = INT64  # (an `int` entry refuses it too; another entry refuses any integer)
     if out is not None and local.type_name != written and not values.is_opaque_type(local.type_name):
+        # Blackboard::set prints the blackboard (debugMessage) before it throws. (Followed for the
+        # entries RAW_COPY_TYPES names; into a std::string entry too in the library, which neither
+        # engine prints yet: recorded by hand, `SetBlackboard value="{n}"` into an entry a literal
+        # typed std::string.)
         raise BlackboardError(
             f"SetBlackboard: blackboard entry `{output_key}` is declared as {local.type_name}; "
-            f"it cannot be written with a {written}"
+            f"it cannot be written with a {written}",
+            target.debug_message() if local.type_name in RAW_COPY_TYPES else "",
         )
     if out is None and local.type_name == values.NODE_STATUS and isinstance(value_text, str):
         # A string into an entry a port typed NodeStatus: no converter, so an empty value

@@ -24,7 +24,10 @@ Feature sets:
   into them and out of them; UnsetBlackboard removes `v`; an untyped port
   creates both at load (so a typed `int` port may read them too) and Switch
   reads `v` as text; Loops write their `value` into them (a typed write: the
-  entry takes the Loop's type, which later writes convert to or throw on).
+  entry takes the Loop's type, which later writes convert to or throw on); in half
+  of the missions a typed entry `td` (int, unsigned, double or bool, declared at load
+  by a node that never runs) that scripts write, that SetBlackboard copies `v` and `w`
+  into and that conditions read.
 
 - ``hostile``: all of ``dynamic`` with the leaf models, their ports and the integer
   entries renamed to names of HOSTILE_NAMES (C++ keywords, macros, the runtime's and the
@@ -72,6 +75,14 @@ EDGE_COUNTS = ("0", "-0", "-2", INT_MIN_TEXT, INT_MAX_TEXT, "2.5", "1abc", "0x3"
 EDGE_DURATIONS = ("0", "-0", "0x9", "5x", "1.9")
 DYN_VARS = ("v", "w")  # `dynamic`: root entries whose type changes at run time
 DYN_KEY_NAMES = ("v", "w", "fresh2")  # the names `dk` holds (`fresh2`: an entry only it creates)
+# `dynamic`: the typed entry `td` that values of changing type are copied into: the node that
+# declares it at load (never ticked) and the first values the init script gives it.
+TYPED_DSTS = {
+    "int": ('<LoopInt queue="1" value="{td}"><AlwaysSuccess/></LoopInt>', ("1", "0", "2.0", "'3'")),
+    "unsigned": ('<Timeout msec="{td}"><AlwaysSuccess/></Timeout>', ("2", "0", "'7'")),
+    "double": ('<LoopDouble queue="1.5" value="{td}"><AlwaysSuccess/></LoopDouble>', ("0.5", "1", "'2.5'")),
+    "bool": ('<LoopBool queue="true" value="{td}"><AlwaysSuccess/></LoopBool>', ("true", "false", "1", "'true'")),
+}
 
 CONTROLS = (
     "Sequence",
@@ -303,6 +314,11 @@ class _Gen:
         # `dynamic`: Loops writing their `value` into `v` and `w` (their own generator too)
         self.wrng = random.Random(seed * 15485863 + BTCPP_VERSIONS.index(btcpp) * 19 + len(features))
         self.dyn_writes = self.dyn and not self.hostile and self.wrng.random() < 0.6
+        # `dynamic`: `td`, a typed entry values of changing type are copied into (its own generator)
+        self.trng = random.Random(seed * 1299709 + BTCPP_VERSIONS.index(btcpp) * 19 + len(features))
+        self.typed_dst = self.trng.choice(tuple(TYPED_DSTS)) if self.dyn and not self.hostile else None
+        if self.typed_dst is not None and self.trng.random() < 0.5:
+            self.typed_dst = None
 
     def _subtree_mode(self) -> str:
         if not self.data:
@@ -627,6 +643,8 @@ class _Gen:
         return f"<{lid}{attrs}{pre}/>"
 
     def leaf(self, tree: int, scope: _Scope) -> str:
+        if self.typed_dst is not None and scope.main_like and self.trng.random() < 0.2:
+            return self.typed_dst_leaf()
         r = self.rng.random()
         rng = self.rng
         if r < 0.07:
@@ -736,6 +754,18 @@ class _Gen:
             values.append('"{ld}"')
         return f'<SetBlackboard value={x.choice(values)} output_key="{{dk}}"/>'
 
+    def typed_dst_leaf(self) -> str:
+        """A leaf on the typed entry `td`: a SetBlackboard copy of `v` or `w` into it (4.6.2 copies
+        the value as it is; 4.10.0 converts a string and throws on another type), a script
+        writing it, or a condition reading it. Unnamed: it draws nothing from the main generator."""
+        x = self.trng
+        r = x.random()
+        if r < 0.5:
+            return f'<SetBlackboard value="{{{x.choice(DYN_VARS)}}}" output_key="td"/>'
+        if r < 0.65:
+            return f"<Script code={_xml_attr('td := ' + x.choice(('1', '0', '2.5', chr(39) + '4' + chr(39), 'v')))}/>"
+        return f"<ScriptCondition code={_xml_attr(x.choice(('td == 1', 'td != 0', 'td == v', '(td + 1) > 1')))}/>"
+
     def with_init(self, body: str) -> str:
         """Define the root blackboard's variables first (btgen rejects a read it can see comes first)."""
         rng = self.rng
@@ -779,6 +809,10 @@ class _Gen:
             # Never ticked: its untyped ports create `v` and `w` at load (type AnyTypeAllowed), before any
             # typed port could declare them.
             extra = '<Fallback><AlwaysSuccess/><Show what="{v}" other="{w}"/></Fallback>' + extra
+            if self.typed_dst is not None:
+                node, firsts = TYPED_DSTS[self.typed_dst]
+                init += f"; td := {self.trng.choice(firsts)}"
+                extra = f"<Fallback><AlwaysSuccess/>{node}</Fallback>" + extra
         return f'<Sequence name="init"><Script code={_xml_attr(init)}/>{extra}{body}</Sequence>'
 
 
@@ -796,7 +830,7 @@ _GENERATOR_NAMES = frozenset(
     + CONDITION_NAMES
     + DYN_VARS
     + DYN_KEY_NAMES
-    + ("dk",)
+    + ("dk", "td")
     + INT_VARS
     + PARAM_VARS
     + (

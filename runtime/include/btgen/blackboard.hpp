@@ -24,6 +24,7 @@
 // fails. The mission forwards them to its Observer's on_error().
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -55,6 +56,10 @@ struct Slot {
   bool exists = false;
   bool has_value = false;
   EntryType entry_type = EntryType::kUntyped;
+  // When a script created the entry, on the mission's count of such creations (Blackboard::
+  // births_; 0: it exists from load on, or nothing counts): the order BehaviorTree.CPP's
+  // storage keeps, which storage_order() replays for Blackboard::debugMessage.
+  std::uint32_t born = 0;
 
   // A write: the entry exists, holds a value, and its counter moves on.
   constexpr void mark_written() noexcept {
@@ -69,8 +74,71 @@ struct Slot {
     exists = false;
     has_value = false;
     entry_type = EntryType::kUntyped;
+    born = 0;
   }
 };
+
+// The order libstdc++'s unordered_map keeps a blackboard's entries in (lang/hashorder.py is
+// the reference): entry i (std::hash of its key `hash[i]`) is in it when `present[i]`; those
+// with `born[i]` 0 were inserted first, in index order, the others then by `born`. Each goes
+// before the first node of its bucket, or to the front when its bucket is empty; an insertion
+// that would exceed the bucket count rehashes (13, 29, 59 ... buckets), re-inserting the nodes
+// in list order. Writes the order into `out`; returns how many entries it holds.
+template <std::size_t N>
+std::size_t storage_order(const std::uint64_t (&hash)[N], const bool (&present)[N], const std::uint32_t (&born)[N],
+                          std::uint16_t (&out)[N]) noexcept {
+  constexpr std::uint64_t kBuckets[] = {13, 29, 59, 127, 257, 541, 1109, 2357, 5087, 10273, 20753, 42043, 85229};
+  std::uint16_t seq[N] = {};
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (present[i] && born[i] == 0) seq[n++] = static_cast<std::uint16_t>(i);
+  }
+  const std::size_t first_born = n;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (present[i] && born[i] != 0) seq[n++] = static_cast<std::uint16_t>(i);
+  }
+  for (std::size_t a = first_born + 1; a < n; ++a) {  // by birth (insertion sort: few entries)
+    const std::uint16_t k = seq[a];
+    std::size_t b = a;
+    for (; b > first_born && born[seq[b - 1]] > born[k]; --b) seq[b] = seq[b - 1];
+    seq[b] = k;
+  }
+  std::uint64_t buckets = 0;
+  std::size_t size = 0;
+  const auto place = [&](std::uint16_t k, std::uint64_t count) noexcept {
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < size; ++i) {
+      if (hash[out[i]] % count == hash[k] % count) {
+        at = i;
+        break;
+      }
+    }
+    for (std::size_t i = size; i > at; --i) out[i] = out[i - 1];
+    out[at] = k;
+    ++size;
+  };
+  for (std::size_t s = 0; s < n; ++s) {
+    if (buckets == 0) {
+      buckets = kBuckets[0];
+    } else if (size + 1 > buckets) {
+      std::uint64_t next = buckets;
+      for (const std::uint64_t c : kBuckets) {
+        if (c >= 2 * buckets) {
+          next = c;
+          break;
+        }
+      }
+      buckets = next;
+      std::uint16_t old[N] = {};
+      const std::size_t old_size = size;
+      for (std::size_t i = 0; i < old_size; ++i) old[i] = out[i];
+      size = 0;
+      for (std::size_t i = 0; i < old_size; ++i) place(old[i], buckets);
+    }
+    place(seq[s], buckets);
+  }
+  return size;
+}
 
 // SetBlackboard of a string into an entry no port declared, from BehaviorTree.CPP
 // 4.7.0 (Semantics::setblackboard_converts_to_entry_type): the library converts the
@@ -104,6 +172,7 @@ struct RuntimeError {
   std::string_view where;    // "path:line:col" of what failed (script character, port), or the node
   std::string_view message;  // what happened, without the location
   std::string_view detail;   // why, when known (e.g. btgen::describe(Errc)); may be empty
+  std::string_view printed;  // what the library prints on stdout before it throws (a trace's lines), or empty
 };
 
 // Where generated code reports run-time errors: a function and its context
@@ -116,9 +185,9 @@ class ErrorSink {
   constexpr ErrorSink(Fn fn, void* context) noexcept : fn_(fn), context_(context) {}
 
   // Reports the error; returns -1 (what generated script functions return on error).
-  int fail(const NodeInfo& node, std::string_view where, std::string_view message,
-           std::string_view detail = {}) const noexcept {
-    fn_(context_, RuntimeError{&node, where, message, detail});
+  int fail(const NodeInfo& node, std::string_view where, std::string_view message, std::string_view detail = {},
+           std::string_view printed = {}) const noexcept {
+    fn_(context_, RuntimeError{&node, where, message, detail, printed});
     return -1;
   }
 

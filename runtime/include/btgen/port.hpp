@@ -658,5 +658,120 @@ Errc write(Slot<Dyn<N>>& slot, Declared d, const V& v) noexcept {
   return write<kFromChars>(slot, d, v, std::string_view(), m) ? Errc::kOk : Errc::kInvalid;
 }
 
+// A script's `key := value` (and `=`) into an entry declared `d` (int, unsigned, double,
+// bool; `type` its name) that a 4.6.2 SetBlackboard copy may leave holding a string or
+// another value, a Dyn slot (ir/data/types.py _mark_typed_copy_dynamic): the entry keeps its
+// declared type, so a string goes through that type's converter unless the entry holds a
+// string; any other value is Any::copyInto into what it holds, as it is into an empty entry
+// (lang/script/evaluate.py _store is the reference).
+template <bool kFromChars, std::size_t N>
+bool store_declared(Slot<Dyn<N>>& slot, Declared d, std::string_view type, const dyn::Ref& value, std::string_view key,
+                    dyn::Msg& m) noexcept {
+  const dyn::Ref dst = dyn::ref(slot);
+  dyn::Ref out = value;
+  if (value.is_string() && !dst.is_string()) {
+    Errc e = Errc::kInvalid;
+    if (d == Declared::kInt || d == Declared::kUnsigned) {
+      std::int64_t x = 0;
+      e = d == Declared::kInt ? convert_int(value.s, x) : convert_unsigned(value.s, x);
+      out = dyn::of_int(x);
+    } else if (d == Declared::kDouble) {
+      double x = 0.0;
+      e = convert_double<kFromChars>(value.s, x);
+      out = dyn::of_double(x);
+    } else if (d == Declared::kBool) {
+      bool x = false;
+      e = parse_bool(value.s, x);
+      out = dyn::of_bool(x);
+    }
+    if (!dyn::converted_text(e, value.s, key, type, m)) return false;
+  } else if (!dst.none() && !dyn::store_into(value, dst, ":=", key, out, m)) {
+    return false;
+  }
+  return dyn::put(slot, out, key, m);
+}
+
+// SetBlackboard value="{src}" from 4.7.0, the source a Dyn slot that scripts and literals
+// write, into an entry declared `d` (int, unsigned, double, bool; `type` its name) that
+// exists (ir/dataops.py SetCopyDynTyped410; lang/blackboard.py set_blackboard_410 is the
+// reference): Blackboard::set<BT::Any>. Returns 1 (copied), 0 (the source is empty: the node
+// fails), -1 (a string the entry's converter refuses) or -2 (a value of another type than
+// the entry's, a script's integer being an int64_t: the library prints its blackboard and
+// throws), `m` saying why.
+template <bool kFromChars, class S>
+int set_dyn_typed_410(Slot<S>& slot, Declared d, std::string_view type, const dyn::Ref& v, std::string_view raw,
+                      std::string_view key, dyn::Msg& m) noexcept {
+  if (v.none()) return 0;
+  if (v.is_string()) {
+    Slot<S> converted = slot;
+    const Errc e = convert_into<kFromChars>(converted, d, v.s);
+    if (e != Errc::kOk) {
+      m.add("SetBlackboard: cannot convert ");
+      dyn::add_string_repr(m, raw);
+      m.add(": ");
+      dyn::add_conversion_error(m, v.s, type, e);
+      return -1;
+    }
+    slot.value = converted.value;
+    slot.mark_written();
+    return 1;
+  }
+  const bool same =
+      (v.tag == DynTag::kDouble && d == Declared::kDouble) || (v.tag == DynTag::kBool && d == Declared::kBool);
+  if (!same) {
+    m.add("SetBlackboard: blackboard entry `").add(key).add("` is declared as ").add(type);
+    m.add("; it cannot be written with a ").add(v.tag == DynTag::kInt ? std::string_view("int64") : dyn::type_name(v));
+    return -2;
+  }
+  if constexpr (std::is_same_v<S, double>) {
+    slot.value = v.d;
+  } else {
+    slot.value = static_cast<S>(v.i);
+  }
+  slot.mark_written();
+  return 1;
+}
+
+// The same into a Dyn slot: an entry declared `d` that a script gave the other kind of number
+// first (ir/data/types.py _mark_typed_number_dynamic). The check is on the declared type, as
+// Blackboard::set's; the value is stored as it is.
+template <bool kFromChars, std::size_t N>
+int set_dyn_typed_410(Slot<Dyn<N>>& slot, Declared d, std::string_view type, const dyn::Ref& v, std::string_view raw,
+                      std::string_view key, dyn::Msg& m) noexcept {
+  if (v.none()) return 0;
+  dyn::Ref out = v;
+  if (v.is_string()) {
+    if (d == Declared::kDouble) {
+      Slot<double> converted;
+      const Errc e = convert_into<kFromChars>(converted, d, v.s);
+      out = dyn::of_double(converted.value);
+      if (e != Errc::kOk) {
+        m.add("SetBlackboard: cannot convert ");
+        dyn::add_string_repr(m, raw);
+        m.add(": ");
+        dyn::add_conversion_error(m, v.s, type, e);
+        return -1;
+      }
+    } else {
+      Slot<std::int64_t> converted;
+      const Errc e = convert_into<kFromChars>(converted, d, v.s);
+      out = d == Declared::kBool ? dyn::of_bool(converted.value != 0) : dyn::of_int(converted.value);
+      if (e != Errc::kOk) {
+        m.add("SetBlackboard: cannot convert ");
+        dyn::add_string_repr(m, raw);
+        m.add(": ");
+        dyn::add_conversion_error(m, v.s, type, e);
+        return -1;
+      }
+    }
+  } else if (!((v.tag == DynTag::kDouble && d == Declared::kDouble) ||
+               (v.tag == DynTag::kBool && d == Declared::kBool))) {
+    m.add("SetBlackboard: blackboard entry `").add(key).add("` is declared as ").add(type);
+    m.add("; it cannot be written with a ").add(v.tag == DynTag::kInt ? std::string_view("int64") : dyn::type_name(v));
+    return -2;
+  }
+  return dyn::put(slot, out, key, m) ? 1 : -1;
+}
+
 }  // namespace port
 }  // namespace btgen

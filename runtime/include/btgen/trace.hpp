@@ -104,8 +104,10 @@ class TraceWriter {
     std::fputc('\n', out_);
   }
 
-  // A run-time error, on stderr: `path:line:col: error: message`.
+  // A run-time error, on stderr: `path:line:col: error: message` (after what the library
+  // prints on stdout before it throws, RuntimeError::printed).
   void on_error(const RuntimeError& e) const noexcept {
+    if (!e.printed.empty()) write(e.printed);  // (an empty view's data() may be null)
     std::fflush(out_);
     std::fprintf(stderr, "%.*s: error: ", static_cast<int>(e.where.size()), e.where.data());
     write_one_line(stderr, e.message);

@@ -55,7 +55,11 @@ from btgen.ir.kinds import DYN, TEXT_BOUND, is_queue
 from btgen.ir.script_types import ExprType, TypedScript
 from btgen.lang import script as sc
 from btgen.lang import values
+from btgen.lang.blackboard import RAW_COPY_TYPES
 from btgen.lang.kind import KindLike
+
+# btgen::Declared of the declared types RAW_COPY_TYPES names (data_cpp.DECLARED_ENUM has them all).
+DECLARED_ENUM_OF = {values.INT: "kInt", values.UNSIGNED: "kUnsigned", values.DOUBLE: "kDouble", values.BOOL: "kBool"}
 
 
 class ScriptCompiler(CodeWriter):
@@ -431,8 +435,11 @@ class ScriptCompiler(CodeWriter):
         idx = self.ctx.names[node.target]
         s = self.ctx.slots[idx]
         if op == ":=":
-            if s.may_be_missing:
-                self.emit(f"{s.member}.exists = true;")
+            if s.may_be_missing:  # (a new entry: when, for the order of the library's storage)
+                self.emit(f"if (!{s.member}.exists) {{")
+                self.emit(f"  {s.member}.exists = true;")
+                self.emit(f"  {s.member}.born = ++bb.births_;")
+                self.emit("}")
         elif s.may_be_missing:
             self.check(
                 f"!{s.member}.exists",
@@ -479,7 +486,15 @@ class ScriptCompiler(CodeWriter):
         if v.kind == DYN or v.has is not None:
             self.check(f"({ref}).none()", off, f"the right operand of `{op}` has no value")
         if s.kind == DYN:
-            if op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
+            if op in (":=", "=") and s.declared in RAW_COPY_TYPES:
+                # a typed entry a 4.6.2 SetBlackboard copy made dynamic: it keeps its converter
+                self.dyn_call(
+                    f"btgen::port::store_declared<detail::Semantics::double_from_chars>({s.member}, "
+                    f"btgen::Declared::{DECLARED_ENUM_OF[s.declared]}, {cpp_view(s.declared)}, {ref}, "
+                    f"{cpp_view(key)}, dm)",
+                    off,
+                )
+            elif op in (":=", "="):  # (dyn::store checks an entry typed BT::Any)
                 store = "btgen::dyn::store<detail::Semantics::double_from_chars>"
                 self.dyn_call(f"{store}({s.member}, {ref}, {cpp_view(key)}, dm)", off)
             else:

@@ -49,6 +49,7 @@ from btgen.lang import script as sc
 from btgen.lang import values
 from btgen.lang.blackboard import RAW_COPY_TYPES
 from btgen.lang.catalogue import PortSpec
+from btgen.lang.hashorder import std_hash
 from btgen.lang.kind import KindLike
 from btgen.lang.model import Attr
 from btgen.lang.status import NodeStatus
@@ -365,7 +366,16 @@ class Compiler:
             if code is None:
                 return None
             assert isinstance(
-                code.op, (ops.Unset, ops.SetUserLiteral, ops.SetDynLiteral, ops.SetText, ops.SetCopy, ops.SetCopyDyn)
+                code.op,
+                (
+                    ops.Unset,
+                    ops.SetUserLiteral,
+                    ops.SetDynLiteral,
+                    ops.SetText,
+                    ops.SetCopy,
+                    ops.SetCopyDyn,
+                    ops.SetCopyDynTyped410,
+                ),
             ), code
             cases.append((text, code.op))
         prefix = f"{what}: port `{op.port}` reads blackboard entry `{op.key}`, which"
@@ -398,6 +408,29 @@ class Compiler:
             return self.share_queue(inst, op, d, s, what)
         if DYN in (d.kind, s.kind) and not (is_user(d.kind) or is_user(s.kind)):
             return self.set_copy_dynamic(inst, op, d, s, what)
+        if s.kind in (kinds.INT, kinds.DOUBLE, kinds.STRING) and d.at_load and d.entry.type_name in RAW_COPY_TYPES:
+            into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
+            if into_typed is not None:
+                return into_typed
+            if (
+                self.a.m.semantics.setblackboard_converts_to_entry_type
+                and s.entry.type_name == values.ANY
+                and (
+                    (s.kind == kinds.INT and self.holds_script_integers(src))
+                    or (s.kind == kinds.DOUBLE and d.entry.type_name != values.DOUBLE)
+                )
+            ):
+                # (a script's int64_t, or any double, into an entry of another type: the library
+                # prints its blackboard and throws, which the C++ back end cannot print here)
+                self.error(
+                    loc,
+                    f"{what} copies `{s.key}` ({describe_kind(s.kind)}, {s.origin_text}) to `{d.key}` "
+                    f"(declared {d.entry.type_name}); BehaviorTree.CPP {self.a.m.semantics.version} throws "
+                    f"there after printing its blackboard, which the C++ back end follows only for an "
+                    f"entry that exists from load on, on a blackboard without SubTree remappings whose "
+                    f"entries all exist from load on: not supported by the C++ back end yet",
+                )
+                return None
         if is_user(d.kind) or is_user(s.kind):
             ok = d.kind == s.kind
         elif not strong:
@@ -446,6 +479,22 @@ class Compiler:
         src_tag = _DYN_TAG.get(src_decl, "") if typed_src else ""
         converts = self.a.m.semantics.setblackboard_converts_to_entry_type
         typed_ok = typed_src and (not converts or exists or src_tag != "")
+        if d.entry.type_name in RAW_COPY_TYPES:
+            into_typed = self.set_copy_dyn_typed_410(inst, op, d, s, what)
+            if into_typed is not None:
+                return into_typed
+            if converts:
+                # (from 4.7.0 never a raw copy: it converts, or throws after printing the blackboard)
+                self.error(
+                    loc,
+                    f"{what} copies `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}) to `{d.key}` "
+                    f"(declared {d.entry.type_name}); BehaviorTree.CPP {self.a.m.semantics.version} may throw "
+                    f"there after printing its blackboard, which the C++ back end follows only for an entry "
+                    f"that exists from load on, on a blackboard without SubTree remappings whose entries all "
+                    f"exist from load on, from a source whose integers are a script's: not supported by the "
+                    f"C++ back end yet",
+                )
+                return None
         if d.kind != DYN or (s.kind != DYN and src_decl not in (values.ANY, values.STRING) and not typed_ok):
             self.error(
                 loc,
@@ -489,6 +538,106 @@ class Compiler:
                 src_tag,
             ),
         )
+
+    def set_copy_dyn_typed_410(self, inst: Inst, op: SetCopyUse, d: Slot, s: Slot, what: str) -> Optional[DataOp]:
+        """From 4.7.0, a copy of an entry no port declared (its type changes at run time, or a
+        script gives it an integer, a double or a string) into an entry a port declared int,
+        unsigned, double or bool (ops.SetCopyDynTyped410), or None where the C++ back end does
+        not follow it (the caller says what then): a source that may hold an integer must be
+        written by scripts and literals only (the integer is then a script's int64_t), the
+        destination must exist from load on, on the node's blackboard, and that blackboard's
+        debugMessage must be known (debug_entries) where the library may print it."""
+        declared = d.entry.type_name
+        if (
+            not self.a.m.semantics.setblackboard_converts_to_entry_type
+            or declared not in bbmod.RAW_COPY_TYPES
+            or d.kind not in (self.a.kind_of_type(declared), DYN)  # (Dyn: a script gave it the other number)
+            or not d.at_load
+            or d.unset
+            or s.entry.type_name != values.ANY
+            or s.kind not in (DYN, kinds.INT, kinds.DOUBLE, kinds.STRING)
+            or (s.kind in (DYN, kinds.INT) and not self.holds_script_integers(self.a.slots.index(s)))
+        ):
+            return None
+        target = inst.bb.root if op.key.startswith("@") else inst.bb
+        if target.local_entry(op.key[1:] if op.key.startswith("@") else op.key) is not d.entry:
+            return None
+        debug = self.debug_entries(target)
+        if debug is None:
+            if s.kind in (DYN, kinds.INT) or (s.kind == kinds.DOUBLE and declared != values.DOUBLE):
+                return None
+            debug = ()  # (a string is converted, a double stored in a double entry: it never throws)
+        loc = op.loc
+        missing = self.fail(
+            loc, f"{what}: SetBlackboard: `value` reads blackboard entry `{op.src_key}`, which does not exist"
+        )
+        return DataOp(
+            inst.index,
+            f'SetBlackboard "{inst.node.display_name}" {d.key} = {{{s.key}}}',
+            ops.SetCopyDynTyped410(
+                op.dst, op.src, declared, op.raw, op.key, what + ": ", missing, self.where(loc), debug
+            ),
+        )
+
+    def holds_script_integers(self, idx: int, seen: Optional[set[int]] = None) -> bool:
+        """Whether an integer slot `idx` may hold is a script's int64_t (never an `int` from a
+        port): no port declared the entry, and only scripts, SetBlackboard literals and
+        SetBlackboard copies of such entries write it."""
+        seen = set() if seen is None else seen
+        if idx in seen:
+            return True  # (a cycle of copies adds no other writer)
+        seen.add(idx)
+        s = self.a.slots[idx]
+        if s.entry.type_name != values.ANY:
+            return False
+        if any(w.source not in ("script", "set", "copy") for w in s.writes):
+            return False
+        if not any(w.source == "copy" for w in s.writes):
+            return True
+        copies: list[SetCopyUse] = []
+        for _, use in self.a.node_ops:
+            if isinstance(use, SetCopyUse):
+                copies.append(use)
+            elif isinstance(use, SetKeyUse):
+                copies.extend(c for _, c in use.cases if isinstance(c, SetCopyUse))
+        return all(self.holds_script_integers(c.src, seen) for c in copies if c.dst == idx)
+
+    def debug_entries(self, bb: bbmod.Blackboard) -> Optional[tuple[ops.DebugEntry, ...]]:
+        """What Blackboard::debugMessage prints for `bb` whenever it runs, in the order the
+        loader inserted its entries (the generated code replays the storage's order when it
+        prints, btgen::storage_order), or None where that is not known: every entry must exist
+        from load on or be created by scripts, SetBlackboard literals or copies (whose creations
+        the generated code counts: Slot::born; a literal or a copy only into a string or dynamic
+        slot, whose Slot::entry_type names its type), none may be unset, the blackboard must have
+        no SubTree remappings, and each entry's type must be one whose name is known (an entry no
+        port declared is named by its Slot::entry_type; it must not be typed by a port)."""
+        if bb.remapping or bb.autoremap:
+            return None
+        out = []
+        for key in bb.local_keys():  # (in insertion order: the loader's entries first)
+            entry = bb.local_entry(key)
+            idx = self.a.slot_of_entry.get(id(entry))
+            if entry is None or idx is None:
+                return None
+            sl = self.a.slots[idx]
+            runtime = not sl.at_load
+            creators = ("script", "set", "copy") if sl.kind in (kinds.STRING, DYN) else ("script",)
+            if sl.unset or (runtime and (not sl.writes or any(w.source not in creators for w in sl.writes))):
+                return None
+            t = entry.type_name
+            if t == values.ANY:
+                if sl.kind in (kinds.STRING, DYN):
+                    typed = bbmod.CPP_TYPE_NAMES[values.STRING]  # (a SetBlackboard literal types it)
+                elif all(w.source in ("script", "constant") for w in sl.writes):
+                    typed = bbmod.CPP_TYPE_NAMES[values.ANY]  # (nothing gives it a type)
+                else:
+                    return None
+                out.append(ops.DebugEntry(idx, key, "", typed, std_hash(key), runtime))
+            elif t in bbmod.CPP_TYPE_NAMES and not runtime:
+                out.append(ops.DebugEntry(idx, key, bbmod.CPP_TYPE_NAMES[t], "", std_hash(key)))
+            else:
+                return None
+        return tuple(out)
 
     def _untyped_dst(
         self, inst: Inst, key: str, loc: Loc, d: Slot, prefix: str, src: Optional[Slot] = None

@@ -217,7 +217,13 @@ def _mark_typed_number_dynamic(a: Analysis, s: Slot) -> None:
     if s.kind not in (INT, DOUBLE) or s.failed or s.initial is not None or a.kind_of_type(s.entry.type_name) != s.kind:
         return
     kinds = [w.kind() for w in s.writes]
-    if any(k not in (INT, DOUBLE, None) for k in kinds):
+    # (from 4.7.0 a SetBlackboard copy of a string or of a value of changing type converts it or
+    # must have the entry's type: btgen::port::set_dyn_typed_410 follows that into a Dyn slot)
+    converted = a.m.semantics.setblackboard_converts_to_entry_type
+    if any(
+        k not in (INT, DOUBLE, None) and not (converted and w.source == "copy" and k in (STRING, DYN))
+        for w, k in zip(s.writes, kinds)
+    ):
         return  # (strings go through the declared type's converter: a static slot does that)
     for w, k in zip(s.writes, kinds):
         if w.source == "script" and w.determining and k in (INT, DOUBLE) and k != s.kind:
@@ -234,8 +240,10 @@ def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
     """A typed int, unsigned, double or bool entry that a 4.6.2 SetBlackboard copies a string
     (or a value of changing type) into: 4.6.2 copies the value as it is (`dst_entry->value =
     src_entry->value`), so the entry keeps its declared type and holds the string. Its slot
-    is dynamic; its other writes must be copies or writes of its own type by ports (a typed
-    write into it is then Blackboard::set<T>'s copyInto, btgen::port::write of a Dyn slot).
+    is dynamic; its other writes must be copies, writes of its own type by ports (a typed
+    write into it is then Blackboard::set<T>'s copyInto, btgen::port::write of a Dyn slot)
+    or scripts (whose strings still go through the declared type's converter:
+    btgen::port::store_declared).
     True when the slot became dynamic."""
     declared = s.entry.type_name
     if (
@@ -247,8 +255,19 @@ def _mark_typed_copy_dynamic(a: Analysis, s: Slot) -> bool:
         or s.kind != a.kind_of_type(declared)
     ):
         return False
-    copied = [w for w in s.writes if w.source == "copy" and w.kind() in (STRING, DYN)]
-    if not copied or any(w.source not in ("copy", "loop", "port") for w in s.writes):
+    # (a number of another kind is copied as it is too: an integer into a `double` entry, any
+    # integer into an `unsigned` or `bool` one)
+    copied = [
+        w
+        for w in s.writes
+        if w.source == "copy"
+        and (
+            w.kind() in (STRING, DYN)
+            or (w.kind() in (INT, DOUBLE) and w.kind() != s.kind)
+            or (w.kind() == INT and declared in (values.UNSIGNED, values.BOOL))
+        )
+    ]
+    if not copied or any(w.source not in ("copy", "loop", "port", "script") for w in s.writes):
         return False
     s.kind = DYN
     s.origin = (

@@ -159,6 +159,7 @@ class SinkTrace {
   void on_error(const RuntimeError& e) const noexcept {
     if (stopped_) return;
     stopped_ = true;
+    if (!e.printed.empty()) put(e.printed);  // (what the library prints before it throws)
     Sink* sink = sink_;
     auto err = [sink](std::string_view s) { sink->error(s.data(), s.size()); };
     err(e.where);
