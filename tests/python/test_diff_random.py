@@ -16,7 +16,10 @@ from conftest import ROOT
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 import difftest
+from btgen import pipeline
+from btgen.diagnostics import UserError
 from btgen.frontend.loader import load_mission
+from btgen.ir.lower import lower
 from btgen.tools.fuzzgen import FEATURE_SETS, random_case
 
 CONTROL_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_SEEDS", "200")))
@@ -266,5 +269,17 @@ LATER_SEEDS = range(0, int(os.environ.get("BTGEN_DIFF_LATER_SEEDS", "20")))
 def test_edges_missions_agree_for_each_release(tmp_path, btcpp):
     report = difftest.difftest(LATER_SEEDS, "edges", 2, keep=tmp_path / "kept", btcpp=btcpp)
     print("\n" + report.summary())
-    assert len(report.compiled) == len(LATER_SEEDS), report.summary()
+    # Under 4.10.0 a SetBlackboard copy of a script's integer into an entry a port declared int
+    # throws after the library prints its blackboard; where the C++ back end cannot replay that
+    # print (a blackboard with entries created at run time by other writers, remappings) it
+    # refuses the mission, located (docs/btcpp-versions.md, "Still refused"): seed 1 of 0..19.
+    # Every other refusal is a failure.
+    for seed in report.unsupported:
+        assert btcpp == "4.10.0", report.summary()
+        xml = tmp_path / f"refused_{seed}.xml"
+        xml.write_text(random_case(seed, "edges", 2, btcpp).mission, encoding="utf-8")
+        with pytest.raises(UserError) as e:
+            lower(pipeline.load(str(xml), pipeline.CompileOptions(btcpp=btcpp)))
+        assert "throw there after printing its blackboard" in str(e.value), str(e.value)
+    assert len(report.compiled) >= len(LATER_SEEDS) - 1, report.summary()
     assert report.ok, report.summary()
