@@ -215,6 +215,8 @@ class ParamRead:
     # Precondition `else`, a Loop's `if_empty`: a literal that is no NodeStatus, which the
     # library loads and throws on whenever the node reads it (slot -1)
     always: Optional[Fail] = None
+    # Precondition `else` as `{key}`: getInput<NodeStatus> of a NodeStatus entry, into `out`
+    as_status: bool = False
 
 
 @dataclass(frozen=True)

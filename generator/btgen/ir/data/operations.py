@@ -601,6 +601,8 @@ class Compiler:
         constant: Optional[int] = None
         if inst.reg_id == "RateController":
             return self.hz_read(inst, op, what)
+        if op.port == "else":
+            return self.status_read(inst, op, what)
         if (
             s.kind == "string"
             and s.initial is not None
@@ -638,6 +640,38 @@ class Compiler:
             convert = self.fail(op.loc, f"{what}: ")
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
+
+    def status_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
+        """Precondition `else` as `{key}`: getInput<NodeStatus> on every tick, before `if`; the
+        library throws when the entry does not exist or has no value (the node fails there)."""
+        s = self.a.slots[op.slot]
+        missing = self.fail(op.loc, f"{what}, which does not exist")
+        no_value = self.fail(op.loc, f"{what}, which has no value yet")
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            # A SubTree's constant port: the text getInput converts on every read, converted here
+            try:
+                status = values.convert_from_string(values.NODE_STATUS, s.initial)
+            except values.ConversionError as e:
+                fail = self.fail(op.loc, f"{what}: {e}")
+                always = ops.ParamRead(-1, fail, fail, always=fail)
+                return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" else', always)
+            assert isinstance(status, NodeStatus), status
+            read = ops.ParamRead(op.slot, missing, no_value, status.value)
+        elif s.kind == "status":
+            read = ops.ParamRead(op.slot, missing, no_value, as_status=True)
+        else:
+            self.error(
+                op.loc,
+                f"port `else` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}); "
+                f"the C++ back end reads it from a NodeStatus entry",
+            )
+            return None
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" else={{{op.key}}}', read)
 
     def hz_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
         """Nav2's RateController hz as `{key}`: getInput<double>, 1.0 when it fails."""

@@ -186,9 +186,14 @@
 
       case NodeKind::Precondition: {
         f.decorator = 1;
-        // p1: an `else` that is no NodeStatus, which the library throws on when it reads it, on
-        // every tick (Spec::read_param reports it)
-        if (!read_param(n, false)) return done(Status::FAILURE);
+        // p1: `else` read on every tick (Spec::read_param): a `{key}`, or a literal that is no
+        // NodeStatus, which the library throws on when it reads it (the read reports it)
+        Status otherwise = param::otherwise(n);
+        if (n.p1 != 0) {
+          std::int64_t v = 0;
+          if (Spec::read_param(bb_, sink(), n, v) < 0) return done(Status::FAILURE);
+          otherwise = static_cast<Status>(v);
+        }
         // 4.6.2 evaluates `if` on every tick; when false it answers `else`
         // without ticking (or halting) its child. From 4.7.0
         // (Sem::precondition_if_until_started) only until the child has
@@ -203,7 +208,7 @@
           if constexpr (Sem::precondition_if_until_started) counter(n, 0) = 1;
           return descend(child(n, 0));
         }
-        return done(not_idle(n, param::otherwise(n)));
+        return done(not_idle(n, otherwise));
       }
 
       case NodeKind::Loop: {
