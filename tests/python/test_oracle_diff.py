@@ -16,10 +16,7 @@ from conftest import ROOT
 HERE = os.path.join(ROOT, "tests", "conformance", "oracle-diff")
 CASES = rc.recorded(HERE)
 # What the C++ back end still refuses (listed by scripts/refusal_share.py).
-REFUSED = {
-    ("set_text_into_status_entry", v): "refused: `else` as `{key}`, and text into a NodeStatus entry"
-    for v in rc.VERSIONS
-}
+REFUSED = {("set_text_into_status_entry", v): "refused: text written into a NodeStatus entry" for v in rc.VERSIONS}
 # Recordings neither engine follows yet, each a strict expected failure with its reason.
 _DUMP = (
     "the library prints its blackboard on stdout (Blackboard::debugMessage) before it throws on a "

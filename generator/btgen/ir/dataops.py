@@ -220,6 +220,19 @@ class ParamRead:
 
 
 @dataclass(frozen=True)
+class ParallelRead:
+    """Parallel `success_count` / `failure_count`, one of them or both given as `{key}`: the
+    library reads both at the start of every tick (getInput<int>, throwing when it fails), then
+    throws when the children cannot reach a threshold. Each is a ParamRead (a literal: its
+    `constant`); `never_succeed` / `never_fail` start the messages of those throws."""
+
+    success: ParamRead
+    failure: ParamRead
+    never_succeed: Fail
+    never_fail: Fail
+
+
+@dataclass(frozen=True)
 class UserInit:
     """A user-typed literal converted when the mission is constructed (Spec::init)."""
 

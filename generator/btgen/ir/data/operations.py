@@ -14,6 +14,7 @@ from btgen.ir import kinds
 from btgen.ir.data.queue_share import SHARED_WRITES, share_classes
 from btgen.ir.data.records import (
     BOOL_PARAM_DEFAULTS,
+    PARALLEL_READS,
     SCRIPT_SLOTS,
     DataIR,
     DataOp,
@@ -641,6 +642,42 @@ class Compiler:
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
 
+    def parallel_read(self, inst: Inst, uses: dict[str, ParamUse]) -> Optional[DataOp]:
+        """Parallel's thresholds, one or both as `{key}`: read at the start of every tick."""
+        reads: list[ops.ParamRead] = []
+        for port in ("success_count", "failure_count"):
+            op = uses.get(port)
+            if op is None:  # a literal (or the port's default)
+                raw = inst.ports[port].raw
+                try:
+                    value = values.convert_from_string(values.INT, raw)
+                except values.ConversionError as e:
+                    self.error(inst.ports[port].loc_or or inst.node.loc, f"port `{port}` of {inst.what}: {e}")
+                    return None
+                assert isinstance(value, int)
+                never = self.fail(inst.node.loc, "")
+                reads.append(ops.ParamRead(-1, never, never, value))
+                continue
+            read = self.param_read(inst, op)
+            if read is None:
+                return None
+            assert isinstance(read.op, ops.ParamRead)
+            reads.append(read.op)
+        name = inst.node.display_name
+        loc_s = inst.ports["success_count"].loc_or or inst.node.loc
+        loc_f = inst.ports["failure_count"].loc_or or inst.node.loc
+        keys = ", ".join(f"{p}={{{u.key}}}" for p, u in uses.items())
+        return DataOp(
+            inst.index,
+            f'Parallel "{name}" {keys}',
+            ops.ParallelRead(
+                reads[0],
+                reads[1],
+                self.fail(loc_s, f'`Parallel` "{name}" needs '),
+                self.fail(loc_f, f'`Parallel` "{name}" fails after '),
+            ),
+        )
+
     def status_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
         """Precondition `else` as `{key}`: getInput<NodeStatus> on every tick, before `if`; the
         library throws when the entry does not exist or has no value (the node fails there)."""
@@ -1073,6 +1110,7 @@ class Compiler:
         index_writes: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
+        parallel_uses: dict[int, tuple[Inst, dict[str, ParamUse]]] = {}
         for inst, op in self.a.node_ops:
             code: Optional[DataOp] = None
             if isinstance(op, UnsetUse):
@@ -1097,6 +1135,8 @@ class Compiler:
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
+            elif isinstance(op, ParamUse) and inst.reg_id == "Parallel":
+                parallel_uses.setdefault(inst.index, (inst, {}))[1][op.port] = op
             elif isinstance(op, ParamUse):
                 read = self.param_read(inst, op)
                 if read is not None:
@@ -1116,6 +1156,11 @@ class Compiler:
                     params[inst.index] = (0, 1, 0)
                 elif p0 is not None:
                     params[inst.index] = (p0.value if isinstance(p0, NodeStatus) else p0, 0, 0)
+        for inst, uses in parallel_uses.values():
+            pread = self.parallel_read(inst, uses)
+            if pread is not None:
+                param_reads.append(pread)
+                params[inst.index] = (0, 0, PARALLEL_READS)
         ports = self.ports()
         for s in self.a.slots:
             for w in s.writes:

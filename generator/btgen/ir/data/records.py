@@ -78,14 +78,14 @@ PARAM_PORTS = frozenset(
         ("PersistentSequence", "current_child_idx"),  # Nav2's: read on every tick (and written: IndexWrite)
         ("RateController", "hz"),  # Nav2's: a double, read when the node starts
         ("Precondition", "else"),  # getInput<NodeStatus> on every tick, before `if`
+        ("Parallel", "success_count"),  # both read at the start of every tick (ParallelRead)
+        ("Parallel", "failure_count"),
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
 BOOL_PARAM_DEFAULTS = MappingProxyType({"then_skip": 1, "catch_on_halt": 0})
 LITERAL_ONLY = frozenset(
     {
-        ("Parallel", "success_count"),
-        ("Parallel", "failure_count"),
         ("ParallelAll", "max_failures"),
         ("LoopInt", "if_empty"),
         ("LoopBool", "if_empty"),
@@ -94,6 +94,8 @@ LITERAL_ONLY = frozenset(
         ("RoundRobin", "wrap_around"),  # Nav2's: read once, when the node is created
     }
 )
+# NodeInfo p2 bit of a Parallel whose thresholds are read from the blackboard (ParallelRead)
+PARALLEL_READS = 2
 LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
 ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
 

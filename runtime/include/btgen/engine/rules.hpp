@@ -78,6 +78,15 @@
         return try_next(f, n);
 
       case NodeKind::Parallel:
+        // p2 bit 2: success_count / failure_count as `{key}`, read at the start of every tick
+        // (Spec::read_param; it throws where a read fails or a threshold cannot be reached)
+        if ((n.p2 & kParallelReads) != 0) {
+          std::int64_t v = 0;
+          if (Spec::read_param(bb_, sink(), n, v) < 0) return done(Status::FAILURE);
+          counter(n, 2) = static_cast<std::int32_t>(v & 0xFFFFF);
+          counter(n, 3) = static_cast<std::int32_t>((v >> 20) & 0xFFFFF);
+          counter(n, 4) = static_cast<std::int32_t>((v >> 40) & 1);
+        }
         set_status(f.node, Status::RUNNING);
         f.pos = 0;
         f.aux = 0;  // skipped this tick
@@ -701,11 +710,14 @@
   Status parallel_check(Frame& f, const NodeInfo& n) noexcept {
     const std::int64_t successes = counter(n, 0);
     const std::int64_t failures = counter(n, 1);
-    const std::int64_t required = param::success_threshold(n);
+    const bool read = (n.p2 & kParallelReads) != 0;  // the thresholds read this tick
+    const std::int64_t required = read ? counter(n, 2) : param::success_threshold(n);
+    const std::int64_t failing = read ? counter(n, 3) : param::failure_threshold(n);
+    const bool relative = read ? counter(n, 4) != 0 : param::success_count_relative(n);
     Status decided = Status::IDLE;
-    if (successes >= required || (param::success_count_relative(n) && successes + f.aux >= required)) {
+    if (successes >= required || (relative && successes + f.aux >= required)) {
       decided = Status::SUCCESS;
-    } else if (n.child_count - failures < required || failures == param::failure_threshold(n)) {
+    } else if (n.child_count - failures < required || failures == failing) {
       decided = Status::FAILURE;
     }
     if (decided != Status::IDLE) {
