@@ -90,6 +90,13 @@ class SetText:
 
 
 @dataclass(frozen=True)
+class Throw:
+    """A SetBlackboard the library throws at whenever it runs (text into a NodeStatus entry)."""
+
+    fail: Fail
+
+
+@dataclass(frozen=True)
 class SetCopy:
     """SetBlackboard value="{src}" between entries of static types."""
 

@@ -284,6 +284,11 @@ class Compiler:
             return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc), v410))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
+                throws = self._status_text_throws(op.key, text) if s.at_load and not s.unset else None
+                if throws is not None:
+                    # The entry exists whenever the node runs (a port created it when the tree
+                    # loaded, nothing removes it): both releases throw there, on every tick
+                    return DataOp(inst.index, comment, ops.Throw(self.fail(loc, f"{what}: {throws}")))
                 self.error(
                     loc,
                     f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
@@ -315,6 +320,19 @@ class Compiler:
             return None
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
         return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
+
+    def _status_text_throws(self, key: str, text: str) -> Optional[str]:
+        """The interpreter's error for SetBlackboard of `text` into an existing NodeStatus entry
+        (lang/blackboard.py, on a scratch blackboard holding only that entry); None if it has none."""
+        sem = self.a.m.semantics
+        scratch = bbmod.Blackboard(double_from_chars=sem.double_from_chars)
+        scratch.create_entry(key[1:] if key.startswith("@") else key, values.NODE_STATUS)
+        setter = bbmod.set_blackboard_410 if sem.setblackboard_converts_to_entry_type else bbmod.set_blackboard
+        try:
+            setter(scratch, key, text)
+        except (values.ConversionError, bbmod.BlackboardError) as e:
+            return str(e)
+        return None
 
     def set_key(self, inst: Inst, op: SetKeyUse) -> Optional[DataOp]:
         """SetBlackboard output_key="{key}": getInput<std::string> of the key's entry, then the
