@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Optional
 
+from btgen.ir.data.records import PARALLEL_READS
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
@@ -340,7 +341,7 @@ class _Analyzer:
         can = {st: sum(1 for w in kids if st in w) for st in ORDER}
         out: Outcomes = {}
         count = len(kids)
-        if n.kind == "Parallel" and (self.keyed(n, "success_count") or self.keyed(n, "failure_count")):
+        if n.kind == "Parallel" and n.params[2] & PARALLEL_READS:
             # thresholds read from the blackboard on every tick: any outcome, as far as known here
             for st in (S, F, R):
                 out[st] = total
