@@ -123,7 +123,8 @@ struct NodeText {
 //   Timeout, Sleep        p0 msec
 //   Delay                 p0 delay_msec
 //   Switch                p0 number of cases (the last child is the default)
-//   Precondition          p0 the `else` status; p1 1: it is no NodeStatus (Spec::read_param throws)
+//   Precondition          p0 the `else` status; p1 1: read on every tick (Spec::read_param): a
+//                         `{key}`, or a literal that is no NodeStatus (the read throws)
 //   Loop                  p0 the `if_empty` status; p1 1: it is no NodeStatus (Spec::read_param throws)
 //   TryCatch              p0 catch_on_halt (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
 //   RecoveryNode          p0 number_of_retries; p1 1: read it as `{key}` on every tick
