@@ -148,3 +148,20 @@ def test_memory_of_a_queue_entry(capsys, tmp_path):
     assert memory["blackboard_slots"] == 2
     # {v}: one int (16 bytes); {q}: a queue of ints, more than a scalar
     assert memory["blackboard_bytes_estimate"] > 2 * 16
+
+
+def test_else_and_parallel_counts_read_from_the_blackboard_allow_what_the_library_returns(capsys):
+    """A Precondition `else` or Parallel counts given as `{key}` (read on every tick): the root's
+    outcomes include every result the library returned on the recorded runs of oracle-diff/."""
+    folder = ROOT / "tests" / "conformance" / "oracle-diff"
+    checked = 0
+    for xml in sorted(folder.glob("*.xml")):
+        if not xml.stem.startswith(("precondition_else_key_", "parallel_key_", "script_number_into_status")):
+            continue
+        outcomes = set(_json(capsys, xml)["root_outcomes"])
+        for version in ("4.6.2", "4.10.0"):
+            trace = (folder / version / (xml.stem + ".trace")).read_text(encoding="utf-8")
+            results = {line.split()[1] for line in trace.splitlines() if line.startswith("result ")}
+            assert results <= outcomes, (xml.stem, version, results, outcomes)
+            checked += len(results)
+    assert checked >= 6

@@ -16,10 +16,7 @@ from conftest import ROOT
 HERE = os.path.join(ROOT, "tests", "conformance", "oracle-diff")
 CASES = rc.recorded(HERE)
 # What the C++ back end still refuses (listed by scripts/refusal_share.py).
-REFUSED = {
-    ("set_text_into_status_entry", v): "refused: `else` as `{key}`, and text into a NodeStatus entry"
-    for v in rc.VERSIONS
-}
+REFUSED: dict[tuple[str, str], str] = {}
 # Recordings neither engine follows yet, each a strict expected failure with its reason.
 _DUMP = (
     "the library prints its blackboard on stdout (Blackboard::debugMessage) before it throws on a "
@@ -36,6 +33,8 @@ KNOWN = {
 }
 CPP_KNOWN = {
     ("queue_copy_of_text", "4.6.2"): _QUEUE_COPY + " (the C++ fails at the copy: the capacity of `q`)",
+    ("set_text_into_status_entry", "4.6.2"): _DUMP,
+    ("set_text_into_status_entry", "4.10.0"): _DUMP,
 }
 # The blackboard's lines in the library's trace (`key (type)`)
 DUMP_LINE = re.compile(r"^[^ \n]+ \((?:BT::|std::)?[\w:<>, ]+\)\n", re.M)
@@ -95,6 +94,20 @@ def test_compiled_executor(stem, version, batches):
     if rc.loads(HERE, stem, version):
         assert _compiles(stem, version), "the C++ back end refuses it"
     rc.check_cpp(batches, stem, version)
+
+
+@pytest.mark.parametrize("stem,version", [k for k, why in CPP_KNOWN.items() if why == _DUMP])
+def test_compiled_executor_fails_where_the_library_does_but_for_its_blackboard_dump(stem, version, batches):
+    """Text written into an entry a port typed NodeStatus: the C++ back end compiles it (it
+    refused the file) and throws at the SetBlackboard, with the interpreter's trace and message."""
+    trace, failed = rc.expected(HERE, stem, version)
+    assert DUMP_LINE.search(trace) and failed
+    assert _compiles(stem, version)
+    got = batches.run(stem, version)
+    assert got is not None
+    assert (got.stdout, got.rc) == (DUMP_LINE.sub("", trace), 1), got.stderr
+    _, _, message = rc.interp(HERE, stem, version)
+    assert "SetBlackboard" in message and message in got.stderr, (message, got.stderr)
 
 
 def _load(tmp_path, text, version="4.6.2"):

@@ -93,6 +93,13 @@ class SetText:
 
 
 @dataclass(frozen=True)
+class Throw:
+    """A SetBlackboard the library throws at whenever it runs (text into a NodeStatus entry)."""
+
+    fail: Fail
+
+
+@dataclass(frozen=True)
 class SetCopy:
     """SetBlackboard value="{src}" between entries of static types."""
 
@@ -255,6 +262,21 @@ class ParamRead:
     # Precondition `else`, a Loop's `if_empty`: a literal that is no NodeStatus, which the
     # library loads and throws on whenever the node reads it (slot -1)
     always: Optional[Fail] = None
+    # Precondition `else` as `{key}`: getInput<NodeStatus> of a NodeStatus entry, into `out`
+    as_status: bool = False
+
+
+@dataclass(frozen=True)
+class ParallelRead:
+    """Parallel `success_count` / `failure_count`, one of them or both given as `{key}`: the
+    library reads both at the start of every tick (getInput<int>, throwing when it fails), then
+    throws when the children cannot reach a threshold. Each is a ParamRead (a literal: its
+    `constant`); `never_succeed` / `never_fail` start the messages of those throws."""
+
+    success: ParamRead
+    failure: ParamRead
+    never_succeed: Fail
+    never_fail: Fail
 
 
 @dataclass(frozen=True)

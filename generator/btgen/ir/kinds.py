@@ -412,11 +412,23 @@ def check_compound(s, key: str, op: str, value_kind: KindLike, offset: int) -> N
         raise ScriptTypeError(f"`{op}` cannot be used with {describe_kind(value_kind)}", offset)
 
 
+def _numeric_text(text: str) -> bool:
+    """Whether 4.6.2's StringToDouble reads `text` as a number (`true`, `false`, from_chars)."""
+    if text in ("true", "false"):
+        return True
+    try:
+        values.to_double(text)
+    except values.ConversionError:
+        return False
+    return True
+
+
 def store_route(s, value_kind: KindLike, literal: object, offset: int, what: str) -> str:
     """How 4.6.2's script store (`_store`) puts a value of `value_kind` (`literal`: its value when
     it is a literal) into `s`, which then holds s.kind: "same" (as it is), "converted" (a string
     through the declared type's converter), "number_text" (a string read as a number into an
-    untyped double entry) or "number" (a number of another kind, as Any::copyInto converts it).
+    untyped double entry), "number" (a number of another kind, as Any::copyInto converts it) or
+    "status_text" (a string literal into a NodeStatus entry: it throws where it runs).
     What would fail or change the entry's type whenever it runs is an error."""
     k, r = s.kind, value_kind
     if k == NONE:
@@ -430,6 +442,8 @@ def store_route(s, value_kind: KindLike, literal: object, offset: int, what: str
             return "converted"
         if k == DOUBLE and s.declared == values.ANY:
             return "number_text"
+        if k == STATUS and s.declared == values.NODE_STATUS and isinstance(literal, str) and not _numeric_text(literal):
+            return "status_text"  # no converter: both releases throw at the script, every run
     elif is_numeric(r) and is_numeric(k):
         return "number"
     raise ScriptTypeError(

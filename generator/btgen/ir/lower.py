@@ -22,7 +22,7 @@ from types import MappingProxyType
 from typing import Optional
 
 from btgen.diagnostics import Diagnostic, DiagnosticSink, InternalError, Loc
-from btgen.ir.data.records import DataIR, DataOptions
+from btgen.ir.data.records import PARALLEL_READS, DataIR, DataOptions
 from btgen.ir.dataflow import analyze
 from btgen.ir.numbering import number_nodes
 from btgen.ir.treexml import Groot2Tree, groot2_tree
@@ -345,6 +345,8 @@ class _Lowerer:
                 model = -1
                 if data.params.get(index, (0, 0, 0))[1] == 1 and node.id in PARAM_NODES:
                     nslots += 1  # the count or duration read from the blackboard (engine.hpp: param_value)
+                if node.id == "Parallel" and data.params.get(index, (0, 0, 0))[2] & PARALLEL_READS:
+                    nslots += 3  # the thresholds read this tick, and success_count's sign (rules.hpp)
             elif node.id in model_index:
                 kind, nslots, ntimers = leaf_models[model_index[node.id]].kind, 0, 0
                 kind = {"Control": "UserControl", "Decorator": "UserDecorator"}.get(kind, kind)

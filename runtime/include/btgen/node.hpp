@@ -114,7 +114,8 @@ struct NodeText {
 // One node of a mission. Parameters are converted from the XML at generation
 // time; their meaning depends on the kind:
 //   Parallel              p0 successes needed, p1 failures that fail it,
-//                         p2 1 when success_count was negative
+//                         p2 1 when success_count was negative; p2 bit 2 (kParallelReads): the
+//                         thresholds are `{key}`s read on every tick (Spec::read_param)
 //   ParallelAll           p0 failure threshold (from max_failures)
 //   Repeat                p0 num_cycles (-1: for ever)
 //   RetryUntilSuccessful  p0 num_attempts (-1: for ever)
@@ -122,7 +123,8 @@ struct NodeText {
 //   Timeout, Sleep        p0 msec
 //   Delay                 p0 delay_msec
 //   Switch                p0 number of cases (the last child is the default)
-//   Precondition          p0 the `else` status; p1 1: it is no NodeStatus (Spec::read_param throws)
+//   Precondition          p0 the `else` status; p1 1: read on every tick (Spec::read_param): a
+//                         `{key}`, or a literal that is no NodeStatus (the read throws)
 //   Loop                  p0 the `if_empty` status; p1 1: it is no NodeStatus (Spec::read_param throws)
 //   TryCatch              p0 catch_on_halt (0 or 1); p1 1: read it as `{key}` (Spec::read_param)
 //   RecoveryNode          p0 number_of_retries; p1 1: read it as `{key}` on every tick
@@ -150,6 +152,9 @@ struct NodeInfo {
   NodeText name;    // name attribute, else the ID
   NodeText source;  // "path:line:col" of the element
 };
+
+// NodeInfo::p2 bit of a Parallel whose thresholds are `{key}`s (data/records.py PARALLEL_READS).
+inline constexpr std::int64_t kParallelReads = 2;
 
 [[nodiscard]] constexpr bool is_nav2(NodeKind k) noexcept { return k >= NodeKind::PipelineSequence; }
 
@@ -200,7 +205,7 @@ namespace param {
 // whether `success_count` was negative (4.6.2 then counts skipped children as successes).
 [[nodiscard]] constexpr std::int64_t success_threshold(const NodeInfo& n) noexcept { return n.p0; }
 [[nodiscard]] constexpr std::int64_t failure_threshold(const NodeInfo& n) noexcept { return n.p1; }
-[[nodiscard]] constexpr bool success_count_relative(const NodeInfo& n) noexcept { return n.p2 != 0; }
+[[nodiscard]] constexpr bool success_count_relative(const NodeInfo& n) noexcept { return (n.p2 & 1) != 0; }
 
 // ParallelAll `max_failures` (made absolute).
 [[nodiscard]] constexpr std::int64_t max_failures(const NodeInfo& n) noexcept { return n.p0; }

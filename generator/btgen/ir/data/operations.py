@@ -14,6 +14,7 @@ from btgen.ir import kinds
 from btgen.ir.data.queue_share import SHARED_WRITES, share_classes
 from btgen.ir.data.records import (
     BOOL_PARAM_DEFAULTS,
+    PARALLEL_READS,
     SCRIPT_SLOTS,
     DataIR,
     DataOp,
@@ -310,6 +311,11 @@ class Compiler:
             return DataOp(inst.index, comment, ops.SetDynLiteral(dst, text, op.key, what + ": ", self.where(loc), v410))
         if declared not in (values.ANY, values.STRING) and not values.is_opaque_type(declared):
             if declared == values.NODE_STATUS:
+                throws = self._status_text_throws(op.key, text) if s.at_load and not s.unset else None
+                if throws is not None:
+                    # The entry exists whenever the node runs (a port created it when the tree
+                    # loaded, nothing removes it): both releases throw there, on every tick
+                    return DataOp(inst.index, comment, ops.Throw(self.fail(loc, f"{what}: {throws}")))
                 self.error(
                     loc,
                     f"{what} writes the text `{text}` to `{s.key}`, a NodeStatus entry, which "
@@ -341,6 +347,19 @@ class Compiler:
             return None
         fail = self.fail(loc, f"{what} cannot write `{s.key}`", errc=True)
         return DataOp(inst.index, comment, ops.SetText(dst, declared, text, fail, untyped))
+
+    def _status_text_throws(self, key: str, text: str) -> Optional[str]:
+        """The interpreter's error for SetBlackboard of `text` into an existing NodeStatus entry
+        (lang/blackboard.py, on a scratch blackboard holding only that entry); None if it has none."""
+        sem = self.a.m.semantics
+        scratch = bbmod.Blackboard(double_from_chars=sem.double_from_chars)
+        scratch.create_entry(key[1:] if key.startswith("@") else key, values.NODE_STATUS)
+        setter = bbmod.set_blackboard_410 if sem.setblackboard_converts_to_entry_type else bbmod.set_blackboard
+        try:
+            setter(scratch, key, text)
+        except (values.ConversionError, bbmod.BlackboardError) as e:
+            return str(e)
+        return None
 
     def set_key(self, inst: Inst, op: SetKeyUse) -> Optional[DataOp]:
         """SetBlackboard output_key="{key}": getInput<std::string> of the key's entry, then the
@@ -780,6 +799,8 @@ class Compiler:
         constant: Optional[int] = None
         if inst.reg_id == "RateController":
             return self.hz_read(inst, op, what)
+        if op.port == "else":
+            return self.status_read(inst, op, what)
         if (
             s.kind == "string"
             and s.initial is not None
@@ -817,6 +838,74 @@ class Compiler:
             convert = self.fail(op.loc, f"{what}: ")
             read = ops.ParamRead(op.slot, missing, no_value, constant, kind=kind, unsigned=unsigned, convert=convert)
         return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" {op.port}={{{op.key}}}', read)
+
+    def parallel_read(self, inst: Inst, uses: dict[str, ParamUse]) -> Optional[DataOp]:
+        """Parallel's thresholds, one or both as `{key}`: read at the start of every tick."""
+        reads: list[ops.ParamRead] = []
+        for port in ("success_count", "failure_count"):
+            op = uses.get(port)
+            if op is None:  # a literal (or the port's default)
+                raw = inst.ports[port].raw
+                try:
+                    value = values.convert_from_string(values.INT, raw)
+                except values.ConversionError as e:
+                    self.error(inst.ports[port].loc_or or inst.node.loc, f"port `{port}` of {inst.what}: {e}")
+                    return None
+                assert isinstance(value, int)
+                never = self.fail(inst.node.loc, "")
+                reads.append(ops.ParamRead(-1, never, never, value))
+                continue
+            read = self.param_read(inst, op)
+            if read is None:
+                return None
+            assert isinstance(read.op, ops.ParamRead)
+            reads.append(read.op)
+        name = inst.node.display_name
+        loc_s = inst.ports["success_count"].loc_or or inst.node.loc
+        loc_f = inst.ports["failure_count"].loc_or or inst.node.loc
+        keys = ", ".join(f"{p}={{{u.key}}}" for p, u in uses.items())
+        return DataOp(
+            inst.index,
+            f'Parallel "{name}" {keys}',
+            ops.ParallelRead(
+                reads[0],
+                reads[1],
+                self.fail(loc_s, f'`Parallel` "{name}" needs '),
+                self.fail(loc_f, f'`Parallel` "{name}" fails after '),
+            ),
+        )
+
+    def status_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
+        """Precondition `else` as `{key}`: getInput<NodeStatus> on every tick, before `if`; the
+        library throws when the entry does not exist or has no value (the node fails there)."""
+        s = self.a.slots[op.slot]
+        missing = self.fail(op.loc, f"{what}, which does not exist")
+        no_value = self.fail(op.loc, f"{what}, which has no value yet")
+        if (
+            s.kind == "string"
+            and s.initial is not None
+            and not s.unset
+            and all(w.source == "constant" for w in s.writes)
+        ):
+            # A SubTree's constant port: the text getInput converts on every read, converted here
+            try:
+                status = values.convert_from_string(values.NODE_STATUS, s.initial)
+            except values.ConversionError as e:
+                fail = self.fail(op.loc, f"{what}: {e}")
+                always = ops.ParamRead(-1, fail, fail, always=fail)
+                return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" else', always)
+            assert isinstance(status, NodeStatus), status
+            read = ops.ParamRead(op.slot, missing, no_value, status.value)
+        elif s.kind == "status":
+            read = ops.ParamRead(op.slot, missing, no_value, as_status=True)
+        else:
+            self.error(
+                op.loc,
+                f"port `else` of {inst.what} reads `{s.key}` ({describe_kind(s.kind or 'none')}, {s.origin_text}); "
+                f"the C++ back end reads it from a NodeStatus entry",
+            )
+            return None
+        return DataOp(inst.index, f'{inst.reg_id} "{inst.node.display_name}" else={{{op.key}}}', read)
 
     def hz_read(self, inst: Inst, op: ParamUse, what: str) -> Optional[DataOp]:
         """Nav2's RateController hz as `{key}`: getInput<double>, 1.0 when it fails."""
@@ -1220,6 +1309,7 @@ class Compiler:
         index_writes: list[DataOp] = []
         locals_: list[LocalIR] = []
         params: dict[int, tuple[int, int, int]] = {}
+        parallel_uses: dict[int, tuple[Inst, dict[str, ParamUse]]] = {}
         for inst, op in self.a.node_ops:
             code: Optional[DataOp] = None
             if isinstance(op, UnsetUse):
@@ -1244,6 +1334,8 @@ class Compiler:
                 code = self.loop(inst, op, locals_)
                 if code is not None:
                     loops.append(code)
+            elif isinstance(op, ParamUse) and inst.reg_id == "Parallel":
+                parallel_uses.setdefault(inst.index, (inst, {}))[1][op.port] = op
             elif isinstance(op, ParamUse):
                 read = self.param_read(inst, op)
                 if read is not None:
@@ -1263,6 +1355,11 @@ class Compiler:
                     params[inst.index] = (0, 1, 0)
                 elif p0 is not None:
                     params[inst.index] = (p0.value if isinstance(p0, NodeStatus) else p0, 0, 0)
+        for inst, uses in parallel_uses.values():
+            pread = self.parallel_read(inst, uses)
+            if pread is not None:
+                param_reads.append(pread)
+                params[inst.index] = (0, 0, PARALLEL_READS)
         ports = self.ports()
         for s in self.a.slots:
             for w in s.writes:

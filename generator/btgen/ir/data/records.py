@@ -63,8 +63,8 @@ SCRIPT_SLOTS = MappingProxyType(
 
 # Built-in ports that take a literal only in the C++ back end (4.6.2 reads them on every tick).
 # Ports read as `{key}` at run time: the engine reads the entry when 4.6.2's node calls getInput
-# (every tick of Repeat, RetryUntilSuccessful, Timeout, Delay and RunOnce, the start of a Sleep,
-# the halt of a TryCatch).
+# (every tick of Repeat, RetryUntilSuccessful, Timeout, Delay, RunOnce and Precondition, the start
+# of a Sleep, the halt of a TryCatch).
 PARAM_PORTS = frozenset(
     {
         ("Repeat", "num_cycles"),
@@ -77,16 +77,16 @@ PARAM_PORTS = frozenset(
         ("RecoveryNode", "number_of_retries"),  # Nav2's: read on every tick
         ("PersistentSequence", "current_child_idx"),  # Nav2's: read on every tick (and written: IndexWrite)
         ("RateController", "hz"),  # Nav2's: a double, read when the node starts
+        ("Precondition", "else"),  # getInput<NodeStatus> on every tick, before `if`
+        ("Parallel", "success_count"),  # both read at the start of every tick (ParallelRead)
+        ("Parallel", "failure_count"),
     }
 )
 # The bool ports among them, and what the node uses when getInput<bool> fails (the port's default).
 BOOL_PARAM_DEFAULTS = MappingProxyType({"then_skip": 1, "catch_on_halt": 0})
 LITERAL_ONLY = frozenset(
     {
-        ("Parallel", "success_count"),
-        ("Parallel", "failure_count"),
         ("ParallelAll", "max_failures"),
-        ("Precondition", "else"),
         ("LoopInt", "if_empty"),
         ("LoopBool", "if_empty"),
         ("LoopDouble", "if_empty"),
@@ -94,6 +94,8 @@ LITERAL_ONLY = frozenset(
         ("RoundRobin", "wrap_around"),  # Nav2's: read once, when the node is created
     }
 )
+# NodeInfo p2 bit of a Parallel whose thresholds are read from the blackboard (ParallelRead)
+PARALLEL_READS = 2
 LOOPS = MappingProxyType({"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "double", "LoopString": "string"})
 ENTRY_NODES = ("WasEntryUpdated", "SkipUnlessUpdated", "WaitValueUpdate")
 

@@ -412,7 +412,8 @@ class Analysis:
             p = inst.ports["if"]
             if p.attr is not None:
                 self._script_use(inst, p.attr, "if", condition=True)
-            self.node_ops.append((inst, self._status_param(inst, "else")))
+            if bbmod.remapped_key("else", inst.ports["else"].raw) is None:  # `{key}`: a ParamUse
+                self.node_ops.append((inst, self._status_param(inst, "else")))
         elif nid == "SetBlackboard":
             self._collect_set_blackboard(inst)
         elif nid == "UnsetBlackboard":

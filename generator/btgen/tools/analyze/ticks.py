@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Optional
 
+from btgen.ir.data.records import PARALLEL_READS
 from btgen.ir.lower import IRNode, Program
 from btgen.lang import blackboard as bbmod
 from btgen.lang.model import Mission
@@ -340,7 +341,11 @@ class _Analyzer:
         can = {st: sum(1 for w in kids if st in w) for st in ORDER}
         out: Outcomes = {}
         count = len(kids)
-        if n.kind == "Parallel":  # the thresholds are checked after every child (interp/controls.py)
+        if n.kind == "Parallel" and n.params[2] & PARALLEL_READS:
+            # thresholds read from the blackboard on every tick: any outcome, as far as known here
+            for st in (S, F, R):
+                out[st] = total
+        elif n.kind == "Parallel":  # the thresholds are checked after every child (interp/controls.py)
             need_s, need_f, negative = n.params
             if (can[S] + can[K] if negative else can[S]) >= need_s:
                 out[S] = total
@@ -451,7 +456,10 @@ class _Analyzer:
                 through(same, (1, 0, 1))
             else:
                 self.never(n, f"the `if` of {self.label(n.index)} is always false ({attr.value if attr else ''!r})")
-            if const is not True and else_status != "IDLE":  # IDLE: a run-time error (edge L1)
+            if const is not True and self.keyed(n, "else"):  # read from the blackboard on every tick
+                for st in (R, S, F, K):
+                    _put(out, st, (1, 0, 1))
+            elif const is not True and else_status != "IDLE":  # IDLE: a run-time error (edge L1)
                 _put(out, else_status, (1, 0, 1))
         elif kind == "Timeout":
             through(same)

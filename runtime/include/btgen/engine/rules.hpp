@@ -78,6 +78,15 @@
         return try_next(f, n);
 
       case NodeKind::Parallel:
+        // p2 bit 2: success_count / failure_count as `{key}`, read at the start of every tick
+        // (Spec::read_param; it throws where a read fails or a threshold cannot be reached)
+        if ((n.p2 & kParallelReads) != 0) {
+          std::int64_t v = 0;
+          if (Spec::read_param(bb_, sink(), n, v) < 0) return done(Status::FAILURE);
+          counter(n, 2) = static_cast<std::int32_t>(v & 0xFFFFF);
+          counter(n, 3) = static_cast<std::int32_t>((v >> 20) & 0xFFFFF);
+          counter(n, 4) = static_cast<std::int32_t>((v >> 40) & 1);
+        }
         set_status(f.node, Status::RUNNING);
         f.pos = 0;
         f.aux = 0;  // skipped this tick
@@ -186,9 +195,14 @@
 
       case NodeKind::Precondition: {
         f.decorator = 1;
-        // p1: an `else` that is no NodeStatus, which the library throws on when it reads it, on
-        // every tick (Spec::read_param reports it)
-        if (!read_param(n, false)) return done(Status::FAILURE);
+        // p1: `else` read on every tick (Spec::read_param): a `{key}`, or a literal that is no
+        // NodeStatus, which the library throws on when it reads it (the read reports it)
+        Status otherwise = param::otherwise(n);
+        if (n.p1 != 0) {
+          std::int64_t v = 0;
+          if (Spec::read_param(bb_, sink(), n, v) < 0) return done(Status::FAILURE);
+          otherwise = static_cast<Status>(v);
+        }
         // 4.6.2 evaluates `if` on every tick; when false it answers `else`
         // without ticking (or halting) its child. From 4.7.0
         // (Sem::precondition_if_until_started) only until the child has
@@ -203,7 +217,7 @@
           if constexpr (Sem::precondition_if_until_started) counter(n, 0) = 1;
           return descend(child(n, 0));
         }
-        return done(not_idle(n, param::otherwise(n)));
+        return done(not_idle(n, otherwise));
       }
 
       case NodeKind::Loop: {
@@ -696,11 +710,14 @@
   Status parallel_check(Frame& f, const NodeInfo& n) noexcept {
     const std::int64_t successes = counter(n, 0);
     const std::int64_t failures = counter(n, 1);
-    const std::int64_t required = param::success_threshold(n);
+    const bool read = (n.p2 & kParallelReads) != 0;  // the thresholds read this tick
+    const std::int64_t required = read ? counter(n, 2) : param::success_threshold(n);
+    const std::int64_t failing = read ? counter(n, 3) : param::failure_threshold(n);
+    const bool relative = read ? counter(n, 4) != 0 : param::success_count_relative(n);
     Status decided = Status::IDLE;
-    if (successes >= required || (param::success_count_relative(n) && successes + f.aux >= required)) {
+    if (successes >= required || (relative && successes + f.aux >= required)) {
       decided = Status::SUCCESS;
-    } else if (n.child_count - failures < required || failures == param::failure_threshold(n)) {
+    } else if (n.child_count - failures < required || failures == failing) {
       decided = Status::FAILURE;
     }
     if (decided != Status::IDLE) {
