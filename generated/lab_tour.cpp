@@ -534,5 +534,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace lab_tour::detail
 
-static_assert(lab_tour::detail::kGeneration == 0x79768ba5667c7d3bULL,
+static_assert(lab_tour::detail::kGeneration == 0x2a4e1880675e7ecfULL,
               "lab_tour.hpp and lab_tour.cpp come from different btgen runs: run btgen compile again");

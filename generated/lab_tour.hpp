@@ -132,6 +132,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool false_into_int_unsafe = false;
   static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
@@ -1280,7 +1281,7 @@ extern template class btgen::Engine<lab_tour::detail::Spec, lab_tour::LabTourLea
 
 // The generation of lab_tour.hpp and lab_tour.cpp (both carry it; lab_tour.cpp checks it).
 namespace lab_tour::detail {
-inline constexpr unsigned long long kGeneration = 0x79768ba5667c7d3bULL;
+inline constexpr unsigned long long kGeneration = 0x2a4e1880675e7ecfULL;
 }
 
 #endif  // BTGEN_GENERATED_LAB_TOUR_HPP

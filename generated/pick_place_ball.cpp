@@ -197,5 +197,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace pick_place_ball::detail
 
-static_assert(pick_place_ball::detail::kGeneration == 0x8bbc64350443a31dULL,
+static_assert(pick_place_ball::detail::kGeneration == 0xaca85e025e52e76eULL,
               "pick_place_ball.hpp and pick_place_ball.cpp come from different btgen runs: run btgen compile again");

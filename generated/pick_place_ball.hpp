@@ -103,6 +103,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool false_into_int_unsafe = false;
   static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
@@ -370,7 +371,7 @@ extern template class btgen::Engine<pick_place_ball::detail::Spec, pick_place_ba
 
 // The generation of pick_place_ball.hpp and pick_place_ball.cpp (both carry it; pick_place_ball.cpp checks it).
 namespace pick_place_ball::detail {
-inline constexpr unsigned long long kGeneration = 0x8bbc64350443a31dULL;
+inline constexpr unsigned long long kGeneration = 0xaca85e025e52e76eULL;
 }
 
 #endif  // BTGEN_GENERATED_PICK_PLACE_BALL_HPP

@@ -378,5 +378,5 @@ extern const char btgen_one_mission_per_namespace;
 const char btgen_one_mission_per_namespace = 0;
 }  // namespace reception::detail
 
-static_assert(reception::detail::kGeneration == 0xdc587df8c35db9e7ULL,
+static_assert(reception::detail::kGeneration == 0xe4cae6360f5b1077ULL,
               "reception.hpp and reception.cpp come from different btgen runs: run btgen compile again");

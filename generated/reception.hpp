@@ -117,6 +117,7 @@ struct Semantics {
   static constexpr bool int_to_double_53_bits = false;
   static constexpr bool double_from_chars = false;
   static constexpr bool trycatch = false;
+  static constexpr bool false_into_int_unsafe = false;
   static constexpr bool groot2_root_blackboard = false;
   static constexpr bool script_grammar_49 = false;
   static constexpr bool name_validation_484 = false;
@@ -882,7 +883,7 @@ extern template class btgen::Engine<reception::detail::Spec, reception::Receptio
 
 // The generation of reception.hpp and reception.cpp (both carry it; reception.cpp checks it).
 namespace reception::detail {
-inline constexpr unsigned long long kGeneration = 0xdc587df8c35db9e7ULL;
+inline constexpr unsigned long long kGeneration = 0xe4cae6360f5b1077ULL;
 }
 
 #endif  // BTGEN_GENERATED_RECEPTION_HPP

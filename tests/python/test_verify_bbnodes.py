@@ -138,7 +138,8 @@ def test_every_blackboard_node_agrees_with_explore(tmp_path, btcpp):
 RANDOM = [
     ("full", 2, "4.6.2"),  # Loop, Precondition, SetBlackboard, Switch
     ("dynamic", 0, "4.6.2"),  # Loop, Precondition, SkipUnlessUpdated, Switch, WasEntryUpdated
-    ("dynamic", 0, "4.10.0"),
+    # (seed 0 of 4.10.0 reads a Timeout's msec from `td` since fuzzgen writes it: verify needs a literal)
+    ("dynamic", 8, "4.10.0"),
 ]
 
 

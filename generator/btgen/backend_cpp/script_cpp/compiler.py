@@ -435,11 +435,13 @@ class ScriptCompiler(CodeWriter):
         idx = self.ctx.names[node.target]
         s = self.ctx.slots[idx]
         if op == ":=":
-            if s.may_be_missing:  # (a new entry: when, for the order of the library's storage)
+            if s.may_be_missing and self.ctx.counts_births:  # (a new entry: when, for the storage's order)
                 self.emit(f"if (!{s.member}.exists) {{")
                 self.emit(f"  {s.member}.exists = true;")
                 self.emit(f"  {s.member}.born = ++bb.births_;")
                 self.emit("}")
+            elif s.may_be_missing:
+                self.emit(f"{s.member}.exists = true;")
         elif s.may_be_missing:
             self.check(
                 f"!{s.member}.exists",
@@ -664,6 +666,7 @@ def compile_scripts(data: DataIR) -> tuple[list[CompiledScript], tuple[Loc, ...]
             c.prefix,
             dict(data.enums),
             table,
+            data.counts_births,
         )
         body = compile_script(c.typed, ctx)
         out.append(CompiledScript(c.node, c.which, c.comment, tuple(body), tuple(table.entries), c.prefix))

@@ -90,6 +90,8 @@ class ScriptContext:
     # Given: the script is compiled to a body that identical scripts elsewhere share; its
     # places, messages and prefix go to this table (a ScriptSite in the generated code).
     errors: Optional[ErrorTable] = None
+    # Given: entries created at run time are counted (DataIR.counts_births, Slot::born).
+    counts_births: bool = False
 
 
 class ErrorTable:

@@ -210,6 +210,15 @@ class DataIR:
     param_reads: tuple[DataOp, ...] = ()  # ParamRead: loop counts and durations given as `{key}`
     index_writes: tuple[DataOp, ...] = ()  # WriteEntry: Nav2's PersistentSequence writing its place
 
+    @property
+    def counts_births(self) -> bool:
+        """Whether the generated code counts the entries created at run time (Blackboard::births_,
+        Slot::born): only where a 4.10.0 SetBlackboard may print its blackboard with such entries
+        in it (ops.SetCopyDynTyped410's debug entries), so other missions' state does not grow."""
+        leaves = [d.op for d in self.data_leaves]
+        leaves += [c for op in leaves if isinstance(op, ops.SetKey) for _, c in op.cases]
+        return any(isinstance(op, ops.SetCopyDynTyped410) and any(e.runtime for e in op.debug) for op in leaves)
+
 
 def script_loc(attr: Attr, offset: int) -> Loc:
     if offset <= 0:
